@@ -1,0 +1,298 @@
+//! A device description: identity, dictionary, and the parts of each description format that are not
+//! dictionary entries (EtherCAT sync managers, FMMUs, fixed PDOs, mailbox, DC op modes and EEPROM from ESI;
+//! file and device information from EDS and XDD; commissioning values from DCF).
+//!
+//! Every reader produces a [`DeviceDescription`] and every writer consumes one, so any description can be
+//! written in any format; what a format cannot carry is left out of its output.
+
+use crate::dict::Dictionary;
+
+/// Who made the device and which device it is.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Identity {
+    /// Vendor ID (CiA 301 0x1018:01; ESI `Vendor/Id`; EDS `VendorNumber`).
+    pub vendor_id: u32,
+    /// Vendor name.
+    pub vendor_name: String,
+    /// Product code (0x1018:02; ESI `Type@ProductCode`; EDS `ProductNumber`).
+    pub product_code: u32,
+    /// Revision number (0x1018:03; ESI `Type@RevisionNo`; EDS `RevisionNumber`).
+    pub revision: u32,
+    /// Product name (ESI `Device/Name`, EDS `ProductName`).
+    pub product_name: String,
+    /// The type name of the device (ESI `Device/Type` text, EDS `OrderCode`).
+    pub order_code: String,
+}
+
+/// Version and authorship of a description file (EDS `[FileInfo]`, XDD `ProfileHeader` and `fileName`…).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct FileInfo {
+    /// File name the file gives for itself.
+    pub file_name: String,
+    /// File version (EDS `FileVersion`, XDD `fileVersion`).
+    pub file_version: String,
+    /// File revision (EDS `FileRevision`).
+    pub file_revision: String,
+    /// Format version (EDS `EDSVersion`, e.g. `4.0`).
+    pub format_version: String,
+    /// Free description.
+    pub description: String,
+    /// Creation time as written (`HH:MM(AM|PM)` in EDS).
+    pub creation_time: String,
+    /// Creation date as written (`MM-DD-YYYY` in EDS).
+    pub creation_date: String,
+    /// Author.
+    pub created_by: String,
+    /// Modification time as written.
+    pub modification_time: String,
+    /// Modification date as written.
+    pub modification_date: String,
+    /// Who last modified it.
+    pub modified_by: String,
+}
+
+/// Communication capabilities of a CANopen device (EDS `[DeviceInfo]`, XDD `CANopenGeneralFeatures`
+/// and `PhysicalLayer`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CanInfo {
+    /// Supported bit rates in kbit/s, ascending (10, 20, 50, 125, 250, 500, 800, 1000).
+    pub baud_rates: Vec<u32>,
+    /// Simple boot-up master.
+    pub simple_boot_up_master: bool,
+    /// Simple boot-up slave.
+    pub simple_boot_up_slave: bool,
+    /// PDO mapping granularity in bits (0: fixed mapping, 8: byte-wise).
+    pub granularity: u8,
+    /// Dynamic channels supported.
+    pub dynamic_channels: u8,
+    /// Group messaging.
+    pub group_messaging: bool,
+    /// Number of RPDOs.
+    pub nr_of_rx_pdo: u16,
+    /// Number of TPDOs.
+    pub nr_of_tx_pdo: u16,
+    /// LSS supported.
+    pub lss_supported: bool,
+    /// Data types that may be used as dummies in PDO mappings (EDS `[DummyUsage]`): CiA 301 type indices.
+    pub dummy_usage: Vec<u16>,
+}
+
+impl Default for CanInfo {
+    fn default() -> CanInfo {
+        CanInfo {
+            baud_rates: Vec::new(),
+            simple_boot_up_master: false,
+            simple_boot_up_slave: true,
+            granularity: 8,
+            dynamic_channels: 0,
+            group_messaging: false,
+            nr_of_rx_pdo: 0,
+            nr_of_tx_pdo: 0,
+            lss_supported: false,
+            dummy_usage: Vec::new(),
+        }
+    }
+}
+
+/// Commissioning values of one node in a network (DCF `[DeviceComissioning]`, CiA 306 §5).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Commissioning {
+    /// Node-ID, 1..127.
+    pub node_id: u8,
+    /// Node name.
+    pub node_name: String,
+    /// Bit rate in kbit/s.
+    pub baud_rate: u32,
+    /// Network number.
+    pub net_number: u32,
+    /// Network name.
+    pub network_name: String,
+    /// True when this node is the CANopen manager.
+    pub canopen_manager: bool,
+    /// LSS serial number.
+    pub lss_serial_number: u32,
+}
+
+/// The description of one device: identity, dictionary and format-specific parts.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DeviceDescription {
+    /// Identity.
+    pub identity: Identity,
+    /// File information (EDS, XDD).
+    pub file_info: FileInfo,
+    /// CANopen communication capabilities (EDS, XDD).
+    pub can: Option<CanInfo>,
+    /// Commissioning values (DCF; XDC).
+    pub commissioning: Option<Commissioning>,
+    /// EtherCAT parts (ESI).
+    pub ethercat: Option<EthercatInfo>,
+    /// The object dictionary.
+    pub dictionary: Dictionary,
+    /// Free comment lines (EDS `[Comments]`).
+    pub comments: Vec<String>,
+}
+
+/// The EtherCAT parts of an ESI `Device` element that are not dictionary entries (ETG.2000).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct EthercatInfo {
+    /// `GroupType`.
+    pub group_type: String,
+    /// `Fmmu` elements in order: `Outputs`, `Inputs`, `MBoxState`.
+    pub fmmus: Vec<String>,
+    /// `Sm` elements in order.
+    pub sync_managers: Vec<SyncManager>,
+    /// `RxPdo` elements.
+    pub rx_pdos: Vec<Pdo>,
+    /// `TxPdo` elements.
+    pub tx_pdos: Vec<Pdo>,
+    /// `Mailbox`.
+    pub mailbox: Option<Mailbox>,
+    /// `Dc/OpMode` elements; the first is the default.
+    pub op_modes: Vec<OpMode>,
+    /// `Eeprom`.
+    pub eeprom: Option<Eeprom>,
+}
+
+/// One sync manager (`Sm`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct SyncManager {
+    /// The element text: `MBoxOut`, `MBoxIn`, `Outputs`, `Inputs`.
+    pub kind: String,
+    /// `StartAddress`.
+    pub start_address: u16,
+    /// `DefaultSize`.
+    pub default_size: Option<u16>,
+    /// `MinSize`.
+    pub min_size: Option<u16>,
+    /// `MaxSize`.
+    pub max_size: Option<u16>,
+    /// `ControlByte`.
+    pub control_byte: u8,
+    /// `Enable`.
+    pub enable: bool,
+}
+
+/// A fixed or configurable PDO of an ESI (`RxPdo` / `TxPdo`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Pdo {
+    /// Index of the mapping object (`#x1600`).
+    pub index: u16,
+    /// Name.
+    pub name: String,
+    /// `Fixed` attribute.
+    pub fixed: bool,
+    /// `Mandatory` attribute.
+    pub mandatory: bool,
+    /// `Sm` attribute: the sync manager it is assigned to.
+    pub sm: Option<u8>,
+    /// Indices of PDOs that cannot be assigned together with this one (`Exclude`).
+    pub exclude: Vec<u16>,
+    /// Entries in order.
+    pub entries: Vec<PdoEntry>,
+}
+
+/// One entry of a PDO.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct PdoEntry {
+    /// Index of the mapped object (0 for a gap).
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// Length in bits.
+    pub bit_len: u16,
+    /// Name.
+    pub name: String,
+    /// Type name as the ESI writes it (`UINT`).
+    pub data_type: String,
+}
+
+/// The mailbox protocols of an ESI (`Mailbox`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Mailbox {
+    /// `DataLinkLayer` attribute.
+    pub data_link_layer: bool,
+    /// CoE flags, when the device speaks CoE.
+    pub coe: Option<CoeFlags>,
+    /// True when the device speaks FoE.
+    pub foe: bool,
+    /// True when the device speaks EoE.
+    pub eoe: bool,
+}
+
+/// Attributes of the `Mailbox/CoE` element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct CoeFlags {
+    /// `SdoInfo`.
+    pub sdo_info: bool,
+    /// `PdoAssign`.
+    pub pdo_assign: bool,
+    /// `PdoConfig`.
+    pub pdo_config: bool,
+    /// `PdoUpload`.
+    pub pdo_upload: bool,
+    /// `CompleteAccess`.
+    pub complete_access: bool,
+    /// `SegmentedSdo` (true when absent, as ETG.2000 defines).
+    pub segmented_sdo: bool,
+}
+
+/// One distributed-clock operation mode (`Dc/OpMode`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct OpMode {
+    /// `Name`.
+    pub name: String,
+    /// `Desc`.
+    pub desc: String,
+    /// `AssignActivate` (0x0000 for free run / SM-synchronous, 0x0300 for SYNC0).
+    pub assign_activate: u16,
+    /// `CycleTimeSync0` in ns and its `Factor` attribute.
+    pub cycle_time_sync0: Option<(u32, i32)>,
+    /// `ShiftTimeSync0` in ns.
+    pub shift_time_sync0: Option<u32>,
+    /// `CycleTimeSync1` in ns and its `Factor` attribute.
+    pub cycle_time_sync1: Option<(u32, i32)>,
+    /// `ShiftTimeSync1` in ns.
+    pub shift_time_sync1: Option<u32>,
+}
+
+/// The `Eeprom` element.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Eeprom {
+    /// `ByteSize`.
+    pub byte_size: u32,
+    /// `ConfigData` bytes.
+    pub config_data: Vec<u8>,
+    /// `BootStrap` bytes.
+    pub boot_strap: Vec<u8>,
+}
+
+impl DeviceDescription {
+    /// Applies identity values from outside (the generator's overrides): each `Some` replaces the
+    /// description's value, in the identity and in 0x1018 where the dictionary has it.
+    pub fn override_identity(
+        &mut self,
+        vendor_id: Option<u32>,
+        product_code: Option<u32>,
+        revision: Option<u32>,
+    ) {
+        for (value, sub) in [(vendor_id, 1u8), (product_code, 2), (revision, 3)] {
+            let Some(v) = value else { continue };
+            match sub {
+                1 => self.identity.vendor_id = v,
+                2 => self.identity.product_code = v,
+                _ => self.identity.revision = v,
+            }
+            if let Some(entry) = self
+                .dictionary
+                .object_mut(0x1018)
+                .and_then(|o| o.subs.get_mut(&sub))
+            {
+                let value = crate::value::Value::Uint(v as u64);
+                if let Ok(bytes) = value.encode(entry.data_type) {
+                    entry.value = bytes;
+                    entry.default = Some(crate::object::DefaultValue::plain(value));
+                }
+            }
+        }
+    }
+}

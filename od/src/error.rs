@@ -1,0 +1,89 @@
+//! Errors of the description readers: where in which file, and what was expected.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// A place in a source file: 1-based line and column (columns count characters).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Position {
+    /// Line, from 1.
+    pub line: u32,
+    /// Column, from 1.
+    pub column: u32,
+}
+
+impl Position {
+    /// The line and column of byte offset `offset` in `text` (clamped to the text's end).
+    pub fn of_offset(text: &[u8], offset: usize) -> Position {
+        let offset = offset.min(text.len());
+        let before = &text[..offset];
+        let line = before.iter().filter(|&&b| b == b'\n').count() as u32 + 1;
+        let line_start = before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |p| p + 1);
+        let column = String::from_utf8_lossy(&before[line_start..])
+            .chars()
+            .count() as u32
+            + 1;
+        Position { line, column }
+    }
+}
+
+impl fmt::Display for Position {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.line, self.column)
+    }
+}
+
+/// A description file could not be read: the file, the place in it, and what was wrong.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{source_name}:{position}: {message}")]
+pub struct ParseError {
+    /// The file name (or another name of the source).
+    pub source_name: String,
+    /// Where.
+    pub position: Position,
+    /// What was wrong, or what was expected there.
+    pub message: String,
+}
+
+impl ParseError {
+    /// An error at `position` of `source_name`.
+    pub fn new(source_name: &str, position: Position, message: impl Into<String>) -> ParseError {
+        ParseError {
+            source_name: source_name.to_string(),
+            position,
+            message: message.into(),
+        }
+    }
+
+    /// An error at byte `offset` of `text`.
+    pub fn at_offset(
+        source_name: &str,
+        text: &[u8],
+        offset: usize,
+        message: impl Into<String>,
+    ) -> ParseError {
+        ParseError::new(source_name, Position::of_offset(text, offset), message)
+    }
+}
+
+/// Loading a description failed.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The file's contents are not a valid description.
+    #[error(transparent)]
+    Parse(#[from] ParseError),
+    /// The format could not be told from the name or the contents.
+    #[error("{0}: not an ESI, XDD, EDS or DCF file (expected EtherCATInfo or ISO15745ProfileContainer XML, or an INI file with [FileInfo]/[DeviceInfo])")]
+    UnknownFormat(PathBuf),
+}

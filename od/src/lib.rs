@@ -1,0 +1,28 @@
+//! The object dictionary and device descriptions.
+//!
+//! - [`types`] and [`value`]: the CiA 301 basic data types and their little-endian encoding.
+//! - [`object`] and [`dict`]: objects, sub-objects and the [`Dictionary`], with access, type, length and
+//!   range checks whose refusals map onto SDO [`AbortCode`]s.
+//! - [`device`]: a [`DeviceDescription`] (identity, dictionary, format-specific parts).
+//! - [`esi`], [`xdd`], [`eds`]: readers and writers of EtherCAT ESI, CiA 311 XDD and CiA 306 EDS/DCF;
+//!   [`doc`] writes a Markdown reference; [`diff`] compares two dictionaries.
+#![deny(missing_docs)]
+
+pub mod abort;
+pub mod device;
+pub mod dict;
+pub mod error;
+pub mod object;
+pub mod types;
+pub mod value;
+pub mod xml;
+
+pub use abort::AbortCode;
+pub use device::DeviceDescription;
+pub use dict::{Address, Dictionary, LookupError, OdError};
+pub use error::{LoadError, ParseError, Position};
+pub use object::{
+    Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
+};
+pub use types::DataType;
+pub use value::{TimeValue, Value, ValueError};
