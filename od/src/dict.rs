@@ -291,10 +291,11 @@ impl Dictionary {
             .ok_or(OdError::NoSubIndex { index, sub })
     }
 
-    /// Finds an object or sub-object by name, case-insensitively. A sub-object's own name is tried first
-    /// (`CFG_Word_0` → 0x8010:01); an object's name answers sub-index 0 for VAR and DOMAIN objects and
-    /// sub-index 0 (the entry count) for ARRAY and RECORD. `Object.Sub` picks a sub-object of a named
-    /// object. A name that several entries share is refused with the list of them.
+    /// Finds an entry by name, case-insensitively: the name of a VAR or DOMAIN object (its sub-index 0) or
+    /// of a sub-object of an ARRAY or RECORD (`CFG_Word_0` → 0x8010:01). Only when no entry has the name
+    /// does the name of an ARRAY or RECORD answer its sub-index 0. `Object.Sub` picks a sub-object of a
+    /// named object, and `0x8010:01` is taken as an address. A name that several entries share is refused
+    /// with the list of them.
     pub fn lookup(&self, name: &str) -> Result<Address, LookupError> {
         let wanted = name.trim();
         if let Some(addr) = Address::parse(wanted).filter(|_| wanted.contains(':')) {
@@ -303,13 +304,19 @@ impl Dictionary {
         let mut subs = Vec::new();
         let mut objects = Vec::new();
         for object in self.objects.values() {
-            if object.name.eq_ignore_ascii_case(wanted) {
-                objects.push(Address::new(object.index, 0));
-            }
-            for (&s, sub) in &object.subs {
-                if sub.name.eq_ignore_ascii_case(wanted) && !(s == 0 && !object.kind.has_subs()) {
-                    subs.push(Address::new(object.index, s));
+            if object.kind.has_subs() {
+                if object.name.eq_ignore_ascii_case(wanted) {
+                    objects.push(Address::new(object.index, 0));
                 }
+                for (&s, sub) in &object.subs {
+                    if sub.name.eq_ignore_ascii_case(wanted) {
+                        subs.push(Address::new(object.index, s));
+                    }
+                }
+            } else if object.name.eq_ignore_ascii_case(wanted)
+                || object.subs.get(&0).is_some_and(|s| s.name.eq_ignore_ascii_case(wanted))
+            {
+                subs.push(Address::new(object.index, 0));
             }
         }
         let found = if !subs.is_empty() { subs } else { objects };
