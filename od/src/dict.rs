@@ -314,7 +314,10 @@ impl Dictionary {
                     }
                 }
             } else if object.name.eq_ignore_ascii_case(wanted)
-                || object.subs.get(&0).is_some_and(|s| s.name.eq_ignore_ascii_case(wanted))
+                || object
+                    .subs
+                    .get(&0)
+                    .is_some_and(|s| s.name.eq_ignore_ascii_case(wanted))
             {
                 subs.push(Address::new(object.index, 0));
             }

@@ -11,6 +11,8 @@
 pub mod abort;
 pub mod device;
 pub mod dict;
+pub mod diff;
+pub mod doc;
 pub mod error;
 pub mod object;
 pub mod types;
