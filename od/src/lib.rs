@@ -16,6 +16,7 @@ pub mod doc;
 pub mod error;
 pub mod object;
 pub mod types;
+pub mod validate;
 pub mod value;
 pub mod xml;
 

@@ -1,0 +1,339 @@
+//! Consistency checks of a device description beyond what a reader checks: structure of ARRAY/RECORD
+//! objects (CiA 301 §7.4.3), defaults against types and limits, PDO mapping entries against the
+//! dictionary (CiA 301 §7.5.2.36, ETG.1000.6 §5.6.7.4.7), and the mandatory objects.
+
+use std::fmt;
+
+use crate::device::DeviceDescription;
+use crate::dict::{compare, Address, Dictionary};
+use crate::object::ObjectKind;
+use crate::types::DataType;
+use crate::value::Value;
+
+/// How serious a finding is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Severity {
+    /// The description works but is unusual.
+    Warning,
+    /// The description is wrong: a device or master built from it misbehaves.
+    Error,
+}
+
+/// One finding of [`validate`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Finding {
+    /// How serious.
+    pub severity: Severity,
+    /// The entry concerned, if one.
+    pub address: Option<Address>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for Finding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let sev = match self.severity {
+            Severity::Warning => "warning",
+            Severity::Error => "error",
+        };
+        match self.address {
+            Some(a) => write!(f, "{sev}: {a}: {}", self.message),
+            None => write!(f, "{sev}: {}", self.message),
+        }
+    }
+}
+
+/// Checks `desc`; findings in index order, errors and warnings mixed.
+pub fn validate(desc: &DeviceDescription) -> Vec<Finding> {
+    let mut out = Vec::new();
+    let d = &desc.dictionary;
+    fn push(out: &mut Vec<Finding>, severity: Severity, address: Option<Address>, message: String) {
+        out.push(Finding {
+            severity,
+            address,
+            message,
+        });
+    }
+    for (index, what) in [(0x1000u16, "device type"), (0x1018, "identity")] {
+        if d.object(index).is_none() {
+            push(
+                &mut out,
+                Severity::Warning,
+                None,
+                format!("object 0x{index:04X} ({what}) is mandatory and missing"),
+            );
+        }
+    }
+    for object in d.objects() {
+        if object.name.trim().is_empty() {
+            push(
+                &mut out,
+                Severity::Warning,
+                Some(Address::new(object.index, 0)),
+                "object has no name".into(),
+            );
+        }
+        if object.kind.has_subs() {
+            match object.subs.get(&0) {
+                None => push(
+                    &mut out,
+                    Severity::Error,
+                    Some(Address::new(object.index, 0)),
+                    format!("{} has no sub-index 0 (number of entries)", object.kind),
+                ),
+                Some(s0) => {
+                    if !matches!(s0.data_type, DataType::Unsigned8) {
+                        push(
+                            &mut out,
+                            Severity::Error,
+                            Some(Address::new(object.index, 0)),
+                            format!(
+                                "sub-index 0 of an {} must be UNSIGNED8, is {}",
+                                object.kind, s0.data_type
+                            ),
+                        );
+                    }
+                    if let Some(Value::Uint(n)) = s0.current() {
+                        if n < u64::from(object.max_sub()) && object.kind == ObjectKind::Record {
+                            push(
+                                &mut out,
+                                Severity::Warning,
+                                Some(Address::new(object.index, 0)),
+                                format!(
+                                    "sub-index 0 says {n} but the highest sub-index is {}",
+                                    object.max_sub()
+                                ),
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        for (&sub, entry) in &object.subs {
+            let at = Some(Address::new(object.index, sub));
+            if let (Some(lo), Some(hi)) = (&entry.low, &entry.high) {
+                if compare(lo, hi) == Some(std::cmp::Ordering::Greater) {
+                    push(
+                        &mut out,
+                        Severity::Error,
+                        at,
+                        format!("low limit {lo} is above high limit {hi}"),
+                    );
+                }
+            }
+            if let Some(def) = &entry.default {
+                if def.value.encode(entry.data_type).is_err() {
+                    push(
+                        &mut out,
+                        Severity::Error,
+                        at,
+                        format!("default {} is not a {}", def.value, entry.data_type),
+                    );
+                } else if !def.plus_node_id {
+                    if let Err(e) = d.check(object.index, sub, &entry.value) {
+                        push(
+                            &mut out,
+                            Severity::Error,
+                            at,
+                            format!("default value refused: {e}"),
+                        );
+                    }
+                }
+            }
+        }
+        let (rpdo, tpdo) = (0x1600..=0x17FF, 0x1A00..=0x1BFF);
+        if rpdo.contains(&object.index) || tpdo.contains(&object.index) {
+            check_mapping(
+                d,
+                object.index,
+                rpdo.contains(&object.index),
+                desc.ethercat.is_none(),
+                &mut out,
+            );
+        }
+    }
+    if let Some(ec) = &desc.ethercat {
+        for (pdos, receive) in [(&ec.rx_pdos, true), (&ec.tx_pdos, false)] {
+            for pdo in pdos {
+                for e in &pdo.entries {
+                    if e.index == 0 {
+                        continue;
+                    }
+                    check_entry(
+                        d,
+                        pdo.index,
+                        e.index,
+                        e.sub,
+                        u32::from(e.bit_len),
+                        receive,
+                        &mut out,
+                    );
+                }
+            }
+        }
+    }
+    out
+}
+
+fn check_mapping(d: &Dictionary, index: u16, receive: bool, can: bool, out: &mut Vec<Finding>) {
+    let Some(object) = d.object(index) else {
+        return;
+    };
+    let count = match object.subs.get(&0).and_then(|s| s.current()) {
+        Some(Value::Uint(n)) => n as u8,
+        _ => return,
+    };
+    let mut bits = 0u32;
+    for sub in 1..=count {
+        let Some(entry) = object.subs.get(&sub) else {
+            out.push(Finding {
+                severity: Severity::Error,
+                address: Some(Address::new(index, 0)),
+                message: format!("maps {count} entries but sub-index {sub} is missing"),
+            });
+            return;
+        };
+        let Some(Value::Uint(v)) = entry.current() else {
+            continue;
+        };
+        let (mi, ms, len) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as u32);
+        bits += len;
+        if mi <= 0x0007 && mi >= 0x0001 {
+            // A dummy entry (CiA 301 §7.4.7.1): the data type's index and its size.
+            let size = DataType::from_index(mi).and_then(|t| t.bit_size());
+            if size != Some(len) {
+                out.push(Finding {
+                    severity: Severity::Error,
+                    address: Some(Address::new(index, sub)),
+                    message: format!("dummy entry of type 0x{mi:04X} with {len} bits"),
+                });
+            }
+            continue;
+        }
+        check_entry(d, index, mi, ms, len, receive, out);
+    }
+    if can && bits > 64 {
+        out.push(Finding {
+            severity: Severity::Error,
+            address: Some(Address::new(index, 0)),
+            message: format!("maps {bits} bits, more than the 64 of a CAN frame"),
+        });
+    }
+}
+
+fn check_entry(
+    d: &Dictionary,
+    pdo: u16,
+    index: u16,
+    sub: u8,
+    bits: u32,
+    receive: bool,
+    out: &mut Vec<Finding>,
+) {
+    let mut bad = |message: String| {
+        out.push(Finding {
+            severity: Severity::Error,
+            address: Some(Address::new(pdo, 0)),
+            message,
+        })
+    };
+    match d.entry(index, sub) {
+        Err(_) => bad(format!(
+            "maps 0x{index:04X}:{sub:02X}, which does not exist"
+        )),
+        Ok(e) => {
+            if let Some(size) = e.data_type.bit_size() {
+                if size != bits {
+                    bad(format!(
+                        "maps 0x{index:04X}:{sub:02X} with {bits} bits, its type {} has {size}",
+                        e.data_type
+                    ));
+                }
+            }
+            let ok = if receive { e.pdo.rpdo() } else { e.pdo.tpdo() };
+            if !ok {
+                let dir = if receive { "an RPDO" } else { "a TPDO" };
+                bad(format!(
+                    "maps 0x{index:04X}:{sub:02X} into {dir}, but it is not mappable that way"
+                ));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::object::{AccessType, Object, PdoMapping, SubObject};
+
+    fn mapping(index: u16, entries: &[u32]) -> Object {
+        let mut o = Object::structured(index, "mapping", ObjectKind::Record).with_sub(
+            0,
+            SubObject::new("n", DataType::Unsigned8, AccessType::Rw)
+                .with_default(Value::Uint(entries.len() as u64)),
+        );
+        for (i, &e) in entries.iter().enumerate() {
+            o = o.with_sub(
+                i as u8 + 1,
+                SubObject::new("e", DataType::Unsigned32, AccessType::Rw)
+                    .with_default(Value::Uint(e as u64)),
+            );
+        }
+        o
+    }
+
+    #[test]
+    fn mapping_entries_are_checked_against_the_dictionary() {
+        let mut desc = DeviceDescription::default();
+        let d = &mut desc.dictionary;
+        d.insert(Object::var(
+            0x1000,
+            SubObject::new("Device type", DataType::Unsigned32, AccessType::Ro),
+        ));
+        d.insert(Object::var(
+            0x1018,
+            SubObject::new("Identity", DataType::Unsigned32, AccessType::Ro),
+        ));
+        d.insert(Object::var(
+            0x2000,
+            SubObject::new("Out", DataType::Unsigned16, AccessType::Rww).with_pdo(PdoMapping::Rpdo),
+        ));
+        d.insert(Object::var(
+            0x2001,
+            SubObject::new("In", DataType::Unsigned16, AccessType::Ro).with_pdo(PdoMapping::Tpdo),
+        ));
+        d.insert(mapping(0x1600, &[0x2000_0010, 0x0005_0008]));
+        assert_eq!(validate(&desc), vec![]);
+        desc.dictionary
+            .insert(mapping(0x1601, &[0x2000_0008, 0x2001_0010, 0x3000_0008]));
+        let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
+        assert_eq!(
+            text,
+            vec![
+                "error: 0x1601:00: maps 0x2000:00 with 8 bits, its type UNSIGNED16 has 16",
+                "error: 0x1601:00: maps 0x2001:00 into an RPDO, but it is not mappable that way",
+                "error: 0x1601:00: maps 0x3000:00, which does not exist",
+            ]
+        );
+    }
+
+    #[test]
+    fn defaults_outside_limits_are_errors() {
+        let mut desc = DeviceDescription::default();
+        desc.dictionary.insert(Object::var(
+            0x2000,
+            SubObject::new("x", DataType::Integer8, AccessType::Rw)
+                .with_default(Value::Int(50))
+                .with_limits(Some(Value::Int(0)), Some(Value::Int(10))),
+        ));
+        let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
+        assert_eq!(
+            text,
+            vec![
+                "warning: object 0x1000 (device type) is mandatory and missing",
+                "warning: object 0x1018 (identity) is mandatory and missing",
+                "error: 0x2000:00: default value refused: 0x2000:00: 50 is above the high limit 10",
+            ]
+        );
+    }
+}
