@@ -198,7 +198,7 @@ fn check_mapping(d: &Dictionary, index: u16, receive: bool, can: bool, out: &mut
         };
         let (mi, ms, len) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as u32);
         bits += len;
-        if mi <= 0x0007 && mi >= 0x0001 {
+        if (0x0001..=0x0007).contains(&mi) {
             // A dummy entry (CiA 301 §7.4.7.1): the data type's index and its size.
             let size = DataType::from_index(mi).and_then(|t| t.bit_size());
             if size != Some(len) {
