@@ -13,6 +13,7 @@ pub mod device;
 pub mod dict;
 pub mod diff;
 pub mod doc;
+pub mod eds;
 pub mod error;
 pub mod object;
 pub mod types;

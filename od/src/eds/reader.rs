@@ -1,0 +1,1107 @@
+//! The EDS/DCF reader: a line scanner over the INI text (CiA 306-1 §4.1 file structure), then the
+//! building of the description from the sections it found.
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::ops::Range;
+
+use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo, Identity};
+use crate::error::{ParseError, Position};
+use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
+use crate::types::DataType;
+use crate::value::{parse_integer, Value};
+
+pub(super) fn read(bytes: &[u8], source_name: &str) -> Result<DeviceDescription, ParseError> {
+    let text = decode(bytes);
+    let ini = Ini::scan(&text, source_name)?;
+    Builder::new(&ini)?.build()
+}
+
+/// The text of the file: UTF-8 without its byte-order mark, or ISO-8859-1 when the bytes are not UTF-8
+/// (one character per byte, so lines and columns stay those of the file).
+fn decode(bytes: &[u8]) -> Cow<'_, str> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    match std::str::from_utf8(bytes) {
+        Ok(text) => Cow::Borrowed(text),
+        Err(_) => Cow::Owned(bytes.iter().map(|&b| char::from(b)).collect()),
+    }
+}
+
+fn is_blank(c: char) -> bool {
+    matches!(c, ' ' | '\t' | '\r' | '\x0B' | '\x0C')
+}
+
+fn is_comment(line: &str) -> bool {
+    line.starts_with(';') || line.starts_with('#')
+}
+
+/// `key=value`, both trimmed, as slices of the text.
+struct Entry<'a> {
+    key: &'a str,
+    value: &'a str,
+}
+
+/// `[name]` and the range of its entries in [`Ini::entries`].
+struct Section<'a> {
+    name: &'a str,
+    entries: Range<usize>,
+}
+
+/// The scanned file: sections and their entries in file order.
+struct Ini<'a> {
+    text: &'a str,
+    source: &'a str,
+    sections: Vec<Section<'a>>,
+    entries: Vec<Entry<'a>>,
+}
+
+impl<'a> Ini<'a> {
+    fn scan(text: &'a str, source: &'a str) -> Result<Ini<'a>, ParseError> {
+        let mut ini = Ini {
+            text,
+            source,
+            sections: Vec::new(),
+            entries: Vec::new(),
+        };
+        for raw in text.split('\n') {
+            let line = raw.trim_matches(is_blank);
+            if line.is_empty() || is_comment(line) {
+                continue;
+            }
+            if let Some(rest) = line.strip_prefix('[') {
+                let Some(close) = rest.find(']') else {
+                    return Err(ini.error(line, "expected `]` closing the section name"));
+                };
+                let name = rest[..close].trim_matches(is_blank);
+                let after = rest[close + 1..].trim_start_matches(is_blank);
+                if !after.is_empty() && !is_comment(after) {
+                    return Err(ini.error(
+                        after,
+                        format!(
+                            "unexpected text `{}` after the section name [{name}]",
+                            shown(after)
+                        ),
+                    ));
+                }
+                if name.is_empty() {
+                    return Err(ini.error(line, "expected a section name between `[` and `]`"));
+                }
+                let start = ini.entries.len();
+                ini.sections.push(Section {
+                    name,
+                    entries: start..start,
+                });
+                continue;
+            }
+            let Some(eq) = line.find('=') else {
+                return Err(ini.error(
+                    line,
+                    format!(
+                        "expected `key=value`, a `[section]` header or a `;` comment, found `{}`",
+                        shown(line)
+                    ),
+                ));
+            };
+            let key = line[..eq].trim_matches(is_blank);
+            let value = line[eq + 1..].trim_matches(is_blank);
+            if key.is_empty() {
+                return Err(ini.error(line, "expected a key before `=`"));
+            }
+            let Some(section) = ini.sections.last_mut() else {
+                return Err(ini.error(
+                    line,
+                    format!("`{}` comes before the first [section]", shown(key)),
+                ));
+            };
+            section.entries.end += 1;
+            ini.entries.push(Entry { key, value });
+        }
+        Ok(ini)
+    }
+
+    /// Where `slice` (a part of the text) starts.
+    fn position(&self, slice: &str) -> Position {
+        let offset = (slice.as_ptr() as usize).saturating_sub(self.text.as_ptr() as usize);
+        Position::of_offset(self.text.as_bytes(), offset)
+    }
+
+    /// An error at the start of `slice`.
+    fn error(&self, slice: &str, message: impl Into<String>) -> ParseError {
+        ParseError::new(self.source, self.position(slice), message)
+    }
+
+    fn entries(&self, section: &Section<'a>) -> &[Entry<'a>] {
+        self.entries.get(section.entries.clone()).unwrap_or(&[])
+    }
+}
+
+/// The first characters of `text`, for messages.
+fn shown(text: &str) -> Cow<'_, str> {
+    const MAX: usize = 60;
+    match text.char_indices().nth(MAX) {
+        Some((cut, _)) => Cow::Owned(format!("{}…", &text[..cut])),
+        None => Cow::Borrowed(text),
+    }
+}
+
+/// What a section is, by its name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    FileInfo,
+    DeviceInfo,
+    DummyUsage,
+    Comments,
+    MandatoryObjects,
+    OptionalObjects,
+    ManufacturerObjects,
+    Commissioning,
+    Object(u16),
+    Sub(u16, u8),
+    Names(u16),
+    Values(u16),
+    Other,
+}
+
+const NAMED: [(&str, Kind); 9] = [
+    ("FileInfo", Kind::FileInfo),
+    ("DeviceInfo", Kind::DeviceInfo),
+    ("DummyUsage", Kind::DummyUsage),
+    ("Comments", Kind::Comments),
+    ("MandatoryObjects", Kind::MandatoryObjects),
+    ("OptionalObjects", Kind::OptionalObjects),
+    ("ManufacturerObjects", Kind::ManufacturerObjects),
+    ("DeviceComissioning", Kind::Commissioning),
+    ("DeviceCommissioning", Kind::Commissioning),
+];
+
+fn hex_u16(text: &str) -> Option<u16> {
+    if text.is_empty() || text.len() > 4 || !text.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    u16::from_str_radix(text, 16).ok()
+}
+
+fn classify(name: &str) -> Kind {
+    if let (Some(head), Some(rest)) = (name.get(..4), name.get(4..)) {
+        if let Some(index) = hex_u16(head).filter(|_| head.len() == 4) {
+            if rest.is_empty() {
+                return Kind::Object(index);
+            }
+            if let (Some(sub), Some(digits)) = (rest.get(..3), rest.get(3..)) {
+                if sub.eq_ignore_ascii_case("sub") && (1..=2).contains(&digits.len()) {
+                    if let Some(s) = hex_u16(digits) {
+                        return Kind::Sub(index, s as u8);
+                    }
+                }
+            }
+            if rest.eq_ignore_ascii_case("Name") {
+                return Kind::Names(index);
+            }
+            if rest.eq_ignore_ascii_case("Value") {
+                return Kind::Values(index);
+            }
+            return Kind::Other;
+        }
+    }
+    NAMED
+        .iter()
+        .find(|(n, _)| n.eq_ignore_ascii_case(name))
+        .map_or(Kind::Other, |&(_, kind)| kind)
+}
+
+/// The sections that describe one object.
+#[derive(Default)]
+struct ObjectSections {
+    main: Option<usize>,
+    subs: BTreeMap<u8, usize>,
+    names: Option<usize>,
+    values: Option<usize>,
+}
+
+/// Keys of object and sub-object sections, in the order of the `OBJ_*` constants.
+const OBJECT_KEYS: [&str; 12] = [
+    "ParameterName",
+    "ObjectType",
+    "DataType",
+    "AccessType",
+    "DefaultValue",
+    "PDOMapping",
+    "LowLimit",
+    "HighLimit",
+    "SubNumber",
+    "ObjFlags",
+    "CompactSubObj",
+    "ParameterValue",
+];
+const OBJ_NAME: usize = 0;
+const OBJ_TYPE: usize = 1;
+const OBJ_DATA_TYPE: usize = 2;
+const OBJ_ACCESS: usize = 3;
+const OBJ_DEFAULT: usize = 4;
+const OBJ_PDO: usize = 5;
+const OBJ_LOW: usize = 6;
+const OBJ_HIGH: usize = 7;
+const OBJ_SUB_NUMBER: usize = 8;
+const OBJ_FLAGS: usize = 9;
+const OBJ_COMPACT: usize = 10;
+const OBJ_VALUE: usize = 11;
+
+type Fields<'i, 'a, const N: usize> = [Option<&'i Entry<'a>>; N];
+
+/// Turns the scanned sections into a description.
+struct Builder<'i, 'a> {
+    ini: &'i Ini<'a>,
+    named: [Option<usize>; NAMED_KINDS.len()],
+    objects: BTreeMap<u16, ObjectSections>,
+}
+
+/// The named sections the reader uses, one slot each in [`Builder::named`].
+const NAMED_KINDS: [Kind; 8] = [
+    Kind::FileInfo,
+    Kind::DeviceInfo,
+    Kind::DummyUsage,
+    Kind::Comments,
+    Kind::MandatoryObjects,
+    Kind::OptionalObjects,
+    Kind::ManufacturerObjects,
+    Kind::Commissioning,
+];
+
+/// The error for section `i`, which repeats section `first`.
+fn repeated(ini: &Ini<'_>, i: usize, first: usize) -> ParseError {
+    let (Some(again), Some(first)) = (ini.sections.get(i), ini.sections.get(first)) else {
+        return ParseError::new(ini.source, Position::default(), "repeated section");
+    };
+    ini.error(
+        again.name,
+        format!(
+            "section [{}] appears a second time (first at line {})",
+            again.name,
+            ini.position(first.name).line
+        ),
+    )
+}
+
+/// A parsed value and whether the node-ID is added to it.
+type Typed = (Value, bool);
+
+impl<'i, 'a> Builder<'i, 'a> {
+    fn new(ini: &'i Ini<'a>) -> Result<Builder<'i, 'a>, ParseError> {
+        let mut named = [None; NAMED_KINDS.len()];
+        let mut objects: BTreeMap<u16, ObjectSections> = BTreeMap::new();
+        for (i, section) in ini.sections.iter().enumerate() {
+            let slot = match classify(section.name) {
+                Kind::Other => continue,
+                Kind::Object(index) => &mut objects.entry(index).or_default().main,
+                Kind::Sub(index, sub) => {
+                    let subs = &mut objects.entry(index).or_default().subs;
+                    if let Some(&first) = subs.get(&sub) {
+                        return Err(repeated(ini, i, first));
+                    }
+                    subs.insert(sub, i);
+                    continue;
+                }
+                Kind::Names(index) => &mut objects.entry(index).or_default().names,
+                Kind::Values(index) => &mut objects.entry(index).or_default().values,
+                kind => match NAMED_KINDS
+                    .iter()
+                    .position(|&k| k == kind)
+                    .and_then(|n| named.get_mut(n))
+                {
+                    Some(slot) => slot,
+                    None => continue,
+                },
+            };
+            if let Some(first) = *slot {
+                return Err(repeated(ini, i, first));
+            }
+            *slot = Some(i);
+        }
+        Ok(Builder {
+            ini,
+            named,
+            objects,
+        })
+    }
+
+    fn section(&self, i: usize) -> Option<&'i Section<'a>> {
+        self.ini.sections.get(i)
+    }
+
+    fn named(&self, kind: Kind) -> Option<&'i Section<'a>> {
+        let n = NAMED_KINDS.iter().position(|&k| k == kind)?;
+        self.named
+            .get(n)
+            .copied()
+            .flatten()
+            .and_then(|i| self.section(i))
+    }
+
+    /// Picks the entries named `names` out of `section`, case-insensitively; a key given twice is an
+    /// error.
+    fn fields<const N: usize>(
+        &self,
+        section: &Section<'a>,
+        names: [&str; N],
+    ) -> Result<Fields<'i, 'a, N>, ParseError> {
+        let mut found: Fields<'i, 'a, N> = [None; N];
+        let entries: &'i [Entry<'a>] = self.ini.entries(section);
+        for entry in entries {
+            let Some(i) = names.iter().position(|n| n.eq_ignore_ascii_case(entry.key)) else {
+                continue;
+            };
+            let Some(slot) = found.get_mut(i) else {
+                continue;
+            };
+            if let Some(first) = slot {
+                return Err(self.ini.error(
+                    entry.key,
+                    format!(
+                        "{}= appears a second time in [{}] (first at line {})",
+                        entry.key,
+                        section.name,
+                        self.ini.position(first.key).line
+                    ),
+                ));
+            }
+            *slot = Some(entry);
+        }
+        Ok(found)
+    }
+
+    /// The entries of `section` whose keys are decimal numbers, by number; a number given twice is an
+    /// error. Other keys are skipped.
+    fn numbered(&self, section: &Section<'a>) -> Result<BTreeMap<u32, &'i Entry<'a>>, ParseError> {
+        let mut found = BTreeMap::new();
+        let entries: &'i [Entry<'a>] = self.ini.entries(section);
+        for entry in entries {
+            if !entry.key.bytes().all(|b| b.is_ascii_digit()) {
+                continue;
+            }
+            let Ok(n) = entry.key.parse::<u32>() else {
+                continue;
+            };
+            if let Some(first) = found.insert(n, entry) {
+                return Err(self.ini.error(
+                    entry.key,
+                    format!(
+                        "{}= appears a second time in [{}] (first at line {})",
+                        entry.key,
+                        section.name,
+                        self.ini.position(first.key).line
+                    ),
+                ));
+            }
+        }
+        Ok(found)
+    }
+
+    /// An error about the value of `entry`: what was expected and what was found.
+    fn bad(&self, section: &Section<'a>, entry: &Entry<'a>, expected: &str) -> ParseError {
+        self.ini.error(
+            entry.value,
+            format!(
+                "{}= in [{}]: expected {expected}, found `{}`",
+                entry.key,
+                section.name,
+                shown(entry.value)
+            ),
+        )
+    }
+
+    /// An error about a key missing from `section`.
+    fn missing(&self, section: &Section<'a>, key: &str, expected: &str) -> ParseError {
+        self.ini.error(
+            section.name,
+            format!("[{}] has no {key}= ({expected})", section.name),
+        )
+    }
+
+    /// An integer that fits `T`; `default` when absent or empty.
+    fn number<T: TryFrom<i128>>(
+        &self,
+        section: &Section<'a>,
+        entry: Option<&Entry<'a>>,
+        expected: &str,
+        default: T,
+    ) -> Result<T, ParseError> {
+        match entry {
+            None => Ok(default),
+            Some(e) if e.value.is_empty() => Ok(default),
+            Some(e) => parse_integer(e.value)
+                .and_then(|v| T::try_from(v).ok())
+                .ok_or_else(|| self.bad(section, e, expected)),
+        }
+    }
+
+    /// `0`/`1` (or `false`/`true`); `default` when absent or empty.
+    fn flag(
+        &self,
+        section: &Section<'a>,
+        entry: Option<&Entry<'a>>,
+        default: bool,
+    ) -> Result<bool, ParseError> {
+        let Some(e) = entry.filter(|e| !e.value.is_empty()) else {
+            return Ok(default);
+        };
+        if e.value.eq_ignore_ascii_case("true") {
+            return Ok(true);
+        }
+        if e.value.eq_ignore_ascii_case("false") {
+            return Ok(false);
+        }
+        match parse_integer(e.value) {
+            Some(0) => Ok(false),
+            Some(1) => Ok(true),
+            _ => Err(self.bad(section, e, "0 or 1")),
+        }
+    }
+
+    fn build(&self) -> Result<DeviceDescription, ParseError> {
+        let mut desc = DeviceDescription::default();
+        if let Some(section) = self.named(Kind::FileInfo) {
+            desc.file_info = self.file_info(section)?;
+        }
+        let mut can = None;
+        if let Some(section) = self.named(Kind::DeviceInfo) {
+            let (identity, info) = self.device_info(section)?;
+            desc.identity = identity;
+            can = Some(info);
+        }
+        if let Some(section) = self.named(Kind::DummyUsage) {
+            can.get_or_insert_with(CanInfo::default).dummy_usage = self.dummy_usage(section)?;
+        }
+        desc.can = can;
+        if let Some(section) = self.named(Kind::Comments) {
+            desc.comments = self.comments(section)?;
+        }
+        if let Some(section) = self.named(Kind::Commissioning) {
+            desc.commissioning = Some(self.commissioning(section)?);
+        }
+        for kind in [
+            Kind::MandatoryObjects,
+            Kind::OptionalObjects,
+            Kind::ManufacturerObjects,
+        ] {
+            if let Some(section) = self.named(kind) {
+                self.check_list(section)?;
+            }
+        }
+        let node_id = desc.commissioning.as_ref().map(|c| c.node_id);
+        for (&index, sections) in &self.objects {
+            let Some(main) = sections.main.and_then(|i| self.section(i)) else {
+                if let Some(sub) = sections.subs.values().next().and_then(|&i| self.section(i)) {
+                    return Err(self.ini.error(
+                        sub.name,
+                        format!(
+                            "section [{}] has no object section [{index:04X}] before or after it",
+                            sub.name
+                        ),
+                    ));
+                }
+                // `[xxxxName]` / `[xxxxValue]` of an object the file does not describe: nothing to apply
+                // them to.
+                continue;
+            };
+            desc.dictionary
+                .insert(self.object(index, main, sections, node_id)?);
+        }
+        Ok(desc)
+    }
+
+    fn file_info(&self, section: &Section<'a>) -> Result<FileInfo, ParseError> {
+        let [file_name, file_version, file_revision, format_version, description, creation_time, creation_date, created_by, modification_time, modification_date, modified_by] =
+            self.fields(
+                section,
+                [
+                    "FileName",
+                    "FileVersion",
+                    "FileRevision",
+                    "EDSVersion",
+                    "Description",
+                    "CreationTime",
+                    "CreationDate",
+                    "CreatedBy",
+                    "ModificationTime",
+                    "ModificationDate",
+                    "ModifiedBy",
+                ],
+            )?;
+        let text = |e: Option<&Entry<'a>>| e.map_or_else(String::new, |e| e.value.to_string());
+        Ok(FileInfo {
+            file_name: text(file_name),
+            file_version: text(file_version),
+            file_revision: text(file_revision),
+            format_version: text(format_version),
+            description: text(description),
+            creation_time: text(creation_time),
+            creation_date: text(creation_date),
+            created_by: text(created_by),
+            modification_time: text(modification_time),
+            modification_date: text(modification_date),
+            modified_by: text(modified_by),
+        })
+    }
+
+    fn device_info(&self, section: &Section<'a>) -> Result<(Identity, CanInfo), ParseError> {
+        let [vendor_name, vendor_number, product_name, product_number, revision, order_code, simple_master, simple_slave, granularity, dynamic, group, rx, tx, lss, b10, b20, b50, b125, b250, b500, b800, b1000] =
+            self.fields(
+                section,
+                [
+                    "VendorName",
+                    "VendorNumber",
+                    "ProductName",
+                    "ProductNumber",
+                    "RevisionNumber",
+                    "OrderCode",
+                    "SimpleBootUpMaster",
+                    "SimpleBootUpSlave",
+                    "Granularity",
+                    "DynamicChannelsSupported",
+                    "GroupMessaging",
+                    "NrOfRXPDO",
+                    "NrOfTXPDO",
+                    "LSS_Supported",
+                    "BaudRate_10",
+                    "BaudRate_20",
+                    "BaudRate_50",
+                    "BaudRate_125",
+                    "BaudRate_250",
+                    "BaudRate_500",
+                    "BaudRate_800",
+                    "BaudRate_1000",
+                ],
+            )?;
+        let text = |e: Option<&Entry<'a>>| e.map_or_else(String::new, |e| e.value.to_string());
+        const U32: &str = "a 32-bit number like 0x0000012A";
+        let identity = Identity {
+            vendor_id: self.number(section, vendor_number, U32, 0)?,
+            vendor_name: text(vendor_name),
+            product_code: self.number(section, product_number, U32, 0)?,
+            revision: self.number(section, revision, U32, 0)?,
+            product_name: text(product_name),
+            order_code: text(order_code),
+        };
+        let defaults = CanInfo::default();
+        let mut baud_rates = Vec::new();
+        for (rate, entry) in [
+            (10, b10),
+            (20, b20),
+            (50, b50),
+            (125, b125),
+            (250, b250),
+            (500, b500),
+            (800, b800),
+            (1000, b1000),
+        ] {
+            if self.flag(section, entry, false)? {
+                baud_rates.push(rate);
+            }
+        }
+        let info = CanInfo {
+            baud_rates,
+            simple_boot_up_master: self.flag(
+                section,
+                simple_master,
+                defaults.simple_boot_up_master,
+            )?,
+            simple_boot_up_slave: self.flag(
+                section,
+                simple_slave,
+                defaults.simple_boot_up_slave,
+            )?,
+            granularity: self.number(
+                section,
+                granularity,
+                "a granularity in bits, 0 to 64",
+                defaults.granularity,
+            )?,
+            dynamic_channels: self.number(
+                section,
+                dynamic,
+                "a number of dynamic channels, 0 to 255",
+                defaults.dynamic_channels,
+            )?,
+            group_messaging: self.flag(section, group, defaults.group_messaging)?,
+            nr_of_rx_pdo: self.number(
+                section,
+                rx,
+                "a number of RPDOs, 0 to 512",
+                defaults.nr_of_rx_pdo,
+            )?,
+            nr_of_tx_pdo: self.number(
+                section,
+                tx,
+                "a number of TPDOs, 0 to 512",
+                defaults.nr_of_tx_pdo,
+            )?,
+            lss_supported: self.flag(section, lss, defaults.lss_supported)?,
+            dummy_usage: Vec::new(),
+        };
+        Ok((identity, info))
+    }
+
+    /// `DummyXXXX=1`: the data types (by index) that may be mapped as dummies.
+    fn dummy_usage(&self, section: &Section<'a>) -> Result<Vec<u16>, ParseError> {
+        let mut usable = Vec::new();
+        for entry in self.ini.entries(section) {
+            let Some(index) = entry
+                .key
+                .get(..5)
+                .filter(|p| p.eq_ignore_ascii_case("Dummy"))
+                .and_then(|_| entry.key.get(5..))
+                .and_then(hex_u16)
+            else {
+                continue;
+            };
+            if self.flag(section, Some(entry), false)? {
+                usable.push(index);
+            }
+        }
+        usable.sort_unstable();
+        usable.dedup();
+        Ok(usable)
+    }
+
+    fn comments(&self, section: &Section<'a>) -> Result<Vec<String>, ParseError> {
+        let [lines] = self.fields(section, ["Lines"])?;
+        let count: u32 = self.number(section, lines, "a number of comment lines", 0)?;
+        let mut numbered = BTreeMap::new();
+        for entry in self.ini.entries(section) {
+            let n = entry
+                .key
+                .get(..4)
+                .filter(|p| p.eq_ignore_ascii_case("Line"))
+                .and_then(|_| entry.key.get(4..))
+                .filter(|digits| digits.bytes().all(|b| b.is_ascii_digit()))
+                .and_then(|digits| digits.parse::<u32>().ok());
+            if let Some(n) = n {
+                if let Some(first) = numbered.insert(n, entry) {
+                    return Err(self.ini.error(
+                        entry.key,
+                        format!(
+                            "{}= appears a second time in [{}] (first at line {})",
+                            entry.key,
+                            section.name,
+                            self.ini.position(first.key).line
+                        ),
+                    ));
+                }
+            }
+        }
+        (1..=count)
+            .map(|n| {
+                numbered
+                    .get(&n)
+                    .map(|e| e.value.to_string())
+                    .ok_or_else(|| {
+                        self.missing(
+                            section,
+                            &format!("Line{n}"),
+                            &format!("Lines={count} announces it"),
+                        )
+                    })
+            })
+            .collect()
+    }
+
+    fn commissioning(&self, section: &Section<'a>) -> Result<Commissioning, ParseError> {
+        let [node_id, node_name, baud_rate, net_number, network_name, manager, serial] = self
+            .fields(
+                section,
+                [
+                    "NodeID",
+                    "NodeName",
+                    "Baudrate",
+                    "NetNumber",
+                    "NetworkName",
+                    "CANopenManager",
+                    "LSS_SerialNumber",
+                ],
+            )?;
+        let node_id = match node_id.filter(|e| !e.value.is_empty()) {
+            Some(e) => {
+                let id = self.number(section, Some(e), "a node-ID, 1 to 127", 0u8)?;
+                if !(1..=127).contains(&id) {
+                    return Err(self.bad(section, e, "a node-ID, 1 to 127"));
+                }
+                id
+            }
+            None => return Err(self.missing(section, "NodeID", "the node-ID, 1 to 127")),
+        };
+        let text = |e: Option<&Entry<'a>>| e.map_or_else(String::new, |e| e.value.to_string());
+        Ok(Commissioning {
+            node_id,
+            node_name: text(node_name),
+            baud_rate: self.number(section, baud_rate, "a bit rate in kbit/s", 0)?,
+            net_number: self.number(section, net_number, "a 32-bit network number", 0)?,
+            network_name: text(network_name),
+            canopen_manager: self.flag(section, manager, false)?,
+            lss_serial_number: self.number(section, serial, "a 32-bit serial number", 0)?,
+        })
+    }
+
+    /// Checks an object list: `SupportedObjects=` is a number and every listed index has its section.
+    fn check_list(&self, section: &Section<'a>) -> Result<(), ParseError> {
+        let [supported] = self.fields(section, ["SupportedObjects"])?;
+        self.number::<u32>(section, supported, "a number of objects", 0)?;
+        for entry in self.numbered(section)?.values() {
+            const INDEX: &str = "an object index like 0x1000";
+            if entry.value.is_empty() {
+                return Err(self.bad(section, entry, INDEX));
+            }
+            let index: u16 = self.number(section, Some(entry), INDEX, 0)?;
+            let described = self
+                .objects
+                .get(&index)
+                .is_some_and(|sections| sections.main.is_some());
+            if !described {
+                return Err(self.ini.error(
+                    entry.value,
+                    format!(
+                        "{}={} in [{}]: object 0x{index:04X} is listed but the file has no section [{index:04X}]",
+                        entry.key, entry.value, section.name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn object(
+        &self,
+        index: u16,
+        main: &Section<'a>,
+        sections: &ObjectSections,
+        node_id: Option<u8>,
+    ) -> Result<Object, ParseError> {
+        let fields = self.fields(main, OBJECT_KEYS)?;
+        let name = fields[OBJ_NAME]
+            .ok_or_else(|| self.missing(main, "ParameterName", "the object's name"))?
+            .value;
+        let kind = match fields[OBJ_TYPE].filter(|e| !e.value.is_empty()) {
+            None => ObjectKind::Var,
+            Some(e) => parse_integer(e.value)
+                .and_then(|v| u8::try_from(v).ok())
+                .and_then(ObjectKind::from_code)
+                .ok_or_else(|| {
+                    self.bad(
+                        main,
+                        e,
+                        "an object code: 0x7 (VAR), 0x8 (ARRAY), 0x9 (RECORD), 0x2 (DOMAIN), 0x5 (DEFTYPE), 0x6 (DEFSTRUCT) or 0x0 (NULL)",
+                    )
+                })?,
+        };
+        self.number::<u8>(
+            main,
+            fields[OBJ_SUB_NUMBER],
+            "a number of sub-indices, 0 to 255",
+            0,
+        )?;
+        self.number::<u32>(main, fields[OBJ_FLAGS], "object flags, a 32-bit number", 0)?;
+        let mut object = Object::structured(index, name, kind);
+        if !kind.has_subs() {
+            if let Some(sub) = sections.subs.values().next().and_then(|&i| self.section(i)) {
+                return Err(self.ini.error(
+                    sub.name,
+                    format!(
+                        "section [{}] describes a sub-index of a {kind} object; only ARRAY, RECORD and DEFSTRUCT objects have them",
+                        sub.name
+                    ),
+                ));
+            }
+            if kind == ObjectKind::Null && fields[OBJ_DATA_TYPE].is_none() {
+                return Ok(object);
+            }
+            let sub = self.sub_object(main, &fields, name.to_string(), node_id, None)?;
+            object.subs.insert(0, sub);
+            return Ok(object);
+        }
+        const COMPACT: &str = "a number of compact sub-indices, 0 to 254";
+        let compact: u8 = self.number(main, fields[OBJ_COMPACT], COMPACT, 0)?;
+        if compact == 255 {
+            if let Some(e) = fields[OBJ_COMPACT] {
+                return Err(self.bad(main, e, COMPACT));
+            }
+        }
+        if compact > 0 {
+            let names = match sections.names.and_then(|i| self.section(i)) {
+                Some(section) => Some((section, self.numbered(section)?)),
+                None => None,
+            };
+            let values = match sections.values.and_then(|i| self.section(i)) {
+                Some(section) => Some((section, self.numbered(section)?)),
+                None => None,
+            };
+            for section in [&names, &values].into_iter().flatten() {
+                let [count] = self.fields(section.0, ["NrOfEntries"])?;
+                self.number::<u8>(section.0, count, "a number of entries, 0 to 254", 0)?;
+            }
+            object.subs.insert(
+                0,
+                SubObject::new("NrOfObjects", DataType::Unsigned8, AccessType::Ro)
+                    .with_default(Value::Uint(u64::from(compact))),
+            );
+            for n in 1..=compact {
+                let key = u32::from(n);
+                let sub_name = names
+                    .as_ref()
+                    .and_then(|(_, map)| map.get(&key))
+                    .map_or_else(|| format!("{name}{n}"), |e| e.value.to_string());
+                let value = values
+                    .as_ref()
+                    .and_then(|(section, map)| map.get(&key).map(|e| (*section, *e)));
+                let sub = self.sub_object(main, &fields, sub_name, node_id, value)?;
+                object.subs.insert(n, sub);
+            }
+        }
+        for (&sub_index, &i) in &sections.subs {
+            let Some(section) = self.section(i) else {
+                continue;
+            };
+            let sub_fields = self.fields(section, OBJECT_KEYS)?;
+            let sub_name = sub_fields[OBJ_NAME]
+                .ok_or_else(|| self.missing(section, "ParameterName", "the entry's name"))?
+                .value;
+            let sub = self.sub_object(section, &sub_fields, sub_name.to_string(), node_id, None)?;
+            object.subs.insert(sub_index, sub);
+        }
+        Ok(object)
+    }
+
+    /// One entry from the keys of `section`. `value` replaces the section's `ParameterValue` (the
+    /// `[xxxxValue]` entry of a compact array).
+    fn sub_object(
+        &self,
+        section: &Section<'a>,
+        fields: &Fields<'i, 'a, 12>,
+        name: String,
+        node_id: Option<u8>,
+        value: Option<(&Section<'a>, &Entry<'a>)>,
+    ) -> Result<SubObject, ParseError> {
+        let data_type = fields[OBJ_DATA_TYPE]
+            .ok_or_else(|| {
+                self.missing(section, "DataType", "a CiA 301 data type index like 0x0007")
+            })
+            .and_then(|e| self.data_type(section, e))?;
+        let access = fields[OBJ_ACCESS]
+            .ok_or_else(|| self.missing(section, "AccessType", "ro, wo, rw, rwr, rww or const"))?;
+        let access = AccessType::parse(access.value)
+            .ok_or_else(|| self.bad(section, access, "ro, wo, rw, rwr, rww or const"))?;
+        let mappable = self.flag(section, fields[OBJ_PDO], false)?;
+        let mut sub = SubObject::new(name, data_type, access);
+        if mappable {
+            sub.pdo = match access {
+                AccessType::Ro | AccessType::Const | AccessType::Rwr => PdoMapping::Tpdo,
+                AccessType::Wo | AccessType::Rww => PdoMapping::Rpdo,
+                AccessType::Rw => PdoMapping::Both,
+            };
+        }
+        if let Some(e) = fields[OBJ_DEFAULT] {
+            if let Some((value, plus_node_id)) = self.typed(section, e, data_type, true)? {
+                sub.default = Some(DefaultValue {
+                    value,
+                    plus_node_id,
+                });
+            }
+        }
+        if data_type.is_signed() || data_type.is_unsigned() || data_type.is_real() {
+            for (slot, entry) in [
+                (&mut sub.low, fields[OBJ_LOW]),
+                (&mut sub.high, fields[OBJ_HIGH]),
+            ] {
+                if let Some(e) = entry {
+                    *slot = self.typed(section, e, data_type, false)?.map(|(v, _)| v);
+                }
+            }
+        }
+        if let Some(default) = &sub.default {
+            let resolved = default.resolve(node_id.unwrap_or(0));
+            sub.value = resolved.encode(data_type).map_err(|err| {
+                let at = fields[OBJ_DEFAULT].map_or(section.name, |e| e.value);
+                self.ini.error(
+                    at,
+                    format!(
+                        "DefaultValue= in [{}]: with node-ID {} the value does not fit: {err}",
+                        section.name,
+                        node_id.unwrap_or(0)
+                    ),
+                )
+            })?;
+        }
+        let value = value.or_else(|| fields[OBJ_VALUE].map(|e| (section, e)));
+        if let Some((value_section, e)) = value {
+            if let Some((value, plus_node_id)) = self.typed(value_section, e, data_type, true)? {
+                let value = if plus_node_id {
+                    let Some(node_id) = node_id else {
+                        return Err(self.ini.error(
+                            e.value,
+                            format!(
+                                "{}= in [{}]: $NODEID needs the NodeID= of a [DeviceComissioning] section, and the file has none",
+                                e.key, value_section.name
+                            ),
+                        ));
+                    };
+                    DefaultValue {
+                        value,
+                        plus_node_id,
+                    }
+                    .resolve(node_id)
+                } else {
+                    value
+                };
+                sub.value = value.encode(data_type).map_err(|err| {
+                    self.ini.error(
+                        e.value,
+                        format!("{}= in [{}]: {err}", e.key, value_section.name),
+                    )
+                })?;
+                sub.value_set = true;
+            }
+        }
+        Ok(sub)
+    }
+
+    fn data_type(&self, section: &Section<'a>, entry: &Entry<'a>) -> Result<DataType, ParseError> {
+        let index = parse_integer(entry.value)
+            .and_then(|v| u16::try_from(v).ok())
+            .ok_or_else(|| self.bad(section, entry, "a CiA 301 data type index like 0x0007"))?;
+        if let Some(t) = DataType::from_index(index) {
+            return Ok(t);
+        }
+        if (0x0020..=0x025F).contains(&index) {
+            // A complex or profile type (PDO parameter, identity, manufacturer structure): the model has
+            // no structured type for a single entry, so its bytes are a domain.
+            return Ok(DataType::Domain);
+        }
+        Err(self.bad(
+            section,
+            entry,
+            "a CiA 301 data type index: 0x0001 to 0x001B (0x0017 unused), or 0x0020 to 0x025F for a complex type",
+        ))
+    }
+
+    /// The value of `entry` as `data_type`, and whether it adds the node-ID (`$NODEID+…`, allowed when
+    /// `node_id_allowed`). Empty text of a type whose values are not text is no value; so is a DOMAIN
+    /// value that is not hexadecimal bytes (see the module documentation).
+    fn typed(
+        &self,
+        section: &Section<'a>,
+        entry: &Entry<'a>,
+        data_type: DataType,
+        node_id_allowed: bool,
+    ) -> Result<Option<Typed>, ParseError> {
+        let text = entry.value;
+        let textual = matches!(
+            data_type,
+            DataType::VisibleString
+                | DataType::UnicodeString
+                | DataType::OctetString
+                | DataType::Domain
+        );
+        if text.is_empty() && !textual {
+            return Ok(None);
+        }
+        let (body, plus_node_id) = if textual {
+            (text, false)
+        } else {
+            split_node_id(text).ok_or_else(|| {
+                self.bad(
+                    section,
+                    entry,
+                    "a value, `$NODEID`, `$NODEID+offset` or `offset+$NODEID`",
+                )
+            })?
+        };
+        if plus_node_id {
+            if !node_id_allowed {
+                return Err(self.bad(section, entry, "a value without $NODEID"));
+            }
+            let integer = data_type.is_signed()
+                || (data_type.is_unsigned() && data_type != DataType::Boolean);
+            if !integer {
+                return Err(self.bad(
+                    section,
+                    entry,
+                    &format!("a {data_type} value ($NODEID is added to integers only)"),
+                ));
+            }
+        }
+        match Value::parse_text(data_type, body) {
+            Ok(value) => Ok(Some((value, plus_node_id))),
+            Err(_) if data_type == DataType::Domain => Ok(None),
+            Err(err) => Err(self.ini.error(
+                entry.value,
+                format!("{}= in [{}]: {err}", entry.key, section.name),
+            )),
+        }
+    }
+}
+
+/// Splits `$NODEID`, `$NODEID+offset` and `offset+$NODEID` (case-insensitive, blanks allowed) into the
+/// offset and `true`; other text comes back unchanged with `false`. `None`: `$NODEID` in another form.
+fn split_node_id(text: &str) -> Option<(&str, bool)> {
+    const TOKEN: &[u8] = b"$NODEID";
+    let Some(at) = text
+        .as_bytes()
+        .windows(TOKEN.len())
+        .position(|w| w.eq_ignore_ascii_case(TOKEN))
+    else {
+        return Some((text, false));
+    };
+    let before = text.get(..at)?.trim_matches(is_blank);
+    let after = text.get(at + TOKEN.len()..)?.trim_matches(is_blank);
+    let offset = match (before.is_empty(), after.is_empty()) {
+        (true, true) => "0",
+        (true, false) => after.strip_prefix('+')?.trim_matches(is_blank),
+        (false, true) => before.strip_suffix('+')?.trim_matches(is_blank),
+        (false, false) => return None,
+    };
+    if offset.is_empty() {
+        return None;
+    }
+    Some((offset, true))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn node_id_forms() {
+        assert_eq!(split_node_id("$NODEID+0x180"), Some(("0x180", true)));
+        assert_eq!(split_node_id("0x180+$NODEID"), Some(("0x180", true)));
+        assert_eq!(split_node_id("$nodeid + 0x180"), Some(("0x180", true)));
+        assert_eq!(split_node_id("$NodeId"), Some(("0", true)));
+        assert_eq!(split_node_id("0x180"), Some(("0x180", false)));
+        assert_eq!(split_node_id("$NODEID-1"), None);
+        assert_eq!(split_node_id("1+$NODEID+2"), None);
+        assert_eq!(split_node_id("$NODEID+"), None);
+    }
+
+    #[test]
+    fn section_names() {
+        assert_eq!(classify("1018"), Kind::Object(0x1018));
+        assert_eq!(classify("1a00"), Kind::Object(0x1A00));
+        assert_eq!(classify("1018sub1"), Kind::Sub(0x1018, 1));
+        assert_eq!(classify("1018SUB1f"), Kind::Sub(0x1018, 0x1F));
+        assert_eq!(classify("3010Sub0"), Kind::Sub(0x3010, 0));
+        assert_eq!(classify("1018sub100"), Kind::Other);
+        assert_eq!(classify("3004Name"), Kind::Names(0x3004));
+        assert_eq!(classify("3004value"), Kind::Values(0x3004));
+        assert_eq!(classify("3004ObjectLinks"), Kind::Other);
+        assert_eq!(classify("fileinfo"), Kind::FileInfo);
+        assert_eq!(classify("DeviceCommissioning"), Kind::Commissioning);
+        assert_eq!(classify("A0"), Kind::Other);
+        assert_eq!(classify("BEEF"), Kind::Object(0xBEEF));
+        assert_eq!(classify("Tools"), Kind::Other);
+        assert_eq!(classify("µµµµ"), Kind::Other);
+    }
+
+    #[test]
+    fn latin1_decodes_one_character_per_byte() {
+        assert_eq!(decode(b"a\xB5b"), "a\u{B5}b");
+        assert_eq!(decode(b"\xEF\xBB\xBFab"), "ab");
+        assert_eq!(decode("µ".as_bytes()), "µ");
+    }
+}

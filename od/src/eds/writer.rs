@@ -1,0 +1,283 @@
+//! The EDS/DCF writer: sections in CiA 306 order, keys in a fixed order, CR LF line ends.
+
+use std::borrow::Cow;
+use std::fmt::Write as _;
+
+use crate::device::{CanInfo, Commissioning, DeviceDescription};
+use crate::object::{DefaultValue, Object, SubObject};
+use crate::types::DataType;
+use crate::value::Value;
+
+/// The bit rates of `[DeviceInfo]`, in kbit/s.
+const BAUD_RATES: [u32; 8] = [10, 20, 50, 125, 250, 500, 800, 1000];
+
+/// The objects CiA 306 lists in `[MandatoryObjects]`.
+const MANDATORY: [u16; 3] = [0x1000, 0x1001, 0x1018];
+
+pub(super) fn write(desc: &DeviceDescription, dcf: bool) -> String {
+    let mut w = IniWriter::default();
+    file_info(&mut w, desc);
+    let default_can = CanInfo::default();
+    let can = desc.can.as_ref().unwrap_or(&default_can);
+    device_info(&mut w, desc, can);
+    let node_id = if dcf {
+        let default_commissioning = Commissioning {
+            node_id: 1,
+            ..Commissioning::default()
+        };
+        let commissioning = desc
+            .commissioning
+            .as_ref()
+            .unwrap_or(&default_commissioning);
+        commissioning_section(&mut w, commissioning);
+        Some(commissioning.node_id)
+    } else {
+        None
+    };
+    dummy_usage(&mut w, can);
+    comments(&mut w, &desc.comments);
+
+    let objects: Vec<&Object> = desc.dictionary.objects().collect();
+    let mandatory: Vec<u16> = objects
+        .iter()
+        .map(|o| o.index)
+        .filter(|i| MANDATORY.contains(i))
+        .collect();
+    let manufacturer: Vec<u16> = objects
+        .iter()
+        .map(|o| o.index)
+        .filter(|i| (0x2000..=0x5FFF).contains(i))
+        .collect();
+    let optional: Vec<u16> = objects
+        .iter()
+        .map(|o| o.index)
+        .filter(|i| !MANDATORY.contains(i) && !(0x2000..=0x5FFF).contains(i))
+        .collect();
+    object_list(&mut w, "MandatoryObjects", &mandatory);
+    object_list(&mut w, "OptionalObjects", &optional);
+    object_list(&mut w, "ManufacturerObjects", &manufacturer);
+    for object in objects {
+        object_sections(&mut w, object, node_id);
+    }
+    w.out
+}
+
+/// Accumulates the text: a blank line between sections, CR LF after every line.
+#[derive(Default)]
+struct IniWriter {
+    out: String,
+}
+
+impl IniWriter {
+    fn section(&mut self, name: &str) {
+        if !self.out.is_empty() {
+            self.out.push_str("\r\n");
+        }
+        self.out.push('[');
+        self.out.push_str(name);
+        self.out.push_str("]\r\n");
+    }
+
+    fn key(&mut self, key: &str, value: &str) {
+        self.out.push_str(key);
+        self.out.push('=');
+        self.out.push_str(&one_line(value));
+        self.out.push_str("\r\n");
+    }
+}
+
+/// `text` as an INI value can hold it: line breaks become spaces, and the blanks a reader trims go.
+fn one_line(text: &str) -> Cow<'_, str> {
+    let trimmed = text.trim_matches(|c: char| c.is_ascii_whitespace());
+    if trimmed.contains(['\r', '\n']) {
+        Cow::Owned(trimmed.replace(['\r', '\n'], " "))
+    } else {
+        Cow::Borrowed(trimmed)
+    }
+}
+
+fn flag(b: bool) -> &'static str {
+    if b {
+        "1"
+    } else {
+        "0"
+    }
+}
+
+fn file_info(w: &mut IniWriter, desc: &DeviceDescription) {
+    let f = &desc.file_info;
+    w.section("FileInfo");
+    w.key("FileName", &f.file_name);
+    w.key("FileVersion", &f.file_version);
+    w.key("FileRevision", &f.file_revision);
+    let version = if f.format_version.trim().is_empty() {
+        "4.0"
+    } else {
+        &f.format_version
+    };
+    w.key("EDSVersion", version);
+    w.key("Description", &f.description);
+    w.key("CreationTime", &f.creation_time);
+    w.key("CreationDate", &f.creation_date);
+    w.key("CreatedBy", &f.created_by);
+    w.key("ModificationTime", &f.modification_time);
+    w.key("ModificationDate", &f.modification_date);
+    w.key("ModifiedBy", &f.modified_by);
+}
+
+fn device_info(w: &mut IniWriter, desc: &DeviceDescription, can: &CanInfo) {
+    let id = &desc.identity;
+    w.section("DeviceInfo");
+    w.key("VendorName", &id.vendor_name);
+    w.key("VendorNumber", &format!("0x{:08X}", id.vendor_id));
+    w.key("ProductName", &id.product_name);
+    w.key("ProductNumber", &format!("0x{:08X}", id.product_code));
+    w.key("RevisionNumber", &format!("0x{:08X}", id.revision));
+    w.key("OrderCode", &id.order_code);
+    for rate in BAUD_RATES {
+        w.key(
+            &format!("BaudRate_{rate}"),
+            flag(can.baud_rates.contains(&rate)),
+        );
+    }
+    w.key("SimpleBootUpMaster", flag(can.simple_boot_up_master));
+    w.key("SimpleBootUpSlave", flag(can.simple_boot_up_slave));
+    w.key("Granularity", &can.granularity.to_string());
+    w.key(
+        "DynamicChannelsSupported",
+        &can.dynamic_channels.to_string(),
+    );
+    w.key("GroupMessaging", flag(can.group_messaging));
+    w.key("NrOfRXPDO", &can.nr_of_rx_pdo.to_string());
+    w.key("NrOfTXPDO", &can.nr_of_tx_pdo.to_string());
+    w.key("LSS_Supported", flag(can.lss_supported));
+}
+
+fn commissioning_section(w: &mut IniWriter, c: &Commissioning) {
+    w.section("DeviceComissioning");
+    w.key("NodeID", &c.node_id.to_string());
+    w.key("NodeName", &c.node_name);
+    w.key("Baudrate", &c.baud_rate.to_string());
+    w.key("NetNumber", &c.net_number.to_string());
+    w.key("NetworkName", &c.network_name);
+    w.key("CANopenManager", flag(c.canopen_manager));
+    w.key(
+        "LSS_SerialNumber",
+        &format!("0x{:08X}", c.lss_serial_number),
+    );
+}
+
+fn dummy_usage(w: &mut IniWriter, can: &CanInfo) {
+    w.section("DummyUsage");
+    let mut indices: Vec<u16> = (1..=7).chain(can.dummy_usage.iter().copied()).collect();
+    indices.sort_unstable();
+    indices.dedup();
+    for index in indices {
+        w.key(
+            &format!("Dummy{index:04X}"),
+            flag(can.dummy_usage.contains(&index)),
+        );
+    }
+}
+
+fn comments(w: &mut IniWriter, lines: &[String]) {
+    w.section("Comments");
+    w.key("Lines", &lines.len().to_string());
+    for (n, line) in lines.iter().enumerate() {
+        w.key(&format!("Line{}", n + 1), line);
+    }
+}
+
+fn object_list(w: &mut IniWriter, name: &str, indices: &[u16]) {
+    w.section(name);
+    w.key("SupportedObjects", &indices.len().to_string());
+    for (n, index) in indices.iter().enumerate() {
+        w.key(&(n + 1).to_string(), &format!("0x{index:04X}"));
+    }
+}
+
+fn object_sections(w: &mut IniWriter, object: &Object, node_id: Option<u8>) {
+    w.section(&format!("{:04X}", object.index));
+    w.key("ParameterName", &object.name);
+    w.key("ObjectType", &format!("0x{:X}", object.kind.code()));
+    if object.kind.has_subs() {
+        w.key("SubNumber", &format!("0x{:X}", object.subs.len()));
+        for (&sub_index, sub) in &object.subs {
+            w.section(&format!("{:04X}sub{sub_index:X}", object.index));
+            w.key("ParameterName", &sub.name);
+            w.key("ObjectType", "0x7");
+            entry_keys(w, sub, node_id);
+        }
+    } else if let Some(sub) = object.subs.get(&0) {
+        entry_keys(w, sub, node_id);
+    }
+}
+
+/// The type an EDS writes for `data_type`: bit fields become BOOLEAN or UNSIGNED8.
+fn eds_type(data_type: DataType) -> DataType {
+    match data_type {
+        DataType::Bit(1) => DataType::Boolean,
+        DataType::Bit(_) => DataType::Unsigned8,
+        t => t,
+    }
+}
+
+/// `value` as text of the EDS type `data_type`.
+fn value_text(value: &Value, data_type: DataType) -> String {
+    match (value, data_type) {
+        (Value::Uint(v), DataType::Boolean) => Value::Bool(*v != 0).to_text(data_type),
+        _ => value.to_text(data_type),
+    }
+}
+
+fn default_text(default: &DefaultValue, data_type: DataType) -> String {
+    if !default.plus_node_id {
+        return value_text(&default.value, data_type);
+    }
+    let mut text = String::from("$NODEID+");
+    match default.value {
+        Value::Uint(v) => {
+            let _ = write!(text, "0x{v:X}");
+        }
+        ref other => text.push_str(&value_text(other, data_type)),
+    }
+    text
+}
+
+fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: Option<u8>) {
+    let data_type = eds_type(sub.data_type);
+    w.key("DataType", &format!("0x{:04X}", data_type.index()));
+    w.key("AccessType", sub.access.kind.as_str());
+    if let Some(default) = &sub.default {
+        w.key("DefaultValue", &default_text(default, data_type));
+    }
+    w.key("PDOMapping", flag(sub.pdo.any()));
+    if let Some(low) = &sub.low {
+        w.key("LowLimit", &value_text(low, data_type));
+    }
+    if let Some(high) = &sub.high {
+        w.key("HighLimit", &value_text(high, data_type));
+    }
+    if let Some(node_id) = node_id {
+        if let Some(current) = parameter_value(sub, node_id) {
+            w.key("ParameterValue", &value_text(&current, data_type));
+        }
+    }
+}
+
+/// The current value a DCF writes for `sub`: set explicitly, or different from the default for this
+/// node. `None` also when the bytes are no value of the type (nothing a reader could take back).
+fn parameter_value(sub: &SubObject, node_id: u8) -> Option<Value> {
+    let default = sub
+        .default
+        .as_ref()
+        .map(|d| d.resolve(node_id))
+        .unwrap_or_else(|| Value::zero(sub.data_type));
+    let differs = default
+        .encode(sub.data_type)
+        .map_or(true, |bytes| bytes != sub.value);
+    if !(sub.value_set || differs) {
+        return None;
+    }
+    Value::decode(sub.data_type, &sub.value).ok()
+}
