@@ -27,10 +27,6 @@ fn decode(bytes: &[u8]) -> Cow<'_, str> {
     }
 }
 
-fn is_blank(c: char) -> bool {
-    matches!(c, ' ' | '\t' | '\r' | '\x0B' | '\x0C')
-}
-
 fn is_comment(line: &str) -> bool {
     line.starts_with(';') || line.starts_with('#')
 }
@@ -64,16 +60,16 @@ impl<'a> Ini<'a> {
             entries: Vec::new(),
         };
         for raw in text.split('\n') {
-            let line = raw.trim_matches(is_blank);
+            let line = raw.trim_ascii();
             if line.is_empty() || is_comment(line) {
                 continue;
             }
             if let Some(rest) = line.strip_prefix('[') {
-                let Some(close) = rest.find(']') else {
+                let Some(close) = rest.bytes().position(|b| b == b']') else {
                     return Err(ini.error(line, "expected `]` closing the section name"));
                 };
-                let name = rest[..close].trim_matches(is_blank);
-                let after = rest[close + 1..].trim_start_matches(is_blank);
+                let name = rest[..close].trim_ascii();
+                let after = rest[close + 1..].trim_ascii_start();
                 if !after.is_empty() && !is_comment(after) {
                     return Err(ini.error(
                         after,
@@ -93,7 +89,7 @@ impl<'a> Ini<'a> {
                 });
                 continue;
             }
-            let Some(eq) = line.find('=') else {
+            let Some(eq) = line.bytes().position(|b| b == b'=') else {
                 return Err(ini.error(
                     line,
                     format!(
@@ -102,8 +98,8 @@ impl<'a> Ini<'a> {
                     ),
                 ));
             };
-            let key = line[..eq].trim_matches(is_blank);
-            let value = line[eq + 1..].trim_matches(is_blank);
+            let key = line[..eq].trim_ascii();
+            let value = line[eq + 1..].trim_ascii();
             if key.is_empty() {
                 return Err(ini.error(line, "expected a key before `=`"));
             }
@@ -1028,6 +1024,16 @@ impl<'i, 'a> Builder<'i, 'a> {
             }
         }
         match Value::parse_text(data_type, body) {
+            // `Value::parse_text` reads a REAL32 as a REAL64 and narrows it: 1e39 would be infinity.
+            Ok(Value::Real32(v)) if !v.is_finite() => Err(self.ini.error(
+                entry.value,
+                format!(
+                    "{}= in [{}]: {} is beyond the range of REAL32",
+                    entry.key,
+                    section.name,
+                    shown(entry.value)
+                ),
+            )),
             Ok(value) => Ok(Some((value, plus_node_id))),
             Err(_) if data_type == DataType::Domain => Ok(None),
             Err(err) => Err(self.ini.error(
@@ -1049,12 +1055,12 @@ fn split_node_id(text: &str) -> Option<(&str, bool)> {
     else {
         return Some((text, false));
     };
-    let before = text.get(..at)?.trim_matches(is_blank);
-    let after = text.get(at + TOKEN.len()..)?.trim_matches(is_blank);
+    let before = text.get(..at)?.trim_ascii();
+    let after = text.get(at + TOKEN.len()..)?.trim_ascii();
     let offset = match (before.is_empty(), after.is_empty()) {
         (true, true) => "0",
-        (true, false) => after.strip_prefix('+')?.trim_matches(is_blank),
-        (false, true) => before.strip_suffix('+')?.trim_matches(is_blank),
+        (true, false) => after.strip_prefix('+')?.trim_ascii(),
+        (false, true) => before.strip_suffix('+')?.trim_ascii(),
         (false, false) => return None,
     };
     if offset.is_empty() {

@@ -266,17 +266,22 @@ fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: Option<u8>) {
 }
 
 /// The current value a DCF writes for `sub`: set explicitly, or different from the default for this
-/// node. `None` also when the bytes are no value of the type (nothing a reader could take back).
+/// node. A `$NODEID` default resolved with node-ID 0, as an EDS reads it, counts as the default too, so
+/// a description read from an EDS gets no `ParameterValue`s it did not ask for. `None` also when the
+/// bytes are no value of the type (nothing a reader could take back).
 fn parameter_value(sub: &SubObject, node_id: u8) -> Option<Value> {
-    let default = sub
-        .default
-        .as_ref()
-        .map(|d| d.resolve(node_id))
-        .unwrap_or_else(|| Value::zero(sub.data_type));
-    let differs = default
-        .encode(sub.data_type)
-        .map_or(true, |bytes| bytes != sub.value);
-    if !(sub.value_set || differs) {
+    let is = |value: Value| {
+        value
+            .encode(sub.data_type)
+            .is_ok_and(|bytes| bytes == sub.value)
+    };
+    let at_default = match &sub.default {
+        None => is(Value::zero(sub.data_type)),
+        Some(default) => {
+            is(default.resolve(node_id)) || (default.plus_node_id && is(default.resolve(0)))
+        }
+    };
+    if at_default && !sub.value_set {
         return None;
     }
     Value::decode(sub.data_type, &sub.value).ok()
