@@ -1,5 +1,5 @@
-//! CiA 306 electronic data sheets (EDS) and device configuration files (DCF): the INI-style description
-//! of a CANopen device, read into and written from a [`DeviceDescription`].
+//! CiA 306 electronic data sheets (EDS) and device configuration files (DCF): the INI-style description of a
+//! CANopen device, read into and written from a [`DeviceDescription`].
 //!
 //! This is the description layer: no IO, no protocol. [`read`] takes the bytes of an EDS or a DCF,
 //! [`write_eds`] and [`write_dcf`] give back the text of one.
@@ -18,9 +18,10 @@
 //!   absent), `DataType`, `AccessType`, `DefaultValue`, `PDOMapping`, `LowLimit`, `HighLimit`, `SubNumber`,
 //!   `ObjFlags`, `CompactSubObj`, and in a DCF `ParameterValue` (§5). `Denotation`, `UploadFile`,
 //!   `DownloadFile` and unknown keys (`StorageLocation`, `Factor`…) are skipped.
-//! - Compact storage (§4.6.3, `CompactSubObj`): `CompactSubObj=N` on an ARRAY describes sub-indices 1..N with the
-//!   object's own keys. Sub-index 0 is implied: `NrOfObjects`, UNSIGNED8, `ro`, default N. The names come
-//!   from `[xxxxName]` (`NrOfEntries=`, `1=name`…), else they are the object's name followed by the
+//! - Compact storage (§4.6.3, `CompactSubObj`): `CompactSubObj=N` on an ARRAY describes sub-indices
+//!   1..N with the object's own keys. Sub-index 0 is implied: `NrOfObjects`, UNSIGNED8, `ro`, default
+//!   N. The names come from `[xxxxName]` (`NrOfEntries=`, `1=name`…), else they are the object's name
+//!   followed by the
 //!   sub-index in decimal (`Valve 1 % Open3`); DCF values come from `[xxxxValue]`. Explicit
 //!   `[xxxxsubN]` sections, where a file has them as well, win.
 //! - Values (§4.6.2) as [`Value::parse_text`](crate::value::Value::parse_text) reads them, plus
@@ -34,64 +35,65 @@
 //!   accepted too) and `ParameterValue`s: it sets
 //!   [`DeviceDescription::commissioning`] and the current values.
 //!
-//! After reading, every entry's current value (`SubObject::value`) is its default resolved with the
-//! node-ID: the DCF's `NodeID`, or 0 in an EDS (so `$NODEID+0x180` reads as 0x180, to be resolved when
-//! a node with a node-ID resets its dictionary); zero where there is no default. A `ParameterValue` sets
-//! the value and `value_set`.
+//! After reading, every entry's current value (`SubObject::value`) is its default resolved with the node-ID:
+//! the DCF's `NodeID`, or 0 in an EDS (so `$NODEID+0x180` reads as 0x180, to be resolved when a node with a
+//! node-ID resets its dictionary); zero where there is no default. A `ParameterValue` sets the value and
+//! `value_set`.
 //!
 //! # Reading rules
 //!
-//! Section names and keys are case-insensitive; keys and values are trimmed of ASCII white space; blank lines and lines
-//! starting with `;` (or `#`) are skipped; lines end in LF or CR LF; a UTF-8 byte-order mark is skipped,
-//! and a file that is not UTF-8 is read as ISO-8859-1. Unknown sections and keys are skipped; a wrong
-//! value of a known key is an error naming the line and column of the value. Also errors: a line that is
-//! neither `[section]`, `key=value`, blank nor a comment; a key before the first section; a section or a
+//! Section names and keys are case-insensitive; keys and values are trimmed of ASCII white space; blank lines
+//! and lines starting with `;` (or `#`) are skipped; lines end in LF or CR LF; a UTF-8 byte-order mark is
+//! skipped, and a file that is not UTF-8 is read as ISO-8859-1. Unknown sections and keys are skipped; a
+//! wrong value of a known key is an error naming the line and column of the value. Also errors: a line that
+//! is neither `[section]`, `key=value`, blank nor a comment; a key before the first section; a section or a
 //! known key that appears twice; a listed object without its section; a sub-index section without its
 //! object's section, or under a VAR.
 //!
-//! Choices where files and the standard disagree, all so that the real files of the corpus read:
-//! an empty value of a numeric key (`VendorNumber=`, `DefaultValue=` of an integer) counts as absent;
-//! a `DataType` of the complex and profile range 0x0020–0x025F (a structure the model cannot describe)
-//! is read as DOMAIN; a DOMAIN `DefaultValue` or `ParameterValue` that is not hexadecimal bytes is not
-//! kept (tools write domain contents in different notations, and CiA 306 gives them through
-//! `UploadFile`/`DownloadFile`); `LowLimit`/`HighLimit` are read for numeric types only.
+//! Choices where files and the standard disagree, so that the real files of the corpus read (all but
+//! python-canopen's `e35.eds`, which lists 0x6505 in `[OptionalObjects]` without describing it): an empty
+//! value of a numeric key (`VendorNumber=`, `DefaultValue=` of an integer) counts as absent; a `DataType` of
+//! the complex and profile range 0x0020–0x025F (a structure the model cannot describe) is read as DOMAIN; a
+//! DOMAIN `DefaultValue` or `ParameterValue` that is not hexadecimal bytes is not kept (tools write domain
+//! contents in different notations, and CiA 306 gives them through `UploadFile`/`DownloadFile`);
+//! `LowLimit`/`HighLimit` are read for numeric types only.
 //!
-//! The parser is a small line scanner rather than the `rust-ini` crate: an error has to name the line
-//! and column of the offending value (a bad `DataType=` found while building the dictionary), and
-//! `rust-ini` keeps no positions. An EDS is the simplest INI there is (`[section]`, `key=value`, `;`
-//! comments, no quoting, escapes or continuation lines), so the scanner is a few dozen lines: one pass
-//! that keeps the sections and keys as slices of the text, without a copy per key; positions are worked
-//! out from a slice's offset only when there is an error to report. A release build reads a generated
-//! 1.8 MB EDS at about 85 MB/s (the `read_speed` test in `tests/eds.rs`).
+//! The parser is a small line scanner rather than the `rust-ini` crate: an error has to name the line and
+//! column of the offending value (a bad `DataType=` found while building the dictionary), and `rust-ini`
+//! keeps no positions. An EDS is the simplest INI there is (`[section]`, `key=value`, `;` comments, no
+//! quoting, escapes or continuation lines), so the scanner is a few dozen lines: one pass that keeps the
+//! sections and keys as slices of the text, without a copy per key; positions are worked out from a slice's
+//! offset only when there is an error to report. A release build reads a generated 1.8 MB EDS at about 85
+//! MB/s (the `read_speed` test in `tests/eds.rs`).
 //!
 //! # What is written
 //!
 //! [`write_eds`] writes, in CiA 306 order, `[FileInfo]`, `[DeviceInfo]`, `[DummyUsage]`, `[Comments]`,
-//! `[MandatoryObjects]` (0x1000, 0x1001, 0x1018 where present), `[OptionalObjects]` (the other objects
-//! of 0x0001–0x1FFF and 0x6000–0xFFFF), `[ManufacturerObjects]` (0x2000–0x5FFF), then the object sections
-//! in index order, every ARRAY and RECORD with one section per sub-index (never compact). Lines end in
-//! CR LF, as CiA 306 files usually do and as Windows tools expect; keys come in a fixed order and there
-//! are no timestamps, so the output is byte-stable. Numbers are hexadecimal (`0x0007`), defaults that add
-//! the node-ID are written `$NODEID+0x180`, bit fields (ESI `BITn`) as BOOLEAN or UNSIGNED8.
+//! `[MandatoryObjects]` (0x1000, 0x1001, 0x1018 where present), `[OptionalObjects]` (the other objects of
+//! 0x0000–0x1FFF and 0x6000–0xFFFF), `[ManufacturerObjects]` (0x2000–0x5FFF), then the object sections in
+//! index order, every ARRAY and RECORD with one section per sub-index (never compact). Lines end in CR LF, as
+//! CiA 306 files usually do and as Windows tools expect; keys come in a fixed order and there are no
+//! timestamps, so the output is byte-stable. Numbers are hexadecimal (`0x0007`), defaults that add the
+//! node-ID are written `$NODEID+0x180`, bit fields (ESI `BITn`) as BOOLEAN or UNSIGNED8.
 //!
-//! [`write_dcf`] writes the same plus `[DeviceComissioning]` (after `[DeviceInfo]`) and a
-//! `ParameterValue` for every entry whose current value differs from its default (resolved with the
-//! node-ID) or has `value_set`. The node-ID is the description's
+//! [`write_dcf`] writes the same plus `[DeviceComissioning]` (after `[DeviceInfo]`) and a `ParameterValue`
+//! for every entry whose current value differs from its default (resolved with the node-ID) or has
+//! `value_set`. The node-ID is the description's
 //! [`Commissioning::node_id`](crate::device::Commissioning::node_id); a description without commissioning
-//! values is written as node 1, with the other commissioning values empty or zero. An entry that still
-//! holds its `$NODEID` default as an EDS reads it (resolved with node-ID 0) counts as unchanged, so a
-//! description read from an EDS becomes a DCF without `ParameterValue`s for its COB-IDs; read back, those
-//! entries take the DCF node's values.
+//! values is written as node 1, with the other commissioning values empty or zero. An entry that still holds
+//! its `$NODEID` default as an EDS reads it (resolved with node-ID 0) counts as unchanged, so a description
+//! read from an EDS becomes a DCF without `ParameterValue`s for its COB-IDs; read back, those entries take
+//! the DCF node's values.
 //!
 //! # What EDS cannot carry
 //!
 //! Descriptions (`Object::description`, `SubObject::description`), structure type names
-//! (`Object::type_name`), string and domain capacities (`SubObject::bit_size` reads back as the type's
-//! size, `None` for strings and domains), bit-field types (`BITn`), EtherCAT state restrictions of access,
-//! the PDO direction beyond what the access type implies, an object name that differs from the name of
-//! its VAR entry, the EtherCAT parts, bit rates other than the eight of CiA 306, and strings with line
-//! breaks or leading or trailing blanks. A description without [`CanInfo`](crate::device::CanInfo) is
-//! written with `CanInfo::default()`, and an empty `format_version` as `EDSVersion=4.0`.
+//! (`Object::type_name`), string and domain capacities (`SubObject::bit_size` reads back as the type's size,
+//! `None` for strings and domains), bit-field types (`BITn`), EtherCAT state restrictions of access, the PDO
+//! direction beyond what the access type implies, an object name that differs from the name of its VAR entry,
+//! the EtherCAT parts, bit rates other than the eight of CiA 306, and strings with line breaks or leading or
+//! trailing blanks. A description without [`CanInfo`](crate::device::CanInfo) is written with
+//! `CanInfo::default()`, and an empty `format_version` as `EDSVersion=4.0`.
 
 mod reader;
 mod writer;

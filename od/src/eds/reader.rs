@@ -1,4 +1,4 @@
-//! The EDS/DCF reader: a line scanner over the INI text (CiA 306-1 §4.1 file structure), then the
+//! The EDS/DCF reader: a line scanner over the INI text (the INI structure of CiA 306-1 §4), then the
 //! building of the description from the sections it found.
 
 use std::borrow::Cow;
@@ -506,42 +506,42 @@ impl<'i, 'a> Builder<'i, 'a> {
     }
 
     fn file_info(&self, section: &Section<'a>) -> Result<FileInfo, ParseError> {
-        let [file_name, file_version, file_revision, format_version, description, creation_time, creation_date, created_by, modification_time, modification_date, modified_by] =
-            self.fields(
-                section,
-                [
-                    "FileName",
-                    "FileVersion",
-                    "FileRevision",
-                    "EDSVersion",
-                    "Description",
-                    "CreationTime",
-                    "CreationDate",
-                    "CreatedBy",
-                    "ModificationTime",
-                    "ModificationDate",
-                    "ModifiedBy",
-                ],
-            )?;
-        let text = |e: Option<&Entry<'a>>| e.map_or_else(String::new, |e| e.value.to_string());
+        let f = self.fields(
+            section,
+            [
+                "FileName",
+                "FileVersion",
+                "FileRevision",
+                "EDSVersion",
+                "Description",
+                "CreationTime",
+                "CreationDate",
+                "CreatedBy",
+                "ModificationTime",
+                "ModificationDate",
+                "ModifiedBy",
+            ],
+        )?;
+        let text = |i: usize| f[i].map_or_else(String::new, |e| e.value.to_string());
         Ok(FileInfo {
-            file_name: text(file_name),
-            file_version: text(file_version),
-            file_revision: text(file_revision),
-            format_version: text(format_version),
-            description: text(description),
-            creation_time: text(creation_time),
-            creation_date: text(creation_date),
-            created_by: text(created_by),
-            modification_time: text(modification_time),
-            modification_date: text(modification_date),
-            modified_by: text(modified_by),
+            file_name: text(0),
+            file_version: text(1),
+            file_revision: text(2),
+            format_version: text(3),
+            description: text(4),
+            creation_time: text(5),
+            creation_date: text(6),
+            created_by: text(7),
+            modification_time: text(8),
+            modification_date: text(9),
+            modified_by: text(10),
         })
     }
 
     fn device_info(&self, section: &Section<'a>) -> Result<(Identity, CanInfo), ParseError> {
-        let [vendor_name, vendor_number, product_name, product_number, revision, order_code, simple_master, simple_slave, granularity, dynamic, group, rx, tx, lss, b10, b20, b50, b125, b250, b500, b800, b1000] =
-            self.fields(
+        const U32: &str = "a 32-bit number like 0x0000012A";
+        let [vendor_name, vendor_number, product_name, product_number, revision, order_code] = self
+            .fields(
                 section,
                 [
                     "VendorName",
@@ -550,26 +550,9 @@ impl<'i, 'a> Builder<'i, 'a> {
                     "ProductNumber",
                     "RevisionNumber",
                     "OrderCode",
-                    "SimpleBootUpMaster",
-                    "SimpleBootUpSlave",
-                    "Granularity",
-                    "DynamicChannelsSupported",
-                    "GroupMessaging",
-                    "NrOfRXPDO",
-                    "NrOfTXPDO",
-                    "LSS_Supported",
-                    "BaudRate_10",
-                    "BaudRate_20",
-                    "BaudRate_50",
-                    "BaudRate_125",
-                    "BaudRate_250",
-                    "BaudRate_500",
-                    "BaudRate_800",
-                    "BaudRate_1000",
                 ],
             )?;
         let text = |e: Option<&Entry<'a>>| e.map_or_else(String::new, |e| e.value.to_string());
-        const U32: &str = "a 32-bit number like 0x0000012A";
         let identity = Identity {
             vendor_id: self.number(section, vendor_number, U32, 0)?,
             vendor_name: text(vendor_name),
@@ -578,34 +561,46 @@ impl<'i, 'a> Builder<'i, 'a> {
             product_name: text(product_name),
             order_code: text(order_code),
         };
-        let defaults = CanInfo::default();
+
+        const RATES: [u32; 8] = [10, 20, 50, 125, 250, 500, 800, 1000];
+        let rate_keys = self.fields(
+            section,
+            [
+                "BaudRate_10",
+                "BaudRate_20",
+                "BaudRate_50",
+                "BaudRate_125",
+                "BaudRate_250",
+                "BaudRate_500",
+                "BaudRate_800",
+                "BaudRate_1000",
+            ],
+        )?;
         let mut baud_rates = Vec::new();
-        for (rate, entry) in [
-            (10, b10),
-            (20, b20),
-            (50, b50),
-            (125, b125),
-            (250, b250),
-            (500, b500),
-            (800, b800),
-            (1000, b1000),
-        ] {
+        for (rate, entry) in RATES.into_iter().zip(rate_keys) {
             if self.flag(section, entry, false)? {
                 baud_rates.push(rate);
             }
         }
+
+        let [master, slave, granularity, dynamic, group, rx, tx, lss] = self.fields(
+            section,
+            [
+                "SimpleBootUpMaster",
+                "SimpleBootUpSlave",
+                "Granularity",
+                "DynamicChannelsSupported",
+                "GroupMessaging",
+                "NrOfRXPDO",
+                "NrOfTXPDO",
+                "LSS_Supported",
+            ],
+        )?;
+        let defaults = CanInfo::default();
         let info = CanInfo {
             baud_rates,
-            simple_boot_up_master: self.flag(
-                section,
-                simple_master,
-                defaults.simple_boot_up_master,
-            )?,
-            simple_boot_up_slave: self.flag(
-                section,
-                simple_slave,
-                defaults.simple_boot_up_slave,
-            )?,
+            simple_boot_up_master: self.flag(section, master, defaults.simple_boot_up_master)?,
+            simple_boot_up_slave: self.flag(section, slave, defaults.simple_boot_up_slave)?,
             granularity: self.number(
                 section,
                 granularity,
