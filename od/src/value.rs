@@ -307,8 +307,10 @@ impl Value {
                 .map(Value::Bytes)
                 .ok_or_else(|| bad("expected hexadecimal byte digits")),
             DataType::Real32 => parse_real(t)
-                .map(|v| Value::Real32(v as f32))
-                .ok_or_else(|| bad("expected a decimal number")),
+                .map(|v| v as f32)
+                .filter(|v| v.is_finite())
+                .map(Value::Real32)
+                .ok_or_else(|| bad("expected a decimal number within the REAL32 range")),
             DataType::Real64 => parse_real(t)
                 .map(Value::Real64)
                 .ok_or_else(|| bad("expected a decimal number")),
@@ -619,6 +621,8 @@ mod tests {
             Value::Real32(1.5)
         );
         assert!(Value::parse_text(DataType::Real64, "nan").is_err());
+        assert!(Value::parse_text(DataType::Real32, "1e39").is_err());
+        assert_eq!(Value::parse_text(DataType::Real64, "1e39").unwrap(), Value::Real64(1e39));
         assert_eq!(
             Value::parse_text(DataType::TimeOfDay, "12:34").unwrap(),
             Value::Time(TimeValue { ms: 34, days: 12 })
