@@ -10,8 +10,9 @@
 //!   [`Identity`](crate::device::Identity) and the [`CanInfo`](crate::device::CanInfo); `[DummyUsage]`
 //!   → [`CanInfo::dummy_usage`](crate::device::CanInfo::dummy_usage); `[Comments]` →
 //!   [`DeviceDescription::comments`] (CiA 306-1 §4, the general sections of an EDS).
-//! - The object lists `[MandatoryObjects]`, `[OptionalObjects]`, `[ManufacturerObjects]`: every
-//!   object listed there must have its section. Objects that have a section but are missing from the
+//! - The object lists `[MandatoryObjects]`, `[OptionalObjects]`, `[ManufacturerObjects]`: every entry
+//!   must be an object index; a listed object without its section is skipped (CiA 306 wants one, real
+//!   files such as python-canopen's `e35.eds` forget it). Objects that have a section but are missing from the
 //!   lists are read too (real files forget to list them), and `SupportedObjects=` is checked to be a
 //!   number but not compared with the entries, which are what counts.
 //! - Object descriptions (§4.6.3): `[1018]` and `[1018sub1]` with `ParameterName`, `ObjectType` (VAR when
@@ -47,11 +48,10 @@
 //! skipped, and a file that is not UTF-8 is read as ISO-8859-1. Unknown sections and keys are skipped; a
 //! wrong value of a known key is an error naming the line and column of the value. Also errors: a line that
 //! is neither `[section]`, `key=value`, blank nor a comment; a key before the first section; a section or a
-//! known key that appears twice; a listed object without its section; a sub-index section without its
+//! known key that appears twice; a sub-index section without its
 //! object's section, or under a VAR.
 //!
-//! Choices where files and the standard disagree, so that the real files of the corpus read (all but
-//! python-canopen's `e35.eds`, which lists 0x6505 in `[OptionalObjects]` without describing it): an empty
+//! Choices where files and the standard disagree, so that the real files of the corpus read: an empty
 //! value of a numeric key (`VendorNumber=`, `DefaultValue=` of an integer) counts as absent; a `DataType` of
 //! the complex and profile range 0x0020–0x025F (a structure the model cannot describe) is read as DOMAIN; a
 //! DOMAIN `DefaultValue` or `ParameterValue` that is not hexadecimal bytes is not kept (tools write domain

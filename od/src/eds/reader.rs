@@ -732,7 +732,7 @@ impl<'i, 'a> Builder<'i, 'a> {
         })
     }
 
-    /// Checks an object list: `SupportedObjects=` is a number and every listed index has its section.
+    /// Checks an object list: `SupportedObjects=` is a number and every entry is an object index.
     fn check_list(&self, section: &Section<'a>) -> Result<(), ParseError> {
         let [supported] = self.fields(section, ["SupportedObjects"])?;
         self.number::<u32>(section, supported, "a number of objects", 0)?;
@@ -741,20 +741,9 @@ impl<'i, 'a> Builder<'i, 'a> {
             if entry.value.is_empty() {
                 return Err(self.bad(section, entry, INDEX));
             }
-            let index: u16 = self.number(section, Some(entry), INDEX, 0)?;
-            let described = self
-                .objects
-                .get(&index)
-                .is_some_and(|sections| sections.main.is_some());
-            if !described {
-                return Err(self.ini.error(
-                    entry.value,
-                    format!(
-                        "{}={} in [{}]: object 0x{index:04X} is listed but the file has no section [{index:04X}]",
-                        entry.key, entry.value, section.name
-                    ),
-                ));
-            }
+            // A listed object without its section is skipped: CiA 306 wants one, but real files
+            // (python-canopen's e35.eds) list objects they do not describe, and every other tool reads them.
+            self.number::<u16>(section, Some(entry), INDEX, 0)?;
         }
         Ok(())
     }
@@ -1019,16 +1008,6 @@ impl<'i, 'a> Builder<'i, 'a> {
             }
         }
         match Value::parse_text(data_type, body) {
-            // `Value::parse_text` reads a REAL32 as a REAL64 and narrows it: 1e39 would be infinity.
-            Ok(Value::Real32(v)) if !v.is_finite() => Err(self.ini.error(
-                entry.value,
-                format!(
-                    "{}= in [{}]: {} is beyond the range of REAL32",
-                    entry.key,
-                    section.name,
-                    shown(entry.value)
-                ),
-            )),
             Ok(value) => Ok(Some((value, plus_node_id))),
             Err(_) if data_type == DataType::Domain => Ok(None),
             Err(err) => Err(self.ini.error(
