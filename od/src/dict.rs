@@ -307,7 +307,7 @@ impl Dictionary {
                 objects.push(Address::new(object.index, 0));
             }
             for (&s, sub) in &object.subs {
-                if sub.name.eq_ignore_ascii_case(wanted) && !(s == 0 && !object.kind.has_subs()) {
+                if (object.kind.has_subs() || s != 0) && sub.name.eq_ignore_ascii_case(wanted) {
                     subs.push(Address::new(object.index, s));
                 }
             }
