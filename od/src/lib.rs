@@ -12,6 +12,7 @@ pub mod abort;
 pub mod device;
 pub mod dict;
 pub mod error;
+pub mod esi;
 pub mod object;
 pub mod types;
 pub mod value;
