@@ -206,9 +206,13 @@ fn choose(
             source_name,
             at,
             format!(
-                "the selection matches {} devices: {}; choose one by product code",
+                "the selection matches {} devices: {}; choose one by {}",
                 found.len(),
-                list(&found)
+                list(&found),
+                match select {
+                    Select::Name(_) => "product code",
+                    Select::ProductCode(_) => "type name",
+                }
             ),
         ));
     }
