@@ -1187,9 +1187,15 @@ fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Ob
             object.description = comment
                 .clone()
                 .or_else(|| dt.comment.get().map(str::to_string));
-            // Match Info/SubItems to entries: by name, else by position.
+            // Match Info/SubItems to entries: by position when the Info lists every entry, else by name
+            // and then by position.
             let mut assigned: Vec<Option<usize>> = vec![None; flat.len()];
+            let complete = o.sub_infos.len() == flat.len();
             for (i, (info_name, _)) in o.sub_infos.iter().enumerate() {
+                if complete {
+                    assigned[i] = Some(i);
+                    continue;
+                }
                 let pick =
                     if flat.get(i).is_some_and(|f| &f.name == info_name) && assigned[i].is_none() {
                         Some(i)
@@ -1222,7 +1228,7 @@ fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Ob
                     .unwrap_or_default();
                 let info = assigned[j].and_then(|i| o.sub_infos.get(i));
                 let name = match (f.element, info) {
-                    (true, Some((n, _))) if !n.is_empty() => n.clone(),
+                    (true, Some((n, _))) => n.clone(),
                     _ => f.name.clone(),
                 };
                 let mut sub = SubObject::new(name, f.data_type, access);
