@@ -952,6 +952,16 @@ fn errors_give_line_column_and_what_was_expected() {
     // Invalid UTF-8 where the file declares none.
     let e = esi::read_all(b"<EtherCATInfo>\n<Vendor><Name>\xB5</Name>", "bad.xml").unwrap_err();
     assert_eq!((e.position.line, e.position.column), (2, 15));
+    let e = esi::read_all(
+        b"\xEF\xBB\xBF<EtherCATInfo>\n<Vendor><Name>\xC3</Name>",
+        "bad.xml",
+    )
+    .unwrap_err();
+    assert_eq!(
+        (e.position.line, e.position.column),
+        (2, 15),
+        "after a BOM too"
+    );
 }
 
 #[test]

@@ -238,7 +238,12 @@ pub(super) fn read_all(
     bytes: &[u8],
     source_name: &str,
 ) -> Result<Vec<DeviceDescription>, ParseError> {
-    let text = xml::decode(bytes, source_name)?;
+    let text = xml::decode(bytes, source_name).map_err(|mut e| {
+        if e.position.line == 0 {
+            e.position = decode_error_position(bytes);
+        }
+        e
+    })?;
     let ctx = Ctx {
         src: &text,
         name: source_name,
@@ -271,6 +276,19 @@ pub(super) fn read_all(
         d.file_info.file_version = file_version.clone();
     }
     Ok(done)
+}
+
+/// Where a file that [`xml::decode`] refused without a position goes wrong: the first invalid UTF-8 byte
+/// after a UTF-8 byte-order mark, else the start of the file.
+fn decode_error_position(bytes: &[u8]) -> Position {
+    let start = Position { line: 1, column: 1 };
+    let Some(body) = bytes.strip_prefix(b"\xEF\xBB\xBF") else {
+        return start;
+    };
+    match std::str::from_utf8(body) {
+        Ok(_) => start,
+        Err(e) => Position::of_offset(body, e.valid_up_to()),
+    }
 }
 
 impl<'a> Parser<'a> {
