@@ -321,6 +321,9 @@ impl<'a> Parser<'a> {
                     self.end(offset)?;
                 }
                 Event::End(_) => self.end(offset)?,
+                // White space before an element's text is layout: skip it without decoding.
+                Event::Text(t)
+                    if self.text_offset.is_none() && t.iter().all(u8::is_ascii_whitespace) => {}
                 Event::Text(t) if self.collecting() => {
                     let s = t
                         .xml10_content()
@@ -418,6 +421,9 @@ impl<'a> Parser<'a> {
     ) -> Result<Vec<(Vec<u8>, String, usize)>, ParseError> {
         let mut out = Vec::new();
         let raw = e.attributes_raw();
+        if raw.iter().all(u8::is_ascii_whitespace) {
+            return Ok(out);
+        }
         let raw_start = offset + 1 + e.name().as_ref().len();
         for a in e.attributes() {
             let a = a.map_err(|err| self.ctx.err(offset, format!("malformed attribute: {err}")))?;
