@@ -25,28 +25,36 @@
 //! [`Object::type_name`](crate::object::Object::type_name). A RECORD or ARRAY whose type has no sub-index 0
 //! gets the CoE one: `SubIndex 000`, USINT, ro, default = highest sub-index.
 //!
-//! `Object/Info/SubItem`s are matched to the structure's entries by name, else by position; an array
-//! element takes its name from its `Info/SubItem` (`SubIndex 001` when there is none).
+//! `Object/Info/SubItem`s are matched to the structure's entries by position when they list every entry,
+//! else by name and then by position; an array element takes its name from its `Info/SubItem`
+//! (`SubIndex 001` when there is none).
 //!
 //! Values: `DefaultData`, `MinData` and `MaxData` are the value's little-endian bytes as hexBinary (ETG.2000
-//! `ObjectInfoType`); `DefaultValue`, `MinValue`, `MaxValue` are numbers (`#x1A00` or decimal);
-//! `DefaultString` is text. Where both spellings are present the `…Data` one wins. `MinData`/`MinValue` and
-//! `MaxData`/`MaxValue` become [`SubObject::low`](crate::object::SubObject::low) and `high`.
+//! `ObjectInfoType`); `DefaultValue`, `MinValue`, `MaxValue` are numbers (`#x1A00` or decimal; `#xFFFF` is
+//! -1 for an INT); `DefaultString` is text. Where both spellings are present the `…Data` one wins.
+//! `MinData`/`MinValue` and `MaxData`/`MaxValue` become [`SubObject::low`](crate::object::SubObject::low)
+//! and `high`. Real files give fixed-size values in fewer bytes than the type (`00` for a UINT), with zero
+//! bytes beyond it, or with an odd number of digits (`2`); these read as the number they spell (missing
+//! high bytes are zero). Anything else that does not fit the type is an error.
 //!
 //! Access (`Flags`): `Access` `ro`/`rw`/`wo` with `ReadRestrictions`/`WriteRestrictions` (`PreOp`,
 //! `PreOp_SafeOp`, `PreOp_SafeOp_Op`, …), `PdoMapping` `R`, `T`, `RT`/`TR`. An entry of a structure takes
 //! its `SubItem`'s flags; what they leave out comes from the object's `Flags` (not the PDO mapping of
-//! sub-index 0); without either, `ro`. `Category` is read and dropped (the model has no field for it).
+//! sub-index 0); without either, `ro`. `Category` is ignored (the model has no field for it).
 //!
-//! Descriptions: ESI carries meanings in `Object/Comment` (→ [`Object::description`]
-//! (crate::object::Object::description), and for a VAR also the description of its sub-index 0; when the
-//! object has none, its `DataType/Comment`) and `DataType/SubItem/Comment` (→ the entry's description).
+//! `Dc/OpMode`: an absent `Factor` of `CycleTimeSync0`/`CycleTimeSync1` reads as 1.
+//!
+//! Descriptions: ESI carries meanings in `Object/Comment` (→
+//! [`Object::description`](crate::object::Object::description), and for a VAR also the description of its
+//! sub-index 0; when the object has none, its `DataType/Comment`) and `DataType/SubItem/Comment` (→ the
+//! entry's description).
 //!
 //! A device whose `Profile` has no `Dictionary` (couplers, Modules/Slots devices) gets a dictionary built
 //! from its PDO entries only: for each mapped object that the PDOs name with a `DataType`, an entry of that
-//! type, read-only, mappable in the PDO's direction (a VAR for sub-index 0, else a RECORD whose sub-index 0
-//! counts up to the highest mapped sub-index); the object is named after the first PDO that maps it.
-//! Nothing else is made up: no mapping or assignment objects, no defaults.
+//! type, read-only, mappable in the PDO's direction, without default; a VAR for sub-index 0, else a RECORD
+//! (type name `DTxxxx`, as the writer names it) whose sub-index 0 counts up to the highest mapped
+//! sub-index. The object is named after the first PDO that maps it. Nothing else is made up: no mapping or
+//! assignment objects.
 //!
 //! # What is written
 //!
@@ -73,11 +81,18 @@
 //!
 //! # What ESI cannot carry
 //!
-//! File information other than the file version, CANopen communication data ([`CanInfo`]
-//! (crate::device::CanInfo)), DCF commissioning values and current values, `[Comments]`, the access types
-//! `const`, `rwr` and `rww` (written as `ro`, `rw`, `rw`), `$NODEID` defaults (written resolved for the DCF's
-//! node-ID, or as the plain offset), unbounded strings (written with the length of their default), group
-//! display names (a group is named after its type), and `Category`.
+//! File information other than the file version, CANopen communication data
+//! ([`CanInfo`](crate::device::CanInfo)), DCF commissioning values and current values, `[Comments]`, the
+//! access types `const`, `rwr` and `rww` (written as `ro`, `rw`, `rw`), the DEFTYPE/DEFSTRUCT/NULL object
+//! codes, `$NODEID` defaults (written resolved for the DCF's node-ID, or as the plain offset), unbounded
+//! strings (written with the length of their default), a VAR whose entry has another name or description
+//! than the object, an ARRAY whose entries are not uniform or not numbered 1…n (it reads back as a
+//! RECORD).
+//!
+//! Read but not kept (the model has no place for them): group display names (a written group is named
+//! after its type), `Device@Physics`, `Category`, `EnumInfo` texts, the `Factor` of `ShiftTimeSync0/1`,
+//! `Info` (electrical data, timeouts), `HideType`, `Slots` and `Descriptions/Modules`, `InitCmd`s, images.
+//! A file with the root `EtherCATInfoList` is not read.
 
 mod reader;
 mod writer;

@@ -68,17 +68,17 @@ impl Ctx<'_> {
     }
 
     /// A number of type `T` from element text.
-    fn number<T: TryFrom<i128>>(
-        &self,
-        text: &str,
-        offset: usize,
-        what: &str,
-    ) -> Result<T, ParseError> {
+    fn number<T: Bounded>(&self, text: &str, offset: usize, what: &str) -> Result<T, ParseError> {
         match xml::parse_number(text) {
             Some(v) => T::try_from(v).map_err(|_| {
                 self.err(
                     offset,
-                    format!("the number `{}` in {what} is out of range", text.trim()),
+                    format!(
+                        "expected a number {}..{} in {what}, found `{}`",
+                        T::LOW,
+                        T::HIGH,
+                        clip(text)
+                    ),
                 )
             }),
             None => Err(self.err(
@@ -111,6 +111,23 @@ impl Ctx<'_> {
         })
     }
 }
+
+/// The integer types numbers are read into, with their range for messages.
+trait Bounded: TryFrom<i128> {
+    const LOW: i128;
+    const HIGH: i128;
+}
+
+macro_rules! bounded {
+    ($($t:ty),*) => {$(
+        impl Bounded for $t {
+            const LOW: i128 = <$t>::MIN as i128;
+            const HIGH: i128 = <$t>::MAX as i128;
+        }
+    )*};
+}
+
+bounded!(u8, u16, u32, i32);
 
 /// At most 40 characters of `text`, for messages.
 fn clip(text: &str) -> String {
@@ -1106,6 +1123,8 @@ struct Flat<'t> {
     comment: Option<&'t str>,
     /// An array element: its name comes from the object's `Info/SubItem`.
     element: bool,
+    /// Where its `SubItem` is.
+    offset: usize,
 }
 
 fn build_device(ctx: Ctx, raw: RawDevice) -> Result<DeviceDescription, ParseError> {
@@ -1326,6 +1345,7 @@ fn flatten<'t>(
                     flags: si.flags,
                     comment,
                     element: false,
+                    offset: si.offset,
                 });
                 next = u32::from(sub) + 1;
             }
@@ -1346,6 +1366,7 @@ fn flatten<'t>(
                         flags: si.flags,
                         comment,
                         element: false,
+                        offset: si.offset,
                     });
                     others += 1;
                     next = u32::from(sub) + 1;
@@ -1380,6 +1401,7 @@ fn flatten<'t>(
                         flags: si.flags,
                         comment,
                         element: true,
+                        offset: si.offset,
                     });
                 }
                 arrays += 1;
@@ -1404,7 +1426,7 @@ fn flatten<'t>(
         let s = usize::from(f.sub);
         if seen[s] {
             return Err(ctx.err(
-                dt.subitems.first().map_or(0, |s| s.offset),
+                f.offset,
                 format!(
                     "<DataType> {}: sub-index {} is defined twice",
                     dt.name, f.sub
