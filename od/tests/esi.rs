@@ -882,6 +882,15 @@ fn errors_give_line_column_and_what_was_expected() {
     );
 
     let (l, c, m) = error_of(&with_objects(
+        "<Object><Index>#x10000</Index><Name>x</Name><Type>UINT</Type></Object>",
+    ));
+    assert_eq!((l, c), (7, 16));
+    assert_eq!(
+        m,
+        "expected a number 0..65535 in <Object>/<Index>, found `#x10000`"
+    );
+
+    let (l, c, m) = error_of(&with_objects(
         "<Object><Index>#x2000</Index><Name>x</Name><Type>UINT</Type><Info><DefaultData>0G</DefaultData></Info></Object>",
     ));
     assert_eq!((l, c), (7, 80));
