@@ -15,6 +15,7 @@ pub mod diff;
 pub mod doc;
 pub mod eds;
 pub mod error;
+pub mod esi;
 pub mod object;
 pub mod types;
 pub mod validate;

@@ -201,7 +201,7 @@ impl Value {
             },
             DataType::OctetString | DataType::Domain => Value::Bytes(bytes.to_vec()),
             DataType::UnicodeString => {
-                if bytes.len() % 2 != 0 {
+                if bytes.len() % 2 == 1 {
                     return Err(ValueError::Invalid {
                         data_type,
                         reason: format!(
@@ -472,7 +472,7 @@ pub fn parse_hex_bytes(text: &str) -> Option<Vec<u8>> {
         .or_else(|| t.strip_prefix("0X"))
         .unwrap_or(t);
     let digits: Vec<u8> = t.bytes().filter(|b| !b.is_ascii_whitespace()).collect();
-    if digits.len() % 2 != 0 {
+    if digits.len() % 2 == 1 {
         return None;
     }
     digits

@@ -1,0 +1,1630 @@
+//! The streaming ESI reader: quick-xml events over the decoded file, a stack of known element names, and
+//! per-device raw records (data types, objects, EtherCAT parts) that are resolved into a
+//! [`DeviceDescription`] when the device's element ends. Nothing but the current device is held.
+
+use std::collections::{BTreeMap, HashMap};
+
+use quick_xml::events::{BytesStart, Event};
+use quick_xml::Reader;
+
+use crate::device::{
+    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Mailbox, OpMode, Pdo, PdoEntry, SyncManager,
+};
+use crate::dict::Dictionary;
+use crate::error::{ParseError, Position};
+use crate::object::{
+    Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
+};
+use crate::types::DataType;
+use crate::value::{parse_hex_bytes, Value};
+use crate::xml;
+
+/// Deepest type-alias chain followed (`DT… → BaseType → …`).
+const MAX_TYPE_DEPTH: usize = 8;
+
+macro_rules! tags {
+    ($($name:ident),* $(,)?) => {
+        /// The element names the reader acts on; everything else is `Other` and skipped.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        enum Tag { $($name,)* Other }
+
+        impl Tag {
+            fn of(name: &[u8]) -> Tag {
+                $(if name == stringify!($name).as_bytes() { return Tag::$name; })*
+                Tag::Other
+            }
+
+            fn name(self) -> &'static str {
+                match self { $(Tag::$name => stringify!($name),)* Tag::Other => "?" }
+            }
+        }
+    };
+}
+
+tags! {
+    EtherCATInfo, EtherCATModule, Vendor, Id, Name, Descriptions, Devices, Device, Modules, Module, Type,
+    GroupType, Profile, Dictionary, DataTypes, DataType, BaseType, BitSize, Comment, SubItem, SubIdx,
+    BitOffs, Flags, Access, PdoMapping, ArrayInfo, LBound, Elements, EnumInfo, Objects, Object, Index,
+    Info, DefaultData, DefaultValue, DefaultString, MinData, MaxData, MinValue, MaxValue, Fmmu, Sm, RxPdo,
+    TxPdo, Exclude, Entry, SubIndex, BitLen, Mailbox, CoE, FoE, EoE, Dc, OpMode, Desc, AssignActivate,
+    CycleTimeSync0, ShiftTimeSync0, CycleTimeSync1, ShiftTimeSync1, Eeprom, ByteSize, ConfigData,
+    BootStrap,
+}
+
+/// The source text and its name, for error positions.
+#[derive(Clone, Copy)]
+struct Ctx<'a> {
+    src: &'a str,
+    name: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, offset: usize, message: impl Into<String>) -> ParseError {
+        ParseError::new(
+            self.name,
+            Position::of_offset(self.src.as_bytes(), offset),
+            message,
+        )
+    }
+
+    /// A number of type `T` from element text.
+    fn number<T: Bounded>(&self, text: &str, offset: usize, what: &str) -> Result<T, ParseError> {
+        match xml::parse_number(text) {
+            Some(v) => T::try_from(v).map_err(|_| {
+                self.err(
+                    offset,
+                    format!(
+                        "expected a number {}..{} in {what}, found `{}`",
+                        T::LOW,
+                        T::HIGH,
+                        clip(text)
+                    ),
+                )
+            }),
+            None => Err(self.err(
+                offset,
+                format!(
+                    "expected a number like #x1A00 or 6656 in {what}, found `{}`",
+                    clip(text)
+                ),
+            )),
+        }
+    }
+
+    /// hexBinary bytes. An odd number of digits is read with a leading 0 (`2` = `02`), as some vendors
+    /// write one-digit values.
+    fn hex(&self, text: &str, offset: usize, what: &str) -> Result<Vec<u8>, ParseError> {
+        let digits = text.bytes().filter(|b| !b.is_ascii_whitespace()).count();
+        let parsed = if digits % 2 == 1 && !text.trim().starts_with("0x") {
+            parse_hex_bytes(&format!("0{}", text.trim()))
+        } else {
+            parse_hex_bytes(text)
+        };
+        parsed.ok_or_else(|| {
+            self.err(
+                offset,
+                format!(
+                    "expected hexadecimal bytes like 0A1B in {what}, found `{}`",
+                    clip(text)
+                ),
+            )
+        })
+    }
+}
+
+/// The integer types numbers are read into, with their range for messages.
+trait Bounded: TryFrom<i128> {
+    const LOW: i128;
+    const HIGH: i128;
+}
+
+macro_rules! bounded {
+    ($($t:ty),*) => {$(
+        impl Bounded for $t {
+            const LOW: i128 = <$t>::MIN as i128;
+            const HIGH: i128 = <$t>::MAX as i128;
+        }
+    )*};
+}
+
+bounded!(u8, u16, u32, i32);
+
+/// At most 40 characters of `text`, for messages.
+fn clip(text: &str) -> String {
+    let t = text.trim();
+    if t.chars().count() <= 40 {
+        t.to_string()
+    } else {
+        let mut s: String = t.chars().take(40).collect();
+        s.push('…');
+        s
+    }
+}
+
+/// A text given in several languages: `LcId` 1033 wins, else the first.
+#[derive(Debug, Default, Clone)]
+struct Localized {
+    text: String,
+    rank: u8,
+}
+
+impl Localized {
+    fn offer(&mut self, lcid: Option<u32>, text: &str) {
+        let rank = if lcid == Some(1033) { 2 } else { 1 };
+        if rank > self.rank {
+            self.text.clear();
+            self.text.push_str(text);
+            self.rank = rank;
+        }
+    }
+
+    fn get(&self) -> Option<&str> {
+        (self.rank > 0).then_some(self.text.as_str())
+    }
+}
+
+/// A text and where it was.
+#[derive(Debug, Default, Clone)]
+struct At {
+    text: String,
+    offset: usize,
+}
+
+#[derive(Debug, Default, Clone, Copy)]
+struct RawFlags {
+    access: Option<Access>,
+    pdo: Option<PdoMapping>,
+}
+
+#[derive(Debug, Default)]
+struct RawInfo {
+    default_data: Option<(Vec<u8>, usize)>,
+    default_value: Option<At>,
+    default_string: Option<At>,
+    min_data: Option<(Vec<u8>, usize)>,
+    max_data: Option<(Vec<u8>, usize)>,
+    min_value: Option<At>,
+    max_value: Option<At>,
+}
+
+#[derive(Debug, Default)]
+struct RawSubItem {
+    offset: usize,
+    sub_idx: Option<u8>,
+    name: String,
+    type_name: At,
+    bit_size: Option<u32>,
+    comment: Localized,
+    flags: Option<RawFlags>,
+}
+
+#[derive(Debug, Default)]
+struct RawDataType {
+    name: String,
+    base_type: Option<At>,
+    bit_size: Option<u32>,
+    comment: Localized,
+    arrays: Vec<(Option<u32>, Option<u32>)>,
+    subitems: Vec<RawSubItem>,
+}
+
+#[derive(Debug, Default)]
+struct RawObject {
+    offset: usize,
+    index: Option<u16>,
+    name: Localized,
+    comment: Localized,
+    type_name: At,
+    bit_size: Option<u32>,
+    info: RawInfo,
+    sub_infos: Vec<(String, RawInfo)>,
+    flags: Option<RawFlags>,
+}
+
+#[derive(Debug, Default)]
+struct RawDevice {
+    product_code: u32,
+    revision: u32,
+    order_code: String,
+    name: Localized,
+    group_type: String,
+    has_dictionary: bool,
+    data_types: Vec<RawDataType>,
+    objects: Vec<RawObject>,
+    ecat: EthercatInfo,
+}
+
+/// What the parser is collecting.
+struct Parser<'a> {
+    ctx: Ctx<'a>,
+    stack: Vec<Tag>,
+    /// Index in `stack` of the current `Device` (or module) element.
+    device_depth: Option<usize>,
+    text: String,
+    text_offset: Option<usize>,
+    lcid: Option<u32>,
+    restrictions: (Option<EcatStates>, Option<EcatStates>),
+    vendor_id: u32,
+    vendor_name: Localized,
+    file_version: String,
+    device: Option<RawDevice>,
+    done: Vec<DeviceDescription>,
+}
+
+pub(super) fn read_all(
+    bytes: &[u8],
+    source_name: &str,
+) -> Result<Vec<DeviceDescription>, ParseError> {
+    let text = xml::decode(bytes, source_name).map_err(|mut e| {
+        if e.position.line == 0 {
+            e.position = decode_error_position(bytes);
+        }
+        e
+    })?;
+    let ctx = Ctx {
+        src: &text,
+        name: source_name,
+    };
+    let mut parser = Parser {
+        ctx,
+        stack: Vec::new(),
+        device_depth: None,
+        text: String::new(),
+        text_offset: None,
+        lcid: None,
+        restrictions: (None, None),
+        vendor_id: 0,
+        vendor_name: Localized::default(),
+        file_version: String::new(),
+        device: None,
+        done: Vec::new(),
+    };
+    parser.run()?;
+    let Parser {
+        mut done,
+        vendor_id,
+        vendor_name,
+        file_version,
+        ..
+    } = parser;
+    for d in &mut done {
+        d.identity.vendor_id = vendor_id;
+        d.identity.vendor_name = vendor_name.get().unwrap_or_default().to_string();
+        d.file_info.file_version = file_version.clone();
+    }
+    Ok(done)
+}
+
+/// Where a file that [`xml::decode`] refused without a position goes wrong: the first invalid UTF-8 byte
+/// after a UTF-8 byte-order mark, else the start of the file.
+fn decode_error_position(bytes: &[u8]) -> Position {
+    let start = Position { line: 1, column: 1 };
+    let Some(body) = bytes.strip_prefix(b"\xEF\xBB\xBF") else {
+        return start;
+    };
+    match std::str::from_utf8(body) {
+        Ok(_) => start,
+        Err(e) => Position::of_offset(body, e.valid_up_to()),
+    }
+}
+
+impl<'a> Parser<'a> {
+    fn run(&mut self) -> Result<(), ParseError> {
+        let mut reader = Reader::from_str(self.ctx.src);
+        let mut root_seen = false;
+        loop {
+            let offset = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
+            let event = match reader.read_event() {
+                Ok(e) => e,
+                Err(e) => {
+                    let at = usize::try_from(reader.error_position()).unwrap_or(offset);
+                    return Err(self.ctx.err(at, format!("malformed XML: {e}")));
+                }
+            };
+            match event {
+                Event::Start(e) => {
+                    if self.stack.is_empty() {
+                        self.check_root(&e, offset, root_seen)?;
+                        root_seen = true;
+                    }
+                    self.start(&e, offset)?;
+                }
+                Event::Empty(e) => {
+                    if self.stack.is_empty() {
+                        self.check_root(&e, offset, root_seen)?;
+                        root_seen = true;
+                    }
+                    self.start(&e, offset)?;
+                    self.end(offset)?;
+                }
+                Event::End(_) => self.end(offset)?,
+                // White space before an element's text is layout: skip it without decoding.
+                Event::Text(t)
+                    if self.text_offset.is_none() && t.iter().all(u8::is_ascii_whitespace) => {}
+                Event::Text(t) if self.collecting() => {
+                    let s = t
+                        .xml10_content()
+                        .map_err(|e| self.ctx.err(offset, format!("undecodable text: {e}")))?;
+                    self.push_text(&s, offset);
+                }
+                Event::CData(t) if self.collecting() => {
+                    let s = t
+                        .xml10_content()
+                        .map_err(|e| self.ctx.err(offset, format!("undecodable text: {e}")))?;
+                    self.push_text(&s, offset);
+                }
+                Event::GeneralRef(r) if self.collecting() => {
+                    let c = match r.resolve_char_ref() {
+                        Ok(Some(c)) => Some(c),
+                        Ok(None) => match r.as_ref() {
+                            b"lt" => Some('<'),
+                            b"gt" => Some('>'),
+                            b"amp" => Some('&'),
+                            b"apos" => Some('\''),
+                            b"quot" => Some('"'),
+                            _ => None,
+                        },
+                        Err(_) => None,
+                    };
+                    match c {
+                        Some(c) => {
+                            let mut buf = [0u8; 4];
+                            self.push_text(c.encode_utf8(&mut buf), offset);
+                        }
+                        None => {
+                            return Err(self.ctx.err(
+                                offset,
+                                format!(
+                                    "unknown entity `&{};`",
+                                    String::from_utf8_lossy(r.as_ref())
+                                ),
+                            ))
+                        }
+                    }
+                }
+                Event::Eof => break,
+                _ => {}
+            }
+        }
+        if let Some(open) = self.stack.last() {
+            return Err(self.ctx.err(
+                self.ctx.src.len(),
+                format!("unexpected end of file: <{}> is not closed", open.name()),
+            ));
+        }
+        if !root_seen {
+            return Err(self
+                .ctx
+                .err(0, "expected an <EtherCATInfo> element, found no element"));
+        }
+        Ok(())
+    }
+
+    fn check_root(&self, e: &BytesStart, offset: usize, seen: bool) -> Result<(), ParseError> {
+        let tag = Tag::of(e.local_name().as_ref());
+        if seen || !matches!(tag, Tag::EtherCATInfo | Tag::EtherCATModule) {
+            return Err(self.ctx.err(
+                offset,
+                format!(
+                    "expected an <EtherCATInfo> root element, found <{}>",
+                    String::from_utf8_lossy(e.name().as_ref())
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// True when the innermost element is one whose text the reader may use.
+    fn collecting(&self) -> bool {
+        matches!(self.stack.last(), Some(t) if *t != Tag::Other)
+    }
+
+    fn push_text(&mut self, s: &str, offset: usize) {
+        if self.text_offset.is_none() {
+            if s.trim().is_empty() {
+                return;
+            }
+            let lead = s.len() - s.trim_start().len();
+            self.text_offset = Some(offset + lead);
+        }
+        self.text.push_str(s);
+    }
+
+    /// An attribute's value and its offset in the source.
+    fn attrs(
+        &self,
+        e: &BytesStart,
+        offset: usize,
+    ) -> Result<Vec<(Vec<u8>, String, usize)>, ParseError> {
+        let mut out = Vec::new();
+        let raw = e.attributes_raw();
+        if raw.iter().all(u8::is_ascii_whitespace) {
+            return Ok(out);
+        }
+        let raw_start = offset + 1 + e.name().as_ref().len();
+        for a in e.attributes() {
+            let a = a.map_err(|err| self.ctx.err(offset, format!("malformed attribute: {err}")))?;
+            let key = a.key.local_name().as_ref().to_vec();
+            let at = find(raw, a.key.as_ref()).map_or(offset, |p| raw_start + p);
+            let value = a
+                .unescape_value()
+                .map_err(|err| {
+                    self.ctx
+                        .err(at, format!("malformed attribute value: {err}"))
+                })?
+                .into_owned();
+            out.push((key, value, at));
+        }
+        Ok(out)
+    }
+
+    fn start(&mut self, e: &BytesStart, offset: usize) -> Result<(), ParseError> {
+        let tag = Tag::of(e.local_name().as_ref());
+        self.stack.push(tag);
+        self.text.clear();
+        self.text_offset = None;
+        if tag == Tag::Other {
+            return Ok(());
+        }
+        let stack = std::mem::take(&mut self.stack);
+        let result = self.on_start(&stack, tag, e, offset);
+        self.stack = stack;
+        result
+    }
+
+    fn on_start(
+        &mut self,
+        stack: &[Tag],
+        tag: Tag,
+        e: &BytesStart,
+        offset: usize,
+    ) -> Result<(), ParseError> {
+        if matches!(tag, Tag::Name | Tag::Comment) {
+            self.lcid = None;
+            for (k, v, at) in self.attrs(e, offset)? {
+                if k == b"LcId" {
+                    self.lcid = Some(self.ctx.number(&v, at, "the LcId attribute")?);
+                }
+            }
+        }
+        let Some(depth) = self.device_depth else {
+            match stack {
+                [Tag::EtherCATInfo | Tag::EtherCATModule, Tag::Vendor] => {
+                    for (k, v, _) in self.attrs(e, offset)? {
+                        if k == b"FileVersion" {
+                            self.file_version = v.trim().to_string();
+                        }
+                    }
+                }
+                [Tag::EtherCATInfo, Tag::Descriptions, Tag::Devices, Tag::Device]
+                | [Tag::EtherCATModule, Tag::Modules, Tag::Module] => {
+                    self.device_depth = Some(stack.len() - 1);
+                    self.device = Some(RawDevice::default());
+                }
+                _ => {}
+            }
+            return Ok(());
+        };
+        let rel = stack.get(depth + 1..).unwrap_or_default();
+        let ctx = self.ctx;
+        let attrs = self.attrs(e, offset)?;
+        let Some(dev) = self.device.as_mut() else {
+            return Ok(());
+        };
+        match rel {
+            [Tag::Type] => {
+                for (k, v, at) in &attrs {
+                    match k.as_slice() {
+                        b"ProductCode" => {
+                            dev.product_code = ctx.number(v, *at, "the ProductCode attribute")?
+                        }
+                        b"RevisionNo" => {
+                            dev.revision = ctx.number(v, *at, "the RevisionNo attribute")?
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            [Tag::Profile, Tag::Dictionary] => dev.has_dictionary = true,
+            [Tag::Profile, Tag::Dictionary, Tag::DataTypes, Tag::DataType] => {
+                dev.data_types.push(RawDataType::default())
+            }
+            [Tag::Profile, Tag::Dictionary, Tag::DataTypes, Tag::DataType, Tag::SubItem] => {
+                if let Some(dt) = dev.data_types.last_mut() {
+                    dt.subitems.push(RawSubItem {
+                        offset,
+                        ..RawSubItem::default()
+                    });
+                }
+            }
+            [Tag::Profile, Tag::Dictionary, Tag::DataTypes, Tag::DataType, Tag::ArrayInfo] => {
+                if let Some(dt) = dev.data_types.last_mut() {
+                    dt.arrays.push((None, None));
+                }
+            }
+            [Tag::Profile, Tag::Dictionary, Tag::DataTypes, Tag::DataType, Tag::SubItem, Tag::Flags] => {
+                if let Some(si) = dev
+                    .data_types
+                    .last_mut()
+                    .and_then(|d| d.subitems.last_mut())
+                {
+                    si.flags.get_or_insert_with(RawFlags::default);
+                }
+            }
+            [Tag::Profile, Tag::Dictionary, Tag::Objects, Tag::Object] => {
+                dev.objects.push(RawObject {
+                    offset,
+                    ..RawObject::default()
+                })
+            }
+            [Tag::Profile, Tag::Dictionary, Tag::Objects, Tag::Object, Tag::Flags] => {
+                if let Some(o) = dev.objects.last_mut() {
+                    o.flags.get_or_insert_with(RawFlags::default);
+                }
+            }
+            [Tag::Profile, Tag::Dictionary, Tag::Objects, Tag::Object, Tag::Info, Tag::SubItem] => {
+                if let Some(o) = dev.objects.last_mut() {
+                    o.sub_infos.push((String::new(), RawInfo::default()));
+                }
+            }
+            [.., Tag::Flags, Tag::Access] => {
+                let mut r = (None, None);
+                for (k, v, at) in &attrs {
+                    let which = match k.as_slice() {
+                        b"ReadRestrictions" => &mut r.0,
+                        b"WriteRestrictions" => &mut r.1,
+                        _ => continue,
+                    };
+                    *which = Some(EcatStates::parse(v).ok_or_else(|| {
+                        ctx.err(
+                            *at,
+                            format!(
+                                "expected EtherCAT states like PreOp_SafeOp_Op in the {} attribute, found `{}`",
+                                String::from_utf8_lossy(k),
+                                clip(v)
+                            ),
+                        )
+                    })?);
+                }
+                self.restrictions = r;
+            }
+            [Tag::Sm] => {
+                let mut sm = SyncManager::default();
+                for (k, v, at) in &attrs {
+                    let what = format!("the {} attribute of <Sm>", String::from_utf8_lossy(k));
+                    match k.as_slice() {
+                        b"StartAddress" => sm.start_address = ctx.number(v, *at, &what)?,
+                        b"DefaultSize" => sm.default_size = Some(ctx.number(v, *at, &what)?),
+                        b"MinSize" => sm.min_size = Some(ctx.number(v, *at, &what)?),
+                        b"MaxSize" => sm.max_size = Some(ctx.number(v, *at, &what)?),
+                        b"ControlByte" => sm.control_byte = ctx.number(v, *at, &what)?,
+                        b"Enable" => sm.enable = flag(ctx, v, *at, &what)?,
+                        _ => {}
+                    }
+                }
+                dev.ecat.sync_managers.push(sm);
+            }
+            [Tag::RxPdo | Tag::TxPdo] => {
+                let mut pdo = Pdo::default();
+                for (k, v, at) in &attrs {
+                    let what = format!(
+                        "the {} attribute of <{}>",
+                        String::from_utf8_lossy(k),
+                        tag.name()
+                    );
+                    match k.as_slice() {
+                        b"Fixed" => pdo.fixed = flag(ctx, v, *at, &what)?,
+                        b"Mandatory" => pdo.mandatory = flag(ctx, v, *at, &what)?,
+                        b"Sm" => pdo.sm = Some(ctx.number(v, *at, &what)?),
+                        _ => {}
+                    }
+                }
+                if tag == Tag::RxPdo {
+                    dev.ecat.rx_pdos.push(pdo);
+                } else {
+                    dev.ecat.tx_pdos.push(pdo);
+                }
+            }
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Entry] => {
+                if let Some(p) = pdo_of(dev, *pdo) {
+                    p.entries.push(PdoEntry::default());
+                }
+            }
+            [Tag::Mailbox] => {
+                let mut mb = Mailbox::default();
+                for (k, v, at) in &attrs {
+                    if k == b"DataLinkLayer" {
+                        mb.data_link_layer =
+                            flag(ctx, v, *at, "the DataLinkLayer attribute of <Mailbox>")?;
+                    }
+                }
+                dev.ecat.mailbox = Some(mb);
+            }
+            [Tag::Mailbox, Tag::CoE] => {
+                let mut coe = CoeFlags {
+                    segmented_sdo: true,
+                    ..CoeFlags::default()
+                };
+                for (k, v, at) in &attrs {
+                    let what = format!("the {} attribute of <CoE>", String::from_utf8_lossy(k));
+                    let field = match k.as_slice() {
+                        b"SdoInfo" => &mut coe.sdo_info,
+                        b"PdoAssign" => &mut coe.pdo_assign,
+                        b"PdoConfig" => &mut coe.pdo_config,
+                        b"PdoUpload" => &mut coe.pdo_upload,
+                        b"CompleteAccess" => &mut coe.complete_access,
+                        b"SegmentedSdo" => &mut coe.segmented_sdo,
+                        _ => continue,
+                    };
+                    *field = flag(ctx, v, *at, &what)?;
+                }
+                if let Some(mb) = dev.ecat.mailbox.as_mut() {
+                    mb.coe = Some(coe);
+                }
+            }
+            [Tag::Mailbox, Tag::FoE] => {
+                if let Some(mb) = dev.ecat.mailbox.as_mut() {
+                    mb.foe = true;
+                }
+            }
+            [Tag::Mailbox, Tag::EoE] => {
+                if let Some(mb) = dev.ecat.mailbox.as_mut() {
+                    mb.eoe = true;
+                }
+            }
+            [Tag::Dc, Tag::OpMode] => dev.ecat.op_modes.push(OpMode::default()),
+            [Tag::Dc, Tag::OpMode, which @ (Tag::CycleTimeSync0 | Tag::CycleTimeSync1)] => {
+                let mut factor = 1i32;
+                for (k, v, at) in &attrs {
+                    if k == b"Factor" {
+                        factor = ctx.number(
+                            v,
+                            *at,
+                            &format!("the Factor attribute of <{}>", which.name()),
+                        )?;
+                    }
+                }
+                if let Some(m) = dev.ecat.op_modes.last_mut() {
+                    let slot = if *which == Tag::CycleTimeSync0 {
+                        &mut m.cycle_time_sync0
+                    } else {
+                        &mut m.cycle_time_sync1
+                    };
+                    *slot = Some((0, factor));
+                }
+            }
+            [Tag::Eeprom] => dev.ecat.eeprom = Some(Eeprom::default()),
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn end(&mut self, offset: usize) -> Result<(), ParseError> {
+        let Some(&tag) = self.stack.last() else {
+            return Ok(());
+        };
+        let result = if tag == Tag::Other {
+            Ok(())
+        } else {
+            let stack = std::mem::take(&mut self.stack);
+            let text = std::mem::take(&mut self.text);
+            let at = self.text_offset.unwrap_or(offset);
+            let r = self.on_end(&stack, tag, text.trim(), at);
+            self.stack = stack;
+            self.text = text;
+            self.text.clear();
+            r
+        };
+        self.text_offset = None;
+        self.stack.pop();
+        if self.device_depth == Some(self.stack.len()) {
+            self.device_depth = None;
+            if let Some(raw) = self.device.take() {
+                let desc = build_device(self.ctx, raw)?;
+                self.done.push(desc);
+            }
+        }
+        result
+    }
+
+    fn on_end(&mut self, stack: &[Tag], tag: Tag, text: &str, at: usize) -> Result<(), ParseError> {
+        let lcid = if matches!(tag, Tag::Name | Tag::Comment) {
+            self.lcid.take()
+        } else {
+            None
+        };
+        let ctx = self.ctx;
+        let what = || format!("<{}>", tag.name());
+        let Some(depth) = self.device_depth else {
+            match stack {
+                [Tag::EtherCATInfo | Tag::EtherCATModule, Tag::Vendor, Tag::Id] => {
+                    self.vendor_id = ctx.number(text, at, "<Vendor>/<Id>")?;
+                }
+                [Tag::EtherCATInfo | Tag::EtherCATModule, Tag::Vendor, Tag::Name] => {
+                    self.vendor_name.offer(lcid, text)
+                }
+                _ => {}
+            }
+            return Ok(());
+        };
+        let rel = stack.get(depth + 1..).unwrap_or_default();
+        let restrictions = self.restrictions;
+        let Some(dev) = self.device.as_mut() else {
+            return Ok(());
+        };
+        match rel {
+            [Tag::Type] => dev.order_code = text.to_string(),
+            [Tag::Name] => dev.name.offer(lcid, text),
+            [Tag::GroupType] => dev.group_type = text.to_string(),
+            [Tag::Profile, Tag::Dictionary, Tag::DataTypes, Tag::DataType, rest @ ..] => {
+                let Some(dt) = dev.data_types.last_mut() else {
+                    return Ok(());
+                };
+                match rest {
+                    [Tag::Name] => dt.name = text.to_string(),
+                    [Tag::BaseType] => {
+                        dt.base_type = Some(At {
+                            text: text.to_string(),
+                            offset: at,
+                        })
+                    }
+                    [Tag::BitSize] => {
+                        dt.bit_size = Some(ctx.number(text, at, "<DataType>/<BitSize>")?)
+                    }
+                    [Tag::Comment] => dt.comment.offer(lcid, text),
+                    [Tag::ArrayInfo, Tag::LBound] => {
+                        if let Some(a) = dt.arrays.last_mut() {
+                            a.0 = Some(ctx.number(text, at, "<ArrayInfo>/<LBound>")?);
+                        }
+                    }
+                    [Tag::ArrayInfo, Tag::Elements] => {
+                        if let Some(a) = dt.arrays.last_mut() {
+                            a.1 = Some(ctx.number(text, at, "<ArrayInfo>/<Elements>")?);
+                        }
+                    }
+                    [Tag::SubItem, rest @ ..] => {
+                        let Some(si) = dt.subitems.last_mut() else {
+                            return Ok(());
+                        };
+                        match rest {
+                            [Tag::SubIdx] => {
+                                si.sub_idx = Some(ctx.number(text, at, "<SubItem>/<SubIdx>")?)
+                            }
+                            [Tag::Name] => si.name = text.to_string(),
+                            [Tag::Type] => {
+                                si.type_name = At {
+                                    text: text.to_string(),
+                                    offset: at,
+                                }
+                            }
+                            [Tag::BitSize] => {
+                                si.bit_size = Some(ctx.number(text, at, "<SubItem>/<BitSize>")?)
+                            }
+                            [Tag::BitOffs] => {
+                                let _: u32 = ctx.number(text, at, "<SubItem>/<BitOffs>")?;
+                            }
+                            [Tag::Comment] => si.comment.offer(lcid, text),
+                            [Tag::Flags, f] => {
+                                let flags = si.flags.get_or_insert_with(RawFlags::default);
+                                read_flag(ctx, flags, *f, text, at, restrictions)?;
+                            }
+                            _ => {}
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            [Tag::Profile, Tag::Dictionary, Tag::Objects, Tag::Object, rest @ ..] => {
+                let Some(o) = dev.objects.last_mut() else {
+                    return Ok(());
+                };
+                match rest {
+                    [Tag::Index] => o.index = Some(ctx.number(text, at, "<Object>/<Index>")?),
+                    [Tag::Name] => o.name.offer(lcid, text),
+                    [Tag::Comment] => o.comment.offer(lcid, text),
+                    [Tag::Type] => {
+                        o.type_name = At {
+                            text: text.to_string(),
+                            offset: at,
+                        }
+                    }
+                    [Tag::BitSize] => {
+                        o.bit_size = Some(ctx.number(text, at, "<Object>/<BitSize>")?)
+                    }
+                    [Tag::Info, Tag::SubItem, Tag::Name] => {
+                        if let Some(si) = o.sub_infos.last_mut() {
+                            si.0 = text.to_string();
+                        }
+                    }
+                    [Tag::Info, Tag::SubItem, Tag::Info, f] => {
+                        if let Some(si) = o.sub_infos.last_mut() {
+                            read_info(ctx, &mut si.1, *f, text, at)?;
+                        }
+                    }
+                    [Tag::Info, f] => read_info(ctx, &mut o.info, *f, text, at)?,
+                    [Tag::Flags, f] => {
+                        let flags = o.flags.get_or_insert_with(RawFlags::default);
+                        read_flag(ctx, flags, *f, text, at, restrictions)?;
+                    }
+                    _ => {}
+                }
+            }
+            [Tag::Fmmu] => dev.ecat.fmmus.push(text.to_string()),
+            [Tag::Sm] => {
+                if let Some(sm) = dev.ecat.sync_managers.last_mut() {
+                    sm.kind = text.to_string();
+                }
+            }
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), rest @ ..] => {
+                let kind = *pdo;
+                let Some(p) = pdo_of(dev, kind) else {
+                    return Ok(());
+                };
+                match rest {
+                    [Tag::Index] => {
+                        p.index = ctx.number(text, at, &format!("<{}>/<Index>", kind.name()))?
+                    }
+                    // Localized: 1033 wins over the first.
+                    [Tag::Name] if p.name.is_empty() || lcid == Some(1033) => {
+                        p.name = text.to_string()
+                    }
+                    [Tag::Exclude] => {
+                        p.exclude.push(ctx.number(text, at, "<Exclude>")?);
+                    }
+                    [Tag::Entry, f] => {
+                        if let Some(en) = p.entries.last_mut() {
+                            match f {
+                                Tag::Index => en.index = ctx.number(text, at, "<Entry>/<Index>")?,
+                                Tag::SubIndex => {
+                                    en.sub = ctx.number(text, at, "<Entry>/<SubIndex>")?
+                                }
+                                Tag::BitLen => {
+                                    en.bit_len = ctx.number(text, at, "<Entry>/<BitLen>")?
+                                }
+                                Tag::Name if en.name.is_empty() || lcid == Some(1033) => {
+                                    en.name = text.to_string()
+                                }
+                                Tag::DataType => en.data_type = text.to_string(),
+                                _ => {}
+                            }
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            [Tag::Dc, Tag::OpMode, f] => {
+                if let Some(m) = dev.ecat.op_modes.last_mut() {
+                    match f {
+                        Tag::Name => m.name = text.to_string(),
+                        Tag::Desc => m.desc = text.to_string(),
+                        Tag::AssignActivate => {
+                            m.assign_activate = ctx.number(text, at, "<AssignActivate>")?
+                        }
+                        Tag::CycleTimeSync0 | Tag::CycleTimeSync1 => {
+                            let v: u32 = ctx.number(text, at, &what())?;
+                            let slot = if *f == Tag::CycleTimeSync0 {
+                                &mut m.cycle_time_sync0
+                            } else {
+                                &mut m.cycle_time_sync1
+                            };
+                            let factor = slot.map_or(1, |s| s.1);
+                            *slot = Some((v, factor));
+                        }
+                        Tag::ShiftTimeSync0 => {
+                            m.shift_time_sync0 = Some(ctx.number(text, at, &what())?)
+                        }
+                        Tag::ShiftTimeSync1 => {
+                            m.shift_time_sync1 = Some(ctx.number(text, at, &what())?)
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            [Tag::Eeprom, f] => {
+                if let Some(ee) = dev.ecat.eeprom.as_mut() {
+                    match f {
+                        Tag::ByteSize => {
+                            ee.byte_size = ctx.number(text, at, "<Eeprom>/<ByteSize>")?
+                        }
+                        Tag::ConfigData => ee.config_data = ctx.hex(text, at, "<ConfigData>")?,
+                        Tag::BootStrap => ee.boot_strap = ctx.hex(text, at, "<BootStrap>")?,
+                        _ => {}
+                    }
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+fn pdo_of(dev: &mut RawDevice, tag: Tag) -> Option<&mut Pdo> {
+    if tag == Tag::RxPdo {
+        dev.ecat.rx_pdos.last_mut()
+    } else {
+        dev.ecat.tx_pdos.last_mut()
+    }
+}
+
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    if needle.is_empty() {
+        return None;
+    }
+    hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// A boolean attribute (`1`, `0`, `true`, `false`).
+fn flag(ctx: Ctx, text: &str, at: usize, what: &str) -> Result<bool, ParseError> {
+    xml::parse_bool(text).ok_or_else(|| {
+        ctx.err(
+            at,
+            format!(
+                "expected 1, 0, true or false in {what}, found `{}`",
+                clip(text)
+            ),
+        )
+    })
+}
+
+fn read_flag(
+    ctx: Ctx,
+    flags: &mut RawFlags,
+    tag: Tag,
+    text: &str,
+    at: usize,
+    restrictions: (Option<EcatStates>, Option<EcatStates>),
+) -> Result<(), ParseError> {
+    match tag {
+        Tag::Access => {
+            let kind = AccessType::parse(text).ok_or_else(|| {
+                ctx.err(
+                    at,
+                    format!("expected ro, rw or wo in <Access>, found `{}`", clip(text)),
+                )
+            })?;
+            flags.access = Some(Access {
+                kind,
+                read_states: restrictions.0,
+                write_states: restrictions.1,
+            });
+        }
+        Tag::PdoMapping => {
+            let pdo = match text.to_ascii_uppercase().as_str() {
+                "R" => PdoMapping::Rpdo,
+                "T" => PdoMapping::Tpdo,
+                "RT" | "TR" => PdoMapping::Both,
+                "" => PdoMapping::None,
+                _ => {
+                    return Err(ctx.err(
+                        at,
+                        format!(
+                            "expected R, T, RT or TR in <PdoMapping>, found `{}`",
+                            clip(text)
+                        ),
+                    ))
+                }
+            };
+            flags.pdo = Some(pdo);
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+fn read_info(
+    ctx: Ctx,
+    info: &mut RawInfo,
+    tag: Tag,
+    text: &str,
+    at: usize,
+) -> Result<(), ParseError> {
+    let keep = || At {
+        text: text.to_string(),
+        offset: at,
+    };
+    match tag {
+        Tag::DefaultData => info.default_data = Some((ctx.hex(text, at, "<DefaultData>")?, at)),
+        Tag::MinData => info.min_data = Some((ctx.hex(text, at, "<MinData>")?, at)),
+        Tag::MaxData => info.max_data = Some((ctx.hex(text, at, "<MaxData>")?, at)),
+        Tag::DefaultValue => info.default_value = Some(keep()),
+        Tag::MinValue => info.min_value = Some(keep()),
+        Tag::MaxValue => info.max_value = Some(keep()),
+        Tag::DefaultString => info.default_string = Some(keep()),
+        _ => {}
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Resolution of one device's raw records.
+
+/// What a type name stands for.
+enum Resolved<'t> {
+    /// A basic type, with the bit size its name gives (strings).
+    Basic(DataType, Option<u32>),
+    /// A structure (`DataType` with `SubItem`s).
+    Struct(&'t RawDataType),
+    /// A `DataType` with `ArrayInfo`: element type, first sub-index, element count, total bits.
+    Array {
+        element: DataType,
+        element_bits: Option<u32>,
+        lbound: u32,
+        elements: u32,
+        bit_size: Option<u32>,
+    },
+}
+
+struct Types<'t> {
+    by_name: HashMap<&'t str, &'t RawDataType>,
+}
+
+impl<'t> Types<'t> {
+    fn new(list: &'t [RawDataType]) -> Types<'t> {
+        let mut by_name = HashMap::with_capacity(list.len());
+        for dt in list {
+            by_name.entry(dt.name.as_str()).or_insert(dt);
+        }
+        Types { by_name }
+    }
+
+    fn resolve(&self, name: &str, depth: usize) -> Option<Resolved<'t>> {
+        let name = name.trim();
+        if let Some((t, bits)) = DataType::from_esi_name(name) {
+            return Some(Resolved::Basic(t, bits));
+        }
+        if depth > MAX_TYPE_DEPTH {
+            return None;
+        }
+        let dt = *self.by_name.get(name)?;
+        if !dt.subitems.is_empty() {
+            return Some(Resolved::Struct(dt));
+        }
+        let base = dt.base_type.as_ref()?;
+        let base = match self.resolve(&base.text, depth + 1)? {
+            Resolved::Basic(t, bits) => (t, bits),
+            _ => return None,
+        };
+        if dt.arrays.is_empty() {
+            // An alias or enumeration of a basic type.
+            let bits = if base.0.is_variable() {
+                dt.bit_size.or(base.1)
+            } else {
+                None
+            };
+            return Some(Resolved::Basic(base.0, bits));
+        }
+        let mut elements: u32 = 1;
+        let mut lbound = None;
+        for (lb, n) in &dt.arrays {
+            elements = elements.checked_mul(n.unwrap_or(0))?;
+            lbound.get_or_insert(lb.unwrap_or(0));
+        }
+        let element_bits = match base.0.bit_size() {
+            Some(b) => Some(b),
+            None => base.1.or_else(|| dt.bit_size.map(|b| b / elements.max(1))),
+        };
+        Some(Resolved::Array {
+            element: base.0,
+            element_bits,
+            lbound: lbound.unwrap_or(0),
+            elements,
+            bit_size: dt.bit_size,
+        })
+    }
+}
+
+/// One entry of a flattened structure.
+struct Flat<'t> {
+    sub: u8,
+    name: String,
+    data_type: DataType,
+    bit_size: Option<u32>,
+    flags: Option<RawFlags>,
+    comment: Option<&'t str>,
+    /// An array element: its name comes from the object's `Info/SubItem`.
+    element: bool,
+    /// Where its `SubItem` is.
+    offset: usize,
+}
+
+fn build_device(ctx: Ctx, raw: RawDevice) -> Result<DeviceDescription, ParseError> {
+    let mut desc = DeviceDescription::default();
+    desc.identity.product_code = raw.product_code;
+    desc.identity.revision = raw.revision;
+    desc.identity.order_code = raw.order_code.clone();
+    desc.identity.product_name = raw.name.get().unwrap_or_default().to_string();
+    let types = Types::new(&raw.data_types);
+    let mut dict = Dictionary::new();
+    let mut first_at: BTreeMap<u16, usize> = BTreeMap::new();
+    for o in &raw.objects {
+        let Some(index) = o.index else {
+            return Err(ctx.err(o.offset, "expected an <Index> in <Object>"));
+        };
+        if let Some(&prev) = first_at.get(&index) {
+            let p = Position::of_offset(ctx.src.as_bytes(), prev);
+            return Err(ctx.err(
+                o.offset,
+                format!(
+                    "object #x{index:04X} is defined twice (first at line {})",
+                    p.line
+                ),
+            ));
+        }
+        first_at.insert(index, o.offset);
+        dict.insert(build_object(ctx, &types, o, index)?);
+    }
+    if !raw.has_dictionary {
+        dictionary_from_pdos(&mut dict, &raw.ecat);
+    }
+    desc.dictionary = dict;
+    let mut ecat = raw.ecat;
+    ecat.group_type = raw.group_type;
+    desc.ethercat = Some(ecat);
+    Ok(desc)
+}
+
+fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Object, ParseError> {
+    let name = o.name.get().unwrap_or_default().to_string();
+    let comment = o.comment.get().map(str::to_string);
+    let type_at = if o.type_name.text.is_empty() {
+        o.offset
+    } else {
+        o.type_name.offset
+    };
+    let resolved = types.resolve(&o.type_name.text, 0).ok_or_else(|| {
+        ctx.err(
+            type_at,
+            format!(
+                "object #x{index:04X}: expected a basic type name or the name of a <DataType> in <Type>, found `{}`",
+                clip(&o.type_name.text)
+            ),
+        )
+    })?;
+    let object_access = o.flags.and_then(|f| f.access);
+    let var = |data_type: DataType, bit_size: Option<u32>| -> Result<Object, ParseError> {
+        let mut sub = SubObject::new(
+            name.clone(),
+            data_type,
+            object_access.unwrap_or(Access::new(AccessType::Ro)),
+        );
+        sub.bit_size = bit_size;
+        sub.pdo = o.flags.and_then(|f| f.pdo).unwrap_or_default();
+        sub.description = comment.clone();
+        apply_info(ctx, &mut sub, &o.info, index)?;
+        let mut object = Object::var(index, sub);
+        object.description = comment.clone();
+        Ok(object)
+    };
+    match resolved {
+        Resolved::Basic(t, bits) => {
+            let bit_size = if t.is_variable() {
+                bits.or(o.bit_size)
+            } else {
+                t.bit_size()
+            };
+            var(t, bit_size)
+        }
+        Resolved::Array {
+            element,
+            element_bits,
+            elements,
+            bit_size,
+            ..
+        } => {
+            // An array used as the type of one value: its bytes.
+            let bits = bit_size
+                .or(o.bit_size)
+                .or_else(|| element_bits.and_then(|b| b.checked_mul(elements)));
+            let _ = element;
+            var(DataType::OctetString, bits)
+        }
+        Resolved::Struct(dt) => {
+            let (flat, is_array) = flatten(ctx, types, dt, index)?;
+            let kind = if is_array {
+                ObjectKind::Array
+            } else {
+                ObjectKind::Record
+            };
+            let mut object = Object::structured(index, name.clone(), kind);
+            object.type_name = Some(dt.name.clone());
+            object.description = comment
+                .clone()
+                .or_else(|| dt.comment.get().map(str::to_string));
+            // Match Info/SubItems to entries: by position when the Info lists every entry, else by name
+            // and then by position.
+            let mut assigned: Vec<Option<usize>> = vec![None; flat.len()];
+            let complete = o.sub_infos.len() == flat.len();
+            for (i, (info_name, _)) in o.sub_infos.iter().enumerate() {
+                if complete {
+                    assigned[i] = Some(i);
+                    continue;
+                }
+                let pick =
+                    if flat.get(i).is_some_and(|f| &f.name == info_name) && assigned[i].is_none() {
+                        Some(i)
+                    } else if let Some(j) = (0..flat.len())
+                        .find(|&j| assigned[j].is_none() && &flat[j].name == info_name)
+                    {
+                        Some(j)
+                    } else if i < flat.len() && assigned[i].is_none() {
+                        Some(i)
+                    } else {
+                        None
+                    };
+                if let Some(j) = pick {
+                    assigned[j] = Some(i);
+                }
+            }
+            for (j, f) in flat.iter().enumerate() {
+                let flags = f.flags.unwrap_or_default();
+                let access = flags
+                    .access
+                    .or(object_access)
+                    .unwrap_or(Access::new(AccessType::Ro));
+                let pdo = flags
+                    .pdo
+                    .or(if f.sub == 0 {
+                        None
+                    } else {
+                        o.flags.and_then(|g| g.pdo)
+                    })
+                    .unwrap_or_default();
+                let info = assigned[j].and_then(|i| o.sub_infos.get(i));
+                let name = match (f.element, info) {
+                    (true, Some((n, _))) => n.clone(),
+                    _ => f.name.clone(),
+                };
+                let mut sub = SubObject::new(name, f.data_type, access);
+                sub.bit_size = f.bit_size;
+                sub.pdo = pdo;
+                sub.description = f.comment.map(str::to_string);
+                if let Some((_, info)) = info {
+                    apply_info(ctx, &mut sub, info, index)?;
+                }
+                object.subs.insert(f.sub, sub);
+            }
+            if !object.subs.contains_key(&0) {
+                let count = object.max_sub();
+                let sub = SubObject::new("SubIndex 000", DataType::Unsigned8, AccessType::Ro)
+                    .with_default(Value::Uint(count as u64));
+                object.subs.insert(0, sub);
+            }
+            Ok(object)
+        }
+    }
+}
+
+/// The entries of a structure type, in order, with array members expanded; and whether it is the ETG
+/// array layout.
+fn flatten<'t>(
+    ctx: Ctx,
+    types: &Types<'t>,
+    dt: &'t RawDataType,
+    index: u16,
+) -> Result<(Vec<Flat<'t>>, bool), ParseError> {
+    let mut out: Vec<Flat<'t>> = Vec::with_capacity(dt.subitems.len());
+    let mut next: u32 = 0;
+    let mut arrays = 0usize;
+    let mut others = 0usize;
+    for si in &dt.subitems {
+        let at = if si.type_name.text.is_empty() {
+            si.offset
+        } else {
+            si.type_name.offset
+        };
+        let resolved = types.resolve(&si.type_name.text, 0).ok_or_else(|| {
+            ctx.err(
+                at,
+                format!(
+                    "<DataType> {}: expected a basic type name or the name of an array <DataType> in <SubItem>/<Type>, found `{}`",
+                    dt.name,
+                    clip(&si.type_name.text)
+                ),
+            )
+        })?;
+        let comment = si.comment.get();
+        match resolved {
+            Resolved::Basic(t, bits) => {
+                let sub = si.sub_idx.map_or(next, u32::from);
+                let sub = u8::try_from(sub).map_err(|_| {
+                    ctx.err(si.offset, format!("<DataType> {}: more than 256 entries", dt.name))
+                })?;
+                let bit_size = if t.is_variable() {
+                    bits.or(si.bit_size)
+                } else {
+                    t.bit_size()
+                };
+                if sub != 0 {
+                    others += 1;
+                }
+                out.push(Flat {
+                    sub,
+                    name: si.name.clone(),
+                    data_type: t,
+                    bit_size,
+                    flags: si.flags,
+                    comment,
+                    element: false,
+                    offset: si.offset,
+                });
+                next = u32::from(sub) + 1;
+            }
+            Resolved::Array {
+                element,
+                element_bits,
+                lbound,
+                elements,
+                bit_size,
+            } => {
+                if let Some(sub) = si.sub_idx {
+                    // An entry whose value is a whole array: its bytes.
+                    out.push(Flat {
+                        sub,
+                        name: si.name.clone(),
+                        data_type: DataType::OctetString,
+                        bit_size: si.bit_size.or(bit_size),
+                        flags: si.flags,
+                        comment,
+                        element: false,
+                        offset: si.offset,
+                    });
+                    others += 1;
+                    next = u32::from(sub) + 1;
+                    continue;
+                }
+                let first = lbound.max(next);
+                let last = first
+                    .checked_add(elements)
+                    .and_then(|e| e.checked_sub(1))
+                    .filter(|&l| l <= 255 || elements == 0);
+                let Some(last) = last else {
+                    return Err(ctx.err(
+                        at,
+                        format!(
+                            "object #x{index:04X}: the array type `{}` has {elements} elements from sub-index {first}; sub-indices end at 255",
+                            clip(&si.type_name.text)
+                        ),
+                    ));
+                };
+                let element_bits = if element.is_variable() {
+                    element_bits
+                } else {
+                    element.bit_size()
+                };
+                for s in first..first + elements {
+                    let sub = u8::try_from(s).unwrap_or(u8::MAX);
+                    out.push(Flat {
+                        sub,
+                        name: format!("SubIndex {sub:03}"),
+                        data_type: element,
+                        bit_size: element_bits,
+                        flags: si.flags,
+                        comment,
+                        element: true,
+                        offset: si.offset,
+                    });
+                }
+                arrays += 1;
+                next = last + 1;
+            }
+            Resolved::Struct(_) => {
+                return Err(ctx.err(
+                    at,
+                    format!(
+                        "<DataType> {}: the entry `{}` has the structure type `{}`; CoE entries are basic types or arrays of them",
+                        dt.name,
+                        si.name,
+                        clip(&si.type_name.text)
+                    ),
+                ))
+            }
+        }
+    }
+    // Duplicate sub-indices: the later entry would silently replace the earlier.
+    let mut seen = [false; 256];
+    for f in &out {
+        let s = usize::from(f.sub);
+        if seen[s] {
+            return Err(ctx.err(
+                f.offset,
+                format!(
+                    "<DataType> {}: sub-index {} is defined twice",
+                    dt.name, f.sub
+                ),
+            ));
+        }
+        seen[s] = true;
+    }
+    Ok((out, arrays == 1 && others == 0))
+}
+
+/// Sets default, limits and current value of `sub` from an `Info` element.
+fn apply_info(ctx: Ctx, sub: &mut SubObject, info: &RawInfo, index: u16) -> Result<(), ParseError> {
+    let t = sub.data_type;
+    let default = if let Some((bytes, at)) = &info.default_data {
+        Some(decode_data(ctx, t, bytes, *at, index, "DefaultData")?)
+    } else if let Some(v) = &info.default_value {
+        Some(value_text(ctx, t, v, index, "DefaultValue")?)
+    } else if let Some(s) = &info.default_string {
+        Some(match t {
+            DataType::VisibleString => Value::String(s.text.clone()),
+            DataType::UnicodeString => Value::Unicode(s.text.encode_utf16().collect()),
+            DataType::OctetString | DataType::Domain => Value::Bytes(s.text.as_bytes().to_vec()),
+            _ => value_text(ctx, t, s, index, "DefaultString")?,
+        })
+    } else {
+        None
+    };
+    sub.low = match (&info.min_data, &info.min_value) {
+        (Some((bytes, at)), _) => Some(decode_data(ctx, t, bytes, *at, index, "MinData")?),
+        (None, Some(v)) => Some(value_text(ctx, t, v, index, "MinValue")?),
+        (None, None) => None,
+    };
+    sub.high = match (&info.max_data, &info.max_value) {
+        (Some((bytes, at)), _) => Some(decode_data(ctx, t, bytes, *at, index, "MaxData")?),
+        (None, Some(v)) => Some(value_text(ctx, t, v, index, "MaxValue")?),
+        (None, None) => None,
+    };
+    if let Some(v) = default {
+        if let Ok(bytes) = v.encode(t) {
+            sub.value = bytes;
+        }
+        sub.default = Some(DefaultValue::plain(v));
+    }
+    Ok(())
+}
+
+/// A value from little-endian hexBinary bytes. Real files give fixed-size values in fewer bytes (`00` for
+/// a UINT) or with zero bytes beyond the type's size; both are read as the number they spell (the missing
+/// high bytes are zero). Nonzero bytes beyond the type are an error.
+fn decode_data(
+    ctx: Ctx,
+    t: DataType,
+    bytes: &[u8],
+    at: usize,
+    index: u16,
+    what: &str,
+) -> Result<Value, ParseError> {
+    let mut fitted;
+    let mut bytes = bytes;
+    if let Some(size) = t.byte_size() {
+        if bytes.len() < size && !bytes.is_empty() {
+            fitted = bytes.to_vec();
+            fitted.resize(size, 0);
+            bytes = &fitted;
+        } else if bytes.len() > size && bytes.iter().skip(size).all(|&b| b == 0) {
+            fitted = bytes.to_vec();
+            fitted.truncate(size);
+            bytes = &fitted;
+        }
+    }
+    Value::decode(t, bytes).map_err(|e| {
+        ctx.err(
+            at,
+            format!(
+                "object #x{index:04X}: <{what}> is not a {}: {e}",
+                t.esi_base_name()
+            ),
+        )
+    })
+}
+
+/// A value from a number (`#x…` or decimal) or, for strings, text.
+fn value_text(ctx: Ctx, t: DataType, v: &At, index: u16, what: &str) -> Result<Value, ParseError> {
+    let text = v.text.trim();
+    let bad = |reason: &str| {
+        ctx.err(
+            v.offset,
+            format!(
+                "object #x{index:04X}: expected {reason} in <{what}>, found `{}`",
+                clip(text)
+            ),
+        )
+    };
+    match t {
+        DataType::VisibleString => Ok(Value::String(v.text.clone())),
+        DataType::UnicodeString => Ok(Value::Unicode(v.text.encode_utf16().collect())),
+        DataType::OctetString | DataType::Domain => parse_hex_bytes(text)
+            .map(Value::Bytes)
+            .ok_or_else(|| bad("hexadecimal bytes")),
+        DataType::Real32 | DataType::Real64 => {
+            if let Some(bits) = text.strip_prefix("#x").or_else(|| text.strip_prefix("#X")) {
+                let n = u64::from_str_radix(bits, 16).map_err(|_| bad("a number"))?;
+                return Ok(if t == DataType::Real32 {
+                    Value::Real32(f32::from_bits(
+                        u32::try_from(n).map_err(|_| bad("a 32-bit pattern"))?,
+                    ))
+                } else {
+                    Value::Real64(f64::from_bits(n))
+                });
+            }
+            Value::parse_text(t, text).map_err(|_| bad("a decimal number"))
+        }
+        DataType::TimeOfDay | DataType::TimeDifference => {
+            let n = xml::parse_number(text).ok_or_else(|| bad("a number"))?;
+            let bytes = u64::try_from(n)
+                .ok()
+                .filter(|&n| n < (1u64 << 48))
+                .ok_or_else(|| bad("a 48-bit number"))?
+                .to_le_bytes();
+            Value::decode(t, &bytes[..6]).map_err(|_| bad("a time"))
+        }
+        DataType::Boolean => match text.to_ascii_lowercase().as_str() {
+            "true" => Ok(Value::Bool(true)),
+            "false" => Ok(Value::Bool(false)),
+            _ => match xml::parse_number(text) {
+                Some(0) => Ok(Value::Bool(false)),
+                Some(1) => Ok(Value::Bool(true)),
+                _ => Err(bad("0, 1, true or false")),
+            },
+        },
+        _ => {
+            let n = xml::parse_number(text).ok_or_else(|| bad("a number like #x1A00 or 6656"))?;
+            let (lo, hi) = t.integer_range().ok_or_else(|| bad("a number"))?;
+            let hex = text.starts_with("#x") || text.starts_with("#X") || text.starts_with("0x");
+            // Hexadecimal for a signed type may spell the two's complement (`#xFFFF` = -1 for INT).
+            let n = if t.is_signed() && hex && n > hi && n <= 2 * hi + 1 {
+                n - 2 * (hi + 1)
+            } else {
+                n
+            };
+            if n < lo || n > hi {
+                return Err(bad(&format!("a {} value {lo}..{hi}", t.esi_base_name())));
+            }
+            Ok(if t.is_signed() {
+                Value::Int(n as i64)
+            } else {
+                Value::Uint(n as u64)
+            })
+        }
+    }
+}
+
+/// The dictionary of a device without one: an entry for every object the PDOs map with a known type.
+fn dictionary_from_pdos(dict: &mut Dictionary, ecat: &EthercatInfo) {
+    let pdos = ecat
+        .rx_pdos
+        .iter()
+        .map(|p| (p, PdoMapping::Rpdo))
+        .chain(ecat.tx_pdos.iter().map(|p| (p, PdoMapping::Tpdo)));
+    for (pdo, dir) in pdos {
+        for e in &pdo.entries {
+            if e.index == 0 {
+                continue;
+            }
+            let Some((t, bits)) = DataType::from_esi_name(&e.data_type) else {
+                continue;
+            };
+            let bit_size = if t.is_variable() {
+                bits.or(Some(u32::from(e.bit_len)))
+            } else {
+                t.bit_size()
+            };
+            let mut sub = SubObject::new(e.name.clone(), t, AccessType::Ro).with_pdo(dir);
+            sub.bit_size = bit_size;
+            if e.sub == 0 {
+                if dict.object(e.index).is_none() {
+                    dict.insert(Object::var(e.index, sub));
+                }
+                continue;
+            }
+            if dict.object(e.index).is_none() {
+                let mut object = Object::structured(e.index, pdo.name.clone(), ObjectKind::Record);
+                // The name the writer gives the structure type, so the dictionary reads back the same.
+                object.type_name = Some(format!("DT{:04X}", e.index));
+                dict.insert(object);
+            }
+            let Some(object) = dict.object_mut(e.index) else {
+                continue;
+            };
+            if !object.kind.has_subs() || object.subs.contains_key(&e.sub) {
+                continue;
+            }
+            object.subs.insert(e.sub, sub);
+            let count = object.max_sub();
+            let zero = SubObject::new("SubIndex 000", DataType::Unsigned8, AccessType::Ro)
+                .with_default(Value::Uint(u64::from(count)));
+            object.subs.insert(0, zero);
+        }
+    }
+}

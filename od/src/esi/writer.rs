@@ -1,0 +1,842 @@
+//! The ESI writer: one `EtherCATInfo` document from descriptions, through [`XmlWriter`] so the output is
+//! byte-stable (fixed element order, objects and types in index order, no dates).
+
+use std::borrow::Cow;
+use std::collections::{BTreeMap, HashMap};
+
+use crate::device::{
+    CoeFlags, DeviceDescription, EthercatInfo, Mailbox, Pdo, PdoEntry, SyncManager,
+};
+use crate::object::{Access, AccessType, Object, ObjectKind, PdoMapping, SubObject};
+use crate::types::DataType;
+use crate::value::Value;
+use crate::xml::XmlWriter;
+
+const DERIVED_NOTE: &str = "No EtherCAT part in the source description. Derived: RxPdo/TxPdo from the \
+mapping objects 0x1600-0x17FF/0x1A00-0x1BFF and their default mapping, the four standard sync managers, \
+FMMUs and a CoE mailbox.";
+
+pub(super) fn write_all(descs: &[DeviceDescription]) -> String {
+    let mut w = XmlWriter::new();
+    w.start(
+        "EtherCATInfo",
+        &[
+            ("xmlns:xsi", "http://www.w3.org/2001/XMLSchema-instance"),
+            ("xsi:noNamespaceSchemaLocation", "EtherCATInfo.xsd"),
+            ("Version", "1.11"),
+        ],
+    );
+    let first = descs.first();
+    let vendor_id = first.map_or(0, |d| d.identity.vendor_id);
+    let vendor_name = first.map_or("", |d| d.identity.vendor_name.as_str());
+    let file_version = first.map_or("", |d| d.file_info.file_version.as_str());
+    if file_version.is_empty() {
+        w.start("Vendor", &[]);
+    } else {
+        w.start("Vendor", &[("FileVersion", file_version)]);
+    }
+    w.text("Id", &[], &hex32(vendor_id));
+    w.text("Name", &[("LcId", "1033")], vendor_name);
+    w.end();
+    w.start("Descriptions", &[]);
+    let ecats: Vec<Cow<EthercatInfo>> = descs
+        .iter()
+        .map(|d| match &d.ethercat {
+            Some(e) => Cow::Borrowed(e),
+            None => Cow::Owned(derive_ethercat(d)),
+        })
+        .collect();
+    let mut groups: Vec<&str> = Vec::new();
+    for e in &ecats {
+        if !groups.contains(&e.group_type.as_str()) {
+            groups.push(&e.group_type);
+        }
+    }
+    w.start("Groups", &[]);
+    for g in &groups {
+        w.start("Group", &[]);
+        w.text("Type", &[], g);
+        w.text("Name", &[("LcId", "1033")], g);
+        w.end();
+    }
+    w.end();
+    w.start("Devices", &[]);
+    for (desc, ecat) in descs.iter().zip(&ecats) {
+        write_device(&mut w, desc, ecat, desc.ethercat.is_none());
+    }
+    w.end();
+    w.end();
+    w.finish()
+}
+
+fn hex32(v: u32) -> String {
+    format!("#x{v:08X}")
+}
+
+fn hex16(v: u16) -> String {
+    format!("#x{v:04X}")
+}
+
+fn hex_bytes(bytes: &[u8]) -> String {
+    let mut s = String::with_capacity(bytes.len() * 2);
+    for b in bytes {
+        s.push_str(&format!("{b:02X}"));
+    }
+    s
+}
+
+fn bool_text(b: bool) -> &'static str {
+    if b {
+        "true"
+    } else {
+        "false"
+    }
+}
+
+fn write_device(w: &mut XmlWriter, desc: &DeviceDescription, ecat: &EthercatInfo, derived: bool) {
+    w.start("Device", &[]);
+    if derived {
+        w.comment(DERIVED_NOTE);
+    }
+    let id = &desc.identity;
+    w.text(
+        "Type",
+        &[
+            ("ProductCode", &hex32(id.product_code)),
+            ("RevisionNo", &hex32(id.revision)),
+        ],
+        &id.order_code,
+    );
+    w.text("Name", &[("LcId", "1033")], &id.product_name);
+    w.text("GroupType", &[], &ecat.group_type);
+    w.start("Profile", &[]);
+    write_dictionary(w, desc);
+    w.end();
+    for f in &ecat.fmmus {
+        w.text("Fmmu", &[], f);
+    }
+    for sm in &ecat.sync_managers {
+        write_sm(w, sm);
+    }
+    for p in &ecat.rx_pdos {
+        write_pdo(w, "RxPdo", p);
+    }
+    for p in &ecat.tx_pdos {
+        write_pdo(w, "TxPdo", p);
+    }
+    if let Some(mb) = &ecat.mailbox {
+        write_mailbox(w, mb);
+    }
+    if !ecat.op_modes.is_empty() {
+        w.start("Dc", &[]);
+        for m in &ecat.op_modes {
+            w.start("OpMode", &[]);
+            w.text("Name", &[], &m.name);
+            w.text("Desc", &[], &m.desc);
+            w.text("AssignActivate", &[], &hex16(m.assign_activate));
+            if let Some((t, f)) = m.cycle_time_sync0 {
+                w.text(
+                    "CycleTimeSync0",
+                    &[("Factor", &f.to_string())],
+                    &t.to_string(),
+                );
+            }
+            if let Some(t) = m.shift_time_sync0 {
+                w.text("ShiftTimeSync0", &[], &t.to_string());
+            }
+            if let Some((t, f)) = m.cycle_time_sync1 {
+                w.text(
+                    "CycleTimeSync1",
+                    &[("Factor", &f.to_string())],
+                    &t.to_string(),
+                );
+            }
+            if let Some(t) = m.shift_time_sync1 {
+                w.text("ShiftTimeSync1", &[], &t.to_string());
+            }
+            w.end();
+        }
+        w.end();
+    }
+    if let Some(ee) = &ecat.eeprom {
+        w.start("Eeprom", &[]);
+        w.text("ByteSize", &[], &ee.byte_size.to_string());
+        w.text("ConfigData", &[], &hex_bytes(&ee.config_data));
+        if !ee.boot_strap.is_empty() {
+            w.text("BootStrap", &[], &hex_bytes(&ee.boot_strap));
+        }
+        w.end();
+    }
+    w.end();
+}
+
+fn write_sm(w: &mut XmlWriter, sm: &SyncManager) {
+    let min = sm.min_size.map(|v| v.to_string());
+    let max = sm.max_size.map(|v| v.to_string());
+    let def = sm.default_size.map(|v| v.to_string());
+    let start = hex16(sm.start_address);
+    let control = format!("#x{:02X}", sm.control_byte);
+    let mut attrs: Vec<(&str, &str)> = Vec::new();
+    if let Some(v) = &min {
+        attrs.push(("MinSize", v));
+    }
+    if let Some(v) = &max {
+        attrs.push(("MaxSize", v));
+    }
+    if let Some(v) = &def {
+        attrs.push(("DefaultSize", v));
+    }
+    attrs.push(("StartAddress", &start));
+    attrs.push(("ControlByte", &control));
+    attrs.push(("Enable", if sm.enable { "1" } else { "0" }));
+    w.text("Sm", &attrs, &sm.kind);
+}
+
+fn write_pdo(w: &mut XmlWriter, element: &str, p: &Pdo) {
+    let sm = p.sm.map(|s| s.to_string());
+    let mut attrs: Vec<(&str, &str)> = Vec::new();
+    if p.fixed {
+        attrs.push(("Fixed", "1"));
+    }
+    if p.mandatory {
+        attrs.push(("Mandatory", "1"));
+    }
+    if let Some(s) = &sm {
+        attrs.push(("Sm", s));
+    }
+    w.start(element, &attrs);
+    w.text("Index", &[], &hex16(p.index));
+    w.text("Name", &[], &p.name);
+    for x in &p.exclude {
+        w.text("Exclude", &[], &hex16(*x));
+    }
+    for e in &p.entries {
+        write_entry(w, e);
+    }
+    w.end();
+}
+
+fn write_entry(w: &mut XmlWriter, e: &PdoEntry) {
+    w.start("Entry", &[]);
+    w.text("Index", &[], &hex16(e.index));
+    if e.index != 0 || e.sub != 0 {
+        w.text("SubIndex", &[], &e.sub.to_string());
+    }
+    w.text("BitLen", &[], &e.bit_len.to_string());
+    if !e.name.is_empty() {
+        w.text("Name", &[], &e.name);
+    }
+    if !e.data_type.is_empty() {
+        w.text("DataType", &[], &e.data_type);
+    }
+    w.end();
+}
+
+fn write_mailbox(w: &mut XmlWriter, mb: &Mailbox) {
+    if mb.data_link_layer {
+        w.start("Mailbox", &[("DataLinkLayer", "true")]);
+    } else {
+        w.start("Mailbox", &[]);
+    }
+    if mb.eoe {
+        w.empty("EoE", &[]);
+    }
+    if let Some(c) = &mb.coe {
+        w.empty(
+            "CoE",
+            &[
+                ("SdoInfo", bool_text(c.sdo_info)),
+                ("PdoAssign", bool_text(c.pdo_assign)),
+                ("PdoConfig", bool_text(c.pdo_config)),
+                ("PdoUpload", bool_text(c.pdo_upload)),
+                ("CompleteAccess", bool_text(c.complete_access)),
+                ("SegmentedSdo", bool_text(c.segmented_sdo)),
+            ],
+        );
+    }
+    if mb.foe {
+        w.empty("FoE", &[]);
+    }
+    w.end();
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Dictionary.
+
+/// The node-ID `$NODEID` defaults are resolved for (a DCF's), else 0: the plain offset.
+fn node_id(desc: &DeviceDescription) -> u8 {
+    desc.commissioning.as_ref().map_or(0, |c| c.node_id)
+}
+
+/// Size in bits the ESI gives an entry: the type's, else its capacity, else the default's length.
+fn entry_bits(sub: &SubObject) -> u32 {
+    if let Some(b) = sub.data_type.bit_size() {
+        return b;
+    }
+    if let Some(b) = sub.bit_size {
+        return b;
+    }
+    let len = sub
+        .default
+        .as_ref()
+        .and_then(|d| d.value.encode(sub.data_type).ok())
+        .map_or(sub.value.len(), |b| b.len());
+    let unit = if sub.data_type == DataType::UnicodeString {
+        16
+    } else {
+        8
+    };
+    u32::try_from(len)
+        .unwrap_or(u32::MAX / 16)
+        .saturating_mul(8)
+        .div_ceil(unit)
+        * unit
+}
+
+fn entry_type_name(sub: &SubObject) -> String {
+    sub.data_type.esi_name(entry_bits(sub))
+}
+
+fn access_text(kind: AccessType) -> &'static str {
+    match kind {
+        AccessType::Ro | AccessType::Const => "ro",
+        AccessType::Wo => "wo",
+        AccessType::Rw | AccessType::Rwr | AccessType::Rww => "rw",
+    }
+}
+
+fn pdo_text(p: PdoMapping) -> Option<&'static str> {
+    match p {
+        PdoMapping::None => None,
+        PdoMapping::Rpdo => Some("R"),
+        PdoMapping::Tpdo => Some("T"),
+        PdoMapping::Both => Some("RT"),
+    }
+}
+
+fn write_flags(w: &mut XmlWriter, access: Access, pdo: PdoMapping) {
+    w.start("Flags", &[]);
+    let read = access.read_states.map(|s| s.to_string());
+    let write = access.write_states.map(|s| s.to_string());
+    let mut attrs: Vec<(&str, &str)> = Vec::new();
+    if let Some(r) = &read {
+        attrs.push(("ReadRestrictions", r));
+    }
+    if let Some(wr) = &write {
+        attrs.push(("WriteRestrictions", wr));
+    }
+    w.text("Access", &attrs, access_text(access.kind));
+    if let Some(p) = pdo_text(pdo) {
+        w.text("PdoMapping", &[], p);
+    }
+    w.end();
+}
+
+/// One `SubItem` of a structure type.
+#[derive(Debug, Clone, PartialEq)]
+struct Item {
+    sub: u8,
+    name: String,
+    type_name: String,
+    comment: Option<String>,
+    bit_size: u32,
+    bit_offs: u32,
+    access: Access,
+    pdo: PdoMapping,
+}
+
+/// The `…ARR` type of an array: base type, element size, count (from sub-index 1).
+#[derive(Debug, Clone, PartialEq)]
+struct Arr {
+    base: String,
+    element_bits: u32,
+    elements: u32,
+}
+
+/// A structure type as the ESI writes it.
+#[derive(Debug, Clone, PartialEq)]
+struct Struct {
+    bit_size: u32,
+    /// Sub-index 0, then (arrays) the `Elements` item or (records) every entry.
+    items: Vec<Item>,
+    arr: Option<Arr>,
+}
+
+fn item_of(sub_index: u8, sub: &SubObject, bit_offs: u32) -> Item {
+    Item {
+        sub: sub_index,
+        name: sub.name.clone(),
+        type_name: entry_type_name(sub),
+        comment: sub.description.clone(),
+        bit_size: entry_bits(sub),
+        bit_offs,
+        access: sub.access,
+        pdo: sub.pdo,
+    }
+}
+
+/// The structure type of a RECORD or ARRAY object, standard CoE layout: sub-index 0 at bit 0, sub-index 1
+/// at bit 16, the rest packed.
+fn struct_of(object: &Object) -> Struct {
+    let mut items = Vec::new();
+    let mut offset: u32 = 16;
+    if let Some(zero) = object.subs.get(&0) {
+        items.push(item_of(0, zero, 0));
+    }
+    let entries: Vec<(u8, &SubObject)> = object
+        .subs
+        .iter()
+        .filter(|(&s, _)| s != 0)
+        .map(|(&s, sub)| (s, sub))
+        .collect();
+    if object.kind == ObjectKind::Array {
+        let contiguous = entries
+            .iter()
+            .enumerate()
+            .all(|(i, (s, _))| usize::from(*s) == i + 1);
+        let uniform = entries.windows(2).all(|p| {
+            let (a, b) = (p[0].1, p[1].1);
+            a.data_type == b.data_type
+                && entry_bits(a) == entry_bits(b)
+                && a.access == b.access
+                && a.pdo == b.pdo
+                && a.description == b.description
+        });
+        if entries.is_empty() {
+            // An array without elements: the element type is not known; USINT stands in.
+            items.push(Item {
+                sub: 1,
+                name: "Elements".to_string(),
+                type_name: String::new(),
+                comment: None,
+                bit_size: 0,
+                bit_offs: offset,
+                access: Access::new(AccessType::Ro),
+                pdo: PdoMapping::None,
+            });
+            return Struct {
+                bit_size: offset,
+                items,
+                arr: Some(Arr {
+                    base: "USINT".to_string(),
+                    element_bits: 8,
+                    elements: 0,
+                }),
+            };
+        }
+        if contiguous && uniform {
+            if let Some((_, e)) = entries.first() {
+                let bits = entry_bits(e);
+                let n = u32::try_from(entries.len()).unwrap_or(255);
+                let mut item = item_of(1, e, offset);
+                item.name = "Elements".to_string();
+                item.bit_size = bits.saturating_mul(n);
+                items.push(item);
+                return Struct {
+                    bit_size: offset.saturating_add(bits.saturating_mul(n)),
+                    items,
+                    arr: Some(Arr {
+                        base: entry_type_name(e),
+                        element_bits: bits,
+                        elements: n,
+                    }),
+                };
+            }
+        }
+    }
+    for (s, sub) in entries {
+        let item = item_of(s, sub, offset);
+        offset = offset.saturating_add(item.bit_size);
+        items.push(item);
+    }
+    Struct {
+        bit_size: offset,
+        items,
+        arr: None,
+    }
+}
+
+fn valid_type_name(name: &str) -> bool {
+    !name.is_empty()
+        && name.trim() == name
+        && DataType::from_esi_name(name).is_none()
+        && !name.contains(['<', '>', '&'])
+}
+
+/// The structure types of a dictionary and the type name of each RECORD/ARRAY object.
+struct Types {
+    /// Name → structure, in the order written.
+    structs: Vec<(String, Struct)>,
+    by_object: HashMap<u16, usize>,
+    basics: BTreeMap<String, u32>,
+}
+
+impl Types {
+    fn of(desc: &DeviceDescription) -> Types {
+        let mut t = Types {
+            structs: Vec::new(),
+            by_object: HashMap::new(),
+            basics: BTreeMap::new(),
+        };
+        for object in desc.dictionary.objects() {
+            if !object.kind.has_subs() {
+                if let Some(sub) = object.subs.get(&0) {
+                    t.basics.insert(entry_type_name(sub), entry_bits(sub));
+                }
+                continue;
+            }
+            for sub in object.subs.values() {
+                t.basics.insert(entry_type_name(sub), entry_bits(sub));
+            }
+            let def = struct_of(object);
+            if let Some(arr) = &def.arr {
+                t.basics.insert(arr.base.clone(), arr.element_bits);
+            }
+            let preferred = object
+                .type_name
+                .as_deref()
+                .filter(|n| valid_type_name(n))
+                .map_or_else(|| format!("DT{:04X}", object.index), str::to_string);
+            let fallback = format!("DT{:04X}", object.index);
+            let mut candidates = vec![preferred, fallback.clone()];
+            candidates.extend((1..).take(256).map(|n| format!("{fallback}_{n}")));
+            for name in candidates {
+                if let Some(pos) = t.structs.iter().position(|(n, _)| *n == name) {
+                    if t.structs[pos].1 == def {
+                        t.by_object.insert(object.index, pos);
+                        break;
+                    }
+                    continue;
+                }
+                let arr_name = format!("{name}ARR");
+                let clash = t
+                    .structs
+                    .iter()
+                    .any(|(n, s)| (s.arr.is_some() && format!("{n}ARR") == name) || *n == arr_name);
+                if clash {
+                    continue;
+                }
+                t.by_object.insert(object.index, t.structs.len());
+                t.structs.push((name, def));
+                break;
+            }
+        }
+        t
+    }
+
+    fn name_of(&self, index: u16) -> Option<&str> {
+        self.by_object
+            .get(&index)
+            .and_then(|&i| self.structs.get(i))
+            .map(|(n, _)| n.as_str())
+    }
+
+    fn bits_of(&self, index: u16) -> u32 {
+        self.by_object
+            .get(&index)
+            .and_then(|&i| self.structs.get(i))
+            .map_or(0, |(_, s)| s.bit_size)
+    }
+}
+
+fn write_dictionary(w: &mut XmlWriter, desc: &DeviceDescription) {
+    let types = Types::of(desc);
+    w.start("Dictionary", &[]);
+    w.start("DataTypes", &[]);
+    for (name, bits) in &types.basics {
+        w.start("DataType", &[]);
+        w.text("Name", &[], name);
+        w.text("BitSize", &[], &bits.to_string());
+        w.end();
+    }
+    for (name, def) in &types.structs {
+        if let Some(arr) = &def.arr {
+            w.start("DataType", &[]);
+            w.text("Name", &[], &format!("{name}ARR"));
+            w.text("BaseType", &[], &arr.base);
+            w.text(
+                "BitSize",
+                &[],
+                &arr.element_bits.saturating_mul(arr.elements).to_string(),
+            );
+            w.start("ArrayInfo", &[]);
+            w.text("LBound", &[], "1");
+            w.text("Elements", &[], &arr.elements.to_string());
+            w.end();
+            w.end();
+        }
+        w.start("DataType", &[]);
+        w.text("Name", &[], name);
+        w.text("BitSize", &[], &def.bit_size.to_string());
+        for item in &def.items {
+            w.start("SubItem", &[]);
+            let is_elements = def.arr.is_some() && item.sub != 0;
+            if !is_elements {
+                w.text("SubIdx", &[], &item.sub.to_string());
+            }
+            w.text("Name", &[], &item.name);
+            if is_elements {
+                w.text("Type", &[], &format!("{name}ARR"));
+            } else {
+                w.text("Type", &[], &item.type_name);
+            }
+            if let Some(c) = &item.comment {
+                w.text("Comment", &[("LcId", "1033")], c);
+            }
+            w.text("BitSize", &[], &item.bit_size.to_string());
+            w.text("BitOffs", &[], &item.bit_offs.to_string());
+            write_flags(w, item.access, item.pdo);
+            w.end();
+        }
+        w.end();
+    }
+    w.end();
+    w.start("Objects", &[]);
+    let node = node_id(desc);
+    for object in desc.dictionary.objects() {
+        write_object(w, object, &types, node);
+    }
+    w.end();
+    w.end();
+}
+
+fn info_children(w: &mut XmlWriter, sub: &SubObject, node: u8) {
+    let t = sub.data_type;
+    if let Some(low) = sub.low.as_ref().and_then(|v| v.encode(t).ok()) {
+        w.text("MinData", &[], &hex_bytes(&low));
+    }
+    if let Some(high) = sub.high.as_ref().and_then(|v| v.encode(t).ok()) {
+        w.text("MaxData", &[], &hex_bytes(&high));
+    }
+    if let Some(d) = sub
+        .default
+        .as_ref()
+        .and_then(|d| d.resolve(node).encode(t).ok())
+    {
+        w.text("DefaultData", &[], &hex_bytes(&d));
+    }
+}
+
+fn has_info(sub: &SubObject) -> bool {
+    sub.low.is_some() || sub.high.is_some() || sub.default.is_some()
+}
+
+fn write_object(w: &mut XmlWriter, object: &Object, types: &Types, node: u8) {
+    if !object.kind.has_subs() {
+        let Some(sub) = object.subs.get(&0) else {
+            return;
+        };
+        w.start("Object", &[]);
+        w.text("Index", &[], &hex16(object.index));
+        w.text("Name", &[], &object.name);
+        if let Some(c) = object.description.as_ref().or(sub.description.as_ref()) {
+            w.text("Comment", &[("LcId", "1033")], c);
+        }
+        w.text("Type", &[], &entry_type_name(sub));
+        w.text("BitSize", &[], &entry_bits(sub).to_string());
+        if has_info(sub) {
+            w.start("Info", &[]);
+            info_children(w, sub, node);
+            w.end();
+        }
+        write_flags(w, sub.access, sub.pdo);
+        w.end();
+        return;
+    }
+    let Some(type_name) = types.name_of(object.index) else {
+        return;
+    };
+    w.start("Object", &[]);
+    w.text("Index", &[], &hex16(object.index));
+    w.text("Name", &[], &object.name);
+    if let Some(c) = &object.description {
+        w.text("Comment", &[("LcId", "1033")], c);
+    }
+    w.text("Type", &[], type_name);
+    w.text("BitSize", &[], &types.bits_of(object.index).to_string());
+    w.start("Info", &[]);
+    for sub in object.subs.values() {
+        w.start("SubItem", &[]);
+        w.text("Name", &[], &sub.name);
+        if has_info(sub) {
+            w.start("Info", &[]);
+            info_children(w, sub, node);
+            w.end();
+        } else {
+            w.empty("Info", &[]);
+        }
+        w.end();
+    }
+    w.end();
+    let writable = object.subs.values().any(|s| s.access.kind.writable());
+    w.start("Flags", &[]);
+    w.text("Access", &[], if writable { "rw" } else { "ro" });
+    w.end();
+    w.end();
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The EtherCAT part of a description that has none.
+
+fn default_u64(sub: &SubObject) -> Option<u64> {
+    let v = sub
+        .default
+        .as_ref()
+        .map(|d| d.value.clone())
+        .or_else(|| sub.current())?;
+    match v {
+        Value::Uint(u) => Some(u),
+        Value::Int(i) => u64::try_from(i).ok(),
+        Value::Bool(b) => Some(u64::from(b)),
+        _ => None,
+    }
+}
+
+fn derive_pdo(desc: &DeviceDescription, object: &Object, comm_base: u16, sm: u8) -> Pdo {
+    let dict = &desc.dictionary;
+    let count = object
+        .subs
+        .get(&0)
+        .and_then(default_u64)
+        .unwrap_or(0)
+        .min(255) as u8;
+    let mut entries = Vec::new();
+    for s in 1..=count {
+        let Some(raw) = object.subs.get(&s).and_then(default_u64) else {
+            continue;
+        };
+        let raw = (raw & 0xFFFF_FFFF) as u32;
+        if raw == 0 {
+            continue;
+        }
+        let index = (raw >> 16) as u16;
+        let sub = ((raw >> 8) & 0xFF) as u8;
+        let bits = (raw & 0xFF) as u16;
+        if (1..=7).contains(&index) {
+            // CiA 301 dummy mapping: a gap.
+            entries.push(PdoEntry {
+                index: 0,
+                sub: 0,
+                bit_len: bits,
+                name: String::new(),
+                data_type: String::new(),
+            });
+            continue;
+        }
+        let (name, data_type) = match dict.entry(index, sub) {
+            Ok(e) => {
+                let name = if sub == 0 && e.name.is_empty() {
+                    dict.object(index)
+                        .map(|o| o.name.clone())
+                        .unwrap_or_default()
+                } else {
+                    e.name.clone()
+                };
+                (name, e.data_type.esi_name(u32::from(bits)))
+            }
+            Err(_) => (String::new(), String::new()),
+        };
+        entries.push(PdoEntry {
+            index,
+            sub,
+            bit_len: bits,
+            name,
+            data_type,
+        });
+    }
+    let n = object.index & 0x01FF;
+    let valid = dict.entry(comm_base + n, 1).ok().and_then(default_u64);
+    // Bit 31 of the COB-ID marks a CANopen PDO invalid (CiA 301 §7.5.2.35).
+    let valid = !matches!(valid, Some(cob) if cob & 0x8000_0000 != 0);
+    Pdo {
+        index: object.index,
+        name: object.name.clone(),
+        fixed: !object
+            .subs
+            .get(&0)
+            .is_some_and(|s| s.access.kind.writable()),
+        mandatory: false,
+        sm: valid.then_some(sm),
+        exclude: Vec::new(),
+        entries,
+    }
+}
+
+fn derive_ethercat(desc: &DeviceDescription) -> EthercatInfo {
+    let dict = &desc.dictionary;
+    let rx: Vec<Pdo> = dict
+        .objects()
+        .filter(|o| (0x1600..=0x17FF).contains(&o.index))
+        .map(|o| derive_pdo(desc, o, 0x1400, 2))
+        .collect();
+    let tx: Vec<Pdo> = dict
+        .objects()
+        .filter(|o| (0x1A00..=0x1BFF).contains(&o.index))
+        .map(|o| derive_pdo(desc, o, 0x1800, 3))
+        .collect();
+    let bytes = |pdos: &[Pdo]| -> u16 {
+        let bits: u32 = pdos
+            .iter()
+            .filter(|p| p.sm.is_some())
+            .flat_map(|p| p.entries.iter())
+            .map(|e| u32::from(e.bit_len))
+            .sum();
+        u16::try_from(bits.div_ceil(8)).unwrap_or(u16::MAX)
+    };
+    let out_bytes = bytes(&rx);
+    let in_bytes = bytes(&tx);
+    let pdo_config = rx.iter().chain(&tx).any(|p| !p.fixed);
+    let mailbox = |kind: &str, start: u16, control: u8| SyncManager {
+        kind: kind.to_string(),
+        start_address: start,
+        default_size: Some(128),
+        min_size: None,
+        max_size: None,
+        control_byte: control,
+        enable: true,
+    };
+    let process = |kind: &str, start: u16, control: u8, size: u16| SyncManager {
+        kind: kind.to_string(),
+        start_address: start,
+        default_size: (size > 0).then_some(size),
+        min_size: None,
+        max_size: None,
+        control_byte: control,
+        enable: size > 0,
+    };
+    let id = &desc.identity;
+    let group_type = if !id.order_code.is_empty() {
+        id.order_code.clone()
+    } else if !id.product_name.is_empty() {
+        id.product_name.clone()
+    } else {
+        "Device".to_string()
+    };
+    EthercatInfo {
+        group_type,
+        fmmus: vec!["Outputs".into(), "Inputs".into(), "MBoxState".into()],
+        sync_managers: vec![
+            mailbox("MBoxOut", 0x1000, 0x26),
+            mailbox("MBoxIn", 0x1080, 0x22),
+            process("Outputs", 0x1100, 0x64, out_bytes),
+            process("Inputs", 0x1400, 0x20, in_bytes),
+        ],
+        rx_pdos: rx,
+        tx_pdos: tx,
+        mailbox: Some(Mailbox {
+            data_link_layer: true,
+            coe: Some(CoeFlags {
+                sdo_info: true,
+                pdo_assign: false,
+                pdo_config,
+                pdo_upload: false,
+                complete_access: false,
+                segmented_sdo: true,
+            }),
+            foe: false,
+            eoe: false,
+        }),
+        op_modes: Vec::new(),
+        eeprom: None,
+    }
+}
