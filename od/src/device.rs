@@ -247,12 +247,12 @@ pub struct OpMode {
     pub assign_activate: u16,
     /// `CycleTimeSync0` in ns and its `Factor` attribute.
     pub cycle_time_sync0: Option<(u32, i32)>,
-    /// `ShiftTimeSync0` in ns.
-    pub shift_time_sync0: Option<u32>,
+    /// `ShiftTimeSync0` in ns (negative: before the SYNC0 event).
+    pub shift_time_sync0: Option<i32>,
     /// `CycleTimeSync1` in ns and its `Factor` attribute.
     pub cycle_time_sync1: Option<(u32, i32)>,
     /// `ShiftTimeSync1` in ns.
-    pub shift_time_sync1: Option<u32>,
+    pub shift_time_sync1: Option<i32>,
 }
 
 /// The `Eeprom` element.

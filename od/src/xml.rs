@@ -10,6 +10,17 @@ use crate::error::ParseError;
 /// the XML parser treats them as white space.
 pub fn decode<'a>(bytes: &'a [u8], source_name: &str) -> Result<Cow<'a, str>, ParseError> {
     if let Some((encoding, bom_len)) = encoding_rs::Encoding::for_bom(bytes) {
+        if encoding == encoding_rs::UTF_8 {
+            return match std::str::from_utf8(&bytes[bom_len..]) {
+                Ok(s) => Ok(Cow::Borrowed(s)),
+                Err(e) => Err(ParseError::at_offset(
+                    source_name,
+                    bytes,
+                    bom_len + e.valid_up_to(),
+                    "invalid UTF-8 after a UTF-8 byte-order mark",
+                )),
+            };
+        }
         let (text, had_errors) = encoding.decode_without_bom_handling(&bytes[bom_len..]);
         if had_errors {
             return Err(ParseError::new(
@@ -255,6 +266,9 @@ mod tests {
         let e = decode(bad, "t.xml").unwrap_err();
         assert_eq!(e.position.line, 2);
         assert_eq!(e.position.column, 4);
+        let bom = b"\xEF\xBB\xBF<a>\n\xFF</a>";
+        let e = decode(bom, "t.xml").unwrap_err();
+        assert_eq!((e.position.line, e.position.column), (2, 1));
     }
 
     #[test]

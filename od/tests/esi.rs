@@ -1322,9 +1322,9 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
                 desc: r.text(12, false),
                 assign_activate: r.next() as u16,
                 cycle_time_sync0: opt(r).map(|v| (v, r.next() as i32)),
-                shift_time_sync0: opt(r),
+                shift_time_sync0: opt(r).map(|v| v as i32),
                 cycle_time_sync1: opt(r).map(|v| (v, r.next() as i32)),
-                shift_time_sync1: opt(r),
+                shift_time_sync1: opt(r).map(|v| v as i32),
             })
             .collect(),
         eeprom: if r.chance(2) {
@@ -1387,4 +1387,19 @@ proptest::proptest! {
         proptest::prop_assert_eq!(&back, &descs, "{}", text);
         proptest::prop_assert_eq!(esi::write_all(&back), text);
     }
+}
+
+#[test]
+fn negative_shift_times_read_and_write_back() {
+    let text = r##"<?xml version="1.0"?>
+<EtherCATInfo><Vendor><Id>1</Id></Vendor><Descriptions><Devices><Device>
+<Type ProductCode="#x1" RevisionNo="#x1">D</Type><Name>D</Name>
+<Dc><OpMode><Name>DC</Name><Desc>DC</Desc><AssignActivate>#x0300</AssignActivate>
+<CycleTimeSync0 Factor="1">0</CycleTimeSync0><ShiftTimeSync0>-250000</ShiftTimeSync0></OpMode></Dc>
+</Device></Devices></Descriptions></EtherCATInfo>"##;
+    let dev = od::esi::read(text.as_bytes(), "shift.xml", None).unwrap();
+    let mode = &dev.ethercat.as_ref().unwrap().op_modes[0];
+    assert_eq!(mode.shift_time_sync0, Some(-250_000));
+    let back = od::esi::read(od::esi::write(&dev).as_bytes(), "back.xml", None).unwrap();
+    assert_eq!(back.ethercat.unwrap().op_modes[0].shift_time_sync0, Some(-250_000));
 }
