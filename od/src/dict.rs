@@ -307,7 +307,7 @@ impl Dictionary {
                 objects.push(Address::new(object.index, 0));
             }
             for (&s, sub) in &object.subs {
-                if sub.name.eq_ignore_ascii_case(wanted) && !(s == 0 && !object.kind.has_subs()) {
+                if sub.name.eq_ignore_ascii_case(wanted) && (s != 0 || object.kind.has_subs()) {
                     subs.push(Address::new(object.index, s));
                 }
             }
