@@ -15,6 +15,7 @@ pub mod error;
 pub mod object;
 pub mod types;
 pub mod value;
+pub mod xdd;
 pub mod xml;
 
 pub use abort::AbortCode;
