@@ -376,6 +376,10 @@ impl<'a, 's> Scan<'a, 's> {
                 Event::Text(t) => {
                     if self.collecting() {
                         match t.decode() {
+                            // XML 1.0 §2.11: literal CR LF and CR are read as LF.
+                            Ok(s) if s.contains('\r') => self
+                                .text
+                                .push_str(&s.replace("\r\n", "\n").replace('\r', "\n")),
                             Ok(s) => self.text.push_str(&s),
                             Err(e) => return Err(self.err(before, format!("bad text: {e}"))),
                         }
@@ -478,7 +482,8 @@ impl<'a, 's> Scan<'a, 's> {
                     Cow::Owned(String::from_utf8_lossy(raw).into_owned()),
                 ),
             };
-            let text = match raw_text {
+            // Literal tabs and line ends become spaces before references are resolved, so `&#10;` stays.
+            let text = match normalize_attr(raw_text) {
                 Cow::Borrowed(s) => match quick_xml::escape::unescape(s) {
                     Ok(t) => t,
                     Err(err) => {
@@ -498,7 +503,7 @@ impl<'a, 's> Scan<'a, 's> {
                 self,
                 key,
                 Attr {
-                    text: normalize_attr(text),
+                    text,
                     offset: value_offset,
                 },
             )?;
@@ -1274,15 +1279,17 @@ impl<'a, 's> Scan<'a, 's> {
                     c.node_id = id;
                 }
                 b"nodeName" => c.node_name = v.text.into_owned(),
-                b"actualBaudRate" => c.baud_rate = parse_baud(&v.text).ok_or_else(|| {
-                    s.err(
-                        v.offset,
-                        format!(
+                b"actualBaudRate" => {
+                    c.baud_rate = parse_baud(&v.text).ok_or_else(|| {
+                        s.err(
+                            v.offset,
+                            format!(
                             "expected a bit rate like \"250 Kbps\" in actualBaudRate, found `{}`",
                             v.text
                         ),
-                    )
-                })?,
+                        )
+                    })?
+                }
                 b"networkNumber" => c.net_number = s.number(&v, "networkNumber", "1")?,
                 b"networkName" => c.network_name = v.text.into_owned(),
                 b"CANopenManager" => c.canopen_manager = s.boolean(&v, "CANopenManager")?,
@@ -1902,6 +1909,22 @@ second line</description><BITSTRING/><q1:defaultValue value="00 01"/></q1:parame
         assert!(e.message.contains("end of file"), "{e}");
         let e = err_of("");
         assert!(e.message.contains("ISO15745ProfileContainer"), "{e}");
+    }
+
+    #[test]
+    fn line_ends_and_references_in_text_and_attributes() {
+        let text = wrap(
+            "<CANopenObject index=\"2000\" name=\"a&#10;b\tc\r\nd\" objectType=\"7\" dataType=\"0009\" defaultValue=\"x&#9;&lt;&#x20AC;\" uniqueIDRef=\"P\"/>",
+            "<ApplicationProcess><parameterList><parameter uniqueID=\"P\"><description>one\r\ntwo\rthree&#13;&amp;<![CDATA[<four>]]></description></parameter></parameterList></ApplicationProcess>",
+        );
+        let d = read(text.as_bytes(), "t.xdd").unwrap();
+        let o = d.dictionary.object(0x2000).unwrap();
+        assert_eq!(o.name, "a\nb c d");
+        assert_eq!(o.description.as_deref(), Some("one\ntwo\nthree\r&<four>"));
+        assert_eq!(
+            o.subs[&0].default,
+            Some(DefaultValue::plain(Value::String("x\t<€".into())))
+        );
     }
 
     #[test]
