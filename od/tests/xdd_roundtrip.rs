@@ -112,12 +112,22 @@ fn any_entry() -> impl Strategy<Value = SubObject> {
 }
 
 fn object() -> impl Strategy<Value = Object> {
-    let var = any_entry().prop_map(|sub| {
-        let description = sub.description.clone();
-        let mut o = Object::var(0, sub);
-        o.description = description;
-        o
-    });
+    // Mostly the object's name and description are its entry's (written inline); sometimes not (written
+    // with a CANopenSubObject).
+    let var = (
+        any_entry(),
+        option::weighted(0.2, text()),
+        option::weighted(0.2, option::of(text())),
+    )
+        .prop_map(|(sub, name, description)| {
+            let entry_description = sub.description.clone();
+            let mut o = Object::var(0, sub);
+            o.description = description.unwrap_or(entry_description);
+            if let Some(name) = name {
+                o.name = name;
+            }
+            o
+        });
     let structured = (
         select(vec![ObjectKind::Array, ObjectKind::Record]),
         text(),

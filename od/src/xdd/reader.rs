@@ -3,7 +3,7 @@
 //! [`DeviceDescription`].
 
 use std::borrow::Cow;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
@@ -244,6 +244,9 @@ struct Scan<'a, 's> {
     objects: Vec<ObjRec<'a>>,
     object: Option<ObjRec<'a>>,
     can: CanInfo,
+    baud_rates: BTreeSet<u32>,
+    /// Dummy entries by data type index: used or not (the last entry for a type wins).
+    dummies: BTreeMap<u16, bool>,
     commissioning: Option<Commissioning>,
 }
 
@@ -325,6 +328,8 @@ impl<'a, 's> Scan<'a, 's> {
                 simple_boot_up_slave: false,
                 ..CanInfo::default()
             },
+            baud_rates: BTreeSet::new(),
+            dummies: BTreeMap::new(),
             commissioning: None,
         }
     }
@@ -643,8 +648,8 @@ impl<'a, 's> Scan<'a, 's> {
                                 ),
                             )
                         })?;
-                        if kbps != 0 && !s.can.baud_rates.contains(&kbps) {
-                            s.can.baud_rates.push(kbps);
+                        if kbps != 0 {
+                            s.baud_rates.insert(kbps);
                         }
                     }
                     Ok(())
@@ -1218,15 +1223,12 @@ impl<'a, 's> Scan<'a, 's> {
                 .filter(|d| d.len() == 4)
                 .ok_or_else(bad)?;
             let index = u16::from_str_radix(digits, 16).map_err(|_| bad())?;
-            match used.trim() {
-                "1" => {
-                    if !s.can.dummy_usage.contains(&index) {
-                        s.can.dummy_usage.push(index);
-                    }
-                }
-                "0" => s.can.dummy_usage.retain(|&d| d != index),
+            let used = match used.trim() {
+                "1" => true,
+                "0" => false,
                 _ => return Err(bad()),
-            }
+            };
+            s.dummies.insert(index, used);
             Ok(())
         })
     }
@@ -1266,9 +1268,11 @@ impl<'a, 's> Scan<'a, 's> {
 
     fn read_commissioning(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<(), ParseError> {
         let mut c = Commissioning::default();
+        let mut has_node_id = false;
         self.attrs(e, offset, |s, key, v| {
             match key {
                 b"nodeID" => {
+                    has_node_id = true;
                     let id: u8 = s.number(&v, "nodeID", "5")?;
                     if !(1..=127).contains(&id) {
                         return Err(s.err(
@@ -1297,6 +1301,12 @@ impl<'a, 's> Scan<'a, 's> {
             }
             Ok(())
         })?;
+        if !has_node_id {
+            return Err(self.err(
+                offset,
+                "expected a nodeID attribute in <deviceCommissioning>",
+            ));
+        }
         self.commissioning = Some(c);
         Ok(())
     }
@@ -1351,8 +1361,11 @@ impl<'a, 's> Scan<'a, 's> {
         desc.file_info = file_info;
         if self.seen_network_body {
             let mut can = std::mem::take(&mut self.can);
-            can.baud_rates.sort_unstable();
-            can.dummy_usage.sort_unstable();
+            can.baud_rates = std::mem::take(&mut self.baud_rates).into_iter().collect();
+            can.dummy_usage = std::mem::take(&mut self.dummies)
+                .into_iter()
+                .filter_map(|(index, used)| used.then_some(index))
+                .collect();
             desc.can = Some(can);
         }
         desc.commissioning = self.commissioning.take();
@@ -1558,7 +1571,7 @@ impl<'a, 's> Scan<'a, 's> {
         if !is_text_type(t) && v.text.trim().is_empty() {
             return Ok(None);
         }
-        Value::parse_text(t, &v.text).map(Some).map_err(|e| {
+        let value = Value::parse_text(t, &v.text).map_err(|e| {
             self.err(
                 v.offset,
                 format!(
@@ -1566,7 +1579,14 @@ impl<'a, 's> Scan<'a, 's> {
                     v.text
                 ),
             )
-        })
+        })?;
+        if matches!(value, Value::Real32(f) if !f.is_finite()) {
+            return Err(self.err(
+                v.offset,
+                format!("{what} of {at} is beyond the range of REAL32: `{}`", v.text),
+            ));
+        }
+        Ok(Some(value))
     }
 
     fn parse_default(

@@ -2,7 +2,7 @@
 //! only for what the object list cannot say (descriptions, structure type names, string capacities).
 
 use crate::device::{CanInfo, DeviceDescription, FileInfo};
-use crate::object::{Object, SubObject};
+use crate::object::{Object, ObjectKind, SubObject};
 use crate::types::DataType;
 use crate::value::Value;
 use crate::xml::XmlWriter;
@@ -279,9 +279,17 @@ fn device_identity(w: &mut XmlWriter, desc: &DeviceDescription) {
     w.end();
 }
 
-/// True when the object's own attributes carry its value (sub-index 0 inline on `CANopenObject`).
+/// True when the object's own attributes carry its value (sub-index 0 inline on `CANopenObject`): a VAR,
+/// DOMAIN or DEFTYPE whose only entry, sub-index 0, has the object's name and description. Any other object
+/// is written with `CANopenSubObject`s.
 fn inline_value(object: &Object) -> bool {
-    !object.kind.has_subs() && object.subs.len() == 1 && object.subs.contains_key(&0)
+    !object.kind.has_subs()
+        && object.kind != ObjectKind::Null
+        && object.subs.len() == 1
+        && object
+            .subs
+            .get(&0)
+            .is_some_and(|s| s.name == object.name && s.description == object.description)
 }
 
 fn object_id(index: u16) -> String {
@@ -304,18 +312,10 @@ fn capacity(sub: &SubObject) -> Option<u32> {
     sub.bit_size.filter(|b| b % 8 == 0).map(|b| b / 8)
 }
 
-/// The description of a VAR written into its parameter: the object's, else its sub-index 0's.
-fn var_description(object: &Object) -> Option<&str> {
-    object
-        .description
-        .as_deref()
-        .or_else(|| object.subs.get(&0).and_then(|s| s.description.as_deref()))
-}
-
 /// True when the object needs a parameter of its own.
 fn object_has_parameter(object: &Object) -> bool {
     if inline_value(object) {
-        var_description(object).is_some() || object.subs.get(&0).and_then(capacity).is_some()
+        object.description.is_some() || object.subs.get(&0).and_then(capacity).is_some()
     } else {
         object.description.is_some() || (object.kind.has_subs() && object.type_name.is_some())
     }
@@ -351,7 +351,13 @@ fn application_process(w: &mut XmlWriter, desc: &DeviceDescription) {
         if object_has_parameter(o) {
             if inline_value(o) {
                 if let Some(sub) = o.subs.get(&0) {
-                    write_parameter(w, &object_id(o.index), &o.name, var_description(o), sub);
+                    write_parameter(
+                        w,
+                        &object_id(o.index),
+                        &o.name,
+                        o.description.as_deref(),
+                        sub,
+                    );
                 }
             } else {
                 write_structure_parameter(w, o);
@@ -387,7 +393,7 @@ fn element_type(o: &Object) -> DataType {
 fn write_type(w: &mut XmlWriter, o: &Object) {
     let name = o.type_name.as_deref().unwrap_or_default();
     let id = type_id(o.index);
-    if o.kind == crate::object::ObjectKind::Array {
+    if o.kind == ObjectKind::Array {
         w.start("array", &[("name", name), ("uniqueID", &id)]);
         let upper = o.max_sub().max(1).to_string();
         w.empty("subrange", &[("lowerLimit", "1"), ("upperLimit", &upper)]);
@@ -593,7 +599,8 @@ mod tests {
             0x2000,
             SubObject::new("Name", DataType::VisibleString, AccessType::Ro)
                 .with_default(Value::String("a<b".into()))
-                .with_bit_size(64),
+                .with_bit_size(64)
+                .with_description("Two\nlines"),
         );
         o.description = Some("Two\nlines".into());
         d.dictionary.insert(o);
@@ -736,20 +743,36 @@ mod tests {
     }
 
     #[test]
+    fn a_var_whose_entry_differs_from_the_object_is_written_with_a_sub_object() {
+        let mut d = DeviceDescription::default();
+        let mut o = Object::var(
+            0x2001,
+            SubObject::new("Value", DataType::Unsigned16, AccessType::Rw)
+                .with_description("the value"),
+        );
+        o.name = "Object".into();
+        o.description = Some("the object".into());
+        d.dictionary.insert(o);
+        let text = write(&d);
+        assert!(text.contains(
+            "<CANopenObject index=\"2001\" name=\"Object\" objectType=\"7\" subNumber=\"1\" uniqueIDRef=\"UID_OBJ_2001\">"
+        ), "{text}");
+        assert!(
+            text.contains("<CANopenSubObject subIndex=\"00\" name=\"Value\""),
+            "{text}"
+        );
+        let mut back = super::super::read(text.as_bytes(), "t.xdd").unwrap();
+        back.file_info = d.file_info.clone();
+        back.can = None;
+        assert_eq!(back, d);
+    }
+
+    #[test]
     fn round_trip_of_a_small_description() {
         let mut d = small();
-        // What the reader gives back: converted dates, the VAR description on sub-index 0 too, and the
-        // default resolved for node 3.
+        // What the reader gives back: converted dates and the default resolved for node 3.
         d.file_info.creation_date = "2024-05-31".into();
         d.file_info.creation_time = "13:05:00".into();
-        for o in d.dictionary.objects_mut() {
-            if !o.kind.has_subs() {
-                let desc = o.description.clone();
-                if let Some(s) = o.subs.get_mut(&0) {
-                    s.description = desc;
-                }
-            }
-        }
         d.dictionary.reset(3);
         let back = super::super::read(write(&d).as_bytes(), "box.xdd").unwrap();
         assert_eq!(back, d);
