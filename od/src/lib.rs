@@ -20,6 +20,7 @@ pub mod object;
 pub mod types;
 pub mod validate;
 pub mod value;
+pub mod xdd;
 pub mod xml;
 
 pub use abort::AbortCode;

@@ -1,0 +1,285 @@
+//! CiA 311 XML device descriptions (XDD) and device configuration files (XDC): an ISO 15745
+//! `ISO15745ProfileContainer` holding a device profile (`ProfileBody_Device_CANopen`) and a communication
+//! network profile (`ProfileBody_CommunicationNetwork_CANopen`), XML 1.0 or 1.1, schema versions 1.0 and 1.1.
+//!
+//! This is the description-format layer: it knows XML elements, not SDOs. [`read`] turns the bytes of an
+//! XDD/XDC into a [`DeviceDescription`]; [`write`] turns a description into a complete XDD.
+//!
+//! # What is read
+//!
+//! - `ProfileBody` attributes `fileName`, `fileCreator`, `fileCreationDate`, `fileCreationTime`,
+//!   `fileModifiedBy`, `fileModificationDate`, `fileModificationTime`, `fileVersion` → [`FileInfo`]
+//!   (as written; the device profile's win over the network profile's).
+//! - `DeviceIdentity`: `vendorName`, `vendorID`, `productName`, `productID`, `orderNumber` → [`Identity`];
+//!   `productText/description` → [`FileInfo::description`]. `version` (`versionType` SW, FW or HW) is checked
+//!   but has no place in the model. The revision number is the default of 0x1018:03; a missing or empty
+//!   `vendorID`/`productID` falls back to the defaults of 0x1018:01/02.
+//! - `ApplicationProcess/parameterList/parameter` (`uniqueID`, `access` = `const`, `read`, `write`,
+//!   `readWrite`, `readWriteInput`, `readWriteOutput`, `noAccess` (read as `ro`), `label`/`description`,
+//!   the type as a child element (`<UINT/>`) or `dataTypeIDRef`, `defaultValue`, `actualValue`,
+//!   `allowedValues/range/minValue|maxValue`, and CANopenNode's `property name="CO_stringLengthMin"`, the
+//!   byte capacity of a string) and `dataTypeList` (`array`, `struct`, `enum`, `derived`).
+//! - `ApplicationLayers/CANopenObjectList`: `CANopenObject` and `CANopenSubObject` with `index`, `subIndex`,
+//!   `name`, `objectType`, `dataType` (4 hex digits), `accessType`, `defaultValue` (also
+//!   `$NODEID+0x180`, CiA 306 §4.6.2), `lowLimit`, `highLimit`, `actualValue`, `PDOmapping` (`no` → none,
+//!   `RPDO`, `TPDO`, `default`/`optional` → both), `uniqueIDRef`. An attribute written on the object wins over
+//!   the same information in the referenced parameter. `subNumber`, `denotation` and `objFlags` are accepted
+//!   and not kept.
+//! - `dummyUsage/dummy entry="Dummy0005=1"`, `TransportLayers/PhysicalLayer/baudRate/supportedBaudRate`
+//!   (`"250 Kbps"`), `NetworkManagement/CANopenGeneralFeatures` (`granularity`, `nrOfRxPDO`, `nrOfTxPDO`,
+//!   `bootUpSlave`, `layerSettingServiceSlave`, `groupMessaging`, `dynamicChannels`),
+//!   `CANopenMasterFeatures@bootUpMaster` → [`CanInfo`]; `deviceCommissioning` (`nodeID`, `nodeName`,
+//!   `actualBaudRate`, `networkNumber`, `networkName`, `CANopenManager`) → [`Commissioning`].
+//!
+//! The two profile bodies may come in either order: the reader streams the file once, keeps small
+//! per-object and per-parameter records, and resolves the references at the end. Element names are matched
+//! without their namespace prefix (CANopenEditor writes `q1:parameter`). Unknown elements and attributes are
+//! skipped; a wrong value of a known one is an error naming the file, line and column.
+//!
+//! Descriptions: a parameter's `description` (else its `label` when it differs from the entry's name) is the
+//! object's or sub-object's description; for a VAR it is the description of the object and of sub-index 0.
+//! The `name` of an `array` or `struct` that a structured object's parameter refers to is its
+//! [`Object::type_name`](crate::object::Object::type_name). A parameter type `BITSTRING` without a default
+//! value reads as DOMAIN (as CANopenEditor writes domains), otherwise as OCTET_STRING.
+//!
+//! # What is written
+//!
+//! Both profile bodies with every entry in the inline-attribute style. A `parameterList` holds one parameter
+//! per object or sub-object that has a description, a structure type name or a string capacity, referenced by
+//! `uniqueIDRef` (`UID_OBJ_1018`, `UID_SUB_101801`); a `dataTypeList` holds the named structure types. The
+//! output is byte-stable.
+//!
+//! What XDD cannot carry: [`FileInfo::file_revision`], [`FileInfo::format_version`], comments,
+//! [`Commissioning::lss_serial_number`], the EtherCAT parts, ESI access restrictions, bit fields `BITn`
+//! (written as BOOLEAN/UNSIGNED8), the capacity of UNICODE_STRING and DOMAIN entries, a VAR's sub-index 0 name
+//! when it differs from the object's, and the revision number except as the default of 0x1018:03. Dates and
+//! times must be XML Schema dates (`2024-05-31`) and times (`13:00:00`): EDS forms (`05-31-2024`, `1:00PM`)
+//! are converted, anything else is left out, and a missing creation date is written as `1970-01-01` because
+//! the schema requires one.
+//!
+//! [`FileInfo`]: crate::device::FileInfo
+//! [`FileInfo::description`]: crate::device::FileInfo::description
+//! [`FileInfo::file_revision`]: crate::device::FileInfo::file_revision
+//! [`FileInfo::format_version`]: crate::device::FileInfo::format_version
+//! [`Identity`]: crate::device::Identity
+//! [`CanInfo`]: crate::device::CanInfo
+//! [`Commissioning`]: crate::device::Commissioning
+//! [`Commissioning::lss_serial_number`]: crate::device::Commissioning::lss_serial_number
+
+mod reader;
+mod writer;
+
+pub use reader::read;
+pub use writer::write;
+
+use crate::object::{AccessType, PdoMapping};
+use crate::types::DataType;
+
+/// The CiA 311 spelling of a PDO mapping (`PDOmapping` attribute).
+fn pdo_name(pdo: PdoMapping) -> &'static str {
+    match pdo {
+        PdoMapping::None => "no",
+        PdoMapping::Rpdo => "RPDO",
+        PdoMapping::Tpdo => "TPDO",
+        PdoMapping::Both => "optional",
+    }
+}
+
+/// Parses a `PDOmapping` attribute.
+fn parse_pdo(text: &str) -> Option<PdoMapping> {
+    Some(match text.trim() {
+        "no" => PdoMapping::None,
+        "default" | "optional" => PdoMapping::Both,
+        "RPDO" => PdoMapping::Rpdo,
+        "TPDO" => PdoMapping::Tpdo,
+        _ => return None,
+    })
+}
+
+/// The parameter `access` spelling of an access type (ISO 15745 / CiA 311 `parameter@access`).
+fn parameter_access_name(access: AccessType) -> &'static str {
+    match access {
+        AccessType::Const => "const",
+        AccessType::Ro => "read",
+        AccessType::Wo => "write",
+        AccessType::Rw => "readWrite",
+        AccessType::Rwr => "readWriteInput",
+        AccessType::Rww => "readWriteOutput",
+    }
+}
+
+/// Parses a parameter `access` attribute. `noAccess` has no CiA 301 equivalent and reads as read-only.
+fn parse_parameter_access(text: &str) -> Option<AccessType> {
+    match text.trim() {
+        "const" => Some(AccessType::Const),
+        "read" | "noAccess" => Some(AccessType::Ro),
+        "write" => Some(AccessType::Wo),
+        "readWrite" => Some(AccessType::Rw),
+        "readWriteInput" => Some(AccessType::Rwr),
+        "readWriteOutput" => Some(AccessType::Rww),
+        _ => None,
+    }
+}
+
+/// Parses an `accessType` attribute of a `CANopenObject` (CiA 306 spellings).
+fn parse_access_type(text: &str) -> Option<AccessType> {
+    Some(match text.trim() {
+        "ro" => AccessType::Ro,
+        "wo" => AccessType::Wo,
+        "rw" => AccessType::Rw,
+        "rwr" => AccessType::Rwr,
+        "rww" => AccessType::Rww,
+        "const" => AccessType::Const,
+        _ => return None,
+    })
+}
+
+/// A parameter data type element: a basic type, or `BITSTRING`, which is an OCTET_STRING or a DOMAIN
+/// depending on the entry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum XddType {
+    Basic(DataType),
+    BitString,
+}
+
+/// The data type named by a parameter type element (the IEC 61131 names of ISO 15745, plus the names
+/// [`DataType::xdd_name`] gives the CiA 301 types that have none).
+fn parse_type_element(name: &[u8]) -> Option<XddType> {
+    Some(XddType::Basic(match name {
+        b"BOOL" => DataType::Boolean,
+        b"BITSTRING" => return Some(XddType::BitString),
+        b"BYTE" | b"USINT" => DataType::Unsigned8,
+        b"CHAR" | b"SINT" => DataType::Integer8,
+        b"WORD" | b"UINT" => DataType::Unsigned16,
+        b"DWORD" | b"UDINT" => DataType::Unsigned32,
+        b"LWORD" | b"ULINT" => DataType::Unsigned64,
+        b"INT" => DataType::Integer16,
+        b"DINT" => DataType::Integer32,
+        b"LINT" => DataType::Integer64,
+        b"REAL" => DataType::Real32,
+        b"LREAL" => DataType::Real64,
+        b"STRING" => DataType::VisibleString,
+        b"WSTRING" => DataType::UnicodeString,
+        b"INT24" => DataType::Integer24,
+        b"INT40" => DataType::Integer40,
+        b"INT48" => DataType::Integer48,
+        b"INT56" => DataType::Integer56,
+        b"UINT24" => DataType::Unsigned24,
+        b"UINT40" => DataType::Unsigned40,
+        b"UINT48" => DataType::Unsigned48,
+        b"UINT56" => DataType::Unsigned56,
+        b"TIME_OF_DAY" => DataType::TimeOfDay,
+        b"TIME" | b"TIME_DIFFERENCE" => DataType::TimeDifference,
+        b"DOMAIN" => DataType::Domain,
+        _ => return None,
+    }))
+}
+
+/// The parameter type element written for a data type. Types without an ISO 15745 simple type (the 24-,
+/// 40-, 48- and 56-bit integers, the time types, DOMAIN) are written as `BITSTRING`, as CANopenEditor
+/// does; the `dataType` attribute on the object says which type it is.
+fn type_element(data_type: DataType) -> &'static str {
+    match data_type {
+        DataType::Boolean | DataType::Bit(1) => "BOOL",
+        DataType::Integer8 => "SINT",
+        DataType::Integer16 => "INT",
+        DataType::Integer32 => "DINT",
+        DataType::Integer64 => "LINT",
+        DataType::Unsigned8 => "USINT",
+        DataType::Unsigned16 => "UINT",
+        DataType::Unsigned32 => "UDINT",
+        DataType::Unsigned64 => "ULINT",
+        DataType::Real32 => "REAL",
+        DataType::Real64 => "LREAL",
+        DataType::VisibleString => "STRING",
+        DataType::UnicodeString => "WSTRING",
+        _ => "BITSTRING",
+    }
+}
+
+/// The name of CANopenNode's parameter property that gives the byte capacity of a string.
+const STRING_LENGTH_PROPERTY: &str = "CO_stringLengthMin";
+
+/// True for the types whose capacity [`STRING_LENGTH_PROPERTY`] carries.
+fn has_string_capacity(data_type: DataType) -> bool {
+    matches!(data_type, DataType::VisibleString | DataType::OctetString)
+}
+
+/// Parses a bit rate as CiA 311 writes it (`"250 Kbps"`); `auto-baudRate` answers 0.
+fn parse_baud(text: &str) -> Option<u32> {
+    let t = text.trim();
+    if t.eq_ignore_ascii_case("auto-baudRate") {
+        return Some(0);
+    }
+    let digits = t
+        .strip_suffix("Kbps")
+        .or_else(|| t.strip_suffix("kbps"))
+        .or_else(|| t.strip_suffix("KBPS"))?
+        .trim();
+    if digits.is_empty() || digits.len() > 7 || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    digits.parse().ok()
+}
+
+/// The CiA 311 spelling of a bit rate in kbit/s.
+fn baud_name(kbps: u32) -> String {
+    if kbps == 0 {
+        "auto-baudRate".to_string()
+    } else {
+        format!("{kbps} Kbps")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spellings_round_trip() {
+        for pdo in [
+            PdoMapping::None,
+            PdoMapping::Rpdo,
+            PdoMapping::Tpdo,
+            PdoMapping::Both,
+        ] {
+            assert_eq!(parse_pdo(pdo_name(pdo)), Some(pdo));
+        }
+        assert_eq!(parse_pdo("default"), Some(PdoMapping::Both));
+        assert_eq!(parse_pdo("yes"), None);
+        for a in [
+            AccessType::Ro,
+            AccessType::Wo,
+            AccessType::Rw,
+            AccessType::Rwr,
+            AccessType::Rww,
+            AccessType::Const,
+        ] {
+            assert_eq!(parse_parameter_access(parameter_access_name(a)), Some(a));
+            assert_eq!(parse_access_type(a.as_str()), Some(a));
+        }
+        assert_eq!(parse_parameter_access("noAccess"), Some(AccessType::Ro));
+        assert_eq!(parse_access_type("readWrite"), None);
+        for &t in crate::types::STANDARD_TYPES {
+            let back = parse_type_element(type_element(t).as_bytes()).unwrap();
+            match back {
+                XddType::Basic(b) => assert_eq!(b, t),
+                XddType::BitString => assert_eq!(type_element(t), "BITSTRING"),
+            }
+            if let XddType::Basic(b) = parse_type_element(t.xdd_name().as_bytes()).unwrap() {
+                assert_eq!(b, t, "{t}");
+            }
+        }
+    }
+
+    #[test]
+    fn baud_rates() {
+        assert_eq!(parse_baud("250 Kbps"), Some(250));
+        assert_eq!(parse_baud("1000 Kbps"), Some(1000));
+        assert_eq!(parse_baud("auto-baudRate"), Some(0));
+        assert_eq!(parse_baud("fast"), None);
+        assert_eq!(parse_baud(" Kbps"), None);
+        assert_eq!(baud_name(125), "125 Kbps");
+        assert_eq!(parse_baud(&baud_name(0)), Some(0));
+    }
+}
