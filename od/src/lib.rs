@@ -16,6 +16,7 @@ pub mod doc;
 pub mod eds;
 pub mod error;
 pub mod esi;
+pub mod load;
 pub mod object;
 pub mod types;
 pub mod validate;

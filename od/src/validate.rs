@@ -213,10 +213,13 @@ fn check_mapping(d: &Dictionary, index: u16, receive: bool, can: bool, out: &mut
         check_entry(d, index, mi, ms, len, receive, out);
     }
     if can && bits > 64 {
+        // A warning only: CANopen formats also describe CoE devices, whose PDOs are not CAN frames.
         out.push(Finding {
-            severity: Severity::Error,
+            severity: Severity::Warning,
             address: Some(Address::new(index, 0)),
-            message: format!("maps {bits} bits, more than the 64 of a CAN frame"),
+            message: format!(
+                "maps {bits} bits, more than the 64 of a CAN frame (fine over EtherCAT)"
+            ),
         });
     }
 }

@@ -622,7 +622,10 @@ mod tests {
         );
         assert!(Value::parse_text(DataType::Real64, "nan").is_err());
         assert!(Value::parse_text(DataType::Real32, "1e39").is_err());
-        assert_eq!(Value::parse_text(DataType::Real64, "1e39").unwrap(), Value::Real64(1e39));
+        assert_eq!(
+            Value::parse_text(DataType::Real64, "1e39").unwrap(),
+            Value::Real64(1e39)
+        );
         assert_eq!(
             Value::parse_text(DataType::TimeOfDay, "12:34").unwrap(),
             Value::Time(TimeValue { ms: 34, days: 12 })

@@ -1369,3 +1369,30 @@ mod random {
         }
     }
 }
+
+/// EDS tells the PDO direction by the access type: an RPDO-only entry is written `rww`, a writable
+/// TPDO-only entry `rwr`, and both read back with their direction.
+#[test]
+fn pdo_direction_travels_in_the_access_type() {
+    let mut desc = DeviceDescription::default();
+    desc.dictionary.insert(Object::var(
+        0x7000,
+        SubObject::new("Output", DataType::Unsigned16, AccessType::Ro).with_pdo(PdoMapping::Rpdo),
+    ));
+    desc.dictionary.insert(Object::var(
+        0x6000,
+        SubObject::new("Input", DataType::Unsigned16, AccessType::Rw).with_pdo(PdoMapping::Tpdo),
+    ));
+    let text = eds::write_eds(&desc);
+    assert!(text.contains("[7000]\r\nParameterName=Output\r\nObjectType=0x7\r\nDataType=0x0006\r\nAccessType=rww\r\n"), "{text}");
+    assert!(text.contains("[6000]\r\nParameterName=Input\r\nObjectType=0x7\r\nDataType=0x0006\r\nAccessType=rwr\r\n"), "{text}");
+    let back = eds::read(text.as_bytes(), "dir.eds").unwrap();
+    assert_eq!(
+        back.dictionary.entry(0x7000, 0).unwrap().pdo,
+        PdoMapping::Rpdo
+    );
+    assert_eq!(
+        back.dictionary.entry(0x6000, 0).unwrap().pdo,
+        PdoMapping::Tpdo
+    );
+}

@@ -1401,5 +1401,8 @@ fn negative_shift_times_read_and_write_back() {
     let mode = &dev.ethercat.as_ref().unwrap().op_modes[0];
     assert_eq!(mode.shift_time_sync0, Some(-250_000));
     let back = od::esi::read(od::esi::write(&dev).as_bytes(), "back.xml", None).unwrap();
-    assert_eq!(back.ethercat.unwrap().op_modes[0].shift_time_sync0, Some(-250_000));
+    assert_eq!(
+        back.ethercat.unwrap().op_modes[0].shift_time_sync0,
+        Some(-250_000)
+    );
 }

@@ -4,7 +4,7 @@ use std::borrow::Cow;
 use std::fmt::Write as _;
 
 use crate::device::{CanInfo, Commissioning, DeviceDescription};
-use crate::object::{DefaultValue, Object, SubObject};
+use crate::object::{AccessType, DefaultValue, Object, PdoMapping, SubObject};
 use crate::types::DataType;
 use crate::value::Value;
 
@@ -244,10 +244,22 @@ fn default_text(default: &DefaultValue, data_type: DataType) -> String {
     text
 }
 
+/// The access type an EDS carries for `sub`. EDS has only `PDOMapping=0/1` and tells the direction by the
+/// access type (CiA 306 §4.6.3.2), so an entry mappable into RPDOs only is written `rww` and one mappable into
+/// TPDOs only and writable is written `rwr`; an ESI output object (`ro` with `PdoMapping R`) becomes `rww`, as
+/// the CANopen view of a process output is.
+fn eds_access(sub: &SubObject) -> AccessType {
+    match (sub.access.kind, sub.pdo) {
+        (AccessType::Ro | AccessType::Rw, PdoMapping::Rpdo) => AccessType::Rww,
+        (AccessType::Rw, PdoMapping::Tpdo) => AccessType::Rwr,
+        (kind, _) => kind,
+    }
+}
+
 fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: Option<u8>) {
     let data_type = eds_type(sub.data_type);
     w.key("DataType", &format!("0x{:04X}", data_type.index()));
-    w.key("AccessType", sub.access.kind.as_str());
+    w.key("AccessType", eds_access(sub).as_str());
     if let Some(default) = &sub.default {
         w.key("DefaultValue", &default_text(default, data_type));
     }

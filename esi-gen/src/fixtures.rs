@@ -1,0 +1,79 @@
+//! The generated descriptions under `fixtures/`: what each is made from, and the check that the committed
+//! files are what the generator makes.
+//!
+//! Sources (hand-written from the device documents): `fixtures/src/smd.esi.xml` (AMCI SMD23K-B and SMD24K)
+//! and `fixtures/src/x67sm2436.xdd` (B&R X67SM2436 behind the X67BC4321). Identity values that the
+//! documents do not publish come from `fixtures/identity.toml`.
+
+use std::path::{Path, PathBuf};
+
+use od::device::DeviceDescription;
+
+use crate::{Error, IdentityFile};
+
+fn load_source(
+    root: &Path,
+    name: &str,
+    ids: &IdentityFile,
+) -> Result<Vec<DeviceDescription>, Error> {
+    let (_, mut devices) = od::load::load(&root.join("src").join(name))?;
+    for d in &mut devices {
+        ids.apply(d);
+    }
+    Ok(devices)
+}
+
+/// Every generated file under `root`, with the text it must have.
+pub fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, Error> {
+    let ids = IdentityFile::load(&root.join("identity.toml"))?;
+    let mut files = Vec::new();
+    let smd = load_source(root, "smd.esi.xml", &ids)?;
+    files.push((
+        root.join("smd").join("SMD23K-B_SMD24K.esi.xml"),
+        od::esi::write_all(&smd),
+    ));
+    for dev in &smd {
+        let name = crate::device_name(dev).to_string();
+        files.push((
+            root.join("smd").join(format!("{name}.eds")),
+            od::eds::write_eds(dev),
+        ));
+        files.push((
+            root.join("smd").join(format!("{name}.xdd")),
+            od::xdd::write(dev),
+        ));
+        files.push((
+            root.join("smd").join(format!("{name}.md")),
+            od::doc::write(dev),
+        ));
+    }
+    for dev in load_source(root, "x67sm2436.xdd", &ids)? {
+        let name = "X67SM2436";
+        files.push((
+            root.join("x67").join(format!("{name}.xdd")),
+            od::xdd::write(&dev),
+        ));
+        files.push((
+            root.join("x67").join(format!("{name}.eds")),
+            od::eds::write_eds(&dev),
+        ));
+        files.push((
+            root.join("x67").join(format!("{name}.esi.xml")),
+            od::esi::write(&dev),
+        ));
+        files.push((
+            root.join("x67").join(format!("{name}.md")),
+            od::doc::write(&dev),
+        ));
+    }
+    Ok(files)
+}
+
+/// The files whose bytes on disk differ from what the generator makes (or that are missing).
+pub fn stale(files: &[(PathBuf, String)]) -> Vec<PathBuf> {
+    files
+        .iter()
+        .filter(|(path, text)| std::fs::read(path).ok().as_deref() != Some(text.as_bytes()))
+        .map(|(path, _)| path.clone())
+        .collect()
+}

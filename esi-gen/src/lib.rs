@@ -1,0 +1,428 @@
+//! `esi-gen`: turns any readable device description (ESI, XDD, EDS, DCF) into any other, checks a
+//! description, compares two, and regenerates the project's fixtures.
+//!
+//! The command line is defined here ([`Cli`]) and run by [`run`]; the binary only parses arguments and
+//! prints the outcome.
+#![deny(missing_docs)]
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use clap::{Args, Parser, Subcommand};
+use od::device::{Commissioning, DeviceDescription};
+use od::load::Format;
+
+pub mod fixtures;
+pub mod summary;
+
+/// Generate, check and compare CANopen / EtherCAT device descriptions.
+#[derive(Debug, Parser)]
+#[command(name = "esi-gen", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Write an EtherCAT ESI (all devices of the input unless --device picks one).
+    Esi(Convert),
+    /// Write a CiA 311 XDD.
+    Xdd(Convert),
+    /// Write a CiA 306 EDS.
+    Eds(Convert),
+    /// Write a CiA 306 DCF with current values.
+    Dcf(DcfArgs),
+    /// Write a Markdown reference of the dictionary.
+    Doc(Convert),
+    /// Load and validate a description and print a one-screen summary; exit 1 when it has errors.
+    Check(CheckArgs),
+    /// Compare the dictionaries of two descriptions; exit 0 when equal, 1 when they differ.
+    Diff(DiffArgs),
+    /// Regenerate the generated descriptions under fixtures/ from fixtures/src and fixtures/identity.toml.
+    Fixtures(FixturesArgs),
+}
+
+/// Input, device choice, identity overrides and output of a conversion.
+#[derive(Debug, Args)]
+pub struct Convert {
+    /// The description to read (ESI, XDD, EDS or DCF; the format is told from the contents).
+    pub input: PathBuf,
+    /// The file to write; `-` or nothing writes to standard output.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Device options.
+    #[command(flatten)]
+    pub device: DeviceArgs,
+}
+
+/// Choosing a device and overriding identity values.
+#[derive(Debug, Args, Default)]
+pub struct DeviceArgs {
+    /// Pick one device of a file that holds several: its type name, its name, or its product code
+    /// (a number such as 0x2301).
+    #[arg(long)]
+    pub device: Option<String>,
+    /// A TOML file of identity values (`[type-name] vendor_id = …, product_code = …, revision = …`),
+    /// applied to the device whose type or product name matches a section.
+    #[arg(long)]
+    pub identity: Option<PathBuf>,
+    /// Override the vendor ID.
+    #[arg(long, value_parser = parse_u32)]
+    pub vendor_id: Option<u32>,
+    /// Override the product code.
+    #[arg(long, value_parser = parse_u32)]
+    pub product_code: Option<u32>,
+    /// Override the revision number.
+    #[arg(long, value_parser = parse_u32)]
+    pub revision: Option<u32>,
+}
+
+/// Arguments of `dcf`.
+#[derive(Debug, Args)]
+pub struct DcfArgs {
+    /// Conversion arguments.
+    #[command(flatten)]
+    pub convert: Convert,
+    /// The node-ID the DCF configures (1..127); `$NODEID` defaults resolve with it.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=127))]
+    pub node_id: Option<u8>,
+    /// The bit rate in kbit/s.
+    #[arg(long)]
+    pub baud_rate: Option<u32>,
+}
+
+/// Arguments of `check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// The description to check.
+    pub input: PathBuf,
+    /// Check only this device of a file that holds several.
+    #[arg(long)]
+    pub device: Option<String>,
+}
+
+/// Arguments of `diff`.
+#[derive(Debug, Args)]
+pub struct DiffArgs {
+    /// The first description.
+    pub a: PathBuf,
+    /// The second description.
+    pub b: PathBuf,
+    /// The device to compare, in files that hold several.
+    #[arg(long)]
+    pub device: Option<String>,
+}
+
+/// Arguments of `fixtures`.
+#[derive(Debug, Args)]
+pub struct FixturesArgs {
+    /// The fixtures folder.
+    #[arg(long, default_value = "fixtures")]
+    pub root: PathBuf,
+    /// Only compare: exit 1 and name the files that regeneration would change.
+    #[arg(long)]
+    pub check: bool,
+}
+
+/// Why a command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A description could not be loaded.
+    #[error(transparent)]
+    Load(#[from] od::LoadError),
+    /// A file could not be written or read.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The identity file is not valid.
+    #[error("{path}: {message}")]
+    Identity {
+        /// The file.
+        path: PathBuf,
+        /// What was wrong.
+        message: String,
+    },
+    /// No device matches --device.
+    #[error("{path}: no device matches `{wanted}`; the file holds {available}")]
+    NoSuchDevice {
+        /// The file.
+        path: PathBuf,
+        /// What was asked for.
+        wanted: String,
+        /// The devices there are.
+        available: String,
+    },
+    /// The file holds several devices and the output format takes one.
+    #[error("{path} holds several devices ({available}); choose one with --device")]
+    SeveralDevices {
+        /// The file.
+        path: PathBuf,
+        /// The devices there are.
+        available: String,
+    },
+    /// The file holds no device.
+    #[error("{0}: the file describes no device")]
+    NoDevice(PathBuf),
+}
+
+/// What a command ended with: exit code 0, or 1 for "check found errors" / "diff found differences".
+pub type Outcome = Result<u8, Error>;
+
+fn parse_u32(text: &str) -> Result<u32, String> {
+    od::value::parse_integer(text)
+        .and_then(|v| u32::try_from(v).ok())
+        .ok_or_else(|| format!("`{text}` is not a 32-bit unsigned number (decimal or 0x…)"))
+}
+
+/// Runs a parsed command line, writing normal output to `out`.
+pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
+    match cli.command {
+        Command::Esi(c) => convert(&c, out, od::esi::write_all, true),
+        Command::Xdd(c) => convert(&c, out, |devs| od::xdd::write(&devs[0]), false),
+        Command::Eds(c) => convert(&c, out, |devs| od::eds::write_eds(&devs[0]), false),
+        Command::Doc(c) => convert(&c, out, |devs| od::doc::write(&devs[0]), false),
+        Command::Dcf(d) => {
+            let node_id = d.node_id;
+            let baud = d.baud_rate;
+            convert(
+                &d.convert,
+                out,
+                move |devs| {
+                    let mut dev = devs[0].clone();
+                    let c = dev.commissioning.get_or_insert_with(Commissioning::default);
+                    if let Some(n) = node_id {
+                        c.node_id = n;
+                    }
+                    if c.node_id == 0 {
+                        c.node_id = 1;
+                    }
+                    if let Some(b) = baud {
+                        c.baud_rate = b;
+                    }
+                    od::eds::write_dcf(&dev)
+                },
+                false,
+            )
+        }
+        Command::Check(c) => {
+            let (format, devices) = load_selected(&c.input, c.device.as_deref())?;
+            let report = summary::check(&c.input, format, &devices);
+            write_out(out, &report.text)?;
+            Ok(if report.errors > 0 { 1 } else { 0 })
+        }
+        Command::Diff(d) => {
+            let a = one(&d.a, load_selected(&d.a, d.device.as_deref())?.1)?;
+            let b = one(&d.b, load_selected(&d.b, d.device.as_deref())?.1)?;
+            let diffs = od::diff::diff(&a.dictionary, &b.dictionary);
+            let mut text = String::new();
+            for x in &diffs {
+                text.push_str(&x.to_string());
+                text.push('\n');
+            }
+            write_out(out, &text)?;
+            Ok(if diffs.is_empty() { 0 } else { 1 })
+        }
+        Command::Fixtures(f) => {
+            let files = fixtures::generate(&f.root)?;
+            if f.check {
+                let stale = fixtures::stale(&files);
+                for p in &stale {
+                    write_out(out, &format!("stale: {}\n", p.display()))?;
+                }
+                return Ok(if stale.is_empty() { 0 } else { 1 });
+            }
+            for (path, text) in &files {
+                if let Some(dir) = path.parent() {
+                    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+                        path: dir.to_path_buf(),
+                        source,
+                    })?;
+                }
+                std::fs::write(path, text).map_err(|source| Error::Io {
+                    path: path.clone(),
+                    source,
+                })?;
+                write_out(out, &format!("wrote {}\n", path.display()))?;
+            }
+            Ok(0)
+        }
+    }
+}
+
+fn write_out(out: &mut dyn Write, text: &str) -> Result<(), Error> {
+    out.write_all(text.as_bytes()).map_err(|source| Error::Io {
+        path: PathBuf::from("-"),
+        source,
+    })
+}
+
+fn convert(
+    c: &Convert,
+    out: &mut dyn Write,
+    writer: impl Fn(&[DeviceDescription]) -> String,
+    many: bool,
+) -> Outcome {
+    let (_, mut devices) = load_selected(&c.input, c.device.device.as_deref())?;
+    if devices.is_empty() {
+        return Err(Error::NoDevice(c.input.clone()));
+    }
+    if devices.len() > 1 && !many {
+        return Err(Error::SeveralDevices {
+            path: c.input.clone(),
+            available: list(&devices),
+        });
+    }
+    let identities = match &c.device.identity {
+        Some(p) => Some(IdentityFile::load(p)?),
+        None => None,
+    };
+    for dev in &mut devices {
+        if let Some(ids) = &identities {
+            ids.apply(dev);
+        }
+        dev.override_identity(c.device.vendor_id, c.device.product_code, c.device.revision);
+    }
+    let text = writer(&devices);
+    match &c.output {
+        None => write_out(out, &text)?,
+        Some(p) if p.as_os_str() == "-" => write_out(out, &text)?,
+        Some(p) => std::fs::write(p, text).map_err(|source| Error::Io {
+            path: p.clone(),
+            source,
+        })?,
+    }
+    Ok(0)
+}
+
+/// Loads `path` and keeps the device `wanted` names (all devices when `None`).
+pub fn load_selected(
+    path: &Path,
+    wanted: Option<&str>,
+) -> Result<(Format, Vec<DeviceDescription>), Error> {
+    let (format, devices) = od::load::load(path)?;
+    let Some(wanted) = wanted else {
+        return Ok((format, devices));
+    };
+    let code = od::value::parse_integer(wanted).and_then(|v| u32::try_from(v).ok());
+    let hit: Vec<DeviceDescription> = devices
+        .iter()
+        .filter(|d| {
+            d.identity.order_code.eq_ignore_ascii_case(wanted)
+                || d.identity.product_name.eq_ignore_ascii_case(wanted)
+                || code == Some(d.identity.product_code)
+        })
+        .cloned()
+        .collect();
+    match hit.len() {
+        0 => Err(Error::NoSuchDevice {
+            path: path.to_path_buf(),
+            wanted: wanted.to_string(),
+            available: list(&devices),
+        }),
+        _ => Ok((format, hit.into_iter().take(1).collect())),
+    }
+}
+
+fn one(path: &Path, devices: Vec<DeviceDescription>) -> Result<DeviceDescription, Error> {
+    match devices.len() {
+        0 => Err(Error::NoDevice(path.to_path_buf())),
+        1 => Ok(devices.into_iter().next().expect("one device")),
+        _ => Err(Error::SeveralDevices {
+            path: path.to_path_buf(),
+            available: list(&devices),
+        }),
+    }
+}
+
+/// The devices as `name (product code)` for messages.
+pub fn list(devices: &[DeviceDescription]) -> String {
+    devices
+        .iter()
+        .map(|d| {
+            format!(
+                "{} (product code 0x{:08X})",
+                device_name(d),
+                d.identity.product_code
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The shortest name of a device: its type name, else its product name.
+pub fn device_name(d: &DeviceDescription) -> &str {
+    if d.identity.order_code.is_empty() {
+        &d.identity.product_name
+    } else {
+        &d.identity.order_code
+    }
+}
+
+/// Identity values kept outside the descriptions (`fixtures/identity.toml`): one table per device,
+/// keyed by type name, with `vendor_id`, `product_code` and `revision`.
+#[derive(Debug, Clone, Default)]
+pub struct IdentityFile {
+    entries: BTreeMap<String, IdentityEntry>,
+}
+
+/// One device's identity values.
+#[derive(Debug, Clone, Copy, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IdentityEntry {
+    /// Vendor ID.
+    pub vendor_id: Option<u32>,
+    /// Product code.
+    pub product_code: Option<u32>,
+    /// Revision number.
+    pub revision: Option<u32>,
+}
+
+impl IdentityFile {
+    /// Reads an identity file.
+    pub fn load(path: &Path) -> Result<IdentityFile, Error> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        IdentityFile::parse(&text).map_err(|message| Error::Identity {
+            path: path.to_path_buf(),
+            message,
+        })
+    }
+
+    /// Parses the TOML text of an identity file.
+    pub fn parse(text: &str) -> Result<IdentityFile, String> {
+        let entries: BTreeMap<String, IdentityEntry> =
+            toml::from_str(text).map_err(|e| e.to_string())?;
+        let entries = entries
+            .into_iter()
+            .map(|(k, v)| (k.to_ascii_lowercase(), v))
+            .collect();
+        Ok(IdentityFile { entries })
+    }
+
+    /// The entry for a device, matched by type name or product name, case-insensitively.
+    pub fn entry_for(&self, dev: &DeviceDescription) -> Option<&IdentityEntry> {
+        self.entries
+            .get(&dev.identity.order_code.to_ascii_lowercase())
+            .or_else(|| {
+                self.entries
+                    .get(&dev.identity.product_name.to_ascii_lowercase())
+            })
+    }
+
+    /// Applies the matching entry, if any, to `dev`.
+    pub fn apply(&self, dev: &mut DeviceDescription) {
+        if let Some(e) = self.entry_for(dev) {
+            dev.override_identity(e.vendor_id, e.product_code, e.revision);
+        }
+    }
+}
