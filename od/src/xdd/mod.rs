@@ -66,7 +66,8 @@
 //! values that are not `value_set`, and the revision number except as the default of 0x1018:03. Dates and
 //! times must be XML Schema dates (`2024-05-31`) and times (`13:00:00`): EDS forms (`05-31-2024`, `1:00PM`)
 //! are converted, anything else is left out, and a missing creation date is written as `1970-01-01` because
-//! the schema requires one. A description without [`CanInfo`] is written with `CanInfo::default()`.
+//! the schema requires one. A description without [`CanInfo`] is written with `CanInfo::default()`;
+//! commissioning values whose node-ID is not 1 to 127 are left out.
 //!
 //! [`FileInfo`]: crate::device::FileInfo
 //! [`FileInfo::description`]: crate::device::FileInfo::description

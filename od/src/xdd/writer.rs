@@ -21,8 +21,8 @@ const BAUD_RATES: [u32; 9] = [10, 20, 50, 100, 125, 250, 500, 800, 1000];
 const NO_DATE: &str = "1970-01-01";
 
 /// Writes `desc` as a complete XDD (UTF-8, byte-stable: the same description always gives the same text).
-/// Writes an XDC's `deviceCommissioning` and `actualValue`s when the description has commissioning values
-/// or explicitly set values.
+/// Writes an XDC's `deviceCommissioning` when the description has commissioning values with a node-ID of
+/// 1 to 127, and `actualValue`s for the explicitly set values.
 pub fn write(desc: &DeviceDescription) -> String {
     let mut w = XmlWriter::new();
     w.start(
@@ -100,7 +100,12 @@ pub fn write(desc: &DeviceDescription) -> String {
     if can.simple_boot_up_master {
         w.empty("CANopenMasterFeatures", &[("bootUpMaster", "true")]);
     }
-    if let Some(c) = &desc.commissioning {
+    // A node-ID outside 1..127 is no node-ID: such commissioning values are left out.
+    if let Some(c) = desc
+        .commissioning
+        .as_ref()
+        .filter(|c| (1..=127).contains(&c.node_id))
+    {
         w.empty(
             "deviceCommissioning",
             &[
@@ -811,6 +816,17 @@ mod tests {
         back.file_info = d.file_info.clone();
         back.can = None;
         assert_eq!(back, d);
+    }
+
+    #[test]
+    fn commissioning_without_a_valid_node_id_is_left_out() {
+        let mut d = small();
+        if let Some(c) = &mut d.commissioning {
+            c.node_id = 0;
+        }
+        let text = write(&d);
+        assert!(!text.contains("deviceCommissioning"));
+        assert!(super::super::read(text.as_bytes(), "t.xdd").is_ok());
     }
 
     #[test]
