@@ -182,13 +182,15 @@ fn file_info() -> impl Strategy<Value = FileInfo> {
         )
 }
 
-const BAUDS: [u32; 8] = [10, 20, 50, 125, 250, 500, 800, 1000];
+/// The bit rates the schema lists.
+const BAUDS: [u32; 9] = [10, 20, 50, 100, 125, 250, 500, 800, 1000];
 
 fn can_info() -> impl Strategy<Value = CanInfo> {
     (
-        (btree_set(select(BAUDS.to_vec()), 0..8), any::<[bool; 5]>()),
+        (btree_set(select(BAUDS.to_vec()), 0..9), any::<[bool; 5]>()),
         (0u8..=64, any::<u8>(), any::<u16>(), any::<u16>()),
-        btree_set(prop_oneof![1u16..=7, 0x10u16..=0x1B], 0..6),
+        // The schema knows Dummy0001 to Dummy0007 only.
+        btree_set(1u16..=7, 0..7),
     )
         .prop_map(
             |((bauds, flags), (granularity, dynamic, rx, tx), dummies)| CanInfo {

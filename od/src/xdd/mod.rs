@@ -1,61 +1,73 @@
-//! CiA 311 XML device descriptions (XDD) and device configuration files (XDC): an ISO 15745
-//! `ISO15745ProfileContainer` holding a device profile (`ProfileBody_Device_CANopen`) and a communication
-//! network profile (`ProfileBody_CommunicationNetwork_CANopen`), XML 1.0 or 1.1, schema versions 1.0 and 1.1.
+//! CiA 311 XML device descriptions (XDD) and device configuration files (XDC), v1.0 and v1.1 of the schema:
+//! an ISO 15745-1 `ISO15745ProfileContainer` holding a device profile (`ProfileBody_Device_CANopen`) and a
+//! communication network profile (`ProfileBody_CommunicationNetwork_CANopen`), in XML 1.0 or 1.1.
 //!
 //! This is the description-format layer: it knows XML elements, not SDOs. [`read`] turns the bytes of an
-//! XDD/XDC into a [`DeviceDescription`]; [`write`] turns a description into a complete XDD.
+//! XDD/XDC into a [`DeviceDescription`](crate::device::DeviceDescription); [`write`](fn@write) turns a description into
+//! a complete XDD (an XDC when the description has commissioning values).
 //!
 //! # What is read
 //!
 //! - `ProfileBody` attributes `fileName`, `fileCreator`, `fileCreationDate`, `fileCreationTime`,
-//!   `fileModifiedBy`, `fileModificationDate`, `fileModificationTime`, `fileVersion` → [`FileInfo`]
-//!   (as written; the device profile's win over the network profile's).
+//!   `fileModifiedBy`, `fileModificationDate`, `fileModificationTime`, `fileVersion` → [`FileInfo`], as
+//!   written (the device profile's win over the network profile's).
 //! - `DeviceIdentity`: `vendorName`, `vendorID`, `productName`, `productID`, `orderNumber` → [`Identity`];
 //!   `productText/description` → [`FileInfo::description`]. `version` (`versionType` SW, FW or HW) is checked
 //!   but has no place in the model. The revision number is the default of 0x1018:03; a missing or empty
 //!   `vendorID`/`productID` falls back to the defaults of 0x1018:01/02.
-//! - `ApplicationProcess/parameterList/parameter` (`uniqueID`, `access` = `const`, `read`, `write`,
-//!   `readWrite`, `readWriteInput`, `readWriteOutput`, `noAccess` (read as `ro`), `label`/`description`,
-//!   the type as a child element (`<UINT/>`) or `dataTypeIDRef`, `defaultValue`, `actualValue`,
-//!   `allowedValues/range/minValue|maxValue`, and CANopenNode's `property name="CO_stringLengthMin"`, the
-//!   byte capacity of a string) and `dataTypeList` (`array`, `struct`, `enum`, `derived`).
+//! - `ApplicationProcess/parameterList/parameter`: `uniqueID`, `access` (`const`, `read`, `write`,
+//!   `readWrite`, `readWriteInput`, `readWriteOutput`; `noAccess` reads as `ro`), `label`/`description`
+//!   (English preferred), the type as a child element (`<UINT/>`) or `dataTypeIDRef`, `defaultValue`,
+//!   `actualValue`, `allowedValues/range/minValue|maxValue`, and CANopenNode's
+//!   `property name="CO_stringLengthMin"` (the byte capacity of a VISIBLE_STRING or OCTET_STRING).
+//!   `dataTypeList`: `array`, `struct`, `enum`, `derived` (name, element or base type).
 //! - `ApplicationLayers/CANopenObjectList`: `CANopenObject` and `CANopenSubObject` with `index`, `subIndex`,
-//!   `name`, `objectType`, `dataType` (4 hex digits), `accessType`, `defaultValue` (also
-//!   `$NODEID+0x180`, CiA 306 §4.6.2), `lowLimit`, `highLimit`, `actualValue`, `PDOmapping` (`no` → none,
-//!   `RPDO`, `TPDO`, `default`/`optional` → both), `uniqueIDRef`. An attribute written on the object wins over
-//!   the same information in the referenced parameter. `subNumber`, `denotation` and `objFlags` are accepted
-//!   and not kept.
+//!   `name`, `objectType`, `dataType` (4 hex digits), `accessType`, `defaultValue` (also `$NODEID+0x180`,
+//!   CiA 306 §4.6.2), `lowLimit`, `highLimit`, `actualValue`, `PDOmapping` (`no` → none, `RPDO`, `TPDO`,
+//!   `default`/`optional` → both) and `uniqueIDRef`. What the object says wins over the same information in
+//!   the referenced parameter, except that a parameter's `readWriteInput`/`readWriteOutput` refines an
+//!   `accessType` of `rw` into `rwr`/`rww` (the schema's `accessType` has `ro`, `wo`, `rw`, `const` only;
+//!   `rwr` and `rww` written there are accepted too). `subNumber`, `denotation` and `objFlags` are accepted and
+//!   not kept.
 //! - `dummyUsage/dummy entry="Dummy0005=1"`, `TransportLayers/PhysicalLayer/baudRate/supportedBaudRate`
 //!   (`"250 Kbps"`), `NetworkManagement/CANopenGeneralFeatures` (`granularity`, `nrOfRxPDO`, `nrOfTxPDO`,
-//!   `bootUpSlave`, `layerSettingServiceSlave`, `groupMessaging`, `dynamicChannels`),
-//!   `CANopenMasterFeatures@bootUpMaster` → [`CanInfo`]; `deviceCommissioning` (`nodeID`, `nodeName`,
-//!   `actualBaudRate`, `networkNumber`, `networkName`, `CANopenManager`) → [`Commissioning`].
+//!   `bootUpSlave`, `layerSettingServiceSlave`, `groupMessaging`, `dynamicChannels`; absent booleans are
+//!   false, as the schema says) and `CANopenMasterFeatures@bootUpMaster` → [`CanInfo`], present whenever the
+//!   file has a communication network profile; `deviceCommissioning` (`nodeID`, also CANopenEditor's
+//!   `NodeID`, `nodeName`, `actualBaudRate`, `networkNumber`, `networkName`, `CANopenManager`) →
+//!   [`Commissioning`]. `$NODEID` defaults are resolved with its node-ID (0 without one).
 //!
 //! The two profile bodies may come in either order: the reader streams the file once, keeps small
 //! per-object and per-parameter records, and resolves the references at the end. Element names are matched
 //! without their namespace prefix (CANopenEditor writes `q1:parameter`). Unknown elements and attributes are
-//! skipped; a wrong value of a known one is an error naming the file, line and column.
+//! skipped; a wrong value of a known one, a dangling `uniqueIDRef` and a duplicate index, sub-index or
+//! `uniqueID` are errors naming the file, line and column.
 //!
-//! Descriptions: a parameter's `description` (else its `label` when it differs from the entry's name) is the
-//! object's or sub-object's description; for a VAR it is the description of the object and of sub-index 0.
-//! The `name` of an `array` or `struct` that a structured object's parameter refers to is its
-//! [`Object::type_name`](crate::object::Object::type_name). A parameter type `BITSTRING` without a default
-//! value reads as DOMAIN (as CANopenEditor writes domains), otherwise as OCTET_STRING.
+//! A parameter's `description` (else its `label` when that differs from the entry's name) is the description
+//! of the object or sub-object that refers to it; an object whose value is inline (a VAR) gets it as the
+//! description of the object and of sub-index 0. The `name` of the `array` or `struct` a structured object's
+//! parameter refers to is its [`Object::type_name`](crate::object::Object::type_name). A parameter type
+//! `BITSTRING` without a default reads as DOMAIN (that is how CANopenEditor writes domains), with one as
+//! OCTET_STRING.
 //!
 //! # What is written
 //!
-//! Both profile bodies with every entry in the inline-attribute style. A `parameterList` holds one parameter
-//! per object or sub-object that has a description, a structure type name or a string capacity, referenced by
-//! `uniqueIDRef` (`UID_OBJ_1018`, `UID_SUB_101801`); a `dataTypeList` holds the named structure types. The
-//! output is byte-stable.
+//! Both profile bodies, `DeviceIdentity`, a `DeviceFunction` naming the product (the schema requires one), and
+//! every entry with its attributes inline. A VAR, DOMAIN or DEFTYPE whose sub-index 0 has the object's name
+//! and description is one `CANopenObject`; any other object has `CANopenSubObject`s. A `parameterList` holds a
+//! parameter, referenced by `uniqueIDRef` (`UID_OBJ_1018`, `UID_SUB_101801`), for each object or entry with a
+//! description, a structure type name, a string capacity, or access `rwr`/`rww` (written as `rw` refined by the
+//! parameter); a `dataTypeList` holds the named structure types. The output is byte-stable.
 //!
 //! What XDD cannot carry: [`FileInfo::file_revision`], [`FileInfo::format_version`], comments,
 //! [`Commissioning::lss_serial_number`], the EtherCAT parts, ESI access restrictions, bit fields `BITn`
-//! (written as BOOLEAN/UNSIGNED8), the capacity of UNICODE_STRING and DOMAIN entries, a VAR's sub-index 0 name
-//! when it differs from the object's, and the revision number except as the default of 0x1018:03. Dates and
+//! (written as BOOLEAN/UNSIGNED8), the capacity of UNICODE_STRING and DOMAIN entries, dummy types other than
+//! 0x0001–0x0007, bit rates other than 10, 20, 50, 100, 125, 250, 500, 800 and 1000 kbit/s, explicitly set
+//! values that are not `value_set`, and the revision number except as the default of 0x1018:03. Dates and
 //! times must be XML Schema dates (`2024-05-31`) and times (`13:00:00`): EDS forms (`05-31-2024`, `1:00PM`)
 //! are converted, anything else is left out, and a missing creation date is written as `1970-01-01` because
-//! the schema requires one.
+//! the schema requires one. A description without [`CanInfo`] is written with `CanInfo::default()`;
+//! commissioning values whose node-ID is not 1 to 127 are left out.
 //!
 //! [`FileInfo`]: crate::device::FileInfo
 //! [`FileInfo::description`]: crate::device::FileInfo::description

@@ -1271,7 +1271,8 @@ impl<'a, 's> Scan<'a, 's> {
         let mut has_node_id = false;
         self.attrs(e, offset, |s, key, v| {
             match key {
-                b"nodeID" => {
+                // CANopenEditor writes `NodeID`.
+                b"nodeID" | b"NodeID" => {
                     has_node_id = true;
                     let id: u8 = s.number(&v, "nodeID", "5")?;
                     if !(1..=127).contains(&id) {
@@ -1516,10 +1517,15 @@ impl<'a, 's> Scan<'a, 's> {
             }
         };
 
-        let access = attrs
-            .access
-            .or(param.and_then(|p| p.access))
-            .unwrap_or(AccessType::Ro);
+        // The object's accessType wins, except that the parameter may refine `rw` into `rwr` or `rww`,
+        // which the schema's accessType cannot say.
+        let param_access = param.and_then(|p| p.access);
+        let access = match (attrs.access, param_access) {
+            (Some(AccessType::Rw), Some(refined @ (AccessType::Rwr | AccessType::Rww))) => refined,
+            (Some(a), _) => a,
+            (None, Some(a)) => a,
+            (None, None) => AccessType::Ro,
+        };
         let mut entry = SubObject::new(name, data_type, access);
         entry.pdo = attrs.pdo;
 
@@ -1839,6 +1845,44 @@ second line</description><BITSTRING/><q1:defaultValue value="00 01"/></q1:parame
         let tt = d.dictionary.entry(0x1800, 2).unwrap();
         assert!(!tt.value_set);
         assert_eq!(tt.value, vec![0xFF]);
+    }
+
+    #[test]
+    fn a_parameter_refines_rw_into_rwr_or_rww_but_does_not_override_the_object() {
+        let text = wrap(
+            r#"<CANopenObject index="2000" name="Out" objectType="7" dataType="0006" accessType="rw" PDOmapping="RPDO" uniqueIDRef="A"/>
+<CANopenObject index="2001" name="In" objectType="7" dataType="0006" accessType="rw" PDOmapping="TPDO" uniqueIDRef="B"/>
+<CANopenObject index="2002" name="Plain" objectType="7" dataType="0006" accessType="rw" uniqueIDRef="C"/>
+<CANopenObject index="2003" name="Ro" objectType="7" dataType="0006" accessType="ro" uniqueIDRef="A"/>
+<CANopenObject index="2004" name="Hand-written" objectType="7" dataType="0006" accessType="rww"/>"#,
+            r#"<ApplicationProcess><parameterList>
+<parameter uniqueID="A" access="readWriteOutput"><label>x</label><UINT/></parameter>
+<parameter uniqueID="B" access="readWriteInput"><label>x</label><UINT/></parameter>
+<parameter uniqueID="C" access="read"><label>x</label><UINT/></parameter>
+</parameterList></ApplicationProcess>"#,
+        );
+        let d = read(text.as_bytes(), "t.xdd").unwrap();
+        let access = |i| d.dictionary.entry(i, 0).unwrap().access.kind;
+        assert_eq!(access(0x2000), AccessType::Rww);
+        assert_eq!(access(0x2001), AccessType::Rwr);
+        assert_eq!(access(0x2002), AccessType::Rw);
+        assert_eq!(access(0x2003), AccessType::Ro);
+        assert_eq!(access(0x2004), AccessType::Rww);
+    }
+
+    #[test]
+    fn canopen_editor_spells_node_id_with_a_capital() {
+        let text = r#"<ISO15745ProfileContainer><ISO15745Profile><ProfileBody>
+<NetworkManagement><deviceCommissioning NodeID="9" nodeName="n" actualBaudRate="125 Kbps" networkNumber="1" networkName="x" CANopenManager="true"/></NetworkManagement>
+</ProfileBody></ISO15745Profile></ISO15745ProfileContainer>"#;
+        let d = read(text.as_bytes(), "t.xdc").unwrap();
+        let c = d.commissioning.unwrap();
+        assert_eq!((c.node_id, c.baud_rate, c.canopen_manager), (9, 125, true));
+        let e = err_of(&text.replace("NodeID=\"9\" ", ""));
+        assert_eq!(e.position.line, 2, "{e}");
+        assert!(e.message.contains("nodeID"), "{e}");
+        let e = err_of(&text.replace("NodeID=\"9\"", "nodeID=\"128\""));
+        assert!(e.message.contains("1 to 127"), "{e}");
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! only for what the object list cannot say (descriptions, structure type names, string capacities).
 
 use crate::device::{CanInfo, DeviceDescription, FileInfo};
-use crate::object::{Object, ObjectKind, SubObject};
+use crate::object::{AccessType, Object, ObjectKind, SubObject};
 use crate::types::DataType;
 use crate::value::Value;
 use crate::xml::XmlWriter;
@@ -15,12 +15,14 @@ use super::{
 /// The namespace of the CiA 311 schema the output follows.
 const NAMESPACE: &str = "http://www.canopen.org/xml/1.0";
 const XSI: &str = "http://www.w3.org/2001/XMLSchema-instance";
+/// The bit rates the schema lists for `supportedBaudRate`, in kbit/s.
+const BAUD_RATES: [u32; 9] = [10, 20, 50, 100, 125, 250, 500, 800, 1000];
 /// The creation date written when the description has none (the schema requires one).
 const NO_DATE: &str = "1970-01-01";
 
 /// Writes `desc` as a complete XDD (UTF-8, byte-stable: the same description always gives the same text).
-/// Writes an XDC's `deviceCommissioning` and `actualValue`s when the description has commissioning values
-/// or explicitly set values.
+/// Writes an XDC's `deviceCommissioning` when the description has commissioning values with a node-ID of
+/// 1 to 127, and `actualValue`s for the explicitly set values.
 pub fn write(desc: &DeviceDescription) -> String {
     let mut w = XmlWriter::new();
     w.start(
@@ -35,6 +37,7 @@ pub fn write(desc: &DeviceDescription) -> String {
     body.extend(file_attrs.iter().map(|(k, v)| (*k, v.as_str())));
     w.start("ProfileBody", &body);
     device_identity(&mut w, desc);
+    device_function(&mut w, desc);
     application_process(&mut w, desc);
     w.end();
     w.end();
@@ -59,16 +62,8 @@ pub fn write(desc: &DeviceDescription) -> String {
     }
     w.end();
     w.start("dummyUsage", &[]);
-    let mut dummies: Vec<u16> = (1..=7).collect();
-    dummies.extend(
-        can.dummy_usage
-            .iter()
-            .copied()
-            .filter(|d| !(1..=7).contains(d)),
-    );
-    dummies.sort_unstable();
-    dummies.dedup();
-    for d in dummies {
+    // The schema knows Dummy0001 to Dummy0007 only.
+    for d in 1..=7u16 {
         let used = u8::from(can.dummy_usage.contains(&d));
         w.empty("dummy", &[("entry", &format!("Dummy{d:04X}={used}"))]);
     }
@@ -81,7 +76,7 @@ pub fn write(desc: &DeviceDescription) -> String {
     let mut rates = can.baud_rates.clone();
     rates.sort_unstable();
     rates.dedup();
-    for rate in rates.into_iter().filter(|&r| r != 0) {
+    for rate in rates.into_iter().filter(|r| BAUD_RATES.contains(r)) {
         w.empty("supportedBaudRate", &[("value", &baud_name(rate))]);
     }
     w.end();
@@ -105,7 +100,12 @@ pub fn write(desc: &DeviceDescription) -> String {
     if can.simple_boot_up_master {
         w.empty("CANopenMasterFeatures", &[("bootUpMaster", "true")]);
     }
-    if let Some(c) = &desc.commissioning {
+    // A node-ID outside 1..127 is no node-ID: such commissioning values are left out.
+    if let Some(c) = desc
+        .commissioning
+        .as_ref()
+        .filter(|c| (1..=127).contains(&c.node_id))
+    {
         w.empty(
             "deviceCommissioning",
             &[
@@ -279,6 +279,24 @@ fn device_identity(w: &mut XmlWriter, desc: &DeviceDescription) {
     w.end();
 }
 
+/// The `DeviceFunction` the schema requires: one characteristic, the product name.
+fn device_function(w: &mut XmlWriter, desc: &DeviceDescription) {
+    w.start("DeviceFunction", &[]);
+    w.start("capabilities", &[]);
+    w.start("characteristicsList", &[]);
+    w.start("characteristic", &[]);
+    w.start("characteristicName", &[]);
+    w.text("label", &[("lang", "en")], "Product name");
+    w.end();
+    w.start("characteristicContent", &[]);
+    w.text("label", &[("lang", "en")], &desc.identity.product_name);
+    w.end();
+    w.end();
+    w.end();
+    w.end();
+    w.end();
+}
+
 /// True when the object's own attributes carry its value (sub-index 0 inline on `CANopenObject`): a VAR,
 /// DOMAIN or DEFTYPE whose only entry, sub-index 0, has the object's name and description. Any other object
 /// is written with `CANopenSubObject`s.
@@ -315,7 +333,11 @@ fn capacity(sub: &SubObject) -> Option<u32> {
 /// True when the object needs a parameter of its own.
 fn object_has_parameter(object: &Object) -> bool {
     if inline_value(object) {
-        object.description.is_some() || object.subs.get(&0).and_then(capacity).is_some()
+        object.description.is_some()
+            || object
+                .subs
+                .get(&0)
+                .is_some_and(|s| capacity(s).is_some() || refined_access(s))
     } else {
         object.description.is_some() || (object.kind.has_subs() && object.type_name.is_some())
     }
@@ -323,7 +345,22 @@ fn object_has_parameter(object: &Object) -> bool {
 
 /// True when a sub-object written as `CANopenSubObject` needs a parameter of its own.
 fn sub_has_parameter(sub: &SubObject) -> bool {
-    sub.description.is_some() || capacity(sub).is_some()
+    sub.description.is_some() || capacity(sub).is_some() || refined_access(sub)
+}
+
+/// True for `rwr` and `rww`, which the schema's `accessType` (`ro`, `wo`, `rw`, `const`) cannot say: they are
+/// written as `rw` and refined by the parameter's `readWriteInput` or `readWriteOutput`.
+fn refined_access(sub: &SubObject) -> bool {
+    matches!(sub.access.kind, AccessType::Rwr | AccessType::Rww)
+}
+
+/// The `accessType` attribute of an entry.
+fn access_type_name(sub: &SubObject) -> &'static str {
+    if refined_access(sub) {
+        "rw"
+    } else {
+        sub.access.kind.as_str()
+    }
 }
 
 fn application_process(w: &mut XmlWriter, desc: &DeviceDescription) {
@@ -489,7 +526,7 @@ fn value_attributes(sub: &SubObject) -> Vec<(&'static str, String)> {
     if let Some(high) = &sub.high {
         attrs.push(("highLimit", high.to_text(sub.data_type)));
     }
-    attrs.push(("accessType", sub.access.kind.as_str().to_string()));
+    attrs.push(("accessType", access_type_name(sub).to_string()));
     if let Some(d) = default_text(sub) {
         attrs.push(("defaultValue", d));
     }
@@ -513,7 +550,7 @@ fn write_object(w: &mut XmlWriter, o: &Object) {
         if let Some(sub) = o.subs.get(&0) {
             attrs.extend(value_attributes(sub));
         }
-    } else if !o.subs.is_empty() {
+    } else if !o.subs.is_empty() && o.subs.len() <= 255 {
         attrs.push(("subNumber", o.subs.len().to_string()));
     }
     if object_has_parameter(o) {
@@ -612,7 +649,7 @@ mod tests {
             )
             .with_sub(
                 1,
-                SubObject::new("In", DataType::Unsigned8, AccessType::Ro)
+                SubObject::new("In", DataType::Unsigned8, AccessType::Rwr)
                     .with_pdo(PdoMapping::Tpdo)
                     .with_limits(Some(Value::Uint(0)), Some(Value::Uint(9)))
                     .with_description("bits"),
@@ -660,6 +697,20 @@ mod tests {
         <productName>Box</productName>
         <productID>0x00000007</productID>
       </DeviceIdentity>
+      <DeviceFunction>
+        <capabilities>
+          <characteristicsList>
+            <characteristic>
+              <characteristicName>
+                <label lang="en">Product name</label>
+              </characteristicName>
+              <characteristicContent>
+                <label lang="en">Box</label>
+              </characteristicContent>
+            </characteristic>
+          </characteristicsList>
+        </capabilities>
+      </DeviceFunction>
       <ApplicationProcess>
         <dataTypeList>
           <array name="ARR" uniqueID="UID_DT_6000">
@@ -678,7 +729,7 @@ mod tests {
             <label lang="en">Inputs</label>
             <dataTypeIDRef uniqueIDRef="UID_DT_6000"/>
           </parameter>
-          <parameter uniqueID="UID_SUB_600001" access="read">
+          <parameter uniqueID="UID_SUB_600001" access="readWriteInput">
             <label lang="en">In</label>
             <description lang="en">bits</description>
             <USINT/>
@@ -707,7 +758,7 @@ mod tests {
           <CANopenObject index="2000" name="Name" objectType="7" dataType="0009" accessType="ro" defaultValue="a&lt;b" PDOmapping="no" uniqueIDRef="UID_OBJ_2000"/>
           <CANopenObject index="6000" name="Inputs" objectType="8" subNumber="2" uniqueIDRef="UID_OBJ_6000">
             <CANopenSubObject subIndex="00" name="Count" objectType="7" dataType="0005" accessType="ro" defaultValue="0x01" PDOmapping="no"/>
-            <CANopenSubObject subIndex="01" name="In" objectType="7" dataType="0005" lowLimit="0x00" highLimit="0x09" accessType="ro" PDOmapping="TPDO" uniqueIDRef="UID_SUB_600001"/>
+            <CANopenSubObject subIndex="01" name="In" objectType="7" dataType="0005" lowLimit="0x00" highLimit="0x09" accessType="rw" PDOmapping="TPDO" uniqueIDRef="UID_SUB_600001"/>
           </CANopenObject>
         </CANopenObjectList>
         <dummyUsage>
@@ -765,6 +816,17 @@ mod tests {
         back.file_info = d.file_info.clone();
         back.can = None;
         assert_eq!(back, d);
+    }
+
+    #[test]
+    fn commissioning_without_a_valid_node_id_is_left_out() {
+        let mut d = small();
+        if let Some(c) = &mut d.commissioning {
+            c.node_id = 0;
+        }
+        let text = write(&d);
+        assert!(!text.contains("deviceCommissioning"));
+        assert!(super::super::read(text.as_bytes(), "t.xdd").is_ok());
     }
 
     #[test]
