@@ -27,44 +27,47 @@ fn load_source(
 pub fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, Error> {
     let ids = IdentityFile::load(&root.join("identity.toml"))?;
     let mut files = Vec::new();
+    let mut emit =
+        |path: PathBuf, devs: &[DeviceDescription], write: fn(&[DeviceDescription]) -> String| {
+            let name = path
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or_default()
+                .to_string();
+            let mut devs = devs.to_vec();
+            for d in &mut devs {
+                crate::stamp_file_info(d, &name);
+            }
+            files.push((path, write(&devs)));
+        };
     let smd = load_source(root, "smd.esi.xml", &ids)?;
-    files.push((
+    emit(
         root.join("smd").join("SMD23K-B_SMD24K.esi.xml"),
-        od::esi::write_all(&smd),
-    ));
+        &smd,
+        od::esi::write_all,
+    );
     for dev in &smd {
         let name = crate::device_name(dev).to_string();
-        files.push((
-            root.join("smd").join(format!("{name}.eds")),
-            od::eds::write_eds(dev),
-        ));
-        files.push((
-            root.join("smd").join(format!("{name}.xdd")),
-            od::xdd::write(dev),
-        ));
-        files.push((
-            root.join("smd").join(format!("{name}.md")),
-            od::doc::write(dev),
-        ));
+        let one = std::slice::from_ref(dev);
+        emit(root.join("smd").join(format!("{name}.eds")), one, |d| {
+            od::eds::write_eds(&d[0])
+        });
+        emit(root.join("smd").join(format!("{name}.xdd")), one, |d| {
+            od::xdd::write(&d[0])
+        });
+        emit(root.join("smd").join(format!("{name}.md")), one, |d| {
+            od::doc::write(&d[0])
+        });
     }
     for dev in load_source(root, "x67sm2436.xdd", &ids)? {
-        let name = "X67SM2436";
-        files.push((
-            root.join("x67").join(format!("{name}.xdd")),
-            od::xdd::write(&dev),
-        ));
-        files.push((
-            root.join("x67").join(format!("{name}.eds")),
-            od::eds::write_eds(&dev),
-        ));
-        files.push((
-            root.join("x67").join(format!("{name}.esi.xml")),
-            od::esi::write(&dev),
-        ));
-        files.push((
-            root.join("x67").join(format!("{name}.md")),
-            od::doc::write(&dev),
-        ));
+        let one = std::slice::from_ref(&dev);
+        let dir = root.join("x67");
+        emit(dir.join("X67SM2436.xdd"), one, |d| od::xdd::write(&d[0]));
+        emit(dir.join("X67SM2436.eds"), one, |d| {
+            od::eds::write_eds(&d[0])
+        });
+        emit(dir.join("X67SM2436.esi.xml"), one, od::esi::write_all);
+        emit(dir.join("X67SM2436.md"), one, |d| od::doc::write(&d[0]));
     }
     Ok(files)
 }

@@ -290,6 +290,16 @@ fn convert(
         }
         dev.override_identity(c.device.vendor_id, c.device.product_code, c.device.revision);
     }
+    if let Some(name) = c
+        .output
+        .as_deref()
+        .and_then(|p| p.file_name())
+        .and_then(|n| n.to_str())
+    {
+        for dev in &mut devices {
+            stamp_file_info(dev, name);
+        }
+    }
     let text = writer(&devices);
     match &c.output {
         None => write_out(out, &text)?,
@@ -300,6 +310,15 @@ fn convert(
         })?,
     }
     Ok(0)
+}
+
+/// Fills the file information a written description gives about itself: its file name (always), and a
+/// description (the product name) where the source had none.
+pub fn stamp_file_info(dev: &mut DeviceDescription, file_name: &str) {
+    dev.file_info.file_name = file_name.to_string();
+    if dev.file_info.description.is_empty() {
+        dev.file_info.description = dev.identity.product_name.clone();
+    }
 }
 
 /// Loads `path` and keeps the device `wanted` names (all devices when `None`).
