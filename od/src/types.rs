@@ -382,17 +382,26 @@ impl DataType {
         Some((t, None))
     }
 
-    /// The XDD (CiA 311) parameter-list element name of this type (`UINT`, `BOOL`, `STRING`, …).
+    /// The XDD (CiA 311) parameter-list element name of this type: the ISO 15745 simple type (`UINT`,
+    /// `BOOL`, `STRING`, …), or `BITSTRING` for the types that have none (the 24-, 40-, 48- and 56-bit
+    /// integers, the time types, OCTET_STRING, DOMAIN, wider bit fields), as CANopenEditor writes them; the
+    /// object's `dataType` attribute then says which type it is.
     pub const fn xdd_name(self) -> &'static str {
         match self {
             DataType::Boolean | DataType::Bit(1) => "BOOL",
-            DataType::Bit(_) => "BITSTRING",
-            DataType::OctetString => "BITSTRING",
+            DataType::Integer8 => "SINT",
+            DataType::Integer16 => "INT",
+            DataType::Integer32 => "DINT",
+            DataType::Integer64 => "LINT",
+            DataType::Unsigned8 => "USINT",
+            DataType::Unsigned16 => "UINT",
+            DataType::Unsigned32 => "UDINT",
+            DataType::Unsigned64 => "ULINT",
+            DataType::Real32 => "REAL",
+            DataType::Real64 => "LREAL",
+            DataType::VisibleString => "STRING",
             DataType::UnicodeString => "WSTRING",
-            DataType::TimeOfDay => "TIME_OF_DAY",
-            DataType::TimeDifference => "TIME",
-            DataType::Domain => "DOMAIN",
-            _ => self.esi_base_name(),
+            _ => "BITSTRING",
         }
     }
 }
