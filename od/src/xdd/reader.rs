@@ -399,22 +399,15 @@ impl<'a, 's> Scan<'a, 's> {
                     if self.collecting() {
                         let c = match r.resolve_char_ref() {
                             Ok(Some(c)) => c,
-                            Ok(None) => match &*r {
-                                b"lt" => '<',
-                                b"gt" => '>',
-                                b"amp" => '&',
-                                b"apos" => '\'',
-                                b"quot" => '"',
-                                other => {
-                                    return Err(self.err(
-                                        before,
-                                        format!(
-                                            "unknown entity `&{};` (expected &lt; &gt; &amp; &apos; &quot; or a character reference)",
-                                            show(other)
-                                        ),
-                                    ))
-                                }
-                            },
+                            Ok(None) => xml::predefined_entity(&r).ok_or_else(|| {
+                                self.err(
+                                    before,
+                                    format!(
+                                        "unknown entity `&{};` (expected &lt; &gt; &amp; &apos; &quot; or a character reference)",
+                                        show(&r)
+                                    ),
+                                )
+                            })?,
                             Err(e) => {
                                 return Err(self.err(before, format!("bad character reference: {e}")))
                             }
