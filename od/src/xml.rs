@@ -123,6 +123,18 @@ pub fn parse_bool(text: &str) -> Option<bool> {
     }
 }
 
+/// The character that one of the five predefined entities stands for (`lt` for `&lt;`, …).
+pub(crate) fn predefined_entity(name: &[u8]) -> Option<char> {
+    match name {
+        b"lt" => Some('<'),
+        b"gt" => Some('>'),
+        b"amp" => Some('&'),
+        b"apos" => Some('\''),
+        b"quot" => Some('"'),
+        _ => None,
+    }
+}
+
 /// Escapes text for an XML attribute or element.
 pub fn escape(text: &str) -> Cow<'_, str> {
     if !text.contains(['&', '<', '>', '"', '\'', '\r', '\n', '\t']) {

@@ -2,6 +2,8 @@
 //! commissioning and parameter values through write and read, errors with their line and column, and
 //! random descriptions through write → read.
 
+mod support;
+
 use od::device::{CanInfo, Commissioning, FileInfo, Identity};
 use od::{
     eds, AccessType, DataType, DefaultValue, DeviceDescription, Object, ObjectKind, PdoMapping,
@@ -1032,6 +1034,7 @@ mod random {
     //! Random descriptions restricted to what an EDS or a DCF carries, through write → read.
 
     use super::*;
+    use od::types::STANDARD_TYPES;
     use proptest::prelude::*;
     use proptest::sample::subsequence;
 
@@ -1047,65 +1050,9 @@ mod random {
         "[A-Za-z0-9_µ][A-Za-z0-9 _%().µ-]{0,12}[A-Za-z0-9_)]"
     }
 
-    const TYPES: [DataType; 25] = [
-        DataType::Boolean,
-        DataType::Integer8,
-        DataType::Integer16,
-        DataType::Integer24,
-        DataType::Integer32,
-        DataType::Integer40,
-        DataType::Integer48,
-        DataType::Integer56,
-        DataType::Integer64,
-        DataType::Unsigned8,
-        DataType::Unsigned16,
-        DataType::Unsigned24,
-        DataType::Unsigned32,
-        DataType::Unsigned40,
-        DataType::Unsigned48,
-        DataType::Unsigned56,
-        DataType::Unsigned64,
-        DataType::Real32,
-        DataType::Real64,
-        DataType::VisibleString,
-        DataType::OctetString,
-        DataType::UnicodeString,
-        DataType::TimeOfDay,
-        DataType::TimeDifference,
-        DataType::Domain,
-    ];
-
+    /// A value of type `t` with INI text.
     fn value_of(t: DataType) -> BoxedStrategy<Value> {
-        match t {
-            DataType::Boolean => any::<bool>().prop_map(Value::Bool).boxed(),
-            DataType::Real32 => proptest::num::f32::NORMAL.prop_map(Value::Real32).boxed(),
-            DataType::Real64 => proptest::num::f64::NORMAL.prop_map(Value::Real64).boxed(),
-            DataType::VisibleString => text().prop_map(Value::String).boxed(),
-            DataType::UnicodeString => text()
-                .prop_map(|s| Value::Unicode(s.encode_utf16().collect()))
-                .boxed(),
-            DataType::OctetString | DataType::Domain => {
-                proptest::collection::vec(any::<u8>(), 0..8)
-                    .prop_map(Value::Bytes)
-                    .boxed()
-            }
-            DataType::TimeOfDay | DataType::TimeDifference => (0u32..=0x0FFF_FFFF, any::<u16>())
-                .prop_map(|(ms, days)| Value::Time(od::TimeValue { ms, days }))
-                .boxed(),
-            t => {
-                let (lo, hi) = t.integer_range().unwrap();
-                let signed = t.is_signed();
-                (lo..=hi)
-                    .prop_map(move |v| {
-                        if signed {
-                            Value::Int(v as i64)
-                        } else {
-                            Value::Uint(v as u64)
-                        }
-                    })
-                    .boxed()
-            }
-        }
+        support::random::value(t, text())
     }
 
     fn default_of(t: DataType) -> BoxedStrategy<Option<DefaultValue>> {
@@ -1131,23 +1078,12 @@ mod random {
         }
     }
 
-    fn access() -> impl Strategy<Value = AccessType> {
-        prop_oneof![
-            Just(AccessType::Ro),
-            Just(AccessType::Wo),
-            Just(AccessType::Rw),
-            Just(AccessType::Rwr),
-            Just(AccessType::Rww),
-            Just(AccessType::Const),
-        ]
-    }
-
     /// An entry as an EDS describes it; its current value is its default for node 0.
     fn sub_object(name: BoxedStrategy<String>) -> impl Strategy<Value = SubObject> {
         (
             name,
-            proptest::sample::select(TYPES.to_vec()),
-            access(),
+            proptest::sample::select(STANDARD_TYPES.to_vec()),
+            support::random::access(),
             any::<bool>(),
         )
             .prop_flat_map(|(name, t, access, mapped)| {
@@ -1248,26 +1184,10 @@ mod random {
             modification_date: t[8].clone(),
             modified_by: t[9].clone(),
         });
-        let can = (
+        let can = support::random::can_info(
             subsequence(vec![10u32, 20, 50, 125, 250, 500, 800, 1000], 0..=8),
-            any::<[bool; 4]>(),
-            any::<(u8, u8, u16, u16)>(),
-            subsequence(vec![1u16, 2, 3, 4, 5, 6, 7], 0..=7),
-        )
-            .prop_map(
-                |(baud_rates, flags, (granularity, dynamic, rx, tx), dummies)| CanInfo {
-                    baud_rates,
-                    simple_boot_up_master: flags[0],
-                    simple_boot_up_slave: flags[1],
-                    granularity,
-                    dynamic_channels: dynamic,
-                    group_messaging: flags[2],
-                    nr_of_rx_pdo: rx,
-                    nr_of_tx_pdo: tx,
-                    lss_supported: flags[3],
-                    dummy_usage: dummies,
-                },
-            );
+            any::<u8>(),
+        );
         let objects = proptest::collection::btree_set(any::<u16>(), 0..12)
             .prop_flat_map(|indices| indices.into_iter().map(object).collect::<Vec<_>>());
         (

@@ -2,21 +2,12 @@
 //! spaced lengths and with bytes changed: it must always answer, never panic. The valid files must read,
 //! the broken ones must be refused, and what reads must survive the writers.
 
-use std::path::PathBuf;
+mod support;
+
+use support::corpus::{changes, files, prefixes};
 
 fn corpus() -> Vec<(String, Vec<u8>)> {
-    let dir = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../fuzz/corpus/eds"));
-    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|entry| {
-            let path = entry.unwrap().path();
-            let name = path.file_name().unwrap().to_string_lossy().into_owned();
-            (name, std::fs::read(&path).unwrap())
-        })
-        .collect();
-    files.sort();
-    assert!(files.len() >= 10, "the saved corpus is there");
-    files
+    files("eds", 10)
 }
 
 /// What the fuzz target does: read, and when that works, write both ways and read again.
@@ -58,20 +49,17 @@ fn saved_files_read_or_are_refused_as_expected() {
 fn truncations_and_byte_changes_never_panic() {
     const REPLACEMENTS: [u8; 9] = [b'=', b'[', b']', b'\n', b'$', b'0', b';', 0xFF, 0xB5];
     for (_, bytes) in corpus() {
-        for step in 0..64 {
-            let len = bytes.len() * step / 63;
-            exercise(&bytes[..len]);
+        for prefix in prefixes(&bytes) {
+            exercise(prefix);
         }
         let stride = (bytes.len() / 40).max(1);
-        for at in (0..bytes.len()).step_by(stride) {
-            for replacement in REPLACEMENTS {
-                let mut changed = bytes.clone();
-                changed[at] = replacement;
-                exercise(&changed);
-            }
-            let mut flipped = bytes.clone();
-            flipped[at] ^= 0x20;
-            exercise(&flipped);
-        }
+        changes(
+            &bytes,
+            (0..bytes.len()).step_by(stride),
+            |b| REPLACEMENTS.into_iter().chain([b ^ 0x20]),
+            |changed| {
+                exercise(changed);
+            },
+        );
     }
 }

@@ -2,17 +2,12 @@
 //! spaced lengths and with bytes flipped: it must always return, never panic. What reads must also write
 //! and read again, as the fuzz target does.
 
-use std::path::PathBuf;
+mod support;
 
-fn corpus_files() -> Vec<PathBuf> {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../fuzz/corpus/esi");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{dir}: {e}"))
-        .map(|e| e.unwrap().path())
-        .collect();
-    files.sort();
-    assert!(files.len() >= 8, "the saved corpus is there");
-    files
+use support::corpus::{changes, files, prefixes};
+
+fn corpus() -> Vec<(String, Vec<u8>)> {
+    files("esi", 8)
 }
 
 /// What the fuzz target does.
@@ -34,9 +29,7 @@ fn exercise(data: &[u8]) -> bool {
 
 #[test]
 fn corpus_files_read_or_fail_as_named() {
-    for path in corpus_files() {
-        let name = path.file_name().unwrap().to_string_lossy().to_string();
-        let data = std::fs::read(&path).unwrap();
+    for (name, data) in corpus() {
         let broken =
             name.starts_with("broken_") || name.starts_with("empty") || name.starts_with("bom_bad");
         assert_eq!(exercise(&data), !broken, "{name}");
@@ -45,33 +38,21 @@ fn corpus_files_read_or_fail_as_named() {
 
 #[test]
 fn truncations_and_byte_flips_never_panic() {
-    for path in corpus_files() {
-        let data = std::fs::read(&path).unwrap();
-        let n = data.len();
-        for k in 0..64 {
-            let len = n * k / 63;
-            exercise(&data[..len.min(n)]);
+    for (_, data) in corpus() {
+        for prefix in prefixes(&data) {
+            exercise(prefix);
         }
+        let n = data.len();
         if n == 0 {
             continue;
         }
-        for k in 0..64 {
-            let at = (n - 1) * k / 63;
-            for replace in [
-                data[at] ^ 0x01,
-                data[at] ^ 0x80,
-                b'<',
-                b'>',
-                b'&',
-                b'"',
-                b'0',
-                b'#',
-                0,
-            ] {
-                let mut flipped = data.clone();
-                flipped[at] = replace;
-                exercise(&flipped);
-            }
-        }
+        changes(
+            &data,
+            (0..64).map(|k| (n - 1) * k / 63),
+            |b| [b ^ 0x01, b ^ 0x80, b'<', b'>', b'&', b'"', b'0', b'#', 0],
+            |flipped| {
+                exercise(flipped);
+            },
+        );
     }
 }

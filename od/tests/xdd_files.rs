@@ -30,6 +30,15 @@ fn node(v: u64) -> Option<DefaultValue> {
     })
 }
 
+/// How many sub-objects the arrays and records have.
+fn structured_subs(d: &DeviceDescription) -> usize {
+    d.dictionary
+        .objects()
+        .filter(|o| o.kind.has_subs())
+        .map(|o| o.subs.len())
+        .sum()
+}
+
 /// Writing a read description and reading it back gives the same description.
 fn assert_round_trip(d: &DeviceDescription, name: &str) {
     let text = od::xdd::write(d);
@@ -42,13 +51,7 @@ fn assert_round_trip(d: &DeviceDescription, name: &str) {
 fn canopendemo_demo_device() {
     let d = od::xdd::read(&corpus("canopendemo-demoDevice.xdd"), "demoDevice.xdd").unwrap();
     assert_eq!(d.dictionary.len(), 48);
-    let subs: usize = d
-        .dictionary
-        .objects()
-        .filter(|o| o.kind.has_subs())
-        .map(|o| o.subs.len())
-        .sum();
-    assert_eq!(subs, 270, "every CANopenSubObject");
+    assert_eq!(structured_subs(&d), 270, "every CANopenSubObject");
 
     assert_eq!(d.identity.vendor_name, "-");
     assert_eq!(d.identity.vendor_id, 0);
@@ -154,13 +157,7 @@ fn canopennode_ds301_profile_project_file() {
     )
     .unwrap();
     assert_eq!(d.dictionary.len(), 55);
-    let subs: usize = d
-        .dictionary
-        .objects()
-        .filter(|o| o.kind.has_subs())
-        .map(|o| o.subs.len())
-        .sum();
-    assert_eq!(subs, 221);
+    assert_eq!(structured_subs(&d), 221);
     assert_eq!(d.identity.product_name, "New Product");
     assert_eq!(d.identity.vendor_name, "");
     assert_eq!(d.identity.vendor_id, 0, "empty vendorID: 0x1018:01");

@@ -1,60 +1,25 @@
 //! XDD write → read gives back the description, for random descriptions restricted to what XDD carries
 //! (see the `od::xdd` module documentation for what it cannot carry).
 
+mod support;
+
 use od::device::{CanInfo, Commissioning, FileInfo, Identity};
 use od::object::{Access, AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
 use od::types::STANDARD_TYPES;
-use od::value::TimeValue;
 use od::{DataType, DeviceDescription, Dictionary, Value};
-use proptest::collection::{btree_map, btree_set, vec};
+use proptest::collection::btree_map;
 use proptest::option;
 use proptest::prelude::*;
-use proptest::sample::select;
+use proptest::sample::{select, subsequence};
 
 /// Text XML can carry: printable characters, tabs and line ends (written as references).
 fn text() -> impl Strategy<Value = String> {
     "[ -~äöüµ€°\t\n\r]{0,10}"
 }
 
+/// A value of type `t` with XML text.
 fn value(t: DataType) -> BoxedStrategy<Value> {
-    match t {
-        DataType::Boolean => any::<bool>().prop_map(Value::Bool).boxed(),
-        DataType::Real32 => prop_oneof![Just(0.0f32), proptest::num::f32::NORMAL]
-            .prop_map(Value::Real32)
-            .boxed(),
-        DataType::Real64 => prop_oneof![Just(0.0f64), proptest::num::f64::NORMAL]
-            .prop_map(Value::Real64)
-            .boxed(),
-        DataType::VisibleString => text().prop_map(Value::String).boxed(),
-        DataType::UnicodeString => text()
-            .prop_map(|s| Value::Unicode(s.encode_utf16().collect()))
-            .boxed(),
-        DataType::OctetString | DataType::Domain => {
-            vec(any::<u8>(), 0..6).prop_map(Value::Bytes).boxed()
-        }
-        DataType::TimeOfDay | DataType::TimeDifference => (0..=0x0FFF_FFFFu32, any::<u16>())
-            .prop_map(|(ms, days)| Value::Time(TimeValue { ms, days }))
-            .boxed(),
-        t => {
-            let (lo, hi) = t.integer_range().unwrap();
-            if t.is_signed() {
-                (lo as i64..=hi as i64).prop_map(Value::Int).boxed()
-            } else {
-                (0..=hi as u64).prop_map(Value::Uint).boxed()
-            }
-        }
-    }
-}
-
-fn access() -> impl Strategy<Value = AccessType> {
-    select(vec![
-        AccessType::Ro,
-        AccessType::Wo,
-        AccessType::Rw,
-        AccessType::Rwr,
-        AccessType::Rww,
-        AccessType::Const,
-    ])
+    support::random::value(t, text())
 }
 
 fn pdo() -> impl Strategy<Value = PdoMapping> {
@@ -69,7 +34,7 @@ fn pdo() -> impl Strategy<Value = PdoMapping> {
 /// One entry; `value` holds an explicitly set value or, until `settle`, nothing in particular.
 fn entry_of(t: DataType) -> impl Strategy<Value = SubObject> {
     (
-        (text(), access(), pdo(), option::of(text())),
+        (text(), support::random::access(), pdo(), option::of(text())),
         (option::of(value(t)), any::<bool>()),
         (option::of(value(t)), option::of(value(t))),
         (option::of(0u32..40), option::of(value(t))),
@@ -186,26 +151,7 @@ fn file_info() -> impl Strategy<Value = FileInfo> {
 const BAUDS: [u32; 9] = [10, 20, 50, 100, 125, 250, 500, 800, 1000];
 
 fn can_info() -> impl Strategy<Value = CanInfo> {
-    (
-        (btree_set(select(BAUDS.to_vec()), 0..9), any::<[bool; 5]>()),
-        (0u8..=64, any::<u8>(), any::<u16>(), any::<u16>()),
-        // The schema knows Dummy0001 to Dummy0007 only.
-        btree_set(1u16..=7, 0..7),
-    )
-        .prop_map(
-            |((bauds, flags), (granularity, dynamic, rx, tx), dummies)| CanInfo {
-                baud_rates: bauds.into_iter().collect(),
-                simple_boot_up_master: flags[0],
-                simple_boot_up_slave: flags[1],
-                granularity,
-                dynamic_channels: dynamic,
-                group_messaging: flags[2],
-                nr_of_rx_pdo: rx,
-                nr_of_tx_pdo: tx,
-                lss_supported: flags[3] && flags[4],
-                dummy_usage: dummies.into_iter().collect(),
-            },
-        )
+    support::random::can_info(subsequence(BAUDS.to_vec(), 0..=9), 0u8..=64)
 }
 
 fn commissioning() -> impl Strategy<Value = Commissioning> {

@@ -2,11 +2,19 @@
 //! each test names the rule of `shared/rules/smd.md` whose observable it checks.
 
 use integration_tests::{fixture, load_all};
-use od::device::DeviceDescription;
+use od::device::{DeviceDescription, Pdo};
 use od::{AccessType, DataType, PdoMapping, Value};
 
 fn devices() -> Vec<DeviceDescription> {
     load_all(&fixture("src/smd.esi.xml"))
+}
+
+/// A PDO's entries as (index, sub-index, bit length, name).
+fn entries(pdo: &Pdo) -> Vec<(u16, u8, u16, &str)> {
+    pdo.entries
+        .iter()
+        .map(|e| (e.index, e.sub, e.bit_len, e.name.as_str()))
+        .collect()
 }
 
 #[test]
@@ -93,13 +101,8 @@ fn smd_r6_001_output_process_data() {
         assert_eq!(ec.rx_pdos.len(), 1);
         let pdo = &ec.rx_pdos[0];
         assert_eq!((pdo.index, pdo.sm), (0x1600, Some(2)));
-        let got: Vec<(u16, u8, u16, &str)> = pdo
-            .entries
-            .iter()
-            .map(|e| (e.index, e.sub, e.bit_len, e.name.as_str()))
-            .collect();
         assert_eq!(
-            got,
+            entries(pdo),
             [
                 (0x7000, 1, 16, "CMD_word0"),
                 (0x7000, 2, 16, "CMD_word1"),
@@ -142,13 +145,8 @@ fn smd_r6_002_t2_001_input_process_data() {
         let ec = dev.ethercat.as_ref().unwrap();
         let pdo = &ec.tx_pdos[0];
         assert_eq!((pdo.index, pdo.sm), (0x1A00, Some(3)));
-        let got: Vec<(u16, u8, u16, &str)> = pdo
-            .entries
-            .iter()
-            .map(|e| (e.index, e.sub, e.bit_len, e.name.as_str()))
-            .collect();
         assert_eq!(
-            got,
+            entries(pdo),
             [
                 (0x6000, 1, 16, "STATUS_word0"),
                 (0x6000, 2, 16, "STATUS_word1"),

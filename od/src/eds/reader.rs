@@ -177,6 +177,13 @@ fn hex_u16(text: &str) -> Option<u16> {
     u16::from_str_radix(text, 16).ok()
 }
 
+/// `key` without `prefix`, which it starts with in any case.
+fn strip_prefix_ignore_case<'k>(key: &'k str, prefix: &str) -> Option<&'k str> {
+    key.get(..prefix.len())
+        .filter(|p| p.eq_ignore_ascii_case(prefix))
+        .and_then(|_| key.get(prefix.len()..))
+}
+
 fn classify(name: &str) -> Kind {
     if let (Some(head), Some(rest)) = (name.get(..4), name.get(4..)) {
         if let Some(index) = hex_u16(head).filter(|_| head.len() == 4) {
@@ -350,46 +357,55 @@ impl<'i, 'a> Builder<'i, 'a> {
                 continue;
             };
             if let Some(first) = slot {
-                return Err(self.ini.error(
-                    entry.key,
-                    format!(
-                        "{}= appears a second time in [{}] (first at line {})",
-                        entry.key,
-                        section.name,
-                        self.ini.position(first.key).line
-                    ),
-                ));
+                return Err(self.repeated_key(section, entry, first));
             }
             *slot = Some(entry);
         }
         Ok(found)
     }
 
-    /// The entries of `section` whose keys are decimal numbers, by number; a number given twice is an
-    /// error. Other keys are skipped.
-    fn numbered(&self, section: &Section<'a>) -> Result<BTreeMap<u32, &'i Entry<'a>>, ParseError> {
+    /// The entries of `section` whose keys are `prefix` (in any case) and a decimal number, by number; a
+    /// number given twice is an error. Other keys are skipped.
+    fn numbered(
+        &self,
+        section: &Section<'a>,
+        prefix: &str,
+    ) -> Result<BTreeMap<u32, &'i Entry<'a>>, ParseError> {
         let mut found = BTreeMap::new();
         let entries: &'i [Entry<'a>] = self.ini.entries(section);
         for entry in entries {
-            if !entry.key.bytes().all(|b| b.is_ascii_digit()) {
+            let Some(digits) = strip_prefix_ignore_case(entry.key, prefix) else {
+                continue;
+            };
+            if !digits.bytes().all(|b| b.is_ascii_digit()) {
                 continue;
             }
-            let Ok(n) = entry.key.parse::<u32>() else {
+            let Ok(n) = digits.parse::<u32>() else {
                 continue;
             };
             if let Some(first) = found.insert(n, entry) {
-                return Err(self.ini.error(
-                    entry.key,
-                    format!(
-                        "{}= appears a second time in [{}] (first at line {})",
-                        entry.key,
-                        section.name,
-                        self.ini.position(first.key).line
-                    ),
-                ));
+                return Err(self.repeated_key(section, entry, first));
             }
         }
         Ok(found)
+    }
+
+    /// The error for `entry`, whose key `first` already gave in `section`.
+    fn repeated_key(
+        &self,
+        section: &Section<'a>,
+        entry: &Entry<'a>,
+        first: &Entry<'a>,
+    ) -> ParseError {
+        self.ini.error(
+            entry.key,
+            format!(
+                "{}= appears a second time in [{}] (first at line {})",
+                entry.key,
+                section.name,
+                self.ini.position(first.key).line
+            ),
+        )
     }
 
     /// An error about the value of `entry`: what was expected and what was found.
@@ -636,13 +652,7 @@ impl<'i, 'a> Builder<'i, 'a> {
     fn dummy_usage(&self, section: &Section<'a>) -> Result<Vec<u16>, ParseError> {
         let mut usable = Vec::new();
         for entry in self.ini.entries(section) {
-            let Some(index) = entry
-                .key
-                .get(..5)
-                .filter(|p| p.eq_ignore_ascii_case("Dummy"))
-                .and_then(|_| entry.key.get(5..))
-                .and_then(hex_u16)
-            else {
+            let Some(index) = strip_prefix_ignore_case(entry.key, "Dummy").and_then(hex_u16) else {
                 continue;
             };
             if self.flag(section, Some(entry), false)? {
@@ -657,29 +667,7 @@ impl<'i, 'a> Builder<'i, 'a> {
     fn comments(&self, section: &Section<'a>) -> Result<Vec<String>, ParseError> {
         let [lines] = self.fields(section, ["Lines"])?;
         let count: u32 = self.number(section, lines, "a number of comment lines", 0)?;
-        let mut numbered = BTreeMap::new();
-        for entry in self.ini.entries(section) {
-            let n = entry
-                .key
-                .get(..4)
-                .filter(|p| p.eq_ignore_ascii_case("Line"))
-                .and_then(|_| entry.key.get(4..))
-                .filter(|digits| digits.bytes().all(|b| b.is_ascii_digit()))
-                .and_then(|digits| digits.parse::<u32>().ok());
-            if let Some(n) = n {
-                if let Some(first) = numbered.insert(n, entry) {
-                    return Err(self.ini.error(
-                        entry.key,
-                        format!(
-                            "{}= appears a second time in [{}] (first at line {})",
-                            entry.key,
-                            section.name,
-                            self.ini.position(first.key).line
-                        ),
-                    ));
-                }
-            }
-        }
+        let numbered = self.numbered(section, "Line")?;
         (1..=count)
             .map(|n| {
                 numbered
@@ -736,7 +724,7 @@ impl<'i, 'a> Builder<'i, 'a> {
     fn check_list(&self, section: &Section<'a>) -> Result<(), ParseError> {
         let [supported] = self.fields(section, ["SupportedObjects"])?;
         self.number::<u32>(section, supported, "a number of objects", 0)?;
-        for entry in self.numbered(section)?.values() {
+        for entry in self.numbered(section, "")?.values() {
             const INDEX: &str = "an object index like 0x1000";
             if entry.value.is_empty() {
                 return Err(self.bad(section, entry, INDEX));
@@ -806,11 +794,11 @@ impl<'i, 'a> Builder<'i, 'a> {
         }
         if compact > 0 {
             let names = match sections.names.and_then(|i| self.section(i)) {
-                Some(section) => Some((section, self.numbered(section)?)),
+                Some(section) => Some((section, self.numbered(section, "")?)),
                 None => None,
             };
             let values = match sections.values.and_then(|i| self.section(i)) {
-                Some(section) => Some((section, self.numbered(section)?)),
+                Some(section) => Some((section, self.numbered(section, "")?)),
                 None => None,
             };
             for section in [&names, &values].into_iter().flatten() {

@@ -356,14 +356,7 @@ impl<'a> Parser<'a> {
                 Event::GeneralRef(r) if self.collecting() => {
                     let c = match r.resolve_char_ref() {
                         Ok(Some(c)) => Some(c),
-                        Ok(None) => match r.as_ref() {
-                            b"lt" => Some('<'),
-                            b"gt" => Some('>'),
-                            b"amp" => Some('&'),
-                            b"apos" => Some('\''),
-                            b"quot" => Some('"'),
-                            _ => None,
-                        },
+                        Ok(None) => xml::predefined_entity(r.as_ref()),
                         Err(_) => None,
                     };
                     match c {

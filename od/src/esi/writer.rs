@@ -134,25 +134,20 @@ fn write_device(w: &mut XmlWriter, desc: &DeviceDescription, ecat: &EthercatInfo
             w.text("Name", &[], &m.name);
             w.text("Desc", &[], &m.desc);
             w.text("AssignActivate", &[], &hex16(m.assign_activate));
-            if let Some((t, f)) = m.cycle_time_sync0 {
-                w.text(
-                    "CycleTimeSync0",
-                    &[("Factor", &f.to_string())],
-                    &t.to_string(),
-                );
-            }
-            if let Some(t) = m.shift_time_sync0 {
-                w.text("ShiftTimeSync0", &[], &t.to_string());
-            }
-            if let Some((t, f)) = m.cycle_time_sync1 {
-                w.text(
-                    "CycleTimeSync1",
-                    &[("Factor", &f.to_string())],
-                    &t.to_string(),
-                );
-            }
-            if let Some(t) = m.shift_time_sync1 {
-                w.text("ShiftTimeSync1", &[], &t.to_string());
+            for (sync, cycle, shift) in [
+                (0, m.cycle_time_sync0, m.shift_time_sync0),
+                (1, m.cycle_time_sync1, m.shift_time_sync1),
+            ] {
+                if let Some((t, f)) = cycle {
+                    w.text(
+                        &format!("CycleTimeSync{sync}"),
+                        &[("Factor", &f.to_string())],
+                        &t.to_string(),
+                    );
+                }
+                if let Some(t) = shift {
+                    w.text(&format!("ShiftTimeSync{sync}"), &[], &t.to_string());
+                }
             }
             w.end();
         }

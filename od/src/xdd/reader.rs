@@ -399,22 +399,15 @@ impl<'a, 's> Scan<'a, 's> {
                     if self.collecting() {
                         let c = match r.resolve_char_ref() {
                             Ok(Some(c)) => c,
-                            Ok(None) => match &*r {
-                                b"lt" => '<',
-                                b"gt" => '>',
-                                b"amp" => '&',
-                                b"apos" => '\'',
-                                b"quot" => '"',
-                                other => {
-                                    return Err(self.err(
-                                        before,
-                                        format!(
-                                            "unknown entity `&{};` (expected &lt; &gt; &amp; &apos; &quot; or a character reference)",
-                                            show(other)
-                                        ),
-                                    ))
-                                }
-                            },
+                            Ok(None) => xml::predefined_entity(&r).ok_or_else(|| {
+                                self.err(
+                                    before,
+                                    format!(
+                                        "unknown entity `&{};` (expected &lt; &gt; &amp; &apos; &quot; or a character reference)",
+                                        show(&r)
+                                    ),
+                                )
+                            })?,
                             Err(e) => {
                                 return Err(self.err(before, format!("bad character reference: {e}")))
                             }
@@ -516,6 +509,32 @@ impl<'a, 's> Scan<'a, 's> {
         Ok(())
     }
 
+    /// The value of the attribute `name` of `e`, which must be there.
+    fn required_attr(
+        &mut self,
+        e: &BytesStart<'_>,
+        offset: usize,
+        name: &[u8],
+    ) -> Result<Attr<'a>, ParseError> {
+        let mut value = None;
+        self.attrs(e, offset, |_, key, v| {
+            if key == name {
+                value = Some(v);
+            }
+            Ok(())
+        })?;
+        value.ok_or_else(|| {
+            self.err(
+                offset,
+                format!(
+                    "expected a {} attribute in <{}>",
+                    show(name),
+                    show(local(e.name().as_ref()))
+                ),
+            )
+        })
+    }
+
     /// Handles a start tag in the current context and answers the context of its content.
     fn open(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<Ctx, ParseError> {
         let parent = self.stack.last().copied().unwrap_or(Ctx::Skip);
@@ -595,19 +614,7 @@ impl<'a, 's> Scan<'a, 's> {
             (Ctx::Parameter, child) => self.open_parameter_child(e, offset, child)?,
             (Ctx::AllowedValues, b"range") => Ctx::Range,
             (Ctx::Range, bound @ (b"minValue" | b"maxValue")) => {
-                let mut value = None;
-                self.attrs(e, offset, |_, key, v| {
-                    if key == b"value" {
-                        value = Some(v);
-                    }
-                    Ok(())
-                })?;
-                let value = value.ok_or_else(|| {
-                    self.err(
-                        offset,
-                        format!("expected a value attribute in <{}>", show(bound)),
-                    )
-                })?;
+                let value = self.required_attr(e, offset, b"value")?;
                 if let Some((_, p)) = &mut self.param {
                     let slot = if bound == b"minValue" {
                         &mut p.low
@@ -819,6 +826,36 @@ impl<'a, 's> Scan<'a, 's> {
             })
     }
 
+    /// A number of at most `digits` hexadecimal digits, with or without `0x` (`noun`, `like` and `what`
+    /// for the message).
+    fn hex<T: TryFrom<u16>>(
+        &self,
+        v: &Attr<'_>,
+        noun: &str,
+        digits: usize,
+        like: &str,
+        what: &str,
+    ) -> Result<T, ParseError> {
+        let t = v.text.trim();
+        let t = t
+            .strip_prefix("0x")
+            .or_else(|| t.strip_prefix("0X"))
+            .unwrap_or(t);
+        (!t.is_empty() && t.len() <= digits)
+            .then(|| u16::from_str_radix(t, 16).ok())
+            .flatten()
+            .and_then(|n| T::try_from(n).ok())
+            .ok_or_else(|| {
+                self.err(
+                    v.offset,
+                    format!(
+                        "expected {noun} of {digits} hex digits like {like} in {what}, found `{}`",
+                        v.text
+                    ),
+                )
+            })
+    }
+
     fn open_body(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<Ctx, ParseError> {
         let mut kind: Option<Cow<'a, str>> = None;
         let mut file = FileAttrs::default();
@@ -936,38 +973,14 @@ impl<'a, 's> Scan<'a, 's> {
                 }))
             }
             b"dataTypeIDRef" => {
-                let mut r = None;
-                self.attrs(e, offset, |_, key, v| {
-                    if key == b"uniqueIDRef" {
-                        r = Some(v);
-                    }
-                    Ok(())
-                })?;
-                let r = r.ok_or_else(|| {
-                    self.err(
-                        offset,
-                        "expected a uniqueIDRef attribute in <dataTypeIDRef>",
-                    )
-                })?;
+                let r = self.required_attr(e, offset, b"uniqueIDRef")?;
                 if let Some((_, p)) = &mut self.param {
                     p.ty = Some(TypeRef::Ref(r));
                 }
                 Ok(Ctx::Skip)
             }
             b"defaultValue" | b"actualValue" => {
-                let mut value = None;
-                self.attrs(e, offset, |_, key, v| {
-                    if key == b"value" {
-                        value = Some(v);
-                    }
-                    Ok(())
-                })?;
-                let value = value.ok_or_else(|| {
-                    self.err(
-                        offset,
-                        format!("expected a value attribute in <{}>", show(child)),
-                    )
-                })?;
+                let value = self.required_attr(e, offset, b"value")?;
                 if let Some((_, p)) = &mut self.param {
                     if child == b"defaultValue" {
                         p.default = Some(value);
@@ -1022,23 +1035,7 @@ impl<'a, 's> Scan<'a, 's> {
     ) -> Result<Option<Attr<'a>>, ParseError> {
         match key {
             b"dataType" => {
-                let t = v.text.trim();
-                let t = t
-                    .strip_prefix("0x")
-                    .or_else(|| t.strip_prefix("0X"))
-                    .unwrap_or(t);
-                let index = (!t.is_empty() && t.len() <= 4)
-                    .then(|| u16::from_str_radix(t, 16).ok())
-                    .flatten()
-                    .ok_or_else(|| {
-                        self.err(
-                            v.offset,
-                            format!(
-                                "expected a data type index of 4 hex digits like 0007 in dataType, found `{}`",
-                                v.text
-                            ),
-                        )
-                    })?;
+                let index = self.hex(&v, "a data type index", 4, "0007", "dataType")?;
                 attrs.data_type = Some((index, v.offset));
             }
             b"accessType" => {
@@ -1098,27 +1095,7 @@ impl<'a, 's> Scan<'a, 's> {
                 return Ok(());
             };
             match key {
-                b"index" => {
-                    let t = v.text.trim();
-                    let t = t
-                        .strip_prefix("0x")
-                        .or_else(|| t.strip_prefix("0X"))
-                        .unwrap_or(t);
-                    index = Some(
-                        (!t.is_empty() && t.len() <= 4)
-                            .then(|| u16::from_str_radix(t, 16).ok())
-                            .flatten()
-                            .ok_or_else(|| {
-                                s.err(
-                                    v.offset,
-                                    format!(
-                                        "expected an index of 4 hex digits like 1A00 in index, found `{}`",
-                                        v.text
-                                    ),
-                                )
-                            })?,
-                    );
-                }
+                b"index" => index = Some(s.hex(&v, "an index", 4, "1A00", "index")?),
                 b"name" => name = v.text,
                 b"objectType" => kind = Some(s.object_kind(&v)?),
                 _ => {}
@@ -1153,27 +1130,7 @@ impl<'a, 's> Scan<'a, 's> {
                 return Ok(());
             };
             match key {
-                b"subIndex" => {
-                    let t = v.text.trim();
-                    let t = t
-                        .strip_prefix("0x")
-                        .or_else(|| t.strip_prefix("0X"))
-                        .unwrap_or(t);
-                    sub = Some(
-                        (!t.is_empty() && t.len() <= 2)
-                            .then(|| u8::from_str_radix(t, 16).ok())
-                            .flatten()
-                            .ok_or_else(|| {
-                                s.err(
-                                    v.offset,
-                                    format!(
-                                        "expected a sub-index of 2 hex digits like 01 in subIndex, found `{}`",
-                                        v.text
-                                    ),
-                                )
-                            })?,
-                    );
-                }
+                b"subIndex" => sub = Some(s.hex(&v, "a sub-index", 2, "01", "subIndex")?),
                 b"name" => name = v.text,
                 b"objectType" => {
                     s.object_kind(&v)?;
