@@ -29,7 +29,7 @@ fn unexplained(
         .collect()
 }
 
-fn changed<'a>(d: &'a Difference) -> Option<(u16, &'static str, &'a str, &'a str)> {
+fn changed(d: &Difference) -> Option<(u16, &'static str, &str, &str)> {
     match d {
         Difference::Changed {
             index, field, a, b, ..
@@ -62,10 +62,12 @@ fn eds_loses_string_capacities_and_spells_outputs_rww() {
     for dev in &smd {
         let name = &dev.identity.order_code;
         let back = load_all(&fixture(&format!("smd/{name}.eds"))).remove(0);
-        let left = unexplained(dev, &back, |d| match changed(d) {
-            Some((0x1008..=0x100A, "size", _, "unbounded")) => true,
-            Some((0x7000, "access", "ro", "rww")) => true,
-            _ => false,
+        let left = unexplained(dev, &back, |d| {
+            matches!(
+                changed(d),
+                Some((0x1008..=0x100A, "size", _, "unbounded"))
+                    | Some((0x7000, "access", "ro", "rww"))
+            )
         });
         assert_eq!(left, Vec::<String>::new(), "{name}");
         assert_eq!(
