@@ -1316,3 +1316,27 @@ fn pdo_direction_travels_in_the_access_type() {
         PdoMapping::Tpdo
     );
 }
+
+/// A `$NODEID` default must fit for every node-ID: found by the round-trip fuzz target, where an EDS read
+/// with node-ID 0 wrote a DCF for node 1 that did not read back.
+#[test]
+fn node_id_defaults_must_fit_for_node_127() {
+    let text =
+        "[1000]\nParameterName=x\nDataType=7\nAccessType=ro\nDefaultValue=$NODEID+0xFFFFFFFF\n";
+    let err = eds::read(text.as_bytes(), "n.eds").unwrap_err();
+    assert_eq!((err.position.line, err.position.column), (5, 14));
+    assert!(
+        err.message
+            .contains("with node-ID 127 the value does not fit"),
+        "{}",
+        err.message
+    );
+    let ok =
+        "[1000]\nParameterName=x\nDataType=7\nAccessType=ro\nDefaultValue=$NODEID+0xFFFFFF80\n";
+    let dev = eds::read(ok.as_bytes(), "n.eds").unwrap();
+    let dcf = eds::read(eds::write_dcf(&dev).as_bytes(), "n.dcf").unwrap();
+    assert_eq!(
+        dcf.dictionary.read_value(0x1000, 0).unwrap(),
+        Value::Uint(0xFFFF_FF81)
+    );
+}

@@ -884,6 +884,20 @@ impl<'i, 'a> Builder<'i, 'a> {
             }
         }
         if let Some(default) = &sub.default {
+            // A `$NODEID` default must fit for every node-ID, or a DCF written from this file for node 127
+            // could not be read.
+            if default.plus_node_id && node_id.is_none() {
+                default.resolve(127).encode(data_type).map_err(|err| {
+                    let at = fields[OBJ_DEFAULT].map_or(section.name, |e| e.value);
+                    self.ini.error(
+                        at,
+                        format!(
+                            "DefaultValue= in [{}]: with node-ID 127 the value does not fit: {err}",
+                            section.name
+                        ),
+                    )
+                })?;
+            }
             let resolved = default.resolve(node_id.unwrap_or(0));
             sub.value = resolved.encode(data_type).map_err(|err| {
                 let at = fields[OBJ_DEFAULT].map_or(section.name, |e| e.value);

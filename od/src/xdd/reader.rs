@@ -1570,10 +1570,17 @@ impl<'a, 's> Scan<'a, 's> {
                 };
                 let value = value.ok().filter(|_| t.is_signed() || t.is_unsigned());
                 return match value {
-                    Some(value) => Ok(Some(DefaultValue {
-                        value,
-                        plus_node_id: true,
-                    })),
+                    // The default must fit for every node-ID, up to 127.
+                    Some(value) => match (DefaultValue { value, plus_node_id: true }) {
+                        d if d.resolve(127).encode(t).is_ok() => Ok(Some(d)),
+                        _ => Err(self.err(
+                            v.offset,
+                            format!(
+                                "defaultValue of {at} ({t}): `{}` does not fit with node-ID 127",
+                                v.text
+                            ),
+                        )),
+                    },
                     None => Err(self.err(
                         v.offset,
                         format!(
@@ -1620,6 +1627,16 @@ mod tests {
 
     fn err_of(text: &str) -> ParseError {
         read(text.as_bytes(), "t.xdd").unwrap_err()
+    }
+
+    #[test]
+    fn node_id_defaults_must_fit_for_node_127() {
+        let text = wrap(
+            r#"<CANopenObject index="1014" name="COB-ID EMCY" objectType="7" dataType="0007" accessType="rw" defaultValue="$NODEID+0xFFFFFFFF" PDOmapping="no"/>"#,
+            "",
+        );
+        let e = err_of(&text);
+        assert!(e.message.contains("does not fit with node-ID 127"), "{e}");
     }
 
     #[test]
