@@ -18,6 +18,7 @@ pub mod error;
 pub mod esi;
 pub mod load;
 pub mod object;
+pub mod sdo;
 pub mod types;
 pub mod validate;
 pub mod value;
