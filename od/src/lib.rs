@@ -9,6 +9,7 @@
 #![deny(missing_docs)]
 
 pub mod abort;
+pub mod coe;
 pub mod device;
 pub mod dict;
 pub mod diff;
