@@ -5,6 +5,7 @@
 //!
 //! Each wire type has a typed representation with `parse` (which names what is wrong) and `emit`.
 
+pub mod complete;
 pub mod mailbox;
 pub mod sdo;
 
