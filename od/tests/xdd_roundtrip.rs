@@ -49,9 +49,19 @@ fn entry_of(t: DataType) -> impl Strategy<Value = SubObject> {
                 let mut s = SubObject::new(name, t, Access::new(access));
                 s.pdo = pdo;
                 s.description = description;
-                s.default = default.map(|value| DefaultValue {
-                    plus_node_id: plus && t.is_unsigned() && t != DataType::Boolean,
-                    value,
+                s.default = default.map(|value| {
+                    // A $NODEID default must fit for every node-ID up to 127, as the reader demands.
+                    let fits = DefaultValue {
+                        value: value.clone(),
+                        plus_node_id: true,
+                    }
+                    .resolve(127)
+                    .encode(t)
+                    .is_ok();
+                    DefaultValue {
+                        plus_node_id: plus && t.is_unsigned() && t != DataType::Boolean && fits,
+                        value,
+                    }
                 });
                 s.low = low;
                 s.high = high;

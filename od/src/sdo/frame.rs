@@ -103,8 +103,16 @@ pub struct ExpeditedData {
 }
 
 impl ExpeditedData {
-    /// Up to four bytes of `data`, size indicated.
+    /// One to four bytes of `data`, size indicated. An empty value cannot travel expedited (`n` has two
+    /// bits): send it segmented; an empty `data` here is sent as four zero bytes without size.
     pub fn new(data: &[u8]) -> ExpeditedData {
+        if data.is_empty() {
+            return ExpeditedData {
+                bytes: [0; 4],
+                len: 4,
+                size_known: false,
+            };
+        }
         let len = data.len().min(4);
         let mut bytes = [0u8; 4];
         bytes[..len].copy_from_slice(&data[..len]);
