@@ -2,8 +2,15 @@
 //!
 //! - [`frame`]: the wire formats ([`ClientFrame`], [`ServerFrame`], [`BlockSegment`]) and the block
 //!   transfer CRC.
+//! - [`client`]: the SDO client ([`SdoClient`]): expedited, segmented and block transfers with
+//!   fall-back, timeouts and bounded memory.
+pub mod client;
 pub mod frame;
 
+pub use client::{
+    ClientConfig, ClientEvent, DownloadData, DownloadSource, ReadSource, SdoClient, SdoClientError,
+    UploadSink, WriteSink,
+};
 pub use frame::{
     BlockSegment, ClientFrame, Crc16, ExpeditedData, Frame, Multiplexer, SegmentData, ServerFrame,
 };
