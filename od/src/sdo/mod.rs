@@ -4,8 +4,11 @@
 //!   transfer CRC.
 //! - [`client`]: the SDO client ([`SdoClient`]): expedited, segmented and block transfers with
 //!   fall-back, timeouts and bounded memory.
+//! - [`session`]: typed, blocking reads and writes ([`SdoSession`]) on top of the client and a small
+//!   [`SdoTransport`] trait.
 pub mod client;
 pub mod frame;
+pub mod session;
 
 pub use client::{
     ClientConfig, ClientEvent, DownloadData, DownloadSource, ReadSource, SdoClient, SdoClientError,
@@ -14,3 +17,4 @@ pub use client::{
 pub use frame::{
     BlockSegment, ClientFrame, Crc16, ExpeditedData, Frame, Multiplexer, SegmentData, ServerFrame,
 };
+pub use session::{SdoSession, SdoTransport, SessionError};

@@ -7,7 +7,7 @@
 //! - Data: a download takes [`DownloadData`] (bytes or a [`DownloadSource`]); an upload goes into
 //!   memory (bounded by [`ClientConfig::upload_limit`]) or into an [`UploadSink`].
 //!
-//! The blocking, typed convenience on top is `crate::sdo::session`.
+//! The blocking, typed convenience on top is [`crate::sdo::session`].
 
 mod block;
 mod data;
