@@ -171,9 +171,13 @@ impl Out<'_> {
 
 /// The state of the running transfer.
 enum State {
+    /// Expedited or segmented download (CiA 301 §7.2.4.3.3–5).
     Download(Download),
+    /// Block download (CiA 301 §7.2.4.3.9–12).
     BlockDownload(BlockDownload),
+    /// Expedited or segmented upload (CiA 301 §7.2.4.3.6–8), also after a protocol switch.
     Upload(Upload),
+    /// Block upload (CiA 301 §7.2.4.3.13–16).
     BlockUpload(BlockUpload),
 }
 

@@ -147,3 +147,27 @@ fn the_response_timer_follows_the_config() {
     assert_eq!(client.poll_transmit(), None);
     assert!(!client.is_busy());
 }
+
+#[test]
+fn errors_name_the_entry_the_side_and_the_code() {
+    let e = SdoClientError::Aborted {
+        index: 0x1017,
+        sub: 0,
+        code: AbortCode::ReadOnly,
+        by_server: true,
+    };
+    assert_eq!(
+        e.to_string(),
+        "SDO transfer of 0x1017:00 aborted by the server: 0x06010002 (Attempt to write a read only object)"
+    );
+    let e = SdoClientError::Aborted {
+        index: 0x2000,
+        sub: 1,
+        code: AbortCode::Timeout,
+        by_server: false,
+    };
+    assert_eq!(
+        e.to_string(),
+        "SDO transfer of 0x2000:01 aborted by the client: 0x05040000 (SDO protocol timed out)"
+    );
+}
