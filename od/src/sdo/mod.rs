@@ -5,12 +5,23 @@
 //! - [`store`]: what a server reads and writes ([`ObjectStore`], implemented for the
 //!   [`Dictionary`](crate::Dictionary)).
 //! - [`server`]: the SDO server ([`SdoServer`]).
+//! - [`client`]: the SDO client ([`SdoClient`]): expedited, segmented and block transfers with
+//!   fall-back, timeouts and bounded memory.
+//! - [`session`]: typed, blocking reads and writes ([`SdoSession`]) on top of the client and a small
+//!   [`SdoTransport`] trait.
+pub mod client;
 pub mod frame;
 pub mod server;
+pub mod session;
 pub mod store;
 
+pub use client::{
+    ClientConfig, ClientEvent, DownloadData, DownloadSource, ReadSource, SdoClient, SdoClientError,
+    UploadSink, WriteSink,
+};
 pub use frame::{
     BlockSegment, ClientFrame, Crc16, ExpeditedData, Frame, Multiplexer, SegmentData, ServerFrame,
 };
 pub use server::{SdoServer, ServerConfig, ServerEvent};
+pub use session::{SdoSession, SdoTransport, SessionError};
 pub use store::{DownloadCapacity, ObjectStore};

@@ -1,0 +1,1304 @@
+//! The SDO client against scripted server frames: every frame the client sends is asserted byte for byte
+//! against sequences written from the layouts of CiA 301 §7.2.4.3 (command byte, multiplexer, data),
+//! and every server frame is written the same way.
+//!
+//! Command bytes used below (ccs/scs in bits 7–5):
+//! - client: `2B`/`23`/`2F` expedited download of 2/4/1 bytes, `21` segmented download with size,
+//!   `00`/`10` + n·2 + c download segment, `40` initiate upload, `60`/`70` upload segment request,
+//!   `C6` initiate block download (CRC, size), `C1` + n·4 end block download, `A4` initiate block
+//!   upload (CRC), `A3` start block upload, `A2` block upload ack, `A1` end block upload response,
+//!   `80` abort.
+//! - server: `60` initiate download response, `20`/`30` download segment response, `43`/`4B`
+//!   expedited upload of 4/2 bytes, `41` segmented upload with size, `A4`/`A0` initiate block download
+//!   response with/without CRC, `A2` block download ack, `A1` end block download response, `C6`/`C2`
+//!   initiate block upload response with/without CRC, `C1` + n·4 end block upload.
+
+use std::io;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use od::sdo::client::ReadSource;
+use od::sdo::{
+    ClientConfig, ClientEvent, Crc16, DownloadData, DownloadSource, Frame, Multiplexer, SdoClient,
+    SdoClientError, UploadSink,
+};
+use od::AbortCode;
+
+/// Eight bytes from hexadecimal text (`"2B 17 10 00 E8 03 00 00"`).
+fn frame(hex: &str) -> Frame {
+    let bytes: Vec<u8> = hex
+        .split_whitespace()
+        .map(|b| u8::from_str_radix(b, 16).unwrap())
+        .collect();
+    bytes.try_into().expect("eight bytes")
+}
+
+fn hex(f: &Frame) -> String {
+    f.iter()
+        .map(|b| format!("{b:02X}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A segment frame: byte 0, then `data` padded with zeros to seven bytes.
+fn seg(byte0: u8, data: &[u8]) -> String {
+    let mut f = [0u8; 8];
+    f[0] = byte0;
+    f[1..1 + data.len()].copy_from_slice(data);
+    hex(&f)
+}
+
+/// A client on a simulated clock.
+struct Bench {
+    client: SdoClient,
+    t0: Instant,
+    now: Instant,
+}
+
+impl Bench {
+    fn new(config: ClientConfig) -> Bench {
+        let t0 = Instant::now();
+        Bench {
+            client: SdoClient::new(config),
+            t0,
+            now: t0,
+        }
+    }
+
+    fn segmented() -> Bench {
+        Bench::new(ClientConfig {
+            block: false,
+            ..ClientConfig::default()
+        })
+    }
+
+    /// Everything the client queued, as hexadecimal text.
+    fn sent(&mut self) -> Vec<String> {
+        std::iter::from_fn(|| self.client.poll_transmit())
+            .map(|f| hex(&f))
+            .collect()
+    }
+
+    /// The server sends `hex`.
+    fn server(&mut self, hex: &str) {
+        self.client.handle_frame(self.now, &frame(hex));
+    }
+
+    fn events(&mut self) -> Vec<ClientEvent> {
+        std::iter::from_fn(|| self.client.poll_event()).collect()
+    }
+
+    /// The final event, after any progress reports; asserts there is exactly one.
+    fn outcome(&mut self) -> ClientEvent {
+        let mut ends: Vec<ClientEvent> = self
+            .events()
+            .into_iter()
+            .filter(|e| !matches!(e, ClientEvent::Progress { .. }))
+            .collect();
+        assert_eq!(ends.len(), 1, "{ends:?}");
+        assert!(!self.client.is_busy());
+        assert_eq!(self.client.poll_timeout(), None);
+        ends.remove(0)
+    }
+
+    fn advance(&mut self, ms: u64) {
+        self.now += Duration::from_millis(ms);
+        self.client.handle_timeout(self.now);
+    }
+}
+
+fn expect(sent: Vec<String>, golden: &[&str]) {
+    let golden: Vec<String> = golden.iter().map(|s| hex(&frame(s))).collect();
+    assert_eq!(sent, golden);
+}
+
+fn assert_downloaded(e: ClientEvent) {
+    assert!(matches!(e, ClientEvent::Downloaded), "{e:?}");
+}
+
+fn assert_uploaded(e: ClientEvent, data: &[u8]) {
+    match e {
+        ClientEvent::Uploaded(got) => assert_eq!(got, data),
+        other => panic!("{other:?}"),
+    }
+}
+
+fn assert_aborted(e: ClientEvent, mux: Multiplexer, code: AbortCode, by_server: bool) {
+    match e {
+        ClientEvent::Failed(SdoClientError::Aborted {
+            index,
+            sub,
+            code: c,
+            by_server: b,
+        }) => {
+            assert_eq!((index, sub, c, b), (mux.index, mux.sub, code, by_server));
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+fn progress(events: &[ClientEvent]) -> Vec<(u64, Option<u64>)> {
+    events
+        .iter()
+        .filter_map(|e| match *e {
+            ClientEvent::Progress { done, total } => Some((done, total)),
+            _ => None,
+        })
+        .collect()
+}
+
+const HEARTBEAT: Multiplexer = Multiplexer::new(0x1017, 0);
+const DOMAIN: Multiplexer = Multiplexer::new(0x2000, 1);
+
+/// 20 bytes: two full segments and one of six bytes (20 = 2·7 + 6).
+fn twenty() -> Vec<u8> {
+    (1..=20).collect()
+}
+
+fn crc_bytes(data: &[u8]) -> (u8, u8) {
+    let [lo, hi] = Crc16::of(data).to_le_bytes();
+    (lo, hi)
+}
+
+// ---- Expedited -------------------------------------------------------------------------------
+
+#[test]
+fn expedited_download_of_a_u16() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, HEARTBEAT, 1000u16.to_le_bytes())
+        .unwrap();
+    // ccs 1, n 2, e 1, s 1; 0x03E8 little-endian.
+    expect(b.sent(), &["2B 17 10 00 E8 03 00 00"]);
+    b.server("60 17 10 00 00 00 00 00");
+    assert_eq!(b.sent(), Vec::<String>::new());
+    assert_downloaded(b.outcome());
+}
+
+#[test]
+fn expedited_download_of_one_three_and_four_bytes() {
+    for (data, golden) in [
+        (vec![0x05], "2F 00 20 01 05 00 00 00"),
+        (vec![1, 2, 3], "27 00 20 01 01 02 03 00"),
+        (vec![1, 2, 3, 4], "23 00 20 01 01 02 03 04"),
+    ] {
+        // Block transfer on and a threshold of 0: what fits an expedited frame stays expedited.
+        let mut b = Bench::new(ClientConfig {
+            block_threshold: 0,
+            ..ClientConfig::default()
+        });
+        b.client.start_download(b.now, DOMAIN, data).unwrap();
+        expect(b.sent(), &[golden]);
+        b.server("60 00 20 01 00 00 00 00");
+        assert_downloaded(b.outcome());
+    }
+}
+
+#[test]
+fn expedited_upload() {
+    let mux = Multiplexer::new(0x1018, 1);
+    let mut b = Bench::segmented();
+    b.client.start_upload(b.now, mux).unwrap();
+    expect(b.sent(), &["40 18 10 01 00 00 00 00"]);
+    // scs 2, n 0, e 1, s 1: four bytes.
+    b.server("43 18 10 01 78 56 34 12");
+    assert!(b.sent().is_empty());
+    assert_uploaded(b.outcome(), &[0x78, 0x56, 0x34, 0x12]);
+}
+
+#[test]
+fn expedited_upload_without_size_takes_four_bytes() {
+    let mut b = Bench::segmented();
+    b.client.start_upload(b.now, HEARTBEAT).unwrap();
+    b.sent();
+    // e 1, s 0: the size is not indicated.
+    b.server("42 17 10 00 E8 03 00 00");
+    assert_uploaded(b.outcome(), &[0xE8, 0x03, 0, 0]);
+}
+
+#[test]
+fn fixed_size_uploads_skip_block_mode() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_upload_expecting(b.now, HEARTBEAT, 2)
+        .unwrap();
+    expect(b.sent(), &["40 17 10 00 00 00 00 00"]);
+    // ccs 2, n 2, e 1, s 1.
+    b.server("4B 17 10 00 E8 03 00 00");
+    assert_uploaded(b.outcome(), &[0xE8, 0x03]);
+
+    b.client
+        .start_upload_expecting(b.now, HEARTBEAT, 8)
+        .unwrap();
+    expect(b.sent(), &["A4 17 10 00 7F 00 00 00"]);
+}
+
+// ---- Segmented -------------------------------------------------------------------------------
+
+#[test]
+fn segmented_download() {
+    let mux = Multiplexer::new(0x1008, 0);
+    let mut b = Bench::segmented();
+    b.client.start_download(b.now, mux, *b"ABCDEFGHIJ").unwrap();
+    // ccs 1, e 0, s 1; size 10.
+    expect(b.sent(), &["21 08 10 00 0A 00 00 00"]);
+    b.server("60 08 10 00 00 00 00 00");
+    // Toggle 0, n 0, c 0: seven bytes.
+    expect(b.sent(), &["00 41 42 43 44 45 46 47"]);
+    b.server("20 00 00 00 00 00 00 00");
+    // Toggle 1, n 4, c 1: 0x10 | 4 << 1 | 1.
+    expect(b.sent(), &["19 48 49 4A 00 00 00 00"]);
+    b.server("30 00 00 00 00 00 00 00");
+    assert!(b.sent().is_empty());
+    let events = b.events();
+    assert_eq!(progress(&events), [(10, Some(10))], "merged reports");
+    assert!(matches!(events.last(), Some(ClientEvent::Downloaded)));
+    assert!(!b.client.is_busy());
+}
+
+#[test]
+fn segmented_download_reports_each_confirmed_segment() {
+    let mut b = Bench::segmented();
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    b.server("60 00 20 01 00 00 00 00");
+    b.sent();
+    let mut seen = Vec::new();
+    for response in ["20", "30", "20"] {
+        b.server(&format!("{response} 00 00 00 00 00 00 00"));
+        b.sent();
+        seen.extend(progress(&b.events()));
+    }
+    assert_eq!(
+        seen,
+        [(7, Some(20)), (14, Some(20)), (20, Some(20))],
+        "one report per response"
+    );
+    assert!(!b.client.is_busy());
+}
+
+#[test]
+fn empty_download_is_one_empty_last_segment() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_download(b.now, DOMAIN, Vec::new()).unwrap();
+    expect(b.sent(), &["21 00 20 01 00 00 00 00"]);
+    b.server("60 00 20 01 00 00 00 00");
+    // Toggle 0, n 7, c 1.
+    expect(b.sent(), &["0F 00 00 00 00 00 00 00"]);
+    b.server("20 00 00 00 00 00 00 00");
+    assert_downloaded(b.outcome());
+}
+
+#[test]
+fn segmented_upload() {
+    let mux = Multiplexer::new(0x1008, 0);
+    let mut b = Bench::segmented();
+    b.client.start_upload(b.now, mux).unwrap();
+    expect(b.sent(), &["40 08 10 00 00 00 00 00"]);
+    // scs 2, e 0, s 1: size 10.
+    b.server("41 08 10 00 0A 00 00 00");
+    expect(b.sent(), &["60 00 00 00 00 00 00 00"]);
+    b.server("00 41 42 43 44 45 46 47");
+    expect(b.sent(), &["70 00 00 00 00 00 00 00"]);
+    // Toggle 1, n 4, c 1.
+    b.server("19 48 49 4A 00 00 00 00");
+    assert!(b.sent().is_empty());
+    assert_uploaded(b.outcome(), b"ABCDEFGHIJ");
+}
+
+#[test]
+fn segmented_upload_toggle_error_is_aborted_on_the_wire() {
+    let mux = Multiplexer::new(0x1008, 0);
+    let mut b = Bench::segmented();
+    b.client.start_upload(b.now, mux).unwrap();
+    b.sent();
+    b.server("41 08 10 00 0A 00 00 00");
+    expect(b.sent(), &["60 00 00 00 00 00 00 00"]);
+    // The first segment must carry toggle 0; this one carries 1.
+    b.server("10 41 42 43 44 45 46 47");
+    expect(b.sent(), &["80 08 10 00 00 00 03 05"]);
+    assert_aborted(b.outcome(), mux, AbortCode::ToggleBit, false);
+}
+
+#[test]
+fn segmented_download_toggle_error_is_aborted_on_the_wire() {
+    let mut b = Bench::segmented();
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    b.server("60 00 20 01 00 00 00 00");
+    b.sent();
+    // The response to the toggle-0 segment echoes toggle 1.
+    b.server("30 00 00 00 00 00 00 00");
+    expect(b.sent(), &["80 00 20 01 00 00 03 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::ToggleBit, false);
+}
+
+#[test]
+fn segmented_upload_longer_or_shorter_than_announced() {
+    // Announced 3 bytes, sent 7: 0x06070012 (length too high).
+    let mut b = Bench::segmented();
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("41 00 20 01 03 00 00 00");
+    b.sent();
+    b.server("00 01 02 03 04 05 06 07");
+    expect(b.sent(), &["80 00 20 01 12 00 07 06"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::LengthTooHigh, false);
+
+    // Announced 10 bytes, the last segment after 7: 0x06070013 (length too low).
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("41 00 20 01 0A 00 00 00");
+    b.sent();
+    b.server("01 01 02 03 04 05 06 07");
+    expect(b.sent(), &["80 00 20 01 13 00 07 06"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::LengthTooLow, false);
+}
+
+// ---- Block download --------------------------------------------------------------------------
+
+#[test]
+fn block_download_of_20_bytes_with_crc() {
+    let data = twenty();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, DOMAIN, data.clone())
+        .unwrap();
+    // ccs 6, cc 1, s 1, cs 0; size 20.
+    expect(b.sent(), &["C6 00 20 01 14 00 00 00"]);
+    // scs 5, sc 1, ss 0; blksize 127.
+    b.server("A4 00 20 01 7F 00 00 00");
+    assert_eq!(
+        b.sent(),
+        [
+            seg(0x01, &data[0..7]),
+            seg(0x02, &data[7..14]),
+            seg(0x83, &data[14..20]),
+        ]
+    );
+    b.server("A2 03 7F 00 00 00 00 00");
+    // ccs 6, n 1 (the last segment holds 6 bytes), cs 1: 0xC0 | 1 << 2 | 1; CRC little-endian.
+    assert_eq!(b.sent(), [hex(&[0xC5, lo, hi, 0, 0, 0, 0, 0])]);
+    b.server("A1 00 00 00 00 00 00 00");
+    let events = b.events();
+    assert_eq!(progress(&events), [(20, Some(20))]);
+    assert!(matches!(events.last(), Some(ClientEvent::Downloaded)));
+    assert!(!b.client.is_busy());
+}
+
+#[test]
+fn block_download_crc_of_a_known_value() {
+    // CRC-16/XMODEM of "123456789" is 0x31C3: the end frame carries C3 31.
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, DOMAIN, *b"123456789")
+        .unwrap();
+    expect(b.sent(), &["C6 00 20 01 09 00 00 00"]);
+    b.server("A4 00 20 01 7F 00 00 00");
+    expect(
+        b.sent(),
+        &["01 31 32 33 34 35 36 37", "82 38 39 00 00 00 00 00"],
+    );
+    b.server("A2 02 7F 00 00 00 00 00");
+    // n 5: 0xC0 | 5 << 2 | 1.
+    expect(b.sent(), &["D5 C3 31 00 00 00 00 00"]);
+    b.server("A1 00 00 00 00 00 00 00");
+    assert_downloaded(b.outcome());
+}
+
+#[test]
+fn block_download_without_crc_when_the_server_has_none() {
+    let data = twenty();
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_download(b.now, DOMAIN, data).unwrap();
+    b.sent();
+    // sc 0.
+    b.server("A0 00 20 01 7F 00 00 00");
+    assert_eq!(b.sent().len(), 3);
+    b.server("A2 03 7F 00 00 00 00 00");
+    expect(b.sent(), &["C5 00 00 00 00 00 00 00"]);
+    b.server("A1 00 00 00 00 00 00 00");
+    assert_downloaded(b.outcome());
+}
+
+#[test]
+fn block_download_without_crc_when_the_client_offers_none() {
+    let mut b = Bench::new(ClientConfig {
+        crc: false,
+        ..ClientConfig::default()
+    });
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    // cc 0: 0xC2.
+    expect(b.sent(), &["C2 00 20 01 14 00 00 00"]);
+    b.server("A4 00 20 01 7F 00 00 00");
+    b.sent();
+    b.server("A2 03 7F 00 00 00 00 00");
+    expect(b.sent(), &["C5 00 00 00 00 00 00 00"]);
+}
+
+#[test]
+fn block_download_resends_after_a_short_ack() {
+    let data = twenty();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, DOMAIN, data.clone())
+        .unwrap();
+    b.sent();
+    b.server("A4 00 20 01 7F 00 00 00");
+    assert_eq!(b.sent().len(), 3);
+    // Only segment 1 arrived in order: the rest again, numbered from 1.
+    b.server("A2 01 7F 00 00 00 00 00");
+    assert_eq!(
+        b.sent(),
+        [seg(0x01, &data[7..14]), seg(0x82, &data[14..20])]
+    );
+    assert_eq!(progress(&b.events()), [(7, Some(20))]);
+    // Nothing arrived: the same segments again.
+    b.server("A2 00 7F 00 00 00 00 00");
+    assert_eq!(
+        b.sent(),
+        [seg(0x01, &data[7..14]), seg(0x82, &data[14..20])]
+    );
+    b.server("A2 02 7F 00 00 00 00 00");
+    assert_eq!(b.sent(), [hex(&[0xC5, lo, hi, 0, 0, 0, 0, 0])]);
+    b.server("A1 00 00 00 00 00 00 00");
+    assert_downloaded(b.outcome());
+}
+
+#[test]
+fn block_download_follows_the_servers_block_size() {
+    let data: Vec<u8> = (0..30).collect();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, DOMAIN, data.clone())
+        .unwrap();
+    expect(b.sent(), &["C6 00 20 01 1E 00 00 00"]);
+    // blksize 2.
+    b.server("A4 00 20 01 02 00 00 00");
+    assert_eq!(b.sent(), [seg(0x01, &data[0..7]), seg(0x02, &data[7..14])]);
+    // Both arrived; next block size 1.
+    b.server("A2 02 01 00 00 00 00 00");
+    assert_eq!(b.sent(), [seg(0x01, &data[14..21])]);
+    // Block size 3 again: the last 9 bytes in two segments, the second holding 2 (n 5).
+    b.server("A2 01 03 00 00 00 00 00");
+    assert_eq!(
+        b.sent(),
+        [seg(0x01, &data[21..28]), seg(0x82, &data[28..30])]
+    );
+    b.server("A2 02 03 00 00 00 00 00");
+    assert_eq!(b.sent(), [hex(&[0xD5, lo, hi, 0, 0, 0, 0, 0])]);
+}
+
+#[test]
+fn block_download_shrinking_block_size_during_a_resend() {
+    let data: Vec<u8> = (0..35).collect();
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, DOMAIN, data.clone())
+        .unwrap();
+    b.sent();
+    b.server("A4 00 20 01 7F 00 00 00");
+    assert_eq!(b.sent().len(), 5);
+    // Two arrived; the server now takes one segment per block.
+    b.server("A2 02 01 00 00 00 00 00");
+    assert_eq!(b.sent(), [seg(0x01, &data[14..21])]);
+    b.server("A2 01 01 00 00 00 00 00");
+    assert_eq!(b.sent(), [seg(0x01, &data[21..28])]);
+    b.server("A2 01 01 00 00 00 00 00");
+    // The last segment is full: n 0.
+    assert_eq!(b.sent(), [seg(0x81, &data[28..35])]);
+    b.server("A2 01 01 00 00 00 00 00");
+    let (lo, hi) = crc_bytes(&data);
+    assert_eq!(b.sent(), [hex(&[0xC1, lo, hi, 0, 0, 0, 0, 0])]);
+}
+
+#[test]
+fn block_download_of_several_full_blocks() {
+    // 127 · 7 + 3 bytes: one full sub-block, then one segment of 3 bytes.
+    let data: Vec<u8> = (0..127 * 7 + 3).map(|i| (i * 7 % 251) as u8).collect();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, DOMAIN, data.clone())
+        .unwrap();
+    expect(b.sent(), &["C6 00 20 01 7C 03 00 00"]);
+    b.server("A4 00 20 01 7F 00 00 00");
+    let first = b.sent();
+    assert_eq!(first.len(), 127);
+    assert_eq!(first[0], seg(0x01, &data[0..7]));
+    assert_eq!(first[126], seg(0x7F, &data[882..889]));
+    b.server("A2 7F 7F 00 00 00 00 00");
+    assert_eq!(b.sent(), [seg(0x81, &data[889..892])]);
+    b.server("A2 01 7F 00 00 00 00 00");
+    // n 4: 0xC0 | 4 << 2 | 1.
+    assert_eq!(b.sent(), [hex(&[0xD1, lo, hi, 0, 0, 0, 0, 0])]);
+}
+
+#[test]
+fn block_download_errors_in_acks() {
+    // An ack of more segments than were sent: 0x05040003.
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    b.server("A4 00 20 01 7F 00 00 00");
+    b.sent();
+    b.server("A2 04 7F 00 00 00 00 00");
+    expect(b.sent(), &["80 00 20 01 03 00 04 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::InvalidSequence, false);
+
+    // A block size of 0 or beyond 127: 0x05040002.
+    for answer in ["A4 00 20 01 00 00 00 00", "A4 00 20 01 80 00 00 00"] {
+        b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+        b.sent();
+        b.server(answer);
+        expect(b.sent(), &["80 00 20 01 02 00 04 05"]);
+        assert_aborted(b.outcome(), DOMAIN, AbortCode::InvalidBlockSize, false);
+    }
+}
+
+// ---- Fall-back -------------------------------------------------------------------------------
+
+#[test]
+fn block_download_refused_falls_back_to_segmented() {
+    let data = twenty();
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, DOMAIN, data.clone())
+        .unwrap();
+    expect(b.sent(), &["C6 00 20 01 14 00 00 00"]);
+    // Abort 0x05040001: the server knows no block transfer.
+    b.server("80 00 20 01 01 00 04 05");
+    expect(b.sent(), &["21 00 20 01 14 00 00 00"]);
+    assert!(b.events().is_empty(), "the fall-back is silent");
+    b.server("60 00 20 01 00 00 00 00");
+    assert_eq!(b.sent(), [seg(0x00, &data[0..7])]);
+    b.server("20 00 00 00 00 00 00 00");
+    assert_eq!(b.sent(), [seg(0x10, &data[7..14])]);
+    b.server("30 00 00 00 00 00 00 00");
+    // Toggle 0, n 1, c 1.
+    assert_eq!(b.sent(), [seg(0x03, &data[14..20])]);
+    b.server("20 00 00 00 00 00 00 00");
+    assert_downloaded(b.outcome());
+}
+
+#[test]
+fn fall_back_happens_once() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    // Any abort to a block initiate: 0x06010002 (read-only) too.
+    b.server("80 00 20 01 02 00 01 06");
+    expect(b.sent(), &["21 00 20 01 14 00 00 00"]);
+    b.server("80 00 20 01 02 00 01 06");
+    assert!(b.sent().is_empty());
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::ReadOnly, true);
+}
+
+#[test]
+fn block_upload_refused_falls_back_to_normal_upload() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    // ccs 5, cc 1, cs 0; blksize 127, pst 0.
+    expect(b.sent(), &["A4 00 20 01 7F 00 00 00"]);
+    b.server("80 00 20 01 01 00 04 05");
+    expect(b.sent(), &["40 00 20 01 00 00 00 00"]);
+    assert!(b.events().is_empty());
+    b.server("41 00 20 01 09 00 00 00");
+    expect(b.sent(), &["60 00 00 00 00 00 00 00"]);
+    b.server("00 31 32 33 34 35 36 37");
+    expect(b.sent(), &["70 00 00 00 00 00 00 00"]);
+    // Toggle 1, n 5, c 1.
+    b.server("1B 38 39 00 00 00 00 00");
+    assert_uploaded(b.outcome(), b"123456789");
+}
+
+#[test]
+fn an_abort_after_the_block_initiate_is_final() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    b.server("A4 00 20 01 7F 00 00 00");
+    b.sent();
+    b.server("80 00 20 01 04 00 04 05");
+    assert!(b.sent().is_empty());
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::CrcError, true);
+}
+
+// ---- Block upload ----------------------------------------------------------------------------
+
+#[test]
+fn block_upload_of_20_bytes_with_crc() {
+    let data = twenty();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    expect(b.sent(), &["A4 00 20 01 7F 00 00 00"]);
+    // scs 6, sc 1, s 1, ss 0; size 20.
+    b.server("C6 00 20 01 14 00 00 00");
+    expect(b.sent(), &["A3 00 00 00 00 00 00 00"]);
+    b.server(&seg(0x01, &data[0..7]));
+    b.server(&seg(0x02, &data[7..14]));
+    assert!(b.sent().is_empty(), "no ack inside the sub-block");
+    b.server(&seg(0x83, &data[14..20]));
+    // ackseq 3, blksize 127.
+    expect(b.sent(), &["A2 03 7F 00 00 00 00 00"]);
+    // scs 6, n 1, ss 1.
+    b.server(&hex(&[0xC5, lo, hi, 0, 0, 0, 0, 0]));
+    expect(b.sent(), &["A1 00 00 00 00 00 00 00"]);
+    let events = b.events();
+    assert_eq!(progress(&events).last(), Some(&(20, Some(20))));
+    match events.last() {
+        Some(ClientEvent::Uploaded(got)) => assert_eq!(got, &data),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn block_upload_with_a_small_block_size_and_a_lost_segment() {
+    let data = twenty();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig {
+        block_size: 2,
+        ..ClientConfig::default()
+    });
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    expect(b.sent(), &["A4 00 20 01 02 00 00 00"]);
+    b.server("C6 00 20 01 14 00 00 00");
+    expect(b.sent(), &["A3 00 00 00 00 00 00 00"]);
+    // Segment 1 is lost; segment 2 ends the sub-block.
+    b.server(&seg(0x02, &data[7..14]));
+    expect(b.sent(), &["A2 00 02 00 00 00 00 00"]);
+    b.server(&seg(0x01, &data[0..7]));
+    b.server(&seg(0x02, &data[7..14]));
+    expect(b.sent(), &["A2 02 02 00 00 00 00 00"]);
+    b.server(&seg(0x81, &data[14..20]));
+    expect(b.sent(), &["A2 01 02 00 00 00 00 00"]);
+    b.server(&hex(&[0xC5, lo, hi, 0, 0, 0, 0, 0]));
+    expect(b.sent(), &["A1 00 00 00 00 00 00 00"]);
+    assert_uploaded(b.outcome(), &data);
+}
+
+#[test]
+fn block_upload_gap_before_the_last_segment() {
+    let data = twenty();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("C6 00 20 01 14 00 00 00");
+    b.sent();
+    b.server(&seg(0x01, &data[0..7]));
+    // Segment 2 is lost; the last one arrives out of order and ends the sub-block: ackseq 1.
+    b.server(&seg(0x83, &data[14..20]));
+    expect(b.sent(), &["A2 01 7F 00 00 00 00 00"]);
+    b.server(&seg(0x01, &data[7..14]));
+    b.server(&seg(0x82, &data[14..20]));
+    expect(b.sent(), &["A2 02 7F 00 00 00 00 00"]);
+    b.server(&hex(&[0xC5, lo, hi, 0, 0, 0, 0, 0]));
+    expect(b.sent(), &["A1 00 00 00 00 00 00 00"]);
+    assert_uploaded(b.outcome(), &data);
+}
+
+#[test]
+fn block_upload_crc_error() {
+    let data = twenty();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("C6 00 20 01 14 00 00 00");
+    b.sent();
+    b.server(&seg(0x01, &data[0..7]));
+    b.server(&seg(0x02, &data[7..14]));
+    b.server(&seg(0x83, &data[14..20]));
+    b.sent();
+    b.server(&hex(&[0xC5, lo ^ 1, hi, 0, 0, 0, 0, 0]));
+    expect(b.sent(), &["80 00 20 01 04 00 04 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::CrcError, false);
+}
+
+#[test]
+fn block_upload_without_crc_ignores_the_crc_field() {
+    let data = twenty();
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    // sc 0, s 1.
+    b.server("C2 00 20 01 14 00 00 00");
+    b.sent();
+    b.server(&seg(0x01, &data[0..7]));
+    b.server(&seg(0x02, &data[7..14]));
+    b.server(&seg(0x83, &data[14..20]));
+    b.sent();
+    b.server("C5 00 00 00 00 00 00 00");
+    expect(b.sent(), &["A1 00 00 00 00 00 00 00"]);
+    assert_uploaded(b.outcome(), &data);
+}
+
+#[test]
+fn block_upload_checks_n_against_the_size() {
+    let data = twenty();
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("C6 00 20 01 14 00 00 00");
+    b.sent();
+    b.server(&seg(0x01, &data[0..7]));
+    b.server(&seg(0x02, &data[7..14]));
+    b.server(&seg(0x83, &data[14..20]));
+    b.sent();
+    // n 2 makes 19 bytes where 20 were announced: 0x06070013.
+    let (lo, hi) = crc_bytes(&data[..19]);
+    b.server(&hex(&[0xC9, lo, hi, 0, 0, 0, 0, 0]));
+    expect(b.sent(), &["80 00 20 01 13 00 07 06"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::LengthTooLow, false);
+}
+
+#[test]
+fn block_upload_protocol_switch_to_expedited() {
+    let mut b = Bench::new(ClientConfig {
+        pst: 10,
+        ..ClientConfig::default()
+    });
+    b.client.start_upload(b.now, HEARTBEAT).unwrap();
+    // blksize 127, pst 10.
+    expect(b.sent(), &["A4 17 10 00 7F 0A 00 00"]);
+    // The server answers with a normal expedited initiate upload response of two bytes.
+    b.server("4B 17 10 00 E8 03 00 00");
+    assert!(b.sent().is_empty());
+    assert_uploaded(b.outcome(), &[0xE8, 0x03]);
+}
+
+#[test]
+fn block_upload_protocol_switch_to_segmented() {
+    let mut b = Bench::new(ClientConfig {
+        pst: 10,
+        ..ClientConfig::default()
+    });
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("41 00 20 01 09 00 00 00");
+    expect(b.sent(), &["60 00 00 00 00 00 00 00"]);
+    b.server("00 31 32 33 34 35 36 37");
+    expect(b.sent(), &["70 00 00 00 00 00 00 00"]);
+    b.server("1B 38 39 00 00 00 00 00");
+    assert!(b.sent().is_empty());
+    assert_uploaded(b.outcome(), b"123456789");
+}
+
+#[test]
+fn block_upload_bad_sequence_numbers() {
+    let mut b = Bench::new(ClientConfig {
+        block_size: 4,
+        ..ClientConfig::default()
+    });
+    for bad in ["00 01 02 03 04 05 06 07", "05 01 02 03 04 05 06 07"] {
+        b.client.start_upload(b.now, DOMAIN).unwrap();
+        b.sent();
+        b.server("C6 00 20 01 14 00 00 00");
+        b.sent();
+        // Sequence number 0, or beyond the block size of 4: 0x05040003.
+        b.server(bad);
+        expect(b.sent(), &["80 00 20 01 03 00 04 05"]);
+        assert_aborted(b.outcome(), DOMAIN, AbortCode::InvalidSequence, false);
+    }
+}
+
+#[test]
+fn server_abort_during_a_block_upload_sub_block() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("C6 00 20 01 14 00 00 00");
+    b.sent();
+    b.server(&seg(0x01, &[1; 7]));
+    // Byte 0 = 0x80 is an abort (a segment has sequence number 1–127).
+    b.server("80 00 20 01 00 00 06 06");
+    assert!(b.sent().is_empty());
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::HardwareError, true);
+}
+
+// ---- Timeouts, aborts, unexpected frames ------------------------------------------------------
+
+#[test]
+fn timeout_aborts_on_the_wire() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, HEARTBEAT, 1000u16.to_le_bytes())
+        .unwrap();
+    b.sent();
+    assert_eq!(b.client.poll_timeout(), Some(b.t0 + Duration::from_secs(1)));
+    b.advance(999);
+    assert!(b.sent().is_empty());
+    assert!(b.client.is_busy());
+    b.advance(1);
+    expect(b.sent(), &["80 17 10 00 00 00 04 05"]);
+    assert_aborted(b.outcome(), HEARTBEAT, AbortCode::Timeout, false);
+    // A late answer is ignored.
+    b.server("60 17 10 00 00 00 00 00");
+    assert!(b.sent().is_empty());
+    assert!(b.events().is_empty());
+}
+
+#[test]
+fn each_answer_restarts_the_timer() {
+    let mut b = Bench::new(ClientConfig {
+        timeout: Duration::from_millis(100),
+        block: false,
+        ..ClientConfig::default()
+    });
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    b.advance(90);
+    b.server("60 00 20 01 00 00 00 00");
+    assert_eq!(
+        b.client.poll_timeout(),
+        Some(b.t0 + Duration::from_millis(190))
+    );
+    b.advance(90);
+    b.server("20 00 00 00 00 00 00 00");
+    b.advance(99);
+    assert!(b.client.is_busy());
+    b.advance(1);
+    b.sent();
+    let e = b.outcome();
+    assert_aborted(e, DOMAIN, AbortCode::Timeout, false);
+}
+
+#[test]
+fn timeout_of_a_block_upload_sub_block() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("C6 00 20 01 14 00 00 00");
+    b.sent();
+    b.advance(500);
+    b.server(&seg(0x01, &[1; 7]));
+    b.advance(999);
+    assert!(b.sent().is_empty());
+    b.advance(1);
+    expect(b.sent(), &["80 00 20 01 00 00 04 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::Timeout, false);
+}
+
+#[test]
+fn a_block_initiate_that_times_out_does_not_fall_back() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    b.advance(1000);
+    expect(b.sent(), &["80 00 20 01 00 00 04 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::Timeout, false);
+}
+
+#[test]
+fn server_abort_ends_the_transfer() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, HEARTBEAT, 1000u16.to_le_bytes())
+        .unwrap();
+    b.sent();
+    // 0x06010002: read-only.
+    b.server("80 17 10 00 02 00 01 06");
+    assert!(b.sent().is_empty(), "an abort is not answered");
+    assert_aborted(b.outcome(), HEARTBEAT, AbortCode::ReadOnly, true);
+}
+
+#[test]
+fn server_abort_with_an_unknown_code() {
+    let mut b = Bench::segmented();
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("80 00 20 01 78 56 34 12");
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::Unknown(0x1234_5678), true);
+}
+
+#[test]
+fn unexpected_frames_are_aborted_with_0x05040001() {
+    // A response for another entry.
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, HEARTBEAT, 1000u16.to_le_bytes())
+        .unwrap();
+    b.sent();
+    b.server("60 18 10 00 00 00 00 00");
+    expect(b.sent(), &["80 17 10 00 01 00 04 05"]);
+    assert_aborted(b.outcome(), HEARTBEAT, AbortCode::InvalidCommand, false);
+
+    // An upload response to a download.
+    b.client
+        .start_download(b.now, HEARTBEAT, 1000u16.to_le_bytes())
+        .unwrap();
+    b.sent();
+    b.server("4B 17 10 00 E8 03 00 00");
+    expect(b.sent(), &["80 17 10 00 01 00 04 05"]);
+    assert_aborted(b.outcome(), HEARTBEAT, AbortCode::InvalidCommand, false);
+
+    // An unknown command specifier (scs 7).
+    b.client.start_upload(b.now, HEARTBEAT).unwrap();
+    b.sent();
+    b.server("E0 17 10 00 00 00 00 00");
+    expect(b.sent(), &["80 17 10 00 01 00 04 05"]);
+    assert_aborted(b.outcome(), HEARTBEAT, AbortCode::InvalidCommand, false);
+
+    // A block download ack in a segmented download.
+    let mut b = Bench::segmented();
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    b.server("60 00 20 01 00 00 00 00");
+    b.sent();
+    b.server("A2 01 7F 00 00 00 00 00");
+    expect(b.sent(), &["80 00 20 01 01 00 04 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::InvalidCommand, false);
+}
+
+#[test]
+fn frames_while_idle_are_ignored() {
+    let mut b = Bench::new(ClientConfig::default());
+    for f in [
+        "60 17 10 00 00 00 00 00",
+        "80 17 10 00 00 00 04 05",
+        "FF FF FF FF FF FF FF FF",
+    ] {
+        b.server(f);
+    }
+    b.advance(10_000);
+    assert!(b.sent().is_empty());
+    assert!(b.events().is_empty());
+    assert_eq!(b.client.poll_timeout(), None);
+}
+
+#[test]
+fn starting_while_busy_is_refused() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    assert!(matches!(
+        b.client.start_download(b.now, HEARTBEAT, [1, 2]),
+        Err(SdoClientError::Busy)
+    ));
+    assert!(matches!(
+        b.client.start_upload(b.now, HEARTBEAT),
+        Err(SdoClientError::Busy)
+    ));
+    // The running transfer is untouched.
+    expect(b.sent(), &["A4 00 20 01 7F 00 00 00"]);
+    assert!(b.client.is_busy());
+}
+
+#[test]
+fn local_abort() {
+    let mut b = Bench::new(ClientConfig::default());
+    assert!(!b.client.abort(AbortCode::General));
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    assert!(b.client.abort(AbortCode::LocalControl));
+    expect(b.sent(), &["80 00 20 01 21 00 00 08"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::LocalControl, false);
+}
+
+#[test]
+fn an_abort_drops_the_unsent_rest_of_a_sub_block() {
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    b.sent();
+    b.server("A4 00 20 01 7F 00 00 00");
+    // One segment went out, then the server aborts.
+    assert!(b.client.poll_transmit().is_some());
+    b.server("80 00 20 01 00 00 00 08");
+    assert!(b.sent().is_empty());
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::General, true);
+}
+
+// ---- Memory bounds ---------------------------------------------------------------------------
+
+#[test]
+fn upload_over_the_limit_is_refused() {
+    let config = ClientConfig {
+        upload_limit: 8,
+        block: false,
+        ..ClientConfig::default()
+    };
+    // Announced beyond the limit: aborted before any segment is asked for.
+    let mut b = Bench::new(config.clone());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("41 00 20 01 09 00 00 00");
+    expect(b.sent(), &["80 00 20 01 05 00 04 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::OutOfMemory, false);
+
+    // Not announced, and more data than the limit.
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("40 00 20 01 00 00 00 00");
+    expect(b.sent(), &["60 00 00 00 00 00 00 00"]);
+    b.server("00 01 02 03 04 05 06 07");
+    expect(b.sent(), &["70 00 00 00 00 00 00 00"]);
+    b.server("10 01 02 03 04 05 06 07");
+    expect(b.sent(), &["80 00 20 01 05 00 04 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::OutOfMemory, false);
+
+    // A block upload announcing 4 GiB − 1 bytes.
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("C6 00 20 01 FF FF FF FF");
+    expect(b.sent(), &["80 00 20 01 05 00 04 05"]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::OutOfMemory, false);
+}
+
+#[test]
+fn a_large_announcement_within_the_limit_is_accepted() {
+    // 16 MiB − 1 announced: accepted, and the client asks for the first segment (how much it reserves
+    // ahead is checked by the client's unit tests).
+    let mut b = Bench::segmented();
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("41 00 20 01 FF FF FF 00");
+    expect(b.sent(), &["60 00 00 00 00 00 00 00"]);
+    assert!(b.client.is_busy());
+}
+
+#[test]
+fn downloads_beyond_4_gib_are_refused() {
+    struct Huge;
+    impl DownloadSource for Huge {
+        fn len(&self) -> u64 {
+            1 << 32
+        }
+        fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+            Ok(0)
+        }
+    }
+    let mut b = Bench::new(ClientConfig::default());
+    let source: Box<dyn DownloadSource + Send> = Box::new(Huge);
+    assert!(matches!(
+        b.client.start_download(b.now, DOMAIN, source),
+        Err(SdoClientError::TooLarge { len: 0x1_0000_0000 })
+    ));
+    assert!(!b.client.is_busy());
+    assert!(b.sent().is_empty());
+}
+
+// ---- Streaming -------------------------------------------------------------------------------
+
+#[test]
+fn block_download_from_a_streaming_source() {
+    let data: Vec<u8> = (0..200).map(|i| i as u8).collect();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    let source = ReadSource::new(io::Cursor::new(data.clone()), 200);
+    b.client
+        .start_download(b.now, DOMAIN, DownloadData::Stream(Box::new(source)))
+        .unwrap();
+    expect(b.sent(), &["C6 00 20 01 C8 00 00 00"]);
+    b.server("A4 00 20 01 7F 00 00 00");
+    let segs = b.sent();
+    // 200 = 28 · 7 + 4.
+    assert_eq!(segs.len(), 29);
+    assert_eq!(segs[28], seg(0x80 | 29, &data[196..200]));
+    b.server("A2 1D 7F 00 00 00 00 00");
+    // n 3: 0xC0 | 3 << 2 | 1.
+    assert_eq!(b.sent(), [hex(&[0xCD, lo, hi, 0, 0, 0, 0, 0])]);
+    b.server("A1 00 00 00 00 00 00 00");
+    assert_downloaded(b.outcome());
+}
+
+#[test]
+fn a_source_that_ends_early_aborts_the_transfer() {
+    let mut b = Bench::segmented();
+    // Announces 20 bytes, holds 10.
+    let source = ReadSource::new(io::Cursor::new(vec![7u8; 10]), 20);
+    b.client
+        .start_download(b.now, DOMAIN, DownloadData::Stream(Box::new(source)))
+        .unwrap();
+    expect(b.sent(), &["21 00 20 01 14 00 00 00"]);
+    b.server("60 00 20 01 00 00 00 00");
+    b.sent();
+    b.server("20 00 00 00 00 00 00 00");
+    // 0x08000000: general error.
+    expect(b.sent(), &["80 00 20 01 00 00 00 08"]);
+    match b.outcome() {
+        ClientEvent::Failed(SdoClientError::Io(e)) => {
+            assert_eq!(e.kind(), io::ErrorKind::UnexpectedEof)
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_failing_expedited_source_fails_the_start() {
+    struct Broken;
+    impl DownloadSource for Broken {
+        fn len(&self) -> u64 {
+            2
+        }
+        fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+            Err(io::Error::other("disk gone"))
+        }
+    }
+    let mut b = Bench::new(ClientConfig::default());
+    let source: Box<dyn DownloadSource + Send> = Box::new(Broken);
+    assert!(matches!(
+        b.client.start_download(b.now, DOMAIN, source),
+        Err(SdoClientError::Io(_))
+    ));
+    assert!(!b.client.is_busy());
+    assert!(b.sent().is_empty());
+}
+
+/// A sink that keeps what it gets where the test can see it.
+#[derive(Clone, Default)]
+struct Shared {
+    data: Arc<Mutex<Vec<u8>>>,
+    finished: Arc<Mutex<bool>>,
+    fail: bool,
+}
+
+impl UploadSink for Shared {
+    fn write_data(&mut self, data: &[u8]) -> io::Result<()> {
+        if self.fail {
+            return Err(io::Error::other("full"));
+        }
+        self.data.lock().unwrap().extend_from_slice(data);
+        Ok(())
+    }
+
+    fn finish(&mut self) -> io::Result<()> {
+        *self.finished.lock().unwrap() = true;
+        Ok(())
+    }
+}
+
+#[test]
+fn block_upload_into_a_sink() {
+    let data = twenty();
+    let (lo, hi) = crc_bytes(&data);
+    let sink = Shared::default();
+    let mut b = Bench::new(ClientConfig {
+        upload_limit: 4,
+        ..ClientConfig::default()
+    });
+    b.client
+        .start_upload_to(b.now, DOMAIN, Box::new(sink.clone()))
+        .unwrap();
+    b.sent();
+    b.server("C6 00 20 01 14 00 00 00");
+    b.sent();
+    b.server(&seg(0x01, &data[0..7]));
+    assert_eq!(
+        *sink.data.lock().unwrap(),
+        data[0..7],
+        "in-order data goes at once"
+    );
+    b.server(&seg(0x02, &data[7..14]));
+    b.server(&seg(0x83, &data[14..20]));
+    b.sent();
+    assert_eq!(
+        sink.data.lock().unwrap().len(),
+        14,
+        "the last segment waits for n"
+    );
+    b.server(&hex(&[0xC5, lo, hi, 0, 0, 0, 0, 0]));
+    expect(b.sent(), &["A1 00 00 00 00 00 00 00"]);
+    assert!(matches!(
+        b.outcome(),
+        ClientEvent::UploadedToSink { len: 20 }
+    ));
+    assert_eq!(
+        *sink.data.lock().unwrap(),
+        data,
+        "no memory limit for sinks"
+    );
+    assert!(*sink.finished.lock().unwrap());
+}
+
+#[test]
+fn a_failing_sink_aborts_the_upload() {
+    let sink = Shared {
+        fail: true,
+        ..Shared::default()
+    };
+    let mut b = Bench::segmented();
+    b.client
+        .start_upload_to(b.now, DOMAIN, Box::new(sink.clone()))
+        .unwrap();
+    b.sent();
+    b.server("41 00 20 01 09 00 00 00");
+    b.sent();
+    b.server("00 31 32 33 34 35 36 37");
+    // 0x08000020: data cannot be transferred or stored to the application.
+    expect(b.sent(), &["80 00 20 01 20 00 00 08"]);
+    assert!(matches!(
+        b.outcome(),
+        ClientEvent::Failed(SdoClientError::Io(_))
+    ));
+    assert!(!*sink.finished.lock().unwrap());
+}
+
+// ---- Robustness ------------------------------------------------------------------------------
+
+mod arbitrary_frames {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Starts one kind of transfer and brings it into a state where it waits for frames.
+    fn start(kind: u8, b: &mut Bench) {
+        let big: Vec<u8> = (0..300).map(|i| i as u8).collect();
+        match kind % 6 {
+            0 => b.client.start_download(b.now, DOMAIN, [1, 2]).unwrap(),
+            1 => b.client.start_download(b.now, DOMAIN, big).unwrap(),
+            2 => {
+                b.client.start_download(b.now, DOMAIN, big).unwrap();
+                b.server("A4 00 20 01 7F 00 00 00");
+            }
+            3 => b.client.start_upload(b.now, DOMAIN).unwrap(),
+            4 => {
+                b.client.start_upload(b.now, DOMAIN).unwrap();
+                b.server("C6 00 20 01 00 01 00 00");
+            }
+            _ => {
+                b.config_segmented();
+                b.client.start_upload(b.now, DOMAIN).unwrap();
+                b.server("41 00 20 01 00 01 00 00");
+            }
+        }
+    }
+
+    impl Bench {
+        fn config_segmented(&mut self) {
+            self.client.config_mut().block = false;
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn no_frame_makes_the_client_panic_or_queue_without_bound(
+            kind in 0u8..6,
+            frames in proptest::collection::vec(proptest::array::uniform8(any::<u8>()), 0..64),
+            steps in proptest::collection::vec(0u64..400, 0..8),
+        ) {
+            let mut b = Bench::new(ClientConfig { upload_limit: 1024, ..ClientConfig::default() });
+            start(kind, &mut b);
+            let mut ends = 0;
+            for (i, f) in frames.iter().enumerate() {
+                b.client.handle_frame(b.now, f);
+                let sent = b.sent();
+                prop_assert!(sent.len() <= 128);
+                if let Some(&ms) = steps.get(i % steps.len().max(1)) {
+                    b.advance(ms);
+                    prop_assert!(b.sent().len() <= 1);
+                }
+                ends += b
+                    .events()
+                    .iter()
+                    .filter(|e| !matches!(e, ClientEvent::Progress { .. }))
+                    .count();
+            }
+            prop_assert!(ends <= 1);
+            prop_assert_eq!(b.client.is_busy(), ends == 0);
+        }
+    }
+}
