@@ -395,6 +395,74 @@ fn segment(f: &Frame) -> (bool, SegmentData, bool) {
     (toggle, SegmentData::new(&f[1..8 - n]), last)
 }
 
+/// An initiate frame's data part (CiA 301 §7.2.4.3.3/6): expedited data (e = 1) or the size of a
+/// segmented transfer (e = 0, size when s = 1).
+enum Initiate {
+    Expedited(ExpeditedData),
+    Segmented(Option<u32>),
+}
+
+fn initiate(f: &Frame) -> Initiate {
+    let b = f[0];
+    let s = b & 0x01 != 0;
+    if b & 0x02 != 0 {
+        Initiate::Expedited(ExpeditedData::decode(f, (b >> 2) & 0x03, s))
+    } else {
+        Initiate::Segmented(s.then(|| size_field(f)))
+    }
+}
+
+fn emit_expedited(cs: u8, mux: Multiplexer, data: &ExpeditedData) -> Frame {
+    let mut f = [0u8; 8];
+    let (n, s) = data.n_and_s();
+    f[0] = (cs << 5) | (n << 2) | 0x02 | s as u8;
+    mux.write(&mut f);
+    f[4..4 + data.as_slice().len()].copy_from_slice(data.as_slice());
+    f
+}
+
+fn emit_sized(cs: u8, mux: Multiplexer, size: Option<u32>) -> Frame {
+    let mut f = [0u8; 8];
+    f[0] = (cs << 5) | size.is_some() as u8;
+    mux.write(&mut f);
+    f[4..8].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
+    f
+}
+
+/// A block initiate with CRC flag and optional size (block download request, block upload response).
+fn block_initiate(f: &Frame) -> (bool, Option<u32>) {
+    (f[0] & 0x04 != 0, (f[0] & 0x02 != 0).then(|| size_field(f)))
+}
+
+fn emit_block_initiate(cs: u8, mux: Multiplexer, crc: bool, size: Option<u32>) -> Frame {
+    let mut f = [0u8; 8];
+    f[0] = (cs << 5) | ((crc as u8) << 2) | ((size.is_some() as u8) << 1);
+    mux.write(&mut f);
+    f[4..8].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
+    f
+}
+
+/// An end-of-block frame: unused bytes of the last segment and the CRC.
+fn block_end(f: &Frame) -> (u8, u16) {
+    ((f[0] >> 2) & 0x07, u16::from_le_bytes([f[1], f[2]]))
+}
+
+fn emit_block_end(cs: u8, unused: u8, crc: u16) -> Frame {
+    let mut f = [0u8; 8];
+    f[0] = (cs << 5) | ((unused & 0x07) << 2) | 0x01;
+    f[1..3].copy_from_slice(&crc.to_le_bytes());
+    f
+}
+
+/// A block acknowledgement (cs = 2 of the block command): last good sequence number, next block size.
+fn emit_block_ack(cs: u8, ackseq: u8, blksize: u8) -> Frame {
+    let mut f = [0u8; 8];
+    f[0] = (cs << 5) | 0x02;
+    f[1] = ackseq;
+    f[2] = blksize;
+    f
+}
+
 fn emit_segment(cs: u8, toggle: bool, data: &SegmentData, last: bool) -> Frame {
     let mut f = [0u8; 8];
     f[0] = (cs << 5) | ((toggle as u8) << 4) | (((7 - data.len()) as u8) << 1) | last as u8;
@@ -412,22 +480,10 @@ impl ClientFrame {
                 let (toggle, data, last) = segment(f);
                 ClientFrame::DownloadSegment { toggle, data, last }
             }
-            1 => {
-                let e = b & 0x02 != 0;
-                let s = b & 0x01 != 0;
-                if e {
-                    let n = (b >> 2) & 0x03;
-                    ClientFrame::InitiateDownloadExpedited {
-                        mux,
-                        data: ExpeditedData::decode(f, n, s),
-                    }
-                } else {
-                    ClientFrame::InitiateDownloadSegmented {
-                        mux,
-                        size: s.then(|| size_field(f)),
-                    }
-                }
-            }
+            1 => match initiate(f) {
+                Initiate::Expedited(data) => ClientFrame::InitiateDownloadExpedited { mux, data },
+                Initiate::Segmented(size) => ClientFrame::InitiateDownloadSegmented { mux, size },
+            },
             2 => ClientFrame::InitiateUpload { mux },
             3 => ClientFrame::UploadSegment {
                 toggle: b & 0x10 != 0,
@@ -451,15 +507,14 @@ impl ClientFrame {
                 _ => ClientFrame::StartBlockUpload,
             },
             6 => match b & 0x01 {
-                0 => ClientFrame::InitiateBlockDownload {
-                    mux,
-                    crc: b & 0x04 != 0,
-                    size: (b & 0x02 != 0).then(|| size_field(f)),
-                },
-                _ => ClientFrame::EndBlockDownload {
-                    unused: (b >> 2) & 0x07,
-                    crc: u16::from_le_bytes([f[1], f[2]]),
-                },
+                0 => {
+                    let (crc, size) = block_initiate(f);
+                    ClientFrame::InitiateBlockDownload { mux, crc, size }
+                }
+                _ => {
+                    let (unused, crc) = block_end(f);
+                    ClientFrame::EndBlockDownload { unused, crc }
+                }
             },
             _ => return Err(AbortCode::InvalidCommand),
         })
@@ -470,15 +525,10 @@ impl ClientFrame {
         let mut f = [0u8; 8];
         match *self {
             ClientFrame::InitiateDownloadExpedited { mux, data } => {
-                let (n, s) = data.n_and_s();
-                f[0] = 0x20 | (n << 2) | 0x02 | s as u8;
-                mux.write(&mut f);
-                f[4..4 + data.as_slice().len()].copy_from_slice(data.as_slice());
+                return emit_expedited(1, mux, &data)
             }
             ClientFrame::InitiateDownloadSegmented { mux, size } => {
-                f[0] = 0x20 | size.is_some() as u8;
-                mux.write(&mut f);
-                f[4..8].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
+                return emit_sized(1, mux, size)
             }
             ClientFrame::DownloadSegment { toggle, data, last } => {
                 return emit_segment(0, toggle, &data, last)
@@ -490,14 +540,9 @@ impl ClientFrame {
             ClientFrame::UploadSegment { toggle } => f[0] = 0x60 | ((toggle as u8) << 4),
             ClientFrame::Abort { mux, code } => return abort_frame(mux, code),
             ClientFrame::InitiateBlockDownload { mux, crc, size } => {
-                f[0] = 0xC0 | ((crc as u8) << 2) | ((size.is_some() as u8) << 1);
-                mux.write(&mut f);
-                f[4..8].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
+                return emit_block_initiate(6, mux, crc, size)
             }
-            ClientFrame::EndBlockDownload { unused, crc } => {
-                f[0] = 0xC1 | ((unused & 0x07) << 2);
-                f[1..3].copy_from_slice(&crc.to_le_bytes());
-            }
+            ClientFrame::EndBlockDownload { unused, crc } => return emit_block_end(6, unused, crc),
             ClientFrame::InitiateBlockUpload {
                 mux,
                 crc,
@@ -511,9 +556,7 @@ impl ClientFrame {
             }
             ClientFrame::StartBlockUpload => f[0] = 0xA3,
             ClientFrame::BlockUploadAck { ackseq, blksize } => {
-                f[0] = 0xA2;
-                f[1] = ackseq;
-                f[2] = blksize;
+                return emit_block_ack(5, ackseq, blksize)
             }
             ClientFrame::EndBlockUpload => f[0] = 0xA1,
         }
@@ -534,22 +577,10 @@ impl ServerFrame {
             1 => ServerFrame::DownloadSegment {
                 toggle: b & 0x10 != 0,
             },
-            2 => {
-                let e = b & 0x02 != 0;
-                let s = b & 0x01 != 0;
-                if e {
-                    let n = (b >> 2) & 0x03;
-                    ServerFrame::InitiateUploadExpedited {
-                        mux,
-                        data: ExpeditedData::decode(f, n, s),
-                    }
-                } else {
-                    ServerFrame::InitiateUploadSegmented {
-                        mux,
-                        size: s.then(|| size_field(f)),
-                    }
-                }
-            }
+            2 => match initiate(f) {
+                Initiate::Expedited(data) => ServerFrame::InitiateUploadExpedited { mux, data },
+                Initiate::Segmented(size) => ServerFrame::InitiateUploadSegmented { mux, size },
+            },
             3 => ServerFrame::InitiateDownload { mux },
             4 => ServerFrame::Abort {
                 mux,
@@ -569,15 +600,14 @@ impl ServerFrame {
                 _ => return Err(AbortCode::InvalidCommand),
             },
             6 => match b & 0x01 {
-                0 => ServerFrame::InitiateBlockUpload {
-                    mux,
-                    crc: b & 0x04 != 0,
-                    size: (b & 0x02 != 0).then(|| size_field(f)),
-                },
-                _ => ServerFrame::EndBlockUpload {
-                    unused: (b >> 2) & 0x07,
-                    crc: u16::from_le_bytes([f[1], f[2]]),
-                },
+                0 => {
+                    let (crc, size) = block_initiate(f);
+                    ServerFrame::InitiateBlockUpload { mux, crc, size }
+                }
+                _ => {
+                    let (unused, crc) = block_end(f);
+                    ServerFrame::EndBlockUpload { unused, crc }
+                }
             },
             _ => return Err(AbortCode::InvalidCommand),
         })
@@ -593,16 +623,9 @@ impl ServerFrame {
             }
             ServerFrame::DownloadSegment { toggle } => f[0] = 0x20 | ((toggle as u8) << 4),
             ServerFrame::InitiateUploadExpedited { mux, data } => {
-                let (n, s) = data.n_and_s();
-                f[0] = 0x40 | (n << 2) | 0x02 | s as u8;
-                mux.write(&mut f);
-                f[4..4 + data.as_slice().len()].copy_from_slice(data.as_slice());
+                return emit_expedited(2, mux, &data)
             }
-            ServerFrame::InitiateUploadSegmented { mux, size } => {
-                f[0] = 0x40 | size.is_some() as u8;
-                mux.write(&mut f);
-                f[4..8].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
-            }
+            ServerFrame::InitiateUploadSegmented { mux, size } => return emit_sized(2, mux, size),
             ServerFrame::UploadSegment { toggle, data, last } => {
                 return emit_segment(0, toggle, &data, last)
             }
@@ -613,20 +636,13 @@ impl ServerFrame {
                 f[4] = blksize;
             }
             ServerFrame::BlockDownloadAck { ackseq, blksize } => {
-                f[0] = 0xA2;
-                f[1] = ackseq;
-                f[2] = blksize;
+                return emit_block_ack(5, ackseq, blksize)
             }
             ServerFrame::EndBlockDownload => f[0] = 0xA1,
             ServerFrame::InitiateBlockUpload { mux, crc, size } => {
-                f[0] = 0xC0 | ((crc as u8) << 2) | ((size.is_some() as u8) << 1);
-                mux.write(&mut f);
-                f[4..8].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
+                return emit_block_initiate(6, mux, crc, size)
             }
-            ServerFrame::EndBlockUpload { unused, crc } => {
-                f[0] = 0xC1 | ((unused & 0x07) << 2);
-                f[1..3].copy_from_slice(&crc.to_le_bytes());
-            }
+            ServerFrame::EndBlockUpload { unused, crc } => return emit_block_end(6, unused, crc),
         }
         f
     }
