@@ -27,8 +27,11 @@ fn layout(d: &Dictionary, index: u16, from_sub0: bool) -> Result<Vec<(u8, u32)>,
     if from_sub0 {
         out.push((0, 16));
     }
-    for (&sub, entry) in object.subs.range(1..=count) {
-        out.push((sub, bits_of(entry)?));
+    // `range(1..=0)` would panic: an object with no entries has none to take.
+    if count > 0 {
+        for (&sub, entry) in object.subs.range(1..=count) {
+            out.push((sub, bits_of(entry)?));
+        }
     }
     Ok(out)
 }
@@ -216,6 +219,14 @@ mod tests {
             [0x02, 0x00, 0x00, 0x16, 0x01, 0x16]
         );
         assert_eq!(upload(&d, 0x1C12, false).unwrap(), [0x00, 0x16, 0x01, 0x16]);
+    }
+
+    #[test]
+    fn an_object_with_no_entries_uploads_sub0_only() {
+        let mut d = dict();
+        d.write(0x1C12, 0, &[0]).unwrap();
+        assert_eq!(upload(&d, 0x1C12, true).unwrap(), [0x00, 0x00]);
+        assert_eq!(upload(&d, 0x1C12, false).unwrap(), [0u8; 0]);
     }
 
     #[test]

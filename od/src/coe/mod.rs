@@ -4,12 +4,17 @@
 //! and the EtherCAT abort codes (in [`AbortCode`](crate::AbortCode)).
 //!
 //! Each wire type has a typed representation with `parse` (which names what is wrong) and `emit`.
+//!
+//! [`CoeServer`] is the SDO server of an EtherCAT slave: the CiA 301 SDO server of [`crate::sdo`] on
+//! the same [`Dictionary`](crate::Dictionary), reached through mailboxes.
 
 pub mod complete;
 pub mod mailbox;
 pub mod sdo;
+pub mod server;
 
 pub use mailbox::{
     CoeHeader, CoeService, FramingError, MailboxHeader, MailboxType, MAILBOX_HEADER_LEN,
 };
 pub use sdo::{CoeSdo, CoeSdoCommand, CoeSdoError};
+pub use server::{is_pdo_configuration, CoeServer, MAX_MAILBOX_SIZE, MIN_MAILBOX_SIZE};

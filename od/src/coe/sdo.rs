@@ -48,8 +48,15 @@ pub enum CoeSdoError {
     Abort(AbortCode),
 }
 
-fn is_initiate(command: u8) -> bool {
-    matches!(command >> 5, 1 | 2)
+/// True when bit 4 of `command` is the complete-access bit: on the initiate commands, which are ccs 1
+/// (download) and 2 (upload) in a request and scs 3 (download) and 2 (upload) in a response. On a
+/// segment (request ccs 0 and 3, response scs 0 and 1) bit 4 is the toggle bit.
+fn is_initiate(service: CoeService, command: u8) -> bool {
+    match service {
+        CoeService::SdoRequest => matches!(command >> 5, 1 | 2),
+        CoeService::SdoResponse => matches!(command >> 5, 2 | 3),
+        _ => false,
+    }
 }
 
 impl<'a> CoeSdo<'a> {
@@ -70,7 +77,7 @@ impl<'a> CoeSdo<'a> {
             }
             other => return Err(FramingError::NotSdo(other.code()).into()),
         };
-        let complete_access = is_initiate(first[0]) && first[0] & 0x10 != 0;
+        let complete_access = is_initiate(service, first[0]) && first[0] & 0x10 != 0;
         Ok(CoeSdo {
             command,
             complete_access,
@@ -92,7 +99,7 @@ impl<'a> CoeSdo<'a> {
             CoeSdoCommand::Request(c) => c.emit(),
             CoeSdoCommand::Response(s) => s.emit(),
         };
-        if self.complete_access && is_initiate(first[0]) {
+        if self.complete_access && is_initiate(self.service(), first[0]) {
             first[0] |= 0x10;
         }
         out.extend_from_slice(&first);
@@ -210,6 +217,45 @@ mod tests {
             })
         );
         assert_eq!(parsed.extra, &[8, 9]);
+    }
+
+    #[test]
+    fn complete_access_bit_in_responses() {
+        // A complete-access download response: scs 3 with bit 4 set, 0x70.
+        let resp = CoeSdo {
+            command: CoeSdoCommand::Response(ServerFrame::InitiateDownload {
+                mux: Multiplexer::new(0x1C12, 0),
+            }),
+            complete_access: true,
+            extra: &[],
+        };
+        let mut sdo = Vec::new();
+        resp.emit_sdo(&mut sdo);
+        assert_eq!(sdo, [0x70, 0x12, 0x1C, 0x00, 0, 0, 0, 0]);
+        assert_eq!(CoeSdo::parse(CoeService::SdoResponse, &sdo).unwrap(), resp);
+        // A download segment response with toggle 1 (0x30) is not complete access, and a
+        // complete-access flag on it does not touch its toggle bit.
+        let seg = CoeSdo {
+            command: CoeSdoCommand::Response(ServerFrame::DownloadSegment { toggle: false }),
+            complete_access: true,
+            extra: &[],
+        };
+        let mut sdo = Vec::new();
+        seg.emit_sdo(&mut sdo);
+        assert_eq!(sdo, [0x20, 0, 0, 0, 0, 0, 0, 0]);
+        let parsed = CoeSdo::parse(CoeService::SdoResponse, &[0x30, 0, 0, 0, 0, 0, 0, 0]).unwrap();
+        assert!(!parsed.complete_access);
+        assert_eq!(
+            parsed.command,
+            CoeSdoCommand::Response(ServerFrame::DownloadSegment { toggle: true })
+        );
+        // A normal upload response of a complete access: 0x51.
+        let up = CoeSdo::parse(
+            CoeService::SdoResponse,
+            &[0x51, 0x12, 0x1C, 0x00, 6, 0, 0, 0],
+        )
+        .unwrap();
+        assert!(up.complete_access);
     }
 
     #[test]
