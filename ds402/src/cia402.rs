@@ -8,6 +8,20 @@
 //! (pending error, standstill, identification finished), carries out the returned [`Action`]s and sends the
 //! returned status word.
 //!
+//! ```
+//! use ds402::cia402::{Action, Inputs, State, StateMachine};
+//!
+//! let mut sm = StateMachine::new();
+//! let idle = Inputs { standstill: true, ..Inputs::default() };
+//! assert_eq!(sm.step(0x0000, &idle).status_word, 0x0240); // Switch on disabled
+//! assert_eq!(sm.step(0x0006, &idle).status_word, 0x0221); // Shutdown → Ready to switch on
+//! let out = sm.step(0x0007, &idle); // first Switch on: motor identification first
+//! assert_eq!((out.state, out.actions), (State::ReadyToSwitchOn, vec![Action::StartIdentification]));
+//! let done = Inputs { identification_done: true, ..idle };
+//! assert_eq!(sm.step(0x0007, &done).status_word, 0x0233); // Switched on
+//! assert_eq!(sm.step(0x000F, &idle).status_word, 0x0237); // Operation enabled
+//! ```
+//!
 //! Rule IDs (`X67-…`) refer to the rule catalogue of the X67SM2436 (`rules/x67.md`), sections 18.11.4.1 to
 //! 18.11.4.3 and 18.11.3.5.
 

@@ -631,3 +631,30 @@ fn disable_voltage_from_every_state() {
     );
     assert_eq!((t.state, t.actions), (State::Fault, vec![]));
 }
+
+/// X67-18.11.4.3-16 during X67-18.11.4.3-07: an Error while the identification runs ends it; the voltage goes
+/// off once, and the next Switch on after the Fault reset measures again.
+#[test]
+fn error_during_identification() {
+    let mut sm = StateMachine::new();
+    sm.step(0, &idle());
+    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(
+        &mut sm,
+        0x0007,
+        idle(),
+        RTSO,
+        &[Action::StartIdentification],
+    );
+    expect(&mut sm, 0x0007, error(), FAULT, &[Action::VoltageOff]);
+    assert!(!sm.identifying && !sm.identified);
+    expect(&mut sm, 0x0080, idle(), SOD, &[Action::ClearErrors]);
+    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(
+        &mut sm,
+        0x0007,
+        idle(),
+        RTSO,
+        &[Action::StartIdentification],
+    );
+}
