@@ -1,8 +1,10 @@
 //! Drive logic built on the object dictionary: the CiA 402 state machine, the B&R X67SM2436 "Ramp" axis
 //! model and the AMCI SMD23K-B/SMD24K indexer model.
 //!
-//! This crate currently provides the shared dictionary access for the drive models; the models arrive with
-//! their own modules.
+//! [`cia402`] is the generic CiA 402 state machine (control-word commands, status word, transitions) as the
+//! X67SM2436 runs it; the axis models arrive with their own modules.
 #![deny(missing_docs)]
+
+pub mod cia402;
 
 pub use od;
