@@ -2,9 +2,11 @@
 //! model and the AMCI SMD23K-B/SMD24K indexer model.
 //!
 //! [`cia402`] is the generic CiA 402 state machine (control-word commands, status word, transitions) as the
-//! X67SM2436 runs it; the axis models arrive with their own modules.
+//! X67SM2436 runs it; [`ramp`] is the ramp generator of one X67SM2436 axis (speed, acceleration, reversing
+//! loop, jerk limitation). The axis models arrive with their own modules.
 #![deny(missing_docs)]
 
 pub mod cia402;
+pub mod ramp;
 
 pub use od;
