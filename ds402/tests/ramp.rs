@@ -213,6 +213,43 @@ fn reversing_loop_negative() {
     );
 }
 
+/// X67-18.11.1.6-02, X67-18.11.1.14-01: with the jerk FIFO on, the axis still stands (output speed 0) at the
+/// loop point before it turns back, and ends exactly on the target.
+#[test]
+fn reversing_loop_with_jerk_fifo() {
+    let c = Config {
+        rev_loop: 300,
+        jolt_time: 5,
+        ..cfg(200, 20, 20)
+    };
+    let mut ramp = Ramp::new(c);
+    ramp.set_target(Target::Position(3000));
+    let states = until_reached(&mut ramp, 2000);
+    let turn = states
+        .iter()
+        .position(|s| s.position == 3300)
+        .expect("reaches the loop point");
+    assert_eq!(states[turn + 1].speed, 0, "stands at the loop point");
+    assert!(states[..=turn].iter().all(|s| s.speed >= 0));
+    assert!(states[turn + 1..]
+        .iter()
+        .all(|s| s.speed <= 0 && s.position <= 3300));
+    assert_eq!(states.last().unwrap().position, 3000);
+    assert_eq!(states.iter().filter(|s| s.target_reached).count(), 1);
+}
+
+/// X67-18.11.1.6-01: with RevLoop 0 every target is approached directly, from both sides.
+#[test]
+fn no_reversing_loop_by_default() {
+    for (start, target) in [(0, 5000), (5000, 0)] {
+        let mut ramp = Ramp::at(cfg(100, 10, 10), start);
+        ramp.set_target(Target::Position(target));
+        let states = until_reached(&mut ramp, 500);
+        let (lo, hi) = (start.min(target), start.max(target));
+        assert!(states.iter().all(|s| (lo..=hi).contains(&s.position)));
+    }
+}
+
 /// X67-18.11.1.6-01, X67-18.11.1.3-02: in speed mode neither the reversing loop nor MaxSpeed apply.
 #[test]
 fn speed_mode_ignores_rev_loop_and_max_speed() {
@@ -345,6 +382,34 @@ fn jolt_change_waits_for_standstill() {
     assert_eq!(speeds(&next), [1, 3], "filtered: 10/10, 30/10");
 }
 
+/// X67-18.11.1.14-03: a JoltTime change written at standstill applies to the very next move.
+#[test]
+fn jolt_change_at_standstill_applies_at_once() {
+    let c = cfg(100, 40, 40);
+    let mut ramp = Ramp::new(c);
+    ramp.set_config(Config { jolt_time: 4, ..c });
+    assert_eq!(ramp.config().jolt_time, 4);
+    ramp.set_target(Target::Position(1000));
+    assert_eq!(
+        speeds(&run(&mut ramp, 3)),
+        [10, 30, 55],
+        "means of 40, 80, 100"
+    );
+}
+
+/// X67-18.11.1.5-01: Stop during a positioning move brakes with MaxDec and the target is not reported.
+#[test]
+fn stop_during_position_move() {
+    let mut ramp = Ramp::new(cfg(50, 25, 10));
+    ramp.set_target(Target::Position(10_000));
+    run(&mut ramp, 3);
+    ramp.set_target(Target::Stop);
+    let states = run(&mut ramp, 7);
+    assert_eq!(speeds(&states), [40, 30, 20, 10, 0, 0, 0]);
+    assert!(states.iter().all(|s| !s.target_reached));
+    assert!(states[4].standstill);
+}
+
 /// X67-18.6.3.3-03: the position register is the 32-bit counter and wraps at the DINT limits.
 #[test]
 fn position_register_wraps() {
@@ -447,6 +512,34 @@ proptest! {
             }
         }
         prop_assert!(reached);
+    }
+
+    /// X67-18.11.1.5-01: Stop at any point of a positioning move brakes to standstill within the limits and
+    /// the axis then stays where it stopped.
+    #[test]
+    fn stop_within_limits(c in config_strategy(), target in -5000i64..5000, after in 0usize..60) {
+        let mut ramp = Ramp::new(c);
+        ramp.set_target(Target::Position(target));
+        let mut prev = (0, 0);
+        for _ in 0..after {
+            let s = ramp.step();
+            prev = (ramp.setpoint_speed(), i64::from(s.speed));
+        }
+        ramp.set_target(Target::Stop);
+        let mut stopped = None;
+        for _ in 0..1000 {
+            let s = ramp.step();
+            let now = (ramp.setpoint_speed(), i64::from(s.speed));
+            check_limits(&c, prev, now, i64::from(c.max_speed_pos));
+            prev = now;
+            prop_assert!(!s.target_reached);
+            match stopped {
+                Some(p) => prop_assert!(s.standstill && s.position == p),
+                None if s.standstill => stopped = Some(s.position),
+                None => {}
+            }
+        }
+        prop_assert!(stopped.is_some());
     }
 
     /// X67-18.11.1.4-01, X67-18.11.1.5-01, X67-18.11.1.3-02: speed mode follows any sequence of set-points
