@@ -35,6 +35,28 @@
 //! stands exactly on the target (the catalogue's pick in X67-18.11.1.14-01). Planning is done on the
 //! unfiltered set-point, so the filter never changes where the axis stops, only when.
 //!
+//! The output speed obeys MaxSpeed0npos exactly; since it is a whole number of microsteps, its change from
+//! one cycle to the next may exceed MaxAcc0n/MaxDec0n by 1 microstep/cycle² of rounding while the filter is
+//! on. The unfiltered set-point obeys both exactly.
+//!
+//! # Reversing loop
+//!
+//! Pick (a) of X67-18.11.1.6-03: a move in the direction of the sign of RevLoop0n first runs to
+//! `target + RevLoop0n`, stops there and then approaches the target against that sign; a move against the sign
+//! goes straight. Which case applies is decided from the set-point position when the target is given, and
+//! again every cycle of the final approach: an axis that passes the target onto the wrong side (a new target
+//! too close for its speed) runs the loop as well, so the final arrival always has the same direction.
+//!
+//! # Choices the seed leaves open
+//!
+//! - The set-point speed never changes sign within one cycle: reversing (speed mode, Stop followed by a new
+//!   target, a target behind a moving axis, the loop point) passes through at least one cycle at speed 0.
+//!   With the jerk FIFO on, the reversal also waits until the FIFO holds no speed of the old direction, so
+//!   the output stands still before it turns and the loop point is a real stop of the axis.
+//! - [`Target::Stop`] and [`Target::Speed`] never report `target_reached`.
+//! - A JoltTime0n change is applied at the first standstill (set-point at rest and FIFO drained); reaching
+//!   the target is such a standstill.
+//!
 //! Rule IDs (`X67-…`) refer to the rule catalogue of the X67SM2436 (`rules/x67.md`).
 
 use std::collections::VecDeque;
@@ -127,9 +149,9 @@ pub struct RampState {
     pub position: i64,
     /// Output speed: how far the position moved in this cycle, in microsteps/cycle (after jerk limitation).
     pub speed: i32,
-    /// The speed magnitude rose in this cycle.
+    /// The magnitude of the output speed rose in this cycle.
     pub accelerating: bool,
-    /// The speed magnitude fell in this cycle.
+    /// The magnitude of the output speed fell in this cycle.
     pub decelerating: bool,
     /// The axis stands: output speed 0 and nothing left in the set-point ramp or the jerk FIFO.
     pub standstill: bool,
