@@ -270,6 +270,18 @@ impl ErrorRegister {
     }
 }
 
+/// The lowest valid supply voltage in V: 24 V − 25 % (X67-3-11).
+pub const SUPPLY_MIN_VOLTS: f64 = 18.0;
+/// The highest valid supply voltage in V: 38.5 V + 25 % (X67-3-11).
+pub const SUPPLY_MAX_VOLTS: f64 = 48.125;
+
+/// Whether a supply voltage lies in the valid band 18.0 V … 48.125 V, both ends included, with no hysteresis
+/// (X67-3-11 and its pick). Outside it (or NaN) the voltage condition 0x3000 is present on both axes; enter it
+/// with [`ErrorRegister::set_condition`]`(`[`ErrorCode::Voltage`]`, !supply_in_range(v))`.
+pub fn supply_in_range(volts: f64) -> bool {
+    (SUPPLY_MIN_VOLTS..=SUPPLY_MAX_VOLTS).contains(&volts)
+}
+
 /// The module temperature at which the over-temperature condition appears, in °C (X67-15-01).
 pub const CUTOFF_CELSIUS: f64 = 85.0;
 /// The module temperature at or below which the over-temperature condition goes, in °C (X67-15-02).

@@ -2,6 +2,7 @@
 //! sections 15, 18.11.3.8 and 18.11.3.13. Each test names the rules it covers; register values are asserted
 //! in full, step by step.
 
+use ds402::cia402::{Action, Inputs, StateMachine, CW_FAULT_RESET, SW_WARNING};
 use ds402::errors::{
     ErrorCode, ErrorRegister, Kind, Temperature, CW_CURRENT_ERROR_DETECTION, CW_STALL_DETECTION,
     CW_WARNING_RESET,
@@ -373,4 +374,96 @@ fn x67_18_11_3_8_01_temperature_register() {
     t.update(f64::NAN); // ignored
     assert_eq!(t.register(), 47);
     assert_eq!(t.celsius(), 47.6);
+}
+
+/// X67-3-11: the supply band 18.0 V … 48.125 V; outside it 0x3000 on both axes, inside no error.
+#[test]
+fn x67_3_11_supply_band() {
+    use ds402::errors::supply_in_range;
+    for (volts, ok) in [
+        (24.0, true),
+        (18.0, true),
+        (48.125, true),
+        (17.9, false),
+        (48.2, false),
+        (f64::NAN, false),
+    ] {
+        assert_eq!(supply_in_range(volts), ok, "{volts}");
+        let mut ax1 = ErrorRegister::new();
+        let mut ax2 = ErrorRegister::new();
+        ax1.set_condition(ErrorCode::Voltage, !supply_in_range(volts));
+        ax2.set_condition(ErrorCode::Voltage, !supply_in_range(volts));
+        let reg = if ok { 0x0000 } else { 0x3000 };
+        assert_eq!((ax1.register(), ax2.register()), (reg, reg), "{volts}");
+    }
+}
+
+/// One cycle of an axis: the register takes the control word, then the state machine steps with
+/// `error_pending = has_error()` and the Warning bit, and its `ClearErrors` action is carried out.
+fn cycle(sm: &mut StateMachine, r: &mut ErrorRegister, cw: u16) -> u16 {
+    r.control_word(cw);
+    let ctx = Inputs {
+        error_pending: r.has_error(),
+        standstill: true,
+        identification_done: true,
+        extra_status: if r.has_warning() { SW_WARNING } else { 0 },
+    };
+    let out = sm.step(cw, &ctx);
+    if out.actions.contains(&Action::ClearErrors) {
+        r.fault_reset();
+    }
+    // Recompute bit 7 after a reset in the same cycle.
+    (out.status_word & !SW_WARNING) | if r.has_warning() { SW_WARNING } else { 0 }
+}
+
+/// X67-15-02 observe, with the state machine: 86 °C then 84 °C → Fault reset refused, Fault and 0x4200
+/// stay; at 83 °C the Fault reset gives Switch on disabled and 0x0000. X67-18.11.4.1-10: ↑ bit 12 in Fault
+/// leaves Fault and 0x4200.
+#[test]
+fn x67_15_02_with_state_machine() {
+    let mut sm = StateMachine::new();
+    let mut r = ErrorRegister::new();
+    let mut t = Temperature::new();
+    assert_eq!(cycle(&mut sm, &mut r, 0x0000), 0x0240);
+
+    t.update(86.0);
+    t.apply_to(&mut r);
+    // Through Fault reaction active to Fault in one cycle.
+    assert_eq!(cycle(&mut sm, &mut r, 0x0000) & 0x035F, 0x0208);
+    assert_eq!(r.register(), 0x4200);
+
+    t.update(84.0);
+    t.apply_to(&mut r);
+    assert_eq!(cycle(&mut sm, &mut r, CW_FAULT_RESET) & 0x035F, 0x0208);
+    assert_eq!(r.register(), 0x4200);
+    assert_eq!(cycle(&mut sm, &mut r, 0x0000) & 0x035F, 0x0208);
+    assert_eq!(cycle(&mut sm, &mut r, CW_WARNING_RESET) & 0x035F, 0x0208);
+    assert_eq!(r.register(), 0x4200);
+
+    t.update(83.0);
+    t.apply_to(&mut r);
+    assert_eq!(cycle(&mut sm, &mut r, 0x0000) & 0x035F, 0x0208); // no reset yet: still Fault
+    assert_eq!(r.register(), 0x4200);
+    assert_eq!(cycle(&mut sm, &mut r, CW_FAULT_RESET), 0x0240);
+    assert_eq!(r.register(), 0x0000);
+}
+
+/// X67-18.11.4.3-20 observe: Fault reset with a stall condition still present → Switch on disabled,
+/// ErrorCode 0xFF01 and SW bit 7 = 1. X67-18.11.3.13-11: Fault and Warning together before the reset.
+#[test]
+fn x67_18_11_4_3_20_with_state_machine() {
+    let cw = CW_STALL_DETECTION;
+    let mut sm = StateMachine::new();
+    let mut r = ErrorRegister::new();
+    cycle(&mut sm, &mut r, cw);
+    r.raise(ErrorCode::Stall);
+    r.raise(ErrorCode::Voltage);
+    assert_eq!(cycle(&mut sm, &mut r, cw), 0x0288); // Fault + Warning + Remote
+    assert_eq!(r.register(), 0x3000);
+    r.clear_condition(ErrorCode::Voltage);
+    assert_eq!(cycle(&mut sm, &mut r, cw | CW_FAULT_RESET), 0x02C0); // Switch on disabled + Warning
+    assert_eq!(r.register(), 0xFF01);
+    r.clear_condition(ErrorCode::Stall);
+    assert_eq!(cycle(&mut sm, &mut r, cw | CW_WARNING_RESET), 0x0240);
+    assert_eq!(r.register(), 0x0000);
 }
