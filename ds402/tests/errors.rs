@@ -467,3 +467,60 @@ fn x67_18_11_4_3_20_with_state_machine() {
     assert_eq!(cycle(&mut sm, &mut r, cw | CW_WARNING_RESET), 0x0240);
     assert_eq!(r.register(), 0x0000);
 }
+
+/// One operation on a register, for the property test.
+#[derive(Clone, Debug)]
+enum Op {
+    Raise(usize),
+    Clear(usize),
+    Control(u16),
+    WarningReset,
+    FaultReset,
+}
+
+fn op() -> impl proptest::strategy::Strategy<Value = Op> {
+    use proptest::prelude::*;
+    prop_oneof![
+        (0..8usize).prop_map(Op::Raise),
+        (0..8usize).prop_map(Op::Clear),
+        prop::sample::select(vec![0u16, 1 << 12, 1 << 13, 1 << 15, 0xB000, 0xA000])
+            .prop_map(Op::Control),
+        Just(Op::WarningReset),
+        Just(Op::FaultReset),
+    ]
+}
+
+proptest::proptest! {
+    /// X67-18.11.3.13-10/-11, X67-18.6.3.1-05: after any sequence, the register shows the highest-priority
+    /// latched code (0 when none), every present condition is latched, `has_error` is "an Error condition is
+    /// present", `has_warning` is "a warning is latched", and 0xFF00/0xFF01 are present only with their bit.
+    #[test]
+    fn x67_18_11_3_13_10_invariants(ops in proptest::collection::vec(op(), 0..40)) {
+        let mut r = ErrorRegister::new();
+        let mut cw = 0u16;
+        for op in ops {
+            match op {
+                Op::Raise(i) => { r.raise(ErrorCode::ALL[i]); }
+                Op::Clear(i) => r.clear_condition(ErrorCode::ALL[i]),
+                Op::Control(c) => { cw = c; r.control_word(c); }
+                Op::WarningReset => r.warning_reset(),
+                Op::FaultReset => r.fault_reset(),
+            }
+            let latched: Vec<ErrorCode> = ErrorCode::ALL.into_iter().filter(|c| r.is_latched(*c)).collect();
+            proptest::prop_assert_eq!(r.register(), latched.first().map_or(0, |c| c.code()));
+            for c in ErrorCode::ALL {
+                proptest::prop_assert!(!r.is_present(c) || r.is_latched(c));
+            }
+            proptest::prop_assert_eq!(
+                r.has_error(),
+                ErrorCode::ALL.into_iter().any(|c| c.kind() == Kind::Error && r.is_present(c))
+            );
+            proptest::prop_assert_eq!(
+                r.has_warning(),
+                latched.iter().any(|c| c.kind() == Kind::Warning)
+            );
+            proptest::prop_assert!(!r.is_present(ErrorCode::CurrentError) || cw & (1 << 13) != 0);
+            proptest::prop_assert!(!r.is_present(ErrorCode::Stall) || cw & (1 << 15) != 0);
+        }
+    }
+}
