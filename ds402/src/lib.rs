@@ -3,11 +3,13 @@
 //!
 //! [`cia402`] is the generic CiA 402 state machine (control-word commands, status word, transitions) as the
 //! X67SM2436 runs it; [`ramp`] is the ramp generator of one X67SM2436 axis (speed, acceleration, reversing
-//! loop, jerk limitation); [`errors`] is an axis's error-code register with the module's over-temperature
-//! cut-off. The axis models arrive with their own modules.
+//! loop, jerk limitation); [`current`] is the motor current of one axis (holding, nominal and maximum
+//! current, the 100 ms hold, full-step threshold); [`errors`] is an axis's error-code register with the
+//! module's over-temperature cut-off. The axis models arrive with their own modules.
 #![deny(missing_docs)]
 
 pub mod cia402;
+pub mod current;
 pub mod errors;
 pub mod ramp;
 
