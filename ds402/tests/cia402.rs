@@ -78,6 +78,21 @@ fn started() -> StateMachine {
     sm
 }
 
+/// A new machine after Shutdown and its first Switch on: in Ready to switch on, the identification running.
+fn identifying() -> StateMachine {
+    let mut sm = StateMachine::new();
+    sm.step(0, &idle());
+    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(
+        &mut sm,
+        0x0007,
+        idle(),
+        RTSO,
+        &[Action::StartIdentification],
+    );
+    sm
+}
+
 /// Brings an identified machine into `state` (not for the Fault states).
 fn in_state(state: State) -> StateMachine {
     let mut sm = started();
@@ -145,16 +160,7 @@ fn later_switch_on_skips_identification() {
 /// runs again at the next Switch on.
 #[test]
 fn aborted_identification_runs_again() {
-    let mut sm = StateMachine::new();
-    sm.step(0, &idle());
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
-    expect(
-        &mut sm,
-        0x0007,
-        idle(),
-        RTSO,
-        &[Action::StartIdentification],
-    );
+    let mut sm = identifying();
     expect(&mut sm, 0x0000, idle(), SOD, &[Action::VoltageOff]);
     expect(&mut sm, 0x0006, idle(), RTSO, &[]);
     expect(
@@ -636,16 +642,7 @@ fn disable_voltage_from_every_state() {
 /// off once, and the next Switch on after the Fault reset measures again.
 #[test]
 fn error_during_identification() {
-    let mut sm = StateMachine::new();
-    sm.step(0, &idle());
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
-    expect(
-        &mut sm,
-        0x0007,
-        idle(),
-        RTSO,
-        &[Action::StartIdentification],
-    );
+    let mut sm = identifying();
     expect(&mut sm, 0x0007, error(), FAULT, &[Action::VoltageOff]);
     assert!(!sm.identifying && !sm.identified);
     expect(&mut sm, 0x0080, idle(), SOD, &[Action::ClearErrors]);
