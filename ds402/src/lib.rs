@@ -8,9 +8,13 @@
 //! module's over-temperature cut-off. The axis models arrive with their own modules.
 #![deny(missing_docs)]
 
+pub mod axis;
 pub mod cia402;
 pub mod current;
 pub mod errors;
+pub mod module;
+pub mod motor;
 pub mod ramp;
+pub mod registers;
 
 pub use od;

@@ -157,6 +157,9 @@ pub struct RampState {
     pub standstill: bool,
     /// Position mode only: the axis stands exactly on the target after the final approach.
     pub target_reached: bool,
+    /// The position bounds ([`Ramp::set_bounds`]) held the set-point back in this cycle: it was braked or
+    /// kept from moving so that it does not leave them.
+    pub limited: bool,
 }
 
 impl RampState {
@@ -194,6 +197,8 @@ pub struct Ramp {
     /// Output position and speed.
     position: i64,
     speed: i64,
+    /// Position bounds the set-point never leaves (software limits), inclusive.
+    bounds: Option<(i64, i64)>,
 }
 
 impl Ramp {
@@ -216,6 +221,7 @@ impl Ramp {
             carry: 0,
             position,
             speed: 0,
+            bounds: None,
         };
         ramp.reset_fifo();
         ramp
@@ -271,6 +277,97 @@ impl Ramp {
         }
     }
 
+    /// The output position (the internal counter before any 32-bit wrap-around).
+    pub const fn position(&self) -> i64 {
+        self.position
+    }
+
+    /// Whether the axis stands: set-point and output at rest and the jerk FIFO drained.
+    pub fn standstill(&self) -> bool {
+        self.is_standstill()
+    }
+
+    /// Moves the whole frame of reference by `delta` microsteps: the output and set-point positions and a
+    /// position target shift together, so no motion results and a move in progress goes on unchanged
+    /// (set actual position, set home position, 32-bit wrap-around of the counter).
+    pub fn shift(&mut self, delta: i64) {
+        self.position += delta;
+        self.sp_pos += delta;
+        if let Target::Position(t) = self.target {
+            self.target = Target::Position(t + delta);
+        }
+        if let Some((lo, hi)) = self.bounds {
+            self.bounds = Some((lo + delta, hi + delta));
+        }
+    }
+
+    /// Stops at once, without a braking ramp: set-point and output speed become 0 where they are, the jerk
+    /// FIFO is emptied (its remainder is dropped) and the target becomes [`Target::Stop`]. For the motor
+    /// voltage going off and the abrupt stop of homing on stall.
+    pub fn stop_now(&mut self) {
+        self.sp_pos = self.position;
+        self.sp_speed = 0;
+        self.speed = 0;
+        self.target = Target::Stop;
+        self.leg = Leg::Final;
+        self.reset_fifo();
+    }
+
+    /// Sets the inclusive position bounds the set-point never leaves (software limits), or removes them. With
+    /// bounds the set-point brakes with MaxDec0n so that it stops no later than at a bound; when it could no
+    /// longer stop in time (bounds set while moving fast toward them) it stops abruptly at the bound, so the
+    /// bound is never crossed. A position already outside the bounds may only move back toward them.
+    pub fn set_bounds(&mut self, bounds: Option<(i64, i64)>) {
+        self.bounds = bounds;
+    }
+
+    /// The bounds in force.
+    pub const fn bounds(&self) -> Option<(i64, i64)> {
+        self.bounds
+    }
+
+    /// Holds a set-point speed `next` back so that the set-point can still stop inside the bounds. Returns
+    /// the speed to use and whether it was reduced.
+    fn bounded(&self, next: i64) -> (i64, bool) {
+        let Some((lo, hi)) = self.bounds else {
+            return (next, false);
+        };
+        let dir = next.signum();
+        if dir == 0 {
+            return (0, false);
+        }
+        let room = if dir > 0 {
+            hi - self.sp_pos
+        } else {
+            self.sp_pos - lo
+        };
+        let u = next.abs();
+        let fits = |w: i64| w + self.brake_distance(w) <= room;
+        if room <= 0 {
+            return (0, true);
+        }
+        if fits(u) {
+            return (next, false);
+        }
+        let (mut a, mut b) = (0, u);
+        while a < b {
+            let mid = a + (b - a + 1) / 2;
+            if fits(mid) {
+                a = mid;
+            } else {
+                b = mid - 1;
+            }
+        }
+        // Braking harder than MaxDec0n only happens when the bounds came too late; the bound still holds.
+        let prev = if self.sp_speed.signum() == dir {
+            self.sp_speed.abs()
+        } else {
+            0
+        };
+        let w = a.max((prev - self.dec_step()).max(0)).min(room);
+        (dir * w, true)
+    }
+
     /// The effective FIFO length.
     fn jolt_len(&self) -> usize {
         usize::from(self.config.jolt_time.min(MAX_JOLT_TIME))
@@ -294,9 +391,15 @@ impl Ramp {
         self.sp_speed == 0 && self.fifo_sum == 0 && self.carry == 0 && self.speed == 0
     }
 
-    /// The reversing-loop point for target `t`, or `None` without a loop.
+    /// The reversing-loop point for target `t`, or `None` without a loop; kept inside the bounds.
     fn loop_point(&self, t: i64) -> Option<i64> {
-        (self.config.rev_loop != 0).then(|| t + i64::from(self.config.rev_loop))
+        (self.config.rev_loop != 0).then(|| {
+            let p = t + i64::from(self.config.rev_loop);
+            match self.bounds {
+                Some((lo, hi)) if lo <= hi => p.clamp(lo, hi),
+                _ => p,
+            }
+        })
     }
 
     /// True when the set-point is on the wrong side of `t` for the final approach: the final approach runs
@@ -404,6 +507,7 @@ impl Ramp {
         } else {
             next
         };
+        let (next, limited) = self.bounded(next);
         self.sp_speed = next;
         self.sp_pos += next;
         if let (Target::Position(t), Leg::Loop) = (self.target, self.leg) {
@@ -443,6 +547,7 @@ impl Ramp {
             decelerating: out.abs() < prev.abs(),
             standstill,
             target_reached,
+            limited,
         }
     }
 }

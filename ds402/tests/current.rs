@@ -348,6 +348,7 @@ fn x67_18_11_1_1_02_phase_from_ramp() {
         decelerating: false,
         standstill: false,
         target_reached: false,
+        limited: false,
     };
     assert_eq!(
         Phase::from_ramp(&RampState {
