@@ -765,8 +765,14 @@ impl Axis {
             self.queued = None;
             self.homing = None;
         }
-        if self.cur_mode != prev_mode && !is_homing(self.cur_mode) {
-            self.homing = None;
+        if self.cur_mode != prev_mode {
+            // A set-point of one mode is not carried into another: after a mode change the position modes
+            // wait for their own set-point (the relative base of X67-18.11.3.3.2-09 is kept).
+            self.active_target = None;
+            self.queued = None;
+            if !is_homing(self.cur_mode) {
+                self.homing = None;
+            }
         }
         self.was_enabled = enabled;
         self.set_pulse = false;
