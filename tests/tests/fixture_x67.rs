@@ -297,3 +297,41 @@ fn communication_objects() {
         "{findings:#?}"
     );
 }
+
+/// The register table of the `ds402` module model names every manufacturer object of the fixture, with the
+/// same data type and access, and nothing else: the model and the description cannot drift apart
+/// (X67-18.5-01, X67-18.5-03, X67-18.5-04).
+#[test]
+fn model_registers_match_the_fixture() {
+    use ds402::registers::{Access, RegType, Register};
+    let d = device().dictionary;
+    let mut names = Vec::new();
+    for reg in Register::all() {
+        let info = reg.info();
+        let e = entry(&d, info.name);
+        let t = match info.ty {
+            RegType::Dint => DINT,
+            RegType::Uint => UINT,
+            RegType::Int => INT,
+            RegType::Sint => SINT,
+            RegType::Usint => USINT,
+        };
+        assert_eq!(e.data_type, t, "{}", info.name);
+        let (access, pdo) = match info.access {
+            Access::Config => (AccessType::Wo, PdoMapping::None),
+            Access::ReadAcyclic => (AccessType::Ro, PdoMapping::None),
+            Access::CyclicOut => (AccessType::Rww, PdoMapping::Rpdo),
+            Access::CyclicIn => (AccessType::Ro, PdoMapping::Tpdo),
+        };
+        assert_eq!((e.access.kind, e.pdo), (access, pdo), "{}", info.name);
+        names.push(info.name);
+    }
+    let manufacturer = d
+        .objects()
+        .filter(|o| (0x2000..=0x5FFF).contains(&o.index))
+        .count();
+    assert_eq!(names.len(), manufacturer);
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), manufacturer, "register names are unique");
+}
