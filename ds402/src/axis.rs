@@ -759,10 +759,8 @@ impl Axis {
         let enabled = self.sm.state == State::OperationEnabled;
         let entered = enabled && (!self.was_enabled || self.cur_mode != prev_mode);
         if !enabled && self.was_enabled {
-            // Leaving Operation enable drops the handshaken set-points and a homing run (a choice of this
-            // model; CiA 402 drops the set-point as well).
-            self.active_target = None;
-            self.queued = None;
+            // Leaving Operation enable ends a homing run; the mode's set-point is kept, so that Enable operation
+            // from Quick stop active resumes the motion (X67-18.11.4.3-15).
             self.homing = None;
         }
         if self.cur_mode != prev_mode {

@@ -43,8 +43,10 @@
 //!   warning is acknowledged (↑ control bit 12 or 7); the mode's set-point is then followed again.
 //! - **Target reached** (bit 10) outside Operation enable, in mode 0 and while a limit holds the axis is 1 at
 //!   standstill and 0 while the axis moves.
-//! - **Leaving Operation enable** drops a handshaken set-point and a homing run; a homing run starts when a
-//!   homing mode is selected in Operation enable or Operation enable is reached with one selected.
+//! - **Leaving Operation enable** keeps the mode's set-point (a handshaken target, the target of mode −123),
+//!   so that motion resumes on Enable operation, but ends a homing run; a homing run starts when a homing mode
+//!   is selected in Operation enable or Operation enable is reached with one selected. A mode change drops
+//!   the set-point of the previous mode (the relative base of the extended control word stays).
 //! - **Motor identification** on ↑ control bit 11 is taken at once; the start-up measurement takes 1.0 s
 //!   (X67-18.11.4.3-07 pick), during which the nominal current flows.
 //! - **Software limits and homing/speed mode.** The ramp brakes so that it stops at the limit; status bit 11 is
