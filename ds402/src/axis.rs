@@ -1057,7 +1057,10 @@ impl Axis {
         abr_start: i32,
     ) {
         let end = start + i64::from(ramp_state.speed);
-        let abr_end = self.abr_counter();
+        // The rotor path of the cycle: the ABR counter at an edge is the encoder's count at the rotor position
+        // of that instant, not an interpolation between the counts at the cycle's ends.
+        let rotor_end = self.motor.rotor();
+        let rotor_start = rotor_end - self.motor.rotor_delta(i64::from(ramp_state.speed));
         let enabled = self.sm.state == State::OperationEnabled;
         let r_input = if self.index == 0 { 2 } else { 5 };
         let mut levels = ctx.levels_before;
@@ -1069,7 +1072,11 @@ impl Axis {
                 continue;
             }
             let at_internal = edge.at.lerp(start, end);
-            let at_abr = edge.at.lerp(i64::from(abr_start), i64::from(abr_end)) as i32;
+            let counted = self
+                .motor
+                .encoder_phase(edge.at.lerp(rotor_start, rotor_end))
+                - self.motor.encoder_phase(rotor_start);
+            let at_abr = i32::from((abr_start as i16).wrapping_add(counted as i16));
             // Limit switches: the active edge triggers (X67-18.11.1.16-04); with direction monitoring only in
             // the commanded direction (X67-18.11.1.16-07).
             for (k, code, sign) in [
