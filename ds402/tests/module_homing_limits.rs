@@ -135,6 +135,69 @@ fn abr_plus_three(m: &mut Module) {
     m.set_input(1, false);
 }
 
+/// `a` followed by `b`.
+fn cat_bools(a: &[bool], b: &[bool]) -> Vec<bool> {
+    [a, b].concat()
+}
+
+/// A cam on `input` carried by the rotor of `axis`.
+fn cam(m: &mut Module, input: usize, axis: usize, from: i64, to: i64) {
+    m.attach_cam(input, Cam { axis, from, to });
+}
+
+/// Stall homing set-up: threshold 3, stall detection on (control bit 15), RefConfig −127, encoder on the
+/// shaft, a light load (load value 7: no stall).
+fn stall_homing(ref_speed: i64) -> Module {
+    let mut m = homing_axis(0, ref_speed, 10, 5);
+    m.axis_mut(0).motor.encoder_lines = ENCODER_LINES;
+    m.axis_mut(0).motor.load = Load::Value(7);
+    set(&mut m, 0, AxisReg::StallDetectConfig, 0x30);
+    set(&mut m, 0, AxisReg::RefConfig, -127);
+    m.set_control(0, CW_ENABLE | CW_STALL_DETECTION);
+    m.step();
+    m
+}
+
+/// Axis 1 in Mode 2 at `speed` (MaxAcc01 = 10, MaxDec01 = 5) with LimitSwitchConfig01 = `config`, already at
+/// speed (limit switches DI1 negative, DI2 positive).
+fn running(config: i64, speed: i32) -> Module {
+    let mut m = enabled(0, 0, 10, 5);
+    set(&mut m, 0, AxisReg::LimitSwitchConfig, config);
+    m.set_mode(0, 2);
+    m.set_abs_pos(0, speed);
+    let s = speed.signum();
+    assert_eq!(incs(&mut m, 0, 5), [10 * s, 20 * s, 30 * s, 40 * s, 40 * s]);
+    m
+}
+
+/// Sets `input` to each level in turn, one cycle each; returns the increment and ErrorCode01 after each.
+fn drive(m: &mut Module, input: usize, levels: &[bool]) -> Vec<(i32, u16)> {
+    levels
+        .iter()
+        .map(|&level| {
+            m.set_input(input, level);
+            let (inc, _) = cycle(m, 0);
+            (inc, m.error_code(0))
+        })
+        .collect()
+}
+
+/// `n` cycles without touching an input; the increment and ErrorCode01 after each.
+fn drive_none(m: &mut Module, n: usize) -> Vec<(i32, u16)> {
+    (0..n)
+        .map(|_| {
+            let (inc, _) = cycle(m, 0);
+            (inc, m.error_code(0))
+        })
+        .collect()
+}
+
+/// Writes PositionLimitMin0n and PositionLimitMax0n.
+fn limits(m: &mut Module, axis: usize, min: i64, max: i64) {
+    set(m, axis, AxisReg::PositionLimitMin, min);
+    set(m, axis, AxisReg::PositionLimitMax, max);
+}
+
 // ----- homing: X67-18.11.3.3.10 -----
 
 /// X67-18.11.3.3.10-01, X67-18.11.1.9-01: Mode −127 with the reference input inactive travels in the positive
@@ -375,19 +438,6 @@ fn x67_18_11_3_3_10_07_case_2_level_present_at_start() {
     assert!(bit(&m, 0, SW_TARGET_REACHED));
 }
 
-/// Stall homing set-up: threshold 3, stall detection on (control bit 15), RefConfig −127, encoder on the
-/// shaft, a light load (load value 7: no stall).
-fn stall_homing(ref_speed: i64) -> Module {
-    let mut m = homing_axis(0, ref_speed, 10, 5);
-    m.axis_mut(0).motor.encoder_lines = ENCODER_LINES;
-    m.axis_mut(0).motor.load = Load::Value(7);
-    set(&mut m, 0, AxisReg::StallDetectConfig, 0x30);
-    set(&mut m, 0, AxisReg::RefConfig, -127);
-    m.set_control(0, CW_ENABLE | CW_STALL_DETECTION);
-    m.step();
-    m
-}
-
 /// X67-18.11.3.3.10-08, X67-18.11.3.3.10-09 (warning): homing on stall stores the counters at the stall and
 /// stops abruptly: the increment drops from RefSpeed0n to 0 at once, without MaxDec0n's ramp; bit 10 = 1 in
 /// that cycle, and the stall warning 0xFF01 is raised as well.
@@ -508,10 +558,6 @@ fn x67_18_11_4_2_13_target_reached_in_homing() {
     assert_eq!(reached, cat_bools(&[false; 12], &[true; 2]));
     assert_eq!(refs(&m, 0).0, -300);
     assert_eq!(m.act_val(0), -360);
-}
-
-fn cat_bools(a: &[bool], b: &[bool]) -> Vec<bool> {
-    [a, b].concat()
 }
 
 // ----- stall homing: currents, delay, minimum speed -----
@@ -666,11 +712,6 @@ fn x67_18_11_1_9_01_homing_speed() {
 }
 
 // ----- RefConfig: X67-18.11.1.11 -----
-
-/// A cam on `input` carried by the rotor of `axis`.
-fn cam(m: &mut Module, input: usize, axis: usize, from: i64, to: i64) {
-    m.attach_cam(input, Cam { axis, from, to });
-}
 
 /// X67-18.11.1.11-01: −121 is the rising and −122 the falling edge of DI4, for axis 1 and for axis 2.
 #[test]
@@ -873,4 +914,642 @@ fn x67_18_11_3_9_02_zero_before_homing() {
     m.step();
     assert_eq!(refs(&m, 0), (0, 0));
     assert_eq!(refs(&m, 1), (0, 0));
+}
+
+// ----- limit switches: X67-18.11.1.16 -----
+
+/// X67-18.11.1.16-01: bits 0–1 set the negative switch (DI1): 11 active high, 01 active low, 10 (reserved)
+/// and 00 off. Only the edge into the active level triggers 0xFF20 and the braking.
+#[test]
+fn x67_18_11_1_16_01_negative_switch_polarity() {
+    let mut m = running(0b11, -40);
+    assert_eq!(drive(&mut m, 1, &[true]), [(-40, 0xFF20)]);
+    assert_eq!(incs(&mut m, 0, 8), [-35, -30, -25, -20, -15, -10, -5, 0]);
+
+    let mut m = running(0b01, -40);
+    assert_eq!(drive(&mut m, 1, &[true, false]), [(-40, 0), (-40, 0xFF20)]);
+    assert_eq!(incs(&mut m, 0, 2), [-35, -30]);
+
+    for config in [0b10, 0b00] {
+        let mut m = running(config, -40);
+        assert_eq!(
+            drive(&mut m, 1, &[true, false, true, false]),
+            [(-40, 0); 4],
+            "config {config:#04b}"
+        );
+        assert!(!bit(&m, 0, SW_WARNING));
+    }
+}
+
+/// X67-18.11.1.16-02: bits 2–3 set the positive switch (DI2) with the same encoding; 0xFF21.
+#[test]
+fn x67_18_11_1_16_02_positive_switch_polarity() {
+    let mut m = running(0b0100, 40);
+    assert_eq!(drive(&mut m, 2, &[true, false]), [(40, 0), (40, 0xFF21)]);
+    assert_eq!(incs(&mut m, 0, 8), [35, 30, 25, 20, 15, 10, 5, 0]);
+
+    let mut m = running(0b1100, 40);
+    assert_eq!(drive(&mut m, 2, &[true]), [(40, 0xFF21)]);
+    // The negative switch's input is not the positive switch.
+    let mut m = running(0b1100, 40);
+    assert_eq!(drive(&mut m, 1, &[true]), [(40, 0)]);
+
+    for config in [0b1000, 0b0000] {
+        let mut m = running(config, 40);
+        assert_eq!(
+            drive(&mut m, 2, &[true, false, true]),
+            [(40, 0); 3],
+            "config {config:#06b}"
+        );
+    }
+}
+
+/// X67-18.11.1.16-03: bit 7 is direction monitoring (off by default) and bits 4–6 are reserved: with bit 7 = 0
+/// a negative switch stops a positive move; with bit 7 = 1 it does not, whatever bits 4–6 hold.
+#[test]
+fn x67_18_11_1_16_03_direction_monitoring_bit() {
+    let m = Module::new();
+    assert_eq!(m.read_named("LimitSwitchConfig01"), 0);
+    for (config, expected) in [(0x03, 0xFF20), (0x73, 0xFF20), (0x83, 0), (0xF3, 0)] {
+        let mut m = running(config, 40);
+        let got = drive(&mut m, 1, &[true]);
+        assert_eq!(got, [(40, expected)], "config {config:#04x}");
+        let next = if expected == 0 { 40 } else { 35 };
+        assert_eq!(incs(&mut m, 0, 1), [next], "config {config:#04x}");
+    }
+}
+
+/// X67-18.11.1.16-04: reaching an active switch raises the warning and brakes with MaxDec01 to speed 0; the
+/// state stays Operation enable and the holding current flows at standstill.
+#[test]
+fn x67_18_11_1_16_04_warning_and_braking_without_state_change() {
+    let mut m = running(0b1100, 40);
+    m.set_input(2, true);
+    let (inc, sw) = cycle(&mut m, 0);
+    assert_eq!(inc, 40);
+    assert_eq!(m.error_code(0), 0xFF21);
+    assert!(sw & SW_WARNING != 0);
+    assert_eq!(sw & STATE_MASK, OPERATION_ENABLE);
+    for expected in [35, 30, 25, 20, 15, 10, 5, 0] {
+        let (inc, sw) = cycle(&mut m, 0);
+        assert_eq!(inc, expected);
+        assert_eq!(sw & STATE_MASK, OPERATION_ENABLE);
+        assert!(sw & SW_WARNING != 0);
+    }
+    assert_eq!(m.act_val(0), 320);
+    m.run(5);
+    assert_eq!(m.act_val(0), 320, "the set-point 40 is not followed");
+    let obs = m.axis(0).observation();
+    assert!(obs.powered);
+    assert_eq!(obs.current.unwrap().level, Level::Holding);
+    assert_eq!(m.axis(0).phase_current_ma(), 600);
+    assert_eq!(m.status_word(0) & STATE_MASK, OPERATION_ENABLE);
+    assert_eq!(m.error_code(0), 0xFF21);
+}
+
+/// X67-18.11.1.16-05: the acknowledgement (↑ bit 12) restores normal operation in both directions while the
+/// switch stays active; the switch triggers again only on its next active edge.
+#[test]
+fn x67_18_11_1_16_05_acknowledge_and_next_edge() {
+    let mut m = running(0b1100, 40);
+    m.set_input(2, true);
+    m.run(10);
+    assert_eq!((m.act_val(0), m.error_code(0)), (320, 0xFF21));
+
+    m.set_control(0, CW_ENABLE | CW_WARNING_RESET);
+    let (inc, sw) = cycle(&mut m, 0);
+    assert_eq!((inc, m.error_code(0)), (10, 0));
+    assert_eq!(sw & SW_WARNING, 0);
+    assert_eq!(
+        incs(&mut m, 0, 4),
+        [20, 30, 40, 40],
+        "toward the active switch"
+    );
+    assert_eq!(m.error_code(0), 0);
+    m.set_abs_pos(0, -40);
+    let back = incs(&mut m, 0, 20);
+    assert_eq!(&back[..9], [35, 30, 25, 20, 15, 10, 5, 0, -10]);
+    assert_eq!(back[19], -40);
+    assert_eq!(m.error_code(0), 0);
+    assert_eq!(m.input_status() & 0x02, 0x02, "DI2 still high");
+
+    assert_eq!(drive(&mut m, 2, &[false, true]), [(-40, 0), (-40, 0xFF21)]);
+    assert_eq!(incs(&mut m, 0, 2), [-35, -30]);
+}
+
+/// X67-18.11.1.16-06: without direction monitoring an axis that brakes past a switch (a cam [−1000, −900])
+/// triggers it again when it reverses back over it after the acknowledgement.
+#[test]
+fn x67_18_11_1_16_06_overshoot_and_retrigger_when_reversing() {
+    let mut m = running(0b11, -40);
+    cam(&mut m, 1, 0, -1000, -900);
+    // −100 after the first 4 cycles; 20 more at −40 reach −900, the switch's first position, exactly.
+    assert_eq!(incs(&mut m, 0, 19), rep(-40, 19));
+    assert_eq!((m.act_val(0), m.error_code(0)), (-900, 0xFF20));
+    assert_eq!(incs(&mut m, 0, 8), [-35, -30, -25, -20, -15, -10, -5, 0]);
+    assert_eq!(m.act_val(0), -1040);
+    assert_eq!(m.input_status() & 0x01, 0, "braked past the switch");
+    assert_eq!(m.error_code(0), 0xFF20);
+
+    m.set_control(0, CW_ENABLE | CW_WARNING_RESET);
+    m.set_abs_pos(0, 40);
+    assert_eq!(drive_none(&mut m, 2), [(10, 0), (20, 0)]);
+    assert_eq!(m.act_val(0), -1010);
+    assert_eq!(drive_none(&mut m, 1), [(30, 0xFF20)], "over −1000 again");
+    assert_eq!(incs(&mut m, 0, 6), [25, 20, 15, 10, 5, 0]);
+    assert_eq!(m.act_val(0), -905);
+    assert_eq!(m.input_status() & 0x01, 0x01);
+}
+
+/// X67-18.11.1.16-07: with direction monitoring the negative switch triggers only in a commanded negative
+/// movement; the commanded direction counts, so a motor wired in reverse never triggers its switches.
+#[test]
+fn x67_18_11_1_16_07_direction_monitoring() {
+    // The negative switch is active; a positive move runs to its end.
+    let mut m = enabled(0, 100, 10, 10);
+    set(&mut m, 0, AxisReg::LimitSwitchConfig, 0x83);
+    m.set_input(1, true);
+    m.step();
+    assert_eq!(m.error_code(0), 0);
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, 5000);
+    m.run(20);
+    m.set_input(1, false);
+    m.step();
+    m.set_input(1, true);
+    m.run(60);
+    assert_eq!(m.act_val(0), 5000);
+    assert!(bit(&m, 0, SW_TARGET_REACHED));
+    assert_eq!(m.error_code(0), 0);
+    // Without direction monitoring the same active edge stops the positive move.
+    let mut m = enabled(0, 100, 10, 10);
+    set(&mut m, 0, AxisReg::LimitSwitchConfig, 0x03);
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, 5000);
+    m.run(20);
+    m.set_input(1, true);
+    m.run(60);
+    assert_eq!(m.error_code(0), 0xFF20);
+    assert_eq!(m.act_val(0), 1550 + 100 + 450);
+
+    // A motor wired in reverse: the rotor runs against the internal counter, into the switch of the other
+    // direction. Switch cams: DI1 (negative) at rotor [−3000, −2000], DI2 (positive) at [2000, 3000].
+    for (config, triggers) in [(0x8F, false), (0x0F, true)] {
+        for (target, input) in [(10_000, 1), (-10_000, 2)] {
+            let mut m = enabled(0, 100, 10, 10);
+            m.axis_mut(0).motor.params.reversed = true;
+            set(&mut m, 0, AxisReg::LimitSwitchConfig, config);
+            cam(&mut m, 1, 0, -3000, -2000);
+            cam(&mut m, 2, 0, 2000, 3000);
+            m.set_mode(0, 1);
+            m.set_abs_pos(0, target);
+            let mut crossed = false;
+            for _ in 0..150 {
+                m.step();
+                crossed |= m.input_status() & (1 << (input - 1)) != 0;
+            }
+            assert!(crossed, "the rotor ran into DI{input}");
+            if triggers {
+                assert_eq!(m.error_code(0), [0xFF20, 0xFF21][input - 1]);
+                assert!(m.act_val(0).abs() < 3000);
+            } else {
+                assert_eq!(m.error_code(0), 0, "DI{input}");
+                assert_eq!(m.act_val(0), target);
+                assert_eq!(m.axis(0).motor.rotor(), -i64::from(target));
+            }
+        }
+    }
+}
+
+/// X67-18.11.1.16-08: with direction monitoring and the switch active, a move toward it is refused (the
+/// warning is raised again, no motion) and a move away from it runs.
+#[test]
+fn x67_18_11_1_16_08_move_toward_active_switch_refused() {
+    let mut m = enabled(0, 100, 10, 10);
+    set(&mut m, 0, AxisReg::LimitSwitchConfig, 0x83);
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, -10_000);
+    m.run(15);
+    assert_eq!(m.act_val(0), -1050);
+    // With direction monitoring the active level is checked against the commanded direction when the
+    // cycle's set-point is chosen, so the braking starts in the cycle that sees the input.
+    m.set_input(1, true);
+    assert_eq!(drive_none(&mut m, 1), [(-90, 0xFF20)]);
+    assert_eq!(
+        incs(&mut m, 0, 9),
+        [-80, -70, -60, -50, -40, -30, -20, -10, 0]
+    );
+    assert_eq!(m.act_val(0), -1500);
+
+    // Acknowledged with the negative target still there: refused.
+    m.set_control(0, CW_ENABLE | CW_WARNING_RESET);
+    assert_eq!(drive_none(&mut m, 5), [(0, 0xFF20); 5]);
+    assert!(bit(&m, 0, SW_WARNING));
+    // A positive target is held until the acknowledgement, then runs.
+    m.set_control(0, CW_ENABLE);
+    m.set_abs_pos(0, 5000);
+    assert_eq!(drive_none(&mut m, 1), [(0, 0xFF20)]);
+    m.set_control(0, CW_ENABLE | CW_WARNING_RESET);
+    assert_eq!(drive_none(&mut m, 3), [(10, 0), (20, 0), (30, 0)]);
+    m.run(100);
+    assert_eq!((m.act_val(0), m.error_code(0)), (5000, 0));
+
+    // Axis 2, positive switch DI5 active at standstill: a positive target is refused at once, a negative one
+    // runs.
+    let mut m = enabled(1, 100, 10, 10);
+    set(&mut m, 1, AxisReg::LimitSwitchConfig, 0x8C);
+    m.set_input(5, true);
+    m.step();
+    assert_eq!(m.error_code(1), 0);
+    m.set_mode(1, 1);
+    m.set_abs_pos(1, 3000);
+    m.run(5);
+    assert_eq!((m.act_val(1), m.error_code(1)), (0, 0xFF21));
+    m.set_abs_pos(1, -3000);
+    m.set_control(1, CW_ENABLE | CW_WARNING_RESET);
+    m.run(60);
+    assert_eq!((m.act_val(1), m.error_code(1)), (-3000, 0));
+}
+
+// ----- software limits: X67-18.11.1.17, X67-18.11.3.5-03 -----
+
+/// X67-18.11.1.17-01: the limits are on as soon as one of Min/Max is non-zero, and then a 0 is a limit too;
+/// with both 0 any target is accepted.
+#[test]
+fn x67_18_11_1_17_01_on_when_either_is_non_zero() {
+    let mut m = enabled(0, 100, 10, 10);
+    limits(&mut m, 0, 0, 10_000);
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, -5);
+    assert_eq!(
+        incs_bits(&mut m, 0, 5, SW_INTERNAL_LIMIT),
+        [(0, true); 5],
+        "Min = 0 is a limit"
+    );
+    m.set_abs_pos(0, 10_000);
+    assert_eq!(incs_bits(&mut m, 0, 1, SW_INTERNAL_LIMIT), [(10, false)]);
+    m.run(150);
+    assert_eq!(m.act_val(0), 10_000);
+    assert!(bit(&m, 0, SW_TARGET_REACHED) && !bit(&m, 0, SW_INTERNAL_LIMIT));
+
+    let mut m = enabled(0, 100, 10, 10);
+    limits(&mut m, 0, -100, 0);
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, 5);
+    assert_eq!(
+        incs_bits(&mut m, 0, 5, SW_INTERNAL_LIMIT),
+        [(0, true); 5],
+        "Max = 0 is a limit"
+    );
+    m.set_abs_pos(0, -100);
+    m.run(20);
+    assert_eq!(m.act_val(0), -100);
+    assert!(!bit(&m, 0, SW_INTERNAL_LIMIT));
+
+    let mut m = enabled(0, 100, 10, 10);
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, -5);
+    assert_eq!(
+        incs_bits(&mut m, 0, 2, SW_INTERNAL_LIMIT),
+        [(-5, false), (0, false)]
+    );
+    m.set_abs_pos(0, 20_000);
+    m.run(250);
+    assert_eq!(m.act_val(0), 20_000);
+    assert!(!bit(&m, 0, SW_INTERNAL_LIMIT));
+}
+
+/// X67-18.11.1.17-02: the counter stays inside [Min, Max] in speed mode and in homing: the axis brakes with
+/// MaxDec01 so that it stops exactly at the limit, with bit 11 = 1 from the first cycle the limit holds it
+/// back.
+#[test]
+fn x67_18_11_1_17_02_containment_in_speed_mode_and_homing() {
+    // From 820 the speed 40 still fits (40 + its braking distance 140 = 180 = room); from 860 it does not.
+    let approach = cat(&[
+        &[10, 20, 30],
+        &rep(40, 20),
+        &[35, 30, 25, 20, 15, 10, 5, 0, 0],
+    ]);
+    let held: Vec<bool> = (0..approach.len()).map(|k| k >= 23).collect();
+
+    let mut m = enabled(0, 0, 10, 5);
+    limits(&mut m, 0, -1000, 1000);
+    m.set_mode(0, 2);
+    m.set_abs_pos(0, 40);
+    let run = incs_bits(&mut m, 0, approach.len(), SW_INTERNAL_LIMIT);
+    assert_eq!(run.iter().map(|r| r.0).collect::<Vec<_>>(), approach);
+    assert_eq!(run.iter().map(|r| r.1).collect::<Vec<_>>(), held);
+    assert_eq!(m.act_val(0), 1000);
+    m.set_abs_pos(0, -40);
+    assert_eq!(incs_bits(&mut m, 0, 1, SW_INTERNAL_LIMIT), [(-10, false)]);
+    for _ in 0..120 {
+        m.step();
+        assert!(m.act_val(0) >= -1000);
+    }
+    assert_eq!(m.act_val(0), -1000);
+    assert!(bit(&m, 0, SW_INTERNAL_LIMIT));
+
+    let mut m = homing_axis(0, 40, 10, 5);
+    limits(&mut m, 0, -1000, 1000);
+    m.set_mode(0, -127);
+    let run = incs_bits(&mut m, 0, approach.len(), SW_INTERNAL_LIMIT);
+    assert_eq!(run.iter().map(|r| r.0).collect::<Vec<_>>(), approach);
+    assert_eq!(run.iter().map(|r| r.1).collect::<Vec<_>>(), held);
+    assert_eq!(m.act_val(0), 1000);
+    assert!(!bit(&m, 0, SW_TARGET_REACHED), "homing has not ended");
+    m.set_mode(0, -128);
+    for _ in 0..120 {
+        m.step();
+        assert!((-1000..=1000).contains(&m.act_val(0)));
+    }
+    assert_eq!(m.act_val(0), -1000);
+    assert_eq!(refs(&m, 0), (0, 0));
+}
+
+/// X67-18.11.1.17-03, X67-18.11.3.5-03: a target outside the limits sets bit 11 and is not pursued: from
+/// standstill nothing moves, in a move the axis brakes with MaxDec01 and stops before the limit. A target
+/// inside clears bit 11 and is approached.
+#[test]
+fn x67_18_11_1_17_03_target_outside_sets_bit_11() {
+    let mut m = enabled(0, 100, 10, 10);
+    limits(&mut m, 0, 0, 10_000);
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, 20_000);
+    assert_eq!(incs_bits(&mut m, 0, 5, SW_INTERNAL_LIMIT), [(0, true); 5]);
+
+    m.set_abs_pos(0, 8000);
+    let run = incs_bits(&mut m, 0, 20, SW_INTERNAL_LIMIT);
+    let expected: Vec<(i32, bool)> = (1..=10)
+        .map(|k| (10 * k, false))
+        .chain((0..10).map(|_| (100, false)))
+        .collect();
+    assert_eq!(run, expected);
+    assert_eq!(m.act_val(0), 1550);
+
+    m.set_abs_pos(0, 20_000);
+    let run = incs_bits(&mut m, 0, 12, SW_INTERNAL_LIMIT);
+    let expected: Vec<(i32, bool)> = [90, 80, 70, 60, 50, 40, 30, 20, 10, 0, 0, 0]
+        .into_iter()
+        .map(|v| (v, true))
+        .collect();
+    assert_eq!(run, expected);
+    assert_eq!(m.act_val(0), 2000);
+
+    m.set_abs_pos(0, 5000);
+    assert_eq!(incs_bits(&mut m, 0, 1, SW_INTERNAL_LIMIT), [(10, false)]);
+    m.run(60);
+    assert_eq!(m.act_val(0), 5000);
+    assert!(bit(&m, 0, SW_TARGET_REACHED) && !bit(&m, 0, SW_INTERNAL_LIMIT));
+
+    // The same for a fixed position (mode −125).
+    set(&mut m, 0, AxisReg::FixedPosA, 10_001);
+    m.set_mode(0, -125);
+    assert_eq!(incs_bits(&mut m, 0, 3, SW_INTERNAL_LIMIT), [(0, true); 3]);
+    set(&mut m, 0, AxisReg::FixedPosA, 10_000);
+    m.run(80);
+    assert_eq!(m.act_val(0), 10_000);
+    assert!(!bit(&m, 0, SW_INTERNAL_LIMIT));
+}
+
+/// X67-18.11.1.17-04: Min > Max sets bit 11 and no positioning move runs; valid limits clear it.
+#[test]
+fn x67_18_11_1_17_04_min_above_max() {
+    let mut m = enabled(0, 100, 10, 10);
+    limits(&mut m, 0, 100, 50);
+    m.step();
+    assert!(
+        bit(&m, 0, SW_INTERNAL_LIMIT),
+        "whatever the target and mode"
+    );
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, 75);
+    assert_eq!(incs_bits(&mut m, 0, 10, SW_INTERNAL_LIMIT), [(0, true); 10]);
+    m.set_abs_pos(0, 0);
+    assert_eq!(incs_bits(&mut m, 0, 2, SW_INTERNAL_LIMIT), [(0, true); 2]);
+    m.set_abs_pos(0, 75);
+    limits(&mut m, 0, 0, 100);
+    assert_eq!(incs_bits(&mut m, 0, 1, SW_INTERNAL_LIMIT), [(10, false)]);
+    m.run(20);
+    assert_eq!(m.act_val(0), 75);
+}
+
+/// X67-18.11.1.17-06: without limits the 32-bit counter wraps from 2 147 483 647 to −2 147 483 648; with
+/// limits [−2^31, 2^31 − 1] the axis stops exactly at 2 147 483 647.
+#[test]
+fn x67_18_11_1_17_06_overflow_only_without_limits() {
+    for limited in [false, true] {
+        let mut m = enabled(0, 0, 10, 10);
+        if limited {
+            limits(&mut m, 0, i64::from(i32::MIN), i64::from(i32::MAX));
+        }
+        m.set_mode(0, -122);
+        m.set_abs_pos(0, i32::MAX - 1000);
+        m.step();
+        assert_eq!(m.act_val(0), i32::MAX - 1000);
+        m.set_mode(0, 2);
+        m.set_abs_pos(0, 40);
+        if limited {
+            let run = incs_bits(&mut m, 0, 30, SW_INTERNAL_LIMIT);
+            let got: Vec<i32> = run.iter().map(|r| r.0).collect();
+            assert_eq!(
+                got,
+                cat(&[&[10, 20, 30], &rep(40, 22), &[30, 20, 10, 0, 0]])
+            );
+            let held: Vec<bool> = run.iter().map(|r| r.1).collect();
+            assert_eq!(held, (0..30).map(|k| k >= 25).collect::<Vec<_>>());
+            assert_eq!(m.act_val(0), i32::MAX);
+        } else {
+            let run = incs_bits(&mut m, 0, 28, SW_INTERNAL_LIMIT);
+            assert_eq!(
+                run,
+                cat(&[&[10, 20, 30], &rep(40, 25)])
+                    .into_iter()
+                    .map(|v| (v, false))
+                    .collect::<Vec<_>>()
+            );
+            assert_eq!(m.act_val(0), i32::MIN + 59);
+        }
+    }
+}
+
+/// X67-18.11.3.5-03: bit 11 is 0 without limits, 1 at a lower or upper limit and while the limits are
+/// misconfigured, and 0 again once nothing holds the axis.
+#[test]
+fn x67_18_11_3_5_03_internal_limit_bit() {
+    let mut m = enabled(0, 0, 20, 20);
+    m.set_mode(0, 2);
+    m.set_abs_pos(0, -200);
+    for _ in 0..30 {
+        m.step();
+        assert!(!bit(&m, 0, SW_INTERNAL_LIMIT));
+    }
+    m.set_abs_pos(0, 0);
+    m.run(15);
+    let here = i64::from(m.act_val(0));
+    // 1100 speeding up, 20 cycles at 200, 900 braking.
+    assert_eq!(here, -6000);
+    limits(&mut m, 0, here - 500, here + 500);
+    m.set_abs_pos(0, -40);
+    m.run(40);
+    assert_eq!(i64::from(m.act_val(0)), here - 500);
+    assert!(bit(&m, 0, SW_INTERNAL_LIMIT), "lower limit");
+    m.set_abs_pos(0, 40);
+    m.step();
+    assert!(!bit(&m, 0, SW_INTERNAL_LIMIT));
+    m.run(60);
+    assert_eq!(i64::from(m.act_val(0)), here + 500);
+    assert!(bit(&m, 0, SW_INTERNAL_LIMIT), "upper limit");
+    m.set_mode(0, 0);
+    m.step();
+    assert!(!bit(&m, 0, SW_INTERNAL_LIMIT), "mode 0: nothing held back");
+    limits(&mut m, 0, here + 600, here);
+    m.step();
+    assert!(bit(&m, 0, SW_INTERNAL_LIMIT), "misconfigured");
+    limits(&mut m, 0, 0, 0);
+    m.step();
+    assert!(!bit(&m, 0, SW_INTERNAL_LIMIT));
+}
+
+// ----- property: the software limits hold in every mode -----
+
+/// A command of the master in the property test.
+#[derive(Clone, Debug)]
+enum Command {
+    /// Mode 1 with this AbsPos01.
+    Target(i32),
+    /// Mode −125 (`b` = false) or −126 with this FixedPos01a/b.
+    Fixed { b: bool, pos: i32 },
+    /// Mode 2 with this speed set-point.
+    Speed(i32),
+    /// Mode −127 or −128 (`negative`) with this RefConfig01.
+    Homing { negative: bool, ref_config: i8 },
+    /// Toggles DI3 or DI4 (the inputs of the referencing conditions).
+    Toggle(usize),
+}
+
+/// The configuration of the property test.
+#[derive(Clone, Debug)]
+struct Setup {
+    min: i32,
+    max: i32,
+    max_speed: i64,
+    acc: i64,
+    dec: i64,
+    jolt: i64,
+    rev_loop: i64,
+    ref_speed: i64,
+}
+
+fn setup_strategy() -> impl Strategy<Value = Setup> {
+    (
+        (-20_000i32..5_000, 0i32..25_000),
+        (1i64..400, 1i64..60, 0i64..60),
+        (0i64..12, -500i64..500, 0i64..300),
+    )
+        .prop_map(
+            |((min, width), (max_speed, acc, dec), (jolt, rev_loop, ref_speed))| {
+                // Both 0 would switch the limits off.
+                let max = if min == 0 && width == 0 {
+                    1
+                } else {
+                    min + width
+                };
+                Setup {
+                    min,
+                    max,
+                    max_speed,
+                    acc,
+                    dec,
+                    jolt,
+                    rev_loop,
+                    ref_speed,
+                }
+            },
+        )
+}
+
+fn command_strategy() -> impl Strategy<Value = Command> {
+    prop_oneof![
+        (-30_000i32..30_000).prop_map(Command::Target),
+        (any::<bool>(), -30_000i32..30_000).prop_map(|(b, pos)| Command::Fixed { b, pos }),
+        (-300i32..300).prop_map(Command::Speed),
+        (
+            any::<bool>(),
+            prop::sample::select(vec![-121i8, -122, -125, -126, -128])
+        )
+            .prop_map(|(negative, ref_config)| Command::Homing {
+                negative,
+                ref_config
+            }),
+        prop::sample::select(vec![3usize, 4]).prop_map(Command::Toggle),
+    ]
+}
+
+fn apply(m: &mut Module, command: &Command, levels: &mut [bool; 6]) {
+    match *command {
+        Command::Target(t) => {
+            m.set_mode(0, 1);
+            m.set_abs_pos(0, t);
+        }
+        Command::Fixed { b, pos } => {
+            let (reg, mode) = if b {
+                (AxisReg::FixedPosB, -126)
+            } else {
+                (AxisReg::FixedPosA, -125)
+            };
+            set(m, 0, reg, i64::from(pos));
+            m.set_mode(0, mode);
+        }
+        Command::Speed(v) => {
+            m.set_mode(0, 2);
+            m.set_abs_pos(0, v);
+        }
+        Command::Homing {
+            negative,
+            ref_config,
+        } => {
+            set(m, 0, AxisReg::RefConfig, i64::from(ref_config));
+            m.set_mode(0, if negative { -128 } else { -127 });
+        }
+        Command::Toggle(input) => {
+            levels[input - 1] = !levels[input - 1];
+            m.set_input(input, levels[input - 1]);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// X67-18.11.1.17-02: with random limits (Min ≤ Max), ramp registers, targets, fixed positions, speed
+    /// set-points and homing runs given at random cycles, AbsPos01ActVal never leaves [Min, Max] once it is
+    /// inside (a counter that starts outside may only come in).
+    #[test]
+    fn software_limits_contain_the_counter(
+        s in setup_strategy(),
+        commands in prop::collection::vec((command_strategy(), 1usize..60), 1..12),
+    ) {
+        let mut m = enabled(0, s.max_speed, s.acc, s.dec);
+        set(&mut m, 0, AxisReg::JoltTime, s.jolt);
+        set(&mut m, 0, AxisReg::RevLoop, s.rev_loop);
+        set(&mut m, 0, AxisReg::RefSpeed, s.ref_speed);
+        limits(&mut m, 0, i64::from(s.min), i64::from(s.max));
+        let mut levels = [false; 6];
+        let mut inside = false;
+        let mut n = 0;
+        for (command, cycles) in &commands {
+            apply(&mut m, command, &mut levels);
+            for _ in 0..*cycles {
+                m.step();
+                n += 1;
+                let p = m.act_val(0);
+                let within = s.min <= p && p <= s.max;
+                prop_assert!(
+                    within || !inside,
+                    "cycle {n}: {p} left [{}, {}] after {command:?}", s.min, s.max
+                );
+                inside |= within;
+            }
+        }
+    }
 }
