@@ -593,7 +593,14 @@ impl Axis {
 
     // ----- the cycle -----
 
+    /// A target register value in the ramp's frame. Without software limits the counter may wrap, so the
+    /// move goes the wrapping difference target − actual (X67-18.11.1.17-06 pick). With the limits on the
+    /// counter cannot overflow, so a target inside them is approached without crossing the wrap
+    /// (X67-18.11.1.17-02/-03); the ramp's frame then holds the register values themselves.
     fn frame(&self, target: i32) -> i64 {
+        if self.ramp.bounds().is_some() {
+            return i64::from(target);
+        }
         let pos = self.ramp.position();
         pos + i64::from(target.wrapping_sub(pos as i32))
     }
