@@ -1372,6 +1372,38 @@ fn x67_18_11_1_17_06_overflow_only_without_limits() {
     }
 }
 
+/// X67-18.11.1.17-06 (pick: the move distance is the wrapping difference), X67-18.11.1.17-02/-03: without
+/// limits a target just past the wrap is reached forward through the overflow (1100 microsteps); with limits
+/// [−2^31, 2^31 − 1] the same target lies inside them and is approached the long way, without overflow.
+#[test]
+fn x67_18_11_1_17_06_positioning_across_the_wrap() {
+    for limited in [false, true] {
+        let mut m = enabled(0, 100, 10, 10);
+        if limited {
+            limits(&mut m, 0, i64::from(i32::MIN), i64::from(i32::MAX));
+        }
+        m.set_mode(0, -122);
+        m.set_abs_pos(0, i32::MAX - 1000);
+        m.step();
+        m.set_mode(0, 1);
+        m.set_abs_pos(0, i32::MIN + 99);
+        let run = incs_bits(&mut m, 0, 30, SW_INTERNAL_LIMIT);
+        assert!(run.iter().all(|r| !r.1), "limited = {limited}");
+        if limited {
+            let expected: Vec<(i32, bool)> = (1..=10)
+                .map(|k| (-10 * k, false))
+                .chain((0..20).map(|_| (-100, false)))
+                .collect();
+            assert_eq!(run, expected);
+            assert_eq!(m.act_val(0), i32::MAX - 1000 - 550 - 2000);
+        } else {
+            assert_eq!(run.iter().map(|r| r.0).sum::<i32>(), 1100);
+            assert_eq!(m.act_val(0), i32::MIN + 99);
+            assert!(bit(&m, 0, SW_TARGET_REACHED));
+        }
+    }
+}
+
 /// X67-18.11.3.5-03: bit 11 is 0 without limits, 1 at a lower or upper limit and while the limits are
 /// misconfigured, and 0 again once nothing holds the axis.
 #[test]
