@@ -1062,7 +1062,8 @@ fn x67_18_11_1_16_06_overshoot_and_retrigger_when_reversing() {
 }
 
 /// X67-18.11.1.16-07: with direction monitoring the negative switch triggers only in a commanded negative
-/// movement; the commanded direction counts, so a motor wired in reverse never triggers its switches.
+/// movement; the commanded direction counts, so a motor wired in reverse never triggers the switch it runs
+/// into, and the direction that would free it is the one denied (the data sheet's warning).
 #[test]
 fn x67_18_11_1_16_07_direction_monitoring() {
     // The negative switch is active; a positive move runs to its end.
@@ -1119,6 +1120,20 @@ fn x67_18_11_1_16_07_direction_monitoring() {
             }
         }
     }
+
+    // The same motor standing on its negative switch (rotor −2500): the commanded negative move, which would
+    // turn the rotor off the switch, is the one refused.
+    let mut m = enabled(0, 100, 10, 10);
+    m.axis_mut(0).motor.params.reversed = true;
+    set(&mut m, 0, AxisReg::LimitSwitchConfig, 0x83);
+    cam(&mut m, 1, 0, -3000, -2000);
+    m.set_mode(0, 1);
+    m.set_abs_pos(0, 2500);
+    m.run(40);
+    assert_eq!((m.act_val(0), m.axis(0).motor.rotor()), (2500, -2500));
+    assert_eq!((m.input_status() & 0x01, m.error_code(0)), (0x01, 0));
+    m.set_abs_pos(0, 0);
+    assert_eq!(drive_none(&mut m, 3), [(0, 0xFF20); 3]);
 }
 
 /// X67-18.11.1.16-08: with direction monitoring and the switch active, a move toward it is refused (the
