@@ -593,7 +593,14 @@ impl Axis {
 
     // ----- the cycle -----
 
+    /// A target register value in the ramp's frame. Without software limits the counter may wrap, so the
+    /// move goes the wrapping difference target − actual (X67-18.11.1.17-06 pick). With the limits on the
+    /// counter cannot overflow, so a target inside them is approached without crossing the wrap
+    /// (X67-18.11.1.17-02/-03); the ramp's frame then holds the register values themselves.
     fn frame(&self, target: i32) -> i64 {
+        if self.ramp.bounds().is_some() {
+            return i64::from(target);
+        }
         let pos = self.ramp.position();
         pos + i64::from(target.wrapping_sub(pos as i32))
     }
@@ -1061,7 +1068,10 @@ impl Axis {
         abr_start: i32,
     ) {
         let end = start + i64::from(ramp_state.speed);
-        let abr_end = self.abr_counter();
+        // The rotor path of the cycle: the ABR counter at an edge is the encoder's count at the rotor position
+        // of that instant, not an interpolation between the counts at the cycle's ends.
+        let rotor_end = self.motor.rotor();
+        let rotor_start = rotor_end - self.motor.rotor_delta(i64::from(ramp_state.speed));
         let enabled = self.sm.state == State::OperationEnabled;
         let r_input = if self.index == 0 { 2 } else { 5 };
         let mut levels = ctx.levels_before;
@@ -1073,7 +1083,11 @@ impl Axis {
                 continue;
             }
             let at_internal = edge.at.lerp(start, end);
-            let at_abr = edge.at.lerp(i64::from(abr_start), i64::from(abr_end)) as i32;
+            let counted = self
+                .motor
+                .encoder_phase(edge.at.lerp(rotor_start, rotor_end))
+                - self.motor.encoder_phase(rotor_start);
+            let at_abr = i32::from((abr_start as i16).wrapping_add(counted as i16));
             // Limit switches: the active edge triggers (X67-18.11.1.16-04); with direction monitoring only in
             // the commanded direction (X67-18.11.1.16-07).
             for (k, code, sign) in [
