@@ -381,6 +381,8 @@ pub struct Axis {
     last: Observation,
     status: u16,
     load_value: u8,
+    /// The states entered in the last cycle, in order.
+    trace: Vec<State>,
 }
 
 impl Axis {
@@ -438,6 +440,7 @@ impl Axis {
             last,
             status: crate::cia402::status_word(State::NotReadyToSwitchOn, 0),
             load_value: 0,
+            trace: Vec::new(),
         }
     }
 
@@ -558,6 +561,13 @@ impl Axis {
     /// The state of the state machine.
     pub const fn state(&self) -> State {
         self.sm.state
+    }
+
+    /// Every state the state machine entered in the last cycle, in order; empty when the state did not change.
+    /// An Error shows Fault reaction active and then Fault, as that state is left in the same cycle
+    /// (X67-18.11.4.3-16/-18). The simulation's state trace; no register shows Fault reaction active.
+    pub fn state_trace(&self) -> &[State] {
+        &self.trace
     }
 
     /// What happened in the last cycle.
@@ -716,6 +726,7 @@ impl Axis {
             extra_status: 0,
         };
         let out = self.sm.step(self.cw, &inputs);
+        self.trace = out.trace;
         for action in out.actions {
             match action {
                 Action::VoltageOn => self.powered = true,
