@@ -14,7 +14,7 @@
 
 use crate::cia402::{Action, Inputs, State, StateMachine};
 use crate::current::{self, CurrentModel, CurrentState, Phase};
-use crate::errors::{ErrorCode, ErrorRegister, CW_STALL_DETECTION};
+use crate::errors::{ErrorCode, ErrorRegister, CW_STALL_DETECTION, CW_WARNING_RESET};
 use crate::motor::{self, Motor};
 use crate::ramp::{self, Cycle, Ramp, RampState, Target};
 
@@ -705,6 +705,12 @@ impl Axis {
         self.load_value = self.motor.load_value(speed_ps);
         let stall = powered && self.stall_condition(self.load_value);
         self.errors.set_condition(ErrorCode::Stall, stall);
+        // The Warning reset of this cycle acknowledges against the conditions of this cycle: the reset in
+        // `control_word` above saw those of the last cycle and latched again a warning whose cause has gone
+        // since (X67-18.11.3.2-06, X67-18.11.4.1-10).
+        if rising & CW_WARNING_RESET != 0 {
+            self.errors.warning_reset();
+        }
 
         // The start-up identification (X67-18.11.4.3-07): 1.0 s of cycles.
         let mut identification_done = false;
