@@ -740,6 +740,10 @@ impl Axis {
                     self.powered = false;
                     self.ident_left = None;
                     self.stop_now();
+                    // No current flows any more, so there is no stronger level left to hold for 100 ms: the
+                    // next Switch on starts with the holding current (X67-18.11.4.3-06).
+                    self.current = CurrentModel::new(*self.current.config())
+                        .unwrap_or_else(|_| unreachable!());
                 }
                 Action::StartIdentification => {
                     self.ident_left = Some(1000u32.div_ceil(ctx.cycle.millis()));
