@@ -14,7 +14,7 @@
 
 use crate::cia402::{Action, Inputs, State, StateMachine};
 use crate::current::{self, CurrentModel, CurrentState, Phase};
-use crate::errors::{ErrorCode, ErrorRegister, CW_STALL_DETECTION};
+use crate::errors::{ErrorCode, ErrorRegister, CW_STALL_DETECTION, CW_WARNING_RESET};
 use crate::motor::{self, Motor};
 use crate::ramp::{self, Cycle, Ramp, RampState, Target};
 
@@ -381,6 +381,8 @@ pub struct Axis {
     last: Observation,
     status: u16,
     load_value: u8,
+    /// The states entered in the last cycle, in order.
+    trace: Vec<State>,
 }
 
 impl Axis {
@@ -438,6 +440,7 @@ impl Axis {
             last,
             status: crate::cia402::status_word(State::NotReadyToSwitchOn, 0),
             load_value: 0,
+            trace: Vec::new(),
         }
     }
 
@@ -558,6 +561,13 @@ impl Axis {
     /// The state of the state machine.
     pub const fn state(&self) -> State {
         self.sm.state
+    }
+
+    /// Every state the state machine entered in the last cycle, in order; empty when the state did not change.
+    /// An Error shows Fault reaction active and then Fault, as that state is left in the same cycle
+    /// (X67-18.11.4.3-16/-18). The simulation's state trace; no register shows Fault reaction active.
+    pub fn state_trace(&self) -> &[State] {
+        &self.trace
     }
 
     /// What happened in the last cycle.
@@ -702,6 +712,12 @@ impl Axis {
         self.load_value = self.motor.load_value(speed_ps);
         let stall = powered && self.stall_condition(self.load_value);
         self.errors.set_condition(ErrorCode::Stall, stall);
+        // The Warning reset of this cycle acknowledges against the conditions of this cycle: the reset in
+        // `control_word` above saw those of the last cycle and latched again a warning whose cause has gone
+        // since (X67-18.11.3.2-06, X67-18.11.4.1-10).
+        if rising & CW_WARNING_RESET != 0 {
+            self.errors.warning_reset();
+        }
 
         // The start-up identification (X67-18.11.4.3-07): 1.0 s of cycles.
         let mut identification_done = false;
@@ -723,6 +739,7 @@ impl Axis {
             extra_status: 0,
         };
         let out = self.sm.step(self.cw, &inputs);
+        self.trace = out.trace;
         for action in out.actions {
             match action {
                 Action::VoltageOn => self.powered = true,
@@ -730,6 +747,10 @@ impl Axis {
                     self.powered = false;
                     self.ident_left = None;
                     self.stop_now();
+                    // No current flows any more, so there is no stronger level left to hold for 100 ms: the
+                    // next Switch on starts with the holding current (X67-18.11.4.3-06).
+                    self.current = CurrentModel::new(*self.current.config())
+                        .unwrap_or_else(|_| unreachable!());
                 }
                 Action::StartIdentification => {
                     self.ident_left = Some(1000u32.div_ceil(ctx.cycle.millis()));
