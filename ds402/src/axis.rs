@@ -768,6 +768,13 @@ impl Axis {
         if self.cur_mode != prev_mode && !is_homing(self.cur_mode) {
             self.homing = None;
         }
+        if self.cur_mode != prev_mode {
+            // A target taken by the set-point handshake or an input edge belongs to the mode that took it: the
+            // new mode starts without one, so it neither returns to a stale target nor queues a new set-point
+            // behind one (X67-18.11.3.3.2-01/-05/-09).
+            self.active_target = None;
+            self.queued = None;
+        }
         self.was_enabled = enabled;
         self.set_pulse = false;
 

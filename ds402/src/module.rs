@@ -44,7 +44,9 @@
 //! - **Target reached** (bit 10) outside Operation enable, in mode 0 and while a limit holds the axis is 1 at
 //!   standstill and 0 while the axis moves.
 //! - **Leaving Operation enable** drops a handshaken set-point and a homing run; a homing run starts when a
-//!   homing mode is selected in Operation enable or Operation enable is reached with one selected.
+//!   homing mode is selected in Operation enable or Operation enable is reached with one selected. A change
+//!   of mode drops a target taken by handshake or input edge (mode 1 with the extended control word, −121
+//!   before its trigger, −123): the new mode starts without one.
 //! - **Motor identification** on ↑ control bit 11 is taken at once; the start-up measurement takes 1.0 s
 //!   (X67-18.11.4.3-07 pick), during which the nominal current flows.
 //! - **Software limits and homing/speed mode.** The ramp brakes so that it stops at the limit; status bit 11 is
