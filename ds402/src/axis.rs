@@ -1145,7 +1145,13 @@ impl Axis {
                     reached = false;
                 }
                 modes::MOVE_ON_INPUT if edge.input == r_input && edge.level => {
+                    // The target is taken now: the ramp has it from here on, so bit 10 drops in this cycle
+                    // (X67-18.11.3.3.7-01, X67-18.11.4.2-11).
                     self.active_target = Some(self.abs_pos);
+                    self.apply(Desired::Position {
+                        target: self.abs_pos,
+                        rev_loop: true,
+                    });
                     reached = false;
                 }
                 modes::HOMING_POSITIVE | modes::HOMING_NEGATIVE => {

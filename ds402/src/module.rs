@@ -46,7 +46,8 @@
 //! - **Leaving Operation enable** keeps the mode's set-point (a handshaken target, the target of mode −123),
 //!   so that motion resumes on Enable operation, but ends a homing run; a homing run starts when a homing mode
 //!   is selected in Operation enable or Operation enable is reached with one selected. A mode change drops
-//!   the set-point of the previous mode (the relative base of the extended control word stays).
+//!   a target taken by handshake or input edge (mode 1 with the extended control word, −121 before its
+//!   trigger, −123): the new mode starts without one (the relative base of the extended control word stays).
 //! - **Motor identification** on ↑ control bit 11 is taken at once; the start-up measurement takes 1.0 s
 //!   (X67-18.11.4.3-07 pick), during which the nominal current flows.
 //! - **Software limits and homing/speed mode.** The ramp brakes so that it stops at the limit; status bit 11 is
