@@ -3543,3 +3543,37 @@ fn x67_18_5_31_read_back_registers() {
 fn x67_18_5_32_error_code_registers() {
     assert_rows(&["ErrorCode01", "ErrorCode02"]);
 }
+
+/// X67-18.6.1.4-01: the Ramp model has no register that selects holding, nominal or maximum current at run
+/// time (no MotorXStepX, no "Motor current"): no register name of the table mentions one, every writable
+/// per-axis register is a configuration or cyclic output of 18.5, and writing every cyclic output of an axis
+/// at standstill in Switched on leaves the holding current flowing.
+#[test]
+fn x67_18_6_1_4_01_no_run_time_current_selection() {
+    use ds402::registers::Register;
+    for reg in Register::all() {
+        let name = reg.name();
+        assert!(
+            !name.contains("Step") || name.starts_with("FullStep"),
+            "{name}"
+        );
+        assert!(!name.eq_ignore_ascii_case("MotorCurrent"), "{name}");
+    }
+    let mut m = Module::new();
+    set_currents(&mut m, 0, 20, 50, 80);
+    switch_on(&mut m, 0);
+    m.step();
+    assert_eq!(
+        (level(&m, 0), milliamps(&m, 0)),
+        (Some(Level::Holding), 600)
+    );
+    // Current-selection bits of function model 0 (bits 14–15 of MotorXStepX) set in every cyclic output.
+    m.set_abs_pos(0, i32::from_le_bytes([0, 0xC0, 0, 0xC0]));
+    m.set_mode(0, modes::NONE);
+    m.set_control(0, 0x0007 | 0x4000);
+    m.run(10);
+    assert_eq!(
+        (level(&m, 0), milliamps(&m, 0)),
+        (Some(Level::Holding), 600)
+    );
+}
