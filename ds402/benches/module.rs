@@ -37,6 +37,9 @@ fn enabled_module() -> Module {
     m.set_control(0, 0x000F);
     m.set_control(1, 0x000F);
     m.step();
+    for axis in 0..2 {
+        assert_eq!(m.status_word(axis) & 0x006F, 0x0027, "axis {axis} in Operation enable");
+    }
     m
 }
 
@@ -53,6 +56,9 @@ fn bench(c: &mut Criterion) {
                     m.set_abs_pos(1, if (k / 200) % 2 == 0 { 300 } else { -300 });
                 }
                 m.step();
+                if k % 200 == 50 {
+                    assert_ne!(m.axis(0).observation().ramp.speed, 0, "axis 1 moves");
+                }
             }
             m.act_val(0)
         })
