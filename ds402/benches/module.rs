@@ -38,7 +38,11 @@ fn enabled_module() -> Module {
     m.set_control(1, 0x000F);
     m.step();
     for axis in 0..2 {
-        assert_eq!(m.status_word(axis) & 0x006F, 0x0027, "axis {axis} in Operation enable");
+        assert_eq!(
+            m.status_word(axis) & 0x006F,
+            0x0027,
+            "axis {axis} in Operation enable"
+        );
     }
     m
 }
