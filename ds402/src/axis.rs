@@ -444,6 +444,15 @@ impl Axis {
         }
     }
 
+    /// The axis's R input, DI3 for axis 1 and DI6 for axis 2 (0-based: 2 and 5; X67-8.2-01).
+    const fn r_input(&self) -> usize {
+        if self.index == 0 {
+            2
+        } else {
+            5
+        }
+    }
+
     /// The axis index (0 = axis 1).
     pub const fn index(&self) -> usize {
         self.index
@@ -839,10 +848,7 @@ impl Axis {
         // (X67-18.11.1.16-07/-08).
         if self.config.limit_switch_config & 0x80 != 0 {
             let dir = self.commanded_direction(desired);
-            for (k, code, sign) in [
-                (0, ErrorCode::NegativeLimitSwitch, -1),
-                (1, ErrorCode::PositiveLimitSwitch, 1),
-            ] {
+            for (k, code, sign) in LIMIT_SWITCHES {
                 let pol = SwitchPolarity::from_bits(self.config.limit_switch_config >> (2 * k));
                 if dir == sign && pol.active(ctx.levels[ctx.limit_inputs[k]]) {
                     self.trigger_limit(code);
@@ -881,7 +887,7 @@ impl Axis {
 
     /// The set-point of the selected mode in Operation enable.
     fn mode_setpoint(&mut self, ctx: &CycleContext, entered: bool, rising: u16) -> Desired {
-        let r_input = if self.index == 0 { 2 } else { 5 };
+        let r_input = self.r_input();
         let abs_changed = self.abs_pos != self.last_abs_pos;
         match self.cur_mode {
             modes::POSITION => self.position_mode(ctx.extended_cw, rising, true),
@@ -1047,7 +1053,7 @@ impl Axis {
 
     /// The input and the active level of an input referencing condition (X67-18.11.1.11-01/-02).
     fn ref_input(&self, rc: i8) -> (usize, bool) {
-        let r_input = if self.index == 0 { 2 } else { 5 };
+        let r_input = self.r_input();
         match rc {
             ref_config::DI4_RISING => (3, true),
             ref_config::DI4_FALLING => (3, false),
@@ -1094,7 +1100,7 @@ impl Axis {
         let rotor_end = self.motor.rotor();
         let rotor_start = rotor_end - self.motor.rotor_delta(i64::from(ramp_state.speed));
         let enabled = self.sm.state == State::OperationEnabled;
-        let r_input = if self.index == 0 { 2 } else { 5 };
+        let r_input = self.r_input();
         let mut levels = ctx.levels_before;
         let mut reached = ramp_state.target_reached;
         for edge in &ctx.edges {
@@ -1111,10 +1117,7 @@ impl Axis {
             let at_abr = i32::from((abr_start as i16).wrapping_add(counted as i16));
             // Limit switches: the active edge triggers (X67-18.11.1.16-04); with direction monitoring only in
             // the commanded direction (X67-18.11.1.16-07).
-            for (k, code, sign) in [
-                (0, ErrorCode::NegativeLimitSwitch, -1),
-                (1, ErrorCode::PositiveLimitSwitch, 1),
-            ] {
+            for (k, code, sign) in LIMIT_SWITCHES {
                 if edge.input != ctx.limit_inputs[k] {
                     continue;
                 }
@@ -1314,6 +1317,13 @@ impl Axis {
         }
     }
 }
+
+/// The two limit switches: index in [`CycleContext::limit_inputs`] and bit pair of LimitSwitchConfig0n, warning
+/// code, and the direction of motion toward the switch.
+const LIMIT_SWITCHES: [(usize, ErrorCode, i64); 2] = [
+    (0, ErrorCode::NegativeLimitSwitch, -1),
+    (1, ErrorCode::PositiveLimitSwitch, 1),
+];
 
 const fn is_homing(mode: i8) -> bool {
     matches!(mode, modes::HOMING_POSITIVE | modes::HOMING_NEGATIVE)

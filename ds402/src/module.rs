@@ -59,7 +59,7 @@ use crate::axis::{Axis, CycleContext, Frac, InputEdge};
 use crate::current::MODULE_NOMINAL_MILLIAMPS;
 use crate::errors::{supply_in_range, Temperature};
 use crate::ramp::Cycle;
-use crate::registers::{AxisReg, ModuleReg, RegType, Register, RegisterError};
+use crate::registers::{AxisReg, ModuleReg, Register, RegisterError};
 
 /// Largest count rate of the encoder inputs in counts per second (X67-3-10: 200 kHz).
 pub const MAX_COUNT_RATE: i64 = 200_000;
@@ -382,7 +382,6 @@ impl Module {
                 min,
             });
         }
-        debug_assert!(matches!(info.ty, RegType::Dint) || value.abs() <= 0xFFFF);
         match reg {
             Register::Module(ModuleReg::GeneralConfig) => self.general_config = value as u8,
             Register::Module(_) => return Err(RegisterError::ReadOnly(reg)),
