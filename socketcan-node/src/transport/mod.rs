@@ -1,0 +1,89 @@
+//! CAN transports behind one trait, [`CanBus`]: SocketCAN interfaces (`can0`, `vcan0`), the socketcand
+//! protocol over TCP (as a client of a daemon elsewhere, or as a server that is itself the bus), and an
+//! in-process bus for tests.
+//!
+//! A bus is named by a [`BusSpec`] in the notation every tool of this project takes:
+//! `socketcan:IFACE`, `socketcand://HOST:PORT/CHANNEL`, `socketcand-listen:ADDR:PORT`.
+
+mod inprocess;
+mod spec;
+
+use std::time::{Duration, SystemTime};
+
+pub use inprocess::{Endpoint, InProcessBus};
+pub use spec::{BusSpec, SpecError, SOCKETCAND_DEFAULT_PORT};
+
+use crate::frame::CanFrame;
+
+/// What a bus delivers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum BusEvent {
+    /// A frame from another participant, with the time it was received.
+    Frame {
+        /// The frame.
+        frame: CanFrame,
+        /// Reception time (wall clock, as socketcand and candump report it).
+        at: SystemTime,
+    },
+    /// An error frame or a controller problem the interface reported. Not fatal: the bus goes on.
+    Error(String),
+}
+
+/// Why a bus operation failed.
+#[derive(Debug, thiserror::Error)]
+pub enum BusError {
+    /// The interface or connection could not be opened.
+    #[error("cannot open {what}: {source}")]
+    Open {
+        /// The bus, as given.
+        what: String,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+    /// The peer spoke the protocol wrongly.
+    #[error("{what}: protocol error: {detail}")]
+    Protocol {
+        /// The bus, as given.
+        what: String,
+        /// What was wrong.
+        detail: String,
+    },
+    /// Sending or receiving failed.
+    #[error("{what}: {source}")]
+    Io {
+        /// The bus, as given.
+        what: String,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+    /// The bus is gone (every other end closed, or the connection ended).
+    #[error("{0}: the bus was closed")]
+    Closed(String),
+}
+
+/// A CAN bus as one participant sees it: frames it sends reach every other participant, frames the
+/// others send reach it. Frames a participant sends are not delivered back to it.
+pub trait CanBus: Send {
+    /// Sends one frame.
+    fn send(&mut self, frame: &CanFrame) -> Result<(), BusError>;
+
+    /// Waits at most `timeout` for the next event; `Ok(None)` when none came in time.
+    fn recv(&mut self, timeout: Duration) -> Result<Option<BusEvent>, BusError>;
+
+    /// A short description for logs (`socketcan:vcan0`, `socketcand://127.0.0.1:29536/can0`, …).
+    fn describe(&self) -> String;
+}
+
+impl<B: CanBus + ?Sized> CanBus for Box<B> {
+    fn send(&mut self, frame: &CanFrame) -> Result<(), BusError> {
+        (**self).send(frame)
+    }
+
+    fn recv(&mut self, timeout: Duration) -> Result<Option<BusEvent>, BusError> {
+        (**self).recv(timeout)
+    }
+
+    fn describe(&self) -> String {
+        (**self).describe()
+    }
+}

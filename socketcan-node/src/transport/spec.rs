@@ -1,0 +1,202 @@
+//! The bus notation: `socketcan:IFACE`, `socketcand://HOST:PORT/CHANNEL`, `socketcand-listen:ADDR:PORT`.
+
+use std::fmt;
+use std::net::SocketAddr;
+use std::str::FromStr;
+
+/// socketcand's usual TCP port.
+pub const SOCKETCAND_DEFAULT_PORT: u16 = 29536;
+
+/// Which bus to use, as written on a command line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum BusSpec {
+    /// A SocketCAN interface: `socketcan:vcan0`.
+    SocketCan {
+        /// Interface name.
+        iface: String,
+    },
+    /// A socketcand daemon to connect to: `socketcand://127.0.0.1:29536/can0` (port defaults to 29536,
+    /// channel to `can0`).
+    Socketcand {
+        /// Host name or address.
+        host: String,
+        /// TCP port.
+        port: u16,
+        /// The channel opened with `< open CHANNEL >`.
+        channel: String,
+    },
+    /// Be a socketcand server: `socketcand-listen:127.0.0.1:29536`.
+    SocketcandListen {
+        /// Address to bind.
+        addr: SocketAddr,
+    },
+}
+
+/// Why a bus notation was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("bad bus {text:?}: {reason} (expected socketcan:IFACE, socketcand://HOST:PORT/CHANNEL or socketcand-listen:ADDR:PORT)")]
+pub struct SpecError {
+    /// The text given.
+    pub text: String,
+    /// What was wrong.
+    pub reason: String,
+}
+
+impl FromStr for BusSpec {
+    type Err = SpecError;
+
+    fn from_str(text: &str) -> Result<BusSpec, SpecError> {
+        let err = |reason: &str| SpecError {
+            text: text.to_string(),
+            reason: reason.to_string(),
+        };
+        if let Some(iface) = text.strip_prefix("socketcan:") {
+            // Linux interface names: 1–15 bytes, no '/', no whitespace.
+            if iface.is_empty() || iface.len() > 15 {
+                return Err(err("the interface name must be 1 to 15 characters"));
+            }
+            if iface.contains(['/', ':']) || iface.chars().any(char::is_whitespace) {
+                return Err(err("the interface name holds '/', ':' or a space"));
+            }
+            return Ok(BusSpec::SocketCan {
+                iface: iface.to_string(),
+            });
+        }
+        if let Some(rest) = text.strip_prefix("socketcand://") {
+            let (authority, channel) = match rest.split_once('/') {
+                Some((a, c)) => (a, c),
+                None => (rest, "can0"),
+            };
+            let channel = if channel.is_empty() { "can0" } else { channel };
+            if channel.contains(['/', ' ', '<', '>']) {
+                return Err(err("the channel name holds '/', ' ', '<' or '>'"));
+            }
+            let (host, port) = split_host_port(authority).map_err(|r| err(&r))?;
+            return Ok(BusSpec::Socketcand {
+                host,
+                port: port.unwrap_or(SOCKETCAND_DEFAULT_PORT),
+                channel: channel.to_string(),
+            });
+        }
+        if let Some(rest) = text.strip_prefix("socketcand-listen:") {
+            let addr = rest
+                .parse::<SocketAddr>()
+                .map_err(|_| err("the listen address must be ADDR:PORT, e.g. 127.0.0.1:29536"))?;
+            return Ok(BusSpec::SocketcandListen { addr });
+        }
+        Err(err("unknown kind of bus"))
+    }
+}
+
+fn split_host_port(authority: &str) -> Result<(String, Option<u16>), String> {
+    if authority.is_empty() {
+        return Err("the host is missing".into());
+    }
+    // [v6]:port
+    if let Some(rest) = authority.strip_prefix('[') {
+        let (host, after) = rest
+            .split_once(']')
+            .ok_or_else(|| "an IPv6 address needs its closing ']'".to_string())?;
+        let port = match after.strip_prefix(':') {
+            Some(p) => Some(parse_port(p)?),
+            None if after.is_empty() => None,
+            None => return Err("unexpected text after the IPv6 address".into()),
+        };
+        return Ok((host.to_string(), port));
+    }
+    match authority.rsplit_once(':') {
+        Some((host, port)) if !host.is_empty() => Ok((host.to_string(), Some(parse_port(port)?))),
+        Some(_) => Err("the host is missing".into()),
+        None => Ok((authority.to_string(), None)),
+    }
+}
+
+fn parse_port(text: &str) -> Result<u16, String> {
+    match text.parse::<u16>() {
+        Ok(p) if p > 0 => Ok(p),
+        _ => Err(format!("port {text:?} is not 1 to 65535")),
+    }
+}
+
+impl fmt::Display for BusSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BusSpec::SocketCan { iface } => write!(f, "socketcan:{iface}"),
+            BusSpec::Socketcand {
+                host,
+                port,
+                channel,
+            } if host.contains(':') => write!(f, "socketcand://[{host}]:{port}/{channel}"),
+            BusSpec::Socketcand {
+                host,
+                port,
+                channel,
+            } => write!(f, "socketcand://{host}:{port}/{channel}"),
+            BusSpec::SocketcandListen { addr } => write!(f, "socketcand-listen:{addr}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_each_kind() {
+        assert_eq!(
+            "socketcan:vcan0".parse::<BusSpec>().unwrap(),
+            BusSpec::SocketCan {
+                iface: "vcan0".into()
+            }
+        );
+        assert_eq!(
+            "socketcand://127.0.0.1:29536/can1"
+                .parse::<BusSpec>()
+                .unwrap(),
+            BusSpec::Socketcand {
+                host: "127.0.0.1".into(),
+                port: 29536,
+                channel: "can1".into()
+            }
+        );
+        assert_eq!(
+            "socketcand://localhost".parse::<BusSpec>().unwrap(),
+            BusSpec::Socketcand {
+                host: "localhost".into(),
+                port: SOCKETCAND_DEFAULT_PORT,
+                channel: "can0".into()
+            }
+        );
+        assert_eq!(
+            "socketcand://[::1]:4000/vcan0"
+                .parse::<BusSpec>()
+                .unwrap()
+                .to_string(),
+            "socketcand://[::1]:4000/vcan0"
+        );
+        assert_eq!(
+            "socketcand-listen:0.0.0.0:29536"
+                .parse::<BusSpec>()
+                .unwrap(),
+            BusSpec::SocketcandListen {
+                addr: "0.0.0.0:29536".parse().unwrap()
+            }
+        );
+    }
+
+    #[test]
+    fn refuses_bad_notation_with_the_reason() {
+        for (text, reason) in [
+            ("vcan0", "unknown kind"),
+            ("socketcan:", "1 to 15"),
+            ("socketcan:averyveryverylongname", "1 to 15"),
+            ("socketcand://:29536/can0", "host is missing"),
+            ("socketcand://host:0/can0", "not 1 to 65535"),
+            ("socketcand://host:99999/can0", "not 1 to 65535"),
+            ("socketcand-listen:localhost", "ADDR:PORT"),
+        ] {
+            let e = text.parse::<BusSpec>().unwrap_err();
+            assert!(e.to_string().contains(reason), "{text}: {e}");
+        }
+    }
+}
