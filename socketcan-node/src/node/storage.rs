@@ -1,0 +1,243 @@
+//! Where "save all parameters" (0x1010) puts the parameters and where the node finds them at the next
+//! reset; "restore default parameters" (0x1011) forgets them.
+//!
+//! The parameter set is a small text file: a first line naming the format, one `IIII:SS HEX` line per
+//! entry, and a last line with the CRC-32 of everything before it. [`FileStorage`] writes it to a
+//! temporary file beside the target, syncs it, renames it over the target and syncs the directory, so a
+//! process killed at any moment leaves the old set or the new one, never a mix; a file that is not a
+//! complete set (bad first line, bad line, wrong CRC) is refused as a whole when it is loaded.
+
+use std::fs;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+
+/// First line of a parameter file.
+const MAGIC: &str = "x67-node parameters 1";
+
+/// A place to keep one parameter set.
+pub trait ParameterStorage: Send {
+    /// The stored set, or `None` when there is none.
+    fn load(&mut self) -> io::Result<Option<Vec<u8>>>;
+    /// Replaces the stored set with `data`, all or nothing.
+    fn save(&mut self, data: &[u8]) -> io::Result<()>;
+    /// Forgets the stored set (the defaults apply at the next reset).
+    fn clear(&mut self) -> io::Result<()>;
+}
+
+/// Parameters kept in memory only (the default without `--storage`, and for tests).
+#[derive(Debug, Default, Clone)]
+pub struct MemoryStorage {
+    /// The stored set.
+    pub data: Option<Vec<u8>>,
+}
+
+impl ParameterStorage for MemoryStorage {
+    fn load(&mut self) -> io::Result<Option<Vec<u8>>> {
+        Ok(self.data.clone())
+    }
+
+    fn save(&mut self, data: &[u8]) -> io::Result<()> {
+        self.data = Some(data.to_vec());
+        Ok(())
+    }
+
+    fn clear(&mut self) -> io::Result<()> {
+        self.data = None;
+        Ok(())
+    }
+}
+
+/// Parameters in a file, replaced atomically.
+#[derive(Debug, Clone)]
+pub struct FileStorage {
+    path: PathBuf,
+}
+
+impl FileStorage {
+    /// Storage in `path` (the file need not exist yet; its directory must).
+    pub fn new(path: impl Into<PathBuf>) -> FileStorage {
+        FileStorage { path: path.into() }
+    }
+
+    /// The file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn dir(&self) -> PathBuf {
+        match self.path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        }
+    }
+
+    fn sync_dir(&self) -> io::Result<()> {
+        fs::File::open(self.dir())?.sync_all()
+    }
+}
+
+impl ParameterStorage for FileStorage {
+    fn load(&mut self) -> io::Result<Option<Vec<u8>>> {
+        match fs::read(&self.path) {
+            Ok(bytes) => Ok(Some(bytes)),
+            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+
+    fn save(&mut self, data: &[u8]) -> io::Result<()> {
+        let mut tmp = tempfile::Builder::new()
+            .prefix(".params-")
+            .tempfile_in(self.dir())?;
+        tmp.write_all(data)?;
+        tmp.as_file().sync_all()?;
+        tmp.persist(&self.path).map_err(|e| e.error)?;
+        self.sync_dir()
+    }
+
+    fn clear(&mut self) -> io::Result<()> {
+        match fs::remove_file(&self.path) {
+            Ok(()) => self.sync_dir(),
+            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// Why a stored parameter set was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ParamFileError {
+    /// The first line is not the format's.
+    #[error("not a parameter set (first line is not {MAGIC:?})")]
+    Magic,
+    /// A line is not `IIII:SS HEX`.
+    #[error("line {line}: expected `IIII:SS HEX`, found {text:?}")]
+    Line {
+        /// 1-based line number.
+        line: usize,
+        /// The line.
+        text: String,
+    },
+    /// The CRC line is missing or does not match: the set is incomplete or damaged.
+    #[error("the set is incomplete or damaged (CRC line missing or wrong)")]
+    Crc,
+}
+
+/// Writes `entries` (index, sub, value bytes) as a parameter set.
+pub fn encode(entries: &[(u16, u8, Vec<u8>)]) -> Vec<u8> {
+    let mut text = String::with_capacity(32 + entries.len() * 24);
+    text.push_str(MAGIC);
+    text.push('\n');
+    for (index, sub, value) in entries {
+        text.push_str(&format!("{index:04X}:{sub:02X} "));
+        for b in value {
+            text.push_str(&format!("{b:02X}"));
+        }
+        text.push('\n');
+    }
+    let crc = crc32(text.as_bytes());
+    text.push_str(&format!("crc32 {crc:08X}\n"));
+    text.into_bytes()
+}
+
+/// Reads a parameter set written by [`encode`].
+pub fn decode(bytes: &[u8]) -> Result<Vec<(u16, u8, Vec<u8>)>, ParamFileError> {
+    let text = std::str::from_utf8(bytes).map_err(|_| ParamFileError::Magic)?;
+    let body_end = text.rfind("crc32 ").ok_or(ParamFileError::Crc)?;
+    let (body, crc_line) = text.split_at(body_end);
+    let want = crc_line
+        .trim_end()
+        .strip_prefix("crc32 ")
+        .and_then(|h| u32::from_str_radix(h, 16).ok())
+        .ok_or(ParamFileError::Crc)?;
+    if crc32(body.as_bytes()) != want || !crc_line.ends_with('\n') {
+        return Err(ParamFileError::Crc);
+    }
+    let mut lines = body.lines();
+    if lines.next() != Some(MAGIC) {
+        return Err(ParamFileError::Magic);
+    }
+    let mut out = Vec::new();
+    for (n, line) in lines.enumerate() {
+        let bad = || ParamFileError::Line {
+            line: n + 2,
+            text: line.chars().take(80).collect(),
+        };
+        let (mux, hex) = line.split_once(' ').ok_or_else(bad)?;
+        let (i, s) = mux.split_once(':').ok_or_else(bad)?;
+        let index = u16::from_str_radix(i, 16).map_err(|_| bad())?;
+        let sub = u8::from_str_radix(s, 16).map_err(|_| bad())?;
+        if hex.len() % 2 != 0 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return Err(bad());
+        }
+        let value = (0..hex.len())
+            .step_by(2)
+            .map(|k| u8::from_str_radix(&hex[k..k + 2], 16).map_err(|_| bad()))
+            .collect::<Result<Vec<u8>, _>>()?;
+        out.push((index, sub, value));
+    }
+    Ok(out)
+}
+
+/// CRC-32 (IEEE 802.3, reflected, as zip and PNG use it).
+fn crc32(data: &[u8]) -> u32 {
+    let mut crc = !0u32;
+    for &b in data {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xEDB8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crc_of_the_check_string() {
+        assert_eq!(crc32(b"123456789"), 0xCBF4_3926);
+    }
+
+    #[test]
+    fn round_trip_and_refusals() {
+        let set = vec![(0x1017, 0, vec![0xE8, 0x03]), (0x2114, 0, vec![0x10, 0x27])];
+        let bytes = encode(&set);
+        assert_eq!(
+            String::from_utf8(bytes.clone()).unwrap(),
+            "x67-node parameters 1\n1017:00 E803\n2114:00 1027\ncrc32 ".to_string()
+                + &format!(
+                    "{:08X}\n",
+                    crc32(b"x67-node parameters 1\n1017:00 E803\n2114:00 1027\n")
+                )
+        );
+        assert_eq!(decode(&bytes).unwrap(), set);
+        // Every strict prefix (a torn write) is refused as a whole.
+        for n in 0..bytes.len() {
+            assert!(decode(&bytes[..n]).is_err(), "prefix of {n} bytes accepted");
+        }
+        let mut flipped = bytes.clone();
+        flipped[30] ^= 1;
+        assert_eq!(decode(&flipped), Err(ParamFileError::Crc));
+    }
+
+    #[test]
+    fn file_storage_replaces_and_clears() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = FileStorage::new(dir.path().join("p.txt"));
+        assert_eq!(s.load().unwrap(), None);
+        s.save(b"one").unwrap();
+        s.save(b"two").unwrap();
+        assert_eq!(s.load().unwrap().as_deref(), Some(&b"two"[..]));
+        // No temporary file is left behind.
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+        s.clear().unwrap();
+        assert_eq!(s.load().unwrap(), None);
+        s.clear().unwrap();
+    }
+}

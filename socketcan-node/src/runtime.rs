@@ -1,0 +1,137 @@
+//! The edge: runs nodes on a real bus with the real clock.
+//!
+//! [`run`] drives one or more [`Node`]s sharing one [`CanBus`]: frames from the bus go to every node,
+//! frames a node sends go to the bus and to the other nodes of the same process (they are on the same
+//! bus), and each node is polled when its timers are due. It returns when `stop` is set or the bus
+//! fails.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use crate::node::{Application, Node, NodeEvent};
+use crate::transport::{BusError, BusEvent, CanBus};
+use crate::CanFrame;
+
+/// Longest wait for a frame, so that `stop` is seen promptly.
+const MAX_WAIT: Duration = Duration::from_millis(50);
+
+/// Counters of a run, for logs and benchmarks.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub struct RunStats {
+    /// Frames received from the bus.
+    pub received: u64,
+    /// Frames sent to the bus.
+    pub sent: u64,
+    /// Error frames / controller problems the bus reported.
+    pub bus_errors: u64,
+}
+
+/// Runs `nodes` on `bus` until `stop` is set. Every node is started first (boot-up messages).
+pub fn run<A: Application>(
+    nodes: &mut [Node<A>],
+    bus: &mut dyn CanBus,
+    stop: &AtomicBool,
+) -> Result<RunStats, BusError> {
+    let mut stats = RunStats::default();
+    let now = Instant::now();
+    for node in nodes.iter_mut() {
+        node.start(now);
+    }
+    let mut outgoing: Vec<(usize, CanFrame)> = Vec::new();
+    flush(nodes, bus, &mut outgoing, &mut stats)?;
+    while !stop.load(Ordering::Relaxed) {
+        let now = Instant::now();
+        let next = nodes.iter().filter_map(Node::poll_timeout).min();
+        let wait = next.map_or(MAX_WAIT, |t| t.saturating_duration_since(now).min(MAX_WAIT));
+        match bus.recv(wait)? {
+            Some(BusEvent::Frame { frame, .. }) => {
+                stats.received += 1;
+                let at = Instant::now();
+                for node in nodes.iter_mut() {
+                    node.handle_frame(at, &frame);
+                }
+            }
+            Some(BusEvent::Error(text)) => {
+                stats.bus_errors += 1;
+                tracing::warn!(bus = %bus.describe(), "bus error: {text}");
+            }
+            None => {}
+        }
+        let now = Instant::now();
+        for node in nodes.iter_mut() {
+            if node.poll_timeout().is_some_and(|t| t <= now) {
+                node.poll(now);
+            }
+        }
+        flush(nodes, bus, &mut outgoing, &mut stats)?;
+    }
+    Ok(stats)
+}
+
+/// Sends what the nodes have to send; a frame of one node also reaches the others in this process.
+fn flush<A: Application>(
+    nodes: &mut [Node<A>],
+    bus: &mut dyn CanBus,
+    outgoing: &mut Vec<(usize, CanFrame)>,
+    stats: &mut RunStats,
+) -> Result<(), BusError> {
+    loop {
+        outgoing.clear();
+        for (n, node) in nodes.iter_mut().enumerate() {
+            while let Some(e) = node.poll_event() {
+                log_event(node.node_id(), &e);
+            }
+            while let Some(f) = node.poll_transmit() {
+                outgoing.push((n, f));
+            }
+        }
+        if outgoing.is_empty() {
+            return Ok(());
+        }
+        for (_, f) in outgoing.iter() {
+            bus.send(f)?;
+            stats.sent += 1;
+        }
+        if nodes.len() > 1 {
+            let at = Instant::now();
+            for (from, f) in outgoing.iter() {
+                for (n, node) in nodes.iter_mut().enumerate() {
+                    if n != *from {
+                        node.handle_frame(at, f);
+                    }
+                }
+            }
+        } else {
+            return Ok(());
+        }
+    }
+}
+
+fn log_event(node: u8, e: &NodeEvent) {
+    match e {
+        NodeEvent::State(s) => tracing::info!(node, "NMT state {s:?}"),
+        NodeEvent::Reset(full) => {
+            tracing::info!(
+                node,
+                "{}",
+                if *full {
+                    "reset node"
+                } else {
+                    "reset communication"
+                }
+            )
+        }
+        NodeEvent::Saved => tracing::info!(node, "parameters saved"),
+        NodeEvent::Restored => {
+            tracing::info!(
+                node,
+                "stored parameters forgotten; defaults at the next reset"
+            )
+        }
+        NodeEvent::Loaded(n) => tracing::info!(node, "{n} stored parameters loaded"),
+        NodeEvent::Storage(text) => tracing::warn!(node, "{text}"),
+        NodeEvent::HeartbeatLost(p) => tracing::warn!(node, "heartbeat of node {p} missed"),
+        NodeEvent::HeartbeatResumed(p) => tracing::info!(node, "heartbeat of node {p} back"),
+        NodeEvent::Sdo(ev) => tracing::debug!(node, "SDO {ev:?}"),
+    }
+}

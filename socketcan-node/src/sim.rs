@@ -1,0 +1,161 @@
+//! A node on a simulated clock, for tests and benchmarks: frames go in, time advances exactly to each
+//! timer the node asks for, and every frame the node sends is recorded with its time.
+
+use std::time::{Duration, Instant};
+
+use crate::node::storage::{MemoryStorage, ParameterStorage};
+use crate::node::{Node, NodeConfig, NodeError};
+use crate::x67::{self, BusController, X67Error};
+use crate::CanFrame;
+
+/// Why a simulated node could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// The bus controller.
+    #[error(transparent)]
+    X67(#[from] X67Error),
+    /// The node.
+    #[error(transparent)]
+    Node(#[from] NodeError),
+}
+
+/// An X67 node on a simulated clock.
+pub struct SimNode {
+    /// The node.
+    pub node: Node<BusController>,
+    /// Simulated now.
+    pub now: Instant,
+    /// Time zero.
+    pub t0: Instant,
+    /// Frames the node sent, with their time since `t0`.
+    pub sent: Vec<(Duration, CanFrame)>,
+}
+
+impl SimNode {
+    /// Node `node_id` with `modules` modules and in-memory storage, booted at time zero.
+    pub fn new(node_id: u8, modules: usize) -> Result<SimNode, SimError> {
+        Self::with(
+            NodeConfig::new(node_id),
+            modules,
+            Box::new(MemoryStorage::default()),
+        )
+    }
+
+    /// A node with the given configuration and storage, booted at time zero.
+    pub fn with(
+        config: NodeConfig,
+        modules: usize,
+        storage: Box<dyn ParameterStorage>,
+    ) -> Result<SimNode, SimError> {
+        let t0 = Instant::now();
+        let dict = x67::dictionary(modules)?;
+        let app = BusController::new(&dict, modules, x67::DEFAULT_X2X_CYCLE, t0)?;
+        let mut node = Node::new(config, dict, app, storage)?;
+        node.start(t0);
+        let mut sim = SimNode {
+            node,
+            now: t0,
+            t0,
+            sent: Vec::new(),
+        };
+        sim.collect();
+        Ok(sim)
+    }
+
+    /// Simulated time since zero.
+    pub fn elapsed(&self) -> Duration {
+        self.now - self.t0
+    }
+
+    fn collect(&mut self) {
+        while let Some(f) = self.node.poll_transmit() {
+            self.sent.push((self.now - self.t0, f));
+        }
+    }
+
+    /// Delivers `frame` now; returns the frames the node sent in answer.
+    pub fn send(&mut self, frame: CanFrame) -> Vec<CanFrame> {
+        let before = self.sent.len();
+        self.node.handle_frame(self.now, &frame);
+        self.node.poll(self.now);
+        self.collect();
+        self.sent[before..].iter().map(|(_, f)| *f).collect()
+    }
+
+    /// Runs the node's timers for `d`; returns the frames sent meanwhile.
+    pub fn advance(&mut self, d: Duration) -> Vec<CanFrame> {
+        let before = self.sent.len();
+        let end = self.now + d;
+        while let Some(t) = self.node.poll_timeout().filter(|t| *t <= end) {
+            self.now = self.now.max(t);
+            self.node.poll(self.now);
+            self.collect();
+        }
+        self.now = end;
+        self.node.poll(end);
+        self.collect();
+        self.sent[before..].iter().map(|(_, f)| *f).collect()
+    }
+
+    /// Runs for `ms` milliseconds.
+    pub fn advance_ms(&mut self, ms: u64) -> Vec<CanFrame> {
+        self.advance(Duration::from_millis(ms))
+    }
+
+    /// Frames sent so far whose COB-ID is `cob`, with their times.
+    pub fn sent_on(&self, cob: u16) -> Vec<(Duration, CanFrame)> {
+        self.sent
+            .iter()
+            .filter(|(_, f)| f.cob_id() == Some(cob))
+            .copied()
+            .collect()
+    }
+
+    /// An expedited SDO upload of `index:sub` answered at once: the value bytes or the abort code.
+    pub fn sdo_read(&mut self, index: u16, sub: u8) -> Result<Vec<u8>, u32> {
+        let id = u16::from(self.node.node_id());
+        let i = index.to_le_bytes();
+        let req = CanFrame::new(0x600 + id, &[0x40, i[0], i[1], sub, 0, 0, 0, 0]).expect("8 bytes");
+        let replies = self.send(req);
+        let r = replies
+            .iter()
+            .find(|f| f.cob_id() == Some(0x580 + id))
+            .ok_or(0u32)?
+            .data8();
+        match r[0] {
+            0x80 => Err(u32::from_le_bytes([r[4], r[5], r[6], r[7]])),
+            c if c & 0xE3 == 0x43 => {
+                let n = 4 - usize::from((c >> 2) & 3);
+                Ok(r[4..4 + n].to_vec())
+            }
+            0x41 => Err(0xFFFF_FFFF),
+            _ => Err(0),
+        }
+    }
+
+    /// An expedited SDO download; `Ok` or the abort code.
+    pub fn sdo_write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), u32> {
+        assert!((1..=4).contains(&data.len()));
+        let id = u16::from(self.node.node_id());
+        let i = index.to_le_bytes();
+        let cs = 0x23 | ((4 - data.len() as u8) << 2);
+        let mut d = [cs, i[0], i[1], sub, 0, 0, 0, 0];
+        d[4..4 + data.len()].copy_from_slice(data);
+        let replies = self.send(CanFrame::new(0x600 + id, &d).expect("8 bytes"));
+        let r = replies
+            .iter()
+            .find(|f| f.cob_id() == Some(0x580 + id))
+            .ok_or(0u32)?
+            .data8();
+        match r[0] {
+            0x60 => Ok(()),
+            0x80 => Err(u32::from_le_bytes([r[4], r[5], r[6], r[7]])),
+            _ => Err(0),
+        }
+    }
+
+    /// Sends an NMT command (`cs`, node or 0 for all).
+    pub fn nmt(&mut self, cs: u8, node: u8) -> Vec<CanFrame> {
+        self.send(CanFrame::new(0, &[cs, node]).expect("2 bytes"))
+    }
+}
