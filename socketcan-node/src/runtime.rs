@@ -38,7 +38,8 @@ pub fn run<A: Application>(
         node.start(now);
     }
     let mut outgoing: Vec<(usize, CanFrame)> = Vec::new();
-    flush(nodes, bus, &mut outgoing, &mut stats)?;
+    let mut interest = Interest::default();
+    flush(nodes, bus, &mut outgoing, &mut interest, &mut stats)?;
     while !stop.load(Ordering::Relaxed) {
         let now = Instant::now();
         let next = nodes.iter().filter_map(Node::poll_timeout).min();
@@ -47,8 +48,9 @@ pub fn run<A: Application>(
             Some(BusEvent::Frame { frame, .. }) => {
                 stats.received += 1;
                 let at = Instant::now();
-                for node in nodes.iter_mut() {
-                    node.handle_frame(at, &frame);
+                interest.refresh(nodes);
+                for &n in interest.takers(&frame) {
+                    nodes[n].handle_frame(at, &frame);
                 }
             }
             Some(BusEvent::Error(text)) => {
@@ -63,9 +65,49 @@ pub fn run<A: Application>(
                 node.poll(now);
             }
         }
-        flush(nodes, bus, &mut outgoing, &mut stats)?;
+        flush(nodes, bus, &mut outgoing, &mut interest, &mut stats)?;
     }
     Ok(stats)
+}
+
+/// Which nodes take which COB-IDs, rebuilt when a node's configuration changes.
+#[derive(Default)]
+struct Interest {
+    generation: Option<u64>,
+    data: Vec<Vec<usize>>,
+    rtr: Vec<Vec<usize>>,
+    extended: Vec<usize>,
+}
+
+impl Interest {
+    fn refresh<A: Application>(&mut self, nodes: &[Node<A>]) {
+        let g = nodes.iter().fold(0u64, |g, n| {
+            g.wrapping_mul(31).wrapping_add(n.listen_generation())
+        });
+        if self.generation == Some(g) {
+            return;
+        }
+        self.generation = Some(g);
+        self.data = vec![Vec::new(); 0x800];
+        self.rtr = vec![Vec::new(); 0x800];
+        for (k, node) in nodes.iter().enumerate() {
+            let (data, rtr) = node.listens();
+            for &c in data {
+                self.data[usize::from(c & 0x7FF)].push(k);
+            }
+            for &c in rtr {
+                self.rtr[usize::from(c & 0x7FF)].push(k);
+            }
+        }
+    }
+
+    fn takers(&self, frame: &CanFrame) -> &[usize] {
+        match frame.cob_id() {
+            Some(c) if frame.is_rtr() => &self.rtr[usize::from(c)],
+            Some(c) => &self.data[usize::from(c)],
+            None => &self.extended,
+        }
+    }
 }
 
 /// Sends what the nodes have to send; a frame of one node also reaches the others in this process.
@@ -73,6 +115,7 @@ fn flush<A: Application>(
     nodes: &mut [Node<A>],
     bus: &mut dyn CanBus,
     outgoing: &mut Vec<(usize, CanFrame)>,
+    interest: &mut Interest,
     stats: &mut RunStats,
 ) -> Result<(), BusError> {
     loop {
@@ -92,17 +135,17 @@ fn flush<A: Application>(
             bus.send(f)?;
             stats.sent += 1;
         }
-        if nodes.len() > 1 {
-            let at = Instant::now();
-            for (from, f) in outgoing.iter() {
-                for (n, node) in nodes.iter_mut().enumerate() {
-                    if n != *from {
-                        node.handle_frame(at, f);
-                    }
+        if nodes.len() == 1 {
+            return Ok(());
+        }
+        let at = Instant::now();
+        interest.refresh(nodes);
+        for (from, f) in outgoing.iter() {
+            for &n in interest.takers(f) {
+                if n != *from {
+                    nodes[n].handle_frame(at, f);
                 }
             }
-        } else {
-            return Ok(());
         }
     }
 }

@@ -194,6 +194,12 @@ struct Core<A: Application> {
     emcy_after: Option<Instant>,
     scratch: Vec<AppError>,
     now: Instant,
+    /// The COB-IDs of data frames the node acts on, and of TPDOs a remote frame may ask for.
+    listen: Vec<u16>,
+    listen_rtr: Vec<u16>,
+    sync_cob: u16,
+    /// Changes whenever `listen` may have changed.
+    generation: u64,
 }
 
 /// A CiA 301 node; see the [module documentation](self).
@@ -247,6 +253,10 @@ impl<A: Application> Node<A> {
                 emcy_after: None,
                 scratch: Vec::new(),
                 now,
+                listen: Vec::new(),
+                listen_rtr: Vec::new(),
+                sync_cob: 0x80,
+                generation: 0,
             },
         })
     }
@@ -287,6 +297,18 @@ impl<A: Application> Node<A> {
         &self.core.active
     }
 
+    /// The COB-IDs of the frames this node acts on (NMT, SDO requests, SYNC, RPDOs, the monitored
+    /// heartbeat) and, in the second list, the TPDOs a remote frame may ask for. A runtime that hosts
+    /// many nodes uses this to hand each frame only to the nodes that take it.
+    pub fn listens(&self) -> (&[u16], &[u16]) {
+        (&self.core.listen, &self.core.listen_rtr)
+    }
+
+    /// A number that changes whenever [`listens`](Node::listens) may have changed.
+    pub fn listen_generation(&self) -> u64 {
+        self.core.generation
+    }
+
     /// Handles a frame received at `now`.
     pub fn handle_frame(&mut self, now: Instant, frame: &crate::CanFrame) {
         self.core.now = now;
@@ -324,8 +346,7 @@ impl<A: Application> Node<A> {
             }
             return;
         }
-        let sync_cob = core.u32_at(0x1005, 0).unwrap_or(0x80) & 0x7FF;
-        if u32::from(cob) == sync_cob {
+        if cob == core.sync_cob {
             if frame.len() <= 1 {
                 core.sync(now);
             }
@@ -559,6 +580,7 @@ impl<A: Application> Core<A> {
         if was_lost {
             self.clear_error(HEARTBEAT_ERROR);
         }
+        self.reload_listen();
     }
 
     fn reload_pdos(&mut self) {
@@ -571,6 +593,32 @@ impl<A: Application> Core<A> {
         self.tpdos = read(TPDO_COMM, &self.dict);
         self.rpdo_pending = vec![None; self.rpdos.len()];
         self.tpdo_state.resize(self.tpdos.len(), TxState::default());
+        self.reload_listen();
+    }
+
+    fn reload_listen(&mut self) {
+        let mut l = vec![0x000, 0x600 + u16::from(self.id)];
+        self.sync_cob = (self.u32_at(0x1005, 0).unwrap_or(0x80) & 0x7FF) as u16;
+        l.push(self.sync_cob);
+        if self.consumer.time > Duration::ZERO {
+            l.push(0x700 + u16::from(self.consumer.node));
+        }
+        l.extend(
+            self.rpdos
+                .iter()
+                .filter(|c| c.valid())
+                .map(PdoConfig::cob_id),
+        );
+        l.sort_unstable();
+        l.dedup();
+        self.listen = l;
+        self.listen_rtr = self
+            .tpdos
+            .iter()
+            .filter(|c| c.valid() && c.cob_raw & COB_NO_RTR == 0)
+            .map(PdoConfig::cob_id)
+            .collect();
+        self.generation += 1;
     }
 
     fn heartbeat_seen(&mut self, now: Instant) {
@@ -1057,7 +1105,10 @@ impl<A: Application> Core<A> {
     fn after_download(&mut self, index: u16) {
         let now = self.now;
         match index {
-            0x1005 | 0x1006 => self.sync_at = self.sync_period().map(|p| now + p),
+            0x1005 | 0x1006 => {
+                self.sync_at = self.sync_period().map(|p| now + p);
+                self.reload_listen();
+            }
             0x1016 => self.reload_consumer(),
             0x1017 => self.heartbeat_at = self.heartbeat_period().map(|p| now + p),
             0x1400..=0x1BFF => {
