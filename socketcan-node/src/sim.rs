@@ -47,9 +47,19 @@ impl SimNode {
         modules: usize,
         storage: Box<dyn ParameterStorage>,
     ) -> Result<SimNode, SimError> {
+        Self::build(config, modules, x67::DEFAULT_X2X_CYCLE, storage)
+    }
+
+    /// A node with the given configuration, X2X Link cycle and storage, booted at time zero.
+    pub fn build(
+        config: NodeConfig,
+        modules: usize,
+        x2x: Duration,
+        storage: Box<dyn ParameterStorage>,
+    ) -> Result<SimNode, SimError> {
         let t0 = Instant::now();
         let dict = x67::dictionary(modules)?;
-        let app = BusController::new(&dict, modules, x67::DEFAULT_X2X_CYCLE, t0)?;
+        let app = BusController::new(&dict, modules, x2x, t0)?;
         let mut node = Node::new(config, dict, app, storage)?;
         node.start(t0);
         let mut sim = SimNode {
