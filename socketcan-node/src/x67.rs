@@ -65,9 +65,7 @@ pub fn dictionary(modules: usize) -> Result<Dictionary, X67Error> {
     if !(1..=MAX_MODULES).contains(&modules) {
         return Err(X67Error::Modules(modules));
     }
-    let desc = od::xdd::read(FIXTURE_XDD.as_bytes(), "X67SM2436.xdd")
-        .map_err(|e| X67Error::Fixture(e.to_string()))?;
-    let mut dict = desc.dictionary;
+    let mut dict = fixture_dictionary()?;
     let base: Vec<Object> = dict
         .objects()
         .filter(|o| (0x2000..0x2000 + MODULE_STRIDE).contains(&o.index))
@@ -132,6 +130,19 @@ pub fn dictionary(modules: usize) -> Result<Dictionary, X67Error> {
         dict.insert(sim_object(SIM_BASE + m as u16));
     }
     Ok(dict)
+}
+
+/// The fixture's dictionary, read once per process.
+fn fixture_dictionary() -> Result<Dictionary, X67Error> {
+    static FIXTURE: std::sync::OnceLock<Result<Dictionary, String>> = std::sync::OnceLock::new();
+    FIXTURE
+        .get_or_init(|| {
+            od::xdd::read(FIXTURE_XDD.as_bytes(), "X67SM2436.xdd")
+                .map(|d| d.dictionary)
+                .map_err(|e| e.to_string())
+        })
+        .clone()
+        .map_err(X67Error::Fixture)
 }
 
 fn sim_object(index: u16) -> Object {
