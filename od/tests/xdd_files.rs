@@ -192,10 +192,10 @@ fn canopennode_ds301_profile_project_file() {
 #[test]
 fn x67sm2436_fixture() {
     let d = fixture();
-    assert_eq!(d.dictionary.len(), 90);
+    assert_eq!(d.dictionary.len(), 92);
     assert_eq!(
         d.dictionary.objects().filter(|o| o.index < 0x2000).count(),
-        19,
+        21,
         "CiA 301 communication objects"
     );
     assert_eq!(d.identity.vendor_name, "B&R");
@@ -209,7 +209,7 @@ fn x67sm2436_fixture() {
         .starts_with("X67 stepper motor module"));
 
     let can = d.can.as_ref().unwrap();
-    assert_eq!(can.granularity, 0, "static mapping");
+    assert_eq!(can.granularity, 8, "dynamic mapping, byte granularity");
     assert_eq!((can.nr_of_rx_pdo, can.nr_of_tx_pdo), (2, 2));
     assert!(can.simple_boot_up_slave);
     assert_eq!(can.dummy_usage, vec![5, 6]);
@@ -230,7 +230,10 @@ fn x67sm2436_fixture() {
             plain(Value::Uint(0x0005_0008)),
         ]
     );
-    assert!(map.subs.values().all(|s| s.access.kind == AccessType::Ro));
+    assert!(
+        map.subs.values().all(|s| s.access.kind == AccessType::Rw),
+        "dynamic mapping: the master may change it"
+    );
     assert_eq!(
         d.dictionary.entry(0x1A01, 3).unwrap().default,
         plain(Value::Uint(0x0006_0010)),
@@ -278,7 +281,7 @@ fn x67sm2436_fixture() {
     let name = d.dictionary.entry(0x1008, 0).unwrap();
     assert_eq!(name.data_type, DataType::VisibleString);
     assert_eq!(name.access.kind, AccessType::Const);
-    assert_eq!(name.value, b"X67BC4321 / X67SM2436");
+    assert_eq!(name.value, b"X67BC4321-10 / X67SM2436");
 
     // Manufacturer objects (X67SM2436-OBJECTS.md).
     let current = d.dictionary.object(0x2110).unwrap();

@@ -5,6 +5,7 @@
 //! - [`node`]: the CiA 301 node as a sans-IO state machine over a dictionary and an application.
 #![deny(missing_docs)]
 
+pub mod cli;
 pub mod frame;
 pub mod node;
 pub mod runtime;

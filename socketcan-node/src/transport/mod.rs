@@ -6,11 +6,15 @@
 //! `socketcan:IFACE`, `socketcand://HOST:PORT/CHANNEL`, `socketcand-listen:ADDR:PORT`.
 
 mod inprocess;
+mod socketcan_bus;
+pub mod socketcand;
 mod spec;
 
 use std::time::{Duration, SystemTime};
 
 pub use inprocess::{Endpoint, InProcessBus};
+pub use socketcan_bus::SocketCanBus;
+pub use socketcand::{SocketcandClient, SocketcandServer};
 pub use spec::{BusSpec, SpecError, SOCKETCAND_DEFAULT_PORT};
 
 use crate::frame::CanFrame;
@@ -85,5 +89,40 @@ impl<B: CanBus + ?Sized> CanBus for Box<B> {
 
     fn describe(&self) -> String {
         (**self).describe()
+    }
+}
+
+/// Opens the bus `spec` names: a SocketCAN interface, a connection to a socketcand daemon, or a
+/// socketcand server listening for clients.
+pub fn open(spec: &BusSpec) -> Result<Box<dyn CanBus>, BusError> {
+    Ok(match spec {
+        BusSpec::SocketCan { iface } => Box::new(SocketCanBus::open(iface)?),
+        BusSpec::Socketcand {
+            host,
+            port,
+            channel,
+        } => Box::new(SocketcandClient::connect(host, *port, channel)?),
+        BusSpec::SocketcandListen { addr } => Box::new(SocketcandServer::bind(*addr)?),
+    })
+}
+
+/// The bus a tool uses when none is named: `socketcan:vcan0` where this machine has that interface,
+/// else a socketcand server on 127.0.0.1:29536 (machines without SocketCAN).
+pub fn open_default() -> Result<(BusSpec, Box<dyn CanBus>), BusError> {
+    match SocketCanBus::open("vcan0") {
+        Ok(bus) => Ok((
+            BusSpec::SocketCan {
+                iface: "vcan0".into(),
+            },
+            Box::new(bus),
+        )),
+        Err(e) => {
+            tracing::debug!("no SocketCAN vcan0 ({e}); serving socketcand instead");
+            let spec = BusSpec::SocketcandListen {
+                addr: std::net::SocketAddr::from(([127, 0, 0, 1], SOCKETCAND_DEFAULT_PORT)),
+            };
+            let bus = open(&spec)?;
+            Ok((spec, bus))
+        }
     }
 }

@@ -1,0 +1,229 @@
+//! The `x67-node` command line: its arguments and what it does with them. `main` only parses and calls
+//! [`run`].
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use clap::Parser;
+
+use crate::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
+use crate::node::{Node, NodeConfig, NodeError};
+use crate::runtime::{self, RunStats};
+use crate::transport::{self, BusError, BusSpec, CanBus};
+use crate::x67::{self, BusController, X67Error, BUS_CONTROLLER};
+
+/// A virtual CANopen node: a B&R X67BC4321-10 bus controller with X67SM2436 stepper modules in
+/// function model "Ramp".
+///
+/// Without --bus it uses SocketCAN vcan0 where this machine has it, and otherwise listens as a
+/// socketcand server on 127.0.0.1:29536, which python-can's "socketcand" interface and this
+/// project's tools reach.
+#[derive(Debug, Clone, Parser)]
+#[command(name = "x67-node", version)]
+pub struct Args {
+    /// The bus: socketcan:IFACE (e.g. socketcan:vcan0), socketcand://HOST:PORT/CHANNEL (a socketcand
+    /// daemon to join), or socketcand-listen:ADDR:PORT (be a socketcand server; binds only the address
+    /// given, 127.0.0.1 keeps it on this machine).
+    #[arg(long, value_name = "BUS")]
+    pub bus: Option<BusSpec>,
+
+    /// The node-ID, 1 to 127 (the bus controller's node number switches).
+    #[arg(long, value_name = "ID", default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=127))]
+    pub node_id: u8,
+
+    /// How many X67SM2436 modules sit behind the bus controller, 1 to 16. Module m (1-based) has its
+    /// registers at 0x2000 + 0x300·(m−1) and its CAN objects on PDOs 2m−1 and 2m.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u8).range(1..=16))]
+    pub modules: u8,
+
+    /// Where "save all parameters" (0x1010) keeps the parameters and where a reset finds them.
+    /// Without it they are kept in memory until the process ends.
+    #[arg(long, value_name = "FILE")]
+    pub storage: Option<PathBuf>,
+
+    /// The heartbeat producer time (0x1017) at power-on, in ms; 0 sends no heartbeat. Without it,
+    /// the description's default.
+    #[arg(long, value_name = "MS")]
+    pub heartbeat_ms: Option<u16>,
+
+    /// The X2X Link cycle in µs, at which the bus controller refreshes the modules' inputs (at least
+    /// 250).
+    #[arg(long, value_name = "US", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(250..=100_000))]
+    pub x2x_us: u64,
+}
+
+/// Why `x67-node` stopped with an error.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// The bus.
+    #[error(transparent)]
+    Bus(#[from] BusError),
+    /// The bus controller.
+    #[error(transparent)]
+    X67(#[from] X67Error),
+    /// The node.
+    #[error(transparent)]
+    Node(#[from] NodeError),
+    /// Ctrl-C could not be hooked.
+    #[error("cannot handle Ctrl-C: {0}")]
+    Signal(String),
+    /// The storage file's directory.
+    #[error("--storage {path}: {reason}")]
+    Storage {
+        /// The file given.
+        path: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// The node `args` describe, ready to start.
+pub fn build_node(args: &Args) -> Result<Node<BusController>, CliError> {
+    let modules = usize::from(args.modules);
+    let storage: Box<dyn ParameterStorage> = match &args.storage {
+        Some(path) => {
+            let dir = match path.parent() {
+                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+                _ => PathBuf::from("."),
+            };
+            if !dir.is_dir() {
+                return Err(CliError::Storage {
+                    path: path.display().to_string(),
+                    reason: format!("directory {} does not exist", dir.display()),
+                });
+            }
+            if path.is_dir() {
+                return Err(CliError::Storage {
+                    path: path.display().to_string(),
+                    reason: "is a directory".into(),
+                });
+            }
+            Box::new(FileStorage::new(path))
+        }
+        None => Box::new(MemoryStorage::default()),
+    };
+    let dict = x67::dictionary(modules)?;
+    let app = BusController::new(
+        &dict,
+        modules,
+        Duration::from_micros(args.x2x_us),
+        Instant::now(),
+    )?;
+    let mut config = NodeConfig::new(args.node_id);
+    config.heartbeat_ms = args.heartbeat_ms;
+    Ok(Node::new(config, dict, app, storage)?)
+}
+
+/// How to reach a node on `spec`, for the start-up message.
+pub fn connect_hint(spec: &BusSpec) -> String {
+    match spec {
+        BusSpec::SocketcandListen { addr } => {
+            let host = addr.ip();
+            let port = addr.port();
+            format!(
+                "listening as a socketcand server on {addr} (any channel name is accepted); connect with\n  \
+                 python-can:       can.Bus(interface=\"socketcand\", host=\"{host}\", port={port}, channel=\"can0\")\n  \
+                 python-canopen:   network.connect(interface=\"socketcand\", host=\"{host}\", port={port}, channel=\"can0\")\n  \
+                 this project:     --bus socketcand://{host}:{port}/can0"
+            )
+        }
+        BusSpec::SocketCan { iface } => format!(
+            "on SocketCAN {iface}; watch it with `candump {iface}`, reach it with --bus socketcan:{iface}"
+        ),
+        BusSpec::Socketcand { .. } => format!("joined the socketcand bus {spec}"),
+    }
+}
+
+/// Runs `x67-node` until Ctrl-C (or `stop`, when given) and returns the run's counters.
+pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliError> {
+    let mut node = build_node(args)?;
+    let (spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
+        Some(spec) => (spec.clone(), transport::open(spec)?),
+        None => transport::open_default()?,
+    };
+    let stop = match stop {
+        Some(s) => s,
+        None => {
+            let s = Arc::new(AtomicBool::new(false));
+            let h = Arc::clone(&s);
+            ctrlc::set_handler(move || h.store(true, Ordering::Relaxed))
+                .map_err(|e| CliError::Signal(e.to_string()))?;
+            s
+        }
+    };
+    println!(
+        "x67-node: node {} ({BUS_CONTROLLER} with {} X67SM2436 module{}) {}",
+        args.node_id,
+        args.modules,
+        if args.modules == 1 { "" } else { "s" },
+        connect_hint(&spec)
+    );
+    tracing::info!(bus = %bus.describe(), node = args.node_id, "started");
+    let stats = runtime::run(std::slice::from_mut(&mut node), bus.as_mut(), &stop)?;
+    tracing::info!(
+        received = stats.received,
+        sent = stats.sent,
+        bus_errors = stats.bus_errors,
+        "stopped"
+    );
+    Ok(stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arguments_and_their_refusals() {
+        let a = Args::try_parse_from(["x67-node"]).unwrap();
+        assert_eq!((a.node_id, a.modules, a.x2x_us), (1, 1, 1000));
+        assert!(a.bus.is_none());
+        let a = Args::try_parse_from([
+            "x67-node",
+            "--bus",
+            "socketcand-listen:127.0.0.1:4000",
+            "--node-id",
+            "127",
+            "--modules",
+            "16",
+            "--heartbeat-ms",
+            "100",
+        ])
+        .unwrap();
+        assert_eq!(
+            a.bus,
+            Some(BusSpec::SocketcandListen {
+                addr: "127.0.0.1:4000".parse().unwrap()
+            })
+        );
+        assert_eq!((a.node_id, a.modules, a.heartbeat_ms), (127, 16, Some(100)));
+        for (argv, says) in [
+            (&["x67-node", "--node-id", "0"][..], "0 is not in 1..=127"),
+            (&["x67-node", "--node-id", "128"], "128 is not in 1..=127"),
+            (&["x67-node", "--modules", "17"], "17 is not in 1..=16"),
+            (
+                &["x67-node", "--x2x-us", "249"],
+                "249 is not in 250..=100000",
+            ),
+            (&["x67-node", "--bus", "vcan0"], "unknown kind of bus"),
+            (&["x67-node", "--heartbeat-ms", "70000"], "70000"),
+        ] {
+            let e = Args::try_parse_from(argv).unwrap_err().to_string();
+            assert!(e.contains(says), "{argv:?}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_storage_file_in_a_missing_directory_is_refused() {
+        let a = Args::try_parse_from(["x67-node", "--storage", "/nonexistent/dir/params"]).unwrap();
+        let Err(e) = build_node(&a) else {
+            panic!("built")
+        };
+        assert_eq!(
+            e.to_string(),
+            "--storage /nonexistent/dir/params: directory /nonexistent/dir does not exist"
+        );
+    }
+}

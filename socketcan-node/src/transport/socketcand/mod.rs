@@ -1,0 +1,682 @@
+//! The socketcand protocol over TCP, as a client of a daemon elsewhere ([`SocketcandClient`]) and as a
+//! server that is itself the bus ([`SocketcandServer`]).
+//!
+//! The server speaks what socketcand speaks in raw mode and what python-can's `socketcand` interface
+//! expects: `< hi >` on connect, `< ok >` to `< open CHANNEL >` (any channel name: the server is one
+//! bus) and to `< rawmode >`, then `< frame … >` for every frame of the bus. A frame one client sends
+//! reaches the node and every other client in raw mode. Commands it does not offer (BCM jobs, the
+//! control and ISO-TP modes) are answered `< error … >` and the session goes on; malformed input is
+//! answered the same way, never with a dropped connection.
+//!
+//! Choices:
+//! - A client gets frames from 50 ms after its `< rawmode >` is acknowledged. python-can reads the
+//!   acknowledgement with one `recv` and compares it with `< ok >` to the letter, so a frame in the same
+//!   TCP segment would fail its handshake.
+//! - Each client has its own writer with a queue of [`CLIENT_QUEUE`] elements; a client that does not
+//!   read loses the frames that do not fit, as a CAN controller's receive queue overflows, and the bus
+//!   goes on for everyone else. At most [`MAX_CLIENTS`] clients at once.
+
+pub mod codec;
+
+use std::collections::VecDeque;
+use std::io::{ErrorKind, Read, Write};
+use std::net::{Shutdown, SocketAddr, TcpListener, TcpStream, ToSocketAddrs};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant, SystemTime};
+
+use codec::{frame_element, Command, Message, Splitter};
+
+use super::{BusError, BusEvent, CanBus};
+use crate::frame::CanFrame;
+
+/// Elements queued for one client at most.
+pub const CLIENT_QUEUE: usize = 8192;
+/// Clients served at once at most.
+pub const MAX_CLIENTS: usize = 32;
+/// How long after `< rawmode >` a client's frames start.
+pub const RAW_MODE_SETTLE: Duration = Duration::from_millis(50);
+/// How long the client waits for each handshake answer.
+pub const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(5);
+
+/// Frames received from clients and not yet taken by the node, at most.
+const NODE_QUEUE: usize = 8192;
+
+/// One connected client, as the server's shared state sees it.
+struct Peer {
+    id: u64,
+    tx: SyncSender<Arc<str>>,
+    raw_from: Option<Instant>,
+    dropped: u64,
+}
+
+#[derive(Default)]
+struct Peers {
+    list: Vec<Peer>,
+}
+
+impl Peers {
+    /// Queues `element` for every client in raw mode but `from`.
+    fn broadcast(&mut self, from: u64, element: &Arc<str>) {
+        let now = Instant::now();
+        for p in self.list.iter_mut() {
+            if p.id == from || p.raw_from.is_none_or(|t| t > now) {
+                continue;
+            }
+            if let Err(TrySendError::Full(_)) = p.tx.try_send(Arc::clone(element)) {
+                p.dropped += 1;
+                if p.dropped.is_power_of_two() {
+                    tracing::warn!(
+                        client = p.id,
+                        dropped = p.dropped,
+                        "socketcand client does not read: frames dropped"
+                    );
+                }
+            }
+        }
+    }
+
+    fn reply(&self, id: u64, element: &str) {
+        if let Some(p) = self.list.iter().find(|p| p.id == id) {
+            let _ = p.tx.try_send(Arc::from(element));
+        }
+    }
+}
+
+struct Shared {
+    peers: Mutex<Peers>,
+    to_node: SyncSender<(CanFrame, SystemTime)>,
+    stop: AtomicBool,
+    next_id: AtomicU64,
+}
+
+impl Shared {
+    fn peers(&self) -> std::sync::MutexGuard<'_, Peers> {
+        self.peers.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+}
+
+/// A socketcand server that is the bus: the node on one side, TCP clients on the other.
+pub struct SocketcandServer {
+    shared: Arc<Shared>,
+    from_clients: Receiver<(CanFrame, SystemTime)>,
+    addr: SocketAddr,
+    accept: Option<JoinHandle<()>>,
+}
+
+impl SocketcandServer {
+    /// Binds `addr` (`127.0.0.1:29536`; port 0 picks a free one) and starts accepting clients.
+    pub fn bind(addr: SocketAddr) -> Result<SocketcandServer, BusError> {
+        let what = format!("socketcand-listen:{addr}");
+        let listener = TcpListener::bind(addr).map_err(|source| BusError::Open {
+            what: what.clone(),
+            source,
+        })?;
+        let addr = listener.local_addr().map_err(|source| BusError::Open {
+            what: what.clone(),
+            source,
+        })?;
+        listener
+            .set_nonblocking(true)
+            .map_err(|source| BusError::Open { what, source })?;
+        let (to_node, from_clients) = mpsc::sync_channel(NODE_QUEUE);
+        let shared = Arc::new(Shared {
+            peers: Mutex::new(Peers::default()),
+            to_node,
+            stop: AtomicBool::new(false),
+            next_id: AtomicU64::new(1),
+        });
+        let s = Arc::clone(&shared);
+        let accept = std::thread::Builder::new()
+            .name("socketcand-accept".into())
+            .spawn(move || accept_loop(&listener, &s))
+            .map_err(|source| BusError::Open {
+                what: format!("socketcand-listen:{addr}"),
+                source,
+            })?;
+        Ok(SocketcandServer {
+            shared,
+            from_clients,
+            addr,
+            accept: Some(accept),
+        })
+    }
+
+    /// The address the server listens on.
+    pub fn local_addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// Clients connected now.
+    pub fn clients(&self) -> usize {
+        self.shared.peers().list.len()
+    }
+}
+
+impl Drop for SocketcandServer {
+    fn drop(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        if let Some(h) = self.accept.take() {
+            let _ = h.join();
+        }
+    }
+}
+
+impl CanBus for SocketcandServer {
+    fn send(&mut self, frame: &CanFrame) -> Result<(), BusError> {
+        let element: Arc<str> = Arc::from(frame_element(frame, SystemTime::now()));
+        self.shared.peers().broadcast(0, &element);
+        Ok(())
+    }
+
+    fn recv(&mut self, timeout: Duration) -> Result<Option<BusEvent>, BusError> {
+        match self.from_clients.recv_timeout(timeout) {
+            Ok((frame, at)) => Ok(Some(BusEvent::Frame { frame, at })),
+            Err(RecvTimeoutError::Timeout) => Ok(None),
+            Err(RecvTimeoutError::Disconnected) => Err(BusError::Closed(self.describe())),
+        }
+    }
+
+    fn describe(&self) -> String {
+        format!("socketcand-listen:{}", self.addr)
+    }
+}
+
+fn accept_loop(listener: &TcpListener, shared: &Arc<Shared>) {
+    while !shared.stop.load(Ordering::Relaxed) {
+        match listener.accept() {
+            Ok((stream, peer)) => {
+                if let Err(e) = serve(stream, peer, shared) {
+                    tracing::warn!(%peer, "socketcand client not served: {e}");
+                }
+            }
+            Err(e) if e.kind() == ErrorKind::WouldBlock => {
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            Err(e) => {
+                tracing::warn!("socketcand accept: {e}");
+                std::thread::sleep(Duration::from_millis(100));
+            }
+        }
+    }
+}
+
+/// Starts the reader and writer threads of one client.
+fn serve(stream: TcpStream, peer: SocketAddr, shared: &Arc<Shared>) -> std::io::Result<()> {
+    stream.set_nonblocking(false)?;
+    stream.set_nodelay(true)?;
+    if shared.peers().list.len() >= MAX_CLIENTS {
+        let mut s = stream;
+        let _ = s.write_all(b"< error too many clients >");
+        let _ = s.shutdown(Shutdown::Both);
+        return Ok(());
+    }
+    let id = shared.next_id.fetch_add(1, Ordering::Relaxed);
+    let (tx, rx) = mpsc::sync_channel::<Arc<str>>(CLIENT_QUEUE);
+    let writer_stream = stream.try_clone()?;
+    // "< hi >" goes out as the first element, on its own.
+    tx.try_send(Arc::from(Message::Hi.emit().as_str()))
+        .map_err(|_| std::io::Error::other("client queue"))?;
+    shared.peers().list.push(Peer {
+        id,
+        tx,
+        raw_from: None,
+        dropped: 0,
+    });
+    tracing::info!(%peer, client = id, "socketcand client connected");
+    std::thread::Builder::new()
+        .name(format!("socketcand-tx-{id}"))
+        .spawn(move || write_loop(writer_stream, &rx))?;
+    let s = Arc::clone(shared);
+    std::thread::Builder::new()
+        .name(format!("socketcand-rx-{id}"))
+        .spawn(move || {
+            read_loop(stream, id, &s);
+            s.peers().list.retain(|p| p.id != id);
+            tracing::info!(%peer, client = id, "socketcand client gone");
+        })?;
+    Ok(())
+}
+
+fn write_loop(mut stream: TcpStream, rx: &Receiver<Arc<str>>) {
+    let mut batch = String::new();
+    while let Ok(first) = rx.recv() {
+        batch.clear();
+        batch.push_str(&first);
+        // The handshake answers go out alone (python-can reads each with one recv); frames may
+        // be batched.
+        if first.starts_with("< frame") {
+            while batch.len() < 16 * 1024 {
+                match rx.try_recv() {
+                    Ok(next) if next.starts_with("< frame") => batch.push_str(&next),
+                    Ok(next) => {
+                        if stream.write_all(batch.as_bytes()).is_err() {
+                            return;
+                        }
+                        batch.clear();
+                        batch.push_str(&next);
+                        break;
+                    }
+                    Err(_) => break,
+                }
+            }
+        }
+        if stream.write_all(batch.as_bytes()).is_err() {
+            let _ = stream.shutdown(Shutdown::Both);
+            return;
+        }
+    }
+    let _ = stream.shutdown(Shutdown::Both);
+}
+
+fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared) {
+    let _ = stream.set_read_timeout(Some(Duration::from_millis(100)));
+    let mut splitter = Splitter::new();
+    let mut buf = [0u8; 4096];
+    let mut opened = false;
+    while !shared.stop.load(Ordering::Relaxed) {
+        let n = match stream.read(&mut buf) {
+            Ok(0) => return,
+            Ok(n) => n,
+            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => continue,
+            Err(e) if e.kind() == ErrorKind::Interrupted => continue,
+            Err(_) => return,
+        };
+        splitter.push(&buf[..n]);
+        while let Some(element) = splitter.next_element() {
+            let answer = match element.map(|e| Command::parse(&e)) {
+                Err(e) | Ok(Err(e)) => Some(Message::Error(e.to_string())),
+                Ok(Ok(c)) => handle(c, id, &mut opened, shared),
+            };
+            if let Some(a) = answer {
+                shared.peers().reply(id, &a.emit());
+            }
+        }
+    }
+}
+
+/// Acts on one command; the answer to send back, if any.
+fn handle(command: Command, id: u64, opened: &mut bool, shared: &Shared) -> Option<Message> {
+    match command {
+        Command::Open(channel) if !*opened => {
+            tracing::debug!(client = id, channel, "socketcand open");
+            *opened = true;
+            Some(Message::Ok)
+        }
+        Command::Open(_) => Some(Message::Error("a channel is open already".into())),
+        Command::RawMode | Command::BcmMode if !*opened => {
+            Some(Message::Error("open a channel first".into()))
+        }
+        Command::RawMode => {
+            let mut peers = shared.peers();
+            // The acknowledgement is queued before the first frame can be.
+            peers.reply(id, &Message::Ok.emit());
+            if let Some(p) = peers.list.iter_mut().find(|p| p.id == id) {
+                p.raw_from = Some(Instant::now() + RAW_MODE_SETTLE);
+            }
+            None
+        }
+        Command::BcmMode => {
+            if let Some(p) = shared.peers().list.iter_mut().find(|p| p.id == id) {
+                p.raw_from = None;
+            }
+            Some(Message::Ok)
+        }
+        Command::OtherMode(m) => Some(Message::Error(format!("{m} is not offered"))),
+        Command::Echo => Some(Message::Echo),
+        Command::Send(_) if !*opened => Some(Message::Error("open a channel first".into())),
+        Command::Send(frame) => {
+            let at = SystemTime::now();
+            let element: Arc<str> = Arc::from(frame_element(&frame, at));
+            shared.peers().broadcast(id, &element);
+            if shared.to_node.try_send((frame, at)).is_err() {
+                tracing::warn!(client = id, "node receive queue full, {frame} dropped");
+            }
+            None
+        }
+        Command::Unsupported(w) if w.is_empty() => Some(Message::Error("empty element".into())),
+        Command::Unsupported(w) => Some(Message::Error(format!("{w} is not offered"))),
+    }
+}
+
+/// A client of a socketcand daemon, in raw mode on one channel.
+pub struct SocketcandClient {
+    stream: TcpStream,
+    splitter: Splitter,
+    pending: VecDeque<BusEvent>,
+    name: String,
+}
+
+impl SocketcandClient {
+    /// Connects to `host:port`, opens `channel` and switches to raw mode.
+    pub fn connect(host: &str, port: u16, channel: &str) -> Result<SocketcandClient, BusError> {
+        let name = if host.contains(':') {
+            format!("socketcand://[{host}]:{port}/{channel}")
+        } else {
+            format!("socketcand://{host}:{port}/{channel}")
+        };
+        let open_error = |source| BusError::Open {
+            what: name.clone(),
+            source,
+        };
+        let addrs: Vec<SocketAddr> = (host, port)
+            .to_socket_addrs()
+            .map_err(open_error)?
+            .collect();
+        let mut last = std::io::Error::new(ErrorKind::NotFound, "no address for the host");
+        let mut stream = None;
+        for a in addrs {
+            match TcpStream::connect_timeout(&a, HANDSHAKE_TIMEOUT) {
+                Ok(s) => {
+                    stream = Some(s);
+                    break;
+                }
+                Err(e) => last = e,
+            }
+        }
+        let stream = stream.ok_or_else(|| open_error(last))?;
+        stream.set_nodelay(true).map_err(open_error)?;
+        let mut client = SocketcandClient {
+            stream,
+            splitter: Splitter::new(),
+            pending: VecDeque::new(),
+            name,
+        };
+        client.expect(&Message::Hi, "the greeting")?;
+        client.command(&Command::Open(channel.to_string()))?;
+        client.expect(&Message::Ok, &format!("open {channel}"))?;
+        client.command(&Command::RawMode)?;
+        client.expect(&Message::Ok, "rawmode")?;
+        Ok(client)
+    }
+
+    fn command(&mut self, c: &Command) -> Result<(), BusError> {
+        self.stream
+            .write_all(c.emit().as_bytes())
+            .map_err(|source| BusError::Io {
+                what: self.name.clone(),
+                source,
+            })
+    }
+
+    /// Waits for the handshake answer `want`; an `< error … >` or anything else is a protocol error.
+    fn expect(&mut self, want: &Message, step: &str) -> Result<(), BusError> {
+        let deadline = Instant::now() + HANDSHAKE_TIMEOUT;
+        loop {
+            if let Some(element) = self.splitter.next_element() {
+                let got = element
+                    .map_err(|e| e.to_string())
+                    .and_then(|e| Message::parse(&e).map_err(|e| e.to_string()));
+                return match got {
+                    Ok(m) if &m == want => Ok(()),
+                    Ok(Message::Error(text)) => Err(self.protocol(format!("{step}: {text}"))),
+                    Ok(m) => Err(self.protocol(format!(
+                        "{step}: expected {}, got {}",
+                        want.emit(),
+                        m.emit()
+                    ))),
+                    Err(e) => Err(self.protocol(format!("{step}: {e}"))),
+                };
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(self.protocol(format!("{step}: no answer within 5 s")));
+            }
+            self.fill(left)?;
+        }
+    }
+
+    fn protocol(&self, detail: String) -> BusError {
+        BusError::Protocol {
+            what: self.name.clone(),
+            detail,
+        }
+    }
+
+    /// Reads what arrives within `timeout` into the splitter; false when nothing came.
+    fn fill(&mut self, timeout: Duration) -> Result<bool, BusError> {
+        let _ = self
+            .stream
+            .set_read_timeout(Some(timeout.max(Duration::from_millis(1))));
+        let mut buf = [0u8; 4096];
+        match self.stream.read(&mut buf) {
+            Ok(0) => Err(BusError::Closed(self.name.clone())),
+            Ok(n) => {
+                self.splitter.push(&buf[..n]);
+                Ok(true)
+            }
+            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => Ok(false),
+            Err(e) if e.kind() == ErrorKind::Interrupted => Ok(false),
+            Err(source) => Err(BusError::Io {
+                what: self.name.clone(),
+                source,
+            }),
+        }
+    }
+
+    fn drain_elements(&mut self) {
+        while let Some(element) = self.splitter.next_element() {
+            let event = match element.map(|e| Message::parse(&e)) {
+                Ok(Ok(Message::Frame { frame, at })) => BusEvent::Frame { frame, at },
+                Ok(Ok(Message::Error(text))) => BusEvent::Error(format!("socketcand: {text}")),
+                Ok(Ok(_)) => continue,
+                Err(e) | Ok(Err(e)) => BusEvent::Error(format!("socketcand: {e}")),
+            };
+            self.pending.push_back(event);
+        }
+    }
+}
+
+impl CanBus for SocketcandClient {
+    fn send(&mut self, frame: &CanFrame) -> Result<(), BusError> {
+        if frame.is_rtr() {
+            return Err(self.protocol(format!(
+                "{frame}: socketcand's raw mode carries no remote frames"
+            )));
+        }
+        self.command(&Command::Send(*frame))
+    }
+
+    fn recv(&mut self, timeout: Duration) -> Result<Option<BusEvent>, BusError> {
+        let deadline = Instant::now() + timeout;
+        loop {
+            self.drain_elements();
+            if let Some(e) = self.pending.pop_front() {
+                return Ok(Some(e));
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Ok(None);
+            }
+            self.fill(left)?;
+        }
+    }
+
+    fn describe(&self) -> String {
+        self.name.clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(id: u16, data: &[u8]) -> CanFrame {
+        CanFrame::new(id, data).unwrap()
+    }
+
+    fn server() -> SocketcandServer {
+        SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap()
+    }
+
+    fn next_frame(bus: &mut dyn CanBus) -> CanFrame {
+        let end = Instant::now() + Duration::from_secs(5);
+        while Instant::now() < end {
+            if let Some(BusEvent::Frame { frame, .. }) =
+                bus.recv(Duration::from_millis(100)).unwrap()
+            {
+                return frame;
+            }
+        }
+        panic!("no frame within 5 s");
+    }
+
+    fn connect(s: &SocketcandServer) -> SocketcandClient {
+        let c = SocketcandClient::connect("127.0.0.1", s.local_addr().port(), "can0").unwrap();
+        std::thread::sleep(RAW_MODE_SETTLE + Duration::from_millis(20));
+        c
+    }
+
+    #[test]
+    fn node_and_clients_share_one_bus() {
+        let mut s = server();
+        let mut a = connect(&s);
+        let mut b = connect(&s);
+        assert_eq!(s.clients(), 2);
+        // A client's frame reaches the node and the other client, not itself.
+        let req = f(0x605, &[0x40, 0x18, 0x10, 1, 0, 0, 0, 0]);
+        a.send(&req).unwrap();
+        assert_eq!(next_frame(&mut s), req);
+        assert_eq!(next_frame(&mut b), req);
+        assert!(a.recv(Duration::from_millis(100)).unwrap().is_none());
+        // The node's frame reaches both clients.
+        let resp = f(0x585, &[0x43, 0x18, 0x10, 1, 4, 0, 0, 0]);
+        s.send(&resp).unwrap();
+        assert_eq!(next_frame(&mut a), resp);
+        assert_eq!(next_frame(&mut b), resp);
+        drop(a);
+        let end = Instant::now() + Duration::from_secs(2);
+        while s.clients() != 1 && Instant::now() < end {
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        assert_eq!(s.clients(), 1);
+    }
+
+    #[test]
+    fn python_can_handshake_to_the_byte() {
+        let mut s = server();
+        let mut t = TcpStream::connect(s.local_addr()).unwrap();
+        t.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        let read = |t: &mut TcpStream| {
+            let mut buf = [0u8; 256];
+            let n = t.read(&mut buf).unwrap();
+            String::from_utf8_lossy(&buf[..n]).into_owned()
+        };
+        assert_eq!(read(&mut t), "< hi >");
+        t.write_all(b"< open vcan7 >").unwrap();
+        assert_eq!(read(&mut t), "< ok >");
+        // Frames of the node right now must not join the acknowledgement.
+        t.write_all(b"< rawmode >").unwrap();
+        for _ in 0..20 {
+            s.send(&f(0x701, &[0x7F])).unwrap();
+        }
+        assert_eq!(read(&mut t), "< ok >");
+        std::thread::sleep(RAW_MODE_SETTLE + Duration::from_millis(20));
+        s.send(&f(0x701, &[0x05])).unwrap();
+        let text = read(&mut t);
+        assert!(
+            text.starts_with("< frame 701 ") && text.ends_with(" 05 >"),
+            "{text}"
+        );
+        // python-can's spelling of a send: lower-case, unpadded, DLC in hex.
+        t.write_all(b"< send 605 8 2f 17 10 0 64 0 0 0 >").unwrap();
+        assert_eq!(
+            next_frame(&mut s),
+            f(0x605, &[0x2F, 0x17, 0x10, 0, 0x64, 0, 0, 0])
+        );
+    }
+
+    #[test]
+    fn bad_input_is_answered_and_the_session_goes_on() {
+        let mut s = server();
+        let mut t = TcpStream::connect(s.local_addr()).unwrap();
+        t.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        let mut got = String::new();
+        let mut read_until = |t: &mut TcpStream, want: &str| {
+            let mut buf = [0u8; 1024];
+            while !got.contains(want) {
+                let n = t.read(&mut buf).unwrap();
+                assert!(n > 0, "closed; got {got:?}");
+                got.push_str(&String::from_utf8_lossy(&buf[..n]));
+            }
+        };
+        t.write_all(b"< send 605 0 >").unwrap();
+        read_until(&mut t, "< error open a channel first >");
+        t.write_all(b"< open can0 >< send 800 0 >").unwrap();
+        read_until(&mut t, "identifier 800 is above 7FF");
+        t.write_all(b"garbage< add 1 0 123 0 >").unwrap();
+        read_until(&mut t, "add is not offered");
+        t.write_all(&[b'<'; 600]).unwrap();
+        t.write_all(b"> < echo >").unwrap();
+        read_until(&mut t, "< echo >");
+        t.write_all(b"< send 123 1 AB >").unwrap();
+        assert_eq!(next_frame(&mut s), f(0x123, &[0xAB]));
+    }
+
+    #[test]
+    fn client_reports_a_refused_open() {
+        let l = TcpListener::bind("127.0.0.1:0").unwrap();
+        let port = l.local_addr().unwrap().port();
+        let h = std::thread::spawn(move || {
+            let (mut t, _) = l.accept().unwrap();
+            t.write_all(b"< hi >").unwrap();
+            let mut buf = [0u8; 64];
+            let _ = t.read(&mut buf).unwrap();
+            t.write_all(b"< error could not open bus >").unwrap();
+            std::thread::sleep(Duration::from_millis(100));
+        });
+        let Err(e) = SocketcandClient::connect("127.0.0.1", port, "can9") else {
+            panic!("a refused open connected")
+        };
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "socketcand://127.0.0.1:{port}/can9: protocol error: open can9: could not open bus"
+            )
+        );
+        h.join().unwrap();
+    }
+
+    #[test]
+    fn a_client_that_does_not_read_does_not_stop_the_bus() {
+        const FRAMES: u32 = 4 * CLIENT_QUEUE as u32;
+        let mut s = server();
+        let mut slow = TcpStream::connect(s.local_addr()).unwrap();
+        slow.write_all(b"< open can0 >< rawmode >").unwrap();
+        let mut fast = connect(&s);
+        let reader = std::thread::spawn(move || {
+            let mut got = 0u32;
+            let end = Instant::now() + Duration::from_secs(30);
+            while got < FRAMES && Instant::now() < end {
+                if let Some(BusEvent::Frame { frame, .. }) =
+                    fast.recv(Duration::from_millis(100)).unwrap()
+                {
+                    assert_eq!(u32::from_le_bytes(frame.data().try_into().unwrap()), got);
+                    got += 1;
+                }
+            }
+            got
+        });
+        std::thread::sleep(RAW_MODE_SETTLE + Duration::from_millis(20));
+        // Far more than the slow client's queue and its socket buffers hold.
+        let started = Instant::now();
+        for k in 0..FRAMES {
+            s.send(&f(0x181, &k.to_le_bytes())).unwrap();
+            if k % 512 == 511 {
+                std::thread::sleep(Duration::from_millis(2));
+            }
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(10),
+            "the node was held up"
+        );
+        assert_eq!(
+            reader.join().unwrap(),
+            FRAMES,
+            "the reading client got every frame in order"
+        );
+        drop(slow);
+    }
+}
