@@ -1,6 +1,7 @@
 //! The `x67-node` command line: its arguments and what it does with them. `main` only parses and calls
 //! [`run`].
 
+use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -153,7 +154,9 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
             s
         }
     };
-    println!(
+    // A closed standard output (a parent that stopped reading) does not stop the node.
+    let _ = writeln!(
+        std::io::stdout(),
         "x67-node: node {} ({BUS_CONTROLLER} with {} X67SM2436 module{}) {}",
         args.node_id,
         args.modules,

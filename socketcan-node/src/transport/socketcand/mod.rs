@@ -9,9 +9,10 @@
 //! answered the same way, never with a dropped connection.
 //!
 //! Choices:
-//! - A client gets frames from 50 ms after its `< rawmode >` is acknowledged. python-can reads the
-//!   acknowledgement with one `recv` and compares it with `< ok >` to the letter, so a frame in the same
-//!   TCP segment would fail its handshake.
+//! - A client gets every frame from the moment its `< rawmode >` is acknowledged, but the frames are
+//!   held back until the client has sent its next bytes or [`RAW_MODE_SETTLE`] has passed: python-can
+//!   reads the acknowledgement with one `recv` and compares it with `< ok >` to the letter, so a frame
+//!   in the same TCP segment would fail its handshake.
 //! - Each client has its own writer with a queue of [`CLIENT_QUEUE`] elements; a client that does not
 //!   read loses the frames that do not fit, as a CAN controller's receive queue overflows, and the bus
 //!   goes on for everyone else. At most [`MAX_CLIENTS`] clients at once.
@@ -36,7 +37,7 @@ use crate::frame::CanFrame;
 pub const CLIENT_QUEUE: usize = 8192;
 /// Clients served at once at most.
 pub const MAX_CLIENTS: usize = 32;
-/// How long after `< rawmode >` a client's frames start.
+/// How long frames wait behind the `< rawmode >` acknowledgement for the client to speak first.
 pub const RAW_MODE_SETTLE: Duration = Duration::from_millis(50);
 /// How long the client waits for each handshake answer.
 pub const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(5);
@@ -47,9 +48,18 @@ const NODE_QUEUE: usize = 8192;
 /// One connected client, as the server's shared state sees it.
 struct Peer {
     id: u64,
-    tx: SyncSender<Arc<str>>,
-    raw_from: Option<Instant>,
+    tx: SyncSender<Out>,
+    raw: bool,
     dropped: u64,
+}
+
+/// What a client's writer sends.
+enum Out {
+    /// An element.
+    Text(Arc<str>),
+    /// `< ok >` to `< rawmode >`, after which the writer waits for the client to speak (or for
+    /// [`RAW_MODE_SETTLE`]) before the frames follow.
+    RawAck,
 }
 
 #[derive(Default)]
@@ -60,12 +70,11 @@ struct Peers {
 impl Peers {
     /// Queues `element` for every client in raw mode but `from`.
     fn broadcast(&mut self, from: u64, element: &Arc<str>) {
-        let now = Instant::now();
         for p in self.list.iter_mut() {
-            if p.id == from || p.raw_from.is_none_or(|t| t > now) {
+            if p.id == from || !p.raw {
                 continue;
             }
-            if let Err(TrySendError::Full(_)) = p.tx.try_send(Arc::clone(element)) {
+            if let Err(TrySendError::Full(_)) = p.tx.try_send(Out::Text(Arc::clone(element))) {
                 p.dropped += 1;
                 if p.dropped.is_power_of_two() {
                     tracing::warn!(
@@ -80,7 +89,7 @@ impl Peers {
 
     fn reply(&self, id: u64, element: &str) {
         if let Some(p) = self.list.iter().find(|p| p.id == id) {
-            let _ = p.tx.try_send(Arc::from(element));
+            let _ = p.tx.try_send(Out::Text(Arc::from(element)));
         }
     }
 }
@@ -214,68 +223,78 @@ fn serve(stream: TcpStream, peer: SocketAddr, shared: &Arc<Shared>) -> std::io::
         return Ok(());
     }
     let id = shared.next_id.fetch_add(1, Ordering::Relaxed);
-    let (tx, rx) = mpsc::sync_channel::<Arc<str>>(CLIENT_QUEUE);
+    let (tx, rx) = mpsc::sync_channel::<Out>(CLIENT_QUEUE);
+    let (spoke_tx, spoke_rx) = mpsc::sync_channel::<()>(1);
     let writer_stream = stream.try_clone()?;
     // "< hi >" goes out as the first element, on its own.
-    tx.try_send(Arc::from(Message::Hi.emit().as_str()))
+    tx.try_send(Out::Text(Arc::from(Message::Hi.emit().as_str())))
         .map_err(|_| std::io::Error::other("client queue"))?;
     shared.peers().list.push(Peer {
         id,
         tx,
-        raw_from: None,
+        raw: false,
         dropped: 0,
     });
     tracing::info!(%peer, client = id, "socketcand client connected");
     std::thread::Builder::new()
         .name(format!("socketcand-tx-{id}"))
-        .spawn(move || write_loop(writer_stream, &rx))?;
+        .spawn(move || write_loop(writer_stream, &rx, &spoke_rx))?;
     let s = Arc::clone(shared);
     std::thread::Builder::new()
         .name(format!("socketcand-rx-{id}"))
         .spawn(move || {
-            read_loop(stream, id, &s);
+            read_loop(stream, id, &s, &spoke_tx);
             s.peers().list.retain(|p| p.id != id);
             tracing::info!(%peer, client = id, "socketcand client gone");
         })?;
     Ok(())
 }
 
-fn write_loop(mut stream: TcpStream, rx: &Receiver<Arc<str>>) {
+fn write_loop(mut stream: TcpStream, rx: &Receiver<Out>, spoke: &Receiver<()>) {
     let mut batch = String::new();
-    while let Ok(first) = rx.recv() {
-        batch.clear();
-        batch.push_str(&first);
-        // The handshake answers go out alone (python-can reads each with one recv); frames may
-        // be batched.
-        if first.starts_with("< frame") {
-            while batch.len() < 16 * 1024 {
-                match rx.try_recv() {
-                    Ok(next) if next.starts_with("< frame") => batch.push_str(&next),
-                    Ok(next) => {
-                        if stream.write_all(batch.as_bytes()).is_err() {
-                            return;
+    let mut next: Option<Out> = None;
+    loop {
+        let out = match next.take() {
+            Some(o) => o,
+            None => match rx.recv() {
+                Ok(o) => o,
+                Err(_) => break,
+            },
+        };
+        let written = match out {
+            Out::RawAck => stream.write_all(Message::Ok.emit().as_bytes()).map(|()| {
+                let _ = spoke.recv_timeout(RAW_MODE_SETTLE);
+            }),
+            Out::Text(t) => {
+                batch.clear();
+                batch.push_str(&t);
+                // Frames already queued go out together; a handshake answer goes out alone.
+                while t.starts_with("< frame") && batch.len() < 16 * 1024 {
+                    match rx.try_recv() {
+                        Ok(Out::Text(n)) if n.starts_with("< frame") => batch.push_str(&n),
+                        Ok(other) => {
+                            next = Some(other);
+                            break;
                         }
-                        batch.clear();
-                        batch.push_str(&next);
-                        break;
+                        Err(_) => break,
                     }
-                    Err(_) => break,
                 }
+                stream.write_all(batch.as_bytes())
             }
-        }
-        if stream.write_all(batch.as_bytes()).is_err() {
-            let _ = stream.shutdown(Shutdown::Both);
-            return;
+        };
+        if written.is_err() {
+            break;
         }
     }
     let _ = stream.shutdown(Shutdown::Both);
 }
 
-fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared) {
+fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared, spoke: &SyncSender<()>) {
     let _ = stream.set_read_timeout(Some(Duration::from_millis(100)));
     let mut splitter = Splitter::new();
     let mut buf = [0u8; 4096];
     let mut opened = false;
+    let mut raw = false;
     while !shared.stop.load(Ordering::Relaxed) {
         let n = match stream.read(&mut buf) {
             Ok(0) => return,
@@ -286,9 +305,22 @@ fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared) {
         };
         splitter.push(&buf[..n]);
         while let Some(element) = splitter.next_element() {
+            // Whatever the client says after `< rawmode >` shows it has read the acknowledgement.
+            if raw {
+                let _ = spoke.try_send(());
+            }
             let answer = match element.map(|e| Command::parse(&e)) {
                 Err(e) | Ok(Err(e)) => Some(Message::Error(e.to_string())),
-                Ok(Ok(c)) => handle(c, id, &mut opened, shared),
+                Ok(Ok(c)) => {
+                    if opened {
+                        match c {
+                            Command::RawMode => raw = true,
+                            Command::BcmMode => raw = false,
+                            _ => {}
+                        }
+                    }
+                    handle(c, id, &mut opened, shared)
+                }
             };
             if let Some(a) = answer {
                 shared.peers().reply(id, &a.emit());
@@ -312,15 +344,15 @@ fn handle(command: Command, id: u64, opened: &mut bool, shared: &Shared) -> Opti
         Command::RawMode => {
             let mut peers = shared.peers();
             // The acknowledgement is queued before the first frame can be.
-            peers.reply(id, &Message::Ok.emit());
             if let Some(p) = peers.list.iter_mut().find(|p| p.id == id) {
-                p.raw_from = Some(Instant::now() + RAW_MODE_SETTLE);
+                let _ = p.tx.try_send(Out::RawAck);
+                p.raw = true;
             }
             None
         }
         Command::BcmMode => {
             if let Some(p) = shared.peers().list.iter_mut().find(|p| p.id == id) {
-                p.raw_from = None;
+                p.raw = false;
             }
             Some(Message::Ok)
         }
@@ -567,19 +599,20 @@ mod tests {
         assert_eq!(read(&mut t), "< hi >");
         t.write_all(b"< open vcan7 >").unwrap();
         assert_eq!(read(&mut t), "< ok >");
-        // Frames of the node right now must not join the acknowledgement.
+        // Frames of the node right now must not join the acknowledgement, nor be lost.
         t.write_all(b"< rawmode >").unwrap();
+        std::thread::sleep(Duration::from_millis(5));
         for _ in 0..20 {
             s.send(&f(0x701, &[0x7F])).unwrap();
         }
+        std::thread::sleep(Duration::from_millis(5));
         assert_eq!(read(&mut t), "< ok >");
-        std::thread::sleep(RAW_MODE_SETTLE + Duration::from_millis(20));
-        s.send(&f(0x701, &[0x05])).unwrap();
-        let text = read(&mut t);
-        assert!(
-            text.starts_with("< frame 701 ") && text.ends_with(" 05 >"),
-            "{text}"
-        );
+        t.write_all(b"< echo >").unwrap();
+        let mut text = String::new();
+        while text.matches("< frame 701 ").count() < 20 || !text.contains("< echo >") {
+            text.push_str(&read(&mut t));
+        }
+        assert_eq!(text.matches(" 7F >").count(), 20, "{text}");
         // python-can's spelling of a send: lower-case, unpadded, DLC in hex.
         t.write_all(b"< send 605 8 2f 17 10 0 64 0 0 0 >").unwrap();
         assert_eq!(

@@ -1,0 +1,236 @@
+//! The `x67-node` binary as a user runs it: over the socketcand protocol on 127.0.0.1, with
+//! python-canopen as the master, with its default bus, stopped by Ctrl-C, and killed while it saves
+//! its parameters.
+
+use std::io::{BufRead, BufReader};
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdout, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use socketcan_node::transport::{BusEvent, CanBus, SocketcandClient};
+use socketcan_node::CanFrame;
+
+const NODE: &str = env!("CARGO_BIN_EXE_x67-node");
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+/// The node process; killed when dropped.
+struct NodeProcess {
+    child: Child,
+    port: u16,
+    _stdout: BufReader<ChildStdout>,
+}
+
+impl Drop for NodeProcess {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn start_node(extra: &[&str]) -> NodeProcess {
+    let port = free_port();
+    let mut child = Command::new(NODE)
+        .arg("--bus")
+        .arg(format!("socketcand-listen:127.0.0.1:{port}"))
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // The first line on stdout says the node is listening.
+    let mut line = String::new();
+    let mut stdout = BufReader::new(child.stdout.take().unwrap());
+    stdout.read_line(&mut line).unwrap();
+    assert!(line.starts_with("x67-node: node "), "{line}");
+    NodeProcess {
+        child,
+        port,
+        _stdout: stdout,
+    }
+}
+
+fn client(port: u16) -> SocketcandClient {
+    SocketcandClient::connect("127.0.0.1", port, "can0").unwrap()
+}
+
+fn f(id: u16, data: &[u8]) -> CanFrame {
+    CanFrame::new(id, data).unwrap()
+}
+
+/// The first frame on `cob` within 5 s.
+fn wait_for(bus: &mut dyn CanBus, cob: u16) -> CanFrame {
+    let end = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < end {
+        if let Some(BusEvent::Frame { frame, .. }) = bus.recv(Duration::from_millis(100)).unwrap() {
+            if frame.cob_id() == Some(cob) {
+                return frame;
+            }
+        }
+    }
+    panic!("no frame on {cob:03X} within 5 s");
+}
+
+/// An expedited SDO exchange with node 1: the response's 8 bytes.
+fn sdo(bus: &mut dyn CanBus, req: [u8; 8]) -> [u8; 8] {
+    bus.send(&f(0x601, &req)).unwrap();
+    wait_for(bus, 0x581).data8()
+}
+
+#[test]
+fn python_canopen_master_over_socketcand() {
+    let node = start_node(&[]);
+    let eds = root().join("fixtures/x67/X67SM2436.eds");
+    let out = Command::new("python3")
+        .arg(root().join("tests/python/x67_master.py"))
+        .arg("--eds")
+        .arg(&eds)
+        .args(["--node-id", "1", "--socketcand"])
+        .arg(format!("127.0.0.1:{}", node.port))
+        .output()
+        .expect("python3 runs (scripts/setup-test-deps installs python-canopen)");
+    let text = String::from_utf8_lossy(&out.stdout);
+    println!("{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "python-canopen master failed");
+    assert!(text.lines().any(|l| l == "PASS"), "{text}");
+    assert!(
+        text.contains("ok   target 5000 reached (status bit 10)"),
+        "{text}"
+    );
+}
+
+#[test]
+fn main_job_serves_socketcand_on_29536_and_stops_on_ctrl_c() {
+    let mut child = Command::new(NODE)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut text = String::new();
+    for _ in 0..4 {
+        out.read_line(&mut text).unwrap();
+    }
+    assert!(
+        text.starts_with(
+            "x67-node: node 1 (X67BC4321-10 with 1 X67SM2436 module) listening as a socketcand \
+             server on 127.0.0.1:29536"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "network.connect(interface=\"socketcand\", host=\"127.0.0.1\", port=29536, channel=\"can0\")"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("--bus socketcand://127.0.0.1:29536/can0"),
+        "{text}"
+    );
+    let mut bus = client(29536);
+    // 1018:00 = 4 entries.
+    assert_eq!(
+        sdo(&mut bus, [0x40, 0x18, 0x10, 0, 0, 0, 0, 0]),
+        [0x4F, 0x18, 0x10, 0, 4, 0, 0, 0]
+    );
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let end = Instant::now() + Duration::from_secs(5);
+    let code = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(Instant::now() < end, "x67-node did not stop on SIGINT");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert!(code.success(), "{code:?}");
+}
+
+#[test]
+fn bad_arguments_exit_2_with_the_reason() {
+    let out = Command::new(NODE)
+        .args([
+            "--bus",
+            "socketcand-listen:192.0.2.1:29536",
+            "--node-id",
+            "5",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("x67-node: cannot open socketcand-listen:192.0.2.1:29536: "),
+        "{err}"
+    );
+    let out = Command::new(NODE)
+        .args(["--node-id", "200"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("200 is not in 1..=127"));
+}
+
+/// Store parameters (0x1010) into a file; a process killed at any moment leaves the old set or the
+/// new one, which the next start loads.
+#[test]
+fn killed_while_saving_leaves_the_old_or_the_new_parameter_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("node1.params");
+    let storage = file.to_str().unwrap().to_string();
+    let mut saved: Option<u16> = None;
+    for k in 0..12u16 {
+        let value = 1000 + k;
+        let mut node = start_node(&["--storage", &storage]);
+        let mut bus = client(node.port);
+        // What the last run left loads at start.
+        let got = sdo(&mut bus, [0x40, 0x17, 0x10, 0, 0, 0, 0, 0]);
+        let [lo, hi] = saved.unwrap_or(0).to_le_bytes();
+        assert_eq!(got, [0x4B, 0x17, 0x10, 0, lo, hi, 0, 0], "run {k}");
+        let [lo, hi] = value.to_le_bytes();
+        assert_eq!(
+            sdo(&mut bus, [0x2B, 0x17, 0x10, 0, lo, hi, 0, 0]),
+            [0x60, 0x17, 0x10, 0, 0, 0, 0, 0]
+        );
+        // "save", then kill the process some microseconds later: before, during or after the write.
+        bus.send(&f(0x601, &[0x23, 0x10, 0x10, 1, b's', b'a', b'v', b'e']))
+            .unwrap();
+        std::thread::sleep(Duration::from_micros(u64::from(k) * 150));
+        node.child.kill().unwrap();
+        node.child.wait().unwrap();
+        // The file is the old set or the new one: a fresh node says which.
+        let mut check = start_node(&["--storage", &storage]);
+        let mut bus = client(check.port);
+        let got = sdo(&mut bus, [0x40, 0x17, 0x10, 0, 0, 0, 0, 0]);
+        let now = u16::from_le_bytes([got[4], got[5]]);
+        assert_eq!(got[..4], [0x4B, 0x17, 0x10, 0], "run {k}");
+        assert!(
+            now == value || Some(now) == saved || (saved.is_none() && now == 0),
+            "run {k}: heartbeat {now} after a kill, neither the old {saved:?} nor the new {value}"
+        );
+        if now == value {
+            saved = Some(value);
+        }
+        check.child.kill().unwrap();
+        check.child.wait().unwrap();
+    }
+    assert!(
+        saved.is_some(),
+        "no save completed before its kill in 12 runs"
+    );
+}
