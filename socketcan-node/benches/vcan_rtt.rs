@@ -1,0 +1,73 @@
+//! SDO expedited round-trip time on a real kernel's vcan0: the node's runtime on one SocketCAN socket,
+//! a master on another, one upload of 0x1018:01 after the other. Runs inside the VM of
+//! `scripts/bench-vcan` (`--features vcan-tests`).
+//!
+//! `vcan_rtt [COUNT]` (default 5000) prints min, median, 99th percentile and mean.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use socketcan_node::node::storage::MemoryStorage;
+use socketcan_node::node::{Node, NodeConfig};
+use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
+use socketcan_node::x67::{self, BusController};
+use socketcan_node::{runtime, CanFrame};
+
+fn main() {
+    let count: usize = std::env::args()
+        .skip(1)
+        .find_map(|a| a.parse().ok())
+        .unwrap_or(5000);
+    let mut master = SocketCanBus::open("vcan0").expect("vcan0");
+    let mut node_bus = SocketCanBus::open("vcan0").expect("vcan0");
+    let stop = Arc::new(AtomicBool::new(false));
+    let s = Arc::clone(&stop);
+    let node = std::thread::spawn(move || {
+        let dict = x67::dictionary(1).expect("fixture");
+        let app =
+            BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).expect("app");
+        let mut nodes = [Node::new(
+            NodeConfig::new(1),
+            dict,
+            app,
+            Box::new(MemoryStorage::default()),
+        )
+        .expect("node")];
+        runtime::run(&mut nodes, &mut node_bus, &s).expect("run")
+    });
+    std::thread::sleep(Duration::from_millis(200));
+    let req = CanFrame::new(0x601, &[0x40, 0x18, 0x10, 1, 0, 0, 0, 0]).expect("frame");
+    let mut rtts = Vec::with_capacity(count);
+    for _ in 0..count + 100 {
+        let t0 = Instant::now();
+        master.send(&req).expect("send");
+        loop {
+            match master.recv(Duration::from_secs(1)).expect("recv") {
+                Some(BusEvent::Frame { frame, .. }) if frame.cob_id() == Some(0x581) => {
+                    assert_eq!(frame.data()[0], 0x43, "{frame}");
+                    break;
+                }
+                Some(_) => {}
+                None => panic!("no SDO answer within 1 s"),
+            }
+        }
+        rtts.push(t0.elapsed());
+    }
+    stop.store(true, Ordering::Relaxed);
+    node.join().expect("node thread");
+    // The first 100 warm up.
+    let mut rtts = rtts.split_off(100);
+    rtts.sort();
+    let us = |d: Duration| d.as_secs_f64() * 1e6;
+    let mean = rtts.iter().map(|d| us(*d)).sum::<f64>() / rtts.len() as f64;
+    println!(
+        "SDO expedited upload round trip on vcan0, {} requests: min {:.0} µs, median {:.0} µs, \
+         p99 {:.0} µs, mean {:.0} µs",
+        rtts.len(),
+        us(rtts[0]),
+        us(rtts[rtts.len() / 2]),
+        us(rtts[rtts.len() * 99 / 100]),
+        mean
+    );
+}

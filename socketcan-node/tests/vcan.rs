@@ -1,0 +1,328 @@
+//! The node on a real kernel's SocketCAN: vcan0 inside the VM that `tests/vcan/run` boots (built
+//! with `--features vcan-tests`, run there with `--test-threads=1`; every test shares vcan0).
+//!
+//! - the SocketCAN transport itself (frames both ways, 29-bit and remote frames, no echo to the
+//!   sender);
+//! - the node's runtime on vcan0: SDO, NMT, heartbeat;
+//! - `candump` of the `x67-node` binary's boot-up message and heartbeat;
+//! - python-canopen as the master over vcan0 (the same script as over socketcand);
+//! - 100,000 random frames on vcan0 leave the node answering and its heartbeat on time.
+
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use socketcan_node::node::storage::MemoryStorage;
+use socketcan_node::node::{Node, NodeConfig};
+use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
+use socketcan_node::x67::{self, BusController};
+use socketcan_node::{runtime, CanFrame};
+
+const IFACE: &str = "vcan0";
+const NODE: &str = env!("CARGO_BIN_EXE_x67-node");
+
+fn f(id: u16, data: &[u8]) -> CanFrame {
+    CanFrame::new(id, data).unwrap()
+}
+
+fn open() -> SocketCanBus {
+    SocketCanBus::open(IFACE).expect("vcan0 is up (tests/vcan/run brings it up)")
+}
+
+fn next_on(bus: &mut dyn CanBus, cob: u16, within: Duration) -> Option<(CanFrame, Instant)> {
+    let end = Instant::now() + within;
+    while Instant::now() < end {
+        if let Some(BusEvent::Frame { frame, .. }) = bus.recv(Duration::from_millis(20)).unwrap() {
+            if frame.cob_id() == Some(cob) {
+                return Some((frame, Instant::now()));
+            }
+        }
+    }
+    None
+}
+
+/// A node of the library's own runtime on vcan0, stopped when dropped.
+struct RunningNode {
+    stop: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<runtime::RunStats>>,
+}
+
+impl RunningNode {
+    fn start(id: u8, heartbeat_ms: u16) -> RunningNode {
+        let stop = Arc::new(AtomicBool::new(false));
+        let s = Arc::clone(&stop);
+        let mut bus = open();
+        let thread = std::thread::spawn(move || {
+            let dict = x67::dictionary(1).unwrap();
+            let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).unwrap();
+            let mut cfg = NodeConfig::new(id);
+            cfg.heartbeat_ms = Some(heartbeat_ms);
+            let mut nodes =
+                [Node::new(cfg, dict, app, Box::new(MemoryStorage::default())).unwrap()];
+            runtime::run(&mut nodes, &mut bus, &s).unwrap()
+        });
+        RunningNode {
+            stop,
+            thread: Some(thread),
+        }
+    }
+}
+
+impl Drop for RunningNode {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+#[test]
+fn socketcan_transport_frames_both_ways_without_echo() {
+    let mut a = open();
+    let mut b = open();
+    let frames = [
+        f(0x605, &[0x40, 0x18, 0x10, 1, 0, 0, 0, 0]),
+        f(0x080, &[]),
+        CanFrame::new_extended(0x1ABC_DEF0, &[1, 2, 3]).unwrap(),
+        CanFrame::new_remote_frame(0x705, false, 1).unwrap(),
+    ];
+    for fr in frames {
+        a.send(&fr).unwrap();
+        match b.recv(Duration::from_secs(1)).unwrap() {
+            Some(BusEvent::Frame { frame, .. }) => assert_eq!(frame, fr),
+            other => panic!("{fr}: got {other:?}"),
+        }
+    }
+    assert_eq!(
+        a.recv(Duration::from_millis(100)).unwrap(),
+        None,
+        "no echo to the sender"
+    );
+    assert_eq!(a.describe(), "socketcan:vcan0");
+}
+
+#[test]
+fn runtime_node_on_vcan_boots_answers_sdo_and_beats() {
+    let mut master = open();
+    let _node = RunningNode::start(9, 50);
+    let (boot, _) = next_on(&mut master, 0x709, Duration::from_secs(2)).expect("boot-up");
+    assert_eq!(boot.data(), &[0x00]);
+    master
+        .send(&f(0x609, &[0x40, 0x18, 0x10, 0, 0, 0, 0, 0]))
+        .unwrap();
+    let (r, _) = next_on(&mut master, 0x589, Duration::from_secs(1)).expect("SDO answer");
+    assert_eq!(r.data(), &[0x4F, 0x18, 0x10, 0, 4, 0, 0, 0]);
+    master.send(&f(0x000, &[0x01, 9])).unwrap();
+    let mut beats = Vec::new();
+    while beats.len() < 10 {
+        let (hb, at) = next_on(&mut master, 0x709, Duration::from_secs(1)).expect("heartbeat");
+        beats.push((hb.data()[0], at));
+    }
+    // Operational after the first beat or two; 50 ms apart within the VM's scheduling slack.
+    assert_eq!(beats.last().unwrap().0, 0x05);
+    for w in beats.windows(2) {
+        let gap = w[1].1 - w[0].1;
+        assert!(
+            gap > Duration::from_millis(25) && gap < Duration::from_millis(150),
+            "heartbeat gap {gap:?}"
+        );
+    }
+}
+
+/// `candump -L` lines `(SECONDS.MICROS) vcan0 ID#DATA` with their times.
+fn candump_lines(text: &str) -> Vec<(f64, String)> {
+    text.lines()
+        .filter_map(|l| {
+            let (ts, rest) = l.strip_prefix('(')?.split_once(") ")?;
+            let frame = rest.strip_prefix("vcan0 ")?;
+            Some((ts.parse().ok()?, frame.trim().to_string()))
+        })
+        .collect()
+}
+
+#[test]
+fn candump_sees_the_binary_boot_up_and_heartbeat() {
+    let mut dump = Command::new("candump")
+        .args(["-L", IFACE])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("candump (can-utils) runs");
+    let dump_out = dump.stdout.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel::<String>();
+    let reader = std::thread::spawn(move || {
+        for line in BufReader::new(dump_out).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    std::thread::sleep(Duration::from_millis(300));
+    let mut node = Command::new(NODE)
+        .args([
+            "--bus",
+            "socketcan:vcan0",
+            "--node-id",
+            "5",
+            "--heartbeat-ms",
+            "100",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // From the boot-up message on, 1.25 s of the bus (the binary's start is slow under emulation).
+    let mut text = String::new();
+    let mut until = Instant::now() + Duration::from_secs(20);
+    let mut booted = false;
+    while Instant::now() < until {
+        let Ok(line) = rx.recv_timeout(Duration::from_millis(10)) else {
+            continue;
+        };
+        if !booted && line.ends_with(" 705#00") {
+            booted = true;
+            until = Instant::now() + Duration::from_millis(1250);
+        }
+        text.push_str(&line);
+        text.push('\n');
+    }
+    node.kill().unwrap();
+    node.wait().unwrap();
+    dump.kill().unwrap();
+    dump.wait().unwrap();
+    reader.join().unwrap();
+    assert!(booted, "no boot-up message of node 5 within 20 s:\n{text}");
+    let lines = candump_lines(&text);
+    let node5: Vec<&(f64, String)> = lines
+        .iter()
+        .filter(|(_, l)| l.starts_with("705#"))
+        .collect();
+    assert_eq!(
+        node5.first().map(|(_, l)| l.as_str()),
+        Some("705#00"),
+        "{text}"
+    );
+    let beats: Vec<f64> = node5
+        .iter()
+        .skip(1)
+        .inspect(|(_, l)| assert_eq!(l, "705#7F", "{text}"))
+        .map(|(t, _)| *t)
+        .collect();
+    assert!(
+        beats.len() >= 11,
+        "{} heartbeats in 1.25 s:\n{text}",
+        beats.len()
+    );
+    // The first beat 100 ms after the boot-up, then every 100 ms.
+    let mut last = node5[0].0;
+    for t in &beats {
+        let gap = t - last;
+        assert!(
+            (0.05..0.2).contains(&gap),
+            "heartbeat gap {gap:.4} s:\n{text}"
+        );
+        last = *t;
+    }
+    let mean = (beats.last().unwrap() - node5[0].0) / beats.len() as f64;
+    assert!((0.095..0.110).contains(&mean), "mean period {mean:.4} s");
+}
+
+#[test]
+fn python_canopen_master_over_vcan() {
+    let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let mut node = Command::new(NODE)
+        .args(["--bus", "socketcan:vcan0", "--node-id", "1"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    let out = Command::new(&python)
+        .arg(format!("{root}/tests/python/x67_master.py"))
+        .arg("--eds")
+        .arg(format!("{root}/fixtures/x67/X67SM2436.eds"))
+        .args(["--node-id", "1", "--socketcan", IFACE])
+        .output()
+        .expect("the host's python3 with python-canopen");
+    node.kill().unwrap();
+    node.wait().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    println!("{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "python-canopen master failed");
+    assert!(text.lines().any(|l| l == "PASS"), "{text}");
+}
+
+#[test]
+fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
+    let mut master = open();
+    let mut flooder = open();
+    let _node = RunningNode::start(3, 50);
+    next_on(&mut master, 0x703, Duration::from_secs(2)).expect("boot-up");
+    let flood = std::thread::spawn(move || {
+        let mut seed = 0x1234_5678_9ABC_DEF1u64;
+        let mut sent = 0u32;
+        while sent < 100_000 {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let id = (seed & 0x7FF) as u16;
+            // NMT and this node's SDO and heartbeat are the master's to check.
+            if matches!(id, 0x000 | 0x603 | 0x583 | 0x703) {
+                continue;
+            }
+            let len = ((seed >> 16) % 9) as usize;
+            let data = (seed >> 24).to_le_bytes();
+            flooder.send(&f(id, &data[..len])).unwrap();
+            sent += 1;
+            if sent.is_multiple_of(200) {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+        }
+        sent
+    });
+    let mut answers = 0;
+    let mut beats = Vec::new();
+    let start = Instant::now();
+    let mut next_sdo = start;
+    while !flood.is_finished() || start.elapsed() < Duration::from_secs(2) {
+        if Instant::now() >= next_sdo {
+            master
+                .send(&f(0x603, &[0x40, 0x18, 0x10, 0, 0, 0, 0, 0]))
+                .unwrap();
+            next_sdo += Duration::from_millis(20);
+        }
+        if let Some(BusEvent::Frame { frame, .. }) = master.recv(Duration::from_millis(2)).unwrap()
+        {
+            match frame.cob_id() {
+                Some(0x703) => beats.push(Instant::now()),
+                Some(0x583) => {
+                    assert_eq!(frame.data(), &[0x4F, 0x18, 0x10, 0, 4, 0, 0, 0]);
+                    answers += 1;
+                }
+                _ => {}
+            }
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "flood took over 2 min"
+        );
+    }
+    assert_eq!(flood.join().unwrap(), 100_000);
+    let secs = start.elapsed().as_secs_f64();
+    assert!(
+        f64::from(answers) >= secs * 50.0 * 0.8,
+        "{answers} SDO answers in {secs:.1} s"
+    );
+    for w in beats.windows(2) {
+        let gap = w[1] - w[0];
+        assert!(gap < Duration::from_millis(250), "heartbeat gap {gap:?}");
+    }
+    assert!(
+        beats.len() as f64 >= secs * 20.0 * 0.8,
+        "{} beats in {secs:.1} s",
+        beats.len()
+    );
+}
