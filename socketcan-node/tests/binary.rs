@@ -234,3 +234,29 @@ fn killed_while_saving_leaves_the_old_or_the_new_parameter_set() {
         "no save completed before its kill in 12 runs"
     );
 }
+
+/// `--bus socketcand://HOST:PORT/CHANNEL`: the node joins a bus that a socketcand server holds.
+#[test]
+fn joins_a_socketcand_bus_as_a_client() {
+    use socketcan_node::transport::SocketcandServer;
+    let mut server = SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+    let port = server.local_addr().port();
+    let mut child = Command::new(NODE)
+        .args(["--bus", &format!("socketcand://127.0.0.1:{port}/can0")])
+        .args(["--node-id", "7"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let boot = wait_for(&mut server, 0x707);
+    assert_eq!(boot.data(), &[0x00], "boot-up message");
+    server
+        .send(&f(0x607, &[0x40, 0x18, 0x10, 0, 0, 0, 0, 0]))
+        .unwrap();
+    assert_eq!(
+        wait_for(&mut server, 0x587).data(),
+        &[0x4F, 0x18, 0x10, 0, 4, 0, 0, 0]
+    );
+    child.kill().unwrap();
+    child.wait().unwrap();
+}

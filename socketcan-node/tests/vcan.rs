@@ -2,7 +2,7 @@
 //! with `--features vcan-tests`, run there with `--test-threads=1`; every test shares vcan0).
 //!
 //! - the SocketCAN transport itself (frames both ways, 29-bit and remote frames, no echo to the
-//!   sender);
+//!   sender; error frames reported, not fatal);
 //! - the node's runtime on vcan0: SDO, NMT, heartbeat;
 //! - `candump` of the `x67-node` binary's boot-up message and heartbeat;
 //! - python-canopen as the master over vcan0 (the same script as over socketcand);
@@ -102,6 +102,26 @@ fn socketcan_transport_frames_both_ways_without_echo() {
         "no echo to the sender"
     );
     assert_eq!(a.describe(), "socketcan:vcan0");
+}
+
+/// An error frame on the bus is reported as an event and the bus goes on.
+#[test]
+fn error_frames_are_reported_not_fatal() {
+    use socketcan::Socket as _;
+    let raw = socketcan::CanSocket::open(IFACE).unwrap();
+    let mut bus = open();
+    // CAN_ERR_PROT (0x08) with a form error (byte 2 = 0x02).
+    let err = socketcan::CanErrorFrame::new_error(0x08, &[0, 0, 0x02, 0, 0, 0, 0, 0]).unwrap();
+    raw.write_frame(&err).unwrap();
+    match bus.recv(Duration::from_secs(1)).unwrap() {
+        Some(BusEvent::Error(text)) => assert!(!text.is_empty()),
+        other => panic!("expected an error event, got {other:?}"),
+    }
+    open().send(&f(0x123, &[1])).unwrap();
+    match bus.recv(Duration::from_secs(1)).unwrap() {
+        Some(BusEvent::Frame { frame, .. }) => assert_eq!(frame, f(0x123, &[1])),
+        other => panic!("expected the frame after the error, got {other:?}"),
+    }
 }
 
 #[test]

@@ -532,4 +532,34 @@ mod tests {
             assert!(Message::parse(bad).is_err(), "{bad}");
         }
     }
+
+    proptest::proptest! {
+        /// Any bytes, cut anywhere: no panic, bounded memory, and a well-formed element after the
+        /// junk still parses.
+        #[test]
+        fn any_bytes_are_split_and_parsed_without_panic(
+            junk in proptest::collection::vec(proptest::num::u8::ANY, 0..2000),
+            cut in 0usize..2000,
+        ) {
+            let mut s = Splitter::new();
+            let cut = cut.min(junk.len());
+            let mut last = None;
+            for part in [&junk[..cut], &junk[cut..], b"> < send 123 1 AB >".as_slice()] {
+                s.push(part);
+                while let Some(e) = s.next_element() {
+                    if let Ok(text) = &e {
+                        let _ = Command::parse(text);
+                        let _ = Message::parse(text);
+                    }
+                    last = Some(e);
+                }
+                proptest::prop_assert!(s.pending() < MAX_ELEMENT);
+            }
+            let last = last.expect("an element").expect("the last element parses");
+            proptest::prop_assert_eq!(
+                Command::parse(&last),
+                Ok(Command::Send(CanFrame::new(0x123, &[0xAB]).unwrap()))
+            );
+        }
+    }
 }
