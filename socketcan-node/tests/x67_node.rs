@@ -160,3 +160,34 @@ fn x67_18_14_01_inputs_updated_every_250_us_cycle() {
     );
     assert_eq!(n.sdo_read(0x2008, 0), Ok(vec![0x01]));
 }
+
+/// X67-18.5.2-02, X67-18.5.2-04, X67-18.5.2-05 on the wire: input object 1 is AbsPos01ActVal
+/// little-endian in bytes 0–3, MpGenStatus01 in 4–5, InputStatus in 6, 0x00 in byte 7, DLC 8; input
+/// object 2 (X67-18.5.2-03) carries axis 2 with bytes 6–7 0x00. Byte 7 of an output object is ignored.
+#[test]
+fn x67_18_5_2_input_objects_byte_by_byte() {
+    let mut n = enabled();
+    // Garbage in the unused output byte 7 changes nothing.
+    let mut move_to = rpdo1(0x0001_2345, 0x000F, 1).data8();
+    move_to[7] = 0xA5;
+    n.send(f(0x204, &move_to));
+    n.advance_ms(25_000);
+    n.sdo_write(0x5F00, 1, &[0x01]).unwrap(); // DI1 high
+    n.advance_ms(100);
+    let (_, t1) = *n.sent_on(0x184).last().unwrap();
+    let (_, t2) = *n.sent_on(0x284).last().unwrap();
+    let status = u16::from_le_bytes([t1.data()[4], t1.data()[5]]);
+    assert_ne!(status & 0x0400, 0, "target reached, status {status:#06x}");
+    let [s0, s1] = status.to_le_bytes();
+    assert_eq!(t1.data(), &[0x45, 0x23, 0x01, 0x00, s0, s1, 0x01, 0x00]);
+    // Axis 2 never moved: position 0, its status (Switch on disabled 0x0240 and what the model adds).
+    let st2 = u16::from_le_bytes([t2.data()[4], t2.data()[5]]);
+    assert_eq!(
+        st2 & 0x006F,
+        0x0040,
+        "axis 2 in Switch on disabled, {st2:#06x}"
+    );
+    let [a0, a1] = st2.to_le_bytes();
+    assert_eq!(t2.data(), &[0, 0, 0, 0, a0, a1, 0x00, 0x00]);
+    assert_eq!(n.sdo_read(0x2108, 0), Ok(vec![0x45, 0x23, 0x01, 0x00]));
+}
