@@ -1,6 +1,6 @@
 //! A bus inside one process: every [`Endpoint`] sees the frames of every other endpoint.
 
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
+use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, SystemTime};
 
@@ -80,11 +80,7 @@ impl CanBus for Endpoint {
     }
 
     fn recv(&mut self, timeout: Duration) -> Result<Option<BusEvent>, BusError> {
-        match self.rx.recv_timeout(timeout) {
-            Ok((frame, at)) => Ok(Some(BusEvent::Frame { frame, at })),
-            Err(RecvTimeoutError::Timeout) => Ok(None),
-            Err(RecvTimeoutError::Disconnected) => Err(BusError::Closed(self.describe())),
-        }
+        super::recv_queued(&self.rx, timeout, || self.describe())
     }
 
     fn describe(&self) -> String {

@@ -126,3 +126,18 @@ pub fn open_default() -> Result<(BusSpec, Box<dyn CanBus>), BusError> {
         }
     }
 }
+
+/// The next frame a queue-backed bus holds, waiting at most `timeout`; a queue whose senders are all
+/// gone is a closed bus.
+fn recv_queued(
+    rx: &std::sync::mpsc::Receiver<(CanFrame, SystemTime)>,
+    timeout: Duration,
+    describe: impl FnOnce() -> String,
+) -> Result<Option<BusEvent>, BusError> {
+    use std::sync::mpsc::RecvTimeoutError;
+    match rx.recv_timeout(timeout) {
+        Ok((frame, at)) => Ok(Some(BusEvent::Frame { frame, at })),
+        Err(RecvTimeoutError::Timeout) => Ok(None),
+        Err(RecvTimeoutError::Disconnected) => Err(BusError::Closed(describe())),
+    }
+}

@@ -23,7 +23,7 @@ use std::collections::VecDeque;
 use std::io::{ErrorKind, Read, Write};
 use std::net::{Shutdown, SocketAddr, TcpListener, TcpStream, ToSocketAddrs};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
+use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
@@ -181,11 +181,7 @@ impl CanBus for SocketcandServer {
     }
 
     fn recv(&mut self, timeout: Duration) -> Result<Option<BusEvent>, BusError> {
-        match self.from_clients.recv_timeout(timeout) {
-            Ok((frame, at)) => Ok(Some(BusEvent::Frame { frame, at })),
-            Err(RecvTimeoutError::Timeout) => Ok(None),
-            Err(RecvTimeoutError::Disconnected) => Err(BusError::Closed(self.describe())),
-        }
+        super::recv_queued(&self.from_clients, timeout, || self.describe())
     }
 
     fn describe(&self) -> String {
