@@ -5,7 +5,8 @@
 //! X67SM2436 runs it; [`ramp`] is the ramp generator of one X67SM2436 axis (speed, acceleration, reversing
 //! loop, jerk limitation); [`current`] is the motor current of one axis (holding, nominal and maximum
 //! current, the 100 ms hold, full-step threshold); [`errors`] is an axis's error-code register with the
-//! module's over-temperature cut-off. The axis models arrive with their own modules.
+//! module's over-temperature cut-off; [`axis`], [`module`], [`registers`] and [`motor`] make up the
+//! X67SM2436 "Ramp" module. [`smd`] is the AMCI SMD23K-B/SMD24K indexer.
 #![deny(missing_docs)]
 
 pub mod axis;
@@ -16,5 +17,6 @@ pub mod module;
 pub mod motor;
 pub mod ramp;
 pub mod registers;
+pub mod smd;
 
 pub use od;

@@ -1,0 +1,14 @@
+//! `smd`: tools for the AMCI SMD23K-B / SMD24K. See `smd --help`.
+
+use clap::Parser;
+
+fn main() {
+    let args = ds402::smd::cli::Args::parse();
+    match ds402::smd::cli::run(&args, &mut std::io::stdout()) {
+        Ok(code) => std::process::exit(code),
+        Err(e) => {
+            eprintln!("smd: {e}");
+            std::process::exit(2);
+        }
+    }
+}

@@ -1,0 +1,215 @@
+//! The `smd` command line: arguments and what each command does. `main` only parses and calls [`run`].
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+use super::config::{decode_words, Cfg0, Cfg1, InputFunction};
+use super::plot::{self, Series};
+use super::profile::{MoveParams, Profile};
+
+/// Tools for the AMCI SMD23K-B / SMD24K integrated stepper indexer.
+#[derive(Debug, Parser)]
+#[command(name = "smd", version)]
+pub struct Args {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Cmd,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Cmd {
+    /// Compute a move profile (manual Reference 3): phases, times, distances and the peak speed.
+    Profile(ProfileArgs),
+    /// The configuration-word calculator of table R5.3 (CFG_Word_0 / CFG_Word_1, 8010:01/02).
+    #[command(subcommand)]
+    Config(ConfigCmd),
+}
+
+/// `smd config`.
+#[derive(Debug, Subcommand)]
+pub enum ConfigCmd {
+    /// Build CFG_Word_0 (and CFG_Word_1 when one of its flags is given) from named settings; prints the
+    /// word(s) in hex. Exit 1 when the result breaks an "Invalid Configurations" rule.
+    Encode(EncodeArgs),
+    /// Name the settings of CFG_Word_0 [and CFG_Word_1] and the rules they break; exit 1 when invalid.
+    Decode(DecodeArgs),
+}
+
+/// `smd config encode`.
+#[derive(Debug, clap::Args)]
+pub struct EncodeArgs {
+    /// Input 1's function: general-purpose, cw-limit, ccw-limit, start-indexed, stop-jog, e-stop, home.
+    #[arg(long, default_value = "general-purpose")]
+    pub input1: InputFunction,
+    /// Input 2's function (same names).
+    #[arg(long, default_value = "general-purpose")]
+    pub input2: InputFunction,
+    /// Use the built-in encoder (bit 10).
+    #[arg(long)]
+    pub encoder: bool,
+    /// Use the Backplane_Proximity_Bit when homing (bit 11).
+    #[arg(long)]
+    pub backplane_proximity: bool,
+    /// Enable stall detection (bit 13; needs --encoder).
+    #[arg(long)]
+    pub stall_detection: bool,
+    /// Switch anti-resonance off (bit 14).
+    #[arg(long)]
+    pub disable_antiresonance: bool,
+    /// CFG_Word_1 bit 0: Input 1 is active when current flows (normally-open sensor).
+    #[arg(long)]
+    pub in1_active_on_current: bool,
+    /// CFG_Word_1 bit 1: Input 2 is active when current flows.
+    #[arg(long)]
+    pub in2_active_on_current: bool,
+    /// CFG_Word_1 bit 6: start moves on the Distributed Clock's SYNC0.
+    #[arg(long)]
+    pub dc_sync: bool,
+}
+
+/// `smd config decode`.
+#[derive(Debug, clap::Args)]
+pub struct DecodeArgs {
+    /// CFG_Word_0 (0x2411, 9233, 0b0010010000010001).
+    #[arg(value_parser = parse_word)]
+    pub cfg_word0: u16,
+    /// CFG_Word_1.
+    #[arg(value_parser = parse_word)]
+    pub cfg_word1: Option<u16>,
+}
+
+/// A 16-bit word in hex (0x…), binary (0b…) or decimal.
+fn parse_word(text: &str) -> Result<u16, String> {
+    let t = text.trim().replace('_', "");
+    let parsed = if let Some(h) = t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        u16::from_str_radix(h, 16)
+    } else if let Some(b) = t.strip_prefix("0b").or_else(|| t.strip_prefix("0B")) {
+        u16::from_str_radix(b, 2)
+    } else {
+        t.parse::<u16>()
+    };
+    parsed.map_err(|_| format!("{text:?} is not a 16-bit word (0x0000 to 0xFFFF)"))
+}
+
+/// `smd profile`.
+#[derive(Debug, clap::Args)]
+pub struct ProfileArgs {
+    /// Starting Speed (8010:03), steps/s (1 to 1,999,999).
+    #[arg(long, default_value_t = 141, value_parser = clap::value_parser!(u32).range(1..=1_999_999))]
+    pub start: u32,
+    /// Programmed speed (the Velocity word), steps/s (the starting speed to 2,999,999).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=2_999_999))]
+    pub speed: u32,
+    /// Acceleration word, steps/s/ms (1 to 5000; ×1000 for steps/s²).
+    #[arg(long)]
+    pub accel: u16,
+    /// Deceleration word, steps/s/ms (1 to 5000).
+    #[arg(long)]
+    pub decel: u16,
+    /// Jerk word (0 = linear acceleration, 1 to 5000 = S-curve with jerk J·a/100 steps/s³).
+    #[arg(long, default_value_t = 0)]
+    pub jerk: u16,
+    /// Length of the move in steps (the sign gives the direction and does not change the profile).
+    #[arg(long, allow_hyphen_values = true)]
+    pub distance: i64,
+    /// Also draw speed over time into this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+/// Why a command failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// The profile.
+    #[error(transparent)]
+    Profile(#[from] super::profile::ProfileError),
+    /// The chart.
+    #[error(transparent)]
+    Plot(#[from] plot::PlotError),
+    /// Writing the output.
+    #[error("cannot write the output: {0}")]
+    Output(#[from] std::io::Error),
+}
+
+/// Runs `args`, printing to `out`; the process's exit code on success (0, or 1 where a command
+/// reports a finding such as an invalid configuration).
+pub fn run(args: &Args, out: &mut dyn Write) -> Result<i32, CliError> {
+    match &args.command {
+        Cmd::Profile(p) => profile(p, out),
+        Cmd::Config(ConfigCmd::Encode(e)) => encode(e, out),
+        Cmd::Config(ConfigCmd::Decode(d)) => decode(d, out),
+    }
+}
+
+fn encode(e: &EncodeArgs, out: &mut dyn Write) -> Result<i32, CliError> {
+    let cfg0 = Cfg0 {
+        input1: Some(e.input1),
+        input2: Some(e.input2),
+        use_encoder: e.encoder,
+        use_backplane_proximity: e.backplane_proximity,
+        enable_stall_detection: e.stall_detection,
+        disable_antiresonance: e.disable_antiresonance,
+        ..Cfg0::default()
+    };
+    let word0 = cfg0.encode();
+    writeln!(out, "{word0:#06x}")?;
+    let word1 = (e.in1_active_on_current || e.in2_active_on_current || e.dc_sync).then(|| {
+        Cfg1 {
+            in1_active_level: e.in1_active_on_current,
+            in2_active_level: e.in2_active_on_current,
+            dc_sync: e.dc_sync,
+            ..Cfg1::from_word(0)
+        }
+        .encode()
+    });
+    if let Some(w) = word1 {
+        writeln!(out, "{w:#06x}")?;
+    }
+    let decoded = decode_words(word0, word1);
+    for v in &decoded.violations {
+        writeln!(out, "invalid: {v} [{}]", v.rule())?;
+    }
+    Ok(if decoded.is_valid() { 0 } else { 1 })
+}
+
+fn decode(d: &DecodeArgs, out: &mut dyn Write) -> Result<i32, CliError> {
+    let decoded = decode_words(d.cfg_word0, d.cfg_word1);
+    writeln!(out, "{decoded}")?;
+    Ok(if decoded.is_valid() { 0 } else { 1 })
+}
+
+fn profile(a: &ProfileArgs, out: &mut dyn Write) -> Result<i32, CliError> {
+    let profile = Profile::plan(MoveParams {
+        start_speed: f64::from(a.start),
+        speed: f64::from(a.speed),
+        accel: a.accel,
+        decel: a.decel,
+        jerk: a.jerk,
+        distance: a.distance.unsigned_abs() as f64,
+    })?;
+    write!(out, "{profile}")?;
+    if let Some(path) = &a.plot {
+        let points = profile.speed_samples(1000);
+        plot::line_chart(
+            path,
+            &format!(
+                "SMD move of {} steps: accel {}, decel {}, jerk {}",
+                a.distance.unsigned_abs(),
+                a.accel,
+                a.decel,
+                a.jerk
+            ),
+            "time [s]",
+            "speed [steps/s]",
+            &[Series {
+                label: "speed",
+                points: &points,
+            }],
+        )?;
+        writeln!(out, "chart written to {}", path.display())?;
+    }
+    Ok(0)
+}
