@@ -274,8 +274,10 @@ pub struct Indexer {
     prev: Outputs,
     time: Duration,
     position: i64,
-    /// Encoder counts (fractional: the encoder turns with the motor).
-    encoder: f64,
+    /// Encoder_Position at the last preset, and the motor steps turned since then: the encoder
+    /// turns with the motor, Encoder_Resolution counts per Motor_Resolution steps.
+    encoder_base: i64,
+    encoder_steps: i64,
     trapped: i32,
     segment: Option<Segment>,
     held: Option<Held>,
@@ -303,7 +305,8 @@ impl Indexer {
             prev: Outputs::default(),
             time: Duration::ZERO,
             position: 0,
-            encoder: 0.0,
+            encoder_base: 0,
+            encoder_steps: 0,
             trapped: 0,
             segment: None,
             held: None,
@@ -585,7 +588,8 @@ impl Indexer {
         if !self.encoder_enabled() {
             return false; // SMD-R6-011 gap pick.
         }
-        self.encoder = f64::from(out.position);
+        self.encoder_base = i64::from(out.position);
+        self.encoder_steps = 0;
         self.acknowledged = Some(cmd0::PRESET_ENCODER);
         true
     }
@@ -609,11 +613,8 @@ impl Indexer {
             (true, Purpose::Move) => seg.target,
             _ => seg.origin + seg.dir * (covered.min(total).round() as i64),
         };
-        let moved = self.position - before;
         if self.encoder_enabled() {
-            let scale = f64::from(self.config.encoder_resolution)
-                / f64::from(self.config.motor_resolution.max(1));
-            self.encoder += moved as f64 * scale;
+            self.encoder_steps += self.position - before;
         }
         if end {
             self.segment = None;
@@ -630,7 +631,9 @@ impl Indexer {
 
     fn encoder_position(&self) -> i32 {
         if self.encoder_enabled() {
-            self.encoder.floor() as i64 as i32
+            let counts = (self.encoder_steps as i128 * i128::from(self.config.encoder_resolution))
+                .div_euclid(i128::from(self.config.motor_resolution.max(1)));
+            (i128::from(self.encoder_base) + counts) as i64 as i32
         } else {
             0
         }

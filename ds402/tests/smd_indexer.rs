@@ -1,0 +1,723 @@
+//! The SMD23K-B / SMD24K indexer in Command Mode, rule by rule (catalogue `rules/smd.md`, R2 and R6),
+//! exchanging process data every millisecond as a master would.
+
+use std::time::Duration;
+
+use ds402::smd::config::{Configuration, EncoderKind, CFG0_USE_ENCODER};
+use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Indexer, Inputs, Outputs};
+use proptest::prelude::*;
+
+const MS: Duration = Duration::from_millis(1);
+
+/// A unit with the default configuration and a master that exchanges data every 1 ms.
+struct Rig {
+    ix: Indexer,
+    out: Outputs,
+    last: Inputs,
+}
+
+impl Rig {
+    fn new() -> Rig {
+        Rig::with(Configuration::default())
+    }
+
+    fn with(config: Configuration) -> Rig {
+        let mut ix = Indexer::new(EncoderKind::Incremental, config);
+        let out = Outputs::default();
+        let last = ix.cycle(out, MS);
+        Rig { ix, out, last }
+    }
+
+    /// Driver enabled, position preset to 0 (valid), move parameters set, CMD_word0 back at 0.
+    fn ready() -> Rig {
+        let mut r = Rig::new();
+        r.out = Outputs {
+            cmd1: cmd1::ENABLE_DRIVER,
+            velocity: 10_000,
+            acceleration: 10,
+            deceleration: 10,
+            ..Outputs::default()
+        };
+        r.command(cmd0::PRESET_POSITION);
+        r.command(0);
+        r.command(cmd0::RESET_ERRORS);
+        r.command(0);
+        assert_eq!(r.s0() & (stat0::POSITION_INVALID | stat0::MOVE_COMPLETE), 0);
+        r
+    }
+
+    fn cycle(&mut self) -> Inputs {
+        self.last = self.ix.cycle(self.out, MS);
+        self.last
+    }
+
+    /// Writes CMD_word0 = `c` for one cycle.
+    fn command(&mut self, c: u16) -> Inputs {
+        self.out.cmd0 = c;
+        self.cycle()
+    }
+
+    fn s0(&self) -> u16 {
+        self.last.status0
+    }
+
+    fn s1(&self) -> u16 {
+        self.last.status1
+    }
+
+    fn pos(&self) -> i32 {
+        self.last.motor_position
+    }
+
+    /// Cycles until `f` holds (at most `max` cycles); the number of cycles it took.
+    fn until(&mut self, max: u32, f: impl Fn(&Inputs) -> bool) -> u32 {
+        for n in 1..=max {
+            if f(&self.cycle()) {
+                return n;
+            }
+        }
+        panic!("not within {max} cycles; last {:?}", self.last);
+    }
+
+    /// A Relative (or Absolute) move of `position` run to its end; CMD_word0 back to 0.
+    fn move_to_end(&mut self, c: u16, position: i32) -> u32 {
+        self.out.position = position;
+        self.command(c);
+        let n = self.until(600_000, |i| i.status0 & stat0::STOPPED != 0);
+        self.command(0);
+        n
+    }
+}
+
+/// SMD-T2-002, SMD-R2-009: at power-up STATUS_word0 = 0x4408: Module_OK, Position_Invalid, Stopped.
+#[test]
+fn smd_r2_009_power_up_status() {
+    let r = Rig::new();
+    assert_eq!(r.s0(), 0x4408);
+    assert_eq!(r.last.motor_position, 0);
+    assert_eq!(
+        r.last.motor_current, 10,
+        "8010:07 before any move (SMD-R6-049 gap)"
+    );
+    assert_eq!(r.last.jerk, 0);
+}
+
+/// SMD-R2-052, SMD-R2-053, SMD-R2-048: Relative and Absolute moves end exactly on target with
+/// Move_Complete in the update where Stopped returns; accelerating, cruise and decelerating in order.
+#[test]
+fn smd_r2_052_053_relative_and_absolute_end_on_target() {
+    let mut r = Rig::ready();
+    r.out.position = 12_345;
+    r.command(cmd0::RELATIVE_MOVE);
+    let mut phases = Vec::new();
+    loop {
+        let i = r.cycle();
+        let p = i.status0 & (stat0::ACCELERATING | stat0::DECELERATING);
+        if phases.last() != Some(&p) {
+            phases.push(p);
+        }
+        if i.status0 & stat0::STOPPED != 0 {
+            assert_ne!(i.status0 & stat0::MOVE_COMPLETE, 0, "complete with Stopped");
+            break;
+        }
+        assert_eq!(i.status0 & stat0::MOVE_COMPLETE, 0);
+        assert_ne!(i.status0 & stat0::MOVING_CW, 0);
+    }
+    assert_eq!(r.pos(), 12_345);
+    assert_eq!(
+        phases,
+        [stat0::ACCELERATING, 0, stat0::DECELERATING, 0],
+        "accelerate, cruise, decelerate, stop"
+    );
+    r.command(0);
+    r.move_to_end(cmd0::ABSOLUTE_MOVE, -2_000);
+    assert_eq!(r.pos(), -2_000);
+    assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+}
+
+/// SMD-R2-008: an Absolute move runs CCW to a smaller target.
+#[test]
+fn smd_r2_008_absolute_direction() {
+    let mut r = Rig::ready();
+    r.out.position = -500;
+    r.command(cmd0::ABSOLUTE_MOVE);
+    assert_ne!(r.s0() & stat0::MOVING_CCW, 0);
+    assert_eq!(r.s0() & stat0::MOVING_CW, 0);
+}
+
+/// SMD-R6-004: only a 0→1 edge runs a command; the bit held at 1 runs nothing more, 1 → 0 → 1 runs
+/// the move again.
+#[test]
+fn smd_r6_004_commands_run_on_edges_only() {
+    let mut r = Rig::ready();
+    r.out.position = 100;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    for _ in 0..200 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), 100, "held bit: no second move");
+    r.command(0);
+    r.command(cmd0::RELATIVE_MOVE);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 200);
+}
+
+/// SMD-R6-005: clearing the bit of a running Relative move does not affect it.
+#[test]
+fn smd_r6_005_clearing_the_bit_mid_move() {
+    let mut r = Rig::ready();
+    r.out.position = 3_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 3_000);
+    assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+}
+
+/// Two CMD_word0 command bits rising in one update: Command_Error, nothing runs (R6 "Command Bits Must
+/// Transition").
+#[test]
+fn two_command_bits_rising_together_are_a_command_error() {
+    let mut r = Rig::ready();
+    r.out.position = 100;
+    r.command(cmd0::RELATIVE_MOVE | cmd0::PRESET_POSITION);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    assert_ne!(r.s0() & stat0::STOPPED, 0);
+    assert_eq!(r.pos(), 0);
+}
+
+/// SMD-R2-034: a move command during a running move is refused; the running move ends where it would.
+#[test]
+fn smd_r2_034_no_new_move_while_one_runs() {
+    let mut r = Rig::ready();
+    r.out.position = 5_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    r.out.position = 100;
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 5_000);
+}
+
+/// SMD-R2-010: an Absolute move while Position_Invalid is refused: Command_Error, no motion, no
+/// Move_Complete. SMD-R2-011: a Relative move runs.
+#[test]
+fn smd_r2_010_011_absolute_needs_a_valid_position() {
+    let mut r = Rig::new();
+    r.out = Outputs {
+        cmd1: cmd1::ENABLE_DRIVER,
+        velocity: 1_000,
+        acceleration: 10,
+        deceleration: 10,
+        position: 50,
+        ..Outputs::default()
+    };
+    r.command(cmd0::ABSOLUTE_MOVE);
+    assert_eq!(
+        r.s0() & (stat0::COMMAND_ERROR | stat0::STOPPED | stat0::MOVE_COMPLETE),
+        stat0::COMMAND_ERROR | stat0::STOPPED
+    );
+    r.command(0);
+    r.move_to_end(cmd0::RELATIVE_MOVE, 50);
+    assert_eq!(r.pos(), 50);
+    assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
+}
+
+/// SMD-R6-023, SMD-R6-026, SMD-R6-064: Preset Position to either DINT extreme, clearing Move_Complete
+/// and Position_Invalid; Command_Acknowledge while the bit stays 1, 0 once it is cleared.
+#[test]
+fn smd_r6_023_026_064_preset_position_and_acknowledge() {
+    let mut r = Rig::ready();
+    r.move_to_end(cmd0::RELATIVE_MOVE, 10);
+    r.command(cmd0::IMMEDIATE_STOP);
+    r.command(0);
+    assert_ne!(r.s0() & (stat0::MOVE_COMPLETE | stat0::POSITION_INVALID), 0);
+    for p in [i32::MIN, i32::MAX] {
+        r.out.position = p;
+        r.command(cmd0::PRESET_POSITION);
+        assert_eq!(r.pos(), p);
+        assert_eq!(r.s0() & (stat0::MOVE_COMPLETE | stat0::POSITION_INVALID), 0);
+        assert_ne!(r.s1() & stat1::COMMAND_ACKNOWLEDGE, 0);
+        r.cycle();
+        assert_ne!(
+            r.s1() & stat1::COMMAND_ACKNOWLEDGE,
+            0,
+            "held while CMD0.9 = 1"
+        );
+        r.command(0);
+        assert_eq!(r.s1() & stat1::COMMAND_ACKNOWLEDGE, 0);
+    }
+}
+
+/// SMD-R6-004 wrap gap (SMD-R2-004): Motor_Position wraps in two's complement.
+#[test]
+fn smd_r2_004_motor_position_wraps() {
+    let mut r = Rig::ready();
+    r.out.position = i32::MAX - 5;
+    r.command(cmd0::PRESET_POSITION);
+    r.command(0);
+    r.move_to_end(cmd0::RELATIVE_MOVE, 10);
+    assert_eq!(r.pos(), i32::MIN + 4);
+}
+
+/// SMD-R6-027 pick: Preset Position during a move is refused; the move carries on.
+#[test]
+fn smd_r6_027_no_preset_while_moving() {
+    let mut r = Rig::ready();
+    r.out.position = 2_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.out.position = 0;
+    r.command(cmd0::PRESET_POSITION);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    assert_eq!(r.s1() & stat1::COMMAND_ACKNOWLEDGE, 0, "SMD-R6-065");
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 2_000);
+}
+
+/// SMD-R6-011, SMD-R6-024: Preset Encoder sets Encoder_Position; Preset Position with CMD_word1 bit 13
+/// scales it: 2,048 counts at 1,024 counts and 400 steps per turn give 800 steps. With the encoder
+/// off, Preset Encoder is refused.
+#[test]
+fn smd_r6_011_024_preset_encoder_and_preset_to_encoder() {
+    let mut r = Rig::with(Configuration {
+        cfg0: CFG0_USE_ENCODER,
+        motor_resolution: 400,
+        encoder_resolution: 1024,
+        ..Configuration::default()
+    });
+    r.out.position = 2_048;
+    r.command(cmd0::PRESET_ENCODER);
+    assert_eq!(r.last.encoder_position, 2_048);
+    assert_ne!(r.s1() & stat1::COMMAND_ACKNOWLEDGE, 0);
+    r.command(0);
+    r.out.cmd1 = cmd1::PRESET_TO_ENCODER;
+    r.out.position = 7;
+    r.command(cmd0::PRESET_POSITION);
+    assert_eq!(r.pos(), 800);
+    assert_eq!(r.s0() & stat0::POSITION_INVALID, 0);
+
+    let mut off = Rig::new();
+    off.out.position = 5;
+    off.command(cmd0::PRESET_ENCODER);
+    assert_ne!(off.s0() & stat0::COMMAND_ERROR, 0);
+    assert_eq!(off.last.encoder_position, 0, "SMD-R6-047");
+    assert_eq!(off.s1() & stat1::COMMAND_ACKNOWLEDGE, 0);
+}
+
+/// SMD-R2-001: with the encoder on, one turn of the motor is Encoder_Resolution counts.
+#[test]
+fn smd_r2_001_encoder_counts_with_the_motor() {
+    let mut r = Rig::with(Configuration {
+        cfg0: CFG0_USE_ENCODER,
+        ..Configuration::default()
+    });
+    r.out = Outputs {
+        cmd1: cmd1::ENABLE_DRIVER,
+        velocity: 10_000,
+        acceleration: 10,
+        deceleration: 10,
+        ..Outputs::default()
+    };
+    r.move_to_end(cmd0::RELATIVE_MOVE, 2_000);
+    assert_eq!(r.pos(), 2_000);
+    assert_eq!(r.last.encoder_position, 2_048);
+}
+
+/// SMD-R6-017, SMD-R6-018, SMD-R6-019, SMD-R6-052: Reset Errors clears Command_Error and
+/// Move_Complete, not Position_Invalid or Configuration_Error; Command_Error survives a valid move.
+#[test]
+fn smd_r6_017_018_019_052_reset_errors() {
+    let mut r = Rig::new();
+    r.out.position = 1;
+    r.command(cmd0::ABSOLUTE_MOVE); // Position invalid: Command_Error.
+    r.command(0);
+    r.ix.write_config(7, 35); // Motor_Current out of range.
+    r.command(cmd0::RESET_ERRORS);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
+    assert_ne!(r.s0() & stat0::CONFIGURATION_ERROR, 0);
+    assert_ne!(r.s1() & stat1::COMMAND_ACKNOWLEDGE, 0);
+
+    let mut r = Rig::ready();
+    r.out.acceleration = 0;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    r.out.acceleration = 10;
+    r.move_to_end(cmd0::RELATIVE_MOVE, 100);
+    assert_eq!(
+        r.pos(),
+        100,
+        "SMD-R6-009: a valid move runs with Command_Error set"
+    );
+    assert_eq!(
+        r.s0() & (stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE),
+        stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE
+    );
+    r.command(cmd0::RESET_ERRORS);
+    assert_eq!(r.s0() & (stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE), 0);
+}
+
+/// SMD-R6-028, SMD-R2-013, SMD-R6-059: Immediate Stop at rest makes the position invalid; during a
+/// move it stops at once: Stopped, no Move_Complete, never Decelerating.
+#[test]
+fn smd_r6_028_immediate_stop() {
+    let mut r = Rig::ready();
+    r.command(cmd0::IMMEDIATE_STOP);
+    assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
+    assert_eq!(r.pos(), 0);
+    r.command(0);
+    r.out.position = 100_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..300 {
+        r.cycle();
+    }
+    let at = r.pos();
+    assert!(at > 0);
+    r.command(cmd0::IMMEDIATE_STOP);
+    assert_eq!(
+        r.s0() & (stat0::STOPPED | stat0::MOVE_COMPLETE | stat0::DECELERATING),
+        stat0::STOPPED
+    );
+    assert_eq!(r.pos(), at, "no further step");
+    assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
+}
+
+/// SMD-R2-031, SMD-R2-032, SMD-R2-021: Hold decelerates to a stop and holds with the position still
+/// valid; Resume runs on to the original target and completes.
+#[test]
+fn smd_r2_031_032_hold_and_resume() {
+    let mut r = Rig::ready();
+    r.out.position = 50_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..1_500 {
+        r.cycle();
+    }
+    r.command(cmd0::HOLD_MOVE);
+    assert_ne!(r.s0() & stat0::DECELERATING, 0);
+    assert_eq!(r.s0() & stat0::IN_HOLD_STATE, 0, "not yet stopped");
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(
+        r.s0() & (stat0::IN_HOLD_STATE | stat0::MOVE_COMPLETE | stat0::POSITION_INVALID),
+        stat0::IN_HOLD_STATE
+    );
+    let held_at = r.pos();
+    assert!(held_at > 0 && held_at < 50_000, "{held_at}");
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), held_at);
+    r.command(0);
+    r.out.velocity = 20_000; // SMD-R6-044: the Resume block's speed, the original target.
+    r.command(cmd0::RESUME_MOVE);
+    assert_eq!(r.s0() & stat0::IN_HOLD_STATE, 0);
+    r.until(20_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 50_000);
+    assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+}
+
+/// SMD-R2-035: Resume with nothing held is a Command_Error; a running move carries on.
+/// SMD-R2-037: Hold with nothing running changes nothing.
+#[test]
+fn smd_r2_035_037_resume_and_hold_without_a_move() {
+    let mut r = Rig::ready();
+    r.command(cmd0::HOLD_MOVE);
+    assert_eq!(r.s0() & (stat0::COMMAND_ERROR | stat0::IN_HOLD_STATE), 0);
+    r.command(0);
+    r.out.position = 1_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    r.command(cmd0::RESUME_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 1_000);
+}
+
+/// SMD-R2-033: a new move while one is held cancels it; a later Resume is a Command_Error.
+#[test]
+fn smd_r2_033_new_move_cancels_the_held_one() {
+    let mut r = Rig::ready();
+    r.out.position = 50_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..1_000 {
+        r.cycle();
+    }
+    r.command(cmd0::HOLD_MOVE);
+    r.until(10_000, |i| i.status0 & stat0::IN_HOLD_STATE != 0);
+    let held_at = r.pos();
+    r.command(0);
+    r.move_to_end(cmd0::RELATIVE_MOVE, 10);
+    assert_eq!(r.pos(), held_at + 10);
+    assert_eq!(r.s0() & stat0::IN_HOLD_STATE, 0);
+    r.command(cmd0::RESUME_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    assert_eq!(r.s0() & stat0::STOPPED, stat0::STOPPED);
+}
+
+/// SMD-R6-034 … SMD-R6-038, SMD-R2-051: out-of-range parameters are Command_Errors with no motion and
+/// no Move_Complete; the limits themselves are accepted.
+#[test]
+fn smd_r6_034_to_038_parameter_ranges() {
+    let base = Outputs {
+        cmd1: cmd1::ENABLE_DRIVER,
+        velocity: 10_000,
+        acceleration: 10,
+        deceleration: 10,
+        position: 100,
+        ..Outputs::default()
+    };
+    let bad = [
+        Outputs {
+            position: 8_388_608,
+            ..base
+        },
+        Outputs {
+            position: -8_388_609,
+            ..base
+        },
+        Outputs {
+            velocity: 140,
+            ..base
+        },
+        Outputs {
+            velocity: 3_000_000,
+            ..base
+        },
+        Outputs {
+            acceleration: 0,
+            ..base
+        },
+        Outputs {
+            acceleration: 5_001,
+            ..base
+        },
+        Outputs {
+            deceleration: 0,
+            ..base
+        },
+        Outputs {
+            deceleration: 5_001,
+            ..base
+        },
+        Outputs {
+            jerk: 5_001,
+            ..base
+        },
+        Outputs {
+            cmd1: cmd1::ENABLE_DRIVER | cmd1::MOTOR_CURRENT,
+            motor_current: 35,
+            ..base
+        },
+    ];
+    for out in bad {
+        let mut r = Rig::ready();
+        r.out = out;
+        r.command(cmd0::RELATIVE_MOVE);
+        assert_eq!(
+            r.s0() & (stat0::COMMAND_ERROR | stat0::STOPPED | stat0::MOVE_COMPLETE),
+            stat0::COMMAND_ERROR | stat0::STOPPED,
+            "{out:?}"
+        );
+        assert_eq!(r.pos(), 0, "{out:?}");
+    }
+    let good = [
+        Outputs {
+            position: 8_388_607,
+            velocity: 2_999_999,
+            acceleration: 5_000,
+            deceleration: 5_000,
+            ..base
+        },
+        Outputs {
+            position: -8_388_608,
+            velocity: 2_999_999,
+            acceleration: 5_000,
+            deceleration: 5_000,
+            ..base
+        },
+        Outputs {
+            velocity: 141,
+            acceleration: 1,
+            deceleration: 1,
+            jerk: 5_000,
+            ..base
+        },
+        Outputs {
+            motor_current: 35,
+            ..base
+        }, // SMD-R6-039: unchecked without CMD_word1 bit 1.
+    ];
+    for out in good {
+        let mut r = Rig::ready();
+        r.out = out;
+        r.command(cmd0::RELATIVE_MOVE);
+        assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0, "{out:?}");
+        r.until(100_000, |i| i.status0 & stat0::STOPPED != 0);
+        assert_eq!(r.pos(), out.position, "{out:?}");
+    }
+}
+
+/// SMD-R6-032, SMD-R6-049, SMD-R6-050: in.Motor_Current is 8010:07 or, with CMD_word1 bit 1, the
+/// Motor_Current word; in.Jerk echoes the move's Jerk.
+#[test]
+fn smd_r6_032_050_current_and_jerk_echo() {
+    let mut r = Rig::ready();
+    r.out.jerk = 250;
+    r.move_to_end(cmd0::RELATIVE_MOVE, 1_000);
+    assert_eq!((r.last.motor_current, r.last.jerk), (10, 250));
+    r.out.cmd1 |= cmd1::MOTOR_CURRENT;
+    r.out.motor_current = 25;
+    r.out.jerk = 0;
+    r.move_to_end(cmd0::RELATIVE_MOVE, 1_000);
+    assert_eq!((r.last.motor_current, r.last.jerk), (25, 0));
+    // The pick for CMD_word1 bit 1 alone: the current applies at once.
+    r.out.cmd1 &= !cmd1::MOTOR_CURRENT;
+    r.cycle();
+    r.out.motor_current = 12;
+    r.out.cmd1 |= cmd1::MOTOR_CURRENT;
+    r.cycle();
+    assert_eq!(r.last.motor_current, 12);
+}
+
+/// SMD-R6-030, SMD-R6-031, SMD-R5-027: Drive_Is_Enabled follows Enable_Driver with a valid
+/// configuration; moves are refused while it is 0.
+#[test]
+fn smd_r6_030_031_r5_027_enable_driver() {
+    let mut r = Rig::ready();
+    assert_ne!(r.s1() & stat1::DRIVE_IS_ENABLED, 0);
+    r.out.cmd1 = 0;
+    r.cycle();
+    assert_eq!(r.s1() & stat1::DRIVE_IS_ENABLED, 0);
+    r.out.position = 100;
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    assert_eq!(r.pos(), 0);
+    r.command(0);
+    r.out.cmd1 = cmd1::ENABLE_DRIVER;
+    r.ix.write_config(6, 101);
+    r.cycle();
+    assert_ne!(r.s0() & stat0::CONFIGURATION_ERROR, 0);
+    assert_eq!(r.s1() & stat1::DRIVE_IS_ENABLED, 0, "invalid configuration");
+    r.ix.write_config(6, 100);
+    r.cycle();
+    assert_eq!(r.s0() & stat0::CONFIGURATION_ERROR, 0);
+    assert_ne!(r.s1() & stat1::DRIVE_IS_ENABLED, 0);
+    assert_ne!(
+        r.s0() & stat0::POSITION_INVALID,
+        0,
+        "SMD-R2-012: every 8010 write"
+    );
+}
+
+/// SMD-R6-067: the Heartbeat_Bit changes state every 500 ms.
+#[test]
+fn smd_r6_067_heartbeat() {
+    let mut r = Rig::new();
+    let mut edges = Vec::new();
+    let mut last = r.s1() & stat1::HEARTBEAT;
+    for n in 2..=10_000u32 {
+        let hb = r.cycle().status1 & stat1::HEARTBEAT;
+        if hb != last {
+            edges.push(n);
+            last = hb;
+        }
+    }
+    assert_eq!(edges.len(), 20, "{edges:?}");
+    assert_eq!(edges[0], 500);
+    for w in edges.windows(2) {
+        assert_eq!(w[1] - w[0], 500);
+    }
+}
+
+/// SMD-R2-054 gap: a zero-length move completes at once without motion.
+#[test]
+fn smd_r2_054_zero_length_move() {
+    let mut r = Rig::ready();
+    r.out.position = 0;
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_eq!(
+        r.s0() & (stat0::MOVE_COMPLETE | stat0::STOPPED | stat0::COMMAND_ERROR),
+        stat0::MOVE_COMPLETE | stat0::STOPPED
+    );
+}
+
+/// SMD-R2-007: Motor_Position is not clamped to the command range.
+#[test]
+fn smd_r2_007_position_beyond_the_command_range() {
+    let mut r = Rig::ready();
+    r.out.velocity = 2_999_999;
+    r.out.acceleration = 5_000;
+    r.out.deceleration = 5_000;
+    r.move_to_end(cmd0::RELATIVE_MOVE, 8_000_000);
+    r.move_to_end(cmd0::RELATIVE_MOVE, 8_000_000);
+    assert_eq!(r.pos(), 16_000_000);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+}
+
+/// SMD-R3-007, SMD-R2-049: in the Table R3.2 move, Accelerating lasts T_A = 4.993 s and Decelerating
+/// T_D = 3.994 s (to the 1 ms cycle).
+#[test]
+fn smd_r3_007_phase_durations_in_motion() {
+    let mut r = Rig::ready();
+    r.out.velocity = 100_000;
+    r.out.acceleration = 20;
+    r.out.deceleration = 25;
+    r.out.position = 1_000_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    let (mut acc, mut dec) = (1u32, 0u32);
+    loop {
+        let i = r.cycle();
+        acc += u32::from(i.status0 & stat0::ACCELERATING != 0);
+        dec += u32::from(i.status0 & stat0::DECELERATING != 0);
+        if i.status0 & stat0::STOPPED != 0 {
+            break;
+        }
+    }
+    assert!((4_992..=4_994).contains(&acc), "{acc} ms accelerating");
+    assert!((3_993..=3_995).contains(&dec), "{dec} ms decelerating");
+    assert_eq!(r.pos(), 1_000_000);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// Every Relative move ends exactly on target, never faster than its Velocity (one cycle's steps
+    /// at most Velocity × 1 ms, rounded), with the motion bits true to the direction of travel
+    /// (SMD-R2-016, SMD-R2-019) and Accelerating never with Decelerating (SMD-R2-018).
+    #[test]
+    fn relative_moves_end_on_target(
+        offset in -200_000i32..200_000,
+        velocity in 141u32..200_000,
+        accel in 1u16..200,
+        decel in 1u16..200,
+        jerk in prop_oneof![Just(0u16), 1u16..=5000],
+    ) {
+        let mut r = Rig::ready();
+        r.out.velocity = velocity;
+        r.out.acceleration = accel;
+        r.out.deceleration = decel;
+        r.out.jerk = jerk;
+        r.out.position = offset;
+        r.command(cmd0::RELATIVE_MOVE);
+        let mut prev = 0i64;
+        let mut first = true;
+        for _ in 0..2_000_000 {
+            let i = if first { first = false; r.last } else { r.cycle() };
+            let p = i64::from(i.motor_position);
+            let step = p - prev;
+            prop_assert!(step.unsigned_abs() as f64 <= f64::from(velocity) / 1000.0 + 1.0, "{} steps in 1 ms", step);
+            let s = i.status0;
+            prop_assert!(!(s & stat0::ACCELERATING != 0 && s & stat0::DECELERATING != 0));
+            prop_assert!(!(s & stat0::MOVING_CW != 0 && s & stat0::MOVING_CCW != 0));
+            if step > 0 { prop_assert!(s & stat0::MOVING_CW != 0); }
+            if step < 0 { prop_assert!(s & stat0::MOVING_CCW != 0); }
+            prop_assert_eq!(s & stat0::STOPPED != 0, s & (stat0::MOVING_CW | stat0::MOVING_CCW) == 0);
+            prev = p;
+            if s & stat0::STOPPED != 0 {
+                break;
+            }
+        }
+        prop_assert_eq!(r.pos(), offset);
+        prop_assert!(r.s0() & stat0::MOVE_COMPLETE != 0);
+    }
+}
