@@ -1,93 +1,12 @@
 //! The SMD23K-B / SMD24K indexer in Command Mode, rule by rule (catalogue `rules/smd.md`, R2 and R6),
 //! exchanging process data every millisecond as a master would.
 
-use std::time::Duration;
+mod smd_rig;
 
-use ds402::smd::config::{Configuration, EncoderKind, CFG0_USE_ENCODER};
-use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Indexer, Inputs, Outputs};
+use ds402::smd::config::{Configuration, CFG0_USE_ENCODER};
+use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Outputs};
 use proptest::prelude::*;
-
-const MS: Duration = Duration::from_millis(1);
-
-/// A unit with the default configuration and a master that exchanges data every 1 ms.
-struct Rig {
-    ix: Indexer,
-    out: Outputs,
-    last: Inputs,
-}
-
-impl Rig {
-    fn new() -> Rig {
-        Rig::with(Configuration::default())
-    }
-
-    fn with(config: Configuration) -> Rig {
-        let mut ix = Indexer::new(EncoderKind::Incremental, config);
-        let out = Outputs::default();
-        let last = ix.cycle(out, MS);
-        Rig { ix, out, last }
-    }
-
-    /// Driver enabled, position preset to 0 (valid), move parameters set, CMD_word0 back at 0.
-    fn ready() -> Rig {
-        let mut r = Rig::new();
-        r.out = Outputs {
-            cmd1: cmd1::ENABLE_DRIVER,
-            velocity: 10_000,
-            acceleration: 10,
-            deceleration: 10,
-            ..Outputs::default()
-        };
-        r.command(cmd0::PRESET_POSITION);
-        r.command(0);
-        r.command(cmd0::RESET_ERRORS);
-        r.command(0);
-        assert_eq!(r.s0() & (stat0::POSITION_INVALID | stat0::MOVE_COMPLETE), 0);
-        r
-    }
-
-    fn cycle(&mut self) -> Inputs {
-        self.last = self.ix.cycle(self.out, MS);
-        self.last
-    }
-
-    /// Writes CMD_word0 = `c` for one cycle.
-    fn command(&mut self, c: u16) -> Inputs {
-        self.out.cmd0 = c;
-        self.cycle()
-    }
-
-    fn s0(&self) -> u16 {
-        self.last.status0
-    }
-
-    fn s1(&self) -> u16 {
-        self.last.status1
-    }
-
-    fn pos(&self) -> i32 {
-        self.last.motor_position
-    }
-
-    /// Cycles until `f` holds (at most `max` cycles); the number of cycles it took.
-    fn until(&mut self, max: u32, f: impl Fn(&Inputs) -> bool) -> u32 {
-        for n in 1..=max {
-            if f(&self.cycle()) {
-                return n;
-            }
-        }
-        panic!("not within {max} cycles; last {:?}", self.last);
-    }
-
-    /// A Relative (or Absolute) move of `position` run to its end; CMD_word0 back to 0.
-    fn move_to_end(&mut self, c: u16, position: i32) -> u32 {
-        self.out.position = position;
-        self.command(c);
-        let n = self.until(600_000, |i| i.status0 & stat0::STOPPED != 0);
-        self.command(0);
-        n
-    }
-}
+use smd_rig::Rig;
 
 /// SMD-T2-002, SMD-R2-009: at power-up STATUS_word0 = 0x4408: Module_OK, Position_Invalid, Stopped.
 #[test]

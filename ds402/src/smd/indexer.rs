@@ -13,9 +13,13 @@
 //! the driver is disabled); Absolute and Relative moves, Hold and Resume, Immediate Stop, Preset Position
 //! (also to the encoder), Preset Encoder, Reset Errors, the Motor_Current override of CMD_word1 bit 1;
 //! STATUS_word0/1 with the 500 ms heartbeat, Command_Acknowledge and Move_Complete's rules; the encoder
-//! counting with the motor. Not in it yet: homing, jog and registration moves, assembled and indexed
-//! moves, the DC inputs, stall detection, idle current reduction, STO and temperature, EtherCAT states —
-//! their command bits are refused with Command_Error.
+//! counting with the motor; the two DC inputs (function and active level from the configuration,
+//! IN1_Active/IN2_Active), E-Stop, the end limits during moves and at their start, Limit_Condition,
+//! Input_Error, the captures into Trapped_Encoder_Position; Jog moves (speed, acceleration and
+//! deceleration changed while running, Invalid_Jog_Change, the Stop Jog input, hold and resume).
+//! Not in it yet: homing, registration moves, assembled and indexed moves, stall detection, idle
+//! current reduction, STO and temperature, EtherCAT states — their command bits are refused with
+//! Command_Error.
 //!
 //! Choices where the manual is silent (catalogue picks unless said otherwise):
 //! - Hold during the final deceleration of a move whose controlled stop would pass the target: the move
@@ -23,10 +27,13 @@
 //! - A Hold's controlled stop decelerates from the present speed at the move's Deceleration and Jerk.
 //! - A rejected command leaves Move_Complete as it was (SMD-R6-040 speaks of a move not yet complete).
 //! - Preset Position with CMD_word1 bit 13 and the encoder disabled presets to 0 (Encoder_Position reads 0).
+//! - E-Stop and an end limit that stop the motor also cancel a held move (as Immediate Stop does,
+//!   SMD-R6-028).
+//! - A jog's speed changes use the Jerk word in force at that moment.
 
 use std::time::Duration;
 
-use super::config::{Configuration, EncoderKind, CFG0_USE_ENCODER};
+use super::config::{Cfg0, Configuration, EncoderKind, InputFunction, CFG0_USE_ENCODER};
 use super::profile::{MoveParams, Phase, Profile};
 
 /// STATUS_word0 bits (Reference 6, Figure R6.4).
@@ -131,6 +138,8 @@ pub mod cmd0 {
 
 /// CMD_word1 bits (Reference 6, Figure R6.3).
 pub mod cmd1 {
+    /// Bit 7: a Jog command runs as a Registration move.
+    pub const REGISTRATION_MOVE: u16 = 1 << 7;
     /// Bit 1: take the move's current from the Motor_Current word.
     pub const MOTOR_CURRENT: u16 = 1 << 1;
     /// Bit 13: Preset Position presets to the scaled encoder position.
@@ -191,10 +200,69 @@ pub struct Inputs {
 /// What a running motion segment is for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Purpose {
-    /// An Absolute or Relative move (or its resumption) towards `target`.
+    /// An Absolute or Relative move (or its resumption) towards the segment's target.
     Move,
-    /// The controlled stop of a Hold; the move to `target` waits to be resumed.
-    HoldStop,
+    /// The controlled stop of a Hold; what is held waits to be resumed.
+    HoldStop(Held),
+    /// A jog that runs while CMD_word0 `bit` stays 1 (the Jog bit, or Resume for a resumed jog).
+    Jog {
+        /// The controlling bit.
+        bit: u16,
+    },
+    /// The controlled stop that ends a jog (Move_Complete at its end).
+    JogStop,
+}
+
+/// An open-ended jog: runs at `speed`, ramping to a new speed when told.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Jog {
+    /// The speed it runs at (or ramps to).
+    speed: f64,
+    /// A speed change in progress: the phase (low → high), whether it rises, and its elapsed time.
+    ramp: Option<(Phase, bool, f64)>,
+    /// Steps covered so far.
+    covered: f64,
+}
+
+impl Jog {
+    fn speed_now(&self) -> f64 {
+        match self.ramp {
+            Some((p, true, t)) => p.speed_rising(t),
+            Some((p, false, t)) => p.speed_rising(p.time - t),
+            None => self.speed,
+        }
+    }
+
+    /// Ramps from the present speed to `to` (steps/s) at `accel`/`decel` (steps/s²).
+    fn change(&mut self, to: f64, accel: f64, decel: f64, jerk: u16) {
+        let v = self.speed_now();
+        self.ramp = if to > v {
+            Some((Phase::new(v, to, accel, jerk), true, 0.0))
+        } else if to < v {
+            Some((Phase::new(to, v, decel, jerk), false, 0.0))
+        } else {
+            None
+        };
+        self.speed = to;
+    }
+
+    fn advance(&mut self, mut dt: f64) {
+        if let Some((p, up, t)) = &mut self.ramp {
+            let step = dt.min(p.time - *t).max(0.0);
+            let d = if *up {
+                p.distance_rising(*t + step) - p.distance_rising(*t)
+            } else {
+                p.distance_rising(p.time - *t) - p.distance_rising(p.time - *t - step)
+            };
+            self.covered += d;
+            *t += step;
+            dt -= step;
+            if *t >= p.time {
+                self.ramp = None;
+            }
+        }
+        self.covered += self.speed * dt;
+    }
 }
 
 /// The curve of a segment.
@@ -204,41 +272,8 @@ enum Curve {
     Profile(Profile),
     /// A deceleration from the present speed to the starting speed.
     Ramp(Phase),
-}
-
-impl Curve {
-    fn duration(&self) -> f64 {
-        match self {
-            Curve::Profile(p) => p.total_time(),
-            Curve::Ramp(r) => r.time,
-        }
-    }
-
-    fn distance_at(&self, t: f64) -> f64 {
-        match self {
-            Curve::Profile(p) => p.position_at(t),
-            Curve::Ramp(r) => r.distance - r.distance_rising(r.time - t),
-        }
-    }
-
-    fn speed_at(&self, t: f64) -> f64 {
-        match self {
-            Curve::Profile(p) => p.speed_at(t),
-            Curve::Ramp(r) => r.speed_rising(r.time - t),
-        }
-    }
-
-    /// (accelerating, decelerating) at `t`.
-    fn phase_at(&self, t: f64) -> (bool, bool) {
-        match self {
-            Curve::Profile(p) => {
-                let ta = p.accel.time;
-                let tc = ta + p.cruise_time;
-                (t < ta, t >= tc && t < p.total_time())
-            }
-            Curve::Ramp(r) => (false, t < r.time),
-        }
-    }
+    /// A jog.
+    Jog(Jog),
 }
 
 /// A running segment of motion.
@@ -248,25 +283,104 @@ struct Segment {
     origin: i64,
     /// +1 clockwise, −1 counter-clockwise.
     dir: i64,
-    /// Steps from `origin` already covered when the curve began (a Hold's stop starts mid-move).
+    /// Steps from `origin` already covered when the curve began (a stop that starts mid-move).
     base: f64,
     curve: Curve,
-    /// Seconds since the segment started.
+    /// Seconds since the curve began.
     t: f64,
     purpose: Purpose,
-    /// Where the move ends (for a Hold: where the resumed move goes).
+    /// Where a move ends (for a held move: where the resumed move goes).
     target: i64,
-    /// The move's parameters (Deceleration and Jerk for a Hold's stop).
+    /// The parameters in force (Deceleration and Jerk for a stop; a jog's present values).
     params: Outputs,
 }
 
-/// A move brought into its hold state.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Held {
-    target: i64,
+impl Segment {
+    fn duration(&self) -> f64 {
+        match &self.curve {
+            Curve::Profile(p) => p.total_time(),
+            Curve::Ramp(r) => r.time,
+            Curve::Jog(_) => f64::INFINITY,
+        }
+    }
+
+    fn finished(&self) -> bool {
+        self.t >= self.duration()
+    }
+
+    fn advance(&mut self, dt: f64) {
+        self.t += dt;
+        if let Curve::Jog(j) = &mut self.curve {
+            j.advance(dt);
+        }
+    }
+
+    /// Steps from `origin` covered now.
+    fn covered(&self) -> f64 {
+        let t = self.t.min(self.duration());
+        self.base
+            + match &self.curve {
+                Curve::Profile(p) => p.position_at(t),
+                Curve::Ramp(r) => r.distance - r.distance_rising(r.time - t),
+                Curve::Jog(j) => j.covered,
+            }
+    }
+
+    /// The present speed (steps/s, ≥ 0).
+    fn speed(&self) -> f64 {
+        match &self.curve {
+            Curve::Profile(p) => p.speed_at(self.t),
+            Curve::Ramp(r) => r.speed_rising(r.time - self.t),
+            Curve::Jog(j) => j.speed_now(),
+        }
+    }
+
+    /// (accelerating, decelerating) now.
+    fn phase(&self) -> (bool, bool) {
+        match &self.curve {
+            Curve::Profile(p) => {
+                let ta = p.accel.time;
+                let tc = ta + p.cruise_time;
+                (self.t < ta, self.t >= tc && self.t < p.total_time())
+            }
+            Curve::Ramp(r) => (false, self.t < r.time),
+            Curve::Jog(j) => match j.ramp {
+                Some((_, up, _)) => (up, !up),
+                None => (false, false),
+            },
+        }
+    }
 }
 
-/// The unit: configuration, command processing, motion, status.
+/// What is in its hold state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Held {
+    /// An Absolute or Relative move, to be resumed to `target`.
+    Move {
+        /// Where it goes.
+        target: i64,
+    },
+    /// A jog in direction `dir`.
+    Jog {
+        /// +1 or −1.
+        dir: i64,
+    },
+}
+
+/// How a command was taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Outcome {
+    /// Run.
+    Accepted,
+    /// Refused with Command_Error.
+    CommandError,
+    /// Refused with Command_Error and Move_Complete (bad Jog parameters, SMD-R6-040).
+    CommandErrorComplete,
+    /// Refused with Input_Error (an active E-Stop or end limit).
+    InputError,
+}
+
+/// The unit: configuration, command processing, inputs, motion, status.
 #[derive(Debug, Clone)]
 pub struct Indexer {
     kind: EncoderKind,
@@ -279,6 +393,10 @@ pub struct Indexer {
     encoder_base: i64,
     encoder_steps: i64,
     trapped: i32,
+    /// Whether current flows into IN1 / IN2.
+    current: [bool; 2],
+    /// IN1 / IN2 active at the last cycle.
+    was_active: [bool; 2],
     segment: Option<Segment>,
     held: Option<Held>,
     move_complete: bool,
@@ -286,6 +404,9 @@ pub struct Indexer {
     input_error: bool,
     command_error: bool,
     at_home: bool,
+    /// The input (0 or 1) whose end limit stopped a move, until it goes inactive (Limit_Condition).
+    limit_condition: Option<usize>,
+    invalid_jog_change: bool,
     /// The CMD_word0 bit whose success Command_Acknowledge reports, while it stays 1.
     acknowledged: Option<u16>,
     in_current: u16,
@@ -308,6 +429,8 @@ impl Indexer {
             encoder_base: 0,
             encoder_steps: 0,
             trapped: 0,
+            current: [false; 2],
+            was_active: [false; 2],
             segment: None,
             held: None,
             move_complete: false,
@@ -315,6 +438,8 @@ impl Indexer {
             input_error: false,
             command_error: false,
             at_home: false,
+            limit_condition: None,
+            invalid_jog_change: false,
             acknowledged: None,
             in_jerk: 0,
         }
@@ -359,6 +484,32 @@ impl Indexer {
         true
     }
 
+    /// Whether current flows into input `n` (1 or 2): the wiring, as a sensor drives it. Acted on at
+    /// the next cycle.
+    pub fn set_input(&mut self, n: usize, current_flows: bool) {
+        if let Some(c) = self.current.get_mut(n.wrapping_sub(1)) {
+            *c = current_flows;
+        }
+    }
+
+    /// Input `k` (0 or 1) active after the CFG_Word_1 level (SMD-R5-023): with its level bit 1 it is
+    /// active when current flows, with 0 when none flows.
+    fn active(&self, k: usize) -> bool {
+        let level = self.config.cfg1 & (1 << k) != 0;
+        self.current[k] == level
+    }
+
+    fn functions(&self) -> [Option<InputFunction>; 2] {
+        let c = Cfg0::from_word(self.config.cfg0);
+        [c.input1, c.input2]
+    }
+
+    /// An active input with function `f`.
+    fn input_active(&self, f: InputFunction) -> bool {
+        let fs = self.functions();
+        (0..2).any(|k| fs[k] == Some(f) && self.active(k))
+    }
+
     fn encoder_enabled(&self) -> bool {
         self.config.cfg0 & CFG0_USE_ENCODER != 0
     }
@@ -368,15 +519,14 @@ impl Indexer {
         self.prev.cmd1 & cmd1::ENABLE_DRIVER != 0 && !self.configuration_error()
     }
 
-    /// True while a move (or a Hold's stop) is running.
+    /// True while the motor turns (a move, a jog or a controlled stop).
     pub fn is_moving(&self) -> bool {
         self.segment.is_some()
     }
 
     /// The present speed in steps/s (signed: positive clockwise).
     pub fn speed(&self) -> f64 {
-        self.segment
-            .map_or(0.0, |s| s.dir as f64 * s.curve.speed_at(s.t))
+        self.segment.map_or(0.0, |s| s.dir as f64 * s.speed())
     }
 
     /// The motor position without the 32-bit wrap of Motor_Position.
@@ -384,11 +534,69 @@ impl Indexer {
         self.position
     }
 
-    /// One process-data exchange: takes `out`, acts on it, runs `dt` of motion, returns the inputs.
+    /// One process-data exchange: takes `out`, acts on the inputs and on the commands, runs `dt` of
+    /// motion, returns the inputs.
     pub fn cycle(&mut self, out: Outputs, dt: Duration) -> Inputs {
+        self.sense_inputs();
         self.take(out);
+        self.follow_jog(out);
         self.advance(dt);
         self.inputs()
+    }
+
+    /// Stops all motion at once (Immediate Stop, E-Stop, end limit): no deceleration, the position
+    /// becomes invalid, a held move is cancelled.
+    fn stop_now(&mut self) {
+        self.segment = None;
+        self.held = None;
+        self.position_invalid = true;
+    }
+
+    fn capture(&mut self) {
+        if self.encoder_enabled() {
+            self.trapped = self.encoder_position();
+        }
+    }
+
+    fn jogging(&self) -> bool {
+        matches!(self.segment, Some(s) if matches!(s.purpose, Purpose::Jog { .. }))
+    }
+
+    /// The input edges since the last cycle (Table R2.1 and R1 "Available Discrete DC Inputs").
+    fn sense_inputs(&mut self) {
+        let fs = self.functions();
+        for (k, function) in fs.into_iter().enumerate() {
+            let active = self.active(k);
+            let was = std::mem::replace(&mut self.was_active[k], active);
+            if active && !was {
+                match function {
+                    Some(InputFunction::EStop) => {
+                        // SMD-R1-027, SMD-R1-030, SMD-R2-014: always, moving or not.
+                        self.stop_now();
+                        self.input_error = true;
+                    }
+                    // SMD-R2-039, -041, -044: either limit stops any move; at rest nothing but
+                    // the input bit (SMD-R2-015).
+                    Some(InputFunction::CwLimit | InputFunction::CcwLimit)
+                        if self.segment.is_some() =>
+                    {
+                        self.stop_now();
+                        self.input_error = true;
+                        self.limit_condition = Some(k);
+                    }
+                    Some(InputFunction::StartIndexed) => self.capture(), // SMD-R1-025
+                    // SMD-R1-031, SMD-R1-033.
+                    Some(InputFunction::StopJog) if self.jogging() => {
+                        self.capture();
+                        self.controlled_stop(Purpose::JogStop);
+                    }
+                    _ => {}
+                }
+            }
+            if !active && was && self.limit_condition == Some(k) {
+                self.limit_condition = None; // SMD-R6-068
+            }
+        }
     }
 
     /// Acts on new output data (the edges against the previous data).
@@ -422,56 +630,83 @@ impl Indexer {
             self.command_error = true;
             return;
         }
-        // Any command accepted clears At_Home (SMD-R2-022); refused ones set Command_Error.
-        let accepted = match rising {
+        let outcome = match rising {
             cmd0::ABSOLUTE_MOVE => self.start_move(out, true),
             cmd0::RELATIVE_MOVE => self.start_move(out, false),
             cmd0::HOLD_MOVE => {
                 self.hold();
-                true
+                Outcome::Accepted
             }
             cmd0::RESUME_MOVE => self.resume(out),
             cmd0::IMMEDIATE_STOP => {
-                self.segment = None;
-                self.held = None;
-                self.position_invalid = true;
-                true
+                self.stop_now();
+                Outcome::Accepted
             }
+            cmd0::JOG_CW if out.cmd1 & cmd1::REGISTRATION_MOVE == 0 => self.start_jog(out, 1),
+            cmd0::JOG_CCW if out.cmd1 & cmd1::REGISTRATION_MOVE == 0 => self.start_jog(out, -1),
             cmd0::PRESET_POSITION => self.preset_position(out),
             cmd0::RESET_ERRORS => {
                 self.command_error = false;
                 self.input_error = false;
                 self.move_complete = false;
+                self.limit_condition = None; // SMD-R6-021
                 self.acknowledged = Some(cmd0::RESET_ERRORS);
-                true
+                Outcome::Accepted
             }
             cmd0::PRESET_ENCODER => self.preset_encoder(out),
-            _ => false,
+            _ => Outcome::CommandError,
         };
-        if accepted {
-            self.at_home = false;
-        } else {
-            self.command_error = true;
+        match outcome {
+            // Any command accepted clears At_Home (SMD-R2-022).
+            Outcome::Accepted => self.at_home = false,
+            Outcome::CommandError => self.command_error = true,
+            Outcome::CommandErrorComplete => {
+                self.command_error = true;
+                self.move_complete = true;
+            }
+            Outcome::InputError => self.input_error = true,
         }
     }
 
-    /// The parameter checks of a move block (SMD-R6-035 … -039).
+    /// The speed, acceleration and jerk checks of a move block (SMD-R6-035 … -038).
+    fn motion_params_ok(&self, velocity: u32, accel: u16, decel: u16, jerk: u16) -> bool {
+        (self.config.starting_speed..=MAX_VELOCITY).contains(&velocity)
+            && (1..=super::profile::MAX_ACCEL).contains(&accel)
+            && (1..=super::profile::MAX_ACCEL).contains(&decel)
+            && jerk <= super::profile::MAX_JERK
+    }
+
+    /// Every parameter check of a move block, the current included (SMD-R6-039).
     fn params_ok(&self, out: &Outputs) -> bool {
-        (self.config.starting_speed..=MAX_VELOCITY).contains(&out.velocity)
-            && (1..=super::profile::MAX_ACCEL).contains(&out.acceleration)
-            && (1..=super::profile::MAX_ACCEL).contains(&out.deceleration)
-            && out.jerk <= super::profile::MAX_JERK
+        self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, out.jerk)
             && (out.cmd1 & cmd1::MOTOR_CURRENT == 0 || out.motor_current <= MAX_MOTOR_CURRENT)
     }
 
-    fn start_move(&mut self, out: Outputs, absolute: bool) -> bool {
+    /// Takes the move's current and jerk for the input words (SMD-R6-032, SMD-R6-050).
+    fn take_current_and_jerk(&mut self, out: &Outputs) {
+        self.in_current = if out.cmd1 & cmd1::MOTOR_CURRENT != 0 {
+            out.motor_current
+        } else {
+            self.config.motor_current
+        };
+        self.in_jerk = out.jerk;
+    }
+
+    fn start_move(&mut self, out: Outputs, absolute: bool) -> Outcome {
         if !POSITION_RANGE.contains(&out.position)
             || !self.params_ok(&out)
             || (absolute && self.position_invalid)
             || self.segment.is_some()
             || !self.drive_enabled()
         {
-            return false;
+            return Outcome::CommandError;
+        }
+        // SMD-R1-029, SMD-R2-040: no move starts while E-Stop or an end limit is active.
+        if self.input_active(InputFunction::EStop)
+            || self.input_active(InputFunction::CwLimit)
+            || self.input_active(InputFunction::CcwLimit)
+        {
+            return Outcome::InputError;
         }
         let target = if absolute {
             i64::from(out.position)
@@ -481,22 +716,17 @@ impl Indexer {
         // A new move cancels a held one (SMD-R2-033).
         self.held = None;
         self.move_complete = false;
-        self.in_current = if out.cmd1 & cmd1::MOTOR_CURRENT != 0 {
-            out.motor_current
-        } else {
-            self.config.motor_current
-        };
-        self.in_jerk = out.jerk;
+        self.take_current_and_jerk(&out);
         self.run_to(target, out)
     }
 
     /// Starts the motion to `target` with the parameters of `out`.
-    fn run_to(&mut self, target: i64, out: Outputs) -> bool {
+    fn run_to(&mut self, target: i64, out: Outputs) -> Outcome {
         let distance = target - self.position;
         if distance == 0 {
             // SMD-R2-054: accepted, no motion, complete.
             self.move_complete = true;
-            return true;
+            return Outcome::Accepted;
         }
         let Ok(profile) = Profile::plan(MoveParams {
             start_speed: f64::from(self.config.starting_speed),
@@ -506,7 +736,7 @@ impl Indexer {
             jerk: out.jerk,
             distance: distance.unsigned_abs() as f64,
         }) else {
-            return false;
+            return Outcome::CommandError;
         };
         self.segment = Some(Segment {
             origin: self.position,
@@ -518,57 +748,188 @@ impl Indexer {
             target,
             params: out,
         });
-        true
+        Outcome::Accepted
+    }
+
+    /// Jog_CW (`dir` +1) or Jog_CCW (−1), or a held jog resumed under `bit`.
+    fn start_jog(&mut self, out: Outputs, dir: i64) -> Outcome {
+        let bit = if dir > 0 { cmd0::JOG_CW } else { cmd0::JOG_CCW };
+        self.jog(out, dir, bit, true)
+    }
+
+    fn jog(&mut self, out: Outputs, dir: i64, bit: u16, fresh: bool) -> Outcome {
+        if !self.params_ok(&out) {
+            // SMD-R6-040: a Jog with bad parameters also sets Move_Complete.
+            return Outcome::CommandErrorComplete;
+        }
+        if self.segment.is_some() || !self.drive_enabled() {
+            return Outcome::CommandError;
+        }
+        // SMD-R1-029; SMD-R2-042/-045: not into an active limit (away from one is allowed,
+        // SMD-R2-043/-046).
+        let into = if dir > 0 {
+            InputFunction::CwLimit
+        } else {
+            InputFunction::CcwLimit
+        };
+        if self.input_active(InputFunction::EStop) || self.input_active(into) {
+            return Outcome::InputError;
+        }
+        if fresh {
+            self.held = None;
+            self.move_complete = false;
+        }
+        self.take_current_and_jerk(&out);
+        let vs = f64::from(self.config.starting_speed);
+        let mut jog = Jog {
+            speed: vs,
+            ramp: None,
+            covered: 0.0,
+        };
+        jog.change(
+            f64::from(out.velocity),
+            f64::from(out.acceleration) * 1000.0,
+            f64::from(out.deceleration) * 1000.0,
+            out.jerk,
+        );
+        self.invalid_jog_change = false;
+        self.segment = Some(Segment {
+            origin: self.position,
+            dir,
+            base: 0.0,
+            curve: Curve::Jog(jog),
+            t: 0.0,
+            purpose: Purpose::Jog { bit },
+            target: self.position,
+            params: out,
+        });
+        Outcome::Accepted
+    }
+
+    /// While a jog runs: its bit falling ends it with a controlled stop (SMD-R2-057); new Velocity,
+    /// Acceleration and Deceleration values take effect, invalid ones set Invalid_Jog_Change and are
+    /// ignored (SMD-R2-058 … -060, SMD-R6-069).
+    fn follow_jog(&mut self, out: Outputs) {
+        let Some(seg) = self.segment else { return };
+        let Purpose::Jog { bit } = seg.purpose else {
+            return;
+        };
+        if out.cmd0 & bit == 0 {
+            self.controlled_stop(Purpose::JogStop);
+            return;
+        }
+        let p = seg.params;
+        if (out.velocity, out.acceleration, out.deceleration, out.jerk)
+            == (p.velocity, p.acceleration, p.deceleration, p.jerk)
+        {
+            self.invalid_jog_change = false;
+            return;
+        }
+        if !self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, out.jerk) {
+            self.invalid_jog_change = true;
+            return;
+        }
+        self.invalid_jog_change = false;
+        let Some(seg) = self.segment.as_mut() else {
+            return;
+        };
+        if let Curve::Jog(j) = &mut seg.curve {
+            if out.velocity != p.velocity {
+                j.change(
+                    f64::from(out.velocity),
+                    f64::from(out.acceleration) * 1000.0,
+                    f64::from(out.deceleration) * 1000.0,
+                    out.jerk,
+                );
+            }
+        }
+        seg.params.velocity = out.velocity;
+        seg.params.acceleration = out.acceleration;
+        seg.params.deceleration = out.deceleration;
+        seg.params.jerk = out.jerk;
+    }
+
+    /// Turns the running segment into a deceleration from its present speed to the starting speed
+    /// at its Deceleration (SMD-R2-029), ending as `purpose` says.
+    fn controlled_stop(&mut self, purpose: Purpose) {
+        let Some(seg) = self.segment else { return };
+        let vs = f64::from(self.config.starting_speed);
+        let ramp = Phase::new(
+            vs,
+            seg.speed().max(vs),
+            f64::from(seg.params.deceleration) * 1000.0,
+            seg.params.jerk,
+        );
+        self.segment = Some(Segment {
+            base: seg.covered(),
+            curve: Curve::Ramp(ramp),
+            t: 0.0,
+            purpose,
+            ..seg
+        });
     }
 
     fn hold(&mut self) {
         let Some(seg) = self.segment else {
             return; // SMD-R2-037: nothing to hold.
         };
-        if seg.purpose != Purpose::Move {
-            return;
+        match seg.purpose {
+            Purpose::Move => {
+                let vs = f64::from(self.config.starting_speed);
+                let ramp = Phase::new(
+                    vs,
+                    seg.speed().max(vs),
+                    f64::from(seg.params.deceleration) * 1000.0,
+                    seg.params.jerk,
+                );
+                let left = (seg.target - seg.origin).unsigned_abs() as f64 - seg.covered();
+                if ramp.distance >= left {
+                    return; // Completes on its own deceleration.
+                }
+                self.controlled_stop(Purpose::HoldStop(Held::Move { target: seg.target }));
+            }
+            // SMD-R2-038 pick (a): a jog is held (its bit falling in the same update is the hold).
+            Purpose::Jog { .. } => {
+                self.controlled_stop(Purpose::HoldStop(Held::Jog { dir: seg.dir }));
+            }
+            Purpose::HoldStop(_) | Purpose::JogStop => {}
         }
-        let v = seg.curve.speed_at(seg.t);
-        let vs = f64::from(self.config.starting_speed);
-        let ramp = Phase::new(
-            vs,
-            v.max(vs),
-            f64::from(seg.params.deceleration) * 1000.0,
-            seg.params.jerk,
-        );
-        let done = seg.base + seg.curve.distance_at(seg.t);
-        let left = (seg.target - seg.origin).unsigned_abs() as f64 - done;
-        if ramp.distance >= left {
-            return; // Completes on its own deceleration.
-        }
-        self.segment = Some(Segment {
-            base: done,
-            curve: Curve::Ramp(ramp),
-            t: 0.0,
-            purpose: Purpose::HoldStop,
-            ..seg
-        });
     }
 
-    fn resume(&mut self, out: Outputs) -> bool {
+    fn resume(&mut self, out: Outputs) -> Outcome {
         let Some(held) = self.held else {
-            return false; // SMD-R2-035.
+            return Outcome::CommandError; // SMD-R2-035.
         };
         if !self.params_ok(&out) || !self.drive_enabled() {
-            return false;
+            return Outcome::CommandError;
         }
-        // The Resume block's parameters, the original target (SMD-R6-044).
-        self.held = None;
-        self.in_jerk = out.jerk;
-        if out.cmd1 & cmd1::MOTOR_CURRENT != 0 {
-            self.in_current = out.motor_current;
+        match held {
+            Held::Move { target } => {
+                if self.input_active(InputFunction::EStop)
+                    || self.input_active(InputFunction::CwLimit)
+                    || self.input_active(InputFunction::CcwLimit)
+                {
+                    return Outcome::InputError;
+                }
+                // The Resume block's parameters, the original target (SMD-R6-044).
+                self.held = None;
+                self.take_current_and_jerk(&out);
+                self.run_to(target, out)
+            }
+            // SMD-R2-038 pick (c): a resumed jog runs while Resume_Move stays 1.
+            Held::Jog { dir } => {
+                let outcome = self.jog(out, dir, cmd0::RESUME_MOVE, false);
+                if outcome == Outcome::Accepted {
+                    self.held = None;
+                }
+                outcome
+            }
         }
-        self.run_to(held.target, out)
     }
 
-    fn preset_position(&mut self, out: Outputs) -> bool {
+    fn preset_position(&mut self, out: Outputs) -> Outcome {
         if self.segment.is_some() {
-            return false; // SMD-R6-027 pick.
+            return Outcome::CommandError; // SMD-R6-027 pick.
         }
         self.position = if out.cmd1 & cmd1::PRESET_TO_ENCODER != 0 {
             // Motor Position = Encoder Position × steps per turn / counts per turn (SMD-R6-024).
@@ -581,17 +942,17 @@ impl Indexer {
         self.move_complete = false;
         self.position_invalid = false;
         self.acknowledged = Some(cmd0::PRESET_POSITION);
-        true
+        Outcome::Accepted
     }
 
-    fn preset_encoder(&mut self, out: Outputs) -> bool {
+    fn preset_encoder(&mut self, out: Outputs) -> Outcome {
         if !self.encoder_enabled() {
-            return false; // SMD-R6-011 gap pick.
+            return Outcome::CommandError; // SMD-R6-011 gap pick.
         }
         self.encoder_base = i64::from(out.position);
         self.encoder_steps = 0;
         self.acknowledged = Some(cmd0::PRESET_ENCODER);
-        true
+        Outcome::Accepted
     }
 
     /// Runs the motion for `dt`.
@@ -600,18 +961,16 @@ impl Indexer {
         let Some(mut seg) = self.segment else {
             return;
         };
-        seg.t += dt.as_secs_f64();
+        seg.advance(dt.as_secs_f64());
         let before = self.position;
-        let end = seg.t >= seg.curve.duration();
-        let covered = if end {
-            seg.base + seg.curve.distance_at(seg.curve.duration())
-        } else {
-            seg.base + seg.curve.distance_at(seg.t)
-        };
-        let total = (seg.target - seg.origin).unsigned_abs() as f64;
-        self.position = match (end, seg.purpose) {
-            (true, Purpose::Move) => seg.target,
-            _ => seg.origin + seg.dir * (covered.min(total).round() as i64),
+        let end = seg.finished();
+        self.position = match seg.purpose {
+            Purpose::Move if end => seg.target,
+            Purpose::Move => {
+                let total = (seg.target - seg.origin).unsigned_abs() as f64;
+                seg.origin + seg.dir * (seg.covered().min(total).round() as i64)
+            }
+            _ => seg.origin + seg.dir * (seg.covered().round() as i64),
         };
         if self.encoder_enabled() {
             self.encoder_steps += self.position - before;
@@ -619,10 +978,9 @@ impl Indexer {
         if end {
             self.segment = None;
             match seg.purpose {
-                Purpose::Move => self.move_complete = true,
-                Purpose::HoldStop => {
-                    self.held = Some(Held { target: seg.target });
-                }
+                Purpose::Move | Purpose::JogStop => self.move_complete = true,
+                Purpose::HoldStop(h) => self.held = Some(h),
+                Purpose::Jog { .. } => {}
             }
         } else {
             self.segment = Some(seg);
@@ -651,7 +1009,7 @@ impl Indexer {
             Some(seg) => {
                 flag(seg.dir > 0, stat0::MOVING_CW);
                 flag(seg.dir < 0, stat0::MOVING_CCW);
-                let (acc, dec) = seg.curve.phase_at(seg.t);
+                let (acc, dec) = seg.phase();
                 flag(acc, stat0::ACCELERATING);
                 flag(dec, stat0::DECELERATING);
             }
@@ -670,15 +1028,21 @@ impl Indexer {
     /// STATUS_word1 as the unit reports it now.
     pub fn status1(&self) -> u16 {
         let mut s = 0;
-        if (self.time.as_millis() / HEARTBEAT_HALF_PERIOD.as_millis()) % 2 == 1 {
-            s |= stat1::HEARTBEAT;
-        }
-        if self.acknowledged.is_some() {
-            s |= stat1::COMMAND_ACKNOWLEDGE;
-        }
-        if self.drive_enabled() {
-            s |= stat1::DRIVE_IS_ENABLED;
-        }
+        let mut flag = |on: bool, bit: u16| {
+            if on {
+                s |= bit;
+            }
+        };
+        flag(self.active(0), stat1::IN1_ACTIVE);
+        flag(self.active(1), stat1::IN2_ACTIVE);
+        flag(self.invalid_jog_change, stat1::INVALID_JOG_CHANGE);
+        flag(self.limit_condition.is_some(), stat1::LIMIT_CONDITION);
+        flag(
+            (self.time.as_millis() / HEARTBEAT_HALF_PERIOD.as_millis()) % 2 == 1,
+            stat1::HEARTBEAT,
+        );
+        flag(self.acknowledged.is_some(), stat1::COMMAND_ACKNOWLEDGE);
+        flag(self.drive_enabled(), stat1::DRIVE_IS_ENABLED);
         s
     }
 

@@ -1,0 +1,440 @@
+//! The SMD's two DC inputs (E-Stop, end limits, Start Indexed and Stop Jog captures, active levels) and
+//! Jog moves, rule by rule (catalogue `rules/smd.md`, R1, R2, R5, R6).
+
+mod smd_rig;
+
+use ds402::smd::config::{Configuration, CFG0_USE_ENCODER};
+use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Outputs};
+use smd_rig::Rig;
+
+const GP: u16 = 0;
+const CW_LIMIT: u16 = 1;
+const CCW_LIMIT: u16 = 2;
+const START_INDEXED: u16 = 3;
+const STOP_JOG: u16 = 4;
+const E_STOP: u16 = 5;
+
+/// A ready unit (driver on, position valid) with these input functions; both inputs active when
+/// current flows (CFG_Word_1 = 3).
+fn rig(in1: u16, in2: u16, encoder: bool) -> Rig {
+    let mut r = Rig::with(Configuration {
+        cfg0: in1 | (in2 << 3) | if encoder { CFG0_USE_ENCODER } else { 0 },
+        ..Configuration::default()
+    });
+    r.out = Outputs {
+        cmd1: cmd1::ENABLE_DRIVER,
+        velocity: 10_000,
+        acceleration: 10,
+        deceleration: 10,
+        ..Outputs::default()
+    };
+    r.command(cmd0::PRESET_POSITION);
+    r.command(0);
+    assert_eq!(r.s0() & stat0::POSITION_INVALID, 0);
+    r
+}
+
+fn input(r: &mut Rig, n: usize, current: bool) {
+    r.ix.set_input(n, current);
+    r.cycle();
+}
+
+fn jog(r: &mut Rig, bit: u16, ms: u32) {
+    r.command(bit);
+    for _ in 0..ms {
+        r.cycle();
+    }
+}
+
+/// SMD-R5-023, SMD-R5-024, SMD-R6-075, SMD-R1-034: IN1_Active/IN2_Active after the level bits; an
+/// unwired input with level 1 reads inactive; a General Purpose input changes no move.
+#[test]
+fn smd_r5_023_024_r6_075_active_levels() {
+    let mut r = rig(GP, GP, false);
+    assert_eq!(
+        r.s1() & (stat1::IN1_ACTIVE | stat1::IN2_ACTIVE),
+        0,
+        "unwired, level 1"
+    );
+    input(&mut r, 1, true);
+    assert_eq!(
+        r.s1() & (stat1::IN1_ACTIVE | stat1::IN2_ACTIVE),
+        stat1::IN1_ACTIVE
+    );
+    r.ix.write_config(2, 0x0002); // IN1 level 0: active without current.
+    r.cycle();
+    assert_eq!(
+        r.s1() & (stat1::IN1_ACTIVE | stat1::IN2_ACTIVE),
+        0,
+        "current flows: inactive"
+    );
+    input(&mut r, 1, false);
+    assert_eq!(
+        r.s1() & (stat1::IN1_ACTIVE | stat1::IN2_ACTIVE),
+        stat1::IN1_ACTIVE
+    );
+    // General Purpose: a move runs to its end whatever the input does.
+    let mut r = rig(GP, GP, false);
+    r.out.position = 3_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for k in 0..2_000 {
+        r.ix.set_input(1, k % 7 == 0);
+        r.cycle();
+    }
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 3_000);
+    assert_eq!(r.s0() & (stat0::INPUT_ERROR | stat0::COMMAND_ERROR), 0);
+}
+
+/// SMD-R1-027, SMD-R1-030, SMD-R1-028: an E-Stop edge stops a move at once (never Decelerating, no
+/// Move_Complete), sets Input_Error and Position_Invalid; the driver stays enabled.
+#[test]
+fn smd_r1_027_028_030_e_stop_during_a_move() {
+    let mut r = rig(E_STOP, GP, false);
+    r.out.position = 100_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..500 {
+        r.cycle();
+    }
+    let at = r.pos();
+    input(&mut r, 1, true);
+    assert_eq!(
+        r.s0() & (stat0::STOPPED | stat0::DECELERATING | stat0::MOVE_COMPLETE),
+        stat0::STOPPED
+    );
+    assert_eq!(r.pos(), at);
+    assert_ne!(r.s0() & stat0::INPUT_ERROR, 0);
+    assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
+    assert_ne!(r.s1() & stat1::DRIVE_IS_ENABLED, 0);
+}
+
+/// SMD-R2-014, SMD-R1-029, SMD-R6-055: E-Stop at rest also makes the position invalid; while it is
+/// active no move (Jog included) starts — Input_Error, not Command_Error; Input_Error stays after the
+/// input goes inactive until Reset Errors.
+#[test]
+fn smd_r2_014_r1_029_e_stop_at_rest_blocks_moves() {
+    let mut r = rig(GP, E_STOP, false);
+    input(&mut r, 2, true);
+    assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
+    r.command(cmd0::RESET_ERRORS);
+    r.command(0);
+    r.out.position = 100;
+    for bit in [cmd0::RELATIVE_MOVE, cmd0::JOG_CW, cmd0::JOG_CCW] {
+        r.command(bit);
+        assert_eq!(
+            r.s0() & (stat0::INPUT_ERROR | stat0::COMMAND_ERROR | stat0::STOPPED),
+            stat0::INPUT_ERROR | stat0::STOPPED,
+            "{bit:#x}"
+        );
+        r.command(0);
+    }
+    assert_eq!(r.pos(), 0);
+    input(&mut r, 2, false);
+    assert_ne!(r.s0() & stat0::INPUT_ERROR, 0, "kept until Reset Errors");
+    r.command(cmd0::RESET_ERRORS);
+    assert_eq!(r.s0() & stat0::INPUT_ERROR, 0);
+}
+
+/// SMD-R2-039, SMD-R6-053, SMD-R6-068: an end limit during a Relative move stops it at once, whatever
+/// the direction: Input_Error, Limit_Condition, Position_Invalid, no Move_Complete; Limit_Condition
+/// clears when the limit goes inactive.
+#[test]
+fn smd_r2_039_limit_during_a_move() {
+    let mut r = rig(CW_LIMIT, CCW_LIMIT, false);
+    r.out.position = -100_000; // Moving CCW, the CW limit trips.
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..300 {
+        r.cycle();
+    }
+    input(&mut r, 1, true);
+    assert_eq!(
+        r.s0()
+            & (stat0::STOPPED
+                | stat0::INPUT_ERROR
+                | stat0::POSITION_INVALID
+                | stat0::MOVE_COMPLETE
+                | stat0::DECELERATING),
+        stat0::STOPPED | stat0::INPUT_ERROR | stat0::POSITION_INVALID
+    );
+    assert_ne!(r.s1() & stat1::LIMIT_CONDITION, 0);
+    input(&mut r, 1, false);
+    assert_eq!(r.s1() & stat1::LIMIT_CONDITION, 0);
+    assert_ne!(r.s0() & stat0::INPUT_ERROR, 0);
+}
+
+/// SMD-R2-015, SMD-R6-068 gap: a limit becoming active at rest changes only the input bit.
+#[test]
+fn smd_r2_015_limit_at_rest() {
+    let mut r = rig(CW_LIMIT, GP, false);
+    input(&mut r, 1, true);
+    assert_ne!(r.s1() & stat1::IN1_ACTIVE, 0);
+    assert_eq!(r.s1() & stat1::LIMIT_CONDITION, 0);
+    assert_eq!(r.s0() & (stat0::POSITION_INVALID | stat0::INPUT_ERROR), 0);
+}
+
+/// SMD-R2-040: with an end limit active, Absolute and Relative moves are refused (Input_Error) in
+/// either direction.
+#[test]
+fn smd_r2_040_no_move_from_an_active_limit() {
+    let mut r = rig(CW_LIMIT, GP, false);
+    input(&mut r, 1, true);
+    r.out.position = -1_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_ne!(r.s0() & stat0::INPUT_ERROR, 0);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    r.command(0);
+    r.command(cmd0::ABSOLUTE_MOVE);
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), 0);
+}
+
+/// SMD-R2-042, SMD-R2-043, SMD-R2-045, SMD-R2-046: a jog into an active limit is refused with
+/// Input_Error; a jog away from it runs.
+#[test]
+fn smd_r2_042_043_045_046_jogging_at_a_limit() {
+    for (limit_input, into, away) in [
+        (1usize, cmd0::JOG_CW, cmd0::JOG_CCW),
+        (2, cmd0::JOG_CCW, cmd0::JOG_CW),
+    ] {
+        let mut r = rig(CW_LIMIT, CCW_LIMIT, false);
+        input(&mut r, limit_input, true);
+        r.command(into);
+        assert_eq!(
+            r.s0() & (stat0::INPUT_ERROR | stat0::STOPPED),
+            stat0::INPUT_ERROR | stat0::STOPPED
+        );
+        r.command(cmd0::RESET_ERRORS);
+        r.command(0);
+        jog(&mut r, away, 100);
+        assert_eq!(r.s0() & (stat0::INPUT_ERROR | stat0::STOPPED), 0);
+        let dir = if away == cmd0::JOG_CW { 1 } else { -1 };
+        assert!(r.pos() * dir > 0, "{}", r.pos());
+    }
+}
+
+/// SMD-R2-041, SMD-R2-044: either limit becoming active stops a jog at once.
+#[test]
+fn smd_r2_041_044_limit_stops_a_jog() {
+    for (bit, limit_input) in [(cmd0::JOG_CW, 2usize), (cmd0::JOG_CCW, 1)] {
+        let mut r = rig(CW_LIMIT, CCW_LIMIT, false);
+        jog(&mut r, bit, 200);
+        input(&mut r, limit_input, true);
+        assert_eq!(
+            r.s0() & (stat0::STOPPED | stat0::POSITION_INVALID | stat0::MOVE_COMPLETE),
+            stat0::STOPPED | stat0::POSITION_INVALID
+        );
+        assert_ne!(r.s1() & stat1::LIMIT_CONDITION, 0);
+        // SMD-R6-021: Reset Errors clears Limit_Condition even with the limit still active.
+        r.command(cmd0::RESET_ERRORS);
+        assert_eq!(r.s1() & stat1::LIMIT_CONDITION, 0);
+    }
+}
+
+/// SMD-R2-055, SMD-R2-056, SMD-R2-057: a jog starts at the starting speed, accelerates to Velocity and
+/// runs there while its bit stays 1; the bit going to 0 is a controlled stop with Move_Complete and the
+/// position still valid.
+#[test]
+fn smd_r2_055_056_057_jog_runs_and_stops() {
+    let mut r = rig(GP, GP, false);
+    r.command(cmd0::JOG_CCW);
+    assert_ne!(r.s0() & (stat0::ACCELERATING | stat0::MOVING_CCW), 0);
+    let n = r.until(10_000, |i| i.status0 & stat0::ACCELERATING == 0);
+    // (10,000 − 141) / 10,000 steps/s² ≈ 986 ms.
+    assert!((984..=988).contains(&n), "{n} ms accelerating");
+    let a = r.pos();
+    for _ in 0..1_000 {
+        r.cycle();
+    }
+    assert_eq!(a - r.pos(), 10_000, "one second at 10,000 steps/s");
+    assert_eq!(r.ix.speed(), -10_000.0);
+    r.command(0);
+    assert_ne!(r.s0() & stat0::DECELERATING, 0);
+    let n = r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert!((984..=988).contains(&n), "{n} ms decelerating");
+    assert_eq!(
+        r.s0() & (stat0::MOVE_COMPLETE | stat0::POSITION_INVALID),
+        stat0::MOVE_COMPLETE
+    );
+}
+
+/// SMD-R2-058, SMD-R2-059: a new Velocity during a jog ramps to it without a new edge; a new
+/// Deceleration rules the final stop.
+#[test]
+fn smd_r2_058_059_jog_speed_changes() {
+    let mut r = rig(GP, GP, false);
+    jog(&mut r, cmd0::JOG_CW, 1_500);
+    assert_eq!(r.ix.speed(), 10_000.0);
+    r.out.velocity = 20_000;
+    r.cycle();
+    assert_ne!(r.s0() & stat0::ACCELERATING, 0);
+    let n = r.until(10_000, |i| i.status0 & stat0::ACCELERATING == 0);
+    assert!(
+        (998..=1_001).contains(&n),
+        "{n} ms from 10,000 to 20,000 at 10,000 steps/s²"
+    );
+    assert_eq!(r.ix.speed(), 20_000.0);
+    r.out.velocity = 5_000;
+    r.cycle();
+    assert_ne!(r.s0() & stat0::DECELERATING, 0);
+    r.until(10_000, |i| i.status0 & stat0::DECELERATING == 0);
+    assert_eq!(r.ix.speed(), 5_000.0);
+    assert_eq!(r.s1() & stat1::INVALID_JOG_CHANGE, 0);
+    r.out.deceleration = 20;
+    r.cycle();
+    r.command(0);
+    let n = r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    // (5,000 − 141) / 20,000 s ≈ 243 ms.
+    assert!((241..=245).contains(&n), "{n} ms stopping");
+}
+
+/// SMD-R2-060, SMD-R6-069, SMD-R6-020: a Velocity below the starting speed (or an Acceleration of 0)
+/// written during a jog is refused: Invalid_Jog_Change, the jog keeps its speed, no Command_Error;
+/// valid data clears the bit; Reset Errors does not.
+#[test]
+fn smd_r2_060_r6_069_invalid_jog_change() {
+    let mut r = rig(GP, GP, false);
+    jog(&mut r, cmd0::JOG_CW, 1_500);
+    r.out.velocity = 100;
+    r.cycle();
+    assert_ne!(r.s1() & stat1::INVALID_JOG_CHANGE, 0);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!(r.ix.speed(), 10_000.0);
+    r.out.cmd0 = cmd0::JOG_CW | cmd0::RESET_ERRORS;
+    r.cycle();
+    assert_ne!(
+        r.s1() & stat1::INVALID_JOG_CHANGE,
+        0,
+        "Reset Errors keeps it"
+    );
+    r.out.cmd0 = cmd0::JOG_CW;
+    r.out.velocity = 10_000;
+    r.out.acceleration = 0;
+    r.cycle();
+    assert_ne!(r.s1() & stat1::INVALID_JOG_CHANGE, 0);
+    r.out.acceleration = 10;
+    r.cycle();
+    assert_eq!(r.s1() & stat1::INVALID_JOG_CHANGE, 0);
+}
+
+/// SMD-R6-040: a Jog with a bad parameter sets Command_Error and Move_Complete and does not run.
+#[test]
+fn smd_r6_040_bad_jog_parameters_complete() {
+    let mut r = rig(GP, GP, false);
+    r.out.acceleration = 0;
+    r.command(cmd0::JOG_CW);
+    assert_eq!(
+        r.s0() & (stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE | stat0::STOPPED),
+        stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE | stat0::STOPPED
+    );
+}
+
+/// SMD-R1-031, SMD-R1-033, SMD-R1-032: a Stop Jog edge during a jog is a controlled stop with
+/// Move_Complete and captures the encoder; during a Relative move it changes nothing; at rest it
+/// captures nothing.
+#[test]
+fn smd_r1_031_032_033_stop_jog_input() {
+    let mut r = rig(STOP_JOG, GP, true);
+    jog(&mut r, cmd0::JOG_CW, 1_200);
+    let enc = r.last.encoder_position;
+    input(&mut r, 1, true);
+    assert_ne!(r.s0() & stat0::DECELERATING, 0);
+    assert!((enc..=enc + 12).contains(&r.last.trapped_encoder_position));
+    let trapped = r.last.trapped_encoder_position;
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(
+        r.s0() & (stat0::MOVE_COMPLETE | stat0::POSITION_INVALID),
+        stat0::MOVE_COMPLETE
+    );
+    // At rest: no capture.
+    input(&mut r, 1, false);
+    input(&mut r, 1, true);
+    assert_eq!(r.last.trapped_encoder_position, trapped);
+    input(&mut r, 1, false);
+    r.command(0);
+    // During a Relative move: ignored.
+    r.out.position = 5_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    let start = r.pos();
+    input(&mut r, 1, true);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos() - start, 5_000);
+    assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+    assert_eq!(r.last.trapped_encoder_position, trapped);
+}
+
+/// SMD-R1-025, SMD-R1-026: with the encoder on, every Start Indexed edge copies Encoder_Position into
+/// Trapped_Encoder_Position; with it off nothing is captured.
+#[test]
+fn smd_r1_025_026_start_indexed_capture() {
+    let mut r = rig(GP, START_INDEXED, true);
+    r.out.position = 4_000;
+    r.command(cmd0::PRESET_ENCODER);
+    r.command(0);
+    input(&mut r, 2, true);
+    assert_eq!(r.last.trapped_encoder_position, 4_000);
+    input(&mut r, 2, false);
+    r.out.position = 77;
+    r.command(cmd0::PRESET_ENCODER);
+    r.command(0);
+    assert_eq!(
+        r.last.trapped_encoder_position, 4_000,
+        "SMD-R6-048: held until the next edge"
+    );
+    input(&mut r, 2, true);
+    assert_eq!(r.last.trapped_encoder_position, 77);
+
+    let mut off = rig(GP, START_INDEXED, false);
+    input(&mut off, 2, true);
+    assert_eq!(off.last.trapped_encoder_position, 0);
+}
+
+/// SMD-R2-038 picks: Hold during a jog (the Jog bit falling in the same update) holds it; Resume runs
+/// it again while Resume_Move stays 1, at the Resume block's Velocity; Resume going to 0 is a
+/// controlled stop with Move_Complete.
+#[test]
+fn smd_r2_038_jog_hold_and_resume() {
+    let mut r = rig(GP, GP, false);
+    jog(&mut r, cmd0::JOG_CW, 1_200);
+    r.command(cmd0::HOLD_MOVE);
+    assert_ne!(r.s0() & stat0::DECELERATING, 0);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(
+        r.s0() & (stat0::IN_HOLD_STATE | stat0::MOVE_COMPLETE),
+        stat0::IN_HOLD_STATE
+    );
+    r.command(0);
+    r.out.velocity = 4_000;
+    r.command(cmd0::RESUME_MOVE);
+    assert_eq!(r.s0() & (stat0::IN_HOLD_STATE | stat0::STOPPED), 0);
+    for _ in 0..1_000 {
+        r.cycle();
+    }
+    assert_eq!(r.ix.speed(), 4_000.0);
+    r.command(0);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+}
+
+#[test]
+fn e_stop_refuses_resume_of_nothing() {
+    // An E-Stop while a move is held cancels it: a later Resume is a Command_Error.
+    let mut r = rig(E_STOP, GP, false);
+    r.out.position = 50_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..800 {
+        r.cycle();
+    }
+    r.command(cmd0::HOLD_MOVE);
+    r.until(10_000, |i| i.status0 & stat0::IN_HOLD_STATE != 0);
+    input(&mut r, 1, true);
+    assert_eq!(r.s0() & stat0::IN_HOLD_STATE, 0);
+    input(&mut r, 1, false);
+    r.command(0);
+    r.command(cmd0::RESUME_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+}
