@@ -17,7 +17,9 @@
 //! IN1_Active/IN2_Active), E-Stop, the end limits during moves and at their start, Limit_Condition,
 //! Input_Error, the captures into Trapped_Encoder_Position; Jog moves (speed, acceleration and
 //! deceleration changed while running, Invalid_Jog_Change, the Stop Jog input, hold and resume).
-//! Not in it yet: homing, registration moves, assembled and indexed moves, stall detection, idle
+//! Find Home CW/CCW with the three profiles of Reference 4 (Home input only, Backplane_Proximity_Bit,
+//! overtravel limit), the 2 s pauses, the home input or limit already active at the start.
+//! Not in it yet: registration moves, assembled and indexed moves, stall detection, idle
 //! current reduction, STO and temperature, EtherCAT states — their command bits are refused with
 //! Command_Error.
 //!
@@ -30,6 +32,11 @@
 //! - E-Stop and an end limit that stop the motor also cancel a held move (as Immediate Stop does,
 //!   SMD-R6-028).
 //! - A jog's speed changes use the Jerk word in force at that moment.
+//! - Homing: a limit in the requested direction met while turning that way (search or return) is the
+//!   overtravel profile; met while backing off it is ignored. Hold aborts a homing run with a controlled
+//!   stop (SMD-R2-036): no hold state, no Move_Complete, positions not zeroed. A homing run in a 2 s
+//!   pause counts as a move in progress (no other move, no preset), and Stopped reads 1 in the pause.
+//! - Find Home without an input configured as Home is a Command_Error (SMD-R4-004 gap).
 
 use std::time::Duration;
 
@@ -138,6 +145,8 @@ pub mod cmd0 {
 
 /// CMD_word1 bits (Reference 6, Figure R6.3).
 pub mod cmd1 {
+    /// Bit 11: Backplane_Proximity_Bit (homing with CFG_Word_0 bit 11).
+    pub const BACKPLANE_PROXIMITY: u16 = 1 << 11;
     /// Bit 7: a Jog command runs as a Registration move.
     pub const REGISTRATION_MOVE: u16 = 1 << 7;
     /// Bit 1: take the move's current from the Motor_Current word.
@@ -211,7 +220,51 @@ enum Purpose {
     },
     /// The controlled stop that ends a jog (Move_Complete at its end).
     JogStop,
+    /// A phase of a Find Home run (what follows is in [`Homing`]).
+    Home,
+    /// A controlled stop that ends a move without Move_Complete (Hold during homing).
+    Abort,
 }
+
+/// The phases of a Find Home run (Reference 4, Figures R4.1–R4.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum HomePhase {
+    /// At Velocity in the requested direction, looking for the Home input (steps 1–2).
+    Search,
+    /// Decelerating after the Home input became active (step 3).
+    Stopping1,
+    /// The first 2 s pause (after step 3, or after the overtravel stop).
+    Pause1 {
+        /// End of the pause.
+        until: Duration,
+    },
+    /// At Velocity opposite to the requested direction until the Home input goes inactive (4–5).
+    Reverse,
+    /// Decelerating after the Home input went inactive (step 6).
+    Stopping2,
+    /// The second 2 s pause.
+    Pause2 {
+        /// End of the pause.
+        until: Duration,
+    },
+    /// Back at the starting speed until the Home input becomes active: home (step 7).
+    Return,
+    /// After the Backplane_Proximity_Bit edge: decelerating towards V_S, stop at the Home edge.
+    Hunt,
+}
+
+/// A Find Home run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Homing {
+    /// +1 for Find Home CW, −1 for CCW.
+    dir: i64,
+    phase: HomePhase,
+    /// The command block's parameters.
+    params: Outputs,
+}
+
+/// Length of each homing pause (R4 steps 3 and 6).
+pub const HOMING_PAUSE: Duration = Duration::from_secs(2);
 
 /// An open-ended jog: runs at `speed`, ramping to a new speed when told.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -399,6 +452,7 @@ pub struct Indexer {
     was_active: [bool; 2],
     segment: Option<Segment>,
     held: Option<Held>,
+    homing: Option<Homing>,
     move_complete: bool,
     position_invalid: bool,
     input_error: bool,
@@ -433,6 +487,7 @@ impl Indexer {
             was_active: [false; 2],
             segment: None,
             held: None,
+            homing: None,
             move_complete: false,
             position_invalid: true,
             input_error: false,
@@ -549,7 +604,13 @@ impl Indexer {
     fn stop_now(&mut self) {
         self.segment = None;
         self.held = None;
+        self.homing = None;
         self.position_invalid = true;
+    }
+
+    /// A move, jog or homing run is in progress (a homing pause included).
+    fn busy(&self) -> bool {
+        self.segment.is_some() || self.homing.is_some()
     }
 
     fn capture(&mut self) {
@@ -575,6 +636,12 @@ impl Indexer {
                         self.stop_now();
                         self.input_error = true;
                     }
+                    Some(f @ (InputFunction::CwLimit | InputFunction::CcwLimit))
+                        if self.homing.is_some() =>
+                    {
+                        self.homing_limit(f, k);
+                    }
+                    Some(InputFunction::Home) => self.home_edge(true),
                     // SMD-R2-039, -041, -044: either limit stops any move; at rest nothing but
                     // the input bit (SMD-R2-015).
                     Some(InputFunction::CwLimit | InputFunction::CcwLimit)
@@ -592,6 +659,9 @@ impl Indexer {
                     }
                     _ => {}
                 }
+            }
+            if !active && was && function == Some(InputFunction::Home) {
+                self.home_edge(false);
             }
             if !active && was && self.limit_condition == Some(k) {
                 self.limit_condition = None; // SMD-R6-068
@@ -612,6 +682,9 @@ impl Indexer {
         if out.cmd0 & cmd0::MODE_SELECT != 0 {
             // Configuration through output data is not modelled: nothing is processed.
             return;
+        }
+        if out.cmd1 & cmd1::BACKPLANE_PROXIMITY & !prev.cmd1 != 0 {
+            self.proximity_edge();
         }
         if rising == 0 {
             let current_edge = out.cmd1 & cmd1::MOTOR_CURRENT & !prev.cmd1;
@@ -644,6 +717,8 @@ impl Indexer {
             }
             cmd0::JOG_CW if out.cmd1 & cmd1::REGISTRATION_MOVE == 0 => self.start_jog(out, 1),
             cmd0::JOG_CCW if out.cmd1 & cmd1::REGISTRATION_MOVE == 0 => self.start_jog(out, -1),
+            cmd0::FIND_HOME_CW => self.find_home(out, 1),
+            cmd0::FIND_HOME_CCW => self.find_home(out, -1),
             cmd0::PRESET_POSITION => self.preset_position(out),
             cmd0::RESET_ERRORS => {
                 self.command_error = false;
@@ -696,7 +771,7 @@ impl Indexer {
         if !POSITION_RANGE.contains(&out.position)
             || !self.params_ok(&out)
             || (absolute && self.position_invalid)
-            || self.segment.is_some()
+            || self.busy()
             || !self.drive_enabled()
         {
             return Outcome::CommandError;
@@ -762,7 +837,7 @@ impl Indexer {
             // SMD-R6-040: a Jog with bad parameters also sets Move_Complete.
             return Outcome::CommandErrorComplete;
         }
-        if self.segment.is_some() || !self.drive_enabled() {
+        if self.busy() || !self.drive_enabled() {
             return Outcome::CommandError;
         }
         // SMD-R1-029; SMD-R2-042/-045: not into an active limit (away from one is allowed,
@@ -871,7 +946,9 @@ impl Indexer {
 
     fn hold(&mut self) {
         let Some(seg) = self.segment else {
-            return; // SMD-R2-037: nothing to hold.
+            // A homing run in a pause is abandoned; otherwise nothing to hold (SMD-R2-037).
+            self.homing = None;
+            return;
         };
         match seg.purpose {
             Purpose::Move => {
@@ -892,7 +969,12 @@ impl Indexer {
             Purpose::Jog { .. } => {
                 self.controlled_stop(Purpose::HoldStop(Held::Jog { dir: seg.dir }));
             }
-            Purpose::HoldStop(_) | Purpose::JogStop => {}
+            // SMD-R2-036: a homing run decelerates to a stop and is abandoned.
+            Purpose::Home => {
+                self.homing = None;
+                self.controlled_stop(Purpose::Abort);
+            }
+            Purpose::HoldStop(_) | Purpose::JogStop | Purpose::Abort => {}
         }
     }
 
@@ -927,8 +1009,199 @@ impl Indexer {
         }
     }
 
+    /// Find Home CW (`dir` +1) or CCW (−1), Reference 4.
+    fn find_home(&mut self, out: Outputs, dir: i64) -> Outcome {
+        if !self.functions().contains(&Some(InputFunction::Home)) {
+            return Outcome::CommandError; // SMD-R4-004 gap.
+        }
+        if !self.params_ok(&out) || self.busy() || !self.drive_enabled() {
+            return Outcome::CommandError;
+        }
+        if self.input_active(InputFunction::EStop) {
+            return Outcome::InputError;
+        }
+        self.held = None;
+        self.move_complete = false;
+        self.take_current_and_jerk(&out);
+        let travel_limit = if dir > 0 {
+            InputFunction::CwLimit
+        } else {
+            InputFunction::CcwLimit
+        };
+        let proximity = self.proximity_mode();
+        let phase = if self.input_active(travel_limit)
+            || (!proximity && self.input_active(InputFunction::Home))
+        {
+            // SMD-R4-025, SMD-R4-016: start at step 4/5, backing off at once.
+            HomePhase::Reverse
+        } else {
+            HomePhase::Search
+        };
+        self.homing = Some(Homing {
+            dir,
+            phase,
+            params: out,
+        });
+        let run_dir = if phase == HomePhase::Reverse {
+            -dir
+        } else {
+            dir
+        };
+        self.home_run(run_dir, f64::from(out.velocity), out);
+        Outcome::Accepted
+    }
+
+    fn proximity_mode(&self) -> bool {
+        self.config.cfg0 & super::config::CFG0_USE_BACKPLANE_PROXIMITY != 0
+    }
+
+    /// Starts a homing motion in `dir` from the starting speed towards `speed`.
+    fn home_run(&mut self, dir: i64, speed: f64, params: Outputs) {
+        let vs = f64::from(self.config.starting_speed);
+        let mut jog = Jog {
+            speed: vs,
+            ramp: None,
+            covered: 0.0,
+        };
+        jog.change(
+            speed,
+            f64::from(params.acceleration) * 1000.0,
+            f64::from(params.deceleration) * 1000.0,
+            params.jerk,
+        );
+        self.segment = Some(Segment {
+            origin: self.position,
+            dir,
+            base: 0.0,
+            curve: Curve::Jog(jog),
+            t: 0.0,
+            purpose: Purpose::Home,
+            target: self.position,
+            params,
+        });
+    }
+
+    fn set_home_phase(&mut self, phase: HomePhase) {
+        if let Some(h) = self.homing.as_mut() {
+            h.phase = phase;
+        }
+    }
+
+    /// The Home input became active (`true`) or inactive (`false`) during a homing run.
+    fn home_edge(&mut self, active: bool) {
+        let Some(h) = self.homing else { return };
+        match (h.phase, active) {
+            // SMD-R4-012 (and SMD-R4-017: ignored until the proximity edge).
+            (HomePhase::Search, true) if !self.proximity_mode() => {
+                self.set_home_phase(HomePhase::Stopping1);
+                self.controlled_stop(Purpose::Home);
+            }
+            // SMD-R4-014.
+            (HomePhase::Reverse, false) => {
+                self.set_home_phase(HomePhase::Stopping2);
+                self.controlled_stop(Purpose::Home);
+            }
+            // SMD-R4-015, SMD-R4-018: stop at once, this is home.
+            (HomePhase::Return | HomePhase::Hunt, true) => self.home_done(),
+            _ => {}
+        }
+    }
+
+    /// CMD_word1 bit 11 rose (SMD-R4-017 … -022).
+    fn proximity_edge(&mut self) {
+        let Some(h) = self.homing else { return };
+        if h.phase != HomePhase::Search || !self.proximity_mode() {
+            return;
+        }
+        self.set_home_phase(HomePhase::Hunt);
+        let vs = f64::from(self.config.starting_speed);
+        if let Some(Segment {
+            curve: Curve::Jog(j),
+            ..
+        }) = self.segment.as_mut()
+        {
+            j.change(
+                vs,
+                f64::from(h.params.acceleration) * 1000.0,
+                f64::from(h.params.deceleration) * 1000.0,
+                h.params.jerk,
+            );
+        }
+    }
+
+    /// An end limit became active during a homing run (SMD-R4-023 … -027).
+    fn homing_limit(&mut self, f: InputFunction, k: usize) {
+        let Some(h) = self.homing else { return };
+        let travel = if h.dir > 0 {
+            InputFunction::CwLimit
+        } else {
+            InputFunction::CcwLimit
+        };
+        let moving_that_way = self.segment.is_some_and(|s| s.dir == h.dir);
+        if f == travel {
+            if moving_that_way {
+                // Stop at once, 2 s, then back off (Limit_Condition and Position_Invalid: the
+                // catalogue's gap pick; no Input_Error).
+                self.segment = None;
+                self.position_invalid = true;
+                self.limit_condition = Some(k);
+                self.set_home_phase(HomePhase::Pause1 {
+                    until: self.time + HOMING_PAUSE,
+                });
+            }
+        } else {
+            // The opposite limit: abandon (SMD-R4-026).
+            self.stop_now();
+            self.input_error = true;
+            self.limit_condition = Some(k);
+        }
+    }
+
+    /// A homing stop reached the starting speed: the pause begins.
+    fn homing_stopped(&mut self) {
+        let Some(h) = self.homing else { return };
+        let until = self.time + HOMING_PAUSE;
+        match h.phase {
+            HomePhase::Stopping1 => self.set_home_phase(HomePhase::Pause1 { until }),
+            HomePhase::Stopping2 => self.set_home_phase(HomePhase::Pause2 { until }),
+            _ => {}
+        }
+    }
+
+    /// The end of a homing pause starts the next motion.
+    fn homing_pause_over(&mut self) {
+        let Some(h) = self.homing else { return };
+        match h.phase {
+            HomePhase::Pause1 { until } if self.time >= until => {
+                self.set_home_phase(HomePhase::Reverse);
+                self.home_run(-h.dir, f64::from(h.params.velocity), h.params);
+            }
+            HomePhase::Pause2 { until } if self.time >= until => {
+                // SMD-R4-015: back at V_S, with no acceleration.
+                self.set_home_phase(HomePhase::Return);
+                let vs = f64::from(self.config.starting_speed);
+                self.home_run(h.dir, vs, h.params);
+            }
+            _ => {}
+        }
+    }
+
+    /// Home found: the motion stops here, Motor_Position (and an enabled encoder) read 0, the
+    /// position is valid, At_Home is set, Move_Complete is not (SMD-R4-001 … -003).
+    fn home_done(&mut self) {
+        self.segment = None;
+        self.homing = None;
+        self.position = 0;
+        if self.encoder_enabled() {
+            self.encoder_base = 0;
+            self.encoder_steps = 0;
+        }
+        self.position_invalid = false;
+        self.at_home = true;
+    }
+
     fn preset_position(&mut self, out: Outputs) -> Outcome {
-        if self.segment.is_some() {
+        if self.busy() {
             return Outcome::CommandError; // SMD-R6-027 pick.
         }
         self.position = if out.cmd1 & cmd1::PRESET_TO_ENCODER != 0 {
@@ -958,6 +1231,7 @@ impl Indexer {
     /// Runs the motion for `dt`.
     fn advance(&mut self, dt: Duration) {
         self.time += dt;
+        self.homing_pause_over();
         let Some(mut seg) = self.segment else {
             return;
         };
@@ -980,7 +1254,8 @@ impl Indexer {
             match seg.purpose {
                 Purpose::Move | Purpose::JogStop => self.move_complete = true,
                 Purpose::HoldStop(h) => self.held = Some(h),
-                Purpose::Jog { .. } => {}
+                Purpose::Home => self.homing_stopped(),
+                Purpose::Jog { .. } | Purpose::Abort => {}
             }
         } else {
             self.segment = Some(seg);
