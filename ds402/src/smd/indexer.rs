@@ -19,7 +19,9 @@
 //! deceleration changed while running, Invalid_Jog_Change, the Stop Jog input, hold and resume).
 //! Find Home CW/CCW with the three profiles of Reference 4 (Home input only, Backplane_Proximity_Bit,
 //! overtravel limit), the 2 s pauses, the home input or limit already active at the start.
-//! Not in it yet: registration moves, assembled and indexed moves, stall detection, idle
+//! Registration moves (Stopping Distance run-out, Minimum Registration Move Distance, level-triggered
+//! stop conditions, the abrupt stop of a short run-out).
+//! Not in it yet: assembled and indexed moves, stall detection, idle
 //! current reduction, STO and temperature, EtherCAT states — their command bits are refused with
 //! Command_Error.
 //!
@@ -37,6 +39,10 @@
 //!   stop (SMD-R2-036): no hold state, no Move_Complete, positions not zeroed. A homing run in a 2 s
 //!   pause counts as a move in progress (no other move, no preset), and Stopped reads 1 in the pause.
 //! - Find Home without an input configured as Home is a Command_Error (SMD-R4-004 gap).
+//! - Registration: linear acceleration, 8010:07 as the current, in.Jerk 0 (SMD-R6-043, SMD-R2-023
+//!   gaps); Velocity/Acceleration/Deceleration may change while it runs, as for a jog; a run-out
+//!   longer than the braking distance cruises at the present speed, then brakes to V_S exactly at the
+//!   end (SMD-R2-065 gap).
 
 use std::time::Duration;
 
@@ -222,6 +228,16 @@ enum Purpose {
     JogStop,
     /// A phase of a Find Home run (what follows is in [`Homing`]).
     Home,
+    /// A Registration move that runs like a jog while CMD_word0 `bit` stays 1; a stop condition after
+    /// `mrmd` steps starts the run-out of `stopping` steps.
+    Registration {
+        /// The controlling bit.
+        bit: u16,
+        /// Stopping Distance.
+        stopping: i64,
+        /// Minimum Registration Move Distance.
+        mrmd: f64,
+    },
     /// A controlled stop that ends a move without Move_Complete (Hold during homing).
     Abort,
 }
@@ -327,6 +343,19 @@ enum Curve {
     Ramp(Phase),
     /// A jog.
     Jog(Jog),
+    /// A registration run-out: `cruise` seconds at `speed`, then `ramp` (V_S … speed) run backwards,
+    /// ending after `end` seconds (before the ramp's end when the Stopping Distance is shorter than
+    /// the braking distance, SMD-R2-064).
+    RunOut {
+        /// Speed at the trigger.
+        speed: f64,
+        /// Time at that speed.
+        cruise: f64,
+        /// The braking phase.
+        ramp: Phase,
+        /// When the Stopping Distance is reached.
+        end: f64,
+    },
 }
 
 /// A running segment of motion.
@@ -354,6 +383,7 @@ impl Segment {
             Curve::Profile(p) => p.total_time(),
             Curve::Ramp(r) => r.time,
             Curve::Jog(_) => f64::INFINITY,
+            Curve::RunOut { end, .. } => *end,
         }
     }
 
@@ -376,6 +406,19 @@ impl Segment {
                 Curve::Profile(p) => p.position_at(t),
                 Curve::Ramp(r) => r.distance - r.distance_rising(r.time - t),
                 Curve::Jog(j) => j.covered,
+                Curve::RunOut {
+                    speed,
+                    cruise,
+                    ramp,
+                    ..
+                } => {
+                    if t <= *cruise {
+                        speed * t
+                    } else {
+                        let u = (t - cruise).min(ramp.time);
+                        speed * cruise + ramp.distance - ramp.distance_rising(ramp.time - u)
+                    }
+                }
             }
     }
 
@@ -385,6 +428,18 @@ impl Segment {
             Curve::Profile(p) => p.speed_at(self.t),
             Curve::Ramp(r) => r.speed_rising(r.time - self.t),
             Curve::Jog(j) => j.speed_now(),
+            Curve::RunOut {
+                speed,
+                cruise,
+                ramp,
+                ..
+            } => {
+                if self.t <= *cruise {
+                    *speed
+                } else {
+                    ramp.speed_rising(ramp.time - (self.t - cruise).min(ramp.time))
+                }
+            }
         }
     }
 
@@ -401,6 +456,7 @@ impl Segment {
                 Some((_, up, _)) => (up, !up),
                 None => (false, false),
             },
+            Curve::RunOut { cruise, end, .. } => (false, self.t > *cruise && self.t < *end),
         }
     }
 }
@@ -619,8 +675,12 @@ impl Indexer {
         }
     }
 
+    /// A jog or a registration move runs (the Stop Jog/Registration input acts on these).
     fn jogging(&self) -> bool {
-        matches!(self.segment, Some(s) if matches!(s.purpose, Purpose::Jog { .. }))
+        matches!(
+            self.segment,
+            Some(s) if matches!(s.purpose, Purpose::Jog { .. } | Purpose::Registration { .. })
+        )
     }
 
     /// The input edges since the last cycle (Table R2.1 and R1 "Available Discrete DC Inputs").
@@ -655,7 +715,11 @@ impl Indexer {
                     // SMD-R1-031, SMD-R1-033.
                     Some(InputFunction::StopJog) if self.jogging() => {
                         self.capture();
-                        self.controlled_stop(Purpose::JogStop);
+                        if matches!(self.segment, Some(s) if matches!(s.purpose, Purpose::Jog { .. }))
+                        {
+                            self.controlled_stop(Purpose::JogStop);
+                        }
+                        // A registration move acts on the input's level (follow_jog).
                     }
                     _ => {}
                 }
@@ -715,8 +779,11 @@ impl Indexer {
                 self.stop_now();
                 Outcome::Accepted
             }
-            cmd0::JOG_CW if out.cmd1 & cmd1::REGISTRATION_MOVE == 0 => self.start_jog(out, 1),
-            cmd0::JOG_CCW if out.cmd1 & cmd1::REGISTRATION_MOVE == 0 => self.start_jog(out, -1),
+            cmd0::JOG_CW | cmd0::JOG_CCW if out.cmd1 & cmd1::REGISTRATION_MOVE != 0 => {
+                self.start_registration(out, if rising == cmd0::JOG_CW { 1 } else { -1 })
+            }
+            cmd0::JOG_CW => self.start_jog(out, 1),
+            cmd0::JOG_CCW => self.start_jog(out, -1),
             cmd0::FIND_HOME_CW => self.find_home(out, 1),
             cmd0::FIND_HOME_CCW => self.find_home(out, -1),
             cmd0::PRESET_POSITION => self.preset_position(out),
@@ -886,21 +953,38 @@ impl Indexer {
     /// ignored (SMD-R2-058 … -060, SMD-R6-069).
     fn follow_jog(&mut self, out: Outputs) {
         let Some(seg) = self.segment else { return };
-        let Purpose::Jog { bit } = seg.purpose else {
-            return;
+        // A registration move has no Jerk word (it holds the MRMD's high word).
+        let jerk = match seg.purpose {
+            Purpose::Jog { bit } => {
+                if out.cmd0 & bit == 0 {
+                    self.controlled_stop(Purpose::JogStop);
+                    return;
+                }
+                out.jerk
+            }
+            Purpose::Registration {
+                bit,
+                stopping,
+                mrmd,
+            } => {
+                // SMD-R2-063, -066, -067: level-triggered stop conditions, from the MRMD on.
+                let stop_input = self.input_active(InputFunction::StopJog);
+                if (out.cmd0 & bit == 0 || stop_input) && seg.covered() >= mrmd {
+                    self.run_out(stopping);
+                    return;
+                }
+                0
+            }
+            _ => return,
         };
-        if out.cmd0 & bit == 0 {
-            self.controlled_stop(Purpose::JogStop);
-            return;
-        }
         let p = seg.params;
-        if (out.velocity, out.acceleration, out.deceleration, out.jerk)
+        if (out.velocity, out.acceleration, out.deceleration, jerk)
             == (p.velocity, p.acceleration, p.deceleration, p.jerk)
         {
             self.invalid_jog_change = false;
             return;
         }
-        if !self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, out.jerk) {
+        if !self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, jerk) {
             self.invalid_jog_change = true;
             return;
         }
@@ -914,14 +998,76 @@ impl Indexer {
                     f64::from(out.velocity),
                     f64::from(out.acceleration) * 1000.0,
                     f64::from(out.deceleration) * 1000.0,
-                    out.jerk,
+                    jerk,
                 );
             }
         }
         seg.params.velocity = out.velocity;
         seg.params.acceleration = out.acceleration;
         seg.params.deceleration = out.deceleration;
-        seg.params.jerk = out.jerk;
+        seg.params.jerk = jerk;
+    }
+
+    /// A Registration move (Jog bit with CMD_word1 bit 7): Position is the Stopping Distance, the
+    /// Minimum Registration Move Distance is (Jerk << 16) | Motor_Current (SMD-R6-041 … -043).
+    fn start_registration(&mut self, out: Outputs, dir: i64) -> Outcome {
+        let mrmd = (u32::from(out.jerk) << 16) | u32::from(out.motor_current);
+        if !(0..=8_388_607).contains(&out.position)
+            || mrmd > 8_388_607
+            || !self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, 0)
+        {
+            return Outcome::CommandErrorComplete; // SMD-R6-040
+        }
+        let params = Outputs {
+            jerk: 0,
+            cmd1: out.cmd1 & !cmd1::MOTOR_CURRENT,
+            ..out
+        };
+        let bit = if dir > 0 { cmd0::JOG_CW } else { cmd0::JOG_CCW };
+        let outcome = self.jog(params, dir, bit, true);
+        if outcome == Outcome::Accepted {
+            if let Some(seg) = self.segment.as_mut() {
+                seg.purpose = Purpose::Registration {
+                    bit,
+                    stopping: i64::from(out.position),
+                    mrmd: f64::from(mrmd),
+                };
+            }
+        }
+        outcome
+    }
+
+    /// The registration run-out: exactly `stopping` more steps from here (SMD-R2-062, -064, -065).
+    fn run_out(&mut self, stopping: i64) {
+        let Some(seg) = self.segment else { return };
+        let vs = f64::from(self.config.starting_speed);
+        let v = seg.speed().max(vs);
+        let d = f64::from(seg.params.deceleration) * 1000.0;
+        let ramp = Phase::new(vs, v, d, 0);
+        let sd = stopping as f64;
+        let (cruise, end) = if sd >= ramp.distance {
+            let cruise = (sd - ramp.distance) / v;
+            (cruise, cruise + ramp.time)
+        } else {
+            // Braking at Deceleration until the distance is out: v·τ − d·τ²/2 = SD.
+            let tau = (v - (v * v - 2.0 * d * sd).max(0.0).sqrt()) / d;
+            (0.0, tau)
+        };
+        let here = seg.origin + seg.dir * (seg.covered().round() as i64);
+        self.segment = Some(Segment {
+            origin: here,
+            base: 0.0,
+            curve: Curve::RunOut {
+                speed: v,
+                cruise,
+                ramp,
+                end,
+            },
+            t: 0.0,
+            purpose: Purpose::Move,
+            target: here + seg.dir * stopping,
+            ..seg
+        });
     }
 
     /// Turns the running segment into a deceleration from its present speed to the starting speed
@@ -969,6 +1115,8 @@ impl Indexer {
             Purpose::Jog { .. } => {
                 self.controlled_stop(Purpose::HoldStop(Held::Jog { dir: seg.dir }));
             }
+            // SMD-R2-036: a registration move decelerates to a stop, not held.
+            Purpose::Registration { .. } => self.controlled_stop(Purpose::Abort),
             // SMD-R2-036: a homing run decelerates to a stop and is abandoned.
             Purpose::Home => {
                 self.homing = None;
@@ -1255,7 +1403,7 @@ impl Indexer {
                 Purpose::Move | Purpose::JogStop => self.move_complete = true,
                 Purpose::HoldStop(h) => self.held = Some(h),
                 Purpose::Home => self.homing_stopped(),
-                Purpose::Jog { .. } | Purpose::Abort => {}
+                Purpose::Jog { .. } | Purpose::Registration { .. } | Purpose::Abort => {}
             }
         } else {
             self.segment = Some(seg);
