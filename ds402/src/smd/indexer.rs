@@ -21,6 +21,10 @@
 //! overtravel limit), the 2 s pauses, the home input or limit already active at the start.
 //! Registration moves (Stopping Distance run-out, Minimum Registration Move Distance, level-triggered
 //! stop conditions, the abrupt stop of a short run-out).
+//! Stall detection (45° between motor and encoder, against a reference taken at power-up, on
+//! configuration writes, presets, homing and Reset Errors; a blocked or externally turned shaft);
+//! driver faults (over-temperature at 95 °C with Temperature_Above_90°C, STO inputs, an internal fault
+//! for Module_OK); the motor current as the driver supplies it, with idle current reduction.
 //! Not in it yet: assembled and indexed moves, stall detection, idle
 //! current reduction, STO and temperature, EtherCAT states — their command bits are refused with
 //! Command_Error.
@@ -43,6 +47,13 @@
 //!   gaps); Velocity/Acceleration/Deceleration may change while it runs, as for a jog; a run-out
 //!   longer than the braking distance cruises at the present speed, then brakes to V_S exactly at the
 //!   end (SMD-R2-065 gap).
+//! - Over-temperature: the fault clears itself at or below 90 °C (hysteresis of the model,
+//!   SMD-R6-071 gap). A driver fault (over-temperature or STO) during motion ends it like an
+//!   Immediate Stop (SMD-R1-004 gap); while a driver fault is present, moves are refused with
+//!   Command_Error.
+//! - Idle current: the motor current drops to `8010:06` % of the last move's current 1.5 s after the
+//!   motor stops (any stop) and returns as soon as it moves; a new percentage applies from the end of
+//!   the first move after it was written (SMD-R5-008).
 
 use std::time::Duration;
 
@@ -279,6 +290,15 @@ struct Homing {
     params: Outputs,
 }
 
+/// Idle current reduction after this long without motion (SMD-R1-018).
+pub const IDLE_DELAY: Duration = Duration::from_millis(1500);
+/// Over-temperature fault above this (°C, SMD-R1-020).
+pub const OVER_TEMPERATURE: f64 = 95.0;
+/// The over-temperature fault clears at or below this (°C, the model's hysteresis).
+pub const OVER_TEMPERATURE_CLEAR: f64 = 90.0;
+/// Temperature_Above_90°C above this (°C, SMD-R6-074).
+pub const TEMPERATURE_WARNING: f64 = 90.0;
+
 /// Length of each homing pause (R4 steps 3 and 6).
 pub const HOMING_PAUSE: Duration = Duration::from_secs(2);
 
@@ -501,6 +521,24 @@ pub struct Indexer {
     /// turns with the motor, Encoder_Resolution counts per Motor_Resolution steps.
     encoder_base: i64,
     encoder_steps: i64,
+    /// Counts the shaft was turned by an outside force (added to the encoder).
+    encoder_extra: i64,
+    /// The shaft cannot turn (a hard stop, a missing motor supply): the encoder stands still.
+    shaft_blocked: bool,
+    /// The stall comparison's reference: (motor position, encoder position).
+    stall_ref: (i64, i64),
+    stall: bool,
+    /// Internal temperature, °C.
+    temperature: f64,
+    over_temperature: bool,
+    /// Whether each STO input is powered.
+    sto_powered: [bool; 2],
+    sto_fault: bool,
+    internal_fault: bool,
+    /// When the motor last stopped (for the idle current reduction).
+    stopped_since: Duration,
+    /// The idle percentage in force (a new 8010:06 applies after the next move).
+    idle_pct: u16,
     trapped: i32,
     /// Whether current flows into IN1 / IN2.
     current: [bool; 2],
@@ -538,6 +576,17 @@ impl Indexer {
             position: 0,
             encoder_base: 0,
             encoder_steps: 0,
+            encoder_extra: 0,
+            shaft_blocked: false,
+            stall_ref: (0, 0),
+            stall: false,
+            temperature: 40.0,
+            over_temperature: false,
+            sto_powered: [true; 2],
+            sto_fault: false,
+            internal_fault: false,
+            stopped_since: Duration::ZERO,
+            idle_pct: config.idle_current_reduction,
             trapped: 0,
             current: [false; 2],
             was_active: [false; 2],
@@ -592,6 +641,7 @@ impl Indexer {
             _ => return false,
         }
         self.position_invalid = true;
+        self.stall_reference();
         true
     }
 
@@ -627,7 +677,97 @@ impl Indexer {
 
     /// Drive_Is_Enabled: Enable_Driver with a valid configuration (SMD-R5-027, SMD-R6-030).
     fn drive_enabled(&self) -> bool {
-        self.prev.cmd1 & cmd1::ENABLE_DRIVER != 0 && !self.configuration_error()
+        // An STO fault clears Drive_Is_Enabled; an over-temperature fault does not (SMD-R6-062).
+        self.prev.cmd1 & cmd1::ENABLE_DRIVER != 0 && !self.configuration_error() && !self.sto_fault
+    }
+
+    /// Moves may start: the driver is enabled and supplies current.
+    fn can_move(&self) -> bool {
+        self.drive_enabled() && !self.driver_fault()
+    }
+
+    /// Driver_Fault: over-temperature, or an STO fault not yet reset.
+    fn driver_fault(&self) -> bool {
+        self.over_temperature || self.sto_fault
+    }
+
+    /// The shaft is held (a hard stop) or free: while held, the encoder does not follow the motor.
+    pub fn set_shaft_blocked(&mut self, blocked: bool) {
+        self.shaft_blocked = blocked;
+    }
+
+    /// Turns the shaft from outside by `counts` encoder counts (a hand, a falling load).
+    pub fn turn_shaft(&mut self, counts: i64) {
+        self.encoder_extra += counts;
+    }
+
+    /// The driver electronics' temperature in °C (over 95 °C: fault; over 90 °C: warning).
+    pub fn set_temperature(&mut self, celsius: f64) {
+        self.temperature = celsius;
+    }
+
+    /// Whether STO input 1 and 2 are powered (24 V present).
+    pub fn set_sto(&mut self, input1: bool, input2: bool) {
+        self.sto_powered = [input1, input2];
+    }
+
+    /// An internal fault of the unit (Module_OK = 0 while present).
+    pub fn set_internal_fault(&mut self, fault: bool) {
+        self.internal_fault = fault;
+    }
+
+    /// The motor current the driver supplies now, in 0.1 A: 0 without Drive_Is_Enabled or with a
+    /// Driver_Fault; the last move's current while moving and for 1.5 s after a stop; then the idle
+    /// percentage of it (SMD-R1-018, -019, SMD-R2-101, -102, SMD-R6-061).
+    pub fn actual_current(&self) -> f64 {
+        if !self.can_move() || self.driver_fault() {
+            return 0.0;
+        }
+        let running = f64::from(self.in_current);
+        if self.segment.is_none() && self.time >= self.stopped_since + IDLE_DELAY {
+            running * f64::from(self.idle_pct) / 100.0
+        } else {
+            running
+        }
+    }
+
+    /// Takes a new reference for the stall comparison (SMD-R1-007 pick).
+    fn stall_reference(&mut self) {
+        self.stall_ref = (self.position, i64::from(self.encoder_position()));
+    }
+
+    /// Checks for a stall: with Use_Encoder and Enable_Stall_Detection, more than 45° between the
+    /// motor's and the encoder's turning since the reference (SMD-R1-007 … -011).
+    fn check_stall(&mut self) {
+        use super::config::CFG0_ENABLE_STALL_DETECTION;
+        let on = CFG0_USE_ENCODER | CFG0_ENABLE_STALL_DETECTION;
+        if self.config.cfg0 & on != on || self.stall {
+            return;
+        }
+        let motor_res = f64::from(self.config.motor_resolution.max(1));
+        let enc_res = f64::from(self.config.encoder_resolution.max(1));
+        let motor_deg = (self.position - self.stall_ref.0) as f64 * 360.0 / motor_res;
+        let enc_deg =
+            (i64::from(self.encoder_position()) - self.stall_ref.1) as f64 * 360.0 / enc_res;
+        if (motor_deg - enc_deg).abs() > 45.0 {
+            self.stall = true;
+            self.stop_now();
+        }
+    }
+
+    /// Temperature and STO, once per cycle.
+    fn check_driver(&mut self) {
+        if self.temperature > OVER_TEMPERATURE {
+            self.over_temperature = true;
+        } else if self.temperature <= OVER_TEMPERATURE_CLEAR {
+            self.over_temperature = false; // SMD-R6-071: clears itself.
+        }
+        if !(self.sto_powered[0] && self.sto_powered[1]) {
+            self.sto_fault = true; // SMD-R1-002; cleared only by Reset Errors (SMD-R1-005).
+        }
+        if self.driver_fault() && self.segment.is_some() {
+            self.stop_now();
+        }
     }
 
     /// True while the motor turns (a move, a jog or a controlled stop).
@@ -648,10 +788,18 @@ impl Indexer {
     /// One process-data exchange: takes `out`, acts on the inputs and on the commands, runs `dt` of
     /// motion, returns the inputs.
     pub fn cycle(&mut self, out: Outputs, dt: Duration) -> Inputs {
+        let was_moving = self.segment.is_some();
+        self.check_driver();
         self.sense_inputs();
         self.take(out);
         self.follow_jog(out);
         self.advance(dt);
+        if was_moving && self.segment.is_none() {
+            self.stopped_since = self.time;
+            // A new idle percentage applies from the end of a move (SMD-R5-008).
+            self.idle_pct = self.config.idle_current_reduction;
+        }
+        self.check_stall();
         self.inputs()
     }
 
@@ -792,6 +940,13 @@ impl Indexer {
                 self.input_error = false;
                 self.move_complete = false;
                 self.limit_condition = None; // SMD-R6-021
+                if self.stall {
+                    self.stall = false;
+                    self.stall_reference(); // SMD-R4-007
+                }
+                if self.sto_powered[0] && self.sto_powered[1] {
+                    self.sto_fault = false; // SMD-R1-006, SMD-R6-022
+                }
                 self.acknowledged = Some(cmd0::RESET_ERRORS);
                 Outcome::Accepted
             }
@@ -839,7 +994,7 @@ impl Indexer {
             || !self.params_ok(&out)
             || (absolute && self.position_invalid)
             || self.busy()
-            || !self.drive_enabled()
+            || !self.can_move()
         {
             return Outcome::CommandError;
         }
@@ -904,7 +1059,7 @@ impl Indexer {
             // SMD-R6-040: a Jog with bad parameters also sets Move_Complete.
             return Outcome::CommandErrorComplete;
         }
-        if self.busy() || !self.drive_enabled() {
+        if self.busy() || !self.can_move() {
             return Outcome::CommandError;
         }
         // SMD-R1-029; SMD-R2-042/-045: not into an active limit (away from one is allowed,
@@ -1130,7 +1285,7 @@ impl Indexer {
         let Some(held) = self.held else {
             return Outcome::CommandError; // SMD-R2-035.
         };
-        if !self.params_ok(&out) || !self.drive_enabled() {
+        if !self.params_ok(&out) || !self.can_move() {
             return Outcome::CommandError;
         }
         match held {
@@ -1162,7 +1317,7 @@ impl Indexer {
         if !self.functions().contains(&Some(InputFunction::Home)) {
             return Outcome::CommandError; // SMD-R4-004 gap.
         }
-        if !self.params_ok(&out) || self.busy() || !self.drive_enabled() {
+        if !self.params_ok(&out) || self.busy() || !self.can_move() {
             return Outcome::CommandError;
         }
         if self.input_active(InputFunction::EStop) {
@@ -1343,9 +1498,11 @@ impl Indexer {
         if self.encoder_enabled() {
             self.encoder_base = 0;
             self.encoder_steps = 0;
+            self.encoder_extra = 0;
         }
         self.position_invalid = false;
         self.at_home = true;
+        self.stall_reference();
     }
 
     fn preset_position(&mut self, out: Outputs) -> Outcome {
@@ -1362,6 +1519,7 @@ impl Indexer {
         };
         self.move_complete = false;
         self.position_invalid = false;
+        self.stall_reference();
         self.acknowledged = Some(cmd0::PRESET_POSITION);
         Outcome::Accepted
     }
@@ -1372,6 +1530,8 @@ impl Indexer {
         }
         self.encoder_base = i64::from(out.position);
         self.encoder_steps = 0;
+        self.encoder_extra = 0;
+        self.stall_reference();
         self.acknowledged = Some(cmd0::PRESET_ENCODER);
         Outcome::Accepted
     }
@@ -1394,7 +1554,7 @@ impl Indexer {
             }
             _ => seg.origin + seg.dir * (seg.covered().round() as i64),
         };
-        if self.encoder_enabled() {
+        if !self.shaft_blocked {
             self.encoder_steps += self.position - before;
         }
         if end {
@@ -1414,7 +1574,7 @@ impl Indexer {
         if self.encoder_enabled() {
             let counts = (self.encoder_steps as i128 * i128::from(self.config.encoder_resolution))
                 .div_euclid(i128::from(self.config.motor_resolution.max(1)));
-            (i128::from(self.encoder_base) + counts) as i64 as i32
+            (i128::from(self.encoder_base) + counts + i128::from(self.encoder_extra)) as i64 as i32
         } else {
             0
         }
@@ -1422,7 +1582,11 @@ impl Indexer {
 
     /// STATUS_word0 as the unit reports it now.
     pub fn status0(&self) -> u16 {
-        let mut s = stat0::MODULE_OK;
+        let mut s = if self.internal_fault {
+            0
+        } else {
+            stat0::MODULE_OK
+        };
         let mut flag = |on: bool, bit: u16| {
             if on {
                 s |= bit;
@@ -1458,7 +1622,13 @@ impl Indexer {
         };
         flag(self.active(0), stat1::IN1_ACTIVE);
         flag(self.active(1), stat1::IN2_ACTIVE);
+        flag(
+            self.temperature > TEMPERATURE_WARNING,
+            stat1::TEMPERATURE_ABOVE_90,
+        );
+        flag(self.driver_fault(), stat1::DRIVER_FAULT);
         flag(self.invalid_jog_change, stat1::INVALID_JOG_CHANGE);
+        flag(self.stall, stat1::STALL_DETECTED);
         flag(self.limit_condition.is_some(), stat1::LIMIT_CONDITION);
         flag(
             (self.time.as_millis() / HEARTBEAT_HALF_PERIOD.as_millis()) % 2 == 1,
