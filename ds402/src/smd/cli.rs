@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand};
 use super::config::{decode_words, Cfg0, Cfg1, InputFunction};
 use super::plot::{self, Series};
 use super::profile::{MoveParams, Profile};
+use super::simulate::{self, Options, Script};
 
 /// Tools for the AMCI SMD23K-B / SMD24K integrated stepper indexer.
 #[derive(Debug, Parser)]
@@ -26,6 +27,41 @@ pub enum Cmd {
     /// The configuration-word calculator of table R5.3 (CFG_Word_0 / CFG_Word_1, 8010:01/02).
     #[command(subcommand)]
     Config(ConfigCmd),
+    /// Run a script of process-data writes and input changes against the indexer model offline and
+    /// print (with --plot also draw) the resulting positions and status bits over time.
+    #[command(long_about = simulate::HELP)]
+    Simulate(SimulateArgs),
+}
+
+/// `smd simulate`.
+#[derive(Debug, clap::Args)]
+pub struct SimulateArgs {
+    /// The script (see the format above).
+    #[arg(value_name = "SCRIPT")]
+    pub script: PathBuf,
+    /// Also print a line at every multiple of this interval: milliseconds, or a time with us, ms or s
+    /// (a whole number of cycles).
+    #[arg(long, value_name = "MS", value_parser = parse_every)]
+    pub every: Option<std::time::Duration>,
+    /// Also draw Motor_Position, speed and the motion bits over time into this SVG file.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+/// `--every`: a number of milliseconds (`100`, `0.5`) or a time with its unit (`250us`, `1s`).
+fn parse_every(text: &str) -> Result<std::time::Duration, String> {
+    let t = text.trim();
+    let with_unit = if t.bytes().all(|b| b.is_ascii_digit() || b == b'.') {
+        format!("{t}ms")
+    } else {
+        t.to_string()
+    };
+    match simulate::parse_time(&with_unit) {
+        Some(d) if !d.is_zero() => Ok(d),
+        _ => Err(format!(
+            "{text:?} is not an interval (milliseconds, or a time with us, ms or s, above 0)"
+        )),
+    }
 }
 
 /// `smd config`.
@@ -132,6 +168,20 @@ pub enum CliError {
     /// Writing the output.
     #[error("cannot write the output: {0}")]
     Output(#[from] std::io::Error),
+    /// Reading a script.
+    #[error("cannot read {path}: {source}")]
+    Read {
+        /// The file.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A script with an error.
+    #[error(transparent)]
+    Script(#[from] simulate::ScriptError),
+    /// `--every` off the script's cycle.
+    #[error(transparent)]
+    Every(#[from] simulate::EveryError),
 }
 
 /// Runs `args`, printing to `out`; the process's exit code on success (0, or 1 where a command
@@ -141,7 +191,27 @@ pub fn run(args: &Args, out: &mut dyn Write) -> Result<i32, CliError> {
         Cmd::Profile(p) => profile(p, out),
         Cmd::Config(ConfigCmd::Encode(e)) => encode(e, out),
         Cmd::Config(ConfigCmd::Decode(d)) => decode(d, out),
+        Cmd::Simulate(s) => simulate(s, out),
     }
+}
+
+fn simulate(a: &SimulateArgs, out: &mut dyn Write) -> Result<i32, CliError> {
+    let file = a.script.display().to_string();
+    let source = std::fs::read_to_string(&a.script).map_err(|source| CliError::Read {
+        path: file.clone(),
+        source,
+    })?;
+    let script = Script::parse(&source, &file)?;
+    if let Some(every) = a.every {
+        simulate::check_every(&script, every)?;
+    }
+    let trace = simulate::run(&script, &Options { every: a.every });
+    simulate::write_table(&trace, out)?;
+    if let Some(path) = &a.plot {
+        simulate::plot(&trace, path)?;
+        writeln!(out, "# chart written to {}", path.display())?;
+    }
+    Ok(0)
 }
 
 fn encode(e: &EncodeArgs, out: &mut dyn Write) -> Result<i32, CliError> {

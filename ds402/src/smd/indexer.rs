@@ -25,6 +25,9 @@
 //! configuration writes, presets, homing and Reset Errors; a blocked or externally turned shaft);
 //! driver faults (over-temperature at 95 °C with Temperature_Above_90°C, STO inputs, an internal fault
 //! for Module_OK); the motor current as the driver supplies it, with idle current reduction.
+//! Assembled moves: the programming handshake (In_Assembled_Mode, Waiting_For_Assembled_Segment,
+//! up to 16 segments, Save_to_Flash), Blend and Dwell runs; indexed moves (CMD_word1 bit 8) started
+//! by the Start Indexed input, re-triggered while the command stays, cancelled when it is cleared.
 //! Not in it yet: assembled and indexed moves, stall detection, idle
 //! current reduction, STO and temperature, EtherCAT states — their command bits are refused with
 //! Command_Error.
@@ -54,6 +57,11 @@
 //! - Idle current: the motor current drops to `8010:06` % of the last move's current 1.5 s after the
 //!   motor stops (any stop) and returns as soon as it moves; a new percentage applies from the end of
 //!   the first move after it was written (SMD-R5-008).
+//! - Assembled moves: Program_Assembled while a move runs is a Command_Error; other CMD_word0 commands
+//!   during programming are Command_Errors; the segment's Motor_Current word is ignored; a Blend runs
+//!   its speed changes with each segment's Jerk; at the last segment it brakes with the last segment's
+//!   Deceleration (linear) so as to reach V_S exactly at the end. in.Jerk reports the first segment's.
+//! - Indexed commands are checked when they are triggered, not when they are latched.
 
 use std::time::Duration;
 
@@ -166,6 +174,14 @@ pub mod cmd1 {
     pub const BACKPLANE_PROXIMITY: u16 = 1 << 11;
     /// Bit 7: a Jog command runs as a Registration move.
     pub const REGISTRATION_MOVE: u16 = 1 << 7;
+    /// Bit 4: Reverse_Blend_Direction (a Blend runs CCW).
+    pub const REVERSE_BLEND: u16 = 1 << 4;
+    /// Bit 5: Save_to_Flash.
+    pub const SAVE_TO_FLASH: u16 = 1 << 5;
+    /// Bit 8: Indexed_Command (the move waits for the Start Indexed input).
+    pub const INDEXED: u16 = 1 << 8;
+    /// Bit 9: Assembled_Move_Type (0 Blend, 1 Dwell).
+    pub const DWELL: u16 = 1 << 9;
     /// Bit 1: take the move's current from the Motor_Current word.
     pub const MOTOR_CURRENT: u16 = 1 << 1;
     /// Bit 13: Preset Position presets to the scaled encoder position.
@@ -251,6 +267,8 @@ enum Purpose {
     },
     /// A controlled stop that ends a move without Move_Complete (Hold during homing).
     Abort,
+    /// A Blend run (what follows is in [`AssembledRun`]).
+    Blend,
 }
 
 /// The phases of a Find Home run (Reference 4, Figures R4.1–R4.3).
@@ -288,6 +306,53 @@ struct Homing {
     phase: HomePhase,
     /// The command block's parameters.
     params: Outputs,
+}
+
+/// One segment of an assembled move (Table R6.17).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AssembledSegment {
+    /// Relative target (its sign counts only in a Dwell move).
+    pub position: i32,
+    /// Velocity.
+    pub velocity: u32,
+    /// Acceleration.
+    pub acceleration: u16,
+    /// Deceleration.
+    pub deceleration: u16,
+    /// Jerk.
+    pub jerk: u16,
+}
+
+impl AssembledSegment {
+    fn params(&self, cmd1: u16) -> Outputs {
+        Outputs {
+            cmd0: 0,
+            cmd1: cmd1 & !cmd1::MOTOR_CURRENT,
+            position: self.position,
+            velocity: self.velocity,
+            acceleration: self.acceleration,
+            deceleration: self.deceleration,
+            motor_current: 0,
+            jerk: self.jerk,
+        }
+    }
+}
+
+/// Most segments of an assembled move (SMD-R2-069, -087).
+pub const MAX_SEGMENTS: usize = 16;
+
+/// An assembled move being run.
+#[derive(Debug, Clone, PartialEq)]
+struct AssembledRun {
+    segments: Vec<AssembledSegment>,
+    /// The segment running now.
+    idx: usize,
+    /// Dwell Move: the pause between segments; `None` for a Blend.
+    dwell: Option<Duration>,
+    /// A Dwell pause that ends then.
+    pause_until: Option<Duration>,
+    /// Blend: the cumulative segment ends (steps from the start).
+    ends: Vec<f64>,
 }
 
 /// Idle current reduction after this long without motion (SMD-R1-018).
@@ -547,6 +612,18 @@ pub struct Indexer {
     segment: Option<Segment>,
     held: Option<Held>,
     homing: Option<Homing>,
+    /// The stored assembled move (RAM), the one saved to flash, the one being programmed.
+    program: Option<Vec<AssembledSegment>>,
+    flash_program: Option<Vec<AssembledSegment>>,
+    programming: Option<Vec<AssembledSegment>>,
+    waiting_for_segment: bool,
+    /// After a save to flash every command is ignored until power is cycled (SMD-R2-089 gap).
+    flash_lockout: bool,
+    assembled: Option<AssembledRun>,
+    /// An indexed command waiting for the Start Indexed input: its bit and its data.
+    pending_index: Option<(u16, Outputs)>,
+    /// The last cycle's length, seconds (a Blend looks one cycle ahead to brake in time).
+    last_dt: f64,
     move_complete: bool,
     position_invalid: bool,
     input_error: bool,
@@ -561,8 +638,16 @@ pub struct Indexer {
     in_jerk: u16,
 }
 
-/// The CMD_word0 bits that are commands (all but Mode_Select).
-const COMMAND_BITS: u16 = 0x7FFF;
+/// The mutually exclusive CMD_word0 command bits (SMD-R1-024 pick: 0–10, 13, 14).
+const EXCLUSIVE_BITS: u16 = 0x67FF;
+/// The CMD_word0 commands that are moves (may be indexed, SMD-R2-090).
+const MOVE_BITS: u16 = cmd0::ABSOLUTE_MOVE
+    | cmd0::RELATIVE_MOVE
+    | cmd0::JOG_CW
+    | cmd0::JOG_CCW
+    | cmd0::FIND_HOME_CW
+    | cmd0::FIND_HOME_CCW
+    | cmd0::RUN_ASSEMBLED_MOVE;
 
 impl Indexer {
     /// A unit at power-up with `config` in memory (Position_Invalid, Stopped, Module_OK).
@@ -593,6 +678,14 @@ impl Indexer {
             segment: None,
             held: None,
             homing: None,
+            program: None,
+            flash_program: None,
+            programming: None,
+            waiting_for_segment: false,
+            flash_lockout: false,
+            assembled: None,
+            pending_index: None,
+            last_dt: 0.001,
             move_complete: false,
             position_invalid: true,
             input_error: false,
@@ -642,6 +735,9 @@ impl Indexer {
         }
         self.position_invalid = true;
         self.stall_reference();
+        // A configuration write clears a RAM-only assembled move; a flash copy is active again
+        // (SMD-R2-081, SMD-R2-082 pick).
+        self.program = self.flash_program.clone();
         true
     }
 
@@ -809,12 +905,27 @@ impl Indexer {
         self.segment = None;
         self.held = None;
         self.homing = None;
+        self.assembled = None;
         self.position_invalid = true;
     }
 
     /// A move, jog or homing run is in progress (a homing pause included).
     fn busy(&self) -> bool {
-        self.segment.is_some() || self.homing.is_some()
+        self.segment.is_some() || self.homing.is_some() || self.assembled.is_some()
+    }
+
+    /// The unit after its power was cycled: the power-up state with the same configuration and the
+    /// flash contents (an assembled move saved to flash, SMD-R2-082).
+    pub fn power_cycle(&mut self) {
+        let flash = self.flash_program.clone();
+        *self = Indexer::new(self.kind, self.config);
+        self.flash_program = flash.clone();
+        self.program = flash;
+    }
+
+    /// The assembled move stored now (RAM), if any.
+    pub fn assembled_program(&self) -> Option<&[AssembledSegment]> {
+        self.program.as_deref()
     }
 
     fn capture(&mut self) {
@@ -852,14 +963,27 @@ impl Indexer {
                     Some(InputFunction::Home) => self.home_edge(true),
                     // SMD-R2-039, -041, -044: either limit stops any move; at rest nothing but
                     // the input bit (SMD-R2-015).
-                    Some(InputFunction::CwLimit | InputFunction::CcwLimit)
-                        if self.segment.is_some() =>
-                    {
+                    Some(InputFunction::CwLimit | InputFunction::CcwLimit) if self.busy() => {
                         self.stop_now();
                         self.input_error = true;
                         self.limit_condition = Some(k);
                     }
-                    Some(InputFunction::StartIndexed) => self.capture(), // SMD-R1-025
+                    Some(InputFunction::StartIndexed) => {
+                        self.capture(); // SMD-R1-025
+                                        // SMD-R2-090, -094, -095: a pending indexed command starts, if nothing runs.
+                        if let Some((bit, out)) = self.pending_index {
+                            if !self.busy() {
+                                let outcome = self.execute(
+                                    bit,
+                                    Outputs {
+                                        cmd1: out.cmd1 & !cmd1::INDEXED,
+                                        ..out
+                                    },
+                                );
+                                self.apply(outcome);
+                            }
+                        }
+                    }
                     // SMD-R1-031, SMD-R1-033.
                     Some(InputFunction::StopJog) if self.jogging() => {
                         self.capture();
@@ -883,13 +1007,15 @@ impl Indexer {
 
     /// Acts on new output data (the edges against the previous data).
     fn take(&mut self, out: Outputs) {
-        let rising = out.cmd0 & !self.prev.cmd0 & COMMAND_BITS;
         let prev = std::mem::replace(&mut self.prev, out);
         // Command_Acknowledge falls when the host clears the acknowledged bit (SMD-R6-064).
         if let Some(bit) = self.acknowledged {
             if out.cmd0 & bit == 0 {
                 self.acknowledged = None;
             }
+        }
+        if self.flash_lockout {
+            return;
         }
         if out.cmd0 & cmd0::MODE_SELECT != 0 {
             // Configuration through output data is not modelled: nothing is processed.
@@ -898,6 +1024,15 @@ impl Indexer {
         if out.cmd1 & cmd1::BACKPLANE_PROXIMITY & !prev.cmd1 != 0 {
             self.proximity_edge();
         }
+        self.program_handshake(prev, out);
+        // SMD-R2-093: clearing an indexed command's bit cancels it.
+        if let Some((bit, _)) = self.pending_index {
+            if out.cmd0 & bit == 0 {
+                self.pending_index = None;
+            }
+        }
+        // The mutually exclusive command bits (SMD-R1-024 pick: bits 0–10, 13, 14).
+        let rising = out.cmd0 & !prev.cmd0 & EXCLUSIVE_BITS;
         if rising == 0 {
             let current_edge = out.cmd1 & cmd1::MOTOR_CURRENT & !prev.cmd1;
             if current_edge != 0 {
@@ -910,12 +1045,25 @@ impl Indexer {
             }
             return;
         }
-        if !rising.is_power_of_two() {
-            // Two command bits rising in one update (R6 "Command Bits Must Transition").
+        if !rising.is_power_of_two() || self.programming.is_some() {
+            // Two command bits rising in one update (R6 "Command Bits Must Transition"), or a
+            // command during assembled-move programming.
             self.command_error = true;
             return;
         }
-        let outcome = match rising {
+        let outcome = if out.cmd1 & cmd1::INDEXED != 0 && rising & MOVE_BITS != 0 {
+            // SMD-R2-090: latched until the Start Indexed input's edge.
+            self.pending_index = Some((rising, out));
+            Outcome::Accepted
+        } else {
+            self.execute(rising, out)
+        };
+        self.apply(outcome);
+    }
+
+    /// Runs the command of CMD_word0 bit `rising` with the data `out`.
+    fn execute(&mut self, rising: u16, out: Outputs) -> Outcome {
+        match rising {
             cmd0::ABSOLUTE_MOVE => self.start_move(out, true),
             cmd0::RELATIVE_MOVE => self.start_move(out, false),
             cmd0::HOLD_MOVE => {
@@ -950,9 +1098,13 @@ impl Indexer {
                 self.acknowledged = Some(cmd0::RESET_ERRORS);
                 Outcome::Accepted
             }
+            cmd0::RUN_ASSEMBLED_MOVE => self.run_assembled(out),
             cmd0::PRESET_ENCODER => self.preset_encoder(out),
             _ => Outcome::CommandError,
-        };
+        }
+    }
+
+    fn apply(&mut self, outcome: Outcome) {
         match outcome {
             // Any command accepted clears At_Home (SMD-R2-022).
             Outcome::Accepted => self.at_home = false,
@@ -962,6 +1114,219 @@ impl Indexer {
                 self.move_complete = true;
             }
             Outcome::InputError => self.input_error = true,
+        }
+    }
+
+    /// The assembled-move programming handshake: Program_Assembled (bit 11) and Read_Assembled_Data
+    /// (bit 12), SMD-R2-083 … -089, SMD-R6-016 pick.
+    fn program_handshake(&mut self, prev: Outputs, out: Outputs) {
+        let rose = |bit: u16| out.cmd0 & bit != 0 && prev.cmd0 & bit == 0;
+        let fell = |bit: u16| out.cmd0 & bit == 0 && prev.cmd0 & bit != 0;
+        if rose(cmd0::PROGRAM_ASSEMBLED) {
+            if self.busy() {
+                self.command_error = true;
+                return;
+            }
+            // The old RAM program is discarded when programming starts (SMD-R2-081 gap).
+            self.program = None;
+            self.programming = Some(Vec::new());
+            self.waiting_for_segment = true;
+        }
+        let Some(buf) = self.programming.as_mut() else {
+            return;
+        };
+        if rose(cmd0::READ_ASSEMBLED_DATA) && self.waiting_for_segment {
+            let seg = AssembledSegment {
+                position: out.position,
+                velocity: out.velocity,
+                acceleration: out.acceleration,
+                deceleration: out.deceleration,
+                jerk: out.jerk,
+            };
+            let valid = POSITION_RANGE.contains(&seg.position)
+                && (self.config.starting_speed..=MAX_VELOCITY).contains(&seg.velocity)
+                && (1..=super::profile::MAX_ACCEL).contains(&seg.acceleration)
+                && (1..=super::profile::MAX_ACCEL).contains(&seg.deceleration)
+                && seg.jerk <= super::profile::MAX_JERK;
+            if valid && buf.len() < MAX_SEGMENTS {
+                buf.push(seg);
+            } else {
+                self.command_error = true; // SMD-R2-072, -085, -087, SMD-R6-045
+            }
+            self.waiting_for_segment = false;
+        } else if fell(cmd0::READ_ASSEMBLED_DATA) && !self.waiting_for_segment {
+            self.waiting_for_segment = true; // SMD-R2-086
+        }
+        if fell(cmd0::PROGRAM_ASSEMBLED) {
+            let program = self.programming.take();
+            self.waiting_for_segment = false;
+            if out.cmd1 & cmd1::SAVE_TO_FLASH != 0 {
+                self.flash_program = program.clone();
+                self.flash_lockout = true;
+            }
+            self.program = program;
+        }
+    }
+
+    /// Run Assembled Move (CMD_word0 bit 13): a Blend (CMD_word1 bit 9 = 0, direction bit 4) or a
+    /// Dwell Move (bit 9 = 1, the Jerk word is the dwell in ms), SMD-R2-068 … -080, SMD-R6-014.
+    fn run_assembled(&mut self, out: Outputs) -> Outcome {
+        let Some(segments) = self.program.clone() else {
+            return Outcome::CommandError; // SMD-R2-069 gap
+        };
+        if !(2..=MAX_SEGMENTS).contains(&segments.len()) || self.busy() || !self.can_move() {
+            return Outcome::CommandError;
+        }
+        if self.input_active(InputFunction::EStop)
+            || self.input_active(InputFunction::CwLimit)
+            || self.input_active(InputFunction::CcwLimit)
+        {
+            return Outcome::InputError;
+        }
+        self.held = None;
+        self.move_complete = false;
+        self.in_current = self.config.motor_current;
+        self.in_jerk = segments[0].jerk;
+        if out.cmd1 & cmd1::DWELL != 0 {
+            let first = segments[0];
+            self.assembled = Some(AssembledRun {
+                segments,
+                idx: 0,
+                dwell: Some(Duration::from_millis(u64::from(out.jerk))),
+                pause_until: None,
+                ends: Vec::new(),
+            });
+            let target = self.position + i64::from(first.position);
+            self.run_to(target, first.params(out.cmd1));
+            if self.segment.is_none() {
+                self.dwell_segment_done();
+            }
+            return Outcome::Accepted;
+        }
+        let dir = if out.cmd1 & cmd1::REVERSE_BLEND != 0 {
+            -1
+        } else {
+            1
+        };
+        let mut sum = 0.0;
+        let ends: Vec<f64> = segments
+            .iter()
+            .map(|g| {
+                sum += f64::from(g.position.unsigned_abs());
+                sum
+            })
+            .collect();
+        let first = segments[0];
+        let params = first.params(out.cmd1);
+        self.assembled = Some(AssembledRun {
+            segments,
+            idx: 0,
+            dwell: None,
+            pause_until: None,
+            ends,
+        });
+        let vs = f64::from(self.config.starting_speed);
+        let mut jog = Jog {
+            speed: vs,
+            ramp: None,
+            covered: 0.0,
+        };
+        jog.change(
+            f64::from(first.velocity),
+            f64::from(first.acceleration) * 1000.0,
+            f64::from(first.deceleration) * 1000.0,
+            first.jerk,
+        );
+        self.segment = Some(Segment {
+            origin: self.position,
+            dir,
+            base: 0.0,
+            curve: Curve::Jog(jog),
+            t: 0.0,
+            purpose: Purpose::Blend,
+            target: self.position,
+            params,
+        });
+        Outcome::Accepted
+    }
+
+    /// A Blend after a cycle of motion: the next segment's speed at each segment end (a ramp not
+    /// finished by then jumps to it, SMD-R2-076 pick), and the braking of the last segment timed to
+    /// reach V_S exactly at the end (SMD-R2-075).
+    fn follow_blend(&mut self) {
+        let Some(seg) = self.segment else { return };
+        if seg.purpose != Purpose::Blend {
+            return;
+        }
+        let Some(run) = self.assembled.as_mut() else {
+            return;
+        };
+        let covered = seg.covered();
+        let n = run.segments.len();
+        let mut seg = seg;
+        while run.idx < n - 1 && covered >= run.ends[run.idx] {
+            run.idx += 1;
+            let g = run.segments[run.idx];
+            seg.params = g.params(seg.params.cmd1);
+            if let Curve::Jog(j) = &mut seg.curve {
+                if j.ramp.is_some() {
+                    j.ramp = None;
+                    j.speed = f64::from(g.velocity);
+                } else {
+                    j.change(
+                        f64::from(g.velocity),
+                        f64::from(g.acceleration) * 1000.0,
+                        f64::from(g.deceleration) * 1000.0,
+                        g.jerk,
+                    );
+                }
+            }
+        }
+        let total = run.ends[n - 1];
+        let last = run.idx == n - 1;
+        self.segment = Some(seg);
+        if last {
+            let vs = f64::from(self.config.starting_speed);
+            let v = seg.speed().max(vs);
+            let brake = Phase::new(vs, v, f64::from(seg.params.deceleration) * 1000.0, 0);
+            let left = total - covered;
+            if left <= brake.distance + v * self.last_dt {
+                let done = covered.round() as i64;
+                self.assembled = None;
+                self.run_out((total as i64 - done).max(0));
+            }
+        }
+    }
+
+    /// A Dwell segment ended: pause before the next, or complete (SMD-R2-077, -079).
+    fn dwell_segment_done(&mut self) {
+        let Some(run) = self.assembled.as_mut() else {
+            return;
+        };
+        if run.idx + 1 >= run.segments.len() {
+            self.assembled = None;
+            self.move_complete = true;
+            return;
+        }
+        self.move_complete = false;
+        run.pause_until = Some(self.time + run.dwell.unwrap_or_default());
+    }
+
+    /// The end of a Dwell pause starts the next segment.
+    fn dwell_pause_over(&mut self) {
+        let Some(run) = self.assembled.as_mut() else {
+            return;
+        };
+        if run.pause_until.is_none_or(|t| self.time < t) {
+            return;
+        }
+        run.pause_until = None;
+        run.idx += 1;
+        let g = run.segments[run.idx];
+        let target = self.position + i64::from(g.position);
+        self.run_to(target, g.params(self.prev.cmd1));
+        if self.segment.is_none() {
+            self.dwell_segment_done();
         }
     }
 
@@ -1247,11 +1612,20 @@ impl Indexer {
 
     fn hold(&mut self) {
         let Some(seg) = self.segment else {
-            // A homing run in a pause is abandoned; otherwise nothing to hold (SMD-R2-037).
+            // A homing run or a Dwell move in a pause is abandoned; otherwise nothing to hold
+            // (SMD-R2-037).
             self.homing = None;
+            self.assembled = None;
             return;
         };
         match seg.purpose {
+            // SMD-R2-036: a Dwell segment or a registration run-out is stopped, not held.
+            Purpose::Move
+                if self.assembled.is_some() || matches!(seg.curve, Curve::RunOut { .. }) =>
+            {
+                self.assembled = None;
+                self.controlled_stop(Purpose::Abort);
+            }
             Purpose::Move => {
                 let vs = f64::from(self.config.starting_speed);
                 let ramp = Phase::new(
@@ -1272,6 +1646,11 @@ impl Indexer {
             }
             // SMD-R2-036: a registration move decelerates to a stop, not held.
             Purpose::Registration { .. } => self.controlled_stop(Purpose::Abort),
+            // SMD-R2-036: a Blend or Dwell move decelerates to a stop; the rest is discarded.
+            Purpose::Blend => {
+                self.assembled = None;
+                self.controlled_stop(Purpose::Abort);
+            }
             // SMD-R2-036: a homing run decelerates to a stop and is abandoned.
             Purpose::Home => {
                 self.homing = None;
@@ -1539,7 +1918,9 @@ impl Indexer {
     /// Runs the motion for `dt`.
     fn advance(&mut self, dt: Duration) {
         self.time += dt;
+        self.last_dt = dt.as_secs_f64();
         self.homing_pause_over();
+        self.dwell_pause_over();
         let Some(mut seg) = self.segment else {
             return;
         };
@@ -1560,13 +1941,18 @@ impl Indexer {
         if end {
             self.segment = None;
             match seg.purpose {
+                Purpose::Move if self.assembled.is_some() => self.dwell_segment_done(),
                 Purpose::Move | Purpose::JogStop => self.move_complete = true,
                 Purpose::HoldStop(h) => self.held = Some(h),
                 Purpose::Home => self.homing_stopped(),
-                Purpose::Jog { .. } | Purpose::Registration { .. } | Purpose::Abort => {}
+                Purpose::Jog { .. }
+                | Purpose::Registration { .. }
+                | Purpose::Abort
+                | Purpose::Blend => {}
             }
         } else {
             self.segment = Some(seg);
+            self.follow_blend();
         }
     }
 
@@ -1603,6 +1989,11 @@ impl Indexer {
             None => flag(true, stat0::STOPPED),
         }
         flag(self.held.is_some(), stat0::IN_HOLD_STATE);
+        flag(self.programming.is_some(), stat0::IN_ASSEMBLED_MODE);
+        flag(
+            self.programming.is_some() && self.waiting_for_segment,
+            stat0::WAITING_FOR_SEGMENT,
+        );
         flag(self.at_home, stat0::AT_HOME);
         flag(self.move_complete, stat0::MOVE_COMPLETE);
         flag(self.position_invalid, stat0::POSITION_INVALID);

@@ -6,6 +6,7 @@
 //!   CFG_Word_0 / CFG_Word_1 calculator of table R5.3;
 //! - [`indexer`]: the unit in Command Mode — commands, moves, status words;
 //! - [`binding`]: the indexer on the fixture's object dictionary (reads `0x7000`/`0x8010`, writes `0x6000`);
+//! - [`simulate`]: `smd simulate`'s offline runs of scripts against the indexer, as tables and charts;
 //! - [`plot`]: SVG charts; [`cli`]: the `smd` command line.
 
 pub mod binding;
@@ -14,3 +15,4 @@ pub mod config;
 pub mod indexer;
 pub mod plot;
 pub mod profile;
+pub mod simulate;

@@ -1,0 +1,391 @@
+//! Assembled moves (programming handshake, Blend, Dwell, flash) and indexed moves on the SMD, rule by
+//! rule (catalogue `rules/smd.md`, R2 and R6).
+
+mod smd_rig;
+
+use ds402::smd::config::Configuration;
+use ds402::smd::indexer::{cmd0, cmd1, stat0, Outputs};
+use smd_rig::Rig;
+
+const START_INDEXED: u16 = 3;
+
+fn rig(cfg0: u16) -> Rig {
+    let mut r = Rig::with(Configuration {
+        cfg0,
+        ..Configuration::default()
+    });
+    r.out = Outputs {
+        cmd1: cmd1::ENABLE_DRIVER,
+        velocity: 5_000,
+        acceleration: 20,
+        deceleration: 20,
+        ..Outputs::default()
+    };
+    r.command(cmd0::PRESET_POSITION);
+    r.command(0);
+    r
+}
+
+/// (position, velocity, acceleration, deceleration)
+type Seg = (i32, u32, u16, u16);
+
+/// The programming routine of R2 (p.41): First Block, then one Segment Block handshake per segment,
+/// then Program_Assembled back to 0. Returns STATUS_word0 after each step.
+fn program(r: &mut Rig, segments: &[Seg], save: bool) -> Vec<u16> {
+    let mut seen = Vec::new();
+    r.command(cmd0::PROGRAM_ASSEMBLED);
+    seen.push(r.s0());
+    for &(position, velocity, acceleration, deceleration) in segments {
+        r.out.position = position;
+        r.out.velocity = velocity;
+        r.out.acceleration = acceleration;
+        r.out.deceleration = deceleration;
+        r.command(cmd0::PROGRAM_ASSEMBLED | cmd0::READ_ASSEMBLED_DATA);
+        seen.push(r.s0());
+        r.command(cmd0::PROGRAM_ASSEMBLED);
+        seen.push(r.s0());
+    }
+    if save {
+        r.out.cmd1 |= cmd1::SAVE_TO_FLASH;
+    }
+    r.command(0);
+    seen.push(r.s0());
+    r.out.cmd1 &= !cmd1::SAVE_TO_FLASH;
+    seen
+}
+
+/// SMD-R2-083 … SMD-R2-088, SMD-R6-016, SMD-R6-060: Program_Assembled sets In_Assembled_Mode and
+/// Waiting_For_Assembled_Segment; each Read_Assembled_Data edge takes a segment and clears Waiting,
+/// which returns when the bit falls; Program_Assembled falling ends programming.
+#[test]
+fn smd_r2_083_to_088_programming_handshake() {
+    let mut r = rig(0);
+    assert_eq!(
+        r.s0() & (stat0::IN_ASSEMBLED_MODE | stat0::WAITING_FOR_SEGMENT),
+        0
+    );
+    let seen = program(
+        &mut r,
+        &[(1_000, 2_000, 10, 10), (2_000, 4_000, 10, 10)],
+        false,
+    );
+    let bits = |s: u16| s & (stat0::IN_ASSEMBLED_MODE | stat0::WAITING_FOR_SEGMENT);
+    let both = stat0::IN_ASSEMBLED_MODE | stat0::WAITING_FOR_SEGMENT;
+    assert_eq!(
+        seen.iter().map(|&s| bits(s)).collect::<Vec<_>>(),
+        [
+            both,
+            stat0::IN_ASSEMBLED_MODE,
+            both,
+            stat0::IN_ASSEMBLED_MODE,
+            both,
+            0
+        ]
+    );
+    assert!(seen.iter().all(|s| s & stat0::COMMAND_ERROR == 0));
+    assert_eq!(r.ix.assembled_program().map(<[_]>::len), Some(2));
+}
+
+/// SMD-R2-072, SMD-R2-085, SMD-R6-045, SMD-R2-087: a bad segment (Velocity below V_S, Position out of
+/// range) is a Command_Error at its handshake and not stored; a 17th segment likewise.
+#[test]
+fn smd_r2_072_085_087_bad_segments() {
+    let mut r = rig(0);
+    let seen = program(
+        &mut r,
+        &[(1_000, 100, 10, 10), (8_388_608, 2_000, 10, 10)],
+        false,
+    );
+    assert_ne!(seen[1] & stat0::COMMAND_ERROR, 0);
+    assert_eq!(seen[1] & stat0::WAITING_FOR_SEGMENT, 0);
+    assert_eq!(r.ix.assembled_program().map(<[_]>::len), Some(0));
+    r.command(cmd0::RESET_ERRORS);
+    r.command(0);
+    let segs: Vec<Seg> = (0..17).map(|k| (100 + k, 2_000, 10, 10)).collect();
+    let seen = program(&mut r, &segs, false);
+    assert_eq!(
+        seen[seen.len() - 3] & stat0::COMMAND_ERROR,
+        stat0::COMMAND_ERROR,
+        "the 17th"
+    );
+    assert_eq!(r.ix.assembled_program().map(<[_]>::len), Some(16));
+}
+
+/// Runs the stored move (CMD_word0 = 0x2000) to its end; (speed, status) per cycle.
+fn run(r: &mut Rig, cmd1_extra: u16, jerk: u16) -> Vec<(f64, u16)> {
+    r.out.cmd1 = cmd1::ENABLE_DRIVER | cmd1_extra;
+    r.out.jerk = jerk;
+    r.command(cmd0::RUN_ASSEMBLED_MOVE);
+    let mut trace = vec![(r.ix.speed(), r.s0())];
+    for _ in 0..200_000 {
+        let i = r.cycle();
+        trace.push((r.ix.speed(), i.status0));
+        if i.status0 & stat0::MOVE_COMPLETE != 0 || i.status0 & stat0::COMMAND_ERROR != 0 {
+            break;
+        }
+    }
+    r.command(0);
+    trace
+}
+
+/// SMD-R2-070, SMD-R2-071, SMD-R2-074, SMD-R2-075, SMD-R2-068: a Blend runs every segment in the
+/// CMD_word1 bit 4 direction (signs ignored) without stopping, changing speed at each boundary, and
+/// ends at the sum of the magnitudes with Move_Complete.
+#[test]
+fn smd_r2_070_071_074_075_blend_move() {
+    let mut r = rig(0);
+    program(
+        &mut r,
+        &[
+            (10_000, 4_000, 10, 10),
+            (-10_000, 8_000, 5, 20),
+            (10_000, 2_000, 10, 4),
+        ],
+        false,
+    );
+    let trace = run(&mut r, 0, 0);
+    assert_eq!(r.pos(), 30_000);
+    assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+    let moving = &trace[..trace.len() - 1];
+    assert!(
+        moving.iter().all(|t| t.1 & stat0::STOPPED == 0),
+        "never stops"
+    );
+    assert!(moving.iter().all(|t| t.0 > 0.0), "one direction");
+    let peak = trace.iter().map(|t| t.0).fold(0.0, f64::max);
+    assert_eq!(peak, 8_000.0, "segment 2's Velocity");
+    // CCW with bit 4.
+    let start = r.pos();
+    let trace = run(&mut r, cmd1::REVERSE_BLEND, 0);
+    assert_eq!(r.pos(), start - 30_000);
+    assert!(trace[..trace.len() - 1].iter().all(|t| t.0 < 0.0));
+}
+
+/// SMD-R2-073: segments with the same Velocity pass the boundary with no speed change.
+#[test]
+fn smd_r2_073_same_speed_boundary() {
+    let mut r = rig(0);
+    program(
+        &mut r,
+        &[(20_000, 4_000, 10, 10), (20_000, 4_000, 10, 10)],
+        false,
+    );
+    let trace = run(&mut r, 0, 0);
+    // Between the end of the first ramp and the final braking: constant speed, no phase bits.
+    let cruise: Vec<&(f64, u16)> = trace.iter().filter(|t| t.0 == 4_000.0).collect();
+    assert!(cruise.len() > 8_000, "{} ms at 4,000", cruise.len());
+    assert!(cruise
+        .iter()
+        .all(|t| t.1 & (stat0::ACCELERATING | stat0::DECELERATING) == 0));
+    assert_eq!(r.pos(), 40_000);
+}
+
+/// SMD-R2-077, SMD-R2-078, SMD-R2-079, SMD-R2-080, SMD-R6-015: a Dwell Move runs each segment as its
+/// own move, in the direction of its sign, stopped for the Dwell Time (the Jerk word, ms) between
+/// segments and not after the last; bit 4 changes nothing.
+#[test]
+fn smd_r2_077_to_080_dwell_move() {
+    let mut r = rig(0);
+    program(
+        &mut r,
+        &[
+            (3_000, 4_000, 20, 20),
+            (-1_000, 4_000, 20, 20),
+            (500, 2_000, 20, 20),
+        ],
+        false,
+    );
+    let trace = run(&mut r, cmd1::DWELL | cmd1::REVERSE_BLEND, 750);
+    assert_eq!(r.pos(), 2_500);
+    let mut stops = Vec::new();
+    let mut run_len = 0;
+    let mut dirs = Vec::new();
+    for &(v, s) in &trace {
+        if s & stat0::STOPPED != 0 {
+            run_len += 1;
+        } else {
+            if run_len > 0 {
+                stops.push(run_len);
+            }
+            run_len = 0;
+            let d = v.signum() as i32;
+            if dirs.last() != Some(&d) {
+                dirs.push(d);
+            }
+        }
+    }
+    assert_eq!(dirs, [1, -1, 1]);
+    assert_eq!(stops.len(), 2, "{stops:?}");
+    for s in stops {
+        assert!((749..=752).contains(&s), "dwell {s} ms");
+    }
+    assert_eq!(run_len, 1, "complete in the update the last segment stops");
+}
+
+/// SMD-R2-069, SMD-R2-081: no program (or one segment) is a Command_Error; a program runs again; a
+/// configuration write discards a RAM program.
+#[test]
+fn smd_r2_069_081_stored_program() {
+    let mut r = rig(0);
+    let trace = run(&mut r, 0, 0);
+    assert_ne!(trace[0].1 & stat0::COMMAND_ERROR, 0);
+    r.command(cmd0::RESET_ERRORS);
+    r.command(0);
+    program(&mut r, &[(1_000, 4_000, 20, 20)], false);
+    assert_ne!(
+        run(&mut r, 0, 0)[0].1 & stat0::COMMAND_ERROR,
+        0,
+        "one segment"
+    );
+    r.command(cmd0::RESET_ERRORS);
+    r.command(0);
+    program(
+        &mut r,
+        &[(1_000, 4_000, 20, 20), (1_000, 4_000, 20, 20)],
+        false,
+    );
+    let start = r.pos();
+    run(&mut r, 0, 0);
+    run(&mut r, 0, 0);
+    assert_eq!(r.pos(), start + 4_000, "run twice");
+    r.ix.write_config(6, 40);
+    assert!(r.ix.assembled_program().is_none());
+}
+
+/// SMD-R2-089, SMD-R2-082: saved to flash when Program_Assembled falls with Save_to_Flash; then every
+/// command is ignored until power is cycled; after the cycle (and a configuration write) the flash
+/// program runs.
+#[test]
+fn smd_r2_082_089_flash() {
+    let mut r = rig(0);
+    let seen = program(
+        &mut r,
+        &[(2_000, 4_000, 20, 20), (2_000, 4_000, 20, 20)],
+        true,
+    );
+    assert_eq!(
+        seen.last().unwrap() & (stat0::IN_ASSEMBLED_MODE | stat0::WAITING_FOR_SEGMENT),
+        0
+    );
+    r.out.position = 5;
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_eq!(
+        r.s0() & stat0::STOPPED,
+        stat0::STOPPED,
+        "ignored until a power cycle"
+    );
+    assert_eq!(r.pos(), 0);
+    r.ix.power_cycle();
+    r.ix.write_config(3, 141);
+    r.out = Outputs {
+        cmd1: cmd1::ENABLE_DRIVER,
+        ..Outputs::default()
+    };
+    r.cycle();
+    let trace = run(&mut r, 0, 0);
+    assert_eq!(trace[0].1 & stat0::COMMAND_ERROR, 0);
+    assert_eq!(r.pos(), 4_000);
+}
+
+/// SMD-R2-090, SMD-R2-092, SMD-R2-094, SMD-R2-095: an indexed Relative move waits for the Start
+/// Indexed edge, runs on each later edge while the command stays, ignores edges while it runs, and
+/// is not disturbed by the input going inactive.
+#[test]
+fn smd_r2_090_092_094_095_indexed_moves() {
+    let mut r = rig(START_INDEXED);
+    r.out.cmd1 |= cmd1::INDEXED;
+    r.out.position = 1_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), 0, "waits for the input");
+    assert_ne!(r.s0() & stat0::STOPPED, 0);
+    for k in 1..=3 {
+        r.ix.set_input(1, true);
+        r.cycle();
+        assert_eq!(r.s0() & stat0::STOPPED, 0, "run {k} started");
+        r.ix.set_input(1, false);
+        r.cycle();
+        r.ix.set_input(1, true); // mid-move edge: ignored
+        r.cycle();
+        r.ix.set_input(1, false);
+        r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+        assert_eq!(r.pos(), 1_000 * k);
+        assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+    }
+}
+
+/// SMD-R2-093, SMD-R2-096: clearing the command cancels it; a new edge latches new parameters.
+#[test]
+fn smd_r2_093_096_indexed_cancel_and_new_parameters() {
+    let mut r = rig(START_INDEXED);
+    r.out.cmd1 |= cmd1::INDEXED;
+    r.out.position = 1_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.out.position = 7; // changed data without a new edge: the latched 1,000 stays
+    r.cycle();
+    r.ix.set_input(1, true);
+    r.cycle();
+    r.ix.set_input(1, false);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 1_000);
+    r.command(0);
+    r.ix.set_input(1, true);
+    r.cycle();
+    r.ix.set_input(1, false);
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), 1_000, "cancelled");
+    r.out.position = 250;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.ix.set_input(1, true);
+    r.cycle();
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 1_250);
+}
+
+/// SMD-R2-091: with no Start Indexed input an indexed command never starts (no error).
+/// SMD-R2-098 … SMD-R2-100: Hold, Immediate Stop and Reset Errors act at once with CMD_word1 bit 8.
+#[test]
+fn smd_r2_091_098_099_100_immediate_commands() {
+    let mut r = rig(0);
+    r.out.cmd1 |= cmd1::INDEXED;
+    r.out.position = 1_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), 0);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    r.command(0);
+    r.out.cmd1 &= !cmd1::INDEXED;
+    r.out.position = 50_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    for _ in 0..500 {
+        r.cycle();
+    }
+    r.out.cmd1 |= cmd1::INDEXED;
+    r.command(cmd0::HOLD_MOVE);
+    assert_ne!(r.s0() & stat0::DECELERATING, 0, "Hold at once");
+    r.command(0);
+    r.command(cmd0::IMMEDIATE_STOP);
+    assert_ne!(
+        r.s0() & stat0::POSITION_INVALID,
+        0,
+        "Immediate Stop at once"
+    );
+    r.command(0);
+    r.command(cmd0::ABSOLUTE_MOVE); // indexed: latched, and with no Start Indexed input never run
+    r.command(0);
+    r.out.cmd1 &= !cmd1::INDEXED;
+    r.out.position = 1;
+    r.command(cmd0::ABSOLUTE_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    r.command(0);
+    r.out.cmd1 |= cmd1::INDEXED;
+    r.command(cmd0::RESET_ERRORS);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0, "Reset Errors at once");
+}
