@@ -28,6 +28,10 @@
 //! Assembled moves: the programming handshake (In_Assembled_Mode, Waiting_For_Assembled_Segment,
 //! up to 16 segments, Save_to_Flash), Blend and Dwell runs; indexed moves (CMD_word1 bit 8) started
 //! by the Start Indexed input, re-triggered while the command stays, cancelled when it is cleared.
+//! The EtherCAT state as the unit sees it (PreOp_SafeOp, commands only in Op, the position invalid
+//! after leaving Op, the SyncManager watchdog), Mode_Select (Mode_Flag, no commands, no heartbeat),
+//! the absolute encoder (its count kept through a power cycle, the offset of Preset Encoder kept only
+//! when saved to flash, Abs_Enc_Err) against the incremental one (zero at every power-up).
 //! Not in it yet: assembled and indexed moves, stall detection, idle
 //! current reduction, STO and temperature, EtherCAT states — their command bits are refused with
 //! Command_Error.
@@ -62,6 +66,9 @@
 //!   its speed changes with each segment's Jerk; at the last segment it brakes with the last segment's
 //!   Deceleration (linear) so as to reach V_S exactly at the end. in.Jerk reports the first segment's.
 //! - Indexed commands are checked when they are triggered, not when they are latched.
+//! - The model starts in Op (as after the master's start-up); [`Indexer::set_network_state`] moves it.
+//!   Leaving Op stops a move at once and makes the position invalid (SMD-R6-056 gap); the output data
+//!   seen outside Op is the edge reference for the first Op data (SMD-R6-073 gap).
 
 use std::time::Duration;
 
@@ -355,6 +362,23 @@ struct AssembledRun {
     ends: Vec<f64>,
 }
 
+/// The EtherCAT state machine's state, as far as the unit's behaviour depends on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum NetworkState {
+    /// Init: no process data.
+    Init,
+    /// Pre-Operational: mailbox (CoE) only.
+    PreOp,
+    /// Safe-Operational: inputs are sent, outputs not acted on.
+    SafeOp,
+    /// Operational: commands are processed.
+    #[default]
+    Op,
+}
+
+/// Shaft acceleration while unpowered above which the absolute encoder loses count (°/s², SMD-R1-017).
+pub const ABS_ENCODER_MAX_ACCEL: f64 = 160_000.0;
+
 /// Idle current reduction after this long without motion (SMD-R1-018).
 pub const IDLE_DELAY: Duration = Duration::from_millis(1500);
 /// Over-temperature fault above this (°C, SMD-R1-020).
@@ -624,6 +648,14 @@ pub struct Indexer {
     pending_index: Option<(u16, Outputs)>,
     /// The last cycle's length, seconds (a Blend looks one cycle ahead to brake in time).
     last_dt: f64,
+    network: NetworkState,
+    /// CMD_word0 bit 15 (Mode_Select) is 1: configuration mode, nothing processed.
+    mode_flag: bool,
+    /// Time in Command Mode, which the heartbeat follows.
+    heartbeat_time: Duration,
+    /// The encoder offset saved to flash (absolute units, SMD-R6-012).
+    flash_encoder_offset: i64,
+    abs_encoder_error: bool,
     move_complete: bool,
     position_invalid: bool,
     input_error: bool,
@@ -686,6 +718,11 @@ impl Indexer {
             assembled: None,
             pending_index: None,
             last_dt: 0.001,
+            network: NetworkState::Op,
+            mode_flag: false,
+            heartbeat_time: Duration::ZERO,
+            flash_encoder_offset: 0,
+            abs_encoder_error: false,
             move_complete: false,
             position_invalid: true,
             input_error: false,
@@ -917,10 +954,55 @@ impl Indexer {
     /// The unit after its power was cycled: the power-up state with the same configuration and the
     /// flash contents (an assembled move saved to flash, SMD-R2-082).
     pub fn power_cycle(&mut self) {
-        let flash = self.flash_program.clone();
-        *self = Indexer::new(self.kind, self.config);
-        self.flash_program = flash.clone();
-        self.program = flash;
+        self.power_cycle_turned(0, 0.0);
+    }
+
+    /// A power cycle during which the unpowered shaft was turned by `counts` encoder counts with a
+    /// peak acceleration of `peak_accel` °/s². An absolute encoder keeps its count, the turning
+    /// included, unless the acceleration exceeded 160,000 °/s² (Abs_Enc_Err, SMD-R1-016, -017); its
+    /// offset is the one saved to flash (SMD-R6-012, -013). An incremental encoder starts at 0
+    /// (SMD-R1-014).
+    pub fn power_cycle_turned(&mut self, counts: i64, peak_accel: f64) {
+        let old = std::mem::replace(self, Indexer::new(self.kind, self.config));
+        self.flash_program = old.flash_program.clone();
+        self.program = old.flash_program;
+        self.flash_encoder_offset = old.flash_encoder_offset;
+        if self.kind == EncoderKind::Absolute {
+            self.encoder_steps = old.encoder_steps;
+            self.encoder_extra = old.encoder_extra + counts;
+            self.encoder_base = old.flash_encoder_offset;
+            self.abs_encoder_error = peak_accel > ABS_ENCODER_MAX_ACCEL;
+        }
+        self.stall_reference();
+    }
+
+    /// The EtherCAT state changes (SMD-R6-056, -072, -073).
+    pub fn set_network_state(&mut self, state: NetworkState) {
+        if self.network == NetworkState::Op && state != NetworkState::Op {
+            if self.busy() {
+                self.stop_now();
+            }
+            self.position_invalid = true;
+        }
+        self.network = state;
+    }
+
+    /// The master stopped updating the outputs for longer than the SyncManager watchdog: Input_Error
+    /// and Safe-Op (SMD-R1-035, SMD-R6-054).
+    pub fn sm_watchdog_expired(&mut self) {
+        self.input_error = true;
+        self.set_network_state(NetworkState::SafeOp);
+    }
+
+    /// The EtherCAT state.
+    pub fn network_state(&self) -> NetworkState {
+        self.network
+    }
+
+    /// A battery or encoder fault of an absolute-encoder unit (Abs_Enc_Err, SMD-R6-066); re-evaluated
+    /// at power-up in the real unit, set or cleared here at once.
+    pub fn set_abs_encoder_fault(&mut self, fault: bool) {
+        self.abs_encoder_error = fault && self.kind == EncoderKind::Absolute;
     }
 
     /// The assembled move stored now (RAM), if any.
@@ -1014,11 +1096,12 @@ impl Indexer {
                 self.acknowledged = None;
             }
         }
-        if self.flash_lockout {
-            return;
+        if self.network != NetworkState::Op {
+            return; // SMD-R6-073: no commands outside Op.
         }
-        if out.cmd0 & cmd0::MODE_SELECT != 0 {
-            // Configuration through output data is not modelled: nothing is processed.
+        // SMD-R6-010 gap pick: Mode_Select = 1 processes no commands and stops the heartbeat.
+        self.mode_flag = out.cmd0 & cmd0::MODE_SELECT != 0;
+        if self.flash_lockout || self.mode_flag {
             return;
         }
         if out.cmd1 & cmd1::BACKPLANE_PROXIMITY & !prev.cmd1 != 0 {
@@ -1875,9 +1958,9 @@ impl Indexer {
         self.homing = None;
         self.position = 0;
         if self.encoder_enabled() {
-            self.encoder_base = 0;
-            self.encoder_steps = 0;
-            self.encoder_extra = 0;
+            // Encoder_Position 0 here; the shaft's count stays (an absolute encoder keeps it).
+            let raw = i64::from(self.encoder_position()) - self.encoder_base;
+            self.encoder_base = -raw;
         }
         self.position_invalid = false;
         self.at_home = true;
@@ -1907,9 +1990,12 @@ impl Indexer {
         if !self.encoder_enabled() {
             return Outcome::CommandError; // SMD-R6-011 gap pick.
         }
-        self.encoder_base = i64::from(out.position);
-        self.encoder_steps = 0;
-        self.encoder_extra = 0;
+        // The shaft's count stays; the offset makes Encoder_Position the Position word.
+        let raw = i64::from(self.encoder_position()) - self.encoder_base;
+        self.encoder_base = i64::from(out.position) - raw;
+        if out.cmd1 & cmd1::SAVE_TO_FLASH != 0 && self.kind == EncoderKind::Absolute {
+            self.flash_encoder_offset = self.encoder_base; // SMD-R6-012
+        }
         self.stall_reference();
         self.acknowledged = Some(cmd0::PRESET_ENCODER);
         Outcome::Accepted
@@ -1918,6 +2004,9 @@ impl Indexer {
     /// Runs the motion for `dt`.
     fn advance(&mut self, dt: Duration) {
         self.time += dt;
+        if !self.mode_flag {
+            self.heartbeat_time += dt;
+        }
         self.last_dt = dt.as_secs_f64();
         self.homing_pause_over();
         self.dwell_pause_over();
@@ -2000,6 +2089,7 @@ impl Indexer {
         flag(self.input_error, stat0::INPUT_ERROR);
         flag(self.command_error, stat0::COMMAND_ERROR);
         flag(self.configuration_error(), stat0::CONFIGURATION_ERROR);
+        flag(self.mode_flag, stat0::MODE_FLAG);
         s
     }
 
@@ -2020,9 +2110,11 @@ impl Indexer {
         flag(self.driver_fault(), stat1::DRIVER_FAULT);
         flag(self.invalid_jog_change, stat1::INVALID_JOG_CHANGE);
         flag(self.stall, stat1::STALL_DETECTED);
+        flag(self.network != NetworkState::Op, stat1::PREOP_SAFEOP);
+        flag(self.abs_encoder_error, stat1::ABS_ENC_ERR);
         flag(self.limit_condition.is_some(), stat1::LIMIT_CONDITION);
         flag(
-            (self.time.as_millis() / HEARTBEAT_HALF_PERIOD.as_millis()) % 2 == 1,
+            (self.heartbeat_time.as_millis() / HEARTBEAT_HALF_PERIOD.as_millis()) % 2 == 1,
             stat1::HEARTBEAT,
         );
         flag(self.acknowledged.is_some(), stat1::COMMAND_ACKNOWLEDGE);

@@ -1,0 +1,225 @@
+//! The EtherCAT state as the SMD sees it, Mode_Select, and the absolute against the incremental
+//! encoder, rule by rule (catalogue `rules/smd.md`, R1 and R6).
+
+mod smd_rig;
+
+use ds402::smd::config::{Configuration, EncoderKind, CFG0_USE_ENCODER};
+use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Indexer, NetworkState, Outputs};
+use smd_rig::{Rig, MS};
+
+fn rig() -> Rig {
+    let mut r = Rig::with(Configuration {
+        cfg0: CFG0_USE_ENCODER,
+        ..Configuration::default()
+    });
+    r.out = Outputs {
+        cmd1: cmd1::ENABLE_DRIVER,
+        velocity: 5_000,
+        acceleration: 20,
+        deceleration: 20,
+        ..Outputs::default()
+    };
+    r.command(cmd0::PRESET_POSITION);
+    r.command(0);
+    r
+}
+
+/// SMD-R6-072, SMD-R6-073: PreOp_SafeOp reads 1 outside Op; commands written in Safe-Op do nothing,
+/// and a bit already 1 when Op is reached is no edge — a fresh 0→1 is needed.
+#[test]
+fn smd_r6_072_073_commands_only_in_op() {
+    let mut r = rig();
+    assert_eq!(r.s1() & stat1::PREOP_SAFEOP, 0);
+    r.ix.set_network_state(NetworkState::SafeOp);
+    r.cycle();
+    assert_ne!(r.s1() & stat1::PREOP_SAFEOP, 0);
+    r.out.position = 1_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.cycle();
+    assert_eq!(r.pos(), 0);
+    r.ix.set_network_state(NetworkState::Op);
+    for _ in 0..50 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), 0, "the bit was already 1 at Op");
+    assert_eq!(r.s1() & stat1::PREOP_SAFEOP, 0);
+    r.command(0);
+    r.command(cmd0::RELATIVE_MOVE);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 1_000);
+}
+
+/// SMD-R6-056: leaving Op and coming back makes the position invalid; a move running then stops at
+/// once without Move_Complete.
+#[test]
+fn smd_r6_056_leaving_op() {
+    let mut r = rig();
+    r.out.position = 100_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..200 {
+        r.cycle();
+    }
+    r.ix.set_network_state(NetworkState::PreOp);
+    r.cycle();
+    assert_eq!(
+        r.s0() & (stat0::STOPPED | stat0::MOVE_COMPLETE | stat0::POSITION_INVALID),
+        stat0::STOPPED | stat0::POSITION_INVALID
+    );
+    r.ix.set_network_state(NetworkState::Op);
+    r.cycle();
+    assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
+}
+
+/// SMD-R1-035, SMD-R6-054: a SyncManager watchdog expiry sets Input_Error and goes to Safe-Op.
+#[test]
+fn smd_r1_035_r6_054_sm_watchdog() {
+    let mut r = rig();
+    r.ix.sm_watchdog_expired();
+    r.cycle();
+    assert_ne!(r.s0() & stat0::INPUT_ERROR, 0);
+    assert_ne!(r.s1() & stat1::PREOP_SAFEOP, 0);
+    assert_eq!(r.ix.network_state(), NetworkState::SafeOp);
+}
+
+/// SMD-R6-010 (gap pick), SMD-R6-067: Mode_Select = 1 sets Mode_Flag, runs no command and stops the
+/// heartbeat; Command Mode again clears it.
+#[test]
+fn smd_r6_010_mode_select() {
+    let mut r = rig();
+    assert_eq!(r.s0() & stat0::MODE_FLAG, 0);
+    r.out.position = 500;
+    r.command(cmd0::MODE_SELECT | cmd0::RELATIVE_MOVE);
+    assert_ne!(r.s0() & stat0::MODE_FLAG, 0);
+    let hb = r.s1() & stat1::HEARTBEAT;
+    for _ in 0..1_500 {
+        r.cycle();
+        assert_eq!(
+            r.s1() & stat1::HEARTBEAT,
+            hb,
+            "no heartbeat in configuration mode"
+        );
+    }
+    assert_eq!(r.pos(), 0);
+    r.command(0);
+    assert_eq!(r.s0() & stat0::MODE_FLAG, 0);
+    let mut toggled = false;
+    for _ in 0..600 {
+        toggled |= r.cycle().status1 & stat1::HEARTBEAT != hb;
+    }
+    assert!(toggled);
+}
+
+fn unit(kind: EncoderKind) -> Indexer {
+    let mut ix = Indexer::new(
+        kind,
+        Configuration {
+            cfg0: CFG0_USE_ENCODER,
+            ..Configuration::default()
+        },
+    );
+    ix.cycle(Outputs::default(), MS);
+    ix
+}
+
+fn preset_encoder(ix: &mut Indexer, value: i32, save: bool) -> u16 {
+    let out = Outputs {
+        cmd0: cmd0::PRESET_ENCODER,
+        cmd1: if save { cmd1::SAVE_TO_FLASH } else { 0 },
+        position: value,
+        ..Outputs::default()
+    };
+    let s1 = ix.cycle(out, MS).status1;
+    ix.cycle(Outputs::default(), MS);
+    s1
+}
+
+/// SMD-R1-014, SMD-R1-016: an incremental encoder reads 0 after a power cycle; an absolute one keeps
+/// its count, turning while unpowered included; Position_Invalid is set at power-up either way, and a
+/// Preset Position to the encoder restores Motor_Position without motion.
+#[test]
+fn smd_r1_014_016_encoders_through_a_power_cycle() {
+    let mut inc = unit(EncoderKind::Incremental);
+    inc.turn_shaft(5_000);
+    inc.power_cycle();
+    assert_eq!(inc.cycle(Outputs::default(), MS).encoder_position, 0);
+
+    let mut abs = unit(EncoderKind::Absolute);
+    abs.turn_shaft(4_096);
+    abs.power_cycle_turned(2_048, 1_000.0);
+    let i = abs.cycle(Outputs::default(), MS);
+    assert_eq!(i.encoder_position, 6_144);
+    assert_ne!(i.status0 & stat0::POSITION_INVALID, 0);
+    let i = abs.cycle(
+        Outputs {
+            cmd0: cmd0::PRESET_POSITION,
+            cmd1: cmd1::PRESET_TO_ENCODER,
+            ..Outputs::default()
+        },
+        MS,
+    );
+    assert_eq!(i.motor_position, 6_000, "6,144 × 2,000 / 2,048");
+    assert_eq!(i.status0 & stat0::POSITION_INVALID, 0);
+}
+
+/// SMD-R6-012, SMD-R6-013: on an absolute unit, a Preset Encoder saved to flash survives a power
+/// cycle; one not saved reverts to the flash offset.
+#[test]
+fn smd_r6_012_013_encoder_offset_in_flash() {
+    let mut abs = unit(EncoderKind::Absolute);
+    let s1 = preset_encoder(&mut abs, 100_000, true);
+    assert_ne!(s1 & stat1::COMMAND_ACKNOWLEDGE, 0);
+    abs.turn_shaft(10);
+    abs.power_cycle();
+    assert_eq!(abs.cycle(Outputs::default(), MS).encoder_position, 100_010);
+    preset_encoder(&mut abs, -5, false);
+    assert_eq!(abs.cycle(Outputs::default(), MS).encoder_position, -5);
+    abs.power_cycle();
+    assert_eq!(
+        abs.cycle(Outputs::default(), MS).encoder_position,
+        100_010,
+        "the unsaved preset is gone"
+    );
+}
+
+/// SMD-R1-017, SMD-R6-066: Abs_Enc_Err after an unpowered rotation above 160,000 °/s², or a battery
+/// fault; never on an incremental unit.
+#[test]
+fn smd_r1_017_r6_066_abs_encoder_error() {
+    let mut abs = unit(EncoderKind::Absolute);
+    abs.power_cycle_turned(100, 160_000.0);
+    assert_eq!(
+        abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
+        0
+    );
+    abs.power_cycle_turned(100, 160_001.0);
+    assert_ne!(
+        abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
+        0
+    );
+    abs.power_cycle();
+    abs.set_abs_encoder_fault(true);
+    assert_ne!(
+        abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
+        0
+    );
+    let mut inc = unit(EncoderKind::Incremental);
+    inc.set_abs_encoder_fault(true);
+    inc.power_cycle_turned(0, 1e9);
+    assert_eq!(
+        inc.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
+        0
+    );
+}
+
+/// SMD-R4-005: Preset Position leaves Encoder_Position alone and Preset Encoder Motor_Position.
+#[test]
+fn smd_r4_005_presets_are_separate() {
+    let mut r = rig();
+    r.out.position = 777;
+    r.command(cmd0::PRESET_ENCODER);
+    r.command(0);
+    assert_eq!((r.pos(), r.last.encoder_position), (0, 777));
+    r.out.position = -3;
+    r.command(cmd0::PRESET_POSITION);
+    assert_eq!((r.pos(), r.last.encoder_position), (-3, 777));
+}
