@@ -223,3 +223,33 @@ fn smd_r4_005_presets_are_separate() {
     r.command(cmd0::PRESET_POSITION);
     assert_eq!((r.pos(), r.last.encoder_position), (-3, 777));
 }
+
+/// SMD-R1-021, SMD-R1-022, SMD-R5-022: with DC_Sync = 0 a move starts in the cycle its edge arrives;
+/// with DC_Sync = 1 it waits for SYNC0 and starts 520 µs after it.
+#[test]
+fn smd_r1_021_022_r5_022_dc_sync() {
+    let mut r = rig();
+    r.out.position = 10_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_eq!(r.s0() & stat0::STOPPED, 0, "SM-synchronous: at once");
+    r.command(0);
+
+    let mut r = rig();
+    r.ix.write_config(2, 0x0043); // DC_Sync, both inputs active on current
+    r.command(cmd0::PRESET_POSITION);
+    r.command(0);
+    r.out.position = 10_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..20 {
+        r.cycle();
+        assert_ne!(r.s0() & stat0::STOPPED, 0, "waits for SYNC0");
+        assert_eq!(r.pos(), 0);
+    }
+    r.ix.sync0_event();
+    r.cycle();
+    assert_ne!(r.s0() & stat0::MOVING_CW, 0);
+    // 480 µs of motion at about the starting speed: 0 or 1 step so far; the profile runs from there.
+    assert!(r.pos() <= 1, "{}", r.pos());
+    r.until(20_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 10_000);
+}

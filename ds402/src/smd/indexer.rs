@@ -32,6 +32,7 @@
 //! after leaving Op, the SyncManager watchdog), Mode_Select (Mode_Flag, no commands, no heartbeat),
 //! the absolute encoder (its count kept through a power cycle, the offset of Preset Encoder kept only
 //! when saved to flash, Abs_Enc_Err) against the incremental one (zero at every power-up).
+//! DC_Sync (CFG_Word_1 bit 6): a move waits for the next SYNC0 event and starts 520 µs after it.
 //! Not in it yet: assembled and indexed moves, stall detection, idle
 //! current reduction, STO and temperature, EtherCAT states — their command bits are refused with
 //! Command_Error.
@@ -379,6 +380,9 @@ pub enum NetworkState {
 /// Shaft acceleration while unpowered above which the absolute encoder loses count (°/s², SMD-R1-017).
 pub const ABS_ENCODER_MAX_ACCEL: f64 = 160_000.0;
 
+/// Delay from SYNC0 to the start of motion with DC_Sync (SMD-R1-022).
+pub const SYNC0_START_DELAY: Duration = Duration::from_micros(520);
+
 /// Idle current reduction after this long without motion (SMD-R1-018).
 pub const IDLE_DELAY: Duration = Duration::from_millis(1500);
 /// Over-temperature fault above this (°C, SMD-R1-020).
@@ -649,6 +653,8 @@ pub struct Indexer {
     /// The last cycle's length, seconds (a Blend looks one cycle ahead to brake in time).
     last_dt: f64,
     network: NetworkState,
+    /// DC_Sync: the new move waits for SYNC0 (infinite) or starts in this many seconds.
+    sync_wait: Option<f64>,
     /// CMD_word0 bit 15 (Mode_Select) is 1: configuration mode, nothing processed.
     mode_flag: bool,
     /// Time in Command Mode, which the heartbeat follows.
@@ -719,6 +725,7 @@ impl Indexer {
             pending_index: None,
             last_dt: 0.001,
             network: NetworkState::Op,
+            sync_wait: None,
             mode_flag: false,
             heartbeat_time: Duration::ZERO,
             flash_encoder_offset: 0,
@@ -940,6 +947,7 @@ impl Indexer {
     /// becomes invalid, a held move is cancelled.
     fn stop_now(&mut self) {
         self.segment = None;
+        self.sync_wait = None;
         self.held = None;
         self.homing = None;
         self.assembled = None;
@@ -992,6 +1000,14 @@ impl Indexer {
     pub fn sm_watchdog_expired(&mut self) {
         self.input_error = true;
         self.set_network_state(NetworkState::SafeOp);
+    }
+
+    /// A SYNC0 event of the Distributed Clock at the start of the next cycle: with DC_Sync, a move
+    /// waiting for it starts 520 µs later (SMD-R1-022).
+    pub fn sync0_event(&mut self) {
+        if self.sync_wait == Some(f64::INFINITY) {
+            self.sync_wait = Some(SYNC0_START_DELAY.as_secs_f64());
+        }
     }
 
     /// The EtherCAT state.
@@ -1134,6 +1150,7 @@ impl Indexer {
             self.command_error = true;
             return;
         }
+        let had_motion = self.segment.is_some();
         let outcome = if out.cmd1 & cmd1::INDEXED != 0 && rising & MOVE_BITS != 0 {
             // SMD-R2-090: latched until the Start Indexed input's edge.
             self.pending_index = Some((rising, out));
@@ -1141,6 +1158,14 @@ impl Indexer {
         } else {
             self.execute(rising, out)
         };
+        // SMD-R1-021/-022, SMD-R5-022: with DC_Sync a new move waits for SYNC0.
+        if !had_motion
+            && self.segment.is_some()
+            && rising & (MOVE_BITS | cmd0::RESUME_MOVE) != 0
+            && self.config.cfg1 & super::config::CFG1_DC_SYNC != 0
+        {
+            self.sync_wait = Some(f64::INFINITY);
+        }
         self.apply(outcome);
     }
 
@@ -2013,7 +2038,16 @@ impl Indexer {
         let Some(mut seg) = self.segment else {
             return;
         };
-        seg.advance(dt.as_secs_f64());
+        let mut dt = dt.as_secs_f64();
+        if let Some(wait) = self.sync_wait {
+            if dt <= wait {
+                self.sync_wait = Some(wait - dt);
+                return;
+            }
+            dt -= wait;
+            self.sync_wait = None;
+        }
+        seg.advance(dt);
         let before = self.position;
         let end = seg.finished();
         self.position = match seg.purpose {
@@ -2067,7 +2101,7 @@ impl Indexer {
                 s |= bit;
             }
         };
-        match self.segment {
+        match self.segment.filter(|_| self.sync_wait.is_none()) {
             Some(seg) => {
                 flag(seg.dir > 0, stat0::MOVING_CW);
                 flag(seg.dir < 0, stat0::MOVING_CCW);
