@@ -607,6 +607,8 @@ enum Outcome {
 pub struct Indexer {
     kind: EncoderKind,
     config: Configuration,
+    /// The configuration at power-up (online CoE writes are lost at power-off, SMD-T2-006).
+    power_up_config: Configuration,
     prev: Outputs,
     time: Duration,
     position: i64,
@@ -694,6 +696,7 @@ impl Indexer {
             kind,
             in_current: config.motor_current,
             config,
+            power_up_config: config,
             prev: Outputs::default(),
             time: Duration::ZERO,
             position: 0,
@@ -959,8 +962,9 @@ impl Indexer {
         self.segment.is_some() || self.homing.is_some() || self.assembled.is_some()
     }
 
-    /// The unit after its power was cycled: the power-up state with the same configuration and the
-    /// flash contents (an assembled move saved to flash, SMD-R2-082).
+    /// The unit after its power was cycled: the power-up state with the power-up configuration (online
+    /// writes are lost, SMD-T2-006) and the flash contents (an assembled move saved to flash,
+    /// SMD-R2-082).
     pub fn power_cycle(&mut self) {
         self.power_cycle_turned(0, 0.0);
     }
@@ -971,7 +975,7 @@ impl Indexer {
     /// offset is the one saved to flash (SMD-R6-012, -013). An incremental encoder starts at 0
     /// (SMD-R1-014).
     pub fn power_cycle_turned(&mut self, counts: i64, peak_accel: f64) {
-        let old = std::mem::replace(self, Indexer::new(self.kind, self.config));
+        let old = std::mem::replace(self, Indexer::new(self.kind, self.power_up_config));
         self.flash_program = old.flash_program.clone();
         self.program = old.flash_program;
         self.flash_encoder_offset = old.flash_encoder_offset;
