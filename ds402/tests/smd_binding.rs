@@ -332,7 +332,8 @@ fn smd_t2_002_power_up_status_word0_is_0x4408_in_6000_01() {
 // ---------------------------------------------------------------------------------------------------
 // Configuration by SDO
 
-/// SMD-T2-005, SMD-R5-007, SMD-T2-003: an SDO download of Motor_Current 8010:07 = 35 is confirmed and
+/// SMD-T2-005, SMD-R5-007, SMD-T2-003, SMD-T2-004 (each single write re-checked at once),
+/// SMD-R5-002 (read back as written): an SDO download of Motor_Current 8010:07 = 35 is confirmed and
 /// stored, and the next cycle's 0x6000:01 reads 0x6408 (only Configuration_Error added); a valid value
 /// (34) clears Configuration_Error again. The same with T2's own example, Motor_Resolution 8010:04 = 100.
 #[test]
@@ -553,5 +554,18 @@ proptest! {
             let inputs = u.cycle(MS);
             prop_assert_eq!(u.inputs(), inputs);
         }
+    }
+}
+
+/// SMD-T2-008: 0x6000:01 reads by SDO as the present STATUS_word0, as the PDO carries it.
+#[test]
+fn smd_t2_008_inputs_readable_by_sdo() {
+    for mut u in units() {
+        let i = u.cycle(MS);
+        assert_eq!(u.sdo_read(0x6000, 1).unwrap(), &i.status0.to_le_bytes());
+        u.sdo_write(0x8010, 7, &35u16.to_le_bytes()).unwrap();
+        let i = u.cycle(MS);
+        assert_eq!(i.status0, 0x6408);
+        assert_eq!(u.sdo_read(0x6000, 1).unwrap(), &0x6408u16.to_le_bytes());
     }
 }

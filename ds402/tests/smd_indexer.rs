@@ -600,7 +600,7 @@ fn smd_r3_007_phase_durations_in_motion() {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
-    /// Every Relative move ends exactly on target, never faster than its Velocity (one cycle's steps
+    /// Every Relative and Absolute move ends exactly on target, never faster than its Velocity (one cycle's steps
     /// at most Velocity × 1 ms, rounded), with the motion bits true to the direction of travel
     /// (SMD-R2-016, SMD-R2-019) and Accelerating never with Decelerating (SMD-R2-018).
     #[test]
@@ -610,6 +610,7 @@ proptest! {
         accel in 1u16..200,
         decel in 1u16..200,
         jerk in prop_oneof![Just(0u16), 1u16..=5000],
+        absolute in proptest::bool::ANY,
     ) {
         let mut r = Rig::ready();
         r.out.velocity = velocity;
@@ -617,7 +618,8 @@ proptest! {
         r.out.deceleration = decel;
         r.out.jerk = jerk;
         r.out.position = offset;
-        r.command(cmd0::RELATIVE_MOVE);
+        // From 0, an Absolute move to `offset` and a Relative one by it end at the same place.
+        r.command(if absolute { cmd0::ABSOLUTE_MOVE } else { cmd0::RELATIVE_MOVE });
         let mut prev = 0i64;
         let mut first = true;
         for _ in 0..2_000_000 {
