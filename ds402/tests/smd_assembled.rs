@@ -128,7 +128,7 @@ fn run(r: &mut Rig, cmd1_extra: u16, jerk: u16) -> Vec<(f64, u16)> {
     trace
 }
 
-/// SMD-R2-070, SMD-R2-071, SMD-R2-074, SMD-R2-075, SMD-R2-068: a Blend runs every segment in the
+/// SMD-R2-070, SMD-R2-071, SMD-R2-074, SMD-R2-075, SMD-R2-068, SMD-R2-020 (Blend): a Blend runs every segment in the
 /// CMD_word1 bit 4 direction (signs ignored) without stopping, changing speed at each boundary, and
 /// ends at the sum of the magnitudes with Move_Complete.
 #[test]
@@ -180,7 +180,7 @@ fn smd_r2_073_same_speed_boundary() {
     assert_eq!(r.pos(), 40_000);
 }
 
-/// SMD-R2-077, SMD-R2-078, SMD-R2-079, SMD-R2-080, SMD-R6-015: a Dwell Move runs each segment as its
+/// SMD-R2-077, SMD-R2-078, SMD-R2-079, SMD-R2-080, SMD-R6-015, SMD-R6-003, SMD-R2-020 (Dwell): a Dwell Move runs each segment as its
 /// own move, in the direction of its sign, stopped for the Dwell Time (the Jerk word, ms) between
 /// segments and not after the last; bit 4 changes nothing.
 #[test]

@@ -248,3 +248,32 @@ fn smd_r1_012_aux_power_only() {
     assert_eq!(r.last.encoder_position, 0);
     assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
 }
+
+/// SMD-R4-007, SMD-R4-008: homing to a hard stop — jog into the stop with stall detection until
+/// Stall_Detected; Reset Errors with the rotor still held; Preset Position clears Position_Invalid;
+/// Preset Encoder then makes both positions equal.
+#[test]
+fn smd_r4_008_home_to_a_hard_stop() {
+    let mut r = rig(STALL);
+    r.out.velocity = 500;
+    r.command(cmd0::JOG_CW);
+    for _ in 0..200 {
+        r.cycle();
+    }
+    r.ix.set_shaft_blocked(true); // the hard stop
+    r.until(10_000, |i| i.status1 & stat1::STALL_DETECTED != 0);
+    assert_ne!(r.s0() & (stat0::STOPPED | stat0::POSITION_INVALID), 0);
+    r.command(cmd0::RESET_ERRORS);
+    assert_eq!(r.s1() & stat1::STALL_DETECTED, 0);
+    r.command(0);
+    r.out.position = 1_000;
+    r.command(cmd0::PRESET_POSITION);
+    assert_eq!((r.pos(), r.s0() & stat0::POSITION_INVALID), (1_000, 0));
+    r.command(0);
+    r.command(cmd0::PRESET_ENCODER);
+    assert_eq!(r.last.encoder_position, 1_000);
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!(r.s1() & stat1::STALL_DETECTED, 0);
+}

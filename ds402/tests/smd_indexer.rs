@@ -21,7 +21,7 @@ fn smd_r2_009_power_up_status() {
     assert_eq!(r.last.jerk, 0);
 }
 
-/// SMD-R2-052, SMD-R2-053, SMD-R2-048: Relative and Absolute moves end exactly on target with
+/// SMD-R2-052, SMD-R2-053, SMD-R2-048, SMD-R2-020 (Absolute, Relative): Relative and Absolute moves end exactly on target with
 /// Move_Complete in the update where Stopped returns; accelerating, cruise and decelerating in order.
 #[test]
 fn smd_r2_052_053_relative_and_absolute_end_on_target() {
@@ -278,7 +278,7 @@ fn smd_r6_017_018_019_052_reset_errors() {
     assert_eq!(r.s0() & (stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE), 0);
 }
 
-/// SMD-R6-028, SMD-R2-013, SMD-R6-059: Immediate Stop at rest makes the position invalid; during a
+/// SMD-R6-028, SMD-R2-013, SMD-R6-059, SMD-R2-030: Immediate Stop at rest makes the position invalid; during a
 /// move it stops at once: Stopped, no Move_Complete, never Decelerating.
 #[test]
 fn smd_r6_028_immediate_stop() {

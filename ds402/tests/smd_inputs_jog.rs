@@ -46,7 +46,7 @@ fn jog(r: &mut Rig, bit: u16, ms: u32) {
     }
 }
 
-/// SMD-R5-023, SMD-R5-024, SMD-R6-075, SMD-R1-034: IN1_Active/IN2_Active after the level bits; an
+/// SMD-R1-001, SMD-R5-023, SMD-R5-024, SMD-R6-075, SMD-R1-034: two inputs, each with its own level; IN1_Active/IN2_Active after the level bits; an
 /// unwired input with level 1 reads inactive; a General Purpose input changes no move.
 #[test]
 fn smd_r5_023_024_r6_075_active_levels() {
@@ -232,7 +232,7 @@ fn smd_r2_041_044_limit_stops_a_jog() {
     }
 }
 
-/// SMD-R2-055, SMD-R2-056, SMD-R2-057: a jog starts at the starting speed, accelerates to Velocity and
+/// SMD-R2-055, SMD-R2-056, SMD-R2-057, SMD-R2-020 (Jog): a jog starts at the starting speed, accelerates to Velocity and
 /// runs there while its bit stays 1; the bit going to 0 is a controlled stop with Move_Complete and the
 /// position still valid.
 #[test]

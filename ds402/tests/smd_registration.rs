@@ -68,7 +68,7 @@ fn smd_r2_061_062_065_run_out_after_the_stop_input() {
     assert_eq!(r.s0() & stat0::POSITION_INVALID, 0);
 }
 
-/// SMD-R2-062: the run-out is exactly the Stopping Distance from where the condition was taken.
+/// SMD-R2-062, SMD-R2-020 (Registration): the run-out is exactly the Stopping Distance from where the condition was taken.
 #[test]
 fn smd_r2_062_exact_stopping_distance() {
     let mut r = rig();
