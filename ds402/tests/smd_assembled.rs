@@ -3,27 +3,13 @@
 
 mod smd_rig;
 
-use ds402::smd::config::Configuration;
 use ds402::smd::indexer::{cmd0, cmd1, stat0, Outputs};
 use smd_rig::Rig;
 
 const START_INDEXED: u16 = 3;
 
 fn rig(cfg0: u16) -> Rig {
-    let mut r = Rig::with(Configuration {
-        cfg0,
-        ..Configuration::default()
-    });
-    r.out = Outputs {
-        cmd1: cmd1::ENABLE_DRIVER,
-        velocity: 5_000,
-        acceleration: 20,
-        deceleration: 20,
-        ..Outputs::default()
-    };
-    r.command(cmd0::PRESET_POSITION);
-    r.command(0);
-    r
+    Rig::ready_with(cfg0, 5_000, 20, 20)
 }
 
 /// (position, velocity, acceleration, deceleration)

@@ -3,25 +3,12 @@
 
 mod smd_rig;
 
-use ds402::smd::config::{Configuration, CFG0_ENABLE_STALL_DETECTION, CFG0_USE_ENCODER};
-use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Outputs};
+use ds402::smd::config::{CFG0_ENABLE_STALL_DETECTION, CFG0_USE_ENCODER};
+use ds402::smd::indexer::{cmd0, stat0, stat1};
 use smd_rig::Rig;
 
 fn rig(cfg0: u16) -> Rig {
-    let mut r = Rig::with(Configuration {
-        cfg0,
-        ..Configuration::default()
-    });
-    r.out = Outputs {
-        cmd1: cmd1::ENABLE_DRIVER,
-        velocity: 4_000,
-        acceleration: 10,
-        deceleration: 10,
-        ..Outputs::default()
-    };
-    r.command(cmd0::PRESET_POSITION);
-    r.command(0);
-    r
+    Rig::ready_with(cfg0, 4_000, 10, 10)
 }
 
 const STALL: u16 = CFG0_USE_ENCODER | CFG0_ENABLE_STALL_DETECTION;

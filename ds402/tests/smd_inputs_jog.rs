@@ -3,8 +3,8 @@
 
 mod smd_rig;
 
-use ds402::smd::config::{Configuration, CFG0_USE_ENCODER};
-use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Outputs};
+use ds402::smd::config::CFG0_USE_ENCODER;
+use ds402::smd::indexer::{cmd0, stat0, stat1};
 use smd_rig::Rig;
 
 const GP: u16 = 0;
@@ -17,21 +17,12 @@ const E_STOP: u16 = 5;
 /// A ready unit (driver on, position valid) with these input functions; both inputs active when
 /// current flows (CFG_Word_1 = 3).
 fn rig(in1: u16, in2: u16, encoder: bool) -> Rig {
-    let mut r = Rig::with(Configuration {
-        cfg0: in1 | (in2 << 3) | if encoder { CFG0_USE_ENCODER } else { 0 },
-        ..Configuration::default()
-    });
-    r.out = Outputs {
-        cmd1: cmd1::ENABLE_DRIVER,
-        velocity: 10_000,
-        acceleration: 10,
-        deceleration: 10,
-        ..Outputs::default()
-    };
-    r.command(cmd0::PRESET_POSITION);
-    r.command(0);
-    assert_eq!(r.s0() & stat0::POSITION_INVALID, 0);
-    r
+    Rig::ready_with(
+        in1 | (in2 << 3) | if encoder { CFG0_USE_ENCODER } else { 0 },
+        10_000,
+        10,
+        10,
+    )
 }
 
 fn input(r: &mut Rig, n: usize, current: bool) {

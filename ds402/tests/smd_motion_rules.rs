@@ -4,24 +4,11 @@
 mod smd_rig;
 
 use ds402::smd::config::{Configuration, CFG0_USE_ENCODER};
-use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Outputs};
+use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1};
 use smd_rig::Rig;
 
 fn rig(cfg0: u16) -> Rig {
-    let mut r = Rig::with(Configuration {
-        cfg0,
-        ..Configuration::default()
-    });
-    r.out = Outputs {
-        cmd1: cmd1::ENABLE_DRIVER,
-        velocity: 10_000,
-        acceleration: 20,
-        deceleration: 20,
-        ..Outputs::default()
-    };
-    r.command(cmd0::PRESET_POSITION);
-    r.command(0);
-    r
+    Rig::ready_with(cfg0, 10_000, 20, 20)
 }
 
 /// Speed and status per cycle of a Relative move of `distance` from the present data.

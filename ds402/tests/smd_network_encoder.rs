@@ -8,20 +8,7 @@ use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Indexer, NetworkState, Outpu
 use smd_rig::{Rig, MS};
 
 fn rig() -> Rig {
-    let mut r = Rig::with(Configuration {
-        cfg0: CFG0_USE_ENCODER,
-        ..Configuration::default()
-    });
-    r.out = Outputs {
-        cmd1: cmd1::ENABLE_DRIVER,
-        velocity: 5_000,
-        acceleration: 20,
-        deceleration: 20,
-        ..Outputs::default()
-    };
-    r.command(cmd0::PRESET_POSITION);
-    r.command(0);
-    r
+    Rig::ready_with(CFG0_USE_ENCODER, 5_000, 20, 20)
 }
 
 /// SMD-R6-072, SMD-R6-073: PreOp_SafeOp reads 1 outside Op; commands written in Safe-Op do nothing,

@@ -931,6 +931,22 @@ impl Default for Configuration {
 }
 
 impl Configuration {
+    /// Stores `value` at `8010:sub` (1–7), as an SDO download does: narrowed to the entry's width,
+    /// unchecked (an invalid value shows in the violations). `false` for another sub-index.
+    pub fn set(&mut self, sub: u8, value: u32) -> bool {
+        match sub {
+            1 => self.cfg0 = value as u16,
+            2 => self.cfg1 = value as u16,
+            3 => self.starting_speed = value,
+            4 => self.motor_resolution = value as u16,
+            5 => self.encoder_resolution = value as u16,
+            6 => self.idle_current_reduction = value as u16,
+            7 => self.motor_current = value as u16,
+            _ => return false,
+        }
+        true
+    }
+
     /// CFG_Word_0 decoded.
     pub fn cfg0_settings(&self) -> Cfg0 {
         Cfg0::from_word(self.cfg0)

@@ -407,6 +407,23 @@ struct Jog {
 }
 
 impl Jog {
+    /// A jog from the starting speed `vs` ramping to `to` with the Acceleration, Deceleration and
+    /// Jerk words of `p`.
+    fn starting(vs: f64, to: f64, p: &Outputs) -> Jog {
+        let mut jog = Jog {
+            speed: vs,
+            ramp: None,
+            covered: 0.0,
+        };
+        jog.change(
+            to,
+            f64::from(p.acceleration) * 1000.0,
+            f64::from(p.deceleration) * 1000.0,
+            p.jerk,
+        );
+        jog
+    }
+
     fn speed_now(&self) -> f64 {
         match self.ramp {
             Some((p, true, t)) => p.speed_rising(t),
@@ -769,16 +786,8 @@ impl Indexer {
     /// in Configuration_Error), and the position becomes invalid (SMD-R2-012). `false` for another
     /// sub-index.
     pub fn write_config(&mut self, sub: u8, value: u32) -> bool {
-        let c = &mut self.config;
-        match sub {
-            1 => c.cfg0 = value as u16,
-            2 => c.cfg1 = value as u16,
-            3 => c.starting_speed = value,
-            4 => c.motor_resolution = value as u16,
-            5 => c.encoder_resolution = value as u16,
-            6 => c.idle_current_reduction = value as u16,
-            7 => c.motor_current = value as u16,
-            _ => return false,
+        if !self.config.set(sub, value) {
+            return false;
         }
         self.position_invalid = true;
         self.stall_reference();
@@ -1338,17 +1347,7 @@ impl Indexer {
             ends,
         });
         let vs = f64::from(self.config.starting_speed);
-        let mut jog = Jog {
-            speed: vs,
-            ramp: None,
-            covered: 0.0,
-        };
-        jog.change(
-            f64::from(first.velocity),
-            f64::from(first.acceleration) * 1000.0,
-            f64::from(first.deceleration) * 1000.0,
-            first.jerk,
-        );
+        let jog = Jog::starting(vs, f64::from(first.velocity), &params);
         self.segment = Some(Segment {
             origin: self.position,
             dir,
@@ -1555,17 +1554,7 @@ impl Indexer {
         }
         self.take_current_and_jerk(&out);
         let vs = f64::from(self.config.starting_speed);
-        let mut jog = Jog {
-            speed: vs,
-            ramp: None,
-            covered: 0.0,
-        };
-        jog.change(
-            f64::from(out.velocity),
-            f64::from(out.acceleration) * 1000.0,
-            f64::from(out.deceleration) * 1000.0,
-            out.jerk,
-        );
+        let jog = Jog::starting(vs, f64::from(out.velocity), &out);
         self.invalid_jog_change = false;
         self.segment = Some(Segment {
             origin: self.position,
@@ -1852,17 +1841,7 @@ impl Indexer {
     /// Starts a homing motion in `dir` from the starting speed towards `speed`.
     fn home_run(&mut self, dir: i64, speed: f64, params: Outputs) {
         let vs = f64::from(self.config.starting_speed);
-        let mut jog = Jog {
-            speed: vs,
-            ramp: None,
-            covered: 0.0,
-        };
-        jog.change(
-            speed,
-            f64::from(params.acceleration) * 1000.0,
-            f64::from(params.deceleration) * 1000.0,
-            params.jerk,
-        );
+        let jog = Jog::starting(vs, speed, &params);
         self.segment = Some(Segment {
             origin: self.position,
             dir,

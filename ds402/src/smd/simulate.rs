@@ -622,19 +622,6 @@ fn config_type(sub: u8) -> Type {
     }
 }
 
-/// Sets `8010:sub` in `c` the way [`Indexer::write_config`] stores it.
-fn set_config(c: &mut Configuration, sub: u8, value: u32) {
-    match sub {
-        1 => c.cfg0 = value as u16,
-        2 => c.cfg1 = value as u16,
-        3 => c.starting_speed = value,
-        4 => c.motor_resolution = value as u16,
-        5 => c.encoder_resolution = value as u16,
-        6 => c.idle_current_reduction = value as u16,
-        _ => c.motor_current = value as u16,
-    }
-}
-
 /// `config NAME VALUE` (the words after `config`).
 fn parse_config(words: &[&str]) -> Result<(u8, u32), LineError> {
     let [name, value] = words else {
@@ -726,7 +713,7 @@ impl Parser {
                     return Err(LineError::ConfigAfterAt);
                 }
                 let (sub, value) = parse_config(&words[1..])?;
-                set_config(&mut self.config, sub, value);
+                Configuration::set(&mut self.config, sub, value);
             }
             "at" => self.at(line, words)?,
             "until" => {

@@ -27,6 +27,26 @@ impl Rig {
         Rig { ix, out, last }
     }
 
+    /// CFG_Word_0 `cfg0` (the rest default), the driver enabled, the move parameters `velocity`,
+    /// `accel`, `decel`, the position preset to 0 (valid), CMD_word0 back at 0.
+    pub fn ready_with(cfg0: u16, velocity: u32, accel: u16, decel: u16) -> Rig {
+        let mut r = Rig::with(Configuration {
+            cfg0,
+            ..Configuration::default()
+        });
+        r.out = Outputs {
+            cmd1: cmd1::ENABLE_DRIVER,
+            velocity,
+            acceleration: accel,
+            deceleration: decel,
+            ..Outputs::default()
+        };
+        r.command(cmd0::PRESET_POSITION);
+        r.command(0);
+        assert_eq!(r.s0() & stat0::POSITION_INVALID, 0);
+        r
+    }
+
     /// Driver enabled, position preset to 0 (valid), move parameters set, CMD_word0 back at 0.
     pub fn ready() -> Rig {
         let mut r = Rig::new();
