@@ -1346,18 +1346,7 @@ impl Indexer {
             pause_until: None,
             ends,
         });
-        let vs = f64::from(self.config.starting_speed);
-        let jog = Jog::starting(vs, f64::from(first.velocity), &params);
-        self.segment = Some(Segment {
-            origin: self.position,
-            dir,
-            base: 0.0,
-            curve: Curve::Jog(jog),
-            t: 0.0,
-            purpose: Purpose::Blend,
-            target: self.position,
-            params,
-        });
+        self.start_jog_curve(dir, f64::from(first.velocity), params, Purpose::Blend);
         Outcome::Accepted
     }
 
@@ -1553,20 +1542,25 @@ impl Indexer {
             self.move_complete = false;
         }
         self.take_current_and_jerk(&out);
-        let vs = f64::from(self.config.starting_speed);
-        let jog = Jog::starting(vs, f64::from(out.velocity), &out);
         self.invalid_jog_change = false;
+        self.start_jog_curve(dir, f64::from(out.velocity), out, Purpose::Jog { bit });
+        Outcome::Accepted
+    }
+
+    /// Starts an open-ended motion in `dir` from the starting speed towards `to` steps/s with the
+    /// ramps of `params` (a jog, a registration move, a homing phase, a Blend).
+    fn start_jog_curve(&mut self, dir: i64, to: f64, params: Outputs, purpose: Purpose) {
+        let vs = f64::from(self.config.starting_speed);
         self.segment = Some(Segment {
             origin: self.position,
             dir,
             base: 0.0,
-            curve: Curve::Jog(jog),
+            curve: Curve::Jog(Jog::starting(vs, to, &params)),
             t: 0.0,
-            purpose: Purpose::Jog { bit },
+            purpose,
             target: self.position,
-            params: out,
+            params,
         });
-        Outcome::Accepted
     }
 
     /// While a jog runs: its bit falling ends it with a controlled stop (SMD-R2-057); new Velocity,
@@ -1840,18 +1834,7 @@ impl Indexer {
 
     /// Starts a homing motion in `dir` from the starting speed towards `speed`.
     fn home_run(&mut self, dir: i64, speed: f64, params: Outputs) {
-        let vs = f64::from(self.config.starting_speed);
-        let jog = Jog::starting(vs, speed, &params);
-        self.segment = Some(Segment {
-            origin: self.position,
-            dir,
-            base: 0.0,
-            curve: Curve::Jog(jog),
-            t: 0.0,
-            purpose: Purpose::Home,
-            target: self.position,
-            params,
-        });
+        self.start_jog_curve(dir, speed, params, Purpose::Home);
     }
 
     fn set_home_phase(&mut self, phase: HomePhase) {
