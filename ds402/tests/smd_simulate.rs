@@ -526,3 +526,30 @@ fn errors_exit_2() {
     assert_eq!(code, 2);
     assert!(err.contains("is not an interval"), "{err}");
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+    /// Any text is parsed without a panic: a script or an error naming a line of the file.
+    #[test]
+    fn any_script_text_parses_or_names_its_line(
+        lines in proptest::collection::vec(
+            proptest::prop_oneof![
+                proptest::string::string_regex("[a-z0-9_:=. #-]{0,40}").unwrap(),
+                proptest::string::string_regex("(at|until|config|cycle|unit) [a-z0-9_:=. x-]{0,30}").unwrap(),
+                proptest::string::string_regex("at [0-9]{1,4}(ms|s|us) (out|input|config) [a-z0-9_=x -]{0,30}").unwrap(),
+            ],
+            0..12,
+        ),
+    ) {
+        let text = lines.join("\n");
+        match Script::parse(&text, "fuzz.smd") {
+            Ok(script) => {
+                // A script that parses runs (bounded: at most one hour of simulated time at ≥ 250 µs).
+                if script.until <= Duration::from_secs(2) {
+                    let _ = run(&script, &Options::default());
+                }
+            }
+            Err(e) => proptest::prop_assert!(e.to_string().starts_with("fuzz.smd"), "{}", e),
+        }
+    }
+}
