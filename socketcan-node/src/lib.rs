@@ -10,6 +10,7 @@ pub mod frame;
 pub mod node;
 pub mod runtime;
 pub mod sim;
+pub mod tool;
 pub mod transport;
 pub mod x67;
 

@@ -1,0 +1,152 @@
+//! The `sdo-tool` command line: arguments and what each command does. `main` only parses and calls
+//! [`run`].
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use clap::{Parser, Subcommand};
+
+use super::{NmtCommand, Tool, ToolError};
+use crate::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandClient};
+
+/// The CANopen commissioning tool: SDO reads and writes, NMT, on SocketCAN or socketcand.
+///
+/// Without --bus it uses SocketCAN vcan0 where this machine has it, and otherwise the socketcand
+/// server that `x67-node` starts on 127.0.0.1:29536. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64,
+/// x8–x64 (shown in hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort, 2 usage,
+/// 3 timeout or transport failure.
+#[derive(Debug, Parser)]
+#[command(name = "sdo-tool", version)]
+pub struct Args {
+    /// The bus: socketcan:IFACE or socketcand://HOST:PORT/CHANNEL.
+    #[arg(long, global = true, value_name = "BUS")]
+    pub bus: Option<BusSpec>,
+    /// A device description (EDS, DCF, XDD or ESI) for object names, types and limits.
+    #[arg(long, global = true, value_name = "FILE")]
+    pub od: Option<PathBuf>,
+    /// SDO timeout per answer, in ms.
+    #[arg(long, global = true, default_value_t = 1000, value_name = "MS")]
+    pub timeout_ms: u64,
+    /// Use segmented transfers only (no block transfer).
+    #[arg(long, global = true)]
+    pub no_block: bool,
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Cmd,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Cmd {
+    /// Read an object: `read NODE OBJECT [TYPE]` (OBJECT as 0x1018:01, 1018sub1 or a name with --od).
+    Read {
+        /// Node-ID, 1–127.
+        node: u8,
+        /// The object.
+        object: String,
+        /// The type (may be left out with --od).
+        #[arg(value_name = "TYPE")]
+        ty: Option<String>,
+    },
+    /// Write an object: `write NODE OBJECT TYPE VALUE` (TYPE may be left out with --od).
+    Write {
+        /// Node-ID, 1–127.
+        node: u8,
+        /// The object.
+        object: String,
+        /// TYPE VALUE, or VALUE alone with --od.
+        #[arg(num_args = 1..=2, required = true, allow_hyphen_values = true, value_name = "[TYPE] VALUE")]
+        rest: Vec<String>,
+    },
+    /// An NMT command: start, stop, preop, reset, reset-comm; NODE is 1–127 or all.
+    Nmt {
+        /// The command.
+        command: String,
+        /// The node, or `all`.
+        node: String,
+    },
+}
+
+/// Opens the bus `spec` names, or the default one.
+pub fn open_bus(spec: Option<&BusSpec>) -> Result<Box<dyn CanBus>, ToolError> {
+    match spec {
+        Some(BusSpec::SocketcandListen { .. }) => Err(ToolError::Usage(
+            "sdo-tool joins a bus: socketcan:IFACE or socketcand://HOST:PORT/CHANNEL".into(),
+        )),
+        Some(s) => Ok(transport::open(s)?),
+        None => match SocketCanBus::open("vcan0") {
+            Ok(b) => Ok(Box::new(b)),
+            Err(_) => Ok(Box::new(SocketcandClient::connect(
+                "127.0.0.1",
+                transport::SOCKETCAND_DEFAULT_PORT,
+                "can0",
+            )?)),
+        },
+    }
+}
+
+/// Runs `args` on `bus` (opened from the arguments when `None`), printing to `out`.
+pub fn run(
+    args: &Args,
+    bus: Option<Box<dyn CanBus>>,
+    out: &mut dyn Write,
+) -> Result<(), ToolError> {
+    let od = match &args.od {
+        Some(path) => {
+            let (_, mut devices) = od::load::load(path)
+                .map_err(|e| ToolError::Usage(format!("--od {}: {e}", path.display())))?;
+            if devices.is_empty() {
+                return Err(ToolError::Usage(format!(
+                    "--od {}: no device in it",
+                    path.display()
+                )));
+            }
+            Some(devices.swap_remove(0).dictionary)
+        }
+        None => None,
+    };
+    let bus = match bus {
+        Some(b) => b,
+        None => open_bus(args.bus.as_ref())?,
+    };
+    let mut tool = Tool::new(bus, od);
+    tool.set_timeout(Duration::from_millis(args.timeout_ms.max(1)));
+    tool.sdo.block = !args.no_block;
+    let io = |e: std::io::Error| ToolError::Sdo(format!("cannot write the output: {e}"));
+    match &args.command {
+        Cmd::Read { node, object, ty } => {
+            let v = tool.read(*node, object, ty.as_deref())?;
+            writeln!(out, "{v}").map_err(io)?;
+        }
+        Cmd::Write { node, object, rest } => {
+            let (ty, value) = match rest.as_slice() {
+                [v] => (None, v.as_str()),
+                [t, v] => (Some(t.as_str()), v.as_str()),
+                _ => return Err(ToolError::Usage("write NODE OBJECT [TYPE] VALUE".into())),
+            };
+            tool.write(*node, object, ty, value)?;
+            writeln!(out, "OK").map_err(io)?;
+        }
+        Cmd::Nmt { command, node } => {
+            let c = NmtCommand::parse(command).ok_or_else(|| {
+                ToolError::Usage(format!(
+                    "NMT command {command:?} is not start, stop, preop, reset or reset-comm"
+                ))
+            })?;
+            let n = if node == "all" {
+                0
+            } else {
+                node.parse::<u8>()
+                    .ok()
+                    .filter(|n| (1..=127).contains(n))
+                    .ok_or_else(|| {
+                        ToolError::Usage(format!("node {node:?} is not 1 to 127 or all"))
+                    })?
+            };
+            tool.nmt(c, n)?;
+            writeln!(out, "OK").map_err(io)?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,437 @@
+//! The commissioning tool's logic (`sdo-tool`): SDO reads and writes with the CiA 309-3 type notation,
+//! object names from a device description, NMT commands — over any [`CanBus`].
+//!
+//! - [`TypeCode`]: the CiA 309-3 data-type mnemonics (`b`, `i8`…`i64`, `u8`…`u64`, `x8`…`x64`,
+//!   `r32`, `r64`, `vs`, `os`, `us`, `d`, `hex`) as CANopenNode's `cocomm` writes them;
+//! - [`BusTransport`]: one node's SDO channel (0x600 + node out, 0x580 + node in) on a bus;
+//! - [`Tool`]: the bus, an optional dictionary, the SDO client settings, and the commands.
+//!
+//! Values are written in decimal, `0x` hex or, for strings, as the text itself (CiA 309-3 allows
+//! quotes: `"X67 node"`); `os`/`hex`/`d` take hex bytes (`01 02 0A` or `01020A`). With a dictionary the
+//! type may be left out, and a value that the dictionary refuses (type, length, limits, access) is
+//! refused before anything is sent.
+
+use std::time::{Duration, Instant};
+
+pub mod cli;
+
+use od::abort::AbortCode;
+use od::dict::{Address, Dictionary};
+use od::sdo::client::{ClientConfig, SdoClientError};
+use od::sdo::frame::{Frame, Multiplexer};
+use od::sdo::session::{SdoSession, SdoTransport, SessionError};
+use od::types::DataType;
+use od::value::Value;
+
+use crate::transport::{BusError, BusEvent, CanBus};
+use crate::CanFrame;
+
+/// A CiA 309-3 data-type mnemonic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TypeCode {
+    /// The CANopen type.
+    pub data_type: DataType,
+    /// Shown in hex (`x8`…`x64`, `hex`).
+    pub hex: bool,
+}
+
+impl TypeCode {
+    /// Parses `u16`, `x32`, `vs`, … (case-insensitive).
+    pub fn parse(text: &str) -> Option<TypeCode> {
+        use DataType::*;
+        let t = text.trim().to_ascii_lowercase();
+        let plain = |data_type| {
+            Some(TypeCode {
+                data_type,
+                hex: false,
+            })
+        };
+        let hex = |data_type| {
+            Some(TypeCode {
+                data_type,
+                hex: true,
+            })
+        };
+        match t.as_str() {
+            "b" => plain(Boolean),
+            "i8" => plain(Integer8),
+            "i16" => plain(Integer16),
+            "i24" => plain(Integer24),
+            "i32" => plain(Integer32),
+            "i40" => plain(Integer40),
+            "i48" => plain(Integer48),
+            "i56" => plain(Integer56),
+            "i64" => plain(Integer64),
+            "u8" => plain(Unsigned8),
+            "u16" => plain(Unsigned16),
+            "u24" => plain(Unsigned24),
+            "u32" => plain(Unsigned32),
+            "u40" => plain(Unsigned40),
+            "u48" => plain(Unsigned48),
+            "u56" => plain(Unsigned56),
+            "u64" => plain(Unsigned64),
+            "x8" => hex(Unsigned8),
+            "x16" => hex(Unsigned16),
+            "x24" => hex(Unsigned24),
+            "x32" => hex(Unsigned32),
+            "x40" => hex(Unsigned40),
+            "x48" => hex(Unsigned48),
+            "x56" => hex(Unsigned56),
+            "x64" => hex(Unsigned64),
+            "r32" => plain(Real32),
+            "r64" => plain(Real64),
+            "vs" => plain(VisibleString),
+            "os" => plain(OctetString),
+            "us" => plain(UnicodeString),
+            "d" => plain(Domain),
+            "hex" => hex(OctetString),
+            _ => None,
+        }
+    }
+
+    /// The type of a dictionary entry, as the tool shows it.
+    pub fn of(data_type: DataType) -> TypeCode {
+        TypeCode {
+            data_type,
+            hex: false,
+        }
+    }
+
+    /// Parses a value written on the command line.
+    pub fn parse_value(&self, text: &str) -> Result<Value, String> {
+        let t = text.trim();
+        let t = if matches!(
+            self.data_type,
+            DataType::VisibleString | DataType::UnicodeString
+        ) {
+            t.strip_prefix('"')
+                .and_then(|s| s.strip_suffix('"'))
+                .unwrap_or(t)
+        } else {
+            t
+        };
+        if matches!(self.data_type, DataType::OctetString | DataType::Domain) {
+            return od::value::parse_hex_bytes(t)
+                .map(Value::Bytes)
+                .ok_or_else(|| format!("{text:?} is not hex bytes (e.g. 01 02 0A)"));
+        }
+        Value::parse_text(self.data_type, t)
+            .map_err(|e| format!("{text:?} is no {}: {e}", self.data_type))
+    }
+
+    /// Formats a value read from a node.
+    pub fn format(&self, v: &Value) -> String {
+        match v {
+            Value::Uint(u) if self.hex => {
+                let digits = self.data_type.byte_size().unwrap_or(8) * 2;
+                format!("0x{u:0digits$X}")
+            }
+            Value::Bytes(b) => b
+                .iter()
+                .map(|x| format!("{x:02X}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+            Value::String(s) => format!("\"{s}\""),
+            Value::Uint(u) => u.to_string(),
+            Value::Int(i) => i.to_string(),
+            Value::Bool(b) => u8::from(*b).to_string(),
+            Value::Real32(r) => r.to_string(),
+            Value::Real64(r) => r.to_string(),
+            other => other.to_text(self.data_type),
+        }
+    }
+}
+
+/// Why a command failed; [`ToolError::exit_code`] is the process's exit code.
+#[derive(Debug, thiserror::Error)]
+pub enum ToolError {
+    /// The node (or the tool) aborted the transfer.
+    #[error("0x{index:04X}:{sub:02X}: SDO abort {code}")]
+    Abort {
+        /// Index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// The abort code with its meaning.
+        code: AbortCode,
+    },
+    /// The node did not answer in time.
+    #[error("0x{index:04X}:{sub:02X}: no answer from node {node} within {ms} ms")]
+    Timeout {
+        /// Index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Node-ID.
+        node: u8,
+        /// The timeout.
+        ms: u128,
+    },
+    /// The bus failed.
+    #[error(transparent)]
+    Bus(#[from] BusError),
+    /// The command's words are wrong (object, type, value, node).
+    #[error("{0}")]
+    Usage(String),
+    /// Anything else of the SDO layer.
+    #[error("{0}")]
+    Sdo(String),
+}
+
+impl ToolError {
+    /// 1 SDO abort, 2 usage, 3 timeout or transport failure.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            ToolError::Abort { .. } => 1,
+            ToolError::Usage(_) => 2,
+            ToolError::Timeout { .. } | ToolError::Bus(_) => 3,
+            ToolError::Sdo(_) => 3,
+        }
+    }
+}
+
+/// One node's SDO channel on a bus.
+pub struct BusTransport<'a> {
+    bus: &'a mut dyn CanBus,
+    node: u8,
+    /// A bus failure seen while receiving (reported after the transfer).
+    pub failure: Option<BusError>,
+}
+
+impl<'a> BusTransport<'a> {
+    /// The channel to `node` on `bus`.
+    pub fn new(bus: &'a mut dyn CanBus, node: u8) -> BusTransport<'a> {
+        BusTransport {
+            bus,
+            node,
+            failure: None,
+        }
+    }
+}
+
+impl SdoTransport for BusTransport<'_> {
+    fn send(&mut self, frame: &Frame) -> std::io::Result<()> {
+        let f = CanFrame::new(0x600 + u16::from(self.node), frame).ok_or_else(|| {
+            std::io::Error::new(std::io::ErrorKind::InvalidInput, "not an SDO frame")
+        })?;
+        self.bus
+            .send(&f)
+            .map_err(|e| std::io::Error::other(e.to_string()))
+    }
+
+    fn recv(&mut self, until: Instant) -> std::io::Result<Option<Frame>> {
+        let want = 0x580 + u16::from(self.node);
+        loop {
+            let left = until.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Ok(None);
+            }
+            match self.bus.recv(left) {
+                Ok(Some(BusEvent::Frame { frame, .. }))
+                    if frame.cob_id() == Some(want) && frame.len() == 8 && !frame.is_rtr() =>
+                {
+                    return Ok(Some(frame.data8()));
+                }
+                Ok(Some(_)) => {}
+                Ok(None) => return Ok(None),
+                Err(e) => {
+                    let text = e.to_string();
+                    self.failure = Some(e);
+                    return Err(std::io::Error::other(text));
+                }
+            }
+        }
+    }
+
+    fn now(&self) -> Instant {
+        Instant::now()
+    }
+}
+
+/// NMT commands (CiA 301 §7.2.8.3.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NmtCommand {
+    /// 0x01 Start remote node.
+    Start,
+    /// 0x02 Stop remote node.
+    Stop,
+    /// 0x80 Enter Pre-operational.
+    PreOp,
+    /// 0x81 Reset node.
+    Reset,
+    /// 0x82 Reset communication.
+    ResetComm,
+}
+
+impl NmtCommand {
+    /// The command specifier.
+    pub const fn cs(self) -> u8 {
+        match self {
+            NmtCommand::Start => 0x01,
+            NmtCommand::Stop => 0x02,
+            NmtCommand::PreOp => 0x80,
+            NmtCommand::Reset => 0x81,
+            NmtCommand::ResetComm => 0x82,
+        }
+    }
+
+    /// `start`, `stop`, `preop`, `reset`, `reset-comm`.
+    pub fn parse(text: &str) -> Option<NmtCommand> {
+        Some(match text {
+            "start" => NmtCommand::Start,
+            "stop" => NmtCommand::Stop,
+            "preop" | "pre-operational" => NmtCommand::PreOp,
+            "reset" | "reset-node" => NmtCommand::Reset,
+            "reset-comm" | "reset-communication" => NmtCommand::ResetComm,
+            _ => return None,
+        })
+    }
+}
+
+/// The tool: a bus, an optional dictionary and the SDO client settings.
+pub struct Tool {
+    /// The bus.
+    pub bus: Box<dyn CanBus>,
+    /// Names, types and limits.
+    pub od: Option<Dictionary>,
+    /// The SDO client settings (timeout, block mode).
+    pub sdo: ClientConfig,
+}
+
+impl Tool {
+    /// A tool on `bus`.
+    pub fn new(bus: Box<dyn CanBus>, od: Option<Dictionary>) -> Tool {
+        Tool {
+            bus,
+            od,
+            sdo: ClientConfig::default(),
+        }
+    }
+
+    /// OBJECT as `0x1018:01`, `1018sub1`, `0x1000` or a name from the dictionary.
+    pub fn object(&self, text: &str) -> Result<Address, ToolError> {
+        if let Some(a) = Address::parse(text.trim()) {
+            return Ok(a);
+        }
+        match &self.od {
+            Some(od) => od
+                .lookup(text)
+                .map_err(|e| ToolError::Usage(format!("object {text:?}: {e}"))),
+            None => Err(ToolError::Usage(format!(
+                "object {text:?} is not INDEX:SUB (e.g. 0x1018:01); names need --od"
+            ))),
+        }
+    }
+
+    /// The type to use: the one given, else the dictionary's.
+    fn type_for(&self, addr: Address, given: Option<&str>) -> Result<TypeCode, ToolError> {
+        if let Some(t) = given {
+            return TypeCode::parse(t).ok_or_else(|| {
+                ToolError::Usage(format!(
+                    "type {t:?} is not a CiA 309-3 type (b, i8–i64, u8–u64, x8–x64, r32, r64, vs, os, us, d, hex)"
+                ))
+            });
+        }
+        let od = self.od.as_ref().ok_or_else(|| {
+            ToolError::Usage("give the type (e.g. u16), or a description with --od".into())
+        })?;
+        let e = od
+            .entry(addr.index, addr.sub)
+            .map_err(|e| ToolError::Usage(format!("0x{:04X}:{:02X}: {e}", addr.index, addr.sub)))?;
+        Ok(TypeCode::of(e.data_type))
+    }
+
+    fn session_error(&self, node: u8, addr: Address, e: SessionError) -> ToolError {
+        match e {
+            SessionError::Sdo(SdoClientError::Aborted {
+                code: AbortCode::Timeout,
+                ..
+            }) => ToolError::Timeout {
+                index: addr.index,
+                sub: addr.sub,
+                node,
+                ms: self.sdo.timeout.as_millis(),
+            },
+            SessionError::Sdo(SdoClientError::Aborted {
+                index, sub, code, ..
+            }) => ToolError::Abort { index, sub, code },
+            other => ToolError::Sdo(other.to_string()),
+        }
+    }
+
+    fn check_node(node: u8) -> Result<(), ToolError> {
+        if (1..=127).contains(&node) {
+            Ok(())
+        } else {
+            Err(ToolError::Usage(format!("node {node} is not 1 to 127")))
+        }
+    }
+
+    /// `read NODE OBJECT [TYPE]`: the value as text.
+    pub fn read(&mut self, node: u8, object: &str, ty: Option<&str>) -> Result<String, ToolError> {
+        Self::check_node(node)?;
+        let addr = self.object(object)?;
+        let code = self.type_for(addr, ty)?;
+        let config = self.sdo.clone();
+        let mut session = SdoSession::new(BusTransport::new(self.bus.as_mut(), node), config);
+        let mux = Multiplexer::new(addr.index, addr.sub);
+        let result = session.read_value(mux, code.data_type);
+        if let Some(e) = session.transport.failure.take() {
+            return Err(e.into());
+        }
+        drop(session);
+        let v = result.map_err(|e| self.session_error(node, addr, e))?;
+        Ok(code.format(&v))
+    }
+
+    /// `write NODE OBJECT [TYPE] VALUE`.
+    pub fn write(
+        &mut self,
+        node: u8,
+        object: &str,
+        ty: Option<&str>,
+        value: &str,
+    ) -> Result<(), ToolError> {
+        Self::check_node(node)?;
+        let addr = self.object(object)?;
+        let code = self.type_for(addr, ty)?;
+        let v = code.parse_value(value).map_err(ToolError::Usage)?;
+        let bytes = v
+            .encode(code.data_type)
+            .map_err(|e| ToolError::Usage(format!("{value:?}: {e}")))?;
+        if let Some(od) = &self.od {
+            // Refused before anything is sent: what the dictionary refuses, the node would too.
+            if let Err(e) = od.check(addr.index, addr.sub, &bytes) {
+                return Err(ToolError::Usage(format!(
+                    "0x{:04X}:{:02X} = {value}: {e} (not sent)",
+                    addr.index, addr.sub
+                )));
+            }
+        }
+        let config = self.sdo.clone();
+        let mut session = SdoSession::new(BusTransport::new(self.bus.as_mut(), node), config);
+        let result = session.write_bytes(Multiplexer::new(addr.index, addr.sub), &bytes);
+        if let Some(e) = session.transport.failure.take() {
+            return Err(e.into());
+        }
+        drop(session);
+        result.map_err(|e| self.session_error(node, addr, e))
+    }
+
+    /// `nmt COMMAND NODE|all` (node 0 = all).
+    pub fn nmt(&mut self, command: NmtCommand, node: u8) -> Result<(), ToolError> {
+        if node > 127 {
+            return Err(ToolError::Usage(format!(
+                "node {node} is not 1 to 127 or all"
+            )));
+        }
+        let f = CanFrame::new(0x000, &[command.cs(), node]).expect("two bytes");
+        self.bus.send(&f)?;
+        Ok(())
+    }
+
+    /// Sets the SDO timeout.
+    pub fn set_timeout(&mut self, t: Duration) {
+        self.sdo.timeout = t;
+    }
+}

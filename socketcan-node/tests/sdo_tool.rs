@@ -1,0 +1,254 @@
+//! `sdo-tool` against the virtual X67 node: in process (the library's runtime on an in-process bus)
+//! and as a binary over socketcand on 127.0.0.1.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Instant;
+
+use clap::Parser;
+use socketcan_node::node::storage::MemoryStorage;
+use socketcan_node::node::{Node, NodeConfig};
+use socketcan_node::runtime;
+use socketcan_node::tool::cli::{run, Args};
+use socketcan_node::tool::ToolError;
+use socketcan_node::transport::{CanBus, InProcessBus};
+use socketcan_node::x67::{self, BusController};
+
+const ID: u8 = 5;
+
+fn eds() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures/x67/X67SM2436.eds")
+        .display()
+        .to_string()
+}
+
+/// Node 5 running on an in-process bus; stopped when dropped.
+struct Running {
+    bus: InProcessBus,
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Running {
+    fn start() -> Running {
+        let bus = InProcessBus::new();
+        let mut end = bus.endpoint();
+        let stop = Arc::new(AtomicBool::new(false));
+        let s = Arc::clone(&stop);
+        let thread = std::thread::spawn(move || {
+            let dict = x67::dictionary(1).unwrap();
+            let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).unwrap();
+            let mut nodes = [Node::new(
+                NodeConfig::new(ID),
+                dict,
+                app,
+                Box::new(MemoryStorage::default()),
+            )
+            .unwrap()];
+            runtime::run(&mut nodes, &mut end, &s).unwrap();
+        });
+        std::thread::sleep(std::time::Duration::from_millis(50));
+        Running {
+            bus,
+            stop,
+            thread: Some(thread),
+        }
+    }
+
+    /// Runs `sdo-tool ARGS…` in process: the output, or the error.
+    fn tool(&self, argv: &[&str]) -> Result<String, ToolError> {
+        let args = Args::try_parse_from(std::iter::once("sdo-tool").chain(argv.iter().copied()))
+            .map_err(|e| ToolError::Usage(e.to_string()))?;
+        let bus: Box<dyn CanBus> = Box::new(self.bus.endpoint());
+        let mut out = Vec::new();
+        run(&args, Some(bus), &mut out)?;
+        Ok(String::from_utf8(out).unwrap())
+    }
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+#[test]
+fn read_with_cia_309_3_types() {
+    let n = Running::start();
+    assert_eq!(n.tool(&["read", "5", "0x1018:00", "u8"]).unwrap(), "4\n");
+    assert_eq!(n.tool(&["read", "5", "1018sub0", "x8"]).unwrap(), "0x04\n");
+    assert_eq!(
+        n.tool(&["read", "5", "0x1000", "x32"]).unwrap(),
+        "0x00000000\n"
+    );
+    // A segmented upload of a VISIBLE_STRING, in block mode and without.
+    assert_eq!(
+        n.tool(&["read", "5", "0x1008:00", "vs"]).unwrap(),
+        "\"X67BC4321-10 / X67SM2436\"\n"
+    );
+    assert_eq!(
+        n.tool(&["--no-block", "read", "5", "0x1008:00", "vs"])
+            .unwrap(),
+        "\"X67BC4321-10 / X67SM2436\"\n"
+    );
+}
+
+#[test]
+fn names_and_types_from_the_description() {
+    let n = Running::start();
+    let od = eds();
+    assert_eq!(
+        n.tool(&["--od", &od, "write", "5", "ConfigOutput03a", "20"])
+            .unwrap(),
+        "OK\n"
+    );
+    assert_eq!(
+        n.tool(&["--od", &od, "read", "5", "ConfigOutput03aRead"])
+            .unwrap(),
+        "20\n"
+    );
+    // The description's limit refuses 168 before anything is sent.
+    let e = n
+        .tool(&["--od", &od, "write", "5", "ConfigOutput03a", "168"])
+        .unwrap_err();
+    assert_eq!(e.exit_code(), 2);
+    assert!(e.to_string().contains("(not sent)"), "{e}");
+    assert_eq!(
+        n.tool(&["--od", &od, "read", "5", "ConfigOutput03aRead"])
+            .unwrap(),
+        "20\n"
+    );
+}
+
+#[test]
+fn aborts_are_named_with_code_and_meaning() {
+    let n = Running::start();
+    // Without --od the write reaches the node, which refuses it.
+    let e = n
+        .tool(&["write", "5", "0x2110:00", "u8", "168"])
+        .unwrap_err();
+    assert_eq!(e.exit_code(), 1);
+    assert_eq!(
+        e.to_string(),
+        "0x2110:00: SDO abort 0x06090031 (Value of parameter written too high (download only))"
+    );
+    let e = n.tool(&["read", "5", "0x7777:00", "u8"]).unwrap_err();
+    assert_eq!(e.exit_code(), 1);
+    assert!(e.to_string().contains("0x06020000"), "{e}");
+}
+
+#[test]
+fn timeouts_and_usage_errors() {
+    let n = Running::start();
+    let e = n
+        .tool(&["--timeout-ms", "50", "read", "9", "0x1000", "u32"])
+        .unwrap_err();
+    assert_eq!(e.exit_code(), 3);
+    assert_eq!(
+        e.to_string(),
+        "0x1000:00: no answer from node 9 within 50 ms"
+    );
+    for (argv, says) in [
+        (&["read", "5", "0x1000", "u33"][..], "not a CiA 309-3 type"),
+        (&["read", "5", "ConfigOutput03a"], "names need --od"),
+        (&["read", "5", "0x1000"], "give the type"),
+        (&["write", "5", "0x1017:00", "u16", "70000"], "70000"),
+        (&["nmt", "go", "5"], "is not start, stop"),
+        (&["nmt", "start", "128"], "not 1 to 127 or all"),
+    ] {
+        let e = n.tool(argv).unwrap_err();
+        assert_eq!(e.exit_code(), 2, "{argv:?}: {e}");
+        assert!(e.to_string().contains(says), "{argv:?}: {e}");
+    }
+}
+
+#[test]
+fn nmt_commands_reach_the_node() {
+    let n = Running::start();
+    let mut watch = n.bus.endpoint();
+    n.tool(&["write", "5", "0x1017:00", "u16", "20"]).unwrap();
+    n.tool(&["nmt", "start", "5"]).unwrap();
+    let heartbeat = |w: &mut dyn CanBus| loop {
+        if let Some(socketcan_node::BusEvent::Frame { frame, .. }) =
+            w.recv(std::time::Duration::from_secs(2)).unwrap()
+        {
+            if frame.cob_id() == Some(0x705) {
+                return frame.data()[0];
+            }
+        } else {
+            panic!("no heartbeat");
+        }
+    };
+    let mut state = heartbeat(&mut watch);
+    for _ in 0..5 {
+        state = heartbeat(&mut watch);
+    }
+    assert_eq!(state, 0x05, "Operational");
+    n.tool(&["nmt", "preop", "all"]).unwrap();
+    for _ in 0..5 {
+        state = heartbeat(&mut watch);
+    }
+    assert_eq!(state, 0x7F);
+}
+
+/// The binary over socketcand: `x67-node` on a free port, `sdo-tool --bus socketcand://…`.
+#[test]
+fn binary_over_socketcand() {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let mut node = Command::new(env!("CARGO_BIN_EXE_x67-node"))
+        .args([
+            "--bus",
+            &format!("socketcand-listen:127.0.0.1:{port}"),
+            "--node-id",
+            "3",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(node.stdout.as_mut().unwrap()),
+        &mut line,
+    )
+    .unwrap();
+    let bus = format!("socketcand://127.0.0.1:{port}/can0");
+    let tool = |argv: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+            .args(["--bus", &bus])
+            .args(argv)
+            .output()
+            .unwrap()
+    };
+    let out = tool(&["read", "3", "0x1008:00", "vs"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "\"X67BC4321-10 / X67SM2436\"\n"
+    );
+    let out = tool(&["write", "3", "0x2110:00", "u8", "168"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "sdo-tool: 0x2110:00: SDO abort 0x06090031 (Value of parameter written too high (download only))\n"
+    );
+    let out = tool(&["read", "3", "0x1000"]);
+    assert_eq!(out.status.code(), Some(2));
+    node.kill().unwrap();
+    node.wait().unwrap();
+}
