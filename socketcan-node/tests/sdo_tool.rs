@@ -252,3 +252,42 @@ fn binary_over_socketcand() {
     node.kill().unwrap();
     node.wait().unwrap();
 }
+
+#[test]
+fn save_restore_upload_download() {
+    let n = Running::start();
+    assert_eq!(n.tool(&["save", "5"]).unwrap(), "OK\n");
+    assert_eq!(n.tool(&["read", "5", "0x1010:01", "u32"]).unwrap(), "1\n");
+    assert_eq!(n.tool(&["restore", "5"]).unwrap(), "OK\n");
+    let dir = tempfile::tempdir().unwrap();
+    let name = dir.path().join("name.bin");
+    let out = n
+        .tool(&["upload", "5", "0x1008:00", name.to_str().unwrap()])
+        .unwrap();
+    assert!(out.starts_with("24 bytes in "), "{out}");
+    assert_eq!(std::fs::read(&name).unwrap(), b"X67BC4321-10 / X67SM2436");
+    let hb = dir.path().join("hb.bin");
+    std::fs::write(&hb, 250u16.to_le_bytes()).unwrap();
+    let out = n
+        .tool(&["download", "5", "0x1017:00", hb.to_str().unwrap()])
+        .unwrap();
+    assert!(out.starts_with("2 bytes in "), "{out}");
+    assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), "250\n");
+    // A file of the wrong length for the object: the node's abort.
+    std::fs::write(&hb, [1u8, 2, 3]).unwrap();
+    let e = n
+        .tool(&["download", "5", "0x1017:00", hb.to_str().unwrap()])
+        .unwrap_err();
+    assert_eq!(e.exit_code(), 1, "{e}");
+}
+
+#[test]
+fn scan_finds_the_node_and_its_identity() {
+    let n = Running::start();
+    let out = n.tool(&["scan", "--wait-ms", "200"]).unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 3, "{out}");
+    assert!(lines[1].starts_with("   5  0x00000000"), "{out}");
+    assert!(lines[1].ends_with("\"X67BC4321-10 / X67SM2436\""), "{out}");
+    assert_eq!(lines[2], "1 node(s)");
+}

@@ -59,6 +59,40 @@ pub enum Cmd {
         #[arg(num_args = 1..=2, required = true, allow_hyphen_values = true, value_name = "[TYPE] VALUE")]
         rest: Vec<String>,
     },
+    /// Upload an object's contents (a DOMAIN, typically) into FILE, with a progress bar.
+    Upload {
+        /// Node-ID, 1–127.
+        node: u8,
+        /// The object.
+        object: String,
+        /// Where the bytes go.
+        file: PathBuf,
+    },
+    /// Download FILE into an object (a DOMAIN, typically), with a progress bar.
+    Download {
+        /// Node-ID, 1–127.
+        node: u8,
+        /// The object.
+        object: String,
+        /// The bytes to send.
+        file: PathBuf,
+    },
+    /// Store the node's parameters: 0x1010:01 = "save".
+    Save {
+        /// Node-ID, 1–127.
+        node: u8,
+    },
+    /// Restore the node's default parameters at its next reset: 0x1011:01 = "load".
+    Restore {
+        /// Node-ID, 1–127.
+        node: u8,
+    },
+    /// Every node on the bus (asked for 0x1000, or seen by boot-up or heartbeat), with its identity.
+    Scan {
+        /// How long to listen for answers, in ms.
+        #[arg(long, default_value_t = 300)]
+        wait_ms: u64,
+    },
     /// An NMT command: start, stop, preop, reset, reset-comm; NODE is 1–127 or all.
     Nmt {
         /// The command.
@@ -128,6 +162,65 @@ pub fn run(
             tool.write(*node, object, ty, value)?;
             writeln!(out, "OK").map_err(io)?;
         }
+        Cmd::Upload { node, object, file } => {
+            let mut f = std::fs::File::create(file)
+                .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
+            let bar = progress_bar(None);
+            let started = std::time::Instant::now();
+            let n = tool.upload(*node, object, &mut f, |done, total| {
+                if let Some(t) = total {
+                    bar.set_length(t);
+                }
+                bar.set_position(done);
+            })?;
+            bar.finish_and_clear();
+            writeln!(out, "{}", rate(n, started.elapsed())).map_err(io)?;
+        }
+        Cmd::Download { node, object, file } => {
+            let mut f = std::fs::File::open(file)
+                .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
+            let len = f
+                .metadata()
+                .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?
+                .len();
+            let bar = progress_bar(Some(len));
+            let started = std::time::Instant::now();
+            tool.download(*node, object, &mut f, len, |done, _| bar.set_position(done))?;
+            bar.finish_and_clear();
+            writeln!(out, "{}", rate(len, started.elapsed())).map_err(io)?;
+        }
+        Cmd::Save { node } => {
+            tool.store(*node, false)?;
+            writeln!(out, "OK").map_err(io)?;
+        }
+        Cmd::Restore { node } => {
+            tool.store(*node, true)?;
+            writeln!(out, "OK").map_err(io)?;
+        }
+        Cmd::Scan { wait_ms } => {
+            let nodes = tool.scan(Duration::from_millis(*wait_ms))?;
+            writeln!(
+                out,
+                "node  device type  vendor      product     revision    serial      name"
+            )
+            .map_err(io)?;
+            let show = |v: &Option<String>| v.clone().unwrap_or_else(|| "-".into());
+            for n in &nodes {
+                writeln!(
+                    out,
+                    "{:>4}  {:<11}  {:<10}  {:<10}  {:<10}  {:<10}  {}",
+                    n.node,
+                    show(&n.device_type),
+                    show(&n.vendor),
+                    show(&n.product),
+                    show(&n.revision),
+                    show(&n.serial),
+                    show(&n.name)
+                )
+                .map_err(io)?;
+            }
+            writeln!(out, "{} node(s)", nodes.len()).map_err(io)?;
+        }
         Cmd::Nmt { command, node } => {
             let c = NmtCommand::parse(command).ok_or_else(|| {
                 ToolError::Usage(format!(
@@ -149,4 +242,25 @@ pub fn run(
         }
     }
     Ok(())
+}
+
+/// A progress bar on standard error (hidden when it is not a terminal).
+fn progress_bar(len: Option<u64>) -> indicatif::ProgressBar {
+    let bar =
+        indicatif::ProgressBar::with_draw_target(len, indicatif::ProgressDrawTarget::stderr());
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{bar:40} {bytes}/{total_bytes} {binary_bytes_per_sec} {eta}",
+    ) {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// "1048576 bytes in 0.52 s (1969.2 KiB/s)".
+fn rate(bytes: u64, took: Duration) -> String {
+    let secs = took.as_secs_f64().max(1e-6);
+    format!(
+        "{bytes} bytes in {secs:.2} s ({:.1} KiB/s)",
+        bytes as f64 / 1024.0 / secs
+    )
 }

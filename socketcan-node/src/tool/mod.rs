@@ -248,6 +248,25 @@ impl SdoTransport for BusTransport<'_> {
     }
 }
 
+/// One node found by [`Tool::scan`]; each field as read, or `None` when the node did not give it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ScanEntry {
+    /// Node-ID.
+    pub node: u8,
+    /// 0x1000.
+    pub device_type: Option<String>,
+    /// 0x1018:01.
+    pub vendor: Option<String>,
+    /// 0x1018:02.
+    pub product: Option<String>,
+    /// 0x1018:03.
+    pub revision: Option<String>,
+    /// 0x1018:04.
+    pub serial: Option<String>,
+    /// 0x1008.
+    pub name: Option<String>,
+}
+
 /// NMT commands (CiA 301 §7.2.8.3.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NmtCommand {
@@ -428,6 +447,104 @@ impl Tool {
         let f = CanFrame::new(0x000, &[command.cs(), node]).expect("two bytes");
         self.bus.send(&f)?;
         Ok(())
+    }
+
+    /// `save NODE` (0x1010:01 = "save") or `restore NODE` (0x1011:01 = "load").
+    pub fn store(&mut self, node: u8, restore: bool) -> Result<(), ToolError> {
+        let (object, signature) = if restore {
+            ("0x1011:01", crate::node::LOAD_SIGNATURE)
+        } else {
+            ("0x1010:01", crate::node::SAVE_SIGNATURE)
+        };
+        self.write(node, object, Some("u32"), &signature.to_string())
+    }
+
+    /// Runs a transfer through a session on `node`, mapping its errors.
+    fn transfer<R>(
+        &mut self,
+        node: u8,
+        addr: Address,
+        f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError>,
+    ) -> Result<R, ToolError> {
+        Self::check_node(node)?;
+        let config = self.sdo.clone();
+        let mut session = SdoSession::new(BusTransport::new(self.bus.as_mut(), node), config);
+        let result = f(&mut session);
+        if let Some(e) = session.transport.failure.take() {
+            return Err(e.into());
+        }
+        drop(session);
+        result.map_err(|e| self.session_error(node, addr, e))
+    }
+
+    /// `upload NODE OBJECT`: the object's bytes into `sink`, reporting progress (bytes so far, size
+    /// when announced). Returns the number of bytes.
+    pub fn upload(
+        &mut self,
+        node: u8,
+        object: &str,
+        sink: &mut impl std::io::Write,
+        progress: impl FnMut(u64, Option<u64>),
+    ) -> Result<u64, ToolError> {
+        let addr = self.object(object)?;
+        let mux = Multiplexer::new(addr.index, addr.sub);
+        self.transfer(node, addr, |s| s.upload_to(mux, sink, progress))
+    }
+
+    /// `download NODE OBJECT`: `len` bytes from `source` into the object, reporting progress.
+    pub fn download(
+        &mut self,
+        node: u8,
+        object: &str,
+        source: &mut impl std::io::Read,
+        len: u64,
+        progress: impl FnMut(u64, Option<u64>),
+    ) -> Result<(), ToolError> {
+        let addr = self.object(object)?;
+        let mux = Multiplexer::new(addr.index, addr.sub);
+        self.transfer(node, addr, |s| s.download_from(mux, source, len, progress))
+    }
+
+    /// `scan`: every node that answers an SDO upload of 0x1000 (asked of ids 1–127 at once) or shows
+    /// itself by boot-up or heartbeat within `wait`; then its identity and name.
+    pub fn scan(&mut self, wait: Duration) -> Result<Vec<ScanEntry>, ToolError> {
+        let mut found = std::collections::BTreeSet::new();
+        for id in 1..=127u16 {
+            let f = CanFrame::new(0x600 + id, &[0x40, 0x00, 0x10, 0, 0, 0, 0, 0]).expect("8 bytes");
+            self.bus.send(&f)?;
+        }
+        let end = Instant::now() + wait;
+        loop {
+            let left = end.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                break;
+            }
+            if let Some(BusEvent::Frame { frame, .. }) = self.bus.recv(left)? {
+                match frame.cob_id() {
+                    Some(c @ 0x581..=0x5FF) if frame.len() == 8 => {
+                        found.insert((c - 0x580) as u8);
+                    }
+                    Some(c @ 0x701..=0x77F) if frame.len() == 1 => {
+                        found.insert((c - 0x700) as u8);
+                    }
+                    _ => {}
+                }
+            }
+        }
+        let mut out = Vec::new();
+        for node in found {
+            let mut read = |o: &str, t: &str| self.read(node, o, Some(t)).ok();
+            out.push(ScanEntry {
+                node,
+                device_type: read("0x1000:00", "x32"),
+                vendor: read("0x1018:01", "x32"),
+                product: read("0x1018:02", "x32"),
+                revision: read("0x1018:03", "x32"),
+                serial: read("0x1018:04", "x32"),
+                name: read("0x1008:00", "vs"),
+            });
+        }
+        Ok(out)
     }
 
     /// Sets the SDO timeout.
