@@ -249,6 +249,25 @@ fn binary_over_socketcand() {
     );
     let out = tool(&["read", "3", "0x1000"]);
     assert_eq!(out.status.code(), Some(2));
+    // The gateway on standard input and output.
+    let mut gw = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+        .args(["--bus", &bus, "gateway"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::io::Write::write_all(
+        gw.stdin.as_mut().unwrap(),
+        b"[1] 3 r 0x1018 0 u8\n# nothing\n[2] 3 w 0x2110 0 u8 168\n",
+    )
+    .unwrap();
+    drop(gw.stdin.take());
+    let out = gw.wait_with_output().unwrap();
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "[1] 4\n[2] ERROR:0x06090031 #Value of parameter written too high (download only)\n"
+    );
     node.kill().unwrap();
     node.wait().unwrap();
 }
@@ -290,4 +309,62 @@ fn scan_finds_the_node_and_its_identity() {
     assert!(lines[1].starts_with("   5  0x00000000"), "{out}");
     assert!(lines[1].ends_with("\"X67BC4321-10 / X67SM2436\""), "{out}");
     assert_eq!(lines[2], "1 node(s)");
+}
+
+/// The CiA 309-3 gateway: a script of requests with the exact replies.
+#[test]
+fn gateway_script_with_exact_replies() {
+    use socketcan_node::tool::gateway::Gateway;
+    use socketcan_node::tool::Tool;
+    let n = Running::start();
+    let mut tool = Tool::new(Box::new(n.bus.endpoint()), None);
+    tool.set_timeout(std::time::Duration::from_millis(100));
+    let mut gw = Gateway::new(tool);
+    for (request, reply) in [
+        ("# a comment", None),
+        ("", None),
+        ("[1] 5 read 0x1018 0 u8", Some("[1] 4")),
+        (
+            "[2] r 0x1018 0 u8",
+            Some("[2] ERROR:105 #No default node set"),
+        ),
+        ("[3] set node 5", Some("[3] OK")),
+        ("[4] r 0x1018 0 x8", Some("[4] 0x04")),
+        (
+            "[5] r 0x1008 0 vs",
+            Some("[5] \"X67BC4321-10 / X67SM2436\""),
+        ),
+        ("[6] w 0x1017 0 u16 300", Some("[6] OK")),
+        ("[7] 1 5 r 0x1017 0 u16", Some("[7] 300")),
+        (
+            "[8] w 0x2110 0 u8 168",
+            Some("[8] ERROR:0x06090031 #Value of parameter written too high (download only)"),
+        ),
+        (
+            "[9] r 0x7777 0 u8",
+            Some("[9] ERROR:0x06020000 #Object does not exist in the object dictionary"),
+        ),
+        ("[10] 9 r 0x1000 0 u32", Some("[10] ERROR:103 #Time-out")),
+        (
+            "[11] 2 5 r 0x1000 0 u32",
+            Some("[11] ERROR:106 #Unsupported net"),
+        ),
+        (
+            "[12] 200 r 0x1000 0 u32",
+            Some("[12] ERROR:107 #Unsupported node"),
+        ),
+        ("[13] fly", Some("[13] ERROR:100 #Request not supported")),
+        ("[14] r 0x1000", Some("[14] ERROR:101 #Syntax error")),
+        ("[x] r 0x1000 0 u32", Some("ERROR:101 #Syntax error")),
+        ("[15] start", Some("[15] OK")),
+        ("[16] reset comm", Some("[16] OK")),
+        ("[17] set sdo_block 0", Some("[17] OK")),
+        (
+            "[18] r 0x1008 0 vs # segmented now",
+            Some("[18] \"X67BC4321-10 / X67SM2436\""),
+        ),
+        ("r 0x1018 0 u8", Some("4")),
+    ] {
+        assert_eq!(gw.handle(request).as_deref(), reply, "{request}");
+    }
 }

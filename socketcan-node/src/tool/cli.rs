@@ -93,6 +93,13 @@ pub enum Cmd {
         #[arg(long, default_value_t = 300)]
         wait_ms: u64,
     },
+    /// A CiA 309-3 ASCII gateway on standard input and output, or on a TCP socket with --listen
+    /// (one client at a time; 127.0.0.1 unless another address is given). `help` lists the requests.
+    Gateway {
+        /// Listen on ADDR:PORT instead of standard input.
+        #[arg(long, value_name = "ADDR:PORT")]
+        listen: Option<std::net::SocketAddr>,
+    },
     /// An NMT command: start, stop, preop, reset, reset-comm; NODE is 1–127 or all.
     Nmt {
         /// The command.
@@ -221,6 +228,28 @@ pub fn run(
             }
             writeln!(out, "{} node(s)", nodes.len()).map_err(io)?;
         }
+        Cmd::Gateway { listen } => {
+            let mut gw = super::gateway::Gateway::new(tool);
+            match listen {
+                None => {
+                    let stdin = std::io::stdin();
+                    serve(&mut gw, stdin.lock(), out).map_err(io)?;
+                }
+                Some(addr) => {
+                    let listener = std::net::TcpListener::bind(addr)
+                        .map_err(|e| ToolError::Usage(format!("--listen {addr}: {e}")))?;
+                    for stream in listener.incoming() {
+                        let Ok(stream) = stream else { continue };
+                        let Ok(reader) = stream.try_clone() else {
+                            continue;
+                        };
+                        let mut writer = stream;
+                        let _ = serve(&mut gw, std::io::BufReader::new(reader), &mut writer);
+                    }
+                }
+            }
+            return Ok(());
+        }
         Cmd::Nmt { command, node } => {
             let c = NmtCommand::parse(command).ok_or_else(|| {
                 ToolError::Usage(format!(
@@ -263,4 +292,20 @@ fn rate(bytes: u64, took: Duration) -> String {
         "{bytes} bytes in {secs:.2} s ({:.1} KiB/s)",
         bytes as f64 / 1024.0 / secs
     )
+}
+
+/// Answers every request line of `input` on `output`, until the input ends.
+fn serve(
+    gw: &mut super::gateway::Gateway,
+    input: impl std::io::BufRead,
+    output: &mut dyn Write,
+) -> std::io::Result<()> {
+    for line in input.lines() {
+        let line = line?;
+        if let Some(reply) = gw.handle(&line) {
+            writeln!(output, "{reply}")?;
+            output.flush()?;
+        }
+    }
+    Ok(())
 }

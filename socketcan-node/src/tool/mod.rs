@@ -14,6 +14,7 @@
 use std::time::{Duration, Instant};
 
 pub mod cli;
+pub mod gateway;
 
 use od::abort::AbortCode;
 use od::dict::{Address, Dictionary};
