@@ -368,3 +368,82 @@ fn gateway_script_with_exact_replies() {
         assert_eq!(gw.handle(request).as_deref(), reply, "{request}");
     }
 }
+
+/// `dump` reads the node into a DCF; `apply` writes a DCF's values in order, reading each back, and
+/// stops at the first refused write, leaving the objects after it as they were.
+#[test]
+fn dump_and_apply() {
+    let n = Running::start();
+    let dir = tempfile::tempdir().unwrap();
+    let dcf = dir.path().join("node5.dcf");
+    n.tool(&["write", "5", "0x1017:00", "u16", "750"]).unwrap();
+    let out = n
+        .tool(&["--od", &eds(), "dump", "5", "-o", dcf.to_str().unwrap()])
+        .unwrap();
+    assert!(
+        out.lines()
+            .last()
+            .unwrap()
+            .ends_with(&format!("written to {}", dcf.display())),
+        "{out}"
+    );
+    let text = std::fs::read_to_string(&dcf).unwrap();
+    assert!(text.contains("[DeviceComissioning]"), "a DCF");
+    assert!(
+        text.contains("NodeID=5") || text.contains("NodeId=5"),
+        "node 5"
+    );
+    let (_, devices) = od::load::load(&dcf).unwrap();
+    assert_eq!(
+        devices[0].dictionary.entry(0x1017, 0).unwrap().value,
+        750u16.to_le_bytes(),
+        "the node's value, not the default"
+    );
+
+    // A DCF that sets 0x1017, then a mapping entry of the valid RPDO 1 (refused by the node:
+    // 0x06040043), then ConfigOutput03a.
+    let (_, mut devices) = od::load::load(Path::new(&eds())).unwrap();
+    let d = &mut devices[0];
+    for (index, sub, bytes) in [
+        (0x1017u16, 0u8, 1_000u16.to_le_bytes().to_vec()),
+        (0x1600, 1, 0x2100_0020u32.to_le_bytes().to_vec()),
+        (0x2110, 0, vec![20]),
+    ] {
+        d.dictionary.store(index, sub, &bytes).unwrap();
+        d.dictionary
+            .object_mut(index)
+            .unwrap()
+            .subs
+            .get_mut(&sub)
+            .unwrap()
+            .value_set = true;
+    }
+    let bad = dir.path().join("bad.dcf");
+    std::fs::write(&bad, od::eds::write_dcf(d)).unwrap();
+    let out = n
+        .tool(&["apply", "5", bad.to_str().unwrap(), "--dry-run"])
+        .unwrap();
+    assert!(out.contains("would write 0x1017:00 = 1000"), "{out}");
+    assert!(out.ends_with("3 entries to write\n"), "{out}");
+    assert_eq!(
+        n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(),
+        "750\n",
+        "dry run"
+    );
+    let e = n.tool(&["apply", "5", bad.to_str().unwrap()]).unwrap_err();
+    assert_eq!(e.exit_code(), 1, "{e}");
+    assert!(
+        e.to_string().contains("0x1600:01: SDO abort 0x06040043"),
+        "{e}"
+    );
+    assert_eq!(
+        n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(),
+        "1000\n",
+        "before: written"
+    );
+    assert_eq!(
+        n.tool(&["read", "5", "0x2130:00", "u8"]).unwrap(),
+        "0\n",
+        "after: not written"
+    );
+}

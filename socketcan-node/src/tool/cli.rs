@@ -77,6 +77,25 @@ pub enum Cmd {
         /// The bytes to send.
         file: PathBuf,
     },
+    /// Read every readable object of the --od description from the node into a DCF.
+    Dump {
+        /// Node-ID, 1–127.
+        node: u8,
+        /// The DCF to write.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// Write the values a DCF sets (ParameterValue) to the node, reading each back; the first refused
+    /// write stops it. Exit 4 when a value reads back differently.
+    Apply {
+        /// Node-ID, 1–127.
+        node: u8,
+        /// The DCF.
+        file: PathBuf,
+        /// Only show what would be written.
+        #[arg(long)]
+        dry_run: bool,
+    },
     /// Store the node's parameters: 0x1010:01 = "save".
     Save {
         /// Node-ID, 1–127.
@@ -109,6 +128,22 @@ pub enum Cmd {
     },
 }
 
+/// The first device of a description file.
+fn load_description(
+    path: &std::path::Path,
+    what: &str,
+) -> Result<od::DeviceDescription, ToolError> {
+    let (_, mut devices) = od::load::load(path)
+        .map_err(|e| ToolError::Usage(format!("{what} {}: {e}", path.display())))?;
+    if devices.is_empty() {
+        return Err(ToolError::Usage(format!(
+            "{what} {}: no device in it",
+            path.display()
+        )));
+    }
+    Ok(devices.swap_remove(0))
+}
+
 /// Opens the bus `spec` names, or the default one.
 pub fn open_bus(spec: Option<&BusSpec>) -> Result<Box<dyn CanBus>, ToolError> {
     match spec {
@@ -133,20 +168,11 @@ pub fn run(
     bus: Option<Box<dyn CanBus>>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    let od = match &args.od {
-        Some(path) => {
-            let (_, mut devices) = od::load::load(path)
-                .map_err(|e| ToolError::Usage(format!("--od {}: {e}", path.display())))?;
-            if devices.is_empty() {
-                return Err(ToolError::Usage(format!(
-                    "--od {}: no device in it",
-                    path.display()
-                )));
-            }
-            Some(devices.swap_remove(0).dictionary)
-        }
+    let desc = match &args.od {
+        Some(path) => Some(load_description(path, "--od")?),
         None => None,
     };
+    let od = desc.as_ref().map(|d| d.dictionary.clone());
     let bus = match bus {
         Some(b) => b,
         None => open_bus(args.bus.as_ref())?,
@@ -195,6 +221,59 @@ pub fn run(
             tool.download(*node, object, &mut f, len, |done, _| bar.set_position(done))?;
             bar.finish_and_clear();
             writeln!(out, "{}", rate(len, started.elapsed())).map_err(io)?;
+        }
+        Cmd::Dump { node, output } => {
+            let mut d = desc.clone().ok_or_else(|| {
+                ToolError::Usage("dump needs the node's description: --od FILE".into())
+            })?;
+            let (read, refused) = tool.dump(*node, &mut d)?;
+            std::fs::write(output, od::eds::write_dcf(&d))
+                .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
+            for (a, code) in &refused {
+                writeln!(out, "0x{:04X}:{:02X}: not read, {code}", a.index, a.sub).map_err(io)?;
+            }
+            writeln!(out, "{read} entries written to {}", output.display()).map_err(io)?;
+        }
+        Cmd::Apply {
+            node,
+            file,
+            dry_run,
+        } => {
+            let dcf = load_description(file, "apply")?;
+            let mut lines = Vec::new();
+            let result = tool.apply(*node, &dcf, *dry_run, |step| {
+                use super::ApplyStep::*;
+                let at = |a: &od::Address| format!("0x{:04X}:{:02X}", a.index, a.sub);
+                lines.push(match step {
+                    WouldWrite { addr, value } => format!("would write {} = {value}", at(addr)),
+                    Written { addr, value } => format!("wrote {} = {value}", at(addr)),
+                    Differs {
+                        addr,
+                        value,
+                        read_back,
+                    } => format!("DIFFERS {} = {value}, reads back {read_back}", at(addr)),
+                    Refused { addr, value, error } => {
+                        format!(
+                            "REFUSED {} = {value}: {error}; nothing after it written",
+                            at(addr)
+                        )
+                    }
+                });
+            });
+            for l in &lines {
+                writeln!(out, "{l}").map_err(io)?;
+            }
+            let outcome = result?;
+            if outcome.differences > 0 {
+                return Err(ToolError::Differences(outcome.differences));
+            }
+            writeln!(
+                out,
+                "{} entries {}",
+                outcome.written,
+                if *dry_run { "to write" } else { "written" }
+            )
+            .map_err(io)?;
         }
         Cmd::Save { node } => {
             tool.store(*node, false)?;

@@ -177,16 +177,20 @@ pub enum ToolError {
     /// Anything else of the SDO layer.
     #[error("{0}")]
     Sdo(String),
+    /// `apply`: entries read back differently from what was written.
+    #[error("{0} entries read back differently from what was written")]
+    Differences(usize),
 }
 
 impl ToolError {
-    /// 1 SDO abort, 2 usage, 3 timeout or transport failure.
+    /// 1 SDO abort, 2 usage, 3 timeout or transport failure, 4 verification difference.
     pub fn exit_code(&self) -> i32 {
         match self {
             ToolError::Abort { .. } => 1,
             ToolError::Usage(_) => 2,
             ToolError::Timeout { .. } | ToolError::Bus(_) => 3,
             ToolError::Sdo(_) => 3,
+            ToolError::Differences(_) => 4,
         }
     }
 }
@@ -266,6 +270,52 @@ pub struct ScanEntry {
     pub serial: Option<String>,
     /// 0x1008.
     pub name: Option<String>,
+}
+
+/// One step of [`Tool::apply`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ApplyStep {
+    /// `--dry-run`: would be written.
+    WouldWrite {
+        /// The entry.
+        addr: Address,
+        /// The value.
+        value: String,
+    },
+    /// Written and read back equal (or not readable).
+    Written {
+        /// The entry.
+        addr: Address,
+        /// The value.
+        value: String,
+    },
+    /// Written, but the node reads back something else.
+    Differs {
+        /// The entry.
+        addr: Address,
+        /// The value written.
+        value: String,
+        /// What the node reads back.
+        read_back: String,
+    },
+    /// The write was refused; nothing after it is written.
+    Refused {
+        /// The entry.
+        addr: Address,
+        /// The value.
+        value: String,
+        /// Why.
+        error: String,
+    },
+}
+
+/// What [`Tool::apply`] did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ApplyOutcome {
+    /// Entries written (or, with `--dry-run`, to be written).
+    pub written: usize,
+    /// Entries that read back differently.
+    pub differences: usize,
 }
 
 /// NMT commands (CiA 301 §7.2.8.3.1).
@@ -546,6 +596,121 @@ impl Tool {
             });
         }
         Ok(out)
+    }
+
+    /// The raw bytes of `addr` on `node`.
+    pub fn read_raw(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
+        let mux = Multiplexer::new(addr.index, addr.sub);
+        self.transfer(node, addr, |s| s.read_bytes(mux))
+    }
+
+    /// `dump`: every readable entry of `desc`'s dictionary read from `node` into it (its current
+    /// values, marked as set so a DCF carries them). Returns how many were read and the entries the
+    /// node refused, with the abort.
+    pub fn dump(
+        &mut self,
+        node: u8,
+        desc: &mut od::DeviceDescription,
+    ) -> Result<(usize, Vec<(Address, AbortCode)>), ToolError> {
+        let addrs: Vec<Address> = desc
+            .dictionary
+            .objects()
+            .flat_map(|o| {
+                o.subs
+                    .iter()
+                    .filter(|(_, e)| e.access.kind.readable() && e.data_type != DataType::Domain)
+                    .map(move |(sub, _)| Address {
+                        index: o.index,
+                        sub: *sub,
+                    })
+            })
+            .collect();
+        let mut read = 0;
+        let mut refused = Vec::new();
+        for a in addrs {
+            match self.read_raw(node, a) {
+                Ok(bytes) => {
+                    if desc.dictionary.store(a.index, a.sub, &bytes).is_ok() {
+                        if let Some(e) = desc
+                            .dictionary
+                            .object_mut(a.index)
+                            .and_then(|o| o.subs.get_mut(&a.sub))
+                        {
+                            e.value_set = true;
+                        }
+                        read += 1;
+                    }
+                }
+                Err(ToolError::Abort { code, .. }) => refused.push((a, code)),
+                Err(e) => return Err(e),
+            }
+        }
+        let c = desc.commissioning.get_or_insert_with(Default::default);
+        c.node_id = node;
+        Ok((read, refused))
+    }
+
+    /// `apply`: writes every value the DCF sets (`ParameterValue`) to a writable entry, in index
+    /// order, reading each back. Stops at the first refused write. `dry_run` writes nothing.
+    pub fn apply(
+        &mut self,
+        node: u8,
+        dcf: &od::DeviceDescription,
+        dry_run: bool,
+        mut report: impl FnMut(&ApplyStep),
+    ) -> Result<ApplyOutcome, ToolError> {
+        let mut outcome = ApplyOutcome::default();
+        for o in dcf.dictionary.objects() {
+            for (sub, e) in &o.subs {
+                if !e.value_set || !e.access.kind.writable() {
+                    continue;
+                }
+                let addr = Address {
+                    index: o.index,
+                    sub: *sub,
+                };
+                let text = Value::decode(e.data_type, &e.value)
+                    .map(|v| TypeCode::of(e.data_type).format(&v))
+                    .unwrap_or_else(|_| format!("{:02X?}", e.value));
+                if dry_run {
+                    report(&ApplyStep::WouldWrite { addr, value: text });
+                    outcome.written += 1;
+                    continue;
+                }
+                let mux = Multiplexer::new(addr.index, addr.sub);
+                let bytes = e.value.clone();
+                if let Err(err) = self.transfer(node, addr, |s| s.write_bytes(mux, &bytes)) {
+                    report(&ApplyStep::Refused {
+                        addr,
+                        value: text,
+                        error: err.to_string(),
+                    });
+                    return Err(err);
+                }
+                outcome.written += 1;
+                let back = self.read_raw(node, addr);
+                match back {
+                    Ok(b) if b == e.value => report(&ApplyStep::Written { addr, value: text }),
+                    Ok(b) => {
+                        let got = Value::decode(e.data_type, &b)
+                            .map(|v| TypeCode::of(e.data_type).format(&v))
+                            .unwrap_or_else(|_| format!("{b:02X?}"));
+                        outcome.differences += 1;
+                        report(&ApplyStep::Differs {
+                            addr,
+                            value: text,
+                            read_back: got,
+                        });
+                    }
+                    // A write-only entry cannot be read back: written, not verified.
+                    Err(ToolError::Abort { .. }) => {
+                        report(&ApplyStep::Written { addr, value: text })
+                    }
+                    Err(err) => return Err(err),
+                }
+            }
+        }
+        Ok(outcome)
     }
 
     /// Sets the SDO timeout.
