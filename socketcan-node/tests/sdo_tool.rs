@@ -447,3 +447,41 @@ fn dump_and_apply() {
         "after: not written"
     );
 }
+
+/// `watch`: heartbeats, the NMT change, a TPDO decoded from the description, an EMCY in words.
+#[test]
+fn watch_decodes_the_bus() {
+    let n = Running::start();
+    n.tool(&["write", "5", "0x1017:00", "u16", "100"]).unwrap();
+    let mut other = n.bus.endpoint();
+    let poke = std::thread::spawn(move || {
+        std::thread::sleep(std::time::Duration::from_millis(250));
+        other
+            .send(&socketcan_node::CanFrame::new(0, &[0x01, 5]).unwrap())
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(250));
+        // Module temperature 90 °C through the simulation object: over-temperature, EMCY 0x4200.
+        other
+            .send(
+                &socketcan_node::CanFrame::new(0x605, &[0x2F, 0x00, 0x5F, 3, 90, 0, 0, 0]).unwrap(),
+            )
+            .unwrap();
+    });
+    let out = n
+        .tool(&["--od", &eds(), "watch", "5", "--duration-ms", "900"])
+        .unwrap();
+    poke.join().unwrap();
+    assert!(out.contains("node 5: heartbeat, pre-operational"), "{out}");
+    assert!(
+        out.contains("node 5: NMT pre-operational -> operational"),
+        "{out}"
+    );
+    assert!(
+        out.contains("node 5: TPDO 1 AbsPos01ActVal=0 MpGenStatus01="),
+        "{out}"
+    );
+    assert!(
+        out.contains("node 5: EMCY 0x4200 (temperature, device), error register 0x"),
+        "{out}"
+    );
+}

@@ -96,6 +96,15 @@ pub enum Cmd {
         #[arg(long)]
         dry_run: bool,
     },
+    /// Show heartbeats, NMT state changes, EMCY messages in words and (with --od and NODE) TPDOs
+    /// decoded field by field, until Ctrl-C or --duration-ms.
+    Watch {
+        /// Only this node.
+        node: Option<u8>,
+        /// Stop after this many ms.
+        #[arg(long)]
+        duration_ms: Option<u64>,
+    },
     /// Store the node's parameters: 0x1010:01 = "save".
     Save {
         /// Node-ID, 1–127.
@@ -274,6 +283,35 @@ pub fn run(
                 if *dry_run { "to write" } else { "written" }
             )
             .map_err(io)?;
+        }
+        Cmd::Watch { node, duration_ms } => {
+            let mut w = super::watch::Watcher::new(*node, tool.od.as_ref());
+            let start = std::time::Instant::now();
+            let end = duration_ms.map(|ms| start + Duration::from_millis(ms));
+            let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+            if end.is_none() {
+                let s = std::sync::Arc::clone(&stop);
+                let _ =
+                    ctrlc::set_handler(move || s.store(true, std::sync::atomic::Ordering::Relaxed));
+            }
+            while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                let wait = match end {
+                    Some(e) => {
+                        let left = e.saturating_duration_since(std::time::Instant::now());
+                        if left.is_zero() {
+                            break;
+                        }
+                        left.min(Duration::from_millis(100))
+                    }
+                    None => Duration::from_millis(100),
+                };
+                if let Some(crate::BusEvent::Frame { frame, .. }) = tool.bus.recv(wait)? {
+                    if let Some(line) = w.line(&frame) {
+                        writeln!(out, "{:>9.3}  {line}", start.elapsed().as_secs_f64())
+                            .map_err(io)?;
+                    }
+                }
+            }
         }
         Cmd::Save { node } => {
             tool.store(*node, false)?;

@@ -15,6 +15,7 @@ use std::time::{Duration, Instant};
 
 pub mod cli;
 pub mod gateway;
+pub mod watch;
 
 use od::abort::AbortCode;
 use od::dict::{Address, Dictionary};

@@ -1,0 +1,195 @@
+//! `sdo-tool watch`: what goes on on the bus, in words — heartbeats and NMT state changes, EMCY
+//! messages with their error code's meaning, and TPDOs of a node decoded field by field from its
+//! mapping in a description.
+
+use std::collections::HashMap;
+
+use od::dict::Dictionary;
+use od::types::DataType;
+use od::value::Value;
+
+use super::TypeCode;
+use crate::node::pdo::MapEntry;
+use crate::CanFrame;
+
+/// The NMT state a heartbeat byte names.
+pub fn nmt_state_name(byte: u8) -> &'static str {
+    match byte & 0x7F {
+        0x00 => "boot-up",
+        0x04 => "stopped",
+        0x05 => "operational",
+        0x7F => "pre-operational",
+        _ => "unknown state",
+    }
+}
+
+/// The meaning of an EMCY error code (CiA 301 Table 26, and the codes of the X67SM2436 model).
+pub fn emcy_meaning(code: u16) -> &'static str {
+    match code {
+        0x0000 => "error reset or no error",
+        0x1000 => "generic error",
+        0x2300 => "current, device output side",
+        0x3000 => "voltage",
+        0x4200 => "temperature, device",
+        0x8110 => "CAN overrun (objects lost)",
+        0x8120 => "CAN in error passive mode",
+        0x8130 => "life guard error or heartbeat error",
+        0x8140 => "recovered from bus off",
+        0x8150 => "CAN-ID collision",
+        0x8210 => "PDO not processed due to length error",
+        0x8220 => "PDO length exceeded",
+        0x8240 => "unexpected SYNC data length",
+        0x8250 => "RPDO timeout",
+        c => match c >> 12 {
+            0x1 => "generic error",
+            0x2 => "current",
+            0x3 => "voltage",
+            0x4 => "temperature",
+            0x5 => "device hardware",
+            0x6 => "device software",
+            0x7 => "additional modules",
+            0x8 => "monitoring",
+            0x9 => "external error",
+            0xF if c >> 8 == 0xFF => "device specific",
+            0xF => "additional functions",
+            _ => "unknown",
+        },
+    }
+}
+
+/// One decoded TPDO: its COB-ID and the mapped entries with their names and types.
+#[derive(Debug, Clone)]
+struct PdoLayout {
+    number: u16,
+    fields: Vec<(String, DataType, usize)>,
+}
+
+/// Decodes the bus's frames into lines.
+pub struct Watcher {
+    node: Option<u8>,
+    last_state: HashMap<u8, u8>,
+    pdos: HashMap<u16, PdoLayout>,
+}
+
+impl Watcher {
+    /// Watches `node` (or every node), decoding its TPDOs from `od` when given.
+    pub fn new(node: Option<u8>, od: Option<&Dictionary>) -> Watcher {
+        let mut pdos = HashMap::new();
+        if let (Some(node), Some(od)) = (node, od) {
+            let mut d = od.clone();
+            d.reset(node);
+            for k in 0..512u16 {
+                let Some(cob) = d
+                    .read_value(0x1800 + k, 1)
+                    .ok()
+                    .and_then(|v| v.as_i128())
+                    .map(|v| v as u32)
+                else {
+                    continue;
+                };
+                if cob & 0x8000_0000 != 0 {
+                    continue;
+                }
+                let count = d
+                    .read_value(0x1A00 + k, 0)
+                    .ok()
+                    .and_then(|v| v.as_i128())
+                    .unwrap_or(0);
+                let mut fields = Vec::new();
+                for s in 1..=count.clamp(0, 64) as u8 {
+                    let Some(raw) = d.read_value(0x1A00 + k, s).ok().and_then(|v| v.as_i128())
+                    else {
+                        continue;
+                    };
+                    let e = MapEntry::from_raw(raw as u32);
+                    let (name, ty) = match d.entry(e.index, e.sub) {
+                        Ok(entry) => (entry.name.clone(), entry.data_type),
+                        Err(_) => (
+                            format!("0x{:04X}:{:02X}", e.index, e.sub),
+                            DataType::Unsigned8,
+                        ),
+                    };
+                    fields.push((name, ty, usize::from(e.bits / 8)));
+                }
+                pdos.insert(
+                    (cob & 0x7FF) as u16,
+                    PdoLayout {
+                        number: k + 1,
+                        fields,
+                    },
+                );
+            }
+        }
+        Watcher {
+            node,
+            last_state: HashMap::new(),
+            pdos,
+        }
+    }
+
+    fn wanted(&self, id: u8) -> bool {
+        self.node.is_none_or(|n| n == id)
+    }
+
+    /// The line for `frame`, if it is one the watcher reports.
+    pub fn line(&mut self, frame: &CanFrame) -> Option<String> {
+        let cob = frame.cob_id()?;
+        let d = frame.data();
+        match cob {
+            0x701..=0x77F if d.len() == 1 => {
+                let id = (cob - 0x700) as u8;
+                if !self.wanted(id) {
+                    return None;
+                }
+                let state = d[0];
+                let before = self.last_state.insert(id, state & 0x7F);
+                Some(match before {
+                    Some(b) if b != state & 0x7F => format!(
+                        "node {id}: NMT {} -> {}",
+                        nmt_state_name(b),
+                        nmt_state_name(state)
+                    ),
+                    _ if state == 0 => format!("node {id}: boot-up"),
+                    _ => format!("node {id}: heartbeat, {}", nmt_state_name(state)),
+                })
+            }
+            0x081..=0x0FF if d.len() == 8 => {
+                let id = (cob - 0x80) as u8;
+                if !self.wanted(id) {
+                    return None;
+                }
+                let code = u16::from_le_bytes([d[0], d[1]]);
+                Some(format!(
+                    "node {id}: EMCY 0x{code:04X} ({}), error register 0x{:02X}, data {:02X} {:02X} {:02X} {:02X} {:02X}",
+                    emcy_meaning(code),
+                    d[2],
+                    d[3],
+                    d[4],
+                    d[5],
+                    d[6],
+                    d[7]
+                ))
+            }
+            _ => {
+                let layout = self.pdos.get(&cob)?;
+                let mut at = 0;
+                let mut parts = Vec::new();
+                for (name, ty, len) in &layout.fields {
+                    let bytes = d.get(at..at + len)?;
+                    at += len;
+                    if name.starts_with("Dummy") {
+                        continue;
+                    }
+                    let v = Value::decode(*ty, bytes).ok()?;
+                    parts.push(format!("{name}={}", TypeCode::of(*ty).format(&v)));
+                }
+                Some(format!(
+                    "node {}: TPDO {} {}",
+                    self.node.unwrap_or(0),
+                    layout.number,
+                    parts.join(" ")
+                ))
+            }
+        }
+    }
+}
