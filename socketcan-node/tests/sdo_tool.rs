@@ -485,3 +485,37 @@ fn watch_decodes_the_bus() {
         "{out}"
     );
 }
+
+/// `--json`: one JSON object per result; errors with their exit code and abort.
+#[test]
+fn json_output() {
+    let n = Running::start();
+    let v: serde_json::Value =
+        serde_json::from_str(&n.tool(&["--json", "read", "5", "0x1018:00", "u8"]).unwrap())
+            .unwrap();
+    assert_eq!(
+        v,
+        serde_json::json!({"node": 5, "object": "0x1018:00", "value": "4"})
+    );
+    let v: serde_json::Value = serde_json::from_str(
+        &n.tool(&["--json", "write", "5", "0x1017:00", "u16", "5"])
+            .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(v, serde_json::json!({"ok": true}));
+    let v: serde_json::Value =
+        serde_json::from_str(&n.tool(&["--json", "scan", "--wait-ms", "150"]).unwrap()).unwrap();
+    assert_eq!(v["nodes"][0]["node"], 5);
+    assert_eq!(v["nodes"][0]["name"], "\"X67BC4321-10 / X67SM2436\"");
+    let e = n
+        .tool(&["--json", "write", "5", "0x2110:00", "u8", "168"])
+        .unwrap_err();
+    assert_eq!(
+        socketcan_node::tool::cli::error_json(&e),
+        serde_json::json!({
+            "error": "0x2110:00: SDO abort 0x06090031 (Value of parameter written too high (download only))",
+            "exit_code": 1,
+            "abort": "0x06090031",
+        })
+    );
+}

@@ -5,7 +5,11 @@ use clap::Parser;
 fn main() {
     let args = socketcan_node::tool::cli::Args::parse();
     if let Err(e) = socketcan_node::tool::cli::run(&args, None, &mut std::io::stdout()) {
-        eprintln!("sdo-tool: {e}");
+        if args.json {
+            println!("{}", socketcan_node::tool::cli::error_json(&e));
+        } else {
+            eprintln!("sdo-tool: {e}");
+        }
         std::process::exit(e.exit_code());
     }
 }

@@ -28,6 +28,9 @@ pub struct Args {
     /// SDO timeout per answer, in ms.
     #[arg(long, global = true, default_value_t = 1000, value_name = "MS")]
     pub timeout_ms: u64,
+    /// Machine-readable output: one JSON object per result (errors too, on standard output).
+    #[arg(long, global = true)]
+    pub json: bool,
     /// Use segmented transfers only (no block transfer).
     #[arg(long, global = true)]
     pub no_block: bool,
@@ -190,10 +193,21 @@ pub fn run(
     tool.set_timeout(Duration::from_millis(args.timeout_ms.max(1)));
     tool.sdo.block = !args.no_block;
     let io = |e: std::io::Error| ToolError::Sdo(format!("cannot write the output: {e}"));
+    let json = args.json;
     match &args.command {
         Cmd::Read { node, object, ty } => {
             let v = tool.read(*node, object, ty.as_deref())?;
-            writeln!(out, "{v}").map_err(io)?;
+            let addr = tool.object(object)?;
+            emit(
+                out,
+                json,
+                &v,
+                serde_json::json!({
+                    "node": node,
+                    "object": format!("0x{:04X}:{:02X}", addr.index, addr.sub),
+                    "value": v,
+                }),
+            )?;
         }
         Cmd::Write { node, object, rest } => {
             let (ty, value) = match rest.as_slice() {
@@ -202,7 +216,7 @@ pub fn run(
                 _ => return Err(ToolError::Usage("write NODE OBJECT [TYPE] VALUE".into())),
             };
             tool.write(*node, object, ty, value)?;
-            writeln!(out, "OK").map_err(io)?;
+            emit(out, json, "OK", serde_json::json!({"ok": true}))?;
         }
         Cmd::Upload { node, object, file } => {
             let mut f = std::fs::File::create(file)
@@ -216,7 +230,13 @@ pub fn run(
                 bar.set_position(done);
             })?;
             bar.finish_and_clear();
-            writeln!(out, "{}", rate(n, started.elapsed())).map_err(io)?;
+            let took = started.elapsed();
+            emit(
+                out,
+                json,
+                rate(n, took),
+                serde_json::json!({"bytes": n, "seconds": took.as_secs_f64()}),
+            )?;
         }
         Cmd::Download { node, object, file } => {
             let mut f = std::fs::File::open(file)
@@ -229,7 +249,13 @@ pub fn run(
             let started = std::time::Instant::now();
             tool.download(*node, object, &mut f, len, |done, _| bar.set_position(done))?;
             bar.finish_and_clear();
-            writeln!(out, "{}", rate(len, started.elapsed())).map_err(io)?;
+            let took = started.elapsed();
+            emit(
+                out,
+                json,
+                rate(len, took),
+                serde_json::json!({"bytes": len, "seconds": took.as_secs_f64()}),
+            )?;
         }
         Cmd::Dump { node, output } => {
             let mut d = desc.clone().ok_or_else(|| {
@@ -238,10 +264,25 @@ pub fn run(
             let (read, refused) = tool.dump(*node, &mut d)?;
             std::fs::write(output, od::eds::write_dcf(&d))
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
-            for (a, code) in &refused {
-                writeln!(out, "0x{:04X}:{:02X}: not read, {code}", a.index, a.sub).map_err(io)?;
+            let not_read: Vec<String> = refused
+                .iter()
+                .map(|(a, code)| format!("0x{:04X}:{:02X}: not read, {code}", a.index, a.sub))
+                .collect();
+            let mut text = not_read.join("\n");
+            if !text.is_empty() {
+                text.push('\n');
             }
-            writeln!(out, "{read} entries written to {}", output.display()).map_err(io)?;
+            text.push_str(&format!("{read} entries written to {}", output.display()));
+            emit(
+                out,
+                json,
+                text,
+                serde_json::json!({
+                    "entries": read,
+                    "file": output.display().to_string(),
+                    "not_read": not_read,
+                }),
+            )?;
         }
         Cmd::Apply {
             node,
@@ -269,8 +310,12 @@ pub fn run(
                     }
                 });
             });
-            for l in &lines {
-                writeln!(out, "{l}").map_err(io)?;
+            if json {
+                writeln!(out, "{}", serde_json::json!({ "steps": lines })).map_err(io)?;
+            } else {
+                for l in &lines {
+                    writeln!(out, "{l}").map_err(io)?;
+                }
             }
             let outcome = result?;
             if outcome.differences > 0 {
@@ -307,22 +352,41 @@ pub fn run(
                 };
                 if let Some(crate::BusEvent::Frame { frame, .. }) = tool.bus.recv(wait)? {
                     if let Some(line) = w.line(&frame) {
-                        writeln!(out, "{:>9.3}  {line}", start.elapsed().as_secs_f64())
-                            .map_err(io)?;
+                        let t = start.elapsed().as_secs_f64();
+                        emit(
+                            out,
+                            json,
+                            format!("{t:>9.3}  {line}"),
+                            serde_json::json!({"t": t, "event": line}),
+                        )?;
                     }
                 }
             }
         }
         Cmd::Save { node } => {
             tool.store(*node, false)?;
-            writeln!(out, "OK").map_err(io)?;
+            emit(out, json, "OK", serde_json::json!({"ok": true}))?;
         }
         Cmd::Restore { node } => {
             tool.store(*node, true)?;
-            writeln!(out, "OK").map_err(io)?;
+            emit(out, json, "OK", serde_json::json!({"ok": true}))?;
         }
         Cmd::Scan { wait_ms } => {
             let nodes = tool.scan(Duration::from_millis(*wait_ms))?;
+            if json {
+                let list: Vec<serde_json::Value> = nodes
+                    .iter()
+                    .map(|n| {
+                        serde_json::json!({
+                            "node": n.node, "device_type": n.device_type, "vendor": n.vendor,
+                            "product": n.product, "revision": n.revision, "serial": n.serial,
+                            "name": n.name,
+                        })
+                    })
+                    .collect();
+                writeln!(out, "{}", serde_json::json!({ "nodes": list })).map_err(io)?;
+                return Ok(());
+            }
             writeln!(
                 out,
                 "node  device type  vendor      product     revision    serial      name"
@@ -384,7 +448,7 @@ pub fn run(
                     })?
             };
             tool.nmt(c, n)?;
-            writeln!(out, "OK").map_err(io)?;
+            emit(out, json, "OK", serde_json::json!({"ok": true}))?;
         }
     }
     Ok(())
@@ -425,4 +489,28 @@ fn serve(
         }
     }
     Ok(())
+}
+
+/// Writes `text`, or with `--json` the JSON object `value`, as one line.
+fn emit(
+    out: &mut dyn Write,
+    json: bool,
+    text: impl std::fmt::Display,
+    value: serde_json::Value,
+) -> Result<(), ToolError> {
+    let r = if json {
+        writeln!(out, "{value}")
+    } else {
+        writeln!(out, "{text}")
+    };
+    r.map_err(|e| ToolError::Sdo(format!("cannot write the output: {e}")))
+}
+
+/// An error as `--json` prints it.
+pub fn error_json(e: &ToolError) -> serde_json::Value {
+    let abort = match e {
+        ToolError::Abort { code, .. } => Some(format!("0x{:08X}", code.code())),
+        _ => None,
+    };
+    serde_json::json!({"error": e.to_string(), "exit_code": e.exit_code(), "abort": abort})
 }
