@@ -519,3 +519,75 @@ fn json_output() {
         })
     );
 }
+
+/// Against python-canopen's `LocalNode`, an SDO server independent of this project, on a socketcand
+/// bus that `x67-node` holds: reads (expedited and segmented) and writes arrive as they should.
+#[test]
+fn against_python_canopen_local_node() {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let mut hub = Command::new(env!("CARGO_BIN_EXE_x67-node"))
+        .args([
+            "--bus",
+            &format!("socketcand-listen:127.0.0.1:{port}"),
+            "--node-id",
+            "1",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(hub.stdout.as_mut().unwrap()),
+        &mut line,
+    )
+    .unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/python/local_node.py");
+    let mut py = Command::new("python3")
+        .arg(&script)
+        .args(["--eds", &eds(), "--node-id", "10", "--socketcand"])
+        .arg(format!("127.0.0.1:{port}"))
+        .args(["--seconds", "4"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("python3 with python-canopen");
+    let mut py_out = std::io::BufReader::new(py.stdout.take().unwrap());
+    let mut ready = String::new();
+    std::io::BufRead::read_line(&mut py_out, &mut ready).unwrap();
+    assert_eq!(ready.trim(), "READY");
+    let bus = format!("socketcand://127.0.0.1:{port}/can0");
+    let tool = |argv: &[&str]| {
+        let o = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+            .args(["--bus", &bus, "--no-block"])
+            .args(argv)
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (code, out, err) = tool(&["read", "10", "0x1018:00", "u8"]);
+    assert_eq!((code, out.as_str()), (Some(0), "4\n"), "{err}");
+    let (code, out, err) = tool(&["read", "10", "0x1008:00", "vs"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(out, "\"X67BC4321-10 / X67SM2436\"\n");
+    let (code, out, err) = tool(&["write", "10", "0x1017:00", "u16", "1234"]);
+    assert_eq!((code, out.as_str()), (Some(0), "OK\n"), "{err}");
+    let (code, out, _) = tool(&["read", "10", "0x1017:00", "u16"]);
+    assert_eq!((code, out.as_str()), (Some(0), "1234\n"));
+    let (code, _, err) = tool(&["read", "10", "0x7777:00", "u8"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("0x06020000"), "{err}");
+    let mut written = String::new();
+    std::io::Read::read_to_string(&mut py_out, &mut written).unwrap();
+    assert!(py.wait().unwrap().success());
+    assert!(written.contains("1017:00=D204"), "{written}");
+    hub.kill().unwrap();
+    hub.wait().unwrap();
+}
