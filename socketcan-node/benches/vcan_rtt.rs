@@ -2,7 +2,8 @@
 //! a master on another, one upload of 0x1018:01 after the other. Runs inside the VM of
 //! `scripts/bench-vcan` (`--features vcan-tests`).
 //!
-//! `vcan_rtt [COUNT]` (default 5000) prints min, median, 99th percentile and mean.
+//! `vcan_rtt [COUNT]` (default 5000) prints min, median, 99th percentile and mean; then a 1 MiB DOMAIN
+//! downloaded and uploaded with `sdo-tool`'s library (block and segmented), and a scan of an empty bus.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -10,6 +11,7 @@ use std::time::{Duration, Instant};
 
 use socketcan_node::node::storage::MemoryStorage;
 use socketcan_node::node::{Node, NodeConfig};
+use socketcan_node::tool::Tool;
 use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
 use socketcan_node::x67::{self, BusController};
 use socketcan_node::{runtime, CanFrame};
@@ -24,7 +26,12 @@ fn main() {
     let stop = Arc::new(AtomicBool::new(false));
     let s = Arc::clone(&stop);
     let node = std::thread::spawn(move || {
-        let dict = x67::dictionary(1).expect("fixture");
+        let mut dict = x67::dictionary(1).expect("fixture");
+        // A DOMAIN to move a megabyte through (benchmark only; not in the X67 description).
+        dict.insert(od::object::Object::var(
+            0x5FF0,
+            od::object::SubObject::new("Blob", od::DataType::Domain, od::object::AccessType::Rw),
+        ));
         let app =
             BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).expect("app");
         let mut nodes = [Node::new(
@@ -54,8 +61,48 @@ fn main() {
         }
         rtts.push(t0.elapsed());
     }
+    // 1 MiB DOMAIN, block and segmented, both ways.
+    let data: Vec<u8> = (0..1u32 << 20).map(|k| (k * 7 + 3) as u8).collect();
+    for block in [true, false] {
+        let mut tool = Tool::new(Box::new(SocketCanBus::open("vcan0").expect("vcan0")), None);
+        tool.sdo.block = block;
+        let t0 = Instant::now();
+        tool.download(
+            1,
+            "0x5FF0:00",
+            &mut data.as_slice(),
+            data.len() as u64,
+            |_, _| {},
+        )
+        .expect("download");
+        let down = t0.elapsed();
+        let mut back = Vec::new();
+        let t0 = Instant::now();
+        tool.upload(1, "0x5FF0:00", &mut back, |_, _| {})
+            .expect("upload");
+        let up = t0.elapsed();
+        assert_eq!(back, data);
+        let kib = |d: Duration| 1024.0 / d.as_secs_f64();
+        println!(
+            "1 MiB DOMAIN on vcan0, {}: download {:.2} s ({:.0} KiB/s), upload {:.2} s ({:.0} KiB/s)",
+            if block { "block" } else { "segmented" },
+            down.as_secs_f64(),
+            kib(down),
+            up.as_secs_f64(),
+            kib(up)
+        );
+    }
     stop.store(true, Ordering::Relaxed);
     node.join().expect("node thread");
+    // A scan of the now empty bus: 127 requests and the listening time.
+    let mut tool = Tool::new(Box::new(SocketCanBus::open("vcan0").expect("vcan0")), None);
+    let t0 = Instant::now();
+    let found = tool.scan(Duration::from_millis(300)).expect("scan");
+    println!(
+        "scan of an empty vcan0 (300 ms listening): {} nodes in {:.3} s",
+        found.len(),
+        t0.elapsed().as_secs_f64()
+    );
     // The first 100 warm up.
     let mut rtts = rtts.split_off(100);
     rtts.sort();

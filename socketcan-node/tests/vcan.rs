@@ -6,7 +6,8 @@
 //! - the node's runtime on vcan0: SDO, NMT, heartbeat;
 //! - `candump` of the `x67-node` binary's boot-up message and heartbeat;
 //! - python-canopen as the master over vcan0 (the same script as over socketcand);
-//! - 100,000 random frames on vcan0 leave the node answering and its heartbeat on time.
+//! - 100,000 random frames on vcan0 leave the node answering and its heartbeat on time;
+//! - `sdo-tool` against the binary on vcan0.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -345,4 +346,48 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
         "{} beats in {secs:.1} s",
         beats.len()
     );
+}
+
+/// `sdo-tool` on vcan0 against the `x67-node` binary: a string read, a write read back, an abort.
+#[test]
+fn sdo_tool_on_vcan() {
+    let mut node = Command::new(NODE)
+        .args(["--bus", "socketcan:vcan0", "--node-id", "7"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    let tool = |argv: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+            .args(["--bus", "socketcan:vcan0"])
+            .args(argv)
+            .output()
+            .unwrap()
+    };
+    let out = tool(&["read", "7", "0x1008:00", "vs"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "\"X67BC4321-10 / X67SM2436\"\n"
+    );
+    assert!(tool(&["write", "7", "0x1017:00", "u16", "321"])
+        .status
+        .success());
+    assert_eq!(
+        String::from_utf8_lossy(&tool(&["read", "7", "0x1017:00", "u16"]).stdout),
+        "321\n"
+    );
+    assert_eq!(
+        tool(&["write", "7", "0x2110:00", "u8", "168"])
+            .status
+            .code(),
+        Some(1)
+    );
+    node.kill().unwrap();
+    node.wait().unwrap();
 }
