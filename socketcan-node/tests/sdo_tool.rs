@@ -198,31 +198,33 @@ fn nmt_commands_reach_the_node() {
     assert_eq!(state, 0x7F);
 }
 
-/// The binary over socketcand: `x67-node` on a free port, `sdo-tool --bus socketcand://…`.
-#[test]
-fn binary_over_socketcand() {
+/// `x67-node` as node `id` and socketcand server on a free port of 127.0.0.1, once it listens.
+fn hub(id: u8) -> (std::process::Child, u16) {
     let port = std::net::TcpListener::bind("127.0.0.1:0")
         .unwrap()
         .local_addr()
         .unwrap()
         .port();
-    let mut node = Command::new(env!("CARGO_BIN_EXE_x67-node"))
-        .args([
-            "--bus",
-            &format!("socketcand-listen:127.0.0.1:{port}"),
-            "--node-id",
-            "3",
-        ])
+    let mut child = Command::new(env!("CARGO_BIN_EXE_x67-node"))
+        .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
+        .args(["--node-id", &id.to_string()])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
         .unwrap();
     let mut line = String::new();
     std::io::BufRead::read_line(
-        &mut std::io::BufReader::new(node.stdout.as_mut().unwrap()),
+        &mut std::io::BufReader::new(child.stdout.as_mut().unwrap()),
         &mut line,
     )
     .unwrap();
+    (child, port)
+}
+
+/// The binary over socketcand: `x67-node` on a free port, `sdo-tool --bus socketcand://…`.
+#[test]
+fn binary_over_socketcand() {
+    let (mut node, port) = hub(3);
     let bus = format!("socketcand://127.0.0.1:{port}/can0");
     let tool = |argv: &[&str]| {
         Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
@@ -524,28 +526,7 @@ fn json_output() {
 /// bus that `x67-node` holds: reads (expedited and segmented) and writes arrive as they should.
 #[test]
 fn against_python_canopen_local_node() {
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
-    let mut hub = Command::new(env!("CARGO_BIN_EXE_x67-node"))
-        .args([
-            "--bus",
-            &format!("socketcand-listen:127.0.0.1:{port}"),
-            "--node-id",
-            "1",
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    std::io::BufRead::read_line(
-        &mut std::io::BufReader::new(hub.stdout.as_mut().unwrap()),
-        &mut line,
-    )
-    .unwrap();
+    let (mut hub, port) = hub(1);
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/python/local_node.py");
     let mut py = Command::new("python3")
         .arg(&script)
