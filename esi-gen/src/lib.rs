@@ -38,6 +38,8 @@ pub enum Command {
     Dcf(DcfArgs),
     /// Write a Markdown reference of the dictionary.
     Doc(Convert),
+    /// Write the SII EEPROM image (binary, ETG.1000.6 layout) of an EtherCAT device.
+    Sii(SiiArgs),
     /// Load and validate a description and print a one-screen summary; exit 1 when it has errors.
     Check(CheckArgs),
     /// Compare the dictionaries of two descriptions; exit 0 when equal, 1 when they differ.
@@ -93,6 +95,22 @@ pub struct DcfArgs {
     /// The bit rate in kbit/s.
     #[arg(long)]
     pub baud_rate: Option<u32>,
+}
+
+/// Arguments of `sii`.
+#[derive(Debug, Args)]
+pub struct SiiArgs {
+    /// The ESI to read.
+    pub input: PathBuf,
+    /// The image file to write.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// The serial number in the image.
+    #[arg(long, default_value_t = 0, value_parser = parse_u32)]
+    pub serial: u32,
+    /// Device options.
+    #[command(flatten)]
+    pub device: DeviceArgs,
 }
 
 /// Arguments of `check`.
@@ -171,6 +189,14 @@ pub enum Error {
     /// The file holds no device.
     #[error("{0}: the file describes no device")]
     NoDevice(PathBuf),
+    /// No SII image could be made.
+    #[error("{path}: {source}")]
+    Sii {
+        /// The description.
+        path: PathBuf,
+        /// Why.
+        source: od::sii::SiiError,
+    },
 }
 
 /// What a command ended with: exit code 0, or 1 for "check found errors" / "diff found differences".
@@ -211,6 +237,35 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
                 },
                 false,
             )
+        }
+        Command::Sii(a) => {
+            let (_, mut devices) = load_selected(&a.input, a.device.device.as_deref())?;
+            if devices.len() > 1 {
+                return Err(Error::SeveralDevices {
+                    path: a.input.clone(),
+                    available: list(&devices),
+                });
+            }
+            let mut dev = devices
+                .pop()
+                .ok_or_else(|| Error::NoDevice(a.input.clone()))?;
+            if let Some(p) = &a.device.identity {
+                IdentityFile::load(p)?.apply(&mut dev);
+            }
+            dev.override_identity(a.device.vendor_id, a.device.product_code, a.device.revision);
+            let image = od::sii::write(&dev, a.serial).map_err(|source| Error::Sii {
+                path: a.input.clone(),
+                source,
+            })?;
+            std::fs::write(&a.output, &image).map_err(|source| Error::Io {
+                path: a.output.clone(),
+                source,
+            })?;
+            write_out(
+                out,
+                &format!("wrote {} ({} bytes)\n", a.output.display(), image.len()),
+            )?;
+            Ok(0)
         }
         Command::Check(c) => {
             let (format, devices) = load_selected(&c.input, c.device.as_deref())?;

@@ -222,3 +222,43 @@ fn every_format_converts_to_every_other_and_back() {
         }
     }
 }
+
+/// `esi-gen sii`: the image of one device of the SMD ESI, with its serial; a non-EtherCAT description
+/// is refused with the reason.
+#[test]
+fn sii_image() {
+    let img = tmp("smd24k.bin");
+    let esi = format!(
+        "{}/../fixtures/smd/SMD23K-B_SMD24K.esi.xml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let out = esi_gen(&[
+        "sii",
+        &esi,
+        "--device",
+        "SMD24K",
+        "--serial",
+        "0x77",
+        "-o",
+        img.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&img).unwrap();
+    let parsed = od::sii::parse(&bytes).unwrap();
+    assert_eq!(parsed.identity[3], 0x77);
+    let general = parsed.category(od::sii::category::GENERAL).unwrap();
+    assert_eq!(parsed.string(general[2]), "SMD24K");
+    let xdd = format!(
+        "{}/../fixtures/x67/X67SM2436.xdd",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let out = esi_gen(&["sii", &xdd, "-o", img.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no EtherCAT description"));
+    let out = esi_gen(&["sii", &esi, "-o", img.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "two devices: --device needed");
+}

@@ -20,6 +20,7 @@ pub mod esi;
 pub mod load;
 pub mod object;
 pub mod sdo;
+pub mod sii;
 pub mod types;
 pub mod validate;
 pub mod value;
