@@ -1,0 +1,244 @@
+//! One slave's ESC: its memory (registers 0x0000–0x0FFF and process RAM up to 64 KiB), its
+//! configured station address (0x0010) and alias (0x0012), and the datagram commands of ETG.1000.4
+//! §5.4 with their working-counter rules. A [`Chain`] passes a frame through its slaves in order.
+//!
+//! Working counter: a read that a slave serves adds 1, a write 1, a read-write 1 for the read and 2
+//! for the write (3 when both); a broadcast adds per slave; ARMW/FRMW add 1 at the slave that reads and
+//! 1 at each slave that writes. Auto-increment addressing: each slave takes the datagram when its ADP
+//! is 0 and increments ADP as the frame passes.
+
+use crate::frame::{datagrams, FrameError};
+
+/// Commands (ETG.1000.4 Table 14).
+pub mod cmd {
+    /// No operation.
+    pub const NOP: u8 = 0;
+    /// Auto-increment read.
+    pub const APRD: u8 = 1;
+    /// Auto-increment write.
+    pub const APWR: u8 = 2;
+    /// Auto-increment read-write.
+    pub const APRW: u8 = 3;
+    /// Configured-address read.
+    pub const FPRD: u8 = 4;
+    /// Configured-address write.
+    pub const FPWR: u8 = 5;
+    /// Configured-address read-write.
+    pub const FPRW: u8 = 6;
+    /// Broadcast read.
+    pub const BRD: u8 = 7;
+    /// Broadcast write.
+    pub const BWR: u8 = 8;
+    /// Broadcast read-write.
+    pub const BRW: u8 = 9;
+    /// Logical read.
+    pub const LRD: u8 = 10;
+    /// Logical write.
+    pub const LWR: u8 = 11;
+    /// Logical read-write.
+    pub const LRW: u8 = 12;
+    /// Auto-increment read, multiple write.
+    pub const ARMW: u8 = 13;
+    /// Configured-address read, multiple write.
+    pub const FRMW: u8 = 14;
+}
+
+/// ESC memory size.
+pub const MEMORY: usize = 0x1_0000;
+/// Configured station address register.
+pub const STATION_ADDRESS: u16 = 0x0010;
+/// Configured station alias register.
+pub const STATION_ALIAS: u16 = 0x0012;
+
+/// One slave controller.
+#[derive(Clone)]
+pub struct Esc {
+    mem: Vec<u8>,
+}
+
+impl Default for Esc {
+    fn default() -> Self {
+        Esc::new()
+    }
+}
+
+impl std::fmt::Debug for Esc {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Esc")
+            .field("station_address", &self.station_address())
+            .finish()
+    }
+}
+
+/// How one slave acts on a datagram.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Access {
+    Read,
+    Write,
+    ReadWrite,
+    /// ARMW/FRMW: read at the addressed slave, write at the others.
+    ReadMultipleWrite,
+}
+
+impl Esc {
+    /// An ESC with zeroed memory (station address 0).
+    pub fn new() -> Esc {
+        Esc {
+            mem: vec![0; MEMORY],
+        }
+    }
+
+    /// The configured station address (register 0x0010).
+    pub fn station_address(&self) -> u16 {
+        self.read_u16(STATION_ADDRESS)
+    }
+
+    /// A 16-bit register.
+    pub fn read_u16(&self, at: u16) -> u16 {
+        let a = usize::from(at);
+        u16::from_le_bytes([self.mem[a], self.mem[(a + 1) % MEMORY]])
+    }
+
+    /// Sets memory from the slave's side (the application).
+    pub fn store(&mut self, at: u16, bytes: &[u8]) {
+        for (k, b) in bytes.iter().enumerate() {
+            self.mem[(usize::from(at) + k) % MEMORY] = *b;
+        }
+    }
+
+    /// Memory as the master sees it.
+    pub fn load(&self, at: u16, len: usize) -> Vec<u8> {
+        (0..len)
+            .map(|k| self.mem[(usize::from(at) + k) % MEMORY])
+            .collect()
+    }
+
+    /// Reads into `data` (ORed for broadcasts, as an ESC ORs a broadcast read).
+    fn read_into(&self, ado: u16, data: &mut [u8], or: bool) {
+        for (k, d) in data.iter_mut().enumerate() {
+            let m = self.mem[(usize::from(ado) + k) % MEMORY];
+            *d = if or { *d | m } else { m };
+        }
+    }
+
+    fn write_from(&mut self, ado: u16, data: &[u8]) {
+        self.store(ado, data);
+    }
+
+    /// Applies one register datagram the slave is addressed by; the working-counter increment.
+    fn access(
+        &mut self,
+        access: Access,
+        ado: u16,
+        data: &mut [u8],
+        or: bool,
+        addressed: bool,
+    ) -> u16 {
+        match access {
+            Access::Read => {
+                self.read_into(ado, data, or);
+                1
+            }
+            Access::Write => {
+                self.write_from(ado, data);
+                1
+            }
+            Access::ReadWrite => {
+                let incoming = data.to_vec();
+                self.read_into(ado, data, or);
+                self.write_from(ado, &incoming);
+                3
+            }
+            Access::ReadMultipleWrite if addressed => {
+                self.read_into(ado, data, false);
+                1
+            }
+            Access::ReadMultipleWrite => {
+                self.write_from(ado, data);
+                1
+            }
+        }
+    }
+}
+
+/// Slaves in the order a frame passes them.
+#[derive(Debug, Clone, Default)]
+pub struct Chain {
+    /// The slaves.
+    pub slaves: Vec<Esc>,
+}
+
+impl Chain {
+    /// `n` slaves with zeroed memory.
+    pub fn new(n: usize) -> Chain {
+        Chain {
+            slaves: (0..n).map(|_| Esc::new()).collect(),
+        }
+    }
+
+    /// Processes every datagram of `frame` in place, as the frame passes each slave in turn. A frame
+    /// that does not parse is left unchanged and the error returned (the caller drops it).
+    pub fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
+        let dgs = datagrams(frame)?;
+        for esc in self.slaves.iter_mut() {
+            for d in &dgs {
+                let command = frame[d.start];
+                let adp = u16::from_le_bytes([frame[d.start + 2], frame[d.start + 3]]);
+                let ado = u16::from_le_bytes([frame[d.start + 4], frame[d.start + 5]]);
+                let (access, addressed, auto, or) = match command {
+                    cmd::APRD => (Some(Access::Read), adp == 0, true, false),
+                    cmd::APWR => (Some(Access::Write), adp == 0, true, false),
+                    cmd::APRW => (Some(Access::ReadWrite), adp == 0, true, false),
+                    cmd::ARMW => (Some(Access::ReadMultipleWrite), adp == 0, true, false),
+                    cmd::FPRD => (
+                        Some(Access::Read),
+                        adp == esc.station_address(),
+                        false,
+                        false,
+                    ),
+                    cmd::FPWR => (
+                        Some(Access::Write),
+                        adp == esc.station_address(),
+                        false,
+                        false,
+                    ),
+                    cmd::FPRW => (
+                        Some(Access::ReadWrite),
+                        adp == esc.station_address(),
+                        false,
+                        false,
+                    ),
+                    cmd::FRMW => (
+                        Some(Access::ReadMultipleWrite),
+                        adp == esc.station_address(),
+                        false,
+                        false,
+                    ),
+                    cmd::BRD => (Some(Access::Read), true, true, true),
+                    cmd::BWR => (Some(Access::Write), true, true, false),
+                    cmd::BRW => (Some(Access::ReadWrite), true, true, true),
+                    // NOP and the logical commands (FMMUs not yet modelled) pass unchanged.
+                    _ => (None, false, false, false),
+                };
+                if let Some(access) = access {
+                    let multiple = access == Access::ReadMultipleWrite;
+                    if addressed || multiple {
+                        let (data, wkc_at) = (d.data(), d.wkc());
+                        let mut buf = frame[data..data + d.len].to_vec();
+                        let inc = esc.access(access, ado, &mut buf, or, addressed);
+                        frame[data..data + d.len].copy_from_slice(&buf);
+                        let wkc = u16::from_le_bytes([frame[wkc_at], frame[wkc_at + 1]])
+                            .wrapping_add(inc);
+                        frame[wkc_at..wkc_at + 2].copy_from_slice(&wkc.to_le_bytes());
+                    }
+                    if auto {
+                        // Broadcasts increment ADP too (ETG.1000.4: "position" counts slaves).
+                        let next = adp.wrapping_add(1);
+                        frame[d.start + 2..d.start + 4].copy_from_slice(&next.to_le_bytes());
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}

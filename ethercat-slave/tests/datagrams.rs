@@ -1,0 +1,133 @@
+//! Datagram commands through a chain of emulated ESCs, with the working counters and addresses a real
+//! chain gives (ETG.1000.4 §5.4).
+
+use ethercat_slave::esc::{cmd, Chain, STATION_ADDRESS};
+use ethercat_slave::frame::{emit, parse, Datagram, FrameError};
+
+const SRC: [u8; 6] = [2, 0, 0, 0, 0, 1];
+
+fn run(chain: &mut Chain, dgs: &[Datagram]) -> Vec<Datagram> {
+    let mut f = emit(dgs, SRC);
+    chain.process(&mut f).unwrap();
+    parse(&f).unwrap()
+}
+
+/// A master's start-up: count the slaves with BRD (WKC = slaves), give each a station address with
+/// APWR by position, then read them back with FPRD.
+#[test]
+fn count_address_and_read_back() {
+    let mut c = Chain::new(3);
+    let r = run(&mut c, &[Datagram::new(cmd::BRD, 0, 0x0000, vec![0; 2])]);
+    assert_eq!(r[0].wkc, 3, "one per slave");
+    assert_eq!(r[0].address & 0xFFFF, 3, "ADP counted up by each slave");
+    for k in 0..3u16 {
+        let adp = 0u16.wrapping_sub(k);
+        let addr = 0x1000 + k;
+        let r = run(
+            &mut c,
+            &[Datagram::new(
+                cmd::APWR,
+                adp,
+                STATION_ADDRESS,
+                addr.to_le_bytes().to_vec(),
+            )],
+        );
+        assert_eq!(r[0].wkc, 1, "exactly one slave at position {k}");
+    }
+    for k in 0..3u16 {
+        assert_eq!(c.slaves[usize::from(k)].station_address(), 0x1000 + k);
+        let r = run(
+            &mut c,
+            &[Datagram::new(
+                cmd::FPRD,
+                0x1000 + k,
+                STATION_ADDRESS,
+                vec![0; 2],
+            )],
+        );
+        assert_eq!(
+            (r[0].wkc, r[0].data.clone()),
+            (1, (0x1000 + k).to_le_bytes().to_vec())
+        );
+    }
+    // An address no slave has: WKC 0, data unchanged.
+    let r = run(
+        &mut c,
+        &[Datagram::new(
+            cmd::FPRD,
+            0x7777,
+            STATION_ADDRESS,
+            vec![0xAA; 2],
+        )],
+    );
+    assert_eq!((r[0].wkc, r[0].data.clone()), (0, vec![0xAA, 0xAA]));
+}
+
+/// Read-write counts 3 (1 read + 2 write); BWR writes every slave; BRD ORs what they hold; several
+/// datagrams in one frame are each processed.
+#[test]
+fn read_write_broadcast_and_several_datagrams() {
+    let mut c = Chain::new(2);
+    c.slaves[0].store(0x0120, &[0x01]);
+    c.slaves[1].store(0x0120, &[0x04]);
+    let r = run(&mut c, &[Datagram::new(cmd::BRD, 0, 0x0120, vec![0])]);
+    assert_eq!((r[0].wkc, r[0].data[0]), (2, 0x05), "ORed");
+    let r = run(
+        &mut c,
+        &[
+            Datagram::new(cmd::BWR, 0, 0x0120, vec![0x02]),
+            Datagram::new(cmd::APRW, 0xFFFF, 0x0120, vec![0x08]),
+        ],
+    );
+    assert_eq!(r[0].wkc, 2);
+    assert_eq!(
+        (r[1].wkc, r[1].data[0]),
+        (3, 0x02),
+        "read the old, wrote the new"
+    );
+    assert_eq!(c.slaves[1].load(0x0120, 1), [0x08]);
+    assert_eq!(c.slaves[0].load(0x0120, 1), [0x02]);
+}
+
+/// ARMW: the addressed slave reads, every other slave writes what it read (the DC system time).
+#[test]
+fn armw_distributes_one_slaves_value() {
+    let mut c = Chain::new(3);
+    c.slaves[0].store(0x0910, &0x1122_3344u32.to_le_bytes());
+    let r = run(&mut c, &[Datagram::new(cmd::ARMW, 0, 0x0910, vec![0; 4])]);
+    assert_eq!(r[0].wkc, 3);
+    for s in &c.slaves {
+        assert_eq!(s.load(0x0910, 4), 0x1122_3344u32.to_le_bytes());
+    }
+}
+
+/// A malformed or truncated frame is refused with the reason and changes nothing.
+#[test]
+fn broken_frames_are_dropped() {
+    let mut c = Chain::new(1);
+    let good = emit(&[Datagram::new(cmd::BWR, 0, 0x0120, vec![9])], SRC);
+    for cut in [0, 10, 15, 20, 27] {
+        let mut f = good[..cut].to_vec();
+        assert!(
+            matches!(c.process(&mut f), Err(FrameError::Truncated { .. })),
+            "{cut}"
+        );
+    }
+    let mut f = good.clone();
+    f[12] = 0x08;
+    f[13] = 0x00;
+    assert_eq!(c.process(&mut f), Err(FrameError::EtherType(0x0800)));
+    let mut f = good.clone();
+    f[15] = 0x20 | (f[15] & 0x0F);
+    assert_eq!(c.process(&mut f), Err(FrameError::Type(2)));
+    assert_eq!(c.slaves[0].load(0x0120, 1), [0], "nothing written");
+    // Any bytes: no panic.
+    for n in 0..200usize {
+        let mut junk: Vec<u8> = (0..n).map(|k| (k * 31 + n) as u8).collect();
+        if junk.len() > 15 {
+            junk[12] = 0x88;
+            junk[13] = 0xA4;
+        }
+        let _ = c.process(&mut junk);
+    }
+}
