@@ -50,10 +50,38 @@ pub const STATION_ADDRESS: u16 = 0x0010;
 /// Configured station alias register.
 pub const STATION_ALIAS: u16 = 0x0012;
 
+/// First FMMU register block (16 bytes each, ETG.1000.4 Table 57).
+pub const FMMU_BASE: u16 = 0x0600;
+/// FMMUs an ESC has here.
+pub const FMMUS: usize = 16;
+/// EEPROM (SII) control/status register.
+pub const EEPROM_CONTROL: u16 = 0x0502;
+/// EEPROM word address register.
+pub const EEPROM_ADDRESS: u16 = 0x0504;
+/// EEPROM data register (8 bytes are read at once).
+pub const EEPROM_DATA: u16 = 0x0508;
+
+/// One FMMU as the master configured it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Fmmu {
+    /// Logical start address.
+    pub logical: u32,
+    /// Length in bytes.
+    pub len: u16,
+    /// Physical start address.
+    pub physical: u16,
+    /// Maps reads (LRD/LRW) from the slave.
+    pub read: bool,
+    /// Maps writes (LWR/LRW) to the slave.
+    pub write: bool,
+}
+
 /// One slave controller.
 #[derive(Clone)]
 pub struct Esc {
     mem: Vec<u8>,
+    /// The SII EEPROM image, read through the EEPROM interface registers.
+    pub sii: Vec<u8>,
 }
 
 impl Default for Esc {
@@ -85,6 +113,7 @@ impl Esc {
     pub fn new() -> Esc {
         Esc {
             mem: vec![0; MEMORY],
+            sii: Vec::new(),
         }
     }
 
@@ -123,6 +152,86 @@ impl Esc {
 
     fn write_from(&mut self, ado: u16, data: &[u8]) {
         self.store(ado, data);
+        self.after_write(ado, data.len());
+    }
+
+    /// What a master's write triggers: an EEPROM read command loads 8 bytes of the SII image at the
+    /// word address into the data register (ETG.1000.4 §6.4; command bits 8–10 of 0x0502 = 001).
+    fn after_write(&mut self, ado: u16, len: usize) {
+        let touches = |reg: u16, n: usize| {
+            let (a, b) = (usize::from(ado), usize::from(ado) + len);
+            let (r, e) = (usize::from(reg), usize::from(reg) + n);
+            a < e && r < b
+        };
+        if touches(EEPROM_CONTROL, 2) {
+            let control = self.read_u16(EEPROM_CONTROL);
+            if (control >> 8) & 0x07 == 0x01 {
+                let word = u32::from_le_bytes([
+                    self.mem[usize::from(EEPROM_ADDRESS)],
+                    self.mem[usize::from(EEPROM_ADDRESS) + 1],
+                    self.mem[usize::from(EEPROM_ADDRESS) + 2],
+                    self.mem[usize::from(EEPROM_ADDRESS) + 3],
+                ]) as usize;
+                let bytes: Vec<u8> = (0..8)
+                    .map(|k| self.sii.get(word * 2 + k).copied().unwrap_or(0xFF))
+                    .collect();
+                self.store(EEPROM_DATA, &bytes);
+                // Command done, not busy, no error; bit 6 says 8 bytes are read at once.
+                let status = 0x0040;
+                self.store(EEPROM_CONTROL, &u16::to_le_bytes(status));
+            }
+        }
+    }
+
+    /// FMMU `n` as configured in its registers, when active.
+    pub fn fmmu(&self, n: usize) -> Option<Fmmu> {
+        let base = FMMU_BASE + 16 * n as u16;
+        let r = self.load(base, 16);
+        if n >= FMMUS || r[12] & 0x01 == 0 {
+            return None;
+        }
+        Some(Fmmu {
+            logical: u32::from_le_bytes([r[0], r[1], r[2], r[3]]),
+            len: u16::from_le_bytes([r[4], r[5]]),
+            physical: u16::from_le_bytes([r[8], r[9]]),
+            read: r[11] & 0x01 != 0,
+            write: r[11] & 0x02 != 0,
+        })
+    }
+
+    /// A logical datagram at `addr` over `data`: mapped reads copied in, mapped writes copied out;
+    /// the working-counter increment (1 for a read, 1 for LWR's write, 2 for LRW's write).
+    fn logical(&mut self, command: u8, addr: u32, data: &mut [u8]) -> u16 {
+        let (want_read, want_write) = match command {
+            cmd::LRD => (true, false),
+            cmd::LWR => (false, true),
+            _ => (true, true),
+        };
+        let incoming = data.to_vec();
+        let (mut read, mut wrote) = (false, false);
+        for n in 0..FMMUS {
+            let Some(f) = self.fmmu(n) else { continue };
+            let start = u64::from(f.logical).max(u64::from(addr));
+            let end =
+                (u64::from(f.logical) + u64::from(f.len)).min(u64::from(addr) + data.len() as u64);
+            if start >= end {
+                continue;
+            }
+            for l in start..end {
+                let k = (l - u64::from(addr)) as usize;
+                let phys = (u64::from(f.physical) + (l - u64::from(f.logical))) as u16;
+                if want_read && f.read {
+                    data[k] = self.mem[usize::from(phys)];
+                    read = true;
+                }
+                if want_write && f.write {
+                    self.mem[usize::from(phys)] = incoming[k];
+                    wrote = true;
+                }
+            }
+        }
+        let write_weight = if command == cmd::LRW { 2 } else { 1 };
+        u16::from(read) + if wrote { write_weight } else { 0 }
     }
 
     /// Applies one register datagram the slave is addressed by; the working-counter increment.
@@ -217,7 +326,23 @@ impl Chain {
                     cmd::BRD => (Some(Access::Read), true, true, true),
                     cmd::BWR => (Some(Access::Write), true, true, false),
                     cmd::BRW => (Some(Access::ReadWrite), true, true, true),
-                    // NOP and the logical commands (FMMUs not yet modelled) pass unchanged.
+                    cmd::LRD | cmd::LWR | cmd::LRW => {
+                        let addr = u32::from_le_bytes([
+                            frame[d.start + 2],
+                            frame[d.start + 3],
+                            frame[d.start + 4],
+                            frame[d.start + 5],
+                        ]);
+                        let (data, wkc_at) = (d.data(), d.wkc());
+                        let mut buf = frame[data..data + d.len].to_vec();
+                        let inc = esc.logical(command, addr, &mut buf);
+                        frame[data..data + d.len].copy_from_slice(&buf);
+                        let wkc = u16::from_le_bytes([frame[wkc_at], frame[wkc_at + 1]])
+                            .wrapping_add(inc);
+                        frame[wkc_at..wkc_at + 2].copy_from_slice(&wkc.to_le_bytes());
+                        (None, false, false, false)
+                    }
+                    // NOP passes unchanged.
                     _ => (None, false, false, false),
                 };
                 if let Some(access) = access {

@@ -136,7 +136,7 @@ impl Datagram {
     }
 }
 
-/// A frame of `datagrams`, from `src` to broadcast.
+/// A frame of `datagrams` (each at most 2,047 data bytes, the 11-bit length), from `src` to broadcast.
 pub fn emit(datagrams: &[Datagram], src: [u8; 6]) -> Vec<u8> {
     let mut f = vec![0xFF; 6];
     f.extend_from_slice(&src);

@@ -5,8 +5,9 @@
 //! - [`esc`]: one slave's ESC memory (registers and process RAM), its addresses, and the datagram
 //!   commands with their working-counter rules; [`esc::Chain`] passes a frame through several slaves.
 //!
-//! Not in it yet: FMMU logical addressing (LRD/LWR/LRW answer with no slave taking part), SyncManager
-//! mailboxes and buffers, the EEPROM interface, AL state machine, DC, and the raw-socket runtime.
+//! In it: the register commands, FMMU logical addressing (LRD/LWR/LRW, byte-granular), the EEPROM
+//! interface reading an SII image (`od::sii`). Not in it yet: SyncManager mailboxes and buffers, the AL
+//! state machine, DC, the CoE mailbox, the SMD model's process data, and the raw-socket runtime.
 #![deny(missing_docs)]
 
 pub mod esc;

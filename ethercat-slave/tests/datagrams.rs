@@ -131,3 +131,140 @@ fn broken_frames_are_dropped() {
         let _ = c.process(&mut junk);
     }
 }
+
+/// Configures FMMU 0 of `slave` to map `len` bytes at logical `logical` onto physical `physical`.
+fn fmmu(c: &mut Chain, slave: usize, n: u16, logical: u32, len: u16, physical: u16, rw: u8) {
+    let mut r = Vec::new();
+    r.extend_from_slice(&logical.to_le_bytes());
+    r.extend_from_slice(&len.to_le_bytes());
+    r.extend_from_slice(&[0, 7]); // start bit 0, end bit 7
+    r.extend_from_slice(&physical.to_le_bytes());
+    r.extend_from_slice(&[0, rw, 1, 0, 0, 0]); // physical bit 0, type, active
+    let adp = 0u16.wrapping_sub(slave as u16);
+    let res = run(c, &[Datagram::new(cmd::APWR, adp, 0x0600 + 16 * n, r)]);
+    assert_eq!(res[0].wkc, 1);
+}
+
+/// LRW over two slaves' process data: each slave's write FMMU takes its outputs, its read FMMU gives
+/// its inputs; WKC = 3 per slave.
+#[test]
+fn logical_read_write_through_fmmus() {
+    let mut c = Chain::new(2);
+    for s in 0..2 {
+        let base = 16 * s as u32;
+        fmmu(&mut c, s, 0, base, 4, 0x1100, 0x02); // outputs: master → slave
+        fmmu(&mut c, s, 1, base + 4, 4, 0x1200, 0x01); // inputs: slave → master
+        c.slaves[s].store(0x1200, &[0xA0 + s as u8; 4]);
+    }
+    // One LRW over slave 0's image (8 bytes at logical 0).
+    let r = run(
+        &mut c,
+        &[Datagram {
+            cmd: cmd::LRW,
+            index: 0,
+            address: 0,
+            data: vec![1, 2, 3, 4, 0, 0, 0, 0],
+            wkc: 0,
+        }],
+    );
+    assert_eq!(r[0].wkc, 3, "read 1 + write 2");
+    assert_eq!(r[0].data, [1, 2, 3, 4, 0xA0, 0xA0, 0xA0, 0xA0]);
+    assert_eq!(c.slaves[0].load(0x1100, 4), [1, 2, 3, 4]);
+    assert_eq!(c.slaves[1].load(0x1100, 4), [0; 4], "not mapped there");
+    // LRD over both slaves' input areas: WKC 1 each.
+    let r = run(
+        &mut c,
+        &[Datagram {
+            cmd: cmd::LRD,
+            index: 0,
+            address: 4,
+            data: vec![0; 20],
+            wkc: 0,
+        }],
+    );
+    assert_eq!(r[0].wkc, 2);
+    assert_eq!(r[0].data[..4], [0xA0; 4]);
+    assert_eq!(r[0].data[16..20], [0xA1; 4]);
+    // An area no FMMU maps: WKC 0.
+    let r = run(
+        &mut c,
+        &[Datagram {
+            cmd: cmd::LWR,
+            index: 0,
+            address: 0x9000,
+            data: vec![5; 4],
+            wkc: 0,
+        }],
+    );
+    assert_eq!(r[0].wkc, 0);
+}
+
+/// The EEPROM interface: a read command at a word address loads 8 bytes of the SII image; the
+/// master reads the SMD's identity words this way.
+#[test]
+fn eeprom_interface_reads_the_sii_image() {
+    let path = format!(
+        "{}/../fixtures/smd/SMD23K-B_SMD24K.esi.xml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let (_, devices) = od::load::load(std::path::Path::new(&path)).unwrap();
+    let d = devices
+        .iter()
+        .find(|d| d.identity.order_code == "SMD23K-B")
+        .unwrap();
+    let mut c = Chain::new(1);
+    c.slaves[0].sii = od::sii::write(d, 42).unwrap();
+    // Address word 0x0008 (vendor ID), then command "read".
+    run(
+        &mut c,
+        &[Datagram::new(
+            cmd::APWR,
+            0,
+            0x0504,
+            8u32.to_le_bytes().to_vec(),
+        )],
+    );
+    run(
+        &mut c,
+        &[Datagram::new(
+            cmd::APWR,
+            0,
+            0x0502,
+            0x0100u16.to_le_bytes().to_vec(),
+        )],
+    );
+    let r = run(&mut c, &[Datagram::new(cmd::APRD, 0, 0x0508, vec![0; 8])]);
+    let vendor = u32::from_le_bytes(r[0].data[..4].try_into().unwrap());
+    let product = u32::from_le_bytes(r[0].data[4..].try_into().unwrap());
+    assert_eq!(
+        (vendor, product),
+        (d.identity.vendor_id, d.identity.product_code)
+    );
+    let status = run(&mut c, &[Datagram::new(cmd::APRD, 0, 0x0502, vec![0; 2])]);
+    assert_eq!(
+        u16::from_le_bytes([status[0].data[0], status[0].data[1]]) & 0x8000,
+        0,
+        "not busy"
+    );
+    // The serial at word 0x000E.
+    run(
+        &mut c,
+        &[Datagram::new(
+            cmd::APWR,
+            0,
+            0x0504,
+            0x0Eu32.to_le_bytes().to_vec(),
+        )],
+    );
+    run(
+        &mut c,
+        &[Datagram::new(
+            cmd::APWR,
+            0,
+            0x0502,
+            0x0100u16.to_le_bytes().to_vec(),
+        )],
+    );
+    let r = run(&mut c, &[Datagram::new(cmd::APRD, 0, 0x0508, vec![0; 4])]);
+    assert_eq!(u32::from_le_bytes(r[0].data[..4].try_into().unwrap()), 42);
+}
