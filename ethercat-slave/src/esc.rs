@@ -82,6 +82,8 @@ pub struct Esc {
     mem: Vec<u8>,
     /// The SII EEPROM image, read through the EEPROM interface registers.
     pub sii: Vec<u8>,
+    /// What the AL state transitions check.
+    pub al: crate::al::AlConfig,
 }
 
 impl Default for Esc {
@@ -111,15 +113,24 @@ enum Access {
 impl Esc {
     /// An ESC with zeroed memory (station address 0).
     pub fn new() -> Esc {
-        Esc {
+        let mut esc = Esc {
             mem: vec![0; MEMORY],
             sii: Vec::new(),
-        }
+            al: crate::al::AlConfig::default(),
+        };
+        esc.store(crate::al::AL_STATUS, &[crate::al::state::INIT, 0]);
+        esc
     }
 
     /// The configured station address (register 0x0010).
     pub fn station_address(&self) -> u16 {
         self.read_u16(STATION_ADDRESS)
+    }
+
+    /// The AL state (AL status bits 0–3) and whether the error indicator is set.
+    pub fn al_state(&self) -> (u8, bool) {
+        let s = self.read_u16(crate::al::AL_STATUS);
+        ((s & 0x0F) as u8, s & 0x10 != 0)
     }
 
     /// A 16-bit register.
@@ -163,6 +174,23 @@ impl Esc {
             let (r, e) = (usize::from(reg), usize::from(reg) + n);
             a < e && r < b
         };
+        if touches(crate::al::AL_CONTROL, 2) {
+            let control = self.read_u16(crate::al::AL_CONTROL);
+            let status = self.read_u16(crate::al::AL_STATUS);
+            let current = (status & 0x0F) as u8;
+            let error = status & 0x10 != 0;
+            let mem = |at: u16, n: usize| self.load(at, n);
+            let (next, code) = crate::al::transition(&self.al, current, error, control, &mem);
+            if code == u16::MAX {
+                // Error not acknowledged: nothing changes.
+            } else if code == crate::al::code::NONE {
+                self.store(crate::al::AL_STATUS, &[next, 0]);
+                self.store(crate::al::AL_STATUS_CODE, &[0, 0]);
+            } else {
+                self.store(crate::al::AL_STATUS, &[current | 0x10, 0]);
+                self.store(crate::al::AL_STATUS_CODE, &code.to_le_bytes());
+            }
+        }
         if touches(EEPROM_CONTROL, 2) {
             let control = self.read_u16(EEPROM_CONTROL);
             if (control >> 8) & 0x07 == 0x01 {

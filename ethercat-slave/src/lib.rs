@@ -6,9 +6,10 @@
 //!   commands with their working-counter rules; [`esc::Chain`] passes a frame through several slaves.
 //!
 //! In it: the register commands, FMMU logical addressing (LRD/LWR/LRW, byte-granular), the EEPROM
-//! interface reading an SII image (`od::sii`). Not in it yet: SyncManager mailboxes and buffers, the AL
-//! state machine, DC, the CoE mailbox, the SMD model's process data, and the raw-socket runtime.
+//! interface reading an SII image (`od::sii`), the AL state machine with its SyncManager checks
+//! ([`al`]). Not in it yet: SyncManager mailboxes and buffers, DC, the CoE mailbox, the SMD model's process data, and the raw-socket runtime.
 #![deny(missing_docs)]
 
+pub mod al;
 pub mod esc;
 pub mod frame;

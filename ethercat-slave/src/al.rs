@@ -1,0 +1,165 @@
+//! The Application Layer state machine of a slave (ETG.1000.6 §6.4): AL control (0x0120), AL status
+//! (0x0130) and AL status code (0x0134), with the checks each transition makes against the
+//! SyncManager settings of the device description.
+//!
+//! Init → Pre-Op needs SM0/SM1 (the mailbox) configured as the ESI says (start address, a length
+//! within MinSize…MaxSize, the control byte, enabled); Pre-Op → Safe-Op needs SM2/SM3 (process data)
+//! at their start addresses with the process-data length, enabled. Op is reached from Safe-Op; any
+//! state may go back down. A refused request sets the error indicator (AL status bit 4) and the status
+//! code, and the state stays; further requests are refused until the master acknowledges the error
+//! (AL control bit 4).
+
+use od::DeviceDescription;
+
+/// AL control register.
+pub const AL_CONTROL: u16 = 0x0120;
+/// AL status register.
+pub const AL_STATUS: u16 = 0x0130;
+/// AL status code register.
+pub const AL_STATUS_CODE: u16 = 0x0134;
+/// First SyncManager register block (8 bytes each).
+pub const SM_BASE: u16 = 0x0800;
+
+/// The states (AL status bits 0–3).
+pub mod state {
+    /// Init.
+    pub const INIT: u8 = 1;
+    /// Pre-Operational.
+    pub const PREOP: u8 = 2;
+    /// Bootstrap.
+    pub const BOOT: u8 = 3;
+    /// Safe-Operational.
+    pub const SAFEOP: u8 = 4;
+    /// Operational.
+    pub const OP: u8 = 8;
+}
+
+/// AL status codes (ETG.1000.6 Table 11).
+pub mod code {
+    /// No error.
+    pub const NONE: u16 = 0x0000;
+    /// Invalid requested state change.
+    pub const INVALID_STATE_CHANGE: u16 = 0x0011;
+    /// Unknown requested state.
+    pub const UNKNOWN_STATE: u16 = 0x0012;
+    /// Bootstrap not supported.
+    pub const BOOTSTRAP_NOT_SUPPORTED: u16 = 0x0013;
+    /// Invalid mailbox configuration (Pre-Op).
+    pub const INVALID_MAILBOX: u16 = 0x0016;
+    /// Invalid output configuration.
+    pub const INVALID_OUTPUTS: u16 = 0x001D;
+    /// Invalid input configuration.
+    pub const INVALID_INPUTS: u16 = 0x001E;
+}
+
+/// One SyncManager setting a transition checks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SmRule {
+    /// Physical start address.
+    pub start: u16,
+    /// Smallest and largest length.
+    pub len: (u16, u16),
+    /// Control byte.
+    pub control: u8,
+}
+
+/// What the transitions check, from the device description.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct AlConfig {
+    /// SM0 (mailbox out) and SM1 (mailbox in).
+    pub mailbox: Option<[SmRule; 2]>,
+    /// SM2 (outputs), when the device has outputs.
+    pub outputs: Option<SmRule>,
+    /// SM3 (inputs), when the device has inputs.
+    pub inputs: Option<SmRule>,
+}
+
+impl AlConfig {
+    /// The checks of the ESI's `Sm` elements.
+    pub fn from_description(desc: &DeviceDescription) -> AlConfig {
+        let Some(ec) = &desc.ethercat else {
+            return AlConfig::default();
+        };
+        let rule = |kind: &str| {
+            ec.sync_managers.iter().find(|s| s.kind == kind).map(|s| {
+                let d = s.default_size.unwrap_or(0);
+                SmRule {
+                    start: s.start_address,
+                    len: (s.min_size.unwrap_or(d), s.max_size.unwrap_or(d)),
+                    control: s.control_byte,
+                }
+            })
+        };
+        AlConfig {
+            mailbox: rule("MBoxOut").zip(rule("MBoxIn")).map(|(a, b)| [a, b]),
+            outputs: rule("Outputs"),
+            inputs: rule("Inputs"),
+        }
+    }
+}
+
+/// The SyncManager `n` as the master wrote it: (start, length, control, enabled).
+pub fn sm(mem: &dyn Fn(u16, usize) -> Vec<u8>, n: u16) -> (u16, u16, u8, bool) {
+    let r = mem(SM_BASE + 8 * n, 8);
+    (
+        u16::from_le_bytes([r[0], r[1]]),
+        u16::from_le_bytes([r[2], r[3]]),
+        r[4],
+        r[6] & 0x01 != 0,
+    )
+}
+
+fn matches(rule: &SmRule, (start, len, control, enabled): (u16, u16, u8, bool)) -> bool {
+    enabled
+        && start == rule.start
+        && (rule.len.0..=rule.len.1).contains(&len)
+        && control == rule.control
+}
+
+/// The outcome of an AL control write: the new state and status code (0 when accepted).
+pub fn transition(
+    config: &AlConfig,
+    current: u8,
+    error: bool,
+    control: u16,
+    mem: &dyn Fn(u16, usize) -> Vec<u8>,
+) -> (u8, u16) {
+    let requested = (control & 0x0F) as u8;
+    let acknowledge = control & 0x10 != 0;
+    if error && !acknowledge {
+        return (current, u16::MAX); // no change while the error is not acknowledged
+    }
+    let ok = (requested, code::NONE);
+    match requested {
+        state::INIT => ok,
+        state::BOOT => (current, code::BOOTSTRAP_NOT_SUPPORTED),
+        state::PREOP => match current {
+            state::INIT => match &config.mailbox {
+                Some([out, inn]) if !(matches(out, sm(mem, 0)) && matches(inn, sm(mem, 1))) => {
+                    (current, code::INVALID_MAILBOX)
+                }
+                _ => ok,
+            },
+            state::PREOP | state::SAFEOP | state::OP => ok,
+            _ => (current, code::INVALID_STATE_CHANGE),
+        },
+        state::SAFEOP => match current {
+            state::PREOP => {
+                if config.outputs.is_some_and(|r| !matches(&r, sm(mem, 2))) {
+                    (current, code::INVALID_OUTPUTS)
+                } else if config.inputs.is_some_and(|r| !matches(&r, sm(mem, 3))) {
+                    (current, code::INVALID_INPUTS)
+                } else {
+                    ok
+                }
+            }
+            state::SAFEOP | state::OP => ok,
+            _ => (current, code::INVALID_STATE_CHANGE),
+        },
+        state::OP => match current {
+            state::SAFEOP | state::OP => ok,
+            _ => (current, code::INVALID_STATE_CHANGE),
+        },
+        _ => (current, code::UNKNOWN_STATE),
+    }
+}
