@@ -1,21 +1,14 @@
 //! The AL state machine of the emulated slave with the SMD's SyncManager settings from its ESI.
 
+mod common;
+
 use ethercat_slave::al::{code, state, AlConfig, AL_CONTROL, AL_STATUS_CODE};
 use ethercat_slave::esc::{cmd, Chain};
 use ethercat_slave::frame::{emit, parse, Datagram};
 
 fn smd_chain() -> Chain {
-    let path = format!(
-        "{}/../fixtures/smd/SMD23K-B_SMD24K.esi.xml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let (_, devices) = od::load::load(std::path::Path::new(&path)).unwrap();
-    let d = devices
-        .iter()
-        .find(|d| d.identity.order_code == "SMD23K-B")
-        .unwrap();
     let mut c = Chain::new(1);
-    c.slaves[0].al = AlConfig::from_description(d);
+    c.slaves[0].al = AlConfig::from_description(&common::smd());
     c
 }
 

@@ -1,6 +1,8 @@
 //! Datagram commands through a chain of emulated ESCs, with the working counters and addresses a real
 //! chain gives (ETG.1000.4 §5.4).
 
+mod common;
+
 use ethercat_slave::esc::{cmd, Chain, STATION_ADDRESS};
 use ethercat_slave::frame::{emit, parse, Datagram, FrameError};
 
@@ -199,33 +201,19 @@ fn logical_read_write_through_fmmus() {
     assert_eq!(r[0].wkc, 0);
 }
 
-/// The EEPROM interface: a read command at a word address loads 8 bytes of the SII image; the
-/// master reads the SMD's identity words this way.
-#[test]
-fn eeprom_interface_reads_the_sii_image() {
-    let path = format!(
-        "{}/../fixtures/smd/SMD23K-B_SMD24K.esi.xml",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let (_, devices) = od::load::load(std::path::Path::new(&path)).unwrap();
-    let d = devices
-        .iter()
-        .find(|d| d.identity.order_code == "SMD23K-B")
-        .unwrap();
-    let mut c = Chain::new(1);
-    c.slaves[0].sii = od::sii::write(d, 42).unwrap();
-    // Address word 0x0008 (vendor ID), then command "read".
+/// Reads 8 bytes of the SII at `word` as a master does: address, read command, data register.
+fn eeprom_read(c: &mut Chain, word: u32) -> Vec<u8> {
     run(
-        &mut c,
+        c,
         &[Datagram::new(
             cmd::APWR,
             0,
             0x0504,
-            8u32.to_le_bytes().to_vec(),
+            word.to_le_bytes().to_vec(),
         )],
     );
     run(
-        &mut c,
+        c,
         &[Datagram::new(
             cmd::APWR,
             0,
@@ -233,9 +221,22 @@ fn eeprom_interface_reads_the_sii_image() {
             0x0100u16.to_le_bytes().to_vec(),
         )],
     );
-    let r = run(&mut c, &[Datagram::new(cmd::APRD, 0, 0x0508, vec![0; 8])]);
-    let vendor = u32::from_le_bytes(r[0].data[..4].try_into().unwrap());
-    let product = u32::from_le_bytes(r[0].data[4..].try_into().unwrap());
+    run(c, &[Datagram::new(cmd::APRD, 0, 0x0508, vec![0; 8])])[0]
+        .data
+        .clone()
+}
+
+/// The EEPROM interface: a read command at a word address loads 8 bytes of the SII image; the
+/// master reads the SMD's identity words this way.
+#[test]
+fn eeprom_interface_reads_the_sii_image() {
+    let d = common::smd();
+    let mut c = Chain::new(1);
+    c.slaves[0].sii = od::sii::write(&d, 42).unwrap();
+    // Word 0x0008: vendor ID, then product code.
+    let data = eeprom_read(&mut c, 8);
+    let vendor = u32::from_le_bytes(data[..4].try_into().unwrap());
+    let product = u32::from_le_bytes(data[4..].try_into().unwrap());
     assert_eq!(
         (vendor, product),
         (d.identity.vendor_id, d.identity.product_code)
@@ -247,24 +248,6 @@ fn eeprom_interface_reads_the_sii_image() {
         "not busy"
     );
     // The serial at word 0x000E.
-    run(
-        &mut c,
-        &[Datagram::new(
-            cmd::APWR,
-            0,
-            0x0504,
-            0x0Eu32.to_le_bytes().to_vec(),
-        )],
-    );
-    run(
-        &mut c,
-        &[Datagram::new(
-            cmd::APWR,
-            0,
-            0x0502,
-            0x0100u16.to_le_bytes().to_vec(),
-        )],
-    );
-    let r = run(&mut c, &[Datagram::new(cmd::APRD, 0, 0x0508, vec![0; 4])]);
-    assert_eq!(u32::from_le_bytes(r[0].data[..4].try_into().unwrap()), 42);
+    let data = eeprom_read(&mut c, 0x0E);
+    assert_eq!(u32::from_le_bytes(data[..4].try_into().unwrap()), 42);
 }
