@@ -13,3 +13,4 @@
 pub mod al;
 pub mod esc;
 pub mod frame;
+pub mod smd;

@@ -421,6 +421,11 @@ impl SmdUnit {
         &self.indexer
     }
 
+    /// The EtherCAT state the unit is in (see [`Indexer::set_network_state`]).
+    pub fn set_network_state(&mut self, state: crate::smd::indexer::NetworkState) {
+        self.indexer.set_network_state(state);
+    }
+
     /// An SDO upload of `index:sub` as the CoE server does it ([`Dictionary::read`]).
     pub fn sdo_read(&self, index: u16, sub: u8) -> Result<&[u8], OdError> {
         self.dict.read(index, sub)
