@@ -251,3 +251,29 @@ fn eeprom_interface_reads_the_sii_image() {
     let data = eeprom_read(&mut c, 0x0E);
     assert_eq!(u32::from_le_bytes(data[..4].try_into().unwrap()), 42);
 }
+
+/// A flood of 100,000 random frames (EtherCAT-typed, random datagrams, random lengths) leaves the
+/// chain answering a valid frame exactly.
+#[test]
+fn a_flood_of_random_frames_leaves_the_chain_answering() {
+    let mut c = Chain::new(3);
+    let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    };
+    for _ in 0..100_000 {
+        let len = (next() % 120) as usize;
+        let mut f: Vec<u8> = (0..len).map(|_| next() as u8).collect();
+        if f.len() >= 16 {
+            f[12] = 0x88;
+            f[13] = 0xA4;
+            f[15] = (f[15] & 0x07) | 0x10;
+        }
+        let _ = c.process(&mut f);
+    }
+    let r = run(&mut c, &[Datagram::new(cmd::BRD, 0, 0x0000, vec![0; 2])]);
+    assert_eq!(r[0].wkc, 3);
+}
