@@ -142,15 +142,20 @@ fn runtime_node_on_vcan_boots_answers_sdo_and_beats() {
         let (hb, at) = next_on(&mut master, 0x709, Duration::from_secs(1)).expect("heartbeat");
         beats.push((hb.data()[0], at));
     }
-    // Operational after the first beat or two; 50 ms apart within the VM's scheduling slack.
+    // Operational after the first beat or two; 50 ms apart on average. Arrival times carry the VM's
+    // scheduling jitter (a late beat and an on-time one arrive closer together), so single gaps are
+    // only bounded above, the period is checked over the whole run.
     assert_eq!(beats.last().unwrap().0, 0x05);
     for w in beats.windows(2) {
         let gap = w[1].1 - w[0].1;
-        assert!(
-            gap > Duration::from_millis(25) && gap < Duration::from_millis(150),
-            "heartbeat gap {gap:?}"
-        );
+        assert!(gap < Duration::from_millis(150), "heartbeat gap {gap:?}");
     }
+    let span = beats.last().unwrap().1 - beats[0].1;
+    let mean = span / (beats.len() as u32 - 1);
+    assert!(
+        mean > Duration::from_millis(40) && mean < Duration::from_millis(60),
+        "mean heartbeat period {mean:?}"
+    );
 }
 
 /// `candump -L` lines `(SECONDS.MICROS) vcan0 ID#DATA` with their times.
@@ -241,7 +246,7 @@ fn candump_sees_the_binary_boot_up_and_heartbeat() {
     for t in &beats {
         let gap = t - last;
         assert!(
-            (0.05..0.2).contains(&gap),
+            (0.02..0.2).contains(&gap),
             "heartbeat gap {gap:.4} s:\n{text}"
         );
         last = *t;
