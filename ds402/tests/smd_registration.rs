@@ -3,8 +3,8 @@
 
 mod smd_rig;
 
-use ds402::smd::config::{Configuration, CFG0_USE_ENCODER};
-use ds402::smd::indexer::{cmd0, cmd1, stat0, Outputs};
+use ds402::smd::config::CFG0_USE_ENCODER;
+use ds402::smd::indexer::{cmd0, cmd1, stat0};
 use smd_rig::Rig;
 
 const STOP_JOG: u16 = 4;
@@ -12,19 +12,8 @@ const STOP_JOG: u16 = 4;
 /// IN1 = Stop Jog/Registration; driver on, position valid; Velocity 10,000, Acceleration and
 /// Deceleration 10 (braking from 10,000 to 141 takes 4,999 steps).
 fn rig() -> Rig {
-    let mut r = Rig::with(Configuration {
-        cfg0: STOP_JOG | CFG0_USE_ENCODER,
-        ..Configuration::default()
-    });
-    r.out = Outputs {
-        cmd1: cmd1::ENABLE_DRIVER | cmd1::REGISTRATION_MOVE,
-        velocity: 10_000,
-        acceleration: 10,
-        deceleration: 10,
-        ..Outputs::default()
-    };
-    r.command(cmd0::PRESET_POSITION);
-    r.command(0);
+    let mut r = Rig::ready_with(STOP_JOG | CFG0_USE_ENCODER, 10_000, 10, 10);
+    r.out.cmd1 |= cmd1::REGISTRATION_MOVE;
     r
 }
 

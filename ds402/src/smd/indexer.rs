@@ -823,6 +823,14 @@ impl Indexer {
         (0..2).any(|k| fs[k] == Some(f) && self.active(k))
     }
 
+    /// E-Stop or an end limit is active: no Absolute, Relative or assembled move starts
+    /// (SMD-R1-029, SMD-R2-040).
+    fn start_blocked(&self) -> bool {
+        self.input_active(InputFunction::EStop)
+            || self.input_active(InputFunction::CwLimit)
+            || self.input_active(InputFunction::CcwLimit)
+    }
+
     fn encoder_enabled(&self) -> bool {
         self.config.cfg0 & CFG0_USE_ENCODER != 0
     }
@@ -1298,10 +1306,7 @@ impl Indexer {
         if !(2..=MAX_SEGMENTS).contains(&segments.len()) || self.busy() || !self.can_move() {
             return Outcome::CommandError;
         }
-        if self.input_active(InputFunction::EStop)
-            || self.input_active(InputFunction::CwLimit)
-            || self.input_active(InputFunction::CcwLimit)
-        {
+        if self.start_blocked() {
             return Outcome::InputError;
         }
         self.held = None;
@@ -1464,10 +1469,7 @@ impl Indexer {
             return Outcome::CommandError;
         }
         // SMD-R1-029, SMD-R2-040: no move starts while E-Stop or an end limit is active.
-        if self.input_active(InputFunction::EStop)
-            || self.input_active(InputFunction::CwLimit)
-            || self.input_active(InputFunction::CcwLimit)
-        {
+        if self.start_blocked() {
             return Outcome::InputError;
         }
         let target = if absolute {
@@ -1685,17 +1687,22 @@ impl Indexer {
         });
     }
 
-    /// Turns the running segment into a deceleration from its present speed to the starting speed
-    /// at its Deceleration (SMD-R2-029), ending as `purpose` says.
-    fn controlled_stop(&mut self, purpose: Purpose) {
-        let Some(seg) = self.segment else { return };
+    /// The deceleration from `seg`'s present speed to the starting speed at its Deceleration and Jerk.
+    fn stop_ramp(&self, seg: &Segment) -> Phase {
         let vs = f64::from(self.config.starting_speed);
-        let ramp = Phase::new(
+        Phase::new(
             vs,
             seg.speed().max(vs),
             f64::from(seg.params.deceleration) * 1000.0,
             seg.params.jerk,
-        );
+        )
+    }
+
+    /// Turns the running segment into a deceleration from its present speed to the starting speed
+    /// at its Deceleration (SMD-R2-029), ending as `purpose` says.
+    fn controlled_stop(&mut self, purpose: Purpose) {
+        let Some(seg) = self.segment else { return };
+        let ramp = self.stop_ramp(&seg);
         self.segment = Some(Segment {
             base: seg.covered(),
             curve: Curve::Ramp(ramp),
@@ -1722,13 +1729,7 @@ impl Indexer {
                 self.controlled_stop(Purpose::Abort);
             }
             Purpose::Move => {
-                let vs = f64::from(self.config.starting_speed);
-                let ramp = Phase::new(
-                    vs,
-                    seg.speed().max(vs),
-                    f64::from(seg.params.deceleration) * 1000.0,
-                    seg.params.jerk,
-                );
+                let ramp = self.stop_ramp(&seg);
                 let left = (seg.target - seg.origin).unsigned_abs() as f64 - seg.covered();
                 if ramp.distance >= left {
                     return; // Completes on its own deceleration.
@@ -1764,10 +1765,7 @@ impl Indexer {
         }
         match held {
             Held::Move { target } => {
-                if self.input_active(InputFunction::EStop)
-                    || self.input_active(InputFunction::CwLimit)
-                    || self.input_active(InputFunction::CcwLimit)
-                {
+                if self.start_blocked() {
                     return Outcome::InputError;
                 }
                 // The Resume block's parameters, the original target (SMD-R6-044).

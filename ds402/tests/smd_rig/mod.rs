@@ -49,16 +49,7 @@ impl Rig {
 
     /// Driver enabled, position preset to 0 (valid), move parameters set, CMD_word0 back at 0.
     pub fn ready() -> Rig {
-        let mut r = Rig::new();
-        r.out = Outputs {
-            cmd1: cmd1::ENABLE_DRIVER,
-            velocity: 10_000,
-            acceleration: 10,
-            deceleration: 10,
-            ..Outputs::default()
-        };
-        r.command(cmd0::PRESET_POSITION);
-        r.command(0);
+        let mut r = Rig::ready_with(0, 10_000, 10, 10);
         r.command(cmd0::RESET_ERRORS);
         r.command(0);
         assert_eq!(r.s0() & (stat0::POSITION_INVALID | stat0::MOVE_COMPLETE), 0);

@@ -443,15 +443,8 @@ impl Tool {
         Self::check_node(node)?;
         let addr = self.object(object)?;
         let code = self.type_for(addr, ty)?;
-        let config = self.sdo.clone();
-        let mut session = SdoSession::new(BusTransport::new(self.bus.as_mut(), node), config);
         let mux = Multiplexer::new(addr.index, addr.sub);
-        let result = session.read_value(mux, code.data_type);
-        if let Some(e) = session.transport.failure.take() {
-            return Err(e.into());
-        }
-        drop(session);
-        let v = result.map_err(|e| self.session_error(node, addr, e))?;
+        let v = self.transfer(node, addr, |s| s.read_value(mux, code.data_type))?;
         Ok(code.format(&v))
     }
 
@@ -479,14 +472,8 @@ impl Tool {
                 )));
             }
         }
-        let config = self.sdo.clone();
-        let mut session = SdoSession::new(BusTransport::new(self.bus.as_mut(), node), config);
-        let result = session.write_bytes(Multiplexer::new(addr.index, addr.sub), &bytes);
-        if let Some(e) = session.transport.failure.take() {
-            return Err(e.into());
-        }
-        drop(session);
-        result.map_err(|e| self.session_error(node, addr, e))
+        let mux = Multiplexer::new(addr.index, addr.sub);
+        self.transfer(node, addr, |s| s.write_bytes(mux, &bytes))
     }
 
     /// `nmt COMMAND NODE|all` (node 0 = all).
