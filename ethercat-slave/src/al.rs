@@ -4,7 +4,8 @@
 //!
 //! Init → Pre-Op needs SM0/SM1 (the mailbox) configured as the ESI says (start address, a length
 //! within MinSize…MaxSize, the control byte, enabled); Pre-Op → Safe-Op needs SM2/SM3 (process data)
-//! at their start addresses with the process-data length, enabled. Op is reached from Safe-Op; any
+//! at their start addresses with the process-data length, enabled, and — when the device limits it —
+//! an activated SYNC0 to run at an accepted cycle time (0x0036). Op is reached from Safe-Op; any
 //! state may go back down. A refused request sets the error indicator (AL status bit 4) and the status
 //! code, and the state stays; further requests are refused until the master acknowledges the error
 //! (AL control bit 4).
@@ -50,6 +51,10 @@ pub mod code {
     pub const INVALID_OUTPUTS: u16 = 0x001D;
     /// Invalid input configuration.
     pub const INVALID_INPUTS: u16 = 0x001E;
+    /// SyncManager watchdog.
+    pub const SM_WATCHDOG: u16 = 0x001B;
+    /// DC SYNC0 cycle time.
+    pub const SYNC0_CYCLE_TIME: u16 = 0x0036;
 }
 
 /// One SyncManager setting a transition checks.
@@ -72,6 +77,9 @@ pub struct AlConfig {
     pub outputs: Option<SmRule>,
     /// SM3 (inputs), when the device has inputs.
     pub inputs: Option<SmRule>,
+    /// The SYNC0 cycle times (ns) the device accepts when SYNC0 is activated; checked at
+    /// Pre-Op → Safe-Op (AL status code 0x0036).
+    pub sync0_cycle: Option<(u32, u32)>,
 }
 
 impl AlConfig {
@@ -94,6 +102,7 @@ impl AlConfig {
             mailbox: rule("MBoxOut").zip(rule("MBoxIn")).map(|(a, b)| [a, b]),
             outputs: rule("Outputs"),
             inputs: rule("Inputs"),
+            sync0_cycle: None,
         }
     }
 }
@@ -107,6 +116,16 @@ pub fn sm(mem: &dyn Fn(u16, usize) -> Vec<u8>, n: u16) -> (u16, u16, u8, bool) {
         r[4],
         r[6] & 0x01 != 0,
     )
+}
+
+/// SYNC0 off, or on with a cycle time in `range`.
+fn sync0_accepted((lo, hi): (u32, u32), mem: &dyn Fn(u16, usize) -> Vec<u8>) -> bool {
+    let activation = mem(crate::dc::SYNC_ACTIVATION, 1)[0];
+    if activation & 0x03 != 0x03 {
+        return true;
+    }
+    let c = mem(crate::dc::SYNC0_CYCLE, 4);
+    (lo..=hi).contains(&u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
 }
 
 fn matches(rule: &SmRule, (start, len, control, enabled): (u16, u16, u8, bool)) -> bool {
@@ -149,6 +168,11 @@ pub fn transition(
                     (current, code::INVALID_OUTPUTS)
                 } else if config.inputs.is_some_and(|r| !matches(&r, sm(mem, 3))) {
                     (current, code::INVALID_INPUTS)
+                } else if config
+                    .sync0_cycle
+                    .is_some_and(|range| !sync0_accepted(range, mem))
+                {
+                    (current, code::SYNC0_CYCLE_TIME)
                 } else {
                     ok
                 }

@@ -60,6 +60,19 @@ pub const EEPROM_CONTROL: u16 = 0x0502;
 pub const EEPROM_ADDRESS: u16 = 0x0504;
 /// EEPROM data register (8 bytes are read at once).
 pub const EEPROM_DATA: u16 = 0x0508;
+/// DL status register.
+pub const DL_STATUS: u16 = 0x0110;
+/// Watchdog divider register.
+pub const WATCHDOG_DIVIDER: u16 = 0x0400;
+/// Process-data watchdog time register.
+pub const WATCHDOG_TIME_PD: u16 = 0x0420;
+/// Process-data watchdog status register.
+pub const WATCHDOG_STATUS_PD: u16 = 0x0440;
+/// Process-data watchdog counter register.
+pub const WATCHDOG_COUNTER_PD: u16 = 0x0442;
+/// Registers the master cannot write: ESC information, DL status, AL status and code, watchdog
+/// status and counters, the EEPROM data register's read half.
+const READ_ONLY: [(u16, usize); 4] = [(0x0000, 0x10), (DL_STATUS, 2), (0x0130, 6), (0x0440, 4)];
 
 /// One FMMU as the master configured it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -84,6 +97,15 @@ pub struct Esc {
     pub sii: Vec<u8>,
     /// What the AL state transitions check.
     pub al: crate::al::AlConfig,
+    /// The last mailbox put for the master, for a repeat request.
+    pub(crate) last_mailbox: Option<Vec<u8>>,
+    /// A new output image arrived since [`Esc::take_outputs_written`].
+    pub(crate) outputs_written: bool,
+    /// Time since the last output image (the SyncManager watchdog).
+    pub(crate) watchdog_elapsed: std::time::Duration,
+    watchdog_expired: bool,
+    /// The Distributed Clock.
+    pub(crate) clock: crate::dc::Clock,
 }
 
 impl Default for Esc {
@@ -117,9 +139,99 @@ impl Esc {
             mem: vec![0; MEMORY],
             sii: Vec::new(),
             al: crate::al::AlConfig::default(),
+            last_mailbox: None,
+            outputs_written: false,
+            watchdog_elapsed: std::time::Duration::ZERO,
+            watchdog_expired: false,
+            clock: crate::dc::Clock::default(),
         };
+        // ESC information (0x0000–0x0009): type, revision, build, FMMUs, SyncManagers, process RAM in
+        // KiB, ports 0 and 1 MII, features: byte-oriented FMMUs, DC with 64-bit system time.
+        esc.store(0x0000, &[0x11, 0x00, 0x02, 0x00]);
+        esc.store(
+            0x0004,
+            &[FMMUS as u8, crate::sm::SYNC_MANAGERS as u8, 60, 0x0F],
+        );
+        esc.store(0x0008, &0x000Du16.to_le_bytes());
         esc.store(crate::al::AL_STATUS, &[crate::al::state::INIT, 0]);
+        // Watchdog divider 2498 (100 µs units), PDI and process-data watchdog 1000 (100 ms), status:
+        // not expired.
+        esc.store(WATCHDOG_DIVIDER, &2498u16.to_le_bytes());
+        esc.store(0x0410, &1000u16.to_le_bytes());
+        esc.store(WATCHDOG_TIME_PD, &1000u16.to_le_bytes());
+        esc.store(WATCHDOG_STATUS_PD, &[1, 0]);
+        esc.set_position(0, 1);
         esc
+    }
+
+    /// Where the slave is in a chain of `n`: the DL status (ports 0 and 1 open with communication
+    /// when a slave follows; ports 2 and 3 closed) and the DC propagation.
+    pub fn set_position(&mut self, k: usize, n: usize) {
+        let last = k + 1 >= n;
+        let mut dl: u16 = 0x0001 | 0x0010 | 0x0200 | 0x1000 | 0x4000;
+        dl |= if last { 0x0400 } else { 0x0020 | 0x0800 };
+        self.store(DL_STATUS, &dl.to_le_bytes());
+        self.clock.position = k as u64;
+        self.clock.return_hops = 2 * (n.saturating_sub(k + 1)) as u64;
+        // Slaves power up at different instants: each local clock has its own start.
+        self.clock.base = 1_000_000_007u64.wrapping_mul(k as u64 + 1);
+    }
+
+    /// The chain's time in nanoseconds (the runtime's clock).
+    pub fn set_time(&mut self, ns: u64) {
+        self.clock.now = ns;
+    }
+
+    /// Whether a new output image arrived since the last call.
+    pub fn take_outputs_written(&mut self) -> bool {
+        std::mem::take(&mut self.outputs_written)
+    }
+
+    /// The process-data watchdog time: (divider + 2) × 40 ns × 0x0420; zero when disabled.
+    pub fn watchdog_time(&self) -> std::time::Duration {
+        let divider = u64::from(self.read_u16(WATCHDOG_DIVIDER));
+        let n = u64::from(self.read_u16(WATCHDOG_TIME_PD));
+        std::time::Duration::from_nanos((divider + 2) * 40 * n)
+    }
+
+    /// Runs the SyncManager watchdog for `dt`: true when it expired now (no output image for the
+    /// watchdog time on a SyncManager with the watchdog enabled). Status 0x0440 bit 0 is 0 while it
+    /// stays expired; 0x0442 counts expiries.
+    pub fn tick(&mut self, dt: std::time::Duration) -> bool {
+        let guarded = (0..crate::sm::SYNC_MANAGERS).any(|n| {
+            let sm = self.sync_manager(n);
+            sm.enabled && !sm.is_mailbox() && sm.master_writes() && sm.watchdog()
+        });
+        let time = self.watchdog_time();
+        if !guarded || time.is_zero() {
+            self.watchdog_elapsed = std::time::Duration::ZERO;
+            self.watchdog_expired = false;
+            self.store(WATCHDOG_STATUS_PD, &[1, 0]);
+            return false;
+        }
+        if !self.watchdog_expired && self.watchdog_elapsed.is_zero() {
+            self.store(WATCHDOG_STATUS_PD, &[1, 0]);
+        }
+        self.watchdog_elapsed += dt;
+        if self.watchdog_elapsed >= time && !self.watchdog_expired {
+            self.watchdog_expired = true;
+            self.store(WATCHDOG_STATUS_PD, &[0, 0]);
+            let count = self.load(WATCHDOG_COUNTER_PD, 1)[0].saturating_add(1);
+            self.store(WATCHDOG_COUNTER_PD, &[count]);
+            return true;
+        }
+        false
+    }
+
+    /// The application leaves for `state` with the error indication and `code` (e.g. a watchdog).
+    pub fn al_fault(&mut self, state: u8, code: u16) {
+        self.store(crate::al::AL_STATUS, &[state | 0x10, 0]);
+        self.store(crate::al::AL_STATUS_CODE, &code.to_le_bytes());
+    }
+
+    /// Memory bytes without any side effect.
+    pub(crate) fn raw(&self, at: u16, len: usize) -> Vec<u8> {
+        self.load(at, len)
     }
 
     /// The configured station address (register 0x0010).
@@ -154,16 +266,40 @@ impl Esc {
     }
 
     /// Reads into `data` (ORed for broadcasts, as an ESC ORs a broadcast read).
-    fn read_into(&self, ado: u16, data: &mut [u8], or: bool) {
+    fn read_into(&mut self, ado: u16, data: &mut [u8], or: bool) {
+        self.dc_before_read(ado, data.len());
         for (k, d) in data.iter_mut().enumerate() {
             let m = self.mem[(usize::from(ado) + k) % MEMORY];
             *d = if or { *d | m } else { m };
         }
+        self.dc_after_read(ado, data.len());
     }
 
     fn write_from(&mut self, ado: u16, data: &[u8]) {
+        let len = data.len();
+        let sm_before =
+            crate::dc::touches(ado, len, crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS)
+                .then(|| self.raw(crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS));
+        let time_before: [u8; 8] = {
+            let r = self.raw(crate::dc::SYSTEM_TIME, 8);
+            [r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]]
+        };
+        let kept: Vec<(u16, Vec<u8>)> = READ_ONLY
+            .iter()
+            .filter(|(r, n)| crate::dc::touches(ado, len, *r, *n))
+            .map(|(r, n)| (*r, self.raw(*r, *n)))
+            .collect();
         self.store(ado, data);
-        self.after_write(ado, data.len());
+        for (r, bytes) in kept {
+            self.store(r, &bytes);
+        }
+        if let Some(before) = sm_before {
+            self.sm_registers_written(&before);
+        }
+        if usize::from(ado) < 0x0A00 && usize::from(ado) + len > 0x0900 {
+            self.dc_after_write(ado, len, time_before);
+        }
+        self.after_write(ado, len);
     }
 
     /// What a master's write triggers: an EEPROM read command loads 8 bytes of the SII image at the
@@ -213,9 +349,12 @@ impl Esc {
 
     /// FMMU `n` as configured in its registers, when active.
     pub fn fmmu(&self, n: usize) -> Option<Fmmu> {
-        let base = FMMU_BASE + 16 * n as u16;
-        let r = self.load(base, 16);
-        if n >= FMMUS || r[12] & 0x01 == 0 {
+        if n >= FMMUS {
+            return None;
+        }
+        let base = usize::from(FMMU_BASE) + 16 * n;
+        let r = &self.mem[base..base + 16];
+        if r[12] & 0x01 == 0 {
             return None;
         }
         Some(Fmmu {
@@ -227,15 +366,15 @@ impl Esc {
         })
     }
 
-    /// A logical datagram at `addr` over `data`: mapped reads copied in, mapped writes copied out;
-    /// the working-counter increment (1 for a read, 1 for LWR's write, 2 for LRW's write).
+    /// A logical datagram at `addr` over `data`: mapped reads copied in, mapped writes copied out,
+    /// each through the SyncManager gate of its physical memory; the working-counter increment (1 for
+    /// a read, 1 for LWR's write, 2 for LRW's write).
     fn logical(&mut self, command: u8, addr: u32, data: &mut [u8]) -> u16 {
         let (want_read, want_write) = match command {
             cmd::LRD => (true, false),
             cmd::LWR => (false, true),
             _ => (true, true),
         };
-        let incoming = data.to_vec();
         let (mut read, mut wrote) = (false, false);
         for n in 0..FMMUS {
             let Some(f) = self.fmmu(n) else { continue };
@@ -245,21 +384,53 @@ impl Esc {
             if start >= end {
                 continue;
             }
-            for l in start..end {
-                let k = (l - u64::from(addr)) as usize;
-                let phys = (u64::from(f.physical) + (l - u64::from(f.logical))) as u16;
-                if want_read && f.read {
-                    data[k] = self.mem[usize::from(phys)];
-                    read = true;
-                }
-                if want_write && f.write {
-                    self.mem[usize::from(phys)] = incoming[k];
+            let k = (start - u64::from(addr)) as usize;
+            let len = (end - start) as usize;
+            let phys = (u64::from(f.physical) + (start - u64::from(f.logical))) as usize;
+            if phys + len > MEMORY {
+                continue;
+            }
+            let at = phys as u16;
+            // The frame's outputs are written before the slave's inputs are read into it.
+            if want_write && f.write {
+                if let Some(gate) = self.sm_gate(at, len, true) {
+                    self.mem[phys..phys + len].copy_from_slice(&data[k..k + len]);
+                    self.sm_after(gate, true);
                     wrote = true;
+                }
+            }
+            if want_read && f.read {
+                if let Some(gate) = self.sm_gate(at, len, false) {
+                    data[k..k + len].copy_from_slice(&self.mem[phys..phys + len]);
+                    self.sm_after(gate, false);
+                    read = true;
                 }
             }
         }
         let write_weight = if command == cmd::LRW { 2 } else { 1 };
         u16::from(read) + if wrote { write_weight } else { 0 }
+    }
+
+    fn gated_read(&mut self, ado: u16, data: &mut [u8], or: bool) -> u16 {
+        match self.sm_gate(ado, data.len(), false) {
+            Some(gate) => {
+                self.read_into(ado, data, or);
+                self.sm_after(gate, false);
+                1
+            }
+            None => 0,
+        }
+    }
+
+    fn gated_write(&mut self, ado: u16, data: &[u8]) -> u16 {
+        match self.sm_gate(ado, data.len(), true) {
+            Some(gate) => {
+                self.write_from(ado, data);
+                self.sm_after(gate, true);
+                1
+            }
+            None => 0,
+        }
     }
 
     /// Applies one register datagram the slave is addressed by; the working-counter increment.
@@ -272,28 +443,15 @@ impl Esc {
         addressed: bool,
     ) -> u16 {
         match access {
-            Access::Read => {
-                self.read_into(ado, data, or);
-                1
-            }
-            Access::Write => {
-                self.write_from(ado, data);
-                1
-            }
+            Access::Read => self.gated_read(ado, data, or),
+            Access::Write => self.gated_write(ado, data),
             Access::ReadWrite => {
                 let incoming = data.to_vec();
-                self.read_into(ado, data, or);
-                self.write_from(ado, &incoming);
-                3
+                let read = self.gated_read(ado, data, or);
+                read + 2 * self.gated_write(ado, &incoming)
             }
-            Access::ReadMultipleWrite if addressed => {
-                self.read_into(ado, data, false);
-                1
-            }
-            Access::ReadMultipleWrite => {
-                self.write_from(ado, data);
-                1
-            }
+            Access::ReadMultipleWrite if addressed => self.gated_read(ado, data, false),
+            Access::ReadMultipleWrite => self.gated_write(ado, data),
         }
     }
 }
@@ -308,8 +466,31 @@ pub struct Chain {
 impl Chain {
     /// `n` slaves with zeroed memory.
     pub fn new(n: usize) -> Chain {
-        Chain {
+        let mut chain = Chain {
             slaves: (0..n).map(|_| Esc::new()).collect(),
+        };
+        chain.link();
+        chain
+    }
+
+    /// Adds a slave at the end of the chain.
+    pub fn push(&mut self, esc: Esc) {
+        self.slaves.push(esc);
+        self.link();
+    }
+
+    /// Sets every slave's position (DL status, DC propagation).
+    fn link(&mut self) {
+        let n = self.slaves.len();
+        for (k, esc) in self.slaves.iter_mut().enumerate() {
+            esc.set_position(k, n);
+        }
+    }
+
+    /// The chain's time in nanoseconds, for the Distributed Clocks.
+    pub fn set_time(&mut self, ns: u64) {
+        for esc in &mut self.slaves {
+            esc.set_time(ns);
         }
     }
 

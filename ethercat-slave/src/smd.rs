@@ -1,18 +1,38 @@
 //! The SMD23K-B / SMD24K as an EtherCAT slave: an [`Esc`] with the SII image and the AL checks of the
-//! fixture's ESI, and the indexer model (`ds402::smd::binding::SmdUnit`) behind it. Each
-//! [`SmdChain::cycle`] is the slave's process-data cycle: in Op the 20 output bytes the master wrote
-//! into SM2 go to the model; in Safe-Op and Op the model's 20 input bytes are put into SM3. The model
-//! sees the EtherCAT state (PreOp_SafeOp, commands only in Op).
+//! fixture's ESI, the CoE SDO server (`od::coe::server`) on the unit's dictionary behind its mailbox,
+//! and the indexer model (`ds402::smd::binding::SmdUnit`) behind its process data.
+//!
+//! - [`SmdChain::process`] passes a frame through the chain; a mailbox the master completed in SM0 is
+//!   served at once and the answer put into SM1 (answers wait while SM1 is still full).
+//! - [`SmdChain::advance`] moves the chain's clock (Distributed Clocks, the SDO transfer timer);
+//!   [`SmdChain::step`] is the slave's process-data cycle over the time advanced since the last one:
+//!   the SyncManager watchdog (its expiry in Op: Safe-Op with AL status code 0x001B, and the model's
+//!   Input_Error, SMD-R1-035), SYNC0 events to the model, in Op the 20 output bytes of SM2 to the
+//!   model, in Safe-Op and Op the model's 20 input bytes into SM3. [`SmdChain::cycle`] is both.
+//! - The model sees the EtherCAT state (PreOp_SafeOp, commands only in Op); in Safe-Op and Op the
+//!   output entries mapped to the RxPDO are the process data's (an SDO download is refused
+//!   0x06010006).
+//! - SYNC0 is accepted with a cycle time of 2 ms to 50 ms (SMD-T3-003); outside it Pre-Op → Safe-Op
+//!   is refused with AL status code 0x0036.
 
-use std::time::Duration;
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
 
 use ds402::smd::binding::{Device, SmdUnit, FIXTURE_ESI, FIXTURE_NAME};
 use ds402::smd::config::EncoderKind;
 use ds402::smd::indexer::{Inputs, NetworkState, Outputs};
+use od::coe::server::CoeServer;
+use od::sdo::frame::Multiplexer;
+use od::sdo::server::ServerConfig;
 
-use crate::al::{state, AlConfig};
+use crate::al::{code, state, AlConfig};
 use crate::esc::{Chain, Esc};
 use crate::frame::FrameError;
+
+/// SYNC0 cycle times the unit accepts, in ns (SMD-T3-003: 2 ms to 50 ms).
+pub const SYNC0_CYCLE_RANGE: (u32, u32) = (2_000_000, 50_000_000);
+/// Output bytes (0x7000:01–08) and input bytes (0x6000:01–07).
+pub const PROCESS_DATA_LEN: usize = 20;
 
 /// Why a slave could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -33,7 +53,7 @@ pub fn description(device: Device) -> Result<od::DeviceDescription, SmdSlaveErro
 }
 
 /// Decodes the 20 output bytes (0x7000:01–08, packed little-endian).
-pub fn decode_outputs(b: &[u8; 20]) -> Outputs {
+pub fn decode_outputs(b: &[u8; PROCESS_DATA_LEN]) -> Outputs {
     let u16_at = |o: usize| u16::from_le_bytes([b[o], b[o + 1]]);
     let u32_at = |o: usize| u32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
     Outputs {
@@ -48,9 +68,23 @@ pub fn decode_outputs(b: &[u8; 20]) -> Outputs {
     }
 }
 
+/// Encodes the 20 output bytes (what a master puts into SM2).
+pub fn encode_outputs(o: &Outputs) -> [u8; PROCESS_DATA_LEN] {
+    let mut b = [0u8; PROCESS_DATA_LEN];
+    b[0..2].copy_from_slice(&o.cmd0.to_le_bytes());
+    b[2..4].copy_from_slice(&o.cmd1.to_le_bytes());
+    b[4..8].copy_from_slice(&o.position.to_le_bytes());
+    b[8..12].copy_from_slice(&o.velocity.to_le_bytes());
+    b[12..14].copy_from_slice(&o.acceleration.to_le_bytes());
+    b[14..16].copy_from_slice(&o.deceleration.to_le_bytes());
+    b[16..18].copy_from_slice(&o.motor_current.to_le_bytes());
+    b[18..20].copy_from_slice(&o.jerk.to_le_bytes());
+    b
+}
+
 /// Encodes the 20 input bytes (0x6000:01–07).
-pub fn encode_inputs(i: &Inputs) -> [u8; 20] {
-    let mut b = [0u8; 20];
+pub fn encode_inputs(i: &Inputs) -> [u8; PROCESS_DATA_LEN] {
+    let mut b = [0u8; PROCESS_DATA_LEN];
     b[0..2].copy_from_slice(&i.status0.to_le_bytes());
     b[2..4].copy_from_slice(&i.status1.to_le_bytes());
     b[4..8].copy_from_slice(&i.motor_position.to_le_bytes());
@@ -61,19 +95,48 @@ pub fn encode_inputs(i: &Inputs) -> [u8; 20] {
     b
 }
 
+/// Decodes the 20 input bytes (what a master reads from SM3).
+pub fn decode_inputs(b: &[u8; PROCESS_DATA_LEN]) -> Inputs {
+    let u16_at = |o: usize| u16::from_le_bytes([b[o], b[o + 1]]);
+    let u32_at = |o: usize| u32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
+    Inputs {
+        status0: u16_at(0),
+        status1: u16_at(2),
+        motor_position: u32_at(4) as i32,
+        encoder_position: u32_at(8) as i32,
+        trapped_encoder_position: u32_at(12) as i32,
+        motor_current: u16_at(16),
+        jerk: u16_at(18),
+    }
+}
+
+/// One unit behind its ESC: the model and its CoE server.
+struct Unit {
+    model: SmdUnit,
+    coe: CoeServer,
+    /// Answers waiting for SM1 to be read.
+    pending: VecDeque<Vec<u8>>,
+    /// The AL state the model and the server were last told.
+    state: u8,
+}
+
 /// A chain of virtual SMD units.
 pub struct SmdChain {
     /// The ESCs in frame order.
     pub chain: Chain,
-    /// The model behind each ESC.
-    pub units: Vec<SmdUnit>,
+    units: Vec<Unit>,
     /// SM2 / SM3 start addresses from the ESI.
     outputs_at: u16,
     inputs_at: u16,
+    /// The chain's clock: nanoseconds since start, and the same as an instant for the SDO timer.
+    time_ns: u64,
+    now: Instant,
+    /// Time advanced since the last [`SmdChain::step`].
+    unstepped: Duration,
 }
 
 impl SmdChain {
-    /// `n` units of `device`, serial numbers 1…n.
+    /// `n` units of `device`, serial numbers 1…n, all in Init (SMD-T2-007).
     pub fn new(device: Device, n: usize) -> Result<SmdChain, SmdSlaveError> {
         let desc = description(device)?;
         let ec = desc
@@ -87,52 +150,170 @@ impl SmdChain {
                 .map_or(0, |s| s.start_address)
         };
         let (outputs_at, inputs_at) = (at("Outputs"), at("Inputs"));
+        let mailbox_in = ec
+            .sync_managers
+            .iter()
+            .find(|s| s.kind == "MBoxIn")
+            .and_then(|s| s.default_size)
+            .unwrap_or(128);
         let mut chain = Chain::new(0);
         let mut units = Vec::new();
         for k in 0..n {
             let mut esc = Esc::new();
             esc.sii = od::sii::write(&desc, k as u32 + 1)?;
             esc.al = AlConfig::from_description(&desc);
-            chain.slaves.push(esc);
-            let mut unit = SmdUnit::new(device, EncoderKind::Incremental)
+            esc.al.sync0_cycle = Some(SYNC0_CYCLE_RANGE);
+            chain.push(esc);
+            let mut model = SmdUnit::new(device, EncoderKind::Incremental)
                 .map_err(|e| SmdSlaveError::Description(e.to_string()))?;
-            unit.set_network_state(NetworkState::Init);
-            units.push(unit);
+            model.set_network_state(NetworkState::Init);
+            units.push(Unit {
+                model,
+                coe: CoeServer::new(ServerConfig::default(), usize::from(mailbox_in)),
+                pending: VecDeque::new(),
+                state: state::INIT,
+            });
         }
         Ok(SmdChain {
             chain,
             units,
             outputs_at,
             inputs_at,
+            time_ns: 0,
+            now: Instant::now(),
+            unstepped: Duration::ZERO,
         })
     }
 
-    /// Processes a frame as it passes the chain.
-    pub fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
-        self.chain.process(frame)
+    /// Units in the chain.
+    pub fn len(&self) -> usize {
+        self.units.len()
     }
 
-    /// One process-data cycle of every unit, `dt` long.
-    pub fn cycle(&mut self, dt: Duration) {
+    /// True for a chain of none.
+    pub fn is_empty(&self) -> bool {
+        self.units.is_empty()
+    }
+
+    /// The model of unit `k` (0 = first in the chain).
+    pub fn unit(&self, k: usize) -> Option<&SmdUnit> {
+        self.units.get(k).map(|u| &u.model)
+    }
+
+    /// The model of unit `k`, to change what it senses (inputs, shaft, temperature).
+    pub fn unit_mut(&mut self, k: usize) -> Option<&mut SmdUnit> {
+        self.units.get_mut(k).map(|u| &mut u.model)
+    }
+
+    /// Processes a frame as it passes the chain, then serves the mailboxes it completed.
+    pub fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
+        self.chain.process(frame)?;
+        self.serve_mailboxes();
+        Ok(())
+    }
+
+    fn serve_mailboxes(&mut self) {
+        let now = self.now;
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
-            let (al, _) = esc.al_state();
-            let network = match al {
-                state::OP => NetworkState::Op,
-                state::SAFEOP => NetworkState::SafeOp,
-                state::PREOP => NetworkState::PreOp,
-                _ => NetworkState::Init,
-            };
-            unit.set_network_state(network);
-            if al == state::OP {
-                let raw = esc.load(self.outputs_at, 20);
-                let mut b = [0u8; 20];
-                b.copy_from_slice(&raw);
-                unit.write_outputs(&decode_outputs(&b));
+            if let Some(mailbox) = esc.take_mailbox() {
+                unit.sync_state(esc.al_state().0);
+                unit.model.handle_mailbox(&mut unit.coe, now, &mailbox);
+                unit.pending
+                    .extend(std::iter::from_fn(|| unit.coe.poll_transmit()));
             }
-            let inputs = unit.cycle(dt);
+            while let Some(next) = unit.pending.front() {
+                if !esc.put_mailbox(next) {
+                    break;
+                }
+                unit.pending.pop_front();
+            }
+        }
+    }
+
+    /// Moves the chain's clock on by `dt` (without running the models).
+    pub fn advance(&mut self, dt: Duration) {
+        self.time_ns = self.time_ns.saturating_add(dt.as_nanos() as u64);
+        self.now += dt;
+        self.unstepped += dt;
+        self.chain.set_time(self.time_ns);
+    }
+
+    /// The chain's clock in nanoseconds since it started.
+    pub fn time_ns(&self) -> u64 {
+        self.time_ns
+    }
+
+    /// One process-data cycle of every unit over the time advanced since the last one.
+    pub fn step(&mut self) {
+        let dt = std::mem::take(&mut self.unstepped);
+        for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
+            unit.coe.handle_timeout(self.now);
+            let expired = esc.tick(dt);
+            let (al, _) = esc.al_state();
+            if expired && al == state::OP {
+                // SMD-R1-035: the watchdog drops the unit to Safe-Op with the error indication.
+                esc.al_fault(state::SAFEOP, code::SM_WATCHDOG);
+                unit.model.indexer_mut().sm_watchdog_expired();
+            }
+            let (al, _) = esc.al_state();
+            unit.sync_state(al);
+            if esc.sync0_events() > 0 {
+                unit.model.indexer_mut().sync0_event();
+            }
+            if al == state::OP {
+                let raw = esc.load(self.outputs_at, PROCESS_DATA_LEN);
+                let mut b = [0u8; PROCESS_DATA_LEN];
+                b.copy_from_slice(&raw);
+                unit.model.write_outputs(&decode_outputs(&b));
+            }
+            let inputs = unit.model.cycle(dt);
             if matches!(al, state::OP | state::SAFEOP) {
                 esc.store(self.inputs_at, &encode_inputs(&inputs));
             }
         }
+        self.serve_mailboxes();
+    }
+
+    /// [`advance`](SmdChain::advance) by `dt`, then [`step`](SmdChain::step).
+    pub fn cycle(&mut self, dt: Duration) {
+        self.advance(dt);
+        self.step();
+    }
+
+    /// The link to the master was lost (SMD-R1-036): a unit in Op drops to Safe-Op with the error
+    /// indication, as on a watchdog expiry, and stays there until the master requests Op again.
+    pub fn link_lost(&mut self) {
+        for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
+            if esc.al_state().0 == state::OP {
+                esc.al_fault(state::SAFEOP, code::SM_WATCHDOG);
+                unit.model.indexer_mut().sm_watchdog_expired();
+                unit.sync_state(state::SAFEOP);
+            }
+        }
+    }
+}
+
+impl Unit {
+    /// Tells the model and the CoE server the AL state.
+    fn sync_state(&mut self, al: u8) {
+        if al == self.state {
+            return;
+        }
+        self.state = al;
+        let network = match al {
+            state::OP => NetworkState::Op,
+            state::SAFEOP => NetworkState::SafeOp,
+            state::PREOP => NetworkState::PreOp,
+            _ => NetworkState::Init,
+        };
+        self.model.set_network_state(network);
+        let mapped: Vec<Multiplexer> = if matches!(al, state::OP | state::SAFEOP) {
+            (1..=8)
+                .map(|sub| Multiplexer { index: 0x7000, sub })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        self.coe.set_rxpdo_mapped(mapped);
     }
 }

@@ -91,15 +91,16 @@ fn read_write_broadcast_and_several_datagrams() {
     assert_eq!(c.slaves[0].load(0x0120, 1), [0x02]);
 }
 
-/// ARMW: the addressed slave reads, every other slave writes what it read (the DC system time).
+/// ARMW: the addressed slave reads, every other slave writes what it read (here in the user RAM
+/// 0x0F80; the DC system time is the usual case, see `dc.rs`).
 #[test]
 fn armw_distributes_one_slaves_value() {
     let mut c = Chain::new(3);
-    c.slaves[0].store(0x0910, &0x1122_3344u32.to_le_bytes());
-    let r = run(&mut c, &[Datagram::new(cmd::ARMW, 0, 0x0910, vec![0; 4])]);
+    c.slaves[0].store(0x0F80, &0x1122_3344u32.to_le_bytes());
+    let r = run(&mut c, &[Datagram::new(cmd::ARMW, 0, 0x0F80, vec![0; 4])]);
     assert_eq!(r[0].wkc, 3);
     for s in &c.slaves {
-        assert_eq!(s.load(0x0910, 4), 0x1122_3344u32.to_le_bytes());
+        assert_eq!(s.load(0x0F80, 4), 0x1122_3344u32.to_le_bytes());
     }
 }
 

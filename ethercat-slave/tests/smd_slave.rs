@@ -174,7 +174,7 @@ fn two_units_from_init_to_a_relative_move() {
     let o2 = decode_outputs(&outputs_bytes(&o[1]).try_into().unwrap());
     assert_eq!(o2, o[1]);
     assert_eq!(
-        encode_inputs(&c.units[0].inputs())[4..8],
+        encode_inputs(&c.unit(0).unwrap().inputs())[4..8],
         5_000i32.to_le_bytes()
     );
 }

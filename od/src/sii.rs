@@ -205,8 +205,9 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
     push16(&mut img, 1);
 
     let mut strings = Strings::default();
-    let group = strings.index(&ec.group_type);
+    // The order code is string 1: masters that show one string per slave (SOEM) show the first.
     let order = strings.index(&desc.identity.order_code);
+    let group = strings.index(&ec.group_type);
     let name = strings.index(&desc.identity.product_name);
     let txpdo = pdo_data(&ec.tx_pdos, &mut strings);
     let rxpdo = pdo_data(&ec.rx_pdos, &mut strings);

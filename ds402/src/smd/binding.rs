@@ -38,12 +38,14 @@
 
 use std::fmt;
 use std::sync::OnceLock;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
+use od::coe::server::CoeServer;
 use od::dict::{Dictionary, OdError};
 use od::error::ParseError;
 use od::esi::Select;
 use od::object::{AccessType, PdoMapping};
+use od::sdo::server::ServerEvent;
 use od::types::DataType;
 
 use super::config::{Configuration, EncoderKind};
@@ -421,6 +423,12 @@ impl SmdUnit {
         &self.indexer
     }
 
+    /// The model, for what the unit senses (inputs, shaft, temperature) and the network events (SYNC0,
+    /// the SyncManager watchdog).
+    pub fn indexer_mut(&mut self) -> &mut Indexer {
+        &mut self.indexer
+    }
+
     /// The EtherCAT state the unit is in (see [`Indexer::set_network_state`]).
     pub fn set_network_state(&mut self, state: crate::smd::indexer::NetworkState) {
         self.indexer.set_network_state(state);
@@ -442,6 +450,48 @@ impl SmdUnit {
             self.indexer.write_config(sub, value);
         }
         Ok(())
+    }
+
+    /// A CoE mailbox the master wrote (sync manager 0), served by `server` on the unit's dictionary; its
+    /// answers are left in `server` for the master to read. A confirmed download to `0x8010` reaches
+    /// the model as [`sdo_write`](SmdUnit::sdo_write)'s does: the entry written, and for a Complete
+    /// Access every sub-index whose value it changed. Returns the server's events.
+    pub fn handle_mailbox(
+        &mut self,
+        server: &mut CoeServer,
+        now: Instant,
+        mailbox: &[u8],
+    ) -> Vec<ServerEvent> {
+        let before = self.configuration_values();
+        server.handle_mailbox(now, mailbox, &mut self.dict);
+        let events: Vec<ServerEvent> = std::iter::from_fn(|| server.poll_event()).collect();
+        let after = self.configuration_values();
+        for event in &events {
+            let ServerEvent::Downloaded { mux } = event else {
+                continue;
+            };
+            if mux.index != CONFIGURATION_INDEX {
+                continue;
+            }
+            for (k, value) in after.iter().enumerate() {
+                let sub = k as u8 + 1;
+                if sub == mux.sub || before[k] != *value {
+                    self.indexer.write_config(sub, *value);
+                }
+            }
+        }
+        events
+    }
+
+    /// `0x8010:01–07` as the dictionary holds them.
+    fn configuration_values(&self) -> [u32; 7] {
+        let mut values = [0u32; 7];
+        for (k, v) in values.iter_mut().enumerate() {
+            if let Some(e) = entry_at(CONFIGURATION_INDEX, k as u8 + 1) {
+                *v = self.get::<u32>(e);
+            }
+        }
+        values
     }
 
     /// What a process-data frame of the master does: sets `0x7000:01–08` to `outputs`.

@@ -1,0 +1,172 @@
+//! Distributed Clocks (ETG.1000.4 §6.8, registers 0x0900–0x09FF) of the emulated ESC.
+//!
+//! Each slave has a local clock in nanoseconds: the chain's time ([`crate::esc::Chain::set_time`])
+//! plus a start offset of its own (slaves do not power up at the same instant) plus the time the frame
+//! takes to reach it ([`HOP_NS`] per slave on the way out, the same back).
+//!
+//! - **Receive times** (0x0900–0x090F, 0x0918): a write to 0x0900 latches, as the frame passes, the
+//!   local time on port 0 and — when a slave follows — on port 1 when the frame comes back; 0x0918 is
+//!   the port-0 time in 64 bits.
+//! - **System time** (0x0910, 64 bits) reads the local time plus the offset the master wrote
+//!   (0x0920). A write to it (the master's drift compensation: ARMW/FRMW of the reference clock's
+//!   time) does not set it; the difference goes to 0x092C (bits 0–30 magnitude, bit 31 set when the
+//!   local copy is smaller). The emulated clocks do not drift, so nothing is adjusted.
+//! - **SYNC0** (0x0981 activation: bit 0 cyclic operation, bit 1 SYNC0; 0x0990 start time, 0x09A0
+//!   cycle time): events at start + k·cycle in system time (one event for cycle 0). While active,
+//!   0x0990 reads the next event's time; 0x098E bit 0 is set after an event until read.
+
+use crate::esc::Esc;
+
+/// Nanoseconds a frame takes from one slave to the next (ESC forwarding and a short cable).
+pub const HOP_NS: u64 = 500;
+/// Receive time port 0.
+pub const RECEIVE_TIME: u16 = 0x0900;
+/// System time.
+pub const SYSTEM_TIME: u16 = 0x0910;
+/// Receive time of the ECAT processing unit (port 0), 64 bits.
+pub const RECEIVE_TIME_PU: u16 = 0x0918;
+/// System time offset.
+pub const SYSTEM_TIME_OFFSET: u16 = 0x0920;
+/// System time delay.
+pub const SYSTEM_TIME_DELAY: u16 = 0x0928;
+/// System time difference.
+pub const SYSTEM_TIME_DIFFERENCE: u16 = 0x092C;
+/// Sync activation.
+pub const SYNC_ACTIVATION: u16 = 0x0981;
+/// SYNC0 status.
+pub const SYNC0_STATUS: u16 = 0x098E;
+/// Start time of cyclic operation.
+pub const START_TIME: u16 = 0x0990;
+/// SYNC0 cycle time.
+pub const SYNC0_CYCLE: u16 = 0x09A0;
+
+/// The DC state of one slave.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Clock {
+    /// Local time at the chain's time 0.
+    pub base: u64,
+    /// Hops from the master to this slave.
+    pub position: u64,
+    /// Hops back from this slave to the end of the chain and back here (0 for the last slave).
+    pub return_hops: u64,
+    /// The chain's time.
+    pub now: u64,
+    /// The next SYNC0 event in system time, while SYNC0 runs.
+    pub next_sync0: Option<u64>,
+}
+
+impl Esc {
+    /// The local clock as the frame reaches the slave.
+    pub fn local_time(&self) -> u64 {
+        self.clock
+            .now
+            .wrapping_add(self.clock.base)
+            .wrapping_add(self.clock.position * HOP_NS)
+    }
+
+    /// System time: local time plus the offset the master set.
+    pub fn system_time(&self) -> u64 {
+        self.local_time()
+            .wrapping_add(self.u64_at(SYSTEM_TIME_OFFSET))
+    }
+
+    fn u64_at(&self, at: u16) -> u64 {
+        let r = self.raw(at, 8);
+        u64::from_le_bytes([r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]])
+    }
+
+    /// Before the master reads DC registers: the system time and the next SYNC0 time are current.
+    pub(crate) fn dc_before_read(&mut self, at: u16, len: usize) {
+        if !touches(at, len, SYSTEM_TIME, 0x0990 + 8 - 0x0910) {
+            return;
+        }
+        let t = self.system_time();
+        self.store(SYSTEM_TIME, &t.to_le_bytes());
+        if let Some(next) = self.clock.next_sync0 {
+            self.store(START_TIME, &next.to_le_bytes());
+        }
+    }
+
+    /// After a read: reading SYNC0 status clears it.
+    pub(crate) fn dc_after_read(&mut self, at: u16, len: usize) {
+        if touches(at, len, SYNC0_STATUS, 1) {
+            self.store(SYNC0_STATUS, &[0]);
+        }
+    }
+
+    /// What a master's write to DC registers does; `before` is the system time register before it.
+    pub(crate) fn dc_after_write(&mut self, at: u16, len: usize, before: [u8; 8]) {
+        if touches(at, len, RECEIVE_TIME, 4) {
+            let t0 = self.local_time();
+            self.store(RECEIVE_TIME, &(t0 as u32).to_le_bytes());
+            if self.clock.return_hops > 0 {
+                let t1 = t0 + self.clock.return_hops * HOP_NS;
+                self.store(RECEIVE_TIME + 4, &(t1 as u32).to_le_bytes());
+            }
+            self.store(RECEIVE_TIME_PU, &t0.to_le_bytes());
+        }
+        if touches(at, len, SYSTEM_TIME, 8) {
+            let received = self.u64_at(SYSTEM_TIME);
+            // A 32-bit write compares the low half.
+            let local = self.system_time();
+            let (received, local) = if len <= 4 && at == SYSTEM_TIME {
+                (received & 0xFFFF_FFFF, local & 0xFFFF_FFFF)
+            } else {
+                (received, local)
+            };
+            let (magnitude, smaller) = if local >= received {
+                (local - received, false)
+            } else {
+                (received - local, true)
+            };
+            let diff = (magnitude.min(0x7FFF_FFFF) as u32) | if smaller { 1 << 31 } else { 0 };
+            self.store(SYSTEM_TIME_DIFFERENCE, &diff.to_le_bytes());
+            self.store(SYSTEM_TIME, &before);
+        }
+        if touches(at, len, SYNC_ACTIVATION, 1) {
+            let act = self.raw(SYNC_ACTIVATION, 1)[0];
+            self.clock.next_sync0 = (act & 0x03 == 0x03).then(|| self.u64_at(START_TIME));
+        }
+    }
+
+    /// SYNC0 cycle time while cyclic operation and SYNC0 are activated.
+    pub fn sync0_cycle(&self) -> Option<u32> {
+        let act = self.raw(SYNC_ACTIVATION, 1)[0];
+        let r = self.raw(SYNC0_CYCLE, 4);
+        (act & 0x03 == 0x03).then(|| u32::from_le_bytes([r[0], r[1], r[2], r[3]]))
+    }
+
+    /// SYNC0 events up to the present system time: how many there were since the last call.
+    pub fn sync0_events(&mut self) -> u32 {
+        let Some(cycle) = self.sync0_cycle() else {
+            self.clock.next_sync0 = None;
+            return 0;
+        };
+        let now = self.system_time();
+        let mut events = 0;
+        while let Some(next) = self.clock.next_sync0 {
+            if next > now {
+                break;
+            }
+            events += 1;
+            self.clock.next_sync0 = (cycle > 0).then(|| next + u64::from(cycle));
+            if events > 1_000_000 {
+                // A start time far in the past: catch up at once.
+                let behind = (now - next) / u64::from(cycle.max(1));
+                self.clock.next_sync0 = Some(next + (behind + 1) * u64::from(cycle.max(1)));
+                break;
+            }
+        }
+        if events > 0 {
+            self.store(SYNC0_STATUS, &[1]);
+        }
+        events
+    }
+}
+
+/// Whether `[at, at+len)` overlaps `[reg, reg+n)`.
+pub(crate) fn touches(at: u16, len: usize, reg: u16, n: usize) -> bool {
+    let (a, b) = (usize::from(at), usize::from(at) + len);
+    let (r, e) = (usize::from(reg), usize::from(reg) + n);
+    a < e && r < b
+}

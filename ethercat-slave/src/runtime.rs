@@ -1,0 +1,146 @@
+//! The emulator on an interface: a chain of virtual SMD units answering every EtherCAT frame that
+//! arrives, as a real chain would, and running their process-data cycle on a fixed period.
+//!
+//! A frame is processed by every unit in turn and sent back on the same interface with the source
+//! address's locally-administered bit set (as the first ESC's port 0 does), so the master can tell its
+//! frames from the answers. A frame that does not parse (not EtherCAT, truncated, bad lengths) is
+//! dropped and counted; the chain is untouched. The link's carrier is watched: when it goes down the
+//! units in Op drop to Safe-Op (SMD-R1-036).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use ds402::smd::binding::Device;
+
+use crate::raw::{RawError, RawSocket};
+use crate::smd::{SmdChain, SmdSlaveError};
+
+/// What to run.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// The interface.
+    pub interface: String,
+    /// Which unit.
+    pub device: Device,
+    /// How many units in the chain.
+    pub units: usize,
+    /// The process-data cycle of the units.
+    pub cycle: Duration,
+}
+
+/// Why the emulator stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum RuntimeError {
+    /// The socket.
+    #[error(transparent)]
+    Raw(#[from] RawError),
+    /// The units.
+    #[error(transparent)]
+    Slave(#[from] SmdSlaveError),
+    /// The socket failed while running.
+    #[error("interface {iface}: {source}")]
+    Io {
+        /// The interface.
+        iface: String,
+        /// The error.
+        source: std::io::Error,
+    },
+}
+
+/// What the emulator did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Frames processed and sent back.
+    pub answered: u64,
+    /// Frames dropped (not EtherCAT, malformed).
+    pub dropped: u64,
+}
+
+/// Reads the carrier of `iface` from sysfs (`None` when it cannot be read).
+fn carrier(iface: &str) -> Option<bool> {
+    let s = std::fs::read_to_string(format!("/sys/class/net/{iface}/carrier")).ok()?;
+    Some(s.trim() == "1")
+}
+
+/// Runs until `stop` is set. `ready` is called once the socket is open.
+pub fn run(
+    options: &Options,
+    stop: &Arc<AtomicBool>,
+    ready: impl FnOnce(),
+) -> Result<Stats, RuntimeError> {
+    let socket = RawSocket::open(&options.interface)?;
+    let mut chain = SmdChain::new(options.device, options.units)?;
+    ready();
+    tracing::info!(
+        interface = options.interface,
+        units = options.units,
+        device = options.device.order_code(),
+        "virtual SMD units on line"
+    );
+    let io = |source| RuntimeError::Io {
+        iface: options.interface.clone(),
+        source,
+    };
+    let mut stats = Stats::default();
+    let mut buf = vec![0u8; 9_216];
+    let start = Instant::now();
+    let mut advanced = Duration::ZERO;
+    let mut next_step = options.cycle;
+    let mut next_carrier = Duration::ZERO;
+    let mut link = carrier(&options.interface).unwrap_or(true);
+    while !stop.load(Ordering::Relaxed) {
+        let elapsed = start.elapsed();
+        let wait = next_step
+            .saturating_sub(elapsed)
+            .min(Duration::from_millis(50));
+        if socket.wait(wait).map_err(io)? {
+            while let Some(n) = socket.recv(&mut buf).map_err(io)? {
+                let t = start.elapsed();
+                chain.advance(t.saturating_sub(advanced));
+                advanced = advanced.max(t);
+                let frame = &mut buf[..n];
+                match chain.process(frame) {
+                    Ok(()) => {
+                        frame[6] |= 0x02;
+                        if let Err(e) = socket.send(frame) {
+                            tracing::warn!(error = %e, "a frame could not be sent back");
+                        }
+                        stats.answered += 1;
+                    }
+                    Err(e) => {
+                        tracing::debug!(error = %e, "frame dropped");
+                        stats.dropped += 1;
+                    }
+                }
+            }
+        }
+        let t = start.elapsed();
+        if t >= next_step {
+            chain.advance(t.saturating_sub(advanced));
+            advanced = advanced.max(t);
+            chain.step();
+            next_step += options.cycle;
+            if next_step < t {
+                // Far behind (the process was stopped): go on from now.
+                next_step = t + options.cycle;
+            }
+        }
+        if t >= next_carrier {
+            next_carrier = t + Duration::from_millis(100);
+            if let Some(up) = carrier(&options.interface) {
+                if link && !up {
+                    tracing::warn!(interface = options.interface, "link lost");
+                    chain.link_lost();
+                }
+                link = up;
+            }
+        }
+    }
+    tracing::info!(
+        answered = stats.answered,
+        dropped = stats.dropped,
+        "stopped"
+    );
+    Ok(stats)
+}

@@ -1,0 +1,242 @@
+//! SyncManagers (ETG.1000.4 §6.7, ESC register block 0x0800 + 8·n): how the master's accesses to the
+//! memory a SyncManager guards are gated and what they trigger.
+//!
+//! - **Mailbox mode** (control bits 0–1 = 10): one buffer. Written by the master (direction 01, SM0):
+//!   writes are taken while the mailbox is empty, and the write that reaches its last byte fills it
+//!   (status bit 3) for the application to take; reads are refused. Read by the master (direction 00,
+//!   SM1): reads are served only while the application has put a mailbox in it, and the read that
+//!   reaches its last byte empties it; writes are refused. A refused access changes nothing and does
+//!   not count in the working counter. The repeat request (activate bit 1, toggled by the master) puts
+//!   the last mailbox back and is acknowledged in PDI control bit 1.
+//! - **Buffered mode** (control bits 0–1 = 00): the emulator processes each frame whole, so the master
+//!   always sees one consistent buffer. A write that reaches the last byte of a master-written buffer
+//!   (SM2) is a new output image: status bit 0, and the SyncManager watchdog restarts. The master
+//!   cannot write a buffer it reads (SM3).
+//! - A disabled SyncManager (activate bit 0 = 0) guards nothing; disabling or reconfiguring one
+//!   empties its mailbox. The status byte and the PDI control byte are the slave's: a master's write
+//!   to them is ignored.
+
+use crate::esc::Esc;
+
+/// SyncManager register blocks the ESC has.
+pub const SYNC_MANAGERS: usize = 8;
+/// First SyncManager register block.
+pub const SM_BASE: u16 = 0x0800;
+/// Where process memory starts.
+const PROCESS_RAM: usize = 0x1000;
+/// Status bit 3: mailbox full.
+pub const MAILBOX_FULL: u8 = 0x08;
+/// Status bit 0: the last access was a (completed) write.
+pub const WRITE_EVENT: u8 = 0x01;
+
+/// A SyncManager as its registers configure it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SyncManager {
+    /// Physical start address.
+    pub start: u16,
+    /// Length in bytes.
+    pub len: u16,
+    /// Control byte: mode (bits 0–1), direction (bits 2–3), watchdog enable (bit 6).
+    pub control: u8,
+    /// Activated (activate bit 0) and not deactivated by the PDI.
+    pub enabled: bool,
+}
+
+impl SyncManager {
+    /// Mailbox mode.
+    pub fn is_mailbox(&self) -> bool {
+        self.control & 0x03 == 0x02
+    }
+
+    /// Written by the master (direction 01).
+    pub fn master_writes(&self) -> bool {
+        (self.control >> 2) & 0x03 == 0x01
+    }
+
+    /// The SyncManager watchdog is enabled for it (control bit 6).
+    pub fn watchdog(&self) -> bool {
+        self.control & 0x40 != 0
+    }
+
+    fn end(&self) -> u32 {
+        u32::from(self.start) + u32::from(self.len)
+    }
+
+    fn overlaps(&self, at: u16, len: usize) -> bool {
+        self.enabled
+            && self.len > 0
+            && u32::from(at) < self.end()
+            && u32::from(self.start) < u32::from(at) + len as u32
+    }
+
+    fn reaches_last(&self, at: u16, len: usize) -> bool {
+        let last = self.end() - 1;
+        u32::from(at) <= last && last < u32::from(at) + len as u32
+    }
+}
+
+/// What an access does to the SyncManagers it touches, worked out before the access.
+#[derive(Debug, Default)]
+pub(crate) struct Gate {
+    /// SyncManagers whose last byte the access reaches.
+    completes: u8,
+}
+
+impl Esc {
+    /// SyncManager `n` as configured.
+    pub fn sync_manager(&self, n: usize) -> SyncManager {
+        let b = SM_BASE + 8 * n as u16;
+        let r = self.raw(b, 8);
+        SyncManager {
+            start: u16::from_le_bytes([r[0], r[1]]),
+            len: u16::from_le_bytes([r[2], r[3]]),
+            control: r[4],
+            enabled: r[6] & 0x01 != 0 && r[7] & 0x01 == 0,
+        }
+    }
+
+    /// The status byte of SyncManager `n`.
+    pub fn sm_status(&self, n: usize) -> u8 {
+        self.raw(SM_BASE + 8 * n as u16 + 5, 1)[0]
+    }
+
+    fn set_sm_status(&mut self, n: usize, status: u8) {
+        self.store(SM_BASE + 8 * n as u16 + 5, &[status]);
+    }
+
+    /// Whether the master may make this access; `None` refuses it (nothing changes, no working
+    /// counter).
+    pub(crate) fn sm_gate(&self, at: u16, len: usize, write: bool) -> Option<Gate> {
+        let mut gate = Gate::default();
+        if usize::from(at) + len <= PROCESS_RAM {
+            // Registers: SyncManagers guard process memory only.
+            return Some(gate);
+        }
+        for n in 0..SYNC_MANAGERS {
+            let sm = self.sync_manager(n);
+            if !sm.overlaps(at, len) {
+                continue;
+            }
+            let full = self.sm_status(n) & MAILBOX_FULL != 0;
+            let allowed = match (sm.is_mailbox(), sm.master_writes(), write) {
+                (true, true, true) => !full,
+                (true, false, false) => full,
+                (true, _, _) => false,
+                (false, true, _) => true,
+                (false, false, read_only) => !read_only,
+            };
+            if !allowed {
+                return None;
+            }
+            if sm.reaches_last(at, len) {
+                gate.completes |= 1 << n;
+            }
+        }
+        Some(gate)
+    }
+
+    /// After an access the gate let through: mailboxes filled or emptied, write events.
+    pub(crate) fn sm_after(&mut self, gate: Gate, write: bool) {
+        for n in 0..SYNC_MANAGERS {
+            if gate.completes & (1 << n) == 0 {
+                continue;
+            }
+            let sm = self.sync_manager(n);
+            let status = self.sm_status(n);
+            if sm.is_mailbox() {
+                if write {
+                    self.set_sm_status(n, status | MAILBOX_FULL | WRITE_EVENT);
+                } else {
+                    self.set_sm_status(n, (status & !(MAILBOX_FULL | WRITE_EVENT)) | 0x02);
+                }
+            } else if write {
+                self.set_sm_status(n, status | WRITE_EVENT);
+                self.outputs_written = true;
+                self.watchdog_elapsed = std::time::Duration::ZERO;
+            }
+        }
+    }
+
+    /// A master's write to SyncManager registers: the slave's bytes (status, PDI control) are kept,
+    /// a changed or disabled SyncManager's mailbox is emptied, a toggled repeat request repeats.
+    pub(crate) fn sm_registers_written(&mut self, before: &[u8]) {
+        for n in 0..SYNC_MANAGERS {
+            let b = 8 * n;
+            let at = SM_BASE + b as u16;
+            let now = self.raw(at, 8);
+            // Status (5) and PDI control (7) are read-only for the master.
+            self.store(at + 5, &[before[b + 5]]);
+            self.store(at + 7, &[before[b + 7]]);
+            let config_changed =
+                now[0..5] != before[b..b + 5] || (now[6] ^ before[b + 6]) & 0x01 != 0;
+            if config_changed {
+                self.set_sm_status(n, 0);
+                continue;
+            }
+            let repeat = now[6] & 0x02 != 0;
+            let acked = before[b + 7] & 0x02 != 0;
+            if repeat != acked {
+                let sm = self.sync_manager(n);
+                if sm.is_mailbox() && !sm.master_writes() {
+                    if let Some(last) = self.last_mailbox.clone() {
+                        self.store(sm.start, &last);
+                        let status = self.sm_status(n);
+                        self.set_sm_status(n, status | MAILBOX_FULL);
+                    }
+                }
+                let pdi = (before[b + 7] & !0x02) | if repeat { 0x02 } else { 0 };
+                self.store(at + 7, &[pdi]);
+            }
+        }
+    }
+
+    /// The first SyncManager in mailbox mode the master writes (SM0), and the one it reads (SM1).
+    fn mailbox_sms(&self) -> (Option<usize>, Option<usize>) {
+        let mut out = (None, None);
+        for n in 0..SYNC_MANAGERS {
+            let sm = self.sync_manager(n);
+            if !sm.enabled || !sm.is_mailbox() {
+                continue;
+            }
+            if sm.master_writes() {
+                out.0 = out.0.or(Some(n));
+            } else {
+                out.1 = out.1.or(Some(n));
+            }
+        }
+        out
+    }
+
+    /// The application takes the mailbox the master wrote, when there is one; it is empty again.
+    pub fn take_mailbox(&mut self) -> Option<Vec<u8>> {
+        let n = self.mailbox_sms().0?;
+        let status = self.sm_status(n);
+        if status & MAILBOX_FULL == 0 {
+            return None;
+        }
+        let sm = self.sync_manager(n);
+        let bytes = self.raw(sm.start, usize::from(sm.len));
+        self.set_sm_status(n, status & !MAILBOX_FULL);
+        Some(bytes)
+    }
+
+    /// The application puts a mailbox for the master to read (padded with zeros to the mailbox
+    /// length); false while the last one has not been read, or when the master has no read mailbox
+    /// configured or the mailbox is longer.
+    pub fn put_mailbox(&mut self, bytes: &[u8]) -> bool {
+        let Some(n) = self.mailbox_sms().1 else {
+            return false;
+        };
+        let sm = self.sync_manager(n);
+        let status = self.sm_status(n);
+        if status & MAILBOX_FULL != 0 || bytes.len() > usize::from(sm.len) {
+            return false;
+        }
+        let mut image = bytes.to_vec();
+        image.resize(usize::from(sm.len), 0);
+        self.store(sm.start, &image);
+        self.last_mailbox = Some(image);
+        self.set_sm_status(n, status | MAILBOX_FULL);
+        true
+    }
+}
