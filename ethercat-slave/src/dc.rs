@@ -136,31 +136,26 @@ impl Esc {
         (act & 0x03 == 0x03).then(|| u32::from_le_bytes([r[0], r[1], r[2], r[3]]))
     }
 
-    /// SYNC0 events up to the present system time: how many there were since the last call.
-    pub fn sync0_events(&mut self) -> u32 {
+    /// The SYNC0 events up to the present system time: the system time of the last one that passed
+    /// since the last call, if any.
+    pub fn sync0_passed(&mut self) -> Option<u64> {
         let Some(cycle) = self.sync0_cycle() else {
             self.clock.next_sync0 = None;
-            return 0;
+            return None;
         };
         let now = self.system_time();
-        let mut events = 0;
-        while let Some(next) = self.clock.next_sync0 {
-            if next > now {
-                break;
-            }
-            events += 1;
-            self.clock.next_sync0 = (cycle > 0).then(|| next + u64::from(cycle));
-            if events > 1_000_000 {
-                // A start time far in the past: catch up at once.
-                let behind = (now - next) / u64::from(cycle.max(1));
-                self.clock.next_sync0 = Some(next + (behind + 1) * u64::from(cycle.max(1)));
-                break;
-            }
-        }
-        if events > 0 {
-            self.store(SYNC0_STATUS, &[1]);
-        }
-        events
+        let next = self.clock.next_sync0.filter(|n| *n <= now)?;
+        let last = if cycle == 0 {
+            self.clock.next_sync0 = None;
+            next
+        } else {
+            let c = u64::from(cycle);
+            let last = next + (now - next) / c * c;
+            self.clock.next_sync0 = Some(last + c);
+            last
+        };
+        self.store(SYNC0_STATUS, &[1]);
+        Some(last)
     }
 }
 

@@ -182,6 +182,14 @@ impl Esc {
         self.clock.now = ns;
     }
 
+    /// A new output image: the SyncManager watchdog starts again.
+    pub(crate) fn outputs_arrived(&mut self) {
+        self.outputs_written = true;
+        self.watchdog_elapsed = std::time::Duration::ZERO;
+        self.watchdog_expired = false;
+        self.store(WATCHDOG_STATUS_PD, &[1, 0]);
+    }
+
     /// Whether a new output image arrived since the last call.
     pub fn take_outputs_written(&mut self) -> bool {
         std::mem::take(&mut self.outputs_written)
@@ -208,9 +216,6 @@ impl Esc {
             self.watchdog_expired = false;
             self.store(WATCHDOG_STATUS_PD, &[1, 0]);
             return false;
-        }
-        if !self.watchdog_expired && self.watchdog_elapsed.is_zero() {
-            self.store(WATCHDOG_STATUS_PD, &[1, 0]);
         }
         self.watchdog_elapsed += dt;
         if self.watchdog_elapsed >= time && !self.watchdog_expired {

@@ -151,8 +151,7 @@ impl Esc {
                 }
             } else if write {
                 self.set_sm_status(n, status | WRITE_EVENT);
-                self.outputs_written = true;
-                self.watchdog_elapsed = std::time::Duration::ZERO;
+                self.outputs_arrived();
             }
         }
     }

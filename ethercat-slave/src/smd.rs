@@ -167,6 +167,7 @@ impl SmdChain {
             let mut model = SmdUnit::new(device, EncoderKind::Incremental)
                 .map_err(|e| SmdSlaveError::Description(e.to_string()))?;
             model.set_network_state(NetworkState::Init);
+            model.set_serial_number(k as u32 + 1);
             units.push(Unit {
                 model,
                 coe: CoeServer::new(ServerConfig::default(), usize::from(mailbox_in)),
@@ -257,16 +258,27 @@ impl SmdChain {
             }
             let (al, _) = esc.al_state();
             unit.sync_state(al);
-            if esc.sync0_events() > 0 {
-                unit.model.indexer_mut().sync0_event();
-            }
+            let sync0 = esc.sync0_passed().map(|at| {
+                let ago = Duration::from_nanos(esc.system_time().saturating_sub(at));
+                ago.min(dt)
+            });
             if al == state::OP {
                 let raw = esc.load(self.outputs_at, PROCESS_DATA_LEN);
                 let mut b = [0u8; PROCESS_DATA_LEN];
                 b.copy_from_slice(&raw);
                 unit.model.write_outputs(&decode_outputs(&b));
             }
-            let inputs = unit.model.cycle(dt);
+            let inputs = match sync0 {
+                // The model runs up to the SYNC0 event, takes it, and runs on from it.
+                Some(ago) => {
+                    if dt > ago {
+                        unit.model.cycle(dt - ago);
+                    }
+                    unit.model.indexer_mut().sync0_event();
+                    unit.model.cycle(ago)
+                }
+                None => unit.model.cycle(dt),
+            };
             if matches!(al, state::OP | state::SAFEOP) {
                 esc.store(self.inputs_at, &encode_inputs(&inputs));
             }

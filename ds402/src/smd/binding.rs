@@ -429,6 +429,12 @@ impl SmdUnit {
         &mut self.indexer
     }
 
+    /// Sets the unit's serial number, `0x1018:04` (the SII holds the same).
+    pub fn set_serial_number(&mut self, serial: u32) {
+        // 0x1018:04 is UNSIGNED32 in the fixture; a dictionary without it keeps what it has.
+        let _ = self.dict.store(0x1018, 4, &serial.to_le_bytes());
+    }
+
     /// The EtherCAT state the unit is in (see [`Indexer::set_network_state`]).
     pub fn set_network_state(&mut self, state: crate::smd::indexer::NetworkState) {
         self.indexer.set_network_state(state);

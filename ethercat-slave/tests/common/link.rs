@@ -64,7 +64,13 @@ impl Link {
     pub fn start(&mut self, args: &[&str]) {
         let log = std::fs::File::create(&self.log).expect("emulator log file");
         let mut child = Command::new("ip")
-            .args(["netns", "exec", &self.ns, env!("CARGO_BIN_EXE_smd-ethercat"), &self.slave])
+            .args([
+                "netns",
+                "exec",
+                &self.ns,
+                env!("CARGO_BIN_EXE_smd-ethercat"),
+                &self.slave,
+            ])
             .args(args)
             .stdout(Stdio::piped())
             .stderr(log)
@@ -118,7 +124,9 @@ impl Link {
 impl Drop for Link {
     fn drop(&mut self) {
         self.stop();
-        let _ = Command::new("ip").args(["link", "del", &self.master]).output();
+        let _ = Command::new("ip")
+            .args(["link", "del", &self.master])
+            .output();
         let _ = Command::new("ip").args(["netns", "del", &self.ns]).output();
         let _ = std::fs::remove_file(&self.log);
     }

@@ -1,4 +1,5 @@
 //! What the emulator's tests share.
+#![allow(dead_code)]
 
 /// The SMD23K-B of the SMD fixture ESI.
 pub fn smd() -> od::DeviceDescription {
@@ -12,3 +13,4 @@ pub fn smd() -> od::DeviceDescription {
         .find(|d| d.identity.order_code == "SMD23K-B")
         .expect("SMD23K-B in the fixture")
 }
+pub mod master;

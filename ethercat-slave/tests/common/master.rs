@@ -1,0 +1,257 @@
+//! A master's side of the in-process tests: frames of one datagram through an [`SmdChain`], the
+//! start-up a master does (station addresses, SyncManagers and FMMUs as the ESI gives them, the AL
+//! states), one LRW cycle of all process data, and CoE SDO transfers through the mailbox, framed
+//! byte by byte as ETG.1000.6 lays them out.
+
+#![allow(dead_code)]
+
+use std::time::Duration;
+
+use ds402::smd::indexer::{Inputs, Outputs};
+use ethercat_slave::esc::cmd;
+use ethercat_slave::frame::{emit, parse, Datagram};
+use ethercat_slave::smd::{decode_inputs, encode_outputs, SmdChain, PROCESS_DATA_LEN};
+
+/// The master's source address.
+pub const SRC: [u8; 6] = [2, 0, 0, 0, 0, 1];
+/// SM0 (mailbox out), SM1 (mailbox in) and their length.
+pub const MBX_OUT: u16 = 0x1000;
+pub const MBX_IN: u16 = 0x1080;
+pub const MBX_LEN: usize = 128;
+
+/// The station address given to unit `k` (0-based).
+pub fn station(k: usize) -> u16 {
+    0x1001 + k as u16
+}
+
+/// One datagram through the chain, answered.
+pub fn one(c: &mut SmdChain, d: Datagram) -> Datagram {
+    let mut f = emit(&[d], SRC);
+    c.process(&mut f).expect("a well-formed frame");
+    parse(&f).expect("the answer parses").remove(0)
+}
+
+/// A register datagram `cmd` to `adp`/`ado`.
+pub fn reg(c: &mut SmdChain, command: u8, adp: u16, ado: u16, data: Vec<u8>) -> Datagram {
+    one(c, Datagram::new(command, adp, ado, data))
+}
+
+/// FPWR that unit `k` must take (working counter 1).
+pub fn fpwr(c: &mut SmdChain, k: usize, ado: u16, data: Vec<u8>) {
+    let r = reg(c, cmd::FPWR, station(k), ado, data);
+    assert_eq!(r.wkc, 1, "FPWR 0x{ado:04X} to unit {k}");
+}
+
+/// FPRD of `len` bytes at `ado` of unit `k` (data and working counter).
+pub fn fprd(c: &mut SmdChain, k: usize, ado: u16, len: usize) -> (Vec<u8>, u16) {
+    let r = reg(c, cmd::FPRD, station(k), ado, vec![0; len]);
+    (r.data, r.wkc)
+}
+
+/// AL status and AL status code of unit `k`.
+pub fn al(c: &mut SmdChain, k: usize) -> (u16, u16) {
+    let (d, _) = fprd(c, k, 0x0130, 6);
+    (
+        u16::from_le_bytes([d[0], d[1]]),
+        u16::from_le_bytes([d[4], d[5]]),
+    )
+}
+
+/// Requests `state` (with `ack`) from every unit by BWR of AL control; the working counter.
+pub fn request(c: &mut SmdChain, state: u8) -> u16 {
+    reg(c, cmd::BWR, 0, 0x0120, vec![state, 0]).wkc
+}
+
+/// Station addresses, SyncManagers (the ESI's), FMMUs: unit k's outputs at logical 20·k, its inputs
+/// at 20·n + 20·k.
+pub fn configure(c: &mut SmdChain) {
+    let n = c.len();
+    for k in 0..n {
+        let r = reg(
+            c,
+            cmd::APWR,
+            0u16.wrapping_sub(k as u16),
+            0x0010,
+            station(k).to_le_bytes().to_vec(),
+        );
+        assert_eq!(r.wkc, 1);
+    }
+    for k in 0..n {
+        for (sm, start, len, control) in [
+            (0u16, MBX_OUT, MBX_LEN as u16, 0x26u8),
+            (1, MBX_IN, MBX_LEN as u16, 0x22),
+            (2, 0x1100, 20, 0x64),
+            (3, 0x1400, 20, 0x20),
+        ] {
+            let mut r = start.to_le_bytes().to_vec();
+            r.extend_from_slice(&len.to_le_bytes());
+            r.extend_from_slice(&[control, 0, 1, 0]);
+            fpwr(c, k, 0x0800 + 8 * sm, r);
+        }
+        for (f, logical, phys, rw) in [
+            (0u16, 20 * k as u32, 0x1100u16, 2u8),
+            (1, 20 * (n + k) as u32, 0x1400, 1),
+        ] {
+            let mut r = logical.to_le_bytes().to_vec();
+            r.extend_from_slice(&20u16.to_le_bytes());
+            r.extend_from_slice(&[0, 7]);
+            r.extend_from_slice(&phys.to_le_bytes());
+            r.extend_from_slice(&[0, rw, 1, 0, 0, 0]);
+            fpwr(c, k, 0x0600 + 16 * f, r);
+        }
+    }
+}
+
+/// Configures the chain and brings every unit through Pre-Op to `to` (PREOP, SAFEOP or OP).
+pub fn bring_up(c: &mut SmdChain, to: u8) {
+    configure(c);
+    let n = c.len() as u16;
+    for s in [2u8, 4, 8] {
+        if s > to {
+            break;
+        }
+        if s == 8 {
+            // Outputs flow before Op is requested, as masters do.
+            lrw(c, &vec![Outputs::default(); c.len()]);
+        }
+        assert_eq!(request(c, s), n, "AL control {s} taken by every unit");
+        for k in 0..c.len() {
+            assert_eq!(al(c, k), (u16::from(s), 0), "unit {k} in state {s}");
+        }
+    }
+}
+
+/// One LRW of every unit's outputs and inputs, then a 1 ms cycle: the working counter and the
+/// inputs the frame brought back.
+pub fn lrw(c: &mut SmdChain, outputs: &[Outputs]) -> (u16, Vec<Inputs>) {
+    let n = c.len();
+    let mut data: Vec<u8> = outputs.iter().flat_map(encode_outputs).collect();
+    data.resize(2 * PROCESS_DATA_LEN * n, 0);
+    let r = one(
+        c,
+        Datagram {
+            cmd: cmd::LRW,
+            index: 0,
+            address: 0,
+            data,
+            wkc: 0,
+        },
+    );
+    c.cycle(Duration::from_millis(1));
+    let inputs = (0..n)
+        .map(|k| {
+            let at = PROCESS_DATA_LEN * (n + k);
+            decode_inputs(&r.data[at..at + PROCESS_DATA_LEN].try_into().unwrap())
+        })
+        .collect();
+    (r.wkc, inputs)
+}
+
+/// Writes `request` into unit k's SM0 (padded to its length), waits for SM1 to fill and reads it.
+pub fn mailbox(c: &mut SmdChain, k: usize, request: &[u8]) -> Vec<u8> {
+    let mut m = request.to_vec();
+    m.resize(MBX_LEN, 0);
+    fpwr(c, k, MBX_OUT, m);
+    for _ in 0..10 {
+        let (status, _) = fprd(c, k, 0x080D, 1);
+        if status[0] & 0x08 != 0 {
+            let (answer, wkc) = fprd(c, k, MBX_IN, MBX_LEN);
+            assert_eq!(wkc, 1, "a full SM1 is read");
+            return answer;
+        }
+        c.cycle(Duration::from_millis(1));
+    }
+    panic!("unit {k} did not answer the mailbox");
+}
+
+thread_local! {
+    static COUNTER: std::cell::Cell<u8> = const { std::cell::Cell::new(0) };
+}
+
+/// The next mailbox counter, 1…7, per test thread (0 is not used: a slave takes a repeated counter for
+/// a repeat).
+pub fn next_counter() -> u8 {
+    COUNTER.with(|c| {
+        c.set(c.get() % 7 + 1);
+        c.get()
+    })
+}
+
+/// A CoE SDO request mailbox: header (length, address 0, channel 0, type 3 = CoE, `counter`), CoE
+/// header (service 2, SDO request), the SDO bytes.
+pub fn coe_request(counter: u8, sdo: &[u8]) -> Vec<u8> {
+    let mut m = ((2 + sdo.len()) as u16).to_le_bytes().to_vec();
+    m.extend_from_slice(&[0, 0, 0, 0x03 | (counter << 4)]);
+    m.extend_from_slice(&[0x00, 0x20]);
+    m.extend_from_slice(sdo);
+    m
+}
+
+/// The SDO bytes of a CoE response mailbox (after the 6-byte mailbox and 2-byte CoE headers), or
+/// the abort code when it is an abort.
+pub fn coe_answer(m: &[u8]) -> Result<Vec<u8>, u32> {
+    let len = usize::from(u16::from_le_bytes([m[0], m[1]]));
+    assert_eq!(m[5] & 0x0F, 0x03, "a CoE mailbox");
+    let sdo = m[8..6 + len].to_vec();
+    let service = m[7] >> 4;
+    if sdo[0] == 0x80 {
+        assert_eq!(service, 2, "an abort is an SDO request");
+        return Err(u32::from_le_bytes([sdo[4], sdo[5], sdo[6], sdo[7]]));
+    }
+    assert_eq!(service, 3, "an SDO response");
+    Ok(sdo)
+}
+
+/// Expedited or normal SDO upload of `index:sub` (complete access with `ca`): the value.
+pub fn upload(c: &mut SmdChain, k: usize, index: u16, sub: u8, ca: bool) -> Result<Vec<u8>, u32> {
+    let i = index.to_le_bytes();
+    let cmd = if ca { 0x50 } else { 0x40 };
+    let m = mailbox(
+        c,
+        k,
+        &coe_request(next_counter(), &[cmd, i[0], i[1], sub, 0, 0, 0, 0]),
+    );
+    let sdo = coe_answer(&m)?;
+    assert_eq!(&sdo[1..4], &[i[0], i[1], sub], "the answer names the entry");
+    if sdo[0] & 0x02 != 0 {
+        // Expedited: size in bits 2–3.
+        let n = 4 - usize::from((sdo[0] >> 2) & 0x03);
+        Ok(sdo[4..4 + n].to_vec())
+    } else {
+        let size = u32::from_le_bytes([sdo[4], sdo[5], sdo[6], sdo[7]]) as usize;
+        Ok(sdo[8..8 + size].to_vec())
+    }
+}
+
+/// Expedited SDO download (1–4 bytes) or, with `ca` or more bytes, a normal download in one mailbox.
+pub fn download(
+    c: &mut SmdChain,
+    k: usize,
+    index: u16,
+    sub: u8,
+    data: &[u8],
+    ca: bool,
+) -> Result<(), u32> {
+    let i = index.to_le_bytes();
+    let sdo = if data.len() <= 4 && !ca {
+        let mut s = vec![0x23 | ((4 - data.len() as u8) << 2), i[0], i[1], sub];
+        s.extend_from_slice(data);
+        s.resize(8, 0);
+        s
+    } else {
+        let mut s = vec![if ca { 0x31 } else { 0x21 }, i[0], i[1], sub];
+        s.extend_from_slice(&(data.len() as u32).to_le_bytes());
+        s.extend_from_slice(data);
+        s
+    };
+    let m = mailbox(c, k, &coe_request(next_counter(), &sdo));
+    let answer = coe_answer(&m)?;
+    // The response echoes the complete-access bit of the request.
+    let response = if ca { 0x70 } else { 0x60 };
+    assert_eq!(
+        answer[..4],
+        [response, i[0], i[1], sub],
+        "download response"
+    );
+    Ok(())
+}
