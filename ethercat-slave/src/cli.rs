@@ -43,6 +43,11 @@ pub struct Args {
     /// 10000.
     #[arg(long, value_name = "US", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(250..=10_000))]
     pub cycle_us: u64,
+
+    /// After answering a frame, keep polling the interface for this many µs before sleeping (0 to
+    /// 1000): a faster answer to a master that sends its next frame at once, for CPU time.
+    #[arg(long, value_name = "US", default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=1000))]
+    pub busy_poll_us: u64,
 }
 
 /// The units of the ESI.
@@ -93,6 +98,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError
         device: args.device.into(),
         units: usize::from(args.units),
         cycle: Duration::from_micros(args.cycle_us),
+        busy_poll: Duration::from_micros(args.busy_poll_us),
     };
     let stats = runtime::run(&options, &stop, || {
         println!(

@@ -92,7 +92,7 @@ pub struct Fmmu {
 /// One slave controller.
 #[derive(Clone)]
 pub struct Esc {
-    mem: Vec<u8>,
+    pub(crate) mem: Vec<u8>,
     /// The SII EEPROM image, read through the EEPROM interface registers.
     pub sii: Vec<u8>,
     /// What the AL state transitions check.
@@ -548,9 +548,7 @@ impl Chain {
                             frame[d.start + 5],
                         ]);
                         let (data, wkc_at) = (d.data(), d.wkc());
-                        let mut buf = frame[data..data + d.len].to_vec();
-                        let inc = esc.logical(command, addr, &mut buf);
-                        frame[data..data + d.len].copy_from_slice(&buf);
+                        let inc = esc.logical(command, addr, &mut frame[data..data + d.len]);
                         let wkc = u16::from_le_bytes([frame[wkc_at], frame[wkc_at + 1]])
                             .wrapping_add(inc);
                         frame[wkc_at..wkc_at + 2].copy_from_slice(&wkc.to_le_bytes());
@@ -563,9 +561,8 @@ impl Chain {
                     let multiple = access == Access::ReadMultipleWrite;
                     if addressed || multiple {
                         let (data, wkc_at) = (d.data(), d.wkc());
-                        let mut buf = frame[data..data + d.len].to_vec();
-                        let inc = esc.access(access, ado, &mut buf, or, addressed);
-                        frame[data..data + d.len].copy_from_slice(&buf);
+                        let buf = &mut frame[data..data + d.len];
+                        let inc = esc.access(access, ado, buf, or, addressed);
                         let wkc = u16::from_le_bytes([frame[wkc_at], frame[wkc_at + 1]])
                             .wrapping_add(inc);
                         frame[wkc_at..wkc_at + 2].copy_from_slice(&wkc.to_le_bytes());

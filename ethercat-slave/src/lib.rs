@@ -9,7 +9,8 @@
 //! interface reading an SII image (`od::sii`), the AL state machine with its SyncManager checks
 //! ([`al`]), SyncManager mailboxes and buffers and the watchdog ([`sm`]), Distributed Clocks
 //! ([`dc`]); [`smd`] puts the SMD model and its CoE server behind each ESC; [`raw`] and [`runtime`]
-//! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line.
+//! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line; [`master`]
+//! is the master's side the tests and benchmarks use.
 #![deny(missing_docs)]
 
 pub mod al;
@@ -17,6 +18,7 @@ pub mod cli;
 pub mod dc;
 pub mod esc;
 pub mod frame;
+pub mod master;
 pub mod raw;
 pub mod runtime;
 pub mod sm;

@@ -27,6 +27,10 @@ pub struct Options {
     pub units: usize,
     /// The process-data cycle of the units.
     pub cycle: Duration,
+    /// After answering a frame, how long to keep polling the socket without sleeping before waiting
+    /// in the kernel again: shortens the answer time to a master that sends its next frame at once,
+    /// at the cost of CPU time. Zero sleeps at once.
+    pub busy_poll: Duration,
 }
 
 /// Why the emulator stopped.
@@ -95,7 +99,16 @@ pub fn run(
             .saturating_sub(elapsed)
             .min(Duration::from_millis(50));
         if socket.wait(wait).map_err(io)? {
-            while let Some(n) = socket.recv(&mut buf).map_err(io)? {
+            let mut spin_until = Instant::now() + options.busy_poll;
+            loop {
+                let Some(n) = socket.recv(&mut buf).map_err(io)? else {
+                    if Instant::now() < spin_until && !stop.load(Ordering::Relaxed) {
+                        std::hint::spin_loop();
+                        continue;
+                    }
+                    break;
+                };
+                spin_until = Instant::now() + options.busy_poll;
                 let t = start.elapsed();
                 chain.advance(t.saturating_sub(advanced));
                 advanced = advanced.max(t);

@@ -85,8 +85,8 @@ pub(crate) struct Gate {
 impl Esc {
     /// SyncManager `n` as configured.
     pub fn sync_manager(&self, n: usize) -> SyncManager {
-        let b = SM_BASE + 8 * n as u16;
-        let r = self.raw(b, 8);
+        let b = usize::from(SM_BASE) + 8 * n;
+        let r = &self.mem[b..b + 8];
         SyncManager {
             start: u16::from_le_bytes([r[0], r[1]]),
             len: u16::from_le_bytes([r[2], r[3]]),
@@ -97,7 +97,7 @@ impl Esc {
 
     /// The status byte of SyncManager `n`.
     pub fn sm_status(&self, n: usize) -> u8 {
-        self.raw(SM_BASE + 8 * n as u16 + 5, 1)[0]
+        self.mem[usize::from(SM_BASE) + 8 * n + 5]
     }
 
     fn set_sm_status(&mut self, n: usize, status: u8) {

@@ -1,150 +1,65 @@
-//! A master's side of the in-process tests: frames of one datagram through an [`SmdChain`], the
-//! start-up a master does (station addresses, SyncManagers and FMMUs as the ESI gives them, the AL
-//! states), one LRW cycle of all process data, and CoE SDO transfers through the mailbox, framed
-//! byte by byte as ETG.1000.6 lays them out.
+//! The master's side of the in-process tests: [`ethercat_slave::master`] with its errors turned into
+//! test failures, and CoE SDO transfers through the mailbox, framed byte by byte as ETG.1000.6 lays
+//! them out.
 
 #![allow(dead_code)]
 
 use std::time::Duration;
 
 use ds402::smd::indexer::{Inputs, Outputs};
-use ethercat_slave::esc::cmd;
-use ethercat_slave::frame::{emit, parse, Datagram};
-use ethercat_slave::smd::{decode_inputs, encode_outputs, SmdChain, PROCESS_DATA_LEN};
+use ethercat_slave::frame::Datagram;
+use ethercat_slave::master as m;
+#[allow(unused_imports)]
+pub use ethercat_slave::master::{station, MBX_IN, MBX_LEN, MBX_OUT, SRC};
+use ethercat_slave::smd::SmdChain;
 
-/// The master's source address.
-pub const SRC: [u8; 6] = [2, 0, 0, 0, 0, 1];
-/// SM0 (mailbox out), SM1 (mailbox in) and their length.
-pub const MBX_OUT: u16 = 0x1000;
-pub const MBX_IN: u16 = 0x1080;
-pub const MBX_LEN: usize = 128;
-
-/// The station address given to unit `k` (0-based).
-pub fn station(k: usize) -> u16 {
-    0x1001 + k as u16
+fn ok<T>(r: Result<T, m::MasterError>) -> T {
+    r.unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// One datagram through the chain, answered.
 pub fn one(c: &mut SmdChain, d: Datagram) -> Datagram {
-    let mut f = emit(&[d], SRC);
-    c.process(&mut f).expect("a well-formed frame");
-    parse(&f).expect("the answer parses").remove(0)
+    ok(m::one(c, d))
 }
 
-/// A register datagram `cmd` to `adp`/`ado`.
+/// A register datagram `command` to `adp`/`ado`.
 pub fn reg(c: &mut SmdChain, command: u8, adp: u16, ado: u16, data: Vec<u8>) -> Datagram {
-    one(c, Datagram::new(command, adp, ado, data))
+    ok(m::reg(c, command, adp, ado, data))
 }
 
 /// FPWR that unit `k` must take (working counter 1).
 pub fn fpwr(c: &mut SmdChain, k: usize, ado: u16, data: Vec<u8>) {
-    let r = reg(c, cmd::FPWR, station(k), ado, data);
-    assert_eq!(r.wkc, 1, "FPWR 0x{ado:04X} to unit {k}");
+    ok(m::fpwr(c, k, ado, data))
 }
 
 /// FPRD of `len` bytes at `ado` of unit `k` (data and working counter).
 pub fn fprd(c: &mut SmdChain, k: usize, ado: u16, len: usize) -> (Vec<u8>, u16) {
-    let r = reg(c, cmd::FPRD, station(k), ado, vec![0; len]);
-    (r.data, r.wkc)
+    ok(m::fprd(c, k, ado, len))
 }
 
 /// AL status and AL status code of unit `k`.
 pub fn al(c: &mut SmdChain, k: usize) -> (u16, u16) {
-    let (d, _) = fprd(c, k, 0x0130, 6);
-    (
-        u16::from_le_bytes([d[0], d[1]]),
-        u16::from_le_bytes([d[4], d[5]]),
-    )
+    ok(m::al(c, k))
 }
 
-/// Requests `state` (with `ack`) from every unit by BWR of AL control; the working counter.
+/// Requests `state` from every unit; the working counter.
 pub fn request(c: &mut SmdChain, state: u8) -> u16 {
-    reg(c, cmd::BWR, 0, 0x0120, vec![state, 0]).wkc
+    ok(m::request(c, state))
 }
 
-/// Station addresses, SyncManagers (the ESI's), FMMUs: unit k's outputs at logical 20·k, its inputs
-/// at 20·n + 20·k.
+/// Station addresses, SyncManagers, FMMUs.
 pub fn configure(c: &mut SmdChain) {
-    let n = c.len();
-    for k in 0..n {
-        let r = reg(
-            c,
-            cmd::APWR,
-            0u16.wrapping_sub(k as u16),
-            0x0010,
-            station(k).to_le_bytes().to_vec(),
-        );
-        assert_eq!(r.wkc, 1);
-    }
-    for k in 0..n {
-        for (sm, start, len, control) in [
-            (0u16, MBX_OUT, MBX_LEN as u16, 0x26u8),
-            (1, MBX_IN, MBX_LEN as u16, 0x22),
-            (2, 0x1100, 20, 0x64),
-            (3, 0x1400, 20, 0x20),
-        ] {
-            let mut r = start.to_le_bytes().to_vec();
-            r.extend_from_slice(&len.to_le_bytes());
-            r.extend_from_slice(&[control, 0, 1, 0]);
-            fpwr(c, k, 0x0800 + 8 * sm, r);
-        }
-        for (f, logical, phys, rw) in [
-            (0u16, 20 * k as u32, 0x1100u16, 2u8),
-            (1, 20 * (n + k) as u32, 0x1400, 1),
-        ] {
-            let mut r = logical.to_le_bytes().to_vec();
-            r.extend_from_slice(&20u16.to_le_bytes());
-            r.extend_from_slice(&[0, 7]);
-            r.extend_from_slice(&phys.to_le_bytes());
-            r.extend_from_slice(&[0, rw, 1, 0, 0, 0]);
-            fpwr(c, k, 0x0600 + 16 * f, r);
-        }
-    }
+    ok(m::configure(c))
 }
 
-/// Configures the chain and brings every unit through Pre-Op to `to` (PREOP, SAFEOP or OP).
+/// Configures the chain and brings every unit to `to`.
 pub fn bring_up(c: &mut SmdChain, to: u8) {
-    configure(c);
-    let n = c.len() as u16;
-    for s in [2u8, 4, 8] {
-        if s > to {
-            break;
-        }
-        if s == 8 {
-            // Outputs flow before Op is requested, as masters do.
-            lrw(c, &vec![Outputs::default(); c.len()]);
-        }
-        assert_eq!(request(c, s), n, "AL control {s} taken by every unit");
-        for k in 0..c.len() {
-            assert_eq!(al(c, k), (u16::from(s), 0), "unit {k} in state {s}");
-        }
-    }
+    ok(m::bring_up(c, to))
 }
 
-/// One LRW of every unit's outputs and inputs, then a 1 ms cycle: the working counter and the
-/// inputs the frame brought back.
+/// One LRW and a 1 ms cycle: the working counter and the inputs.
 pub fn lrw(c: &mut SmdChain, outputs: &[Outputs]) -> (u16, Vec<Inputs>) {
-    let n = c.len();
-    let mut data: Vec<u8> = outputs.iter().flat_map(encode_outputs).collect();
-    data.resize(2 * PROCESS_DATA_LEN * n, 0);
-    let r = one(
-        c,
-        Datagram {
-            cmd: cmd::LRW,
-            index: 0,
-            address: 0,
-            data,
-            wkc: 0,
-        },
-    );
-    c.cycle(Duration::from_millis(1));
-    let inputs = (0..n)
-        .map(|k| {
-            let at = PROCESS_DATA_LEN * (n + k);
-            decode_inputs(&r.data[at..at + PROCESS_DATA_LEN].try_into().unwrap())
-        })
-        .collect();
-    (r.wkc, inputs)
+    ok(m::lrw(c, outputs))
 }
 
 /// Writes `request` into unit k's SM0 (padded to its length), waits for SM1 to fill and reads it.

@@ -1,0 +1,123 @@
+//! Frames per second the emulator answers, for a chain of 1 and of 16 SMD units in Op with one LRW of
+//! all process data per frame (40 bytes per unit):
+//!
+//! - **in process**: [`SmdChain::process`] alone, the ESC work per frame;
+//! - **on a veth pair**: `smd-ethercat` in its own network namespace, a master on the other end
+//!   sending the next frame when the answer is back (one frame in flight, as a master's cycle does),
+//!   and with 8 frames in flight (what the emulator can take). Needs root.
+//!
+//! `cargo bench -p ethercat-slave --bench frames [-- SECONDS]` (default 3 s per figure; without
+//! `--bench`, as under `cargo test`, a short run).
+
+#[allow(dead_code)]
+#[path = "../tests/common/link.rs"]
+mod link;
+
+use std::time::{Duration, Instant};
+
+use ds402::smd::binding::Device;
+use ds402::smd::indexer::Outputs;
+use ethercat_slave::al::state;
+use ethercat_slave::frame::{emit, parse};
+use ethercat_slave::master::{self, lrw_datagram, SocketWire, SRC};
+use ethercat_slave::raw::RawSocket;
+use ethercat_slave::smd::SmdChain;
+
+/// The LRW frame for `n` units and the working counter every answer must carry (3 per unit).
+fn lrw_frame(n: usize) -> (Vec<u8>, u16) {
+    let outputs = vec![Outputs::default(); n];
+    (emit(&[lrw_datagram(&outputs, n)], SRC), 3 * n as u16)
+}
+
+fn check(answer: &[u8], wkc: u16) {
+    let d = parse(answer).expect("the answer parses");
+    assert_eq!(d[0].wkc, wkc, "every unit read and wrote");
+}
+
+fn in_process(n: usize, secs: f64) -> f64 {
+    let mut c = SmdChain::new(Device::Smd23kB, n).unwrap();
+    master::bring_up(&mut c, state::OP).unwrap();
+    let (frame, wkc) = lrw_frame(n);
+    let mut f = frame.clone();
+    let start = Instant::now();
+    let mut frames = 0u64;
+    let mut next_cycle = Duration::from_millis(1);
+    while start.elapsed().as_secs_f64() < secs {
+        for _ in 0..100 {
+            f.copy_from_slice(&frame);
+            c.process(&mut f).unwrap();
+        }
+        frames += 100;
+        // The units' own 1 ms cycle, as the runtime runs it.
+        let t = start.elapsed();
+        if t >= next_cycle {
+            c.cycle(Duration::from_millis(1));
+            next_cycle = t + Duration::from_millis(1);
+        }
+    }
+    check(&f, wkc);
+    frames as f64 / start.elapsed().as_secs_f64()
+}
+
+fn on_veth(n: usize, secs: f64, window: usize, busy_poll_us: u32) -> f64 {
+    let units = n.to_string();
+    let spin = busy_poll_us.to_string();
+    let link = link::Link::up(&["--units", &units, "--busy-poll-us", &spin]);
+    let socket = RawSocket::open(&link.master).expect("raw socket on the master's end");
+    let mut w = SocketWire::new(socket, n);
+    master::bring_up(&mut w, state::OP).unwrap();
+    let socket = RawSocket::open(&link.master).expect("raw socket on the master's end");
+    let (frame, wkc) = lrw_frame(n);
+    let mut buf = vec![0u8; 2048];
+    let start = Instant::now();
+    let (mut sent, mut answered, mut lost) = (0u64, 0u64, 0u64);
+    while start.elapsed().as_secs_f64() < secs {
+        while sent - answered < window as u64 {
+            socket.send(&frame).unwrap();
+            sent += 1;
+        }
+        // The master polls for the answer without sleeping, as a real-time master's cycle does.
+        let deadline = Instant::now() + Duration::from_millis(100);
+        let mut got = false;
+        while !got && Instant::now() < deadline {
+            while let Some(len) = socket.recv(&mut buf).unwrap() {
+                check(&buf[..len], wkc);
+                answered += 1;
+                got = true;
+            }
+        }
+        if !got {
+            // Frames lost: reported, and the window starts again.
+            lost += sent - answered;
+            answered = sent;
+        }
+    }
+    let fps = (answered - lost) as f64 / start.elapsed().as_secs_f64();
+    if lost > 0 {
+        println!("   ({lost} frames lost)");
+    }
+    drop(w);
+    fps
+}
+
+fn main() {
+    let bench = std::env::args().any(|a| a == "--bench");
+    let secs: f64 = std::env::args()
+        .skip(1)
+        .find_map(|a| a.parse().ok())
+        .unwrap_or(if bench { 3.0 } else { 0.3 });
+    for n in [1usize, 16] {
+        println!(
+            "{n:>2} units, in process:                {:>9.0} frames/s",
+            in_process(n, secs)
+        );
+    }
+    for n in [1usize, 16] {
+        for (window, spin) in [(1usize, 0u32), (1, 200), (8, 0)] {
+            println!(
+                "{n:>2} units, veth, {window} frame(s) in flight, --busy-poll-us {spin:>3}: {:>9.0} frames/s",
+                on_veth(n, secs, window, spin)
+            );
+        }
+    }
+}

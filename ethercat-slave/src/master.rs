@@ -1,0 +1,310 @@
+//! The master's side of the emulator's tests, benchmarks and examples: the start-up a master does
+//! (station addresses, the SyncManagers and FMMUs of the ESI, the AL states), one LRW of all process
+//! data per cycle, and CoE SDO transfers through the mailbox framed byte by byte as ETG.1000.6 lays
+//! them out. It runs over any [`Wire`]: in process ([`SmdChain`]) or a raw socket ([`SocketWire`]).
+//!
+//! Unit k (0-based) gets station address 0x1001 + k; its outputs are mapped at logical address
+//! 20·k and its inputs at 20·n + 20·k, so one LRW of 40·n bytes carries every unit's process data.
+
+use std::time::{Duration, Instant};
+
+use ds402::smd::indexer::{Inputs, Outputs};
+
+use crate::esc::cmd;
+use crate::frame::{emit, parse, Datagram};
+use crate::raw::RawSocket;
+use crate::smd::{decode_inputs, encode_outputs, SmdChain, PROCESS_DATA_LEN};
+
+/// The master's source address.
+pub const SRC: [u8; 6] = [2, 0, 0, 0, 0, 1];
+/// SM0 (mailbox out) and SM1 (mailbox in) start addresses, and their length.
+pub const MBX_OUT: u16 = 0x1000;
+/// SM1 start address.
+pub const MBX_IN: u16 = 0x1080;
+/// Mailbox length.
+pub const MBX_LEN: usize = 128;
+
+/// What went wrong on the master's side.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MasterError {
+    /// No answer to a frame.
+    #[error("no answer to {0}")]
+    NoAnswer(String),
+    /// An answer that is not what the start-up needs.
+    #[error("{what}: working counter {wkc}, expected {expected}")]
+    WorkingCounter {
+        /// The access.
+        what: String,
+        /// What came back.
+        wkc: u16,
+        /// What was expected.
+        expected: u16,
+    },
+    /// A unit refused a state.
+    #[error(
+        "unit {unit}: AL status 0x{status:04X}, code 0x{code:04X} after requesting state {state}"
+    )]
+    State {
+        /// The unit (0-based).
+        unit: usize,
+        /// The state requested.
+        state: u8,
+        /// AL status.
+        status: u16,
+        /// AL status code.
+        code: u16,
+    },
+}
+
+/// Carries a frame to the slaves and back.
+pub trait Wire {
+    /// Sends `frame` and replaces it with the answer; false when none came.
+    fn exchange(&mut self, frame: &mut Vec<u8>) -> bool;
+
+    /// Runs the slaves' cycle for `dt` where the wire can (in process); a real link runs on its own.
+    fn pass(&mut self, _dt: Duration) {}
+
+    /// Units on the wire (for the logical layout).
+    fn units(&self) -> usize;
+}
+
+impl Wire for SmdChain {
+    fn exchange(&mut self, frame: &mut Vec<u8>) -> bool {
+        self.process(frame).is_ok()
+    }
+
+    fn pass(&mut self, dt: Duration) {
+        self.cycle(dt);
+    }
+
+    fn units(&self) -> usize {
+        self.len()
+    }
+}
+
+/// A raw socket on the master's end of a link to `units` slaves.
+#[derive(Debug)]
+pub struct SocketWire {
+    socket: RawSocket,
+    units: usize,
+    /// How long to wait for an answer.
+    pub timeout: Duration,
+    index: u8,
+    buf: Vec<u8>,
+}
+
+impl SocketWire {
+    /// A wire on `socket` to `units` slaves.
+    pub fn new(socket: RawSocket, units: usize) -> SocketWire {
+        SocketWire {
+            socket,
+            units,
+            timeout: Duration::from_millis(100),
+            index: 0,
+            buf: vec![0; 2048],
+        }
+    }
+}
+
+impl Wire for SocketWire {
+    fn exchange(&mut self, frame: &mut Vec<u8>) -> bool {
+        // The first datagram's index tells this frame's answer from a late one.
+        self.index = self.index.wrapping_add(1);
+        if frame.len() > 17 {
+            frame[17] = self.index;
+        }
+        if self.socket.send(frame).is_err() {
+            return false;
+        }
+        let deadline = Instant::now() + self.timeout;
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match self.socket.recv(&mut self.buf) {
+                Ok(Some(n)) => {
+                    let answer = &self.buf[..n];
+                    if n > 17 && answer[17] == self.index && answer[6] & 0x02 != 0 {
+                        frame.clear();
+                        frame.extend_from_slice(answer);
+                        return true;
+                    }
+                }
+                Ok(None) if !left.is_zero() => {
+                    if self.socket.wait(left).is_err() {
+                        return false;
+                    }
+                }
+                _ => return false,
+            }
+        }
+    }
+
+    fn units(&self) -> usize {
+        self.units
+    }
+}
+
+/// The station address given to unit `k` (0-based).
+pub fn station(k: usize) -> u16 {
+    0x1001 + k as u16
+}
+
+/// One datagram over the wire, answered.
+pub fn one(w: &mut impl Wire, d: Datagram) -> Result<Datagram, MasterError> {
+    let what = format!("command {} at 0x{:08X}", d.cmd, d.address);
+    let mut f = emit(&[d], SRC);
+    if !w.exchange(&mut f) {
+        return Err(MasterError::NoAnswer(what));
+    }
+    parse(&f)
+        .ok()
+        .and_then(|mut d| (!d.is_empty()).then(|| d.remove(0)))
+        .ok_or(MasterError::NoAnswer(what))
+}
+
+/// A register datagram `command` to `adp`/`ado`.
+pub fn reg(
+    w: &mut impl Wire,
+    command: u8,
+    adp: u16,
+    ado: u16,
+    data: Vec<u8>,
+) -> Result<Datagram, MasterError> {
+    one(w, Datagram::new(command, adp, ado, data))
+}
+
+/// A register datagram that must come back with working counter `expected`.
+pub fn expect(w: &mut impl Wire, d: Datagram, expected: u16) -> Result<Datagram, MasterError> {
+    let what = format!("command {} at 0x{:08X}", d.cmd, d.address);
+    let r = one(w, d)?;
+    if r.wkc != expected {
+        return Err(MasterError::WorkingCounter {
+            what,
+            wkc: r.wkc,
+            expected,
+        });
+    }
+    Ok(r)
+}
+
+/// FPWR that unit `k` must take.
+pub fn fpwr(w: &mut impl Wire, k: usize, ado: u16, data: Vec<u8>) -> Result<(), MasterError> {
+    expect(w, Datagram::new(cmd::FPWR, station(k), ado, data), 1).map(|_| ())
+}
+
+/// FPRD of `len` bytes at `ado` of unit `k`: data and working counter.
+pub fn fprd(
+    w: &mut impl Wire,
+    k: usize,
+    ado: u16,
+    len: usize,
+) -> Result<(Vec<u8>, u16), MasterError> {
+    let r = reg(w, cmd::FPRD, station(k), ado, vec![0; len])?;
+    Ok((r.data, r.wkc))
+}
+
+/// AL status and AL status code of unit `k`.
+pub fn al(w: &mut impl Wire, k: usize) -> Result<(u16, u16), MasterError> {
+    let (d, _) = fprd(w, k, 0x0130, 6)?;
+    Ok((
+        u16::from_le_bytes([d[0], d[1]]),
+        u16::from_le_bytes([d[4], d[5]]),
+    ))
+}
+
+/// Requests `state` (with the acknowledge bit 0x10 when given) from every unit by BWR of AL control;
+/// the working counter.
+pub fn request(w: &mut impl Wire, state: u8) -> Result<u16, MasterError> {
+    Ok(reg(w, cmd::BWR, 0, 0x0120, vec![state, 0])?.wkc)
+}
+
+/// Station addresses, SyncManagers (the ESI's), FMMUs (see the module documentation).
+pub fn configure(w: &mut impl Wire) -> Result<(), MasterError> {
+    let n = w.units();
+    for k in 0..n {
+        let adp = 0u16.wrapping_sub(k as u16);
+        let d = Datagram::new(cmd::APWR, adp, 0x0010, station(k).to_le_bytes().to_vec());
+        expect(w, d, 1)?;
+    }
+    for k in 0..n {
+        for (sm, start, len, control) in [
+            (0u16, MBX_OUT, MBX_LEN as u16, 0x26u8),
+            (1, MBX_IN, MBX_LEN as u16, 0x22),
+            (2, 0x1100, 20, 0x64),
+            (3, 0x1400, 20, 0x20),
+        ] {
+            let mut r = start.to_le_bytes().to_vec();
+            r.extend_from_slice(&len.to_le_bytes());
+            r.extend_from_slice(&[control, 0, 1, 0]);
+            fpwr(w, k, 0x0800 + 8 * sm, r)?;
+        }
+        for (f, logical, phys, rw) in [
+            (0u16, 20 * k as u32, 0x1100u16, 2u8),
+            (1, 20 * (n + k) as u32, 0x1400, 1),
+        ] {
+            let mut r = logical.to_le_bytes().to_vec();
+            r.extend_from_slice(&20u16.to_le_bytes());
+            r.extend_from_slice(&[0, 7]);
+            r.extend_from_slice(&phys.to_le_bytes());
+            r.extend_from_slice(&[0, rw, 1, 0, 0, 0]);
+            fpwr(w, k, 0x0600 + 16 * f, r)?;
+        }
+    }
+    Ok(())
+}
+
+/// Configures the chain and brings every unit through Pre-Op to `to` (2, 4 or 8).
+pub fn bring_up(w: &mut impl Wire, to: u8) -> Result<(), MasterError> {
+    configure(w)?;
+    for s in [2u8, 4, 8] {
+        if s > to {
+            break;
+        }
+        if s == 8 {
+            // Outputs flow before Op is requested, as masters do.
+            lrw(w, &vec![Outputs::default(); w.units()])?;
+        }
+        request(w, s)?;
+        for k in 0..w.units() {
+            let (status, code) = al(w, k)?;
+            if (status, code) != (u16::from(s), 0) {
+                return Err(MasterError::State {
+                    unit: k,
+                    state: s,
+                    status,
+                    code,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The LRW datagram of every unit's outputs (and room for the inputs).
+pub fn lrw_datagram(outputs: &[Outputs], units: usize) -> Datagram {
+    let mut data: Vec<u8> = outputs.iter().flat_map(encode_outputs).collect();
+    data.resize(2 * PROCESS_DATA_LEN * units, 0);
+    Datagram {
+        cmd: cmd::LRW,
+        index: 0,
+        address: 0,
+        data,
+        wkc: 0,
+    }
+}
+
+/// One LRW of every unit's outputs and inputs, then a 1 ms cycle where the wire runs one: the
+/// working counter and the inputs the frame brought back.
+pub fn lrw(w: &mut impl Wire, outputs: &[Outputs]) -> Result<(u16, Vec<Inputs>), MasterError> {
+    let n = w.units();
+    let r = one(w, lrw_datagram(outputs, n))?;
+    w.pass(Duration::from_millis(1));
+    let inputs = (0..n)
+        .map(|k| {
+            let at = PROCESS_DATA_LEN * (n + k);
+            let mut b = [0u8; PROCESS_DATA_LEN];
+            b.copy_from_slice(&r.data[at..at + PROCESS_DATA_LEN]);
+            decode_inputs(&b)
+        })
+        .collect();
+    Ok((r.wkc, inputs))
+}
