@@ -9,7 +9,6 @@
 //! `cargo bench -p ethercat-slave --bench frames [-- SECONDS]` (default 3 s per figure; without
 //! `--bench`, as under `cargo test`, a short run).
 
-#[allow(dead_code)]
 #[path = "../tests/common/link.rs"]
 mod link;
 

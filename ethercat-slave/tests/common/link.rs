@@ -3,6 +3,8 @@
 //! [`Link::up`], removed when the [`Link`] is dropped. Needs root (CAP_NET_ADMIN, CAP_NET_RAW); without
 //! it the test fails and says so.
 
+#![allow(dead_code)]
+
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
