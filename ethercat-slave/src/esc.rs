@@ -258,7 +258,7 @@ impl Esc {
 
     /// Sets memory from the slave's side (the application).
     pub fn store(&mut self, at: u16, bytes: &[u8]) {
-        for (k, b) in bytes.iter().enumerate() {
+        for (k, b) in bytes.iter().enumerate().take(MEMORY - usize::from(at)) {
             self.mem[(usize::from(at) + k) % MEMORY] = *b;
         }
     }

@@ -9,6 +9,7 @@
 //! the same [`Dictionary`](crate::Dictionary), reached through mailboxes.
 
 pub mod complete;
+pub mod info;
 pub mod mailbox;
 pub mod sdo;
 pub mod server;

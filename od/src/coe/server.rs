@@ -52,6 +52,17 @@ const MBXERR_SIZE_TOO_SHORT: u16 = 0x0006;
 /// Mailbox error: the length field says more than the mailbox holds.
 const MBXERR_INVALID_SIZE: u16 = 0x0008;
 
+/// The answers to an SDO Information mailbox (CoE service 8), or `None` for any other mailbox.
+fn information(mailbox: &[u8], d: &Dictionary, mailbox_size: usize) -> Option<Vec<Vec<u8>>> {
+    let (header, data) = MailboxHeader::split(mailbox).ok()?;
+    if header.mailbox_type != MailboxType::Coe {
+        return None;
+    }
+    let coe = CoeHeader::parse(data).ok()?;
+    (coe.service == CoeService::SdoInformation)
+        .then(|| crate::coe::info::answer(data, d, mailbox_size))
+}
+
 /// A transfer in progress over several mailboxes.
 #[derive(Debug)]
 enum Transfer {
@@ -197,7 +208,8 @@ impl Answer {
 /// - **Address, channel, priority**: the response carries the request's address; channel and priority 0.
 /// - **Not an SDO request**: a mailbox shorter than its six-byte header is ignored. Otherwise the
 ///   answer is a mailbox error reply (ETG.1000.4, mailbox type 0, service 1): 0x0002 for another
-///   mailbox protocol than CoE, 0x0004 for a CoE service other than SDO request, 0x0006 for a CoE
+///   mailbox protocol than CoE, 0x0004 for a CoE service other than SDO request and SDO Information
+///   ([`crate::coe::info`]), 0x0006 for a CoE
 ///   mailbox shorter than its CoE header and eight SDO bytes, 0x0008 for a length field beyond the
 ///   bytes given. A running transfer goes on.
 ///
@@ -306,6 +318,17 @@ impl CoeServer {
             return;
         }
         self.last_request = (header.counter != 0).then_some(header.counter);
+        if let Some(bodies) = information(mailbox, d, self.mailbox_size) {
+            // SDO Information: every fragment goes out, the master reads them one after the other.
+            let mut last = None;
+            for body in bodies {
+                let m = self.coe_mailbox(header.address, &body);
+                self.transmit.push_back(m.clone());
+                last = Some(m);
+            }
+            self.last_response = last;
+            return;
+        }
         let timed_out = self.timed_out.take();
         let answer = self.serve(now, mailbox, timed_out, d);
         self.deadline = match self.transfer {
@@ -711,6 +734,22 @@ impl CoeServer {
                 out
             }
         }
+    }
+
+    /// A CoE mailbox of `body` (CoE header onwards) with the next counter.
+    fn coe_mailbox(&mut self, address: u16, body: &[u8]) -> Vec<u8> {
+        self.counter = MailboxHeader::next_counter(self.counter);
+        let header = MailboxHeader {
+            length: body.len() as u16,
+            address,
+            channel: 0,
+            priority: 0,
+            mailbox_type: MailboxType::Coe,
+            counter: self.counter,
+        };
+        let mut out = header.emit().to_vec();
+        out.extend_from_slice(body);
+        out
     }
 
     fn push_transmit(&mut self, mailbox: Vec<u8>) {
