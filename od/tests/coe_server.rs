@@ -758,8 +758,8 @@ fn mailboxes_that_are_not_sdo_requests_get_a_mailbox_error_reply() {
     let mut b = Bench::new();
     // Type 2 (EoE): mailbox error reply, type 0, service 1, detail 2 (unsupported protocol).
     exchange!(b, h("04 00 00 00 00 12 | 01 02 03 04") => h("04 00 00 00 00 10 | 01 00 02 00"));
-    // CoE, service 8 (SDO information): detail 4 (service not supported).
-    exchange!(b, h("0A 00 00 00 00 23 | 00 80 | 01 00 00 00 00 00 00 00")
+    // CoE, service 5 (RxPDO): detail 4 (service not supported).
+    exchange!(b, h("0A 00 00 00 00 23 | 00 50 | 01 00 00 00 00 00 00 00")
         => h("04 00 00 00 00 20 | 01 00 04 00"));
     // CoE SDO request of 4 bytes: detail 6 (size too short).
     exchange!(b, h("06 00 00 00 00 33 | 00 20 | 40 00 10 00") => h("04 00 00 00 00 30 | 01 00 06 00"));
