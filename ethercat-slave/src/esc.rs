@@ -70,9 +70,15 @@ pub const WATCHDOG_TIME_PD: u16 = 0x0420;
 pub const WATCHDOG_STATUS_PD: u16 = 0x0440;
 /// Process-data watchdog counter register.
 pub const WATCHDOG_COUNTER_PD: u16 = 0x0442;
-/// Registers the master cannot write: ESC information, DL status, AL status and code, watchdog
+/// Registers the master cannot write: ESC information, the station alias (loaded from the SII), DL status, AL status and code, watchdog
 /// status and counters, the EEPROM data register's read half.
-const READ_ONLY: [(u16, usize); 4] = [(0x0000, 0x10), (DL_STATUS, 2), (0x0130, 6), (0x0440, 4)];
+const READ_ONLY: [(u16, usize); 5] = [
+    (0x0000, 0x10),
+    (STATION_ALIAS, 2),
+    (DL_STATUS, 2),
+    (0x0130, 6),
+    (0x0440, 4),
+];
 
 /// One FMMU as the master configured it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -334,22 +340,44 @@ impl Esc {
         }
         if touches(EEPROM_CONTROL, 2) {
             let control = self.read_u16(EEPROM_CONTROL);
-            if (control >> 8) & 0x07 == 0x01 {
-                let word = u32::from_le_bytes([
-                    self.mem[usize::from(EEPROM_ADDRESS)],
-                    self.mem[usize::from(EEPROM_ADDRESS) + 1],
-                    self.mem[usize::from(EEPROM_ADDRESS) + 2],
-                    self.mem[usize::from(EEPROM_ADDRESS) + 3],
-                ]) as usize;
-                let bytes: Vec<u8> = (0..8)
-                    .map(|k| self.sii.get(word * 2 + k).copied().unwrap_or(0xFF))
-                    .collect();
-                self.store(EEPROM_DATA, &bytes);
-                // Command done, not busy, no error; bit 6 says 8 bytes are read at once.
-                let status = 0x0040;
-                self.store(EEPROM_CONTROL, &u16::to_le_bytes(status));
+            let r = self.raw(EEPROM_ADDRESS, 4);
+            let word = u32::from_le_bytes([r[0], r[1], r[2], r[3]]) as usize;
+            // Bit 6: 8 bytes are read at once; bit 0 (write enable) clears itself.
+            let mut status = 0x0040;
+            match (control >> 8) & 0x07 {
+                0x01 => {
+                    let bytes: Vec<u8> = (0..8)
+                        .map(|k| self.sii.get(word * 2 + k).copied().unwrap_or(0xFF))
+                        .collect();
+                    self.store(EEPROM_DATA, &bytes);
+                }
+                // Write: one word from the data register, with write enable in the same access.
+                0x02 if control & 0x0001 != 0 && word * 2 + 1 < self.sii.len() => {
+                    let d = self.raw(EEPROM_DATA, 2);
+                    self.sii[word * 2..word * 2 + 2].copy_from_slice(&d);
+                }
+                0x02 => status |= 0x2000, // write error: not enabled, or beyond the image
+                0x04 => self.load_sii_configuration(),
+                _ => {}
             }
+            self.store(EEPROM_CONTROL, &u16::to_le_bytes(status));
         }
+    }
+
+    /// What an ESC takes from its EEPROM at power-up and on a reload command: the configured station
+    /// alias (SII word 4) into 0x0012.
+    pub fn load_sii_configuration(&mut self) {
+        if let Some(alias) = self.sii.get(8..10) {
+            let alias = [alias[0], alias[1]];
+            self.store(STATION_ALIAS, &alias);
+        }
+    }
+
+    /// Whether configured-address datagrams to `adp` are this slave's: its station address, or its
+    /// alias when the master enabled alias addressing (DL control 0x0100 bit 24).
+    fn is_station(&self, adp: u16) -> bool {
+        adp == self.station_address()
+            || (self.mem[0x0103] & 0x01 != 0 && adp == self.read_u16(STATION_ALIAS))
     }
 
     /// FMMU `n` as configured in its registers, when active.
@@ -513,27 +541,12 @@ impl Chain {
                     cmd::APWR => (Some(Access::Write), adp == 0, true, false),
                     cmd::APRW => (Some(Access::ReadWrite), adp == 0, true, false),
                     cmd::ARMW => (Some(Access::ReadMultipleWrite), adp == 0, true, false),
-                    cmd::FPRD => (
-                        Some(Access::Read),
-                        adp == esc.station_address(),
-                        false,
-                        false,
-                    ),
-                    cmd::FPWR => (
-                        Some(Access::Write),
-                        adp == esc.station_address(),
-                        false,
-                        false,
-                    ),
-                    cmd::FPRW => (
-                        Some(Access::ReadWrite),
-                        adp == esc.station_address(),
-                        false,
-                        false,
-                    ),
+                    cmd::FPRD => (Some(Access::Read), esc.is_station(adp), false, false),
+                    cmd::FPWR => (Some(Access::Write), esc.is_station(adp), false, false),
+                    cmd::FPRW => (Some(Access::ReadWrite), esc.is_station(adp), false, false),
                     cmd::FRMW => (
                         Some(Access::ReadMultipleWrite),
-                        adp == esc.station_address(),
+                        esc.is_station(adp),
                         false,
                         false,
                     ),

@@ -161,6 +161,7 @@ impl SmdChain {
         for k in 0..n {
             let mut esc = Esc::new();
             esc.sii = od::sii::write(&desc, k as u32 + 1)?;
+            esc.load_sii_configuration();
             esc.al = AlConfig::from_description(&desc);
             esc.al.sync0_cycle = Some(SYNC0_CYCLE_RANGE);
             chain.push(esc);
@@ -216,6 +217,10 @@ impl SmdChain {
     fn serve_mailboxes(&mut self) {
         let now = self.now;
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
+            if esc.al_state().0 == state::INIT {
+                // Told at once: the mailbox restarts before the master can use it again.
+                unit.sync_state(state::INIT);
+            }
             if let Some(mailbox) = esc.take_mailbox() {
                 unit.sync_state(esc.al_state().0);
                 unit.model.handle_mailbox(&mut unit.coe, now, &mailbox);
@@ -312,6 +317,14 @@ impl Unit {
             return;
         }
         self.state = al;
+        if al == state::INIT {
+            // The mailbox restarts in Init (as the ESC empties its SyncManagers): no transfer, no
+            // answer waiting, and the mailbox counters from the start. A master that starts again
+            // counts from 1 again, and a request with the counter of the request before Init would
+            // otherwise be taken for a repeat and answered with that old response.
+            self.coe = CoeServer::new(*self.coe.config(), self.coe.mailbox_size());
+            self.pending.clear();
+        }
         let network = match al {
             state::OP => NetworkState::Op,
             state::SAFEOP => NetworkState::SafeOp,

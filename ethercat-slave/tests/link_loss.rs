@@ -35,7 +35,11 @@ fn smd_r1_036_lost_carrier_drops_op_to_safe_op() {
     }
     std::thread::sleep(Duration::from_millis(300));
     for k in 0..2 {
-        assert_eq!(master::al(&mut w, k).unwrap(), (0x0008, 0), "unit {k} in Op");
+        assert_eq!(
+            master::al(&mut w, k).unwrap(),
+            (0x0008, 0),
+            "unit {k} in Op"
+        );
     }
     set_link(&link.master, false);
     std::thread::sleep(Duration::from_millis(300));
@@ -49,12 +53,24 @@ fn smd_r1_036_lost_carrier_drops_op_to_safe_op() {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-    assert_eq!(back, Some((0x0014, 0x001B)), "unit 0 after the link is back");
+    assert_eq!(
+        back,
+        Some((0x0014, 0x001B)),
+        "unit 0 after the link is back"
+    );
     assert_eq!(master::al(&mut w, 1).unwrap(), (0x0014, 0x001B));
     std::thread::sleep(Duration::from_millis(200));
-    assert_eq!(master::al(&mut w, 0).unwrap().0, 0x0014, "not back to Op by itself");
+    assert_eq!(
+        master::al(&mut w, 0).unwrap().0,
+        0x0014,
+        "not back to Op by itself"
+    );
     master::request(&mut w, state::OP | 0x10).unwrap();
     for k in 0..2 {
-        assert_eq!(master::al(&mut w, k).unwrap(), (0x0008, 0), "unit {k} in Op again");
+        assert_eq!(
+            master::al(&mut w, k).unwrap(),
+            (0x0008, 0),
+            "unit {k} in Op again"
+        );
     }
 }
