@@ -166,6 +166,81 @@ fn smd_r2_073_same_speed_boundary() {
     assert_eq!(r.pos(), 40_000);
 }
 
+/// SMD-R2-076 (pick): a Blend segment too short for its ramp ramps at its own rate for as long as it
+/// lasts, and at its end the speed steps straight to the next segment's Velocity, with no ramp.
+/// Segment 1 (1,000 steps, Velocity 20,000, Acceleration 10) rises 10 steps/s per ms from V_S and
+/// reaches only 4,471 steps/s by its end (1,000 steps ≈ 434 ms), then the speed is 8,000 at once;
+/// segment 3 (1,000 steps, 2,000 steps/s, Deceleration 1) slows 1 step/s per ms from 8,000, reaches
+/// only 7,875 by its end, and the speed is segment 4's 3,000 at once. The move ends at 42,000.
+#[test]
+fn smd_r2_076_short_blend_segment_jumps() {
+    let mut r = rig(0);
+    program(
+        &mut r,
+        &[
+            (1_000, 20_000, 10, 10),
+            (20_000, 8_000, 10, 10),
+            (1_000, 2_000, 10, 1),
+            (20_000, 3_000, 10, 10),
+        ],
+        false,
+    );
+    let trace = run(&mut r, 0, 0);
+    assert_eq!(r.pos(), 42_000);
+    assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+    // The steps of more than 1,000 steps/s from one cycle to the next.
+    let jumps: Vec<(usize, f64, f64)> = trace
+        .windows(2)
+        .enumerate()
+        .filter(|(_, w)| (w[1].0 - w[0].0).abs() > 1_000.0)
+        .map(|(k, w)| (k + 1, w[0].0, w[1].0))
+        .collect();
+    assert_eq!(jumps.len(), 2, "{jumps:?}");
+    let (k1, before1, after1) = jumps[0];
+    assert!((before1 - 4_471.0).abs() < 1e-6, "{before1}");
+    assert_eq!(after1, 8_000.0);
+    // Up to the jump: Accelerating, 10 steps/s more every ms (the first cycle is 1 ms in: 151).
+    assert!((trace[0].0 - 151.0).abs() < 1e-6);
+    for w in trace[..k1].windows(2) {
+        assert!((w[1].0 - w[0].0 - 10.0).abs() < 1e-6);
+        assert_ne!(w[1].1 & stat0::ACCELERATING, 0);
+    }
+    assert_eq!(
+        k1, 433,
+        "1 ms per cycle, 4,471 − 141 = 4,330 steps/s in 433 ms"
+    );
+    // After it: 8,000 with neither Accelerating nor Decelerating.
+    assert!(trace[k1..k1 + 100]
+        .iter()
+        .all(|t| t.0 == 8_000.0 && t.1 & (stat0::ACCELERATING | stat0::DECELERATING) == 0));
+    let (k2, before2, after2) = jumps[1];
+    // Segment 3 slowed at 1 step/s per ms until its end, then 3,000 at once.
+    // 125 ms at −1,000 steps/s² cover 992 steps; in the 126th the segment ends.
+    assert!((before2 - 7_875.0).abs() < 1e-6, "{before2}");
+    assert_eq!(after2, 3_000.0);
+    let slowing: Vec<&(f64, u16)> = trace[..k2]
+        .iter()
+        .filter(|t| t.1 & stat0::DECELERATING != 0)
+        .collect();
+    // Decelerating from the cycle that enters segment 3 (still 8,000) down to 7,875.
+    assert_eq!(slowing.len(), 126, "cycles slowing in segment 3");
+    assert_eq!(slowing[0].0, 8_000.0);
+    for w in slowing.windows(2) {
+        assert!(
+            (w[0].0 - w[1].0 - 1.0).abs() < 1e-6,
+            "{} → {}",
+            w[0].0,
+            w[1].0
+        );
+    }
+    assert!((slowing[slowing.len() - 1].0 - before2).abs() < 1e-6);
+    assert_eq!(
+        trace[k2].1 & (stat0::ACCELERATING | stat0::DECELERATING),
+        0,
+        "no ramp to 3,000"
+    );
+}
+
 /// SMD-R2-077, SMD-R2-078, SMD-R2-079, SMD-R2-080, SMD-R6-015, SMD-R6-003, SMD-R2-020 (Dwell): a Dwell Move runs each segment as its
 /// own move, in the direction of its sign, stopped for the Dwell Time (the Jerk word, ms) between
 /// segments and not after the last; bit 4 changes nothing.
@@ -206,6 +281,80 @@ fn smd_r2_077_to_080_dwell_move() {
         assert!((749..=752).contains(&s), "dwell {s} ms");
     }
     assert_eq!(run_len, 1, "complete in the update the last segment stops");
+}
+
+/// The lengths of the runs of Stopped = 1 between moving cycles, and the directions in order.
+fn pauses_and_directions(trace: &[(f64, u16)]) -> (Vec<usize>, Vec<i32>) {
+    let (mut pauses, mut dirs, mut run_len) = (Vec::new(), Vec::new(), 0);
+    for &(v, s) in trace {
+        if s & stat0::STOPPED != 0 {
+            run_len += 1;
+        } else {
+            if run_len > 0 {
+                pauses.push(run_len);
+            }
+            run_len = 0;
+            let d = v.signum() as i32;
+            if dirs.last() != Some(&d) {
+                dirs.push(d);
+            }
+        }
+    }
+    (pauses, dirs)
+}
+
+/// SMD-R6-014, SMD-R2-068 (one program run as a Blend, then as a Dwell): CMD_word0 = 0x2000 runs the stored program. With CMD_word1 bit 9 = 0 it is a Blend
+/// (CW, or CCW with bit 4; segment signs ignored; the Jerk word unused: the same speed profile with
+/// Jerk 0 and 500); with bit 9 = 1 a Dwell (signed segments, stopped for Jerk-word ms between
+/// them: 300 and 40 ms). Pick: CMD_word1 bit 13 (Preset_to_Encoder) rising runs nothing.
+#[test]
+fn smd_r6_014_run_assembled_move() {
+    let mut r = rig(0);
+    program(
+        &mut r,
+        &[(3_000, 4_000, 20, 20), (-1_000, 6_000, 20, 20)],
+        false,
+    );
+    // CMD_word1 bit 13 is not the run bit.
+    r.out.cmd1 |= cmd1::PRESET_TO_ENCODER;
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!((r.pos(), r.s0() & stat0::STOPPED), (0, stat0::STOPPED));
+    r.out.cmd1 &= !cmd1::PRESET_TO_ENCODER;
+    r.cycle();
+
+    // Blend, CW: 3,000 + 1,000 steps without stopping; the Jerk word changes nothing.
+    let blend = run(&mut r, 0, 0);
+    assert_eq!(r.pos(), 4_000);
+    assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+    assert_eq!(pauses_and_directions(&blend), (vec![], vec![1]));
+    assert_eq!(blend[blend.len() - 1].1 & stat0::STOPPED, stat0::STOPPED);
+    let blend_jerk = run(&mut r, 0, 500);
+    assert_eq!(r.pos(), 8_000);
+    let speeds = |t: &[(f64, u16)]| t.iter().map(|x| x.0).collect::<Vec<_>>();
+    assert_eq!(
+        speeds(&blend_jerk),
+        speeds(&blend),
+        "Jerk unused by a Blend"
+    );
+    // Blend, CCW with CMD_word1 bit 4.
+    let ccw = run(&mut r, cmd1::REVERSE_BLEND, 0);
+    assert_eq!(r.pos(), 4_000);
+    assert_eq!(pauses_and_directions(&ccw), (vec![], vec![-1]));
+
+    // Dwell: +3,000 then −1,000, stopped Jerk-word ms between.
+    for dwell in [300, 40] {
+        let start = r.pos();
+        let t = run(&mut r, cmd1::DWELL, dwell);
+        assert_eq!(r.pos(), start + 2_000);
+        assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+        assert_eq!(
+            pauses_and_directions(&t),
+            (vec![usize::from(dwell)], vec![1, -1]),
+            "dwell {dwell} ms"
+        );
+    }
 }
 
 /// SMD-R2-069, SMD-R2-081: no program (or one segment) is a Command_Error; a program runs again; a

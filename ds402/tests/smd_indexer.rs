@@ -94,8 +94,8 @@ fn smd_r6_005_clearing_the_bit_mid_move() {
     assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
 }
 
-/// Two CMD_word0 command bits rising in one update: Command_Error, nothing runs (R6 "Command Bits Must
-/// Transition").
+/// SMD-R1-024: two CMD_word0 command bits rising in one update: Command_Error, nothing runs (R6
+/// "Command Bits Must Transition").
 #[test]
 fn two_command_bits_rising_together_are_a_command_error() {
     let mut r = Rig::ready();
@@ -104,6 +104,93 @@ fn two_command_bits_rising_together_are_a_command_error() {
     assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
     assert_ne!(r.s0() & stat0::STOPPED, 0);
     assert_eq!(r.pos(), 0);
+}
+
+/// SMD-R1-024: the motion command bits (CMD_word0 bits 0–10, 13, 14) are mutually exclusive. 0x0003
+/// written from 0 is a Command_Error and runs neither move; so is a command bit rising while another
+/// is still 1 (Absolute rising under a held Relative bit, Immediate Stop rising under a running Jog
+/// bit). Gap pick: a move already in progress carries on to its normal end. Bits 11/12 (0x1800) and
+/// 15 are outside the set.
+#[test]
+fn smd_r1_024_motion_command_bits_are_exclusive() {
+    let clean = |r: &Rig| {
+        r.s0() & (stat0::COMMAND_ERROR | stat0::INPUT_ERROR | stat0::MOVE_COMPLETE | stat0::STOPPED)
+    };
+    // 0x0003 from 0: Command_Error, no motion, Move_Complete not set.
+    let mut r = Rig::ready();
+    r.out.position = 1_000;
+    r.command(cmd0::ABSOLUTE_MOVE | cmd0::RELATIVE_MOVE);
+    assert_eq!(clean(&r), stat0::COMMAND_ERROR | stat0::STOPPED);
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!((r.pos(), r.s0() & stat0::STOPPED), (0, stat0::STOPPED));
+
+    // A bit rising while another stays 1: 0x0002 (run to its end, bit kept) → 0x0003.
+    let mut r = Rig::ready();
+    r.out.position = 1_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 1_000);
+    assert_eq!(clean(&r), stat0::MOVE_COMPLETE | stat0::STOPPED);
+    r.out.position = 5_000;
+    r.command(cmd0::ABSOLUTE_MOVE | cmd0::RELATIVE_MOVE);
+    assert_eq!(
+        clean(&r),
+        stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE | stat0::STOPPED,
+        "rejected: Move_Complete of the last move stays"
+    );
+    for _ in 0..100 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), 1_000, "the Absolute move to 5,000 did not run");
+
+    // Two bits rising during a running Relative move: rejected, the move ends on its target.
+    let mut r = Rig::ready();
+    r.out.position = 5_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    for _ in 0..200 {
+        r.cycle();
+    }
+    r.command(cmd0::HOLD_MOVE | cmd0::IMMEDIATE_STOP);
+    assert_eq!(clean(&r), stat0::COMMAND_ERROR);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 5_000);
+    assert_eq!(
+        r.s0()
+            & (stat0::MOVE_COMPLETE
+                | stat0::POSITION_INVALID
+                | stat0::IN_HOLD_STATE
+                | stat0::COMMAND_ERROR),
+        stat0::MOVE_COMPLETE | stat0::COMMAND_ERROR,
+        "neither Hold nor Immediate Stop ran"
+    );
+
+    // Immediate Stop rising while the Jog bit stays 1: rejected, the jog runs on at Velocity.
+    let mut r = Rig::ready();
+    r.command(cmd0::JOG_CW);
+    for _ in 0..1_500 {
+        r.cycle();
+    }
+    assert_eq!(r.ix.speed(), 10_000.0);
+    r.command(cmd0::JOG_CW | cmd0::IMMEDIATE_STOP);
+    assert_eq!(clean(&r), stat0::COMMAND_ERROR);
+    let at = r.pos();
+    for _ in 0..1_000 {
+        r.cycle();
+    }
+    assert_eq!(r.ix.speed(), 10_000.0);
+    assert_eq!(r.pos() - at, 10_000, "one more second at 10,000 steps/s");
+    assert_eq!(r.s0() & stat0::POSITION_INVALID, 0);
+
+    // Outside the set: Program_Assembled with Read_Assembled_Data (0x0800 → 0x1800) is no error.
+    let mut r = Rig::ready();
+    r.command(cmd0::PROGRAM_ASSEMBLED);
+    r.out.position = 1_000;
+    r.command(cmd0::PROGRAM_ASSEMBLED | cmd0::READ_ASSEMBLED_DATA);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    assert_eq!(r.ix.assembled_program(), None, "still programming");
 }
 
 /// SMD-R2-034: a move command during a running move is refused; the running move ends where it would.
@@ -334,6 +421,106 @@ fn smd_r2_031_032_hold_and_resume() {
     r.until(20_000, |i| i.status0 & stat0::STOPPED != 0);
     assert_eq!(r.pos(), 50_000);
     assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
+}
+
+/// Cycles until Stopped; the speed of every cycle with Decelerating = 1 and whether
+/// Position_Invalid was ever 1 meanwhile. Fails if a moving cycle is not Decelerating.
+fn stop_trace(r: &mut Rig) -> (Vec<f64>, bool) {
+    let mut speeds = Vec::new();
+    let mut invalid = false;
+    loop {
+        invalid |= r.s0() & stat0::POSITION_INVALID != 0;
+        if r.s0() & stat0::STOPPED != 0 {
+            return (speeds, invalid);
+        }
+        assert_ne!(
+            r.s0() & stat0::DECELERATING,
+            0,
+            "Decelerating until the stop"
+        );
+        speeds.push(r.ix.speed().abs());
+        r.cycle();
+    }
+}
+
+/// SMD-R2-029: a controlled stop (Hold during a Relative move, the Jog bit going to 0) decelerates at
+/// the move's programmed Deceleration — 4 steps/s less every millisecond with Acceleration 10 and
+/// Deceleration 4 — from Velocity down to V_S = 141 steps/s (9,859 / 4,000 s = 2,464.75 ms), with
+/// Decelerating = 1 until Stopped, and leaves Position_Invalid as it was: 0 stays 0 and an Absolute
+/// move then runs; 1 stays 1 and an Absolute move is still refused.
+#[test]
+fn smd_r2_029_controlled_stop() {
+    let check = |speeds: &[f64], from: f64| {
+        assert_eq!(speeds[0], from - 4.0, "first cycle of the stop");
+        for w in speeds.windows(2) {
+            assert!((w[0] - w[1] - 4.0).abs() < 1e-6, "{} → {}", w[0], w[1]);
+        }
+        let last = speeds[speeds.len() - 1];
+        // 2,464 ms after the stop began: 10,000 − 4 × 2,464 = 144 steps/s, V_S 141 a cycle later.
+        assert!((last - 144.0).abs() < 1e-6, "last moving speed {last}");
+        // (10,000 − 141) / 4,000 s = 2,464.75 ms: moving in 2,464 cycles, Stopped in the 2,465th.
+        assert_eq!(speeds.len(), 2_464, "ms moving while stopping");
+    };
+    // Hold during a Relative move, position valid.
+    let mut r = Rig::ready_with(0, 10_000, 10, 4);
+    r.out.position = 1_000_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    for _ in 0..1_500 {
+        r.cycle();
+    }
+    assert_eq!(r.ix.speed(), 10_000.0);
+    r.command(cmd0::HOLD_MOVE);
+    let (speeds, invalid) = stop_trace(&mut r);
+    check(&speeds, 10_000.0);
+    assert!(!invalid);
+    assert_eq!(
+        r.s0() & (stat0::POSITION_INVALID | stat0::IN_HOLD_STATE | stat0::COMMAND_ERROR),
+        stat0::IN_HOLD_STATE
+    );
+    r.command(0);
+    r.move_to_end(cmd0::ABSOLUTE_MOVE, -3_000);
+    assert_eq!(r.pos(), -3_000, "Absolute moves still allowed");
+    assert_eq!(
+        r.s0() & (stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE),
+        stat0::MOVE_COMPLETE
+    );
+
+    // The Jog bit going to 0.
+    r.command(cmd0::JOG_CCW);
+    for _ in 0..1_500 {
+        r.cycle();
+    }
+    assert_eq!(r.ix.speed(), -10_000.0);
+    r.command(0);
+    let (speeds, invalid) = stop_trace(&mut r);
+    check(&speeds, 10_000.0);
+    assert!(!invalid);
+    let at = r.pos();
+    r.move_to_end(cmd0::ABSOLUTE_MOVE, at + 500);
+    assert_eq!(r.pos(), at + 500, "Absolute moves still allowed");
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+
+    // Position_Invalid already 1 (a configuration write): it stays 1.
+    let mut r = Rig::ready_with(0, 10_000, 10, 4);
+    assert!(r.ix.write_config(6, 50));
+    r.out.position = 1_000_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    for _ in 0..1_500 {
+        r.cycle();
+    }
+    r.command(cmd0::HOLD_MOVE);
+    let (speeds, _) = stop_trace(&mut r);
+    check(&speeds, 10_000.0);
+    assert_eq!(
+        r.s0() & (stat0::POSITION_INVALID | stat0::IN_HOLD_STATE),
+        stat0::POSITION_INVALID | stat0::IN_HOLD_STATE
+    );
+    r.command(0);
+    r.out.position = 0;
+    r.command(cmd0::ABSOLUTE_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0, "still invalid");
 }
 
 /// SMD-R2-035: Resume with nothing held is a Command_Error; a running move carries on.

@@ -295,14 +295,6 @@ fn smd_r2_060_r6_069_invalid_jog_change() {
         r.cycle();
     }
     assert_eq!(r.ix.speed(), 10_000.0);
-    r.out.cmd0 = cmd0::JOG_CW | cmd0::RESET_ERRORS;
-    r.cycle();
-    assert_ne!(
-        r.s1() & stat1::INVALID_JOG_CHANGE,
-        0,
-        "Reset Errors keeps it"
-    );
-    r.out.cmd0 = cmd0::JOG_CW;
     r.out.velocity = 10_000;
     r.out.acceleration = 0;
     r.cycle();
@@ -310,6 +302,24 @@ fn smd_r2_060_r6_069_invalid_jog_change() {
     r.out.acceleration = 10;
     r.cycle();
     assert_eq!(r.s1() & stat1::INVALID_JOG_CHANGE, 0);
+    // Reset Errors cannot rise while the Jog bit is 1 (SMD-R1-024): set the bit again, end the jog,
+    // then Reset Errors at rest.
+    r.out.velocity = 100;
+    r.cycle();
+    assert_ne!(r.s1() & stat1::INVALID_JOG_CHANGE, 0);
+    r.command(0);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    r.command(cmd0::RESET_ERRORS);
+    assert_ne!(
+        r.s1() & stat1::COMMAND_ACKNOWLEDGE,
+        0,
+        "Reset Errors accepted"
+    );
+    assert_ne!(
+        r.s1() & stat1::INVALID_JOG_CHANGE,
+        0,
+        "Reset Errors keeps it"
+    );
 }
 
 /// SMD-R6-040: a Jog with a bad parameter sets Command_Error and Move_Complete and does not run.

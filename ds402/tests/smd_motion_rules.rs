@@ -142,6 +142,144 @@ fn smd_r2_026_027_028_s_curve_phase_times() {
     assert!(accel_ms(1_000) < trap);
 }
 
+/// The first acceleration of the motion that starts with the command `c` (or, with `c` = 0, in the
+/// next moving cycle): the speed 1 s into it and the number of 1 ms cycles with Accelerating = 1.
+fn first_ramp(r: &mut Rig, c: u16) -> (f64, usize) {
+    if c == 0 {
+        r.until(200_000, |i| i.status0 & stat0::STOPPED == 0);
+    } else {
+        r.command(c);
+    }
+    let mut at_1s = f64::NAN;
+    let mut n = 0;
+    for k in 1..=20_000 {
+        if k > 1 {
+            r.cycle();
+        }
+        if k == 1_000 {
+            at_1s = r.ix.speed().abs();
+        }
+        if r.s0() & stat0::ACCELERATING == 0 {
+            break;
+        }
+        n += 1;
+    }
+    (at_1s, n)
+}
+
+/// Asserts a first acceleration from V_S = 141 to 20,141 steps/s at Acceleration 10 (10,000 steps/s²)
+/// with the Jerk word `jerk` (0, 50 or 150): 1 s into it the speed is 141 + 10,000 = 10,141 (linear),
+/// 141 + 5,000/2 = 2,641 (Jerk 50: j = 5,000 steps/s³, triangular, 4 s) or 141 + 3,333.3 + 3,333.3 =
+/// 6,807.7 (Jerk 150: j = 15,000 steps/s³, trapezoidal with t₁ = 2/3 s, 2.667 s).
+fn assert_ramp((at_1s, n): (f64, usize), jerk: u16, what: &str) {
+    let (speed, ms) = match jerk {
+        0 => (10_141.0, 1_999..=2_001),
+        50 => (2_641.0, 3_999..=4_001),
+        150 => (141.0 + 20_000.0 / 3.0, 2_666..=2_668),
+        _ => unreachable!(),
+    };
+    assert!(
+        (at_1s - speed).abs() < 1e-6,
+        "{what}: {at_1s} steps/s after 1 s, Jerk {jerk}"
+    );
+    assert!(ms.contains(&n), "{what}: {n} ms accelerating, Jerk {jerk}");
+}
+
+/// SMD-R2-023: each Absolute, Relative, Resume, Find Home and Jog command takes its acceleration type
+/// from its own Jerk word (0 linear, 50 triangular S-curve, 150 trapezoidal S-curve), whatever the
+/// previous command used, and in.Jerk echoes it. In a Dwell or Blend move each segment ramps with its
+/// own programmed Jerk (a Dwell's Jerk word is the dwell time, not a jerk). Gap pick: a Registration
+/// move, whose Jerk word is the MRMD's high word, accelerates linearly and in.Jerk reads 0.
+#[test]
+fn smd_r2_023_each_move_its_own_acceleration_type() {
+    let mut r = Rig::ready_with(6, 20_141, 10, 10); // IN1 = Home (never reached)
+    r.out.position = 1_000_000;
+    // Absolute with Jerk 0, held, resumed with Jerk 50.
+    r.out.jerk = 0;
+    assert_ramp(first_ramp(&mut r, cmd0::ABSOLUTE_MOVE), 0, "Absolute");
+    assert_eq!(r.last.jerk, 0);
+    r.command(cmd0::HOLD_MOVE);
+    r.until(10_000, |i| i.status0 & stat0::IN_HOLD_STATE != 0);
+    r.command(0);
+    r.out.jerk = 50;
+    assert_ramp(first_ramp(&mut r, cmd0::RESUME_MOVE), 50, "Resume");
+    assert_eq!(r.last.jerk, 50);
+    r.command(cmd0::IMMEDIATE_STOP);
+    r.command(0);
+    // Relative with Jerk 150.
+    r.out.jerk = 150;
+    assert_ramp(first_ramp(&mut r, cmd0::RELATIVE_MOVE), 150, "Relative");
+    assert_eq!(r.last.jerk, 150);
+    r.command(cmd0::IMMEDIATE_STOP);
+    r.command(0);
+    // Jog with Jerk 50.
+    r.out.jerk = 50;
+    assert_ramp(first_ramp(&mut r, cmd0::JOG_CW), 50, "Jog");
+    assert_eq!(r.last.jerk, 50);
+    r.command(cmd0::IMMEDIATE_STOP);
+    r.command(0);
+    // Find Home with Jerk 150.
+    r.out.jerk = 150;
+    assert_ramp(first_ramp(&mut r, cmd0::FIND_HOME_CW), 150, "Find Home");
+    assert_eq!(r.last.jerk, 150);
+    r.command(cmd0::IMMEDIATE_STOP);
+    r.command(0);
+    // Registration: Jerk word 1 is the MRMD's high word (MRMD 65,536 steps), the ramp is linear.
+    r.out.cmd1 |= cmd1::REGISTRATION_MOVE;
+    r.out.jerk = 1;
+    r.out.motor_current = 0;
+    r.out.position = 1_000;
+    assert_ramp(first_ramp(&mut r, cmd0::JOG_CW), 0, "Registration");
+    assert_eq!(r.last.jerk, 0);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    r.command(cmd0::IMMEDIATE_STOP);
+    r.command(0);
+    r.out.cmd1 &= !cmd1::REGISTRATION_MOVE;
+
+    // Assembled segments: (position, velocity, jerk), Acceleration and Deceleration 10.
+    let program = |r: &mut Rig, segs: &[(i32, u32, u16)]| {
+        r.command(cmd0::PROGRAM_ASSEMBLED);
+        for &(position, velocity, jerk) in segs {
+            r.out.position = position;
+            r.out.velocity = velocity;
+            r.out.jerk = jerk;
+            r.command(cmd0::PROGRAM_ASSEMBLED | cmd0::READ_ASSEMBLED_DATA);
+            r.command(cmd0::PROGRAM_ASSEMBLED);
+        }
+        r.command(0);
+        assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    };
+    // Dwell (Jerk word 100 = 100 ms dwell): segment 1 linear, segment 2 with Jerk 50.
+    program(&mut r, &[(100_000, 20_141, 0), (100_000, 20_141, 50)]);
+    r.out.cmd1 |= cmd1::DWELL;
+    r.out.jerk = 100;
+    assert_ramp(first_ramp(&mut r, cmd0::RUN_ASSEMBLED_MOVE), 0, "Dwell 1");
+    r.until(200_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_ramp(first_ramp(&mut r, 0), 50, "Dwell 2");
+    r.until(200_000, |i| i.status0 & stat0::MOVE_COMPLETE != 0);
+    r.command(0);
+    r.out.cmd1 &= !cmd1::DWELL;
+    // Blend: segment 1 linear to 20,141; segment 2 ramps on to 40,141 with Jerk 50 (4 s; 1 s in,
+    // 20,141 + 2,500 = 22,641 steps/s).
+    program(&mut r, &[(50_000, 20_141, 0), (300_000, 40_141, 50)]);
+    r.out.jerk = 0;
+    assert_ramp(first_ramp(&mut r, cmd0::RUN_ASSEMBLED_MOVE), 0, "Blend 1");
+    // The ramp begins at the end of the cycle that reaches segment 2 (Accelerating from there on).
+    r.until(200_000, |i| i.status0 & stat0::ACCELERATING != 0);
+    let mut n = 0;
+    for k in 1..=20_000 {
+        r.cycle();
+        if k == 1_000 {
+            assert!((r.ix.speed() - 22_641.0).abs() < 1e-6, "{}", r.ix.speed());
+        }
+        if r.s0() & stat0::ACCELERATING == 0 {
+            break;
+        }
+        n += 1;
+    }
+    assert!((3_999..=4_001).contains(&n), "Blend 2: {n} ms accelerating");
+}
+
 /// SMD-R2-047: Home input edges during a Relative move change nothing.
 #[test]
 fn smd_r2_047_home_input_only_for_find_home() {

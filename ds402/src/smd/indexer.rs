@@ -1165,9 +1165,10 @@ impl Indexer {
             }
             return;
         }
-        if !rising.is_power_of_two() || self.programming.is_some() {
-            // Two command bits rising in one update (R6 "Command Bits Must Transition"), or a
-            // command during assembled-move programming.
+        if (out.cmd0 & EXCLUSIVE_BITS).count_ones() > 1 || self.programming.is_some() {
+            // Two command bits at 1 when one rises (SMD-R1-024: rising in the same update, R6
+            // "Command Bits Must Transition", or rising while another is still 1), or a command
+            // during assembled-move programming.
             self.command_error = true;
             return;
         }
