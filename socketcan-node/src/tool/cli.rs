@@ -7,21 +7,31 @@ use std::time::Duration;
 
 use clap::{Parser, Subcommand};
 
-use super::{NmtCommand, Tool, ToolError};
+use super::ethercat::EthercatSession;
+use super::{NmtCommand, SdoCommands, Tool, ToolError};
 use crate::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandClient};
 
-/// The CANopen commissioning tool: SDO reads and writes, NMT, on SocketCAN or socketcand.
+/// The CANopen commissioning tool: SDO reads and writes, NMT, on SocketCAN or socketcand — and SDO
+/// reads and writes of EtherCAT slaves (CoE) with --ethercat.
 ///
 /// Without --bus it uses SocketCAN vcan0 where this machine has it, and otherwise the socketcand
-/// server that `x67-node` starts on 127.0.0.1:29536. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64,
-/// x8–x64 (shown in hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort, 2 usage,
-/// 3 timeout or transport failure.
+/// server that `x67-node` starts on 127.0.0.1:29536. With --ethercat IFACE the tool is an EtherCAT
+/// master on that network interface instead (root or CAP_NET_RAW): it brings the chain's slaves to
+/// Pre-Op and reaches their object dictionary through their CoE mailbox; NODE is then the slave's
+/// position in the chain, 1 for the first; read, write, dump and apply work there, the other
+/// commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
+/// hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort, 2 usage, 3 timeout or
+/// transport failure.
 #[derive(Debug, Parser)]
 #[command(name = "sdo-tool", version)]
 pub struct Args {
     /// The bus: socketcan:IFACE or socketcand://HOST:PORT/CHANNEL.
     #[arg(long, global = true, value_name = "BUS")]
     pub bus: Option<BusSpec>,
+    /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
+    /// (1 = first); read, write, dump and apply only.
+    #[arg(long, global = true, value_name = "IFACE", conflicts_with = "bus")]
+    pub ethercat: Option<String>,
     /// A device description (EDS, DCF, XDD or ESI) for object names, types and limits.
     #[arg(long, global = true, value_name = "FILE")]
     pub od: Option<PathBuf>,
@@ -44,7 +54,7 @@ pub struct Args {
 pub enum Cmd {
     /// Read an object: `read NODE OBJECT [TYPE]` (OBJECT as 0x1018:01, 1018sub1 or a name with --od).
     Read {
-        /// Node-ID, 1–127.
+        /// Node-ID, 1–127 (with --ethercat: the slave's position, 1 = first).
         node: u8,
         /// The object.
         object: String,
@@ -54,7 +64,7 @@ pub enum Cmd {
     },
     /// Write an object: `write NODE OBJECT TYPE VALUE` (TYPE may be left out with --od).
     Write {
-        /// Node-ID, 1–127.
+        /// Node-ID, 1–127 (with --ethercat: the slave's position, 1 = first).
         node: u8,
         /// The object.
         object: String,
@@ -82,7 +92,7 @@ pub enum Cmd {
     },
     /// Read every readable object of the --od description from the node into a DCF.
     Dump {
-        /// Node-ID, 1–127.
+        /// Node-ID, 1–127 (with --ethercat: the slave's position, 1 = first).
         node: u8,
         /// The DCF to write.
         #[arg(short, long)]
@@ -91,7 +101,7 @@ pub enum Cmd {
     /// Write the values a DCF sets (ParameterValue) to the node, reading each back; the first refused
     /// write stops it. Exit 4 when a value reads back differently.
     Apply {
-        /// Node-ID, 1–127.
+        /// Node-ID, 1–127 (with --ethercat: the slave's position, 1 = first).
         node: u8,
         /// The DCF.
         file: PathBuf,
@@ -174,7 +184,35 @@ pub fn open_bus(spec: Option<&BusSpec>) -> Result<Box<dyn CanBus>, ToolError> {
     }
 }
 
-/// Runs `args` on `bus` (opened from the arguments when `None`), printing to `out`.
+/// The commands that run over EtherCAT too (SDO transfers only).
+fn is_sdo_command(command: &Cmd) -> bool {
+    matches!(
+        command,
+        Cmd::Read { .. } | Cmd::Write { .. } | Cmd::Dump { .. } | Cmd::Apply { .. }
+    )
+}
+
+/// The command's name on the command line.
+fn command_name(command: &Cmd) -> &'static str {
+    match command {
+        Cmd::Read { .. } => "read",
+        Cmd::Write { .. } => "write",
+        Cmd::Upload { .. } => "upload",
+        Cmd::Download { .. } => "download",
+        Cmd::Dump { .. } => "dump",
+        Cmd::Apply { .. } => "apply",
+        Cmd::Watch { .. } => "watch",
+        Cmd::Save { .. } => "save",
+        Cmd::Restore { .. } => "restore",
+        Cmd::Scan { .. } => "scan",
+        Cmd::Gateway { .. } => "gateway",
+        Cmd::Nmt { .. } => "nmt",
+    }
+}
+
+/// Runs `args` on `bus` (opened from the arguments when `None`), printing to `out`. With
+/// `--ethercat` the SDO commands run on the EtherCAT chain of that interface instead (and `bus` is
+/// not used).
 pub fn run(
     args: &Args,
     bus: Option<Box<dyn CanBus>>,
@@ -185,6 +223,19 @@ pub fn run(
         None => None,
     };
     let od = desc.as_ref().map(|d| d.dictionary.clone());
+    if let Some(interface) = &args.ethercat {
+        if !is_sdo_command(&args.command) {
+            return Err(ToolError::Usage(format!(
+                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump and \
+                 apply are available",
+                command_name(&args.command)
+            )));
+        }
+        let timeout = Duration::from_millis(args.timeout_ms.max(1));
+        let mut session = EthercatSession::open(interface, timeout)?;
+        let mut commands = SdoCommands::new(&mut session, od.as_ref());
+        return sdo_command(&mut commands, args, desc.as_ref(), out);
+    }
     let bus = match bus {
         Some(b) => b,
         None => open_bus(args.bus.as_ref())?,
@@ -195,28 +246,8 @@ pub fn run(
     let io = |e: std::io::Error| ToolError::Sdo(format!("cannot write the output: {e}"));
     let json = args.json;
     match &args.command {
-        Cmd::Read { node, object, ty } => {
-            let v = tool.read(*node, object, ty.as_deref())?;
-            let addr = tool.object(object)?;
-            emit(
-                out,
-                json,
-                &v,
-                serde_json::json!({
-                    "node": node,
-                    "object": format!("0x{:04X}:{:02X}", addr.index, addr.sub),
-                    "value": v,
-                }),
-            )?;
-        }
-        Cmd::Write { node, object, rest } => {
-            let (ty, value) = match rest.as_slice() {
-                [v] => (None, v.as_str()),
-                [t, v] => (Some(t.as_str()), v.as_str()),
-                _ => return Err(ToolError::Usage("write NODE OBJECT [TYPE] VALUE".into())),
-            };
-            tool.write(*node, object, ty, value)?;
-            emit(out, json, "OK", serde_json::json!({"ok": true}))?;
+        Cmd::Read { .. } | Cmd::Write { .. } | Cmd::Dump { .. } | Cmd::Apply { .. } => {
+            return tool.with_commands(|commands| sdo_command(commands, args, desc.as_ref(), out));
         }
         Cmd::Upload { node, object, file } => {
             let mut f = std::fs::File::create(file)
@@ -256,78 +287,6 @@ pub fn run(
                 rate(len, took),
                 serde_json::json!({"bytes": len, "seconds": took.as_secs_f64()}),
             )?;
-        }
-        Cmd::Dump { node, output } => {
-            let mut d = desc.clone().ok_or_else(|| {
-                ToolError::Usage("dump needs the node's description: --od FILE".into())
-            })?;
-            let (read, refused) = tool.dump(*node, &mut d)?;
-            std::fs::write(output, od::eds::write_dcf(&d))
-                .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
-            let not_read: Vec<String> = refused
-                .iter()
-                .map(|(a, code)| format!("0x{:04X}:{:02X}: not read, {code}", a.index, a.sub))
-                .collect();
-            let mut text = not_read.join("\n");
-            if !text.is_empty() {
-                text.push('\n');
-            }
-            text.push_str(&format!("{read} entries written to {}", output.display()));
-            emit(
-                out,
-                json,
-                text,
-                serde_json::json!({
-                    "entries": read,
-                    "file": output.display().to_string(),
-                    "not_read": not_read,
-                }),
-            )?;
-        }
-        Cmd::Apply {
-            node,
-            file,
-            dry_run,
-        } => {
-            let dcf = load_description(file, "apply")?;
-            let mut lines = Vec::new();
-            let result = tool.apply(*node, &dcf, *dry_run, |step| {
-                use super::ApplyStep::*;
-                let at = |a: &od::Address| format!("0x{:04X}:{:02X}", a.index, a.sub);
-                lines.push(match step {
-                    WouldWrite { addr, value } => format!("would write {} = {value}", at(addr)),
-                    Written { addr, value } => format!("wrote {} = {value}", at(addr)),
-                    Differs {
-                        addr,
-                        value,
-                        read_back,
-                    } => format!("DIFFERS {} = {value}, reads back {read_back}", at(addr)),
-                    Refused { addr, value, error } => {
-                        format!(
-                            "REFUSED {} = {value}: {error}; nothing after it written",
-                            at(addr)
-                        )
-                    }
-                });
-            });
-            if json {
-                writeln!(out, "{}", serde_json::json!({ "steps": lines })).map_err(io)?;
-            } else {
-                for l in &lines {
-                    writeln!(out, "{l}").map_err(io)?;
-                }
-            }
-            let outcome = result?;
-            if outcome.differences > 0 {
-                return Err(ToolError::Differences(outcome.differences));
-            }
-            writeln!(
-                out,
-                "{} entries {}",
-                outcome.written,
-                if *dry_run { "to write" } else { "written" }
-            )
-            .map_err(io)?;
         }
         Cmd::Watch { node, duration_ms } => {
             let mut w = super::watch::Watcher::new(*node, tool.od.as_ref());
@@ -449,6 +408,121 @@ pub fn run(
             };
             tool.nmt(c, n)?;
             emit(out, json, "OK", serde_json::json!({"ok": true}))?;
+        }
+    }
+    Ok(())
+}
+
+/// `read`, `write`, `dump` and `apply` on `commands` (any network), printing to `out`.
+fn sdo_command(
+    commands: &mut SdoCommands<'_>,
+    args: &Args,
+    desc: Option<&od::DeviceDescription>,
+    out: &mut dyn Write,
+) -> Result<(), ToolError> {
+    let io = |e: std::io::Error| ToolError::Sdo(format!("cannot write the output: {e}"));
+    let json = args.json;
+    match &args.command {
+        Cmd::Read { node, object, ty } => {
+            let v = commands.read(*node, object, ty.as_deref())?;
+            let addr = commands.object(object)?;
+            emit(
+                out,
+                json,
+                &v,
+                serde_json::json!({
+                    "node": node,
+                    "object": format!("0x{:04X}:{:02X}", addr.index, addr.sub),
+                    "value": v,
+                }),
+            )?;
+        }
+        Cmd::Write { node, object, rest } => {
+            let (ty, value) = match rest.as_slice() {
+                [v] => (None, v.as_str()),
+                [t, v] => (Some(t.as_str()), v.as_str()),
+                _ => return Err(ToolError::Usage("write NODE OBJECT [TYPE] VALUE".into())),
+            };
+            commands.write(*node, object, ty, value)?;
+            emit(out, json, "OK", serde_json::json!({"ok": true}))?;
+        }
+        Cmd::Dump { node, output } => {
+            let mut d = desc.cloned().ok_or_else(|| {
+                ToolError::Usage("dump needs the node's description: --od FILE".into())
+            })?;
+            let (read, refused) = commands.dump(*node, &mut d)?;
+            std::fs::write(output, od::eds::write_dcf(&d))
+                .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
+            let not_read: Vec<String> = refused
+                .iter()
+                .map(|(a, code)| format!("0x{:04X}:{:02X}: not read, {code}", a.index, a.sub))
+                .collect();
+            let mut text = not_read.join("\n");
+            if !text.is_empty() {
+                text.push('\n');
+            }
+            text.push_str(&format!("{read} entries written to {}", output.display()));
+            emit(
+                out,
+                json,
+                text,
+                serde_json::json!({
+                    "entries": read,
+                    "file": output.display().to_string(),
+                    "not_read": not_read,
+                }),
+            )?;
+        }
+        Cmd::Apply {
+            node,
+            file,
+            dry_run,
+        } => {
+            let dcf = load_description(file, "apply")?;
+            let mut lines = Vec::new();
+            let result = commands.apply(*node, &dcf, *dry_run, |step| {
+                use super::ApplyStep::*;
+                let at = |a: &od::Address| format!("0x{:04X}:{:02X}", a.index, a.sub);
+                lines.push(match step {
+                    WouldWrite { addr, value } => format!("would write {} = {value}", at(addr)),
+                    Written { addr, value } => format!("wrote {} = {value}", at(addr)),
+                    Differs {
+                        addr,
+                        value,
+                        read_back,
+                    } => format!("DIFFERS {} = {value}, reads back {read_back}", at(addr)),
+                    Refused { addr, value, error } => {
+                        format!(
+                            "REFUSED {} = {value}: {error}; nothing after it written",
+                            at(addr)
+                        )
+                    }
+                });
+            });
+            if json {
+                writeln!(out, "{}", serde_json::json!({ "steps": lines })).map_err(io)?;
+            } else {
+                for l in &lines {
+                    writeln!(out, "{l}").map_err(io)?;
+                }
+            }
+            let outcome = result?;
+            if outcome.differences > 0 {
+                return Err(ToolError::Differences(outcome.differences));
+            }
+            writeln!(
+                out,
+                "{} entries {}",
+                outcome.written,
+                if *dry_run { "to write" } else { "written" }
+            )
+            .map_err(io)?;
+        }
+        other => {
+            return Err(ToolError::Usage(format!(
+                "`{}` is no SDO command",
+                command_name(other)
+            )))
         }
     }
     Ok(())

@@ -1,9 +1,13 @@
 //! The commissioning tool's logic (`sdo-tool`): SDO reads and writes with the CiA 309-3 type notation,
-//! object names from a device description, NMT commands — over any [`CanBus`].
+//! object names from a device description, NMT commands — over any [`CanBus`], and the SDO commands
+//! also over EtherCAT (CoE, [`ethercat`]).
 //!
 //! - [`TypeCode`]: the CiA 309-3 data-type mnemonics (`b`, `i8`…`i64`, `u8`…`u64`, `x8`…`x64`,
 //!   `r32`, `r64`, `vs`, `os`, `us`, `d`, `hex`) as CANopenNode's `cocomm` writes them;
 //! - [`BusTransport`]: one node's SDO channel (0x600 + node out, 0x580 + node in) on a bus;
+//! - [`SdoAccess`]: the raw SDO transfers (the bytes of one entry of one node) the commands are made
+//!   of, done by [`CanSdo`] on a CAN bus and by [`ethercat::EthercatSession`] through EtherCAT
+//!   mailboxes; [`SdoCommands`]: `read`, `write`, `dump` and `apply` on either;
 //! - [`Tool`]: the bus, an optional dictionary, the SDO client settings, and the commands.
 //!
 //! Values are written in decimal, `0x` hex or, for strings, as the text itself (CiA 309-3 allows
@@ -14,6 +18,7 @@
 use std::time::{Duration, Instant};
 
 pub mod cli;
+pub mod ethercat;
 pub mod gateway;
 pub mod watch;
 
@@ -181,6 +186,9 @@ pub enum ToolError {
     /// `apply`: entries read back differently from what was written.
     #[error("{0} entries read back differently from what was written")]
     Differences(usize),
+    /// The EtherCAT network failed (the interface, the slaves' initialisation, a frame).
+    #[error("EtherCAT: {0}")]
+    Ethercat(String),
 }
 
 impl ToolError {
@@ -189,7 +197,7 @@ impl ToolError {
         match self {
             ToolError::Abort { .. } => 1,
             ToolError::Usage(_) => 2,
-            ToolError::Timeout { .. } | ToolError::Bus(_) => 3,
+            ToolError::Timeout { .. } | ToolError::Bus(_) | ToolError::Ethercat(_) => 3,
             ToolError::Sdo(_) => 3,
             ToolError::Differences(_) => 4,
         }
@@ -359,6 +367,318 @@ impl NmtCommand {
     }
 }
 
+/// The SDO transfers the commands are made of, on one network: the bytes of one entry of one node.
+///
+/// [`CanSdo`] does them with the SDO client on a CAN bus (NODE is the node-ID),
+/// [`ethercat::EthercatSession`] with CoE through the slaves' mailboxes (NODE is the slave's position
+/// in the chain). [`SdoCommands`] builds `read`, `write`, `dump` and `apply` on either.
+pub trait SdoAccess {
+    /// Whether `node` names a node of this network; a usage error says why not.
+    fn check_node(&self, node: u8) -> Result<(), ToolError>;
+
+    /// Reads the entry's bytes.
+    fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError>;
+
+    /// Writes `data` to the entry.
+    fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError>;
+
+    /// Reads a value of `data_type`: the bytes must be a valid value of the type.
+    fn read_value(
+        &mut self,
+        node: u8,
+        addr: Address,
+        data_type: DataType,
+    ) -> Result<Value, ToolError> {
+        let bytes = self.read_bytes(node, addr)?;
+        Value::decode(data_type, &bytes).map_err(|e| ToolError::Sdo(e.to_string()))
+    }
+}
+
+/// The SDO client on a CAN bus, with its settings: [`SdoAccess`] over CANopen.
+pub struct CanSdo<'a> {
+    /// The bus.
+    pub bus: &'a mut dyn CanBus,
+    /// The client settings (timeout, block mode).
+    pub config: &'a ClientConfig,
+}
+
+impl<'a> CanSdo<'a> {
+    /// The SDO client on `bus` with `config`.
+    pub fn new(bus: &'a mut dyn CanBus, config: &'a ClientConfig) -> CanSdo<'a> {
+        CanSdo { bus, config }
+    }
+
+    fn session_error(&self, node: u8, addr: Address, e: SessionError) -> ToolError {
+        match e {
+            SessionError::Sdo(SdoClientError::Aborted {
+                code: AbortCode::Timeout,
+                ..
+            }) => ToolError::Timeout {
+                index: addr.index,
+                sub: addr.sub,
+                node,
+                ms: self.config.timeout.as_millis(),
+            },
+            SessionError::Sdo(SdoClientError::Aborted {
+                index, sub, code, ..
+            }) => ToolError::Abort { index, sub, code },
+            other => ToolError::Sdo(other.to_string()),
+        }
+    }
+
+    /// Runs a transfer through a session on `node`, mapping its errors.
+    fn transfer<R>(
+        &mut self,
+        node: u8,
+        addr: Address,
+        f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError>,
+    ) -> Result<R, ToolError> {
+        self.check_node(node)?;
+        let mut session =
+            SdoSession::new(BusTransport::new(&mut *self.bus, node), self.config.clone());
+        let result = f(&mut session);
+        if let Some(e) = session.transport.failure.take() {
+            return Err(e.into());
+        }
+        drop(session);
+        result.map_err(|e| self.session_error(node, addr, e))
+    }
+}
+
+impl SdoAccess for CanSdo<'_> {
+    fn check_node(&self, node: u8) -> Result<(), ToolError> {
+        if (1..=127).contains(&node) {
+            Ok(())
+        } else {
+            Err(ToolError::Usage(format!("node {node} is not 1 to 127")))
+        }
+    }
+
+    fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
+        let mux = Multiplexer::new(addr.index, addr.sub);
+        self.transfer(node, addr, |s| s.read_bytes(mux))
+    }
+
+    fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError> {
+        let mux = Multiplexer::new(addr.index, addr.sub);
+        self.transfer(node, addr, |s| s.write_bytes(mux, data))
+    }
+
+    /// The size of a fixed-size type keeps small values out of block mode.
+    fn read_value(
+        &mut self,
+        node: u8,
+        addr: Address,
+        data_type: DataType,
+    ) -> Result<Value, ToolError> {
+        let mux = Multiplexer::new(addr.index, addr.sub);
+        self.transfer(node, addr, |s| s.read_value(mux, data_type))
+    }
+}
+
+/// OBJECT as `0x1018:01`, `1018sub1`, `0x1000` or a name from `od`.
+pub fn object(od: Option<&Dictionary>, text: &str) -> Result<Address, ToolError> {
+    if let Some(a) = Address::parse(text.trim()) {
+        return Ok(a);
+    }
+    match od {
+        Some(od) => od
+            .lookup(text)
+            .map_err(|e| ToolError::Usage(format!("object {text:?}: {e}"))),
+        None => Err(ToolError::Usage(format!(
+            "object {text:?} is not INDEX:SUB (e.g. 0x1018:01); names need --od"
+        ))),
+    }
+}
+
+/// The commands that are SDO transfers and nothing else — `read`, `write`, `dump`, `apply` — on any
+/// [`SdoAccess`], with an optional dictionary for names, types and limits.
+pub struct SdoCommands<'a> {
+    /// The network's SDO access.
+    pub sdo: &'a mut dyn SdoAccess,
+    /// Names, types and limits.
+    pub od: Option<&'a Dictionary>,
+}
+
+impl<'a> SdoCommands<'a> {
+    /// The commands on `sdo`, with `od`.
+    pub fn new(sdo: &'a mut dyn SdoAccess, od: Option<&'a Dictionary>) -> SdoCommands<'a> {
+        SdoCommands { sdo, od }
+    }
+
+    /// OBJECT as `0x1018:01`, `1018sub1`, `0x1000` or a name from the dictionary.
+    pub fn object(&self, text: &str) -> Result<Address, ToolError> {
+        object(self.od, text)
+    }
+
+    /// The type to use: the one given, else the dictionary's.
+    fn type_for(&self, addr: Address, given: Option<&str>) -> Result<TypeCode, ToolError> {
+        if let Some(t) = given {
+            return TypeCode::parse(t).ok_or_else(|| {
+                ToolError::Usage(format!(
+                    "type {t:?} is not a CiA 309-3 type (b, i8–i64, u8–u64, x8–x64, r32, r64, vs, os, us, d, hex)"
+                ))
+            });
+        }
+        let od = self.od.ok_or_else(|| {
+            ToolError::Usage("give the type (e.g. u16), or a description with --od".into())
+        })?;
+        let e = od
+            .entry(addr.index, addr.sub)
+            .map_err(|e| ToolError::Usage(format!("0x{:04X}:{:02X}: {e}", addr.index, addr.sub)))?;
+        Ok(TypeCode::of(e.data_type))
+    }
+
+    /// `read NODE OBJECT [TYPE]`: the value as text.
+    pub fn read(&mut self, node: u8, object: &str, ty: Option<&str>) -> Result<String, ToolError> {
+        self.sdo.check_node(node)?;
+        let addr = self.object(object)?;
+        let code = self.type_for(addr, ty)?;
+        let v = self.sdo.read_value(node, addr, code.data_type)?;
+        Ok(code.format(&v))
+    }
+
+    /// `write NODE OBJECT [TYPE] VALUE`.
+    pub fn write(
+        &mut self,
+        node: u8,
+        object: &str,
+        ty: Option<&str>,
+        value: &str,
+    ) -> Result<(), ToolError> {
+        self.sdo.check_node(node)?;
+        let addr = self.object(object)?;
+        let code = self.type_for(addr, ty)?;
+        let v = code.parse_value(value).map_err(ToolError::Usage)?;
+        let bytes = v
+            .encode(code.data_type)
+            .map_err(|e| ToolError::Usage(format!("{value:?}: {e}")))?;
+        if let Some(od) = self.od {
+            // Refused before anything is sent: what the dictionary refuses, the node would too.
+            if let Err(e) = od.check(addr.index, addr.sub, &bytes) {
+                return Err(ToolError::Usage(format!(
+                    "0x{:04X}:{:02X} = {value}: {e} (not sent)",
+                    addr.index, addr.sub
+                )));
+            }
+        }
+        self.sdo.write_bytes(node, addr, &bytes)
+    }
+
+    /// The raw bytes of `addr` on `node`.
+    pub fn read_raw(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
+        self.sdo.read_bytes(node, addr)
+    }
+
+    /// `dump`: every readable entry of `desc`'s dictionary read from `node` into it (its current
+    /// values, marked as set so a DCF carries them). Returns how many were read and the entries the
+    /// node refused, with the abort.
+    pub fn dump(
+        &mut self,
+        node: u8,
+        desc: &mut od::DeviceDescription,
+    ) -> Result<(usize, Vec<(Address, AbortCode)>), ToolError> {
+        self.sdo.check_node(node)?;
+        let addrs: Vec<Address> = desc
+            .dictionary
+            .objects()
+            .flat_map(|o| {
+                o.subs
+                    .iter()
+                    .filter(|(_, e)| e.access.kind.readable() && e.data_type != DataType::Domain)
+                    .map(move |(sub, _)| Address {
+                        index: o.index,
+                        sub: *sub,
+                    })
+            })
+            .collect();
+        let mut read = 0;
+        let mut refused = Vec::new();
+        for a in addrs {
+            match self.read_raw(node, a) {
+                Ok(bytes) => {
+                    if desc.dictionary.store(a.index, a.sub, &bytes).is_ok() {
+                        if let Some(e) = desc
+                            .dictionary
+                            .object_mut(a.index)
+                            .and_then(|o| o.subs.get_mut(&a.sub))
+                        {
+                            e.value_set = true;
+                        }
+                        read += 1;
+                    }
+                }
+                Err(ToolError::Abort { code, .. }) => refused.push((a, code)),
+                Err(e) => return Err(e),
+            }
+        }
+        let c = desc.commissioning.get_or_insert_with(Default::default);
+        c.node_id = node;
+        Ok((read, refused))
+    }
+
+    /// `apply`: writes every value the DCF sets (`ParameterValue`) to a writable entry, in index
+    /// order, reading each back. Stops at the first refused write. `dry_run` writes nothing.
+    pub fn apply(
+        &mut self,
+        node: u8,
+        dcf: &od::DeviceDescription,
+        dry_run: bool,
+        mut report: impl FnMut(&ApplyStep),
+    ) -> Result<ApplyOutcome, ToolError> {
+        let mut outcome = ApplyOutcome::default();
+        for o in dcf.dictionary.objects() {
+            for (sub, e) in &o.subs {
+                if !e.value_set || !e.access.kind.writable() {
+                    continue;
+                }
+                let addr = Address {
+                    index: o.index,
+                    sub: *sub,
+                };
+                let text = Value::decode(e.data_type, &e.value)
+                    .map(|v| TypeCode::of(e.data_type).format(&v))
+                    .unwrap_or_else(|_| format!("{:02X?}", e.value));
+                if dry_run {
+                    report(&ApplyStep::WouldWrite { addr, value: text });
+                    outcome.written += 1;
+                    continue;
+                }
+                if let Err(err) = self.sdo.write_bytes(node, addr, &e.value) {
+                    report(&ApplyStep::Refused {
+                        addr,
+                        value: text,
+                        error: err.to_string(),
+                    });
+                    return Err(err);
+                }
+                outcome.written += 1;
+                let back = self.read_raw(node, addr);
+                match back {
+                    Ok(b) if b == e.value => report(&ApplyStep::Written { addr, value: text }),
+                    Ok(b) => {
+                        let got = Value::decode(e.data_type, &b)
+                            .map(|v| TypeCode::of(e.data_type).format(&v))
+                            .unwrap_or_else(|_| format!("{b:02X?}"));
+                        outcome.differences += 1;
+                        report(&ApplyStep::Differs {
+                            addr,
+                            value: text,
+                            read_back: got,
+                        });
+                    }
+                    // A write-only entry cannot be read back: written, not verified.
+                    Err(ToolError::Abort { .. }) => {
+                        report(&ApplyStep::Written { addr, value: text })
+                    }
+                    Err(err) => return Err(err),
+                }
+            }
+        }
+        Ok(outcome)
+    }
+}
+
 /// The tool: a bus, an optional dictionary and the SDO client settings.
 pub struct Tool {
     /// The bus.
@@ -379,73 +699,20 @@ impl Tool {
         }
     }
 
+    /// Runs `f` on the SDO commands over this tool's bus.
+    pub fn with_commands<R>(&mut self, f: impl FnOnce(&mut SdoCommands<'_>) -> R) -> R {
+        let mut can = CanSdo::new(self.bus.as_mut(), &self.sdo);
+        f(&mut SdoCommands::new(&mut can, self.od.as_ref()))
+    }
+
     /// OBJECT as `0x1018:01`, `1018sub1`, `0x1000` or a name from the dictionary.
     pub fn object(&self, text: &str) -> Result<Address, ToolError> {
-        if let Some(a) = Address::parse(text.trim()) {
-            return Ok(a);
-        }
-        match &self.od {
-            Some(od) => od
-                .lookup(text)
-                .map_err(|e| ToolError::Usage(format!("object {text:?}: {e}"))),
-            None => Err(ToolError::Usage(format!(
-                "object {text:?} is not INDEX:SUB (e.g. 0x1018:01); names need --od"
-            ))),
-        }
-    }
-
-    /// The type to use: the one given, else the dictionary's.
-    fn type_for(&self, addr: Address, given: Option<&str>) -> Result<TypeCode, ToolError> {
-        if let Some(t) = given {
-            return TypeCode::parse(t).ok_or_else(|| {
-                ToolError::Usage(format!(
-                    "type {t:?} is not a CiA 309-3 type (b, i8–i64, u8–u64, x8–x64, r32, r64, vs, os, us, d, hex)"
-                ))
-            });
-        }
-        let od = self.od.as_ref().ok_or_else(|| {
-            ToolError::Usage("give the type (e.g. u16), or a description with --od".into())
-        })?;
-        let e = od
-            .entry(addr.index, addr.sub)
-            .map_err(|e| ToolError::Usage(format!("0x{:04X}:{:02X}: {e}", addr.index, addr.sub)))?;
-        Ok(TypeCode::of(e.data_type))
-    }
-
-    fn session_error(&self, node: u8, addr: Address, e: SessionError) -> ToolError {
-        match e {
-            SessionError::Sdo(SdoClientError::Aborted {
-                code: AbortCode::Timeout,
-                ..
-            }) => ToolError::Timeout {
-                index: addr.index,
-                sub: addr.sub,
-                node,
-                ms: self.sdo.timeout.as_millis(),
-            },
-            SessionError::Sdo(SdoClientError::Aborted {
-                index, sub, code, ..
-            }) => ToolError::Abort { index, sub, code },
-            other => ToolError::Sdo(other.to_string()),
-        }
-    }
-
-    fn check_node(node: u8) -> Result<(), ToolError> {
-        if (1..=127).contains(&node) {
-            Ok(())
-        } else {
-            Err(ToolError::Usage(format!("node {node} is not 1 to 127")))
-        }
+        object(self.od.as_ref(), text)
     }
 
     /// `read NODE OBJECT [TYPE]`: the value as text.
     pub fn read(&mut self, node: u8, object: &str, ty: Option<&str>) -> Result<String, ToolError> {
-        Self::check_node(node)?;
-        let addr = self.object(object)?;
-        let code = self.type_for(addr, ty)?;
-        let mux = Multiplexer::new(addr.index, addr.sub);
-        let v = self.transfer(node, addr, |s| s.read_value(mux, code.data_type))?;
-        Ok(code.format(&v))
+        self.with_commands(|c| c.read(node, object, ty))
     }
 
     /// `write NODE OBJECT [TYPE] VALUE`.
@@ -456,24 +723,7 @@ impl Tool {
         ty: Option<&str>,
         value: &str,
     ) -> Result<(), ToolError> {
-        Self::check_node(node)?;
-        let addr = self.object(object)?;
-        let code = self.type_for(addr, ty)?;
-        let v = code.parse_value(value).map_err(ToolError::Usage)?;
-        let bytes = v
-            .encode(code.data_type)
-            .map_err(|e| ToolError::Usage(format!("{value:?}: {e}")))?;
-        if let Some(od) = &self.od {
-            // Refused before anything is sent: what the dictionary refuses, the node would too.
-            if let Err(e) = od.check(addr.index, addr.sub, &bytes) {
-                return Err(ToolError::Usage(format!(
-                    "0x{:04X}:{:02X} = {value}: {e} (not sent)",
-                    addr.index, addr.sub
-                )));
-            }
-        }
-        let mux = Multiplexer::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.write_bytes(mux, &bytes))
+        self.with_commands(|c| c.write(node, object, ty, value))
     }
 
     /// `nmt COMMAND NODE|all` (node 0 = all).
@@ -505,15 +755,7 @@ impl Tool {
         addr: Address,
         f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError>,
     ) -> Result<R, ToolError> {
-        Self::check_node(node)?;
-        let config = self.sdo.clone();
-        let mut session = SdoSession::new(BusTransport::new(self.bus.as_mut(), node), config);
-        let result = f(&mut session);
-        if let Some(e) = session.transport.failure.take() {
-            return Err(e.into());
-        }
-        drop(session);
-        result.map_err(|e| self.session_error(node, addr, e))
+        CanSdo::new(self.bus.as_mut(), &self.sdo).transfer(node, addr, f)
     }
 
     /// `upload NODE OBJECT`: the object's bytes into `sink`, reporting progress (bytes so far, size
@@ -588,8 +830,7 @@ impl Tool {
 
     /// The raw bytes of `addr` on `node`.
     pub fn read_raw(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
-        let mux = Multiplexer::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.read_bytes(mux))
+        self.with_commands(|c| c.read_raw(node, addr))
     }
 
     /// `dump`: every readable entry of `desc`'s dictionary read from `node` into it (its current
@@ -600,42 +841,7 @@ impl Tool {
         node: u8,
         desc: &mut od::DeviceDescription,
     ) -> Result<(usize, Vec<(Address, AbortCode)>), ToolError> {
-        let addrs: Vec<Address> = desc
-            .dictionary
-            .objects()
-            .flat_map(|o| {
-                o.subs
-                    .iter()
-                    .filter(|(_, e)| e.access.kind.readable() && e.data_type != DataType::Domain)
-                    .map(move |(sub, _)| Address {
-                        index: o.index,
-                        sub: *sub,
-                    })
-            })
-            .collect();
-        let mut read = 0;
-        let mut refused = Vec::new();
-        for a in addrs {
-            match self.read_raw(node, a) {
-                Ok(bytes) => {
-                    if desc.dictionary.store(a.index, a.sub, &bytes).is_ok() {
-                        if let Some(e) = desc
-                            .dictionary
-                            .object_mut(a.index)
-                            .and_then(|o| o.subs.get_mut(&a.sub))
-                        {
-                            e.value_set = true;
-                        }
-                        read += 1;
-                    }
-                }
-                Err(ToolError::Abort { code, .. }) => refused.push((a, code)),
-                Err(e) => return Err(e),
-            }
-        }
-        let c = desc.commissioning.get_or_insert_with(Default::default);
-        c.node_id = node;
-        Ok((read, refused))
+        self.with_commands(|c| c.dump(node, desc))
     }
 
     /// `apply`: writes every value the DCF sets (`ParameterValue`) to a writable entry, in index
@@ -645,60 +851,9 @@ impl Tool {
         node: u8,
         dcf: &od::DeviceDescription,
         dry_run: bool,
-        mut report: impl FnMut(&ApplyStep),
+        report: impl FnMut(&ApplyStep),
     ) -> Result<ApplyOutcome, ToolError> {
-        let mut outcome = ApplyOutcome::default();
-        for o in dcf.dictionary.objects() {
-            for (sub, e) in &o.subs {
-                if !e.value_set || !e.access.kind.writable() {
-                    continue;
-                }
-                let addr = Address {
-                    index: o.index,
-                    sub: *sub,
-                };
-                let text = Value::decode(e.data_type, &e.value)
-                    .map(|v| TypeCode::of(e.data_type).format(&v))
-                    .unwrap_or_else(|_| format!("{:02X?}", e.value));
-                if dry_run {
-                    report(&ApplyStep::WouldWrite { addr, value: text });
-                    outcome.written += 1;
-                    continue;
-                }
-                let mux = Multiplexer::new(addr.index, addr.sub);
-                let bytes = e.value.clone();
-                if let Err(err) = self.transfer(node, addr, |s| s.write_bytes(mux, &bytes)) {
-                    report(&ApplyStep::Refused {
-                        addr,
-                        value: text,
-                        error: err.to_string(),
-                    });
-                    return Err(err);
-                }
-                outcome.written += 1;
-                let back = self.read_raw(node, addr);
-                match back {
-                    Ok(b) if b == e.value => report(&ApplyStep::Written { addr, value: text }),
-                    Ok(b) => {
-                        let got = Value::decode(e.data_type, &b)
-                            .map(|v| TypeCode::of(e.data_type).format(&v))
-                            .unwrap_or_else(|_| format!("{b:02X?}"));
-                        outcome.differences += 1;
-                        report(&ApplyStep::Differs {
-                            addr,
-                            value: text,
-                            read_back: got,
-                        });
-                    }
-                    // A write-only entry cannot be read back: written, not verified.
-                    Err(ToolError::Abort { .. }) => {
-                        report(&ApplyStep::Written { addr, value: text })
-                    }
-                    Err(err) => return Err(err),
-                }
-            }
-        }
-        Ok(outcome)
+        self.with_commands(|c| c.apply(node, dcf, dry_run, report))
     }
 
     /// Sets the SDO timeout.

@@ -1,0 +1,400 @@
+//! `sdo-tool --ethercat IFACE`: the SDO commands over EtherCAT, through the CoE mailboxes of the
+//! slaves, with ethercrab as the master.
+//!
+//! [`EthercatSession::open`] opens the interface with ethercrab's Linux raw socket, brings every slave
+//! of the chain to Pre-Op (mailboxes configured from each slave's SII) and keeps them there; NODE is
+//! the slave's position in the chain, 1 for the first. Each transfer runs ethercrab's TX/RX task and
+//! the transfer in one executor (`async_io::block_on`) until the transfer ends; between transfers
+//! nothing is sent. Dropping the session closes the socket; the slaves stay in Pre-Op.
+//!
+//! - **Upload**: ethercrab's `sdo_read` into a byte buffer (expedited, normal and segmented upload).
+//! - **Download**: 1 to 4 bytes with ethercrab's `sdo_write` of the byte slice (expedited); other
+//!   lengths — ethercrab has no normal download — as a normal download (ETG.1000.6 §5.6.2.1, the
+//!   data in the initiate request) that this module puts into the slave's write mailbox (SM0) and
+//!   whose answer it takes from the read mailbox (SM1) itself, with mailbox counter 0 (no repeat
+//!   detection, so ethercrab's own counter sequence is not disturbed). The data must fit one mailbox.
+//! - An SDO abort is [`ToolError::Abort`] with the code (and its CiA 301 meaning) as over CAN; no
+//!   answer within the timeout is [`ToolError::Timeout`]; anything else of the network is
+//!   [`ToolError::Ethercat`].
+//!
+//! The session's PDU storage is allocated once per session and not freed (ethercrab borrows it for
+//! the life of the master; about 18 KB).
+
+use std::future::Future;
+use std::pin::Pin;
+use std::time::{Duration, Instant};
+
+use ethercrab::error::{Error, MailboxError};
+use ethercrab::std::{ethercat_now, tx_rx_task};
+use ethercrab::{
+    Command, MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, SubDeviceGroup, Timeouts,
+};
+use futures_lite::future;
+use od::abort::AbortCode;
+use od::coe::sdo::{CoeSdo, CoeSdoCommand};
+use od::dict::Address;
+use od::sdo::frame::{ClientFrame, Multiplexer, ServerFrame};
+
+use super::{SdoAccess, ToolError};
+
+/// Slaves a chain may have here (ethercrab wants a power of two).
+pub const MAX_SLAVES: usize = 128;
+/// The group's process data image: not used, the slaves stay in Pre-Op.
+const MAX_PDI: usize = 64;
+/// Frames in flight at most.
+const MAX_FRAMES: usize = 16;
+/// The data of one PDU at most: a mailbox of up to 1,100 bytes.
+const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
+/// The largest entry an upload reads.
+pub const MAX_UPLOAD: usize = 4096;
+/// Mailbox header (6), CoE header (2) and the eight SDO bytes of a normal download request.
+const NORMAL_DOWNLOAD_OVERHEAD: usize = 16;
+/// SyncManager registers: SM0 (the master's write mailbox) at 0x0800, SM1 (its read mailbox) at
+/// 0x0808, 8 bytes each; the status byte at offset 5.
+const SM0: u16 = 0x0800;
+const SM1: u16 = 0x0808;
+const SM_STATUS: u16 = 5;
+/// SyncManager status bit 3: the mailbox is full.
+const MAILBOX_FULL: u8 = 0x08;
+
+type TxRx = Pin<Box<dyn Future<Output = Result<(PduTx<'static>, PduRx<'static>), Error>>>>;
+type Group = SubDeviceGroup<MAX_SLAVES, MAX_PDI>;
+
+/// Why a transfer failed, before it is told in the tool's words.
+enum Failure {
+    /// ethercrab's error.
+    Master(Error),
+    /// The slave aborted the transfer.
+    Abort(u32),
+    /// No answer in time.
+    Timeout,
+    /// The slave's answer is not what the protocol says, or the data does not fit.
+    Protocol(String),
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Failure {
+        match e {
+            Error::Mailbox(MailboxError::Aborted { code, .. }) => Failure::Abort(u32::from(code)),
+            Error::Timeout(_) => Failure::Timeout,
+            other => Failure::Master(other),
+        }
+    }
+}
+
+/// An EtherCAT chain in Pre-Op, for SDO transfers to its slaves.
+pub struct EthercatSession {
+    interface: String,
+    maindevice: MainDevice<'static>,
+    group: Box<Group>,
+    /// ethercrab's TX/RX task; `None` once it ended (the socket failed).
+    tx_rx: Option<TxRx>,
+    timeout: Duration,
+}
+
+/// ethercrab's TX/RX task ended (it stops at the first frame it cannot place, e.g. one of another
+/// master that reached its socket before the socket was bound to the interface).
+struct TaskEnded(String);
+
+/// Runs `f` with the TX/RX task until `f` ends; the task's end is an error (and `tx_rx` is `None`
+/// then).
+fn drive<T>(tx_rx: &mut Option<TxRx>, f: impl Future<Output = T>) -> Result<T, TaskEnded> {
+    let Some(task) = tx_rx.as_mut() else {
+        return Err(TaskEnded("the TX/RX task has ended".into()));
+    };
+    let mut ended = None;
+    let r = async_io::block_on(future::or(async { Some(f.await) }, async {
+        let r = task.as_mut().await;
+        ended = Some(match r {
+            Ok(_) => "the TX/RX task has ended".to_string(),
+            Err(e) => format!("the TX/RX task failed: {e}"),
+        });
+        None
+    }));
+    match r {
+        Some(v) => Ok(v),
+        None => {
+            *tx_rx = None;
+            Err(TaskEnded(ended.unwrap_or_default()))
+        }
+    }
+}
+
+/// Why opening failed.
+enum OpenError {
+    /// The TX/RX task ended while the slaves were initialised: worth another try.
+    TaskEnded(String),
+    /// Anything else.
+    Tool(ToolError),
+}
+
+impl EthercatSession {
+    /// Opens `interface`, finds the slaves and brings them to Pre-Op; `timeout` is how long a slave
+    /// has to answer a mailbox request.
+    ///
+    /// ethercrab's raw socket takes EtherCAT frames of every interface until it is bound to this one,
+    /// and its TX/RX task ends at the first frame it cannot place: with another master busy on another
+    /// interface, a stray frame may end the first try. Up to three tries are made.
+    pub fn open(interface: &str, timeout: Duration) -> Result<EthercatSession, ToolError> {
+        let mut last = String::new();
+        for _ in 0..3 {
+            match EthercatSession::try_open(interface, timeout) {
+                Ok(s) => return Ok(s),
+                Err(OpenError::Tool(e)) => return Err(e),
+                Err(OpenError::TaskEnded(why)) => last = why,
+            }
+        }
+        Err(ToolError::Ethercat(format!(
+            "interface {interface}: the slaves could not be brought to Pre-Op: {last}"
+        )))
+    }
+
+    fn try_open(interface: &str, timeout: Duration) -> Result<EthercatSession, OpenError> {
+        let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
+            Box::leak(Box::new(PduStorage::new()));
+        let (tx, rx, pdu_loop) = storage.try_split().map_err(|_| {
+            OpenError::Tool(ToolError::Ethercat("the PDU storage is in use".into()))
+        })?;
+        let maindevice = MainDevice::new(
+            pdu_loop,
+            Timeouts {
+                // Generous for a loaded machine: a frame that comes back after its timeout ends
+                // ethercrab's TX/RX task.
+                pdu: Duration::from_millis(100),
+                eeprom: Duration::from_millis(100),
+                wait_loop_delay: Duration::from_millis(1),
+                mailbox_response: timeout,
+                ..Timeouts::default()
+            },
+            MainDeviceConfig {
+                // The slaves stay in Pre-Op: no clock to synchronise.
+                dc_static_sync_iterations: 0,
+                ..MainDeviceConfig::default()
+            },
+        );
+        let task = tx_rx_task(interface, tx, rx).map_err(|e| {
+            OpenError::Tool(ToolError::Ethercat(format!("interface {interface}: {e}")))
+        })?;
+        let mut tx_rx: Option<TxRx> = Some(Box::pin(task));
+        let group = drive(
+            &mut tx_rx,
+            maindevice.init_single_group::<MAX_SLAVES, MAX_PDI>(ethercat_now),
+        )
+        .map_err(|TaskEnded(why)| OpenError::TaskEnded(why))?
+        .map_err(|e| {
+            OpenError::Tool(ToolError::Ethercat(format!(
+                "interface {interface}: the slaves could not be brought to Pre-Op: {e}"
+            )))
+        })?;
+        if group.is_empty() {
+            return Err(OpenError::Tool(ToolError::Ethercat(format!(
+                "interface {interface}: no EtherCAT slave answered"
+            ))));
+        }
+        Ok(EthercatSession {
+            interface: interface.to_string(),
+            maindevice,
+            group: Box::new(group),
+            tx_rx,
+            timeout,
+        })
+    }
+
+    /// Slaves in the chain.
+    pub fn len(&self) -> usize {
+        self.group.len()
+    }
+
+    /// True for a chain of none (never, once open).
+    pub fn is_empty(&self) -> bool {
+        self.group.is_empty()
+    }
+
+    /// The name (from its SII) of the slave at `position` (1 = first).
+    pub fn name(&self, position: u8) -> Option<String> {
+        let k = usize::from(position).checked_sub(1)?;
+        let sd = self.group.subdevice(&self.maindevice, k).ok()?;
+        Some(sd.name().to_string())
+    }
+
+    /// The identity (vendor, product, revision, serial number, from its SII) of the slave at
+    /// `position`.
+    pub fn identity(&self, position: u8) -> Option<(u32, u32, u32, u32)> {
+        let k = usize::from(position).checked_sub(1)?;
+        let id = self.group.subdevice(&self.maindevice, k).ok()?.identity();
+        Some((id.vendor_id, id.product_id, id.revision, id.serial))
+    }
+
+    /// The tool's error for the end of the TX/RX task.
+    fn ended(&self, TaskEnded(why): TaskEnded) -> ToolError {
+        ToolError::Ethercat(format!("interface {}: {why}", self.interface))
+    }
+
+    /// The tool's error for a failed transfer to `addr` on the slave at `position`.
+    fn error(&self, position: u8, addr: Address, f: Failure) -> ToolError {
+        match f {
+            Failure::Abort(code) => ToolError::Abort {
+                index: addr.index,
+                sub: addr.sub,
+                code: AbortCode::from(code),
+            },
+            Failure::Timeout => ToolError::Timeout {
+                index: addr.index,
+                sub: addr.sub,
+                node: position,
+                ms: self.timeout.as_millis(),
+            },
+            Failure::Master(e) => ToolError::Ethercat(format!(
+                "0x{:04X}:{:02X} of slave {position}: {e}",
+                addr.index, addr.sub
+            )),
+            Failure::Protocol(text) => ToolError::Ethercat(format!(
+                "0x{:04X}:{:02X} of slave {position}: {text}",
+                addr.index, addr.sub
+            )),
+        }
+    }
+}
+
+/// A normal download of `data` to `mux` on the slave at `station`, through its mailboxes (SM0 and
+/// SM1 as the master configured them).
+async fn normal_download(
+    maindevice: &MainDevice<'_>,
+    station: u16,
+    mux: Multiplexer,
+    data: &[u8],
+    timeout: Duration,
+) -> Result<(), Failure> {
+    let sm: [u8; 16] = Command::fprd(station, SM0).receive(maindevice).await?;
+    let (out_at, out_len) = (
+        u16::from_le_bytes([sm[0], sm[1]]),
+        u16::from_le_bytes([sm[2], sm[3]]),
+    );
+    let (in_at, in_len) = (
+        u16::from_le_bytes([sm[8], sm[9]]),
+        u16::from_le_bytes([sm[10], sm[11]]),
+    );
+    let is_mailbox = |control: u8| control & 0x03 == 0x02;
+    if !is_mailbox(sm[4]) || !is_mailbox(sm[12]) || out_len == 0 || in_len == 0 {
+        return Err(Failure::Protocol("the slave has no CoE mailbox".into()));
+    }
+    let size = u32::try_from(data.len())
+        .map_err(|_| Failure::Protocol(format!("{} bytes are too many", data.len())))?;
+    if data.len() + NORMAL_DOWNLOAD_OVERHEAD > usize::from(out_len) {
+        return Err(Failure::Protocol(format!(
+            "{} bytes do not fit the slave's {out_len}-byte mailbox (segmented download is not \
+             supported over EtherCAT)",
+            data.len()
+        )));
+    }
+    let mut request = CoeSdo {
+        command: CoeSdoCommand::Request(ClientFrame::InitiateDownloadSegmented {
+            mux,
+            size: Some(size),
+        }),
+        complete_access: false,
+        extra: data,
+    }
+    .to_mailbox(0, 0);
+    request.resize(usize::from(out_len), 0);
+    let deadline = Instant::now() + timeout;
+    let status = |sm: u16| async move {
+        let s: u8 = Command::fprd(station, sm + SM_STATUS)
+            .receive(maindevice)
+            .await?;
+        Ok::<bool, Failure>(s & MAILBOX_FULL != 0)
+    };
+    // An answer nobody took is taken now; the write mailbox must be empty.
+    if status(SM1).await? {
+        Command::fprd(station, in_at)
+            .receive_slice(maindevice, in_len)
+            .await?;
+    }
+    while status(SM0).await? {
+        if Instant::now() >= deadline {
+            return Err(Failure::Timeout);
+        }
+        async_io::Timer::after(Duration::from_micros(200)).await;
+    }
+    Command::fpwr(station, out_at)
+        .send_receive_slice(maindevice, request.as_slice())
+        .await?;
+    while !status(SM1).await? {
+        if Instant::now() >= deadline {
+            return Err(Failure::Timeout);
+        }
+        async_io::Timer::after(Duration::from_micros(200)).await;
+    }
+    let answer = Command::fprd(station, in_at)
+        .receive_slice(maindevice, in_len)
+        .await?;
+    let answer: &[u8] = &answer;
+    let (_, sdo) = CoeSdo::from_mailbox(answer).map_err(|e| {
+        Failure::Protocol(match answer.get(5).map(|t| t & 0x0F) {
+            Some(0) => "the slave answered with a mailbox error".to_string(),
+            _ => format!("the slave's answer is no CoE SDO response: {e}"),
+        })
+    })?;
+    match sdo.command {
+        CoeSdoCommand::Response(ServerFrame::InitiateDownload { mux: m }) if m == mux => Ok(()),
+        CoeSdoCommand::Request(ClientFrame::Abort { code, .. })
+        | CoeSdoCommand::Response(ServerFrame::Abort { code, .. }) => {
+            Err(Failure::Abort(code.code()))
+        }
+        other => Err(Failure::Protocol(format!(
+            "the slave answered the download with {other:?}"
+        ))),
+    }
+}
+
+impl SdoAccess for EthercatSession {
+    fn check_node(&self, node: u8) -> Result<(), ToolError> {
+        let n = self.group.len();
+        if (1..=n).contains(&usize::from(node)) {
+            Ok(())
+        } else {
+            Err(ToolError::Usage(format!(
+                "slave position {node} is not 1 to {n} (the chain on {} has {n} slave{})",
+                self.interface,
+                if n == 1 { "" } else { "s" }
+            )))
+        }
+    }
+
+    fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
+        self.check_node(node)?;
+        let (group, maindevice) = (&self.group, &self.maindevice);
+        let r = drive(&mut self.tx_rx, async {
+            let sd = group.subdevice(maindevice, usize::from(node) - 1)?;
+            sd.sdo_read::<heapless::Vec<u8, MAX_UPLOAD>>(addr.index, addr.sub)
+                .await
+        })
+        .map_err(|e| self.ended(e))?;
+        match r {
+            Ok(bytes) => Ok(bytes.to_vec()),
+            Err(Error::Mailbox(MailboxError::TooLong { .. })) => Err(self.error(
+                node,
+                addr,
+                Failure::Protocol(format!("longer than {MAX_UPLOAD} bytes")),
+            )),
+            Err(e) => Err(self.error(node, addr, e.into())),
+        }
+    }
+
+    fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError> {
+        self.check_node(node)?;
+        let (group, maindevice, timeout) = (&self.group, &self.maindevice, self.timeout);
+        let r = drive(&mut self.tx_rx, async {
+            let sd = group.subdevice(maindevice, usize::from(node) - 1)?;
+            if (1..=4).contains(&data.len()) {
+                sd.sdo_write(addr.index, addr.sub, data).await?;
+                Ok(())
+            } else {
+                let mux = Multiplexer::new(addr.index, addr.sub);
+                normal_download(maindevice, sd.configured_address(), mux, data, timeout).await
+            }
+        })
+        .map_err(|e| self.ended(e))?;
+        r.map_err(|f| self.error(node, addr, f))
+    }
+}

@@ -1,0 +1,276 @@
+//! `sdo-tool --ethercat IFACE` against two virtual SMD23K-B (`smd-ethercat` of crate
+//! `ethercat-slave`, built by the test) on a veth pair: NODE is the slave's position in the chain.
+//! read, write (expedited, and a normal download), the aborts with their code and meaning, dump into
+//! a DCF, apply of a DCF with read-back, and the usage errors of what EtherCAT does not do.
+
+#[path = "../../ethercat-slave/tests/common/link.rs"]
+mod ethercat_link;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use ethercat_link::Link;
+
+fn esi() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures/smd/SMD23K-B_SMD24K.esi.xml")
+        .display()
+        .to_string()
+}
+
+/// `sdo-tool --ethercat IFACE ARGS…`.
+fn tool(link: &Link, argv: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+        .args(["--ethercat", &link.master])
+        .args(argv)
+        .output()
+        .expect("run sdo-tool")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Runs and expects success: standard output.
+fn ok(link: &Link, argv: &[&str]) -> String {
+    let o = tool(link, argv);
+    assert!(
+        o.status.success(),
+        "sdo-tool {argv:?}: {:?}\n{}{}",
+        o.status.code(),
+        stdout(&o),
+        stderr(&o)
+    );
+    stdout(&o)
+}
+
+#[test]
+fn read_and_write_by_position() {
+    let link = Link::up(&["--units", "2"]);
+    let t0 = std::time::Instant::now();
+    // A VISIBLE_STRING of 8 bytes (a normal upload: more than an expedited one holds).
+    assert_eq!(ok(&link, &["read", "1", "0x1008", "vs"]), "\"SMD23K-B\"\n");
+    eprintln!(
+        "one sdo-tool run (init to Pre-Op + one read): {:?}",
+        t0.elapsed()
+    );
+    assert_eq!(ok(&link, &["read", "2", "0x1018:04", "u32"]), "2\n");
+    assert_eq!(ok(&link, &["read", "1", "0x1018:04", "u32"]), "1\n");
+    assert_eq!(
+        ok(&link, &["read", "1", "0x1018:01", "x32"]),
+        "0x00000AC1\n"
+    );
+    // Starting_Speed (0x8010:03, UDINT rw, 1 to 1,999,999 steps/s): written on unit 1 only.
+    assert_eq!(ok(&link, &["read", "1", "0x8010:03", "u32"]), "141\n");
+    assert_eq!(
+        ok(&link, &["write", "1", "0x8010:03", "u32", "500"]),
+        "OK\n"
+    );
+    assert_eq!(ok(&link, &["read", "1", "0x8010:03", "u32"]), "500\n");
+    assert_eq!(ok(&link, &["read", "2", "0x8010:03", "u32"]), "141\n");
+    // Names and types from the ESI.
+    let od = esi();
+    assert_eq!(
+        ok(&link, &["--od", &od, "write", "2", "Starting_Speed", "750"]),
+        "OK\n"
+    );
+    assert_eq!(ok(&link, &["--od", &od, "read", "2", "0x8010:03"]), "750\n");
+    let o = tool(&link, &["--json", "read", "2", "0x1018:02", "x32"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["value"], "0x00002301");
+    assert_eq!(v["object"], "0x1018:02");
+
+    // Refused by the slave: exit 1 with the abort code and its meaning, as over CAN.
+    let o = tool(&link, &["write", "1", "0x1018:04", "u32", "7"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o),
+        "sdo-tool: 0x1018:04: SDO abort 0x06010002 (Attempt to write a read only object)\n"
+    );
+    let o = tool(&link, &["write", "1", "0x8010:03", "u16", "7"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o),
+        "sdo-tool: 0x8010:03: SDO abort 0x06070013 (Data type does not match, length of service \
+         parameter too low)\n"
+    );
+    // More than four bytes: a normal download, refused for its length, or as read-only.
+    let o = tool(
+        &link,
+        &["write", "1", "0x8010:03", "os", "01 02 03 04 05 06"],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("SDO abort 0x06070012"),
+        "{}",
+        stderr(&o)
+    );
+    let o = tool(&link, &["write", "1", "0x1008", "vs", "A longer name"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("SDO abort 0x06010002"),
+        "{}",
+        stderr(&o)
+    );
+    let o = tool(&link, &["read", "1", "0x2345:00", "u8"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "sdo-tool: 0x2345:00: SDO abort 0x06020000 (Object does not exist in the object dictionary)\n"
+    );
+    let o = tool(&link, &["--json", "read", "1", "0x2345:00", "u8"]);
+    assert_eq!(o.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["abort"], "0x06020000");
+    assert_eq!(
+        ok(&link, &["read", "1", "0x8010:03", "u32"]),
+        "500\n",
+        "nothing refused was stored"
+    );
+}
+
+#[test]
+fn usage_and_transport_errors() {
+    let link = Link::up(&["--units", "2"]);
+    // NODE is a position in the chain of 2.
+    let o = tool(&link, &["read", "3", "0x1000", "u32"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("slave position 3 is not 1 to 2"),
+        "{}",
+        stderr(&o)
+    );
+    let o = tool(&link, &["read", "0", "0x1000", "u32"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    // CANopen-only commands.
+    for argv in [
+        &["nmt", "start", "1"][..],
+        &["scan"],
+        &["watch", "--duration-ms", "10"],
+        &["save", "1"],
+        &["upload", "1", "0x1008", "/dev/null"],
+        &["gateway"],
+    ] {
+        let o = tool(&link, argv);
+        assert_eq!(o.status.code(), Some(2), "{argv:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!(
+                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump and apply",
+                argv[0]
+            )),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // --bus and --ethercat exclude each other.
+    let o = tool(
+        &link,
+        &["--bus", "socketcan:vcan0", "read", "1", "0x1000", "u32"],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
+    // No type and no description.
+    let o = tool(&link, &["read", "1", "0x1000"]);
+    assert_eq!(o.status.code(), Some(2));
+    // No such interface: a transport failure.
+    let o = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+        .args(["--ethercat", "nosuchif0", "read", "1", "0x1000", "u32"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(
+        stderr(&o).starts_with("sdo-tool: EtherCAT: interface nosuchif0"),
+        "{}",
+        stderr(&o)
+    );
+    // The help says what NODE is over EtherCAT.
+    let o = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+        .args(["read", "--help"])
+        .output()
+        .unwrap();
+    assert!(
+        stdout(&o).contains("with --ethercat: the slave's position, 1 = first"),
+        "{}",
+        stdout(&o)
+    );
+}
+
+#[test]
+fn dump_and_apply() {
+    let link = Link::up(&["--units", "2"]);
+    let dir = tempfile::tempdir().unwrap();
+    let od = esi();
+    ok(&link, &["write", "2", "0x8010:06", "u16", "40"]);
+    let dcf = dir.path().join("unit2.dcf");
+    let out = ok(
+        &link,
+        &["--od", &od, "dump", "2", "-o", dcf.to_str().unwrap()],
+    );
+    assert!(
+        out.lines()
+            .last()
+            .unwrap()
+            .ends_with(&format!("entries written to {}", dcf.display())),
+        "{out}"
+    );
+    let (_, devices) = od::load::load(&dcf).unwrap();
+    let d = &devices[0].dictionary;
+    assert_eq!(d.entry(0x1008, 0).unwrap().value, b"SMD23K-B");
+    assert_eq!(
+        d.entry(0x1018, 4).unwrap().value,
+        2u32.to_le_bytes(),
+        "unit 2's serial"
+    );
+    assert_eq!(
+        d.entry(0x8010, 6).unwrap().value,
+        40u16.to_le_bytes(),
+        "the unit's value, not the default"
+    );
+    assert_eq!(d.entry(0x8010, 3).unwrap().value, 141u32.to_le_bytes());
+    assert!(d.entry(0x6000, 1).unwrap().value_set, "inputs read too");
+
+    // A DCF that sets three configuration values: applied to unit 1, each read back.
+    let (_, mut devices) = od::load::load(Path::new(&od)).unwrap();
+    let d = &mut devices[0];
+    for (sub, bytes) in [
+        (3u8, 2_000u32.to_le_bytes().to_vec()),
+        (4, 400u16.to_le_bytes().to_vec()),
+        (7, 20u16.to_le_bytes().to_vec()),
+    ] {
+        d.dictionary.store(0x8010, sub, &bytes).unwrap();
+        d.dictionary
+            .object_mut(0x8010)
+            .unwrap()
+            .subs
+            .get_mut(&sub)
+            .unwrap()
+            .value_set = true;
+    }
+    let file = dir.path().join("config.dcf");
+    std::fs::write(&file, od::eds::write_dcf(d)).unwrap();
+    let out = ok(&link, &["apply", "1", file.to_str().unwrap(), "--dry-run"]);
+    assert!(out.ends_with("3 entries to write\n"), "{out}");
+    assert_eq!(
+        ok(&link, &["read", "1", "0x8010:03", "u32"]),
+        "141\n",
+        "dry run"
+    );
+    let out = ok(&link, &["apply", "1", file.to_str().unwrap()]);
+    assert_eq!(
+        out,
+        "wrote 0x8010:03 = 2000\nwrote 0x8010:04 = 400\nwrote 0x8010:07 = 20\n3 entries written\n"
+    );
+    assert_eq!(ok(&link, &["read", "1", "0x8010:03", "u32"]), "2000\n");
+    assert_eq!(ok(&link, &["read", "1", "0x8010:04", "u16"]), "400\n");
+    assert_eq!(ok(&link, &["read", "1", "0x8010:07", "u16"]), "20\n");
+    assert_eq!(
+        ok(&link, &["read", "2", "0x8010:03", "u32"]),
+        "141\n",
+        "unit 2 untouched"
+    );
+}
