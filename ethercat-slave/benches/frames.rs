@@ -65,7 +65,7 @@ fn on_veth(n: usize, secs: f64, window: usize, busy_poll_us: u32) -> f64 {
     let socket = RawSocket::open(&link.master).expect("raw socket on the master's end");
     let mut w = SocketWire::new(socket, n);
     master::bring_up(&mut w, state::OP).unwrap();
-    let socket = RawSocket::open(&link.master).expect("raw socket on the master's end");
+    let socket = w.socket();
     let (frame, wkc) = lrw_frame(n);
     let mut buf = vec![0u8; 2048];
     let start = Instant::now();
@@ -95,7 +95,6 @@ fn on_veth(n: usize, secs: f64, window: usize, busy_poll_us: u32) -> f64 {
     if lost > 0 {
         println!("   ({lost} frames lost)");
     }
-    drop(w);
     fps
 }
 

@@ -15,7 +15,7 @@
 //!   cycle time): events at start + k·cycle in system time (one event for cycle 0). While active,
 //!   0x0990 reads the next event's time; 0x098E bit 0 is set after an event until read.
 
-use crate::esc::Esc;
+use crate::esc::{touches, Esc};
 
 /// Nanoseconds a frame takes from one slave to the next (ESC forwarding and a short cable).
 pub const HOP_NS: u64 = 500;
@@ -71,7 +71,7 @@ impl Esc {
     }
 
     fn u64_at(&self, at: u16) -> u64 {
-        let r = self.raw(at, 8);
+        let r = self.load(at, 8);
         u64::from_le_bytes([r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]])
     }
 
@@ -124,15 +124,15 @@ impl Esc {
             self.store(SYSTEM_TIME, &before);
         }
         if touches(at, len, SYNC_ACTIVATION, 1) {
-            let act = self.raw(SYNC_ACTIVATION, 1)[0];
+            let act = self.load(SYNC_ACTIVATION, 1)[0];
             self.clock.next_sync0 = (act & 0x03 == 0x03).then(|| self.u64_at(START_TIME));
         }
     }
 
     /// SYNC0 cycle time while cyclic operation and SYNC0 are activated.
     pub fn sync0_cycle(&self) -> Option<u32> {
-        let act = self.raw(SYNC_ACTIVATION, 1)[0];
-        let r = self.raw(SYNC0_CYCLE, 4);
+        let act = self.load(SYNC_ACTIVATION, 1)[0];
+        let r = self.load(SYNC0_CYCLE, 4);
         (act & 0x03 == 0x03).then(|| u32::from_le_bytes([r[0], r[1], r[2], r[3]]))
     }
 
@@ -157,11 +157,4 @@ impl Esc {
         self.store(SYNC0_STATUS, &[1]);
         Some(last)
     }
-}
-
-/// Whether `[at, at+len)` overlaps `[reg, reg+n)`.
-pub(crate) fn touches(at: u16, len: usize, reg: u16, n: usize) -> bool {
-    let (a, b) = (usize::from(at), usize::from(at) + len);
-    let (r, e) = (usize::from(reg), usize::from(reg) + n);
-    a < e && r < b
 }

@@ -80,6 +80,13 @@ const READ_ONLY: [(u16, usize); 5] = [
     (0x0440, 4),
 ];
 
+/// Whether the access `[at, at+len)` overlaps the registers `[reg, reg+n)`.
+pub(crate) fn touches(at: u16, len: usize, reg: u16, n: usize) -> bool {
+    let (a, b) = (usize::from(at), usize::from(at) + len);
+    let (r, e) = (usize::from(reg), usize::from(reg) + n);
+    a < e && r < b
+}
+
 /// One FMMU as the master configured it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Fmmu {
@@ -240,11 +247,6 @@ impl Esc {
         self.store(crate::al::AL_STATUS_CODE, &code.to_le_bytes());
     }
 
-    /// Memory bytes without any side effect.
-    pub(crate) fn raw(&self, at: u16, len: usize) -> Vec<u8> {
-        self.load(at, len)
-    }
-
     /// The configured station address (register 0x0010).
     pub fn station_address(&self) -> u16 {
         self.read_u16(STATION_ADDRESS)
@@ -288,17 +290,16 @@ impl Esc {
 
     fn write_from(&mut self, ado: u16, data: &[u8]) {
         let len = data.len();
-        let sm_before =
-            crate::dc::touches(ado, len, crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS)
-                .then(|| self.raw(crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS));
+        let sm_before = touches(ado, len, crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS)
+            .then(|| self.load(crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS));
         let time_before: [u8; 8] = {
-            let r = self.raw(crate::dc::SYSTEM_TIME, 8);
+            let r = self.load(crate::dc::SYSTEM_TIME, 8);
             [r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]]
         };
         let kept: Vec<(u16, Vec<u8>)> = READ_ONLY
             .iter()
-            .filter(|(r, n)| crate::dc::touches(ado, len, *r, *n))
-            .map(|(r, n)| (*r, self.raw(*r, *n)))
+            .filter(|(r, n)| touches(ado, len, *r, *n))
+            .map(|(r, n)| (*r, self.load(*r, *n)))
             .collect();
         self.store(ado, data);
         for (r, bytes) in kept {
@@ -316,11 +317,7 @@ impl Esc {
     /// What a master's write triggers: an EEPROM read command loads 8 bytes of the SII image at the
     /// word address into the data register (ETG.1000.4 §6.4; command bits 8–10 of 0x0502 = 001).
     fn after_write(&mut self, ado: u16, len: usize) {
-        let touches = |reg: u16, n: usize| {
-            let (a, b) = (usize::from(ado), usize::from(ado) + len);
-            let (r, e) = (usize::from(reg), usize::from(reg) + n);
-            a < e && r < b
-        };
+        let touches = |reg: u16, n: usize| touches(ado, len, reg, n);
         if touches(crate::al::AL_CONTROL, 2) {
             let control = self.read_u16(crate::al::AL_CONTROL);
             let status = self.read_u16(crate::al::AL_STATUS);
@@ -340,7 +337,7 @@ impl Esc {
         }
         if touches(EEPROM_CONTROL, 2) {
             let control = self.read_u16(EEPROM_CONTROL);
-            let r = self.raw(EEPROM_ADDRESS, 4);
+            let r = self.load(EEPROM_ADDRESS, 4);
             let word = u32::from_le_bytes([r[0], r[1], r[2], r[3]]) as usize;
             // Bit 6: 8 bytes are read at once; bit 0 (write enable) clears itself.
             let mut status = 0x0040;
@@ -353,7 +350,7 @@ impl Esc {
                 }
                 // Write: one word from the data register, with write enable in the same access.
                 0x02 if control & 0x0001 != 0 && word * 2 + 1 < self.sii.len() => {
-                    let d = self.raw(EEPROM_DATA, 2);
+                    let d = self.load(EEPROM_DATA, 2);
                     self.sii[word * 2..word * 2 + 2].copy_from_slice(&d);
                 }
                 0x02 => status |= 0x2000, // write error: not enabled, or beyond the image

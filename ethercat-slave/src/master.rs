@@ -104,6 +104,11 @@ impl SocketWire {
             buf: vec![0; 2048],
         }
     }
+
+    /// The socket, for frames the master sends outside [`Wire::exchange`].
+    pub fn socket(&self) -> &RawSocket {
+        &self.socket
+    }
 }
 
 impl Wire for SocketWire {

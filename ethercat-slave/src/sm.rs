@@ -162,7 +162,7 @@ impl Esc {
         for n in 0..SYNC_MANAGERS {
             let b = 8 * n;
             let at = SM_BASE + b as u16;
-            let now = self.raw(at, 8);
+            let now = self.load(at, 8);
             // Status (5) and PDI control (7) are read-only for the master.
             self.store(at + 5, &[before[b + 5]]);
             self.store(at + 7, &[before[b + 7]]);
@@ -214,7 +214,7 @@ impl Esc {
             return None;
         }
         let sm = self.sync_manager(n);
-        let bytes = self.raw(sm.start, usize::from(sm.len));
+        let bytes = self.load(sm.start, usize::from(sm.len));
         self.set_sm_status(n, status & !MAILBOX_FULL);
         Some(bytes)
     }

@@ -258,8 +258,7 @@ impl SmdChain {
             let (al, _) = esc.al_state();
             if expired && al == state::OP {
                 // SMD-R1-035: the watchdog drops the unit to Safe-Op with the error indication.
-                esc.al_fault(state::SAFEOP, code::SM_WATCHDOG);
-                unit.model.indexer_mut().sm_watchdog_expired();
+                unit.drop_to_safe_op(esc);
             }
             let (al, _) = esc.al_state();
             unit.sync_state(al);
@@ -302,8 +301,7 @@ impl SmdChain {
     pub fn link_lost(&mut self) {
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
             if esc.al_state().0 == state::OP {
-                esc.al_fault(state::SAFEOP, code::SM_WATCHDOG);
-                unit.model.indexer_mut().sm_watchdog_expired();
+                unit.drop_to_safe_op(esc);
                 unit.sync_state(state::SAFEOP);
             }
         }
@@ -311,6 +309,13 @@ impl SmdChain {
 }
 
 impl Unit {
+    /// The master stopped reaching the unit in Op (watchdog, link): Safe-Op with the error indication
+    /// and code 0x001B, and the model's Input_Error.
+    fn drop_to_safe_op(&mut self, esc: &mut Esc) {
+        esc.al_fault(state::SAFEOP, code::SM_WATCHDOG);
+        self.model.indexer_mut().sm_watchdog_expired();
+    }
+
     /// Tells the model and the CoE server the AL state.
     fn sync_state(&mut self, al: u8) {
         if al == self.state {
