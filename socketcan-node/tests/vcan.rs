@@ -44,6 +44,24 @@ fn next_on(bus: &mut dyn CanBus, cob: u16, within: Duration) -> Option<(CanFrame
     None
 }
 
+/// The `x67-node` binary on vcan0 as node `id`, returned once its boot-up message is on the bus (the
+/// VM emulates its CPU, so the start takes a variable time).
+fn spawn_node(id: u8) -> std::process::Child {
+    let mut bus = open();
+    let mut node = Command::new(NODE)
+        .args(["--bus", "socketcan:vcan0", "--node-id", &id.to_string()])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let boot = next_on(&mut bus, 0x700 + u16::from(id), Duration::from_secs(30));
+    if boot.as_ref().map(|(frame, _)| frame.data()) != Some(&[0u8][..]) {
+        node.kill().unwrap();
+        panic!("x67-node {id} sent no boot-up message within 30 s: {boot:?}");
+    }
+    node
+}
+
 /// A node of the library's own runtime on vcan0, stopped when dropped.
 struct RunningNode {
     stop: Arc<AtomicBool>,
@@ -261,13 +279,7 @@ fn candump_sees_the_binary_boot_up_and_heartbeat() {
 fn python_canopen_master_over_vcan() {
     let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
-    let mut node = Command::new(NODE)
-        .args(["--bus", "socketcan:vcan0", "--node-id", "1"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_millis(300));
+    let mut node = spawn_node(1);
     let out = Command::new(&python)
         .arg(format!("{root}/tests/python/x67_master.py"))
         .arg("--eds")
@@ -358,16 +370,10 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
 /// `sdo-tool` on vcan0 against the `x67-node` binary: a string read, a write read back, an abort.
 #[test]
 fn sdo_tool_on_vcan() {
-    let mut node = Command::new(NODE)
-        .args(["--bus", "socketcan:vcan0", "--node-id", "7"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_millis(1500));
+    let mut node = spawn_node(7);
     let tool = |argv: &[&str]| {
         Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-            .args(["--bus", "socketcan:vcan0"])
+            .args(["--bus", "socketcan:vcan0", "--timeout-ms", "5000"])
             .args(argv)
             .output()
             .unwrap()
