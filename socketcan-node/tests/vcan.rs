@@ -203,7 +203,22 @@ fn candump_sees_the_binary_boot_up_and_heartbeat() {
             }
         }
     });
-    std::thread::sleep(Duration::from_millis(300));
+    // candump is listening once it prints a frame of ours (its start is slow under emulation).
+    let mut marker = open();
+    let ready = Instant::now() + Duration::from_secs(20);
+    'listening: while Instant::now() < ready {
+        marker.send(&f(0x123, &[0xC0, 0xDE])).unwrap();
+        let wait = Instant::now() + Duration::from_millis(100);
+        while let Ok(line) = rx.recv_timeout(wait.saturating_duration_since(Instant::now())) {
+            if line.ends_with(" 123#C0DE") {
+                break 'listening;
+            }
+        }
+    }
+    assert!(
+        Instant::now() < ready,
+        "candump printed nothing within 20 s"
+    );
     let mut node = Command::new(NODE)
         .args([
             "--bus",
