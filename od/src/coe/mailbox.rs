@@ -145,6 +145,23 @@ impl MailboxHeader {
         Ok((h, data))
     }
 
+    /// A whole mailbox of `mailbox_type` to or from `address` with `counter`: the header (channel 0,
+    /// priority 0) announcing `data`, then `data`.
+    pub fn wrap(mailbox_type: MailboxType, address: u16, counter: u8, data: &[u8]) -> Vec<u8> {
+        let header = MailboxHeader {
+            length: data.len() as u16,
+            address,
+            channel: 0,
+            priority: 0,
+            mailbox_type,
+            counter,
+        };
+        let mut out = Vec::with_capacity(MAILBOX_HEADER_LEN + data.len());
+        out.extend_from_slice(&header.emit());
+        out.extend_from_slice(data);
+        out
+    }
+
     /// The next counter after `counter`: 1, 2, … 7, 1 (0 is used only once, at start-up).
     pub const fn next_counter(counter: u8) -> u8 {
         if counter >= 7 {

@@ -11,9 +11,7 @@
 //! the CAN and CoE SDO servers share one codec.
 
 use crate::abort::AbortCode;
-use crate::coe::mailbox::{
-    CoeHeader, CoeService, FramingError, MailboxHeader, MailboxType, MAILBOX_HEADER_LEN,
-};
+use crate::coe::mailbox::{CoeHeader, CoeService, FramingError, MailboxHeader, MailboxType};
 use crate::sdo::frame::{ClientFrame, Frame, ServerFrame, FRAME_LEN};
 
 /// The command of a CoE SDO frame: a request from the master or a response from the slave.
@@ -117,18 +115,7 @@ impl<'a> CoeSdo<'a> {
             .emit(),
         );
         self.emit_sdo(&mut body);
-        let header = MailboxHeader {
-            length: body.len() as u16,
-            address,
-            channel: 0,
-            priority: 0,
-            mailbox_type: MailboxType::Coe,
-            counter,
-        };
-        let mut out = Vec::with_capacity(MAILBOX_HEADER_LEN + body.len());
-        out.extend_from_slice(&header.emit());
-        out.extend_from_slice(&body);
-        out
+        MailboxHeader::wrap(MailboxType::Coe, address, counter, &body)
     }
 
     /// Parses a whole mailbox holding a CoE SDO request or response.

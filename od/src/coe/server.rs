@@ -720,18 +720,9 @@ impl CoeServer {
             }
             .to_mailbox(address, self.counter),
             Answer::MailboxError(detail) => {
-                let header = MailboxHeader {
-                    length: 4,
-                    address,
-                    channel: 0,
-                    priority: 0,
-                    mailbox_type: MailboxType::Error,
-                    counter: self.counter,
-                };
-                let mut out = header.emit().to_vec();
-                out.extend_from_slice(&MBX_ERROR_COMMAND.to_le_bytes());
-                out.extend_from_slice(&detail.to_le_bytes());
-                out
+                let [c0, c1] = MBX_ERROR_COMMAND.to_le_bytes();
+                let [d0, d1] = detail.to_le_bytes();
+                MailboxHeader::wrap(MailboxType::Error, address, self.counter, &[c0, c1, d0, d1])
             }
         }
     }
@@ -739,17 +730,7 @@ impl CoeServer {
     /// A CoE mailbox of `body` (CoE header onwards) with the next counter.
     fn coe_mailbox(&mut self, address: u16, body: &[u8]) -> Vec<u8> {
         self.counter = MailboxHeader::next_counter(self.counter);
-        let header = MailboxHeader {
-            length: body.len() as u16,
-            address,
-            channel: 0,
-            priority: 0,
-            mailbox_type: MailboxType::Coe,
-            counter: self.counter,
-        };
-        let mut out = header.emit().to_vec();
-        out.extend_from_slice(body);
-        out
+        MailboxHeader::wrap(MailboxType::Coe, address, self.counter, body)
     }
 
     fn push_transmit(&mut self, mailbox: Vec<u8>) {
