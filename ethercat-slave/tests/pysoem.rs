@@ -40,16 +40,6 @@ fn preflight() {
     );
 }
 
-/// `(answered, dropped)` from the emulator's last line, `smd-ethercat: N frames answered, M dropped`.
-fn frame_counts(log: &str) -> Option<(u64, u64)> {
-    let line = log.lines().rev().find(|l| l.contains("frames answered"))?;
-    let rest = line.split("smd-ethercat: ").nth(1)?;
-    let mut words = rest.split_whitespace();
-    let answered = words.next()?.parse().ok()?;
-    let dropped = words.nth(2)?.parse().ok()?;
-    Some((answered, dropped))
-}
-
 /// Runs the script with `extra` arguments against two units on a fresh link; its summary line.
 fn run_master(extra: &[&str]) -> String {
     preflight();
@@ -105,7 +95,7 @@ fn run_master(extra: &[&str]) -> String {
     );
     assert!(alive, "smd-ethercat had stopped by the end\n{report}");
     let (answered, dropped) =
-        frame_counts(&log).unwrap_or_else(|| panic!("no frame counts in the log\n{report}"));
+        link::frame_counts(&log).unwrap_or_else(|| panic!("no frame counts in the log\n{report}"));
     assert!(answered > 0, "no frames answered\n{report}");
     assert_eq!(dropped, 0, "SOEM's frames are all well-formed\n{report}");
     let summary = stdout

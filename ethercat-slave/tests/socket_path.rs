@@ -155,17 +155,10 @@ impl Master {
     }
 }
 
-/// `(answered, dropped)` from the emulator's last line, `smd-ethercat: N frames answered, M dropped`.
+/// `(answered, dropped)` from the emulator's log (see [`link::frame_counts`]).
 fn frame_counts(log: &str) -> (u64, u64) {
-    let parsed = (|| {
-        let line = log.lines().rev().find(|l| l.contains("frames answered"))?;
-        let rest = line.split("smd-ethercat: ").nth(1)?;
-        let mut words = rest.split_whitespace();
-        let answered = words.next()?.parse().ok()?;
-        let dropped = words.nth(2)?.parse().ok()?;
-        Some((answered, dropped))
-    })();
-    parsed.unwrap_or_else(|| panic!("no `N frames answered, M dropped` line in the log:\n{log}"))
+    link::frame_counts(log)
+        .unwrap_or_else(|| panic!("no `N frames answered, M dropped` line in the log:\n{log}"))
 }
 
 fn root() {

@@ -170,6 +170,17 @@ impl Link {
     }
 }
 
+/// `(answered, dropped)` from the emulator's last line in `log` (what [`Link::stop`] returns),
+/// `smd-ethercat: N frames answered, M dropped`.
+pub fn frame_counts(log: &str) -> Option<(u64, u64)> {
+    let line = log.lines().rev().find(|l| l.contains("frames answered"))?;
+    let rest = line.split("smd-ethercat: ").nth(1)?;
+    let mut words = rest.split_whitespace();
+    let answered = words.next()?.parse().ok()?;
+    let dropped = words.nth(2)?.parse().ok()?;
+    Some((answered, dropped))
+}
+
 impl Drop for Link {
     fn drop(&mut self) {
         self.stop();
