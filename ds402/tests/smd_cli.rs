@@ -1,17 +1,8 @@
 //! The `smd` binary as a user runs it.
 
-use std::process::Command;
+mod smd_bin;
 
-const SMD: &str = env!("CARGO_BIN_EXE_smd");
-
-fn smd(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(SMD).args(args).output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use smd_bin::smd;
 
 /// `smd profile` with the Table R3.2 values and a 300,000-step move (SMD-R3-009, SMD-R3-011).
 #[test]

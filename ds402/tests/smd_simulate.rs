@@ -1,8 +1,9 @@
 //! `smd simulate`: the script parser's messages, runs against the indexer model, the table, the chart,
 //! and the example scripts of `ds402/examples/smd` through the binary.
 
+mod smd_bin;
+
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Duration;
 
 use ds402::smd::config::{Configuration, EncoderKind};
@@ -10,17 +11,7 @@ use ds402::smd::indexer::stat0;
 use ds402::smd::simulate::{
     format_line, header, parse_time, run, Action, Field, Options, Script, Trace,
 };
-
-const SMD: &str = env!("CARGO_BIN_EXE_smd");
-
-fn smd(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(SMD).args(args).output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use smd_bin::smd;
 
 fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/smd")
