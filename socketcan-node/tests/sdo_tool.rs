@@ -1,6 +1,8 @@
 //! `sdo-tool` against the virtual X67 node: in process (the library's runtime on an in-process bus)
 //! and as a binary over socketcand on 127.0.0.1.
 
+mod common;
+
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -226,13 +228,7 @@ fn hub(id: u8) -> (std::process::Child, u16) {
 fn binary_over_socketcand() {
     let (mut node, port) = hub(3);
     let bus = format!("socketcand://127.0.0.1:{port}/can0");
-    let tool = |argv: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-            .args(["--bus", &bus])
-            .args(argv)
-            .output()
-            .unwrap()
-    };
+    let tool = |argv: &[&str]| common::sdo_tool(&["--bus", &bus], argv);
     let out = tool(&["read", "3", "0x1008:00", "vs"]);
     assert!(
         out.status.success(),
@@ -542,11 +538,7 @@ fn against_python_canopen_local_node() {
     assert_eq!(ready.trim(), "READY");
     let bus = format!("socketcand://127.0.0.1:{port}/can0");
     let tool = |argv: &[&str]| {
-        let o = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-            .args(["--bus", &bus, "--no-block"])
-            .args(argv)
-            .output()
-            .unwrap();
+        let o = common::sdo_tool(&["--bus", &bus, "--no-block"], argv);
         (
             o.status.code(),
             String::from_utf8_lossy(&o.stdout).into_owned(),

@@ -3,11 +3,12 @@
 //! read, write (expedited, and a normal download), the aborts with their code and meaning, dump into
 //! a DCF, apply of a DCF with read-back, and the usage errors of what EtherCAT does not do.
 
+mod common;
 #[path = "../../ethercat-slave/tests/common/link.rs"]
 mod ethercat_link;
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use ethercat_link::Link;
 
@@ -20,11 +21,7 @@ fn esi() -> String {
 
 /// `sdo-tool --ethercat IFACE ARGS…`.
 fn tool(link: &Link, argv: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-        .args(["--ethercat", &link.master])
-        .args(argv)
-        .output()
-        .expect("run sdo-tool")
+    common::sdo_tool(&["--ethercat", &link.master], argv)
 }
 
 fn stdout(o: &Output) -> String {
@@ -178,10 +175,10 @@ fn usage_and_transport_errors() {
     let o = tool(&link, &["read", "1", "0x1000"]);
     assert_eq!(o.status.code(), Some(2));
     // No such interface: a transport failure.
-    let o = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-        .args(["--ethercat", "nosuchif0", "read", "1", "0x1000", "u32"])
-        .output()
-        .unwrap();
+    let o = common::sdo_tool(
+        &["--ethercat", "nosuchif0"],
+        &["read", "1", "0x1000", "u32"],
+    );
     assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(
         stderr(&o).starts_with("sdo-tool: EtherCAT: interface nosuchif0"),
@@ -189,10 +186,7 @@ fn usage_and_transport_errors() {
         stderr(&o)
     );
     // The help says what NODE is over EtherCAT.
-    let o = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-        .args(["read", "--help"])
-        .output()
-        .unwrap();
+    let o = common::sdo_tool(&[], &["read", "--help"]);
     assert!(
         stdout(&o).contains("with --ethercat: the slave's position, 1 = first"),
         "{}",

@@ -9,6 +9,8 @@
 //! - 100,000 random frames on vcan0 leave the node answering and its heartbeat on time;
 //! - `sdo-tool` against the binary on vcan0.
 
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -387,11 +389,7 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
 fn sdo_tool_on_vcan() {
     let mut node = spawn_node(7);
     let tool = |argv: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-            .args(["--bus", "socketcan:vcan0", "--timeout-ms", "5000"])
-            .args(argv)
-            .output()
-            .unwrap()
+        common::sdo_tool(&["--bus", "socketcan:vcan0", "--timeout-ms", "5000"], argv)
     };
     let out = tool(&["read", "7", "0x1008:00", "vs"]);
     assert!(
