@@ -1,17 +1,16 @@
 //! Bad traffic leaves the node answering and its heartbeat on time: malformed frames, frames for other
 //! nodes, SDO floods and 100,000 random frames.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+mod common;
+
+use common::RunningNode;
 use proptest::prelude::*;
-use socketcan_node::node::storage::MemoryStorage;
-use socketcan_node::node::{Node, NodeConfig};
+use socketcan_node::node::NodeConfig;
 use socketcan_node::sim::SimNode;
 use socketcan_node::transport::{BusEvent, CanBus, InProcessBus};
-use socketcan_node::x67::{self, BusController};
-use socketcan_node::{runtime, CanFrame, NmtState};
+use socketcan_node::{CanFrame, NmtState};
 
 const ID: u8 = 3;
 
@@ -162,17 +161,9 @@ fn runtime_under_a_random_flood() {
     let bus = InProcessBus::new();
     let mut master = bus.endpoint();
     let mut flooder = bus.endpoint();
-    let mut node_end = bus.endpoint();
-    let stop = Arc::new(AtomicBool::new(false));
-    let stop2 = Arc::clone(&stop);
-    let runner = std::thread::spawn(move || {
-        let dict = x67::dictionary(1).unwrap();
-        let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).unwrap();
-        let mut cfg = NodeConfig::new(ID);
-        cfg.heartbeat_ms = Some(50);
-        let mut nodes = [Node::new(cfg, dict, app, Box::new(MemoryStorage::default())).unwrap()];
-        runtime::run(&mut nodes, &mut node_end, &stop2).unwrap()
-    });
+    let mut cfg = NodeConfig::new(ID);
+    cfg.heartbeat_ms = Some(50);
+    let runner = RunningNode::start(cfg, bus.endpoint());
     let flood = std::thread::spawn(move || {
         let mut seed = 0x1234_5678_9ABC_DEF1u64;
         let mut sent = 0;
@@ -212,8 +203,7 @@ fn runtime_under_a_random_flood() {
         }
     }
     flood.join().unwrap();
-    stop.store(true, Ordering::Relaxed);
-    runner.join().unwrap();
+    runner.stop();
     assert!(answers >= 100, "only {answers} SDO answers in 3 s");
     assert!(beats.len() >= 50, "only {} heartbeats in 3 s", beats.len());
     for w in beats.windows(2) {

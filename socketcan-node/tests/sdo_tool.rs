@@ -5,19 +5,13 @@ mod common;
 
 use std::path::Path;
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
-use std::thread::JoinHandle;
-use std::time::Instant;
 
 use clap::Parser;
-use socketcan_node::node::storage::MemoryStorage;
-use socketcan_node::node::{Node, NodeConfig};
-use socketcan_node::runtime;
+use common::RunningNode;
+use socketcan_node::node::NodeConfig;
 use socketcan_node::tool::cli::{run, Args};
 use socketcan_node::tool::ToolError;
 use socketcan_node::transport::{CanBus, InProcessBus};
-use socketcan_node::x67::{self, BusController};
 
 const ID: u8 = 5;
 
@@ -30,35 +24,16 @@ fn eds() -> String {
 
 /// Node 5 running on an in-process bus; stopped when dropped.
 struct Running {
+    _node: RunningNode,
     bus: InProcessBus,
-    stop: Arc<AtomicBool>,
-    thread: Option<JoinHandle<()>>,
 }
 
 impl Running {
     fn start() -> Running {
         let bus = InProcessBus::new();
-        let mut end = bus.endpoint();
-        let stop = Arc::new(AtomicBool::new(false));
-        let s = Arc::clone(&stop);
-        let thread = std::thread::spawn(move || {
-            let dict = x67::dictionary(1).unwrap();
-            let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).unwrap();
-            let mut nodes = [Node::new(
-                NodeConfig::new(ID),
-                dict,
-                app,
-                Box::new(MemoryStorage::default()),
-            )
-            .unwrap()];
-            runtime::run(&mut nodes, &mut end, &s).unwrap();
-        });
+        let node = RunningNode::start(NodeConfig::new(ID), bus.endpoint());
         std::thread::sleep(std::time::Duration::from_millis(50));
-        Running {
-            bus,
-            stop,
-            thread: Some(thread),
-        }
+        Running { _node: node, bus }
     }
 
     /// Runs `sdo-tool ARGS…` in process: the output, or the error.
@@ -69,15 +44,6 @@ impl Running {
         let mut out = Vec::new();
         run(&args, Some(bus), &mut out)?;
         Ok(String::from_utf8(out).unwrap())
-    }
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
     }
 }
 

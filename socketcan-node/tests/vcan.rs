@@ -13,15 +13,12 @@ mod common;
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use socketcan_node::node::storage::MemoryStorage;
-use socketcan_node::node::{Node, NodeConfig};
+use common::RunningNode;
+use socketcan_node::node::NodeConfig;
 use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
-use socketcan_node::x67::{self, BusController};
-use socketcan_node::{runtime, CanFrame};
+use socketcan_node::CanFrame;
 
 const IFACE: &str = "vcan0";
 const NODE: &str = env!("CARGO_BIN_EXE_x67-node");
@@ -64,40 +61,11 @@ fn spawn_node(id: u8) -> std::process::Child {
     node
 }
 
-/// A node of the library's own runtime on vcan0, stopped when dropped.
-struct RunningNode {
-    stop: Arc<AtomicBool>,
-    thread: Option<std::thread::JoinHandle<runtime::RunStats>>,
-}
-
-impl RunningNode {
-    fn start(id: u8, heartbeat_ms: u16) -> RunningNode {
-        let stop = Arc::new(AtomicBool::new(false));
-        let s = Arc::clone(&stop);
-        let mut bus = open();
-        let thread = std::thread::spawn(move || {
-            let dict = x67::dictionary(1).unwrap();
-            let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).unwrap();
-            let mut cfg = NodeConfig::new(id);
-            cfg.heartbeat_ms = Some(heartbeat_ms);
-            let mut nodes =
-                [Node::new(cfg, dict, app, Box::new(MemoryStorage::default())).unwrap()];
-            runtime::run(&mut nodes, &mut bus, &s).unwrap()
-        });
-        RunningNode {
-            stop,
-            thread: Some(thread),
-        }
-    }
-}
-
-impl Drop for RunningNode {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
+/// A node of the library's own runtime on vcan0 with a heartbeat, stopped when dropped.
+fn start_node(id: u8, heartbeat_ms: u16) -> RunningNode {
+    let mut config = NodeConfig::new(id);
+    config.heartbeat_ms = Some(heartbeat_ms);
+    RunningNode::start(config, open())
 }
 
 #[test]
@@ -148,7 +116,7 @@ fn error_frames_are_reported_not_fatal() {
 #[test]
 fn runtime_node_on_vcan_boots_answers_sdo_and_beats() {
     let mut master = open();
-    let _node = RunningNode::start(9, 50);
+    let _node = start_node(9, 50);
     let (boot, _) = next_on(&mut master, 0x709, Duration::from_secs(2)).expect("boot-up");
     assert_eq!(boot.data(), &[0x00]);
     master
@@ -316,7 +284,7 @@ fn python_canopen_master_over_vcan() {
 fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
     let mut master = open();
     let mut flooder = open();
-    let _node = RunningNode::start(3, 50);
+    let _node = start_node(3, 50);
     next_on(&mut master, 0x703, Duration::from_secs(2)).expect("boot-up");
     let flood = std::thread::spawn(move || {
         let mut seed = 0x1234_5678_9ABC_DEF1u64;
