@@ -195,14 +195,8 @@ fn binary_over_socketcand() {
     let (mut node, port) = hub(3);
     let bus = format!("socketcand://127.0.0.1:{port}/can0");
     let tool = |argv: &[&str]| common::sdo_tool(&["--bus", &bus], argv);
-    let out = tool(&["read", "3", "0x1008:00", "vs"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     assert_eq!(
-        String::from_utf8_lossy(&out.stdout),
+        common::sdo_tool_ok(&["--bus", &bus], &["read", "3", "0x1008:00", "vs"]),
         "\"X67BC4321-10 / X67SM2436\"\n"
     );
     let out = tool(&["write", "3", "0x2110:00", "u8", "168"]);

@@ -34,15 +34,7 @@ fn stderr(o: &Output) -> String {
 
 /// Runs and expects success: standard output.
 fn ok(link: &Link, argv: &[&str]) -> String {
-    let o = tool(link, argv);
-    assert!(
-        o.status.success(),
-        "sdo-tool {argv:?}: {:?}\n{}{}",
-        o.status.code(),
-        stdout(&o),
-        stderr(&o)
-    );
-    stdout(&o)
+    common::sdo_tool_ok(&["--ethercat", &link.master], argv)
 }
 
 #[test]

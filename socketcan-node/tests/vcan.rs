@@ -356,32 +356,18 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
 #[test]
 fn sdo_tool_on_vcan() {
     let mut node = spawn_node(7);
-    let tool = |argv: &[&str]| {
-        common::sdo_tool(&["--bus", "socketcan:vcan0", "--timeout-ms", "5000"], argv)
-    };
-    let out = tool(&["read", "7", "0x1008:00", "vs"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let bus = ["--bus", "socketcan:vcan0", "--timeout-ms", "5000"];
     assert_eq!(
-        String::from_utf8_lossy(&out.stdout),
+        common::sdo_tool_ok(&bus, &["read", "7", "0x1008:00", "vs"]),
         "\"X67BC4321-10 / X67SM2436\"\n"
     );
-    assert!(tool(&["write", "7", "0x1017:00", "u16", "321"])
-        .status
-        .success());
+    common::sdo_tool_ok(&bus, &["write", "7", "0x1017:00", "u16", "321"]);
     assert_eq!(
-        String::from_utf8_lossy(&tool(&["read", "7", "0x1017:00", "u16"]).stdout),
+        common::sdo_tool_ok(&bus, &["read", "7", "0x1017:00", "u16"]),
         "321\n"
     );
-    assert_eq!(
-        tool(&["write", "7", "0x2110:00", "u8", "168"])
-            .status
-            .code(),
-        Some(1)
-    );
+    let refused = common::sdo_tool(&bus, &["write", "7", "0x2110:00", "u8", "168"]);
+    assert_eq!(refused.status.code(), Some(1));
     node.kill().unwrap();
     node.wait().unwrap();
 }

@@ -22,6 +22,19 @@ pub fn sdo_tool(global: &[&str], argv: &[&str]) -> Output {
         .expect("run sdo-tool")
 }
 
+/// `sdo-tool GLOBAL… ARGS…`, expected to succeed: its standard output.
+pub fn sdo_tool_ok(global: &[&str], argv: &[&str]) -> String {
+    let o = sdo_tool(global, argv);
+    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        o.status.success(),
+        "sdo-tool {argv:?}: {:?}\n{stdout}{}",
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    stdout
+}
+
 /// The X67 node (bus controller and one X67SM2436) of the library's runtime on `bus`, in a thread of
 /// its own; stopped when dropped.
 pub struct RunningNode {
