@@ -12,14 +12,15 @@
 
 use od::DeviceDescription;
 
+use crate::esc::Esc;
+use crate::sm::SyncManager;
+
 /// AL control register.
 pub const AL_CONTROL: u16 = 0x0120;
 /// AL status register.
 pub const AL_STATUS: u16 = 0x0130;
 /// AL status code register.
 pub const AL_STATUS_CODE: u16 = 0x0134;
-/// First SyncManager register block (8 bytes each).
-pub const SM_BASE: u16 = 0x0800;
 
 /// The states (AL status bits 0–3).
 pub mod state {
@@ -107,42 +108,21 @@ impl AlConfig {
     }
 }
 
-/// The SyncManager `n` as the master wrote it: (start, length, control, enabled).
-pub fn sm(mem: &dyn Fn(u16, usize) -> Vec<u8>, n: u16) -> (u16, u16, u8, bool) {
-    let r = mem(SM_BASE + 8 * n, 8);
-    (
-        u16::from_le_bytes([r[0], r[1]]),
-        u16::from_le_bytes([r[2], r[3]]),
-        r[4],
-        r[6] & 0x01 != 0,
-    )
-}
-
-/// SYNC0 off, or on with a cycle time in `range`.
-fn sync0_accepted((lo, hi): (u32, u32), mem: &dyn Fn(u16, usize) -> Vec<u8>) -> bool {
-    let activation = mem(crate::dc::SYNC_ACTIVATION, 1)[0];
-    if activation & 0x03 != 0x03 {
-        return true;
+impl SmRule {
+    /// Whether SyncManager `sm` is enabled and set as this rule says.
+    fn accepts(&self, sm: SyncManager) -> bool {
+        sm.enabled
+            && sm.start == self.start
+            && (self.len.0..=self.len.1).contains(&sm.len)
+            && sm.control == self.control
     }
-    let c = mem(crate::dc::SYNC0_CYCLE, 4);
-    (lo..=hi).contains(&u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
 }
 
-fn matches(rule: &SmRule, (start, len, control, enabled): (u16, u16, u8, bool)) -> bool {
-    enabled
-        && start == rule.start
-        && (rule.len.0..=rule.len.1).contains(&len)
-        && control == rule.control
-}
-
-/// The outcome of an AL control write: the new state and status code (0 when accepted).
-pub fn transition(
-    config: &AlConfig,
-    current: u8,
-    error: bool,
-    control: u16,
-    mem: &dyn Fn(u16, usize) -> Vec<u8>,
-) -> (u8, u16) {
+/// The outcome of writing `control` to the AL control register of `esc` (its configuration, state
+/// and registers as they are): the new state and status code (0 when accepted).
+pub fn transition(esc: &Esc, control: u16) -> (u8, u16) {
+    let config = &esc.al;
+    let (current, error) = esc.al_state();
     let requested = (control & 0x0F) as u8;
     let acknowledge = control & 0x10 != 0;
     if error && !acknowledge {
@@ -154,7 +134,9 @@ pub fn transition(
         state::BOOT => (current, code::BOOTSTRAP_NOT_SUPPORTED),
         state::PREOP => match current {
             state::INIT => match &config.mailbox {
-                Some([out, inn]) if !(matches(out, sm(mem, 0)) && matches(inn, sm(mem, 1))) => {
+                Some([out, inn])
+                    if !(out.accepts(esc.sync_manager(0)) && inn.accepts(esc.sync_manager(1))) =>
+                {
                     (current, code::INVALID_MAILBOX)
                 }
                 _ => ok,
@@ -164,14 +146,20 @@ pub fn transition(
         },
         state::SAFEOP => match current {
             state::PREOP => {
-                if config.outputs.is_some_and(|r| !matches(&r, sm(mem, 2))) {
-                    (current, code::INVALID_OUTPUTS)
-                } else if config.inputs.is_some_and(|r| !matches(&r, sm(mem, 3))) {
-                    (current, code::INVALID_INPUTS)
-                } else if config
-                    .sync0_cycle
-                    .is_some_and(|range| !sync0_accepted(range, mem))
+                if config
+                    .outputs
+                    .is_some_and(|r| !r.accepts(esc.sync_manager(2)))
                 {
+                    (current, code::INVALID_OUTPUTS)
+                } else if config
+                    .inputs
+                    .is_some_and(|r| !r.accepts(esc.sync_manager(3)))
+                {
+                    (current, code::INVALID_INPUTS)
+                } else if config.sync0_cycle.is_some_and(|(lo, hi)| {
+                    // SYNC0 off is accepted; on, its cycle time must be in the range.
+                    esc.sync0_cycle().is_some_and(|c| !(lo..=hi).contains(&c))
+                }) {
                     (current, code::SYNC0_CYCLE_TIME)
                 } else {
                     ok

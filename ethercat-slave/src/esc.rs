@@ -320,11 +320,8 @@ impl Esc {
         let touches = |reg: u16, n: usize| touches(ado, len, reg, n);
         if touches(crate::al::AL_CONTROL, 2) {
             let control = self.read_u16(crate::al::AL_CONTROL);
-            let status = self.read_u16(crate::al::AL_STATUS);
-            let current = (status & 0x0F) as u8;
-            let error = status & 0x10 != 0;
-            let mem = |at: u16, n: usize| self.load(at, n);
-            let (next, code) = crate::al::transition(&self.al, current, error, control, &mem);
+            let (current, _) = self.al_state();
+            let (next, code) = crate::al::transition(self, control);
             if code == u16::MAX {
                 // Error not acknowledged: nothing changes.
             } else if code == crate::al::code::NONE {
