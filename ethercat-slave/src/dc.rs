@@ -71,8 +71,7 @@ impl Esc {
     }
 
     fn u64_at(&self, at: u16) -> u64 {
-        let r = self.load(at, 8);
-        u64::from_le_bytes([r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]])
+        u64::from_le_bytes(self.bytes_at(at))
     }
 
     /// Before the master reads DC registers: the system time and the next SYNC0 time are current.
@@ -124,16 +123,15 @@ impl Esc {
             self.store(SYSTEM_TIME, &before);
         }
         if touches(at, len, SYNC_ACTIVATION, 1) {
-            let act = self.load(SYNC_ACTIVATION, 1)[0];
+            let [act] = self.bytes_at(SYNC_ACTIVATION);
             self.clock.next_sync0 = (act & 0x03 == 0x03).then(|| self.u64_at(START_TIME));
         }
     }
 
     /// SYNC0 cycle time while cyclic operation and SYNC0 are activated.
     pub fn sync0_cycle(&self) -> Option<u32> {
-        let act = self.load(SYNC_ACTIVATION, 1)[0];
-        let r = self.load(SYNC0_CYCLE, 4);
-        (act & 0x03 == 0x03).then(|| u32::from_le_bytes([r[0], r[1], r[2], r[3]]))
+        let [act] = self.bytes_at(SYNC_ACTIVATION);
+        (act & 0x03 == 0x03).then(|| u32::from_le_bytes(self.bytes_at(SYNC0_CYCLE)))
     }
 
     /// The SYNC0 events up to the present system time: the system time of the last one that passed

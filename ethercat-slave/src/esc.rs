@@ -234,7 +234,8 @@ impl Esc {
         if self.watchdog_elapsed >= time && !self.watchdog_expired {
             self.watchdog_expired = true;
             self.store(WATCHDOG_STATUS_PD, &[0, 0]);
-            let count = self.load(WATCHDOG_COUNTER_PD, 1)[0].saturating_add(1);
+            let [count] = self.bytes_at(WATCHDOG_COUNTER_PD);
+            let count = count.saturating_add(1);
             self.store(WATCHDOG_COUNTER_PD, &[count]);
             return true;
         }
@@ -260,15 +261,14 @@ impl Esc {
 
     /// A 16-bit register.
     pub fn read_u16(&self, at: u16) -> u16 {
-        let a = usize::from(at);
-        u16::from_le_bytes([self.mem[a], self.mem[(a + 1) % MEMORY]])
+        u16::from_le_bytes(self.bytes_at(at))
     }
 
-    /// Sets memory from the slave's side (the application).
+    /// Sets memory from the slave's side (the application); bytes past the end are left out.
     pub fn store(&mut self, at: u16, bytes: &[u8]) {
-        for (k, b) in bytes.iter().enumerate().take(MEMORY - usize::from(at)) {
-            self.mem[(usize::from(at) + k) % MEMORY] = *b;
-        }
+        let at = usize::from(at);
+        let n = bytes.len().min(MEMORY - at);
+        self.mem[at..at + n].copy_from_slice(&bytes[..n]);
     }
 
     /// Memory as the master sees it.
@@ -276,6 +276,11 @@ impl Esc {
         (0..len)
             .map(|k| self.mem[(usize::from(at) + k) % MEMORY])
             .collect()
+    }
+
+    /// `N` bytes of memory from `at`, as [`load`](Esc::load) reads them.
+    pub fn bytes_at<const N: usize>(&self, at: u16) -> [u8; N] {
+        std::array::from_fn(|k| self.mem[(usize::from(at) + k) % MEMORY])
     }
 
     /// Reads into `data` (ORed for broadcasts, as an ESC ORs a broadcast read).
@@ -292,10 +297,7 @@ impl Esc {
         let len = data.len();
         let sm_before = touches(ado, len, crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS)
             .then(|| self.load(crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS));
-        let time_before: [u8; 8] = {
-            let r = self.load(crate::dc::SYSTEM_TIME, 8);
-            [r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7]]
-        };
+        let time_before: [u8; 8] = self.bytes_at(crate::dc::SYSTEM_TIME);
         let kept: Vec<(u16, Vec<u8>)> = READ_ONLY
             .iter()
             .filter(|(r, n)| touches(ado, len, *r, *n))
@@ -334,8 +336,7 @@ impl Esc {
         }
         if touches(EEPROM_CONTROL, 2) {
             let control = self.read_u16(EEPROM_CONTROL);
-            let r = self.load(EEPROM_ADDRESS, 4);
-            let word = u32::from_le_bytes([r[0], r[1], r[2], r[3]]) as usize;
+            let word = u32::from_le_bytes(self.bytes_at(EEPROM_ADDRESS)) as usize;
             // Bit 6: 8 bytes are read at once; bit 0 (write enable) clears itself.
             let mut status = 0x0040;
             match (control >> 8) & 0x07 {
@@ -347,7 +348,7 @@ impl Esc {
                 }
                 // Write: one word from the data register, with write enable in the same access.
                 0x02 if control & 0x0001 != 0 && word * 2 + 1 < self.sii.len() => {
-                    let d = self.load(EEPROM_DATA, 2);
+                    let d: [u8; 2] = self.bytes_at(EEPROM_DATA);
                     self.sii[word * 2..word * 2 + 2].copy_from_slice(&d);
                 }
                 0x02 => status |= 0x2000, // write error: not enabled, or beyond the image

@@ -162,7 +162,7 @@ impl Esc {
         for n in 0..SYNC_MANAGERS {
             let b = 8 * n;
             let at = SM_BASE + b as u16;
-            let now = self.load(at, 8);
+            let now: [u8; 8] = self.bytes_at(at);
             // Status (5) and PDI control (7) are read-only for the master.
             self.store(at + 5, &[before[b + 5]]);
             self.store(at + 7, &[before[b + 7]]);

@@ -267,10 +267,8 @@ impl SmdChain {
                 ago.min(dt)
             });
             if al == state::OP {
-                let raw = esc.load(self.outputs_at, PROCESS_DATA_LEN);
-                let mut b = [0u8; PROCESS_DATA_LEN];
-                b.copy_from_slice(&raw);
-                unit.model.write_outputs(&decode_outputs(&b));
+                let outputs = esc.bytes_at(self.outputs_at);
+                unit.model.write_outputs(&decode_outputs(&outputs));
             }
             let inputs = match sync0 {
                 // The model runs up to the SYNC0 event, takes it, and runs on from it.
