@@ -89,7 +89,6 @@ pub fn run(
     let mut stats = Stats::default();
     let mut buf = vec![0u8; 9_216];
     let start = Instant::now();
-    let mut advanced = Duration::ZERO;
     let mut next_step = options.cycle;
     let mut next_carrier = Duration::ZERO;
     let mut link = carrier(&options.interface).unwrap_or(true);
@@ -109,9 +108,7 @@ pub fn run(
                     break;
                 };
                 spin_until = Instant::now() + options.busy_poll;
-                let t = start.elapsed();
-                chain.advance(t.saturating_sub(advanced));
-                advanced = advanced.max(t);
+                chain.advance_to(start.elapsed());
                 let frame = &mut buf[..n];
                 match chain.process(frame) {
                     Ok(()) => {
@@ -130,8 +127,7 @@ pub fn run(
         }
         let t = start.elapsed();
         if t >= next_step {
-            chain.advance(t.saturating_sub(advanced));
-            advanced = advanced.max(t);
+            chain.advance_to(t);
             chain.step();
             next_step += options.cycle;
             if next_step < t {

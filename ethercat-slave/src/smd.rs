@@ -244,6 +244,14 @@ impl SmdChain {
         self.chain.set_time(self.time_ns);
     }
 
+    /// Moves the chain's clock on to `t` since it started, if it is not there yet.
+    pub fn advance_to(&mut self, t: Duration) {
+        let now = Duration::from_nanos(self.time_ns);
+        if t > now {
+            self.advance(t - now);
+        }
+    }
+
     /// The chain's clock in nanoseconds since it started.
     pub fn time_ns(&self) -> u64 {
         self.time_ns
