@@ -206,24 +206,18 @@ fn smd_r2_023_each_move_its_own_acceleration_type() {
     assert_eq!(r.last.jerk, 50);
     r.command(cmd0::IMMEDIATE_STOP);
     r.command(0);
-    // Relative with Jerk 150.
-    r.out.jerk = 150;
-    assert_ramp(first_ramp(&mut r, cmd0::RELATIVE_MOVE), 150, "Relative");
-    assert_eq!(r.last.jerk, 150);
-    r.command(cmd0::IMMEDIATE_STOP);
-    r.command(0);
-    // Jog with Jerk 50.
-    r.out.jerk = 50;
-    assert_ramp(first_ramp(&mut r, cmd0::JOG_CW), 50, "Jog");
-    assert_eq!(r.last.jerk, 50);
-    r.command(cmd0::IMMEDIATE_STOP);
-    r.command(0);
-    // Find Home with Jerk 150.
-    r.out.jerk = 150;
-    assert_ramp(first_ramp(&mut r, cmd0::FIND_HOME_CW), 150, "Find Home");
-    assert_eq!(r.last.jerk, 150);
-    r.command(cmd0::IMMEDIATE_STOP);
-    r.command(0);
+    // Relative with Jerk 150, Jog with Jerk 50, Find Home with Jerk 150.
+    for (command, jerk, what) in [
+        (cmd0::RELATIVE_MOVE, 150, "Relative"),
+        (cmd0::JOG_CW, 50, "Jog"),
+        (cmd0::FIND_HOME_CW, 150, "Find Home"),
+    ] {
+        r.out.jerk = jerk;
+        assert_ramp(first_ramp(&mut r, command), jerk, what);
+        assert_eq!(r.last.jerk, jerk, "{what}");
+        r.command(cmd0::IMMEDIATE_STOP);
+        r.command(0);
+    }
     // Registration: Jerk word 1 is the MRMD's high word (MRMD 65,536 steps), the ramp is linear.
     r.out.cmd1 |= cmd1::REGISTRATION_MOVE;
     r.out.jerk = 1;
