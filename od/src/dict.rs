@@ -418,6 +418,14 @@ impl Dictionary {
         Ok(())
     }
 
+    /// Sets `index:sub` as a configuration value (a DCF `ParameterValue`): stored as by
+    /// [`Dictionary::store`] and marked as set, so that a DCF writer writes it.
+    pub fn store_parameter(&mut self, index: u16, sub: u8, bytes: &[u8]) -> Result<(), OdError> {
+        self.store(index, sub, bytes)?;
+        self.entry_mut(index, sub)?.value_set = true;
+        Ok(())
+    }
+
     /// Sets `index:sub` to a typed value from the device's side (see [`Dictionary::store`]).
     pub fn store_value(&mut self, index: u16, sub: u8, value: &Value) -> Result<(), OdError> {
         let bytes = self.encode_for(index, sub, value)?;

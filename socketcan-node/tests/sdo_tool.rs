@@ -367,14 +367,7 @@ fn dump_and_apply() {
         (0x1600, 1, 0x2100_0020u32.to_le_bytes().to_vec()),
         (0x2110, 0, vec![20]),
     ] {
-        d.dictionary.store(index, sub, &bytes).unwrap();
-        d.dictionary
-            .object_mut(index)
-            .unwrap()
-            .subs
-            .get_mut(&sub)
-            .unwrap()
-            .value_set = true;
+        d.dictionary.store_parameter(index, sub, &bytes).unwrap();
     }
     let bad = dir.path().join("bad.dcf");
     std::fs::write(&bad, od::eds::write_dcf(d)).unwrap();

@@ -228,14 +228,7 @@ fn dump_and_apply() {
         (4, 400u16.to_le_bytes().to_vec()),
         (7, 20u16.to_le_bytes().to_vec()),
     ] {
-        d.dictionary.store(0x8010, sub, &bytes).unwrap();
-        d.dictionary
-            .object_mut(0x8010)
-            .unwrap()
-            .subs
-            .get_mut(&sub)
-            .unwrap()
-            .value_set = true;
+        d.dictionary.store_parameter(0x8010, sub, &bytes).unwrap();
     }
     let file = dir.path().join("config.dcf");
     std::fs::write(&file, od::eds::write_dcf(d)).unwrap();

@@ -597,14 +597,11 @@ impl<'a> SdoCommands<'a> {
         for a in addrs {
             match self.read_raw(node, a) {
                 Ok(bytes) => {
-                    if desc.dictionary.store(a.index, a.sub, &bytes).is_ok() {
-                        if let Some(e) = desc
-                            .dictionary
-                            .object_mut(a.index)
-                            .and_then(|o| o.subs.get_mut(&a.sub))
-                        {
-                            e.value_set = true;
-                        }
+                    if desc
+                        .dictionary
+                        .store_parameter(a.index, a.sub, &bytes)
+                        .is_ok()
+                    {
                         read += 1;
                     }
                 }
