@@ -7,7 +7,7 @@
 //! 1 at each slave that writes. Auto-increment addressing: each slave takes the datagram when its ADP
 //! is 0 and increments ADP as the frame passes.
 
-use crate::frame::{datagrams, FrameError};
+use crate::frame::{datagrams, DatagramAt, FrameError};
 
 /// Commands (ETG.1000.4 Table 14).
 pub mod cmd {
@@ -549,17 +549,10 @@ impl Chain {
                     cmd::BWR => (Some(Access::Write), true, true, false),
                     cmd::BRW => (Some(Access::ReadWrite), true, true, true),
                     cmd::LRD | cmd::LWR | cmd::LRW => {
-                        let addr = u32::from_le_bytes([
-                            frame[d.start + 2],
-                            frame[d.start + 3],
-                            frame[d.start + 4],
-                            frame[d.start + 5],
-                        ]);
-                        let (data, wkc_at) = (d.data(), d.wkc());
-                        let inc = esc.logical(command, addr, &mut frame[data..data + d.len]);
-                        let wkc = u16::from_le_bytes([frame[wkc_at], frame[wkc_at + 1]])
-                            .wrapping_add(inc);
-                        frame[wkc_at..wkc_at + 2].copy_from_slice(&wkc.to_le_bytes());
+                        // The 32-bit logical address takes the place of ADP and ADO.
+                        let addr = u32::from(adp) | (u32::from(ado) << 16);
+                        let inc = esc.logical(command, addr, &mut frame[d.data()..d.wkc()]);
+                        add_wkc(frame, d, inc);
                         (None, false, false, false)
                     }
                     // NOP passes unchanged.
@@ -568,12 +561,9 @@ impl Chain {
                 if let Some(access) = access {
                     let multiple = access == Access::ReadMultipleWrite;
                     if addressed || multiple {
-                        let (data, wkc_at) = (d.data(), d.wkc());
-                        let buf = &mut frame[data..data + d.len];
+                        let buf = &mut frame[d.data()..d.wkc()];
                         let inc = esc.access(access, ado, buf, or, addressed);
-                        let wkc = u16::from_le_bytes([frame[wkc_at], frame[wkc_at + 1]])
-                            .wrapping_add(inc);
-                        frame[wkc_at..wkc_at + 2].copy_from_slice(&wkc.to_le_bytes());
+                        add_wkc(frame, d, inc);
                     }
                     if auto {
                         // Broadcasts increment ADP too (ETG.1000.4: "position" counts slaves).
@@ -585,4 +575,11 @@ impl Chain {
         }
         Ok(())
     }
+}
+
+/// Adds `inc` to the working counter of datagram `d` in `frame`.
+fn add_wkc(frame: &mut [u8], d: &DatagramAt, inc: u16) {
+    let at = d.wkc();
+    let wkc = u16::from_le_bytes([frame[at], frame[at + 1]]).wrapping_add(inc);
+    frame[at..at + 2].copy_from_slice(&wkc.to_le_bytes());
 }
