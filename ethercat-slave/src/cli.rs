@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use clap::{Parser, ValueEnum};
+use clap::Parser;
 use ds402::smd::binding::Device;
 
 use crate::runtime::{self, Options, RuntimeError, Stats};
@@ -36,8 +36,8 @@ pub struct Args {
     pub units: u16,
 
     /// Which unit.
-    #[arg(long, value_enum, default_value_t = Model::Smd23kB)]
-    pub device: Model,
+    #[arg(long, value_enum, default_value_t = Device::Smd23kB)]
+    pub device: Device,
 
     /// The units' process-data cycle in µs (how often the model runs and the inputs refresh), 250 to
     /// 10000.
@@ -48,26 +48,6 @@ pub struct Args {
     /// 1000): a faster answer to a master that sends its next frame at once, for CPU time.
     #[arg(long, value_name = "US", default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=1000))]
     pub busy_poll_us: u64,
-}
-
-/// The units of the ESI.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Model {
-    /// SMD23K-B.
-    #[value(name = "smd23k-b")]
-    Smd23kB,
-    /// SMD24K.
-    #[value(name = "smd24k")]
-    Smd24k,
-}
-
-impl From<Model> for Device {
-    fn from(m: Model) -> Device {
-        match m {
-            Model::Smd23kB => Device::Smd23kB,
-            Model::Smd24k => Device::Smd24k,
-        }
-    }
 }
 
 /// Why `smd-ethercat` stopped with an error.
@@ -95,7 +75,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError
     };
     let options = Options {
         interface: args.interface.clone(),
-        device: args.device.into(),
+        device: args.device,
         units: usize::from(args.units),
         cycle: Duration::from_micros(args.cycle_us),
         busy_poll: Duration::from_micros(args.busy_poll_us),

@@ -58,12 +58,14 @@ pub const FIXTURE_ESI: &str = include_str!("../../../fixtures/smd/SMD23K-B_SMD24
 /// The file name [`FIXTURE_ESI`] goes by in errors.
 pub const FIXTURE_NAME: &str = "SMD23K-B_SMD24K.esi.xml";
 
-/// Which of the two units of the ESI.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// Which of the two units of the ESI (on a command line: `smd23k-b`, `smd24k`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum Device {
     /// The SMD23K-B (size 23 motor).
+    #[value(name = "smd23k-b")]
     Smd23kB,
     /// The SMD24K (size 24 motor).
+    #[value(name = "smd24k")]
     Smd24k,
 }
 
