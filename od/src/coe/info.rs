@@ -25,7 +25,7 @@
 use crate::abort::AbortCode;
 use crate::coe::mailbox::{CoeHeader, CoeService, MAILBOX_HEADER_LEN};
 use crate::dict::Dictionary;
-use crate::object::{AccessType, EcatStates, ObjectKind, PdoMapping, SubObject};
+use crate::object::{EcatStates, ObjectKind, PdoMapping, SubObject};
 use crate::types::DataType;
 
 /// Bytes of the SDO Information header.
@@ -109,8 +109,7 @@ fn serve(body: &[u8], d: &Dictionary) -> Result<(u8, Vec<u8>), AbortCode> {
         opcode::GET_ENTRY => {
             let index = u16_at(0)?;
             let sub = *request.get(2).ok_or(AbortCode::InvalidCommand)?;
-            let object = d.object(index).ok_or(AbortCode::NoObject)?;
-            let entry = object.subs.get(&sub).ok_or(AbortCode::NoSubIndex)?;
+            let entry = d.entry(index, sub)?;
             let mut out = index.to_le_bytes().to_vec();
             out.push(sub);
             out.push(0);
@@ -139,12 +138,8 @@ fn od_list(d: &Dictionary, list: u16) -> Result<Vec<u16>, AbortCode> {
     };
     match list {
         1 => Ok(d.objects().map(|o| o.index).collect()),
-        2 => Ok(mappable(&|p| {
-            matches!(p, PdoMapping::Rpdo | PdoMapping::Both)
-        })),
-        3 => Ok(mappable(&|p| {
-            matches!(p, PdoMapping::Tpdo | PdoMapping::Both)
-        })),
+        2 => Ok(mappable(&PdoMapping::rpdo)),
+        3 => Ok(mappable(&PdoMapping::tpdo)),
         4 | 5 => Ok(Vec::new()),
         _ => Err(AbortCode::UnsupportedAccess),
     }
@@ -182,22 +177,17 @@ fn object_access(e: &SubObject) -> u16 {
             .map(|(k, _)| 1u16 << k)
             .sum()
     };
-    let readable = !matches!(e.access.kind, AccessType::Wo);
-    let writable = matches!(
-        e.access.kind,
-        AccessType::Wo | AccessType::Rw | AccessType::Rwr | AccessType::Rww
-    );
     let mut a = 0;
-    if readable {
+    if e.access.kind.readable() {
         a |= bits(e.access.read_states.unwrap_or(all));
     }
-    if writable {
+    if e.access.kind.writable() {
         a |= bits(e.access.write_states.unwrap_or(all)) << 3;
     }
-    if matches!(e.pdo, PdoMapping::Rpdo | PdoMapping::Both) {
+    if e.pdo.rpdo() {
         a |= 1 << 6;
     }
-    if matches!(e.pdo, PdoMapping::Tpdo | PdoMapping::Both) {
+    if e.pdo.tpdo() {
         a |= 1 << 7;
     }
     a
