@@ -222,7 +222,7 @@ pub fn run(
         Some(path) => Some(load_description(path, "--od")?),
         None => None,
     };
-    let od = desc.as_ref().map(|d| d.dictionary.clone());
+    let timeout = Duration::from_millis(args.timeout_ms.max(1));
     if let Some(interface) = &args.ethercat {
         if !is_sdo_command(&args.command) {
             return Err(ToolError::Usage(format!(
@@ -231,17 +231,16 @@ pub fn run(
                 command_name(&args.command)
             )));
         }
-        let timeout = Duration::from_millis(args.timeout_ms.max(1));
         let mut session = EthercatSession::open(interface, timeout)?;
-        let mut commands = SdoCommands::new(&mut session, od.as_ref());
+        let mut commands = SdoCommands::new(&mut session, desc.as_ref().map(|d| &d.dictionary));
         return sdo_command(&mut commands, args, desc.as_ref(), out);
     }
     let bus = match bus {
         Some(b) => b,
         None => open_bus(args.bus.as_ref())?,
     };
-    let mut tool = Tool::new(bus, od);
-    tool.set_timeout(Duration::from_millis(args.timeout_ms.max(1)));
+    let mut tool = Tool::new(bus, desc.as_ref().map(|d| d.dictionary.clone()));
+    tool.set_timeout(timeout);
     tool.sdo.block = !args.no_block;
     let io = |e: std::io::Error| ToolError::Sdo(format!("cannot write the output: {e}"));
     let json = args.json;
@@ -432,7 +431,7 @@ fn sdo_command(
                 &v,
                 serde_json::json!({
                     "node": node,
-                    "object": format!("0x{:04X}:{:02X}", addr.index, addr.sub),
+                    "object": addr.to_string(),
                     "value": v,
                 }),
             )?;
@@ -455,7 +454,7 @@ fn sdo_command(
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
             let not_read: Vec<String> = refused
                 .iter()
-                .map(|(a, code)| format!("0x{:04X}:{:02X}: not read, {code}", a.index, a.sub))
+                .map(|(a, code)| format!("{a}: not read, {code}"))
                 .collect();
             let mut text = not_read.join("\n");
             if !text.is_empty() {
@@ -482,20 +481,16 @@ fn sdo_command(
             let mut lines = Vec::new();
             let result = commands.apply(*node, &dcf, *dry_run, |step| {
                 use super::ApplyStep::*;
-                let at = |a: &od::Address| format!("0x{:04X}:{:02X}", a.index, a.sub);
                 lines.push(match step {
-                    WouldWrite { addr, value } => format!("would write {} = {value}", at(addr)),
-                    Written { addr, value } => format!("wrote {} = {value}", at(addr)),
+                    WouldWrite { addr, value } => format!("would write {addr} = {value}"),
+                    Written { addr, value } => format!("wrote {addr} = {value}"),
                     Differs {
                         addr,
                         value,
                         read_back,
-                    } => format!("DIFFERS {} = {value}, reads back {read_back}", at(addr)),
+                    } => format!("DIFFERS {addr} = {value}, reads back {read_back}"),
                     Refused { addr, value, error } => {
-                        format!(
-                            "REFUSED {} = {value}: {error}; nothing after it written",
-                            at(addr)
-                        )
+                        format!("REFUSED {addr} = {value}: {error}; nothing after it written")
                     }
                 });
             });

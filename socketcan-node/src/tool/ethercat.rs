@@ -200,31 +200,6 @@ impl EthercatSession {
         })
     }
 
-    /// Slaves in the chain.
-    pub fn len(&self) -> usize {
-        self.group.len()
-    }
-
-    /// True for a chain of none (never, once open).
-    pub fn is_empty(&self) -> bool {
-        self.group.is_empty()
-    }
-
-    /// The name (from its SII) of the slave at `position` (1 = first).
-    pub fn name(&self, position: u8) -> Option<String> {
-        let k = usize::from(position).checked_sub(1)?;
-        let sd = self.group.subdevice(&self.maindevice, k).ok()?;
-        Some(sd.name().to_string())
-    }
-
-    /// The identity (vendor, product, revision, serial number, from its SII) of the slave at
-    /// `position`.
-    pub fn identity(&self, position: u8) -> Option<(u32, u32, u32, u32)> {
-        let k = usize::from(position).checked_sub(1)?;
-        let id = self.group.subdevice(&self.maindevice, k).ok()?.identity();
-        Some((id.vendor_id, id.product_id, id.revision, id.serial))
-    }
-
     /// The tool's error for the end of the TX/RX task.
     fn ended(&self, TaskEnded(why): TaskEnded) -> ToolError {
         ToolError::Ethercat(format!("interface {}: {why}", self.interface))
@@ -244,14 +219,10 @@ impl EthercatSession {
                 node: position,
                 ms: self.timeout.as_millis(),
             },
-            Failure::Master(e) => ToolError::Ethercat(format!(
-                "0x{:04X}:{:02X} of slave {position}: {e}",
-                addr.index, addr.sub
-            )),
-            Failure::Protocol(text) => ToolError::Ethercat(format!(
-                "0x{:04X}:{:02X} of slave {position}: {text}",
-                addr.index, addr.sub
-            )),
+            Failure::Master(e) => ToolError::Ethercat(format!("{addr} of slave {position}: {e}")),
+            Failure::Protocol(text) => {
+                ToolError::Ethercat(format!("{addr} of slave {position}: {text}"))
+            }
         }
     }
 }

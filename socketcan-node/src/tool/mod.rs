@@ -281,7 +281,7 @@ pub struct ScanEntry {
     pub name: Option<String>,
 }
 
-/// One step of [`Tool::apply`].
+/// One step of [`SdoCommands::apply`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ApplyStep {
     /// `--dry-run`: would be written.
@@ -318,7 +318,7 @@ pub enum ApplyStep {
     },
 }
 
-/// What [`Tool::apply`] did.
+/// What [`SdoCommands::apply`] did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ApplyOutcome {
     /// Entries written (or, with `--dry-run`, to be written).
@@ -525,7 +525,7 @@ impl<'a> SdoCommands<'a> {
         })?;
         let e = od
             .entry(addr.index, addr.sub)
-            .map_err(|e| ToolError::Usage(format!("0x{:04X}:{:02X}: {e}", addr.index, addr.sub)))?;
+            .map_err(|e| ToolError::Usage(format!("{addr}: {e}")))?;
         Ok(TypeCode::of(e.data_type))
     }
 
@@ -557,8 +557,7 @@ impl<'a> SdoCommands<'a> {
             // Refused before anything is sent: what the dictionary refuses, the node would too.
             if let Err(e) = od.check(addr.index, addr.sub, &bytes) {
                 return Err(ToolError::Usage(format!(
-                    "0x{:04X}:{:02X} = {value}: {e} (not sent)",
-                    addr.index, addr.sub
+                    "{addr} = {value}: {e} (not sent)"
                 )));
             }
         }
@@ -823,34 +822,6 @@ impl Tool {
             });
         }
         Ok(out)
-    }
-
-    /// The raw bytes of `addr` on `node`.
-    pub fn read_raw(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
-        self.with_commands(|c| c.read_raw(node, addr))
-    }
-
-    /// `dump`: every readable entry of `desc`'s dictionary read from `node` into it (its current
-    /// values, marked as set so a DCF carries them). Returns how many were read and the entries the
-    /// node refused, with the abort.
-    pub fn dump(
-        &mut self,
-        node: u8,
-        desc: &mut od::DeviceDescription,
-    ) -> Result<(usize, Vec<(Address, AbortCode)>), ToolError> {
-        self.with_commands(|c| c.dump(node, desc))
-    }
-
-    /// `apply`: writes every value the DCF sets (`ParameterValue`) to a writable entry, in index
-    /// order, reading each back. Stops at the first refused write. `dry_run` writes nothing.
-    pub fn apply(
-        &mut self,
-        node: u8,
-        dcf: &od::DeviceDescription,
-        dry_run: bool,
-        report: impl FnMut(&ApplyStep),
-    ) -> Result<ApplyOutcome, ToolError> {
-        self.with_commands(|c| c.apply(node, dcf, dry_run, report))
     }
 
     /// Sets the SDO timeout.

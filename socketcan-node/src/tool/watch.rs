@@ -105,7 +105,7 @@ impl Watcher {
                     let (name, ty) = match d.entry(e.index, e.sub) {
                         Ok(entry) => (entry.name.clone(), entry.data_type),
                         Err(_) => (
-                            format!("0x{:04X}:{:02X}", e.index, e.sub),
+                            od::Address::new(e.index, e.sub).to_string(),
                             DataType::Unsigned8,
                         ),
                     };
