@@ -31,6 +31,7 @@ use ethercrab::{
 };
 use futures_lite::future;
 use od::abort::AbortCode;
+use od::coe::mailbox::{MailboxHeader, MailboxType};
 use od::coe::sdo::{CoeSdo, CoeSdoCommand};
 use od::dict::Address;
 use od::sdo::frame::{ClientFrame, Multiplexer, ServerFrame};
@@ -275,34 +276,36 @@ async fn normal_download(
             .await?;
         Ok::<bool, Failure>(s & MAILBOX_FULL != 0)
     };
+    // Until SyncManager `sm`'s mailbox is full (`full`) or empty, at most until the deadline.
+    let until = |sm: u16, full: bool| async move {
+        while status(sm).await? != full {
+            if Instant::now() >= deadline {
+                return Err(Failure::Timeout);
+            }
+            async_io::Timer::after(Duration::from_micros(200)).await;
+        }
+        Ok(())
+    };
     // An answer nobody took is taken now; the write mailbox must be empty.
     if status(SM1).await? {
         Command::fprd(station, in_at)
             .receive_slice(maindevice, in_len)
             .await?;
     }
-    while status(SM0).await? {
-        if Instant::now() >= deadline {
-            return Err(Failure::Timeout);
-        }
-        async_io::Timer::after(Duration::from_micros(200)).await;
-    }
+    until(SM0, false).await?;
     Command::fpwr(station, out_at)
         .send_receive_slice(maindevice, request.as_slice())
         .await?;
-    while !status(SM1).await? {
-        if Instant::now() >= deadline {
-            return Err(Failure::Timeout);
-        }
-        async_io::Timer::after(Duration::from_micros(200)).await;
-    }
+    until(SM1, true).await?;
     let answer = Command::fprd(station, in_at)
         .receive_slice(maindevice, in_len)
         .await?;
     let answer: &[u8] = &answer;
     let (_, sdo) = CoeSdo::from_mailbox(answer).map_err(|e| {
-        Failure::Protocol(match answer.get(5).map(|t| t & 0x0F) {
-            Some(0) => "the slave answered with a mailbox error".to_string(),
+        Failure::Protocol(match MailboxHeader::parse(answer) {
+            Ok(h) if h.mailbox_type == MailboxType::Error => {
+                "the slave answered with a mailbox error".to_string()
+            }
             _ => format!("the slave's answer is no CoE SDO response: {e}"),
         })
     })?;
