@@ -83,6 +83,23 @@ pub struct DeviceArgs {
     pub revision: Option<u32>,
 }
 
+impl DeviceArgs {
+    /// Applies the identity file (when given) and then the override values to each of `devices`.
+    fn identify(&self, devices: &mut [DeviceDescription]) -> Result<(), Error> {
+        let identities = match &self.identity {
+            Some(p) => Some(IdentityFile::load(p)?),
+            None => None,
+        };
+        for dev in devices {
+            if let Some(ids) = &identities {
+                ids.apply(dev);
+            }
+            dev.override_identity(self.vendor_id, self.product_code, self.revision);
+        }
+        Ok(())
+    }
+}
+
 /// Arguments of `dcf`.
 #[derive(Debug, Args)]
 pub struct DcfArgs {
@@ -239,20 +256,9 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
             )
         }
         Command::Sii(a) => {
-            let (_, mut devices) = load_selected(&a.input, a.device.device.as_deref())?;
-            if devices.len() > 1 {
-                return Err(Error::SeveralDevices {
-                    path: a.input.clone(),
-                    available: list(&devices),
-                });
-            }
-            let mut dev = devices
-                .pop()
-                .ok_or_else(|| Error::NoDevice(a.input.clone()))?;
-            if let Some(p) = &a.device.identity {
-                IdentityFile::load(p)?.apply(&mut dev);
-            }
-            dev.override_identity(a.device.vendor_id, a.device.product_code, a.device.revision);
+            let (_, devices) = load_selected(&a.input, a.device.device.as_deref())?;
+            let mut dev = one(&a.input, devices)?;
+            a.device.identify(std::slice::from_mut(&mut dev))?;
             let image = od::sii::write(&dev, a.serial).map_err(|source| Error::Sii {
                 path: a.input.clone(),
                 source,
@@ -335,16 +341,7 @@ fn convert(
             available: list(&devices),
         });
     }
-    let identities = match &c.device.identity {
-        Some(p) => Some(IdentityFile::load(p)?),
-        None => None,
-    };
-    for dev in &mut devices {
-        if let Some(ids) = &identities {
-            ids.apply(dev);
-        }
-        dev.override_identity(c.device.vendor_id, c.device.product_code, c.device.revision);
-    }
+    c.device.identify(&mut devices)?;
     if let Some(name) = c
         .output
         .as_deref()
