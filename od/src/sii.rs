@@ -10,8 +10,6 @@
 //! a type word, a length word (in words) and the data: Strings (10), General (30), FMMU (40), SyncM
 //! (41), TxPDO (50), RxPDO (51), DC (60), End (0xFFFF).
 
-use std::fmt;
-
 use crate::device::{DeviceDescription, Pdo};
 use crate::types::DataType;
 
@@ -335,26 +333,6 @@ impl Image {
             .checked_sub(1)
             .and_then(|k| self.strings.get(usize::from(k)))
             .map_or("", String::as_str)
-    }
-}
-
-impl fmt::Display for Image {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let [v, p, r, s] = self.identity;
-        writeln!(
-            f,
-            "vendor 0x{v:08X}, product 0x{p:08X}, revision 0x{r:08X}, serial 0x{s:08X}"
-        )?;
-        let [ro, rl, to, tl] = self.mailbox;
-        writeln!(
-            f,
-            "mailbox out 0x{ro:04X}/{rl}, in 0x{to:04X}/{tl}, protocols 0x{:04X}",
-            self.protocols
-        )?;
-        for (k, d) in &self.categories {
-            writeln!(f, "category {k}: {} bytes", d.len())?;
-        }
-        Ok(())
     }
 }
 
