@@ -9,7 +9,7 @@ use od::types::DataType;
 use od::value::Value;
 
 use super::TypeCode;
-use crate::node::pdo::MapEntry;
+use crate::node::pdo::{PdoConfig, TPDO_COMM};
 use crate::CanFrame;
 
 /// The NMT state a heartbeat byte names.
@@ -79,40 +79,25 @@ impl Watcher {
             let mut d = od.clone();
             d.reset(node);
             for k in 0..512u16 {
-                let Some(cob) = d
-                    .read_value(0x1800 + k, 1)
-                    .ok()
-                    .and_then(|v| v.as_i128())
-                    .map(|v| v as u32)
-                else {
+                let Some(pdo) = PdoConfig::read(&d, TPDO_COMM + k).filter(PdoConfig::valid) else {
                     continue;
                 };
-                if cob & 0x8000_0000 != 0 {
-                    continue;
-                }
-                let count = d
-                    .read_value(0x1A00 + k, 0)
-                    .ok()
-                    .and_then(|v| v.as_i128())
-                    .unwrap_or(0);
-                let mut fields = Vec::new();
-                for s in 1..=count.clamp(0, 64) as u8 {
-                    let Some(raw) = d.read_value(0x1A00 + k, s).ok().and_then(|v| v.as_i128())
-                    else {
-                        continue;
-                    };
-                    let e = MapEntry::from_raw(raw as u32);
-                    let (name, ty) = match d.entry(e.index, e.sub) {
-                        Ok(entry) => (entry.name.clone(), entry.data_type),
-                        Err(_) => (
-                            od::Address::new(e.index, e.sub).to_string(),
-                            DataType::Unsigned8,
-                        ),
-                    };
-                    fields.push((name, ty, usize::from(e.bits / 8)));
-                }
+                let fields = pdo
+                    .map
+                    .iter()
+                    .map(|e| {
+                        let (name, ty) = match d.entry(e.index, e.sub) {
+                            Ok(entry) => (entry.name.clone(), entry.data_type),
+                            Err(_) => (
+                                od::Address::new(e.index, e.sub).to_string(),
+                                DataType::Unsigned8,
+                            ),
+                        };
+                        (name, ty, e.len())
+                    })
+                    .collect();
                 pdos.insert(
-                    (cob & 0x7FF) as u16,
+                    pdo.cob_id(),
                     PdoLayout {
                         number: k + 1,
                         fields,
