@@ -25,7 +25,7 @@ pub mod watch;
 use od::abort::AbortCode;
 use od::dict::{Address, Dictionary};
 use od::sdo::client::{ClientConfig, SdoClientError};
-use od::sdo::frame::{Frame, Multiplexer};
+use od::sdo::frame::{ClientFrame, Frame, Multiplexer};
 use od::sdo::session::{SdoSession, SdoTransport, SessionError};
 use od::types::DataType;
 use od::value::Value;
@@ -786,8 +786,12 @@ impl Tool {
     /// itself by boot-up or heartbeat within `wait`; then its identity and name.
     pub fn scan(&mut self, wait: Duration) -> Result<Vec<ScanEntry>, ToolError> {
         let mut found = std::collections::BTreeSet::new();
+        let device_type = ClientFrame::InitiateUpload {
+            mux: Multiplexer::new(0x1000, 0),
+        }
+        .emit();
         for id in 1..=127u16 {
-            let f = CanFrame::new(0x600 + id, &[0x40, 0x00, 0x10, 0, 0, 0, 0, 0]).expect("8 bytes");
+            let f = CanFrame::new(0x600 + id, &device_type).expect("8 bytes");
             self.bus.send(&f)?;
         }
         let end = Instant::now() + wait;
