@@ -624,6 +624,8 @@ enum Outcome {
 pub struct Indexer {
     kind: EncoderKind,
     config: Configuration,
+    /// `config` breaks a rule of "Invalid Configurations" (kept with it: it changes only with it).
+    config_error: bool,
     /// The configuration at power-up (online CoE writes are lost at power-off, SMD-T2-006).
     power_up_config: Configuration,
     prev: Outputs,
@@ -713,6 +715,7 @@ impl Indexer {
             kind,
             in_current: config.motor_current,
             config,
+            config_error: !config.is_valid(kind),
             power_up_config: config,
             prev: Outputs::default(),
             time: Duration::ZERO,
@@ -779,7 +782,7 @@ impl Indexer {
 
     /// True while the configuration in memory breaks a rule of "Invalid Configurations".
     pub fn configuration_error(&self) -> bool {
-        !self.config.is_valid(self.kind)
+        self.config_error
     }
 
     /// An SDO download to `8010:sub` (1–7) with `value`: stored whatever it is (an invalid value shows
@@ -789,6 +792,7 @@ impl Indexer {
         if !self.config.set(sub, value) {
             return false;
         }
+        self.config_error = !self.config.is_valid(self.kind);
         self.position_invalid = true;
         self.stall_reference();
         // A configuration write clears a RAM-only assembled move; a flash copy is active again
@@ -1262,6 +1266,9 @@ impl Indexer {
             self.programming = Some(Vec::new());
             self.waiting_for_segment = true;
         }
+        // The segment's checks are a move block's, Motor_Current aside.
+        let valid = POSITION_RANGE.contains(&out.position)
+            && self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, out.jerk);
         let Some(buf) = self.programming.as_mut() else {
             return;
         };
@@ -1273,11 +1280,6 @@ impl Indexer {
                 deceleration: out.deceleration,
                 jerk: out.jerk,
             };
-            let valid = POSITION_RANGE.contains(&seg.position)
-                && (self.config.starting_speed..=MAX_VELOCITY).contains(&seg.velocity)
-                && (1..=super::profile::MAX_ACCEL).contains(&seg.acceleration)
-                && (1..=super::profile::MAX_ACCEL).contains(&seg.deceleration)
-                && seg.jerk <= super::profile::MAX_JERK;
             if valid && buf.len() < MAX_SEGMENTS {
                 buf.push(seg);
             } else {
@@ -1630,12 +1632,10 @@ impl Indexer {
     /// Minimum Registration Move Distance is (Jerk << 16) | Motor_Current (SMD-R6-041 … -043).
     fn start_registration(&mut self, out: Outputs, dir: i64) -> Outcome {
         let mrmd = (u32::from(out.jerk) << 16) | u32::from(out.motor_current);
-        if !(0..=8_388_607).contains(&out.position)
-            || mrmd > 8_388_607
-            || !self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, 0)
-        {
+        if !(0..=8_388_607).contains(&out.position) || mrmd > 8_388_607 {
             return Outcome::CommandErrorComplete; // SMD-R6-040
         }
+        // Speed and ramps: the jog's own checks (Jerk 0, no Motor_Current) refuse them the same way.
         let params = Outputs {
             jerk: 0,
             cmd1: out.cmd1 & !cmd1::MOTOR_CURRENT,
