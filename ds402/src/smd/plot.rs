@@ -14,6 +14,16 @@ pub struct PlotError {
     pub reason: String,
 }
 
+impl PlotError {
+    /// The drawing of `path` failed with `reason`.
+    pub(crate) fn at(path: &Path, reason: &dyn std::fmt::Display) -> PlotError {
+        PlotError {
+            path: path.display().to_string(),
+            reason: reason.to_string(),
+        }
+    }
+}
+
 /// One curve of a chart.
 pub struct Series<'a> {
     /// Legend text.
@@ -30,10 +40,7 @@ pub fn line_chart(
     y_label: &str,
     series: &[Series<'_>],
 ) -> Result<(), PlotError> {
-    let err = |e: &dyn std::fmt::Display| PlotError {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    };
+    let err = |e: &dyn std::fmt::Display| PlotError::at(path, e);
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, 0.0f64, f64::MIN);
     for s in series {
         for &(x, y) in s.points {
@@ -98,7 +105,7 @@ pub fn line_chart(
 }
 
 /// Tick labels without needless decimals: 30000, 2.5, 0.125.
-fn format_tick(v: f64) -> String {
+pub(crate) fn format_tick(v: f64) -> String {
     if v == v.round() && v.abs() < 1e15 {
         format!("{v:.0}")
     } else {

@@ -83,7 +83,7 @@ use plotters::prelude::*;
 
 use super::config::{Configuration, EncoderKind};
 use super::indexer::{stat0, stat1, Indexer, Inputs, Outputs};
-use super::plot::PlotError;
+use super::plot::{format_tick, PlotError};
 
 /// The long help of `smd simulate` (the format of the script and of the table).
 pub const HELP: &str = "\
@@ -1124,16 +1124,6 @@ const LANES: [(&str, u8, u16); 11] = [
     ("IN2_Active", 1, stat1::IN2_ACTIVE),
 ];
 
-/// Tick labels without needless decimals.
-fn tick(v: f64) -> String {
-    if v == v.round() && v.abs() < 1e15 {
-        format!("{v:.0}")
-    } else {
-        let s = format!("{v:.4}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    }
-}
-
 /// A y range around `values` with 5 % room, never empty.
 fn y_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (mut lo, mut hi) = (0.0f64, 0.0f64);
@@ -1151,10 +1141,7 @@ fn y_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
 /// Draws `trace` to `path` as SVG: three panels over time — Motor_Position, speed, and a strip of
 /// status bits (Moving_CW … IN2_Active, a filled bar while the bit is 1).
 pub fn plot(trace: &Trace, path: &Path) -> Result<(), PlotError> {
-    let err = |e: &dyn fmt::Display| PlotError {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    };
+    let err = |e: &dyn fmt::Display| PlotError::at(path, e);
     let x = 0.0..trace.until.as_secs_f64();
     let pts = |f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
         trace
@@ -1192,8 +1179,8 @@ pub fn plot(trace: &Trace, path: &Path) -> Result<(), PlotError> {
         chart
             .configure_mesh()
             .y_desc(y_desc)
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
+            .x_label_formatter(&|v| format_tick(*v))
+            .y_label_formatter(&|v| format_tick(*v))
             .axis_desc_style(("sans-serif", 16))
             .draw()
             .map_err(|e| err(&e))?;
@@ -1229,7 +1216,7 @@ pub fn plot(trace: &Trace, path: &Path) -> Result<(), PlotError> {
         .configure_mesh()
         .disable_y_mesh()
         .x_desc("time [s]")
-        .x_label_formatter(&|v| tick(*v))
+        .x_label_formatter(&|v| format_tick(*v))
         .y_label_formatter(&lane_name)
         .axis_desc_style(("sans-serif", 16))
         .draw()
