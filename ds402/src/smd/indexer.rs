@@ -884,7 +884,8 @@ impl Indexer {
     /// Driver_Fault; the last move's current while moving and for 1.5 s after a stop; then the idle
     /// percentage of it (SMD-R1-018, -019, SMD-R2-101, -102, SMD-R6-061).
     pub fn actual_current(&self) -> f64 {
-        if !self.can_move() || self.driver_fault() {
+        // No current without Drive_Is_Enabled or with a Driver_Fault: what `can_move` says.
+        if !self.can_move() {
             return 0.0;
         }
         let running = f64::from(self.in_current);
