@@ -372,18 +372,22 @@ impl Dictionary {
 
     /// Reads `index:sub` as an SDO upload does: refused for write-only entries.
     pub fn read(&self, index: u16, sub: u8) -> Result<&[u8], OdError> {
+        Ok(&self.readable_entry(index, sub)?.value)
+    }
+
+    /// The sub-object at `index:sub` when an SDO may read it.
+    fn readable_entry(&self, index: u16, sub: u8) -> Result<&SubObject, OdError> {
         let entry = self.entry(index, sub)?;
         if !entry.access.kind.readable() {
             return Err(OdError::WriteOnly { index, sub });
         }
-        Ok(&entry.value)
+        Ok(entry)
     }
 
     /// Reads `index:sub` as a typed value (access checked as by [`Dictionary::read`]).
     pub fn read_value(&self, index: u16, sub: u8) -> Result<Value, OdError> {
-        let bytes = self.read(index, sub)?;
-        let entry = self.entry(index, sub)?;
-        Value::decode(entry.data_type, bytes).map_err(|e| OdError::InvalidValue {
+        let entry = self.readable_entry(index, sub)?;
+        Value::decode(entry.data_type, &entry.value).map_err(|e| OdError::InvalidValue {
             index,
             sub,
             reason: e.to_string(),
@@ -410,9 +414,8 @@ impl Dictionary {
     /// Sets `index:sub` from the device's side (the application, a PDO, a configuration file): the same
     /// checks as [`Dictionary::write`] except access, so read-only entries can be updated by their owner.
     pub fn store(&mut self, index: u16, sub: u8, bytes: &[u8]) -> Result<(), OdError> {
-        let entry = self.entry(index, sub)?;
-        check_value(index, sub, entry, bytes)?;
         let entry = self.entry_mut(index, sub)?;
+        check_value(index, sub, entry, bytes)?;
         entry.value.clear();
         entry.value.extend_from_slice(bytes);
         Ok(())
