@@ -1395,11 +1395,9 @@ impl Indexer {
         let last = run.idx == n - 1;
         self.segment = Some(seg);
         if last {
-            let vs = f64::from(self.config.starting_speed);
-            let v = seg.speed().max(vs);
-            let brake = Phase::new(vs, v, f64::from(seg.params.deceleration) * 1000.0, 0);
+            let brake = self.stop_ramp(&seg, 0);
             let left = total - covered;
-            if left <= brake.distance + v * self.last_dt {
+            if left <= brake.distance + brake.high * self.last_dt {
                 let done = covered.round() as i64;
                 self.assembled = None;
                 self.run_out((total as i64 - done).max(0));
@@ -1659,10 +1657,9 @@ impl Indexer {
     /// The registration run-out: exactly `stopping` more steps from here (SMD-R2-062, -064, -065).
     fn run_out(&mut self, stopping: i64) {
         let Some(seg) = self.segment else { return };
-        let vs = f64::from(self.config.starting_speed);
-        let v = seg.speed().max(vs);
-        let d = f64::from(seg.params.deceleration) * 1000.0;
-        let ramp = Phase::new(vs, v, d, 0);
+        // The run-out brakes linearly.
+        let ramp = self.stop_ramp(&seg, 0);
+        let (v, d) = (ramp.high, ramp.accel);
         let sd = stopping as f64;
         let (cruise, end) = if sd >= ramp.distance {
             let cruise = (sd - ramp.distance) / v;
@@ -1689,14 +1686,15 @@ impl Indexer {
         });
     }
 
-    /// The deceleration from `seg`'s present speed to the starting speed at its Deceleration and Jerk.
-    fn stop_ramp(&self, seg: &Segment) -> Phase {
+    /// The deceleration from `seg`'s present speed (at least the starting speed) to the starting
+    /// speed at its Deceleration, with the Jerk word `jerk`.
+    fn stop_ramp(&self, seg: &Segment, jerk: u16) -> Phase {
         let vs = f64::from(self.config.starting_speed);
         Phase::new(
             vs,
             seg.speed().max(vs),
             f64::from(seg.params.deceleration) * 1000.0,
-            seg.params.jerk,
+            jerk,
         )
     }
 
@@ -1704,7 +1702,7 @@ impl Indexer {
     /// at its Deceleration (SMD-R2-029), ending as `purpose` says.
     fn controlled_stop(&mut self, purpose: Purpose) {
         let Some(seg) = self.segment else { return };
-        let ramp = self.stop_ramp(&seg);
+        let ramp = self.stop_ramp(&seg, seg.params.jerk);
         self.segment = Some(Segment {
             base: seg.covered(),
             curve: Curve::Ramp(ramp),
@@ -1731,7 +1729,7 @@ impl Indexer {
                 self.controlled_stop(Purpose::Abort);
             }
             Purpose::Move => {
-                let ramp = self.stop_ramp(&seg);
+                let ramp = self.stop_ramp(&seg, seg.params.jerk);
                 let left = (seg.target - seg.origin).unsigned_abs() as f64 - seg.covered();
                 if ramp.distance >= left {
                     return; // Completes on its own deceleration.
