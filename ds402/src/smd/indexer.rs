@@ -415,12 +415,7 @@ impl Jog {
             ramp: None,
             covered: 0.0,
         };
-        jog.change(
-            to,
-            f64::from(p.acceleration) * 1000.0,
-            f64::from(p.deceleration) * 1000.0,
-            p.jerk,
-        );
+        jog.change(to, p.acceleration, p.deceleration, p.jerk);
         jog
     }
 
@@ -433,7 +428,10 @@ impl Jog {
     }
 
     /// Ramps from the present speed to `to` (steps/s) at `accel`/`decel` (steps/s²).
-    fn change(&mut self, to: f64, accel: f64, decel: f64, jerk: u16) {
+    /// A new target speed `to`, reached from the present speed with the Acceleration or Deceleration
+    /// word (in 1,000 steps/s²) and the Jerk word.
+    fn change(&mut self, to: f64, accel: u16, decel: u16, jerk: u16) {
+        let (accel, decel) = (f64::from(accel) * 1000.0, f64::from(decel) * 1000.0);
         let v = self.speed_now();
         self.ramp = if to > v {
             Some((Phase::new(v, to, accel, jerk), true, 0.0))
@@ -1384,8 +1382,8 @@ impl Indexer {
                 } else {
                     j.change(
                         f64::from(g.velocity),
-                        f64::from(g.acceleration) * 1000.0,
-                        f64::from(g.deceleration) * 1000.0,
+                        g.acceleration,
+                        g.deceleration,
                         g.jerk,
                     );
                 }
@@ -1615,8 +1613,8 @@ impl Indexer {
             if out.velocity != p.velocity {
                 j.change(
                     f64::from(out.velocity),
-                    f64::from(out.acceleration) * 1000.0,
-                    f64::from(out.deceleration) * 1000.0,
+                    out.acceleration,
+                    out.deceleration,
                     jerk,
                 );
             }
@@ -1876,8 +1874,8 @@ impl Indexer {
         {
             j.change(
                 vs,
-                f64::from(h.params.acceleration) * 1000.0,
-                f64::from(h.params.deceleration) * 1000.0,
+                h.params.acceleration,
+                h.params.deceleration,
                 h.params.jerk,
             );
         }
