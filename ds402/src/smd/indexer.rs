@@ -617,6 +617,15 @@ enum Outcome {
     InputError,
 }
 
+/// The limit input a move in direction `dir` (+1 CW, −1 CCW) runs into.
+fn limit_towards(dir: i64) -> InputFunction {
+    if dir > 0 {
+        InputFunction::CwLimit
+    } else {
+        InputFunction::CcwLimit
+    }
+}
+
 /// The unit: configuration, command processing, inputs, motion, status.
 #[derive(Debug, Clone)]
 pub struct Indexer {
@@ -1531,11 +1540,7 @@ impl Indexer {
         }
         // SMD-R1-029; SMD-R2-042/-045: not into an active limit (away from one is allowed,
         // SMD-R2-043/-046).
-        let into = if dir > 0 {
-            InputFunction::CwLimit
-        } else {
-            InputFunction::CcwLimit
-        };
+        let into = limit_towards(dir);
         if self.input_active(InputFunction::EStop) || self.input_active(into) {
             return Outcome::InputError;
         }
@@ -1796,11 +1801,7 @@ impl Indexer {
         self.held = None;
         self.move_complete = false;
         self.take_current_and_jerk(&out);
-        let travel_limit = if dir > 0 {
-            InputFunction::CwLimit
-        } else {
-            InputFunction::CcwLimit
-        };
+        let travel_limit = limit_towards(dir);
         let proximity = self.proximity_mode();
         let phase = if self.input_active(travel_limit)
             || (!proximity && self.input_active(InputFunction::Home))
@@ -1884,11 +1885,7 @@ impl Indexer {
     /// An end limit became active during a homing run (SMD-R4-023 … -027).
     fn homing_limit(&mut self, f: InputFunction, k: usize) {
         let Some(h) = self.homing else { return };
-        let travel = if h.dir > 0 {
-            InputFunction::CwLimit
-        } else {
-            InputFunction::CcwLimit
-        };
+        let travel = limit_towards(h.dir);
         let moving_that_way = self.segment.is_some_and(|s| s.dir == h.dir);
         if f == travel {
             if moving_that_way {
