@@ -392,13 +392,13 @@ impl SmdUnit {
     ) -> Result<SmdUnit, BindingError> {
         check(&dict)?;
         let config = Configuration {
-            cfg0: config_value(&dict, &CFG_WORD_0)?,
-            cfg1: config_value(&dict, &CFG_WORD_1)?,
-            starting_speed: config_value(&dict, &STARTING_SPEED)?,
-            motor_resolution: config_value(&dict, &MOTOR_RESOLUTION)?,
-            encoder_resolution: config_value(&dict, &ENCODER_RESOLUTION)?,
-            idle_current_reduction: config_value(&dict, &IDLE_CURRENT_REDUCTION)?,
-            motor_current: config_value(&dict, &CFG_MOTOR_CURRENT)?,
+            cfg0: value_of(&dict, &CFG_WORD_0),
+            cfg1: value_of(&dict, &CFG_WORD_1),
+            starting_speed: value_of(&dict, &STARTING_SPEED),
+            motor_resolution: value_of(&dict, &MOTOR_RESOLUTION),
+            encoder_resolution: value_of(&dict, &ENCODER_RESOLUTION),
+            idle_current_reduction: value_of(&dict, &IDLE_CURRENT_REDUCTION),
+            motor_current: value_of(&dict, &CFG_MOTOR_CURRENT),
         };
         let mut unit = SmdUnit {
             device,
@@ -572,32 +572,16 @@ impl SmdUnit {
 
     /// The current value of a checked entry (0 if it could not be read, which [`check`] rules out).
     fn get<T: TryFrom<i128> + Default>(&self, e: &Entry) -> T {
-        self.dict
-            .read_value(e.index, e.sub)
-            .ok()
-            .and_then(|v| v.as_i128())
-            .and_then(|v| T::try_from(v).ok())
-            .unwrap_or_default()
+        value_of(&self.dict, e)
     }
 }
 
-/// The current value of a configuration entry as the model's field type.
-fn config_value<T: TryFrom<i128>>(dict: &Dictionary, e: &Entry) -> Result<T, BindingError> {
-    let fail = |mismatch| BindingError::Entry {
-        entry: *e,
-        mismatch,
-    };
-    let value = dict
-        .read_value(e.index, e.sub)
-        .map_err(|err| fail(Mismatch::Value(err)))?;
-    value
-        .as_i128()
+/// The current value of an entry [`check`] has proven (0 if it could not be read, which the check
+/// rules out).
+fn value_of<T: TryFrom<i128> + Default>(dict: &Dictionary, e: &Entry) -> T {
+    dict.read_value(e.index, e.sub)
+        .ok()
+        .and_then(|v| v.as_i128())
         .and_then(|v| T::try_from(v).ok())
-        .ok_or_else(|| {
-            fail(Mismatch::Value(OdError::InvalidValue {
-                index: e.index,
-                sub: e.sub,
-                reason: format!("{value:?} does not fit the model's field"),
-            }))
-        })
+        .unwrap_or_default()
 }
