@@ -83,6 +83,19 @@ pub enum LoadError {
     /// The file's contents are not a valid description.
     #[error(transparent)]
     Parse(#[from] ParseError),
+    /// The path is not a regular file (a folder, a FIFO, a device).
+    #[error("{0}: not a regular file")]
+    NotAFile(PathBuf),
+    /// The file is larger than a description file can be.
+    #[error("{path}: {size} bytes, more than the {limit} a description file may have")]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size, or what was read of it.
+        size: u64,
+        /// The limit.
+        limit: u64,
+    },
     /// The format could not be told from the name or the contents.
     #[error("{0}: not an ESI, XDD, EDS or DCF file (expected EtherCATInfo or ISO15745ProfileContainer XML, or an INI file with [FileInfo]/[DeviceInfo])")]
     UnknownFormat(PathBuf),

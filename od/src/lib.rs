@@ -19,6 +19,7 @@ pub mod error;
 pub mod esi;
 pub mod load;
 pub mod object;
+pub mod report;
 pub mod sdo;
 pub mod sii;
 pub mod types;
@@ -34,5 +35,6 @@ pub use error::{LoadError, ParseError, Position};
 pub use object::{
     Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
 };
+pub use report::{Finding, Reading, Severity, SourceMap};
 pub use types::DataType;
 pub use value::{TimeValue, Value, ValueError};

@@ -3,10 +3,12 @@
 //! and DCF.
 
 use std::fmt;
+use std::io::Read as _;
 use std::path::Path;
 
 use crate::device::DeviceDescription;
 use crate::error::{LoadError, ParseError};
+use crate::report::Reading;
 use crate::{eds, esi, xdd};
 
 /// A description format.
@@ -82,24 +84,73 @@ pub fn read_bytes(
     source_name: &str,
     format: Format,
 ) -> Result<Vec<DeviceDescription>, ParseError> {
+    read_reading(bytes, source_name, format).map(|r| r.devices)
+}
+
+/// Reads `bytes` in `format` as [`read_bytes`] does, with where each part was read and the reader's
+/// warnings.
+pub fn read_reading(
+    bytes: &[u8],
+    source_name: &str,
+    format: Format,
+) -> Result<Reading, ParseError> {
     match format {
-        Format::Esi => esi::read_all(bytes, source_name),
-        Format::Xdd => xdd::read(bytes, source_name).map(|d| vec![d]),
-        Format::Eds | Format::Dcf => eds::read(bytes, source_name).map(|d| vec![d]),
+        Format::Esi => esi::read_file(bytes, source_name),
+        Format::Xdd => xdd::read_file(bytes, source_name),
+        Format::Eds | Format::Dcf => eds::read_file(bytes, source_name),
     }
 }
 
+/// The largest description file [`load`] reads: 256 MiB, far above the largest real file (a few MB).
+pub const MAX_FILE_BYTES: u64 = 256 << 20;
+
 /// Reads the description file at `path`: its format and every device it describes.
 pub fn load(path: &Path) -> Result<(Format, Vec<DeviceDescription>), LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    load_reading(path).map(|(format, reading)| (format, reading.devices))
+}
+
+/// Reads the description file at `path` as [`load`] does, with where each part was read and the
+/// reader's warnings.
+pub fn load_reading(path: &Path) -> Result<(Format, Reading), LoadError> {
+    let bytes = read_limited(path, MAX_FILE_BYTES)?;
     let format =
         Format::detect(path, &bytes).ok_or_else(|| LoadError::UnknownFormat(path.to_path_buf()))?;
     let name = path.display().to_string();
-    let devices = read_bytes(&bytes, &name, format)?;
-    Ok((format, devices))
+    let reading = read_reading(&bytes, &name, format)?;
+    Ok((format, reading))
+}
+
+/// The bytes of the regular file at `path`, refused when it is something else (a FIFO, a device such
+/// as `/dev/zero`, a folder) or larger than `limit` bytes, so that no input makes the reader wait or
+/// take memory out of proportion.
+pub fn read_limited(path: &Path, limit: u64) -> Result<Vec<u8>, LoadError> {
+    let io = |source| LoadError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if !meta.is_file() {
+        return Err(LoadError::NotAFile(path.to_path_buf()));
+    }
+    if meta.len() > limit {
+        return Err(LoadError::TooLarge {
+            path: path.to_path_buf(),
+            size: meta.len(),
+            limit,
+        });
+    }
+    let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    // The file may grow while it is read: never more than the limit.
+    file.take(limit + 1).read_to_end(&mut bytes).map_err(io)?;
+    if bytes.len() as u64 > limit {
+        return Err(LoadError::TooLarge {
+            path: path.to_path_buf(),
+            size: bytes.len() as u64,
+            limit,
+        });
+    }
+    Ok(bytes)
 }
 
 #[cfg(test)]

@@ -1,264 +1,243 @@
 //! Consistency checks of a device description beyond what a reader checks: structure of ARRAY/RECORD
 //! objects (CiA 301 §7.4.3), defaults against types and limits, PDO mapping entries against the
 //! dictionary (CiA 301 §7.5.2.36, ETG.1000.6 §5.6.7.4.7), and the mandatory objects.
-
-use std::fmt;
+//!
+//! Each finding is ranked as [`crate::report`] says: everything here describes a file that masters and
+//! configuration tools still load (an entry mapped with fewer bits than its type, a default outside its
+//! limits, a missing mandatory object), so it is a warning; only a default that is no value of its type,
+//! which no reader produces, is an error.
 
 use crate::device::DeviceDescription;
 use crate::dict::{compare, Address, Dictionary};
 use crate::object::ObjectKind;
+use crate::report::SourceMap;
+pub use crate::report::{Finding, Severity};
 use crate::types::DataType;
 use crate::value::Value;
 
-/// How serious a finding is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Severity {
-    /// The description works but is unusual.
-    Warning,
-    /// The description is wrong: a device or master built from it misbehaves.
-    Error,
-}
-
-/// One finding of [`validate`].
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Finding {
-    /// How serious.
-    pub severity: Severity,
-    /// The entry concerned, if one.
-    pub address: Option<Address>,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl fmt::Display for Finding {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let sev = match self.severity {
-            Severity::Warning => "warning",
-            Severity::Error => "error",
-        };
-        match self.address {
-            Some(a) => write!(f, "{sev}: {a}: {}", self.message),
-            None => write!(f, "{sev}: {}", self.message),
-        }
-    }
-}
-
-/// Checks `desc`; findings in index order, errors and warnings mixed.
+/// Checks `desc`; findings in index order, errors and warnings mixed, without positions.
 pub fn validate(desc: &DeviceDescription) -> Vec<Finding> {
-    let mut out = Vec::new();
-    let d = &desc.dictionary;
-    fn push(out: &mut Vec<Finding>, severity: Severity, address: Option<Address>, message: String) {
-        out.push(Finding {
+    validate_mapped(desc, &SourceMap::default())
+}
+
+/// Checks `desc` as [`validate`] does, taking each finding's position in the file from `map` (what
+/// the reader recorded).
+pub fn validate_mapped(desc: &DeviceDescription, map: &SourceMap) -> Vec<Finding> {
+    let mut c = Checker {
+        map,
+        out: Vec::new(),
+    };
+    c.run(desc);
+    c.out
+}
+
+struct Checker<'m> {
+    map: &'m SourceMap,
+    out: Vec<Finding>,
+}
+
+impl Checker<'_> {
+    /// A finding about `address` (positioned at its entry) or about the whole device.
+    fn push(&mut self, severity: Severity, address: Option<Address>, message: String) {
+        let position = match address {
+            Some(a) => self.map.entry(a),
+            None => self.map.device(),
+        };
+        self.out.push(Finding {
             severity,
+            position,
             address,
             message,
         });
     }
-    for (index, what) in [(0x1000u16, "device type"), (0x1018, "identity")] {
-        if d.object(index).is_none() {
-            push(
-                &mut out,
-                Severity::Warning,
-                None,
-                format!("object 0x{index:04X} ({what}) is mandatory and missing"),
-            );
-        }
+
+    fn warn(&mut self, address: Address, message: String) {
+        self.push(Severity::Warning, Some(address), message);
     }
-    for object in d.objects() {
-        if object.name.trim().is_empty() {
-            push(
-                &mut out,
-                Severity::Warning,
-                Some(Address::new(object.index, 0)),
-                "object has no name".into(),
-            );
+
+    fn run(&mut self, desc: &DeviceDescription) {
+        let d = &desc.dictionary;
+        for (index, what) in [(0x1000u16, "device type"), (0x1018, "identity")] {
+            if d.object(index).is_none() {
+                self.push(
+                    Severity::Warning,
+                    None,
+                    format!("object 0x{index:04X} ({what}) is mandatory and missing"),
+                );
+            }
         }
-        if object.kind.has_subs() {
-            match object.subs.get(&0) {
-                None => push(
-                    &mut out,
-                    Severity::Error,
-                    Some(Address::new(object.index, 0)),
-                    format!("{} has no sub-index 0 (number of entries)", object.kind),
-                ),
-                Some(s0) => {
-                    if !matches!(s0.data_type, DataType::Unsigned8) {
-                        push(
-                            &mut out,
-                            Severity::Error,
-                            Some(Address::new(object.index, 0)),
-                            format!(
-                                "sub-index 0 of an {} must be UNSIGNED8, is {}",
-                                object.kind, s0.data_type
-                            ),
-                        );
-                    }
-                    if let Some(Value::Uint(n)) = s0.current() {
-                        if n < u64::from(object.max_sub()) && object.kind == ObjectKind::Record {
-                            push(
-                                &mut out,
-                                Severity::Warning,
-                                Some(Address::new(object.index, 0)),
+        for object in d.objects() {
+            let zero = Address::new(object.index, 0);
+            if object.name.trim().is_empty() {
+                self.warn(zero, "object has no name".into());
+            }
+            if object.kind.has_subs() {
+                match object.subs.get(&0) {
+                    None => self.warn(
+                        zero,
+                        format!("{} has no sub-index 0 (number of entries)", object.kind),
+                    ),
+                    Some(s0) => {
+                        if !matches!(s0.data_type, DataType::Unsigned8) {
+                            self.warn(
+                                zero,
                                 format!(
-                                    "sub-index 0 says {n} but the highest sub-index is {}",
-                                    object.max_sub()
+                                    "sub-index 0 of an {} should be UNSIGNED8, is {}",
+                                    object.kind, s0.data_type
                                 ),
                             );
+                        }
+                        if let Some(Value::Uint(n)) = s0.current() {
+                            if n < u64::from(object.max_sub()) && object.kind == ObjectKind::Record
+                            {
+                                self.warn(
+                                    zero,
+                                    format!(
+                                        "sub-index 0 says {n} but the highest sub-index is {}",
+                                        object.max_sub()
+                                    ),
+                                );
+                            }
                         }
                     }
                 }
             }
-        }
-        for (&sub, entry) in &object.subs {
-            let at = Some(Address::new(object.index, sub));
-            if let (Some(lo), Some(hi)) = (&entry.low, &entry.high) {
-                if compare(lo, hi) == Some(std::cmp::Ordering::Greater) {
-                    push(
-                        &mut out,
-                        Severity::Error,
-                        at,
-                        format!("low limit {lo} is above high limit {hi}"),
-                    );
+            for (&sub, entry) in &object.subs {
+                let at = Address::new(object.index, sub);
+                if let (Some(lo), Some(hi)) = (&entry.low, &entry.high) {
+                    if compare(lo, hi) == Some(std::cmp::Ordering::Greater) {
+                        self.warn(at, format!("low limit {lo} is above high limit {hi}"));
+                    }
+                }
+                if let Some(def) = &entry.default {
+                    if def.value.encode(entry.data_type).is_err() {
+                        self.push(
+                            Severity::Error,
+                            Some(at),
+                            format!("default {} is not a {}", def.value, entry.data_type),
+                        );
+                    } else if !def.plus_node_id {
+                        if let Err(e) = d.check(object.index, sub, &entry.value) {
+                            self.warn(at, format!("default value outside the limits: {e}"));
+                        }
+                    }
                 }
             }
-            if let Some(def) = &entry.default {
-                if def.value.encode(entry.data_type).is_err() {
-                    push(
-                        &mut out,
-                        Severity::Error,
-                        at,
-                        format!("default {} is not a {}", def.value, entry.data_type),
-                    );
-                } else if !def.plus_node_id {
-                    if let Err(e) = d.check(object.index, sub, &entry.value) {
-                        push(
-                            &mut out,
-                            Severity::Error,
-                            at,
-                            format!("default value refused: {e}"),
+            let (rpdo, tpdo) = (0x1600..=0x17FF, 0x1A00..=0x1BFF);
+            if rpdo.contains(&object.index) || tpdo.contains(&object.index) {
+                self.mapping(
+                    d,
+                    object.index,
+                    rpdo.contains(&object.index),
+                    desc.ethercat.is_none(),
+                );
+            }
+        }
+        if let Some(ec) = &desc.ethercat {
+            for (pdos, receive) in [(&ec.rx_pdos, true), (&ec.tx_pdos, false)] {
+                for pdo in pdos {
+                    for (n, e) in pdo.entries.iter().enumerate() {
+                        if e.index == 0 {
+                            continue;
+                        }
+                        let position = self.map.pdo_entry(pdo.index, n);
+                        self.entry(
+                            d,
+                            pdo.index,
+                            (e.index, e.sub),
+                            u32::from(e.bit_len),
+                            receive,
+                            position,
                         );
                     }
                 }
             }
         }
-        let (rpdo, tpdo) = (0x1600..=0x17FF, 0x1A00..=0x1BFF);
-        if rpdo.contains(&object.index) || tpdo.contains(&object.index) {
-            check_mapping(
-                d,
-                object.index,
-                rpdo.contains(&object.index),
-                desc.ethercat.is_none(),
-                &mut out,
+    }
+
+    fn mapping(&mut self, d: &Dictionary, index: u16, receive: bool, can: bool) {
+        let Some(object) = d.object(index) else {
+            return;
+        };
+        let count = match object.subs.get(&0).and_then(|s| s.current()) {
+            Some(Value::Uint(n)) => n as u8,
+            _ => return,
+        };
+        let mut bits = 0u32;
+        for sub in 1..=count {
+            let Some(entry) = object.subs.get(&sub) else {
+                self.warn(
+                    Address::new(index, 0),
+                    format!("maps {count} entries but sub-index {sub} is missing"),
+                );
+                return;
+            };
+            let Some(Value::Uint(v)) = entry.current() else {
+                continue;
+            };
+            let (mi, ms, len) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as u32);
+            bits += len;
+            if (0x0001..=0x0007).contains(&mi) {
+                // A dummy entry (CiA 301 §7.4.7.1): the data type's index and its size.
+                let size = DataType::from_index(mi).and_then(|t| t.bit_size());
+                if size != Some(len) {
+                    self.warn(
+                        Address::new(index, sub),
+                        format!("dummy entry of type 0x{mi:04X} with {len} bits"),
+                    );
+                }
+                continue;
+            }
+            let position = self.map.entry(Address::new(index, sub));
+            self.entry(d, index, (mi, ms), len, receive, position);
+        }
+        if can && bits > 64 {
+            // CANopen formats also describe CoE devices, whose PDOs are not CAN frames.
+            self.warn(
+                Address::new(index, 0),
+                format!("maps {bits} bits, more than the 64 of a CAN frame (fine over EtherCAT)"),
             );
         }
     }
-    if let Some(ec) = &desc.ethercat {
-        for (pdos, receive) in [(&ec.rx_pdos, true), (&ec.tx_pdos, false)] {
-            for pdo in pdos {
-                for e in &pdo.entries {
-                    if e.index == 0 {
-                        continue;
+
+    /// One mapped entry `(index, sub)` of mapping `pdo` with `bits` bits, found at `position`.
+    fn entry(
+        &mut self,
+        d: &Dictionary,
+        pdo: u16,
+        (index, sub): (u16, u8),
+        bits: u32,
+        receive: bool,
+        position: Option<crate::error::Position>,
+    ) {
+        let mut bad = |message: String| {
+            self.out.push(Finding {
+                severity: Severity::Warning,
+                position,
+                address: Some(Address::new(pdo, 0)),
+                message,
+            })
+        };
+        match d.entry(index, sub) {
+            Err(_) => bad(format!(
+                "maps 0x{index:04X}:{sub:02X}, which does not exist"
+            )),
+            Ok(e) => {
+                if let Some(size) = e.data_type.bit_size() {
+                    if size != bits {
+                        bad(format!(
+                            "maps 0x{index:04X}:{sub:02X} with {bits} bits, its type {} has {size}",
+                            e.data_type
+                        ));
                     }
-                    check_entry(
-                        d,
-                        pdo.index,
-                        e.index,
-                        e.sub,
-                        u32::from(e.bit_len),
-                        receive,
-                        &mut out,
-                    );
                 }
-            }
-        }
-    }
-    out
-}
-
-fn check_mapping(d: &Dictionary, index: u16, receive: bool, can: bool, out: &mut Vec<Finding>) {
-    let Some(object) = d.object(index) else {
-        return;
-    };
-    let count = match object.subs.get(&0).and_then(|s| s.current()) {
-        Some(Value::Uint(n)) => n as u8,
-        _ => return,
-    };
-    let mut bits = 0u32;
-    for sub in 1..=count {
-        let Some(entry) = object.subs.get(&sub) else {
-            out.push(Finding {
-                severity: Severity::Error,
-                address: Some(Address::new(index, 0)),
-                message: format!("maps {count} entries but sub-index {sub} is missing"),
-            });
-            return;
-        };
-        let Some(Value::Uint(v)) = entry.current() else {
-            continue;
-        };
-        let (mi, ms, len) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as u32);
-        bits += len;
-        if (0x0001..=0x0007).contains(&mi) {
-            // A dummy entry (CiA 301 §7.4.7.1): the data type's index and its size.
-            let size = DataType::from_index(mi).and_then(|t| t.bit_size());
-            if size != Some(len) {
-                out.push(Finding {
-                    severity: Severity::Error,
-                    address: Some(Address::new(index, sub)),
-                    message: format!("dummy entry of type 0x{mi:04X} with {len} bits"),
-                });
-            }
-            continue;
-        }
-        check_entry(d, index, mi, ms, len, receive, out);
-    }
-    if can && bits > 64 {
-        // A warning only: CANopen formats also describe CoE devices, whose PDOs are not CAN frames.
-        out.push(Finding {
-            severity: Severity::Warning,
-            address: Some(Address::new(index, 0)),
-            message: format!(
-                "maps {bits} bits, more than the 64 of a CAN frame (fine over EtherCAT)"
-            ),
-        });
-    }
-}
-
-fn check_entry(
-    d: &Dictionary,
-    pdo: u16,
-    index: u16,
-    sub: u8,
-    bits: u32,
-    receive: bool,
-    out: &mut Vec<Finding>,
-) {
-    let mut bad = |message: String| {
-        out.push(Finding {
-            severity: Severity::Error,
-            address: Some(Address::new(pdo, 0)),
-            message,
-        })
-    };
-    match d.entry(index, sub) {
-        Err(_) => bad(format!(
-            "maps 0x{index:04X}:{sub:02X}, which does not exist"
-        )),
-        Ok(e) => {
-            if let Some(size) = e.data_type.bit_size() {
-                if size != bits {
+                let ok = if receive { e.pdo.rpdo() } else { e.pdo.tpdo() };
+                if !ok {
+                    let dir = if receive { "an RPDO" } else { "a TPDO" };
                     bad(format!(
-                        "maps 0x{index:04X}:{sub:02X} with {bits} bits, its type {} has {size}",
-                        e.data_type
+                        "maps 0x{index:04X}:{sub:02X} into {dir}, but it is not mappable that way"
                     ));
                 }
-            }
-            let ok = if receive { e.pdo.rpdo() } else { e.pdo.tpdo() };
-            if !ok {
-                let dir = if receive { "an RPDO" } else { "a TPDO" };
-                bad(format!(
-                    "maps 0x{index:04X}:{sub:02X} into {dir}, but it is not mappable that way"
-                ));
             }
         }
     }
@@ -313,9 +292,9 @@ mod tests {
         assert_eq!(
             text,
             vec![
-                "error: 0x1601:00: maps 0x2000:00 with 8 bits, its type UNSIGNED16 has 16",
-                "error: 0x1601:00: maps 0x2001:00 into an RPDO, but it is not mappable that way",
-                "error: 0x1601:00: maps 0x3000:00, which does not exist",
+                "warning: 0x1601:00: maps 0x2000:00 with 8 bits, its type UNSIGNED16 has 16",
+                "warning: 0x1601:00: maps 0x2001:00 into an RPDO, but it is not mappable that way",
+                "warning: 0x1601:00: maps 0x3000:00, which does not exist",
             ]
         );
     }
@@ -335,7 +314,7 @@ mod tests {
             vec![
                 "warning: object 0x1000 (device type) is mandatory and missing",
                 "warning: object 0x1018 (identity) is mandatory and missing",
-                "error: 0x2000:00: default value refused: 0x2000:00: 50 is above the high limit 10",
+                "warning: 0x2000:00: default value outside the limits: 0x2000:00: 50 is above the high limit 10",
             ]
         );
     }

@@ -870,6 +870,42 @@ fn assert_error(text: &[u8], line: u32, column: u32, message: &str) {
     );
 }
 
+/// `text` must read with exactly the warnings `expected`, each `line:column: message`.
+fn assert_warnings(text: &[u8], expected: &[&str]) -> od::DeviceDescription {
+    let mut reading = eds::read_file(text, "odd.eds").unwrap_or_else(|e| panic!("{e}"));
+    let got: Vec<String> = reading
+        .findings
+        .iter()
+        .map(|f| {
+            let p = f.position.expect("a reader warning has a position");
+            assert_eq!(f.severity, od::Severity::Warning);
+            format!("{}:{}: {}", p.line, p.column, f.message)
+        })
+        .collect();
+    assert_eq!(got, expected);
+    reading.devices.pop().expect("one device")
+}
+
+#[test]
+fn unknown_data_types_are_domains_with_a_warning() {
+    let desc = assert_warnings(
+        b"[1000]\nParameterName=Device type\nDataType=0x0017\nAccessType=ro\n\
+          [1600]\nParameterName=Mapping\nDataType=0x0021\nAccessType=ro\n",
+        &[
+            "3:10: DataType= in [1000]: 0x0017 is not a CiA 301 data type; the entry is read as DOMAIN",
+            "7:10: DataType= in [1600]: 0x0021 is a complex or profile data type; the entry is read as DOMAIN",
+        ],
+    );
+    assert_eq!(
+        desc.dictionary.entry(0x1000, 0).unwrap().data_type,
+        DataType::Domain
+    );
+    assert_eq!(
+        desc.dictionary.entry(0x1600, 0).unwrap().data_type,
+        DataType::Domain
+    );
+}
+
 const VAR_HEAD: &str = "[FileInfo]\nFileName=bad.eds\n[1000]\nParameterName=Device type\n";
 
 #[test]
@@ -880,12 +916,6 @@ fn errors_name_line_and_column() {
         5,
         10,
         "DataType= in [1000]: expected a CiA 301 data type index like 0x0007, found `zz`",
-    );
-    assert_error(
-        &with("DataType=0x0017\nAccessType=ro\n"),
-        5,
-        10,
-        "0x0001 to 0x001B",
     );
     assert_error(
         &with("DataType=0x0007\n  AccessType = rx\n"),

@@ -100,12 +100,19 @@ mod writer;
 
 use crate::device::DeviceDescription;
 use crate::error::ParseError;
+use crate::report::Reading;
 
 /// Reads an EDS or a DCF. `source_name` names the file in errors.
 ///
 /// A DCF (a file with `[DeviceComissioning]`) sets [`DeviceDescription::commissioning`], and its
 /// `ParameterValue`s set the current values.
 pub fn read(bytes: &[u8], source_name: &str) -> Result<DeviceDescription, ParseError> {
+    let mut reading = reader::read(bytes, source_name)?;
+    Ok(reading.devices.pop().unwrap_or_default())
+}
+
+/// Reads an EDS or a DCF as [`read`] does, with where each object was read and the reader's warnings.
+pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
     reader::read(bytes, source_name)
 }
 

@@ -8,13 +8,28 @@ use std::ops::Range;
 use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo, Identity};
 use crate::error::{ParseError, Position};
 use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
+use crate::report::{Finding, Reading, SourceMap};
 use crate::types::DataType;
 use crate::value::{parse_integer, Value};
 
-pub(super) fn read(bytes: &[u8], source_name: &str) -> Result<DeviceDescription, ParseError> {
+pub(super) fn read(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
     let text = decode(bytes);
     let ini = Ini::scan(&text, source_name)?;
-    Builder::new(&ini)?.build()
+    let builder = Builder::new(&ini)?;
+    let desc = builder.build()?;
+    let mut source = SourceMap::default();
+    source.set_device(Position { line: 1, column: 1 });
+    for (&index, sections) in &builder.objects {
+        if let Some(main) = sections.main.and_then(|i| builder.section(i)) {
+            source.set_object(index, ini.position(main.name));
+        }
+        for (&sub, &i) in &sections.subs {
+            if let Some(section) = builder.section(i) {
+                source.set_entry(index, sub, ini.position(section.name));
+            }
+        }
+    }
+    Ok(Reading::one(desc, source, builder.findings.into_inner()))
 }
 
 /// The text of the file: UTF-8 without its byte-order mark, or ISO-8859-1 when the bytes are not UTF-8
@@ -256,6 +271,8 @@ struct Builder<'i, 'a> {
     ini: &'i Ini<'a>,
     named: [Option<usize>; NAMED_KINDS.len()],
     objects: BTreeMap<u16, ObjectSections>,
+    /// The warnings, in the order they were found.
+    findings: std::cell::RefCell<Vec<Finding>>,
 }
 
 /// The named sections the reader uses, one slot each in [`Builder::named`].
@@ -324,6 +341,7 @@ impl<'i, 'a> Builder<'i, 'a> {
             ini,
             named,
             objects,
+            findings: std::cell::RefCell::new(Vec::new()),
         })
     }
 
@@ -406,6 +424,13 @@ impl<'i, 'a> Builder<'i, 'a> {
                 self.ini.position(first.key).line
             ),
         )
+    }
+
+    /// A warning at the start of `slice` (a part of the text).
+    fn warn(&self, slice: &str, message: impl Into<String>) {
+        self.findings
+            .borrow_mut()
+            .push(Finding::warning(self.ini.position(slice), message));
     }
 
     /// An error about the value of `entry`: what was expected and what was found.
@@ -951,16 +976,22 @@ impl<'i, 'a> Builder<'i, 'a> {
         if let Some(t) = DataType::from_index(index) {
             return Ok(t);
         }
-        if (0x0020..=0x025F).contains(&index) {
-            // A complex or profile type (PDO parameter, identity, manufacturer structure): the model has
-            // no structured type for a single entry, so its bytes are a domain.
-            return Ok(DataType::Domain);
-        }
-        Err(self.bad(
-            section,
-            entry,
-            "a CiA 301 data type index: 0x0001 to 0x001B (0x0017 unused), or 0x0020 to 0x025F for a complex type",
-        ))
+        // An index that is no basic type: a complex or profile type (PDO parameter, identity, a
+        // manufacturer structure; 0x0020-0x025F) or one no standard defines. The model has no structured
+        // type for a single entry, so its bytes are a domain, as python-canopen and Lely take it too.
+        let what = if (0x0020..=0x025F).contains(&index) {
+            "a complex or profile data type"
+        } else {
+            "not a CiA 301 data type"
+        };
+        self.warn(
+            entry.value,
+            format!(
+                "DataType= in [{}]: 0x{index:04X} is {what}; the entry is read as DOMAIN",
+                section.name
+            ),
+        );
+        Ok(DataType::Domain)
     }
 
     /// The value of `entry` as `data_type`, and whether it adds the node-ID (`$NODEID+…`, allowed when

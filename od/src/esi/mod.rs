@@ -99,6 +99,7 @@ mod writer;
 
 use crate::device::DeviceDescription;
 use crate::error::{ParseError, Position};
+use crate::report::Reading;
 
 /// Which device of a file [`read`] answers.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -113,6 +114,12 @@ pub enum Select {
 ///
 /// `source_name` names the file in errors. The vendor's `Id` and `Name` go into each identity.
 pub fn read_all(bytes: &[u8], source_name: &str) -> Result<Vec<DeviceDescription>, ParseError> {
+    reader::read_all(bytes, source_name).map(|r| r.devices)
+}
+
+/// Reads every device of an ESI file as [`read_all`] does, with where each part was read and the
+/// reader's warnings.
+pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
     reader::read_all(bytes, source_name)
 }
 

@@ -15,6 +15,7 @@ use crate::error::{ParseError, Position};
 use crate::object::{
     Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
 };
+use crate::report::{Finding, Reading, SourceMap};
 use crate::types::DataType;
 use crate::value::{parse_hex_bytes, Value};
 use crate::xml;
@@ -223,6 +224,9 @@ struct RawObject {
 
 #[derive(Debug, Default)]
 struct RawDevice {
+    offset: usize,
+    /// Where each PDO entry is: TxPdo or RxPdo, the PDO's place in its list, the entry's, the offset.
+    pdo_entry_offsets: Vec<(bool, usize, usize, usize)>,
     product_code: u32,
     revision: u32,
     order_code: String,
@@ -249,12 +253,11 @@ struct Parser<'a> {
     file_version: String,
     device: Option<RawDevice>,
     done: Vec<DeviceDescription>,
+    sources: Vec<SourceMap>,
+    findings: Vec<Finding>,
 }
 
-pub(super) fn read_all(
-    bytes: &[u8],
-    source_name: &str,
-) -> Result<Vec<DeviceDescription>, ParseError> {
+pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
     let text = xml::decode(bytes, source_name).map_err(|mut e| {
         if e.position.line == 0 {
             e.position = decode_error_position(bytes);
@@ -278,6 +281,8 @@ pub(super) fn read_all(
         file_version: String::new(),
         device: None,
         done: Vec::new(),
+        sources: Vec::new(),
+        findings: Vec::new(),
     };
     parser.run()?;
     let Parser {
@@ -285,6 +290,8 @@ pub(super) fn read_all(
         vendor_id,
         vendor_name,
         file_version,
+        sources,
+        findings,
         ..
     } = parser;
     for d in &mut done {
@@ -292,7 +299,11 @@ pub(super) fn read_all(
         d.identity.vendor_name = vendor_name.get().unwrap_or_default().to_string();
         d.file_info.file_version = file_version.clone();
     }
-    Ok(done)
+    Ok(Reading {
+        devices: done,
+        sources,
+        findings,
+    })
 }
 
 /// Where a file that [`xml::decode`] refused without a position goes wrong: the first invalid UTF-8 byte
@@ -492,7 +503,10 @@ impl<'a> Parser<'a> {
                 [Tag::EtherCATInfo, Tag::Descriptions, Tag::Devices, Tag::Device]
                 | [Tag::EtherCATModule, Tag::Modules, Tag::Module] => {
                     self.device_depth = Some(stack.len() - 1);
-                    self.device = Some(RawDevice::default());
+                    self.device = Some(RawDevice {
+                        offset,
+                        ..RawDevice::default()
+                    });
                 }
                 _ => {}
             }
@@ -619,8 +633,17 @@ impl<'a> Parser<'a> {
                 }
             }
             [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Entry] => {
+                let tx = *pdo == Tag::TxPdo;
+                let ordinal = if tx {
+                    dev.ecat.tx_pdos.len()
+                } else {
+                    dev.ecat.rx_pdos.len()
+                };
                 if let Some(p) = pdo_of(dev, *pdo) {
                     p.entries.push(PdoEntry::default());
+                    let n = p.entries.len() - 1;
+                    dev.pdo_entry_offsets
+                        .push((tx, ordinal.saturating_sub(1), n, offset));
                 }
             }
             [Tag::Mailbox] => {
@@ -713,8 +736,9 @@ impl<'a> Parser<'a> {
         if self.device_depth == Some(self.stack.len()) {
             self.device_depth = None;
             if let Some(raw) = self.device.take() {
-                let desc = build_device(self.ctx, raw)?;
+                let (desc, source) = build_device(self.ctx, raw, &mut self.findings)?;
                 self.done.push(desc);
+                self.sources.push(source);
             }
         }
         result
@@ -1120,7 +1144,15 @@ struct Flat<'t> {
     offset: usize,
 }
 
-fn build_device(ctx: Ctx, raw: RawDevice) -> Result<DeviceDescription, ParseError> {
+fn build_device(
+    ctx: Ctx,
+    raw: RawDevice,
+    findings: &mut Vec<Finding>,
+) -> Result<(DeviceDescription, SourceMap), ParseError> {
+    let _ = &findings;
+    let pos = |offset: usize| Position::of_offset(ctx.src.as_bytes(), offset);
+    let mut source = SourceMap::default();
+    source.set_device(pos(raw.offset));
     let mut desc = DeviceDescription::default();
     desc.identity.product_code = raw.product_code;
     desc.identity.revision = raw.revision;
@@ -1144,7 +1176,18 @@ fn build_device(ctx: Ctx, raw: RawDevice) -> Result<DeviceDescription, ParseErro
             ));
         }
         first_at.insert(index, o.offset);
+        source.set_object(index, pos(o.offset));
         dict.insert(build_object(ctx, &types, o, index)?);
+    }
+    for &(tx, ordinal, n, offset) in &raw.pdo_entry_offsets {
+        let pdos = if tx {
+            &raw.ecat.tx_pdos
+        } else {
+            &raw.ecat.rx_pdos
+        };
+        if let Some(pdo) = pdos.get(ordinal) {
+            source.set_pdo_entry(pdo.index, n, pos(offset));
+        }
     }
     if !raw.has_dictionary {
         dictionary_from_pdos(&mut dict, &raw.ecat);
@@ -1153,7 +1196,7 @@ fn build_device(ctx: Ctx, raw: RawDevice) -> Result<DeviceDescription, ParseErro
     let mut ecat = raw.ecat;
     ecat.group_type = raw.group_type;
     desc.ethercat = Some(ecat);
-    Ok(desc)
+    Ok((desc, source))
 }
 
 fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Object, ParseError> {

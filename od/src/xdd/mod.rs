@@ -81,7 +81,7 @@
 mod reader;
 mod writer;
 
-pub use reader::read;
+pub use reader::{read, read_file};
 pub use writer::write;
 
 use crate::object::{AccessType, PdoMapping};

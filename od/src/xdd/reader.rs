@@ -14,8 +14,9 @@ use super::{
 };
 use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo};
 use crate::dict::Dictionary;
-use crate::error::ParseError;
+use crate::error::{ParseError, Position};
 use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
+use crate::report::{Finding, Reading, SourceMap};
 use crate::types::DataType;
 use crate::value::Value;
 use crate::xml;
@@ -37,10 +38,27 @@ use crate::xml;
 /// assert_eq!(desc.dictionary.object(0x1000).unwrap().name, "Device type");
 /// ```
 pub fn read(bytes: &[u8], source_name: &str) -> Result<DeviceDescription, ParseError> {
+    let mut reading = read_file(bytes, source_name)?;
+    Ok(reading.devices.pop().unwrap_or_default())
+}
+
+/// Reads an XDD or XDC file as [`read`] does, with where each object was read and the reader's warnings.
+pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
     let text = xml::decode(bytes, source_name)?;
     let mut scan = Scan::new(&text, source_name);
     scan.run()?;
-    scan.finish()
+    let mut source = SourceMap::default();
+    source.set_device(Position { line: 1, column: 1 });
+    let at = |offset: usize| Position::of_offset(text.as_bytes(), offset);
+    for o in &scan.objects {
+        source.set_object(o.index, at(o.offset));
+        for sub in &o.subs {
+            source.set_entry(o.index, sub.sub, at(sub.offset));
+        }
+    }
+    let findings = std::mem::take(&mut scan.findings);
+    let desc = scan.finish()?;
+    Ok(Reading::one(desc, source, findings))
 }
 
 /// An attribute value (unescaped) and the byte offset of its first character.
@@ -248,6 +266,8 @@ struct Scan<'a, 's> {
     /// Dummy entries by data type index: used or not (the last entry for a type wins).
     dummies: BTreeMap<u16, bool>,
     commissioning: Option<Commissioning>,
+    /// The warnings, in file order.
+    findings: Vec<Finding>,
 }
 
 /// The local part of a qualified name (`q1:parameter` → `parameter`).
@@ -331,6 +351,7 @@ impl<'a, 's> Scan<'a, 's> {
             baud_rates: BTreeSet::new(),
             dummies: BTreeMap::new(),
             commissioning: None,
+            findings: Vec::new(),
         }
     }
 
