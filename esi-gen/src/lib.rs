@@ -40,7 +40,8 @@ pub enum Command {
     Doc(Convert),
     /// Write the SII EEPROM image (binary, ETG.1000.6 layout) of an EtherCAT device.
     Sii(SiiArgs),
-    /// Load and validate a description and print a one-screen summary; exit 1 when it has errors.
+    /// Load and validate descriptions: errors first, then warnings, each at file:line:column; a
+    /// summary of one file or a line per file of a folder; exit 1 when any has an error.
     Check(CheckArgs),
     /// Compare the dictionaries of two descriptions; exit 0 when equal, 1 when they differ.
     Diff(DiffArgs),
@@ -133,11 +134,27 @@ pub struct SiiArgs {
 /// Arguments of `check`.
 #[derive(Debug, Args)]
 pub struct CheckArgs {
-    /// The description to check.
-    pub input: PathBuf,
+    /// The descriptions to check: files, or folders whose description files (.xml, .esi, .eds, .dcf,
+    /// .xdd, .xdc, .xpd) are checked one by one. One file gets a one-screen summary; several get a
+    /// line each and a summary.
+    #[arg(required = true, value_name = "FILE|DIR")]
+    pub inputs: Vec<PathBuf>,
     /// Check only this device of a file that holds several.
     #[arg(long)]
     pub device: Option<String>,
+    /// List every finding (without it, a file's summary shows the first 20, a batch line its errors).
+    #[arg(long)]
+    pub all: bool,
+    /// Print one JSON document: every file with its devices and findings, and a summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Count warnings as errors.
+    #[arg(long)]
+    pub strict: bool,
+    /// Also write each file in its own format and read it back (it must come back equal), and a
+    /// CANopen description as an EDS (it must read back without errors).
+    #[arg(long)]
+    pub round_trip: bool,
 }
 
 /// Arguments of `diff`.
@@ -273,12 +290,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
             )?;
             Ok(0)
         }
-        Command::Check(c) => {
-            let (format, devices) = load_selected(&c.input, c.device.as_deref())?;
-            let report = summary::check(&c.input, format, &devices);
-            write_out(out, &report.text)?;
-            Ok(if report.errors > 0 { 1 } else { 0 })
-        }
+        Command::Check(c) => summary::run(&c, out),
         Command::Diff(d) => {
             let a = one(&d.a, load_selected(&d.a, d.device.as_deref())?.1)?;
             let b = one(&d.b, load_selected(&d.b, d.device.as_deref())?.1)?;
@@ -382,14 +394,9 @@ pub fn load_selected(
     let Some(wanted) = wanted else {
         return Ok((format, devices));
     };
-    let code = od::value::parse_integer(wanted).and_then(|v| u32::try_from(v).ok());
     let hit: Vec<DeviceDescription> = devices
         .iter()
-        .filter(|d| {
-            d.identity.order_code.eq_ignore_ascii_case(wanted)
-                || d.identity.product_name.eq_ignore_ascii_case(wanted)
-                || code == Some(d.identity.product_code)
-        })
+        .filter(|d| device_matches(d, wanted))
         .cloned()
         .collect();
     match hit.len() {
@@ -400,6 +407,14 @@ pub fn load_selected(
         }),
         _ => Ok((format, hit.into_iter().take(1).collect())),
     }
+}
+
+/// True when `wanted` (a type name, a name or a product code) names `d`.
+pub fn device_matches(d: &DeviceDescription, wanted: &str) -> bool {
+    let code = od::value::parse_integer(wanted).and_then(|v| u32::try_from(v).ok());
+    d.identity.order_code.eq_ignore_ascii_case(wanted)
+        || d.identity.product_name.eq_ignore_ascii_case(wanted)
+        || code == Some(d.identity.product_code)
 }
 
 fn one(path: &Path, devices: Vec<DeviceDescription>) -> Result<DeviceDescription, Error> {

@@ -74,7 +74,7 @@ fn failures_exit_2_with_one_line() {
     let bad = tmp("bad.xml");
     std::fs::write(&bad, "<?xml version=\"1.0\"?>\n<EtherCATInfo>\n  <Vendor><Id>#xZZ</Id></Vendor>\n</EtherCATInfo>\n")
         .unwrap();
-    let o = esi_gen(&["check", bad.to_str().unwrap()]);
+    let o = esi_gen(&["esi", bad.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     let err = stderr(&o);
     assert_eq!(err.lines().count(), 1, "{err}");

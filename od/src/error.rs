@@ -30,9 +30,69 @@ impl Position {
     }
 }
 
+/// The starts of the lines of a text, so that many offsets turn into positions without scanning the
+/// text from its start for each.
+#[derive(Debug, Clone, Default)]
+pub struct LineIndex {
+    starts: Vec<usize>,
+}
+
+impl LineIndex {
+    /// The line starts of `text` (LF ends a line).
+    pub fn new(text: &[u8]) -> LineIndex {
+        let mut starts = vec![0];
+        starts.extend(
+            text.iter()
+                .enumerate()
+                .filter(|&(_, &b)| b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        LineIndex { starts }
+    }
+
+    /// The position of byte `offset` of `text` (the text this index was made of), as
+    /// [`Position::of_offset`] gives it.
+    pub fn position(&self, text: &[u8], offset: usize) -> Position {
+        let offset = offset.min(text.len());
+        let line = self.starts.partition_point(|&s| s <= offset).max(1);
+        let start = self.starts.get(line - 1).copied().unwrap_or(0).min(offset);
+        let column = String::from_utf8_lossy(&text[start..offset])
+            .chars()
+            .count() as u32
+            + 1;
+        Position {
+            line: line as u32,
+            column,
+        }
+    }
+}
+
 impl fmt::Display for Position {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}:{}", self.line, self.column)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_line_index_gives_what_a_scan_gives() {
+        let text = "ab\nµc\r\n\nxyz".as_bytes();
+        let index = LineIndex::new(text);
+        for offset in 0..=text.len() + 2 {
+            assert_eq!(
+                index.position(text, offset),
+                Position::of_offset(text, offset),
+                "offset {offset}"
+            );
+        }
+        assert_eq!(
+            index.position(text, 6),
+            Position { line: 2, column: 3 },
+            "µ is one character"
+        );
     }
 }
 

@@ -54,13 +54,17 @@ impl Format {
             .extension()
             .and_then(|e| e.to_str())
             .map(|e| e.to_ascii_lowercase());
-        let whole = String::from_utf8_lossy(bytes).to_ascii_lowercase();
-        if whole.contains("[devicecomissioning]") || whole.contains("[devicecommissioning]") {
+        let has = |needle: &[u8]| {
+            bytes
+                .windows(needle.len())
+                .any(|w| w.eq_ignore_ascii_case(needle))
+        };
+        if has(b"[devicecomissioning]") || has(b"[devicecommissioning]") {
             return Some(Format::Dcf);
         }
         if lower.contains("[fileinfo]")
             || lower.contains("[deviceinfo]")
-            || whole.contains("[mandatoryobjects]")
+            || has(b"[mandatoryobjects]")
         {
             return Some(if ext.as_deref() == Some("dcf") {
                 Format::Dcf
@@ -128,6 +132,10 @@ pub fn read_limited(path: &Path, limit: u64) -> Result<Vec<u8>, LoadError> {
         path: path.to_path_buf(),
         source,
     };
+    // Looked at before opening: opening a FIFO for reading waits for a writer.
+    if !std::fs::metadata(path).map_err(io)?.is_file() {
+        return Err(LoadError::NotAFile(path.to_path_buf()));
+    }
     let file = std::fs::File::open(path).map_err(io)?;
     let meta = file.metadata().map_err(io)?;
     if !meta.is_file() {

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 
 use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo, Identity};
-use crate::error::{ParseError, Position};
+use crate::error::{LineIndex, ParseError, Position};
 use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
 use crate::report::{Finding, Reading, SourceMap};
 use crate::types::DataType;
@@ -61,6 +61,7 @@ struct Section<'a> {
 /// The scanned file: sections and their entries in file order.
 struct Ini<'a> {
     text: &'a str,
+    lines: LineIndex,
     source: &'a str,
     sections: Vec<Section<'a>>,
     entries: Vec<Entry<'a>>,
@@ -70,6 +71,7 @@ impl<'a> Ini<'a> {
     fn scan(text: &'a str, source: &'a str) -> Result<Ini<'a>, ParseError> {
         let mut ini = Ini {
             text,
+            lines: LineIndex::new(text.as_bytes()),
             source,
             sections: Vec::new(),
             entries: Vec::new(),
@@ -133,7 +135,7 @@ impl<'a> Ini<'a> {
     /// Where `slice` (a part of the text) starts.
     fn position(&self, slice: &str) -> Position {
         let offset = (slice.as_ptr() as usize).saturating_sub(self.text.as_ptr() as usize);
-        Position::of_offset(self.text.as_bytes(), offset)
+        self.lines.position(self.text.as_bytes(), offset)
     }
 
     /// An error at the start of `slice`.

@@ -11,7 +11,7 @@ use crate::device::{
     CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Mailbox, OpMode, Pdo, PdoEntry, SyncManager,
 };
 use crate::dict::Dictionary;
-use crate::error::{ParseError, Position};
+use crate::error::{LineIndex, ParseError, Position};
 use crate::object::{
     Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
 };
@@ -57,13 +57,14 @@ tags! {
 struct Ctx<'a> {
     src: &'a str,
     name: &'a str,
+    lines: &'a LineIndex,
 }
 
 impl Ctx<'_> {
     fn err(&self, offset: usize, message: impl Into<String>) -> ParseError {
         ParseError::new(
             self.name,
-            Position::of_offset(self.src.as_bytes(), offset),
+            self.lines.position(self.src.as_bytes(), offset),
             message,
         )
     }
@@ -264,9 +265,11 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         }
         e
     })?;
+    let lines = LineIndex::new(text.as_bytes());
     let ctx = Ctx {
         src: &text,
         name: source_name,
+        lines: &lines,
     };
     let mut parser = Parser {
         ctx,
@@ -1150,7 +1153,7 @@ fn build_device(
     findings: &mut Vec<Finding>,
 ) -> Result<(DeviceDescription, SourceMap), ParseError> {
     let _ = &findings;
-    let pos = |offset: usize| Position::of_offset(ctx.src.as_bytes(), offset);
+    let pos = |offset: usize| ctx.lines.position(ctx.src.as_bytes(), offset);
     let mut source = SourceMap::default();
     source.set_device(pos(raw.offset));
     let mut desc = DeviceDescription::default();

@@ -14,7 +14,7 @@ use super::{
 };
 use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo};
 use crate::dict::Dictionary;
-use crate::error::{ParseError, Position};
+use crate::error::{LineIndex, ParseError, Position};
 use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
 use crate::report::{Finding, Reading, SourceMap};
 use crate::types::DataType;
@@ -49,7 +49,8 @@ pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError>
     scan.run()?;
     let mut source = SourceMap::default();
     source.set_device(Position { line: 1, column: 1 });
-    let at = |offset: usize| Position::of_offset(text.as_bytes(), offset);
+    let lines = LineIndex::new(text.as_bytes());
+    let at = |offset: usize| lines.position(text.as_bytes(), offset);
     for o in &scan.objects {
         source.set_object(o.index, at(o.offset));
         for sub in &o.subs {

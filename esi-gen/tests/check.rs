@@ -1,0 +1,291 @@
+//! `esi-gen check` as a user runs it on one file, on a folder of vendor files, as JSON, with
+//! `--strict`, `--all` and `--round-trip`; on files that cannot be used and on what is not a file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn esi_gen(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_esi-gen"))
+        .args(args)
+        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join(".."))
+        .output()
+        .expect("runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// A fresh folder for one test.
+fn folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("esi-gen-check-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The text with every time (`12.3 ms`, `; 45 ms`) replaced by `T ms`.
+fn mask(text: &str) -> String {
+    text.lines()
+        .map(|line| {
+            let words: Vec<&str> = line.split(' ').collect();
+            let mut out: Vec<&str> = Vec::with_capacity(words.len());
+            for (i, w) in words.iter().enumerate() {
+                let before_ms = words.get(i + 1) == Some(&"ms");
+                out.push(if before_ms && w.parse::<f64>().is_ok() {
+                    "T"
+                } else {
+                    w
+                });
+            }
+            out.join(" ") + "\n"
+        })
+        .collect()
+}
+
+/// An EDS with an unknown data type at line 8 and no 0x1018: two warnings, no error.
+const ODD_EDS: &str = "[FileInfo]\nFileName=odd.eds\n[DeviceInfo]\nVendorName=V\nProductName=Odd\n\
+    [1000]\nParameterName=Device type\nDataType=0x0017\nAccessType=ro\n";
+
+/// An ESI whose vendor ID is no number (line 3, column 15): unusable.
+const BAD_ESI: &str =
+    "<?xml version=\"1.0\"?>\n<EtherCATInfo>\n  <Vendor><Id>#xZZ</Id></Vendor>\n</EtherCATInfo>\n";
+
+#[test]
+fn one_file_summary_with_warnings_at_their_positions() {
+    let dir = folder("one");
+    let eds = dir.join("odd.eds");
+    std::fs::write(&eds, ODD_EDS).unwrap();
+    let p = eds.display().to_string();
+    let o = esi_gen(&["check", &p]);
+    assert_eq!(o.status.code(), Some(0), "warnings only: {}", stdout(&o));
+    assert_eq!(
+        mask(&stdout(&o)),
+        format!(
+            "{p}: EDS, 1 device(s), read and checked in T ms\n\
+             \n\
+             Odd\n\
+             \x20 vendor       0x00000000 V\n\
+             \x20 product code 0x00000000  revision 0x00000000\n\
+             \x20 dictionary   1 objects, 1 entries: 1 communication, 0 manufacturer, 0 profile\n\
+             \x20 PDO mappings 0 receive, 0 transmit\n\
+             \n\
+             findings: 0 error(s), 2 warning(s)\n\
+             \x20 {p}:1:1: warning: object 0x1018 (identity) is mandatory and missing\n\
+             \x20 {p}:8:10: warning: DataType= in [1000]: 0x0017 is not a CiA 301 data type; the entry is read as DOMAIN\n"
+        )
+    );
+
+    // --strict: the same findings, as errors, and exit 1.
+    let o = esi_gen(&["check", "--strict", &p]);
+    assert_eq!(o.status.code(), Some(1));
+    let text = stdout(&o);
+    assert!(
+        text.contains("findings: 2 error(s), 0 warning(s)\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(&format!(
+            "  {p}:1:1: error: object 0x1018 (identity) is mandatory and missing\n"
+        )),
+        "{text}"
+    );
+
+    // --round-trip: an EDS written and read back is equal.
+    let o = esi_gen(&["check", "--round-trip", &p]);
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    assert!(
+        stdout(&o).ends_with("round trip: equal\n"),
+        "{}",
+        stdout(&o)
+    );
+}
+
+#[test]
+fn an_unusable_file_is_one_error_line_and_exit_1() {
+    let dir = folder("bad");
+    let esi = dir.join("bad.xml");
+    std::fs::write(&esi, BAD_ESI).unwrap();
+    let p = esi.display().to_string();
+    let o = esi_gen(&["check", &p]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        mask(&stdout(&o)),
+        format!(
+            "{p}: ESI, 0 device(s), read and checked in T ms\n\
+             \n\
+             findings: 1 error(s), 0 warning(s)\n\
+             \x20 {p}:3:15: error: expected a number like #x1A00 or 6656 in <Vendor>/<Id>, found `#xZZ`\n"
+        )
+    );
+}
+
+#[test]
+fn twenty_findings_unless_all() {
+    let dir = folder("all");
+    let eds = dir.join("many.eds");
+    let mut text = String::from("[1000]\nParameterName=D\nDataType=0x0007\nAccessType=ro\n");
+    text.push_str("[1018]\nParameterName=I\nDataType=0x0007\nAccessType=ro\n");
+    for n in 0..25 {
+        text.push_str(&format!(
+            "[{:04X}]\nParameterName=x\nDataType=0x0300\nAccessType=ro\n",
+            0x2000 + n
+        ));
+    }
+    std::fs::write(&eds, text).unwrap();
+    let p = eds.display().to_string();
+    let o = esi_gen(&["check", &p]);
+    let out = stdout(&o);
+    let listed = out.lines().filter(|l| l.contains(": warning: ")).count();
+    assert_eq!(listed, 20, "{out}");
+    assert!(
+        out.ends_with("  … 5 more (--all lists every finding)\n"),
+        "{out}"
+    );
+    // The first and the last listed: lines 11 and 87 (each object takes four lines from line 9).
+    assert!(out.contains(&format!("  {p}:11:10: warning: DataType= in [2000]: 0x0300 is not a CiA 301 data type; the entry is read as DOMAIN\n")), "{out}");
+    let o = esi_gen(&["check", "--all", &p]);
+    let out = stdout(&o);
+    assert_eq!(
+        out.lines().filter(|l| l.contains(": warning: ")).count(),
+        25
+    );
+    assert!(out.contains(&format!("  {p}:107:10: warning: DataType= in [2018]: 0x0300 is not a CiA 301 data type; the entry is read as DOMAIN\n")), "{out}");
+    assert!(!out.contains("more (--all"), "{out}");
+}
+
+#[test]
+fn a_folder_gets_a_line_per_file_and_a_summary() {
+    let dir = folder("batch");
+    std::fs::write(dir.join("odd.eds"), ODD_EDS).unwrap();
+    std::fs::write(dir.join("bad.xml"), BAD_ESI).unwrap();
+    std::fs::write(dir.join("notes.txt"), "not a description").unwrap();
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    std::fs::write(dir.join("sub").join("again.EDS"), ODD_EDS).unwrap();
+    let d = dir.display().to_string();
+    let o = esi_gen(&["check", &d]);
+    assert_eq!(o.status.code(), Some(1), "one file has an error");
+    assert_eq!(
+        mask(&stdout(&o)),
+        format!(
+            "{d}/bad.xml  ESI  0 device(s)  0 objects  1 error(s)  0 warning(s)  T ms\n\
+             \x20   {d}/bad.xml:3:15: error: expected a number like #x1A00 or 6656 in <Vendor>/<Id>, found `#xZZ`\n\
+             {d}/odd.eds  EDS  1 device(s)  1 objects  0 error(s)  2 warning(s)  T ms\n\
+             {d}/sub/again.EDS  EDS  1 device(s)  1 objects  0 error(s)  2 warning(s)  T ms\n\
+             3 file(s): 2 passed, 1 with errors; 1 error(s), 4 warning(s); T ms\n"
+        )
+    );
+
+    // Files named one by one, the same; with --round-trip each passing line says so.
+    let odd = format!("{d}/odd.eds");
+    let o = esi_gen(&["check", "--round-trip", &odd, &format!("{d}/sub/again.EDS")]);
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    assert_eq!(
+        mask(&stdout(&o)),
+        format!(
+            "{d}/odd.eds  EDS  1 device(s)  1 objects  0 error(s)  2 warning(s)  T ms  round trip equal\n\
+             {d}/sub/again.EDS  EDS  1 device(s)  1 objects  0 error(s)  2 warning(s)  T ms  round trip equal\n\
+             2 file(s): 2 passed, 0 with errors; 0 error(s), 4 warning(s); T ms\n"
+        )
+    );
+}
+
+#[test]
+fn json_holds_every_file_device_and_finding() {
+    let dir = folder("json");
+    std::fs::write(dir.join("odd.eds"), ODD_EDS).unwrap();
+    std::fs::write(dir.join("bad.xml"), BAD_ESI).unwrap();
+    let d = dir.display().to_string();
+    let o = esi_gen(&["check", "--json", &d]);
+    assert_eq!(o.status.code(), Some(1));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    let files = doc["files"].as_array().unwrap();
+    assert_eq!(files.len(), 2);
+    let bad = &files[0];
+    assert_eq!(bad["path"], format!("{d}/bad.xml"));
+    assert_eq!(bad["format"], "ESI");
+    assert_eq!(bad["readable"], false);
+    assert_eq!(bad["errors"], 1);
+    assert_eq!(
+        bad["findings"][0],
+        serde_json::json!({
+            "severity": "error", "line": 3, "column": 15, "device": null, "index": null, "sub": null,
+            "message": "expected a number like #x1A00 or 6656 in <Vendor>/<Id>, found `#xZZ`"
+        })
+    );
+    let odd = &files[1];
+    assert_eq!(odd["readable"], true);
+    assert_eq!(
+        odd["devices"],
+        serde_json::json!([{
+            "name": "Odd", "product_name": "Odd", "vendor_id": 0, "product_code": 0, "revision": 0,
+            "objects": 1, "entries": 1
+        }])
+    );
+    assert_eq!(odd["warnings"], 2);
+    assert_eq!(odd["findings"][1]["line"], 8);
+    assert_eq!(odd["findings"][1]["column"], 10);
+    assert_eq!(odd["round_trip"], serde_json::Value::Null);
+    let summary = &doc["summary"];
+    assert_eq!(summary["files"], 2);
+    assert_eq!(summary["passed"], 1);
+    assert_eq!(summary["with_errors"], 1);
+    assert_eq!(summary["errors"], 1);
+    assert_eq!(summary["warnings"], 2);
+}
+
+#[test]
+fn what_is_not_a_regular_file_is_refused_at_once() {
+    let dir = folder("fifo");
+    let fifo = dir.join("pipe.eds");
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo");
+    assert!(made.success());
+    let p = fifo.display().to_string();
+    // Nobody writes to the FIFO: opening it for reading would wait for ever. The check must end at
+    // once; 30 s is room for a machine running at a fraction of its speed.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_esi-gen"))
+        .args(["check", &p, "/dev/zero"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("runs");
+    let started = std::time::Instant::now();
+    while child.try_wait().expect("waits").is_none() {
+        if started.elapsed() > std::time::Duration::from_secs(30) {
+            let _ = child.kill();
+            panic!("esi-gen check hangs on a FIFO");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let o = child.wait_with_output().expect("output");
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        mask(&stdout(&o)),
+        format!(
+            "{p}  ?  0 device(s)  0 objects  1 error(s)  0 warning(s)  T ms\n\
+             \x20   {p}: error: not a regular file\n\
+             /dev/zero  ?  0 device(s)  0 objects  1 error(s)  0 warning(s)  T ms\n\
+             \x20   /dev/zero: error: not a regular file\n\
+             2 file(s): 0 passed, 2 with errors; 2 error(s), 0 warning(s); T ms\n"
+        )
+    );
+}
+
+#[test]
+fn device_picks_one_device_of_a_file() {
+    let o = esi_gen(&["check", "fixtures/src/smd.esi.xml", "--device", "SMD24K"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    let text = stdout(&o);
+    assert!(
+        text.starts_with("fixtures/src/smd.esi.xml: ESI, 1 device(s), "),
+        "{text}"
+    );
+    assert!(text.contains("\nSMD24K\n"), "{text}");
+    assert!(!text.contains("\nSMD23K-B\n"), "{text}");
+    let o = esi_gen(&["check", "fixtures/src/smd.esi.xml", "--device", "SMD99"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stdout(&o).contains(": error: no device matches `SMD99`; the file holds SMD23K-B (product code 0x00000000), SMD24K (product code 0x00000000)\n"),
+        "{}",
+        stdout(&o)
+    );
+}
