@@ -37,6 +37,16 @@
 //!   `NodeID`, `nodeName`, `actualBaudRate`, `networkNumber`, `networkName`, `CANopenManager`) →
 //!   [`Commissioning`]. `$NODEID` defaults are resolved with its node-ID (0 without one).
 //!
+//! - A `dataType` that is no CiA 301 basic type is read with a warning: as DOMAIN (a complex or
+//!   profile type, as EDS readers take them), or, in a POWERLINK file, the POWERLINK MAC_ADDRESS
+//!   (0x0401) as a 6-octet OCTET_STRING, IP_ADDRESS (0x0402) as UNSIGNED32 and NETTIME (0x0403) as
+//!   UNSIGNED64 (EPSG DS 301 §6.1.4).
+//! - Other networks: a POWERLINK description (EPSG DS 311: `ProfileBody_Device_Powerlink`,
+//!   `ProfileBody_CommunicationNetwork_Powerlink`) is the same XML with its object dictionary in
+//!   `ObjectList/Object/SubObject`; it is read (as openCONFIGURATOR reads it) with a warning that says
+//!   the file is POWERLINK, its network parts are not, and it has no [`CanInfo`]. A file whose only
+//!   profile bodies are of another kind (`ProfileBody_Device_Modbus`, …) is refused, naming the kind.
+//!
 //! The two profile bodies may come in either order: the reader streams the file once, keeps small
 //! per-object and per-parameter records, and resolves the references at the end. Element names are matched
 //! without their namespace prefix (CANopenEditor writes `q1:parameter`). Unknown elements and attributes are

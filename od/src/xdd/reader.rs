@@ -49,16 +49,31 @@ pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError>
     scan.run()?;
     let mut source = SourceMap::default();
     source.set_device(Position { line: 1, column: 1 });
-    let lines = LineIndex::new(text.as_bytes());
-    let at = |offset: usize| lines.position(text.as_bytes(), offset);
+    let at = |offset: usize| scan.lines.position(text.as_bytes(), offset);
     for o in &scan.objects {
         source.set_object(o.index, at(o.offset));
         for sub in &o.subs {
             source.set_entry(o.index, sub.sub, at(sub.offset));
         }
     }
-    let findings = std::mem::take(&mut scan.findings);
-    let desc = scan.finish()?;
+    if let Some((offset, kind)) = &scan.powerlink {
+        scan.warn(
+            *offset,
+            format!(
+                "a POWERLINK description ({kind}, EPSG DS 311), not a CANopen one: its object dictionary is read; its POWERLINK network parts are not"
+            ),
+        );
+    } else if scan.device_file.is_none() && scan.network_file.is_none() {
+        if let Some((offset, kind)) = scan.other_bodies.first() {
+            return Err(scan.err(
+                *offset,
+                format!(
+                    "a {kind} profile body: the file describes a device of another network, not a CANopen device (no ProfileBody_Device_CANopen or ProfileBody_CommunicationNetwork_CANopen)"
+                ),
+            ));
+        }
+    }
+    let (desc, findings) = scan.finish()?;
     Ok(Reading::one(desc, source, findings))
 }
 
@@ -250,6 +265,10 @@ struct Scan<'a, 's> {
     device_file: Option<FileAttrs>,
     network_file: Option<FileAttrs>,
     seen_network_body: bool,
+    /// The first POWERLINK profile body (EPSG DS 311), and where it is.
+    powerlink: Option<(usize, String)>,
+    /// Profile bodies of other technologies, skipped.
+    other_bodies: Vec<(usize, String)>,
     vendor_name: Option<String>,
     vendor_id: Option<u32>,
     product_name: Option<String>,
@@ -268,7 +287,9 @@ struct Scan<'a, 's> {
     dummies: BTreeMap<u16, bool>,
     commissioning: Option<Commissioning>,
     /// The warnings, in file order.
-    findings: Vec<Finding>,
+    findings: std::cell::RefCell<Vec<Finding>>,
+    /// Turns byte offsets into positions for warnings.
+    lines: LineIndex,
 }
 
 /// The local part of a qualified name (`q1:parameter` → `parameter`).
@@ -333,6 +354,8 @@ impl<'a, 's> Scan<'a, 's> {
             device_file: None,
             network_file: None,
             seen_network_body: false,
+            powerlink: None,
+            other_bodies: Vec::new(),
             vendor_name: None,
             vendor_id: None,
             product_name: None,
@@ -352,7 +375,8 @@ impl<'a, 's> Scan<'a, 's> {
             baud_rates: BTreeSet::new(),
             dummies: BTreeMap::new(),
             commissioning: None,
-            findings: Vec::new(),
+            findings: std::cell::RefCell::new(Vec::new()),
+            lines: LineIndex::new(src.as_bytes()),
         }
     }
 
@@ -650,10 +674,19 @@ impl<'a, 's> Scan<'a, 's> {
                 Ctx::Skip
             }
             (Ctx::ApplicationLayers, b"CANopenObjectList") => Ctx::ObjectList,
+            (Ctx::ApplicationLayers, b"ObjectList") if self.powerlink.is_some() => Ctx::ObjectList,
             (Ctx::ApplicationLayers, b"dummyUsage") => Ctx::DummyUsage,
             (Ctx::ObjectList, b"CANopenObject") => {
                 self.open_object(e, offset)?;
                 Ctx::Object
+            }
+            (Ctx::ObjectList, b"Object") if self.powerlink.is_some() => {
+                self.open_object(e, offset)?;
+                Ctx::Object
+            }
+            (Ctx::Object, b"SubObject") if self.powerlink.is_some() => {
+                self.open_sub_object(e, offset)?;
+                Ctx::Skip
             }
             (Ctx::Object, b"CANopenSubObject") => {
                 self.open_sub_object(e, offset)?;
@@ -917,8 +950,24 @@ impl<'a, 's> Scan<'a, 's> {
             }
             // A body without a type is read for whatever CANopen content it has.
             None => Ok(Ctx::Body),
-            // Other technologies (Powerlink, …) and other profile kinds.
-            Some(_) => Ok(Ctx::Skip),
+            // POWERLINK (EPSG DS 311) describes its object dictionary as CANopen does, in
+            // `ObjectList/Object/SubObject`: read it, as openCONFIGURATOR does.
+            Some(
+                k @ ("ProfileBody_Device_Powerlink" | "ProfileBody_CommunicationNetwork_Powerlink"),
+            ) => {
+                if self.powerlink.is_none() {
+                    self.powerlink = Some((offset, k.to_string()));
+                }
+                if self.device_file.is_none() {
+                    self.device_file = Some(file);
+                }
+                Ok(Ctx::Body)
+            }
+            // Other technologies and other profile kinds.
+            Some(k) => {
+                self.other_bodies.push((offset, k.to_string()));
+                Ok(Ctx::Skip)
+            }
         }
     }
 
@@ -1292,7 +1341,7 @@ impl<'a, 's> Scan<'a, 's> {
     }
 
     /// Resolves the references and builds the description.
-    fn finish(mut self) -> Result<DeviceDescription, ParseError> {
+    fn finish(mut self) -> Result<(DeviceDescription, Vec<Finding>), ParseError> {
         let node_id = self.commissioning.as_ref().map_or(0, |c| c.node_id);
         let mut dictionary = Dictionary::new();
         let objects = std::mem::take(&mut self.objects);
@@ -1350,7 +1399,40 @@ impl<'a, 's> Scan<'a, 's> {
         }
         desc.commissioning = self.commissioning.take();
         desc.dictionary = dictionary;
-        Ok(desc)
+        Ok((desc, self.findings.into_inner()))
+    }
+
+    /// How an entry whose `dataType` is no CiA 301 basic type is read: the POWERLINK types (EPSG DS
+    /// 301 §6.1.4: MAC_ADDRESS, IP_ADDRESS, NETTIME) as the basic types of their size, anything else
+    /// (a complex or profile type) as DOMAIN, as EDS readers take them.
+    fn other_type(&self, index: u16) -> (DataType, Option<u32>, &'static str) {
+        match (index, self.powerlink.is_some()) {
+            (0x0401, true) => (
+                DataType::OctetString,
+                Some(48),
+                "the POWERLINK MAC_ADDRESS (6 octets)",
+            ),
+            (0x0402, true) => (
+                DataType::Unsigned32,
+                None,
+                "the POWERLINK IP_ADDRESS (4 octets)",
+            ),
+            (0x0403, true) => (
+                DataType::Unsigned64,
+                None,
+                "the POWERLINK NETTIME (seconds and nanoseconds, 8 octets)",
+            ),
+            (0x0020..=0x025F, _) => (DataType::Domain, None, "a complex or profile data type"),
+            _ => (DataType::Domain, None, "not a CiA 301 data type"),
+        }
+    }
+
+    /// A warning at byte `offset`.
+    fn warn(&self, offset: usize, message: String) {
+        let at = self.lines.position(self.src.as_bytes(), offset);
+        self.findings
+            .borrow_mut()
+            .push(Finding::warning(at, message));
     }
 
     fn param(&self, r: &Option<Attr<'a>>) -> Result<Option<&ParamRec<'a>>, ParseError> {
@@ -1447,15 +1529,20 @@ impl<'a, 's> Scan<'a, 's> {
             .or(param.and_then(|p| p.default.as_ref()));
 
         // Data type: the dataType attribute, else the parameter's type, else the array's element type.
+        let mut capacity = None;
         let data_type = if let Some((index, off)) = attrs.data_type {
-            DataType::from_index(index).ok_or_else(|| {
-                self.err(
-                    off,
-                    format!(
-                        "dataType {index:04X} of {at} is not a CiA 301 basic data type (expected 0001 to 001B)"
-                    ),
-                )
-            })?
+            match DataType::from_index(index) {
+                Some(t) => t,
+                None => {
+                    let (t, bits, what) = self.other_type(index);
+                    capacity = bits;
+                    self.warn(
+                        off,
+                        format!("dataType {index:04X} of {at} is {what}; the entry is read as {t}"),
+                    );
+                    t
+                }
+            }
         } else {
             let xt = match param.and_then(|p| p.ty.as_ref()) {
                 Some(TypeRef::Simple(t)) => Some(*t),
@@ -1529,6 +1616,9 @@ impl<'a, 's> Scan<'a, 's> {
                 let bytes = (cap as usize).max(default_len);
                 entry.bit_size = u32::try_from(bytes).ok().and_then(|b| b.checked_mul(8));
             }
+        }
+        if capacity.is_some() {
+            entry.bit_size = capacity;
         }
         entry.reset(node_id);
         let actual = attrs
@@ -1939,11 +2029,28 @@ second line</description><BITSTRING/><q1:defaultValue value="00 01"/></q1:parame
         ));
         assert_eq!((e.position.line, e.position.column), (13, 1), "{e}");
 
-        let e = err_of(&wrap(
+        // A complex type is no error: a DOMAIN, with a warning at the attribute's value.
+        let text = wrap(
             r#"<CANopenObject index="1000" name="A" objectType="7" dataType="0020"/>"#,
             "",
-        ));
-        assert_eq!((e.position.line, e.position.column), (12, 63), "{e}");
+        );
+        let r = read_file(text.as_bytes(), "t.xdd").unwrap();
+        let w = &r.findings[0];
+        assert_eq!(
+            w.position,
+            Some(Position {
+                line: 12,
+                column: 63
+            })
+        );
+        assert_eq!(
+            w.message,
+            "dataType 0020 of 0x1000:00 is a complex or profile data type; the entry is read as DOMAIN"
+        );
+        assert_eq!(
+            r.devices[0].dictionary.entry(0x1000, 0).unwrap().data_type,
+            DataType::Domain
+        );
 
         let e = err_of(&wrap(
             r#"<CANopenObject index="1000" name="A" objectType="7" dataType="0007" PDOmapping="yes"/>"#,
