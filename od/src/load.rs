@@ -166,6 +166,41 @@ mod tests {
     use super::*;
 
     #[test]
+    fn only_regular_files_up_to_the_limit_are_read() {
+        let dir = std::env::temp_dir().join(format!("od-load-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("ten.eds");
+        std::fs::write(&file, b"0123456789").unwrap();
+        assert_eq!(read_limited(&file, 10).unwrap(), b"0123456789");
+        match read_limited(&file, 9) {
+            Err(LoadError::TooLarge { size, limit, .. }) => assert_eq!((size, limit), (10, 9)),
+            other => panic!("{other:?}"),
+        }
+        let e = read_limited(&file, 9).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "{}: 10 bytes, more than the 9 a description file may have",
+                file.display()
+            )
+        );
+        assert!(matches!(
+            read_limited(&dir, 100),
+            Err(LoadError::NotAFile(p)) if p == dir
+        ));
+        assert!(matches!(
+            read_limited(Path::new("/dev/zero"), 100),
+            Err(LoadError::NotAFile(_))
+        ));
+        assert!(matches!(
+            read_limited(&dir.join("none.eds"), 100),
+            Err(LoadError::Io { .. })
+        ));
+        assert_eq!(MAX_FILE_BYTES, 268_435_456);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
     fn formats_are_told_by_content_then_extension() {
         let p = Path::new("x.bin");
         assert_eq!(
