@@ -226,6 +226,19 @@ mod tests {
             Format::detect(p, b"[FileInfo]\n[DeviceComissioning]\nNodeID=2\n"),
             Some(Format::Dcf)
         );
+        assert_eq!(
+            Format::detect(p, b"[FileInfo]\n[DeviceCommissioning]\nNodeID=2\n"),
+            Some(Format::Dcf),
+            "the correct spelling too"
+        );
+        let mut late = b"[FileInfo]\n".to_vec();
+        late.extend(std::iter::repeat_n(b';', 5000));
+        late.extend(b"\n[devicecomissioning]\n");
+        assert_eq!(
+            Format::detect(p, &late),
+            Some(Format::Dcf),
+            "beyond the first 4096 bytes"
+        );
         assert_eq!(Format::detect(p, b"hello"), None);
     }
 }
