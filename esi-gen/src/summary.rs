@@ -214,7 +214,7 @@ pub fn check_file_keeping(path: &Path, options: &Options) -> (FileReport, Vec<De
             finding,
             device: None,
         }));
-    let several = devices.len() > 1;
+    let several = chosen.len() > 1;
     for &i in &chosen {
         let dev = &devices[i];
         report.devices.push(device_line(dev));

@@ -289,3 +289,97 @@ fn device_picks_one_device_of_a_file() {
         stdout(&o)
     );
 }
+
+/// An ESI of `n` devices (product codes 1…n, revision 0x10 each): each has 0x1000 but no 0x1018, which
+/// is one warning at its `Device` element (line 3 + 3·k for device k from 0).
+fn esi_of(n: usize) -> String {
+    let mut text = String::from(
+        "<?xml version=\"1.0\"?>\n<EtherCATInfo><Vendor><Id>7</Id><Name>V</Name></Vendor><Descriptions><Devices>\n",
+    );
+    for k in 1..=n {
+        text.push_str(&format!(
+            "<Device>\n<Type ProductCode=\"#x{k:X}\" RevisionNo=\"#x10\">T{k}</Type><Name>Terminal {k}</Name>\n\
+             <Profile><Dictionary><Objects><Object><Index>#x1000</Index><Name>Device type</Name><Type>UDINT</Type></Object></Objects></Dictionary></Profile></Device>\n"
+        ));
+    }
+    text.push_str("</Devices></Descriptions></EtherCATInfo>\n");
+    text
+}
+
+#[test]
+fn devices_of_a_file_are_named_in_their_findings() {
+    let dir = folder("devices");
+    let two = dir.join("two.xml");
+    std::fs::write(&two, esi_of(2)).unwrap();
+    let p = two.display().to_string();
+    let o = esi_gen(&["check", &p]);
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    let text = mask(&stdout(&o));
+    assert!(
+        text.contains("\nT1\n  name         Terminal 1\n  vendor       0x00000007 V\n  product code 0x00000001  revision 0x00000010\n"),
+        "{text}"
+    );
+    assert!(
+        text.ends_with(&format!(
+            "findings: 0 error(s), 2 warning(s)\n\
+             \x20 {p}:3:1: warning: T1 rev 0x00000010: object 0x1018 (identity) is mandatory and missing\n\
+             \x20 {p}:6:1: warning: T2 rev 0x00000010: object 0x1018 (identity) is mandatory and missing\n"
+        )),
+        "{text}"
+    );
+    // One device picked by its product code: no device label.
+    let o = esi_gen(&["check", &p, "--device", "0x2"]);
+    let text = mask(&stdout(&o));
+    assert!(
+        text.ends_with(&format!(
+            "findings: 0 error(s), 1 warning(s)\n\
+             \x20 {p}:6:1: warning: object 0x1018 (identity) is mandatory and missing\n"
+        )),
+        "{text}"
+    );
+
+    // Five devices: a line each instead of five summaries.
+    let five = dir.join("five.xml");
+    std::fs::write(&five, esi_of(5)).unwrap();
+    let p = five.display().to_string();
+    let o = esi_gen(&["check", &p]);
+    let text = mask(&stdout(&o));
+    assert!(
+        text.starts_with(&format!(
+            "{p}: ESI, 5 device(s), read and checked in T ms\n\
+             \x20 T1                       product code 0x00000001  revision 0x00000010  1 objects\n\
+             \x20 T2                       product code 0x00000002  revision 0x00000010  1 objects\n"
+        )),
+        "{text}"
+    );
+    assert!(!text.contains("  name "), "{text}");
+    // Four devices: four summaries.
+    std::fs::write(&five, esi_of(4)).unwrap();
+    let text = stdout(&esi_gen(&["check", &p]));
+    assert_eq!(text.matches("  name         Terminal").count(), 4, "{text}");
+}
+
+#[test]
+fn a_batch_lists_three_errors_of_a_file_then_counts_the_rest() {
+    let dir = folder("strict-batch");
+    std::fs::write(dir.join("five.xml"), esi_of(5)).unwrap();
+    let d = dir.display().to_string();
+    let o = esi_gen(&["check", "--strict", &d]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        mask(&stdout(&o)),
+        format!(
+            "{d}/five.xml  ESI  5 device(s)  5 objects  5 error(s)  0 warning(s)  T ms\n\
+             \x20   {d}/five.xml:3:1: error: T1 rev 0x00000010: object 0x1018 (identity) is mandatory and missing\n\
+             \x20   {d}/five.xml:6:1: error: T2 rev 0x00000010: object 0x1018 (identity) is mandatory and missing\n\
+             \x20   {d}/five.xml:9:1: error: T3 rev 0x00000010: object 0x1018 (identity) is mandatory and missing\n\
+             \x20   … 2 more error(s)\n\
+             1 file(s): 0 passed, 1 with errors; 5 error(s), 0 warning(s); T ms\n"
+        )
+    );
+    // --all lists every finding, warnings too.
+    let o = esi_gen(&["check", "--all", &d]);
+    let text = stdout(&o);
+    assert_eq!(text.matches(": warning: T").count(), 5, "{text}");
+    assert!(!text.contains("more error"), "{text}");
+}
