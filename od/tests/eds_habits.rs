@@ -8,7 +8,8 @@ use od::{eds, DataType, Severity, Value};
 /// Reads `text`, checks the description, and gives it back with every finding (the reader's, then the
 /// checks') as `line:column: message`, warnings only.
 fn read_and_check(text: &str) -> (od::DeviceDescription, Vec<String>) {
-    let mut reading = eds::read_file(text.as_bytes(), "habit.eds").unwrap_or_else(|e| panic!("{e}"));
+    let mut reading =
+        eds::read_file(text.as_bytes(), "habit.eds").unwrap_or_else(|e| panic!("{e}"));
     let desc = reading.devices.pop().expect("one device");
     let source = reading.sources.pop().expect("one source map");
     let mut findings = reading.findings;
@@ -119,4 +120,293 @@ PDOMapping=1
     assert_eq!(d.read_value(0x1A00, 0).unwrap(), Value::Uint(0xFE));
     assert_eq!(d.read_value(0x1A01, 0).unwrap(), Value::Uint(0xFF));
     assert_eq!(d.read_value(0x1A01, 1).unwrap(), Value::Uint(0x3000_0020));
+}
+
+/// Reads `text` and gives back the description and the reader's warnings as `line:column: message`.
+fn read_warnings(text: &str) -> (od::DeviceDescription, Vec<String>) {
+    let mut reading =
+        eds::read_file(text.as_bytes(), "habit.eds").unwrap_or_else(|e| panic!("{e}"));
+    let text = reading
+        .findings
+        .iter()
+        .map(|f| {
+            assert_eq!(f.severity, Severity::Warning, "{f}");
+            let p = f.position.expect("a reader warning has a position");
+            format!("{}:{}: {}", p.line, p.column, f.message)
+        })
+        .collect();
+    (reading.devices.pop().expect("one device"), text)
+}
+
+/// Defaults, limits and parameter values that are no value of their type: SOMANET's `0xDEADBEEF` for an
+/// INTEGER16, openPOWERLINK's `0` for an OCTET_STRING, python-canopen's `@ABCD` for a DOMAIN, `$NODEID`
+/// where it cannot go. python-canopen catches the ValueError and skips such a value; so does the reader,
+/// with a warning, and the entry loads without it.
+#[test]
+fn values_that_are_no_value_of_their_type_are_dropped() {
+    let text = "\
+[2000]
+ParameterName=Position window
+DataType=0x0003
+AccessType=rw
+DefaultValue=0xDEADBEEF
+LowLimit=-40000
+HighLimit=0x7FFF
+[2001]
+ParameterName=Address
+DataType=0x000A
+AccessType=rw
+DefaultValue=0
+[2002]
+ParameterName=Offset
+DataType=0x0008
+AccessType=rw
+DefaultValue=$NODEID+1.5
+LowLimit=$NODEID
+[2003]
+ParameterName=Count
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID-1
+ParameterValue=twelve
+[2004]
+ParameterName=Blob
+DataType=0x000F
+AccessType=rw
+DefaultValue=@ABCD
+";
+    let (desc, warnings) = read_warnings(text);
+    assert_eq!(
+        warnings,
+        [
+            "5:14: DefaultValue= in [2000]: 0xDEADBEEF does not fit in INTEGER16; the default is dropped",
+            "6:10: LowLimit= in [2000]: -40000 does not fit in INTEGER16; the limit is dropped",
+            "12:14: DefaultValue= in [2001]: `0` is not a OCTET_STRING value: expected hexadecimal byte digits; the default is dropped",
+            "17:14: DefaultValue= in [2002]: `$NODEID+1.5` adds the node-ID to a REAL32, and $NODEID is added to integers only; the default is dropped",
+            "18:10: LowLimit= in [2002]: `$NODEID` adds the node-ID, which a limit cannot; the limit is dropped",
+            "23:14: DefaultValue= in [2003]: `$NODEID-1` is not `$NODEID`, `$NODEID+offset` or `offset+$NODEID`; the default is dropped",
+            "24:16: ParameterValue= in [2003]: `twelve` is not a UNSIGNED32 value: expected an integer; the value is dropped",
+            "29:14: DefaultValue= in [2004]: `@ABCD` is not a DOMAIN value: expected hexadecimal byte digits; the default is dropped",
+        ]
+    );
+    let d = &desc.dictionary;
+    let window = d.entry(0x2000, 0).unwrap();
+    assert_eq!(window.default, None);
+    assert_eq!(window.low, None);
+    assert_eq!(window.high, Some(Value::Int(0x7FFF)));
+    assert_eq!(window.value, [0, 0]);
+    let address = d.entry(0x2001, 0).unwrap();
+    assert_eq!(
+        (address.default.clone(), address.value.clone()),
+        (None, vec![])
+    );
+    let offset = d.entry(0x2002, 0).unwrap();
+    assert_eq!((offset.default.clone(), offset.low.clone()), (None, None));
+    let count = d.entry(0x2003, 0).unwrap();
+    assert_eq!(count.default, None);
+    assert_eq!(count.value, [0; 4]);
+    assert!(!count.value_set);
+    assert_eq!(d.entry(0x2004, 0).unwrap().default, None);
+    // What was kept writes and reads back without a warning.
+    let again = eds::write_eds(&desc);
+    let (back, warnings) = read_warnings(&again);
+    assert_eq!(warnings, Vec::<String>::new());
+    assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
+}
+
+/// CANopenNode's editor writes C integer literals: `0x1234567890ABCDEFLL` for an INTEGER64,
+/// `$NODEID+0x100u`. Lely's C lexer reads the number and stops at the suffix; so does the reader, with a
+/// warning.
+#[test]
+fn c_integer_suffixes_are_dropped() {
+    let text = "\
+[2120]
+ParameterName=Demo record
+ObjectType=0x9
+[2120sub0]
+ParameterName=Highest sub-index supported
+DataType=0x0005
+AccessType=ro
+DefaultValue=2
+[2120sub1]
+ParameterName=I64
+DataType=0x0015
+AccessType=rw
+DefaultValue=0x1234567890ABCDEFLL
+[2120sub2]
+ParameterName=U16
+DataType=0x0006
+AccessType=rw
+DefaultValue=$NODEID+0x100u
+LowLimit=10UL
+[2120sub3]
+ParameterName=Text
+DataType=0x0009
+AccessType=rw
+DefaultValue=10UL
+";
+    let (desc, warnings) = read_warnings(text);
+    assert_eq!(
+        warnings,
+        [
+            "13:14: DefaultValue= in [2120sub1]: the C suffix `LL` of `0x1234567890ABCDEFLL` is dropped",
+            "18:14: DefaultValue= in [2120sub2]: the C suffix `u` of `$NODEID+0x100u` is dropped",
+            "19:10: LowLimit= in [2120sub2]: the C suffix `UL` of `10UL` is dropped",
+        ]
+    );
+    let d = &desc.dictionary;
+    assert_eq!(
+        d.entry(0x2120, 1).unwrap().default,
+        Some(od::DefaultValue::plain(Value::Int(0x1234_5678_90AB_CDEF)))
+    );
+    assert_eq!(
+        d.entry(0x2120, 2).unwrap().default,
+        Some(od::DefaultValue {
+            value: Value::Uint(0x100),
+            plus_node_id: true
+        })
+    );
+    assert_eq!(d.entry(0x2120, 2).unwrap().low, Some(Value::Uint(10)));
+    // In a string, the letters are text.
+    assert_eq!(
+        d.entry(0x2120, 3).unwrap().default,
+        Some(od::DefaultValue::plain(Value::String("10UL".into())))
+    );
+    let (back, warnings) = read_warnings(&eds::write_eds(&desc));
+    assert_eq!(warnings, Vec::<String>::new());
+    assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
+}
+
+/// CANopenEditor's Python port writes `ObjectType=VAR` and `DataType=UNSIGNED32`: the CiA 301 names
+/// instead of the numbers. A name says which code or type as plainly as the number, so it is read, with a
+/// warning; a word that names none stays an error.
+#[test]
+fn object_types_and_data_types_by_name() {
+    let text = "\
+[1000]
+ParameterName=Device Type
+ObjectType=VAR
+DataType=UNSIGNED32
+AccessType=ro
+DefaultValue=0x00000000
+[1018]
+ParameterName=Identity
+ObjectType=record
+[1018sub0]
+ParameterName=Highest sub-index supported
+DataType=unsigned8
+AccessType=ro
+DefaultValue=1
+[1018sub1]
+ParameterName=Vendor-ID
+DataType=0x0007
+AccessType=ro
+";
+    let (desc, warnings) = read_warnings(text);
+    assert_eq!(
+        warnings,
+        [
+            "3:12: ObjectType= in [1000]: `VAR` is the name of an object code, not a code; read as 0x7 (VAR)",
+            "4:10: DataType= in [1000]: `UNSIGNED32` is the name of data type 0x0007, not its index; read as UNSIGNED32",
+            "9:12: ObjectType= in [1018]: `record` is the name of an object code, not a code; read as 0x9 (RECORD)",
+            "12:10: DataType= in [1018sub0]: `unsigned8` is the name of data type 0x0005, not its index; read as UNSIGNED8",
+        ]
+    );
+    let d = &desc.dictionary;
+    assert_eq!(d.object(0x1000).unwrap().kind, od::ObjectKind::Var);
+    assert_eq!(d.entry(0x1000, 0).unwrap().data_type, DataType::Unsigned32);
+    assert_eq!(d.object(0x1018).unwrap().kind, od::ObjectKind::Record);
+    assert_eq!(d.entry(0x1018, 0).unwrap().data_type, DataType::Unsigned8);
+    assert_eq!(d.read_value(0x1018, 0).unwrap(), Value::Uint(1));
+
+    let err = eds::read(
+        b"[1000]\nParameterName=x\nObjectType=STRUCT\nDataType=7\nAccessType=ro\n",
+        "bad.eds",
+    )
+    .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "bad.eds:3:12: ObjectType= in [1000]: expected an object code: 0x7 (VAR), 0x8 (ARRAY), 0x9 (RECORD), 0x2 (DOMAIN), 0x5 (DEFTYPE), 0x6 (DEFSTRUCT) or 0x0 (NULL), found `STRUCT`"
+    );
+    let err = eds::read(
+        b"[1000]\nParameterName=x\nDataType=UINT32\nAccessType=ro\n",
+        "bad.eds",
+    )
+    .unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "bad.eds:3:10: DataType= in [1000]: expected a CiA 301 data type index like 0x0007, found `UINT32`"
+    );
+}
+
+/// Lely writes TIME_OF_DAY and TIME_DIFFERENCE values as `days ms` (`365 43200000`, its test
+/// co-sdev.dcf), separated by a blank; the reader takes that as well as `days:ms`.
+#[test]
+fn lely_time_values() {
+    let text = "\
+[200C]
+ParameterName=TIME_OF_DAY value
+DataType=0x000C
+AccessType=rw
+DefaultValue=0 0
+ParameterValue=365 43200000
+[200D]
+ParameterName=TIME_DIFFERENCE value
+DataType=0x000D
+AccessType=rw
+DefaultValue=1:2
+";
+    let (desc, warnings) = read_warnings(text);
+    assert_eq!(warnings, Vec::<String>::new());
+    let d = &desc.dictionary;
+    let time = |days, ms| Value::Time(od::value::TimeValue { ms, days });
+    assert_eq!(
+        d.entry(0x200C, 0).unwrap().default,
+        Some(od::DefaultValue::plain(time(0, 0)))
+    );
+    assert_eq!(d.read_value(0x200C, 0).unwrap(), time(365, 43_200_000));
+    assert_eq!(
+        d.entry(0x200C, 0).unwrap().value,
+        [0x00, 0x2E, 0x93, 0x02, 0x6D, 0x01]
+    );
+    assert_eq!(d.read_value(0x200D, 0).unwrap(), time(1, 2));
+}
+
+/// python-canopen's receiver.eds has `CompactSubObj=255` on 0x1003: entries up to sub-index 0xFF, which
+/// CiA 301 keeps for the object's structure (an ARRAY has at most 254 entries). Lely builds all 255
+/// (python-canopen builds entries on demand, with no bound); so does the reader, with a warning. Written
+/// back one section per entry, the 256 sub-indices say `SubNumber=0xFF`, the largest the key holds.
+#[test]
+fn compact_sub_obj_255() {
+    let text = "\
+[1003]
+ParameterName=Pre-defined error field
+ObjectType=0x8
+CompactSubObj=255
+DataType=0x0007
+AccessType=ro
+PDOMapping=0
+";
+    let (desc, warnings) = read_warnings(text);
+    assert_eq!(
+        warnings,
+        ["4:15: CompactSubObj= in [1003]: 255 entries reach sub-index 0xFF, which CiA 301 keeps for the object's structure; read as 255 entries, as Lely does"]
+    );
+    let errors = desc.dictionary.object(0x1003).unwrap();
+    assert_eq!(errors.subs.len(), 256);
+    assert_eq!(errors.subs[&0].name, "NrOfObjects");
+    assert_eq!(
+        errors.subs[&0].default,
+        Some(od::DefaultValue::plain(Value::Uint(255)))
+    );
+    assert_eq!(errors.subs[&255].name, "Pre-defined error field255");
+    assert_eq!(errors.subs[&255].data_type, DataType::Unsigned32);
+    let written = eds::write_eds(&desc);
+    assert!(written.contains(
+        "[1003]\r\nParameterName=Pre-defined error field\r\nObjectType=0x8\r\nSubNumber=0xFF\r\n\r\n[1003sub0]\r\n"
+    ));
+    assert!(written.contains("[1003subFF]\r\nParameterName=Pre-defined error field255\r\n"));
+    let (back, warnings) = read_warnings(&written);
+    assert_eq!(warnings, Vec::<String>::new());
+    assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
 }

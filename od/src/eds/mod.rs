@@ -20,7 +20,9 @@
 //!   `ObjFlags`, `CompactSubObj`, and in a DCF `ParameterValue` (§5). `Denotation`, `UploadFile`,
 //!   `DownloadFile` and unknown keys (`StorageLocation`, `Factor`…) are skipped.
 //! - Compact storage (§4.6.3, `CompactSubObj`): `CompactSubObj=N` on an ARRAY describes sub-indices
-//!   1..N with the object's own keys. Sub-index 0 is implied: `NrOfObjects`, UNSIGNED8, `ro`, default
+//!   1..N with the object's own keys. `CompactSubObj=255` (python-canopen's `receiver.eds`) reaches
+//!   sub-index 0xFF, which CiA 301 keeps for the object's structure: read as 255 entries, as Lely builds
+//!   them, with a warning. Sub-index 0 is implied: `NrOfObjects`, UNSIGNED8, `ro`, default
 //!   N. The names come from `[xxxxName]` (`NrOfEntries=`, `1=name`…), else they are the object's name
 //!   followed by the
 //!   sub-index in decimal (`Valve 1 % Open3`); DCF values come from `[xxxxValue]`. Explicit
@@ -45,17 +47,31 @@
 //!
 //! Section names and keys are case-insensitive; keys and values are trimmed of ASCII white space; blank lines
 //! and lines starting with `;` (or `#`) are skipped; lines end in LF or CR LF; a UTF-8 byte-order mark is
-//! skipped, and a file that is not UTF-8 is read as ISO-8859-1. Unknown sections and keys are skipped; a
-//! wrong value of a known key is an error naming the line and column of the value. Also errors: a line that
-//! is neither `[section]`, `key=value`, blank nor a comment; a key before the first section; a section or a
-//! known key that appears twice; a sub-index section without its
-//! object's section, or under a VAR.
+//! skipped, and a file that is not UTF-8 is read as ISO-8859-1. Unknown sections and keys are skipped.
+//! Findings name the line and column of the value (see [`crate::report`] for what is an error and what
+//! a warning).
+//!
+//! A value of `DefaultValue`, `LowLimit`, `HighLimit`, `ParameterValue` or an `[xxxxValue]` entry that
+//! is no value of the entry's type (`0xDEADBEEF` for an INTEGER16, `0` for an OCTET_STRING, `$NODEID` in
+//! a limit or on a REAL32) is dropped with a warning, as python-canopen skips a value it cannot convert:
+//! the entry loads without it. A C integer suffix (`0x1234567890ABCDEFLL`, `0x100u`: CANopenNode's
+//! editor writes them) is dropped with a warning and the number read, as Lely's C lexer reads it.
+//! `ObjectType` and `DataType` given by their CiA 301 names (`VAR`, `UNSIGNED32`: CANopenEditor's Python
+//! port writes them) are read with a warning; neither python-canopen nor Lely reads a name, but a name
+//! says which code or type as plainly as the number. TIME_OF_DAY and TIME_DIFFERENCE values are read as
+//! `days:ms`, as Lely's `days ms`, or as a plain millisecond count.
+//!
+//! Errors: a line that is neither `[section]`, `key=value`, blank nor a comment; a key before the first
+//! section; a section or a known key that appears twice; a sub-index section without its object's
+//! section, or under a VAR; a structural value that no reading makes fit (an object code that does not
+//! exist, a data type that is neither an index nor a name, an access type that is none of CiA 306's).
 //!
 //! Choices where files and the standard disagree, so that the real files of the corpus read: an empty
 //! value of a numeric key (`VendorNumber=`, `DefaultValue=` of an integer) counts as absent; a `DataType` of
 //! the complex and profile range 0x0020–0x025F (a structure the model cannot describe) is read as DOMAIN; a
 //! DOMAIN `DefaultValue` or `ParameterValue` that is not hexadecimal bytes is not kept (tools write domain
-//! contents in different notations, and CiA 306 gives them through `UploadFile`/`DownloadFile`);
+//! contents in different notations, and CiA 306 gives them through `UploadFile`/`DownloadFile`; a
+//! warning says so);
 //! `LowLimit`/`HighLimit` are read for numeric types only.
 //!
 //! The parser is a small line scanner rather than the `rust-ini` crate: an error has to name the line and
@@ -71,7 +87,8 @@
 //! [`write_eds`] writes, in CiA 306 order, `[FileInfo]`, `[DeviceInfo]`, `[DummyUsage]`, `[Comments]`,
 //! `[MandatoryObjects]` (0x1000, 0x1001, 0x1018 where present), `[OptionalObjects]` (the other objects of
 //! 0x0000–0x1FFF and 0x6000–0xFFFF), `[ManufacturerObjects]` (0x2000–0x5FFF), then the object sections in
-//! index order, every ARRAY and RECORD with one section per sub-index (never compact). Lines end in CR LF, as
+//! index order, every ARRAY and RECORD with one section per sub-index (never compact; an object with all
+//! 256 sub-indices says `SubNumber=0xFF`, the largest value the key holds). Lines end in CR LF, as
 //! CiA 306 files usually do and as Windows tools expect; keys come in a fixed order and there are no
 //! timestamps, so the output is byte-stable. Numbers are hexadecimal (`0x0007`), defaults that add the
 //! node-ID are written `$NODEID+0x180`, bit fields (ESI `BITn`) as BOOLEAN or UNSIGNED8.

@@ -201,7 +201,10 @@ fn object_sections(w: &mut IniWriter, object: &Object, node_id: Option<u8>) {
     w.key("ParameterName", &object.name);
     w.key("ObjectType", &format!("0x{:X}", object.kind.code()));
     if object.kind.has_subs() {
-        w.key("SubNumber", &format!("0x{:X}", object.subs.len()));
+        // SubNumber is an UNSIGNED8: an object with all 256 sub-indices (CompactSubObj=255, as Lely reads
+        // it) says 0xFF, and readers take the sections that are there.
+        let sub_number = object.subs.len().min(0xFF);
+        w.key("SubNumber", &format!("0x{sub_number:X}"));
         for (&sub_index, sub) in &object.subs {
             w.section(&format!("{:04X}sub{sub_index:X}", object.index));
             w.key("ParameterName", &sub.name);
