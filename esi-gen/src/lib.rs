@@ -106,7 +106,8 @@ pub struct DcfArgs {
     /// Conversion arguments.
     #[command(flatten)]
     pub convert: Convert,
-    /// The node-ID the DCF configures (1..127); `$NODEID` defaults resolve with it.
+    /// The node-ID the DCF configures (1..127); `$NODEID` defaults resolve with it. Without it, the
+    /// input's node-ID, or none (an unconfigured node, no `NodeID=`).
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=127))]
     pub node_id: Option<u8>,
     /// The bit rate in kbit/s.
@@ -240,13 +241,12 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
                 out,
                 move |devs| {
                     let mut dev = devs[0].clone();
-                    let c = dev.commissioning.get_or_insert_with(Commissioning::default);
+                    // Without --node-id the node-ID is the description's, or none: a made-up one would
+                    // change what every `$NODEID` value means.
                     if let Some(n) = node_id {
-                        c.node_id = n;
+                        dev.set_node_id(Some(n));
                     }
-                    if c.node_id == 0 {
-                        c.node_id = 1;
-                    }
+                    let c = dev.commissioning.get_or_insert_with(Commissioning::default);
                     if let Some(b) = baud {
                         c.baud_rate = b;
                     }

@@ -567,7 +567,7 @@ fn writes_byte_exact_eds() {
 fn writes_byte_exact_dcf() {
     let mut desc = golden_description();
     desc.commissioning = Some(Commissioning {
-        node_id: 5,
+        node_id: Some(5),
         node_name: "Left".into(),
         baud_rate: 500,
         net_number: 1,
@@ -624,28 +624,31 @@ fn writes_byte_exact_dcf() {
     assert_eq!(back, expected);
 }
 
+/// A description without a node-ID (an EDS, Lely's DCFs of an unconfigured node) is written as a DCF
+/// without `NodeID=`: a made-up node-ID would change what every `$NODEID` value means (Lely's
+/// cocatd.dcf once came back with 0x1014 = 0x81 for its `$NODEID+0x80`). Read back, the node is still
+/// unconfigured and the `$NODEID` values are resolved with 0, as in the EDS.
 #[test]
-fn dcf_without_commissioning_is_node_1() {
+fn dcf_without_a_node_id_has_none() {
     let desc = golden_description();
     let text = eds::write_dcf(&desc);
-    assert!(text.contains("[DeviceComissioning]\r\nNodeID=1\r\nNodeName=\r\n"));
+    assert!(text.contains("[DeviceComissioning]\r\nNodeName=\r\nBaudrate=0\r\n"));
+    assert!(!text.contains("NodeID"));
     // The description holds the EDS values (`$NODEID` resolved with 0): still defaults, so no
     // ParameterValue at all.
     assert!(!text.contains("ParameterValue"));
     assert_eq!(text, {
         let mut desc = desc.clone();
-        desc.commissioning = Some(Commissioning {
-            node_id: 1,
-            ..Commissioning::default()
-        });
+        desc.commissioning = Some(Commissioning::default());
         eds::write_dcf(&desc)
     });
-    let back = eds::read(text.as_bytes(), "n1.dcf").unwrap();
-    assert_eq!(back.commissioning.unwrap().node_id, 1);
+    let back = eds::read(text.as_bytes(), "unconfigured.dcf").unwrap();
+    assert_eq!(back.commissioning, Some(Commissioning::default()));
     assert_eq!(
         back.dictionary.read_value(0x1800, 1).unwrap(),
-        Value::Uint(0x181)
+        Value::Uint(0x180)
     );
+    assert_eq!(back.dictionary, desc.dictionary);
 }
 
 const SMALL_DCF: &str = "[FileInfo]
@@ -731,7 +734,7 @@ fn reads_a_dcf_and_writes_it_back() {
     assert_eq!(
         desc.commissioning,
         Some(Commissioning {
-            node_id: 0x10,
+            node_id: Some(0x10),
             node_name: "Left axis".into(),
             baud_rate: 500,
             net_number: 1,
@@ -783,8 +786,10 @@ fn reads_a_dcf_and_writes_it_back() {
     let text = eds::write_dcf(&desc);
     assert!(text.contains("NodeID=16\r\n"));
     assert!(text.contains("DefaultValue=$NODEID+0x180\r\nPDOMapping=0\r\n\r\n"));
-    assert!(text
-        .contains("DefaultValue=$NODEID+0x200\r\nPDOMapping=0\r\nParameterValue=0x00000310\r\n"));
+    // `ParameterValue=$NODEID+0x300` stays relative to the node-ID.
+    assert!(text.contains(
+        "DefaultValue=$NODEID+0x200\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x300\r\n"
+    ));
     assert_eq!(eds::read(text.as_bytes(), "again.dcf").unwrap(), desc);
 
     // As an EDS: no commissioning, no current values, `$NODEID` defaults resolved with node 0.
@@ -929,12 +934,6 @@ fn errors_name_line_and_column() {
         12,
         "expected 0 or 1",
     );
-    assert_error(
-        &with("DataType=0x0007\nAccessType=ro\nParameterValue=$NODEID+1\n"),
-        7,
-        16,
-        "[DeviceComissioning]",
-    );
     assert_error(&with("AccessType=ro\n"), 3, 2, "[1000] has no DataType=");
     assert_error(
         &with("DataType=0x0007\nAccessType=ro\nObjectType=0x3\n"),
@@ -1007,16 +1006,10 @@ fn errors_name_line_and_column() {
         "[Comments] has no Line2=",
     );
     assert_error(
-        b"[DeviceComissioning]\nNodeID=200\n",
+        b"[DeviceComissioning]\nNodeID=five\n",
         2,
         8,
-        "a node-ID, 1 to 127",
-    );
-    assert_error(
-        b"[DeviceComissioning]\nNodeName=x\n",
-        1,
-        2,
-        "has no NodeID=",
+        "NodeID= in [DeviceComissioning]: expected a node-ID, 1 to 127, found `five`",
     );
 }
 
@@ -1229,7 +1222,7 @@ mod random {
         )
             .prop_flat_map(|(mut desc, node_id, c, seed)| {
                 desc.commissioning = Some(Commissioning {
-                    node_id,
+                    node_id: Some(node_id),
                     node_name: c.0,
                     baud_rate: c.1,
                     net_number: c.2,
@@ -1332,7 +1325,8 @@ fn node_id_defaults_must_fit_for_node_127() {
     assert_eq!(dev.dictionary.entry(0x1000, 0).unwrap().value, [0; 4]);
     let ok =
         "[1000]\nParameterName=x\nDataType=7\nAccessType=ro\nDefaultValue=$NODEID+0xFFFFFF80\n";
-    let dev = eds::read(ok.as_bytes(), "n.eds").unwrap();
+    let mut dev = eds::read(ok.as_bytes(), "n.eds").unwrap();
+    dev.set_node_id(Some(1));
     let dcf = eds::read(eds::write_dcf(&dev).as_bytes(), "n.dcf").unwrap();
     assert_eq!(
         dcf.dictionary.read_value(0x1000, 0).unwrap(),

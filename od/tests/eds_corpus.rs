@@ -160,7 +160,7 @@ fn pycanopen_sample_is_a_dcf_with_compact_arrays() {
         ["|-------------|", "| Don't panic |", "|-------------|"]
     );
     let commissioning = desc.commissioning.as_ref().unwrap();
-    assert_eq!(commissioning.node_id, 0x10);
+    assert_eq!(commissioning.node_id, Some(0x10));
     assert_eq!(commissioning.node_name, "Some name");
     assert_eq!(commissioning.baud_rate, 500);
     assert_eq!(desc.can.as_ref().unwrap().baud_rates, [125, 250, 500, 1000]);

@@ -410,3 +410,139 @@ PDOMapping=0
     assert_eq!(warnings, Vec::<String>::new());
     assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
 }
+
+/// ros_canopen's and ros2_canopen's DCFs are templates for a node whose ID is set at run time: they
+/// give `ParameterValue=$NODEID+0x80000200` and no `[DeviceComissioning]`. The value stays relative to
+/// the node-ID: resolved with 0 while there is none, written back as `$NODEID+…`, and moved with the
+/// node-ID when one is set. A relative value that does not fit for node 127 is dropped with a warning,
+/// as a relative default is.
+#[test]
+fn parameter_values_relative_to_an_unknown_node_id() {
+    let text = "\
+[DeviceInfo]
+ProductName=Gripper
+[1400]
+ParameterName=RPDO 1 communication parameter
+ObjectType=0x9
+[1400sub0]
+ParameterName=Highest sub-index supported
+DataType=0x0005
+AccessType=ro
+DefaultValue=2
+[1400sub1]
+ParameterName=COB-ID used by RPDO 1
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID+0x200
+ParameterValue=$NODEID+0x80000200
+[1400sub2]
+ParameterName=Transmission type
+DataType=0x0005
+AccessType=rw
+DefaultValue=255
+ParameterValue=1
+[2000]
+ParameterName=Address
+DataType=0x0006
+AccessType=rw
+ParameterValue=$NODEID+0xFFFF
+";
+    let (mut desc, warnings) = read_warnings(text);
+    assert_eq!(
+        warnings,
+        ["27:16: ParameterValue= in [2000]: with node-ID 127 the value does not fit: 65662 does not fit in UNSIGNED16; the value is dropped"]
+    );
+    assert_eq!(desc.commissioning, None);
+    let cob = desc.dictionary.entry(0x1400, 1).unwrap();
+    assert_eq!(
+        cob.default,
+        Some(od::DefaultValue {
+            value: Value::Uint(0x200),
+            plus_node_id: true
+        })
+    );
+    assert_eq!(cob.value, [0x00, 0x02, 0x00, 0x80]);
+    assert!(cob.value_set && cob.value_plus_node_id);
+    let address = desc.dictionary.entry(0x2000, 0).unwrap();
+    assert!(!address.value_set && !address.value_plus_node_id);
+    assert_eq!(address.value, [0, 0]);
+
+    let dcf = eds::write_dcf(&desc);
+    assert!(dcf.contains(
+        "DefaultValue=$NODEID+0x200\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x80000200\r\n"
+    ));
+    assert!(!dcf.contains("NodeID="));
+    let back = eds::read(dcf.as_bytes(), "template.dcf").unwrap();
+    assert_eq!(back.dictionary, desc.dictionary);
+
+    // Configured for node 5: the COB-ID follows, and is still written relative.
+    desc.set_node_id(Some(5));
+    assert_eq!(
+        desc.dictionary.read_value(0x1400, 1).unwrap(),
+        Value::Uint(0x8000_0205)
+    );
+    assert_eq!(
+        desc.dictionary.read_value(0x1400, 2).unwrap(),
+        Value::Uint(1)
+    );
+    let dcf = eds::write_dcf(&desc);
+    assert!(dcf.contains("[DeviceComissioning]\r\nNodeID=5\r\n"));
+    assert!(dcf.contains("ParameterValue=$NODEID+0x80000200\r\n"));
+    let back = eds::read(dcf.as_bytes(), "node5.dcf").unwrap();
+    assert_eq!(back.dictionary, desc.dictionary);
+    assert_eq!(back.node_id(), Some(5));
+}
+
+/// Lely's DCFs of a node that LSS is yet to configure say `NodeID=0xff` (co-gw_txt-slave.dcf) or have no
+/// `[DeviceComissioning]` at all (cocatd.dcf, coctl.dcf); Lely reads both as unconfigured. So does the
+/// reader, with a warning where a section says so, and `NodeID=0`, any other number that is no node-ID
+/// and a section without `NodeID` alike. The node-ID is unknown: `$NODEID+0x80` reads as 0x80 and the
+/// DCF written back has no `NodeID=` (it once got `NodeID=1`, and 0x1014 came back as 0x81).
+#[test]
+fn unconfigured_node_ids() {
+    let body = "\
+[1014]
+ParameterName=COB-ID EMCY
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID+0x80
+";
+    let with = |section: &str| format!("{section}{body}");
+    for (section, warning) in [
+        (
+            "[DeviceComissioning]\nNodeID=0xff\nNodeName=slave\n",
+            "2:8: NodeID= in [DeviceComissioning]: `0xff` marks a node that LSS has yet to configure; the node is unconfigured, and `$NODEID` values stay relative to the node-ID",
+        ),
+        (
+            "[DeviceComissioning]\nNodeID=0\nNodeName=slave\n",
+            "2:8: NodeID= in [DeviceComissioning]: `0` is no node-ID (1 to 127); the node is unconfigured, and `$NODEID` values stay relative to the node-ID",
+        ),
+        (
+            "[DeviceComissioning]\nNodeID=300\nNodeName=slave\n",
+            "2:8: NodeID= in [DeviceComissioning]: `300` is no node-ID (1 to 127); the node is unconfigured, and `$NODEID` values stay relative to the node-ID",
+        ),
+        (
+            "[DeviceComissioning]\nNodeName=slave\n",
+            "1:2: [DeviceComissioning] has no NodeID=; the node is unconfigured, and `$NODEID` values stay relative to the node-ID",
+        ),
+    ] {
+        let (desc, warnings) = read_warnings(&with(section));
+        assert_eq!(warnings, [warning]);
+        let c = desc.commissioning.as_ref().unwrap();
+        assert_eq!((c.node_id, c.node_name.as_str()), (None, "slave"));
+        assert_eq!(desc.dictionary.entry(0x1014, 0).unwrap().value, [0x80, 0, 0, 0]);
+        let dcf = eds::write_dcf(&desc);
+        assert!(dcf.contains("[DeviceComissioning]\r\nNodeName=slave\r\n"), "{dcf}");
+        let back = eds::read(dcf.as_bytes(), "unconfigured.dcf").unwrap();
+        assert_eq!(back.commissioning, desc.commissioning);
+        assert_eq!(back.dictionary, desc.dictionary);
+    }
+    // No section: no commissioning values, and none are made up.
+    let (desc, warnings) = read_warnings(body);
+    assert_eq!(warnings, Vec::<String>::new());
+    assert_eq!(desc.commissioning, None);
+    let dcf = eds::write_dcf(&desc);
+    assert!(!dcf.contains("NodeID"));
+    let back = eds::read(dcf.as_bytes(), "cocatd.dcf").unwrap();
+    assert_eq!(back.dictionary, desc.dictionary);
+}

@@ -30,18 +30,31 @@
 //! - Values (§4.6.2) as [`Value::parse_text`](crate::value::Value::parse_text) reads them, plus
 //!   `$NODEID` (case-insensitive) as `$NODEID`, `$NODEID+0x180` or `0x180+$NODEID` in integer
 //!   `DefaultValue`s and `ParameterValue`s: the offset is kept with
-//!   [`DefaultValue::plus_node_id`](crate::object::DefaultValue::plus_node_id).
+//!   [`DefaultValue::plus_node_id`](crate::object::DefaultValue::plus_node_id) and
+//!   [`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id).
 //! - `PDOMapping=1` becomes a direction from the access type: `ro`, `const`, `rwr` → TPDO; `wo`, `rww` →
 //!   RPDO; `rw` → both.
 //! - A DCF (§5) is an EDS with `[DeviceComissioning]` (`NodeID`, `NodeName`, `Baudrate`, `NetNumber`,
 //!   `NetworkName`, `CANopenManager`, `LSS_SerialNumber`; the correctly spelled `[DeviceCommissioning]` is
 //!   accepted too) and `ParameterValue`s: it sets
 //!   [`DeviceDescription::commissioning`] and the current values.
+//! - The node-ID: `NodeID=` 1 to 127. Lely's DCFs of a node that LSS is yet to configure say
+//!   `NodeID=0xFF`, or have no `NodeID` (or no section) at all; Lely reads both as unconfigured, and so
+//!   does the reader: [`Commissioning::node_id`](crate::device::Commissioning::node_id) is `None`, with a
+//!   warning where a section says `NodeID=0xFF`, `NodeID=0`, another number that is no node-ID, or nothing.
+//!   A `NodeID` that is no number at all is an error.
 //!
 //! After reading, every entry's current value (`SubObject::value`) is its default resolved with the node-ID:
-//! the DCF's `NodeID`, or 0 in an EDS (so `$NODEID+0x180` reads as 0x180, to be resolved when a node with a
-//! node-ID resets its dictionary); zero where there is no default. A `ParameterValue` sets the value and
-//! `value_set`.
+//! the DCF's `NodeID`, or 0 in an EDS and for an unconfigured node (so `$NODEID+0x180` reads as 0x180, to
+//! be resolved when a node with a node-ID resets its dictionary, or by
+//! [`DeviceDescription::set_node_id`](crate::device::DeviceDescription::set_node_id)); zero where there is no default. A `ParameterValue` sets the value
+//! and `value_set`. A `ParameterValue` relative to the node-ID (`$NODEID+0x80000200`: ros_canopen's DCFs
+//! are templates for a node whose ID is set at run time, and have no `[DeviceComissioning]`) is resolved
+//! the same way and keeps
+//! [`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id), so that it is
+//! written relative again and follows [`DeviceDescription::set_node_id`](crate::device::DeviceDescription::set_node_id). A value relative to the node-ID,
+//! default or parameter, must fit for node 127 when the file gives no node-ID, or a DCF written from it for
+//! node 127 could not be read: one that does not is dropped with a warning.
 //!
 //! # Reading rules
 //!
@@ -95,12 +108,13 @@
 //!
 //! [`write_dcf`] writes the same plus `[DeviceComissioning]` (after `[DeviceInfo]`) and a `ParameterValue`
 //! for every entry whose current value differs from its default (resolved with the node-ID) or has
-//! `value_set`. The node-ID is the description's
-//! [`Commissioning::node_id`](crate::device::Commissioning::node_id); a description without commissioning
-//! values is written as node 1, with the other commissioning values empty or zero. An entry that still holds
-//! its `$NODEID` default as an EDS reads it (resolved with node-ID 0) counts as unchanged, so a description
-//! read from an EDS becomes a DCF without `ParameterValue`s for its COB-IDs; read back, those entries take
-//! the DCF node's values.
+//! `value_set`; a value given relative to the node-ID is written `$NODEID+offset` again. The node-ID is the
+//! description's [`Commissioning::node_id`](crate::device::Commissioning::node_id); a description without
+//! one (an EDS, an unconfigured node) is written without `NodeID=` (Lely reads that as unconfigured, where
+//! a made-up node-ID would change what every `$NODEID` value means), and without commissioning values the
+//! others are empty or zero. An entry that still holds its `$NODEID` default as an EDS reads it (resolved
+//! with node-ID 0) counts as unchanged, so a description read from an EDS becomes a DCF without
+//! `ParameterValue`s for its COB-IDs; read back, those entries take the DCF node's values.
 //!
 //! # What EDS cannot carry
 //!
@@ -141,7 +155,7 @@ pub fn write_eds(desc: &DeviceDescription) -> String {
 
 /// Writes a DCF: the EDS of [`write_eds`] plus `[DeviceComissioning]` and a `ParameterValue` for every
 /// entry whose current value differs from its default or was set explicitly. The node-ID comes from
-/// [`DeviceDescription::commissioning`], or is 1 when there is none.
+/// [`DeviceDescription::commissioning`]; without one, there is no `NodeID=`.
 pub fn write_dcf(desc: &DeviceDescription) -> String {
     writer::write(desc, true)
 }

@@ -535,7 +535,7 @@ impl<'i, 'a> Builder<'i, 'a> {
                 self.check_list(section)?;
             }
         }
-        let node_id = desc.commissioning.as_ref().map(|c| c.node_id);
+        let node_id = desc.node_id();
         for (&index, sections) in &self.objects {
             let Some(main) = sections.main.and_then(|i| self.section(i)) else {
                 if let Some(sub) = sections.subs.values().next().and_then(|&i| self.section(i)) {
@@ -734,15 +734,42 @@ impl<'i, 'a> Builder<'i, 'a> {
                     "LSS_SerialNumber",
                 ],
             )?;
+        // Lely's DCFs of a node that LSS is yet to configure say `NodeID=0xFF`, or give none; Lely reads
+        // both as unconfigured, and python-canopen takes whatever number is there. A number that is no
+        // node-ID leaves the node unconfigured, with a warning.
         let node_id = match node_id.filter(|e| !e.value.is_empty()) {
             Some(e) => {
-                let id = self.number(section, Some(e), "a node-ID, 1 to 127", 0u8)?;
-                if !(1..=127).contains(&id) {
-                    return Err(self.bad(section, e, "a node-ID, 1 to 127"));
+                let id = parse_integer(e.value)
+                    .ok_or_else(|| self.bad(section, e, "a node-ID, 1 to 127"))?;
+                match u8::try_from(id).ok().filter(|id| (1..=127).contains(id)) {
+                    Some(id) => Some(id),
+                    None => {
+                        let what = if id == 0xFF {
+                            "marks a node that LSS has yet to configure"
+                        } else {
+                            "is no node-ID (1 to 127)"
+                        };
+                        self.warn(
+                            e.value,
+                            format!(
+                                "NodeID= in [{}]: `{}` {what}; the node is unconfigured, and `$NODEID` values stay relative to the node-ID",
+                                section.name, e.value
+                            ),
+                        );
+                        None
+                    }
                 }
-                id
             }
-            None => return Err(self.missing(section, "NodeID", "the node-ID, 1 to 127")),
+            None => {
+                self.warn(
+                    section.name,
+                    format!(
+                        "[{}] has no NodeID=; the node is unconfigured, and `$NODEID` values stay relative to the node-ID",
+                        section.name
+                    ),
+                );
+                None
+            }
         };
         let text = |e: Option<&Entry<'a>>| e.map_or_else(String::new, |e| e.value.to_string());
         Ok(Commissioning {
@@ -929,15 +956,6 @@ impl<'i, 'a> Builder<'i, 'a> {
         let value = value.or_else(|| fields[OBJ_VALUE].map(|e| (section, e)));
         if let Some((value_section, e)) = value {
             if let Some((value, plus_node_id)) = self.typed(value_section, e, data_type, true) {
-                if plus_node_id && node_id.is_none() {
-                    return Err(self.ini.error(
-                        e.value,
-                        format!(
-                            "{}= in [{}]: $NODEID needs the NodeID= of a [DeviceComissioning] section, and the file has none",
-                            e.key, value_section.name
-                        ),
-                    ));
-                }
                 let current = DefaultValue {
                     value,
                     plus_node_id,
@@ -945,6 +963,7 @@ impl<'i, 'a> Builder<'i, 'a> {
                 if let Some(bytes) = self.resolved(value_section, e, &current, data_type, node_id) {
                     sub.value = bytes;
                     sub.value_set = true;
+                    sub.value_plus_node_id = plus_node_id;
                 }
             }
         }

@@ -20,17 +20,16 @@ pub(super) fn write(desc: &DeviceDescription, dcf: bool) -> String {
     let default_can = CanInfo::default();
     let can = desc.can.as_ref().unwrap_or(&default_can);
     device_info(&mut w, desc, can);
+    // The node-ID the current values are resolved with: the description's, else 0 (an unconfigured node,
+    // whose `$NODEID` values stay relative).
     let node_id = if dcf {
-        let default_commissioning = Commissioning {
-            node_id: 1,
-            ..Commissioning::default()
-        };
+        let default_commissioning = Commissioning::default();
         let commissioning = desc
             .commissioning
             .as_ref()
             .unwrap_or(&default_commissioning);
         commissioning_section(&mut w, commissioning);
-        Some(commissioning.node_id)
+        Some(desc.node_id().unwrap_or(0))
     } else {
         None
     };
@@ -155,7 +154,11 @@ fn device_info(w: &mut IniWriter, desc: &DeviceDescription, can: &CanInfo) {
 
 fn commissioning_section(w: &mut IniWriter, c: &Commissioning) {
     w.section("DeviceComissioning");
-    w.key("NodeID", &c.node_id.to_string());
+    // No `NodeID=` for an unconfigured node: Lely reads its absence as unconfigured, where a made-up
+    // node-ID would change what every `$NODEID` value means.
+    if let Some(id) = c.node_id {
+        w.key("NodeID", &id.to_string());
+    }
     w.key("NodeName", &c.node_name);
     w.key("Baudrate", &c.baud_rate.to_string());
     w.key("NetNumber", &c.net_number.to_string());
@@ -275,7 +278,7 @@ fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: Option<u8>) {
     }
     if let Some(node_id) = node_id {
         if let Some(current) = parameter_value(sub, node_id) {
-            w.key("ParameterValue", &value_text(&current, data_type));
+            w.key("ParameterValue", &default_text(&current, data_type));
         }
     }
 }
@@ -283,8 +286,9 @@ fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: Option<u8>) {
 /// The current value a DCF writes for `sub`: set explicitly, or different from the default for this
 /// node. A `$NODEID` default resolved with node-ID 0, as an EDS reads it, counts as the default too, so
 /// a description read from an EDS gets no `ParameterValue`s it did not ask for. `None` also when the
-/// bytes are no value of the type (nothing a reader could take back).
-fn parameter_value(sub: &SubObject, node_id: u8) -> Option<Value> {
+/// bytes are no value of the type (nothing a reader could take back). A value given relative to the
+/// node-ID is written relative again.
+fn parameter_value(sub: &SubObject, node_id: u8) -> Option<DefaultValue> {
     let is = |value: Value| {
         value
             .encode(sub.data_type)
@@ -299,5 +303,5 @@ fn parameter_value(sub: &SubObject, node_id: u8) -> Option<Value> {
     if at_default && !sub.value_set {
         return None;
     }
-    Value::decode(sub.data_type, &sub.value).ok()
+    sub.parameter(node_id)
 }
