@@ -34,7 +34,7 @@ pub enum Command {
     Xdd(Convert),
     /// Write a CiA 306 EDS.
     Eds(Convert),
-    /// Write a CiA 306 DCF with current values.
+    /// Write a CiA 306 DCF with the current value of every configurable (writable) entry.
     Dcf(DcfArgs),
     /// Write a Markdown reference of the dictionary.
     Doc(Convert),
@@ -246,6 +246,8 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
                     if let Some(n) = node_id {
                         dev.set_node_id(Some(n));
                     }
+                    // Every configurable value goes into the DCF, so that applying it writes them all.
+                    dev.configure_writable();
                     let c = dev.commissioning.get_or_insert_with(Commissioning::default);
                     if let Some(b) = baud {
                         c.baud_rate = b;

@@ -598,6 +598,7 @@ fn writes_byte_exact_dcf() {
             "HighLimit=100\r\nParameterValue=7\r\n",
         );
     assert_eq!(text, expected);
+    let expected_text = expected;
 
     // Read back: the values that differ from their defaults come back as set explicitly, the others as
     // the defaults for node 5.
@@ -612,16 +613,35 @@ fn writes_byte_exact_dcf() {
     assert!(label.value_set);
     let mut expected = desc.clone();
     for (index, sub) in [(0x2000, 0), (0x6000, 0)] {
-        expected
-            .dictionary
-            .object_mut(index)
-            .unwrap()
-            .subs
-            .get_mut(&sub)
-            .unwrap()
-            .value_set = true;
+        entry_mut(&mut expected, index, sub).value_set = true;
     }
     assert_eq!(back, expected);
+
+    // Configured (what `esi-gen dcf` does): every writable entry gets its value, the COB-ID still at its
+    // `$NODEID` default relative to the node-ID; the read-only ones do not.
+    let mut configured = desc.clone();
+    configured.configure_writable();
+    let text = eds::write_dcf(&configured);
+    let expected = expected_text.replace(
+        "DefaultValue=$NODEID+0x180\r\nPDOMapping=0\r\n",
+        "DefaultValue=$NODEID+0x180\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x180\r\n",
+    );
+    assert_eq!(text, expected);
+    let back = eds::read(text.as_bytes(), "configured.dcf").unwrap();
+    // 0x6000 (read-only, 7 instead of its default -5) comes back set, as above.
+    entry_mut(&mut configured, 0x6000, 0).value_set = true;
+    assert_eq!(back, configured);
+    let cob = back.dictionary.entry(0x1800, 1).unwrap();
+    assert!(cob.value_set && cob.value_plus_node_id);
+    assert_eq!(cob.value, [0x85, 0x01, 0, 0]);
+    assert!(!back.dictionary.entry(0x1018, 1).unwrap().value_set);
+}
+
+fn entry_mut(desc: &mut DeviceDescription, index: u16, sub: u8) -> &mut SubObject {
+    desc.dictionary
+        .object_mut(index)
+        .and_then(|o| o.subs.get_mut(&sub))
+        .unwrap()
 }
 
 /// A description without a node-ID (an EDS, Lely's DCFs of an unconfigured node) is written as a DCF
@@ -632,11 +652,14 @@ fn writes_byte_exact_dcf() {
 fn dcf_without_a_node_id_has_none() {
     let desc = golden_description();
     let text = eds::write_dcf(&desc);
-    assert!(text.contains("[DeviceComissioning]\r\nNodeName=\r\nBaudrate=0\r\n"));
-    assert!(!text.contains("NodeID"));
     // The description holds the EDS values (`$NODEID` resolved with 0): still defaults, so no
     // ParameterValue at all.
-    assert!(!text.contains("ParameterValue"));
+    let expected = GOLDEN_EDS.replace(
+        "LSS_Supported=0\r\n\r\n",
+        "LSS_Supported=0\r\n\r\n[DeviceComissioning]\r\nNodeName=\r\nBaudrate=0\r\nNetNumber=0\r\n\
+         NetworkName=\r\nCANopenManager=0\r\n\r\n",
+    );
+    assert_eq!(text, expected);
     assert_eq!(text, {
         let mut desc = desc.clone();
         desc.commissioning = Some(Commissioning::default());
@@ -790,12 +813,28 @@ fn reads_a_dcf_and_writes_it_back() {
     assert!(text.contains(
         "DefaultValue=$NODEID+0x200\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x300\r\n"
     ));
+    // The compact array's `[2000Value]` entry is the ParameterValue of its sub-index section.
+    assert!(text.contains(
+        "[2000sub2]\r\nParameterName=Gains2\r\nObjectType=0x7\r\nDataType=0x0005\r\nAccessType=rw\r\n\
+         DefaultValue=0x07\r\nPDOMapping=0\r\nParameterValue=0x09\r\n"
+    ));
     assert_eq!(eds::read(text.as_bytes(), "again.dcf").unwrap(), desc);
 
-    // As an EDS: no commissioning, no current values, `$NODEID` defaults resolved with node 0.
-    let as_eds = eds::read(eds::write_eds(&desc).as_bytes(), "node.eds").unwrap();
-    assert_eq!(as_eds.commissioning, None);
-    assert!(!eds::write_eds(&desc).contains("ParameterValue"));
+    // As an EDS: the commissioning values and the values the DCF set stay (an EDS may carry both), and
+    // read back the same.
+    let text = eds::write_eds(&desc);
+    assert!(text.contains("[DeviceComissioning]\r\nNodeID=16\r\n"));
+    assert_eq!(eds::read(text.as_bytes(), "node.eds").unwrap(), desc);
+
+    // Reset and without commissioning values, a plain EDS: no ParameterValue, `$NODEID` defaults
+    // resolved with node 0.
+    let mut plain = desc.clone();
+    plain.commissioning = None;
+    plain.dictionary.reset(0);
+    let text = eds::write_eds(&plain);
+    assert!(!text.contains("ParameterValue") && !text.contains("DeviceComissioning"));
+    let as_eds = eds::read(text.as_bytes(), "node.eds").unwrap();
+    assert_eq!(as_eds, plain);
     assert_eq!(
         as_eds.dictionary.read_value(0x1800, 1).unwrap(),
         Value::Uint(0x180)
@@ -804,11 +843,6 @@ fn reads_a_dcf_and_writes_it_back() {
         as_eds.dictionary.read_value(0x1017, 0).unwrap(),
         Value::Uint(0)
     );
-    assert!(as_eds
-        .dictionary
-        .objects()
-        .flat_map(|o| o.subs.values())
-        .all(|s| !s.value_set));
 }
 
 #[test]

@@ -370,6 +370,14 @@ DefaultValue=1:2
         [0x00, 0x2E, 0x93, 0x02, 0x6D, 0x01]
     );
     assert_eq!(d.read_value(0x200D, 0).unwrap(), time(1, 2));
+    // Written in Lely's form, which Lely reads back.
+    let text = eds::write_eds(&desc);
+    assert!(text.contains("DefaultValue=0 0\r\nPDOMapping=0\r\nParameterValue=365 43200000\r\n"));
+    assert!(text.ends_with("DefaultValue=1 2\r\nPDOMapping=0\r\n"));
+    assert_eq!(
+        eds::read(text.as_bytes(), "times.eds").unwrap().dictionary,
+        desc.dictionary
+    );
 }
 
 /// python-canopen's receiver.eds has `CompactSubObj=255` on 0x1003: entries up to sub-index 0xFF, which
@@ -467,13 +475,29 @@ ParameterValue=$NODEID+0xFFFF
     assert!(!address.value_set && !address.value_plus_node_id);
     assert_eq!(address.value, [0, 0]);
 
-    let dcf = eds::write_dcf(&desc);
+    // Written as an EDS, the file's values stay as they are.
+    let text = eds::write_eds(&desc);
+    assert!(!text.contains("DeviceComissioning"));
+    let back = eds::read(text.as_bytes(), "template.eds").unwrap();
+    assert_eq!(back.dictionary, desc.dictionary);
+    assert_eq!(back.commissioning, None);
+    // Configured as `esi-gen dcf` does, every writable entry gets a value (0x2000, without one of its own,
+    // its zero).
+    let mut configured = desc.clone();
+    configured.configure_writable();
+    let dcf = eds::write_dcf(&configured);
     assert!(dcf.contains(
-        "DefaultValue=$NODEID+0x200\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x80000200\r\n"
+        "[1400sub1]\r\nParameterName=COB-ID used by RPDO 1\r\nObjectType=0x7\r\nDataType=0x0007\r\n\
+         AccessType=rw\r\nDefaultValue=$NODEID+0x200\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x80000200\r\n\r\n\
+         [1400sub2]\r\nParameterName=Transmission type\r\nObjectType=0x7\r\nDataType=0x0005\r\nAccessType=rw\r\n\
+         DefaultValue=0xFF\r\nPDOMapping=0\r\nParameterValue=0x01\r\n\r\n\
+         [2000]\r\nParameterName=Address\r\nObjectType=0x7\r\nDataType=0x0006\r\nAccessType=rw\r\nPDOMapping=0\r\n\
+         ParameterValue=0x0000\r\n"
     ));
     assert!(!dcf.contains("NodeID="));
     let back = eds::read(dcf.as_bytes(), "template.dcf").unwrap();
-    assert_eq!(back.dictionary, desc.dictionary);
+    assert_eq!(back.dictionary, configured.dictionary);
+    assert!(back.dictionary.entry(0x2000, 0).unwrap().value_set);
 
     // Configured for node 5: the COB-ID follows, and is still written relative.
     desc.set_node_id(Some(5));
@@ -486,10 +510,14 @@ ParameterValue=$NODEID+0xFFFF
         Value::Uint(1)
     );
     let dcf = eds::write_dcf(&desc);
-    assert!(dcf.contains("[DeviceComissioning]\r\nNodeID=5\r\n"));
-    assert!(dcf.contains("ParameterValue=$NODEID+0x80000200\r\n"));
+    assert!(dcf.contains(
+        "[DeviceComissioning]\r\nNodeID=5\r\nNodeName=\r\nBaudrate=0\r\nNetNumber=0\r\nNetworkName=\r\n\
+         CANopenManager=0\r\n\r\n"
+    ));
+    assert!(dcf.contains("PDOMapping=0\r\nParameterValue=$NODEID+0x80000200\r\n"));
     let back = eds::read(dcf.as_bytes(), "node5.dcf").unwrap();
-    assert_eq!(back.dictionary, desc.dictionary);
+    assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
+    assert!(back.dictionary.entry(0x1400, 1).unwrap().value_plus_node_id);
     assert_eq!(back.node_id(), Some(5));
 }
 
@@ -531,9 +559,23 @@ DefaultValue=$NODEID+0x80
         let c = desc.commissioning.as_ref().unwrap();
         assert_eq!((c.node_id, c.node_name.as_str()), (None, "slave"));
         assert_eq!(desc.dictionary.entry(0x1014, 0).unwrap().value, [0x80, 0, 0, 0]);
-        let dcf = eds::write_dcf(&desc);
-        assert!(dcf.contains("[DeviceComissioning]\r\nNodeName=slave\r\n"), "{dcf}");
+        let mut configured = desc.clone();
+        configured.configure_writable();
+        let dcf = eds::write_dcf(&configured);
+        assert!(dcf.contains(
+            "[DeviceComissioning]\r\nNodeName=slave\r\nBaudrate=0\r\nNetNumber=0\r\nNetworkName=\r\n\
+             CANopenManager=0\r\n\r\n"
+        ));
+        assert!(dcf.contains(
+            "[1014]\r\nParameterName=COB-ID EMCY\r\nObjectType=0x7\r\nDataType=0x0007\r\nAccessType=rw\r\n\
+             DefaultValue=$NODEID+0x80\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x80\r\n"
+        ));
         let back = eds::read(dcf.as_bytes(), "unconfigured.dcf").unwrap();
+        assert_eq!(back.commissioning, desc.commissioning);
+        assert_eq!(back.dictionary, configured.dictionary);
+        assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
+        // An EDS keeps the section, and so the node's being unconfigured.
+        let back = eds::read(eds::write_eds(&desc).as_bytes(), "unconfigured.eds").unwrap();
         assert_eq!(back.commissioning, desc.commissioning);
         assert_eq!(back.dictionary, desc.dictionary);
     }
@@ -544,5 +586,9 @@ DefaultValue=$NODEID+0x80
     let dcf = eds::write_dcf(&desc);
     assert!(!dcf.contains("NodeID"));
     let back = eds::read(dcf.as_bytes(), "cocatd.dcf").unwrap();
-    assert_eq!(back.dictionary, desc.dictionary);
+    assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
+    assert_eq!(
+        back.dictionary.entry(0x1014, 0).unwrap().value,
+        [0x80, 0, 0, 0]
+    );
 }

@@ -97,24 +97,38 @@
 //!
 //! # What is written
 //!
-//! [`write_eds`] writes, in CiA 306 order, `[FileInfo]`, `[DeviceInfo]`, `[DummyUsage]`, `[Comments]`,
-//! `[MandatoryObjects]` (0x1000, 0x1001, 0x1018 where present), `[OptionalObjects]` (the other objects of
-//! 0x0000–0x1FFF and 0x6000–0xFFFF), `[ManufacturerObjects]` (0x2000–0x5FFF), then the object sections in
-//! index order, every ARRAY and RECORD with one section per sub-index (never compact; an object with all
-//! 256 sub-indices says `SubNumber=0xFF`, the largest value the key holds). Lines end in CR LF, as
-//! CiA 306 files usually do and as Windows tools expect; keys come in a fixed order and there are no
-//! timestamps, so the output is byte-stable. Numbers are hexadecimal (`0x0007`), defaults that add the
-//! node-ID are written `$NODEID+0x180`, bit fields (ESI `BITn`) as BOOLEAN or UNSIGNED8.
+//! [`write_eds`] writes the description as it was read, in CiA 306 order: `[FileInfo]`, `[DeviceInfo]`,
+//! `[DeviceComissioning]` when the description has commissioning values (an EDS may carry them:
+//! python-canopen's `sample.eds` does, and its `$NODEID` values need the node-ID to read back the same),
+//! `[DummyUsage]`, `[Comments]`, `[MandatoryObjects]` (0x1000, 0x1001, 0x1018 where present),
+//! `[OptionalObjects]` (the other objects of 0x0000–0x1FFF and 0x6000–0xFFFF), `[ManufacturerObjects]`
+//! (0x2000–0x5FFF), then the object sections in index order, every ARRAY and RECORD with one section per
+//! sub-index (never compact: a compact array's `[xxxxName]` and `[xxxxValue]` entries become the names and
+//! `ParameterValue`s of its sub-index sections; an object with all 256 sub-indices says `SubNumber=0xFF`,
+//! the largest value the key holds). A `ParameterValue` is written for every entry whose current value was
+//! set explicitly (`value_set`: python-canopen's `e35.eds` has them in an EDS) or differs from its
+//! default for the node-ID; a value given relative to the node-ID is written `$NODEID+offset` again. Lines
+//! end in CR LF, as CiA 306 files usually do and as Windows tools expect; keys come in a fixed order and
+//! there are no timestamps, so the output is byte-stable. Numbers are hexadecimal (`0x0007`), defaults that
+//! add the node-ID are written `$NODEID+0x180`, bit fields (ESI `BITn`) as BOOLEAN or UNSIGNED8, times as
+//! `days ms` (the form Lely reads; CiA 306 gives none).
 //!
-//! [`write_dcf`] writes the same plus `[DeviceComissioning]` (after `[DeviceInfo]`) and a `ParameterValue`
-//! for every entry whose current value differs from its default (resolved with the node-ID) or has
-//! `value_set`; a value given relative to the node-ID is written `$NODEID+offset` again. The node-ID is the
-//! description's [`Commissioning::node_id`](crate::device::Commissioning::node_id); a description without
-//! one (an EDS, an unconfigured node) is written without `NodeID=` (Lely reads that as unconfigured, where
-//! a made-up node-ID would change what every `$NODEID` value means), and without commissioning values the
-//! others are empty or zero. An entry that still holds its `$NODEID` default as an EDS reads it (resolved
-//! with node-ID 0) counts as unchanged, so a description read from an EDS becomes a DCF without
-//! `ParameterValue`s for its COB-IDs; read back, those entries take the DCF node's values.
+//! [`write_dcf`] writes the same, always with `[DeviceComissioning]`. The node-ID is the description's
+//! [`Commissioning::node_id`](crate::device::Commissioning::node_id); a description without one (an EDS, an
+//! unconfigured node) is written without `NodeID=` (Lely reads that as unconfigured, where a made-up
+//! node-ID would change what every `$NODEID` value means), and without commissioning values the others
+//! are empty or zero. `LSS_SerialNumber` is left out when it is 0: Lely writes it into 0x1018:04 and
+//! refuses a file without that entry. An entry that still holds its `$NODEID` default as an EDS reads it
+//! (resolved with node-ID 0) counts as the default, so a description read from an EDS and written for
+//! another node (without [`DeviceDescription::set_node_id`](crate::device::DeviceDescription::set_node_id))
+//! gets its COB-IDs resolved for that node when read back.
+//!
+//! A DCF that configures a device has a `ParameterValue` for every configurable entry, so that a
+//! configuration tool applying it (`sdo-tool apply`) writes them all: `esi-gen dcf` marks them with
+//! [`DeviceDescription::configure_writable`](crate::device::DeviceDescription::configure_writable) first
+//! (writable entries, not DOMAINs nor the command entries 0x1003:00, 0x1010, 0x1011, 0x1F25, 0x1F51;
+//! one still at its `$NODEID` default is written relative, `ParameterValue=$NODEID+0x180`). Read back, those
+//! entries are `value_set`.
 //!
 //! # What EDS cannot carry
 //!
@@ -147,15 +161,16 @@ pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError>
     reader::read(bytes, source_name)
 }
 
-/// Writes an EDS (CR LF line ends, byte-stable): file and device information, object lists and object
-/// sections, without current values or commissioning values.
+/// Writes an EDS (CR LF line ends, byte-stable): file and device information, the commissioning values
+/// the description has, object lists and object sections with the current values that were set or differ
+/// from their defaults.
 pub fn write_eds(desc: &DeviceDescription) -> String {
     writer::write(desc, false)
 }
 
-/// Writes a DCF: the EDS of [`write_eds`] plus `[DeviceComissioning]` and a `ParameterValue` for every
-/// entry whose current value differs from its default or was set explicitly. The node-ID comes from
-/// [`DeviceDescription::commissioning`]; without one, there is no `NodeID=`.
+/// Writes a DCF: the EDS of [`write_eds`], always with `[DeviceComissioning]`. The node-ID comes from
+/// [`DeviceDescription::commissioning`]; without one, there is no `NodeID=`. For a DCF that configures every
+/// writable entry, mark them first with [`DeviceDescription::configure_writable`].
 pub fn write_dcf(desc: &DeviceDescription) -> String {
     writer::write(desc, true)
 }
