@@ -592,3 +592,59 @@ DefaultValue=$NODEID+0x80
         [0x80, 0, 0, 0]
     );
 }
+
+/// python-canopen's e35.eds gives `ParameterValue`s in an EDS (`0x1006` = 0x1, `0x1014` = 0xA0 beside
+/// its `$NODEID+0x80` default), and its sample.eds the `[xxxxValue]` entries of a compact array. They
+/// are current values like a DCF's, and an EDS written from the description keeps them, each in the
+/// sub-index section of the array (the writer writes no compact arrays).
+#[test]
+fn parameter_values_in_an_eds() {
+    let text = "\
+[1006]
+ParameterName=Cycle Period
+DataType=0x0007
+AccessType=rw
+ParameterValue=0x1
+[1014]
+ParameterName=COB-ID Emergency message
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID+0x80
+ParameterValue=0xA0
+[3004]
+ParameterName=Sensor Status
+ObjectType=0x8
+DataType=0x0006
+AccessType=ro
+DefaultValue=3
+CompactSubObj=2
+[3004Value]
+NrOfEntries=1
+2=0x10
+";
+    let (desc, warnings) = read_warnings(text);
+    assert_eq!(warnings, Vec::<String>::new());
+    let d = &desc.dictionary;
+    assert_eq!(d.read_value(0x1006, 0).unwrap(), Value::Uint(1));
+    assert_eq!(d.read_value(0x1014, 0).unwrap(), Value::Uint(0xA0));
+    assert!(d.entry(0x1014, 0).unwrap().value_set);
+    assert!(!d.entry(0x1014, 0).unwrap().value_plus_node_id);
+    assert_eq!(d.read_value(0x3004, 1).unwrap(), Value::Uint(3));
+    assert_eq!(d.read_value(0x3004, 2).unwrap(), Value::Uint(0x10));
+    let written = eds::write_eds(&desc);
+    for section in [
+        "[1006]\r\nParameterName=Cycle Period\r\nObjectType=0x7\r\nDataType=0x0007\r\nAccessType=rw\r\n\
+         PDOMapping=0\r\nParameterValue=0x00000001\r\n\r\n",
+        "[1014]\r\nParameterName=COB-ID Emergency message\r\nObjectType=0x7\r\nDataType=0x0007\r\n\
+         AccessType=rw\r\nDefaultValue=$NODEID+0x80\r\nPDOMapping=0\r\nParameterValue=0x000000A0\r\n\r\n",
+        "[3004sub1]\r\nParameterName=Sensor Status1\r\nObjectType=0x7\r\nDataType=0x0006\r\nAccessType=ro\r\n\
+         DefaultValue=0x0003\r\nPDOMapping=0\r\n\r\n",
+        "[3004sub2]\r\nParameterName=Sensor Status2\r\nObjectType=0x7\r\nDataType=0x0006\r\nAccessType=ro\r\n\
+         DefaultValue=0x0003\r\nPDOMapping=0\r\nParameterValue=0x0010\r\n",
+    ] {
+        assert!(written.contains(section), "{section}\n{written}");
+    }
+    assert!(!written.contains("DeviceComissioning"));
+    let back = eds::read(written.as_bytes(), "again.eds").unwrap();
+    assert_eq!(back.dictionary, desc.dictionary);
+}

@@ -17,15 +17,15 @@
 //!   number but not compared with the entries, which are what counts.
 //! - Object descriptions (§4.6.3): `[1018]` and `[1018sub1]` with `ParameterName`, `ObjectType` (VAR when
 //!   absent), `DataType`, `AccessType`, `DefaultValue`, `PDOMapping`, `LowLimit`, `HighLimit`, `SubNumber`,
-//!   `ObjFlags`, `CompactSubObj`, and in a DCF `ParameterValue` (§5). `Denotation`, `UploadFile`,
+//!   `ObjFlags`, `CompactSubObj`, and `ParameterValue` (§5: in a DCF, and in EDS files such as
+//!   python-canopen's `e35.eds`). `Denotation`, `UploadFile`,
 //!   `DownloadFile` and unknown keys (`StorageLocation`, `Factor`…) are skipped.
 //! - Compact storage (§4.6.3, `CompactSubObj`): `CompactSubObj=N` on an ARRAY describes sub-indices
 //!   1..N with the object's own keys. `CompactSubObj=255` (python-canopen's `receiver.eds`) reaches
 //!   sub-index 0xFF, which CiA 301 keeps for the object's structure: read as 255 entries, as Lely builds
-//!   them, with a warning. Sub-index 0 is implied: `NrOfObjects`, UNSIGNED8, `ro`, default
-//!   N. The names come from `[xxxxName]` (`NrOfEntries=`, `1=name`…), else they are the object's name
-//!   followed by the
-//!   sub-index in decimal (`Valve 1 % Open3`); DCF values come from `[xxxxValue]`. Explicit
+//!   them, with a warning. Sub-index 0 is implied: `NrOfObjects`, UNSIGNED8, `ro`, default N. The names
+//!   come from `[xxxxName]` (`NrOfEntries=`, `1=name`…), else they are the object's name followed by the
+//!   sub-index in decimal (`Valve 1 % Open3`); current values come from `[xxxxValue]`. Explicit
 //!   `[xxxxsubN]` sections, where a file has them as well, win.
 //! - Values (§4.6.2) as [`Value::parse_text`](crate::value::Value::parse_text) reads them, plus
 //!   `$NODEID` (case-insensitive) as `$NODEID`, `$NODEID+0x180` or `0x180+$NODEID` in integer
@@ -44,17 +44,18 @@
 //!   warning where a section says `NodeID=0xFF`, `NodeID=0`, another number that is no node-ID, or nothing.
 //!   A `NodeID` that is no number at all is an error.
 //!
-//! After reading, every entry's current value (`SubObject::value`) is its default resolved with the node-ID:
-//! the DCF's `NodeID`, or 0 in an EDS and for an unconfigured node (so `$NODEID+0x180` reads as 0x180, to
-//! be resolved when a node with a node-ID resets its dictionary, or by
-//! [`DeviceDescription::set_node_id`](crate::device::DeviceDescription::set_node_id)); zero where there is no default. A `ParameterValue` sets the value
-//! and `value_set`. A `ParameterValue` relative to the node-ID (`$NODEID+0x80000200`: ros_canopen's DCFs
-//! are templates for a node whose ID is set at run time, and have no `[DeviceComissioning]`) is resolved
-//! the same way and keeps
-//! [`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id), so that it is
-//! written relative again and follows [`DeviceDescription::set_node_id`](crate::device::DeviceDescription::set_node_id). A value relative to the node-ID,
-//! default or parameter, must fit for node 127 when the file gives no node-ID, or a DCF written from it for
-//! node 127 could not be read: one that does not is dropped with a warning.
+//! After reading, every entry's current value (`SubObject::value`) is its default resolved with the
+//! node-ID: the DCF's `NodeID`, or 0 in an EDS and for an unconfigured node (so `$NODEID+0x180` reads as
+//! 0x180, to be resolved when a node with a node-ID resets its dictionary, or by [`set_node_id`]); zero
+//! where there is no default. A `ParameterValue` sets the value and `value_set`. A `ParameterValue`
+//! relative to the node-ID (`$NODEID+0x80000200`: ros_canopen's DCFs are templates for a node whose ID is
+//! set at run time, and have no `[DeviceComissioning]`) is resolved the same way and keeps
+//! [`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id), so that it is written
+//! relative again and follows [`set_node_id`]. A value relative to the node-ID, default or parameter,
+//! must fit for node 127 when the file gives no node-ID, or a DCF written from it for node 127 could not
+//! be read: one that does not is dropped with a warning.
+//!
+//! [`set_node_id`]: crate::device::DeviceDescription::set_node_id
 //!
 //! # Reading rules
 //!
@@ -77,14 +78,15 @@
 //! Errors: a line that is neither `[section]`, `key=value`, blank nor a comment; a key before the first
 //! section; a section or a known key that appears twice; a sub-index section without its object's
 //! section, or under a VAR; a structural value that no reading makes fit (an object code that does not
-//! exist, a data type that is neither an index nor a name, an access type that is none of CiA 306's).
+//! exist, a data type that is neither an index nor a name, an access type that is none of CiA 306's, a
+//! number key such as `VendorNumber` or `NodeID` that is no number, `PDOMapping` other than 0 or 1).
 //!
 //! Choices where files and the standard disagree, so that the real files of the corpus read: an empty
 //! value of a numeric key (`VendorNumber=`, `DefaultValue=` of an integer) counts as absent; a `DataType` of
-//! the complex and profile range 0x0020–0x025F (a structure the model cannot describe) is read as DOMAIN; a
-//! DOMAIN `DefaultValue` or `ParameterValue` that is not hexadecimal bytes is not kept (tools write domain
-//! contents in different notations, and CiA 306 gives them through `UploadFile`/`DownloadFile`; a
-//! warning says so);
+//! the complex and profile range 0x0020–0x025F (a structure the model cannot describe), or one no standard
+//! defines, is read as DOMAIN with a warning, as python-canopen and Lely take it; a DOMAIN `DefaultValue` or
+//! `ParameterValue` that is not hexadecimal bytes is not kept (tools write domain contents in different
+//! notations, and CiA 306 gives them through `UploadFile`/`DownloadFile`; a warning says so);
 //! `LowLimit`/`HighLimit` are read for numeric types only.
 //!
 //! The parser is a small line scanner rather than the `rust-ini` crate: an error has to name the line and
@@ -92,8 +94,9 @@
 //! keeps no positions. An EDS is the simplest INI there is (`[section]`, `key=value`, `;` comments, no
 //! quoting, escapes or continuation lines), so the scanner is a few dozen lines: one pass that keeps the
 //! sections and keys as slices of the text, without a copy per key; positions are worked out from a slice's
-//! offset only when there is an error to report. A release build reads a generated 1.8 MB EDS at about 85
-//! MB/s (the `read_speed` test in `tests/eds.rs`).
+//! offset, through an index of the line starts made on the first request (the source map asks for one per
+//! section). A release build reads the generated 1.3 MB EDS of `cargo bench -p od --bench readers` at
+//! about 100 MiB/s.
 //!
 //! # What is written
 //!

@@ -64,6 +64,10 @@ struct Ini<'a> {
     source: &'a str,
     sections: Vec<Section<'a>>,
     entries: Vec<Entry<'a>>,
+    /// Where each line starts (byte offsets), made when the first position is asked for: the source map
+    /// asks for one per section, and a scan from the start of the text for each would take time
+    /// quadratic in the file's size.
+    line_starts: std::cell::OnceCell<Vec<u32>>,
 }
 
 impl<'a> Ini<'a> {
@@ -73,6 +77,7 @@ impl<'a> Ini<'a> {
             source,
             sections: Vec::new(),
             entries: Vec::new(),
+            line_starts: std::cell::OnceCell::new(),
         };
         for raw in text.split('\n') {
             let line = raw.trim_ascii();
@@ -130,10 +135,40 @@ impl<'a> Ini<'a> {
         Ok(ini)
     }
 
-    /// Where `slice` (a part of the text) starts.
+    /// Where `slice` (a part of the text) starts: what [`Position::of_offset`] says, from an index of the
+    /// line starts.
     fn position(&self, slice: &str) -> Position {
-        let offset = (slice.as_ptr() as usize).saturating_sub(self.text.as_ptr() as usize);
-        Position::of_offset(self.text.as_bytes(), offset)
+        let offset = (slice.as_ptr() as usize)
+            .saturating_sub(self.text.as_ptr() as usize)
+            .min(self.text.len());
+        let starts = self.line_starts.get_or_init(|| {
+            // The reader takes files of up to 256 MiB (`load::MAX_FILE_BYTES`); a longer text from
+            // elsewhere gets the slow count.
+            if u32::try_from(self.text.len()).is_err() {
+                return Vec::new();
+            }
+            std::iter::once(0)
+                .chain(
+                    self.text
+                        .bytes()
+                        .enumerate()
+                        .filter(|&(_, b)| b == b'\n')
+                        .map(|(i, _)| i as u32 + 1),
+                )
+                .collect()
+        });
+        let line = starts.partition_point(|&s| s as usize <= offset);
+        let Some(&start) = line.checked_sub(1).and_then(|i| starts.get(i)) else {
+            return Position::of_offset(self.text.as_bytes(), offset);
+        };
+        let column = self
+            .text
+            .get(start as usize..offset)
+            .map_or(0, |s| s.chars().count());
+        Position {
+            line: line as u32,
+            column: column as u32 + 1,
+        }
     }
 
     /// An error at the start of `slice`.
@@ -1188,12 +1223,10 @@ fn dropped(key: &str) -> &'static str {
 /// An integer with a C suffix (`U`, `L`, `LL`, `UL`, `ULL`, `LU`, `LLU` in any case), split into the
 /// number and the suffix; `None` when `text` is no integer with such a suffix.
 fn c_suffix(text: &str) -> Option<(&str, &str)> {
+    const SUFFIXES: [&str; 7] = ["u", "l", "ll", "ul", "ull", "lu", "llu"];
     let body = text.trim_end_matches(['u', 'U', 'l', 'L']);
-    let suffix = &text[body.len()..];
-    let valid = matches!(
-        suffix.to_ascii_lowercase().as_str(),
-        "u" | "l" | "ll" | "ul" | "ull" | "lu" | "llu"
-    );
+    let suffix = text.get(body.len()..)?;
+    let valid = SUFFIXES.iter().any(|s| s.eq_ignore_ascii_case(suffix));
     (valid && parse_integer(body).is_some()).then_some((body, suffix))
 }
 
@@ -1255,6 +1288,20 @@ mod tests {
         assert_eq!(classify("BEEF"), Kind::Object(0xBEEF));
         assert_eq!(classify("Tools"), Kind::Other);
         assert_eq!(classify("µµµµ"), Kind::Other);
+    }
+
+    #[test]
+    fn positions_from_the_line_index_are_those_of_a_scan() {
+        let text = "[A]\r\nkey=µ value\n\n  [B] ; x\nlast=€€\nend=";
+        let ini = Ini::scan(text, "t").unwrap();
+        for (offset, _) in text.char_indices().chain([(text.len(), ' ')]) {
+            assert_eq!(
+                ini.position(&text[offset..]),
+                Position::of_offset(text.as_bytes(), offset),
+                "{offset}"
+            );
+        }
+        assert_eq!(ini.position(&text[12..]), Position { line: 2, column: 7 });
     }
 
     #[test]
