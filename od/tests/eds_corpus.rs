@@ -312,3 +312,86 @@ fn pycanopen_e35_lists_an_object_it_does_not_describe() {
     let again = eds::read(eds::write_dcf(&desc).as_bytes(), "e35.dcf").unwrap();
     assert_eq!(od::diff::diff(&again.dictionary, &desc.dictionary), []);
 }
+
+/// The reader's warnings about `name`, as `line:column: message`.
+fn warnings(name: &str) -> (DeviceDescription, Vec<String>) {
+    let mut reading = eds::read_file(&corpus(name), name).unwrap_or_else(|e| panic!("{e}"));
+    let text = reading
+        .findings
+        .iter()
+        .map(|f| {
+            let p = f.position.unwrap();
+            format!("{}:{}: {}", p.line, p.column, f.message)
+        })
+        .collect();
+    (reading.devices.pop().unwrap(), text)
+}
+
+/// The files the reader refused before it read what python-canopen, Lely and CANopenNode read, each
+/// with the construct that stopped it, checked against the file by eye.
+#[test]
+fn files_once_refused_load_with_warnings() {
+    // CANopenNode's C suffix.
+    let (desc, w) = warnings("canopennode-IO.eds");
+    assert!(w.contains(&"2105:14: DefaultValue= in [2120sub1]: the C suffix `LL` of `0x1234567890ABCDEFLL` is dropped".to_string()), "{w:#?}");
+    assert_eq!(
+        desc.dictionary.entry(0x2120, 1).unwrap().default,
+        Some(DefaultValue::plain(Value::Int(0x1234_5678_90AB_CDEF)))
+    );
+    // CANopenEditor's Python port: object codes and data types by name.
+    let (desc, w) = warnings("coeditorlb-demo_device.eds");
+    assert_eq!(
+        w[..2],
+        [
+            "21:12: ObjectType= in [1000]: `VAR` is the name of an object code, not a code; read as 0x7 (VAR)",
+            "22:10: DataType= in [1000]: `UNSIGNED32` is the name of data type 0x0007, not its index; read as UNSIGNED32",
+        ]
+    );
+    assert_eq!(
+        desc.dictionary.object(0x1000).unwrap().kind,
+        ObjectKind::Var
+    );
+    // Lely: an unconfigured node, and a time as `days ms`.
+    let (desc, w) = warnings("lely-co-gw_txt-slave.dcf");
+    assert_eq!(
+        w,
+        ["18:8: NodeID= in [DeviceComissioning]: `0xff` marks a node that LSS has yet to configure; the node is unconfigured, and `$NODEID` values stay relative to the node-ID"]
+    );
+    assert_eq!(desc.node_id(), None);
+    let (desc, _) = warnings("lely-co-sdev.dcf");
+    assert_eq!(
+        desc.dictionary.read_value(0x200C, 0).unwrap(),
+        Value::Time(od::value::TimeValue {
+            ms: 43_200_000,
+            days: 365
+        })
+    );
+    // openPOWERLINK: `0` for an OCTET_STRING.
+    let (desc, w) = warnings("oplk-sysmncn.eds");
+    assert!(w.contains(&"337:14: DefaultValue= in [1030sub5]: `0` is not a OCTET_STRING value: expected hexadecimal byte digits; the default is dropped".to_string()), "{w:#?}");
+    assert_eq!(desc.dictionary.entry(0x1030, 5).unwrap().default, None);
+    // python-canopen's 255 compact entries.
+    let (desc, w) = warnings("pycanopen-receiver.eds");
+    assert!(w.contains(&"123:15: CompactSubObj= in [1003]: 255 entries reach sub-index 0xFF, which CiA 301 keeps for the object's structure; read as 255 entries, as Lely does".to_string()), "{w:#?}");
+    assert_eq!(desc.dictionary.object(0x1003).unwrap().subs.len(), 256);
+    // ros_canopen and ros2_canopen: parameter values relative to a node-ID the file does not give.
+    for (name, index, offset) in [
+        ("ros2c-prbt_0_1.dcf", 0x1400, 0x200),
+        ("rosc-Schunk.eds", 0x1401, 0x300),
+        ("rosc-Schunk_0_63.dcf", 0x1400, 0x200),
+    ] {
+        let (desc, _) = warnings(name);
+        assert_eq!(desc.commissioning, None, "{name}");
+        let cob = desc.dictionary.entry(index, 1).unwrap();
+        assert!(cob.value_set && cob.value_plus_node_id, "{name}");
+        assert_eq!(
+            desc.dictionary.read_value(index, 1).unwrap(),
+            Value::Uint(offset),
+            "{name}"
+        );
+    }
+    // SOMANET: 0xDEADBEEF for an INTEGER16.
+    let (desc, w) = warnings("somanet-SOMANET_CIA402.eds");
+    assert!(w.contains(&"1225:14: DefaultValue= in [6071sub1]: 0xDEADBEEF does not fit in INTEGER16; the default is dropped".to_string()), "{w:#?}");
+    assert_eq!(desc.dictionary.entry(0x6071, 1).unwrap().default, None);
+}
