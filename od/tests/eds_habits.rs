@@ -648,3 +648,198 @@ NrOfEntries=1
     let back = eds::read(written.as_bytes(), "again.eds").unwrap();
     assert_eq!(back.dictionary, desc.dictionary);
 }
+
+/// `DeviceDescription::set_node_id` (`esi-gen dcf --node-id`, `sdo-tool dump`) moves what follows the
+/// node-ID and nothing else: a `$NODEID` default still the current value, and a value given as
+/// `$NODEID+offset` (unsigned or signed); not a value set explicitly (even one equal to the default for the
+/// old node), not another value stored since, not a plain default.
+#[test]
+fn set_node_id_moves_what_follows_the_node_id() {
+    let text = "\
+[DeviceComissioning]
+NodeID=2
+[1017]
+ParameterName=Producer heartbeat time
+DataType=0x0006
+AccessType=rw
+DefaultValue=100
+[1200]
+ParameterName=SDO server parameter
+ObjectType=0x9
+[1200sub1]
+ParameterName=COB-ID client to server
+DataType=0x0007
+AccessType=ro
+DefaultValue=$NODEID+0x600
+[1200sub2]
+ParameterName=COB-ID server to client
+DataType=0x0007
+AccessType=ro
+DefaultValue=$NODEID+0x580
+ParameterValue=0x582
+[1400]
+ParameterName=RPDO 1 communication parameter
+ObjectType=0x9
+[1400sub1]
+ParameterName=COB-ID used by RPDO 1
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID+0x200
+[1800]
+ParameterName=TPDO 1 communication parameter
+ObjectType=0x9
+[1800sub1]
+ParameterName=COB-ID used by TPDO 1
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID+0x180
+ParameterValue=$NODEID+0x1C0
+[2000]
+ParameterName=Offset
+DataType=0x0004
+AccessType=rw
+ParameterValue=$NODEID+5
+";
+    let (mut desc, warnings) = read_warnings(text);
+    assert_eq!(warnings, Vec::<String>::new());
+    let value =
+        |desc: &od::DeviceDescription, index, sub| desc.dictionary.read_value(index, sub).unwrap();
+    assert_eq!(value(&desc, 0x1200, 1), Value::Uint(0x602));
+    assert_eq!(value(&desc, 0x2000, 0), Value::Int(7));
+    // 0x1400:01 stored from the device's side, another value than its default: it stays.
+    desc.dictionary
+        .store_value(0x1400, 1, &Value::Uint(0x2FF))
+        .unwrap();
+    desc.set_node_id(Some(7));
+    assert_eq!(desc.node_id(), Some(7));
+    assert_eq!(value(&desc, 0x1017, 0), Value::Uint(100));
+    assert_eq!(
+        value(&desc, 0x1200, 1),
+        Value::Uint(0x607),
+        "the default follows"
+    );
+    assert_eq!(
+        value(&desc, 0x1200, 2),
+        Value::Uint(0x582),
+        "set explicitly"
+    );
+    assert_eq!(value(&desc, 0x1400, 1), Value::Uint(0x2FF), "stored");
+    assert_eq!(value(&desc, 0x1800, 1), Value::Uint(0x1C7), "relative");
+    assert_eq!(value(&desc, 0x2000, 0), Value::Int(12), "relative, signed");
+    let dcf = eds::write_dcf(&desc);
+    assert!(dcf.contains("[DeviceComissioning]\r\nNodeID=7\r\n"));
+    assert!(dcf.contains(
+        "DefaultValue=$NODEID+0x180\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x1C0\r\n"
+    ));
+    assert!(dcf.ends_with("AccessType=rw\r\nPDOMapping=0\r\nParameterValue=$NODEID+5\r\n"));
+    // The stored value comes back set, as every value that differs from its default does.
+    let back = eds::read(dcf.as_bytes(), "node7.dcf").unwrap();
+    assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
+    assert!(back.dictionary.entry(0x1400, 1).unwrap().value_set);
+    // Unconfigured again: resolved with 0.
+    desc.set_node_id(None);
+    assert_eq!(desc.commissioning.as_ref().unwrap().node_id, None);
+    assert_eq!(value(&desc, 0x1200, 1), Value::Uint(0x600));
+    assert_eq!(value(&desc, 0x2000, 0), Value::Int(5));
+}
+
+/// `DeviceDescription::configure_writable` (`esi-gen dcf`): every writable entry is set, so that a DCF
+/// carries it, except a DOMAIN and the command entries of CiA 301 and CiA 302 (0x1003:00, 0x1010, 0x1011,
+/// 0x1F25, 0x1F51), which a device refuses or acts on. An entry at its `$NODEID` default, also one
+/// resolved with 0 (an EDS given a node-ID without `set_node_id`), gets the default for the node-ID,
+/// relative to it.
+#[test]
+fn configure_writable_sets_the_settings_and_no_commands() {
+    let entry = |index: &str, access: &str, default: &str| {
+        format!(
+            "[{index}]\nParameterName=x{index}\nDataType=0x0007\nAccessType={access}\nDefaultValue={default}\n"
+        )
+    };
+    let mut text = String::new();
+    for (index, access, default) in [
+        ("1000", "ro", "0x191"),
+        ("1014", "rw", "$NODEID+0x80"),
+        ("1017", "rw", "0"),
+        ("2000", "wo", "7"),
+        ("2001", "rww", "8"),
+        ("2002", "rwr", "9"),
+        ("2003", "const", "10"),
+    ] {
+        text.push_str(&entry(index, access, default));
+    }
+    for index in ["1003", "1010", "1011", "1F25", "1F51"] {
+        text.push_str(&format!(
+            "[{index}]\nParameterName=x{index}\nObjectType=0x8\n[{index}sub0]\nParameterName=n\nDataType=0x0005\nAccessType=rw\nDefaultValue=1\n\
+             [{index}sub1]\nParameterName=e\nDataType=0x0007\nAccessType=rw\nDefaultValue=1\n"
+        ));
+    }
+    text.push_str("[1F50]\nParameterName=Program data\nDataType=0x000F\nAccessType=wo\n");
+    let (mut desc, warnings) = read_warnings(&text);
+    assert_eq!(warnings, Vec::<String>::new());
+    // A node-ID given without moving the values: 0x1014 still holds 0x80, its default for node 0.
+    desc.commissioning = Some(od::device::Commissioning {
+        node_id: Some(3),
+        ..Default::default()
+    });
+    desc.configure_writable();
+    let set: Vec<String> = desc
+        .dictionary
+        .objects()
+        .flat_map(|o| {
+            o.subs
+                .iter()
+                .filter(|(_, s)| s.value_set)
+                .map(move |(sub, _)| format!("{:04X}:{sub}", o.index))
+        })
+        .collect();
+    assert_eq!(
+        set,
+        ["1003:1", "1014:0", "1017:0", "2000:0", "2001:0", "2002:0"]
+    );
+    let cob = desc.dictionary.entry(0x1014, 0).unwrap();
+    assert!(cob.value_plus_node_id);
+    assert_eq!(cob.value, [0x83, 0, 0, 0]);
+    assert!(!desc.dictionary.entry(0x1017, 0).unwrap().value_plus_node_id);
+}
+
+/// A `$NODEID` value must fit for node 127 only where the file gives no node-ID: in a DCF for node 5,
+/// `$NODEID+0xFFFFFF90` is 0xFFFFFF95 and loads without a word.
+#[test]
+fn node_id_values_fit_the_node_the_file_names() {
+    let text = "\
+[DeviceComissioning]
+NodeID=5
+[1014]
+ParameterName=COB-ID EMCY
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID+0xFFFFFF90
+";
+    let (desc, warnings) = read_warnings(text);
+    assert_eq!(warnings, Vec::<String>::new());
+    assert_eq!(
+        desc.dictionary.read_value(0x1014, 0).unwrap(),
+        Value::Uint(0xFFFF_FF95)
+    );
+}
+
+/// The node-ID of a DCF resolves its `$NODEID` defaults in the other formats too: the ESI of a DCF for
+/// node 5 gives 0x1800:01 `$NODEID+0x180` as 0x185.
+#[test]
+fn a_dcf_node_id_resolves_defaults_in_an_esi() {
+    let text = "\
+[DeviceComissioning]
+NodeID=5
+[1800]
+ParameterName=TPDO 1 communication parameter
+ObjectType=0x9
+[1800sub1]
+ParameterName=COB-ID used by TPDO 1
+DataType=0x0007
+AccessType=rw
+DefaultValue=$NODEID+0x180
+";
+    let (desc, _) = read_warnings(text);
+    let esi = od::esi::write(&desc);
+    assert!(esi.contains("<DefaultData>85010000</DefaultData>"), "{esi}");
+}
