@@ -34,7 +34,7 @@ pub enum Command {
     Xdd(Convert),
     /// Write a CiA 306 EDS.
     Eds(Convert),
-    /// Write a CiA 306 DCF with current values.
+    /// Write a CiA 306 DCF with the current value of every configurable (writable) entry.
     Dcf(DcfArgs),
     /// Write a Markdown reference of the dictionary.
     Doc(Convert),
@@ -107,7 +107,8 @@ pub struct DcfArgs {
     /// Conversion arguments.
     #[command(flatten)]
     pub convert: Convert,
-    /// The node-ID the DCF configures (1..127); `$NODEID` defaults resolve with it.
+    /// The node-ID the DCF configures (1..127); `$NODEID` defaults resolve with it. Without it, the
+    /// input's node-ID, or none (an unconfigured node, no `NodeID=`).
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=127))]
     pub node_id: Option<u8>,
     /// The bit rate in kbit/s.
@@ -257,13 +258,14 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
                 out,
                 move |devs| {
                     let mut dev = devs[0].clone();
-                    let c = dev.commissioning.get_or_insert_with(Commissioning::default);
+                    // Without --node-id the node-ID is the description's, or none: a made-up one would
+                    // change what every `$NODEID` value means.
                     if let Some(n) = node_id {
-                        c.node_id = n;
+                        dev.set_node_id(Some(n));
                     }
-                    if c.node_id == 0 {
-                        c.node_id = 1;
-                    }
+                    // Every configurable value goes into the DCF, so that applying it writes them all.
+                    dev.configure_writable();
+                    let c = dev.commissioning.get_or_insert_with(Commissioning::default);
                     if let Some(b) = baud {
                         c.baud_rate = b;
                     }

@@ -515,10 +515,13 @@ fn summary(text: &mut String, dev: &DeviceDescription) {
         );
     }
     if let Some(c) = &dev.commissioning {
+        let node = c
+            .node_id
+            .map_or_else(|| "unconfigured".to_string(), |id| id.to_string());
         let _ = writeln!(
             text,
-            "  node-ID      {}  bit rate {} kbit/s",
-            c.node_id, c.baud_rate
+            "  node-ID      {node}  bit rate {} kbit/s",
+            c.baud_rate
         );
     }
 }

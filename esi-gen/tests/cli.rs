@@ -194,6 +194,73 @@ fn dcf_carries_the_node_id() {
     assert_eq!(o.status.code(), Some(2));
 }
 
+/// `esi-gen dcf` configures every writable entry (`ParameterValue`), so that `sdo-tool apply` writes
+/// them: a `$NODEID` one relative to the node-ID; not the read-only ones, a DOMAIN, nor the command entry
+/// 0x1010 (store parameters). Without `--node-id` there is no `NodeID=` (it once made up node 1, and
+/// `$NODEID+0x80` came back as 0x81); the dictionary is the input's.
+#[test]
+fn dcf_configures_the_writable_entries() {
+    let eds = tmp("configure.eds");
+    std::fs::write(
+        &eds,
+        "[1000]\nParameterName=Device type\nDataType=0x0007\nAccessType=ro\nDefaultValue=0x191\n\
+         [1010]\nParameterName=Store parameters\nObjectType=0x8\n\
+         [1010sub0]\nParameterName=Highest sub-index supported\nDataType=0x0005\nAccessType=ro\nDefaultValue=1\n\
+         [1010sub1]\nParameterName=Save all parameters\nDataType=0x0007\nAccessType=rw\nDefaultValue=1\n\
+         [1014]\nParameterName=COB-ID EMCY\nDataType=0x0007\nAccessType=rw\nDefaultValue=$NODEID+0x80\n\
+         [1017]\nParameterName=Producer heartbeat time\nDataType=0x0006\nAccessType=rw\n\
+         [1F50]\nParameterName=Program data\nDataType=0x000F\nAccessType=wo\n",
+    )
+    .unwrap();
+    let dcf = tmp("configure.dcf");
+    let o = esi_gen(&["dcf", eds.to_str().unwrap(), "-o", dcf.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&dcf).unwrap();
+    assert!(text.contains(
+        "[DeviceComissioning]\r\nNodeName=\r\nBaudrate=0\r\nNetNumber=0\r\nNetworkName=\r\nCANopenManager=0\r\n\r\n"
+    ), "{text}");
+    for section in [
+        "[1000]\r\nParameterName=Device type\r\nObjectType=0x7\r\nDataType=0x0007\r\nAccessType=ro\r\n\
+         DefaultValue=0x00000191\r\nPDOMapping=0\r\n\r\n",
+        "[1010sub1]\r\nParameterName=Save all parameters\r\nObjectType=0x7\r\nDataType=0x0007\r\n\
+         AccessType=rw\r\nDefaultValue=0x00000001\r\nPDOMapping=0\r\n\r\n",
+        "[1014]\r\nParameterName=COB-ID EMCY\r\nObjectType=0x7\r\nDataType=0x0007\r\nAccessType=rw\r\n\
+         DefaultValue=$NODEID+0x80\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x80\r\n\r\n",
+        "[1017]\r\nParameterName=Producer heartbeat time\r\nObjectType=0x7\r\nDataType=0x0006\r\n\
+         AccessType=rw\r\nPDOMapping=0\r\nParameterValue=0x0000\r\n\r\n",
+        "[1F50]\r\nParameterName=Program data\r\nObjectType=0x7\r\nDataType=0x000F\r\nAccessType=wo\r\n\
+         PDOMapping=0\r\n",
+    ] {
+        assert!(text.contains(section), "{section}\n{text}");
+    }
+    assert!(!text.contains("NodeID"), "{text}");
+    let o = esi_gen(&["diff", eds.to_str().unwrap(), dcf.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+
+    // For node 5: the COB-ID follows the node-ID and stays relative.
+    let o = esi_gen(&[
+        "dcf",
+        eds.to_str().unwrap(),
+        "--node-id",
+        "5",
+        "-o",
+        dcf.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&dcf).unwrap();
+    assert!(
+        text.contains("[DeviceComissioning]\r\nNodeID=5\r\n"),
+        "{text}"
+    );
+    assert!(text
+        .contains("DefaultValue=$NODEID+0x80\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x80\r\n"));
+    let o = esi_gen(&["diff", eds.to_str().unwrap(), dcf.to_str().unwrap()]);
+    assert_eq!(
+        stdout(&o),
+        "~ 0x1014:00 value: 80 00 00 00 -> 85 00 00 00\n"
+    );
+}
+
 #[test]
 fn every_format_converts_to_every_other_and_back() {
     for (src, device) in [

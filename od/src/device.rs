@@ -97,8 +97,10 @@ impl Default for CanInfo {
 /// Commissioning values of one node in a network (DCF `[DeviceComissioning]`, CiA 306 §5).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct Commissioning {
-    /// Node-ID, 1..127.
-    pub node_id: u8,
+    /// Node-ID, 1..127; `None` when the node is unconfigured or the file does not say (a DCF without
+    /// `NodeID`, or with Lely's `NodeID=0xFF` of a node LSS has yet to configure). `$NODEID` values are
+    /// then resolved with 0, as in an EDS, and stay relative to the node-ID.
+    pub node_id: Option<u8>,
     /// Node name.
     pub node_name: String,
     /// Bit rate in kbit/s.
@@ -267,6 +269,84 @@ pub struct Eeprom {
 }
 
 impl DeviceDescription {
+    /// The node-ID of the commissioning values, when the description has one.
+    pub fn node_id(&self) -> Option<u8> {
+        self.commissioning.as_ref().and_then(|c| c.node_id)
+    }
+
+    /// Configures the description for node `node_id` (`None`: unconfigured), adding commissioning values
+    /// where there are none. Every value that follows the node-ID follows it: a `$NODEID` default that is
+    /// still the current value, and a current value given as `$NODEID+offset`
+    /// ([`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id)). `$NODEID`
+    /// values of a description without a node-ID are resolved with 0.
+    pub fn set_node_id(&mut self, node_id: Option<u8>) {
+        let old = self.node_id().unwrap_or(0);
+        let new = node_id.unwrap_or(0);
+        for object in self.dictionary.objects_mut() {
+            for sub in object.subs.values_mut() {
+                let value = if sub.value_plus_node_id {
+                    sub.parameter(old).map(|p| p.resolve(new))
+                } else {
+                    match &sub.default {
+                        Some(d) if d.plus_node_id && !sub.value_set => {
+                            let at_default = d
+                                .resolve(old)
+                                .encode(sub.data_type)
+                                .is_ok_and(|b| b == sub.value);
+                            at_default.then(|| d.resolve(new))
+                        }
+                        _ => None,
+                    }
+                };
+                if let Some(bytes) = value.and_then(|v| v.encode(sub.data_type).ok()) {
+                    sub.value = bytes;
+                }
+            }
+        }
+        self.commissioning
+            .get_or_insert_with(Commissioning::default)
+            .node_id = node_id;
+    }
+
+    /// Marks the current value of every configurable entry as set
+    /// ([`SubObject::value_set`](crate::object::SubObject::value_set)), so that a DCF written from the
+    /// description gives each a `ParameterValue` and a configuration tool applying the DCF
+    /// (`sdo-tool apply`) writes them all. Configurable: writable (`rw`, `wo`, `rwr`, `rww`), neither a
+    /// DOMAIN (an empty download into a program or data domain configures nothing) nor one of the command
+    /// entries of CiA 301 and CiA 302, where a device refuses anything but a command or acts on it: 0x1003:00
+    /// (0 clears the error history), 0x1010 and 0x1011 (the `save` and `load` signatures), 0x1F25 (`conf`),
+    /// 0x1F51 (program control). An entry still at its `$NODEID` default gets that default for the
+    /// description's node-ID, relative to the node-ID
+    /// ([`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id)).
+    pub fn configure_writable(&mut self) {
+        let node_id = self.node_id().unwrap_or(0);
+        for object in self.dictionary.objects_mut() {
+            let index = object.index;
+            for (&sub_index, sub) in object.subs.iter_mut() {
+                if sub.value_set || !configurable(index, sub_index, sub) {
+                    continue;
+                }
+                let relative = sub
+                    .default
+                    .as_ref()
+                    .filter(|d| d.plus_node_id)
+                    .and_then(|d| {
+                        let at = |id| {
+                            d.resolve(id).encode(sub.data_type).ok() == Some(sub.value.clone())
+                        };
+                        (at(node_id) || at(0))
+                            .then(|| d.resolve(node_id).encode(sub.data_type).ok())
+                            .flatten()
+                    });
+                if let Some(bytes) = relative {
+                    sub.value = bytes;
+                    sub.value_plus_node_id = true;
+                }
+                sub.value_set = true;
+            }
+        }
+    }
+
     /// Applies identity values from outside (the generator's overrides): each `Some` replaces the
     /// description's value, in the identity and in 0x1018 where the dictionary has it.
     pub fn override_identity(
@@ -295,4 +375,11 @@ impl DeviceDescription {
             }
         }
     }
+}
+
+/// True when a configuration tool may write `entry` (`index:sub`) as a setting: see
+/// [`DeviceDescription::configure_writable`].
+fn configurable(index: u16, sub: u8, entry: &crate::object::SubObject) -> bool {
+    let command = matches!(index, 0x1010 | 0x1011 | 0x1F25 | 0x1F51) || (index, sub) == (0x1003, 0);
+    entry.access.kind.writable() && entry.data_type != crate::types::DataType::Domain && !command
 }

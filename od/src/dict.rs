@@ -413,11 +413,14 @@ impl Dictionary {
 
     /// Sets `index:sub` from the device's side (the application, a PDO, a configuration file): the same
     /// checks as [`Dictionary::write`] except access, so read-only entries can be updated by their owner.
+    /// The value stored is absolute: it no longer follows the node-ID
+    /// ([`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id)).
     pub fn store(&mut self, index: u16, sub: u8, bytes: &[u8]) -> Result<(), OdError> {
         let entry = self.entry_mut(index, sub)?;
         check_value(index, sub, entry, bytes)?;
         entry.value.clear();
         entry.value.extend_from_slice(bytes);
+        entry.value_plus_node_id = false;
         Ok(())
     }
 

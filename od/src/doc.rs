@@ -30,7 +30,14 @@ pub fn write(desc: &DeviceDescription) -> String {
     let _ = writeln!(out, "| Revision | 0x{:08X} |", id.revision);
     let _ = writeln!(out, "| Objects | {} |", desc.dictionary.len());
     if let Some(c) = &desc.commissioning {
-        let _ = writeln!(out, "| Node-ID | {} |", c.node_id);
+        match c.node_id {
+            Some(id) => {
+                let _ = writeln!(out, "| Node-ID | {id} |");
+            }
+            None => {
+                let _ = writeln!(out, "| Node-ID | unconfigured |");
+            }
+        }
     }
     out.push('\n');
 

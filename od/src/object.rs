@@ -322,6 +322,11 @@ pub struct SubObject {
     /// True when the current value was set explicitly (a DCF `ParameterValue`); a writer of configuration
     /// files writes only these and values that differ from the default.
     pub value_set: bool,
+    /// True when the current value was given relative to the node-ID (`ParameterValue=$NODEID+0x200`, as
+    /// ros_canopen's DCFs for a node whose ID is set at run time give it): `value` holds it resolved with
+    /// the description's node-ID (0 when it has none), and writers write it relative again. Storing a
+    /// value clears it.
+    pub value_plus_node_id: bool,
 }
 
 impl SubObject {
@@ -344,6 +349,7 @@ impl SubObject {
             high: None,
             value,
             value_set: false,
+            value_plus_node_id: false,
         }
     }
 
@@ -406,6 +412,29 @@ impl SubObject {
             self.value = bytes;
         }
         self.value_set = false;
+        self.value_plus_node_id = false;
+    }
+
+    /// The current value as a configuration file gives it: `$NODEID+offset` when it was given relative to
+    /// the node-ID (resolved with `node_id`, the description's), else the value itself. `None` when the
+    /// bytes are no value of the type.
+    pub fn parameter(&self, node_id: u8) -> Option<DefaultValue> {
+        let value = self.current()?;
+        if !self.value_plus_node_id {
+            return Some(DefaultValue::plain(value));
+        }
+        let offset = match value {
+            Value::Uint(v) => v.checked_sub(u64::from(node_id)).map(Value::Uint),
+            Value::Int(v) => v.checked_sub(i64::from(node_id)).map(Value::Int),
+            _ => None,
+        };
+        Some(match offset {
+            Some(offset) => DefaultValue {
+                value: offset,
+                plus_node_id: true,
+            },
+            None => DefaultValue::plain(value),
+        })
     }
 }
 

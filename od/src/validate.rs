@@ -31,6 +31,10 @@ pub fn validate_mapped(desc: &DeviceDescription, map: &SourceMap) -> Vec<Finding
     c.out
 }
 
+/// Sub-index 0 of a mapping object that makes it a source-address MPDO; 0xFF makes it a
+/// destination-address one (CiA 301 §7.5.2.36).
+const MPDO_SAM: u8 = 0xFE;
+
 struct Checker<'m> {
     map: &'m SourceMap,
     out: Vec<Finding>,
@@ -155,6 +159,10 @@ impl Checker<'_> {
         }
     }
 
+    /// Checks the PDO mapping object `index` (an RPDO's when `receive`) entry by entry.
+    ///
+    /// A BOOLEAN mapped with 8 bits is no finding: CANopen maps a BOOLEAN into a byte (CANopenNode's
+    /// mappings all do), where EtherCAT maps it into one bit.
     fn mapping(&mut self, d: &Dictionary, index: u16, receive: bool, can: bool) {
         let Some(object) = d.object(index) else {
             return;
@@ -163,6 +171,12 @@ impl Checker<'_> {
             Some(Value::Uint(n)) => n as u8,
             _ => return,
         };
+        if count >= MPDO_SAM {
+            // A multiplexed PDO (CiA 301 §7.5.2.36): 0xFE is a source-address MPDO, whose objects the
+            // object scanner list (0x1FA0–0x1FCF) names; 0xFF a destination-address MPDO, whose one entry
+            // addresses an object of the consumer. Neither lists entries of this dictionary to check.
+            return;
+        }
         let mut bits = 0u32;
         for sub in 1..=count {
             let Some(entry) = object.subs.get(&sub) else {
@@ -180,7 +194,7 @@ impl Checker<'_> {
             if (0x0001..=0x0007).contains(&mi) {
                 // A dummy entry (CiA 301 §7.4.7.1): the data type's index and its size.
                 let size = DataType::from_index(mi).and_then(|t| t.bit_size());
-                if size != Some(len) {
+                if size != Some(len) && !(mi == 0x0001 && len == 8) {
                     self.warn(
                         Address::new(index, sub),
                         format!("dummy entry of type 0x{mi:04X} with {len} bits"),
@@ -224,7 +238,7 @@ impl Checker<'_> {
             )),
             Ok(e) => {
                 if let Some(size) = e.data_type.bit_size() {
-                    if size != bits {
+                    if size != bits && !(e.data_type == DataType::Boolean && bits == 8) {
                         bad(format!(
                             "maps 0x{index:04X}:{sub:02X} with {bits} bits, its type {} has {size}",
                             e.data_type
@@ -284,10 +298,13 @@ mod tests {
             0x2001,
             SubObject::new("In", DataType::Unsigned16, AccessType::Ro).with_pdo(PdoMapping::Tpdo),
         ));
-        d.insert(mapping(0x1600, &[0x2000_0010, 0x0005_0008]));
+        // A BOOLEAN dummy fills a byte as a mapped BOOLEAN does.
+        d.insert(mapping(0x1600, &[0x2000_0010, 0x0005_0008, 0x0001_0008]));
         assert_eq!(validate(&desc), vec![]);
-        desc.dictionary
-            .insert(mapping(0x1601, &[0x2000_0008, 0x2001_0010, 0x3000_0008]));
+        desc.dictionary.insert(mapping(
+            0x1601,
+            &[0x2000_0008, 0x2001_0010, 0x3000_0008, 0x0001_0010],
+        ));
         let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
         assert_eq!(
             text,
@@ -295,6 +312,7 @@ mod tests {
                 "warning: 0x1601:00: maps 0x2000:00 with 8 bits, its type UNSIGNED16 has 16",
                 "warning: 0x1601:00: maps 0x2001:00 into an RPDO, but it is not mappable that way",
                 "warning: 0x1601:00: maps 0x3000:00, which does not exist",
+                "warning: 0x1601:04: dummy entry of type 0x0001 with 16 bits",
             ]
         );
     }

@@ -292,7 +292,7 @@ impl Value {
     /// Parses the text form of a value as description files write it (CiA 306 §4.6.2): integers in
     /// decimal, `0x` hexadecimal or leading-zero octal with an optional sign; reals in decimal notation;
     /// strings as written; octet strings and domains as hexadecimal digits (spaces allowed); times as
-    /// `days:ms` or a plain millisecond count.
+    /// `days:ms`, `days ms` (Lely's form) or a plain millisecond count.
     pub fn parse_text(data_type: DataType, text: &str) -> Result<Value, ValueError> {
         let bad = |reason| ValueError::BadText {
             data_type,
@@ -315,7 +315,11 @@ impl Value {
                 .map(Value::Real64)
                 .ok_or_else(|| bad("expected a decimal number")),
             DataType::TimeOfDay | DataType::TimeDifference => {
-                let (days, ms) = match t.split_once(':') {
+                // `days:ms`, or `days ms` as Lely writes and reads them.
+                let split = t
+                    .split_once(':')
+                    .or_else(|| t.split_once(|c: char| c.is_ascii_whitespace()));
+                let (days, ms) = match split {
                     Some((d, m)) => (
                         parse_integer(d.trim()).ok_or_else(|| bad("expected days:milliseconds"))?,
                         parse_integer(m.trim()).ok_or_else(|| bad("expected days:milliseconds"))?,
@@ -629,6 +633,18 @@ mod tests {
         assert_eq!(
             Value::parse_text(DataType::TimeOfDay, "12:34").unwrap(),
             Value::Time(TimeValue { ms: 34, days: 12 })
+        );
+        // Lely's `days ms`.
+        assert_eq!(
+            Value::parse_text(DataType::TimeDifference, "365  43200000").unwrap(),
+            Value::Time(TimeValue {
+                ms: 43_200_000,
+                days: 365
+            })
+        );
+        assert_eq!(
+            Value::parse_text(DataType::TimeOfDay, "7").unwrap(),
+            Value::Time(TimeValue { ms: 7, days: 0 })
         );
         assert_eq!(
             Value::Uint(0x80).to_text(DataType::Unsigned32),

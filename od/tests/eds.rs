@@ -567,7 +567,7 @@ fn writes_byte_exact_eds() {
 fn writes_byte_exact_dcf() {
     let mut desc = golden_description();
     desc.commissioning = Some(Commissioning {
-        node_id: 5,
+        node_id: Some(5),
         node_name: "Left".into(),
         baud_rate: 500,
         net_number: 1,
@@ -598,6 +598,7 @@ fn writes_byte_exact_dcf() {
             "HighLimit=100\r\nParameterValue=7\r\n",
         );
     assert_eq!(text, expected);
+    let expected_text = expected;
 
     // Read back: the values that differ from their defaults come back as set explicitly, the others as
     // the defaults for node 5.
@@ -612,40 +613,65 @@ fn writes_byte_exact_dcf() {
     assert!(label.value_set);
     let mut expected = desc.clone();
     for (index, sub) in [(0x2000, 0), (0x6000, 0)] {
-        expected
-            .dictionary
-            .object_mut(index)
-            .unwrap()
-            .subs
-            .get_mut(&sub)
-            .unwrap()
-            .value_set = true;
+        entry_mut(&mut expected, index, sub).value_set = true;
     }
     assert_eq!(back, expected);
+
+    // Configured (what `esi-gen dcf` does): every writable entry gets its value, the COB-ID still at its
+    // `$NODEID` default relative to the node-ID; the read-only ones do not.
+    let mut configured = desc.clone();
+    configured.configure_writable();
+    let text = eds::write_dcf(&configured);
+    let expected = expected_text.replace(
+        "DefaultValue=$NODEID+0x180\r\nPDOMapping=0\r\n",
+        "DefaultValue=$NODEID+0x180\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x180\r\n",
+    );
+    assert_eq!(text, expected);
+    let back = eds::read(text.as_bytes(), "configured.dcf").unwrap();
+    // 0x6000 (read-only, 7 instead of its default -5) comes back set, as above.
+    entry_mut(&mut configured, 0x6000, 0).value_set = true;
+    assert_eq!(back, configured);
+    let cob = back.dictionary.entry(0x1800, 1).unwrap();
+    assert!(cob.value_set && cob.value_plus_node_id);
+    assert_eq!(cob.value, [0x85, 0x01, 0, 0]);
+    assert!(!back.dictionary.entry(0x1018, 1).unwrap().value_set);
 }
 
+fn entry_mut(desc: &mut DeviceDescription, index: u16, sub: u8) -> &mut SubObject {
+    desc.dictionary
+        .object_mut(index)
+        .and_then(|o| o.subs.get_mut(&sub))
+        .unwrap()
+}
+
+/// A description without a node-ID (an EDS, Lely's DCFs of an unconfigured node) is written as a DCF
+/// without `NodeID=`: a made-up node-ID would change what every `$NODEID` value means (Lely's
+/// cocatd.dcf once came back with 0x1014 = 0x81 for its `$NODEID+0x80`). Read back, the node is still
+/// unconfigured and the `$NODEID` values are resolved with 0, as in the EDS.
 #[test]
-fn dcf_without_commissioning_is_node_1() {
+fn dcf_without_a_node_id_has_none() {
     let desc = golden_description();
     let text = eds::write_dcf(&desc);
-    assert!(text.contains("[DeviceComissioning]\r\nNodeID=1\r\nNodeName=\r\n"));
     // The description holds the EDS values (`$NODEID` resolved with 0): still defaults, so no
     // ParameterValue at all.
-    assert!(!text.contains("ParameterValue"));
+    let expected = GOLDEN_EDS.replace(
+        "LSS_Supported=0\r\n\r\n",
+        "LSS_Supported=0\r\n\r\n[DeviceComissioning]\r\nNodeName=\r\nBaudrate=0\r\nNetNumber=0\r\n\
+         NetworkName=\r\nCANopenManager=0\r\n\r\n",
+    );
+    assert_eq!(text, expected);
     assert_eq!(text, {
         let mut desc = desc.clone();
-        desc.commissioning = Some(Commissioning {
-            node_id: 1,
-            ..Commissioning::default()
-        });
+        desc.commissioning = Some(Commissioning::default());
         eds::write_dcf(&desc)
     });
-    let back = eds::read(text.as_bytes(), "n1.dcf").unwrap();
-    assert_eq!(back.commissioning.unwrap().node_id, 1);
+    let back = eds::read(text.as_bytes(), "unconfigured.dcf").unwrap();
+    assert_eq!(back.commissioning, Some(Commissioning::default()));
     assert_eq!(
         back.dictionary.read_value(0x1800, 1).unwrap(),
-        Value::Uint(0x181)
+        Value::Uint(0x180)
     );
+    assert_eq!(back.dictionary, desc.dictionary);
 }
 
 const SMALL_DCF: &str = "[FileInfo]
@@ -731,7 +757,7 @@ fn reads_a_dcf_and_writes_it_back() {
     assert_eq!(
         desc.commissioning,
         Some(Commissioning {
-            node_id: 0x10,
+            node_id: Some(0x10),
             node_name: "Left axis".into(),
             baud_rate: 500,
             net_number: 1,
@@ -783,14 +809,32 @@ fn reads_a_dcf_and_writes_it_back() {
     let text = eds::write_dcf(&desc);
     assert!(text.contains("NodeID=16\r\n"));
     assert!(text.contains("DefaultValue=$NODEID+0x180\r\nPDOMapping=0\r\n\r\n"));
-    assert!(text
-        .contains("DefaultValue=$NODEID+0x200\r\nPDOMapping=0\r\nParameterValue=0x00000310\r\n"));
+    // `ParameterValue=$NODEID+0x300` stays relative to the node-ID.
+    assert!(text.contains(
+        "DefaultValue=$NODEID+0x200\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x300\r\n"
+    ));
+    // The compact array's `[2000Value]` entry is the ParameterValue of its sub-index section.
+    assert!(text.contains(
+        "[2000sub2]\r\nParameterName=Gains2\r\nObjectType=0x7\r\nDataType=0x0005\r\nAccessType=rw\r\n\
+         DefaultValue=0x07\r\nPDOMapping=0\r\nParameterValue=0x09\r\n"
+    ));
     assert_eq!(eds::read(text.as_bytes(), "again.dcf").unwrap(), desc);
 
-    // As an EDS: no commissioning, no current values, `$NODEID` defaults resolved with node 0.
-    let as_eds = eds::read(eds::write_eds(&desc).as_bytes(), "node.eds").unwrap();
-    assert_eq!(as_eds.commissioning, None);
-    assert!(!eds::write_eds(&desc).contains("ParameterValue"));
+    // As an EDS: the commissioning values and the values the DCF set stay (an EDS may carry both), and
+    // read back the same.
+    let text = eds::write_eds(&desc);
+    assert!(text.contains("[DeviceComissioning]\r\nNodeID=16\r\n"));
+    assert_eq!(eds::read(text.as_bytes(), "node.eds").unwrap(), desc);
+
+    // Reset and without commissioning values, a plain EDS: no ParameterValue, `$NODEID` defaults
+    // resolved with node 0.
+    let mut plain = desc.clone();
+    plain.commissioning = None;
+    plain.dictionary.reset(0);
+    let text = eds::write_eds(&plain);
+    assert!(!text.contains("ParameterValue") && !text.contains("DeviceComissioning"));
+    let as_eds = eds::read(text.as_bytes(), "node.eds").unwrap();
+    assert_eq!(as_eds, plain);
     assert_eq!(
         as_eds.dictionary.read_value(0x1800, 1).unwrap(),
         Value::Uint(0x180)
@@ -799,11 +843,6 @@ fn reads_a_dcf_and_writes_it_back() {
         as_eds.dictionary.read_value(0x1017, 0).unwrap(),
         Value::Uint(0)
     );
-    assert!(as_eds
-        .dictionary
-        .objects()
-        .flat_map(|o| o.subs.values())
-        .all(|s| !s.value_set));
 }
 
 #[test]
@@ -924,40 +963,10 @@ fn errors_name_line_and_column() {
         "AccessType= in [1000]: expected ro, wo, rw, rwr, rww or const, found `rx`",
     );
     assert_error(
-        &with("DataType=0x0005\nAccessType=ro\nDefaultValue=0x100\n"),
-        7,
-        14,
-        "DefaultValue= in [1000]",
-    );
-    assert_error(
         &with("DataType=0x0005\nAccessType=ro\nPDOMapping=2\n"),
         7,
         12,
         "expected 0 or 1",
-    );
-    assert_error(
-        &with("DataType=0x0005\nAccessType=ro\nLowLimit=$NODEID+1\n"),
-        7,
-        10,
-        "without $NODEID",
-    );
-    assert_error(
-        &with("DataType=0x0008\nAccessType=ro\nDefaultValue=$NODEID+1\n"),
-        7,
-        14,
-        "integers only",
-    );
-    assert_error(
-        &with("DataType=0x0007\nAccessType=ro\nParameterValue=$NODEID+1\n"),
-        7,
-        16,
-        "[DeviceComissioning]",
-    );
-    assert_error(
-        &with("DataType=0x0008\nAccessType=ro\nHighLimit=1e39\n"),
-        7,
-        11,
-        "within the REAL32 range",
     );
     assert_error(&with("AccessType=ro\n"), 3, 2, "[1000] has no DataType=");
     assert_error(
@@ -1031,22 +1040,10 @@ fn errors_name_line_and_column() {
         "[Comments] has no Line2=",
     );
     assert_error(
-        b"[DeviceComissioning]\nNodeID=200\n",
+        b"[DeviceComissioning]\nNodeID=five\n",
         2,
         8,
-        "a node-ID, 1 to 127",
-    );
-    assert_error(
-        b"[DeviceComissioning]\nNodeName=x\n",
-        1,
-        2,
-        "has no NodeID=",
-    );
-    assert_error(
-        b"[2000]\nParameterName=A\nObjectType=8\nDataType=5\nAccessType=ro\nCompactSubObj=255\n",
-        6,
-        15,
-        "0 to 254",
+        "NodeID= in [DeviceComissioning]: expected a node-ID, 1 to 127, found `five`",
     );
 }
 
@@ -1259,7 +1256,7 @@ mod random {
         )
             .prop_flat_map(|(mut desc, node_id, c, seed)| {
                 desc.commissioning = Some(Commissioning {
-                    node_id,
+                    node_id: Some(node_id),
                     node_name: c.0,
                     baud_rate: c.1,
                     net_number: c.2,
@@ -1348,22 +1345,22 @@ fn pdo_direction_travels_in_the_access_type() {
 }
 
 /// A `$NODEID` default must fit for every node-ID: found by the round-trip fuzz target, where an EDS read
-/// with node-ID 0 wrote a DCF for node 1 that did not read back.
+/// with node-ID 0 wrote a DCF for node 1 that did not read back. One that does not is dropped with a
+/// warning, as python-canopen drops a default it cannot use.
 #[test]
 fn node_id_defaults_must_fit_for_node_127() {
     let text =
         "[1000]\nParameterName=x\nDataType=7\nAccessType=ro\nDefaultValue=$NODEID+0xFFFFFFFF\n";
-    let err = eds::read(text.as_bytes(), "n.eds").unwrap_err();
-    assert_eq!((err.position.line, err.position.column), (5, 14));
-    assert!(
-        err.message
-            .contains("with node-ID 127 the value does not fit"),
-        "{}",
-        err.message
+    let dev = assert_warnings(
+        text.as_bytes(),
+        &["5:14: DefaultValue= in [1000]: with node-ID 127 the value does not fit: 4294967422 does not fit in UNSIGNED32; the default is dropped"],
     );
+    assert_eq!(dev.dictionary.entry(0x1000, 0).unwrap().default, None);
+    assert_eq!(dev.dictionary.entry(0x1000, 0).unwrap().value, [0; 4]);
     let ok =
         "[1000]\nParameterName=x\nDataType=7\nAccessType=ro\nDefaultValue=$NODEID+0xFFFFFF80\n";
-    let dev = eds::read(ok.as_bytes(), "n.eds").unwrap();
+    let mut dev = eds::read(ok.as_bytes(), "n.eds").unwrap();
+    dev.set_node_id(Some(1));
     let dcf = eds::read(eds::write_dcf(&dev).as_bytes(), "n.dcf").unwrap();
     assert_eq!(
         dcf.dictionary.read_value(0x1000, 0).unwrap(),

@@ -16,18 +16,66 @@ fn corpus(name: &str) -> Vec<u8> {
 
 fn read(name: &str) -> DeviceDescription {
     let desc = eds::read(&corpus(name), name).unwrap_or_else(|e| panic!("{e}"));
-    // Whatever the file held, the writer's version of it reads back the same.
-    let text = if desc.commissioning.is_some() {
-        eds::write_dcf(&desc)
-    } else {
-        eds::write_eds(&desc)
-    };
+    round_trips(name, &desc);
+    desc
+}
+
+/// Whatever the file held, the writer's EDS and DCF of it read back the same; configured as `esi-gen
+/// dcf` configures it (every writable entry set), its DCF holds the same dictionary and reads back to the
+/// same text.
+fn round_trips(name: &str, desc: &DeviceDescription) {
+    for dcf in [false, true] {
+        let text = if dcf {
+            eds::write_dcf(desc)
+        } else {
+            eds::write_eds(desc)
+        };
+        let mut back = eds::read(text.as_bytes(), "rewritten").unwrap();
+        assert_eq!(
+            od::diff::diff(&desc.dictionary, &back.dictionary),
+            [],
+            "{name}"
+        );
+        // What the module documentation says is written where the file has nothing.
+        if desc.file_info.format_version.is_empty() {
+            back.file_info.format_version.clear();
+        }
+        if desc.can.is_none() {
+            back.can = None;
+        }
+        if dcf && desc.commissioning.is_none() {
+            assert_eq!(back.commissioning, Some(Default::default()), "{name}");
+            back.commissioning = None;
+        }
+        assert_eq!(&back, desc, "{name}");
+    }
+    let mut configured = desc.clone();
+    configured.configure_writable();
+    let text = eds::write_dcf(&configured);
+    let back = eds::read(text.as_bytes(), "configured.dcf").unwrap();
     assert_eq!(
-        eds::read(text.as_bytes(), "rewritten").unwrap(),
-        desc,
+        od::diff::diff(&desc.dictionary, &back.dictionary),
+        [],
         "{name}"
     );
-    desc
+    assert_eq!(back.dictionary, configured.dictionary, "{name}");
+    assert_eq!(eds::write_dcf(&back), text, "{name}");
+}
+
+/// Every EDS and DCF of the corpus loads (what the established tools load, loads), and round-trips.
+#[test]
+fn every_file_loads_and_round_trips() {
+    let dir = format!("{}/../../shared/corpus/eds", env!("CARGO_MANIFEST_DIR"));
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{dir}: {e}"))
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert!(names.len() >= 38, "{names:?}");
+    for name in &names {
+        let reading = eds::read_file(&corpus(name), name).unwrap_or_else(|e| panic!("{e}"));
+        round_trips(name, &reading.devices[0]);
+    }
 }
 
 fn plus_node_id(value: u64) -> Option<DefaultValue> {
@@ -160,7 +208,7 @@ fn pycanopen_sample_is_a_dcf_with_compact_arrays() {
         ["|-------------|", "| Don't panic |", "|-------------|"]
     );
     let commissioning = desc.commissioning.as_ref().unwrap();
-    assert_eq!(commissioning.node_id, 0x10);
+    assert_eq!(commissioning.node_id, Some(0x10));
     assert_eq!(commissioning.node_name, "Some name");
     assert_eq!(commissioning.baud_rate, 500);
     assert_eq!(desc.can.as_ref().unwrap().baud_rates, [125, 250, 500, 1000]);
@@ -262,5 +310,88 @@ fn pycanopen_e35_lists_an_object_it_does_not_describe() {
     assert_eq!(d.read_value(0x1A00, 1).unwrap(), Value::Uint(0x606C_0020));
     assert_eq!(desc.commissioning, None);
     let again = eds::read(eds::write_dcf(&desc).as_bytes(), "e35.dcf").unwrap();
-    assert_eq!(again.dictionary, desc.dictionary);
+    assert_eq!(od::diff::diff(&again.dictionary, &desc.dictionary), []);
+}
+
+/// The reader's warnings about `name`, as `line:column: message`.
+fn warnings(name: &str) -> (DeviceDescription, Vec<String>) {
+    let mut reading = eds::read_file(&corpus(name), name).unwrap_or_else(|e| panic!("{e}"));
+    let text = reading
+        .findings
+        .iter()
+        .map(|f| {
+            let p = f.position.unwrap();
+            format!("{}:{}: {}", p.line, p.column, f.message)
+        })
+        .collect();
+    (reading.devices.pop().unwrap(), text)
+}
+
+/// The files the reader refused before it read what python-canopen, Lely and CANopenNode read, each
+/// with the construct that stopped it, checked against the file by eye.
+#[test]
+fn files_once_refused_load_with_warnings() {
+    // CANopenNode's C suffix.
+    let (desc, w) = warnings("canopennode-IO.eds");
+    assert!(w.contains(&"2105:14: DefaultValue= in [2120sub1]: the C suffix `LL` of `0x1234567890ABCDEFLL` is dropped".to_string()), "{w:#?}");
+    assert_eq!(
+        desc.dictionary.entry(0x2120, 1).unwrap().default,
+        Some(DefaultValue::plain(Value::Int(0x1234_5678_90AB_CDEF)))
+    );
+    // CANopenEditor's Python port: object codes and data types by name.
+    let (desc, w) = warnings("coeditorlb-demo_device.eds");
+    assert_eq!(
+        w[..2],
+        [
+            "21:12: ObjectType= in [1000]: `VAR` is the name of an object code, not a code; read as 0x7 (VAR)",
+            "22:10: DataType= in [1000]: `UNSIGNED32` is the name of data type 0x0007, not its index; read as UNSIGNED32",
+        ]
+    );
+    assert_eq!(
+        desc.dictionary.object(0x1000).unwrap().kind,
+        ObjectKind::Var
+    );
+    // Lely: an unconfigured node, and a time as `days ms`.
+    let (desc, w) = warnings("lely-co-gw_txt-slave.dcf");
+    assert_eq!(
+        w,
+        ["18:8: NodeID= in [DeviceComissioning]: `0xff` marks a node that LSS has yet to configure; the node is unconfigured, and `$NODEID` values stay relative to the node-ID"]
+    );
+    assert_eq!(desc.node_id(), None);
+    let (desc, _) = warnings("lely-co-sdev.dcf");
+    assert_eq!(
+        desc.dictionary.read_value(0x200C, 0).unwrap(),
+        Value::Time(od::value::TimeValue {
+            ms: 43_200_000,
+            days: 365
+        })
+    );
+    // openPOWERLINK: `0` for an OCTET_STRING.
+    let (desc, w) = warnings("oplk-sysmncn.eds");
+    assert!(w.contains(&"337:14: DefaultValue= in [1030sub5]: `0` is not a OCTET_STRING value: expected hexadecimal byte digits; the default is dropped".to_string()), "{w:#?}");
+    assert_eq!(desc.dictionary.entry(0x1030, 5).unwrap().default, None);
+    // python-canopen's 255 compact entries.
+    let (desc, w) = warnings("pycanopen-receiver.eds");
+    assert!(w.contains(&"123:15: CompactSubObj= in [1003]: 255 entries reach sub-index 0xFF, which CiA 301 keeps for the object's structure; read as 255 entries, as Lely does".to_string()), "{w:#?}");
+    assert_eq!(desc.dictionary.object(0x1003).unwrap().subs.len(), 256);
+    // ros_canopen and ros2_canopen: parameter values relative to a node-ID the file does not give.
+    for (name, index, offset) in [
+        ("ros2c-prbt_0_1.dcf", 0x1400, 0x200),
+        ("rosc-Schunk.eds", 0x1401, 0x300),
+        ("rosc-Schunk_0_63.dcf", 0x1400, 0x200),
+    ] {
+        let (desc, _) = warnings(name);
+        assert_eq!(desc.commissioning, None, "{name}");
+        let cob = desc.dictionary.entry(index, 1).unwrap();
+        assert!(cob.value_set && cob.value_plus_node_id, "{name}");
+        assert_eq!(
+            desc.dictionary.read_value(index, 1).unwrap(),
+            Value::Uint(offset),
+            "{name}"
+        );
+    }
+    // SOMANET: 0xDEADBEEF for an INTEGER16.
+    let (desc, w) = warnings("somanet-SOMANET_CIA402.eds");
+    assert!(w.contains(&"1225:14: DefaultValue= in [6071sub1]: 0xDEADBEEF does not fit in INTEGER16; the default is dropped".to_string()), "{w:#?}");
+    assert_eq!(desc.dictionary.entry(0x6071, 1).unwrap().default, None);
 }

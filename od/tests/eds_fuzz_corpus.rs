@@ -31,16 +31,9 @@ fn exercise(bytes: &[u8]) -> bool {
 #[test]
 fn saved_files_read_or_are_refused_as_expected() {
     for (name, bytes) in corpus() {
-        let valid = ![
-            "bad_",
-            "orphan_",
-            "not_",
-            "comments_",
-            "repeated",
-            "nodeid_",
-        ]
-        .iter()
-        .any(|p| name.starts_with(p));
+        let valid = !["bad_", "orphan_", "not_", "comments_", "repeated"]
+            .iter()
+            .any(|p| name.starts_with(p));
         assert_eq!(exercise(&bytes), valid, "{name}");
     }
 }

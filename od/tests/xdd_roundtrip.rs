@@ -176,7 +176,7 @@ fn commissioning() -> impl Strategy<Value = Commissioning> {
         .prop_map(
             |(node_id, node_name, baud_rate, net_number, network_name, canopen_manager)| {
                 Commissioning {
-                    node_id,
+                    node_id: Some(node_id),
                     node_name,
                     baud_rate,
                     net_number,
@@ -227,7 +227,7 @@ fn description() -> impl Strategy<Value = DeviceDescription> {
                     }
                     dictionary.insert(id);
                 }
-                let node_id = commissioning.as_ref().map_or(0, |c| c.node_id);
+                let node_id = commissioning.as_ref().and_then(|c| c.node_id).unwrap_or(0);
                 for o in dictionary.objects_mut() {
                     for s in o.subs.values_mut().filter(|s| !s.value_set) {
                         s.reset(node_id);

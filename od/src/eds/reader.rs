@@ -9,7 +9,7 @@ use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo, Identit
 use crate::error::{LineIndex, ParseError, Position};
 use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
 use crate::report::{Finding, Reading, SourceMap};
-use crate::types::DataType;
+use crate::types::{DataType, STANDARD_TYPES};
 use crate::value::{parse_integer, Value};
 
 pub(super) fn read(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
@@ -132,7 +132,7 @@ impl<'a> Ini<'a> {
         Ok(ini)
     }
 
-    /// Where `slice` (a part of the text) starts.
+    /// Where `slice` (a part of the text) starts, from the index of line starts made once.
     fn position(&self, slice: &str) -> Position {
         let offset = (slice.as_ptr() as usize).saturating_sub(self.text.as_ptr() as usize);
         self.lines.position(self.text.as_bytes(), offset)
@@ -303,6 +303,17 @@ fn repeated(ini: &Ini<'_>, i: usize, first: usize) -> ParseError {
         ),
     )
 }
+
+/// Every object code, for reading `ObjectType=` written as a name.
+const OBJECT_KINDS: [ObjectKind; 7] = [
+    ObjectKind::Null,
+    ObjectKind::Domain,
+    ObjectKind::DefType,
+    ObjectKind::DefStruct,
+    ObjectKind::Var,
+    ObjectKind::Array,
+    ObjectKind::Record,
+];
 
 /// A parsed value and whether the node-ID is added to it.
 type Typed = (Value, bool);
@@ -526,7 +537,7 @@ impl<'i, 'a> Builder<'i, 'a> {
                 self.check_list(section)?;
             }
         }
-        let node_id = desc.commissioning.as_ref().map(|c| c.node_id);
+        let node_id = desc.node_id();
         for (&index, sections) in &self.objects {
             let Some(main) = sections.main.and_then(|i| self.section(i)) else {
                 if let Some(sub) = sections.subs.values().next().and_then(|&i| self.section(i)) {
@@ -725,15 +736,42 @@ impl<'i, 'a> Builder<'i, 'a> {
                     "LSS_SerialNumber",
                 ],
             )?;
+        // Lely's DCFs of a node that LSS is yet to configure say `NodeID=0xFF`, or give none; Lely reads
+        // both as unconfigured, and python-canopen takes whatever number is there. A number that is no
+        // node-ID leaves the node unconfigured, with a warning.
         let node_id = match node_id.filter(|e| !e.value.is_empty()) {
             Some(e) => {
-                let id = self.number(section, Some(e), "a node-ID, 1 to 127", 0u8)?;
-                if !(1..=127).contains(&id) {
-                    return Err(self.bad(section, e, "a node-ID, 1 to 127"));
+                let id = parse_integer(e.value)
+                    .ok_or_else(|| self.bad(section, e, "a node-ID, 1 to 127"))?;
+                match u8::try_from(id).ok().filter(|id| (1..=127).contains(id)) {
+                    Some(id) => Some(id),
+                    None => {
+                        let what = if id == 0xFF {
+                            "marks a node that LSS has yet to configure"
+                        } else {
+                            "is no node-ID (1 to 127)"
+                        };
+                        self.warn(
+                            e.value,
+                            format!(
+                                "NodeID= in [{}]: `{}` {what}; the node is unconfigured, and `$NODEID` values stay relative to the node-ID",
+                                section.name, e.value
+                            ),
+                        );
+                        None
+                    }
                 }
-                id
             }
-            None => return Err(self.missing(section, "NodeID", "the node-ID, 1 to 127")),
+            None => {
+                self.warn(
+                    section.name,
+                    format!(
+                        "[{}] has no NodeID=; the node is unconfigured, and `$NODEID` values stay relative to the node-ID",
+                        section.name
+                    ),
+                );
+                None
+            }
         };
         let text = |e: Option<&Entry<'a>>| e.map_or_else(String::new, |e| e.value.to_string());
         Ok(Commissioning {
@@ -776,16 +814,7 @@ impl<'i, 'a> Builder<'i, 'a> {
             .value;
         let kind = match fields[OBJ_TYPE].filter(|e| !e.value.is_empty()) {
             None => ObjectKind::Var,
-            Some(e) => parse_integer(e.value)
-                .and_then(|v| u8::try_from(v).ok())
-                .and_then(ObjectKind::from_code)
-                .ok_or_else(|| {
-                    self.bad(
-                        main,
-                        e,
-                        "an object code: 0x7 (VAR), 0x8 (ARRAY), 0x9 (RECORD), 0x2 (DOMAIN), 0x5 (DEFTYPE), 0x6 (DEFSTRUCT) or 0x0 (NULL)",
-                    )
-                })?,
+            Some(e) => self.object_kind(main, e)?,
         };
         self.number::<u8>(
             main,
@@ -812,11 +841,23 @@ impl<'i, 'a> Builder<'i, 'a> {
             object.subs.insert(0, sub);
             return Ok(object);
         }
-        const COMPACT: &str = "a number of compact sub-indices, 0 to 254";
-        let compact: u8 = self.number(main, fields[OBJ_COMPACT], COMPACT, 0)?;
+        let compact: u8 = self.number(
+            main,
+            fields[OBJ_COMPACT],
+            "a number of compact sub-indices, 0 to 254",
+            0,
+        )?;
         if compact == 255 {
             if let Some(e) = fields[OBJ_COMPACT] {
-                return Err(self.bad(main, e, COMPACT));
+                // CiA 301 keeps sub-index 0xFF for the object's structure, so an ARRAY has at most 254
+                // entries; python-canopen's receiver.eds has 255 all the same, and Lely builds them.
+                self.warn(
+                    e.value,
+                    format!(
+                        "CompactSubObj= in [{}]: 255 entries reach sub-index 0xFF, which CiA 301 keeps for the object's structure; read as 255 entries, as Lely does",
+                        main.name
+                    ),
+                );
             }
         }
         if compact > 0 {
@@ -893,11 +934,15 @@ impl<'i, 'a> Builder<'i, 'a> {
             };
         }
         if let Some(e) = fields[OBJ_DEFAULT] {
-            if let Some((value, plus_node_id)) = self.typed(section, e, data_type, true)? {
-                sub.default = Some(DefaultValue {
+            if let Some((value, plus_node_id)) = self.typed(section, e, data_type, true) {
+                let default = DefaultValue {
                     value,
                     plus_node_id,
-                });
+                };
+                if let Some(bytes) = self.resolved(section, e, &default, data_type, node_id) {
+                    sub.value = bytes;
+                    sub.default = Some(default);
+                }
             }
         }
         if data_type.is_signed() || data_type.is_unsigned() || data_type.is_real() {
@@ -906,75 +951,123 @@ impl<'i, 'a> Builder<'i, 'a> {
                 (&mut sub.high, fields[OBJ_HIGH]),
             ] {
                 if let Some(e) = entry {
-                    *slot = self.typed(section, e, data_type, false)?.map(|(v, _)| v);
+                    *slot = self.typed(section, e, data_type, false).map(|(v, _)| v);
                 }
             }
         }
-        if let Some(default) = &sub.default {
-            // A `$NODEID` default must fit for every node-ID, or a DCF written from this file for node 127
-            // could not be read.
-            if default.plus_node_id && node_id.is_none() {
-                default.resolve(127).encode(data_type).map_err(|err| {
-                    let at = fields[OBJ_DEFAULT].map_or(section.name, |e| e.value);
-                    self.ini.error(
-                        at,
-                        format!(
-                            "DefaultValue= in [{}]: with node-ID 127 the value does not fit: {err}",
-                            section.name
-                        ),
-                    )
-                })?;
-            }
-            let resolved = default.resolve(node_id.unwrap_or(0));
-            sub.value = resolved.encode(data_type).map_err(|err| {
-                let at = fields[OBJ_DEFAULT].map_or(section.name, |e| e.value);
-                self.ini.error(
-                    at,
-                    format!(
-                        "DefaultValue= in [{}]: with node-ID {} the value does not fit: {err}",
-                        section.name,
-                        node_id.unwrap_or(0)
-                    ),
-                )
-            })?;
-        }
         let value = value.or_else(|| fields[OBJ_VALUE].map(|e| (section, e)));
         if let Some((value_section, e)) = value {
-            if let Some((value, plus_node_id)) = self.typed(value_section, e, data_type, true)? {
-                let value = if plus_node_id {
-                    let Some(node_id) = node_id else {
-                        return Err(self.ini.error(
-                            e.value,
-                            format!(
-                                "{}= in [{}]: $NODEID needs the NodeID= of a [DeviceComissioning] section, and the file has none",
-                                e.key, value_section.name
-                            ),
-                        ));
-                    };
-                    DefaultValue {
-                        value,
-                        plus_node_id,
-                    }
-                    .resolve(node_id)
-                } else {
-                    value
+            if let Some((value, plus_node_id)) = self.typed(value_section, e, data_type, true) {
+                let current = DefaultValue {
+                    value,
+                    plus_node_id,
                 };
-                sub.value = value.encode(data_type).map_err(|err| {
-                    self.ini.error(
-                        e.value,
-                        format!("{}= in [{}]: {err}", e.key, value_section.name),
-                    )
-                })?;
-                sub.value_set = true;
+                if let Some(bytes) = self.resolved(value_section, e, &current, data_type, node_id) {
+                    sub.value = bytes;
+                    sub.value_set = true;
+                    sub.value_plus_node_id = plus_node_id;
+                }
             }
         }
         Ok(sub)
     }
 
+    /// The bytes of `value` (read from `entry`) for the node `node_id`, or `None` with a warning when
+    /// they do not fit `data_type`. A value that adds the node-ID must fit for every node-ID when the file
+    /// names none, or a DCF written from it for node 127 could not be read.
+    fn resolved(
+        &self,
+        section: &Section<'a>,
+        entry: &Entry<'a>,
+        value: &DefaultValue,
+        data_type: DataType,
+        node_id: Option<u8>,
+    ) -> Option<Vec<u8>> {
+        let widest = (value.plus_node_id && node_id.is_none()).then_some(127);
+        let mut bytes = Vec::new();
+        for id in widest.into_iter().chain([node_id.unwrap_or(0)]) {
+            match value.resolve(id).encode(data_type) {
+                Ok(b) => bytes = b,
+                Err(err) => {
+                    let what = if value.plus_node_id {
+                        format!("with node-ID {id} the value does not fit: {err}")
+                    } else {
+                        err.to_string()
+                    };
+                    self.warn(
+                        entry.value,
+                        format!(
+                            "{}= in [{}]: {what}; {}",
+                            entry.key,
+                            section.name,
+                            dropped(entry.key)
+                        ),
+                    );
+                    return None;
+                }
+            }
+        }
+        Some(bytes)
+    }
+
+    /// The object code of `ObjectType=`: a number, or (CANopenEditor's Python port writes them) the
+    /// name of one, read with a warning.
+    fn object_kind(
+        &self,
+        section: &Section<'a>,
+        entry: &Entry<'a>,
+    ) -> Result<ObjectKind, ParseError> {
+        if let Some(kind) = parse_integer(entry.value)
+            .and_then(|v| u8::try_from(v).ok())
+            .and_then(ObjectKind::from_code)
+        {
+            return Ok(kind);
+        }
+        let named = OBJECT_KINDS
+            .iter()
+            .copied()
+            .find(|k| k.name().eq_ignore_ascii_case(entry.value));
+        let Some(kind) = named else {
+            return Err(self.bad(
+                section,
+                entry,
+                "an object code: 0x7 (VAR), 0x8 (ARRAY), 0x9 (RECORD), 0x2 (DOMAIN), 0x5 (DEFTYPE), 0x6 (DEFSTRUCT) or 0x0 (NULL)",
+            ));
+        };
+        self.warn(
+            entry.value,
+            format!(
+                "ObjectType= in [{}]: `{}` is the name of an object code, not a code; read as 0x{:X} ({kind})",
+                section.name,
+                entry.value,
+                kind.code()
+            ),
+        );
+        Ok(kind)
+    }
+
     fn data_type(&self, section: &Section<'a>, entry: &Entry<'a>) -> Result<DataType, ParseError> {
-        let index = parse_integer(entry.value)
-            .and_then(|v| u16::try_from(v).ok())
-            .ok_or_else(|| self.bad(section, entry, "a CiA 301 data type index like 0x0007"))?;
+        let Some(index) = parse_integer(entry.value).and_then(|v| u16::try_from(v).ok()) else {
+            // CANopenEditor's Python port writes the CiA 301 name (`UNSIGNED32`) instead of the index;
+            // a name says which type as plainly, so it is read with a warning.
+            let named = STANDARD_TYPES
+                .iter()
+                .copied()
+                .find(|t| t.cia_name().eq_ignore_ascii_case(entry.value));
+            let Some(t) = named else {
+                return Err(self.bad(section, entry, "a CiA 301 data type index like 0x0007"));
+            };
+            self.warn(
+                entry.value,
+                format!(
+                    "DataType= in [{}]: `{}` is the name of data type 0x{:04X}, not its index; read as {t}",
+                    section.name,
+                    entry.value,
+                    t.index()
+                ),
+            );
+            return Ok(t);
+        };
         if let Some(t) = DataType::from_index(index) {
             return Ok(t);
         }
@@ -997,15 +1090,17 @@ impl<'i, 'a> Builder<'i, 'a> {
     }
 
     /// The value of `entry` as `data_type`, and whether it adds the node-ID (`$NODEID+…`, allowed when
-    /// `node_id_allowed`). Empty text of a type whose values are not text is no value; so is a DOMAIN
-    /// value that is not hexadecimal bytes (see the module documentation).
+    /// `node_id_allowed`). Empty text of a type whose values are not text is no value. Text that is no
+    /// value of the type is no value either, with a warning: python-canopen skips such a default, limit or
+    /// parameter value, and the entry is usable without it. A C integer suffix (`LL`, `U`: CANopenNode
+    /// writes them) is dropped with a warning.
     fn typed(
         &self,
         section: &Section<'a>,
         entry: &Entry<'a>,
         data_type: DataType,
         node_id_allowed: bool,
-    ) -> Result<Option<Typed>, ParseError> {
+    ) -> Option<Typed> {
         let text = entry.value;
         let textual = matches!(
             data_type,
@@ -1015,42 +1110,91 @@ impl<'i, 'a> Builder<'i, 'a> {
                 | DataType::Domain
         );
         if text.is_empty() && !textual {
-            return Ok(None);
+            return None;
         }
+        let drop = |why: &str| {
+            self.warn(
+                text,
+                format!(
+                    "{}= in [{}]: {why}; {}",
+                    entry.key,
+                    section.name,
+                    dropped(entry.key)
+                ),
+            );
+            None
+        };
+        let integer =
+            data_type.is_signed() || (data_type.is_unsigned() && data_type != DataType::Boolean);
         let (body, plus_node_id) = if textual {
             (text, false)
         } else {
-            split_node_id(text).ok_or_else(|| {
-                self.bad(
-                    section,
-                    entry,
-                    "a value, `$NODEID`, `$NODEID+offset` or `offset+$NODEID`",
-                )
-            })?
+            match split_node_id(text) {
+                Some(split) => split,
+                None => {
+                    return drop(&format!(
+                        "`{}` is not `$NODEID`, `$NODEID+offset` or `offset+$NODEID`",
+                        shown(text)
+                    ))
+                }
+            }
         };
         if plus_node_id {
             if !node_id_allowed {
-                return Err(self.bad(section, entry, "a value without $NODEID"));
+                return drop(&format!(
+                    "`{}` adds the node-ID, which a limit cannot",
+                    shown(text)
+                ));
             }
-            let integer = data_type.is_signed()
-                || (data_type.is_unsigned() && data_type != DataType::Boolean);
             if !integer {
-                return Err(self.bad(
-                    section,
-                    entry,
-                    &format!("a {data_type} value ($NODEID is added to integers only)"),
+                return drop(&format!(
+                    "`{}` adds the node-ID to a {data_type}, and $NODEID is added to integers only",
+                    shown(text)
                 ));
             }
         }
+        let body = match c_suffix(body).filter(|_| integer) {
+            Some((number, suffix)) => {
+                self.warn(
+                    text,
+                    format!(
+                        "{}= in [{}]: the C suffix `{suffix}` of `{}` is dropped",
+                        entry.key,
+                        section.name,
+                        shown(text)
+                    ),
+                );
+                number
+            }
+            None => body,
+        };
         match Value::parse_text(data_type, body) {
-            Ok(value) => Ok(Some((value, plus_node_id))),
-            Err(_) if data_type == DataType::Domain => Ok(None),
-            Err(err) => Err(self.ini.error(
-                entry.value,
-                format!("{}= in [{}]: {err}", entry.key, section.name),
-            )),
+            Ok(value) => Some((value, plus_node_id)),
+            Err(err) => drop(&err.to_string()),
         }
     }
+}
+
+/// What is left out when the value of `key` cannot be read: a default, a limit, or a current value
+/// (`ParameterValue`, or the entry of an `[xxxxValue]` section).
+fn dropped(key: &str) -> &'static str {
+    if key.eq_ignore_ascii_case("DefaultValue") {
+        "the default is dropped"
+    } else if key.eq_ignore_ascii_case("LowLimit") || key.eq_ignore_ascii_case("HighLimit") {
+        "the limit is dropped"
+    } else {
+        "the value is dropped"
+    }
+}
+
+/// An integer with a C suffix (`U`, `L`, `LL`, `UL`, `ULL`, `LU`, `LLU` in any case), split into the
+/// number and the suffix; `None` when `text` is no integer with such a suffix.
+fn c_suffix(text: &str) -> Option<(&str, &str)> {
+    const SUFFIXES: [&str; 7] = ["u", "l", "ll", "ul", "ull", "lu", "llu"];
+    let body = text.trim_end_matches(['u', 'U', 'l', 'L']);
+    let suffix = text.get(body.len()..)?;
+    let valid = SUFFIXES.iter().any(|s| s.eq_ignore_ascii_case(suffix));
+    (valid && parse_integer(body).is_some()).then_some((body, suffix))
 }
 
 /// Splits `$NODEID`, `$NODEID+offset` and `offset+$NODEID` (case-insensitive, blanks allowed) into the
@@ -1111,6 +1255,20 @@ mod tests {
         assert_eq!(classify("BEEF"), Kind::Object(0xBEEF));
         assert_eq!(classify("Tools"), Kind::Other);
         assert_eq!(classify("µµµµ"), Kind::Other);
+    }
+
+    #[test]
+    fn positions_from_the_line_index_are_those_of_a_scan() {
+        let text = "[A]\r\nkey=µ value\n\n  [B] ; x\nlast=€€\nend=";
+        let ini = Ini::scan(text, "t").unwrap();
+        for (offset, _) in text.char_indices().chain([(text.len(), ' ')]) {
+            assert_eq!(
+                ini.position(&text[offset..]),
+                Position::of_offset(text.as_bytes(), offset),
+                "{offset}"
+            );
+        }
+        assert_eq!(ini.position(&text[12..]), Position { line: 2, column: 7 });
     }
 
     #[test]

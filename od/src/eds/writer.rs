@@ -20,20 +20,20 @@ pub(super) fn write(desc: &DeviceDescription, dcf: bool) -> String {
     let default_can = CanInfo::default();
     let can = desc.can.as_ref().unwrap_or(&default_can);
     device_info(&mut w, desc, can);
-    let node_id = if dcf {
-        let default_commissioning = Commissioning {
-            node_id: 1,
-            ..Commissioning::default()
-        };
-        let commissioning = desc
-            .commissioning
-            .as_ref()
-            .unwrap_or(&default_commissioning);
-        commissioning_section(&mut w, commissioning);
-        Some(commissioning.node_id)
-    } else {
-        None
+    // A DCF always has its commissioning section; an EDS has the one it was read with (python-canopen's
+    // sample.eds has one), so that its values keep the node-ID they were resolved with.
+    let default_commissioning = Commissioning::default();
+    let commissioning = match &desc.commissioning {
+        Some(c) => Some(c),
+        None if dcf => Some(&default_commissioning),
+        None => None,
     };
+    if let Some(c) = commissioning {
+        commissioning_section(&mut w, c);
+    }
+    // The node-ID the current values are resolved with: the description's, else 0 (an unconfigured node,
+    // whose `$NODEID` values stay relative).
+    let node_id = desc.node_id().unwrap_or(0);
     dummy_usage(&mut w, can);
     comments(&mut w, &desc.comments);
 
@@ -155,16 +155,24 @@ fn device_info(w: &mut IniWriter, desc: &DeviceDescription, can: &CanInfo) {
 
 fn commissioning_section(w: &mut IniWriter, c: &Commissioning) {
     w.section("DeviceComissioning");
-    w.key("NodeID", &c.node_id.to_string());
+    // No `NodeID=` for an unconfigured node: Lely reads its absence as unconfigured, where a made-up
+    // node-ID would change what every `$NODEID` value means.
+    if let Some(id) = c.node_id {
+        w.key("NodeID", &id.to_string());
+    }
     w.key("NodeName", &c.node_name);
     w.key("Baudrate", &c.baud_rate.to_string());
     w.key("NetNumber", &c.net_number.to_string());
     w.key("NetworkName", &c.network_name);
     w.key("CANopenManager", flag(c.canopen_manager));
-    w.key(
-        "LSS_SerialNumber",
-        &format!("0x{:08X}", c.lss_serial_number),
-    );
+    // Lely writes `LSS_SerialNumber` into 0x1018:04, and refuses the file where there is none: 0 (no
+    // serial number given) is left out.
+    if c.lss_serial_number != 0 {
+        w.key(
+            "LSS_SerialNumber",
+            &format!("0x{:08X}", c.lss_serial_number),
+        );
+    }
 }
 
 fn dummy_usage(w: &mut IniWriter, can: &CanInfo) {
@@ -196,12 +204,15 @@ fn object_list(w: &mut IniWriter, name: &str, indices: &[u16]) {
     }
 }
 
-fn object_sections(w: &mut IniWriter, object: &Object, node_id: Option<u8>) {
+fn object_sections(w: &mut IniWriter, object: &Object, node_id: u8) {
     w.section(&format!("{:04X}", object.index));
     w.key("ParameterName", &object.name);
     w.key("ObjectType", &format!("0x{:X}", object.kind.code()));
     if object.kind.has_subs() {
-        w.key("SubNumber", &format!("0x{:X}", object.subs.len()));
+        // SubNumber is an UNSIGNED8: an object with all 256 sub-indices (CompactSubObj=255, as Lely reads
+        // it) says 0xFF, and readers take the sections that are there.
+        let sub_number = object.subs.len().min(0xFF);
+        w.key("SubNumber", &format!("0x{sub_number:X}"));
         for (&sub_index, sub) in &object.subs {
             w.section(&format!("{:04X}sub{sub_index:X}", object.index));
             w.key("ParameterName", &sub.name);
@@ -222,10 +233,12 @@ fn eds_type(data_type: DataType) -> DataType {
     }
 }
 
-/// `value` as text of the EDS type `data_type`.
+/// `value` as text of the EDS type `data_type`. Times are written `days ms`, the form Lely reads (CiA 306
+/// gives none, and python-canopen reads no time at all).
 fn value_text(value: &Value, data_type: DataType) -> String {
     match (value, data_type) {
         (Value::Uint(v), DataType::Boolean) => Value::Bool(*v != 0).to_text(data_type),
+        (Value::Time(t), _) => format!("{} {}", t.days, t.ms),
         _ => value.to_text(data_type),
     }
 }
@@ -256,7 +269,7 @@ fn eds_access(sub: &SubObject) -> AccessType {
     }
 }
 
-fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: Option<u8>) {
+fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: u8) {
     let data_type = eds_type(sub.data_type);
     w.key("DataType", &format!("0x{:04X}", data_type.index()));
     w.key("AccessType", eds_access(sub).as_str());
@@ -270,18 +283,17 @@ fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: Option<u8>) {
     if let Some(high) = &sub.high {
         w.key("HighLimit", &value_text(high, data_type));
     }
-    if let Some(node_id) = node_id {
-        if let Some(current) = parameter_value(sub, node_id) {
-            w.key("ParameterValue", &value_text(&current, data_type));
-        }
+    if let Some(current) = parameter_value(sub, node_id) {
+        w.key("ParameterValue", &default_text(&current, data_type));
     }
 }
 
-/// The current value a DCF writes for `sub`: set explicitly, or different from the default for this
-/// node. A `$NODEID` default resolved with node-ID 0, as an EDS reads it, counts as the default too, so
-/// a description read from an EDS gets no `ParameterValue`s it did not ask for. `None` also when the
-/// bytes are no value of the type (nothing a reader could take back).
-fn parameter_value(sub: &SubObject, node_id: u8) -> Option<Value> {
+/// The current value written for `sub` (`ParameterValue`): one that was set explicitly, or differs from
+/// the default for the node `node_id` (the description's, 0 without one). A `$NODEID` default resolved
+/// with node-ID 0, as an EDS reads it, counts as the default too, so a description read from an EDS gets
+/// no `ParameterValue`s it did not ask for. A value given relative to the node-ID is written relative
+/// again. `None` also when the bytes are no value of the type (nothing a reader could take back).
+fn parameter_value(sub: &SubObject, node_id: u8) -> Option<DefaultValue> {
     let is = |value: Value| {
         value
             .encode(sub.data_type)
@@ -296,5 +308,5 @@ fn parameter_value(sub: &SubObject, node_id: u8) -> Option<Value> {
     if at_default && !sub.value_set {
         return None;
     }
-    Value::decode(sub.data_type, &sub.value).ok()
+    sub.parameter(node_id)
 }

@@ -260,7 +260,7 @@ fn write_mailbox(w: &mut XmlWriter, mb: &Mailbox) {
 
 /// The node-ID `$NODEID` defaults are resolved for (a DCF's), else 0: the plain offset.
 fn node_id(desc: &DeviceDescription) -> u8 {
-    desc.commissioning.as_ref().map_or(0, |c| c.node_id)
+    desc.node_id().unwrap_or(0)
 }
 
 /// Size in bits the ESI gives an entry: the type's, else its capacity, else the default's length.

@@ -77,7 +77,7 @@
 //! times must be XML Schema dates (`2024-05-31`) and times (`13:00:00`): EDS forms (`05-31-2024`, `1:00PM`)
 //! are converted, anything else is left out, and a missing creation date is written as `1970-01-01` because
 //! the schema requires one. A description without [`CanInfo`] is written with `CanInfo::default()`;
-//! commissioning values whose node-ID is not 1 to 127 are left out.
+//! commissioning values without a node-ID of 1 to 127 (an unconfigured node) are left out.
 //!
 //! [`FileInfo`]: crate::device::FileInfo
 //! [`FileInfo::description`]: crate::device::FileInfo::description

@@ -1309,7 +1309,7 @@ impl<'a, 's> Scan<'a, 's> {
                             format!("expected a nodeID of 1 to 127, found `{}`", v.text),
                         ));
                     }
-                    c.node_id = id;
+                    c.node_id = Some(id);
                 }
                 b"nodeName" => c.node_name = v.text.into_owned(),
                 b"actualBaudRate" => {
@@ -1342,7 +1342,11 @@ impl<'a, 's> Scan<'a, 's> {
 
     /// Resolves the references and builds the description.
     fn finish(mut self) -> Result<(DeviceDescription, Vec<Finding>), ParseError> {
-        let node_id = self.commissioning.as_ref().map_or(0, |c| c.node_id);
+        let node_id = self
+            .commissioning
+            .as_ref()
+            .and_then(|c| c.node_id)
+            .unwrap_or(0);
         let mut dictionary = Dictionary::new();
         let objects = std::mem::take(&mut self.objects);
         for o in &objects {
@@ -1920,7 +1924,7 @@ second line</description><BITSTRING/><q1:defaultValue value="00 01"/></q1:parame
         assert!(!can.lss_supported);
         assert_eq!(can.dynamic_channels, 1);
         let c = d.commissioning.as_ref().unwrap();
-        assert_eq!(c.node_id, 5);
+        assert_eq!(c.node_id, Some(5));
         assert_eq!(c.node_name, "axis");
         assert_eq!(c.baud_rate, 500);
         assert_eq!(c.net_number, 2);
@@ -1963,7 +1967,10 @@ second line</description><BITSTRING/><q1:defaultValue value="00 01"/></q1:parame
 </ProfileBody></ISO15745Profile></ISO15745ProfileContainer>"#;
         let d = read(text.as_bytes(), "t.xdc").unwrap();
         let c = d.commissioning.unwrap();
-        assert_eq!((c.node_id, c.baud_rate, c.canopen_manager), (9, 125, true));
+        assert_eq!(
+            (c.node_id, c.baud_rate, c.canopen_manager),
+            (Some(9), 125, true)
+        );
         let e = err_of(&text.replace("NodeID=\"9\" ", ""));
         assert_eq!(e.position.line, 2, "{e}");
         assert!(e.message.contains("nodeID"), "{e}");

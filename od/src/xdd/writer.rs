@@ -100,16 +100,18 @@ pub fn write(desc: &DeviceDescription) -> String {
     if can.simple_boot_up_master {
         w.empty("CANopenMasterFeatures", &[("bootUpMaster", "true")]);
     }
-    // A node-ID outside 1..127 is no node-ID: such commissioning values are left out.
-    if let Some(c) = desc
-        .commissioning
-        .as_ref()
-        .filter(|c| (1..=127).contains(&c.node_id))
-    {
+    // `nodeID` is required, and a node-ID outside 1..127 is no node-ID: the commissioning values of an
+    // unconfigured node are left out.
+    let configured = desc.commissioning.as_ref().and_then(|c| {
+        c.node_id
+            .filter(|id| (1..=127).contains(id))
+            .map(|id| (c, id))
+    });
+    if let Some((c, node_id)) = configured {
         w.empty(
             "deviceCommissioning",
             &[
-                ("nodeID", &c.node_id.to_string()),
+                ("nodeID", &node_id.to_string()),
                 ("nodeName", &c.node_name),
                 ("actualBaudRate", &baud_name(c.baud_rate)),
                 ("networkNumber", &c.net_number.to_string()),
@@ -662,7 +664,7 @@ mod tests {
             ..CanInfo::default()
         });
         d.commissioning = Some(Commissioning {
-            node_id: 3,
+            node_id: Some(3),
             node_name: "n".into(),
             baud_rate: 250,
             net_number: 1,
@@ -822,7 +824,7 @@ mod tests {
     fn commissioning_without_a_valid_node_id_is_left_out() {
         let mut d = small();
         if let Some(c) = &mut d.commissioning {
-            c.node_id = 0;
+            c.node_id = None;
         }
         let text = write(&d);
         assert!(!text.contains("deviceCommissioning"));

@@ -608,8 +608,8 @@ impl<'a> SdoCommands<'a> {
                 Err(e) => return Err(e),
             }
         }
-        let c = desc.commissioning.get_or_insert_with(Default::default);
-        c.node_id = node;
+        // The entries the node did not give keep their defaults, `$NODEID` ones now for this node.
+        desc.set_node_id(Some(node));
         Ok((read, refused))
     }
 
