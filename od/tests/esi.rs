@@ -1177,7 +1177,15 @@ fn random_sub(
     s.bit_size = bits;
     s.description = description;
     if r.chance(2) {
-        s = s.with_default(random_value(r, t));
+        let v = random_value(r, t);
+        // A string's default fits its size (a longer one tells the reader the size).
+        let fits = match (t.is_variable(), bits, v.encode(t)) {
+            (true, Some(b), Ok(bytes)) => bytes.len() * 8 <= b as usize,
+            _ => true,
+        };
+        if fits {
+            s = s.with_default(v);
+        }
     }
     let numeric = t.integer_range().is_some() || t.is_real();
     if numeric && r.chance(3) {

@@ -2,6 +2,7 @@
 //! per-device raw records (data types, objects, EtherCAT parts) that are resolved into a
 //! [`DeviceDescription`] when the device's element ends. Nothing but the current device is held.
 
+use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
 
 use quick_xml::events::{BytesStart, Event};
@@ -10,7 +11,7 @@ use quick_xml::Reader;
 use crate::device::{
     CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Mailbox, OpMode, Pdo, PdoEntry, SyncManager,
 };
-use crate::dict::Dictionary;
+use crate::dict::{Address, Dictionary};
 use crate::error::{ParseError, Position};
 use crate::object::{
     Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
@@ -52,25 +53,101 @@ tags! {
     BootStrap,
 }
 
-/// The source text and its name, for error positions.
+/// Where each line of the source starts, so that a byte offset's line and column are found by a binary
+/// search instead of a scan from the start of the file.
+struct Lines {
+    starts: Vec<usize>,
+}
+
+impl Lines {
+    fn of(text: &[u8]) -> Lines {
+        let mut starts = Vec::with_capacity(text.len() / 32 + 1);
+        starts.push(0);
+        starts.extend(
+            text.iter()
+                .enumerate()
+                .filter(|(_, &b)| b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        Lines { starts }
+    }
+
+    /// The same position as [`Position::of_offset`] gives.
+    fn position(&self, text: &[u8], offset: usize) -> Position {
+        let offset = offset.min(text.len());
+        let line = self.starts.partition_point(|&s| s <= offset).max(1);
+        let start = self.starts[line - 1];
+        let column = String::from_utf8_lossy(&text[start..offset])
+            .chars()
+            .count()
+            + 1;
+        Position {
+            line: u32::try_from(line).unwrap_or(u32::MAX),
+            column: u32::try_from(column).unwrap_or(u32::MAX),
+        }
+    }
+}
+
+/// The source text and its name, for error positions, and the warnings found so far.
 #[derive(Clone, Copy)]
 struct Ctx<'a> {
     src: &'a str,
     name: &'a str,
+    lines: &'a Lines,
+    findings: &'a RefCell<Vec<Finding>>,
 }
 
 impl Ctx<'_> {
+    fn pos(&self, offset: usize) -> Position {
+        self.lines.position(self.src.as_bytes(), offset)
+    }
+
     fn err(&self, offset: usize, message: impl Into<String>) -> ParseError {
-        ParseError::new(
-            self.name,
-            Position::of_offset(self.src.as_bytes(), offset),
-            message,
-        )
+        ParseError::new(self.name, self.pos(offset), message)
+    }
+
+    /// A warning at `offset`.
+    fn warn(&self, offset: usize, message: impl Into<String>) {
+        let f = Finding::warning(self.pos(offset), message);
+        self.findings.borrow_mut().push(f);
+    }
+
+    /// A warning at `offset` about the dictionary entry `address`.
+    fn warn_about(&self, offset: usize, address: Address, message: impl Into<String>) {
+        let f = Finding::warning(self.pos(offset), message).at(address);
+        self.findings.borrow_mut().push(f);
+    }
+
+    /// A number as [`xml::parse_number`] reads it; a hexadecimal number with both prefixes (`#x0x6041`,
+    /// as some generators write) is read without the second, with a warning.
+    fn parse_number(&self, text: &str, offset: usize, what: &str) -> Option<i128> {
+        if let Some(v) = xml::parse_number(text) {
+            return Some(v);
+        }
+        let t = text.trim();
+        let (sign, body) = match t.strip_prefix('-') {
+            Some(rest) => ("-", rest),
+            None => ("", t.strip_prefix('+').unwrap_or(t)),
+        };
+        let digits = ["#x", "#X"]
+            .iter()
+            .find_map(|p| body.strip_prefix(p))
+            .and_then(|r| ["0x", "0X"].iter().find_map(|p| r.strip_prefix(p)))?;
+        let single = format!("{sign}#x{digits}");
+        let v = xml::parse_number(&single)?;
+        self.warn(
+            offset,
+            format!(
+                "`{}` in {what} has two hexadecimal prefixes; read as {single}",
+                clip(t)
+            ),
+        );
+        Some(v)
     }
 
     /// A number of type `T` from element text.
     fn number<T: Bounded>(&self, text: &str, offset: usize, what: &str) -> Result<T, ParseError> {
-        match xml::parse_number(text) {
+        match self.parse_number(text, offset, what) {
             Some(v) => T::try_from(v).map_err(|_| {
                 self.err(
                     offset,
@@ -254,7 +331,6 @@ struct Parser<'a> {
     device: Option<RawDevice>,
     done: Vec<DeviceDescription>,
     sources: Vec<SourceMap>,
-    findings: Vec<Finding>,
 }
 
 pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
@@ -264,9 +340,13 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         }
         e
     })?;
+    let lines = Lines::of(text.as_bytes());
+    let findings = RefCell::new(Vec::new());
     let ctx = Ctx {
         src: &text,
         name: source_name,
+        lines: &lines,
+        findings: &findings,
     };
     let mut parser = Parser {
         ctx,
@@ -282,7 +362,6 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         device: None,
         done: Vec::new(),
         sources: Vec::new(),
-        findings: Vec::new(),
     };
     parser.run()?;
     let Parser {
@@ -291,7 +370,6 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         vendor_name,
         file_version,
         sources,
-        findings,
         ..
     } = parser;
     for d in &mut done {
@@ -299,6 +377,9 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         d.identity.vendor_name = vendor_name.get().unwrap_or_default().to_string();
         d.file_info.file_version = file_version.clone();
     }
+    let mut findings = findings.into_inner();
+    // In file order: a device's findings about its PDOs come when the device ends.
+    findings.sort_by_key(|f| f.position.map(|p| (p.line, p.column)));
     Ok(Reading {
         devices: done,
         sources,
@@ -736,7 +817,7 @@ impl<'a> Parser<'a> {
         if self.device_depth == Some(self.stack.len()) {
             self.device_depth = None;
             if let Some(raw) = self.device.take() {
-                let (desc, source) = build_device(self.ctx, raw, &mut self.findings)?;
+                let (desc, source) = build_device(self.ctx, raw)?;
                 self.done.push(desc);
                 self.sources.push(source);
             }
@@ -1041,8 +1122,25 @@ fn read_info(
     };
     match tag {
         Tag::DefaultData => info.default_data = Some((ctx.hex(text, at, "<DefaultData>")?, at)),
-        Tag::MinData => info.min_data = Some((ctx.hex(text, at, "<MinData>")?, at)),
-        Tag::MaxData => info.max_data = Some((ctx.hex(text, at, "<MaxData>")?, at)),
+        Tag::MinData | Tag::MaxData => {
+            let what = if tag == Tag::MinData {
+                "<MinData>"
+            } else {
+                "<MaxData>"
+            };
+            let bytes = match ctx.hex(text, at, what) {
+                Ok(b) => Some((b, at)),
+                Err(e) => {
+                    ctx.warn(at, format!("{}; the limit is dropped", e.message));
+                    None
+                }
+            };
+            if tag == Tag::MinData {
+                info.min_data = bytes;
+            } else {
+                info.max_data = bytes;
+            }
+        }
         Tag::DefaultValue => info.default_value = Some(keep()),
         Tag::MinValue => info.min_value = Some(keep()),
         Tag::MaxValue => info.max_value = Some(keep()),
@@ -1144,13 +1242,8 @@ struct Flat<'t> {
     offset: usize,
 }
 
-fn build_device(
-    ctx: Ctx,
-    raw: RawDevice,
-    findings: &mut Vec<Finding>,
-) -> Result<(DeviceDescription, SourceMap), ParseError> {
-    let _ = &findings;
-    let pos = |offset: usize| Position::of_offset(ctx.src.as_bytes(), offset);
+fn build_device(ctx: Ctx, raw: RawDevice) -> Result<(DeviceDescription, SourceMap), ParseError> {
+    let pos = |offset: usize| ctx.pos(offset);
     let mut source = SourceMap::default();
     source.set_device(pos(raw.offset));
     let mut desc = DeviceDescription::default();
@@ -1166,7 +1259,7 @@ fn build_device(
             return Err(ctx.err(o.offset, "expected an <Index> in <Object>"));
         };
         if let Some(&prev) = first_at.get(&index) {
-            let p = Position::of_offset(ctx.src.as_bytes(), prev);
+            let p = ctx.pos(prev);
             return Err(ctx.err(
                 o.offset,
                 format!(
@@ -1491,16 +1584,55 @@ fn apply_info(ctx: Ctx, sub: &mut SubObject, info: &RawInfo, index: u16) -> Resu
     } else {
         None
     };
-    sub.low = match (&info.min_data, &info.min_value) {
-        (Some((bytes, at)), _) => Some(decode_data(ctx, t, bytes, *at, index, "MinData")?),
-        (None, Some(v)) => Some(value_text(ctx, t, v, index, "MinValue")?),
-        (None, None) => None,
+    // A limit that is no value of the type (vendors copy limits between objects of different types)
+    // limits nothing a master could write: it is dropped.
+    let limit = |data: &Option<(Vec<u8>, usize)>, value: &Option<At>, what: [&str; 2]| {
+        let read = match (data, value) {
+            (Some((bytes, at)), _) => decode_data(ctx, t, bytes, *at, index, what[0]),
+            (None, Some(v)) => value_text(ctx, t, v, index, what[1]),
+            (None, None) => return None,
+        };
+        match read {
+            Ok(v) => Some(v),
+            Err(e) => {
+                let at = data
+                    .as_ref()
+                    .map_or_else(|| value.as_ref().map_or(0, |v| v.offset), |d| d.1);
+                ctx.warn(at, format!("{}; the limit is dropped", e.message));
+                None
+            }
+        }
     };
-    sub.high = match (&info.max_data, &info.max_value) {
-        (Some((bytes, at)), _) => Some(decode_data(ctx, t, bytes, *at, index, "MaxData")?),
-        (None, Some(v)) => Some(value_text(ctx, t, v, index, "MaxValue")?),
-        (None, None) => None,
-    };
+    sub.low = limit(&info.min_data, &info.min_value, ["MinData", "MinValue"]);
+    sub.high = limit(&info.max_data, &info.max_value, ["MaxData", "MaxValue"]);
+    if let Some(v) = &default {
+        // A string whose type is shorter than its default (`STRING(0)` with a default): the default
+        // shows the size.
+        if let (Some(bits), Ok(bytes)) = (sub.bit_size, v.encode(t)) {
+            let unit = if t == DataType::UnicodeString { 16 } else { 8 };
+            let needed = u32::try_from(bytes.len())
+                .unwrap_or(u32::MAX / 8)
+                .saturating_mul(8)
+                .div_ceil(unit)
+                * unit;
+            if t.is_variable() && needed > bits {
+                let at = info
+                    .default_data
+                    .as_ref()
+                    .map(|d| d.1)
+                    .or(info.default_value.as_ref().map(|v| v.offset))
+                    .or(info.default_string.as_ref().map(|v| v.offset))
+                    .unwrap_or(0);
+                ctx.warn(
+                    at,
+                    format!(
+                        "object #x{index:04X}: the default takes {needed} bits but the type gives {bits}; the size is the default's"
+                    ),
+                );
+                sub.bit_size = Some(needed);
+            }
+        }
+    }
     if let Some(v) = default {
         if let Ok(bytes) = v.encode(t) {
             sub.value = bytes;
@@ -1577,7 +1709,9 @@ fn value_text(ctx: Ctx, t: DataType, v: &At, index: u16, what: &str) -> Result<V
             Value::parse_text(t, text).map_err(|_| bad("a decimal number"))
         }
         DataType::TimeOfDay | DataType::TimeDifference => {
-            let n = xml::parse_number(text).ok_or_else(|| bad("a number"))?;
+            let n = ctx
+                .parse_number(text, v.offset, &format!("<{what}>"))
+                .ok_or_else(|| bad("a number"))?;
             let bytes = u64::try_from(n)
                 .ok()
                 .filter(|&n| n < (1u64 << 48))
@@ -1588,14 +1722,16 @@ fn value_text(ctx: Ctx, t: DataType, v: &At, index: u16, what: &str) -> Result<V
         DataType::Boolean => match text.to_ascii_lowercase().as_str() {
             "true" => Ok(Value::Bool(true)),
             "false" => Ok(Value::Bool(false)),
-            _ => match xml::parse_number(text) {
+            _ => match ctx.parse_number(text, v.offset, &format!("<{what}>")) {
                 Some(0) => Ok(Value::Bool(false)),
                 Some(1) => Ok(Value::Bool(true)),
                 _ => Err(bad("0, 1, true or false")),
             },
         },
         _ => {
-            let n = xml::parse_number(text).ok_or_else(|| bad("a number like #x1A00 or 6656"))?;
+            let n = ctx
+                .parse_number(text, v.offset, &format!("<{what}>"))
+                .ok_or_else(|| bad("a number like #x1A00 or 6656"))?;
             let (lo, hi) = t.integer_range().ok_or_else(|| bad("a number"))?;
             let hex = text.starts_with("#x") || text.starts_with("#X") || text.starts_with("0x");
             // Hexadecimal for a signed type may spell the two's complement (`#xFFFF` = -1 for INT).
@@ -1662,5 +1798,25 @@ fn dictionary_from_pdos(dict: &mut Dictionary, ecat: &EthercatInfo) {
                 .with_default(Value::Uint(u64::from(count)));
             object.subs.insert(0, zero);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_table_positions_are_those_of_a_scan() {
+        let text = "ab\ncµd\r\n\n<x>\u{20AC}y\nlast".as_bytes();
+        let lines = Lines::of(text);
+        for offset in 0..=text.len() + 2 {
+            assert_eq!(
+                lines.position(text, offset),
+                Position::of_offset(text, offset),
+                "offset {offset}"
+            );
+        }
+        let empty = Lines::of(b"");
+        assert_eq!(empty.position(b"", 5), Position { line: 1, column: 1 });
     }
 }

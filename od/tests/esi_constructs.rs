@@ -1,0 +1,120 @@
+//! Constructs of real vendor ESI files that the established tools load, each reproduced in a small file of
+//! its own: what the reader makes of it (exact model values) and the warning it gives (exact text, line
+//! and column). Each file is also written and read back.
+
+use od::esi;
+use od::report::{Finding, Reading};
+use od::types::DataType;
+use od::value::Value;
+use od::DeviceDescription;
+
+/// Reads `text`, checks that write → read gives the same descriptions and no warnings, and answers the
+/// reading.
+fn read(text: &str) -> Reading {
+    let reading = esi::read_file(text.as_bytes(), "t.xml").unwrap_or_else(|e| panic!("{e}"));
+    let written = esi::write_all(&reading.devices);
+    let back =
+        esi::read_file(written.as_bytes(), "w.xml").unwrap_or_else(|e| panic!("{e}\n{written}"));
+    assert_eq!(
+        format!("{:?}", back.devices),
+        format!("{:?}", reading.devices),
+        "write → read changes the descriptions:\n{written}"
+    );
+    assert_eq!(
+        back.findings,
+        vec![],
+        "what was written reads without warnings:\n{written}"
+    );
+    reading
+}
+
+fn one(text: &str) -> (DeviceDescription, Vec<Finding>) {
+    let r = read(text);
+    assert_eq!(r.devices.len(), 1);
+    (r.devices.into_iter().next().unwrap(), r.findings)
+}
+
+/// `line:column: text` of each finding (with the address when there is one).
+fn said(findings: &[Finding]) -> Vec<String> {
+    findings
+        .iter()
+        .map(|f| {
+            let p = f.position.expect("every reader warning has a position");
+            format!("{}:{}: {f}", p.line, p.column)
+        })
+        .collect()
+}
+
+/// A file whose `Profile` (objects from line 7) and PDOs (from line 9) are given.
+fn device(objects: &str, pdos: &str) -> String {
+    format!(
+        "<?xml version=\"1.0\"?>\n<EtherCATInfo>\n<Vendor><Id>1</Id><Name>V</Name></Vendor>\n\
+         <Descriptions><Groups/><Devices><Device>\n<Type ProductCode=\"1\" RevisionNo=\"1\">T</Type><Name>N</Name>\n\
+         <Profile><Dictionary><DataTypes/><Objects>\n{objects}\n</Objects></Dictionary></Profile>\n{pdos}\n\
+         </Device></Devices></Descriptions>\n</EtherCATInfo>\n"
+    )
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Numbers and values.
+
+#[test]
+fn an_index_with_two_hexadecimal_prefixes_reads_as_the_number() {
+    let pdos = "<TxPdo Sm=\"3\"><Index>#x1A00</Index><Name>In</Name>\n\
+                <Entry><Index>#x0x6041</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Status</Name><DataType>UINT</DataType></Entry>\n\
+                </TxPdo>";
+    let text = device(
+        "<Object><Index>#x6041</Index><Name>Status</Name><Type>UINT</Type><Flags><Access>ro</Access><PdoMapping>T</PdoMapping></Flags></Object>",
+        pdos,
+    );
+    let (d, findings) = one(&text);
+    let entry = &d.ethercat.as_ref().unwrap().tx_pdos[0].entries[0];
+    assert_eq!((entry.index, entry.sub, entry.bit_len), (0x6041, 0, 16));
+    assert_eq!(
+        said(&findings),
+        ["10:15: warning: `#x0x6041` in <Entry>/<Index> has two hexadecimal prefixes; read as #x6041"]
+    );
+}
+
+#[test]
+fn limits_outside_the_type_are_dropped() {
+    // A DINT with the UDINT range copied into it (MinValue -4294967295), a UINT whose MinData has a
+    // nonzero byte beyond its size, and a MaxData that is no hexadecimal.
+    let objects = "<Object><Index>#x6064</Index><Name>Position</Name><Type>DINT</Type>\n\
+                   <Info><MinValue>-4294967295</MinValue><MaxValue>1000</MaxValue></Info></Object>\n\
+                   <Object><Index>#x2000</Index><Name>Speed</Name><Type>UINT</Type><Info><MinData>000001</MinData><MaxData>zz</MaxData><DefaultData>0500</DefaultData></Info></Object>";
+    let (d, findings) = one(&device(objects, ""));
+    let pos = d.dictionary.entry(0x6064, 0).unwrap();
+    assert_eq!(pos.low, None);
+    assert_eq!(pos.high, Some(Value::Int(1000)));
+    let speed = d.dictionary.entry(0x2000, 0).unwrap();
+    assert_eq!((&speed.low, &speed.high), (&None, &None));
+    assert_eq!(speed.default.as_ref().unwrap().value, Value::Uint(5));
+    assert_eq!(
+        said(&findings),
+        [
+            "8:17: warning: object #x6064: expected a DINT value -2147483648..2147483647 in <MinValue>, found `-4294967295`; the limit is dropped",
+            "9:80: warning: object #x2000: <MinData> is not a UINT: UNSIGNED16 takes 2 bytes, got 3; the limit is dropped",
+            "9:105: warning: expected hexadecimal bytes like 0A1B in <MaxData>, found `zz`; the limit is dropped",
+        ]
+    );
+}
+
+#[test]
+fn a_string_shorter_than_its_default_takes_the_default_size() {
+    // SOES writes `STRING(0)` for strings set at run time, with the build's default.
+    let objects = "<Object><Index>#x1009</Index><Name>Hardware version</Name><Type>STRING(0)</Type><BitSize>0</BitSize>\n\
+                   <Info><DefaultString>1.0</DefaultString></Info><Flags><Access>ro</Access></Flags></Object>";
+    let (d, findings) = one(&device(objects, ""));
+    let e = d.dictionary.entry(0x1009, 0).unwrap();
+    assert_eq!(e.data_type, DataType::VisibleString);
+    assert_eq!(e.bit_size, Some(24));
+    assert_eq!(
+        e.default.as_ref().unwrap().value,
+        Value::String("1.0".into())
+    );
+    assert_eq!(
+        said(&findings),
+        ["8:22: warning: object #x1009: the default takes 24 bits but the type gives 0; the size is the default's"]
+    );
+}
