@@ -168,8 +168,16 @@ pub struct SyncManager {
     pub max_size: Option<u16>,
     /// `ControlByte`.
     pub control_byte: u8,
-    /// `Enable`.
-    pub enable: bool,
+    /// `Enable`, a number (ETG.2000 HexDecValue): the enable byte of the SII SyncM category
+    /// (ETG.1000.6 Table 23): bit 0 enabled, bit 1 fixed content, bit 2 virtual, bit 3 enabled in Op
+    /// only. Files write 0 or 1, some the whole byte (`9`).
+    pub enable: u8,
+    /// `Virtual`: no hardware sync manager stands behind it.
+    pub is_virtual: bool,
+    /// `OpOnly`: enabled only in Op.
+    pub op_only: bool,
+    /// `Watchdog` (obsolete in ETG.2000).
+    pub watchdog: bool,
 }
 
 /// A fixed or configurable PDO of an ESI (`RxPdo` / `TxPdo`).

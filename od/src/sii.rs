@@ -244,7 +244,8 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
         push16(&mut syncm, s.default_size.unwrap_or(0));
         syncm.push(s.control_byte);
         syncm.push(0);
-        syncm.push(u8::from(s.enable));
+        // The ESI's Virtual and OpOnly attributes are bits 2 and 3 of the enable byte.
+        syncm.push(s.enable | (u8::from(s.is_virtual) << 2) | (u8::from(s.op_only) << 3));
         syncm.push(match s.kind.as_str() {
             "MBoxOut" => 1,
             "MBoxIn" => 2,

@@ -345,10 +345,11 @@ fn hand_written_file_reads_into_exact_objects() {
             min_size: Some(34),
             max_size: Some(256),
             control_byte: 0x22,
-            enable: true,
+            enable: 1,
+            ..SyncManager::default()
         }
     );
-    assert!(!ecat.sync_managers[2].enable);
+    assert_eq!(ecat.sync_managers[2].enable, 0);
     assert_eq!(
         ecat.rx_pdos,
         [Pdo {
@@ -556,7 +557,8 @@ fn writer_output_is_byte_exact() {
                 min_size: None,
                 max_size: None,
                 control_byte: 0x20,
-                enable: true,
+                enable: 1,
+                ..SyncManager::default()
             }],
             rx_pdos: vec![],
             tx_pdos: vec![Pdo {
@@ -703,10 +705,10 @@ fn canopen_description_gets_a_derived_ethercat_part() {
             .map(|s| (s.kind.as_str(), s.start_address, s.default_size, s.enable))
             .collect::<Vec<_>>(),
         [
-            ("MBoxOut", 0x1000, Some(128), true),
-            ("MBoxIn", 0x1080, Some(128), true),
-            ("Outputs", 0x1100, Some(3), true),
-            ("Inputs", 0x1400, Some(2), true),
+            ("MBoxOut", 0x1000, Some(128), 1),
+            ("MBoxIn", 0x1080, Some(128), 1),
+            ("Outputs", 0x1100, Some(3), 1),
+            ("Inputs", 0x1400, Some(2), 1),
         ]
     );
     assert_eq!(ecat.rx_pdos.len(), 2);
@@ -1298,7 +1300,10 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
                 min_size: opt(r).map(|v| v as u16),
                 max_size: opt(r).map(|v| v as u16),
                 control_byte: r.next() as u8,
-                enable: r.chance(2),
+                enable: r.next() as u8,
+                is_virtual: r.chance(4),
+                op_only: r.chance(4),
+                watchdog: r.chance(4),
             })
             .collect(),
         rx_pdos: (0..r.below(3)).map(|_| pdo(r)).collect(),

@@ -118,3 +118,54 @@ fn a_string_shorter_than_its_default_takes_the_default_size() {
         ["8:22: warning: object #x1009: the default takes 24 bits but the type gives 0; the size is the default's"]
     );
 }
+
+// ---------------------------------------------------------------------------------------------------------
+// Sync managers.
+
+#[test]
+fn sm_enable_is_the_number_the_file_gives() {
+    // `Enable` is a HexDecValue in the schema: the SII enable byte (9 = enabled, in Op only).
+    let sms = "<Sm StartAddress=\"#x1100\" ControlByte=\"#x64\" Enable=\"9\">Outputs</Sm>\n\
+               <Sm StartAddress=\"#x1400\" ControlByte=\"#x20\" Enable=\"true\" Virtual=\"true\" OpOnly=\"1\" Watchdog=\"0\">Inputs</Sm>\n\
+               <Sm StartAddress=\"#x1800\" ControlByte=\"#x20\" Enable=\"#x0\">Inputs</Sm>";
+    let (d, findings) = one(&device("", sms));
+    assert_eq!(findings, vec![]);
+    let ecat = d.ethercat.as_ref().unwrap();
+    let got: Vec<(u16, u8, bool, bool, bool)> = ecat
+        .sync_managers
+        .iter()
+        .map(|s| {
+            (
+                s.start_address,
+                s.enable,
+                s.is_virtual,
+                s.op_only,
+                s.watchdog,
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (0x1100, 9, false, false, false),
+            (0x1400, 1, true, true, false),
+            (0x1800, 0, false, false, false),
+        ]
+    );
+    // The SII SyncM category: 8 bytes per sync manager, the enable byte at 6 (Virtual is bit 2, OpOnly
+    // bit 3).
+    let image = od::sii::parse(&od::sii::write(&d, 1).unwrap()).unwrap();
+    let syncm = image.category(od::sii::category::SYNCM).unwrap();
+    assert_eq!([syncm[6], syncm[14], syncm[22]], [9, 0x0D, 0]);
+
+    let e = esi::read_all(
+        device("", "<Sm Enable=\"300\">Inputs</Sm>").as_bytes(),
+        "t.xml",
+    )
+    .unwrap_err();
+    assert_eq!((e.position.line, e.position.column), (9, 5));
+    assert_eq!(
+        e.message,
+        "expected a number 0..255 in the Enable attribute of <Sm>, found `300`"
+    );
+}

@@ -46,6 +46,9 @@
 //! its `SubItem`'s flags; what they leave out comes from the object's `Flags` (not the PDO mapping of
 //! sub-index 0); without either, `ro`. `Category` is ignored (the model has no field for it).
 //!
+//! `Sm`: `StartAddress`, the sizes, `ControlByte`, `Enable` as the number it is (the SII enable byte:
+//! files write 0 or 1, some `9`; `true`/`false` read as 1/0), `Virtual`, `OpOnly` and `Watchdog`.
+//!
 //! `Dc/OpMode`: an absent `Factor` of `CycleTimeSync0`/`CycleTimeSync1` reads as 1.
 //!
 //! Descriptions: ESI carries meanings in `Object/Comment` (→

@@ -686,7 +686,10 @@ impl<'a> Parser<'a> {
                         b"MinSize" => sm.min_size = Some(ctx.number(v, *at, &what)?),
                         b"MaxSize" => sm.max_size = Some(ctx.number(v, *at, &what)?),
                         b"ControlByte" => sm.control_byte = ctx.number(v, *at, &what)?,
-                        b"Enable" => sm.enable = flag(ctx, v, *at, &what)?,
+                        b"Enable" => sm.enable = enable(ctx, v, *at, &what)?,
+                        b"Virtual" => sm.is_virtual = flag(ctx, v, *at, &what)?,
+                        b"OpOnly" => sm.op_only = flag(ctx, v, *at, &what)?,
+                        b"Watchdog" => sm.watchdog = flag(ctx, v, *at, &what)?,
                         _ => {}
                     }
                 }
@@ -1049,6 +1052,14 @@ fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
         return None;
     }
     hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// The `Enable` attribute of `Sm`: a number 0..255 (the SII enable byte), or `true`/`false`.
+fn enable(ctx: Ctx, text: &str, at: usize, what: &str) -> Result<u8, ParseError> {
+    match ctx.number::<u8>(text, at, what) {
+        Ok(n) => Ok(n),
+        Err(e) => xml::parse_bool(text).map(u8::from).ok_or(e),
+    }
 }
 
 /// A boolean attribute (`1`, `0`, `true`, `false`).

@@ -183,7 +183,17 @@ fn write_sm(w: &mut XmlWriter, sm: &SyncManager) {
     }
     attrs.push(("StartAddress", &start));
     attrs.push(("ControlByte", &control));
-    attrs.push(("Enable", if sm.enable { "1" } else { "0" }));
+    let enable = sm.enable.to_string();
+    attrs.push(("Enable", &enable));
+    for (on, name) in [
+        (sm.is_virtual, "Virtual"),
+        (sm.op_only, "OpOnly"),
+        (sm.watchdog, "Watchdog"),
+    ] {
+        if on {
+            attrs.push((name, "1"));
+        }
+    }
     w.text("Sm", &attrs, &sm.kind);
 }
 
@@ -788,7 +798,8 @@ fn derive_ethercat(desc: &DeviceDescription) -> EthercatInfo {
         min_size: None,
         max_size: None,
         control_byte: control,
-        enable: true,
+        enable: 1,
+        ..SyncManager::default()
     };
     let process = |kind: &str, start: u16, control: u8, size: u16| SyncManager {
         kind: kind.to_string(),
@@ -797,7 +808,8 @@ fn derive_ethercat(desc: &DeviceDescription) -> EthercatInfo {
         min_size: None,
         max_size: None,
         control_byte: control,
-        enable: size > 0,
+        enable: u8::from(size > 0),
+        ..SyncManager::default()
     };
     let id = &desc.identity;
     let group_type = if !id.order_code.is_empty() {
