@@ -180,23 +180,68 @@ pub struct SyncManager {
     pub watchdog: bool,
 }
 
+/// Whether an index given in a module moves with the module's slot (ETG.2001: the `DependOnSlot` and
+/// `DependOnSlotGroup` attributes of an `Index` or `Exclude`; the slot's `SlotIndexIncrement` or
+/// `SlotPdoIncrement` is added per slot).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SlotDepend {
+    /// `DependOnSlot`.
+    pub slot: bool,
+    /// `DependOnSlotGroup`.
+    pub slot_group: bool,
+}
+
 /// A fixed or configurable PDO of an ESI (`RxPdo` / `TxPdo`).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct Pdo {
     /// Index of the mapping object (`#x1600`).
     pub index: u16,
+    /// Whether `index` moves with the slot (in a module).
+    pub index_depend: SlotDepend,
     /// Name.
     pub name: String,
     /// `Fixed` attribute.
     pub fixed: bool,
     /// `Mandatory` attribute.
     pub mandatory: bool,
+    /// `Virtual` attribute: the master makes its content (DC latch times, ESC registers) rather than
+    /// the device's sync manager.
+    pub is_virtual: bool,
     /// `Sm` attribute: the sync manager it is assigned to.
     pub sm: Option<u8>,
-    /// Indices of PDOs that cannot be assigned together with this one (`Exclude`).
-    pub exclude: Vec<u16>,
+    /// `Su` attribute: the sync unit.
+    pub su: Option<u8>,
+    /// Oversampling (`OSFac`, `OSMin`, `OSMax`, `OSIndexInc`): the default, lowest and highest number
+    /// of samples, and the index increment from one sample's entries to the next's.
+    pub os_factor: Option<u32>,
+    /// `OSMin`.
+    pub os_min: Option<u32>,
+    /// `OSMax`.
+    pub os_max: Option<u32>,
+    /// `OSIndexInc`.
+    pub os_index_inc: Option<u32>,
+    /// PDOs that cannot be assigned together with this one (`Exclude`).
+    pub exclude: Vec<PdoRef>,
     /// Entries in order.
     pub entries: Vec<PdoEntry>,
+}
+
+/// The index of another PDO (`Exclude`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PdoRef {
+    /// Index of the PDO's mapping object.
+    pub index: u16,
+    /// Whether `index` moves with the slot (in a module).
+    pub depend: SlotDepend,
+}
+
+impl From<u16> for PdoRef {
+    fn from(index: u16) -> PdoRef {
+        PdoRef {
+            index,
+            depend: SlotDepend::default(),
+        }
+    }
 }
 
 /// One entry of a PDO.
@@ -204,14 +249,22 @@ pub struct Pdo {
 pub struct PdoEntry {
     /// Index of the mapped object (0 for a gap).
     pub index: u16,
+    /// Whether `index` moves with the slot (in a module).
+    pub index_depend: SlotDepend,
     /// Sub-index.
     pub sub: u8,
     /// Length in bits.
     pub bit_len: u16,
     /// Name.
     pub name: String,
+    /// `Comment`.
+    pub comment: String,
     /// Type name as the ESI writes it (`UINT`).
     pub data_type: String,
+    /// The `DScale` attribute of `DataType` (`+/-10`, `0-20`…): the scaling of an analog value.
+    pub data_scale: String,
+    /// `Fixed` attribute: the entry cannot be changed in a configurable PDO.
+    pub fixed: bool,
 }
 
 /// The mailbox protocols of an ESI (`Mailbox`).

@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 
 use od::device::{
     CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Identity, Mailbox, OpMode, Pdo, PdoEntry,
-    SyncManager,
+    PdoRef, SlotDepend, SyncManager,
 };
 use od::esi::{self, Select};
 use od::object::{
@@ -358,14 +358,16 @@ fn hand_written_file_reads_into_exact_objects() {
             fixed: false,
             mandatory: false,
             sm: Some(2),
-            exclude: vec![0x1601],
+            exclude: vec![0x1601.into()],
             entries: vec![PdoEntry {
                 index: 0x2001,
                 sub: 0,
                 bit_len: 32,
                 name: "Speed".into(),
                 data_type: "REAL".into(),
+                ..PdoEntry::default()
             }],
+            ..Pdo::default()
         }]
     );
     let tx = &ecat.tx_pdos[0];
@@ -373,11 +375,8 @@ fn hand_written_file_reads_into_exact_objects() {
     assert_eq!(
         tx.entries[1],
         PdoEntry {
-            index: 0,
-            sub: 0,
             bit_len: 8,
-            name: String::new(),
-            data_type: String::new(),
+            ..PdoEntry::default()
         }
     );
     assert_eq!(
@@ -567,14 +566,15 @@ fn writer_output_is_byte_exact() {
                 fixed: true,
                 mandatory: true,
                 sm: Some(3),
-                exclude: vec![],
                 entries: vec![PdoEntry {
                     index: 0x6041,
                     sub: 0,
                     bit_len: 16,
                     name: "Statusword".into(),
                     data_type: "UINT".into(),
+                    ..PdoEntry::default()
                 }],
+                ..Pdo::default()
             }],
             mailbox: Some(Mailbox {
                 data_link_layer: false,
@@ -726,13 +726,11 @@ fn canopen_description_gets_a_derived_ethercat_part() {
                 bit_len: 16,
                 name: "Controlword".into(),
                 data_type: "UINT".into(),
+                ..PdoEntry::default()
             },
             PdoEntry {
-                index: 0,
-                sub: 0,
                 bit_len: 8,
-                name: String::new(),
-                data_type: String::new(),
+                ..PdoEntry::default()
             },
         ],
         "dummy mapping 0x0005 is a gap"
@@ -1261,24 +1259,63 @@ fn random_object(r: &mut Rng, index: u16) -> Object {
 }
 
 fn random_ethercat(r: &mut Rng) -> EthercatInfo {
+    let depend = |r: &mut Rng| SlotDepend {
+        slot: r.chance(4),
+        slot_group: r.chance(8),
+    };
+    let small = |r: &mut Rng| {
+        if r.chance(2) {
+            Some(r.below(100) as u32)
+        } else {
+            None
+        }
+    };
     let pdo = |r: &mut Rng| Pdo {
         index: r.next() as u16,
+        index_depend: depend(r),
         name: r.text(10, false),
         fixed: r.chance(2),
         mandatory: r.chance(2),
+        is_virtual: r.chance(4),
         sm: if r.chance(2) {
             Some(r.next() as u8)
         } else {
             None
         },
-        exclude: (0..r.below(3)).map(|_| r.next() as u16).collect(),
+        su: if r.chance(4) {
+            Some(r.next() as u8)
+        } else {
+            None
+        },
+        os_factor: small(r),
+        os_min: small(r),
+        os_max: small(r),
+        os_index_inc: small(r),
+        exclude: (0..r.below(3))
+            .map(|_| PdoRef {
+                index: r.next() as u16,
+                depend: depend(r),
+            })
+            .collect(),
         entries: (0..r.below(4))
             .map(|_| PdoEntry {
                 index: if r.chance(3) { 0 } else { r.next() as u16 },
+                index_depend: depend(r),
                 sub: if r.chance(3) { 0 } else { r.next() as u8 },
                 bit_len: r.next() as u16,
                 name: r.text(8, false),
+                comment: if r.chance(3) {
+                    r.text(12, true)
+                } else {
+                    String::new()
+                },
                 data_type: r.text(8, false),
+                data_scale: if r.chance(4) {
+                    r.text(6, false)
+                } else {
+                    String::new()
+                },
+                fixed: r.chance(4),
             })
             .collect(),
     };

@@ -169,3 +169,72 @@ fn sm_enable_is_the_number_the_file_gives() {
         "expected a number 0..255 in the Enable attribute of <Sm>, found `300`"
     );
 }
+
+// ---------------------------------------------------------------------------------------------------------
+// PDOs.
+
+#[test]
+fn pdo_attributes_are_kept() {
+    let pdos = "<TxPdo Sm=\"3\" Su=\"1\" Virtual=\"true\" OSFac=\"10\" OSMin=\"1\" OSMax=\"50\" OSIndexInc=\"1\">\n\
+                <Index DependOnSlot=\"true\">#x1A01</Index><Name>Samples</Name>\n\
+                <Exclude DependOnSlot=\"1\" DependOnSlotGroup=\"1\">#x1A02</Exclude><Exclude>#x1A03</Exclude>\n\
+                <Entry Fixed=\"1\"><Index DependOnSlotGroup=\"true\">#x6002</Index><SubIndex>1</SubIndex><BitLen>16</BitLen>\
+                <Name>Value</Name><Comment>first sample</Comment><DataType DScale=\"+/-10\">INT</DataType></Entry>\n\
+                </TxPdo>\n\
+                <RxPdo Ref=\"DigOutputBit\" Chn=\"1\" Fixed=\"1\" Sm=\"0\"/>";
+    let objects = "<Object><Index>#x6002</Index><Name>Samples</Name><Type>DT6002</Type></Object>";
+    let text = device(objects, pdos).replace(
+        "<DataTypes/>",
+        "<DataTypes><DataType><Name>DT6002</Name><BitSize>32</BitSize>\
+         <SubItem><SubIdx>0</SubIdx><Name>n</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs></SubItem>\
+         <SubItem><SubIdx>1</SubIdx><Name>Value</Name><Type>INT</Type><BitSize>16</BitSize><BitOffs>16</BitOffs>\
+         <Flags><Access>ro</Access><PdoMapping>T</PdoMapping></Flags></SubItem></DataType></DataTypes>",
+    );
+    let (d, findings) = one(&text);
+    let ecat = d.ethercat.as_ref().unwrap();
+    assert_eq!(
+        ecat.rx_pdos,
+        vec![],
+        "a PDO that only names a template is left out"
+    );
+    let depend = |slot, slot_group| od::device::SlotDepend { slot, slot_group };
+    assert_eq!(
+        ecat.tx_pdos,
+        [od::device::Pdo {
+            index: 0x1A01,
+            index_depend: depend(true, false),
+            name: "Samples".into(),
+            fixed: false,
+            mandatory: false,
+            is_virtual: true,
+            sm: Some(3),
+            su: Some(1),
+            os_factor: Some(10),
+            os_min: Some(1),
+            os_max: Some(50),
+            os_index_inc: Some(1),
+            exclude: vec![
+                od::device::PdoRef {
+                    index: 0x1A02,
+                    depend: depend(true, true)
+                },
+                0x1A03.into()
+            ],
+            entries: vec![od::device::PdoEntry {
+                index: 0x6002,
+                index_depend: depend(false, true),
+                sub: 1,
+                bit_len: 16,
+                name: "Value".into(),
+                comment: "first sample".into(),
+                data_type: "INT".into(),
+                data_scale: "+/-10".into(),
+                fixed: true,
+            }],
+        }]
+    );
+    assert_eq!(
+        said(&findings),
+        ["14:1: warning: <RxPdo Ref=\"DigOutputBit\"> refers to a PDO template of the obsolete Descriptions/Pdos list, which is not read; the PDO is left out"]
+    );
+}

@@ -49,6 +49,13 @@
 //! `Sm`: `StartAddress`, the sizes, `ControlByte`, `Enable` as the number it is (the SII enable byte:
 //! files write 0 or 1, some `9`; `true`/`false` read as 1/0), `Virtual`, `OpOnly` and `Watchdog`.
 //!
+//! `RxPdo`/`TxPdo`: `Index`, `Name`, `Exclude`s, the attributes `Fixed`, `Mandatory`, `Virtual`, `Sm`, `Su`,
+//! `OSFac`, `OSMin`, `OSMax`, `OSIndexInc`, and each `Entry` (`Index`, `SubIndex`, `BitLen`, `Name`,
+//! `Comment`, `DataType` with its `DScale`, the `Fixed` attribute); the `DependOnSlot`/`DependOnSlotGroup`
+//! of every index. An entry with index 0 is a gap of its `BitLen`. A PDO that only names a template
+//! (`<RxPdo Ref="…"/>`, the obsolete Beckhoff `Descriptions/Pdos` list of Version 1.2 files) is left out
+//! with a warning.
+//!
 //! `Dc/OpMode`: an absent `Factor` of `CycleTimeSync0`/`CycleTimeSync1` reads as 1.
 //!
 //! Descriptions: ESI carries meanings in `Object/Comment` (→

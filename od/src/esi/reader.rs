@@ -9,7 +9,8 @@ use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 
 use crate::device::{
-    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Mailbox, OpMode, Pdo, PdoEntry, SyncManager,
+    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Mailbox, OpMode, Pdo, PdoEntry, PdoRef,
+    SlotDepend, SyncManager,
 };
 use crate::dict::{Address, Dictionary};
 use crate::error::{ParseError, Position};
@@ -302,8 +303,10 @@ struct RawObject {
 #[derive(Debug, Default)]
 struct RawDevice {
     offset: usize,
-    /// Where each PDO entry is: TxPdo or RxPdo, the PDO's place in its list, the entry's, the offset.
-    pdo_entry_offsets: Vec<(bool, usize, usize, usize)>,
+    /// Where each PDO entry is.
+    pdo_entry_offsets: Vec<EntryAt>,
+    /// Inside an `RxPdo`/`TxPdo` that refers to a template (`Ref`), which is left out.
+    in_ref_pdo: bool,
     product_code: u32,
     revision: u32,
     order_code: String,
@@ -313,6 +316,16 @@ struct RawDevice {
     data_types: Vec<RawDataType>,
     objects: Vec<RawObject>,
     ecat: EthercatInfo,
+}
+
+/// Where a PDO entry is: in a TxPdo or an RxPdo, the PDO's place in its list, the entry's place in the
+/// PDO, and the offset of its `Entry` element.
+#[derive(Debug, Clone, Copy)]
+struct EntryAt {
+    tx: bool,
+    pdo: usize,
+    n: usize,
+    offset: usize,
 }
 
 /// What the parser is collecting.
@@ -696,6 +709,19 @@ impl<'a> Parser<'a> {
                 dev.ecat.sync_managers.push(sm);
             }
             [Tag::RxPdo | Tag::TxPdo] => {
+                if let Some((_, name, _)) = attrs.iter().find(|(k, _, _)| k == b"Ref") {
+                    // The obsolete Beckhoff form: a PDO of the file's `Descriptions/Pdos` templates.
+                    ctx.warn(
+                        offset,
+                        format!(
+                            "<{} Ref=\"{}\"> refers to a PDO template of the obsolete Descriptions/Pdos list, which is not read; the PDO is left out",
+                            tag.name(),
+                            clip(name)
+                        ),
+                    );
+                    dev.in_ref_pdo = true;
+                    return Ok(());
+                }
                 let mut pdo = Pdo::default();
                 for (k, v, at) in &attrs {
                     let what = format!(
@@ -706,7 +732,13 @@ impl<'a> Parser<'a> {
                     match k.as_slice() {
                         b"Fixed" => pdo.fixed = flag(ctx, v, *at, &what)?,
                         b"Mandatory" => pdo.mandatory = flag(ctx, v, *at, &what)?,
+                        b"Virtual" => pdo.is_virtual = flag(ctx, v, *at, &what)?,
                         b"Sm" => pdo.sm = Some(ctx.number(v, *at, &what)?),
+                        b"Su" => pdo.su = Some(ctx.number(v, *at, &what)?),
+                        b"OSFac" => pdo.os_factor = Some(ctx.number(v, *at, &what)?),
+                        b"OSMin" => pdo.os_min = Some(ctx.number(v, *at, &what)?),
+                        b"OSMax" => pdo.os_max = Some(ctx.number(v, *at, &what)?),
+                        b"OSIndexInc" => pdo.os_index_inc = Some(ctx.number(v, *at, &what)?),
                         _ => {}
                     }
                 }
@@ -716,6 +748,19 @@ impl<'a> Parser<'a> {
                     dev.ecat.tx_pdos.push(pdo);
                 }
             }
+            [Tag::RxPdo | Tag::TxPdo, ..] if dev.in_ref_pdo => {}
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Index] => {
+                let depend = slot_depend(ctx, &attrs)?;
+                if let Some(p) = pdo_of(dev, *pdo) {
+                    p.index_depend = depend;
+                }
+            }
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Exclude] => {
+                let depend = slot_depend(ctx, &attrs)?;
+                if let Some(p) = pdo_of(dev, *pdo) {
+                    p.exclude.push(PdoRef { index: 0, depend });
+                }
+            }
             [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Entry] => {
                 let tx = *pdo == Tag::TxPdo;
                 let ordinal = if tx {
@@ -723,11 +768,34 @@ impl<'a> Parser<'a> {
                 } else {
                     dev.ecat.rx_pdos.len()
                 };
+                let mut entry = PdoEntry::default();
+                for (k, v, at) in &attrs {
+                    if k == b"Fixed" {
+                        entry.fixed = flag(ctx, v, *at, "the Fixed attribute of <Entry>")?;
+                    }
+                }
                 if let Some(p) = pdo_of(dev, *pdo) {
-                    p.entries.push(PdoEntry::default());
+                    p.entries.push(entry);
                     let n = p.entries.len() - 1;
-                    dev.pdo_entry_offsets
-                        .push((tx, ordinal.saturating_sub(1), n, offset));
+                    dev.pdo_entry_offsets.push(EntryAt {
+                        tx,
+                        pdo: ordinal.saturating_sub(1),
+                        n,
+                        offset,
+                    });
+                }
+            }
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Entry, Tag::Index] => {
+                let depend = slot_depend(ctx, &attrs)?;
+                if let Some(e) = pdo_of(dev, *pdo).and_then(|p| p.entries.last_mut()) {
+                    e.index_depend = depend;
+                }
+            }
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Entry, Tag::DataType] => {
+                if let Some((_, v, _)) = attrs.iter().find(|(k, _, _)| k == b"DScale") {
+                    if let Some(e) = pdo_of(dev, *pdo).and_then(|p| p.entries.last_mut()) {
+                        e.data_scale = v.clone();
+                    }
                 }
             }
             [Tag::Mailbox] => {
@@ -956,6 +1024,8 @@ impl<'a> Parser<'a> {
                     sm.kind = text.to_string();
                 }
             }
+            [Tag::RxPdo | Tag::TxPdo] if dev.in_ref_pdo => dev.in_ref_pdo = false,
+            [Tag::RxPdo | Tag::TxPdo, ..] if dev.in_ref_pdo => {}
             [pdo @ (Tag::RxPdo | Tag::TxPdo), rest @ ..] => {
                 let kind = *pdo;
                 let Some(p) = pdo_of(dev, kind) else {
@@ -970,7 +1040,10 @@ impl<'a> Parser<'a> {
                         p.name = text.to_string()
                     }
                     [Tag::Exclude] => {
-                        p.exclude.push(ctx.number(text, at, "<Exclude>")?);
+                        let index = ctx.number(text, at, "<Exclude>")?;
+                        if let Some(x) = p.exclude.last_mut() {
+                            x.index = index;
+                        }
                     }
                     [Tag::Entry, f] => {
                         if let Some(en) = p.entries.last_mut() {
@@ -986,6 +1059,7 @@ impl<'a> Parser<'a> {
                                     en.name = text.to_string()
                                 }
                                 Tag::DataType => en.data_type = text.to_string(),
+                                Tag::Comment => en.comment = text.to_string(),
                                 _ => {}
                             }
                         }
@@ -1052,6 +1126,25 @@ fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
         return None;
     }
     hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// The `DependOnSlot` and `DependOnSlotGroup` attributes of an element.
+fn slot_depend(ctx: Ctx, attrs: &[(Vec<u8>, String, usize)]) -> Result<SlotDepend, ParseError> {
+    let mut d = SlotDepend::default();
+    for (k, v, at) in attrs {
+        let which = match k.as_slice() {
+            b"DependOnSlot" => &mut d.slot,
+            b"DependOnSlotGroup" => &mut d.slot_group,
+            _ => continue,
+        };
+        *which = flag(
+            ctx,
+            v,
+            *at,
+            &format!("the {} attribute", String::from_utf8_lossy(k)),
+        )?;
+    }
+    Ok(d)
 }
 
 /// The `Enable` attribute of `Sm`: a number 0..255 (the SII enable byte), or `true`/`false`.
@@ -1283,14 +1376,14 @@ fn build_device(ctx: Ctx, raw: RawDevice) -> Result<(DeviceDescription, SourceMa
         source.set_object(index, pos(o.offset));
         dict.insert(build_object(ctx, &types, o, index)?);
     }
-    for &(tx, ordinal, n, offset) in &raw.pdo_entry_offsets {
-        let pdos = if tx {
+    for e in &raw.pdo_entry_offsets {
+        let pdos = if e.tx {
             &raw.ecat.tx_pdos
         } else {
             &raw.ecat.rx_pdos
         };
-        if let Some(pdo) = pdos.get(ordinal) {
-            source.set_pdo_entry(pdo.index, n, pos(offset));
+        if let Some(pdo) = pdos.get(e.pdo) {
+            source.set_pdo_entry(pdo.index, e.n, pos(e.offset));
         }
     }
     if !raw.has_dictionary {

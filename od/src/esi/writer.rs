@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 
 use crate::device::{
-    CoeFlags, DeviceDescription, EthercatInfo, Mailbox, Pdo, PdoEntry, SyncManager,
+    CoeFlags, DeviceDescription, EthercatInfo, Mailbox, Pdo, PdoEntry, SlotDepend, SyncManager,
 };
 use crate::object::{Access, AccessType, Object, ObjectKind, PdoMapping, SubObject};
 use crate::types::DataType;
@@ -197,23 +197,46 @@ fn write_sm(w: &mut XmlWriter, sm: &SyncManager) {
     w.text("Sm", &attrs, &sm.kind);
 }
 
+/// The `DependOnSlot`/`DependOnSlotGroup` attributes of an index.
+fn depend_attrs(d: SlotDepend) -> Vec<(&'static str, &'static str)> {
+    let mut attrs = Vec::new();
+    if d.slot {
+        attrs.push(("DependOnSlot", "true"));
+    }
+    if d.slot_group {
+        attrs.push(("DependOnSlotGroup", "true"));
+    }
+    attrs
+}
+
 fn write_pdo(w: &mut XmlWriter, element: &str, p: &Pdo) {
-    let sm = p.sm.map(|s| s.to_string());
+    let numbers: Vec<(&str, String)> = [
+        ("Sm", p.sm.map(u32::from)),
+        ("Su", p.su.map(u32::from)),
+        ("OSFac", p.os_factor),
+        ("OSMin", p.os_min),
+        ("OSMax", p.os_max),
+        ("OSIndexInc", p.os_index_inc),
+    ]
+    .into_iter()
+    .filter_map(|(k, v)| v.map(|v| (k, v.to_string())))
+    .collect();
     let mut attrs: Vec<(&str, &str)> = Vec::new();
-    if p.fixed {
-        attrs.push(("Fixed", "1"));
+    for (on, name) in [
+        (p.fixed, "Fixed"),
+        (p.mandatory, "Mandatory"),
+        (p.is_virtual, "Virtual"),
+    ] {
+        if on {
+            attrs.push((name, "1"));
+        }
     }
-    if p.mandatory {
-        attrs.push(("Mandatory", "1"));
-    }
-    if let Some(s) = &sm {
-        attrs.push(("Sm", s));
-    }
+    attrs.extend(numbers.iter().map(|(k, v)| (*k, v.as_str())));
     w.start(element, &attrs);
-    w.text("Index", &[], &hex16(p.index));
+    w.text("Index", &depend_attrs(p.index_depend), &hex16(p.index));
     w.text("Name", &[], &p.name);
     for x in &p.exclude {
-        w.text("Exclude", &[], &hex16(*x));
+        w.text("Exclude", &depend_attrs(x.depend), &hex16(x.index));
     }
     for e in &p.entries {
         write_entry(w, e);
@@ -222,8 +245,12 @@ fn write_pdo(w: &mut XmlWriter, element: &str, p: &Pdo) {
 }
 
 fn write_entry(w: &mut XmlWriter, e: &PdoEntry) {
-    w.start("Entry", &[]);
-    w.text("Index", &[], &hex16(e.index));
+    if e.fixed {
+        w.start("Entry", &[("Fixed", "1")]);
+    } else {
+        w.start("Entry", &[]);
+    }
+    w.text("Index", &depend_attrs(e.index_depend), &hex16(e.index));
     if e.index != 0 || e.sub != 0 {
         w.text("SubIndex", &[], &e.sub.to_string());
     }
@@ -231,8 +258,15 @@ fn write_entry(w: &mut XmlWriter, e: &PdoEntry) {
     if !e.name.is_empty() {
         w.text("Name", &[], &e.name);
     }
-    if !e.data_type.is_empty() {
-        w.text("DataType", &[], &e.data_type);
+    if !e.comment.is_empty() {
+        w.text("Comment", &[], &e.comment);
+    }
+    if !e.data_type.is_empty() || !e.data_scale.is_empty() {
+        if e.data_scale.is_empty() {
+            w.text("DataType", &[], &e.data_type);
+        } else {
+            w.text("DataType", &[("DScale", &e.data_scale)], &e.data_type);
+        }
     }
     w.end();
 }
@@ -720,11 +754,8 @@ fn derive_pdo(desc: &DeviceDescription, object: &Object, comm_base: u16, sm: u8)
         if (1..=7).contains(&index) {
             // CiA 301 dummy mapping: a gap.
             entries.push(PdoEntry {
-                index: 0,
-                sub: 0,
                 bit_len: bits,
-                name: String::new(),
-                data_type: String::new(),
+                ..PdoEntry::default()
             });
             continue;
         }
@@ -747,6 +778,7 @@ fn derive_pdo(desc: &DeviceDescription, object: &Object, comm_base: u16, sm: u8)
             bit_len: bits,
             name,
             data_type,
+            ..PdoEntry::default()
         });
     }
     let n = object.index & 0x01FF;
@@ -760,10 +792,9 @@ fn derive_pdo(desc: &DeviceDescription, object: &Object, comm_base: u16, sm: u8)
             .subs
             .get(&0)
             .is_some_and(|s| s.access.kind.writable()),
-        mandatory: false,
         sm: valid.then_some(sm),
-        exclude: Vec::new(),
         entries,
+        ..Pdo::default()
     }
 }
 
