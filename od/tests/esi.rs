@@ -1419,9 +1419,54 @@ fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDes
                 ..DeviceDescription::default()
             };
             d.file_info.file_version = file_version.clone();
+            map_existing_entries(&mut r, &mut d);
             d
         })
         .collect()
+}
+
+/// Points every PDO entry at an entry of the dictionary (or makes it a gap) and makes that entry
+/// mappable in the PDO's direction: the descriptions an ESI can carry, since the reader makes the entries
+/// PDOs map and takes their direction from the PDOs.
+fn map_existing_entries(r: &mut Rng, d: &mut DeviceDescription) {
+    let existing: Vec<(u16, u8)> = d
+        .dictionary
+        .objects()
+        .flat_map(|o| o.subs.keys().map(move |&s| (o.index, s)))
+        .collect();
+    let Some(ec) = d.ethercat.as_mut() else {
+        return;
+    };
+    for (pdos, dir) in [
+        (&mut ec.rx_pdos, PdoMapping::Rpdo),
+        (&mut ec.tx_pdos, PdoMapping::Tpdo),
+    ] {
+        for e in pdos.iter_mut().flat_map(|p| p.entries.iter_mut()) {
+            if e.index == 0 {
+                continue;
+            }
+            if existing.is_empty() {
+                e.index = 0;
+                continue;
+            }
+            let (index, sub) = existing[r.below(existing.len() as u64) as usize];
+            (e.index, e.sub) = (index, sub);
+            let Some(object) = d.dictionary.object_mut(index) else {
+                continue;
+            };
+            // The elements of an ARRAY stay uniform.
+            let array = object.kind == ObjectKind::Array && sub != 0;
+            for (&s, entry) in object.subs.iter_mut() {
+                if s == sub || (array && s != 0) {
+                    entry.pdo = match (entry.pdo, dir) {
+                        (PdoMapping::None, d) => d,
+                        (p, d) if p == d || p == PdoMapping::Both => p,
+                        _ => PdoMapping::Both,
+                    };
+                }
+            }
+        }
+    }
 }
 
 proptest::proptest! {

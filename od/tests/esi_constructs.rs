@@ -3,6 +3,7 @@
 //! and column). Each file is also written and read back.
 
 use od::esi;
+use od::object::ObjectKind;
 use od::report::{Finding, Reading};
 use od::types::DataType;
 use od::value::Value;
@@ -236,5 +237,409 @@ fn pdo_attributes_are_kept() {
     assert_eq!(
         said(&findings),
         ["14:1: warning: <RxPdo Ref=\"DigOutputBit\"> refers to a PDO template of the obsolete Descriptions/Pdos list, which is not read; the PDO is left out"]
+    );
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// What the PDOs say about the dictionary.
+
+#[test]
+fn entries_missing_from_a_partial_dictionary_are_made_from_the_pdos() {
+    let objects = "<Object><Index>#x6000</Index><Name>Status</Name><Type>UINT</Type>\
+                   <Flags><Access>ro</Access><PdoMapping>T</PdoMapping></Flags></Object>";
+    let pdos = "<TxPdo Sm=\"3\"><Index>#x1A00</Index><Name>Inputs</Name>\n\
+<Entry><Index>#x6000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Status</Name><DataType>UINT</DataType></Entry>\n\
+<Entry><Index>#x6010</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>Value 1</Name><DataType>INT16</DataType></Entry>\n\
+<Entry><Index>#x6010</Index><SubIndex>2</SubIndex><BitLen>32</BitLen><Name>Value 2</Name><DataType>UINT32</DataType></Entry>\n\
+<Entry><Index>#x6020</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Bits</Name><DataType>BITARR16</DataType></Entry>\n\
+<Entry><Index>#x6030</Index><SubIndex>0</SubIndex><BitLen>12</BitLen><Name>Raw</Name><DataType>FIXED12</DataType></Entry>\n\
+<Entry><Index>#x6040</Index><SubIndex>0</SubIndex><BitLen>3</BitLen><Name>Mode</Name></Entry>\n\
+<Entry><Index>#x0</Index><BitLen>4</BitLen></Entry>\n\
+</TxPdo>\n\
+<RxPdo Sm=\"2\"><Index>#x1600</Index><Name>Outputs</Name>\n\
+<Entry><Index>#x7000</Index><SubIndex>0</SubIndex><BitLen>8</BitLen><Name>Out</Name><DataType>BYTE</DataType></Entry>\n\
+<Entry><Index>#x6010</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>Value 1</Name><DataType>INT16</DataType></Entry>\n\
+</RxPdo>";
+    let (d, findings) = one(&device(objects, pdos));
+    let dict = &d.dictionary;
+    assert_eq!(
+        dict.objects().map(|o| o.index).collect::<Vec<_>>(),
+        [0x6000, 0x6010, 0x6020, 0x6030, 0x6040, 0x7000]
+    );
+    let record = dict.object(0x6010).unwrap();
+    assert_eq!(record.kind, ObjectKind::Record);
+    assert_eq!(
+        record.name, "Inputs",
+        "named after the first PDO that maps it"
+    );
+    assert_eq!(record.type_name.as_deref(), Some("DT6010"));
+    assert_eq!(
+        record.subs[&0].default.as_ref().unwrap().value,
+        Value::Uint(2)
+    );
+    let entry = |index, sub| {
+        let e = dict.entry(index, sub).unwrap();
+        (
+            e.name.as_str(),
+            e.data_type,
+            e.bit_size,
+            e.access.kind,
+            e.pdo,
+        )
+    };
+    use od::object::{AccessType::Ro, PdoMapping::*};
+    assert_eq!(
+        entry(0x6010, 1),
+        ("Value 1", DataType::Integer16, Some(16), Ro, Both)
+    );
+    assert_eq!(
+        entry(0x6010, 2),
+        ("Value 2", DataType::Unsigned32, Some(32), Ro, Tpdo)
+    );
+    assert_eq!(
+        entry(0x6020, 0),
+        ("Bits", DataType::Unsigned16, Some(16), Ro, Tpdo)
+    );
+    assert_eq!(
+        entry(0x6030, 0),
+        ("Raw", DataType::OctetString, Some(16), Ro, Tpdo)
+    );
+    assert_eq!(
+        entry(0x6040, 0),
+        ("Mode", DataType::Bit(3), Some(3), Ro, Tpdo)
+    );
+    assert_eq!(
+        entry(0x7000, 0),
+        ("Out", DataType::Unsigned8, Some(8), Ro, Rpdo)
+    );
+    assert_eq!(dict.entry(0x6010, 1).unwrap().default, Option::None);
+    assert_eq!(
+        said(&findings),
+        [
+            "11:1: warning: 0x6010:01: TxPdo #x1A00 maps it, but the dictionary does not have it: made from the PDO (INT, ro, mappable T)",
+            "12:1: warning: 0x6010:02: TxPdo #x1A00 maps it, but the dictionary does not have it: made from the PDO (UDINT, ro, mappable T)",
+            "13:1: warning: 0x6020:00: TxPdo #x1A00 maps it, but the dictionary does not have it: made from the PDO (UINT, ro, mappable T)",
+            "14:1: warning: 0x6030:00: TxPdo #x1A00 gives it the <DataType> `FIXED12`, which names no type: made OCTET_STRING(2) from its BitLen 12",
+            "14:1: warning: 0x6030:00: TxPdo #x1A00 maps it, but the dictionary does not have it: made from the PDO (OCTET_STRING(2), ro, mappable T)",
+            "15:1: warning: 0x6040:00: TxPdo #x1A00 gives it no <DataType>: made BIT3 from its BitLen 3",
+            "15:1: warning: 0x6040:00: TxPdo #x1A00 maps it, but the dictionary does not have it: made from the PDO (BIT3, ro, mappable T)",
+            "19:1: warning: 0x7000:00: RxPdo #x1600 maps it, but the dictionary does not have it: made from the PDO (USINT, ro, mappable R)",
+        ]
+    );
+    // The PDOs keep the type names as the file spells them.
+    let tx = &d.ethercat.as_ref().unwrap().tx_pdos[0];
+    assert_eq!(tx.entries[1].data_type, "INT16");
+    assert_eq!(tx.entries[3].data_type, "BITARR16");
+    // Nothing is left for validate to say about the mapping.
+    assert_eq!(od::validate::validate(&d), vec![]);
+}
+
+#[test]
+fn a_device_without_a_dictionary_gets_one_from_its_pdos() {
+    let text = "<?xml version=\"1.0\"?>\n<EtherCATInfo><Vendor><Id>2</Id><Name>V</Name></Vendor>\n\
+<Descriptions><Groups/><Devices><Device>\n<Type ProductCode=\"#x10\" RevisionNo=\"1\">EK1</Type><Name>Coupler</Name>\n\
+<TxPdo Fixed=\"1\" Sm=\"3\"><Index>#x1A00</Index><Name>ID</Name>\n\
+<Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>8</BitLen><Name>ID</Name><DataType>UINT8</DataType></Entry>\n\
+<Entry><Index>#x6000</Index><SubIndex>2</SubIndex><BitLen>24</BitLen><Name>Serial</Name><DataType>T_SERIAL</DataType></Entry>\n\
+<Entry><Index>#x6001</Index><SubIndex>0</SubIndex><BitLen>1</BitLen><Name>Ok</Name><DataType>BOOL</DataType></Entry>\n\
+</TxPdo>\n</Device></Devices></Descriptions></EtherCATInfo>\n";
+    let (d, findings) = one(text);
+    let dict = &d.dictionary;
+    assert_eq!(dict.len(), 2);
+    assert_eq!(dict.object(0x6000).unwrap().kind, ObjectKind::Record);
+    let t = |i, s| dict.entry(i, s).unwrap().data_type;
+    assert_eq!(
+        [t(0x6000, 0), t(0x6000, 1), t(0x6000, 2), t(0x6001, 0)],
+        [
+            DataType::Unsigned8,
+            DataType::Unsigned8,
+            DataType::Unsigned24,
+            DataType::Boolean
+        ]
+    );
+    // Without a dictionary the made entries are no news; a type without a name is.
+    assert_eq!(
+        said(&findings),
+        ["7:1: warning: 0x6000:02: TxPdo #x1A00 gives it the <DataType> `T_SERIAL`, which names no type: made UINT24 from its BitLen 24"]
+    );
+    // Without CoE there is no object dictionary to have mandatory objects; with CoE there is.
+    assert_eq!(od::validate::validate(&d), vec![]);
+    let coe = text.replace(
+        "</TxPdo>",
+        "</TxPdo>\n<Mailbox><CoE SdoInfo=\"1\"/></Mailbox>",
+    );
+    let (d, _) = one(&coe);
+    let found: Vec<String> = od::validate::validate(&d)
+        .iter()
+        .map(|f| f.to_string())
+        .collect();
+    assert_eq!(
+        found,
+        [
+            "warning: object 0x1000 (device type) is mandatory and missing",
+            "warning: object 0x1018 (identity) is mandatory and missing",
+        ]
+    );
+}
+
+#[test]
+fn the_pdos_win_over_a_missing_or_other_pdo_mapping() {
+    let types = "<DataTypes><DataType><Name>DT8000ARR</Name><BaseType>UINT</BaseType><BitSize>32</BitSize>\
+                 <ArrayInfo><LBound>1</LBound><Elements>2</Elements></ArrayInfo></DataType>\
+                 <DataType><Name>DT8000</Name><BitSize>48</BitSize>\
+                 <SubItem><SubIdx>0</SubIdx><Name>n</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs></SubItem>\
+                 <SubItem><Name>Elements</Name><Type>DT8000ARR</Type><BitSize>32</BitSize><BitOffs>16</BitOffs>\
+                 <Flags><Access>ro</Access></Flags></SubItem></DataType></DataTypes>";
+    let objects = "<Object><Index>#x6000</Index><Name>A</Name><Type>UINT</Type><Flags><Access>ro</Access></Flags></Object>\n\
+<Object><Index>#x7000</Index><Name>B</Name><Type>UINT</Type><Flags><Access>rw</Access><PdoMapping>T</PdoMapping></Flags></Object>\n\
+<Object><Index>#x8000</Index><Name>C</Name><Type>DT8000</Type><Info><SubItem><Name>n</Name><Info><DefaultData>02</DefaultData></Info></SubItem></Info></Object>\n\
+<Object><Index>#x6001</Index><Name>D</Name><Type>UINT</Type><Flags><Access>ro</Access><PdoMapping>t</PdoMapping></Flags></Object>";
+    let pdos = "<TxPdo Sm=\"3\"><Index>#x1A00</Index><Name>In</Name>\n\
+<Entry><Index>#x6000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>A</Name><DataType>UINT</DataType></Entry>\n\
+<Entry><Index>#x8000</Index><SubIndex>2</SubIndex><BitLen>16</BitLen><Name>C2</Name><DataType>UINT</DataType></Entry>\n\
+<Entry><Index>#x6001</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>D</Name><DataType>UINT</DataType></Entry>\n\
+</TxPdo>\n\
+<RxPdo Fixed=\"1\" Sm=\"2\"><Index>#x1600</Index><Name>Out</Name>\n\
+<Entry><Index>#x7000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>B</Name><DataType>UINT</DataType></Entry>\n\
+</RxPdo>";
+    let text = device(objects, pdos).replace("<DataTypes/>", types);
+    let (d, findings) = one(&text);
+    let pdo = |i, s| d.dictionary.entry(i, s).unwrap().pdo;
+    use od::object::PdoMapping::{self, *};
+    assert_eq!(pdo(0x6000, 0), Tpdo);
+    assert_eq!(pdo(0x7000, 0), Both);
+    assert_eq!(pdo(0x6001, 0), Tpdo);
+    assert_eq!(
+        [pdo(0x8000, 0), pdo(0x8000, 1), pdo(0x8000, 2)],
+        [PdoMapping::None, Tpdo, Tpdo],
+        "the elements of an array share one PdoMapping"
+    );
+    assert_eq!(d.dictionary.object(0x8000).unwrap().kind, ObjectKind::Array);
+    assert_eq!(
+        said(&findings),
+        [
+            "13:1: warning: 0x6000:00: TxPdo #x1A00 maps it, but its <PdoMapping> is missing: read as T",
+            "14:1: warning: 0x8000:02: TxPdo #x1A00 maps it, but its <PdoMapping> is missing: read as T",
+            "18:1: warning: 0x7000:00: RxPdo #x1600 maps it, but its <PdoMapping> says T: read as RT",
+        ]
+    );
+    assert_eq!(od::validate::validate(&d), vec![]);
+}
+
+#[test]
+fn one_entry_mapped_with_different_lengths() {
+    // Virtual PDOs map windows of ESC registers (0x1D09:B0 = the latch time registers from 0x09B0) with
+    // 32 or 64 bits: any length is a reading that fits. Two plain PDOs that map one entry with
+    // different lengths are a contradiction, which validate names.
+    let text = "<?xml version=\"1.0\"?>\n<EtherCATInfo><Vendor><Id>2</Id><Name>V</Name></Vendor>\n\
+<Descriptions><Groups/><Devices><Device>\n<Type ProductCode=\"#x10\" RevisionNo=\"1\">ER1</Type><Name>Latch</Name>\n\
+<TxPdo Virtual=\"true\" Sm=\"3\"><Index>#x1A12</Index><Name>Latch 32</Name>\n\
+<Entry><Index>#x1D09</Index><SubIndex>#xB0</SubIndex><BitLen>32</BitLen><Name>LatchPos0</Name><DataType>UDINT</DataType></Entry>\n\
+</TxPdo>\n\
+<TxPdo Virtual=\"true\" Sm=\"3\"><Index>#x1A13</Index><Name>Latch 64</Name>\n\
+<Entry><Index>#x1D09</Index><SubIndex>#xB0</SubIndex><BitLen>64</BitLen><Name>LatchPos0</Name><DataType>ULINT</DataType></Entry>\n\
+</TxPdo>\n\
+<RxPdo Sm=\"2\"><Index>#x1600</Index><Name>Byte</Name>\n\
+<Entry><Index>#x7000</Index><SubIndex>0</SubIndex><BitLen>8</BitLen><Name>Out</Name><DataType>USINT</DataType></Entry>\n\
+</RxPdo>\n\
+<RxPdo Sm=\"2\"><Index>#x1601</Index><Name>Word</Name>\n\
+<Entry><Index>#x7000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Out</Name><DataType>UINT</DataType></Entry>\n\
+</RxPdo>\n</Device></Devices></Descriptions></EtherCATInfo>\n";
+    let reading = read(text);
+    assert_eq!(reading.findings, vec![]);
+    let d = &reading.devices[0];
+    let latch = d.dictionary.entry(0x1D09, 0xB0).unwrap();
+    assert_eq!(
+        latch.data_type,
+        DataType::Unsigned32,
+        "the first PDO that maps it"
+    );
+    assert_eq!(
+        d.dictionary.entry(0x7000, 0).unwrap().data_type,
+        DataType::Unsigned8
+    );
+    let found = od::validate::validate_mapped(d, &reading.sources[0]);
+    assert_eq!(
+        said(&found),
+        ["15:1: warning: 0x1601:00: maps 0x7000:00 with 16 bits, its type UNSIGNED8 has 8"]
+    );
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Gaps, DS301-era objects, NaN defaults, counts.
+
+#[test]
+fn gaps_of_any_length_survive_writing_and_the_sii_image() {
+    // Index 0 is a gap of BitLen bits (ETG.1000.6), in a PDO and in a mapping object's entries.
+    let objects = "<Object><Index>#x6000</Index><Name>A</Name><Type>UINT</Type><Flags><Access>ro</Access><PdoMapping>T</PdoMapping></Flags></Object>\n\
+<Object><Index>#x1A00</Index><Name>In</Name><Type>DT1A00</Type><Info>\
+<SubItem><Name>n</Name><Info><DefaultData>03</DefaultData></Info></SubItem>\
+<SubItem><Name>1</Name><Info><DefaultData>10000060</DefaultData></Info></SubItem>\
+<SubItem><Name>2</Name><Info><DefaultData>0D000000</DefaultData></Info></SubItem>\
+<SubItem><Name>3</Name><Info><DefaultData>10000000</DefaultData></Info></SubItem></Info></Object>";
+    let types = "<DataTypes><DataType><Name>DT1A00</Name><BitSize>112</BitSize>\
+<SubItem><SubIdx>0</SubIdx><Name>n</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs></SubItem>\
+<SubItem><SubIdx>1</SubIdx><Name>1</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>16</BitOffs></SubItem>\
+<SubItem><SubIdx>2</SubIdx><Name>2</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>48</BitOffs></SubItem>\
+<SubItem><SubIdx>3</SubIdx><Name>3</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>80</BitOffs></SubItem>\
+</DataType></DataTypes>";
+    let pdos = "<TxPdo Fixed=\"1\" Sm=\"3\"><Index>#x1A00</Index><Name>In</Name>\n\
+<Entry><Index>#x6000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>A</Name><DataType>UINT</DataType></Entry>\n\
+<Entry><Index>#x0</Index><BitLen>13</BitLen></Entry>\n\
+<Entry><Index>0</Index><SubIndex>0</SubIndex><BitLen>300</BitLen><Name>Reserved</Name></Entry>\n\
+<Entry><Index>#x0</Index><BitLen>16</BitLen></Entry>\n\
+</TxPdo>";
+    let text = device(objects, pdos).replace("<DataTypes/>", types);
+    let (d, findings) = one(&text);
+    assert_eq!(findings, vec![]);
+    let tx = &d.ethercat.as_ref().unwrap().tx_pdos[0];
+    let gaps: Vec<(u16, u8, u16, &str)> = tx.entries[1..]
+        .iter()
+        .map(|e| (e.index, e.sub, e.bit_len, e.name.as_str()))
+        .collect();
+    assert_eq!(
+        gaps,
+        [(0, 0, 13, ""), (0, 0, 300, "Reserved"), (0, 0, 16, "")]
+    );
+    assert_eq!(
+        od::validate::validate(&d),
+        vec![],
+        "gaps are no missing objects"
+    );
+    // The SII TxPDO category: 8 bytes of PDO header, then 8 bytes per entry with the bit length in its
+    // byte 5; the 300-bit gap is two entries (255 + 45 bits).
+    let image = od::sii::parse(&od::sii::write(&d, 1).unwrap()).unwrap();
+    let tx = image.category(od::sii::category::TXPDO).unwrap();
+    assert_eq!(tx[2], 5, "entries");
+    let entries: Vec<(u16, u8)> = tx[8..]
+        .chunks(8)
+        .map(|e| (u16::from_le_bytes([e[0], e[1]]), e[5]))
+        .collect();
+    assert_eq!(entries, [(0x6000, 16), (0, 13), (0, 255), (0, 45), (0, 16)]);
+}
+
+#[test]
+fn ds301_number_of_pdos_supported() {
+    // DS301 v4.0's 0x1004: an ARRAY whose sub-index 0 is an UNSIGNED32 (RxPDOs in the low word, TxPDOs
+    // in the high word), then the synchronous and asynchronous PDOs; Beckhoff AX2000 files still have it.
+    let types = "<DataTypes><DataType><Name>DT1004ARR</Name><BaseType>UDINT</BaseType><BitSize>64</BitSize>\
+<ArrayInfo><LBound>1</LBound><Elements>2</Elements></ArrayInfo></DataType>\
+<DataType><Name>DT1004</Name><BitSize>80</BitSize>\
+<SubItem><SubIdx>0</SubIdx><Name>Number of RxPDOs/TxPDOs</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>0</BitOffs></SubItem>\
+<SubItem><Name>Elements</Name><Type>DT1004ARR</Type><BitSize>64</BitSize><BitOffs>16</BitOffs><Flags><Access>rw</Access></Flags></SubItem>\
+</DataType></DataTypes>";
+    let objects = "<Object><Index>#x1004</Index><Name>Number of PDOs supported</Name><Type>DT1004</Type><BitSize>80</BitSize><Info>\
+<SubItem><Name>Number of RxPDOs/TxPDOs</Name><Info><DefaultData>03000300</DefaultData></Info></SubItem>\
+<SubItem><Name>SubIndex 001</Name><Info><DefaultData>00000000</DefaultData></Info></SubItem>\
+<SubItem><Name>SubIndex 002</Name><Info><DefaultData>03000300</DefaultData></Info></SubItem>\
+</Info><Flags><Access>rw</Access></Flags></Object>";
+    let text = device(objects, "").replace("<DataTypes/>", types);
+    let (d, findings) = one(&text);
+    assert_eq!(findings, vec![]);
+    let o = d.dictionary.object(0x1004).unwrap();
+    assert_eq!(o.kind, ObjectKind::Array);
+    assert_eq!(o.subs.len(), 3);
+    let zero = &o.subs[&0];
+    assert_eq!(
+        (zero.name.as_str(), zero.data_type),
+        ("Number of RxPDOs/TxPDOs", DataType::Unsigned32)
+    );
+    assert_eq!(
+        zero.default.as_ref().unwrap().value,
+        Value::Uint(0x0003_0003)
+    );
+    assert_eq!(
+        o.subs[&2].default.as_ref().unwrap().value,
+        Value::Uint(0x0003_0003)
+    );
+    assert_eq!(o.subs[&1].access.kind, od::object::AccessType::Rw);
+    assert_eq!(
+        od::validate::validate(&d),
+        vec![],
+        "the DS301 form of 0x1004 is no fault"
+    );
+    // The writer puts the elements after the 32-bit sub-index 0.
+    let written = esi::write(&d);
+    let flat: String = written.lines().map(str::trim).collect();
+    assert!(
+        flat.contains("<Name>DT1004</Name><BitSize>96</BitSize>"),
+        "{written}"
+    );
+    assert!(
+        flat.contains(
+            "<Name>Elements</Name><Type>DT1004ARR</Type><BitSize>64</BitSize><BitOffs>32</BitOffs>"
+        ),
+        "{written}"
+    );
+}
+
+#[test]
+fn nan_defaults_keep_their_bits() {
+    // C4FFFFFF is a REAL NaN (a vendor's -60 as a DINT in a REAL object); an LREAL NaN with a payload.
+    let objects = "<Object><Index>#x2503</Index><Name>Min out</Name><Type>REAL</Type><BitSize>32</BitSize>\
+<Info><DefaultData>c4ffffff</DefaultData></Info><Flags><Access>rw</Access></Flags></Object>\n\
+<Object><Index>#x2504</Index><Name>Gain</Name><Type>LREAL</Type><BitSize>64</BitSize>\
+<Info><DefaultData>01000000A0FFF87F</DefaultData></Info><Flags><Access>rw</Access></Flags></Object>";
+    let (d, findings) = one(&device(objects, ""));
+    assert_eq!(findings, vec![]);
+    let bits32 = match d
+        .dictionary
+        .entry(0x2503, 0)
+        .unwrap()
+        .default
+        .as_ref()
+        .unwrap()
+        .value
+    {
+        Value::Real32(v) => v.to_bits(),
+        ref other => panic!("{other:?}"),
+    };
+    let bits64 = match d
+        .dictionary
+        .entry(0x2504, 0)
+        .unwrap()
+        .default
+        .as_ref()
+        .unwrap()
+        .value
+    {
+        Value::Real64(v) => v.to_bits(),
+        ref other => panic!("{other:?}"),
+    };
+    assert_eq!((bits32, bits64), (0xFFFF_FFC4, 0x7FF8_FFA0_0000_0001));
+    let written = esi::write(&d);
+    assert!(
+        written.contains("<DefaultData>C4FFFFFF</DefaultData>"),
+        "{written}"
+    );
+    assert!(
+        written.contains("<DefaultData>01000000A0FFF87F</DefaultData>"),
+        "{written}"
+    );
+    let back = esi::read(written.as_bytes(), "w.xml", None).unwrap();
+    assert_eq!(
+        back.dictionary.entry(0x2504, 0).unwrap().value,
+        [1, 0, 0, 0, 0xA0, 0xFF, 0xF8, 0x7F]
+    );
+}
+
+#[test]
+fn only_a_count_the_file_gives_is_checked() {
+    // A RECORD whose sub-index 0 has no default says nothing about its count; one that says 1 with two
+    // entries is wrong; a mapping object that maps one of its two entries is right.
+    let types = "<DataTypes><DataType><Name>DT2000</Name><BitSize>48</BitSize>\
+<SubItem><SubIdx>0</SubIdx><Name>n</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs></SubItem>\
+<SubItem><SubIdx>1</SubIdx><Name>a</Name><Type>UINT</Type><BitSize>16</BitSize><BitOffs>16</BitOffs></SubItem>\
+<SubItem><SubIdx>2</SubIdx><Name>b</Name><Type>UINT</Type><BitSize>16</BitSize><BitOffs>32</BitOffs></SubItem>\
+</DataType></DataTypes>";
+    let objects = "<Object><Index>#x2000</Index><Name>No count</Name><Type>DT2000</Type></Object>\n\
+<Object><Index>#x2001</Index><Name>Short count</Name><Type>DT2000</Type><Info><SubItem><Name>n</Name><Info><DefaultData>01</DefaultData></Info></SubItem></Info></Object>\n\
+<Object><Index>#x1A00</Index><Name>Mapping</Name><Type>DT2000</Type><Info><SubItem><Name>n</Name><Info><DefaultData>01</DefaultData></Info></SubItem></Info></Object>";
+    let reading = read(&device(objects, "").replace("<DataTypes/>", types));
+    let found = od::validate::validate_mapped(&reading.devices[0], &reading.sources[0]);
+    assert_eq!(
+        said(&found),
+        ["8:79: warning: 0x2001:00: sub-index 0 says 1 but the highest sub-index is 2"],
+        "at the entry's Info/SubItem"
     );
 }

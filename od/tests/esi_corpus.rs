@@ -135,7 +135,14 @@ fn elmo_gold_four_devices() {
     assert!(ds.iter().all(|d| d.identity.vendor_id == 0x9A));
     assert_eq!(ds[0].identity.product_code, 0x0003_0924);
     assert_eq!(ds[0].identity.revision, 1);
-    assert_eq!(ds[0].dictionary.len(), 9);
+    // Nine objects in the file; its TxPdo 0x1A00 also maps 0x60FD (digital inputs), which is made from
+    // the PDO.
+    assert_eq!(ds[0].dictionary.len(), 10);
+    let inputs = ds[0].dictionary.entry(0x60FD, 0).unwrap();
+    assert_eq!(
+        (inputs.data_type, inputs.access.kind, inputs.pdo),
+        (DataType::Integer32, AccessType::Ro, PdoMapping::Tpdo)
+    );
     let drive = &ds[2];
     assert_eq!(drive.identity.revision, 0x0001_0420);
     assert_eq!(

@@ -63,12 +63,19 @@
 //! sub-index 0; when the object has none, its `DataType/Comment`) and `DataType/SubItem/Comment` (→ the
 //! entry's description).
 //!
-//! A device whose `Profile` has no `Dictionary` (couplers, Modules/Slots devices) gets a dictionary built
-//! from its PDO entries only: for each mapped object that the PDOs name with a `DataType`, an entry of that
-//! type, read-only, mappable in the PDO's direction, without default; a VAR for sub-index 0, else a RECORD
-//! (type name `DTxxxx`, as the writer names it) whose sub-index 0 counts up to the highest mapped
-//! sub-index. The object is named after the first PDO that maps it. Nothing else is made up: no mapping or
-//! assignment objects.
+//! The device's own PDOs speak about its dictionary too. An entry a PDO maps is mappable in the PDO's
+//! direction: where its `PdoMapping` is missing or says otherwise (`R` for an entry a TxPdo maps), the
+//! PDOs win, with a warning (the elements of an ARRAY share one `SubItem`, so all of them). An entry the
+//! dictionary does not have (a device without `Profile/Dictionary` — couplers, Modules/Slots devices —
+//! or a partial dictionary, with a warning) is made from the PDO entry that maps it: of its `DataType`
+//! (ETG.2000 names, and the spellings `UINT8`…`UINT64`, `INT8`…`INT64`, `BITARR8/16/32`, `BYTE`, `WORD`,
+//! `DWORD`, `BOOL`); a `DataType` that names no type, or none, gives an unsigned of the `BitLen`, a bit
+//! field below 8 bits or an octet string of the bytes it covers, with a warning. The entry is
+//! read-only, without default; a VAR for sub-index 0, else an entry of a RECORD (type name `DTxxxx`, as
+//! the writer names it, or `DTxxxx_n` when the file uses that name) whose sub-index 0 counts up to the
+//! highest entry, named after the first PDO that maps it. An entry that several PDOs map with
+//! different lengths takes the first PDO's type (virtual PDOs map windows of ESC registers of any
+//! length). Nothing else is made up: no mapping or assignment objects.
 //!
 //! # What is written
 //!

@@ -296,7 +296,8 @@ struct RawObject {
     type_name: At,
     bit_size: Option<u32>,
     info: RawInfo,
-    sub_infos: Vec<(String, RawInfo)>,
+    /// `Info/SubItem`s: name, values, and where the `SubItem` is.
+    sub_infos: Vec<(String, RawInfo, usize)>,
     flags: Option<RawFlags>,
 }
 
@@ -665,7 +666,8 @@ impl<'a> Parser<'a> {
             }
             [Tag::Profile, Tag::Dictionary, Tag::Objects, Tag::Object, Tag::Info, Tag::SubItem] => {
                 if let Some(o) = dev.objects.last_mut() {
-                    o.sub_infos.push((String::new(), RawInfo::default()));
+                    o.sub_infos
+                        .push((String::new(), RawInfo::default(), offset));
                 }
             }
             [.., Tag::Flags, Tag::Access] => {
@@ -1374,7 +1376,7 @@ fn build_device(ctx: Ctx, raw: RawDevice) -> Result<(DeviceDescription, SourceMa
         }
         first_at.insert(index, o.offset);
         source.set_object(index, pos(o.offset));
-        dict.insert(build_object(ctx, &types, o, index)?);
+        dict.insert(build_object(ctx, &types, o, index, &mut source)?);
     }
     for e in &raw.pdo_entry_offsets {
         let pdos = if e.tx {
@@ -1386,9 +1388,7 @@ fn build_device(ctx: Ctx, raw: RawDevice) -> Result<(DeviceDescription, SourceMa
             source.set_pdo_entry(pdo.index, e.n, pos(e.offset));
         }
     }
-    if !raw.has_dictionary {
-        dictionary_from_pdos(&mut dict, &raw.ecat);
-    }
+    apply_pdos(ctx, &mut dict, &raw, &mut source);
     desc.dictionary = dict;
     let mut ecat = raw.ecat;
     ecat.group_type = raw.group_type;
@@ -1396,7 +1396,13 @@ fn build_device(ctx: Ctx, raw: RawDevice) -> Result<(DeviceDescription, SourceMa
     Ok((desc, source))
 }
 
-fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Object, ParseError> {
+fn build_object(
+    ctx: Ctx,
+    types: &Types,
+    o: &RawObject,
+    index: u16,
+    source: &mut SourceMap,
+) -> Result<Object, ParseError> {
     let name = o.name.get().unwrap_or_default().to_string();
     let comment = o.comment.get().map(str::to_string);
     let type_at = if o.type_name.text.is_empty() {
@@ -1467,7 +1473,7 @@ fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Ob
             // and then by position.
             let mut assigned: Vec<Option<usize>> = vec![None; flat.len()];
             let complete = o.sub_infos.len() == flat.len();
-            for (i, (info_name, _)) in o.sub_infos.iter().enumerate() {
+            for (i, (info_name, _, _)) in o.sub_infos.iter().enumerate() {
                 if complete {
                     assigned[i] = Some(i);
                     continue;
@@ -1504,15 +1510,16 @@ fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Ob
                     .unwrap_or_default();
                 let info = assigned[j].and_then(|i| o.sub_infos.get(i));
                 let name = match (f.element, info) {
-                    (true, Some((n, _))) => n.clone(),
+                    (true, Some((n, _, _))) => n.clone(),
                     _ => f.name.clone(),
                 };
                 let mut sub = SubObject::new(name, f.data_type, access);
                 sub.bit_size = f.bit_size;
                 sub.pdo = pdo;
                 sub.description = f.comment.map(str::to_string);
-                if let Some((_, info)) = info {
+                if let Some((_, info, at)) = info {
                     apply_info(ctx, &mut sub, info, index)?;
+                    source.set_entry(index, f.sub, ctx.pos(*at));
                 }
                 object.subs.insert(f.sub, sub);
             }
@@ -1856,51 +1863,197 @@ fn value_text(ctx: Ctx, t: DataType, v: &At, index: u16, what: &str) -> Result<V
     }
 }
 
-/// The dictionary of a device without one: an entry for every object the PDOs map with a known type.
-fn dictionary_from_pdos(dict: &mut Dictionary, ecat: &EthercatInfo) {
-    let pdos = ecat
-        .rx_pdos
-        .iter()
-        .map(|p| (p, PdoMapping::Rpdo))
-        .chain(ecat.tx_pdos.iter().map(|p| (p, PdoMapping::Tpdo)));
-    for (pdo, dir) in pdos {
-        for e in &pdo.entries {
-            if e.index == 0 {
-                continue;
-            }
-            let Some((t, bits)) = DataType::from_esi_name(&e.data_type) else {
-                continue;
-            };
-            let bit_size = if t.is_variable() {
-                bits.or(Some(u32::from(e.bit_len)))
-            } else {
-                t.bit_size()
-            };
-            let mut sub = SubObject::new(e.name.clone(), t, AccessType::Ro).with_pdo(dir);
-            sub.bit_size = bit_size;
-            if e.sub == 0 {
-                if dict.object(e.index).is_none() {
-                    dict.insert(Object::var(e.index, sub));
+/// A type for an entry that only a PDO describes and whose `DataType` names none: an unsigned of its
+/// `BitLen`, a bit field below 8 bits, else an octet string of the bytes it covers.
+fn type_of_size(bits: u16) -> Option<(DataType, Option<u32>)> {
+    let t = match bits {
+        0 => return None,
+        1..=7 => DataType::Bit(bits as u8),
+        8 => DataType::Unsigned8,
+        16 => DataType::Unsigned16,
+        24 => DataType::Unsigned24,
+        32 => DataType::Unsigned32,
+        40 => DataType::Unsigned40,
+        48 => DataType::Unsigned48,
+        56 => DataType::Unsigned56,
+        64 => DataType::Unsigned64,
+        _ => return Some((DataType::OctetString, Some(u32::from(bits).div_ceil(8) * 8))),
+    };
+    Some((t, None))
+}
+
+/// `p` with the direction `dir` added.
+fn with_direction(p: PdoMapping, dir: PdoMapping) -> PdoMapping {
+    match (p, dir) {
+        (PdoMapping::None, d) => d,
+        (PdoMapping::Rpdo, PdoMapping::Tpdo) | (PdoMapping::Tpdo, PdoMapping::Rpdo) => {
+            PdoMapping::Both
+        }
+        (p, _) => p,
+    }
+}
+
+fn direction_text(p: PdoMapping) -> &'static str {
+    match p {
+        PdoMapping::None => "nothing",
+        PdoMapping::Rpdo => "R",
+        PdoMapping::Tpdo => "T",
+        PdoMapping::Both => "RT",
+    }
+}
+
+/// What the device's own PDOs say about its dictionary. An entry a PDO maps is mappable in the PDO's
+/// direction: where the dictionary's `PdoMapping` is missing or says otherwise, the PDOs win (with a
+/// warning). An entry the dictionary does not have (a device without a dictionary, or a partial one) is
+/// made from the PDO entry that maps it: of the `DataType`'s type (else one of its `BitLen`), read-only,
+/// mappable in the PDO's direction, without default; a VAR for sub-index 0, else an entry of a RECORD
+/// (type name `DTxxxx`, as the writer names it) whose sub-index 0 counts up to the highest entry. The
+/// object is named after the first PDO that maps it. Nothing else is made up.
+fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut SourceMap) {
+    let partial = raw.has_dictionary;
+    // Entries and objects made here (a second PDO that maps them only adds its direction).
+    let mut made: std::collections::HashSet<(u16, u8)> = std::collections::HashSet::new();
+    let mut made_objects: std::collections::HashSet<u16> = std::collections::HashSet::new();
+    // The structure type names in use, once a RECORD is made.
+    let mut type_names: Option<std::collections::HashSet<String>> = None;
+    for at in &raw.pdo_entry_offsets {
+        let (pdos, dir, kind) = if at.tx {
+            (&raw.ecat.tx_pdos, PdoMapping::Tpdo, "TxPdo")
+        } else {
+            (&raw.ecat.rx_pdos, PdoMapping::Rpdo, "RxPdo")
+        };
+        let Some(pdo) = pdos.get(at.pdo) else {
+            continue;
+        };
+        let Some(e) = pdo.entries.get(at.n) else {
+            continue;
+        };
+        if e.index == 0 {
+            continue;
+        }
+        let address = Address::new(e.index, e.sub);
+        let which = format!("{kind} #x{:04X}", pdo.index);
+        if let Some(object) = dict
+            .object_mut(e.index)
+            .filter(|o| o.subs.contains_key(&e.sub))
+        {
+            // The elements of an ARRAY share one `SubItem`, and so one `PdoMapping`.
+            let array = object.kind == ObjectKind::Array && e.sub != 0;
+            let was = object.subs.get(&e.sub).map_or(PdoMapping::None, |s| s.pdo);
+            let now = with_direction(was, dir);
+            for (&s, sub) in object.subs.iter_mut() {
+                if s == e.sub || (array && s != 0) {
+                    sub.pdo = with_direction(sub.pdo, dir);
                 }
-                continue;
             }
-            if dict.object(e.index).is_none() {
+            if now != was && !made.contains(&(e.index, e.sub)) {
+                let flag = if was == PdoMapping::None {
+                    "is missing".to_string()
+                } else {
+                    format!("says {}", direction_text(was))
+                };
+                ctx.warn_about(
+                    at.offset,
+                    address,
+                    format!(
+                        "{which} maps it, but its <PdoMapping> {flag}: read as {}",
+                        direction_text(now)
+                    ),
+                );
+            }
+            continue;
+        }
+        let (t, bits) = match DataType::from_esi_name(&e.data_type) {
+            Some(found) => found,
+            None => {
+                let named = if e.data_type.trim().is_empty() {
+                    "no <DataType>".to_string()
+                } else {
+                    format!(
+                        "the <DataType> `{}`, which names no type",
+                        clip(&e.data_type)
+                    )
+                };
+                let Some((t, bits)) = type_of_size(e.bit_len) else {
+                    ctx.warn_about(
+                        at.offset,
+                        address,
+                        format!("{which} gives it {named} and BitLen 0: no entry is made"),
+                    );
+                    continue;
+                };
+                let size = bits.or(t.bit_size()).unwrap_or(0);
+                ctx.warn_about(
+                    at.offset,
+                    address,
+                    format!(
+                        "{which} gives it {named}: made {} from its BitLen {}",
+                        t.esi_name(size),
+                        e.bit_len
+                    ),
+                );
+                (t, bits)
+            }
+        };
+        let bit_size = if t.is_variable() {
+            bits.or(Some(u32::from(e.bit_len)))
+        } else {
+            t.bit_size()
+        };
+        let mut sub = SubObject::new(e.name.clone(), t, AccessType::Ro).with_pdo(dir);
+        sub.bit_size = bit_size;
+        let exists = dict.object(e.index).is_some();
+        if exists && !dict.object(e.index).is_some_and(|o| o.kind.has_subs()) {
+            // A VAR mapped with a sub-index it does not have: validate says so.
+            continue;
+        }
+        if e.sub == 0 && !exists {
+            dict.insert(Object::var(e.index, sub));
+        } else {
+            if !exists {
                 let mut object = Object::structured(e.index, pdo.name.clone(), ObjectKind::Record);
-                // The name the writer gives the structure type, so the dictionary reads back the same.
-                object.type_name = Some(format!("DT{:04X}", e.index));
+                // The name the writer gives the structure type (unless the file uses it), so the
+                // dictionary reads back the same.
+                let used = type_names.get_or_insert_with(|| {
+                    raw.data_types
+                        .iter()
+                        .map(|t| t.name.clone())
+                        .chain(dict.objects().filter_map(|o| o.type_name.clone()))
+                        .collect()
+                });
+                let base = format!("DT{:04X}", e.index);
+                let name = std::iter::once(base.clone())
+                    .chain((1..=256).map(|n| format!("{base}_{n}")))
+                    .find(|n| !used.contains(n))
+                    .unwrap_or(base);
+                used.insert(name.clone());
+                object.type_name = Some(name);
                 dict.insert(object);
+                made_objects.insert(e.index);
             }
             let Some(object) = dict.object_mut(e.index) else {
                 continue;
             };
-            if !object.kind.has_subs() || object.subs.contains_key(&e.sub) {
-                continue;
-            }
             object.subs.insert(e.sub, sub);
-            let count = object.max_sub();
-            let zero = SubObject::new("SubIndex 000", DataType::Unsigned8, AccessType::Ro)
-                .with_default(Value::Uint(u64::from(count)));
-            object.subs.insert(0, zero);
+            if made_objects.contains(&e.index) {
+                let count = object.max_sub();
+                let zero = SubObject::new("SubIndex 000", DataType::Unsigned8, AccessType::Ro)
+                    .with_default(Value::Uint(u64::from(count)));
+                object.subs.insert(0, zero);
+            }
+        }
+        made.insert((e.index, e.sub));
+        source.set_entry(e.index, e.sub, ctx.pos(at.offset));
+        if partial {
+            ctx.warn_about(
+                at.offset,
+                address,
+                format!(
+                    "{which} maps it, but the dictionary does not have it: made from the PDO ({}, ro, mappable {})",
+                    t.esi_name(bit_size.unwrap_or(0)),
+                    direction_text(dir)
+                ),
+            );
         }
     }
 }

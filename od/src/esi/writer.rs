@@ -415,12 +415,15 @@ fn item_of(sub_index: u8, sub: &SubObject, bit_offs: u32) -> Item {
 }
 
 /// The structure type of a RECORD or ARRAY object, standard CoE layout: sub-index 0 at bit 0, sub-index 1
-/// at bit 16, the rest packed.
+/// at bit 16 (after a wider sub-index 0, such as DS301's UNSIGNED32 in 0x1004, at the next 16-bit
+/// boundary after it), the rest packed.
 fn struct_of(object: &Object) -> Struct {
     let mut items = Vec::new();
     let mut offset: u32 = 16;
     if let Some(zero) = object.subs.get(&0) {
-        items.push(item_of(0, zero, 0));
+        let item = item_of(0, zero, 0);
+        offset = offset.max(item.bit_size.div_ceil(16).saturating_mul(16));
+        items.push(item);
     }
     let entries: Vec<(u8, &SubObject)> = object
         .subs
