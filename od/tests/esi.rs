@@ -4,8 +4,9 @@
 use std::collections::BTreeMap;
 
 use od::device::{
-    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Identity, Mailbox, OpMode, Pdo, PdoEntry,
-    PdoRef, SlotDepend, SyncManager,
+    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Identity, InitCmd, Mailbox, Module,
+    ModulePdoGroup, OpMode, Pdo, PdoEntry, PdoRef, Slot, SlotDepend, SlotModuleClass,
+    SlotModuleIdent, Slots, SyncManager,
 };
 use od::esi::{self, Select};
 use od::object::{
@@ -393,6 +394,7 @@ fn hand_written_file_reads_into_exact_objects() {
             }),
             foe: true,
             eoe: false,
+            init_cmds: vec![],
         })
     );
     assert_eq!(
@@ -585,6 +587,7 @@ fn writer_output_is_byte_exact() {
                 }),
                 foe: false,
                 eoe: false,
+                init_cmds: vec![],
             }),
             op_modes: vec![OpMode {
                 name: "SM".into(),
@@ -596,6 +599,7 @@ fn writer_output_is_byte_exact() {
                 config_data: vec![0x05, 0x0C],
                 boot_strap: vec![],
             }),
+            ..EthercatInfo::default()
         }),
         dictionary: small_dictionary(),
         ..DeviceDescription::default()
@@ -1258,7 +1262,7 @@ fn random_object(r: &mut Rng, index: u16) -> Object {
     }
 }
 
-fn random_ethercat(r: &mut Rng) -> EthercatInfo {
+fn random_pdo(r: &mut Rng) -> Pdo {
     let depend = |r: &mut Rng| SlotDepend {
         slot: r.chance(4),
         slot_group: r.chance(8),
@@ -1270,7 +1274,7 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
             None
         }
     };
-    let pdo = |r: &mut Rng| Pdo {
+    Pdo {
         index: r.next() as u16,
         index_depend: depend(r),
         name: r.text(10, false),
@@ -1318,7 +1322,10 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
                 fixed: r.chance(4),
             })
             .collect(),
-    };
+    }
+}
+
+fn random_ethercat(r: &mut Rng) -> EthercatInfo {
     let opt = |r: &mut Rng| {
         if r.chance(2) {
             Some(r.next() as u32)
@@ -1343,29 +1350,9 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
                 watchdog: r.chance(4),
             })
             .collect(),
-        rx_pdos: (0..r.below(3)).map(|_| pdo(r)).collect(),
-        tx_pdos: (0..r.below(3)).map(|_| pdo(r)).collect(),
-        mailbox: if r.chance(3) {
-            None
-        } else {
-            Some(Mailbox {
-                data_link_layer: r.chance(2),
-                coe: if r.chance(3) {
-                    None
-                } else {
-                    Some(CoeFlags {
-                        sdo_info: r.chance(2),
-                        pdo_assign: r.chance(2),
-                        pdo_config: r.chance(2),
-                        pdo_upload: r.chance(2),
-                        complete_access: r.chance(2),
-                        segmented_sdo: r.chance(2),
-                    })
-                },
-                foe: r.chance(2),
-                eoe: r.chance(2),
-            })
-        },
+        rx_pdos: (0..r.below(3)).map(|_| random_pdo(r)).collect(),
+        tx_pdos: (0..r.below(3)).map(|_| random_pdo(r)).collect(),
+        mailbox: random_mailbox(r),
         op_modes: (0..r.below(3))
             .map(|_| OpMode {
                 name: r.text(8, false),
@@ -1386,7 +1373,166 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
         } else {
             None
         },
+        slots: random_slots(r),
+        modules: Default::default(),
     }
+}
+
+fn random_mailbox(r: &mut Rng) -> Option<Mailbox> {
+    if r.chance(3) {
+        return None;
+    }
+    let coe = if r.chance(3) {
+        None
+    } else {
+        Some(CoeFlags {
+            sdo_info: r.chance(2),
+            pdo_assign: r.chance(2),
+            pdo_config: r.chance(2),
+            pdo_upload: r.chance(2),
+            complete_access: r.chance(2),
+            segmented_sdo: r.chance(2),
+        })
+    };
+    // Start-up commands are part of the CoE element.
+    let init_cmds = if coe.is_some() {
+        (0..r.below(3))
+            .map(|_| InitCmd {
+                transitions: (0..1 + r.below(2))
+                    .map(|_| r.pick(&["PS", "SO", "SP", "OP", "OS", "IP"]).to_string())
+                    .collect(),
+                index: r.next() as u16,
+                index_depend: SlotDepend {
+                    slot: r.chance(3),
+                    slot_group: r.chance(6),
+                },
+                sub: r.next() as u8,
+                data: r.bytes(6),
+                adapt_automatically: r.chance(3),
+                comment: r.text(10, false),
+                fixed: r.chance(3),
+                complete_access: r.chance(3),
+                overwritten_by_module: r.chance(5),
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    Some(Mailbox {
+        data_link_layer: r.chance(2),
+        coe,
+        foe: r.chance(2),
+        eoe: r.chance(2),
+        init_cmds,
+    })
+}
+
+fn random_slots(r: &mut Rng) -> Option<Slots> {
+    if r.chance(2) {
+        return None;
+    }
+    let opt = |r: &mut Rng| {
+        if r.chance(2) {
+            Some(r.next() as u32)
+        } else {
+            None
+        }
+    };
+    Some(Slots {
+        max_slot_count: opt(r),
+        max_slot_group_count: opt(r),
+        slot_pdo_increment: opt(r),
+        slot_group_pdo_increment: opt(r),
+        slot_index_increment: opt(r),
+        slot_group_index_increment: opt(r),
+        download_module_ident_list: r.chance(2),
+        identify_module_by: if r.chance(3) {
+            "ModuleIdent".into()
+        } else {
+            String::new()
+        },
+        slots: (0..r.below(3))
+            .map(|_| Slot {
+                name: r.text(10, false),
+                slot_group: opt(r),
+                min_instances: r.next() as u32,
+                max_instances: r.next() as u32,
+                slot_pdo_increment: opt(r),
+                slot_group_pdo_increment: opt(r),
+                slot_index_increment: opt(r),
+                slot_group_index_increment: opt(r),
+                tree_view: if r.chance(3) {
+                    "SLOT".into()
+                } else {
+                    String::new()
+                },
+                module_idents: (0..r.below(3))
+                    .map(|_| SlotModuleIdent {
+                        ident: r.next() as u32,
+                        default: opt(r),
+                    })
+                    .collect(),
+                module_classes: (0..r.below(3))
+                    .map(|_| SlotModuleClass {
+                        class: r.text(8, false),
+                        vendor_id: opt(r),
+                        name: r.text(8, false),
+                    })
+                    .collect(),
+            })
+            .collect(),
+        module_pdo_groups: (0..r.below(2))
+            .map(|_| ModulePdoGroup {
+                name: r.text(8, false),
+                alignment: opt(r),
+                rx_pdo: opt(r).map(|v| v as u16),
+                tx_pdo: opt(r).map(|v| v as u16),
+            })
+            .collect(),
+    })
+}
+
+fn random_dictionary(r: &mut Rng, objects: usize) -> Dictionary {
+    let mut objs = BTreeMap::new();
+    for _ in 0..objects {
+        let index = 0x1000 + r.below(0xF000) as u16;
+        objs.insert(index, random_object(r, index));
+    }
+    let mut dictionary = Dictionary::new();
+    for o in objs.into_values() {
+        dictionary.insert(o);
+    }
+    dictionary
+}
+
+fn random_module(r: &mut Rng) -> Module {
+    let mut m = Module {
+        ident: r.next() as u32,
+        class: r.text(8, false),
+        pdo_group: if r.chance(2) {
+            Some(r.below(10) as u32)
+        } else {
+            None
+        },
+        type_name: r.text(12, false),
+        name: r.text(20, false),
+        rx_pdos: (0..r.below(3)).map(|_| random_pdo(r)).collect(),
+        tx_pdos: (0..r.below(3)).map(|_| random_pdo(r)).collect(),
+        mailbox: random_mailbox(r),
+        profile_no: if r.chance(2) { Some(402) } else { None },
+        add_info: if r.chance(3) {
+            Some(r.below(100) as u32)
+        } else {
+            None
+        },
+        dictionary: {
+            let n = r.below(4) as usize;
+            random_dictionary(r, n)
+        },
+        dc_op_mode_name: r.text(8, false),
+    };
+    map_entries(r, &mut m.dictionary, &mut m.rx_pdos, &mut m.tx_pdos);
+    m
 }
 
 fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDescription> {
@@ -1394,17 +1540,12 @@ fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDes
     let vendor_id = r.next() as u32;
     let vendor_name = r.text(20, false);
     let file_version = r.text(6, false);
+    // The modules of a file belong to each of its devices.
+    let modules: std::sync::Arc<[Module]> =
+        (0..r.below(3)).map(|_| random_module(&mut r)).collect();
     (0..count)
         .map(|_| {
-            let mut objs = BTreeMap::new();
-            for _ in 0..objects {
-                let index = 0x1000 + r.below(0xF000) as u16;
-                objs.insert(index, random_object(&mut r, index));
-            }
-            let mut dictionary = Dictionary::new();
-            for o in objs.into_values() {
-                dictionary.insert(o);
-            }
+            let dictionary = random_dictionary(&mut r, objects);
             let mut d = DeviceDescription {
                 identity: Identity {
                     vendor_id,
@@ -1419,7 +1560,10 @@ fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDes
                 ..DeviceDescription::default()
             };
             d.file_info.file_version = file_version.clone();
-            map_existing_entries(&mut r, &mut d);
+            if let Some(ec) = d.ethercat.as_mut() {
+                map_entries(&mut r, &mut d.dictionary, &mut ec.rx_pdos, &mut ec.tx_pdos);
+                ec.modules = modules.clone();
+            }
             d
         })
         .collect()
@@ -1428,19 +1572,12 @@ fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDes
 /// Points every PDO entry at an entry of the dictionary (or makes it a gap) and makes that entry
 /// mappable in the PDO's direction: the descriptions an ESI can carry, since the reader makes the entries
 /// PDOs map and takes their direction from the PDOs.
-fn map_existing_entries(r: &mut Rng, d: &mut DeviceDescription) {
-    let existing: Vec<(u16, u8)> = d
-        .dictionary
+fn map_entries(r: &mut Rng, dictionary: &mut Dictionary, rx: &mut [Pdo], tx: &mut [Pdo]) {
+    let existing: Vec<(u16, u8)> = dictionary
         .objects()
         .flat_map(|o| o.subs.keys().map(move |&s| (o.index, s)))
         .collect();
-    let Some(ec) = d.ethercat.as_mut() else {
-        return;
-    };
-    for (pdos, dir) in [
-        (&mut ec.rx_pdos, PdoMapping::Rpdo),
-        (&mut ec.tx_pdos, PdoMapping::Tpdo),
-    ] {
+    for (pdos, dir) in [(rx, PdoMapping::Rpdo), (tx, PdoMapping::Tpdo)] {
         for e in pdos.iter_mut().flat_map(|p| p.entries.iter_mut()) {
             if e.index == 0 {
                 continue;
@@ -1451,7 +1588,7 @@ fn map_existing_entries(r: &mut Rng, d: &mut DeviceDescription) {
             }
             let (index, sub) = existing[r.below(existing.len() as u64) as usize];
             (e.index, e.sub) = (index, sub);
-            let Some(object) = d.dictionary.object_mut(index) else {
+            let Some(object) = dictionary.object_mut(index) else {
                 continue;
             };
             // The elements of an ARRAY stay uniform.

@@ -643,3 +643,211 @@ fn only_a_count_the_file_gives_is_checked() {
         "at the entry's Info/SubItem"
     );
 }
+
+// ---------------------------------------------------------------------------------------------------------
+// Modular devices (ETG.2001): slots and modules.
+
+const MODULAR: &str = r##"<?xml version="1.0"?>
+<EtherCATInfo>
+<Vendor><Id>#xE0000001</Id><Name>V</Name></Vendor>
+<Descriptions><Groups/><Devices>
+<Device>
+<Type ProductCode="#x10000" RevisionNo="1">Drive1</Type><Name LcId="1031">Antrieb</Name><Name LcId="1033">Drive</Name>
+<Mailbox><CoE SdoInfo="1"><InitCmd Fixed="1"><Transition>PS</Transition><Transition>SO</Transition><Index>#x6060</Index><SubIndex>0</SubIndex><Data>08</Data><Comment>csp</Comment></InitCmd></CoE></Mailbox>
+<Slots SlotPdoIncrement="16" SlotIndexIncrement="#x800" MaxSlotCount="2" DownloadModuleIdentList="1" IdentifyModuleBy="ModuleIdent">
+<Slot MinInstances="1" MaxInstances="1" SlotGroup="1" TreeView="SLOT"><Name LcId="1031">Achse 1</Name><Name LcId="1033">Axis 1</Name>
+<ModuleIdent Default="1">#x100</ModuleIdent><ModuleIdent>#x101</ModuleIdent></Slot>
+<Slot MinInstances="0" MaxInstances="32" SlotIndexIncrement="#x10"><Name>Terminals</Name>
+<ModuleClass><Class>DI</Class><VendorId>#xE0000001</VendorId><Name LcId="1033">Digital inputs</Name><ImageData16x14>00</ImageData16x14></ModuleClass></Slot>
+<ModulePdoGroup Alignment="2" RxPdo="#x1600" TxPdo="#x1A00">Digital</ModulePdoGroup>
+</Slots>
+</Device>
+<Device>
+<Type ProductCode="#x10001" RevisionNo="1">Drive2</Type><Name>Drive 2</Name>
+</Device>
+</Devices>
+<Modules>
+<Module>
+<Type ModuleIdent="#x0100" ModuleClass="DI" ModulePdoGroup="1">Position Mode</Type>
+<Name>Position Mode; synchronous with process data</Name>
+<RxPdo Fixed="true" Sm="2"><Index DependOnSlot="true">#x1600</Index><Name>Position Outputs</Name>
+<Entry><Index DependOnSlot="true">#x607A</Index><SubIndex>0</SubIndex><BitLen>32</BitLen><Name>TargetPosition</Name><DataType>DINT</DataType></Entry>
+</RxPdo>
+<Mailbox><CoE CompleteAccess="true"><InitCmd><Transition>PS</Transition><Index DependOnSlot="true">#x8000</Index><SubIndex>1</SubIndex><Data AdaptAutomatically="1">0A00</Data></InitCmd></CoE></Mailbox>
+<Profile><ProfileNo>402</ProfileNo><AddInfo>2</AddInfo><Dictionary><DataTypes/><Objects>
+<Object><Index>#x8000</Index><Name>Setting</Name><Type>UINT</Type><Info><DefaultValue>10</DefaultValue></Info><Flags><Access>rw</Access></Flags></Object>
+</Objects></Dictionary></Profile>
+<DcOpModeName>Synchron</DcOpModeName>
+</Module>
+<Module>
+<Type ModuleIdent="#x0101">Position Mode (DC)</Type>
+<Name>Position Mode; DC</Name>
+<TxPdo Fixed="true" Sm="3"><Index DependOnSlot="true">#x1A00</Index><Name>Position Inputs</Name>
+<Entry><Index DependOnSlot="true">#x6064</Index><SubIndex>0</SubIndex><BitLen>32</BitLen><Name>ActualPosition</Name><DataType>DINT</DataType></Entry>
+</TxPdo>
+<Profile><ProfileNo>402</ProfileNo></Profile>
+</Module>
+</Modules>
+</Descriptions>
+</EtherCATInfo>
+"##;
+
+#[test]
+fn slots_and_modules_of_a_modular_device() {
+    use od::device::{
+        InitCmd, ModulePdoGroup, Slot, SlotDepend, SlotModuleClass, SlotModuleIdent, Slots,
+    };
+    let reading = read(MODULAR);
+    assert_eq!(reading.devices.len(), 2, "modules are not devices");
+    // The first module's PDO maps 0x607A, which its dictionary lacks.
+    assert_eq!(
+        said(&reading.findings),
+        ["25:1: warning: 0x607A:00: RxPdo #x1600 maps it, but the dictionary does not have it: made from the PDO (DINT, ro, mappable R)"]
+    );
+    let (first, second) = (
+        reading.devices[0].ethercat.as_ref().unwrap(),
+        reading.devices[1].ethercat.as_ref().unwrap(),
+    );
+    assert!(
+        std::sync::Arc::ptr_eq(&first.modules, &second.modules),
+        "the devices of a file share its modules"
+    );
+    assert_eq!(
+        first.slots,
+        Some(Slots {
+            max_slot_count: Some(2),
+            max_slot_group_count: None,
+            slot_pdo_increment: Some(16),
+            slot_group_pdo_increment: None,
+            slot_index_increment: Some(0x800),
+            slot_group_index_increment: None,
+            download_module_ident_list: true,
+            identify_module_by: "ModuleIdent".into(),
+            slots: vec![
+                Slot {
+                    name: "Axis 1".into(),
+                    slot_group: Some(1),
+                    min_instances: 1,
+                    max_instances: 1,
+                    tree_view: "SLOT".into(),
+                    module_idents: vec![
+                        SlotModuleIdent {
+                            ident: 0x100,
+                            default: Some(1)
+                        },
+                        SlotModuleIdent {
+                            ident: 0x101,
+                            default: None
+                        },
+                    ],
+                    ..Slot::default()
+                },
+                Slot {
+                    name: "Terminals".into(),
+                    min_instances: 0,
+                    max_instances: 32,
+                    slot_index_increment: Some(0x10),
+                    module_classes: vec![SlotModuleClass {
+                        class: "DI".into(),
+                        vendor_id: Some(0xE000_0001),
+                        name: "Digital inputs".into(),
+                    }],
+                    ..Slot::default()
+                },
+            ],
+            module_pdo_groups: vec![ModulePdoGroup {
+                name: "Digital".into(),
+                alignment: Some(2),
+                rx_pdo: Some(0x1600),
+                tx_pdo: Some(0x1A00),
+            }],
+        })
+    );
+    assert_eq!(second.slots, None);
+    assert_eq!(
+        first.mailbox.as_ref().unwrap().init_cmds,
+        [InitCmd {
+            transitions: vec!["PS".into(), "SO".into()],
+            index: 0x6060,
+            sub: 0,
+            data: vec![8],
+            comment: "csp".into(),
+            fixed: true,
+            ..InitCmd::default()
+        }]
+    );
+    let modules = &first.modules;
+    assert_eq!(modules.len(), 2);
+    let m = &modules[0];
+    assert_eq!(
+        (
+            m.ident,
+            m.class.as_str(),
+            m.pdo_group,
+            m.type_name.as_str(),
+            m.name.as_str()
+        ),
+        (
+            0x100,
+            "DI",
+            Some(1),
+            "Position Mode",
+            "Position Mode; synchronous with process data"
+        )
+    );
+    assert_eq!(
+        (m.profile_no, m.add_info, m.dc_op_mode_name.as_str()),
+        (Some(402), Some(2), "Synchron")
+    );
+    let slot = SlotDepend {
+        slot: true,
+        slot_group: false,
+    };
+    assert_eq!(m.rx_pdos[0].index, 0x1600);
+    assert_eq!(m.rx_pdos[0].index_depend, slot);
+    assert_eq!(m.rx_pdos[0].entries[0].index_depend, slot);
+    assert_eq!(m.tx_pdos, vec![]);
+    let mb = m.mailbox.as_ref().unwrap();
+    assert!(mb.coe.unwrap().complete_access);
+    assert_eq!(
+        mb.init_cmds,
+        [InitCmd {
+            transitions: vec!["PS".into()],
+            index: 0x8000,
+            index_depend: slot,
+            sub: 1,
+            data: vec![0x0A, 0],
+            adapt_automatically: true,
+            ..InitCmd::default()
+        }]
+    );
+    assert_eq!(
+        m.dictionary.objects().map(|o| o.index).collect::<Vec<_>>(),
+        [0x607A, 0x8000]
+    );
+    assert_eq!(
+        m.dictionary
+            .entry(0x8000, 0)
+            .unwrap()
+            .default
+            .as_ref()
+            .unwrap()
+            .value,
+        Value::Uint(10)
+    );
+    // A module without a dictionary gets one from its PDOs, as a device does (no news).
+    let m = &modules[1];
+    assert_eq!((m.ident, m.class.as_str(), m.pdo_group), (0x101, "", None));
+    assert_eq!(
+        (m.profile_no, m.add_info, m.mailbox.is_none()),
+        (Some(402), None, true)
+    );
+    assert_eq!(
+        m.dictionary.entry(0x6064, 0).unwrap().data_type,
+        DataType::Integer32
+    );
+    // Written once for both devices.
+    let written = esi::write_all(&reading.devices);
+    assert_eq!(written.matches("<Module>").count(), 2, "{written}");
+    assert_eq!(written.matches("<Modules>").count(), 1);
+}

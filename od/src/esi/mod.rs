@@ -8,9 +8,20 @@
 //!   into [`FileInfo::file_version`](crate::device::FileInfo::file_version).
 //! - `Descriptions/Devices/Device`: `Type` (`@ProductCode`, `@RevisionNo`, text = order code), `Name`
 //!   (`LcId` 1033 preferred, else the first), `GroupType`, `Profile/Dictionary`, `Fmmu`, `Sm`, `RxPdo`/`TxPdo`,
-//!   `Mailbox`, `Dc/OpMode` and `Eeprom` (ETG.2000 `DeviceType`). An `EtherCATModule` file (ETG.2000 module
-//!   description, root `EtherCATModule`) has no devices; each of its `Modules/Module` is read as a description
-//!   of its own, with product code and revision 0 (a module has only a `ModuleIdent`).
+//!   `Mailbox` (with the `InitCmd`s of `CoE`), `Dc/OpMode`, `Slots` and `Eeprom` (ETG.2000 `DeviceType`). An
+//!   `EtherCATModule` file (ETG.2000 module description, root `EtherCATModule`) has no devices; each of its
+//!   `Modules/Module` is read as a description of its own, with product code and revision 0 (a module has
+//!   only a `ModuleIdent`).
+//! - Modular devices (ETG.2001): `Device/Slots` (`MaxSlotCount`, `MaxSlotGroupCount`, the PDO and index
+//!   increments, `DownloadModuleIdentList`, `IdentifyModuleBy`; each `Slot` with `Name`, `SlotGroup`,
+//!   `MinInstances`, `MaxInstances`, its own increments, `TreeView`, and the `ModuleIdent`s (with
+//!   `Default`) or `ModuleClass`es (`Class`, `VendorId`, `Name`) it takes; the `ModulePdoGroup`s) into
+//!   [`Slots`](crate::device::Slots); `Descriptions/Modules/Module` (`Type` with `ModuleIdent`,
+//!   `ModuleClass`, `ModulePdoGroup`; `Name`, `RxPdo`/`TxPdo`, `Mailbox/CoE` with its `InitCmd`s,
+//!   `Profile` with `ProfileNo`, `AddInfo` and `Dictionary`, `DcOpModeName`) into
+//!   [`Module`](crate::device::Module)s. A module's PDOs speak about its dictionary as a device's do. The
+//!   modules of a file belong to every device of it: each device's
+//!   [`EthercatInfo::modules`](crate::device::EthercatInfo::modules) is the same shared list.
 //! - The dictionary (ETG.2000 `DictionaryType`): `DataTypes/DataType` (`Name`, `BaseType`, `BitSize`,
 //!   `SubItem` with `SubIdx`/`Name`/`Type`/`BitSize`/`BitOffs`/`Flags`/`Comment`, `ArrayInfo` with
 //!   `LBound`/`Elements`, `EnumInfo` types resolve to their base type) and `Objects/Object` (`Index`, `Name`,
@@ -80,7 +91,9 @@
 //! # What is written
 //!
 //! A complete `EtherCATInfo` file: `Vendor`, one `Group` per distinct `GroupType`, one `Device` per
-//! description. `DataTypes` come from the dictionary: one `DataType` per basic type used, and per RECORD or
+//! description, and `Modules` with each distinct module of the descriptions once (reading the file back
+//! gives every device all of them: descriptions from different files, written together, share their
+//! modules). `DataTypes` come from the dictionary: one `DataType` per basic type used, and per RECORD or
 //! ARRAY one structure type named after `type_name` (else `DTxxxx`) with the standard CoE layout (sub-index 0
 //! USINT at bit offset 0, sub-index 1 at offset 16, the rest packed). An ARRAY whose entries are uniform
 //! (same type, size, access, mapping, comment) and numbered 1…n is written with an `…ARR` type carrying
@@ -112,8 +125,10 @@
 //!
 //! Read but not kept (the model has no place for them): group display names (a written group is named
 //! after its type), `Device@Physics`, `Category`, `EnumInfo` texts, the `Factor` of `ShiftTimeSync0/1`,
-//! `Info` (electrical data, timeouts), `HideType`, `Slots` and `Descriptions/Modules`, `InitCmd`s, images.
-//! A file with the root `EtherCATInfoList` is not read.
+//! `Info` (electrical data, timeouts), `HideType`, a device's `Profile/ProfileNo`, the `InitCmd`s of
+//! `EoE`, `SoE` and `AoE`, `Fmmu` attributes, `Slots/SlotSelections`, a module's `SafetyParaMapping`s,
+//! `SRA_ParameterSupported` and `VendorSpecific`, the templates of an obsolete `Descriptions/Pdos` list,
+//! images. A file with the root `EtherCATInfoList` is not read.
 
 mod reader;
 mod writer;

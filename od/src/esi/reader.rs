@@ -9,8 +9,9 @@ use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 
 use crate::device::{
-    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Mailbox, OpMode, Pdo, PdoEntry, PdoRef,
-    SlotDepend, SyncManager,
+    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, InitCmd, Mailbox, Module, ModulePdoGroup,
+    OpMode, Pdo, PdoEntry, PdoRef, Slot, SlotDepend, SlotModuleClass, SlotModuleIdent, Slots,
+    SyncManager,
 };
 use crate::dict::{Address, Dictionary};
 use crate::error::{ParseError, Position};
@@ -51,7 +52,8 @@ tags! {
     Info, DefaultData, DefaultValue, DefaultString, MinData, MaxData, MinValue, MaxValue, Fmmu, Sm, RxPdo,
     TxPdo, Exclude, Entry, SubIndex, BitLen, Mailbox, CoE, FoE, EoE, Dc, OpMode, Desc, AssignActivate,
     CycleTimeSync0, ShiftTimeSync0, CycleTimeSync1, ShiftTimeSync1, Eeprom, ByteSize, ConfigData,
-    BootStrap,
+    BootStrap, Slots, Slot, ModuleIdent, ModuleClass, Class, VendorId, ModulePdoGroup, InitCmd, Transition,
+    Data, DcOpModeName, ProfileNo, AddInfo,
 }
 
 /// Where each line of the source starts, so that a byte offset's line and column are found by a binary
@@ -317,6 +319,17 @@ struct RawDevice {
     data_types: Vec<RawDataType>,
     objects: Vec<RawObject>,
     ecat: EthercatInfo,
+    /// A `Descriptions/Modules/Module` (a module of the file's modular devices), not a device.
+    is_module: bool,
+    /// `Type@ModuleIdent`, `@ModuleClass`, `@ModulePdoGroup` of a module.
+    module_ident: u32,
+    module_class: String,
+    module_pdo_group: Option<u32>,
+    /// `DcOpModeName` of a module.
+    dc_op_mode_name: String,
+    /// `Profile/ProfileNo` and `Profile/AddInfo`.
+    profile_no: Option<u32>,
+    add_info: Option<u32>,
 }
 
 /// Where a PDO entry is: in a TxPdo or an RxPdo, the PDO's place in its list, the entry's place in the
@@ -344,6 +357,8 @@ struct Parser<'a> {
     file_version: String,
     device: Option<RawDevice>,
     done: Vec<DeviceDescription>,
+    /// The file's `Descriptions/Modules/Module`s.
+    modules: Vec<Module>,
     sources: Vec<SourceMap>,
 }
 
@@ -375,6 +390,7 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         file_version: String::new(),
         device: None,
         done: Vec::new(),
+        modules: Vec::new(),
         sources: Vec::new(),
     };
     parser.run()?;
@@ -384,12 +400,18 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         vendor_name,
         file_version,
         sources,
+        modules,
         ..
     } = parser;
+    // The file's modules belong to each of its devices.
+    let modules: std::sync::Arc<[Module]> = modules.into();
     for d in &mut done {
         d.identity.vendor_id = vendor_id;
         d.identity.vendor_name = vendor_name.get().unwrap_or_default().to_string();
         d.file_info.file_version = file_version.clone();
+        if let Some(ecat) = d.ethercat.as_mut() {
+            ecat.modules = modules.clone();
+        }
     }
     let mut findings = findings.into_inner();
     // In file order: a device's findings about its PDOs come when the device ends.
@@ -603,6 +625,14 @@ impl<'a> Parser<'a> {
                         ..RawDevice::default()
                     });
                 }
+                [Tag::EtherCATInfo, Tag::Descriptions, Tag::Modules, Tag::Module] => {
+                    self.device_depth = Some(stack.len() - 1);
+                    self.device = Some(RawDevice {
+                        offset,
+                        is_module: true,
+                        ..RawDevice::default()
+                    });
+                }
                 _ => {}
             }
             return Ok(());
@@ -623,8 +653,106 @@ impl<'a> Parser<'a> {
                         b"RevisionNo" => {
                             dev.revision = ctx.number(v, *at, "the RevisionNo attribute")?
                         }
+                        b"ModuleIdent" => {
+                            dev.module_ident = ctx.number(v, *at, "the ModuleIdent attribute")?
+                        }
+                        b"ModuleClass" => dev.module_class = v.clone(),
+                        b"ModulePdoGroup" => {
+                            dev.module_pdo_group =
+                                Some(ctx.number(v, *at, "the ModulePdoGroup attribute")?)
+                        }
                         _ => {}
                     }
+                }
+            }
+            [Tag::Slots] => {
+                let mut slots = Slots::default();
+                for (k, v, at) in &attrs {
+                    let what = format!("the {} attribute of <Slots>", String::from_utf8_lossy(k));
+                    let field = match k.as_slice() {
+                        b"MaxSlotCount" => &mut slots.max_slot_count,
+                        b"MaxSlotGroupCount" => &mut slots.max_slot_group_count,
+                        b"SlotPdoIncrement" => &mut slots.slot_pdo_increment,
+                        b"SlotGroupPdoIncrement" => &mut slots.slot_group_pdo_increment,
+                        b"SlotIndexIncrement" => &mut slots.slot_index_increment,
+                        b"SlotGroupIndexIncrement" => &mut slots.slot_group_index_increment,
+                        b"DownloadModuleIdentList" => {
+                            slots.download_module_ident_list = flag(ctx, v, *at, &what)?;
+                            continue;
+                        }
+                        b"IdentifyModuleBy" => {
+                            slots.identify_module_by = v.clone();
+                            continue;
+                        }
+                        _ => continue,
+                    };
+                    *field = Some(ctx.number(v, *at, &what)?);
+                }
+                dev.ecat.slots = Some(slots);
+            }
+            [Tag::Slots, Tag::Slot] => {
+                let mut slot = Slot::default();
+                for (k, v, at) in &attrs {
+                    let what = format!("the {} attribute of <Slot>", String::from_utf8_lossy(k));
+                    let field = match k.as_slice() {
+                        b"MinInstances" => {
+                            slot.min_instances = ctx.number(v, *at, &what)?;
+                            continue;
+                        }
+                        b"MaxInstances" => {
+                            slot.max_instances = ctx.number(v, *at, &what)?;
+                            continue;
+                        }
+                        b"TreeView" => {
+                            slot.tree_view = v.clone();
+                            continue;
+                        }
+                        b"SlotGroup" => &mut slot.slot_group,
+                        b"SlotPdoIncrement" => &mut slot.slot_pdo_increment,
+                        b"SlotGroupPdoIncrement" => &mut slot.slot_group_pdo_increment,
+                        b"SlotIndexIncrement" => &mut slot.slot_index_increment,
+                        b"SlotGroupIndexIncrement" => &mut slot.slot_group_index_increment,
+                        _ => continue,
+                    };
+                    *field = Some(ctx.number(v, *at, &what)?);
+                }
+                if let Some(s) = dev.ecat.slots.as_mut() {
+                    s.slots.push(slot);
+                }
+            }
+            [Tag::Slots, Tag::Slot, Tag::ModuleIdent] => {
+                let mut ident = SlotModuleIdent::default();
+                for (k, v, at) in &attrs {
+                    if k == b"Default" {
+                        ident.default =
+                            Some(ctx.number(v, *at, "the Default attribute of <ModuleIdent>")?);
+                    }
+                }
+                if let Some(slot) = dev.ecat.slots.as_mut().and_then(|s| s.slots.last_mut()) {
+                    slot.module_idents.push(ident);
+                }
+            }
+            [Tag::Slots, Tag::Slot, Tag::ModuleClass] => {
+                if let Some(slot) = dev.ecat.slots.as_mut().and_then(|s| s.slots.last_mut()) {
+                    slot.module_classes.push(SlotModuleClass::default());
+                }
+            }
+            [Tag::Slots, Tag::ModulePdoGroup] => {
+                let mut group = ModulePdoGroup::default();
+                for (k, v, at) in &attrs {
+                    let what = format!(
+                        "the {} attribute of <ModulePdoGroup>",
+                        String::from_utf8_lossy(k)
+                    );
+                    match k.as_slice() {
+                        b"Alignment" => group.alignment = Some(ctx.number(v, *at, &what)?),
+                        b"RxPdo" => group.rx_pdo = Some(ctx.number(v, *at, &what)?),
+                        b"TxPdo" => group.tx_pdo = Some(ctx.number(v, *at, &what)?),
+                        _ => {}
+                    }
+                }
+                if let Some(s) = dev.ecat.slots.as_mut() {
+                    s.module_pdo_groups.push(group);
                 }
             }
             [Tag::Profile, Tag::Dictionary] => dev.has_dictionary = true,
@@ -832,6 +960,39 @@ impl<'a> Parser<'a> {
                     mb.coe = Some(coe);
                 }
             }
+            [Tag::Mailbox, Tag::CoE, Tag::InitCmd] => {
+                let mut cmd = InitCmd::default();
+                for (k, v, at) in &attrs {
+                    let what = format!("the {} attribute of <InitCmd>", String::from_utf8_lossy(k));
+                    let field = match k.as_slice() {
+                        b"Fixed" => &mut cmd.fixed,
+                        b"CompleteAccess" => &mut cmd.complete_access,
+                        b"OverwrittenByModule" => &mut cmd.overwritten_by_module,
+                        _ => continue,
+                    };
+                    *field = flag(ctx, v, *at, &what)?;
+                }
+                if let Some(mb) = dev.ecat.mailbox.as_mut() {
+                    mb.init_cmds.push(cmd);
+                }
+            }
+            [Tag::Mailbox, Tag::CoE, Tag::InitCmd, Tag::Index] => {
+                let depend = slot_depend(ctx, &attrs)?;
+                if let Some(cmd) = init_cmd_of(dev) {
+                    cmd.index_depend = depend;
+                }
+            }
+            [Tag::Mailbox, Tag::CoE, Tag::InitCmd, Tag::Data] => {
+                let mut adapt = false;
+                for (k, v, at) in &attrs {
+                    if k == b"AdaptAutomatically" {
+                        adapt = flag(ctx, v, *at, "the AdaptAutomatically attribute of <Data>")?;
+                    }
+                }
+                if let Some(cmd) = init_cmd_of(dev) {
+                    cmd.adapt_automatically = adapt;
+                }
+            }
             [Tag::Mailbox, Tag::FoE] => {
                 if let Some(mb) = dev.ecat.mailbox.as_mut() {
                     mb.foe = true;
@@ -890,9 +1051,40 @@ impl<'a> Parser<'a> {
         if self.device_depth == Some(self.stack.len()) {
             self.device_depth = None;
             if let Some(raw) = self.device.take() {
+                let module = raw.is_module.then(|| {
+                    (
+                        raw.module_ident,
+                        raw.module_class.clone(),
+                        raw.module_pdo_group,
+                        raw.dc_op_mode_name.clone(),
+                        raw.profile_no,
+                        raw.add_info,
+                    )
+                });
                 let (desc, source) = build_device(self.ctx, raw)?;
-                self.done.push(desc);
-                self.sources.push(source);
+                match module {
+                    Some((ident, class, pdo_group, dc_op_mode_name, profile_no, add_info)) => {
+                        let ecat = desc.ethercat.unwrap_or_default();
+                        self.modules.push(Module {
+                            ident,
+                            class,
+                            pdo_group,
+                            type_name: desc.identity.order_code,
+                            name: desc.identity.product_name,
+                            rx_pdos: ecat.rx_pdos,
+                            tx_pdos: ecat.tx_pdos,
+                            mailbox: ecat.mailbox,
+                            profile_no,
+                            add_info,
+                            dictionary: desc.dictionary,
+                            dc_op_mode_name,
+                        });
+                    }
+                    None => {
+                        self.done.push(desc);
+                        self.sources.push(source);
+                    }
+                }
             }
         }
         result
@@ -927,6 +1119,78 @@ impl<'a> Parser<'a> {
             [Tag::Type] => dev.order_code = text.to_string(),
             [Tag::Name] => dev.name.offer(lcid, text),
             [Tag::GroupType] => dev.group_type = text.to_string(),
+            [Tag::DcOpModeName] => dev.dc_op_mode_name = text.to_string(),
+            // Kept for modules; a device's profile number is not kept.
+            [Tag::Profile, f @ (Tag::ProfileNo | Tag::AddInfo)] if dev.is_module => {
+                let what = format!("<Profile>/<{}>", f.name());
+                let n = match ctx.number(text, at, &what) {
+                    Ok(n) => Some(n),
+                    Err(e) => {
+                        ctx.warn(at, format!("{}; it is left out", e.message));
+                        None
+                    }
+                };
+                if *f == Tag::ProfileNo {
+                    dev.profile_no = n;
+                } else {
+                    dev.add_info = n;
+                }
+            }
+            [Tag::Slots, Tag::Slot, rest @ ..] => {
+                let Some(slot) = dev.ecat.slots.as_mut().and_then(|s| s.slots.last_mut()) else {
+                    return Ok(());
+                };
+                match rest {
+                    // Localized: 1033 wins over the first.
+                    [Tag::Name] if slot.name.is_empty() || lcid == Some(1033) => {
+                        slot.name = text.to_string()
+                    }
+                    [Tag::ModuleIdent] => {
+                        let ident = ctx.number(text, at, "<Slot>/<ModuleIdent>")?;
+                        if let Some(m) = slot.module_idents.last_mut() {
+                            m.ident = ident;
+                        }
+                    }
+                    [Tag::ModuleClass, f] => {
+                        if let Some(c) = slot.module_classes.last_mut() {
+                            match f {
+                                Tag::Class => c.class = text.to_string(),
+                                Tag::VendorId => {
+                                    c.vendor_id =
+                                        Some(ctx.number(text, at, "<ModuleClass>/<VendorId>")?)
+                                }
+                                Tag::Name if c.name.is_empty() || lcid == Some(1033) => {
+                                    c.name = text.to_string()
+                                }
+                                _ => {}
+                            }
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            [Tag::Slots, Tag::ModulePdoGroup] => {
+                if let Some(g) = dev
+                    .ecat
+                    .slots
+                    .as_mut()
+                    .and_then(|s| s.module_pdo_groups.last_mut())
+                {
+                    g.name = text.to_string();
+                }
+            }
+            [Tag::Mailbox, Tag::CoE, Tag::InitCmd, f] => {
+                if let Some(cmd) = init_cmd_of(dev) {
+                    match f {
+                        Tag::Transition => cmd.transitions.push(text.to_string()),
+                        Tag::Index => cmd.index = ctx.number(text, at, "<InitCmd>/<Index>")?,
+                        Tag::SubIndex => cmd.sub = ctx.number(text, at, "<InitCmd>/<SubIndex>")?,
+                        Tag::Data => cmd.data = ctx.hex(text, at, "<InitCmd>/<Data>")?,
+                        Tag::Comment => cmd.comment = text.to_string(),
+                        _ => {}
+                    }
+                }
+            }
             [Tag::Profile, Tag::Dictionary, Tag::DataTypes, Tag::DataType, rest @ ..] => {
                 let Some(dt) = dev.data_types.last_mut() else {
                     return Ok(());
@@ -1113,6 +1377,13 @@ impl<'a> Parser<'a> {
         }
         Ok(())
     }
+}
+
+fn init_cmd_of(dev: &mut RawDevice) -> Option<&mut InitCmd> {
+    dev.ecat
+        .mailbox
+        .as_mut()
+        .and_then(|m| m.init_cmds.last_mut())
 }
 
 fn pdo_of(dev: &mut RawDevice, tag: Tag) -> Option<&mut Pdo> {
