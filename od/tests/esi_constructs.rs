@@ -851,3 +851,27 @@ fn slots_and_modules_of_a_modular_device() {
     assert_eq!(written.matches("<Module>").count(), 2, "{written}");
     assert_eq!(written.matches("<Modules>").count(), 1);
 }
+
+#[test]
+fn modules_written_together_are_written_once() {
+    // A file's own duplicate module stays; descriptions from two readings share their modules when
+    // written together.
+    let module =
+        &MODULAR[MODULAR.find("<Module>").unwrap()..MODULAR.find("</Module>").unwrap() + 9];
+    let twice = MODULAR.replace(module, &format!("{module}\n{module}"));
+    let reading = read(&twice);
+    assert_eq!(
+        reading.devices[0].ethercat.as_ref().unwrap().modules.len(),
+        3
+    );
+    let other = esi::read_all(MODULAR.as_bytes(), "other.xml").unwrap();
+    let mut both = reading.devices.clone();
+    both.push(other[0].clone());
+    let back = esi::read_all(esi::write_all(&both).as_bytes(), "w.xml").unwrap();
+    let modules = &back[2].ethercat.as_ref().unwrap().modules;
+    assert_eq!(
+        modules.len(),
+        3,
+        "the second file's modules are the first's"
+    );
+}

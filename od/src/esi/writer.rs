@@ -67,19 +67,24 @@ pub(super) fn write_all(descs: &[DeviceDescription]) -> String {
         write_device(&mut w, desc, ecat, desc.ethercat.is_none());
     }
     w.end();
-    // Each device of a file carries the file's modules: each distinct one is written once.
+    // Each device of a file carries the file's modules (one shared list): the first list is written as
+    // it is, then what other lists have that it does not.
     let mut lists: Vec<&std::sync::Arc<[Module]>> = Vec::new();
     let mut modules: Vec<&Module> = Vec::new();
     for e in &ecats {
         if lists.iter().any(|l| std::sync::Arc::ptr_eq(l, &e.modules)) {
             continue;
         }
-        lists.push(&e.modules);
-        for m in e.modules.iter() {
-            if !modules.contains(&m) {
-                modules.push(m);
+        if lists.is_empty() {
+            modules.extend(e.modules.iter());
+        } else {
+            for m in e.modules.iter() {
+                if !modules.contains(&m) {
+                    modules.push(m);
+                }
             }
         }
+        lists.push(&e.modules);
     }
     if !modules.is_empty() {
         let node = first.map_or(0, node_id);
