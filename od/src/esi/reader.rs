@@ -64,7 +64,8 @@ struct Lines {
 
 impl Lines {
     fn of(text: &[u8]) -> Lines {
-        let mut starts = Vec::with_capacity(text.len() / 32 + 1);
+        let lines = text.iter().filter(|&&b| b == b'\n').count();
+        let mut starts = Vec::with_capacity(lines + 1);
         starts.push(0);
         starts.extend(
             text.iter()
@@ -2203,7 +2204,7 @@ fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut Sou
             continue;
         }
         let address = Address::new(e.index, e.sub);
-        let which = format!("{kind} #x{:04X}", pdo.index);
+        let which = || format!("{kind} #x{:04X}", pdo.index);
         if let Some(object) = dict
             .object_mut(e.index)
             .filter(|o| o.subs.contains_key(&e.sub))
@@ -2227,11 +2228,17 @@ fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut Sou
                     at.offset,
                     address,
                     format!(
-                        "{which} maps it, but its <PdoMapping> {flag}: read as {}",
+                        "{} maps it, but its <PdoMapping> {flag}: read as {}",
+                        which(),
                         direction_text(now)
                     ),
                 );
             }
+            continue;
+        }
+        let exists = dict.object(e.index).map(|o| o.kind.has_subs());
+        if exists == Some(false) {
+            // A VAR mapped with a sub-index it does not have: validate says so.
             continue;
         }
         let (t, bits) = match DataType::from_esi_name(&e.data_type) {
@@ -2249,7 +2256,7 @@ fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut Sou
                     ctx.warn_about(
                         at.offset,
                         address,
-                        format!("{which} gives it {named} and BitLen 0: no entry is made"),
+                        format!("{} gives it {named} and BitLen 0: no entry is made", which()),
                     );
                     continue;
                 };
@@ -2258,7 +2265,8 @@ fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut Sou
                     at.offset,
                     address,
                     format!(
-                        "{which} gives it {named}: made {} from its BitLen {}",
+                        "{} gives it {named}: made {} from its BitLen {}",
+                        which(),
                         t.esi_name(size),
                         e.bit_len
                     ),
@@ -2273,11 +2281,7 @@ fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut Sou
         };
         let mut sub = SubObject::new(e.name.clone(), t, AccessType::Ro).with_pdo(dir);
         sub.bit_size = bit_size;
-        let exists = dict.object(e.index).is_some();
-        if exists && !dict.object(e.index).is_some_and(|o| o.kind.has_subs()) {
-            // A VAR mapped with a sub-index it does not have: validate says so.
-            continue;
-        }
+        let exists = exists.is_some();
         if e.sub == 0 && !exists {
             dict.insert(Object::var(e.index, sub));
         } else {
@@ -2320,7 +2324,8 @@ fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut Sou
                 at.offset,
                 address,
                 format!(
-                    "{which} maps it, but the dictionary does not have it: made from the PDO ({}, ro, mappable {})",
+                    "{} maps it, but the dictionary does not have it: made from the PDO ({}, ro, mappable {})",
+                    which(),
                     t.esi_name(bit_size.unwrap_or(0)),
                     direction_text(dir)
                 ),
