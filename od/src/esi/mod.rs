@@ -95,11 +95,15 @@
 //! gives every device all of them: descriptions from different files, written together, share their
 //! modules). `DataTypes` come from the dictionary: one `DataType` per basic type used, and per RECORD or
 //! ARRAY one structure type named after `type_name` (else `DTxxxx`) with the standard CoE layout (sub-index 0
-//! USINT at bit offset 0, sub-index 1 at offset 16, the rest packed). An ARRAY whose entries are uniform
+//! USINT at bit offset 0, sub-index 1 at offset 16 — after a wider sub-index 0, such as DS301's UNSIGNED32
+//! in 0x1004, at the next 16-bit boundary —, the rest packed). An ARRAY whose entries are uniform
 //! (same type, size, access, mapping, comment) and numbered 1…n is written with an `…ARR` type carrying
 //! `ArrayInfo`; any other ARRAY is written entry by entry and reads back as a RECORD. Objects carry
 //! `Info/DefaultData` (little-endian hex, strings too), `MinData`/`MaxData` where limits exist, `Flags` with
-//! `Access`, restrictions and `PdoMapping`, and `Comment`s for descriptions.
+//! `Access`, restrictions and `PdoMapping`, and `Comment`s for descriptions. Sync managers, PDOs, CoE
+//! `InitCmd`s and `Slots` are written with everything the model keeps of them; a module's `Profile`
+//! always holds a `Dictionary` (the one its PDOs made when the file had none), so that it reads back the
+//! same.
 //!
 //! When a description has no EtherCAT part (a CANopen device written as ESI) the writer derives a minimal
 //! valid one and says so in an XML comment:
