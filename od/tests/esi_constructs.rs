@@ -875,3 +875,52 @@ fn modules_written_together_are_written_once() {
         "the second file's modules are the first's"
     );
 }
+
+#[test]
+fn what_a_template_pdo_holds_is_left_out_with_it() {
+    // A PDO that refers to a template and still has children: they belong to it, not to the PDO before.
+    let pdos = "<RxPdo Sm=\"2\"><Index>#x1600</Index><Name>Out</Name>\n\
+<Entry><Index>#x0</Index><BitLen>8</BitLen></Entry></RxPdo>\n\
+<RxPdo Ref=\"DigOutputBit\" Sm=\"2\"><Index>#x1601</Index><Name>Ref</Name><Exclude>#x1600</Exclude>\n\
+<Entry><Index>#x0</Index><BitLen>16</BitLen></Entry></RxPdo>";
+    let (d, findings) = one(&device("", pdos));
+    let rx = &d.ethercat.as_ref().unwrap().rx_pdos;
+    assert_eq!(rx.len(), 1);
+    assert_eq!(
+        (
+            rx[0].index,
+            rx[0].name.as_str(),
+            rx[0].exclude.len(),
+            rx[0].entries.len()
+        ),
+        (0x1600, "Out", 0, 1)
+    );
+    assert_eq!(findings.len(), 1);
+}
+
+#[test]
+fn a_profile_number_is_kept_for_modules_only() {
+    // A device's ProfileNo is not kept, so it is not read; a module's is, and one that is no number is
+    // left out with a warning.
+    let text = MODULAR
+        .replace(
+            "<Name LcId=\"1033\">Drive</Name>",
+            "<Name LcId=\"1033\">Drive</Name><Profile><ProfileNo>DS402</ProfileNo></Profile>",
+        )
+        .replace(
+            "<ProfileNo>402</ProfileNo><AddInfo>2</AddInfo>",
+            "<ProfileNo>402</ProfileNo><AddInfo>two</AddInfo>",
+        );
+    let reading = read(&text);
+    let module = &reading.devices[0].ethercat.as_ref().unwrap().modules[0];
+    assert_eq!((module.profile_no, module.add_info), (Some(402), None));
+    assert_eq!(
+        said(&reading.findings)[0],
+        "25:1: warning: 0x607A:00: RxPdo #x1600 maps it, but the dictionary does not have it: made from the PDO (DINT, ro, mappable R)"
+    );
+    assert_eq!(
+        said(&reading.findings)[1],
+        "28:45: warning: expected a number like #x1A00 or 6656 in <Profile>/<AddInfo>, found `two`; it is left out"
+    );
+    assert_eq!(reading.findings.len(), 2);
+}

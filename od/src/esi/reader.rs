@@ -2256,7 +2256,10 @@ fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut Sou
                     ctx.warn_about(
                         at.offset,
                         address,
-                        format!("{} gives it {named} and BitLen 0: no entry is made", which()),
+                        format!(
+                            "{} gives it {named} and BitLen 0: no entry is made",
+                            which()
+                        ),
                     );
                     continue;
                 };
