@@ -5,6 +5,8 @@
 //! Every reader produces a [`DeviceDescription`] and every writer consumes one, so any description can be
 //! written in any format; what a format cannot carry is left out of its output.
 
+use std::sync::Arc;
+
 use crate::dict::Dictionary;
 
 /// Who made the device and which device it is.
@@ -134,8 +136,9 @@ pub struct DeviceDescription {
     pub comments: Vec<String>,
 }
 
-/// The EtherCAT parts of an ESI `Device` element that are not dictionary entries (ETG.2000).
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+/// The EtherCAT parts of an ESI `Device` element that are not dictionary entries (ETG.2000), with the
+/// slots of a modular device and the modules of its file (ETG.2001).
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct EthercatInfo {
     /// `GroupType`.
     pub group_type: String,
@@ -153,6 +156,126 @@ pub struct EthercatInfo {
     pub op_modes: Vec<OpMode>,
     /// `Eeprom`.
     pub eeprom: Option<Eeprom>,
+    /// `Slots`: where a modular device takes its modules.
+    pub slots: Option<Slots>,
+    /// The modules of the file (`Descriptions/Modules/Module`), shared by every device of the file.
+    pub modules: Arc<[Module]>,
+}
+
+/// The slots of a modular device (`Device/Slots`, ETG.2001): how many modules it takes, which, and how
+/// a module's PDO and object indices move from slot to slot.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Slots {
+    /// `MaxSlotCount`.
+    pub max_slot_count: Option<u32>,
+    /// `MaxSlotGroupCount`.
+    pub max_slot_group_count: Option<u32>,
+    /// `SlotPdoIncrement`: added to a slot-dependent PDO index per slot.
+    pub slot_pdo_increment: Option<u32>,
+    /// `SlotGroupPdoIncrement`.
+    pub slot_group_pdo_increment: Option<u32>,
+    /// `SlotIndexIncrement`: added to a slot-dependent object index per slot.
+    pub slot_index_increment: Option<u32>,
+    /// `SlotGroupIndexIncrement`.
+    pub slot_group_index_increment: Option<u32>,
+    /// `DownloadModuleIdentList`: the master writes the configured modules' idents to 0xF030.
+    pub download_module_ident_list: bool,
+    /// `IdentifyModuleBy` (obsolete), as written.
+    pub identify_module_by: String,
+    /// `Slot`s in order.
+    pub slots: Vec<Slot>,
+    /// `ModulePdoGroup`s.
+    pub module_pdo_groups: Vec<ModulePdoGroup>,
+}
+
+/// One slot (`Slot`): the modules it takes, named by ident or by class.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Slot {
+    /// `Name` (`LcId` 1033 preferred).
+    pub name: String,
+    /// `SlotGroup`.
+    pub slot_group: Option<u32>,
+    /// `MinInstances`.
+    pub min_instances: u32,
+    /// `MaxInstances`.
+    pub max_instances: u32,
+    /// `SlotPdoIncrement` of this slot.
+    pub slot_pdo_increment: Option<u32>,
+    /// `SlotGroupPdoIncrement`.
+    pub slot_group_pdo_increment: Option<u32>,
+    /// `SlotIndexIncrement` of this slot.
+    pub slot_index_increment: Option<u32>,
+    /// `SlotGroupIndexIncrement`.
+    pub slot_group_index_increment: Option<u32>,
+    /// `TreeView` (`SLOTGROUP`, `SLOT`, `PDO`), as written.
+    pub tree_view: String,
+    /// `ModuleIdent`s: the modules it takes.
+    pub module_idents: Vec<SlotModuleIdent>,
+    /// `ModuleClass`es: the classes of modules it takes.
+    pub module_classes: Vec<SlotModuleClass>,
+}
+
+/// A `Slot/ModuleIdent`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SlotModuleIdent {
+    /// The module's `ModuleIdent`.
+    pub ident: u32,
+    /// The `Default` attribute (1: the module a new configuration puts in the slot).
+    pub default: Option<u32>,
+}
+
+/// A `Slot/ModuleClass`.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct SlotModuleClass {
+    /// `Class`: matched against a module's `ModuleClass`.
+    pub class: String,
+    /// `VendorId`.
+    pub vendor_id: Option<u32>,
+    /// `Name` (`LcId` 1033 preferred).
+    pub name: String,
+}
+
+/// A `Slots/ModulePdoGroup`: where the PDOs of the modules of one group go.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ModulePdoGroup {
+    /// The element text.
+    pub name: String,
+    /// `Alignment`.
+    pub alignment: Option<u32>,
+    /// `RxPdo`: the PDO the group's output entries are gathered in.
+    pub rx_pdo: Option<u16>,
+    /// `TxPdo`.
+    pub tx_pdo: Option<u16>,
+}
+
+/// A module of a modular device (`Descriptions/Modules/Module`, ETG.2001 `ModuleType`). Indices that
+/// move with the slot say so (`index_depend`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Module {
+    /// `Type@ModuleIdent`: what the device reports for it (0xF050).
+    pub ident: u32,
+    /// `Type@ModuleClass`.
+    pub class: String,
+    /// `Type@ModulePdoGroup`.
+    pub pdo_group: Option<u32>,
+    /// The `Type` text: the module's type name.
+    pub type_name: String,
+    /// `Name` (`LcId` 1033 preferred).
+    pub name: String,
+    /// `RxPdo`s.
+    pub rx_pdos: Vec<Pdo>,
+    /// `TxPdo`s.
+    pub tx_pdos: Vec<Pdo>,
+    /// `Mailbox`: its CoE attributes and start-up commands.
+    pub mailbox: Option<Mailbox>,
+    /// `Profile/ProfileNo`.
+    pub profile_no: Option<u32>,
+    /// `Profile/AddInfo`.
+    pub add_info: Option<u32>,
+    /// `Profile/Dictionary`, with the entries its PDOs map made as for a device.
+    pub dictionary: Dictionary,
+    /// `DcOpModeName`: the device's `Dc/OpMode` the module needs.
+    pub dc_op_mode_name: String,
 }
 
 /// One sync manager (`Sm`).
@@ -170,8 +293,27 @@ pub struct SyncManager {
     pub max_size: Option<u16>,
     /// `ControlByte`.
     pub control_byte: u8,
-    /// `Enable`.
-    pub enable: bool,
+    /// `Enable`, a number (ETG.2000 HexDecValue): the enable byte of the SII SyncM category
+    /// (ETG.1000.6 Table 23): bit 0 enabled, bit 1 fixed content, bit 2 virtual, bit 3 enabled in Op
+    /// only. Files write 0 or 1, some the whole byte (`9`).
+    pub enable: u8,
+    /// `Virtual`: no hardware sync manager stands behind it.
+    pub is_virtual: bool,
+    /// `OpOnly`: enabled only in Op.
+    pub op_only: bool,
+    /// `Watchdog` (obsolete in ETG.2000).
+    pub watchdog: bool,
+}
+
+/// Whether an index given in a module moves with the module's slot (ETG.2001: the `DependOnSlot` and
+/// `DependOnSlotGroup` attributes of an `Index` or `Exclude`; the slot's `SlotIndexIncrement` or
+/// `SlotPdoIncrement` is added per slot).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SlotDepend {
+    /// `DependOnSlot`.
+    pub slot: bool,
+    /// `DependOnSlotGroup`.
+    pub slot_group: bool,
 }
 
 /// A fixed or configurable PDO of an ESI (`RxPdo` / `TxPdo`).
@@ -179,18 +321,52 @@ pub struct SyncManager {
 pub struct Pdo {
     /// Index of the mapping object (`#x1600`).
     pub index: u16,
+    /// Whether `index` moves with the slot (in a module).
+    pub index_depend: SlotDepend,
     /// Name.
     pub name: String,
     /// `Fixed` attribute.
     pub fixed: bool,
     /// `Mandatory` attribute.
     pub mandatory: bool,
+    /// `Virtual` attribute: the master makes its content (DC latch times, ESC registers) rather than
+    /// the device's sync manager.
+    pub is_virtual: bool,
     /// `Sm` attribute: the sync manager it is assigned to.
     pub sm: Option<u8>,
-    /// Indices of PDOs that cannot be assigned together with this one (`Exclude`).
-    pub exclude: Vec<u16>,
+    /// `Su` attribute: the sync unit.
+    pub su: Option<u8>,
+    /// Oversampling (`OSFac`, `OSMin`, `OSMax`, `OSIndexInc`): the default, lowest and highest number
+    /// of samples, and the index increment from one sample's entries to the next's.
+    pub os_factor: Option<u32>,
+    /// `OSMin`.
+    pub os_min: Option<u32>,
+    /// `OSMax`.
+    pub os_max: Option<u32>,
+    /// `OSIndexInc`.
+    pub os_index_inc: Option<u32>,
+    /// PDOs that cannot be assigned together with this one (`Exclude`).
+    pub exclude: Vec<PdoRef>,
     /// Entries in order.
     pub entries: Vec<PdoEntry>,
+}
+
+/// The index of another PDO (`Exclude`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PdoRef {
+    /// Index of the PDO's mapping object.
+    pub index: u16,
+    /// Whether `index` moves with the slot (in a module).
+    pub depend: SlotDepend,
+}
+
+impl From<u16> for PdoRef {
+    fn from(index: u16) -> PdoRef {
+        PdoRef {
+            index,
+            depend: SlotDepend::default(),
+        }
+    }
 }
 
 /// One entry of a PDO.
@@ -198,14 +374,22 @@ pub struct Pdo {
 pub struct PdoEntry {
     /// Index of the mapped object (0 for a gap).
     pub index: u16,
+    /// Whether `index` moves with the slot (in a module).
+    pub index_depend: SlotDepend,
     /// Sub-index.
     pub sub: u8,
     /// Length in bits.
     pub bit_len: u16,
     /// Name.
     pub name: String,
+    /// `Comment`.
+    pub comment: String,
     /// Type name as the ESI writes it (`UINT`).
     pub data_type: String,
+    /// The `DScale` attribute of `DataType` (`+/-10`, `0-20`…): the scaling of an analog value.
+    pub data_scale: String,
+    /// `Fixed` attribute: the entry cannot be changed in a configurable PDO.
+    pub fixed: bool,
 }
 
 /// The mailbox protocols of an ESI (`Mailbox`).
@@ -219,6 +403,34 @@ pub struct Mailbox {
     pub foe: bool,
     /// True when the device speaks EoE.
     pub eoe: bool,
+    /// The `InitCmd`s of the `CoE` element.
+    pub init_cmds: Vec<InitCmd>,
+}
+
+/// A CoE start-up command (`Mailbox/CoE/InitCmd`): an SDO download the master makes at the given
+/// state transitions.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct InitCmd {
+    /// `Transition`s (`IP`, `PS`, `SP`, `SO`, `OS`, `OP`), as written.
+    pub transitions: Vec<String>,
+    /// `Index`.
+    pub index: u16,
+    /// Whether `index` moves with the slot (in a module).
+    pub index_depend: SlotDepend,
+    /// `SubIndex`.
+    pub sub: u8,
+    /// `Data`: the bytes downloaded.
+    pub data: Vec<u8>,
+    /// `Data@AdaptAutomatically`.
+    pub adapt_automatically: bool,
+    /// `Comment`.
+    pub comment: String,
+    /// `Fixed` attribute.
+    pub fixed: bool,
+    /// `CompleteAccess` attribute.
+    pub complete_access: bool,
+    /// `OverwrittenByModule` attribute.
+    pub overwritten_by_module: bool,
 }
 
 /// Attributes of the `Mailbox/CoE` element.

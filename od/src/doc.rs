@@ -94,7 +94,7 @@ pub fn write(desc: &DeviceDescription) -> String {
                     sm.start_address,
                     sm.default_size.map_or(String::new(), |s| s.to_string()),
                     sm.control_byte,
-                    sm.enable as u8
+                    sm.enable
                 );
             }
             out.push('\n');

@@ -93,6 +93,8 @@ mod tests {
             Position { line: 2, column: 3 },
             "µ is one character"
         );
+        let empty = LineIndex::new(b"");
+        assert_eq!(empty.position(b"", 5), Position { line: 1, column: 1 });
     }
 }
 

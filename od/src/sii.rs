@@ -10,7 +10,7 @@
 //! a type word, a length word (in words) and the data: Strings (10), General (30), FMMU (40), SyncM
 //! (41), TxPDO (50), RxPDO (51), DC (60), End (0xFFFF).
 
-use crate::device::{DeviceDescription, Pdo};
+use crate::device::{DeviceDescription, Pdo, PdoEntry};
 use crate::types::DataType;
 
 /// Category types (ETG.1000.6 Table 19).
@@ -106,11 +106,44 @@ fn category(out: &mut Vec<u8>, kind: u16, mut data: Vec<u8>) {
     out.extend_from_slice(&data);
 }
 
+/// The CoE data type index of an ESI type name (0 when it names none): ETG.1000.6's bit arrays
+/// BITARR8/16/32 have their own.
+fn type_index(name: &str) -> u8 {
+    match name.trim().to_ascii_uppercase().as_str() {
+        "BITARR8" => 0x2D,
+        "BITARR16" => 0x2E,
+        "BITARR32" => 0x2F,
+        _ => DataType::from_esi_name(name).map_or(0, |(t, _)| t.index() as u8),
+    }
+}
+
+/// The SII entries of a PDO entry: one, with at most 255 bits (a byte holds the length); a gap longer
+/// than that is several gaps of 255 bits and one of the rest.
+fn sii_entries(e: &PdoEntry) -> impl Iterator<Item = (u16, u8, u8)> + '_ {
+    let parts = if e.index == 0 && e.bit_len > 255 {
+        usize::from(e.bit_len.div_ceil(255))
+    } else {
+        1
+    };
+    (0..parts).map(move |k| {
+        let rest = e.bit_len.saturating_sub(255 * k as u16);
+        (e.index, e.sub, rest.min(255) as u8)
+    })
+}
+
 fn pdo_data(pdos: &[Pdo], strings: &mut Strings) -> Vec<u8> {
     let mut d = Vec::new();
     for p in pdos {
+        // The count is a byte: at most 255 entries.
+        let mut entries = Vec::new();
+        for e in &p.entries {
+            let name = strings.index(&e.name);
+            let ty = type_index(&e.data_type);
+            entries.extend(sii_entries(e).map(|(index, sub, bits)| (index, sub, name, ty, bits)));
+        }
+        entries.truncate(255);
         push16(&mut d, p.index);
-        d.push(p.entries.len().min(255) as u8);
+        d.push(entries.len() as u8);
         d.push(p.sm.unwrap_or(0));
         d.push(0); // DC synchronisation
         d.push(strings.index(&p.name));
@@ -118,15 +151,12 @@ fn pdo_data(pdos: &[Pdo], strings: &mut Strings) -> Vec<u8> {
             &mut d,
             if p.fixed { 0x0010 } else { 0 } | if p.mandatory { 0x0001 } else { 0 },
         );
-        for e in &p.entries {
-            push16(&mut d, e.index);
-            d.push(e.sub);
-            d.push(strings.index(&e.name));
-            let ty = DataType::from_esi_name(&e.data_type)
-                .map(|(t, _)| t.index())
-                .unwrap_or(0);
-            d.push(ty as u8);
-            d.push(e.bit_len.min(255) as u8);
+        for (index, sub, name, ty, bits) in entries {
+            push16(&mut d, index);
+            d.push(sub);
+            d.push(name);
+            d.push(ty);
+            d.push(bits);
             push16(&mut d, 0);
         }
     }
@@ -244,7 +274,8 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
         push16(&mut syncm, s.default_size.unwrap_or(0));
         syncm.push(s.control_byte);
         syncm.push(0);
-        syncm.push(u8::from(s.enable));
+        // The ESI's Virtual and OpOnly attributes are bits 2 and 3 of the enable byte.
+        syncm.push(s.enable | (u8::from(s.is_virtual) << 2) | (u8::from(s.op_only) << 3));
         syncm.push(match s.kind.as_str() {
             "MBoxOut" => 1,
             "MBoxIn" => 2,

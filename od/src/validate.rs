@@ -61,8 +61,12 @@ impl Checker<'_> {
 
     fn run(&mut self, desc: &DeviceDescription) {
         let d = &desc.dictionary;
+        // An EtherCAT device without CoE has no object dictionary to speak of.
+        let coe = desc.ethercat.as_ref().map_or(true, |e| {
+            e.mailbox.as_ref().is_some_and(|m| m.coe.is_some())
+        });
         for (index, what) in [(0x1000u16, "device type"), (0x1018, "identity")] {
-            if d.object(index).is_none() {
+            if coe && d.object(index).is_none() {
                 self.push(
                     Severity::Warning,
                     None,
@@ -82,7 +86,10 @@ impl Checker<'_> {
                         format!("{} has no sub-index 0 (number of entries)", object.kind),
                     ),
                     Some(s0) => {
-                        if !matches!(s0.data_type, DataType::Unsigned8) {
+                        // DS301 v4.0's 0x1004 (number of PDOs supported) has an UNSIGNED32 there.
+                        let ds301_1004 =
+                            object.index == 0x1004 && s0.data_type == DataType::Unsigned32;
+                        if !matches!(s0.data_type, DataType::Unsigned8) && !ds301_1004 {
                             self.warn(
                                 zero,
                                 format!(
@@ -91,7 +98,12 @@ impl Checker<'_> {
                                 ),
                             );
                         }
-                        if let Some(Value::Uint(n)) = s0.current() {
+                        // Only a count the file gives; a PDO mapping object counts the entries mapped,
+                        // not those it has room for.
+                        let given = s0.default.is_some() || s0.value_set;
+                        let mapping = (0x1600..=0x17FF).contains(&object.index)
+                            || (0x1A00..=0x1BFF).contains(&object.index);
+                        if let Some(Value::Uint(n)) = s0.current().filter(|_| given && !mapping) {
                             if n < u64::from(object.max_sub()) && object.kind == ObjectKind::Record
                             {
                                 self.warn(
@@ -145,14 +157,10 @@ impl Checker<'_> {
                             continue;
                         }
                         let position = self.map.pdo_entry(pdo.index, n);
-                        self.entry(
-                            d,
-                            pdo.index,
-                            (e.index, e.sub),
-                            u32::from(e.bit_len),
-                            receive,
-                            position,
-                        );
+                        // The master makes a virtual PDO's content (DC latch times, windows of ESC
+                        // registers): any length of its entries is a reading that fits.
+                        let bits = (!pdo.is_virtual).then_some(u32::from(e.bit_len));
+                        self.entry(d, pdo.index, (e.index, e.sub), bits, receive, position);
                     }
                 }
             }
@@ -191,6 +199,10 @@ impl Checker<'_> {
             };
             let (mi, ms, len) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as u32);
             bits += len;
+            if mi == 0 && !can {
+                // A gap of `len` bits (ETG.1000.6 §5.6.7.4.7).
+                continue;
+            }
             if (0x0001..=0x0007).contains(&mi) {
                 // A dummy entry (CiA 301 §7.4.7.1): the data type's index and its size.
                 let size = DataType::from_index(mi).and_then(|t| t.bit_size());
@@ -203,7 +215,7 @@ impl Checker<'_> {
                 continue;
             }
             let position = self.map.entry(Address::new(index, sub));
-            self.entry(d, index, (mi, ms), len, receive, position);
+            self.entry(d, index, (mi, ms), Some(len), receive, position);
         }
         if can && bits > 64 {
             // CANopen formats also describe CoE devices, whose PDOs are not CAN frames.
@@ -214,13 +226,14 @@ impl Checker<'_> {
         }
     }
 
-    /// One mapped entry `(index, sub)` of mapping `pdo` with `bits` bits, found at `position`.
+    /// One mapped entry `(index, sub)` of mapping `pdo` with `bits` bits (`None`: any length fits),
+    /// found at `position`.
     fn entry(
         &mut self,
         d: &Dictionary,
         pdo: u16,
         (index, sub): (u16, u8),
-        bits: u32,
+        bits: Option<u32>,
         receive: bool,
         position: Option<crate::error::Position>,
     ) {
@@ -237,7 +250,7 @@ impl Checker<'_> {
                 "maps 0x{index:04X}:{sub:02X}, which does not exist"
             )),
             Ok(e) => {
-                if let Some(size) = e.data_type.bit_size() {
+                if let (Some(size), Some(bits)) = (e.data_type.bit_size(), bits) {
                     if size != bits && !(e.data_type == DataType::Boolean && bits == 8) {
                         bad(format!(
                             "maps 0x{index:04X}:{sub:02X} with {bits} bits, its type {} has {size}",

@@ -4,8 +4,9 @@
 use std::collections::BTreeMap;
 
 use od::device::{
-    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Identity, Mailbox, OpMode, Pdo, PdoEntry,
-    SyncManager,
+    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Identity, InitCmd, Mailbox, Module,
+    ModulePdoGroup, OpMode, Pdo, PdoEntry, PdoRef, Slot, SlotDepend, SlotModuleClass,
+    SlotModuleIdent, Slots, SyncManager,
 };
 use od::esi::{self, Select};
 use od::object::{
@@ -345,10 +346,11 @@ fn hand_written_file_reads_into_exact_objects() {
             min_size: Some(34),
             max_size: Some(256),
             control_byte: 0x22,
-            enable: true,
+            enable: 1,
+            ..SyncManager::default()
         }
     );
-    assert!(!ecat.sync_managers[2].enable);
+    assert_eq!(ecat.sync_managers[2].enable, 0);
     assert_eq!(
         ecat.rx_pdos,
         [Pdo {
@@ -357,14 +359,16 @@ fn hand_written_file_reads_into_exact_objects() {
             fixed: false,
             mandatory: false,
             sm: Some(2),
-            exclude: vec![0x1601],
+            exclude: vec![0x1601.into()],
             entries: vec![PdoEntry {
                 index: 0x2001,
                 sub: 0,
                 bit_len: 32,
                 name: "Speed".into(),
                 data_type: "REAL".into(),
+                ..PdoEntry::default()
             }],
+            ..Pdo::default()
         }]
     );
     let tx = &ecat.tx_pdos[0];
@@ -372,11 +376,8 @@ fn hand_written_file_reads_into_exact_objects() {
     assert_eq!(
         tx.entries[1],
         PdoEntry {
-            index: 0,
-            sub: 0,
             bit_len: 8,
-            name: String::new(),
-            data_type: String::new(),
+            ..PdoEntry::default()
         }
     );
     assert_eq!(
@@ -393,6 +394,7 @@ fn hand_written_file_reads_into_exact_objects() {
             }),
             foe: true,
             eoe: false,
+            init_cmds: vec![],
         })
     );
     assert_eq!(
@@ -556,7 +558,8 @@ fn writer_output_is_byte_exact() {
                 min_size: None,
                 max_size: None,
                 control_byte: 0x20,
-                enable: true,
+                enable: 1,
+                ..SyncManager::default()
             }],
             rx_pdos: vec![],
             tx_pdos: vec![Pdo {
@@ -565,14 +568,15 @@ fn writer_output_is_byte_exact() {
                 fixed: true,
                 mandatory: true,
                 sm: Some(3),
-                exclude: vec![],
                 entries: vec![PdoEntry {
                     index: 0x6041,
                     sub: 0,
                     bit_len: 16,
                     name: "Statusword".into(),
                     data_type: "UINT".into(),
+                    ..PdoEntry::default()
                 }],
+                ..Pdo::default()
             }],
             mailbox: Some(Mailbox {
                 data_link_layer: false,
@@ -583,6 +587,7 @@ fn writer_output_is_byte_exact() {
                 }),
                 foe: false,
                 eoe: false,
+                init_cmds: vec![],
             }),
             op_modes: vec![OpMode {
                 name: "SM".into(),
@@ -594,6 +599,7 @@ fn writer_output_is_byte_exact() {
                 config_data: vec![0x05, 0x0C],
                 boot_strap: vec![],
             }),
+            ..EthercatInfo::default()
         }),
         dictionary: small_dictionary(),
         ..DeviceDescription::default()
@@ -703,10 +709,10 @@ fn canopen_description_gets_a_derived_ethercat_part() {
             .map(|s| (s.kind.as_str(), s.start_address, s.default_size, s.enable))
             .collect::<Vec<_>>(),
         [
-            ("MBoxOut", 0x1000, Some(128), true),
-            ("MBoxIn", 0x1080, Some(128), true),
-            ("Outputs", 0x1100, Some(3), true),
-            ("Inputs", 0x1400, Some(2), true),
+            ("MBoxOut", 0x1000, Some(128), 1),
+            ("MBoxIn", 0x1080, Some(128), 1),
+            ("Outputs", 0x1100, Some(3), 1),
+            ("Inputs", 0x1400, Some(2), 1),
         ]
     );
     assert_eq!(ecat.rx_pdos.len(), 2);
@@ -724,13 +730,11 @@ fn canopen_description_gets_a_derived_ethercat_part() {
                 bit_len: 16,
                 name: "Controlword".into(),
                 data_type: "UINT".into(),
+                ..PdoEntry::default()
             },
             PdoEntry {
-                index: 0,
-                sub: 0,
                 bit_len: 8,
-                name: String::new(),
-                data_type: String::new(),
+                ..PdoEntry::default()
             },
         ],
         "dummy mapping 0x0005 is a gap"
@@ -1177,7 +1181,15 @@ fn random_sub(
     s.bit_size = bits;
     s.description = description;
     if r.chance(2) {
-        s = s.with_default(random_value(r, t));
+        let v = random_value(r, t);
+        // A string's default fits its size (a longer one tells the reader the size).
+        let fits = match (t.is_variable(), bits, v.encode(t)) {
+            (true, Some(b), Ok(bytes)) => bytes.len() * 8 <= b as usize,
+            _ => true,
+        };
+        if fits {
+            s = s.with_default(v);
+        }
     }
     let numeric = t.integer_range().is_some() || t.is_real();
     if numeric && r.chance(3) {
@@ -1250,28 +1262,70 @@ fn random_object(r: &mut Rng, index: u16) -> Object {
     }
 }
 
-fn random_ethercat(r: &mut Rng) -> EthercatInfo {
-    let pdo = |r: &mut Rng| Pdo {
+fn random_pdo(r: &mut Rng) -> Pdo {
+    let depend = |r: &mut Rng| SlotDepend {
+        slot: r.chance(4),
+        slot_group: r.chance(8),
+    };
+    let small = |r: &mut Rng| {
+        if r.chance(2) {
+            Some(r.below(100) as u32)
+        } else {
+            None
+        }
+    };
+    Pdo {
         index: r.next() as u16,
+        index_depend: depend(r),
         name: r.text(10, false),
         fixed: r.chance(2),
         mandatory: r.chance(2),
+        is_virtual: r.chance(4),
         sm: if r.chance(2) {
             Some(r.next() as u8)
         } else {
             None
         },
-        exclude: (0..r.below(3)).map(|_| r.next() as u16).collect(),
+        su: if r.chance(4) {
+            Some(r.next() as u8)
+        } else {
+            None
+        },
+        os_factor: small(r),
+        os_min: small(r),
+        os_max: small(r),
+        os_index_inc: small(r),
+        exclude: (0..r.below(3))
+            .map(|_| PdoRef {
+                index: r.next() as u16,
+                depend: depend(r),
+            })
+            .collect(),
         entries: (0..r.below(4))
             .map(|_| PdoEntry {
                 index: if r.chance(3) { 0 } else { r.next() as u16 },
+                index_depend: depend(r),
                 sub: if r.chance(3) { 0 } else { r.next() as u8 },
                 bit_len: r.next() as u16,
                 name: r.text(8, false),
+                comment: if r.chance(3) {
+                    r.text(12, true)
+                } else {
+                    String::new()
+                },
                 data_type: r.text(8, false),
+                data_scale: if r.chance(4) {
+                    r.text(6, false)
+                } else {
+                    String::new()
+                },
+                fixed: r.chance(4),
             })
             .collect(),
-    };
+    }
+}
+
+fn random_ethercat(r: &mut Rng) -> EthercatInfo {
     let opt = |r: &mut Rng| {
         if r.chance(2) {
             Some(r.next() as u32)
@@ -1290,32 +1344,15 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
                 min_size: opt(r).map(|v| v as u16),
                 max_size: opt(r).map(|v| v as u16),
                 control_byte: r.next() as u8,
-                enable: r.chance(2),
+                enable: r.next() as u8,
+                is_virtual: r.chance(4),
+                op_only: r.chance(4),
+                watchdog: r.chance(4),
             })
             .collect(),
-        rx_pdos: (0..r.below(3)).map(|_| pdo(r)).collect(),
-        tx_pdos: (0..r.below(3)).map(|_| pdo(r)).collect(),
-        mailbox: if r.chance(3) {
-            None
-        } else {
-            Some(Mailbox {
-                data_link_layer: r.chance(2),
-                coe: if r.chance(3) {
-                    None
-                } else {
-                    Some(CoeFlags {
-                        sdo_info: r.chance(2),
-                        pdo_assign: r.chance(2),
-                        pdo_config: r.chance(2),
-                        pdo_upload: r.chance(2),
-                        complete_access: r.chance(2),
-                        segmented_sdo: r.chance(2),
-                    })
-                },
-                foe: r.chance(2),
-                eoe: r.chance(2),
-            })
-        },
+        rx_pdos: (0..r.below(3)).map(|_| random_pdo(r)).collect(),
+        tx_pdos: (0..r.below(3)).map(|_| random_pdo(r)).collect(),
+        mailbox: random_mailbox(r),
         op_modes: (0..r.below(3))
             .map(|_| OpMode {
                 name: r.text(8, false),
@@ -1336,7 +1373,166 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
         } else {
             None
         },
+        slots: random_slots(r),
+        modules: Default::default(),
     }
+}
+
+fn random_mailbox(r: &mut Rng) -> Option<Mailbox> {
+    if r.chance(3) {
+        return None;
+    }
+    let coe = if r.chance(3) {
+        None
+    } else {
+        Some(CoeFlags {
+            sdo_info: r.chance(2),
+            pdo_assign: r.chance(2),
+            pdo_config: r.chance(2),
+            pdo_upload: r.chance(2),
+            complete_access: r.chance(2),
+            segmented_sdo: r.chance(2),
+        })
+    };
+    // Start-up commands are part of the CoE element.
+    let init_cmds = if coe.is_some() {
+        (0..r.below(3))
+            .map(|_| InitCmd {
+                transitions: (0..1 + r.below(2))
+                    .map(|_| r.pick(&["PS", "SO", "SP", "OP", "OS", "IP"]).to_string())
+                    .collect(),
+                index: r.next() as u16,
+                index_depend: SlotDepend {
+                    slot: r.chance(3),
+                    slot_group: r.chance(6),
+                },
+                sub: r.next() as u8,
+                data: r.bytes(6),
+                adapt_automatically: r.chance(3),
+                comment: r.text(10, false),
+                fixed: r.chance(3),
+                complete_access: r.chance(3),
+                overwritten_by_module: r.chance(5),
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+    Some(Mailbox {
+        data_link_layer: r.chance(2),
+        coe,
+        foe: r.chance(2),
+        eoe: r.chance(2),
+        init_cmds,
+    })
+}
+
+fn random_slots(r: &mut Rng) -> Option<Slots> {
+    if r.chance(2) {
+        return None;
+    }
+    let opt = |r: &mut Rng| {
+        if r.chance(2) {
+            Some(r.next() as u32)
+        } else {
+            None
+        }
+    };
+    Some(Slots {
+        max_slot_count: opt(r),
+        max_slot_group_count: opt(r),
+        slot_pdo_increment: opt(r),
+        slot_group_pdo_increment: opt(r),
+        slot_index_increment: opt(r),
+        slot_group_index_increment: opt(r),
+        download_module_ident_list: r.chance(2),
+        identify_module_by: if r.chance(3) {
+            "ModuleIdent".into()
+        } else {
+            String::new()
+        },
+        slots: (0..r.below(3))
+            .map(|_| Slot {
+                name: r.text(10, false),
+                slot_group: opt(r),
+                min_instances: r.next() as u32,
+                max_instances: r.next() as u32,
+                slot_pdo_increment: opt(r),
+                slot_group_pdo_increment: opt(r),
+                slot_index_increment: opt(r),
+                slot_group_index_increment: opt(r),
+                tree_view: if r.chance(3) {
+                    "SLOT".into()
+                } else {
+                    String::new()
+                },
+                module_idents: (0..r.below(3))
+                    .map(|_| SlotModuleIdent {
+                        ident: r.next() as u32,
+                        default: opt(r),
+                    })
+                    .collect(),
+                module_classes: (0..r.below(3))
+                    .map(|_| SlotModuleClass {
+                        class: r.text(8, false),
+                        vendor_id: opt(r),
+                        name: r.text(8, false),
+                    })
+                    .collect(),
+            })
+            .collect(),
+        module_pdo_groups: (0..r.below(2))
+            .map(|_| ModulePdoGroup {
+                name: r.text(8, false),
+                alignment: opt(r),
+                rx_pdo: opt(r).map(|v| v as u16),
+                tx_pdo: opt(r).map(|v| v as u16),
+            })
+            .collect(),
+    })
+}
+
+fn random_dictionary(r: &mut Rng, objects: usize) -> Dictionary {
+    let mut objs = BTreeMap::new();
+    for _ in 0..objects {
+        let index = 0x1000 + r.below(0xF000) as u16;
+        objs.insert(index, random_object(r, index));
+    }
+    let mut dictionary = Dictionary::new();
+    for o in objs.into_values() {
+        dictionary.insert(o);
+    }
+    dictionary
+}
+
+fn random_module(r: &mut Rng) -> Module {
+    let mut m = Module {
+        ident: r.next() as u32,
+        class: r.text(8, false),
+        pdo_group: if r.chance(2) {
+            Some(r.below(10) as u32)
+        } else {
+            None
+        },
+        type_name: r.text(12, false),
+        name: r.text(20, false),
+        rx_pdos: (0..r.below(3)).map(|_| random_pdo(r)).collect(),
+        tx_pdos: (0..r.below(3)).map(|_| random_pdo(r)).collect(),
+        mailbox: random_mailbox(r),
+        profile_no: if r.chance(2) { Some(402) } else { None },
+        add_info: if r.chance(3) {
+            Some(r.below(100) as u32)
+        } else {
+            None
+        },
+        dictionary: {
+            let n = r.below(4) as usize;
+            random_dictionary(r, n)
+        },
+        dc_op_mode_name: r.text(8, false),
+    };
+    map_entries(r, &mut m.dictionary, &mut m.rx_pdos, &mut m.tx_pdos);
+    m
 }
 
 fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDescription> {
@@ -1344,17 +1540,12 @@ fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDes
     let vendor_id = r.next() as u32;
     let vendor_name = r.text(20, false);
     let file_version = r.text(6, false);
+    // The modules of a file belong to each of its devices.
+    let modules: std::sync::Arc<[Module]> =
+        (0..r.below(3)).map(|_| random_module(&mut r)).collect();
     (0..count)
         .map(|_| {
-            let mut objs = BTreeMap::new();
-            for _ in 0..objects {
-                let index = 0x1000 + r.below(0xF000) as u16;
-                objs.insert(index, random_object(&mut r, index));
-            }
-            let mut dictionary = Dictionary::new();
-            for o in objs.into_values() {
-                dictionary.insert(o);
-            }
+            let dictionary = random_dictionary(&mut r, objects);
             let mut d = DeviceDescription {
                 identity: Identity {
                     vendor_id,
@@ -1369,9 +1560,50 @@ fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDes
                 ..DeviceDescription::default()
             };
             d.file_info.file_version = file_version.clone();
+            if let Some(ec) = d.ethercat.as_mut() {
+                map_entries(&mut r, &mut d.dictionary, &mut ec.rx_pdos, &mut ec.tx_pdos);
+                ec.modules = modules.clone();
+            }
             d
         })
         .collect()
+}
+
+/// Points every PDO entry at an entry of the dictionary (or makes it a gap) and makes that entry
+/// mappable in the PDO's direction: the descriptions an ESI can carry, since the reader makes the entries
+/// PDOs map and takes their direction from the PDOs.
+fn map_entries(r: &mut Rng, dictionary: &mut Dictionary, rx: &mut [Pdo], tx: &mut [Pdo]) {
+    let existing: Vec<(u16, u8)> = dictionary
+        .objects()
+        .flat_map(|o| o.subs.keys().map(move |&s| (o.index, s)))
+        .collect();
+    for (pdos, dir) in [(rx, PdoMapping::Rpdo), (tx, PdoMapping::Tpdo)] {
+        for e in pdos.iter_mut().flat_map(|p| p.entries.iter_mut()) {
+            if e.index == 0 {
+                continue;
+            }
+            if existing.is_empty() {
+                e.index = 0;
+                continue;
+            }
+            let (index, sub) = existing[r.below(existing.len() as u64) as usize];
+            (e.index, e.sub) = (index, sub);
+            let Some(object) = dictionary.object_mut(index) else {
+                continue;
+            };
+            // The elements of an ARRAY stay uniform.
+            let array = object.kind == ObjectKind::Array && sub != 0;
+            for (&s, entry) in object.subs.iter_mut() {
+                if s == sub || (array && s != 0) {
+                    entry.pdo = match (entry.pdo, dir) {
+                        (PdoMapping::None, d) => d,
+                        (p, d) if p == d || p == PdoMapping::Both => p,
+                        _ => PdoMapping::Both,
+                    };
+                }
+            }
+        }
+    }
 }
 
 proptest::proptest! {

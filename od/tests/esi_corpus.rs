@@ -135,7 +135,14 @@ fn elmo_gold_four_devices() {
     assert!(ds.iter().all(|d| d.identity.vendor_id == 0x9A));
     assert_eq!(ds[0].identity.product_code, 0x0003_0924);
     assert_eq!(ds[0].identity.revision, 1);
-    assert_eq!(ds[0].dictionary.len(), 9);
+    // Nine objects in the file; its TxPdo 0x1A00 also maps 0x60FD (digital inputs), which is made from
+    // the PDO.
+    assert_eq!(ds[0].dictionary.len(), 10);
+    let inputs = ds[0].dictionary.entry(0x60FD, 0).unwrap();
+    assert_eq!(
+        (inputs.data_type, inputs.access.kind, inputs.pdo),
+        (DataType::Integer32, AccessType::Ro, PdoMapping::Tpdo)
+    );
     let drive = &ds[2];
     assert_eq!(drive.identity.revision, 0x0001_0420);
     assert_eq!(
@@ -189,6 +196,85 @@ fn etg2001_modules_slots_iso_8859_1() {
         [0x00, 0x10, 0x14, 0x02, 0x00, 0x18, 0x14, 0x02]
     );
     assert!(ecat.mailbox.as_ref().unwrap().foe);
+    // Two axis slots, each taking one of the eight modules (0x100 by default); a slot's PDO indices
+    // move by 16, its object indices by 0x800.
+    let slots = ecat.slots.as_ref().unwrap();
+    assert_eq!(
+        (slots.slot_pdo_increment, slots.slot_index_increment),
+        (Some(16), Some(0x800))
+    );
+    assert_eq!(slots.slots.len(), 2);
+    assert_eq!(slots.slots[1].name, "Axis 2");
+    let idents: Vec<u32> = slots.slots[0]
+        .module_idents
+        .iter()
+        .map(|m| m.ident)
+        .collect();
+    assert_eq!(
+        idents,
+        [0x100, 0x101, 0x110, 0x111, 0x200, 0x201, 0x210, 0x211]
+    );
+    assert_eq!(slots.slots[0].module_idents[0].default, Some(1));
+    assert_eq!(ecat.modules.len(), 8);
+    let m = &ecat.modules[0];
+    assert_eq!((m.ident, m.type_name.as_str()), (0x100, "Position Mode"));
+    assert_eq!(m.name, "Position Mode; synchronous with process data");
+    assert_eq!(
+        (m.profile_no, m.dc_op_mode_name.as_str()),
+        (Some(402), "Synchron")
+    );
+    assert_eq!(m.rx_pdos[0].index, 0x1600);
+    assert!(m.rx_pdos[0].index_depend.slot && m.rx_pdos[0].entries[0].index_depend.slot);
+    let target = m.dictionary.entry(0x607A, 0).unwrap();
+    assert_eq!(
+        (target.data_type, target.pdo),
+        (DataType::Unsigned32, PdoMapping::Rpdo)
+    );
+}
+
+#[test]
+fn inovance_gl20_coupler_with_43_modules() {
+    let ds = read_all("lcec-INOVANCE_GL20_RTU_ECT32.xml");
+    assert_eq!(ds.len(), 1);
+    let ecat = ds[0].ethercat.as_ref().unwrap();
+    let slots = ecat.slots.as_ref().unwrap();
+    assert_eq!(
+        (slots.slot_index_increment, slots.slot_pdo_increment),
+        (Some(0x40), Some(8))
+    );
+    assert!(slots.download_module_ident_list);
+    assert_eq!(slots.identify_module_by, "ModuleIdent");
+    let slot = &slots.slots[0];
+    assert_eq!(
+        (slot.name.as_str(), slot.min_instances, slot.max_instances),
+        ("Terminals", 0, 32)
+    );
+    assert_eq!(slot.module_classes[0].class, "GL20-Digital In");
+    assert_eq!(slot.module_classes[0].name, "Digital Input Terminals");
+    assert_eq!(ecat.modules.len(), 43);
+    let m = &ecat.modules[0];
+    assert_eq!(
+        (m.ident, m.class.as_str(), m.type_name.as_str()),
+        (0x10F4_1064, "Digital Out", "GL20(GL20S)-0404ETP-5V")
+    );
+    assert_eq!(m.rx_pdos[0].index, 0x1601);
+    assert_eq!(m.rx_pdos[0].exclude.len(), 2);
+    assert!(m.rx_pdos[0].exclude[0].depend.slot);
+}
+
+#[test]
+fn every_corpus_file_reads_and_writes_back() {
+    let dir = format!("{}/../../shared/corpus/esi", env!("CARGO_MANIFEST_DIR"));
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{dir}: {e}"))
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert!(names.len() >= 40, "{names:?}");
+    for name in &names {
+        read_all(name);
+    }
 }
 
 #[test]

@@ -8,9 +8,20 @@
 //!   into [`FileInfo::file_version`](crate::device::FileInfo::file_version).
 //! - `Descriptions/Devices/Device`: `Type` (`@ProductCode`, `@RevisionNo`, text = order code), `Name`
 //!   (`LcId` 1033 preferred, else the first), `GroupType`, `Profile/Dictionary`, `Fmmu`, `Sm`, `RxPdo`/`TxPdo`,
-//!   `Mailbox`, `Dc/OpMode` and `Eeprom` (ETG.2000 `DeviceType`). An `EtherCATModule` file (ETG.2000 module
-//!   description, root `EtherCATModule`) has no devices; each of its `Modules/Module` is read as a description
-//!   of its own, with product code and revision 0 (a module has only a `ModuleIdent`).
+//!   `Mailbox` (with the `InitCmd`s of `CoE`), `Dc/OpMode`, `Slots` and `Eeprom` (ETG.2000 `DeviceType`). An
+//!   `EtherCATModule` file (ETG.2000 module description, root `EtherCATModule`) has no devices; each of its
+//!   `Modules/Module` is read as a description of its own, with product code and revision 0 (a module has
+//!   only a `ModuleIdent`).
+//! - Modular devices (ETG.2001): `Device/Slots` (`MaxSlotCount`, `MaxSlotGroupCount`, the PDO and index
+//!   increments, `DownloadModuleIdentList`, `IdentifyModuleBy`; each `Slot` with `Name`, `SlotGroup`,
+//!   `MinInstances`, `MaxInstances`, its own increments, `TreeView`, and the `ModuleIdent`s (with
+//!   `Default`) or `ModuleClass`es (`Class`, `VendorId`, `Name`) it takes; the `ModulePdoGroup`s) into
+//!   [`Slots`](crate::device::Slots); `Descriptions/Modules/Module` (`Type` with `ModuleIdent`,
+//!   `ModuleClass`, `ModulePdoGroup`; `Name`, `RxPdo`/`TxPdo`, `Mailbox/CoE` with its `InitCmd`s,
+//!   `Profile` with `ProfileNo`, `AddInfo` and `Dictionary`, `DcOpModeName`) into
+//!   [`Module`](crate::device::Module)s. A module's PDOs speak about its dictionary as a device's do. The
+//!   modules of a file belong to every device of it: each device's
+//!   [`EthercatInfo::modules`](crate::device::EthercatInfo::modules) is the same shared list.
 //! - The dictionary (ETG.2000 `DictionaryType`): `DataTypes/DataType` (`Name`, `BaseType`, `BitSize`,
 //!   `SubItem` with `SubIdx`/`Name`/`Type`/`BitSize`/`BitOffs`/`Flags`/`Comment`, `ArrayInfo` with
 //!   `LBound`/`Elements`, `EnumInfo` types resolve to their base type) and `Objects/Object` (`Index`, `Name`,
@@ -35,12 +46,26 @@
 //! `MinData`/`MinValue` and `MaxData`/`MaxValue` become [`SubObject::low`](crate::object::SubObject::low)
 //! and `high`. Real files give fixed-size values in fewer bytes than the type (`00` for a UINT), with zero
 //! bytes beyond it, or with an odd number of digits (`2`); these read as the number they spell (missing
-//! high bytes are zero). Anything else that does not fit the type is an error.
+//! high bytes are zero). A limit that is no value of the type (vendors copy limits between objects,
+//! `-4294967295` for a DINT) is dropped with a warning; a default that does not fit the type is an
+//! error. A string type shorter than its default (`STRING(0)` with a default, as SOES writes) takes the
+//! default's size, with a warning. Numbers are HexDecValues (`#x1A00`, `0x1A00` or decimal); one with
+//! both hexadecimal prefixes (`#x0x6041`) is read as the hexadecimal number, with a warning.
 //!
 //! Access (`Flags`): `Access` `ro`/`rw`/`wo` with `ReadRestrictions`/`WriteRestrictions` (`PreOp`,
 //! `PreOp_SafeOp`, `PreOp_SafeOp_Op`, …), `PdoMapping` `R`, `T`, `RT`/`TR`. An entry of a structure takes
 //! its `SubItem`'s flags; what they leave out comes from the object's `Flags` (not the PDO mapping of
 //! sub-index 0); without either, `ro`. `Category` is ignored (the model has no field for it).
+//!
+//! `Sm`: `StartAddress`, the sizes, `ControlByte`, `Enable` as the number it is (the SII enable byte:
+//! files write 0 or 1, some `9`; `true`/`false` read as 1/0), `Virtual`, `OpOnly` and `Watchdog`.
+//!
+//! `RxPdo`/`TxPdo`: `Index`, `Name`, `Exclude`s, the attributes `Fixed`, `Mandatory`, `Virtual`, `Sm`, `Su`,
+//! `OSFac`, `OSMin`, `OSMax`, `OSIndexInc`, and each `Entry` (`Index`, `SubIndex`, `BitLen`, `Name`,
+//! `Comment`, `DataType` with its `DScale`, the `Fixed` attribute); the `DependOnSlot`/`DependOnSlotGroup`
+//! of every index. An entry with index 0 is a gap of its `BitLen`. A PDO that only names a template
+//! (`<RxPdo Ref="…"/>`, the obsolete Beckhoff `Descriptions/Pdos` list of Version 1.2 files) is left out
+//! with a warning.
 //!
 //! `Dc/OpMode`: an absent `Factor` of `CycleTimeSync0`/`CycleTimeSync1` reads as 1.
 //!
@@ -49,23 +74,36 @@
 //! sub-index 0; when the object has none, its `DataType/Comment`) and `DataType/SubItem/Comment` (→ the
 //! entry's description).
 //!
-//! A device whose `Profile` has no `Dictionary` (couplers, Modules/Slots devices) gets a dictionary built
-//! from its PDO entries only: for each mapped object that the PDOs name with a `DataType`, an entry of that
-//! type, read-only, mappable in the PDO's direction, without default; a VAR for sub-index 0, else a RECORD
-//! (type name `DTxxxx`, as the writer names it) whose sub-index 0 counts up to the highest mapped
-//! sub-index. The object is named after the first PDO that maps it. Nothing else is made up: no mapping or
-//! assignment objects.
+//! The device's own PDOs speak about its dictionary too. An entry a PDO maps is mappable in the PDO's
+//! direction: where its `PdoMapping` is missing or says otherwise (`R` for an entry a TxPdo maps), the
+//! PDOs win, with a warning (the elements of an ARRAY share one `SubItem`, so all of them). An entry the
+//! dictionary does not have (a device without `Profile/Dictionary` — couplers, Modules/Slots devices —
+//! or a partial dictionary, with a warning) is made from the PDO entry that maps it: of its `DataType`
+//! (ETG.2000 names, and the spellings `UINT8`…`UINT64`, `INT8`…`INT64`, `BITARR8/16/32`, `BYTE`, `WORD`,
+//! `DWORD`, `BOOL`); a `DataType` that names no type, or none, gives an unsigned of the `BitLen`, a bit
+//! field below 8 bits or an octet string of the bytes it covers, with a warning. The entry is
+//! read-only, without default; a VAR for sub-index 0, else an entry of a RECORD (type name `DTxxxx`, as
+//! the writer names it, or `DTxxxx_n` when the file uses that name) whose sub-index 0 counts up to the
+//! highest entry, named after the first PDO that maps it. An entry that several PDOs map with
+//! different lengths takes the first PDO's type (virtual PDOs map windows of ESC registers of any
+//! length). Nothing else is made up: no mapping or assignment objects.
 //!
 //! # What is written
 //!
 //! A complete `EtherCATInfo` file: `Vendor`, one `Group` per distinct `GroupType`, one `Device` per
-//! description. `DataTypes` come from the dictionary: one `DataType` per basic type used, and per RECORD or
+//! description, and `Modules` with each distinct module of the descriptions once (reading the file back
+//! gives every device all of them: descriptions from different files, written together, share their
+//! modules). `DataTypes` come from the dictionary: one `DataType` per basic type used, and per RECORD or
 //! ARRAY one structure type named after `type_name` (else `DTxxxx`) with the standard CoE layout (sub-index 0
-//! USINT at bit offset 0, sub-index 1 at offset 16, the rest packed). An ARRAY whose entries are uniform
+//! USINT at bit offset 0, sub-index 1 at offset 16 — after a wider sub-index 0, such as DS301's UNSIGNED32
+//! in 0x1004, at the next 16-bit boundary —, the rest packed). An ARRAY whose entries are uniform
 //! (same type, size, access, mapping, comment) and numbered 1…n is written with an `…ARR` type carrying
 //! `ArrayInfo`; any other ARRAY is written entry by entry and reads back as a RECORD. Objects carry
 //! `Info/DefaultData` (little-endian hex, strings too), `MinData`/`MaxData` where limits exist, `Flags` with
-//! `Access`, restrictions and `PdoMapping`, and `Comment`s for descriptions.
+//! `Access`, restrictions and `PdoMapping`, and `Comment`s for descriptions. Sync managers, PDOs, CoE
+//! `InitCmd`s and `Slots` are written with everything the model keeps of them; a module's `Profile`
+//! always holds a `Dictionary` (the one its PDOs made when the file had none), so that it reads back the
+//! same.
 //!
 //! When a description has no EtherCAT part (a CANopen device written as ESI) the writer derives a minimal
 //! valid one and says so in an XML comment:
@@ -91,8 +129,10 @@
 //!
 //! Read but not kept (the model has no place for them): group display names (a written group is named
 //! after its type), `Device@Physics`, `Category`, `EnumInfo` texts, the `Factor` of `ShiftTimeSync0/1`,
-//! `Info` (electrical data, timeouts), `HideType`, `Slots` and `Descriptions/Modules`, `InitCmd`s, images.
-//! A file with the root `EtherCATInfoList` is not read.
+//! `Info` (electrical data, timeouts), `HideType`, a device's `Profile/ProfileNo`, the `InitCmd`s of
+//! `EoE`, `SoE` and `AoE`, `Fmmu` attributes, `Slots/SlotSelections`, a module's `SafetyParaMapping`s,
+//! `SRA_ParameterSupported` and `VendorSpecific`, the templates of an obsolete `Descriptions/Pdos` list,
+//! images. A file with the root `EtherCATInfoList` is not read.
 
 mod reader;
 mod writer;

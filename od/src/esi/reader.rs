@@ -2,15 +2,18 @@
 //! per-device raw records (data types, objects, EtherCAT parts) that are resolved into a
 //! [`DeviceDescription`] when the device's element ends. Nothing but the current device is held.
 
+use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
 
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 
 use crate::device::{
-    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, Mailbox, OpMode, Pdo, PdoEntry, SyncManager,
+    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, InitCmd, Mailbox, Module, ModulePdoGroup,
+    OpMode, Pdo, PdoEntry, PdoRef, Slot, SlotDepend, SlotModuleClass, SlotModuleIdent, Slots,
+    SyncManager,
 };
-use crate::dict::Dictionary;
+use crate::dict::{Address, Dictionary};
 use crate::error::{LineIndex, ParseError, Position};
 use crate::object::{
     Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
@@ -49,29 +52,70 @@ tags! {
     Info, DefaultData, DefaultValue, DefaultString, MinData, MaxData, MinValue, MaxValue, Fmmu, Sm, RxPdo,
     TxPdo, Exclude, Entry, SubIndex, BitLen, Mailbox, CoE, FoE, EoE, Dc, OpMode, Desc, AssignActivate,
     CycleTimeSync0, ShiftTimeSync0, CycleTimeSync1, ShiftTimeSync1, Eeprom, ByteSize, ConfigData,
-    BootStrap,
+    BootStrap, Slots, Slot, ModuleIdent, ModuleClass, Class, VendorId, ModulePdoGroup, InitCmd, Transition,
+    Data, DcOpModeName, ProfileNo, AddInfo,
 }
 
-/// The source text and its name, for error positions.
+/// The source text and its name, for error positions, and the warnings found so far.
 #[derive(Clone, Copy)]
 struct Ctx<'a> {
     src: &'a str,
     name: &'a str,
     lines: &'a LineIndex,
+    findings: &'a RefCell<Vec<Finding>>,
 }
 
 impl Ctx<'_> {
+    fn pos(&self, offset: usize) -> Position {
+        self.lines.position(self.src.as_bytes(), offset)
+    }
+
     fn err(&self, offset: usize, message: impl Into<String>) -> ParseError {
-        ParseError::new(
-            self.name,
-            self.lines.position(self.src.as_bytes(), offset),
-            message,
-        )
+        ParseError::new(self.name, self.pos(offset), message)
+    }
+
+    /// A warning at `offset`.
+    fn warn(&self, offset: usize, message: impl Into<String>) {
+        let f = Finding::warning(self.pos(offset), message);
+        self.findings.borrow_mut().push(f);
+    }
+
+    /// A warning at `offset` about the dictionary entry `address`.
+    fn warn_about(&self, offset: usize, address: Address, message: impl Into<String>) {
+        let f = Finding::warning(self.pos(offset), message).at(address);
+        self.findings.borrow_mut().push(f);
+    }
+
+    /// A number as [`xml::parse_number`] reads it; a hexadecimal number with both prefixes (`#x0x6041`,
+    /// as some generators write) is read without the second, with a warning.
+    fn parse_number(&self, text: &str, offset: usize, what: &str) -> Option<i128> {
+        if let Some(v) = xml::parse_number(text) {
+            return Some(v);
+        }
+        let t = text.trim();
+        let (sign, body) = match t.strip_prefix('-') {
+            Some(rest) => ("-", rest),
+            None => ("", t.strip_prefix('+').unwrap_or(t)),
+        };
+        let digits = ["#x", "#X"]
+            .iter()
+            .find_map(|p| body.strip_prefix(p))
+            .and_then(|r| ["0x", "0X"].iter().find_map(|p| r.strip_prefix(p)))?;
+        let single = format!("{sign}#x{digits}");
+        let v = xml::parse_number(&single)?;
+        self.warn(
+            offset,
+            format!(
+                "`{}` in {what} has two hexadecimal prefixes; read as {single}",
+                clip(t)
+            ),
+        );
+        Some(v)
     }
 
     /// A number of type `T` from element text.
     fn number<T: Bounded>(&self, text: &str, offset: usize, what: &str) -> Result<T, ParseError> {
-        match xml::parse_number(text) {
+        match self.parse_number(text, offset, what) {
             Some(v) => T::try_from(v).map_err(|_| {
                 self.err(
                     offset,
@@ -219,15 +263,18 @@ struct RawObject {
     type_name: At,
     bit_size: Option<u32>,
     info: RawInfo,
-    sub_infos: Vec<(String, RawInfo)>,
+    /// `Info/SubItem`s: name, values, and where the `SubItem` is.
+    sub_infos: Vec<(String, RawInfo, usize)>,
     flags: Option<RawFlags>,
 }
 
 #[derive(Debug, Default)]
 struct RawDevice {
     offset: usize,
-    /// Where each PDO entry is: TxPdo or RxPdo, the PDO's place in its list, the entry's, the offset.
-    pdo_entry_offsets: Vec<(bool, usize, usize, usize)>,
+    /// Where each PDO entry is.
+    pdo_entry_offsets: Vec<EntryAt>,
+    /// Inside an `RxPdo`/`TxPdo` that refers to a template (`Ref`), which is left out.
+    in_ref_pdo: bool,
     product_code: u32,
     revision: u32,
     order_code: String,
@@ -237,6 +284,27 @@ struct RawDevice {
     data_types: Vec<RawDataType>,
     objects: Vec<RawObject>,
     ecat: EthercatInfo,
+    /// A `Descriptions/Modules/Module` (a module of the file's modular devices), not a device.
+    is_module: bool,
+    /// `Type@ModuleIdent`, `@ModuleClass`, `@ModulePdoGroup` of a module.
+    module_ident: u32,
+    module_class: String,
+    module_pdo_group: Option<u32>,
+    /// `DcOpModeName` of a module.
+    dc_op_mode_name: String,
+    /// `Profile/ProfileNo` and `Profile/AddInfo`.
+    profile_no: Option<u32>,
+    add_info: Option<u32>,
+}
+
+/// Where a PDO entry is: in a TxPdo or an RxPdo, the PDO's place in its list, the entry's place in the
+/// PDO, and the offset of its `Entry` element.
+#[derive(Debug, Clone, Copy)]
+struct EntryAt {
+    tx: bool,
+    pdo: usize,
+    n: usize,
+    offset: usize,
 }
 
 /// What the parser is collecting.
@@ -254,8 +322,9 @@ struct Parser<'a> {
     file_version: String,
     device: Option<RawDevice>,
     done: Vec<DeviceDescription>,
+    /// The file's `Descriptions/Modules/Module`s.
+    modules: Vec<Module>,
     sources: Vec<SourceMap>,
-    findings: Vec<Finding>,
 }
 
 pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
@@ -266,10 +335,12 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         e
     })?;
     let lines = LineIndex::new(text.as_bytes());
+    let findings = RefCell::new(Vec::new());
     let ctx = Ctx {
         src: &text,
         name: source_name,
         lines: &lines,
+        findings: &findings,
     };
     let mut parser = Parser {
         ctx,
@@ -284,8 +355,8 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         file_version: String::new(),
         device: None,
         done: Vec::new(),
+        modules: Vec::new(),
         sources: Vec::new(),
-        findings: Vec::new(),
     };
     parser.run()?;
     let Parser {
@@ -294,14 +365,22 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         vendor_name,
         file_version,
         sources,
-        findings,
+        modules,
         ..
     } = parser;
+    // The file's modules belong to each of its devices.
+    let modules: std::sync::Arc<[Module]> = modules.into();
     for d in &mut done {
         d.identity.vendor_id = vendor_id;
         d.identity.vendor_name = vendor_name.get().unwrap_or_default().to_string();
         d.file_info.file_version = file_version.clone();
+        if let Some(ecat) = d.ethercat.as_mut() {
+            ecat.modules = modules.clone();
+        }
     }
+    let mut findings = findings.into_inner();
+    // In file order: a device's findings about its PDOs come when the device ends.
+    findings.sort_by_key(|f| f.position.map(|p| (p.line, p.column)));
     Ok(Reading {
         devices: done,
         sources,
@@ -511,6 +590,14 @@ impl<'a> Parser<'a> {
                         ..RawDevice::default()
                     });
                 }
+                [Tag::EtherCATInfo, Tag::Descriptions, Tag::Modules, Tag::Module] => {
+                    self.device_depth = Some(stack.len() - 1);
+                    self.device = Some(RawDevice {
+                        offset,
+                        is_module: true,
+                        ..RawDevice::default()
+                    });
+                }
                 _ => {}
             }
             return Ok(());
@@ -531,8 +618,106 @@ impl<'a> Parser<'a> {
                         b"RevisionNo" => {
                             dev.revision = ctx.number(v, *at, "the RevisionNo attribute")?
                         }
+                        b"ModuleIdent" => {
+                            dev.module_ident = ctx.number(v, *at, "the ModuleIdent attribute")?
+                        }
+                        b"ModuleClass" => dev.module_class = v.clone(),
+                        b"ModulePdoGroup" => {
+                            dev.module_pdo_group =
+                                Some(ctx.number(v, *at, "the ModulePdoGroup attribute")?)
+                        }
                         _ => {}
                     }
+                }
+            }
+            [Tag::Slots] => {
+                let mut slots = Slots::default();
+                for (k, v, at) in &attrs {
+                    let what = format!("the {} attribute of <Slots>", String::from_utf8_lossy(k));
+                    let field = match k.as_slice() {
+                        b"MaxSlotCount" => &mut slots.max_slot_count,
+                        b"MaxSlotGroupCount" => &mut slots.max_slot_group_count,
+                        b"SlotPdoIncrement" => &mut slots.slot_pdo_increment,
+                        b"SlotGroupPdoIncrement" => &mut slots.slot_group_pdo_increment,
+                        b"SlotIndexIncrement" => &mut slots.slot_index_increment,
+                        b"SlotGroupIndexIncrement" => &mut slots.slot_group_index_increment,
+                        b"DownloadModuleIdentList" => {
+                            slots.download_module_ident_list = flag(ctx, v, *at, &what)?;
+                            continue;
+                        }
+                        b"IdentifyModuleBy" => {
+                            slots.identify_module_by = v.clone();
+                            continue;
+                        }
+                        _ => continue,
+                    };
+                    *field = Some(ctx.number(v, *at, &what)?);
+                }
+                dev.ecat.slots = Some(slots);
+            }
+            [Tag::Slots, Tag::Slot] => {
+                let mut slot = Slot::default();
+                for (k, v, at) in &attrs {
+                    let what = format!("the {} attribute of <Slot>", String::from_utf8_lossy(k));
+                    let field = match k.as_slice() {
+                        b"MinInstances" => {
+                            slot.min_instances = ctx.number(v, *at, &what)?;
+                            continue;
+                        }
+                        b"MaxInstances" => {
+                            slot.max_instances = ctx.number(v, *at, &what)?;
+                            continue;
+                        }
+                        b"TreeView" => {
+                            slot.tree_view = v.clone();
+                            continue;
+                        }
+                        b"SlotGroup" => &mut slot.slot_group,
+                        b"SlotPdoIncrement" => &mut slot.slot_pdo_increment,
+                        b"SlotGroupPdoIncrement" => &mut slot.slot_group_pdo_increment,
+                        b"SlotIndexIncrement" => &mut slot.slot_index_increment,
+                        b"SlotGroupIndexIncrement" => &mut slot.slot_group_index_increment,
+                        _ => continue,
+                    };
+                    *field = Some(ctx.number(v, *at, &what)?);
+                }
+                if let Some(s) = dev.ecat.slots.as_mut() {
+                    s.slots.push(slot);
+                }
+            }
+            [Tag::Slots, Tag::Slot, Tag::ModuleIdent] => {
+                let mut ident = SlotModuleIdent::default();
+                for (k, v, at) in &attrs {
+                    if k == b"Default" {
+                        ident.default =
+                            Some(ctx.number(v, *at, "the Default attribute of <ModuleIdent>")?);
+                    }
+                }
+                if let Some(slot) = dev.ecat.slots.as_mut().and_then(|s| s.slots.last_mut()) {
+                    slot.module_idents.push(ident);
+                }
+            }
+            [Tag::Slots, Tag::Slot, Tag::ModuleClass] => {
+                if let Some(slot) = dev.ecat.slots.as_mut().and_then(|s| s.slots.last_mut()) {
+                    slot.module_classes.push(SlotModuleClass::default());
+                }
+            }
+            [Tag::Slots, Tag::ModulePdoGroup] => {
+                let mut group = ModulePdoGroup::default();
+                for (k, v, at) in &attrs {
+                    let what = format!(
+                        "the {} attribute of <ModulePdoGroup>",
+                        String::from_utf8_lossy(k)
+                    );
+                    match k.as_slice() {
+                        b"Alignment" => group.alignment = Some(ctx.number(v, *at, &what)?),
+                        b"RxPdo" => group.rx_pdo = Some(ctx.number(v, *at, &what)?),
+                        b"TxPdo" => group.tx_pdo = Some(ctx.number(v, *at, &what)?),
+                        _ => {}
+                    }
+                }
+                if let Some(s) = dev.ecat.slots.as_mut() {
+                    s.module_pdo_groups.push(group);
                 }
             }
             [Tag::Profile, Tag::Dictionary] => dev.has_dictionary = true,
@@ -574,7 +759,8 @@ impl<'a> Parser<'a> {
             }
             [Tag::Profile, Tag::Dictionary, Tag::Objects, Tag::Object, Tag::Info, Tag::SubItem] => {
                 if let Some(o) = dev.objects.last_mut() {
-                    o.sub_infos.push((String::new(), RawInfo::default()));
+                    o.sub_infos
+                        .push((String::new(), RawInfo::default(), offset));
                 }
             }
             [.., Tag::Flags, Tag::Access] => {
@@ -608,13 +794,29 @@ impl<'a> Parser<'a> {
                         b"MinSize" => sm.min_size = Some(ctx.number(v, *at, &what)?),
                         b"MaxSize" => sm.max_size = Some(ctx.number(v, *at, &what)?),
                         b"ControlByte" => sm.control_byte = ctx.number(v, *at, &what)?,
-                        b"Enable" => sm.enable = flag(ctx, v, *at, &what)?,
+                        b"Enable" => sm.enable = enable(ctx, v, *at, &what)?,
+                        b"Virtual" => sm.is_virtual = flag(ctx, v, *at, &what)?,
+                        b"OpOnly" => sm.op_only = flag(ctx, v, *at, &what)?,
+                        b"Watchdog" => sm.watchdog = flag(ctx, v, *at, &what)?,
                         _ => {}
                     }
                 }
                 dev.ecat.sync_managers.push(sm);
             }
             [Tag::RxPdo | Tag::TxPdo] => {
+                if let Some((_, name, _)) = attrs.iter().find(|(k, _, _)| k == b"Ref") {
+                    // The obsolete Beckhoff form: a PDO of the file's `Descriptions/Pdos` templates.
+                    ctx.warn(
+                        offset,
+                        format!(
+                            "<{} Ref=\"{}\"> refers to a PDO template of the obsolete Descriptions/Pdos list, which is not read; the PDO is left out",
+                            tag.name(),
+                            clip(name)
+                        ),
+                    );
+                    dev.in_ref_pdo = true;
+                    return Ok(());
+                }
                 let mut pdo = Pdo::default();
                 for (k, v, at) in &attrs {
                     let what = format!(
@@ -625,7 +827,13 @@ impl<'a> Parser<'a> {
                     match k.as_slice() {
                         b"Fixed" => pdo.fixed = flag(ctx, v, *at, &what)?,
                         b"Mandatory" => pdo.mandatory = flag(ctx, v, *at, &what)?,
+                        b"Virtual" => pdo.is_virtual = flag(ctx, v, *at, &what)?,
                         b"Sm" => pdo.sm = Some(ctx.number(v, *at, &what)?),
+                        b"Su" => pdo.su = Some(ctx.number(v, *at, &what)?),
+                        b"OSFac" => pdo.os_factor = Some(ctx.number(v, *at, &what)?),
+                        b"OSMin" => pdo.os_min = Some(ctx.number(v, *at, &what)?),
+                        b"OSMax" => pdo.os_max = Some(ctx.number(v, *at, &what)?),
+                        b"OSIndexInc" => pdo.os_index_inc = Some(ctx.number(v, *at, &what)?),
                         _ => {}
                     }
                 }
@@ -635,6 +843,19 @@ impl<'a> Parser<'a> {
                     dev.ecat.tx_pdos.push(pdo);
                 }
             }
+            [Tag::RxPdo | Tag::TxPdo, ..] if dev.in_ref_pdo => {}
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Index] => {
+                let depend = slot_depend(ctx, &attrs)?;
+                if let Some(p) = pdo_of(dev, *pdo) {
+                    p.index_depend = depend;
+                }
+            }
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Exclude] => {
+                let depend = slot_depend(ctx, &attrs)?;
+                if let Some(p) = pdo_of(dev, *pdo) {
+                    p.exclude.push(PdoRef { index: 0, depend });
+                }
+            }
             [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Entry] => {
                 let tx = *pdo == Tag::TxPdo;
                 let ordinal = if tx {
@@ -642,11 +863,34 @@ impl<'a> Parser<'a> {
                 } else {
                     dev.ecat.rx_pdos.len()
                 };
+                let mut entry = PdoEntry::default();
+                for (k, v, at) in &attrs {
+                    if k == b"Fixed" {
+                        entry.fixed = flag(ctx, v, *at, "the Fixed attribute of <Entry>")?;
+                    }
+                }
                 if let Some(p) = pdo_of(dev, *pdo) {
-                    p.entries.push(PdoEntry::default());
+                    p.entries.push(entry);
                     let n = p.entries.len() - 1;
-                    dev.pdo_entry_offsets
-                        .push((tx, ordinal.saturating_sub(1), n, offset));
+                    dev.pdo_entry_offsets.push(EntryAt {
+                        tx,
+                        pdo: ordinal.saturating_sub(1),
+                        n,
+                        offset,
+                    });
+                }
+            }
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Entry, Tag::Index] => {
+                let depend = slot_depend(ctx, &attrs)?;
+                if let Some(e) = pdo_of(dev, *pdo).and_then(|p| p.entries.last_mut()) {
+                    e.index_depend = depend;
+                }
+            }
+            [pdo @ (Tag::RxPdo | Tag::TxPdo), Tag::Entry, Tag::DataType] => {
+                if let Some((_, v, _)) = attrs.iter().find(|(k, _, _)| k == b"DScale") {
+                    if let Some(e) = pdo_of(dev, *pdo).and_then(|p| p.entries.last_mut()) {
+                        e.data_scale = v.clone();
+                    }
                 }
             }
             [Tag::Mailbox] => {
@@ -679,6 +923,39 @@ impl<'a> Parser<'a> {
                 }
                 if let Some(mb) = dev.ecat.mailbox.as_mut() {
                     mb.coe = Some(coe);
+                }
+            }
+            [Tag::Mailbox, Tag::CoE, Tag::InitCmd] => {
+                let mut cmd = InitCmd::default();
+                for (k, v, at) in &attrs {
+                    let what = format!("the {} attribute of <InitCmd>", String::from_utf8_lossy(k));
+                    let field = match k.as_slice() {
+                        b"Fixed" => &mut cmd.fixed,
+                        b"CompleteAccess" => &mut cmd.complete_access,
+                        b"OverwrittenByModule" => &mut cmd.overwritten_by_module,
+                        _ => continue,
+                    };
+                    *field = flag(ctx, v, *at, &what)?;
+                }
+                if let Some(mb) = dev.ecat.mailbox.as_mut() {
+                    mb.init_cmds.push(cmd);
+                }
+            }
+            [Tag::Mailbox, Tag::CoE, Tag::InitCmd, Tag::Index] => {
+                let depend = slot_depend(ctx, &attrs)?;
+                if let Some(cmd) = init_cmd_of(dev) {
+                    cmd.index_depend = depend;
+                }
+            }
+            [Tag::Mailbox, Tag::CoE, Tag::InitCmd, Tag::Data] => {
+                let mut adapt = false;
+                for (k, v, at) in &attrs {
+                    if k == b"AdaptAutomatically" {
+                        adapt = flag(ctx, v, *at, "the AdaptAutomatically attribute of <Data>")?;
+                    }
+                }
+                if let Some(cmd) = init_cmd_of(dev) {
+                    cmd.adapt_automatically = adapt;
                 }
             }
             [Tag::Mailbox, Tag::FoE] => {
@@ -739,9 +1016,40 @@ impl<'a> Parser<'a> {
         if self.device_depth == Some(self.stack.len()) {
             self.device_depth = None;
             if let Some(raw) = self.device.take() {
-                let (desc, source) = build_device(self.ctx, raw, &mut self.findings)?;
-                self.done.push(desc);
-                self.sources.push(source);
+                let module = raw.is_module.then(|| {
+                    (
+                        raw.module_ident,
+                        raw.module_class.clone(),
+                        raw.module_pdo_group,
+                        raw.dc_op_mode_name.clone(),
+                        raw.profile_no,
+                        raw.add_info,
+                    )
+                });
+                let (desc, source) = build_device(self.ctx, raw)?;
+                match module {
+                    Some((ident, class, pdo_group, dc_op_mode_name, profile_no, add_info)) => {
+                        let ecat = desc.ethercat.unwrap_or_default();
+                        self.modules.push(Module {
+                            ident,
+                            class,
+                            pdo_group,
+                            type_name: desc.identity.order_code,
+                            name: desc.identity.product_name,
+                            rx_pdos: ecat.rx_pdos,
+                            tx_pdos: ecat.tx_pdos,
+                            mailbox: ecat.mailbox,
+                            profile_no,
+                            add_info,
+                            dictionary: desc.dictionary,
+                            dc_op_mode_name,
+                        });
+                    }
+                    None => {
+                        self.done.push(desc);
+                        self.sources.push(source);
+                    }
+                }
             }
         }
         result
@@ -776,6 +1084,78 @@ impl<'a> Parser<'a> {
             [Tag::Type] => dev.order_code = text.to_string(),
             [Tag::Name] => dev.name.offer(lcid, text),
             [Tag::GroupType] => dev.group_type = text.to_string(),
+            [Tag::DcOpModeName] => dev.dc_op_mode_name = text.to_string(),
+            // Kept for modules; a device's profile number is not kept.
+            [Tag::Profile, f @ (Tag::ProfileNo | Tag::AddInfo)] if dev.is_module => {
+                let what = format!("<Profile>/<{}>", f.name());
+                let n = match ctx.number(text, at, &what) {
+                    Ok(n) => Some(n),
+                    Err(e) => {
+                        ctx.warn(at, format!("{}; it is left out", e.message));
+                        None
+                    }
+                };
+                if *f == Tag::ProfileNo {
+                    dev.profile_no = n;
+                } else {
+                    dev.add_info = n;
+                }
+            }
+            [Tag::Slots, Tag::Slot, rest @ ..] => {
+                let Some(slot) = dev.ecat.slots.as_mut().and_then(|s| s.slots.last_mut()) else {
+                    return Ok(());
+                };
+                match rest {
+                    // Localized: 1033 wins over the first.
+                    [Tag::Name] if slot.name.is_empty() || lcid == Some(1033) => {
+                        slot.name = text.to_string()
+                    }
+                    [Tag::ModuleIdent] => {
+                        let ident = ctx.number(text, at, "<Slot>/<ModuleIdent>")?;
+                        if let Some(m) = slot.module_idents.last_mut() {
+                            m.ident = ident;
+                        }
+                    }
+                    [Tag::ModuleClass, f] => {
+                        if let Some(c) = slot.module_classes.last_mut() {
+                            match f {
+                                Tag::Class => c.class = text.to_string(),
+                                Tag::VendorId => {
+                                    c.vendor_id =
+                                        Some(ctx.number(text, at, "<ModuleClass>/<VendorId>")?)
+                                }
+                                Tag::Name if c.name.is_empty() || lcid == Some(1033) => {
+                                    c.name = text.to_string()
+                                }
+                                _ => {}
+                            }
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            [Tag::Slots, Tag::ModulePdoGroup] => {
+                if let Some(g) = dev
+                    .ecat
+                    .slots
+                    .as_mut()
+                    .and_then(|s| s.module_pdo_groups.last_mut())
+                {
+                    g.name = text.to_string();
+                }
+            }
+            [Tag::Mailbox, Tag::CoE, Tag::InitCmd, f] => {
+                if let Some(cmd) = init_cmd_of(dev) {
+                    match f {
+                        Tag::Transition => cmd.transitions.push(text.to_string()),
+                        Tag::Index => cmd.index = ctx.number(text, at, "<InitCmd>/<Index>")?,
+                        Tag::SubIndex => cmd.sub = ctx.number(text, at, "<InitCmd>/<SubIndex>")?,
+                        Tag::Data => cmd.data = ctx.hex(text, at, "<InitCmd>/<Data>")?,
+                        Tag::Comment => cmd.comment = text.to_string(),
+                        _ => {}
+                    }
+                }
+            }
             [Tag::Profile, Tag::Dictionary, Tag::DataTypes, Tag::DataType, rest @ ..] => {
                 let Some(dt) = dev.data_types.last_mut() else {
                     return Ok(());
@@ -875,6 +1255,8 @@ impl<'a> Parser<'a> {
                     sm.kind = text.to_string();
                 }
             }
+            [Tag::RxPdo | Tag::TxPdo] if dev.in_ref_pdo => dev.in_ref_pdo = false,
+            [Tag::RxPdo | Tag::TxPdo, ..] if dev.in_ref_pdo => {}
             [pdo @ (Tag::RxPdo | Tag::TxPdo), rest @ ..] => {
                 let kind = *pdo;
                 let Some(p) = pdo_of(dev, kind) else {
@@ -889,7 +1271,10 @@ impl<'a> Parser<'a> {
                         p.name = text.to_string()
                     }
                     [Tag::Exclude] => {
-                        p.exclude.push(ctx.number(text, at, "<Exclude>")?);
+                        let index = ctx.number(text, at, "<Exclude>")?;
+                        if let Some(x) = p.exclude.last_mut() {
+                            x.index = index;
+                        }
                     }
                     [Tag::Entry, f] => {
                         if let Some(en) = p.entries.last_mut() {
@@ -905,6 +1290,7 @@ impl<'a> Parser<'a> {
                                     en.name = text.to_string()
                                 }
                                 Tag::DataType => en.data_type = text.to_string(),
+                                Tag::Comment => en.comment = text.to_string(),
                                 _ => {}
                             }
                         }
@@ -958,6 +1344,13 @@ impl<'a> Parser<'a> {
     }
 }
 
+fn init_cmd_of(dev: &mut RawDevice) -> Option<&mut InitCmd> {
+    dev.ecat
+        .mailbox
+        .as_mut()
+        .and_then(|m| m.init_cmds.last_mut())
+}
+
 fn pdo_of(dev: &mut RawDevice, tag: Tag) -> Option<&mut Pdo> {
     if tag == Tag::RxPdo {
         dev.ecat.rx_pdos.last_mut()
@@ -971,6 +1364,33 @@ fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
         return None;
     }
     hay.windows(needle.len()).position(|w| w == needle)
+}
+
+/// The `DependOnSlot` and `DependOnSlotGroup` attributes of an element.
+fn slot_depend(ctx: Ctx, attrs: &[(Vec<u8>, String, usize)]) -> Result<SlotDepend, ParseError> {
+    let mut d = SlotDepend::default();
+    for (k, v, at) in attrs {
+        let which = match k.as_slice() {
+            b"DependOnSlot" => &mut d.slot,
+            b"DependOnSlotGroup" => &mut d.slot_group,
+            _ => continue,
+        };
+        *which = flag(
+            ctx,
+            v,
+            *at,
+            &format!("the {} attribute", String::from_utf8_lossy(k)),
+        )?;
+    }
+    Ok(d)
+}
+
+/// The `Enable` attribute of `Sm`: a number 0..255 (the SII enable byte), or `true`/`false`.
+fn enable(ctx: Ctx, text: &str, at: usize, what: &str) -> Result<u8, ParseError> {
+    match ctx.number::<u8>(text, at, what) {
+        Ok(n) => Ok(n),
+        Err(e) => xml::parse_bool(text).map(u8::from).ok_or(e),
+    }
 }
 
 /// A boolean attribute (`1`, `0`, `true`, `false`).
@@ -1044,8 +1464,25 @@ fn read_info(
     };
     match tag {
         Tag::DefaultData => info.default_data = Some((ctx.hex(text, at, "<DefaultData>")?, at)),
-        Tag::MinData => info.min_data = Some((ctx.hex(text, at, "<MinData>")?, at)),
-        Tag::MaxData => info.max_data = Some((ctx.hex(text, at, "<MaxData>")?, at)),
+        Tag::MinData | Tag::MaxData => {
+            let what = if tag == Tag::MinData {
+                "<MinData>"
+            } else {
+                "<MaxData>"
+            };
+            let bytes = match ctx.hex(text, at, what) {
+                Ok(b) => Some((b, at)),
+                Err(e) => {
+                    ctx.warn(at, format!("{}; the limit is dropped", e.message));
+                    None
+                }
+            };
+            if tag == Tag::MinData {
+                info.min_data = bytes;
+            } else {
+                info.max_data = bytes;
+            }
+        }
         Tag::DefaultValue => info.default_value = Some(keep()),
         Tag::MinValue => info.min_value = Some(keep()),
         Tag::MaxValue => info.max_value = Some(keep()),
@@ -1147,13 +1584,8 @@ struct Flat<'t> {
     offset: usize,
 }
 
-fn build_device(
-    ctx: Ctx,
-    raw: RawDevice,
-    findings: &mut Vec<Finding>,
-) -> Result<(DeviceDescription, SourceMap), ParseError> {
-    let _ = &findings;
-    let pos = |offset: usize| ctx.lines.position(ctx.src.as_bytes(), offset);
+fn build_device(ctx: Ctx, raw: RawDevice) -> Result<(DeviceDescription, SourceMap), ParseError> {
+    let pos = |offset: usize| ctx.pos(offset);
     let mut source = SourceMap::default();
     source.set_device(pos(raw.offset));
     let mut desc = DeviceDescription::default();
@@ -1169,7 +1601,7 @@ fn build_device(
             return Err(ctx.err(o.offset, "expected an <Index> in <Object>"));
         };
         if let Some(&prev) = first_at.get(&index) {
-            let p = Position::of_offset(ctx.src.as_bytes(), prev);
+            let p = ctx.pos(prev);
             return Err(ctx.err(
                 o.offset,
                 format!(
@@ -1180,21 +1612,19 @@ fn build_device(
         }
         first_at.insert(index, o.offset);
         source.set_object(index, pos(o.offset));
-        dict.insert(build_object(ctx, &types, o, index)?);
+        dict.insert(build_object(ctx, &types, o, index, &mut source)?);
     }
-    for &(tx, ordinal, n, offset) in &raw.pdo_entry_offsets {
-        let pdos = if tx {
+    for e in &raw.pdo_entry_offsets {
+        let pdos = if e.tx {
             &raw.ecat.tx_pdos
         } else {
             &raw.ecat.rx_pdos
         };
-        if let Some(pdo) = pdos.get(ordinal) {
-            source.set_pdo_entry(pdo.index, n, pos(offset));
+        if let Some(pdo) = pdos.get(e.pdo) {
+            source.set_pdo_entry(pdo.index, e.n, pos(e.offset));
         }
     }
-    if !raw.has_dictionary {
-        dictionary_from_pdos(&mut dict, &raw.ecat);
-    }
+    apply_pdos(ctx, &mut dict, &raw, &mut source);
     desc.dictionary = dict;
     let mut ecat = raw.ecat;
     ecat.group_type = raw.group_type;
@@ -1202,7 +1632,13 @@ fn build_device(
     Ok((desc, source))
 }
 
-fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Object, ParseError> {
+fn build_object(
+    ctx: Ctx,
+    types: &Types,
+    o: &RawObject,
+    index: u16,
+    source: &mut SourceMap,
+) -> Result<Object, ParseError> {
     let name = o.name.get().unwrap_or_default().to_string();
     let comment = o.comment.get().map(str::to_string);
     let type_at = if o.type_name.text.is_empty() {
@@ -1273,7 +1709,7 @@ fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Ob
             // and then by position.
             let mut assigned: Vec<Option<usize>> = vec![None; flat.len()];
             let complete = o.sub_infos.len() == flat.len();
-            for (i, (info_name, _)) in o.sub_infos.iter().enumerate() {
+            for (i, (info_name, _, _)) in o.sub_infos.iter().enumerate() {
                 if complete {
                     assigned[i] = Some(i);
                     continue;
@@ -1310,15 +1746,16 @@ fn build_object(ctx: Ctx, types: &Types, o: &RawObject, index: u16) -> Result<Ob
                     .unwrap_or_default();
                 let info = assigned[j].and_then(|i| o.sub_infos.get(i));
                 let name = match (f.element, info) {
-                    (true, Some((n, _))) => n.clone(),
+                    (true, Some((n, _, _))) => n.clone(),
                     _ => f.name.clone(),
                 };
                 let mut sub = SubObject::new(name, f.data_type, access);
                 sub.bit_size = f.bit_size;
                 sub.pdo = pdo;
                 sub.description = f.comment.map(str::to_string);
-                if let Some((_, info)) = info {
+                if let Some((_, info, at)) = info {
                     apply_info(ctx, &mut sub, info, index)?;
+                    source.set_entry(index, f.sub, ctx.pos(*at));
                 }
                 object.subs.insert(f.sub, sub);
             }
@@ -1494,16 +1931,55 @@ fn apply_info(ctx: Ctx, sub: &mut SubObject, info: &RawInfo, index: u16) -> Resu
     } else {
         None
     };
-    sub.low = match (&info.min_data, &info.min_value) {
-        (Some((bytes, at)), _) => Some(decode_data(ctx, t, bytes, *at, index, "MinData")?),
-        (None, Some(v)) => Some(value_text(ctx, t, v, index, "MinValue")?),
-        (None, None) => None,
+    // A limit that is no value of the type (vendors copy limits between objects of different types)
+    // limits nothing a master could write: it is dropped.
+    let limit = |data: &Option<(Vec<u8>, usize)>, value: &Option<At>, what: [&str; 2]| {
+        let read = match (data, value) {
+            (Some((bytes, at)), _) => decode_data(ctx, t, bytes, *at, index, what[0]),
+            (None, Some(v)) => value_text(ctx, t, v, index, what[1]),
+            (None, None) => return None,
+        };
+        match read {
+            Ok(v) => Some(v),
+            Err(e) => {
+                let at = data
+                    .as_ref()
+                    .map_or_else(|| value.as_ref().map_or(0, |v| v.offset), |d| d.1);
+                ctx.warn(at, format!("{}; the limit is dropped", e.message));
+                None
+            }
+        }
     };
-    sub.high = match (&info.max_data, &info.max_value) {
-        (Some((bytes, at)), _) => Some(decode_data(ctx, t, bytes, *at, index, "MaxData")?),
-        (None, Some(v)) => Some(value_text(ctx, t, v, index, "MaxValue")?),
-        (None, None) => None,
-    };
+    sub.low = limit(&info.min_data, &info.min_value, ["MinData", "MinValue"]);
+    sub.high = limit(&info.max_data, &info.max_value, ["MaxData", "MaxValue"]);
+    if let Some(v) = &default {
+        // A string whose type is shorter than its default (`STRING(0)` with a default): the default
+        // shows the size.
+        if let (Some(bits), Ok(bytes)) = (sub.bit_size, v.encode(t)) {
+            let unit = if t == DataType::UnicodeString { 16 } else { 8 };
+            let needed = u32::try_from(bytes.len())
+                .unwrap_or(u32::MAX / 8)
+                .saturating_mul(8)
+                .div_ceil(unit)
+                * unit;
+            if t.is_variable() && needed > bits {
+                let at = info
+                    .default_data
+                    .as_ref()
+                    .map(|d| d.1)
+                    .or(info.default_value.as_ref().map(|v| v.offset))
+                    .or(info.default_string.as_ref().map(|v| v.offset))
+                    .unwrap_or(0);
+                ctx.warn(
+                    at,
+                    format!(
+                        "object #x{index:04X}: the default takes {needed} bits but the type gives {bits}; the size is the default's"
+                    ),
+                );
+                sub.bit_size = Some(needed);
+            }
+        }
+    }
     if let Some(v) = default {
         if let Ok(bytes) = v.encode(t) {
             sub.value = bytes;
@@ -1580,7 +2056,9 @@ fn value_text(ctx: Ctx, t: DataType, v: &At, index: u16, what: &str) -> Result<V
             Value::parse_text(t, text).map_err(|_| bad("a decimal number"))
         }
         DataType::TimeOfDay | DataType::TimeDifference => {
-            let n = xml::parse_number(text).ok_or_else(|| bad("a number"))?;
+            let n = ctx
+                .parse_number(text, v.offset, &format!("<{what}>"))
+                .ok_or_else(|| bad("a number"))?;
             let bytes = u64::try_from(n)
                 .ok()
                 .filter(|&n| n < (1u64 << 48))
@@ -1591,14 +2069,16 @@ fn value_text(ctx: Ctx, t: DataType, v: &At, index: u16, what: &str) -> Result<V
         DataType::Boolean => match text.to_ascii_lowercase().as_str() {
             "true" => Ok(Value::Bool(true)),
             "false" => Ok(Value::Bool(false)),
-            _ => match xml::parse_number(text) {
+            _ => match ctx.parse_number(text, v.offset, &format!("<{what}>")) {
                 Some(0) => Ok(Value::Bool(false)),
                 Some(1) => Ok(Value::Bool(true)),
                 _ => Err(bad("0, 1, true or false")),
             },
         },
         _ => {
-            let n = xml::parse_number(text).ok_or_else(|| bad("a number like #x1A00 or 6656"))?;
+            let n = ctx
+                .parse_number(text, v.offset, &format!("<{what}>"))
+                .ok_or_else(|| bad("a number like #x1A00 or 6656"))?;
             let (lo, hi) = t.integer_range().ok_or_else(|| bad("a number"))?;
             let hex = text.starts_with("#x") || text.starts_with("#X") || text.starts_with("0x");
             // Hexadecimal for a signed type may spell the two's complement (`#xFFFF` = -1 for INT).
@@ -1619,51 +2099,204 @@ fn value_text(ctx: Ctx, t: DataType, v: &At, index: u16, what: &str) -> Result<V
     }
 }
 
-/// The dictionary of a device without one: an entry for every object the PDOs map with a known type.
-fn dictionary_from_pdos(dict: &mut Dictionary, ecat: &EthercatInfo) {
-    let pdos = ecat
-        .rx_pdos
-        .iter()
-        .map(|p| (p, PdoMapping::Rpdo))
-        .chain(ecat.tx_pdos.iter().map(|p| (p, PdoMapping::Tpdo)));
-    for (pdo, dir) in pdos {
-        for e in &pdo.entries {
-            if e.index == 0 {
-                continue;
-            }
-            let Some((t, bits)) = DataType::from_esi_name(&e.data_type) else {
-                continue;
-            };
-            let bit_size = if t.is_variable() {
-                bits.or(Some(u32::from(e.bit_len)))
-            } else {
-                t.bit_size()
-            };
-            let mut sub = SubObject::new(e.name.clone(), t, AccessType::Ro).with_pdo(dir);
-            sub.bit_size = bit_size;
-            if e.sub == 0 {
-                if dict.object(e.index).is_none() {
-                    dict.insert(Object::var(e.index, sub));
+/// A type for an entry that only a PDO describes and whose `DataType` names none: an unsigned of its
+/// `BitLen`, a bit field below 8 bits, else an octet string of the bytes it covers.
+fn type_of_size(bits: u16) -> Option<(DataType, Option<u32>)> {
+    let t = match bits {
+        0 => return None,
+        1..=7 => DataType::Bit(bits as u8),
+        8 => DataType::Unsigned8,
+        16 => DataType::Unsigned16,
+        24 => DataType::Unsigned24,
+        32 => DataType::Unsigned32,
+        40 => DataType::Unsigned40,
+        48 => DataType::Unsigned48,
+        56 => DataType::Unsigned56,
+        64 => DataType::Unsigned64,
+        _ => return Some((DataType::OctetString, Some(u32::from(bits).div_ceil(8) * 8))),
+    };
+    Some((t, None))
+}
+
+/// `p` with the direction `dir` added.
+fn with_direction(p: PdoMapping, dir: PdoMapping) -> PdoMapping {
+    match (p, dir) {
+        (PdoMapping::None, d) => d,
+        (PdoMapping::Rpdo, PdoMapping::Tpdo) | (PdoMapping::Tpdo, PdoMapping::Rpdo) => {
+            PdoMapping::Both
+        }
+        (p, _) => p,
+    }
+}
+
+fn direction_text(p: PdoMapping) -> &'static str {
+    match p {
+        PdoMapping::None => "nothing",
+        PdoMapping::Rpdo => "R",
+        PdoMapping::Tpdo => "T",
+        PdoMapping::Both => "RT",
+    }
+}
+
+/// What the device's own PDOs say about its dictionary. An entry a PDO maps is mappable in the PDO's
+/// direction: where the dictionary's `PdoMapping` is missing or says otherwise, the PDOs win (with a
+/// warning). An entry the dictionary does not have (a device without a dictionary, or a partial one) is
+/// made from the PDO entry that maps it: of the `DataType`'s type (else one of its `BitLen`), read-only,
+/// mappable in the PDO's direction, without default; a VAR for sub-index 0, else an entry of a RECORD
+/// (type name `DTxxxx`, as the writer names it) whose sub-index 0 counts up to the highest entry. The
+/// object is named after the first PDO that maps it. Nothing else is made up.
+fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut SourceMap) {
+    let partial = raw.has_dictionary;
+    // Entries and objects made here (a second PDO that maps them only adds its direction).
+    let mut made: std::collections::HashSet<(u16, u8)> = std::collections::HashSet::new();
+    let mut made_objects: std::collections::HashSet<u16> = std::collections::HashSet::new();
+    // The structure type names in use, once a RECORD is made.
+    let mut type_names: Option<std::collections::HashSet<String>> = None;
+    for at in &raw.pdo_entry_offsets {
+        let (pdos, dir, kind) = if at.tx {
+            (&raw.ecat.tx_pdos, PdoMapping::Tpdo, "TxPdo")
+        } else {
+            (&raw.ecat.rx_pdos, PdoMapping::Rpdo, "RxPdo")
+        };
+        let Some(pdo) = pdos.get(at.pdo) else {
+            continue;
+        };
+        let Some(e) = pdo.entries.get(at.n) else {
+            continue;
+        };
+        if e.index == 0 {
+            continue;
+        }
+        let address = Address::new(e.index, e.sub);
+        let which = || format!("{kind} #x{:04X}", pdo.index);
+        if let Some(object) = dict
+            .object_mut(e.index)
+            .filter(|o| o.subs.contains_key(&e.sub))
+        {
+            // The elements of an ARRAY share one `SubItem`, and so one `PdoMapping`.
+            let array = object.kind == ObjectKind::Array && e.sub != 0;
+            let was = object.subs.get(&e.sub).map_or(PdoMapping::None, |s| s.pdo);
+            let now = with_direction(was, dir);
+            for (&s, sub) in object.subs.iter_mut() {
+                if s == e.sub || (array && s != 0) {
+                    sub.pdo = with_direction(sub.pdo, dir);
                 }
-                continue;
             }
-            if dict.object(e.index).is_none() {
+            if now != was && !made.contains(&(e.index, e.sub)) {
+                let flag = if was == PdoMapping::None {
+                    "is missing".to_string()
+                } else {
+                    format!("says {}", direction_text(was))
+                };
+                ctx.warn_about(
+                    at.offset,
+                    address,
+                    format!(
+                        "{} maps it, but its <PdoMapping> {flag}: read as {}",
+                        which(),
+                        direction_text(now)
+                    ),
+                );
+            }
+            continue;
+        }
+        let exists = dict.object(e.index).map(|o| o.kind.has_subs());
+        if exists == Some(false) {
+            // A VAR mapped with a sub-index it does not have: validate says so.
+            continue;
+        }
+        let (t, bits) = match DataType::from_esi_name(&e.data_type) {
+            Some(found) => found,
+            None => {
+                let named = if e.data_type.trim().is_empty() {
+                    "no <DataType>".to_string()
+                } else {
+                    format!(
+                        "the <DataType> `{}`, which names no type",
+                        clip(&e.data_type)
+                    )
+                };
+                let Some((t, bits)) = type_of_size(e.bit_len) else {
+                    ctx.warn_about(
+                        at.offset,
+                        address,
+                        format!(
+                            "{} gives it {named} and BitLen 0: no entry is made",
+                            which()
+                        ),
+                    );
+                    continue;
+                };
+                let size = bits.or(t.bit_size()).unwrap_or(0);
+                ctx.warn_about(
+                    at.offset,
+                    address,
+                    format!(
+                        "{} gives it {named}: made {} from its BitLen {}",
+                        which(),
+                        t.esi_name(size),
+                        e.bit_len
+                    ),
+                );
+                (t, bits)
+            }
+        };
+        let bit_size = if t.is_variable() {
+            bits.or(Some(u32::from(e.bit_len)))
+        } else {
+            t.bit_size()
+        };
+        let mut sub = SubObject::new(e.name.clone(), t, AccessType::Ro).with_pdo(dir);
+        sub.bit_size = bit_size;
+        let exists = exists.is_some();
+        if e.sub == 0 && !exists {
+            dict.insert(Object::var(e.index, sub));
+        } else {
+            if !exists {
                 let mut object = Object::structured(e.index, pdo.name.clone(), ObjectKind::Record);
-                // The name the writer gives the structure type, so the dictionary reads back the same.
-                object.type_name = Some(format!("DT{:04X}", e.index));
+                // The name the writer gives the structure type (unless the file uses it), so the
+                // dictionary reads back the same.
+                let used = type_names.get_or_insert_with(|| {
+                    raw.data_types
+                        .iter()
+                        .map(|t| t.name.clone())
+                        .chain(dict.objects().filter_map(|o| o.type_name.clone()))
+                        .collect()
+                });
+                let base = format!("DT{:04X}", e.index);
+                let name = std::iter::once(base.clone())
+                    .chain((1..=256).map(|n| format!("{base}_{n}")))
+                    .find(|n| !used.contains(n))
+                    .unwrap_or(base);
+                used.insert(name.clone());
+                object.type_name = Some(name);
                 dict.insert(object);
+                made_objects.insert(e.index);
             }
             let Some(object) = dict.object_mut(e.index) else {
                 continue;
             };
-            if !object.kind.has_subs() || object.subs.contains_key(&e.sub) {
-                continue;
-            }
             object.subs.insert(e.sub, sub);
-            let count = object.max_sub();
-            let zero = SubObject::new("SubIndex 000", DataType::Unsigned8, AccessType::Ro)
-                .with_default(Value::Uint(u64::from(count)));
-            object.subs.insert(0, zero);
+            if made_objects.contains(&e.index) {
+                let count = object.max_sub();
+                let zero = SubObject::new("SubIndex 000", DataType::Unsigned8, AccessType::Ro)
+                    .with_default(Value::Uint(u64::from(count)));
+                object.subs.insert(0, zero);
+            }
+        }
+        made.insert((e.index, e.sub));
+        source.set_entry(e.index, e.sub, ctx.pos(at.offset));
+        if partial {
+            ctx.warn_about(
+                at.offset,
+                address,
+                format!(
+                    "{} maps it, but the dictionary does not have it: made from the PDO ({}, ro, mappable {})",
+                    which(),
+                    t.esi_name(bit_size.unwrap_or(0)),
+                    direction_text(dir)
+                ),
+            );
         }
     }
 }

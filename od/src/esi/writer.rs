@@ -5,8 +5,10 @@ use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 
 use crate::device::{
-    CoeFlags, DeviceDescription, EthercatInfo, Mailbox, Pdo, PdoEntry, SyncManager,
+    CoeFlags, DeviceDescription, EthercatInfo, InitCmd, Mailbox, Module, Pdo, PdoEntry, SlotDepend,
+    Slots, SyncManager,
 };
+use crate::dict::Dictionary;
 use crate::object::{Access, AccessType, Object, ObjectKind, PdoMapping, SubObject};
 use crate::types::DataType;
 use crate::value::Value;
@@ -65,8 +67,165 @@ pub(super) fn write_all(descs: &[DeviceDescription]) -> String {
         write_device(&mut w, desc, ecat, desc.ethercat.is_none());
     }
     w.end();
+    // Each device of a file carries the file's modules (one shared list): the first list is written as
+    // it is, then what other lists have that it does not.
+    let mut lists: Vec<&std::sync::Arc<[Module]>> = Vec::new();
+    let mut modules: Vec<&Module> = Vec::new();
+    for e in &ecats {
+        if lists.iter().any(|l| std::sync::Arc::ptr_eq(l, &e.modules)) {
+            continue;
+        }
+        if lists.is_empty() {
+            modules.extend(e.modules.iter());
+        } else {
+            for m in e.modules.iter() {
+                if !modules.contains(&m) {
+                    modules.push(m);
+                }
+            }
+        }
+        lists.push(&e.modules);
+    }
+    if !modules.is_empty() {
+        let node = first.map_or(0, node_id);
+        w.start("Modules", &[]);
+        for m in modules {
+            write_module(&mut w, m, node);
+        }
+        w.end();
+    }
     w.end();
     w.finish()
+}
+
+fn write_module(w: &mut XmlWriter, m: &Module, node: u8) {
+    w.start("Module", &[]);
+    let ident = hex32(m.ident);
+    let group = m.pdo_group.map(|g| g.to_string());
+    let mut attrs: Vec<(&str, &str)> = vec![("ModuleIdent", &ident)];
+    if !m.class.is_empty() {
+        attrs.push(("ModuleClass", &m.class));
+    }
+    if let Some(g) = &group {
+        attrs.push(("ModulePdoGroup", g));
+    }
+    w.text("Type", &attrs, &m.type_name);
+    w.text("Name", &[("LcId", "1033")], &m.name);
+    for p in &m.rx_pdos {
+        write_pdo(w, "RxPdo", p);
+    }
+    for p in &m.tx_pdos {
+        write_pdo(w, "TxPdo", p);
+    }
+    if let Some(mb) = &m.mailbox {
+        write_mailbox(w, mb);
+    }
+    w.start("Profile", &[]);
+    if let Some(n) = m.profile_no {
+        w.text("ProfileNo", &[], &n.to_string());
+    }
+    if let Some(n) = m.add_info {
+        w.text("AddInfo", &[], &n.to_string());
+    }
+    write_dictionary(w, &m.dictionary, node);
+    w.end();
+    if !m.dc_op_mode_name.is_empty() {
+        w.text("DcOpModeName", &[], &m.dc_op_mode_name);
+    }
+    w.end();
+}
+
+fn opt_attr<'a>(attrs: &mut Vec<(&'a str, String)>, name: &'a str, v: Option<u32>) {
+    if let Some(v) = v {
+        attrs.push((name, v.to_string()));
+    }
+}
+
+fn write_slots(w: &mut XmlWriter, s: &Slots) {
+    let mut owned: Vec<(&str, String)> = Vec::new();
+    opt_attr(&mut owned, "MaxSlotCount", s.max_slot_count);
+    opt_attr(&mut owned, "MaxSlotGroupCount", s.max_slot_group_count);
+    opt_attr(&mut owned, "SlotPdoIncrement", s.slot_pdo_increment);
+    opt_attr(
+        &mut owned,
+        "SlotGroupPdoIncrement",
+        s.slot_group_pdo_increment,
+    );
+    opt_attr(&mut owned, "SlotIndexIncrement", s.slot_index_increment);
+    opt_attr(
+        &mut owned,
+        "SlotGroupIndexIncrement",
+        s.slot_group_index_increment,
+    );
+    if s.download_module_ident_list {
+        owned.push(("DownloadModuleIdentList", "1".to_string()));
+    }
+    if !s.identify_module_by.is_empty() {
+        owned.push(("IdentifyModuleBy", s.identify_module_by.clone()));
+    }
+    let attrs: Vec<(&str, &str)> = owned.iter().map(|(k, v)| (*k, v.as_str())).collect();
+    w.start("Slots", &attrs);
+    for slot in &s.slots {
+        let mut owned: Vec<(&str, String)> = Vec::new();
+        opt_attr(&mut owned, "SlotGroup", slot.slot_group);
+        owned.push(("MinInstances", slot.min_instances.to_string()));
+        owned.push(("MaxInstances", slot.max_instances.to_string()));
+        opt_attr(&mut owned, "SlotPdoIncrement", slot.slot_pdo_increment);
+        opt_attr(
+            &mut owned,
+            "SlotGroupPdoIncrement",
+            slot.slot_group_pdo_increment,
+        );
+        opt_attr(&mut owned, "SlotIndexIncrement", slot.slot_index_increment);
+        opt_attr(
+            &mut owned,
+            "SlotGroupIndexIncrement",
+            slot.slot_group_index_increment,
+        );
+        if !slot.tree_view.is_empty() {
+            owned.push(("TreeView", slot.tree_view.clone()));
+        }
+        let attrs: Vec<(&str, &str)> = owned.iter().map(|(k, v)| (*k, v.as_str())).collect();
+        w.start("Slot", &attrs);
+        if !slot.name.is_empty() {
+            w.text("Name", &[("LcId", "1033")], &slot.name);
+        }
+        for m in &slot.module_idents {
+            match m.default {
+                Some(d) => w.text(
+                    "ModuleIdent",
+                    &[("Default", &d.to_string())],
+                    &hex32(m.ident),
+                ),
+                None => w.text("ModuleIdent", &[], &hex32(m.ident)),
+            };
+        }
+        for c in &slot.module_classes {
+            w.start("ModuleClass", &[]);
+            w.text("Class", &[], &c.class);
+            if let Some(v) = c.vendor_id {
+                w.text("VendorId", &[], &hex32(v));
+            }
+            if !c.name.is_empty() {
+                w.text("Name", &[("LcId", "1033")], &c.name);
+            }
+            w.end();
+        }
+        w.end();
+    }
+    for g in &s.module_pdo_groups {
+        let mut owned: Vec<(&str, String)> = Vec::new();
+        opt_attr(&mut owned, "Alignment", g.alignment);
+        if let Some(p) = g.rx_pdo {
+            owned.push(("RxPdo", hex16(p)));
+        }
+        if let Some(p) = g.tx_pdo {
+            owned.push(("TxPdo", hex16(p)));
+        }
+        let attrs: Vec<(&str, &str)> = owned.iter().map(|(k, v)| (*k, v.as_str())).collect();
+        w.text("ModulePdoGroup", &attrs, &g.name);
+    }
+    w.end();
 }
 
 fn hex32(v: u32) -> String {
@@ -110,7 +269,7 @@ fn write_device(w: &mut XmlWriter, desc: &DeviceDescription, ecat: &EthercatInfo
     w.text("Name", &[("LcId", "1033")], &id.product_name);
     w.text("GroupType", &[], &ecat.group_type);
     w.start("Profile", &[]);
-    write_dictionary(w, desc);
+    write_dictionary(w, &desc.dictionary, node_id(desc));
     w.end();
     for f in &ecat.fmmus {
         w.text("Fmmu", &[], f);
@@ -153,6 +312,9 @@ fn write_device(w: &mut XmlWriter, desc: &DeviceDescription, ecat: &EthercatInfo
         }
         w.end();
     }
+    if let Some(s) = &ecat.slots {
+        write_slots(w, s);
+    }
     if let Some(ee) = &ecat.eeprom {
         w.start("Eeprom", &[]);
         w.text("ByteSize", &[], &ee.byte_size.to_string());
@@ -183,27 +345,60 @@ fn write_sm(w: &mut XmlWriter, sm: &SyncManager) {
     }
     attrs.push(("StartAddress", &start));
     attrs.push(("ControlByte", &control));
-    attrs.push(("Enable", if sm.enable { "1" } else { "0" }));
+    let enable = sm.enable.to_string();
+    attrs.push(("Enable", &enable));
+    for (on, name) in [
+        (sm.is_virtual, "Virtual"),
+        (sm.op_only, "OpOnly"),
+        (sm.watchdog, "Watchdog"),
+    ] {
+        if on {
+            attrs.push((name, "1"));
+        }
+    }
     w.text("Sm", &attrs, &sm.kind);
 }
 
+/// The `DependOnSlot`/`DependOnSlotGroup` attributes of an index.
+fn depend_attrs(d: SlotDepend) -> Vec<(&'static str, &'static str)> {
+    let mut attrs = Vec::new();
+    if d.slot {
+        attrs.push(("DependOnSlot", "true"));
+    }
+    if d.slot_group {
+        attrs.push(("DependOnSlotGroup", "true"));
+    }
+    attrs
+}
+
 fn write_pdo(w: &mut XmlWriter, element: &str, p: &Pdo) {
-    let sm = p.sm.map(|s| s.to_string());
+    let numbers: Vec<(&str, String)> = [
+        ("Sm", p.sm.map(u32::from)),
+        ("Su", p.su.map(u32::from)),
+        ("OSFac", p.os_factor),
+        ("OSMin", p.os_min),
+        ("OSMax", p.os_max),
+        ("OSIndexInc", p.os_index_inc),
+    ]
+    .into_iter()
+    .filter_map(|(k, v)| v.map(|v| (k, v.to_string())))
+    .collect();
     let mut attrs: Vec<(&str, &str)> = Vec::new();
-    if p.fixed {
-        attrs.push(("Fixed", "1"));
+    for (on, name) in [
+        (p.fixed, "Fixed"),
+        (p.mandatory, "Mandatory"),
+        (p.is_virtual, "Virtual"),
+    ] {
+        if on {
+            attrs.push((name, "1"));
+        }
     }
-    if p.mandatory {
-        attrs.push(("Mandatory", "1"));
-    }
-    if let Some(s) = &sm {
-        attrs.push(("Sm", s));
-    }
+    attrs.extend(numbers.iter().map(|(k, v)| (*k, v.as_str())));
     w.start(element, &attrs);
-    w.text("Index", &[], &hex16(p.index));
+    w.text("Index", &depend_attrs(p.index_depend), &hex16(p.index));
     w.text("Name", &[], &p.name);
     for x in &p.exclude {
-        w.text("Exclude", &[], &hex16(*x));
+        w.text("Exclude", &depend_attrs(x.depend), &hex16(x.index));
     }
     for e in &p.entries {
         write_entry(w, e);
@@ -212,8 +407,12 @@ fn write_pdo(w: &mut XmlWriter, element: &str, p: &Pdo) {
 }
 
 fn write_entry(w: &mut XmlWriter, e: &PdoEntry) {
-    w.start("Entry", &[]);
-    w.text("Index", &[], &hex16(e.index));
+    if e.fixed {
+        w.start("Entry", &[("Fixed", "1")]);
+    } else {
+        w.start("Entry", &[]);
+    }
+    w.text("Index", &depend_attrs(e.index_depend), &hex16(e.index));
     if e.index != 0 || e.sub != 0 {
         w.text("SubIndex", &[], &e.sub.to_string());
     }
@@ -221,8 +420,15 @@ fn write_entry(w: &mut XmlWriter, e: &PdoEntry) {
     if !e.name.is_empty() {
         w.text("Name", &[], &e.name);
     }
-    if !e.data_type.is_empty() {
-        w.text("DataType", &[], &e.data_type);
+    if !e.comment.is_empty() {
+        w.text("Comment", &[], &e.comment);
+    }
+    if !e.data_type.is_empty() || !e.data_scale.is_empty() {
+        if e.data_scale.is_empty() {
+            w.text("DataType", &[], &e.data_type);
+        } else {
+            w.text("DataType", &[("DScale", &e.data_scale)], &e.data_type);
+        }
     }
     w.end();
 }
@@ -237,20 +443,58 @@ fn write_mailbox(w: &mut XmlWriter, mb: &Mailbox) {
         w.empty("EoE", &[]);
     }
     if let Some(c) = &mb.coe {
-        w.empty(
-            "CoE",
-            &[
-                ("SdoInfo", bool_text(c.sdo_info)),
-                ("PdoAssign", bool_text(c.pdo_assign)),
-                ("PdoConfig", bool_text(c.pdo_config)),
-                ("PdoUpload", bool_text(c.pdo_upload)),
-                ("CompleteAccess", bool_text(c.complete_access)),
-                ("SegmentedSdo", bool_text(c.segmented_sdo)),
-            ],
-        );
+        let attrs = [
+            ("SdoInfo", bool_text(c.sdo_info)),
+            ("PdoAssign", bool_text(c.pdo_assign)),
+            ("PdoConfig", bool_text(c.pdo_config)),
+            ("PdoUpload", bool_text(c.pdo_upload)),
+            ("CompleteAccess", bool_text(c.complete_access)),
+            ("SegmentedSdo", bool_text(c.segmented_sdo)),
+        ];
+        if mb.init_cmds.is_empty() {
+            w.empty("CoE", &attrs);
+        } else {
+            w.start("CoE", &attrs);
+            for cmd in &mb.init_cmds {
+                write_init_cmd(w, cmd);
+            }
+            w.end();
+        }
     }
     if mb.foe {
         w.empty("FoE", &[]);
+    }
+    w.end();
+}
+
+fn write_init_cmd(w: &mut XmlWriter, cmd: &InitCmd) {
+    let mut attrs: Vec<(&str, &str)> = Vec::new();
+    for (on, name) in [
+        (cmd.fixed, "Fixed"),
+        (cmd.complete_access, "CompleteAccess"),
+        (cmd.overwritten_by_module, "OverwrittenByModule"),
+    ] {
+        if on {
+            attrs.push((name, "true"));
+        }
+    }
+    w.start("InitCmd", &attrs);
+    for t in &cmd.transitions {
+        w.text("Transition", &[], t);
+    }
+    w.text("Index", &depend_attrs(cmd.index_depend), &hex16(cmd.index));
+    w.text("SubIndex", &[], &cmd.sub.to_string());
+    if cmd.adapt_automatically {
+        w.text(
+            "Data",
+            &[("AdaptAutomatically", "true")],
+            &hex_bytes(&cmd.data),
+        );
+    } else {
+        w.text("Data", &[], &hex_bytes(&cmd.data));
+    }
+    if !cmd.comment.is_empty() {
+        w.text("Comment", &[], &cmd.comment);
     }
     w.end();
 }
@@ -371,12 +615,15 @@ fn item_of(sub_index: u8, sub: &SubObject, bit_offs: u32) -> Item {
 }
 
 /// The structure type of a RECORD or ARRAY object, standard CoE layout: sub-index 0 at bit 0, sub-index 1
-/// at bit 16, the rest packed.
+/// at bit 16 (after a wider sub-index 0, such as DS301's UNSIGNED32 in 0x1004, at the next 16-bit
+/// boundary after it), the rest packed.
 fn struct_of(object: &Object) -> Struct {
     let mut items = Vec::new();
     let mut offset: u32 = 16;
     if let Some(zero) = object.subs.get(&0) {
-        items.push(item_of(0, zero, 0));
+        let item = item_of(0, zero, 0);
+        offset = offset.max(item.bit_size.div_ceil(16).saturating_mul(16));
+        items.push(item);
     }
     let entries: Vec<(u8, &SubObject)> = object
         .subs
@@ -467,13 +714,13 @@ struct Types {
 }
 
 impl Types {
-    fn of(desc: &DeviceDescription) -> Types {
+    fn of(dictionary: &Dictionary) -> Types {
         let mut t = Types {
             structs: Vec::new(),
             by_object: HashMap::new(),
             basics: BTreeMap::new(),
         };
-        for object in desc.dictionary.objects() {
+        for object in dictionary.objects() {
             if !object.kind.has_subs() {
                 if let Some(sub) = object.subs.get(&0) {
                     t.basics.insert(entry_type_name(sub), entry_bits(sub));
@@ -534,8 +781,8 @@ impl Types {
     }
 }
 
-fn write_dictionary(w: &mut XmlWriter, desc: &DeviceDescription) {
-    let types = Types::of(desc);
+fn write_dictionary(w: &mut XmlWriter, dictionary: &Dictionary, node: u8) {
+    let types = Types::of(dictionary);
     w.start("Dictionary", &[]);
     w.start("DataTypes", &[]);
     for (name, bits) in &types.basics {
@@ -587,8 +834,7 @@ fn write_dictionary(w: &mut XmlWriter, desc: &DeviceDescription) {
     }
     w.end();
     w.start("Objects", &[]);
-    let node = node_id(desc);
-    for object in desc.dictionary.objects() {
+    for object in dictionary.objects() {
         write_object(w, object, &types, node);
     }
     w.end();
@@ -710,11 +956,8 @@ fn derive_pdo(desc: &DeviceDescription, object: &Object, comm_base: u16, sm: u8)
         if (1..=7).contains(&index) {
             // CiA 301 dummy mapping: a gap.
             entries.push(PdoEntry {
-                index: 0,
-                sub: 0,
                 bit_len: bits,
-                name: String::new(),
-                data_type: String::new(),
+                ..PdoEntry::default()
             });
             continue;
         }
@@ -737,6 +980,7 @@ fn derive_pdo(desc: &DeviceDescription, object: &Object, comm_base: u16, sm: u8)
             bit_len: bits,
             name,
             data_type,
+            ..PdoEntry::default()
         });
     }
     let n = object.index & 0x01FF;
@@ -750,10 +994,9 @@ fn derive_pdo(desc: &DeviceDescription, object: &Object, comm_base: u16, sm: u8)
             .subs
             .get(&0)
             .is_some_and(|s| s.access.kind.writable()),
-        mandatory: false,
         sm: valid.then_some(sm),
-        exclude: Vec::new(),
         entries,
+        ..Pdo::default()
     }
 }
 
@@ -788,7 +1031,8 @@ fn derive_ethercat(desc: &DeviceDescription) -> EthercatInfo {
         min_size: None,
         max_size: None,
         control_byte: control,
-        enable: true,
+        enable: 1,
+        ..SyncManager::default()
     };
     let process = |kind: &str, start: u16, control: u8, size: u16| SyncManager {
         kind: kind.to_string(),
@@ -797,7 +1041,8 @@ fn derive_ethercat(desc: &DeviceDescription) -> EthercatInfo {
         min_size: None,
         max_size: None,
         control_byte: control,
-        enable: size > 0,
+        enable: u8::from(size > 0),
+        ..SyncManager::default()
     };
     let id = &desc.identity;
     let group_type = if !id.order_code.is_empty() {
@@ -830,8 +1075,11 @@ fn derive_ethercat(desc: &DeviceDescription) -> EthercatInfo {
             }),
             foe: false,
             eoe: false,
+            init_cmds: Vec::new(),
         }),
         op_modes: Vec::new(),
         eeprom: None,
+        slots: None,
+        modules: Default::default(),
     }
 }
