@@ -290,7 +290,7 @@ fn device_picks_one_device_of_a_file() {
     );
 }
 
-/// An ESI of `n` devices (product codes 1…n, revision 0x10 each): each has 0x1000 but no 0x1018, which
+/// An ESI of `n` CoE devices (product codes 1…n, revision 0x10 each): each has 0x1000 but no 0x1018, which
 /// is one warning at its `Device` element (line 3 + 3·k for device k from 0).
 fn esi_of(n: usize) -> String {
     let mut text = String::from(
@@ -299,7 +299,7 @@ fn esi_of(n: usize) -> String {
     for k in 1..=n {
         text.push_str(&format!(
             "<Device>\n<Type ProductCode=\"#x{k:X}\" RevisionNo=\"#x10\">T{k}</Type><Name>Terminal {k}</Name>\n\
-             <Profile><Dictionary><Objects><Object><Index>#x1000</Index><Name>Device type</Name><Type>UDINT</Type></Object></Objects></Dictionary></Profile></Device>\n"
+             <Profile><Dictionary><Objects><Object><Index>#x1000</Index><Name>Device type</Name><Type>UDINT</Type></Object></Objects></Dictionary></Profile><Mailbox><CoE/></Mailbox></Device>\n"
         ));
     }
     text.push_str("</Devices></Descriptions></EtherCATInfo>\n");
