@@ -14,6 +14,7 @@ use od::device::{Commissioning, DeviceDescription};
 use od::load::Format;
 
 pub mod fixtures;
+pub mod select;
 pub mod summary;
 
 /// Generate, check and compare CANopen / EtherCAT device descriptions.
@@ -64,9 +65,13 @@ pub struct Convert {
 /// Choosing a device and overriding identity values.
 #[derive(Debug, Args, Default)]
 pub struct DeviceArgs {
-    /// Pick one device of a file that holds several: its type name, its name, or its product code
-    /// (a number such as 0x2301).
-    #[arg(long)]
+    /// Pick one device: NAME, PRODUCT-CODE, or either @REVISION (BK1120@0x00100000).
+    ///
+    /// NAME is the type name or the product name (any case); PRODUCT-CODE is a number (0x04602C22,
+    /// #x04602C22 or decimal); @REVISION picks one revision. Without it, the newest revision of the
+    /// device is taken, as EtherCAT configuration tools do. A choice that matches different devices
+    /// is refused with the list of them. (--revision does not pick: it overrides the revision written.)
+    #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
     /// A TOML file of identity values (`[type-name] vendor_id = …, product_code = …, revision = …`),
     /// applied to the device whose type or product name matches a section.
@@ -135,8 +140,13 @@ pub struct SiiArgs {
 pub struct CheckArgs {
     /// The description to check.
     pub input: PathBuf,
-    /// Check only this device of a file that holds several.
-    #[arg(long)]
+    /// Pick one device: NAME, PRODUCT-CODE, or either @REVISION (BK1120@0x00100000).
+    ///
+    /// NAME is the type name or the product name (any case); PRODUCT-CODE is a number (0x04602C22,
+    /// #x04602C22 or decimal); @REVISION picks one revision. Without it, the newest revision of the
+    /// device is taken, as EtherCAT configuration tools do. A choice that matches different devices
+    /// is refused with the list of them.
+    #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
 }
 
@@ -194,6 +204,18 @@ pub enum Error {
         wanted: String,
         /// The devices there are.
         available: String,
+    },
+    /// --device matches different devices.
+    #[error(
+        "{path}: `{wanted}` matches different devices: {matches}; choose one by type name, or add @REVISION"
+    )]
+    AmbiguousDevice {
+        /// The file.
+        path: PathBuf,
+        /// What was asked for.
+        wanted: String,
+        /// The devices it matches.
+        matches: String,
     },
     /// The file holds several devices and the output format takes one.
     #[error("{path} holds several devices ({available}); choose one with --device")]
@@ -373,32 +395,15 @@ pub fn stamp_file_info(dev: &mut DeviceDescription, file_name: &str) {
     }
 }
 
-/// Loads `path` and keeps the device `wanted` names (all devices when `None`).
+/// Loads `path` and keeps the device `wanted` picks (all devices when `None`), as [`select`] tells.
 pub fn load_selected(
     path: &Path,
     wanted: Option<&str>,
 ) -> Result<(Format, Vec<DeviceDescription>), Error> {
     let (format, devices) = od::load::load(path)?;
-    let Some(wanted) = wanted else {
-        return Ok((format, devices));
-    };
-    let code = od::value::parse_integer(wanted).and_then(|v| u32::try_from(v).ok());
-    let hit: Vec<DeviceDescription> = devices
-        .iter()
-        .filter(|d| {
-            d.identity.order_code.eq_ignore_ascii_case(wanted)
-                || d.identity.product_name.eq_ignore_ascii_case(wanted)
-                || code == Some(d.identity.product_code)
-        })
-        .cloned()
-        .collect();
-    match hit.len() {
-        0 => Err(Error::NoSuchDevice {
-            path: path.to_path_buf(),
-            wanted: wanted.to_string(),
-            available: list(&devices),
-        }),
-        _ => Ok((format, hit.into_iter().take(1).collect())),
+    match wanted {
+        None => Ok((format, devices)),
+        Some(wanted) => Ok((format, vec![select::select(path, devices, wanted)?])),
     }
 }
 
@@ -413,15 +418,16 @@ fn one(path: &Path, devices: Vec<DeviceDescription>) -> Result<DeviceDescription
     }
 }
 
-/// The devices as `name (product code)` for messages.
-pub fn list(devices: &[DeviceDescription]) -> String {
+/// The devices as `name (product code …, revision …)` for messages.
+pub fn list<'a>(devices: impl IntoIterator<Item = &'a DeviceDescription>) -> String {
     devices
-        .iter()
+        .into_iter()
         .map(|d| {
             format!(
-                "{} (product code 0x{:08X})",
+                "{} (product code 0x{:08X}, revision 0x{:08X})",
                 device_name(d),
-                d.identity.product_code
+                d.identity.product_code,
+                d.identity.revision
             )
         })
         .collect::<Vec<_>>()
