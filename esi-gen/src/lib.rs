@@ -13,6 +13,7 @@ use clap::{Args, Parser, Subcommand};
 use od::device::{Commissioning, DeviceDescription};
 use od::load::Format;
 
+pub mod compare;
 pub mod fixtures;
 pub mod select;
 pub mod summary;
@@ -43,7 +44,14 @@ pub enum Command {
     Sii(SiiArgs),
     /// Load and validate a description and print a one-screen summary; exit 1 when it has errors.
     Check(CheckArgs),
-    /// Compare the dictionaries of two descriptions; exit 0 when equal, 1 when they differ.
+    /// Compare two descriptions, device by device; exit 0 when equal, 1 when they differ.
+    ///
+    /// Every part of the descriptions is compared: identity, file info, CAN info, commissioning, the
+    /// EtherCAT parts, the dictionary and the comments. Two files of one device each compare those two;
+    /// otherwise devices pair by product code and revision (and by name where several share both), and
+    /// a device only one file has is one line. Each difference is one line: `- PLACE NAME` (only in the
+    /// first), `+ PLACE NAME` (only in the second) or `~ PLACE FIELD: A -> B`, indented under a header
+    /// per device when several are compared. Exit 2 when a file cannot be loaded.
     Diff(DiffArgs),
     /// Regenerate the generated descriptions under fixtures/ from fixtures/src and fixtures/identity.toml.
     Fixtures(FixturesArgs),
@@ -157,9 +165,17 @@ pub struct DiffArgs {
     pub a: PathBuf,
     /// The second description.
     pub b: PathBuf,
-    /// The device to compare, in files that hold several.
-    #[arg(long)]
+    /// Compare only one device of each file: NAME, PRODUCT-CODE, or either @REVISION (BK1120@0x00100000).
+    ///
+    /// NAME is the type name or the product name (any case); PRODUCT-CODE is a number (0x04602C22,
+    /// #x04602C22 or decimal); @REVISION picks one revision. Without it, the newest revision of the
+    /// device is taken, as EtherCAT configuration tools do. A choice that matches different devices
+    /// is refused with the list of them.
+    #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
+    /// Print one JSON object per line for each difference instead of text.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Arguments of `fixtures`.
@@ -301,18 +317,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
             write_out(out, &report.text)?;
             Ok(if report.errors > 0 { 1 } else { 0 })
         }
-        Command::Diff(d) => {
-            let a = one(&d.a, load_selected(&d.a, d.device.as_deref())?.1)?;
-            let b = one(&d.b, load_selected(&d.b, d.device.as_deref())?.1)?;
-            let diffs = od::diff::diff(&a.dictionary, &b.dictionary);
-            let mut text = String::new();
-            for x in &diffs {
-                text.push_str(&x.to_string());
-                text.push('\n');
-            }
-            write_out(out, &text)?;
-            Ok(if diffs.is_empty() { 0 } else { 1 })
-        }
+        Command::Diff(d) => compare::run(&d, out),
         Command::Fixtures(f) => {
             let files = fixtures::generate(&f.root)?;
             if f.check {
