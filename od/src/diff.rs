@@ -13,7 +13,7 @@
 //! its index, an op mode by its name) or by position (sync managers, PDO entries, comment lines), with
 //! the parts only one side has reported and, for keyed lists, a change of order.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 use std::fmt;
 
 use crate::device::{
@@ -201,16 +201,24 @@ pub fn pair_devices(a: &[DeviceDescription], b: &[DeviceDescription]) -> Vec<Pai
             d.identity.order_code.clone()
         }
     };
+    let mut in_b: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (j, y) in b.iter().enumerate() {
+        in_b.entry(key(y)).or_default().push(j);
+    }
+    let mut in_a: HashMap<(u32, u32), usize> = HashMap::new();
+    for x in a {
+        *in_a.entry(key(x)).or_default() += 1;
+    }
     let mut used = vec![false; b.len()];
     let mut out = Vec::new();
     for (i, x) in a.iter().enumerate() {
-        let same_key: Vec<usize> = (0..b.len()).filter(|&j| key(&b[j]) == key(x)).collect();
-        let unique = same_key.len() == 1 && a.iter().filter(|y| key(y) == key(x)).count() == 1;
-        let hit = if unique {
+        let same_key = in_b.get(&key(x)).map_or(&[][..], Vec::as_slice);
+        let hit = if same_key.len() == 1 && in_a.get(&key(x)) == Some(&1) {
             same_key.first().copied()
         } else {
             same_key
-                .into_iter()
+                .iter()
+                .copied()
                 .find(|&j| !used[j] && name(&b[j]) == name(x))
         };
         match hit {
@@ -340,62 +348,71 @@ impl<'o> Cx<'o> {
     /// Pairs the parts of two lists and compares each pair; reports the parts only one side has and, for
     /// keyed parts, a change of the order of the parts both have.
     fn list<T>(&mut self, list: List<T>, a: &[T], b: &[T]) {
-        let keys = |items: &[T]| -> Vec<String> {
-            let mut seen: Vec<String> = Vec::new();
-            items
-                .iter()
-                .enumerate()
-                .map(|(i, item)| match &list.key {
-                    Key::Position(first) => (first + i).to_string(),
-                    Key::By(key) => {
-                        let k = key(item);
-                        seen.push(k.clone());
-                        match seen.iter().filter(|s| **s == k).count() {
-                            1 => k,
-                            n => format!("{k} #{n}"),
-                        }
-                    }
-                })
-                .collect()
+        let (ka, kb) = (list.key.of(a), list.key.of(b));
+        let in_b: HashMap<&(String, usize), usize> =
+            kb.iter().enumerate().map(|(j, k)| (k, j)).collect();
+        let label = |(key, n): &(String, usize)| match n {
+            1 => key.clone(),
+            n => format!("{key} #{n}"),
         };
-        let (ka, kb) = (keys(a), keys(b));
-        let mut paired = Vec::new();
+        let step = |k: &(String, usize)| Step::Item {
+            kind: list.kind,
+            key: label(k),
+        };
+        let mut paired = vec![false; b.len()];
+        let mut order = Vec::new();
         for (i, k) in ka.iter().enumerate() {
-            let step = Step::Item {
-                kind: list.kind,
-                key: k.clone(),
-            };
-            match kb.iter().position(|x| x == k) {
-                Some(j) => {
-                    paired.push(j);
-                    self.within(step, |cx| (list.compare)(cx, &a[i], &b[j]));
+            match in_b.get(k) {
+                Some(&j) => {
+                    paired[j] = true;
+                    order.push(j);
+                    self.within(step(k), |cx| (list.compare)(cx, &a[i], &b[j]));
                 }
-                None => self.push(Some(step), Change::OnlyInA((list.name)(&a[i]))),
+                None => self.push(Some(step(k)), Change::OnlyInA((list.name)(&a[i]))),
             }
         }
         for (j, k) in kb.iter().enumerate() {
-            if !paired.contains(&j) {
-                let step = Step::Item {
-                    kind: list.kind,
-                    key: k.clone(),
-                };
-                self.push(Some(step), Change::OnlyInB((list.name)(&b[j])));
+            if !paired[j] {
+                self.push(Some(step(k)), Change::OnlyInB((list.name)(&b[j])));
             }
         }
-        if paired.windows(2).any(|w| w[0] > w[1]) {
-            let in_a: Vec<&str> = paired.iter().map(|&j| kb[j].as_str()).collect();
-            let mut in_b = paired;
-            in_b.sort_unstable();
-            let in_b: Vec<&str> = in_b.iter().map(|&j| kb[j].as_str()).collect();
+        if order.windows(2).any(|w| w[0] > w[1]) {
+            let keys = |js: &[usize]| {
+                let shown: Vec<String> = js.iter().map(|&j| label(&kb[j])).collect();
+                Shown::Plain(shown.join(", "))
+            };
+            let a = keys(&order);
+            order.sort_unstable();
+            let b = keys(&order);
             self.push(
                 None,
                 Change::Changed {
                     field: list.order,
-                    a: Shown::Plain(in_a.join(", ")),
-                    b: Shown::Plain(in_b.join(", ")),
+                    a,
+                    b,
                 },
             );
         }
+    }
+}
+
+impl<T> Key<T> {
+    /// The key of each of `items` and its occurrence among equal keys (1 for the first).
+    fn of(&self, items: &[T]) -> Vec<(String, usize)> {
+        let mut seen: HashMap<String, usize> = HashMap::new();
+        items
+            .iter()
+            .enumerate()
+            .map(|(i, item)| match self {
+                Key::Position(first) => ((first + i).to_string(), 1),
+                Key::By(key) => {
+                    let k = key(item);
+                    let n = seen.entry(k.clone()).or_default();
+                    *n += 1;
+                    (k, *n)
+                }
+            })
+            .collect()
     }
 }
 

@@ -7,7 +7,7 @@
 //! The files of more than 900 KB take minutes to read in a debug build; they are compared by the
 //! ignored test (`-- --ignored`).
 
-use od::diff::{diff_devices, pair_devices, Pairing};
+use od::diff::{diff_devices, pair_devices, Change, Difference, Pairing};
 use od::load::{read_bytes, Format};
 use od::DeviceDescription;
 
@@ -89,5 +89,72 @@ fn compare(files: Vec<(String, Vec<u8>)>) {
     }
     for line in &lossy {
         println!("{line}");
+    }
+}
+
+/// The difference `d` seen from the other side: what only `a` has only `b` has, and the other way.
+fn mirrored(d: &Difference) -> Difference {
+    let change = match &d.change {
+        Change::OnlyInA(name) => Change::OnlyInB(name.clone()),
+        Change::OnlyInB(name) => Change::OnlyInA(name.clone()),
+        Change::Changed { field, a, b } => Change::Changed {
+            field,
+            a: b.clone(),
+            b: a.clone(),
+        },
+    };
+    Difference {
+        path: d.path.clone(),
+        change,
+    }
+}
+
+fn sorted(mut lines: Vec<String>) -> Vec<String> {
+    lines.sort();
+    lines
+}
+
+/// Every description of the saved fuzz corpus and of the shared EDS corpus against every other: no
+/// panic, the diff is empty exactly when the model is the same, and `b` against `a` finds the mirror of
+/// what `a` against `b` finds.
+#[test]
+fn every_pair_of_fuzz_corpus_descriptions_compares_both_ways_alike() {
+    let mut devices = Vec::new();
+    let root = env!("CARGO_MANIFEST_DIR");
+    for dir in [
+        "../fuzz/corpus/esi",
+        "../fuzz/corpus/eds",
+        "../fuzz/corpus/xdd",
+        "../../shared/corpus/eds",
+    ] {
+        let dir = format!("{root}/{dir}");
+        for entry in std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{dir}: {e}")) {
+            let path = entry.unwrap().path();
+            let bytes = std::fs::read(&path).unwrap();
+            let Some(format) = Format::detect(&path, &bytes) else {
+                continue;
+            };
+            if let Ok(read) = read_bytes(&bytes, "fuzz", format) {
+                devices.extend(read);
+            }
+        }
+    }
+    assert!(devices.len() >= 40, "{}", devices.len());
+    for a in &devices {
+        for b in &devices {
+            let ab = diff_devices(a, b);
+            assert_eq!(ab.is_empty(), format!("{a:?}") == format!("{b:?}"));
+            let ba: Vec<String> = diff_devices(b, a).iter().map(|d| d.to_string()).collect();
+            let back: Vec<String> = ab.iter().map(|d| mirrored(d).to_string()).collect();
+            assert_eq!(sorted(ba), sorted(back));
+        }
+    }
+    // The devices of all files as two files of several devices, one the other reversed.
+    let mut reversed = devices.clone();
+    reversed.reverse();
+    for p in pair_devices(&devices, &reversed) {
+        if let Pairing::Both(i, j) = p {
+            let _ = diff_devices(&devices[i], &reversed[j]);
+        }
     }
 }
