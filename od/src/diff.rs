@@ -9,7 +9,7 @@
 //! when the model holds the same for both (reals compared bit for bit, so that NaN equals NaN).
 //!
 //! The comparison of each model struct destructures the struct whole: a field added to the model does not
-//! compile until it is compared here. A list of parts is compared by [`List`]: matched by a key (a PDO by
+//! compile until it is compared here. A list of parts is compared part by part, matched by a key (a PDO by
 //! its index, an op mode by its name) or by position (sync managers, PDO entries, comment lines), with
 //! the parts only one side has reported and, for keyed lists, a change of order.
 
@@ -243,8 +243,14 @@ struct Cx<'o> {
 enum Key<T> {
     /// By position, numbered from the given first number.
     Position(usize),
-    /// By a key (an index, a name); parts with equal keys pair in their order.
-    By(fn(&T) -> String),
+    /// By a key (an index, a name); parts with equal keys pair in their order. A change of the order of
+    /// the parts both have is reported as `order` (`RxPdo order`).
+    By {
+        /// The key of a part.
+        key: fn(&T) -> String,
+        /// The field that reports a change of order.
+        order: &'static str,
+    },
 }
 
 /// A list of parts of one kind.
@@ -253,8 +259,6 @@ struct List<T> {
     kind: &'static str,
     /// How parts pair.
     key: Key<T>,
-    /// The field that reports a change of order of keyed parts (`RxPdo order`).
-    order: &'static str,
     /// The name a part only one side has is reported with.
     name: fn(&T) -> String,
     /// Compares two paired parts.
@@ -376,6 +380,9 @@ impl<'o> Cx<'o> {
                 self.push(Some(step(k)), Change::OnlyInB((list.name)(&b[j])));
             }
         }
+        let Key::By { order: field, .. } = list.key else {
+            return;
+        };
         if order.windows(2).any(|w| w[0] > w[1]) {
             let keys = |js: &[usize]| {
                 let shown: Vec<String> = js.iter().map(|&j| label(&kb[j])).collect();
@@ -384,14 +391,7 @@ impl<'o> Cx<'o> {
             let a = keys(&order);
             order.sort_unstable();
             let b = keys(&order);
-            self.push(
-                None,
-                Change::Changed {
-                    field: list.order,
-                    a,
-                    b,
-                },
-            );
+            self.push(None, Change::Changed { field, a, b });
         }
     }
 }
@@ -405,7 +405,7 @@ impl<T> Key<T> {
             .enumerate()
             .map(|(i, item)| match self {
                 Key::Position(first) => ((first + i).to_string(), 1),
-                Key::By(key) => {
+                Key::By { key, .. } => {
                     let k = key(item);
                     let n = seen.entry(k.clone()).or_default();
                     *n += 1;
@@ -449,7 +449,6 @@ fn device(cx: &mut Cx<'_>, a: &DeviceDescription, b: &DeviceDescription) {
         List {
             kind: "comment",
             key: Key::Position(1),
-            order: "comment order",
             name: |line: &String| line.clone(),
             compare: |cx, x: &String, y: &String| cx.text("text", x, y),
         },
@@ -599,7 +598,21 @@ fn commissioning(cx: &mut Cx<'_>, a: &Commissioning, b: &Commissioning) {
     );
 }
 
-/// The EtherCAT parts. Modules and slots, when the model has them, are two more lists here.
+/// The EtherCAT parts. A new list of parts is one more `cx.list` here with a compare function of its
+/// own, as the PDOs have: modules, for one, would be
+///
+/// ```text
+/// cx.list(
+///     List {
+///         kind: "Module",
+///         key: Key::By { key: |m: &Module| m.type_name.clone(), order: "Module order" },
+///         name: |m: &Module| m.name.clone(),
+///         compare: module, // fn module(cx, a: &Module, b: &Module): destructure, one cx.text/cx.field per field
+///     },
+///     modules,
+///     &b.modules,
+/// );
+/// ```
 fn ethercat(cx: &mut Cx<'_>, a: &EthercatInfo, b: &EthercatInfo) {
     let EthercatInfo {
         group_type,
@@ -617,7 +630,6 @@ fn ethercat(cx: &mut Cx<'_>, a: &EthercatInfo, b: &EthercatInfo) {
         List {
             kind: "Sm",
             key: Key::Position(0),
-            order: "Sm order",
             name: |s: &SyncManager| s.kind.clone(),
             compare: sync_manager,
         },
@@ -631,8 +643,10 @@ fn ethercat(cx: &mut Cx<'_>, a: &EthercatInfo, b: &EthercatInfo) {
         cx.list(
             List {
                 kind,
-                key: Key::By(|p: &Pdo| format!("0x{:04X}", p.index)),
-                order,
+                key: Key::By {
+                    key: |p: &Pdo| format!("0x{:04X}", p.index),
+                    order,
+                },
                 name: |p: &Pdo| p.name.clone(),
                 compare: pdo,
             },
@@ -644,8 +658,10 @@ fn ethercat(cx: &mut Cx<'_>, a: &EthercatInfo, b: &EthercatInfo) {
     cx.list(
         List {
             kind: "DC op mode",
-            key: Key::By(|m: &OpMode| m.name.clone()),
-            order: "DC op mode order",
+            key: Key::By {
+                key: |m: &OpMode| m.name.clone(),
+                order: "DC op mode order",
+            },
             name: |m: &OpMode| m.desc.clone(),
             compare: op_mode,
         },
@@ -696,7 +712,6 @@ fn pdo(cx: &mut Cx<'_>, a: &Pdo, b: &Pdo) {
         List {
             kind: "entry",
             key: Key::Position(1),
-            order: "entry order",
             name: |e: &PdoEntry| {
                 format!("0x{:04X}:{:02X} {}", e.index, e.sub, e.name)
                     .trim_end()
