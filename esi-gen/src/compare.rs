@@ -329,6 +329,21 @@ mod tests {
     }
 
     #[test]
+    fn one_file_of_several_devices_names_the_devices() {
+        let (a, b) = files();
+        let one_of = |c: Comparison<'_>| (c.several, c.text());
+        let el1004 = "- device EL1004 (product code 0x03EC3052, revision 0x00100000)\n";
+        assert_eq!(
+            one_of(Comparison::of(&a[..2], &a[..1])),
+            (true, el1004.to_string())
+        );
+        assert_eq!(
+            one_of(Comparison::of(&b[1..2], &a[1..])),
+            (true, el1004.replace('-', "+"))
+        );
+    }
+
+    #[test]
     fn equal_files_print_nothing() {
         let (a, _) = files();
         let c = Comparison::of(&a, &a);

@@ -202,6 +202,13 @@ mod tests {
     }
 
     #[test]
+    fn of_equal_revisions_the_first_is_taken() {
+        let devices = vec![dev("Dup", "first", 5, 1), dev("Dup", "second", 5, 1)];
+        let d = select(Path::new("f"), devices, "Dup").unwrap();
+        assert_eq!(d.identity.product_name, "first");
+    }
+
+    #[test]
     fn what_matches_nothing_or_different_devices_is_refused_with_the_candidates() {
         assert_eq!(
             pick("BK1120@0x00130000"),
