@@ -13,7 +13,9 @@ use clap::{Args, Parser, Subcommand};
 use od::device::{Commissioning, DeviceDescription};
 use od::load::Format;
 
+pub mod compare;
 pub mod fixtures;
+pub mod select;
 pub mod summary;
 
 /// Generate, check and compare CANopen / EtherCAT device descriptions.
@@ -43,7 +45,14 @@ pub enum Command {
     /// Load and validate descriptions: errors first, then warnings, each at file:line:column; a
     /// summary of one file or a line per file of a folder; exit 1 when any has an error.
     Check(CheckArgs),
-    /// Compare the dictionaries of two descriptions; exit 0 when equal, 1 when they differ.
+    /// Compare two descriptions, device by device; exit 0 when equal, 1 when they differ.
+    ///
+    /// Every part of the descriptions is compared: identity, file info, CAN info, commissioning, the
+    /// EtherCAT parts, the dictionary and the comments. Two files of one device each compare those two;
+    /// otherwise devices pair by product code and revision (and by name where several share both), and
+    /// a device only one file has is one line. Each difference is one line: `- PLACE NAME` (only in the
+    /// first), `+ PLACE NAME` (only in the second) or `~ PLACE FIELD: A -> B`, indented under a header
+    /// per device when several are compared. Exit 2 when a file cannot be loaded.
     Diff(DiffArgs),
     /// Regenerate the generated descriptions under fixtures/ from fixtures/src and fixtures/identity.toml.
     Fixtures(FixturesArgs),
@@ -65,9 +74,13 @@ pub struct Convert {
 /// Choosing a device and overriding identity values.
 #[derive(Debug, Args, Default)]
 pub struct DeviceArgs {
-    /// Pick one device of a file that holds several: its type name, its name, or its product code
-    /// (a number such as 0x2301).
-    #[arg(long)]
+    /// Pick one device: NAME, PRODUCT-CODE, or either @REVISION (BK1120@0x00100000).
+    ///
+    /// NAME is the type name or the product name (any case); PRODUCT-CODE is a number (0x04602C22,
+    /// #x04602C22 or decimal); @REVISION picks one revision. Without it, the newest revision of the
+    /// device is taken, as EtherCAT configuration tools do. A choice that matches different devices
+    /// is refused with the list of them. (--revision does not pick: it overrides the revision written.)
+    #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
     /// A TOML file of identity values (`[type-name] vendor_id = …, product_code = …, revision = …`),
     /// applied to the device whose type or product name matches a section.
@@ -140,8 +153,9 @@ pub struct CheckArgs {
     /// line each and a summary.
     #[arg(required = true, value_name = "FILE|DIR")]
     pub inputs: Vec<PathBuf>,
-    /// Check only this device of a file that holds several.
-    #[arg(long)]
+    /// Check one device: NAME, PRODUCT-CODE, or either @REVISION (BK1120@0x00100000), as `--device`
+    /// of the conversions picks it (the newest revision without @REVISION).
+    #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
     /// List every finding (without it, a file's summary shows the first 20, a batch line its errors).
     #[arg(long)]
@@ -165,9 +179,17 @@ pub struct DiffArgs {
     pub a: PathBuf,
     /// The second description.
     pub b: PathBuf,
-    /// The device to compare, in files that hold several.
-    #[arg(long)]
+    /// Compare only one device of each file: NAME, PRODUCT-CODE, or either @REVISION (BK1120@0x00100000).
+    ///
+    /// NAME is the type name or the product name (any case); PRODUCT-CODE is a number (0x04602C22,
+    /// #x04602C22 or decimal); @REVISION picks one revision. Without it, the newest revision of the
+    /// device is taken, as EtherCAT configuration tools do. A choice that matches different devices
+    /// is refused with the list of them.
+    #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
+    /// Print one JSON object per line for each difference instead of text.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Arguments of `fixtures`.
@@ -212,6 +234,18 @@ pub enum Error {
         wanted: String,
         /// The devices there are.
         available: String,
+    },
+    /// --device matches different devices.
+    #[error(
+        "{path}: `{wanted}` matches different devices: {matches}; choose one by type name, or add @REVISION"
+    )]
+    AmbiguousDevice {
+        /// The file.
+        path: PathBuf,
+        /// What was asked for.
+        wanted: String,
+        /// The devices it matches.
+        matches: String,
     },
     /// The file holds several devices and the output format takes one.
     #[error("{path} holds several devices ({available}); choose one with --device")]
@@ -293,18 +327,7 @@ pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
             Ok(0)
         }
         Command::Check(c) => summary::run(&c, out),
-        Command::Diff(d) => {
-            let a = one(&d.a, load_selected(&d.a, d.device.as_deref())?.1)?;
-            let b = one(&d.b, load_selected(&d.b, d.device.as_deref())?.1)?;
-            let diffs = od::diff::diff(&a.dictionary, &b.dictionary);
-            let mut text = String::new();
-            for x in &diffs {
-                text.push_str(&x.to_string());
-                text.push('\n');
-            }
-            write_out(out, &text)?;
-            Ok(if diffs.is_empty() { 0 } else { 1 })
-        }
+        Command::Diff(d) => compare::run(&d, out),
         Command::Fixtures(f) => {
             let files = fixtures::generate(&f.root)?;
             if f.check {
@@ -387,36 +410,16 @@ pub fn stamp_file_info(dev: &mut DeviceDescription, file_name: &str) {
     }
 }
 
-/// Loads `path` and keeps the device `wanted` names (all devices when `None`).
+/// Loads `path` and keeps the device `wanted` picks (all devices when `None`), as [`select`] tells.
 pub fn load_selected(
     path: &Path,
     wanted: Option<&str>,
 ) -> Result<(Format, Vec<DeviceDescription>), Error> {
     let (format, devices) = od::load::load(path)?;
-    let Some(wanted) = wanted else {
-        return Ok((format, devices));
-    };
-    let hit: Vec<DeviceDescription> = devices
-        .iter()
-        .filter(|d| device_matches(d, wanted))
-        .cloned()
-        .collect();
-    match hit.len() {
-        0 => Err(Error::NoSuchDevice {
-            path: path.to_path_buf(),
-            wanted: wanted.to_string(),
-            available: list(&devices),
-        }),
-        _ => Ok((format, hit.into_iter().take(1).collect())),
+    match wanted {
+        None => Ok((format, devices)),
+        Some(wanted) => Ok((format, vec![select::select(path, devices, wanted)?])),
     }
-}
-
-/// True when `wanted` (a type name, a name or a product code) names `d`.
-pub fn device_matches(d: &DeviceDescription, wanted: &str) -> bool {
-    let code = od::value::parse_integer(wanted).and_then(|v| u32::try_from(v).ok());
-    d.identity.order_code.eq_ignore_ascii_case(wanted)
-        || d.identity.product_name.eq_ignore_ascii_case(wanted)
-        || code == Some(d.identity.product_code)
 }
 
 fn one(path: &Path, devices: Vec<DeviceDescription>) -> Result<DeviceDescription, Error> {
@@ -430,15 +433,16 @@ fn one(path: &Path, devices: Vec<DeviceDescription>) -> Result<DeviceDescription
     }
 }
 
-/// The devices as `name (product code)` for messages.
-pub fn list(devices: &[DeviceDescription]) -> String {
+/// The devices as `name (product code …, revision …)` for messages.
+pub fn list<'a>(devices: impl IntoIterator<Item = &'a DeviceDescription>) -> String {
     devices
-        .iter()
+        .into_iter()
         .map(|d| {
             format!(
-                "{} (product code 0x{:08X})",
+                "{} (product code 0x{:08X}, revision 0x{:08X})",
                 device_name(d),
-                d.identity.product_code
+                d.identity.product_code,
+                d.identity.revision
             )
         })
         .collect::<Vec<_>>()

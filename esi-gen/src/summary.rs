@@ -189,25 +189,18 @@ pub fn check_file_keeping(path: &Path, options: &Options) -> (FileReport, Vec<De
         sources,
         findings,
     } = reading;
-    let chosen: Vec<usize> = (0..devices.len())
-        .filter(|&i| {
-            options
-                .device
-                .as_deref()
-                .is_none_or(|w| crate::device_matches(&devices[i], w))
-        })
-        .collect();
-    if let Some(wanted) = &options.device {
-        if chosen.is_empty() {
-            report.findings.push(error_at(
-                None,
-                format!(
-                    "no device matches `{wanted}`; the file holds {}",
-                    crate::list(&devices)
-                ),
-            ));
-        }
-    }
+    let chosen: Vec<usize> = match options.device.as_deref() {
+        None => (0..devices.len()).collect(),
+        Some(wanted) => match crate::select::select_index(path, &devices, wanted) {
+            Ok(i) => vec![i],
+            Err(e) => {
+                report
+                    .findings
+                    .push(error_at(None, strip_path(&e.to_string(), path)));
+                Vec::new()
+            }
+        },
+    };
     report
         .findings
         .extend(findings.into_iter().map(|finding| Located {

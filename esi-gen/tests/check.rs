@@ -284,7 +284,7 @@ fn device_picks_one_device_of_a_file() {
     let o = esi_gen(&["check", "fixtures/src/smd.esi.xml", "--device", "SMD99"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
-        stdout(&o).contains(": error: no device matches `SMD99`; the file holds SMD23K-B (product code 0x00000000), SMD24K (product code 0x00000000)\n"),
+        stdout(&o).contains(": error: no device matches `SMD99`; the file holds SMD23K-B (product code 0x00000000, revision 0x00000000), SMD24K (product code 0x00000000, revision 0x00000000)\n"),
         "{}",
         stdout(&o)
     );

@@ -5,7 +5,7 @@
 //!   range checks whose refusals map onto SDO [`AbortCode`]s.
 //! - [`device`]: a [`DeviceDescription`] (identity, dictionary, format-specific parts).
 //! - [`esi`], [`xdd`], [`eds`]: readers and writers of EtherCAT ESI, CiA 311 XDD and CiA 306 EDS/DCF;
-//!   [`doc`] writes a Markdown reference; [`diff`] compares two dictionaries.
+//!   [`doc`] writes a Markdown reference; [`diff`] compares two descriptions.
 #![deny(missing_docs)]
 
 pub mod abort;
