@@ -50,7 +50,9 @@ pub fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, Error> {
         let name = crate::device_name(dev).to_string();
         let one = std::slice::from_ref(dev);
         emit(root.join("smd").join(format!("{name}.eds")), one, |d| {
-            od::eds::write_eds(&d[0])
+            let mut d = d[0].clone();
+            od::eds::stamp_version(&mut d);
+            od::eds::write_eds(&d)
         });
         emit(root.join("smd").join(format!("{name}.xdd")), one, |d| {
             od::xdd::write(&d[0])
@@ -64,7 +66,9 @@ pub fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, Error> {
         let dir = root.join("x67");
         emit(dir.join("X67SM2436.xdd"), one, |d| od::xdd::write(&d[0]));
         emit(dir.join("X67SM2436.eds"), one, |d| {
-            od::eds::write_eds(&d[0])
+            let mut d = d[0].clone();
+            od::eds::stamp_version(&mut d);
+            od::eds::write_eds(&d)
         });
         emit(dir.join("X67SM2436.esi.xml"), one, od::esi::write_all);
         emit(dir.join("X67SM2436.md"), one, |d| od::doc::write(&d[0]));

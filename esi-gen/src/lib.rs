@@ -153,8 +153,12 @@ pub struct CheckArgs {
     /// line each and a summary.
     #[arg(required = true, value_name = "FILE|DIR")]
     pub inputs: Vec<PathBuf>,
-    /// Check one device: NAME, PRODUCT-CODE, or either @REVISION (BK1120@0x00100000), as `--device`
-    /// of the conversions picks it (the newest revision without @REVISION).
+    /// Check only one device: NAME, PRODUCT-CODE, or either @REVISION (BK1120@0x00100000).
+    ///
+    /// NAME is the type name or the product name (any case); PRODUCT-CODE is a number (0x04602C22,
+    /// #x04602C22 or decimal); @REVISION picks one revision. Without it, the newest revision of the
+    /// device is taken, as EtherCAT configuration tools do. A choice that matches different devices
+    /// is an error naming them.
     #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
     /// List every finding (without it, a file's summary shows the first 20, a batch line its errors).
@@ -278,36 +282,21 @@ fn parse_u32(text: &str) -> Result<u32, String> {
 }
 
 /// Runs a parsed command line, writing normal output to `out`.
-pub fn run(cli: Cli, out: &mut dyn Write) -> Outcome {
+pub fn run(cli: Cli, out: &mut dyn Write, err: &mut dyn Write) -> Outcome {
     match cli.command {
-        Command::Esi(c) => convert(&c, out, od::esi::write_all, true),
-        Command::Xdd(c) => convert(&c, out, |devs| od::xdd::write(&devs[0]), false),
-        Command::Eds(c) => convert(&c, out, |devs| od::eds::write_eds(&devs[0]), false),
-        Command::Doc(c) => convert(&c, out, |devs| od::doc::write(&devs[0]), false),
-        Command::Dcf(d) => {
-            let node_id = d.node_id;
-            let baud = d.baud_rate;
-            convert(
-                &d.convert,
-                out,
-                move |devs| {
-                    let mut dev = devs[0].clone();
-                    // Without --node-id the node-ID is the description's, or none: a made-up one would
-                    // change what every `$NODEID` value means.
-                    if let Some(n) = node_id {
-                        dev.set_node_id(Some(n));
-                    }
-                    // Every configurable value goes into the DCF, so that applying it writes them all.
-                    dev.configure_writable();
-                    let c = dev.commissioning.get_or_insert_with(Commissioning::default);
-                    if let Some(b) = baud {
-                        c.baud_rate = b;
-                    }
-                    od::eds::write_dcf(&dev)
-                },
-                false,
-            )
-        }
+        Command::Esi(c) => convert(&c, out, err, Target::Esi),
+        Command::Xdd(c) => convert(&c, out, err, Target::Xdd),
+        Command::Eds(c) => convert(&c, out, err, Target::Eds),
+        Command::Doc(c) => convert(&c, out, err, Target::Doc),
+        Command::Dcf(d) => convert(
+            &d.convert,
+            out,
+            err,
+            Target::Dcf {
+                node_id: d.node_id,
+                baud_rate: d.baud_rate,
+            },
+        ),
         Command::Sii(a) => {
             let (_, devices) = load_selected(&a.input, a.device.device.as_deref())?;
             let mut dev = one(&a.input, devices)?;
@@ -362,17 +351,69 @@ fn write_out(out: &mut dyn Write, text: &str) -> Result<(), Error> {
     })
 }
 
-fn convert(
-    c: &Convert,
-    out: &mut dyn Write,
-    writer: impl Fn(&[DeviceDescription]) -> String,
-    many: bool,
-) -> Outcome {
+/// What a conversion writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Target {
+    Esi,
+    Xdd,
+    Eds,
+    Dcf {
+        node_id: Option<u8>,
+        baud_rate: Option<u32>,
+    },
+    Doc,
+}
+
+impl Target {
+    /// The description format written, read back to tell what was lost (none for the Markdown page).
+    fn format(self) -> Option<Format> {
+        match self {
+            Target::Esi => Some(Format::Esi),
+            Target::Xdd => Some(Format::Xdd),
+            Target::Eds => Some(Format::Eds),
+            Target::Dcf { .. } => Some(Format::Dcf),
+            Target::Doc => None,
+        }
+    }
+
+    /// Readies a description for this target: an EDS or DCF gets its file format version; a DCF its
+    /// node-ID and bit rate when given, and every configurable value.
+    fn prepare(self, dev: &mut DeviceDescription) {
+        if let Target::Eds | Target::Dcf { .. } = self {
+            od::eds::stamp_version(dev);
+        }
+        if let Target::Dcf { node_id, baud_rate } = self {
+            // Without --node-id the node-ID is the description's, or none: a made-up one would change
+            // what every `$NODEID` value means.
+            if let Some(n) = node_id {
+                dev.set_node_id(Some(n));
+            }
+            // Every configurable value goes into the DCF, so that applying it writes them all.
+            dev.configure_writable();
+            let c = dev.commissioning.get_or_insert_with(Commissioning::default);
+            if let Some(b) = baud_rate {
+                c.baud_rate = b;
+            }
+        }
+    }
+
+    fn write(self, devices: &[DeviceDescription]) -> String {
+        match self {
+            Target::Esi => od::esi::write_all(devices),
+            Target::Xdd => od::xdd::write(&devices[0]),
+            Target::Eds => od::eds::write_eds(&devices[0]),
+            Target::Dcf { .. } => od::eds::write_dcf(&devices[0]),
+            Target::Doc => od::doc::write(&devices[0]),
+        }
+    }
+}
+
+fn convert(c: &Convert, out: &mut dyn Write, err: &mut dyn Write, target: Target) -> Outcome {
     let (_, mut devices) = load_selected(&c.input, c.device.device.as_deref())?;
     if devices.is_empty() {
         return Err(Error::NoDevice(c.input.clone()));
     }
-    if devices.len() > 1 && !many {
+    if devices.len() > 1 && target != Target::Esi {
         return Err(Error::SeveralDevices {
             path: c.input.clone(),
             available: list(&devices),
@@ -389,16 +430,114 @@ fn convert(
             stamp_file_info(dev, name);
         }
     }
-    let text = writer(&devices);
+    for dev in &mut devices {
+        target.prepare(dev);
+    }
+    let text = target.write(&devices);
     match &c.output {
         None => write_out(out, &text)?,
         Some(p) if p.as_os_str() == "-" => write_out(out, &text)?,
-        Some(p) => std::fs::write(p, text).map_err(|source| Error::Io {
+        Some(p) => std::fs::write(p, &text).map_err(|source| Error::Io {
             path: p.clone(),
             source,
         })?,
     }
+    if let Some(format) = target.format() {
+        let note = losses(&c.input, format, &devices, &text);
+        err.write_all(note.as_bytes()).map_err(|source| Error::Io {
+            path: PathBuf::from("-"),
+            source,
+        })?;
+    }
     Ok(0)
+}
+
+/// What a conversion of `devices` (read from `input`) to `written`, a text in `format`, did not keep:
+/// the differences of what reads back, grouped by the kind of part and field, each group with its count
+/// and its first place; empty when everything came through.
+pub fn losses(
+    input: &Path,
+    format: Format,
+    devices: &[DeviceDescription],
+    written: &str,
+) -> String {
+    let back = match od::load::read_bytes(written.as_bytes(), "written", format) {
+        Ok(back) => back,
+        Err(e) => {
+            return format!(
+                "esi-gen: {}: written as {format}, it does not read back: {e}\n",
+                input.display()
+            )
+        }
+    };
+    let mut groups: Vec<(String, usize, String)> = Vec::new();
+    let several = devices.len() > 1;
+    for pairing in od::diff::pair_devices(devices, &back) {
+        let od::diff::Pairing::Both(i, j) = pairing else {
+            groups.push(("a device not read back".into(), 1, String::new()));
+            continue;
+        };
+        for d in od::diff::diff_devices(&devices[i], &back[j]) {
+            let kind = loss_kind(&d);
+            let example = if several {
+                format!("{}: {d}", summary::label(&devices[i]))
+            } else {
+                d.to_string()
+            };
+            match groups.iter_mut().find(|(k, _, _)| *k == kind) {
+                Some(g) => g.1 += 1,
+                None => groups.push((kind, 1, example)),
+            }
+        }
+    }
+    if groups.is_empty() {
+        return String::new();
+    }
+    let total: usize = groups.iter().map(|g| g.1).sum();
+    let mut text = format!(
+        "esi-gen: {}: {format} cannot carry all of it; {total} difference(s) read back:\n",
+        input.display()
+    );
+    for (kind, n, example) in &groups {
+        let example = clip(example, 100);
+        text.push_str(&format!("  {n:>5} × {kind}: {example}\n"));
+    }
+    text
+}
+
+/// The kind of a difference, for grouping: its place without keys (`TxPdo entry`, `entry`, `EtherCAT`)
+/// and the field or whether the part is only on one side.
+fn loss_kind(d: &od::diff::Difference) -> String {
+    use od::diff::{Change, Step};
+    let mut parts: Vec<&str> = d
+        .path
+        .iter()
+        .map(|s| match s {
+            Step::Part(name) => name,
+            Step::Item { kind, .. } => kind,
+            Step::Object(_) => "object",
+            Step::Entry(..) => "entry",
+        })
+        .collect();
+    let tail = match &d.change {
+        Change::OnlyInA(_) => "left out".to_string(),
+        Change::OnlyInB(_) => "added".to_string(),
+        Change::Changed { field, .. } => {
+            parts.push(field);
+            "changed".to_string()
+        }
+    };
+    if parts.is_empty() {
+        return tail;
+    }
+    format!("{} {tail}", parts.join(" "))
+}
+
+fn clip(text: &str, max: usize) -> String {
+    match text.char_indices().nth(max) {
+        Some((i, _)) => format!("{}…", &text[..i]),
+        None => text.to_string(),
+    }
 }
 
 /// Fills the file information a written description gives about itself: its file name (always), and a

@@ -5,7 +5,8 @@ use clap::Parser;
 fn main() -> ExitCode {
     let cli = esi_gen::Cli::parse();
     let mut stdout = std::io::stdout().lock();
-    match esi_gen::run(cli, &mut stdout) {
+    let mut stderr = std::io::stderr().lock();
+    match esi_gen::run(cli, &mut stdout, &mut stderr) {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
             eprintln!("esi-gen: {e}");

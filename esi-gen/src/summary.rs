@@ -117,7 +117,7 @@ impl FileReport {
 }
 
 /// The label of a device among several: type name and revision.
-fn label(dev: &DeviceDescription) -> String {
+pub fn label(dev: &DeviceDescription) -> String {
     format!(
         "{} rev 0x{:08X}",
         crate::device_name(dev),
@@ -275,6 +275,34 @@ fn strip_path(text: &str, path: &Path) -> String {
         .to_string()
 }
 
+/// What differs between `devices` and the devices read back from what was written of them, as lines:
+/// the devices paired by product code and revision, each pair compared whole ([`od::diff::diff_devices`]),
+/// prefixed with the device's label where there are several.
+pub fn differences(devices: &[DeviceDescription], back: &[DeviceDescription]) -> Vec<String> {
+    let several = devices.len() > 1;
+    let mut out = Vec::new();
+    for pairing in od::diff::pair_devices(devices, back) {
+        match pairing {
+            od::diff::Pairing::Both(i, j) => {
+                for d in od::diff::diff_devices(&devices[i], &back[j]) {
+                    out.push(if several {
+                        format!("{}: {d}", label(&devices[i]))
+                    } else {
+                        d.to_string()
+                    });
+                }
+            }
+            od::diff::Pairing::OnlyInA(i) => {
+                out.push(format!("{}: not read back", label(&devices[i])));
+            }
+            od::diff::Pairing::OnlyInB(j) => {
+                out.push(format!("{}: read back, but not written", label(&back[j])));
+            }
+        }
+    }
+    out
+}
+
 /// Writes `devices` in `format`, reads them back and lists what differs; a CANopen description is
 /// also written as an EDS, which must read back without errors.
 pub fn round_trip(format: Format, devices: &[DeviceDescription]) -> Vec<String> {
@@ -291,25 +319,7 @@ pub fn round_trip(format: Format, devices: &[DeviceDescription]) -> Vec<String> 
     let name = format!("written {format}");
     match od::load::read_bytes(written.as_bytes(), &name, format) {
         Err(e) => out.push(format!("written as {format}, it does not read back: {e}")),
-        Ok(back) => {
-            if back.len() != devices.len() {
-                out.push(format!(
-                    "written as {format}, {} device(s) read back of {}",
-                    back.len(),
-                    devices.len()
-                ));
-            }
-            for (a, b) in devices.iter().zip(&back) {
-                let several = devices.len() > 1;
-                for d in od::diff::diff(&a.dictionary, &b.dictionary) {
-                    out.push(if several {
-                        format!("{}: {d}", label(a))
-                    } else {
-                        d.to_string()
-                    });
-                }
-            }
-        }
+        Ok(back) => out.extend(differences(devices, &back)),
     }
     if format != Format::Esi {
         let eds = od::eds::write_eds(&devices[0]);

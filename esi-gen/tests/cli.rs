@@ -197,7 +197,7 @@ fn dcf_carries_the_node_id() {
 /// `esi-gen dcf` configures every writable entry (`ParameterValue`), so that `sdo-tool apply` writes
 /// them: a `$NODEID` one relative to the node-ID; not the read-only ones, a DOMAIN, nor the command entry
 /// 0x1010 (store parameters). Without `--node-id` there is no `NodeID=` (it once made up node 1, and
-/// `$NODEID+0x80` came back as 0x81); the dictionary is the input's.
+/// `$NODEID+0x80` came back as 0x81); the dictionary is the input's but for the configured values.
 #[test]
 fn dcf_configures_the_writable_entries() {
     let eds = tmp("configure.eds");
@@ -234,8 +234,20 @@ fn dcf_configures_the_writable_entries() {
         assert!(text.contains(section), "{section}\n{text}");
     }
     assert!(!text.contains("NodeID"), "{text}");
+    // What the DCF adds to the EDS: its name and format version, CAN and commissioning sections, and the
+    // configured values; the dictionary is the same otherwise.
     let o = esi_gen(&["diff", eds.to_str().unwrap(), dcf.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+    assert_eq!(
+        stdout(&o),
+        "~ file info file name: \"\" -> \"configure.dcf\"\n\
+         ~ file info format version: \"\" -> \"4.0\"\n\
+         + CAN\n\
+         + commissioning\n\
+         ~ 0x1014:00 value set: no -> yes\n\
+         ~ 0x1014:00 value relative to the node-ID: no -> yes\n\
+         ~ 0x1017:00 value set: no -> yes\n"
+    );
 
     // For node 5: the COB-ID follows the node-ID and stays relative.
     let o = esi_gen(&[
@@ -257,7 +269,14 @@ fn dcf_configures_the_writable_entries() {
     let o = esi_gen(&["diff", eds.to_str().unwrap(), dcf.to_str().unwrap()]);
     assert_eq!(
         stdout(&o),
-        "~ 0x1014:00 value: 80 00 00 00 -> 85 00 00 00\n"
+        "~ file info file name: \"\" -> \"configure.dcf\"\n\
+         ~ file info format version: \"\" -> \"4.0\"\n\
+         + CAN\n\
+         + commissioning\n\
+         ~ 0x1014:00 value: 0x00000080 -> 0x00000085\n\
+         ~ 0x1014:00 value set: no -> yes\n\
+         ~ 0x1014:00 value relative to the node-ID: no -> yes\n\
+         ~ 0x1017:00 value set: no -> yes\n"
     );
 }
 

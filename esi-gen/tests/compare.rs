@@ -176,7 +176,7 @@ fn every_subcommand_picks_the_same_way() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let text = stdout(&o);
     assert!(
-        text.starts_with(&format!("{A}: ESI, 1 device(s)\n")),
+        text.starts_with(&format!("{A}: ESI, 1 device(s), read and checked in ")),
         "{text}"
     );
     assert!(

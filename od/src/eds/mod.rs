@@ -141,7 +141,8 @@
 //! direction beyond what the access type implies, an object name that differs from the name of its VAR entry,
 //! the EtherCAT parts, bit rates other than the eight of CiA 306, and strings with line breaks or leading or
 //! trailing blanks. A description without [`CanInfo`](crate::device::CanInfo) is written with
-//! `CanInfo::default()`, and an empty `format_version` as `EDSVersion=4.0`.
+//! `CanInfo::default()`. An empty `format_version` (a file without `EDSVersion`, as Lely's) is written
+//! without `EDSVersion`; a new file gets the version of CiA 306 it follows from [`stamp_version`].
 
 mod reader;
 mod writer;
@@ -164,16 +165,28 @@ pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError>
     reader::read(bytes, source_name)
 }
 
+/// The `EDSVersion` of the files this crate writes: CiA 306 v1.3's file format 4.0.
+pub const EDS_VERSION: &str = "4.0";
+
+/// Gives a description that is to become a new EDS or DCF the file format version [`EDS_VERSION`], when
+/// it has none (a description read from ESI or XDD, or from an EDS without `EDSVersion`).
+pub fn stamp_version(desc: &mut DeviceDescription) {
+    if desc.file_info.format_version.trim().is_empty() {
+        desc.file_info.format_version = EDS_VERSION.to_string();
+    }
+}
+
 /// Writes an EDS (CR LF line ends, byte-stable): file and device information, the commissioning values
 /// the description has, object lists and object sections with the current values that were set or differ
 /// from their defaults.
 pub fn write_eds(desc: &DeviceDescription) -> String {
-    writer::write(desc, false)
+    writer::write(desc)
 }
 
-/// Writes a DCF: the EDS of [`write_eds`], always with `[DeviceComissioning]`. The node-ID comes from
-/// [`DeviceDescription::commissioning`]; without one, there is no `NodeID=`. For a DCF that configures every
+/// Writes a DCF: the EDS of [`write_eds`], with the `[DeviceComissioning]` of
+/// [`DeviceDescription::commissioning`] (a DCF without one, as ros_canopen's, stays without one; a new DCF
+/// gets one by [`DeviceDescription::set_node_id`]); without a node-ID there, there is no `NodeID=`. For a DCF that configures every
 /// writable entry, mark them first with [`DeviceDescription::configure_writable`].
 pub fn write_dcf(desc: &DeviceDescription) -> String {
-    writer::write(desc, true)
+    writer::write(desc)
 }

@@ -14,21 +14,15 @@ const BAUD_RATES: [u32; 8] = [10, 20, 50, 125, 250, 500, 800, 1000];
 /// The objects CiA 306 lists in `[MandatoryObjects]`.
 const MANDATORY: [u16; 3] = [0x1000, 0x1001, 0x1018];
 
-pub(super) fn write(desc: &DeviceDescription, dcf: bool) -> String {
+pub(super) fn write(desc: &DeviceDescription) -> String {
     let mut w = IniWriter::default();
     file_info(&mut w, desc);
     let default_can = CanInfo::default();
     let can = desc.can.as_ref().unwrap_or(&default_can);
     device_info(&mut w, desc, can);
-    // A DCF always has its commissioning section; an EDS has the one it was read with (python-canopen's
-    // sample.eds has one), so that its values keep the node-ID they were resolved with.
-    let default_commissioning = Commissioning::default();
-    let commissioning = match &desc.commissioning {
-        Some(c) => Some(c),
-        None if dcf => Some(&default_commissioning),
-        None => None,
-    };
-    if let Some(c) = commissioning {
+    // The commissioning section the description has (python-canopen's sample.eds has one, ros_canopen's
+    // DCFs have none), so that its values keep the node-ID they were resolved with.
+    if let Some(c) = &desc.commissioning {
         commissioning_section(&mut w, c);
     }
     // The node-ID the current values are resolved with: the description's, else 0 (an unconfigured node,
@@ -110,12 +104,9 @@ fn file_info(w: &mut IniWriter, desc: &DeviceDescription) {
     w.key("FileName", &f.file_name);
     w.key("FileVersion", &f.file_version);
     w.key("FileRevision", &f.file_revision);
-    let version = if f.format_version.trim().is_empty() {
-        "4.0"
-    } else {
-        &f.format_version
-    };
-    w.key("EDSVersion", version);
+    if !f.format_version.trim().is_empty() {
+        w.key("EDSVersion", &f.format_version);
+    }
     w.key("Description", &f.description);
     w.key("CreationTime", &f.creation_time);
     w.key("CreationDate", &f.creation_date);

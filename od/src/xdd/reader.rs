@@ -265,6 +265,9 @@ struct Scan<'a, 's> {
     device_file: Option<FileAttrs>,
     network_file: Option<FileAttrs>,
     seen_network_body: bool,
+    /// A CAN part of the network body was read (dummy usage, physical layer, general or master
+    /// features): the description has [`CanInfo`].
+    seen_can: bool,
     /// The first POWERLINK profile body (EPSG DS 311), and where it is.
     powerlink: Option<(usize, String)>,
     /// Profile bodies of other technologies, skipped.
@@ -354,6 +357,7 @@ impl<'a, 's> Scan<'a, 's> {
             device_file: None,
             network_file: None,
             seen_network_body: false,
+            seen_can: false,
             powerlink: None,
             other_bodies: Vec::new(),
             vendor_name: None,
@@ -605,7 +609,10 @@ impl<'a, 's> Scan<'a, 's> {
             (Ctx::Body, b"DeviceIdentity") => Ctx::Identity,
             (Ctx::Body, b"ApplicationProcess") => Ctx::ApplicationProcess,
             (Ctx::Body, b"ApplicationLayers") => Ctx::ApplicationLayers,
-            (Ctx::Body, b"TransportLayers") => Ctx::TransportLayers,
+            (Ctx::Body, b"TransportLayers") => {
+                self.seen_can = true;
+                Ctx::TransportLayers
+            }
             (Ctx::Body, b"NetworkManagement") => Ctx::NetworkManagement,
             (Ctx::Identity, field) => match field {
                 b"vendorName" => Ctx::IdentityField(IdField::VendorName),
@@ -675,7 +682,10 @@ impl<'a, 's> Scan<'a, 's> {
             }
             (Ctx::ApplicationLayers, b"CANopenObjectList") => Ctx::ObjectList,
             (Ctx::ApplicationLayers, b"ObjectList") if self.powerlink.is_some() => Ctx::ObjectList,
-            (Ctx::ApplicationLayers, b"dummyUsage") => Ctx::DummyUsage,
+            (Ctx::ApplicationLayers, b"dummyUsage") => {
+                self.seen_can = true;
+                Ctx::DummyUsage
+            }
             (Ctx::ObjectList, b"CANopenObject") => {
                 self.open_object(e, offset)?;
                 Ctx::Object
@@ -719,10 +729,12 @@ impl<'a, 's> Scan<'a, 's> {
                 Ctx::Skip
             }
             (Ctx::NetworkManagement, b"CANopenGeneralFeatures") => {
+                self.seen_can = true;
                 self.read_general_features(e, offset)?;
                 Ctx::Skip
             }
             (Ctx::NetworkManagement, b"CANopenMasterFeatures") => {
+                self.seen_can = true;
                 self.attrs(e, offset, |s, key, v| {
                     if key == b"bootUpMaster" {
                         s.can.simple_boot_up_master = s.boolean(&v, "bootUpMaster")?;
@@ -1392,7 +1404,7 @@ impl<'a, 's> Scan<'a, 's> {
         desc.identity.product_code = self.product_id.or_else(|| default_u32(2)).unwrap_or(0);
         desc.identity.revision = default_u32(3).unwrap_or(0);
         desc.file_info = file_info;
-        if self.seen_network_body {
+        if self.seen_network_body && self.seen_can {
             let mut can = std::mem::take(&mut self.can);
             can.baud_rates = std::mem::take(&mut self.baud_rates).into_iter().collect();
             can.dummy_usage = std::mem::take(&mut self.dummies)

@@ -53,23 +53,44 @@ pub fn write(desc: &DeviceDescription) -> String {
         vec![("xsi:type", "ProfileBody_CommunicationNetwork_CANopen")];
     body.extend(file_attrs.iter().map(|(k, v)| (*k, v.as_str())));
     w.start("ProfileBody", &body);
-    let default_can = CanInfo::default();
-    let can = desc.can.as_ref().unwrap_or(&default_can);
     w.start("ApplicationLayers", &[]);
     w.start("CANopenObjectList", &[]);
     for object in desc.dictionary.objects() {
         write_object(&mut w, object);
     }
     w.end();
-    w.start("dummyUsage", &[]);
-    // The schema knows Dummy0001 to Dummy0007 only.
-    for d in 1..=7u16 {
-        let used = u8::from(can.dummy_usage.contains(&d));
-        w.empty("dummy", &[("entry", &format!("Dummy{d:04X}={used}"))]);
+    // The CAN parts only for a description that has them (a POWERLINK one has not).
+    if let Some(can) = &desc.can {
+        w.start("dummyUsage", &[]);
+        // The schema knows Dummy0001 to Dummy0007 only.
+        for d in 1..=7u16 {
+            let used = u8::from(can.dummy_usage.contains(&d));
+            w.empty("dummy", &[("entry", &format!("Dummy{d:04X}={used}"))]);
+        }
+        w.end();
     }
     w.end();
+    write_network(&mut w, desc);
     w.end();
+    w.end();
+    w.finish()
+}
 
+/// The transport layers and network management of a CANopen network body: the CAN capabilities, when
+/// the description has them, and the commissioning values of a configured node.
+fn write_network(w: &mut XmlWriter, desc: &DeviceDescription) {
+    let configured = desc.commissioning.as_ref().and_then(|c| {
+        c.node_id
+            .filter(|id| (1..=127).contains(id))
+            .map(|id| (c, id))
+    });
+    let default_can = CanInfo::default();
+    let can = match (&desc.can, configured) {
+        (Some(can), _) => can,
+        // CANopenGeneralFeatures is required in NetworkManagement: the defaults, as an EDS writes them.
+        (None, Some(_)) => &default_can,
+        (None, None) => return,
+    };
     w.start("TransportLayers", &[]);
     w.start("PhysicalLayer", &[]);
     w.start("baudRate", &[]);
@@ -102,11 +123,6 @@ pub fn write(desc: &DeviceDescription) -> String {
     }
     // `nodeID` is required, and a node-ID outside 1..127 is no node-ID: the commissioning values of an
     // unconfigured node are left out.
-    let configured = desc.commissioning.as_ref().and_then(|c| {
-        c.node_id
-            .filter(|id| (1..=127).contains(id))
-            .map(|id| (c, id))
-    });
     if let Some((c, node_id)) = configured {
         w.empty(
             "deviceCommissioning",
@@ -121,9 +137,6 @@ pub fn write(desc: &DeviceDescription) -> String {
         );
     }
     w.end();
-    w.end();
-    w.end();
-    w.finish()
 }
 
 fn header(w: &mut XmlWriter, desc: &DeviceDescription, identification: &str, class: &str) {
