@@ -420,17 +420,17 @@ fn convert(c: &Convert, out: &mut dyn Write, err: &mut dyn Write, target: Target
         });
     }
     c.device.identify(&mut devices)?;
-    if let Some(name) = c
+    // An ESI has no file information to stamp.
+    let name = c
         .output
         .as_deref()
         .and_then(|p| p.file_name())
         .and_then(|n| n.to_str())
-    {
-        for dev in &mut devices {
+        .filter(|_| target != Target::Esi);
+    for dev in &mut devices {
+        if let Some(name) = name {
             stamp_file_info(dev, name);
         }
-    }
-    for dev in &mut devices {
         target.prepare(dev);
     }
     let text = target.write(&devices);
@@ -495,7 +495,7 @@ pub fn losses(
     }
     let total: usize = groups.iter().map(|g| g.1).sum();
     let mut text = format!(
-        "esi-gen: {}: {format} cannot carry all of it; {total} difference(s) read back:\n",
+        "esi-gen: {}: written as {format}, {total} difference(s) read back (what {format} does not carry, or adds):\n",
         input.display()
     );
     for (kind, n, example) in &groups {

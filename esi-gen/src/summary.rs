@@ -740,3 +740,81 @@ pub fn is_description_name(path: &Path) -> bool {
         .and_then(|e| e.to_str())
         .is_some_and(|e| EXTENSIONS.iter().any(|x| x.eq_ignore_ascii_case(e)))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use od::object::{AccessType, Object, SubObject};
+    use od::types::DataType;
+
+    fn device(name: &str, code: u32) -> DeviceDescription {
+        let mut d = DeviceDescription::default();
+        d.identity.order_code = name.into();
+        d.identity.product_code = code;
+        d.identity.revision = 1;
+        d.dictionary.insert(Object::var(
+            0x1000,
+            SubObject::new("Device type", DataType::Unsigned32, AccessType::Ro),
+        ));
+        d
+    }
+
+    #[test]
+    fn differences_pair_devices_and_name_them_when_there_are_several() {
+        let one = [device("A", 1)];
+        let mut changed = device("A", 1);
+        changed.identity.product_name = "Alpha".into();
+        assert_eq!(
+            differences(&one, std::slice::from_ref(&changed)),
+            vec!["~ identity product name: \"\" -> \"Alpha\""]
+        );
+        let two = [device("A", 1), device("B", 2)];
+        assert_eq!(
+            differences(&two, &[changed.clone(), device("C", 3)]),
+            vec![
+                "A rev 0x00000001: ~ identity product name: \"\" -> \"Alpha\"",
+                "B rev 0x00000001: not read back",
+                "C rev 0x00000001: read back, but not written",
+            ]
+        );
+        assert_eq!(differences(&two, &two), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_round_trip_lists_what_its_format_does_not_keep() {
+        let mut d = device("A", 1);
+        d.dictionary.object_mut(0x1000).unwrap().description = Some("kind".into());
+        d.file_info.creation_date = "2024-05-06".into();
+        // An EDS has no object descriptions; an XDD has.
+        assert_eq!(
+            round_trip(Format::Eds, std::slice::from_ref(&d)),
+            vec!["+ CAN", "~ 0x1000 description: \"kind\" -> none"]
+        );
+        d.can = Some(od::device::CanInfo::default());
+        assert_eq!(
+            round_trip(Format::Eds, std::slice::from_ref(&d)),
+            vec!["~ 0x1000 description: \"kind\" -> none"]
+        );
+        // An XDD keeps the revision in 0x1018:03 only; the EDS written of a CANopen file is checked for
+        // errors only.
+        assert_eq!(
+            round_trip(Format::Xdd, std::slice::from_ref(&d)),
+            vec!["~ identity revision: 0x00000001 -> 0x00000000"]
+        );
+        d.identity.revision = 0;
+        assert_eq!(
+            round_trip(Format::Xdd, std::slice::from_ref(&d)),
+            Vec::<String>::new()
+        );
+        assert_eq!(round_trip(Format::Esi, &[]), Vec::<String>::new());
+        // Several devices, each named; an ESI gives every device its EtherCAT parts.
+        let two = [device("A", 1), device("B", 2)];
+        assert_eq!(
+            round_trip(Format::Esi, &two),
+            vec![
+                "A rev 0x00000001: + EtherCAT",
+                "B rev 0x00000001: + EtherCAT"
+            ]
+        );
+    }
+}

@@ -348,3 +348,68 @@ fn sii_image() {
     let out = esi_gen(&["sii", &esi, "-o", img.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2), "two devices: --device needed");
 }
+
+/// A small CoE device: 0x1000 and one mappable input, with a mailbox.
+const SMALL_ESI: &str = "<?xml version=\"1.0\"?>\n\
+<EtherCATInfo><Vendor><Id>7</Id><Name>V</Name></Vendor><Descriptions><Devices>\n\
+<Device><Type ProductCode=\"#x2\" RevisionNo=\"#x10\">T2</Type><Name>Terminal</Name>\n\
+<Profile><Dictionary><DataTypes><DataType><Name>UDINT</Name><BitSize>32</BitSize></DataType></DataTypes><Objects>\n\
+<Object><Index>#x1000</Index><Name>Device type</Name><Type>UDINT</Type><BitSize>32</BitSize><Info><DefaultData>91010000</DefaultData></Info><Flags><Access>ro</Access></Flags></Object>\n\
+<Object><Index>#x6000</Index><Name>Input</Name><Type>UDINT</Type><BitSize>32</BitSize><Flags><Access>ro</Access><PdoMapping>T</PdoMapping></Flags></Object>\n\
+</Objects></Dictionary></Profile><Mailbox><CoE/></Mailbox></Device>\n\
+</Devices></Descriptions></EtherCATInfo>\n";
+
+/// A conversion reads back what it wrote and names, on stderr, what the target format did not keep or
+/// added, a line per kind with its count and first place; nothing when everything came through.
+#[test]
+fn conversions_name_what_they_do_not_keep() {
+    let src = tmp("small.xml");
+    std::fs::write(&src, SMALL_ESI).unwrap();
+    let s = src.to_str().unwrap();
+    let o = esi_gen(&["esi", s, "-o", tmp("small-again.xml").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(stderr(&o), "");
+    let o = esi_gen(&["eds", s, "-o", tmp("small.eds").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(
+        stderr(&o),
+        format!(
+            "esi-gen: {s}: written as EDS, 2 difference(s) read back (what EDS does not carry, or adds):\n\
+             \x20     1 × CAN added: + CAN\n\
+             \x20     1 × EtherCAT left out: - EtherCAT\n"
+        )
+    );
+    // XDD carries the revision in 0x1018:03 only, which this device lacks; it needs a creation date.
+    let o = esi_gen(&["xdd", s]);
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(
+        stderr(&o),
+        format!(
+            "esi-gen: {s}: written as XDD, 3 difference(s) read back (what XDD does not carry, or adds):\n\
+             \x20     1 × identity revision changed: ~ identity revision: 0x00000010 -> 0x00000000\n\
+             \x20     1 × file info creation date changed: ~ file info creation date: \"\" -> \"1970-01-01\"\n\
+             \x20     1 × EtherCAT left out: - EtherCAT\n"
+        )
+    );
+    // Several differences of one kind are one line, counted, with the first of them.
+    let mut text = SMALL_ESI.replace(
+        "<Name>Input</Name>",
+        "<Name>Input</Name><Comment>first</Comment>",
+    );
+    text = text.replace(
+        "<Name>Device type</Name>",
+        "<Name>Device type</Name><Comment>kind</Comment>",
+    );
+    std::fs::write(&src, text).unwrap();
+    let o = esi_gen(&["eds", s, "-o", tmp("small.eds").to_str().unwrap()]);
+    let err = stderr(&o);
+    assert!(
+        err.contains(
+            "\n      2 × object description changed: ~ 0x1000 description: \"kind\" -> none\n"
+        ),
+        "{err}"
+    );
+    // The Markdown page is not read back.
+    let o = esi_gen(&["doc", s]);
+    assert_eq!((o.status.code(), stderr(&o)), (Some(0), String::new()));
+}

@@ -843,3 +843,34 @@ DefaultValue=$NODEID+0x180
     let esi = od::esi::write(&desc);
     assert!(esi.contains("<DefaultData>85010000</DefaultData>"), "{esi}");
 }
+
+/// A file without `EDSVersion` (Lely writes none) and a DCF without `[DeviceComissioning]` (ros_canopen's)
+/// are written as they were read; a new file gets the version of CiA 306 it follows.
+#[test]
+fn what_a_file_leaves_out_stays_out() {
+    let text = "[FileInfo]\nFileName=plain.dcf\n[DeviceInfo]\nVendorName=V\n[1000]\nParameterName=Device type\nDataType=0x0007\n\
+                AccessType=ro\nDefaultValue=0x191\n";
+    let mut desc = eds::read(text.as_bytes(), "plain.dcf").unwrap();
+    assert_eq!(desc.file_info.format_version, "");
+    assert_eq!(desc.commissioning, None);
+    for written in [eds::write_eds(&desc), eds::write_dcf(&desc)] {
+        assert!(
+            written.starts_with("[FileInfo]\r\nFileName=plain.dcf\r\nFileVersion=\r\nFileRevision=\r\nDescription=\r\n"),
+            "{written}"
+        );
+        assert!(!written.contains("[DeviceComissioning]"), "{written}");
+        let back = eds::read(written.as_bytes(), "again.dcf").unwrap();
+        assert_eq!(od::diff::diff_devices(&desc, &back), vec![]);
+    }
+    eds::stamp_version(&mut desc);
+    assert_eq!(desc.file_info.format_version, eds::EDS_VERSION);
+    assert!(
+        eds::write_eds(&desc).contains("\r\nFileRevision=\r\nEDSVersion=4.0\r\nDescription=\r\n")
+    );
+    desc.file_info.format_version = "3.0".into();
+    eds::stamp_version(&mut desc);
+    assert_eq!(
+        desc.file_info.format_version, "3.0",
+        "a version given stays"
+    );
+}

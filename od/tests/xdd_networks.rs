@@ -81,3 +81,42 @@ fn a_body_of_an_unknown_network_is_refused_with_its_kind() {
         "a ProfileBody_Device_Modbus profile body: the file describes a device of another network, not a CANopen device (no ProfileBody_Device_CANopen or ProfileBody_CommunicationNetwork_CANopen)"
     );
 }
+
+/// A description without CAN information (a POWERLINK or EtherCAT one) is written as an XDD without
+/// the CAN parts (dummy usage, physical layer, network management), and reads back without them; one
+/// with CAN information keeps them.
+#[test]
+fn the_can_parts_are_written_only_for_a_description_that_has_them() {
+    let mut desc = od::xdd::read(POWERLINK.as_bytes(), "cn.xdd").unwrap();
+    // An XDD has a creation date (a required attribute); a description without one is written with
+    // 1970-01-01.
+    desc.file_info.creation_date = "2024-05-06".into();
+    let text = od::xdd::write(&desc);
+    for part in ["dummyUsage", "TransportLayers", "NetworkManagement"] {
+        assert!(!text.contains(part), "{part}\n{text}");
+    }
+    let back = od::xdd::read(text.as_bytes(), "again.xdd").unwrap();
+    assert_eq!(od::diff::diff_devices(&desc, &back), vec![]);
+
+    let mut with_can = desc.clone();
+    with_can.can = Some(od::device::CanInfo {
+        baud_rates: vec![250],
+        nr_of_rx_pdo: 1,
+        ..Default::default()
+    });
+    let text = od::xdd::write(&with_can);
+    assert!(
+        text.contains("<supportedBaudRate value=\"250 Kbps\"/>"),
+        "{text}"
+    );
+    let back = od::xdd::read(text.as_bytes(), "again.xdd").unwrap();
+    assert_eq!(back.can, with_can.can);
+
+    // Commissioning values without CAN information: the network management they belong in needs its
+    // general features, which are written as CAN information's defaults.
+    let mut configured = desc.clone();
+    configured.set_node_id(Some(3));
+    let back = od::xdd::read(od::xdd::write(&configured).as_bytes(), "again.xdd").unwrap();
+    assert_eq!(back.node_id(), Some(3));
+    assert_eq!(back.can, Some(od::device::CanInfo::default()));
+}
