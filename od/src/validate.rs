@@ -132,7 +132,9 @@ impl Checker<'_> {
                             Some(at),
                             format!("default {} is not a {}", def.value, entry.data_type),
                         );
-                    } else if !def.plus_node_id {
+                    } else if !def.plus_node_id && !is_nan(&def.value) {
+                        // A NaN default (Ingenia's "no value yet") is a value of a REAL; only a write of
+                        // one is refused.
                         if let Err(e) = d.check(object.index, sub, &entry.value) {
                             self.warn(at, format!("default value outside the limits: {e}"));
                         }
@@ -194,6 +196,15 @@ impl Checker<'_> {
                 );
                 return;
             };
+            // A CiA 301 mapping entry is an UNSIGNED32; POWERLINK's are UNSIGNED64 of another layout
+            // (EPSG DS 301 §6.4.9.2: length, offset, sub-index, index), not checked here.
+            if entry.data_type != DataType::Unsigned32 {
+                continue;
+            }
+            // Only an entry the file gives a value (a profile template's have none).
+            if entry.default.is_none() && !entry.value_set {
+                continue;
+            }
             let Some(Value::Uint(v)) = entry.current() else {
                 continue;
             };
@@ -267,6 +278,14 @@ impl Checker<'_> {
                 }
             }
         }
+    }
+}
+
+fn is_nan(v: &Value) -> bool {
+    match v {
+        Value::Real32(x) => x.is_nan(),
+        Value::Real64(x) => x.is_nan(),
+        _ => false,
     }
 }
 
@@ -347,6 +366,64 @@ mod tests {
                 "warning: object 0x1018 (identity) is mandatory and missing",
                 "warning: 0x2000:00: default value outside the limits: 0x2000:00: 50 is above the high limit 10",
             ]
+        );
+    }
+
+    /// Entries of a mapping object this check does not read: POWERLINK's UNSIGNED64 ones (another
+    /// layout), and one without a value in the file (a profile template's); and a NaN REAL default
+    /// (Ingenia's), a value of its type, is no finding either.
+    #[test]
+    fn entries_without_a_cia_301_mapping_and_nan_defaults_are_no_findings() {
+        let mut desc = DeviceDescription::default();
+        let d = &mut desc.dictionary;
+        for (index, name) in [(0x1000, "Device type"), (0x1018, "Identity")] {
+            d.insert(Object::var(
+                index,
+                SubObject::new(name, DataType::Unsigned32, AccessType::Ro),
+            ));
+        }
+        d.insert(
+            Object::structured(0x1600, "POWERLINK mapping", ObjectKind::Array)
+                .with_sub(
+                    0,
+                    SubObject::new("n", DataType::Unsigned8, AccessType::Rw)
+                        .with_default(Value::Uint(2)),
+                )
+                .with_sub(
+                    1,
+                    SubObject::new("e", DataType::Unsigned64, AccessType::Rw)
+                        .with_default(Value::Uint(0x0010_0000_0060_0001)),
+                )
+                .with_sub(2, SubObject::new("e", DataType::Unsigned32, AccessType::Rw)),
+        );
+        d.insert(Object::var(
+            0x2000,
+            SubObject::new("Gain", DataType::Real32, AccessType::Rw)
+                .with_default(Value::Real32(f32::NAN))
+                .with_limits(Some(Value::Real32(0.0)), Some(Value::Real32(1.0))),
+        ));
+        assert_eq!(validate(&desc), vec![]);
+        // The same entry given a value in the file is checked.
+        desc.dictionary.insert(mapping(0x1601, &[0x3000_0008]));
+        let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
+        assert_eq!(
+            text,
+            vec!["warning: 0x1601:00: maps 0x3000:00, which does not exist"]
+        );
+        // A number default outside the limits is.
+        desc.dictionary
+            .object_mut(0x2000)
+            .unwrap()
+            .subs
+            .get_mut(&0)
+            .unwrap()
+            .default = Some(crate::object::DefaultValue::plain(Value::Real32(2.0)));
+        desc.dictionary.insert(mapping(0x1601, &[]));
+        let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
+        assert_eq!(text.len(), 1, "{text:?}");
+        assert!(
+            text[0].starts_with("warning: 0x2000:00: default value outside the limits"),
+            "{text:?}"
         );
     }
 }

@@ -647,24 +647,26 @@ fn entry_mut(desc: &mut DeviceDescription, index: u16, sub: u8) -> &mut SubObjec
 /// A description without a node-ID (an EDS, Lely's DCFs of an unconfigured node) is written as a DCF
 /// without `NodeID=`: a made-up node-ID would change what every `$NODEID` value means (Lely's
 /// cocatd.dcf once came back with 0x1014 = 0x81 for its `$NODEID+0x80`). Read back, the node is still
-/// unconfigured and the `$NODEID` values are resolved with 0, as in the EDS.
+/// unconfigured and the `$NODEID` values are resolved with 0, as in the EDS. A description without
+/// commissioning values (an EDS, ros_canopen's DCFs) is written without `[DeviceComissioning]`.
 #[test]
 fn dcf_without_a_node_id_has_none() {
     let desc = golden_description();
-    let text = eds::write_dcf(&desc);
+    assert_eq!(desc.commissioning, None);
+    assert_eq!(eds::write_dcf(&desc), GOLDEN_EDS);
     // The description holds the EDS values (`$NODEID` resolved with 0): still defaults, so no
     // ParameterValue at all.
+    let text = {
+        let mut desc = desc.clone();
+        desc.commissioning = Some(Commissioning::default());
+        eds::write_dcf(&desc)
+    };
     let expected = GOLDEN_EDS.replace(
         "LSS_Supported=0\r\n\r\n",
         "LSS_Supported=0\r\n\r\n[DeviceComissioning]\r\nNodeName=\r\nBaudrate=0\r\nNetNumber=0\r\n\
          NetworkName=\r\nCANopenManager=0\r\n\r\n",
     );
     assert_eq!(text, expected);
-    assert_eq!(text, {
-        let mut desc = desc.clone();
-        desc.commissioning = Some(Commissioning::default());
-        eds::write_dcf(&desc)
-    });
     let back = eds::read(text.as_bytes(), "unconfigured.dcf").unwrap();
     assert_eq!(back.commissioning, Some(Commissioning::default()));
     assert_eq!(

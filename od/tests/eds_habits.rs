@@ -573,7 +573,7 @@ DefaultValue=$NODEID+0x80
         let back = eds::read(dcf.as_bytes(), "unconfigured.dcf").unwrap();
         assert_eq!(back.commissioning, desc.commissioning);
         assert_eq!(back.dictionary, configured.dictionary);
-        assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
+        assert_eq!(od::diff::diff(&back.dictionary, &configured.dictionary), []);
         // An EDS keeps the section, and so the node's being unconfigured.
         let back = eds::read(eds::write_eds(&desc).as_bytes(), "unconfigured.eds").unwrap();
         assert_eq!(back.commissioning, desc.commissioning);
@@ -734,7 +734,11 @@ ParameterValue=$NODEID+5
     assert!(dcf.ends_with("AccessType=rw\r\nPDOMapping=0\r\nParameterValue=$NODEID+5\r\n"));
     // The stored value comes back set, as every value that differs from its default does.
     let back = eds::read(dcf.as_bytes(), "node7.dcf").unwrap();
-    assert_eq!(od::diff::diff(&back.dictionary, &desc.dictionary), []);
+    let said: Vec<String> = od::diff::diff(&desc.dictionary, &back.dictionary)
+        .iter()
+        .map(|d| d.to_string())
+        .collect();
+    assert_eq!(said, ["~ 0x1400:01 value set: no -> yes"]);
     assert!(back.dictionary.entry(0x1400, 1).unwrap().value_set);
     // Unconfigured again: resolved with 0.
     desc.set_node_id(None);

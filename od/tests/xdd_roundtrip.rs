@@ -282,10 +282,10 @@ proptest! {
 }
 
 #[test]
-fn a_description_without_can_parts_reads_back_with_the_defaults() {
+fn a_description_without_can_parts_reads_back_without_them() {
     let d = DeviceDescription::default();
     let back = od::xdd::read(od::xdd::write(&d).as_bytes(), "empty.xdd").unwrap();
-    assert_eq!(back.can, Some(CanInfo::default()));
+    assert_eq!(back.can, None);
     assert_eq!(back.file_info.creation_date, "1970-01-01");
     assert_eq!(back.dictionary.len(), 0);
 }

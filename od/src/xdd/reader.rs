@@ -1809,9 +1809,7 @@ mod tests {
         assert_eq!(d.file_info.created_by, "me");
         assert_eq!(d.file_info.creation_date, "2024-01-02");
         assert_eq!(d.file_info.file_version, "3");
-        let can = d.can.unwrap();
-        assert!(can.baud_rates.is_empty());
-        assert_eq!(can.granularity, 8);
+        assert_eq!(d.can, None, "a network body without CAN parts");
     }
 
     #[test]
