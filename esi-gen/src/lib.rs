@@ -471,22 +471,28 @@ pub fn losses(
         }
     };
     let mut groups: Vec<(String, usize, String)> = Vec::new();
+    let mut count = |kind: String, example: String| match groups.iter_mut().find(|g| g.0 == kind) {
+        Some(g) => g.1 += 1,
+        None => groups.push((kind, 1, example)),
+    };
     let several = devices.len() > 1;
     for pairing in od::diff::pair_devices(devices, &back) {
-        let od::diff::Pairing::Both(i, j) = pairing else {
-            groups.push(("a device not read back".into(), 1, String::new()));
-            continue;
-        };
-        for d in od::diff::diff_devices(&devices[i], &back[j]) {
-            let kind = loss_kind(&d);
-            let example = if several {
-                format!("{}: {d}", summary::label(&devices[i]))
-            } else {
-                d.to_string()
-            };
-            match groups.iter_mut().find(|(k, _, _)| *k == kind) {
-                Some(g) => g.1 += 1,
-                None => groups.push((kind, 1, example)),
+        match pairing {
+            od::diff::Pairing::Both(i, j) => {
+                for d in od::diff::diff_devices(&devices[i], &back[j]) {
+                    let example = if several {
+                        format!("{}: {d}", summary::label(&devices[i]))
+                    } else {
+                        d.to_string()
+                    };
+                    count(loss_kind(&d), example);
+                }
+            }
+            od::diff::Pairing::OnlyInA(i) => {
+                count("device left out".into(), summary::label(&devices[i]));
+            }
+            od::diff::Pairing::OnlyInB(j) => {
+                count("device added".into(), summary::label(&back[j]));
             }
         }
     }
@@ -655,5 +661,59 @@ impl IdentityFile {
         if let Some(e) = self.entry_for(dev) {
             dev.override_identity(e.vendor_id, e.product_code, e.revision);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn device(name: &str, code: u32) -> DeviceDescription {
+        let mut d = DeviceDescription::default();
+        d.identity.order_code = name.into();
+        d.identity.product_code = code;
+        d.identity.revision = 1;
+        d
+    }
+
+    /// What several devices lost is named by device; one device's differences are not.
+    #[test]
+    fn losses_name_the_device_when_there_are_several() {
+        let two = [device("A", 1), device("B", 2)];
+        let mut written = two.clone();
+        written[1].identity.product_name = "Bee".into();
+        let text = od::esi::write_all(&written);
+        assert_eq!(
+            losses(Path::new("in.xml"), Format::Esi, &two, &text),
+            "esi-gen: in.xml: written as ESI, 3 difference(s) read back (what ESI does not carry, or adds):\n\
+             \x20     2 × EtherCAT added: A rev 0x00000001: + EtherCAT\n\
+             \x20     1 × identity product name changed: B rev 0x00000001: ~ identity product name: \"\" -> \"Bee\"\n"
+        );
+        let text = od::esi::write_all(&two[..1]);
+        assert_eq!(
+            losses(Path::new("in.xml"), Format::Esi, &two, &text),
+            "esi-gen: in.xml: written as ESI, 2 difference(s) read back (what ESI does not carry, or adds):\n\
+             \x20     1 × EtherCAT added: A rev 0x00000001: + EtherCAT\n\
+             \x20     1 × device left out: B rev 0x00000001\n"
+        );
+        let text = od::esi::write_all(&two);
+        let one = [device("A", 1), device("C", 3)];
+        assert!(
+            losses(Path::new("in.xml"), Format::Esi, &one, &text).ends_with(
+                "\n      1 × device left out: C rev 0x00000001\n      1 × device added: B rev 0x00000001\n"
+            )
+        );
+        // One device: no label.
+        let text = od::esi::write_all(&two[..1]);
+        assert_eq!(
+            losses(Path::new("in.xml"), Format::Esi, &two[..1], &text),
+            "esi-gen: in.xml: written as ESI, 1 difference(s) read back (what ESI does not carry, or adds):\n\
+             \x20     1 × EtherCAT added: + EtherCAT\n"
+        );
+        assert_eq!(
+            losses(Path::new("in.xml"), Format::Esi, &one, "<EtherCATInfo"),
+            "esi-gen: in.xml: written as ESI, it does not read back: written:1:1: malformed XML: syntax \
+             error: tag not closed: `>` not found before end of input\n"
+        );
     }
 }

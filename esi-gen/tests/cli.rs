@@ -409,6 +409,11 @@ fn conversions_name_what_they_do_not_keep() {
         ),
         "{err}"
     );
+    // `-o -` is stdout, as no -o is.
+    let o = esi_gen(&["esi", s, "-o", "-"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(stdout(&o).starts_with("<?xml"), "{}", stdout(&o));
+    assert!(!root().join("-").exists());
     // The Markdown page is not read back.
     let o = esi_gen(&["doc", s]);
     assert_eq!((o.status.code(), stderr(&o)), (Some(0), String::new()));

@@ -402,6 +402,12 @@ mod tests {
                 .with_default(Value::Real32(f32::NAN))
                 .with_limits(Some(Value::Real32(0.0)), Some(Value::Real32(1.0))),
         ));
+        d.insert(Object::var(
+            0x2001,
+            SubObject::new("Gain", DataType::Real64, AccessType::Rw)
+                .with_default(Value::Real64(f64::NAN))
+                .with_limits(Some(Value::Real64(0.0)), Some(Value::Real64(1.0))),
+        ));
         assert_eq!(validate(&desc), vec![]);
         // The same entry given a value in the file is checked.
         desc.dictionary.insert(mapping(0x1601, &[0x3000_0008]));

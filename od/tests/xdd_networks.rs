@@ -120,3 +120,27 @@ fn the_can_parts_are_written_only_for_a_description_that_has_them() {
     assert_eq!(back.node_id(), Some(3));
     assert_eq!(back.can, Some(od::device::CanInfo::default()));
 }
+
+/// A CANopen file is read from `CANopenObjectList` only: a POWERLINK `ObjectList` in it (an editor's
+/// leftover) is not read, and a CANopen body beside another network's is no error.
+#[test]
+fn only_a_powerlink_file_has_its_object_list_read() {
+    let text = r#"<?xml version="1.0"?>
+<ISO15745ProfileContainer xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"><ISO15745Profile>
+  <ProfileBody xsi:type="ProfileBody_Device_Modbus"><DeviceIdentity/></ProfileBody>
+  <ProfileBody xsi:type="ProfileBody_CommunicationNetwork_CANopen"><ApplicationLayers>
+    <CANopenObjectList>
+      <CANopenObject index="1000" name="Device type" objectType="7" dataType="0007" accessType="ro"/>
+    </CANopenObjectList>
+    <ObjectList>
+      <Object index="2000" name="Stray" objectType="7" dataType="0007" accessType="rw"/>
+      <CANopenObject index="2001" name="Stray too" objectType="7" dataType="0007" accessType="rw"/>
+    </ObjectList>
+  </ApplicationLayers></ProfileBody>
+</ISO15745Profile></ISO15745ProfileContainer>
+"#;
+    let reading = od::xdd::read_file(text.as_bytes(), "c.xdd").unwrap();
+    let d = &reading.devices[0].dictionary;
+    assert_eq!(d.objects().map(|o| o.index).collect::<Vec<_>>(), [0x1000]);
+    assert_eq!(reading.findings, vec![]);
+}

@@ -116,7 +116,9 @@
 //! add the node-ID are written `$NODEID+0x180`, bit fields (ESI `BITn`) as BOOLEAN or UNSIGNED8, times as
 //! `days ms` (the form Lely reads; CiA 306 gives none).
 //!
-//! [`write_dcf`] writes the same, always with `[DeviceComissioning]`. The node-ID is the description's
+//! [`write_dcf`] writes the same; `[DeviceComissioning]` is written when the description has commissioning
+//! values (a DCF read without the section, as ros_canopen's, is written without it; `esi-gen dcf` always
+//! gives one). The node-ID is the description's
 //! [`Commissioning::node_id`](crate::device::Commissioning::node_id); a description without one (an EDS, an
 //! unconfigured node) is written without `NodeID=` (Lely reads that as unconfigured, where a made-up
 //! node-ID would change what every `$NODEID` value means), and without commissioning values the others

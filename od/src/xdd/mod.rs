@@ -76,8 +76,12 @@
 //! values that are not `value_set`, and the revision number except as the default of 0x1018:03. Dates and
 //! times must be XML Schema dates (`2024-05-31`) and times (`13:00:00`): EDS forms (`05-31-2024`, `1:00PM`)
 //! are converted, anything else is left out, and a missing creation date is written as `1970-01-01` because
-//! the schema requires one. A description without [`CanInfo`] is written with `CanInfo::default()`;
-//! commissioning values without a node-ID of 1 to 127 (an unconfigured node) are left out.
+//! the schema requires one. The CAN parts of the communication network body (`dummyUsage`, `TransportLayers`,
+//! `NetworkManagement`) are written only for a description with [`CanInfo`] (a POWERLINK or EtherCAT one has
+//! none), and a file is read with `CanInfo` only when it has one of them; commissioning values of a
+//! description without `CanInfo` come with the general features CiA 311 requires beside them, as
+//! `CanInfo::default()`. Commissioning values without a node-ID of 1 to 127 (an unconfigured node) are left
+//! out.
 //!
 //! [`FileInfo`]: crate::device::FileInfo
 //! [`FileInfo::description`]: crate::device::FileInfo::description
