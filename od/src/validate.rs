@@ -61,9 +61,12 @@ impl Checker<'_> {
 
     fn run(&mut self, desc: &DeviceDescription) {
         let d = &desc.dictionary;
-        // An EtherCAT device without CoE has no object dictionary to speak of.
+        // An EtherCAT device without CoE has no object dictionary to speak of; one whose ESI gives no
+        // communication objects (no dictionary, or one of the application objects only) leaves the
+        // dictionary to SDO Information, which masters read online.
         let coe = desc.ethercat.as_ref().map_or(true, |e| {
             e.mailbox.as_ref().is_some_and(|m| m.coe.is_some())
+                && d.objects().any(|o| (0x1000..=0x1FFF).contains(&o.index))
         });
         for (index, what) in [(0x1000u16, "device type"), (0x1018, "identity")] {
             if coe && d.object(index).is_none() {
@@ -93,8 +96,14 @@ impl Checker<'_> {
                             self.warn(
                                 zero,
                                 format!(
-                                    "sub-index 0 of an {} should be UNSIGNED8, is {}",
-                                    object.kind, s0.data_type
+                                    "sub-index 0 of {} {} should be UNSIGNED8, is {}",
+                                    if object.kind == ObjectKind::Array {
+                                        "an"
+                                    } else {
+                                        "a"
+                                    },
+                                    object.kind,
+                                    s0.data_type
                                 ),
                             );
                         }
@@ -155,7 +164,8 @@ impl Checker<'_> {
             for (pdos, receive) in [(&ec.rx_pdos, true), (&ec.tx_pdos, false)] {
                 for pdo in pdos {
                     for (n, e) in pdo.entries.iter().enumerate() {
-                        if e.index == 0 {
+                        // A gap (index 0) or a CiA 301 dummy entry (0x0001–0x0007).
+                        if e.index <= 0x0007 {
                             continue;
                         }
                         let position = self.map.pdo_entry(pdo.index, n);

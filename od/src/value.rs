@@ -290,7 +290,8 @@ impl Value {
     }
 
     /// Parses the text form of a value as description files write it (CiA 306 §4.6.2): integers in
-    /// decimal, `0x` hexadecimal or leading-zero octal with an optional sign; reals in decimal notation;
+    /// decimal, `0x` hexadecimal or leading-zero octal with an optional sign; reals in decimal notation, or
+    /// as their IEEE 754 bits in hexadecimal (Lely);
     /// strings as written; octet strings and domains as hexadecimal digits (spaces allowed); times as
     /// `days:ms`, `days ms` (Lely's form) or a plain millisecond count.
     pub fn parse_text(data_type: DataType, text: &str) -> Result<Value, ValueError> {
@@ -306,6 +307,19 @@ impl Value {
             DataType::OctetString | DataType::Domain => parse_hex_bytes(t)
                 .map(Value::Bytes)
                 .ok_or_else(|| bad("expected hexadecimal byte digits")),
+            // Hexadecimal text is the IEEE 754 bit pattern, as Lely writes reals (`0x40490FDB`, π).
+            DataType::Real32 if is_hex(t) => parse_integer(t)
+                .and_then(|v| u32::try_from(v).ok())
+                .map(f32::from_bits)
+                .filter(|v| v.is_finite())
+                .map(Value::Real32)
+                .ok_or_else(|| bad("expected the 32 bits of a finite REAL32")),
+            DataType::Real64 if is_hex(t) => parse_integer(t)
+                .and_then(|v| u64::try_from(v).ok())
+                .map(f64::from_bits)
+                .filter(|v| v.is_finite())
+                .map(Value::Real64)
+                .ok_or_else(|| bad("expected the 64 bits of a finite REAL64")),
             DataType::Real32 => parse_real(t)
                 .map(|v| v as f32)
                 .filter(|v| v.is_finite())
@@ -451,9 +465,6 @@ fn parse_real(text: &str) -> Option<f64> {
     if lower.contains("inf") || lower.contains("nan") || text.is_empty() {
         // Description files hold finite limits and defaults only.
         return None;
-    }
-    if is_hex(text) {
-        return parse_integer(text).map(|v| v as f64);
     }
     text.parse::<f64>().ok().filter(|v| v.is_finite())
 }

@@ -878,3 +878,111 @@ fn what_a_file_leaves_out_stays_out() {
         "a version given stays"
     );
 }
+
+/// Lely writes REAL32 and REAL64 values as their IEEE 754 bits in hexadecimal (its test `sdev.dcf` gives π
+/// as `0x40490FDB` and `0x400921FB54442D18`): read as those bits, never as the integer they spell.
+#[test]
+fn lely_reals_in_hexadecimal_are_their_bits() {
+    let text = "[2008]\nParameterName=REAL32\nDataType=0x0008\nAccessType=rw\nDefaultValue=1.5\n\
+                ParameterValue=0x40490FDB\n\
+                [2011]\nParameterName=REAL64\nDataType=0x0011\nAccessType=rw\nDefaultValue=-0.25\n\
+                ParameterValue=0x400921FB54442D18\n\
+                [2012]\nParameterName=too wide\nDataType=0x0008\nAccessType=rw\nDefaultValue=0x100000000\n";
+    let (desc, warnings) = read_warnings(text);
+    let d = &desc.dictionary;
+    assert_eq!(
+        d.read_value(0x2008, 0).unwrap(),
+        Value::Real32(std::f32::consts::PI)
+    );
+    assert_eq!(
+        d.read_value(0x2011, 0).unwrap(),
+        Value::Real64(std::f64::consts::PI)
+    );
+    assert_eq!(
+        d.entry(0x2011, 0).unwrap().default.as_ref().unwrap().value,
+        Value::Real64(-0.25)
+    );
+    assert_eq!(d.entry(0x2012, 0).unwrap().default, None);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].contains("0x100000000"), "{warnings:?}");
+}
+
+/// `AccessType=R` and `AccessType=W` (can2mqtt's files) are read as python-canopen reads them, readable
+/// and writable, with a warning; a sub-index 0 that is no UNSIGNED8 is named with its object's kind.
+#[test]
+fn one_letter_access_types() {
+    let text = format!(
+        "{MANDATORY}[2000]\nParameterName=Status\nDataType=0x0007\nAccessType=R\n\
+         [2001]\nParameterName=Command\nDataType=0x0007\nAccessType=w\n\
+         [2002]\nParameterName=Table\nObjectType=0x9\n\
+         [2002sub0]\nParameterName=n\nDataType=0x0006\nAccessType=ro\nDefaultValue=1\n\
+         [2002sub1]\nParameterName=a\nDataType=0x0007\nAccessType=rw\n"
+    );
+    let (desc, warnings) = read_and_check(&text);
+    let d = &desc.dictionary;
+    assert_eq!(d.entry(0x2000, 0).unwrap().access.kind, od::AccessType::Ro);
+    assert_eq!(d.entry(0x2001, 0).unwrap().access.kind, od::AccessType::Wo);
+    assert_eq!(
+        warnings,
+        [
+            "17:12: warning: AccessType=R in [2000] is no CiA 306 access type; read as ro",
+            "21:12: warning: AccessType=w in [2001] is no CiA 306 access type; read as wo",
+            "25:2: warning: 0x2002:00: sub-index 0 of a RECORD should be UNSIGNED8, is UNSIGNED16",
+        ]
+    );
+    let bad = text.replace("AccessType=R\n", "AccessType=X\n");
+    let e = eds::read(bad.as_bytes(), "habit.eds").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "habit.eds:17:12: AccessType= in [2000]: expected ro, wo, rw, rwr, rww or const, found `X`"
+    );
+}
+
+/// The object lists as Lely reads them (the objects they name, `SupportedObjects` of them) and as
+/// python-canopen does (every section): where the two differ, a warning (gocanopen's zipped test file
+/// counts 3 and lists 6, lists 0x1019 three times, and lists 0x2000 with no section for it).
+#[test]
+fn object_lists_that_lely_reads_otherwise() {
+    let text = format!(
+        "[MandatoryObjects]\nSupportedObjects=3\n1=0x1000\n2=0x1018\n3=0x1019\n4=0x1019\n\
+         [ManufacturerObjects]\nSupportedObjects=1\n1=0x2000\n\
+         {MANDATORY}\
+         [1019]\nParameterName=Sync counter\nDataType=0x0005\nAccessType=rw\n\
+         [2001]\nParameterName=Unlisted\nDataType=0x0005\nAccessType=rw\n\
+         [2002]\nParameterName=Unlisted too\nDataType=0x0005\nAccessType=rw\n"
+    );
+    let (desc, warnings) = read_and_check(&text);
+    assert_eq!(
+        desc.dictionary
+            .objects()
+            .map(|o| o.index)
+            .collect::<Vec<_>>(),
+        [0x1000, 0x1018, 0x1019, 0x2001, 0x2002],
+        "every section is read"
+    );
+    assert_eq!(
+        warnings,
+        [
+            "2:18: warning: SupportedObjects=3 in [MandatoryObjects], but it lists 4 object(s)",
+            "6:3: warning: [MandatoryObjects] lists 0x1019 again (first in [MandatoryObjects])",
+            "9:3: warning: [ManufacturerObjects] lists 0x2000, which has no section [2000] (Lely refuses that)",
+            "27:2: warning: 2 object(s) in none of the object lists, which Lely leaves out: [2001], [2002]",
+        ]
+    );
+    // Eight are named, then an ellipsis.
+    let mut many = text.clone();
+    for i in 3..=9 {
+        many.push_str(&format!(
+            "[200{i}]\nParameterName=More\nDataType=0x0005\nAccessType=rw\n"
+        ));
+    }
+    let (_, warnings) = read_and_check(&many);
+    assert_eq!(
+        warnings[3],
+        "27:2: warning: 9 object(s) in none of the object lists, which Lely leaves out: [2001], \
+         [2002], [2003], [2004], [2005], [2006], [2007], [2008], …"
+    );
+    // Without lists, nothing is said of them.
+    let (_, warnings) = read_and_check(&text[text.find("[1000]").unwrap()..]);
+    assert_eq!(warnings, Vec::<String>::new());
+}

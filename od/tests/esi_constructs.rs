@@ -362,11 +362,20 @@ fn a_device_without_a_dictionary_gets_one_from_its_pdos() {
         said(&findings),
         ["7:1: warning: 0x6000:02: TxPdo #x1A00 gives it the <DataType> `T_SERIAL`, which names no type: made UINT24 from its BitLen 24"]
     );
-    // Without CoE there is no object dictionary to have mandatory objects; with CoE there is.
+    // Without CoE there is no object dictionary to have mandatory objects; with CoE and no dictionary
+    // in the file (SOES's RTL_ATO.xml), the master reads it by SDO Information; with CoE and
+    // communication objects in the file, 0x1000 and 0x1018 are missing.
     assert_eq!(od::validate::validate(&d), vec![]);
     let coe = text.replace(
         "</TxPdo>",
         "</TxPdo>\n<Mailbox><CoE SdoInfo=\"1\"/></Mailbox>",
+    );
+    let (d, _) = one(&coe);
+    assert_eq!(od::validate::validate(&d), vec![]);
+    let coe = coe.replace(
+        "<TxPdo Fixed",
+        "<Profile><Dictionary><Objects><Object><Index>#x1008</Index><Name>Device name</Name>\
+         <Type>STRING(4)</Type><BitSize>32</BitSize></Object></Objects></Dictionary></Profile>\n<TxPdo Fixed",
     );
     let (d, _) = one(&coe);
     let found: Vec<String> = od::validate::validate(&d)
@@ -923,4 +932,33 @@ fn a_profile_number_is_kept_for_modules_only() {
         "28:45: warning: expected a number like #x1A00 or 6656 in <Profile>/<AddInfo>, found `two`; it is left out"
     );
     assert_eq!(reading.findings.len(), 2);
+}
+
+/// A PDO entry at 0x0001–0x0007 is a CiA 301 dummy entry (KickCAT's examples map 0x0006:01, an
+/// UNSIGNED16's worth): padding, not an object the dictionary is to get from the PDO.
+#[test]
+fn dummy_entries_are_padding() {
+    let objects = "<Object><Index>#x6000</Index><Name>A</Name><Type>UINT</Type><Flags><Access>ro</Access><PdoMapping>T</PdoMapping></Flags></Object>";
+    let pdos = "<TxPdo Fixed=\"1\" Sm=\"3\"><Index>#x1A00</Index><Name>In</Name>\n\
+<Entry><Index>#x6000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>A</Name><DataType>UINT</DataType></Entry>\n\
+<Entry><Index>#x0006</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>pad</Name><DataType>UINT</DataType></Entry>\n\
+<Entry><Index>#x0007</Index><SubIndex>0</SubIndex><BitLen>32</BitLen><DataType>UDINT</DataType></Entry>\n\
+<Entry><Index>#x0008</Index><SubIndex>0</SubIndex><BitLen>8</BitLen><Name>b</Name><DataType>USINT</DataType></Entry>\n\
+</TxPdo>";
+    let (d, findings) = one(&device(objects, pdos));
+    let indices: Vec<u16> = d.dictionary.objects().map(|o| o.index).collect();
+    assert_eq!(
+        indices,
+        [0x0008, 0x6000],
+        "0x0008 is no dummy: made from the PDO"
+    );
+    assert_eq!(findings.len(), 1, "{:?}", said(&findings));
+    assert!(
+        said(&findings)[0].contains("0x0008:00"),
+        "{:?}",
+        said(&findings)
+    );
+    let tx = &d.ethercat.as_ref().unwrap().tx_pdos[0];
+    assert_eq!(tx.entries.len(), 4);
+    assert_eq!(od::validate::validate(&d), vec![]);
 }

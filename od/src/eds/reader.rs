@@ -528,13 +528,41 @@ impl<'i, 'a> Builder<'i, 'a> {
         if let Some(section) = self.named(Kind::Commissioning) {
             desc.commissioning = Some(self.commissioning(section)?);
         }
+        let mut listed: BTreeMap<u16, &str> = BTreeMap::new();
+        let mut lists = 0;
         for kind in [
             Kind::MandatoryObjects,
             Kind::OptionalObjects,
             Kind::ManufacturerObjects,
         ] {
             if let Some(section) = self.named(kind) {
-                self.check_list(section)?;
+                lists += 1;
+                self.check_list(section, &mut listed)?;
+            }
+        }
+        if lists > 0 {
+            // Lely reads the objects its lists name and no others: one warning, at the first of them.
+            let unlisted: Vec<&str> = self
+                .objects
+                .iter()
+                .filter(|(index, _)| !listed.contains_key(index))
+                .filter_map(|(_, sections)| sections.main.and_then(|i| self.section(i)))
+                .map(|main| main.name)
+                .collect();
+            if let Some(first) = unlisted.first() {
+                let mut names: Vec<String> =
+                    unlisted.iter().take(8).map(|n| format!("[{n}]")).collect();
+                if unlisted.len() > 8 {
+                    names.push("…".into());
+                }
+                self.warn(
+                    first,
+                    format!(
+                        "{} object(s) in none of the object lists, which Lely leaves out: {}",
+                        unlisted.len(),
+                        names.join(", ")
+                    ),
+                );
             }
         }
         let node_id = desc.node_id();
@@ -785,18 +813,57 @@ impl<'i, 'a> Builder<'i, 'a> {
         })
     }
 
-    /// Checks an object list: `SupportedObjects=` is a number and every entry is an object index.
-    fn check_list(&self, section: &Section<'a>) -> Result<(), ParseError> {
+    /// Checks an object list: `SupportedObjects=` is a number and every entry is an object index, and
+    /// adds the objects it lists to `listed` (index → the list naming it). A count that is not the number of
+    /// entries, an object listed twice and a listed object without its section are warnings: python-canopen
+    /// reads the sections whatever the lists say, Lely reads the lists' first `SupportedObjects` entries and
+    /// refuses an object without its section.
+    fn check_list(
+        &self,
+        section: &Section<'a>,
+        listed: &mut BTreeMap<u16, &'a str>,
+    ) -> Result<(), ParseError> {
         let [supported] = self.fields(section, ["SupportedObjects"])?;
-        self.number::<u32>(section, supported, "a number of objects", 0)?;
-        for entry in self.numbered(section, "")?.values() {
+        let count = self.number::<u32>(section, supported, "a number of objects", 0)?;
+        let entries = self.numbered(section, "")?;
+        if let Some(s) = supported {
+            if usize::try_from(count).ok() != Some(entries.len()) {
+                self.warn(
+                    s.value,
+                    format!(
+                        "SupportedObjects={} in [{}], but it lists {} object(s)",
+                        s.value.trim(),
+                        section.name,
+                        entries.len()
+                    ),
+                );
+            }
+        }
+        for entry in entries.values() {
             const INDEX: &str = "an object index like 0x1000";
             if entry.value.is_empty() {
                 return Err(self.bad(section, entry, INDEX));
             }
             // A listed object without its section is skipped: CiA 306 wants one, but real files
             // (python-canopen's e35.eds) list objects they do not describe, and every other tool reads them.
-            self.number::<u16>(section, Some(entry), INDEX, 0)?;
+            let index = self.number::<u16>(section, Some(entry), INDEX, 0)?;
+            if let Some(first) = listed.insert(index, section.name) {
+                self.warn(
+                    entry.value,
+                    format!(
+                        "[{}] lists 0x{index:04X} again (first in [{first}])",
+                        section.name
+                    ),
+                );
+            } else if !self.objects.get(&index).is_some_and(|s| s.main.is_some()) {
+                self.warn(
+                    entry.value,
+                    format!(
+                        "[{}] lists 0x{index:04X}, which has no section [{index:04X}] (Lely refuses that)",
+                        section.name
+                    ),
+                );
+            }
         }
         Ok(())
     }
@@ -922,8 +989,30 @@ impl<'i, 'a> Builder<'i, 'a> {
             .and_then(|e| self.data_type(section, e))?;
         let access = fields[OBJ_ACCESS]
             .ok_or_else(|| self.missing(section, "AccessType", "ro, wo, rw, rwr, rww or const"))?;
-        let access = AccessType::parse(access.value)
-            .ok_or_else(|| self.bad(section, access, "ro, wo, rw, rwr, rww or const"))?;
+        let access = match AccessType::parse(access.value) {
+            Some(a) => a,
+            None => {
+                // `R` and `W` alone (can2mqtt's files): python-canopen reads them as readable and
+                // writable.
+                let single = match access.value.trim() {
+                    "r" | "R" => Some(AccessType::Ro),
+                    "w" | "W" => Some(AccessType::Wo),
+                    _ => None,
+                };
+                let Some(a) = single else {
+                    return Err(self.bad(section, access, "ro, wo, rw, rwr, rww or const"));
+                };
+                self.warn(
+                    access.value,
+                    format!(
+                        "AccessType={} in [{}] is no CiA 306 access type; read as {a}",
+                        access.value.trim(),
+                        section.name
+                    ),
+                );
+                a
+            }
+        };
         let mappable = self.flag(section, fields[OBJ_PDO], false)?;
         let mut sub = SubObject::new(name, data_type, access);
         if mappable {

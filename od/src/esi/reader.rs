@@ -2164,7 +2164,9 @@ fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut Sou
         let Some(e) = pdo.entries.get(at.n) else {
             continue;
         };
-        if e.index == 0 {
+        // Index 0 is a gap (ETG.1000.6); 0x0001–0x0007 are CiA 301 dummy entries (KickCAT's examples map
+        // 0x0006:01): padding of a data type's size, no entry of the dictionary.
+        if e.index <= 0x0007 {
             continue;
         }
         let address = Address::new(e.index, e.sub);
