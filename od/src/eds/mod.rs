@@ -13,8 +13,10 @@
 //! - The object lists `[MandatoryObjects]`, `[OptionalObjects]`, `[ManufacturerObjects]`: every entry
 //!   must be an object index; a listed object without its section is skipped (CiA 306 wants one, real
 //!   files such as python-canopen's `e35.eds` forget it). Objects that have a section but are missing from the
-//!   lists are read too (real files forget to list them), and `SupportedObjects=` is checked to be a
-//!   number but not compared with the entries, which are what counts.
+//!   lists are read too (real files forget to list them), as python-canopen reads them. Where Lely, which
+//!   reads the lists, would read otherwise, a warning says so: a `SupportedObjects=` that is not the number
+//!   of entries, an object listed twice, a listed object without its section, and (one warning) the
+//!   objects in no list.
 //! - Object descriptions (§4.6.3): `[1018]` and `[1018sub1]` with `ParameterName`, `ObjectType` (VAR when
 //!   absent), `DataType`, `AccessType`, `DefaultValue`, `PDOMapping`, `LowLimit`, `HighLimit`, `SubNumber`,
 //!   `ObjFlags`, `CompactSubObj`, and `ParameterValue` (§5: in a DCF, and in EDS files such as
@@ -32,6 +34,9 @@
 //!   `DefaultValue`s and `ParameterValue`s: the offset is kept with
 //!   [`DefaultValue::plus_node_id`](crate::object::DefaultValue::plus_node_id) and
 //!   [`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id).
+//! - `AccessType=R` and `AccessType=W` (no CiA 306 access types, but python-canopen reads them) are `ro`
+//!   and `wo`, with a warning. A REAL32 or REAL64 value in hexadecimal is its IEEE 754 bits, as Lely
+//!   writes them (`0x40490FDB` is π).
 //! - `PDOMapping=1` becomes a direction from the access type: `ro`, `const`, `rwr` → TPDO; `wo`, `rww` →
 //!   RPDO; `rw` → both.
 //! - A DCF (§5) is an EDS with `[DeviceComissioning]` (`NodeID`, `NodeName`, `Baudrate`, `NetNumber`,

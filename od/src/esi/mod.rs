@@ -63,9 +63,9 @@
 //! `RxPdo`/`TxPdo`: `Index`, `Name`, `Exclude`s, the attributes `Fixed`, `Mandatory`, `Virtual`, `Sm`, `Su`,
 //! `OSFac`, `OSMin`, `OSMax`, `OSIndexInc`, and each `Entry` (`Index`, `SubIndex`, `BitLen`, `Name`,
 //! `Comment`, `DataType` with its `DScale`, the `Fixed` attribute); the `DependOnSlot`/`DependOnSlotGroup`
-//! of every index. An entry with index 0 is a gap of its `BitLen`. A PDO that only names a template
-//! (`<RxPdo Ref="…"/>`, the obsolete Beckhoff `Descriptions/Pdos` list of Version 1.2 files) is left out
-//! with a warning.
+//! of every index. An entry with index 0 is a gap of its `BitLen`, and one at 0x0001–0x0007 a CiA 301
+//! dummy entry, padding as well. A PDO that only names a template (`<RxPdo Ref="…"/>`, the obsolete
+//! Beckhoff `Descriptions/Pdos` list of Version 1.2 files) is left out with a warning.
 //!
 //! `Dc/OpMode`: an absent `Factor` of `CycleTimeSync0`/`CycleTimeSync1` reads as 1.
 //!
