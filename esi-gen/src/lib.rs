@@ -58,7 +58,8 @@ pub enum Command {
     Fixtures(FixturesArgs),
 }
 
-/// Input, device choice, identity overrides and output of a conversion.
+/// Input, device choice, identity overrides and output of a conversion. What is written is read back,
+/// and what the target format did not keep (or added) is named on stderr, a line per kind.
 #[derive(Debug, Args)]
 pub struct Convert {
     /// The description to read (ESI, XDD, EDS or DCF; the format is told from the contents).
