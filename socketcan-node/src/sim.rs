@@ -107,6 +107,16 @@ impl SimNode {
         self.sent[before..].iter().map(|(_, f)| *f).collect()
     }
 
+    /// A stall of `d`: the node is polled once, `d` from now, as a thread that was not scheduled for
+    /// that long polls it; returns the frames sent then.
+    pub fn stall(&mut self, d: Duration) -> Vec<CanFrame> {
+        let before = self.sent.len();
+        self.now += d;
+        self.node.poll(self.now);
+        self.collect();
+        self.sent[before..].iter().map(|(_, f)| *f).collect()
+    }
+
     /// Runs for `ms` milliseconds.
     pub fn advance_ms(&mut self, ms: u64) -> Vec<CanFrame> {
         self.advance(Duration::from_millis(ms))

@@ -75,6 +75,40 @@ fn heartbeat_period_is_exact() {
     }
 }
 
+/// A beat polled late keeps the period without drift while it is less than half a period late; later
+/// than that, the period starts again from the late beat, so that two beats never leave within half a
+/// period of each other (a busy machine once put two on the bus 1.3 ms apart).
+#[test]
+fn a_late_heartbeat_never_bursts() {
+    let mut n = node();
+    n.sdo_write(0x1017, 0, &[100, 0]).unwrap();
+    let start = n.elapsed();
+    let ms = Duration::from_millis;
+    let beats = |n: &SimNode| -> Vec<Duration> {
+        n.sent_on(0x705)
+            .into_iter()
+            .skip(1)
+            .map(|(t, _)| t - start)
+            .collect()
+    };
+    // Due at 100, sent at 140: the next is due at 200.
+    assert_eq!(n.stall(ms(140)).len(), 1);
+    n.advance(ms(60) - Duration::from_nanos(1));
+    assert_eq!(beats(&n), [ms(140)]);
+    n.advance(Duration::from_nanos(1));
+    assert_eq!(beats(&n), [ms(140), ms(200)]);
+    // Due at 300, sent at 370 (more than half a period late): the next is due at 470, not 400.
+    assert_eq!(n.stall(ms(170)).len(), 1);
+    n.advance(ms(100) - Duration::from_nanos(1));
+    assert_eq!(beats(&n), [ms(140), ms(200), ms(370)]);
+    n.advance(Duration::from_nanos(1));
+    assert_eq!(beats(&n), [ms(140), ms(200), ms(370), ms(470)]);
+    // Exactly half a period late (due 570, sent 620): still due at 670.
+    n.stall(ms(150));
+    n.advance(ms(50));
+    assert_eq!(beats(&n)[4..], [ms(620), ms(670)]);
+}
+
 #[test]
 fn heartbeat_default_from_the_configuration() {
     let mut cfg = NodeConfig::new(ID);

@@ -649,9 +649,11 @@ impl<A: Application> Core<A> {
                 1,
             ));
             let p = self.heartbeat_period().unwrap_or(Duration::from_secs(1));
-            // Keep the period without drift; after a long stall, start again from now.
+            // Keep the period without drift; a beat sent more than half a period late (a stalled
+            // thread, a machine under load) starts the period again from now, so that two beats
+            // never leave closer than half a period.
             let next = t + p;
-            self.heartbeat_at = Some(if next <= now { now + p } else { next });
+            self.heartbeat_at = Some(if next < now + p / 2 { now + p } else { next });
         }
         if let Some(d) = self.consumer.deadline.filter(|d| *d <= now) {
             let _ = d;
