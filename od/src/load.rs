@@ -240,5 +240,37 @@ mod tests {
             "beyond the first 4096 bytes"
         );
         assert_eq!(Format::detect(p, b"hello"), None);
+        // Any one of the general sections tells an EDS.
+        for text in [
+            &b"[DeviceInfo]\nVendorName=V\n"[..],
+            b"; a comment\n[FileInfo]\n",
+            b"[MandatoryObjects]\nSupportedObjects=0\n",
+        ] {
+            assert_eq!(Format::detect(p, text), Some(Format::Eds), "{text:?}");
+        }
+    }
+
+    #[test]
+    fn read_bytes_gives_the_devices_of_the_text() {
+        let devices = read_bytes(
+            b"[DeviceInfo]\nProductName=Probe\n",
+            "probe.eds",
+            Format::Eds,
+        )
+        .unwrap();
+        assert_eq!(devices.len(), 1);
+        assert_eq!(devices[0].identity.product_name, "Probe");
+    }
+
+    /// A file that holds more than its metadata says (a file growing while it is read; /proc files say
+    /// 0 bytes) is read up to the limit and one byte more, and refused.
+    #[test]
+    fn a_file_longer_than_its_metadata_is_still_held_to_the_limit() {
+        let status = Path::new("/proc/self/status");
+        assert_eq!(std::fs::metadata(status).unwrap().len(), 0);
+        match read_limited(status, 10) {
+            Err(LoadError::TooLarge { size, limit, .. }) => assert_eq!((size, limit), (11, 10)),
+            other => panic!("{other:?}"),
+        }
     }
 }

@@ -962,3 +962,25 @@ fn dummy_entries_are_padding() {
     assert_eq!(tx.entries.len(), 4);
     assert_eq!(od::validate::validate(&d), vec![]);
 }
+
+/// The SII entry of a PDO entry carries the CoE data type index: ETG.1000.6's bit arrays BITARR8, 16 and
+/// 32 have 0x2D, 0x2E and 0x2F; other types their CiA 301 index (UINT 0x0006), an unknown name 0.
+#[test]
+fn bit_arrays_have_their_own_sii_type_index() {
+    let pdos = "<TxPdo Fixed=\"1\" Sm=\"3\"><Index>#x1A00</Index><Name>In</Name>\n\
+<Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>8</BitLen><Name>a</Name><DataType>BITARR8</DataType></Entry>\n\
+<Entry><Index>#x6000</Index><SubIndex>2</SubIndex><BitLen>16</BitLen><Name>b</Name><DataType>bitarr16</DataType></Entry>\n\
+<Entry><Index>#x6000</Index><SubIndex>3</SubIndex><BitLen>32</BitLen><Name>c</Name><DataType>BITARR32</DataType></Entry>\n\
+<Entry><Index>#x6000</Index><SubIndex>4</SubIndex><BitLen>16</BitLen><Name>d</Name><DataType>UINT</DataType></Entry>\n\
+<Entry><Index>#x6000</Index><SubIndex>5</SubIndex><BitLen>16</BitLen><Name>e</Name><DataType>T_OWN</DataType></Entry>\n\
+</TxPdo>";
+    let (d, _) = one(&device("", pdos));
+    let image = od::sii::parse(&od::sii::write(&d, 1).unwrap()).unwrap();
+    let tx = image.category(od::sii::category::TXPDO).unwrap();
+    // 8 bytes of PDO header, then 8 bytes per entry: index (2), sub-index, name, data type, bit length.
+    let types: Vec<(u8, u8)> = tx[8..].chunks(8).map(|e| (e[2], e[4])).collect();
+    assert_eq!(
+        types,
+        [(1, 0x2D), (2, 0x2E), (3, 0x2F), (4, 0x06), (5, 0x00)]
+    );
+}
