@@ -51,7 +51,7 @@ pub fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, Error> {
         let one = std::slice::from_ref(dev);
         emit(root.join("smd").join(format!("{name}.eds")), one, |d| {
             let mut d = d[0].clone();
-            od::eds::stamp_version(&mut d);
+            od::eds::complete_new_file(&mut d);
             od::eds::write_eds(&d)
         });
         emit(root.join("smd").join(format!("{name}.xdd")), one, |d| {
@@ -67,7 +67,7 @@ pub fn generate(root: &Path) -> Result<Vec<(PathBuf, String)>, Error> {
         emit(dir.join("X67SM2436.xdd"), one, |d| od::xdd::write(&d[0]));
         emit(dir.join("X67SM2436.eds"), one, |d| {
             let mut d = d[0].clone();
-            od::eds::stamp_version(&mut d);
+            od::eds::complete_new_file(&mut d);
             od::eds::write_eds(&d)
         });
         emit(dir.join("X67SM2436.esi.xml"), one, od::esi::write_all);

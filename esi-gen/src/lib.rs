@@ -377,11 +377,12 @@ impl Target {
         }
     }
 
-    /// Readies a description for this target: an EDS or DCF gets its file format version; a DCF its
-    /// node-ID and bit rate when given, and every configurable value.
+    /// Readies a description for this target: an EDS or DCF gets what CiA 306 asks of a new file (its
+    /// format version, CAN capabilities); a DCF its node-ID and bit rate when given, and every
+    /// configurable value.
     fn prepare(self, dev: &mut DeviceDescription) {
         if let Target::Eds | Target::Dcf { .. } = self {
-            od::eds::stamp_version(dev);
+            od::eds::complete_new_file(dev);
         }
         if let Target::Dcf { node_id, baud_rate } = self {
             // Without --node-id the node-ID is the description's, or none: a made-up one would change

@@ -107,19 +107,39 @@ impl Checker<'_> {
                                 ),
                             );
                         }
-                        // Only a count the file gives; a PDO mapping object counts the entries mapped,
-                        // not those it has room for.
+                        // Only a count the file gives. Some objects count what they hold at run time, not
+                        // the entries they have room for: a PDO mapping the entries mapped, the error
+                        // history (0x1003) the errors stored, a sync manager's PDO assignment (0x1C10–
+                        // 0x1C2F) the PDOs assigned.
                         let given = s0.default.is_some() || s0.value_set;
                         let mapping = (0x1600..=0x17FF).contains(&object.index)
                             || (0x1A00..=0x1BFF).contains(&object.index);
-                        if let Some(Value::Uint(n)) = s0.current().filter(|_| given && !mapping) {
-                            if n < u64::from(object.max_sub()) && object.kind == ObjectKind::Record
+                        let counts_use = mapping
+                            || (0x1C10..=0x1C2F).contains(&object.index)
+                            || object.index == 0x1003;
+                        // A sub-index 0 of another type (DS301's 0x1004) holds no count.
+                        let count = given && s0.data_type == DataType::Unsigned8;
+                        if let Some(Value::Uint(n)) = s0.current().filter(|_| count) {
+                            let highest = u64::from(object.max_sub());
+                            if n > highest && !mapping {
+                                // An SDO read of the sub-indices sub-index 0 promises is refused (the
+                                // mapping check names a mapping's missing entries).
+                                self.warn(
+                                    zero,
+                                    format!(
+                                        "sub-index 0 says {n} but the highest sub-index is {highest}: \
+                                         {} to {n} are missing",
+                                        highest + 1
+                                    ),
+                                );
+                            } else if n < highest
+                                && object.kind == ObjectKind::Record
+                                && !counts_use
                             {
                                 self.warn(
                                     zero,
                                     format!(
-                                        "sub-index 0 says {n} but the highest sub-index is {}",
-                                        object.max_sub()
+                                        "sub-index 0 says {n} but the highest sub-index is {highest}"
                                     ),
                                 );
                             }
@@ -440,6 +460,56 @@ mod tests {
         assert!(
             text[0].starts_with("warning: 0x2000:00: default value outside the limits"),
             "{text:?}"
+        );
+    }
+
+    /// Sub-index 0 of an ARRAY or RECORD is its highest sub-index (CiA 301 §7.4.3): one that promises
+    /// more than there is is a warning for both kinds; one that says less, for a RECORD, except where it
+    /// counts what the object holds at run time (the error history 0x1003, a PDO mapping, a sync manager's
+    /// PDO assignment); a sub-index 0 of another type than UNSIGNED8 holds no count.
+    #[test]
+    fn sub_index_0_counts_the_entries() {
+        fn structured(index: u16, kind: ObjectKind, count: u64, subs: u8) -> Object {
+            let mut o = Object::structured(index, "o", kind).with_sub(
+                0,
+                SubObject::new("n", DataType::Unsigned8, AccessType::Ro)
+                    .with_default(Value::Uint(count)),
+            );
+            for s in 1..=subs {
+                o = o.with_sub(s, SubObject::new("e", DataType::Unsigned32, AccessType::Ro));
+            }
+            o
+        }
+        let mut desc = DeviceDescription::default();
+        for (index, name) in [(0x1000, "Device type"), (0x1018, "Identity")] {
+            desc.dictionary.insert(Object::var(
+                index,
+                SubObject::new(name, DataType::Unsigned32, AccessType::Ro),
+            ));
+        }
+        let d = &mut desc.dictionary;
+        d.insert(structured(0x1003, ObjectKind::Record, 0, 4));
+        d.insert(structured(0x1C12, ObjectKind::Array, 1, 4));
+        d.insert(structured(0x1C13, ObjectKind::Record, 1, 4));
+        d.insert(structured(0x1A00, ObjectKind::Record, 0, 2));
+        d.insert(structured(0x2000, ObjectKind::Array, 2, 3));
+        d.insert(structured(0x2001, ObjectKind::Array, 3, 2));
+        d.insert(structured(0x2002, ObjectKind::Record, 1, 2));
+        d.insert(structured(0x2003, ObjectKind::Record, 4, 2));
+        d.insert(structured(0x2004, ObjectKind::Record, 2, 2));
+        d.insert(structured(0x2005, ObjectKind::Record, 9, 2).with_sub(
+            0,
+            SubObject::new("n", DataType::Unsigned16, AccessType::Ro).with_default(Value::Uint(9)),
+        ));
+        let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
+        assert_eq!(
+            text,
+            vec![
+                "warning: 0x2001:00: sub-index 0 says 3 but the highest sub-index is 2: 3 to 3 are missing",
+                "warning: 0x2002:00: sub-index 0 says 1 but the highest sub-index is 2",
+                "warning: 0x2003:00: sub-index 0 says 4 but the highest sub-index is 2: 3 to 4 are missing",
+                "warning: 0x2005:00: sub-index 0 of a RECORD should be UNSIGNED8, is UNSIGNED16",
+            ]
         );
     }
 }

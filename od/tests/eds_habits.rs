@@ -848,8 +848,9 @@ DefaultValue=$NODEID+0x180
     assert!(esi.contains("<DefaultData>85010000</DefaultData>"), "{esi}");
 }
 
-/// A file without `EDSVersion` (Lely writes none) and a DCF without `[DeviceComissioning]` (ros_canopen's)
-/// are written as they were read; a new file gets the version of CiA 306 it follows.
+/// A file without `EDSVersion` (Lely writes none), a DCF without `[DeviceComissioning]` (ros_canopen's)
+/// and a `[DeviceInfo]` without CAN keys are written as they were read; a new file gets the version of
+/// CiA 306 it follows and the CAN keys.
 #[test]
 fn what_a_file_leaves_out_stays_out() {
     let text = "[FileInfo]\nFileName=plain.dcf\n[DeviceInfo]\nVendorName=V\n[1000]\nParameterName=Device type\nDataType=0x0007\n\
@@ -857,22 +858,30 @@ fn what_a_file_leaves_out_stays_out() {
     let mut desc = eds::read(text.as_bytes(), "plain.dcf").unwrap();
     assert_eq!(desc.file_info.format_version, "");
     assert_eq!(desc.commissioning, None);
+    assert_eq!(
+        desc.can, None,
+        "no CAN keys in [DeviceInfo] (Daxbot's sample.eds has no section)"
+    );
     for written in [eds::write_eds(&desc), eds::write_dcf(&desc)] {
         assert!(
             written.starts_with("[FileInfo]\r\nFileName=plain.dcf\r\nFileVersion=\r\nFileRevision=\r\nDescription=\r\n"),
             "{written}"
         );
         assert!(!written.contains("[DeviceComissioning]"), "{written}");
+        assert!(!written.contains("BaudRate_"), "{written}");
+        assert!(!written.contains("[DummyUsage]"), "{written}");
         let back = eds::read(written.as_bytes(), "again.dcf").unwrap();
         assert_eq!(od::diff::diff_devices(&desc, &back), vec![]);
     }
-    eds::stamp_version(&mut desc);
+    eds::complete_new_file(&mut desc);
     assert_eq!(desc.file_info.format_version, eds::EDS_VERSION);
+    assert_eq!(desc.can, Some(od::device::CanInfo::default()));
+    assert!(eds::write_eds(&desc).contains("\r\nOrderCode=\r\nBaudRate_10=0\r\n"));
     assert!(
         eds::write_eds(&desc).contains("\r\nFileRevision=\r\nEDSVersion=4.0\r\nDescription=\r\n")
     );
     desc.file_info.format_version = "3.0".into();
-    eds::stamp_version(&mut desc);
+    eds::complete_new_file(&mut desc);
     assert_eq!(
         desc.file_info.format_version, "3.0",
         "a version given stays"

@@ -147,14 +147,15 @@
 //! `None` for strings and domains), bit-field types (`BITn`), EtherCAT state restrictions of access, the PDO
 //! direction beyond what the access type implies, an object name that differs from the name of its VAR entry,
 //! the EtherCAT parts, bit rates other than the eight of CiA 306, and strings with line breaks or leading or
-//! trailing blanks. A description without [`CanInfo`](crate::device::CanInfo) is written with
-//! `CanInfo::default()`. An empty `format_version` (a file without `EDSVersion`, as Lely's) is written
-//! without `EDSVersion`; a new file gets the version of CiA 306 it follows from [`stamp_version`].
+//! trailing blanks. What a file left out is left out again: a description without
+//! [`CanInfo`](crate::device::CanInfo) (an EDS whose `[DeviceInfo]` has no CAN keys) is written without the
+//! CAN keys of `[DeviceInfo]` and without `[DummyUsage]`, an empty `format_version` (a file without
+//! `EDSVersion`, as Lely's) without `EDSVersion`; a new file gets both from [`complete_new_file`].
 
 mod reader;
 mod writer;
 
-use crate::device::DeviceDescription;
+use crate::device::{CanInfo, DeviceDescription};
 use crate::error::ParseError;
 use crate::report::Reading;
 
@@ -175,12 +176,14 @@ pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError>
 /// The `EDSVersion` of the files this crate writes: CiA 306 v1.3's file format 4.0.
 pub const EDS_VERSION: &str = "4.0";
 
-/// Gives a description that is to become a new EDS or DCF the file format version [`EDS_VERSION`], when
-/// it has none (a description read from ESI or XDD, or from an EDS without `EDSVersion`).
-pub fn stamp_version(desc: &mut DeviceDescription) {
+/// Gives a description that is to become a new EDS or DCF what CiA 306 asks of one and it lacks (a
+/// description read from ESI or XDD, or from a file that left them out): the file format version
+/// [`EDS_VERSION`], and the CAN capabilities of `[DeviceInfo]` (`CanInfo::default()`).
+pub fn complete_new_file(desc: &mut DeviceDescription) {
     if desc.file_info.format_version.trim().is_empty() {
         desc.file_info.format_version = EDS_VERSION.to_string();
     }
+    desc.can.get_or_insert_with(CanInfo::default);
 }
 
 /// Writes an EDS (CR LF line ends, byte-stable): file and device information, the commissioning values

@@ -516,7 +516,7 @@ impl<'i, 'a> Builder<'i, 'a> {
         if let Some(section) = self.named(Kind::DeviceInfo) {
             let (identity, info) = self.device_info(section)?;
             desc.identity = identity;
-            can = Some(info);
+            can = info;
         }
         if let Some(section) = self.named(Kind::DummyUsage) {
             can.get_or_insert_with(CanInfo::default).dummy_usage = self.dummy_usage(section)?;
@@ -620,7 +620,11 @@ impl<'i, 'a> Builder<'i, 'a> {
         })
     }
 
-    fn device_info(&self, section: &Section<'a>) -> Result<(Identity, CanInfo), ParseError> {
+    /// The identity of `[DeviceInfo]`, and its CAN capabilities where it gives any of their keys.
+    fn device_info(
+        &self,
+        section: &Section<'a>,
+    ) -> Result<(Identity, Option<CanInfo>), ParseError> {
         const U32: &str = "a 32-bit number like 0x0000012A";
         let [vendor_name, vendor_number, product_name, product_number, revision, order_code] = self
             .fields(
@@ -658,6 +662,7 @@ impl<'i, 'a> Builder<'i, 'a> {
                 "BaudRate_1000",
             ],
         )?;
+        let any_rate = rate_keys.iter().any(Option::is_some);
         let mut baud_rates = Vec::new();
         for (rate, entry) in RATES.into_iter().zip(rate_keys) {
             if self.flag(section, entry, false)? {
@@ -678,6 +683,10 @@ impl<'i, 'a> Builder<'i, 'a> {
                 "LSS_Supported",
             ],
         )?;
+        let given = any_rate
+            || [master, slave, granularity, dynamic, group, rx, tx, lss]
+                .iter()
+                .any(Option::is_some);
         let defaults = CanInfo::default();
         let info = CanInfo {
             baud_rates,
@@ -711,7 +720,7 @@ impl<'i, 'a> Builder<'i, 'a> {
             lss_supported: self.flag(section, lss, defaults.lss_supported)?,
             dummy_usage: Vec::new(),
         };
-        Ok((identity, info))
+        Ok((identity, given.then_some(info)))
     }
 
     /// `DummyXXXX=1`: the data types (by index) that may be mapped as dummies.

@@ -17,9 +17,7 @@ const MANDATORY: [u16; 3] = [0x1000, 0x1001, 0x1018];
 pub(super) fn write(desc: &DeviceDescription) -> String {
     let mut w = IniWriter::default();
     file_info(&mut w, desc);
-    let default_can = CanInfo::default();
-    let can = desc.can.as_ref().unwrap_or(&default_can);
-    device_info(&mut w, desc, can);
+    device_info(&mut w, desc, desc.can.as_ref());
     // The commissioning section the description has (python-canopen's sample.eds has one, ros_canopen's
     // DCFs have none), so that its values keep the node-ID they were resolved with.
     if let Some(c) = &desc.commissioning {
@@ -28,7 +26,9 @@ pub(super) fn write(desc: &DeviceDescription) -> String {
     // The node-ID the current values are resolved with: the description's, else 0 (an unconfigured node,
     // whose `$NODEID` values stay relative).
     let node_id = desc.node_id().unwrap_or(0);
-    dummy_usage(&mut w, can);
+    if let Some(can) = &desc.can {
+        dummy_usage(&mut w, can);
+    }
     comments(&mut w, &desc.comments);
 
     let objects: Vec<&Object> = desc.dictionary.objects().collect();
@@ -116,7 +116,8 @@ fn file_info(w: &mut IniWriter, desc: &DeviceDescription) {
     w.key("ModifiedBy", &f.modified_by);
 }
 
-fn device_info(w: &mut IniWriter, desc: &DeviceDescription, can: &CanInfo) {
+/// `[DeviceInfo]`: the identity, and the CAN capabilities where the description has them.
+fn device_info(w: &mut IniWriter, desc: &DeviceDescription, can: Option<&CanInfo>) {
     let id = &desc.identity;
     w.section("DeviceInfo");
     w.key("VendorName", &id.vendor_name);
@@ -125,6 +126,9 @@ fn device_info(w: &mut IniWriter, desc: &DeviceDescription, can: &CanInfo) {
     w.key("ProductNumber", &format!("0x{:08X}", id.product_code));
     w.key("RevisionNumber", &format!("0x{:08X}", id.revision));
     w.key("OrderCode", &id.order_code);
+    let Some(can) = can else {
+        return;
+    };
     for rate in BAUD_RATES {
         w.key(
             &format!("BaudRate_{rate}"),

@@ -450,7 +450,7 @@ fn sdo_command(
                 ToolError::Usage("dump needs the node's description: --od FILE".into())
             })?;
             let (read, refused) = commands.dump(*node, &mut d)?;
-            od::eds::stamp_version(&mut d);
+            od::eds::complete_new_file(&mut d);
             std::fs::write(output, od::eds::write_dcf(&d))
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
             let not_read: Vec<String> = refused
