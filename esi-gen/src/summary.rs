@@ -521,11 +521,12 @@ fn summary(text: &mut String, dev: &DeviceDescription) {
         let node = c
             .node_id
             .map_or_else(|| "unconfigured".to_string(), |id| id.to_string());
-        let _ = writeln!(
-            text,
-            "  node-ID      {node}  bit rate {} kbit/s",
-            c.baud_rate
-        );
+        // `Baudrate=0` (or none) in a DCF: the bit rate is left to the network.
+        let rate = match c.baud_rate {
+            0 => "not given".to_string(),
+            r => format!("{r} kbit/s"),
+        };
+        let _ = writeln!(text, "  node-ID      {node}  bit rate {rate}");
     }
 }
 

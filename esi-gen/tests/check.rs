@@ -383,3 +383,27 @@ fn a_batch_lists_three_errors_of_a_file_then_counts_the_rest() {
     assert_eq!(text.matches(": warning: T").count(), 5, "{text}");
     assert!(!text.contains("more error"), "{text}");
 }
+
+/// The commissioning line of a DCF's summary: its node-ID and bit rate, or that there are none.
+#[test]
+fn a_dcf_summary_has_its_node_id_and_bit_rate() {
+    let dir = folder("dcf");
+    let dcf = dir.join("node.dcf");
+    let base = "[DeviceInfo]\nProductName=N\n[1000]\nParameterName=Device type\nDataType=0x0007\nAccessType=ro\n";
+    std::fs::write(
+        &dcf,
+        format!("{base}[DeviceComissioning]\nNodeID=5\nBaudrate=500\n"),
+    )
+    .unwrap();
+    let text = stdout(&esi_gen(&["check", dcf.to_str().unwrap()]));
+    assert!(
+        text.contains("\n  node-ID      5  bit rate 500 kbit/s\n"),
+        "{text}"
+    );
+    std::fs::write(&dcf, format!("{base}[DeviceComissioning]\nNodeName=n\n")).unwrap();
+    let text = stdout(&esi_gen(&["check", dcf.to_str().unwrap()]));
+    assert!(
+        text.contains("\n  node-ID      unconfigured  bit rate not given\n"),
+        "{text}"
+    );
+}
