@@ -501,6 +501,11 @@ mod tests {
             0,
             SubObject::new("n", DataType::Unsigned16, AccessType::Ro).with_default(Value::Uint(9)),
         ));
+        // UNSIGNED32 is DS301's type for 0x1004 only.
+        d.insert(structured(0x2006, ObjectKind::Array, 9, 2).with_sub(
+            0,
+            SubObject::new("n", DataType::Unsigned32, AccessType::Ro).with_default(Value::Uint(9)),
+        ));
         let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
         assert_eq!(
             text,
@@ -509,6 +514,7 @@ mod tests {
                 "warning: 0x2002:00: sub-index 0 says 1 but the highest sub-index is 2",
                 "warning: 0x2003:00: sub-index 0 says 4 but the highest sub-index is 2: 3 to 4 are missing",
                 "warning: 0x2005:00: sub-index 0 of a RECORD should be UNSIGNED8, is UNSIGNED16",
+                "warning: 0x2006:00: sub-index 0 of an ARRAY should be UNSIGNED8, is UNSIGNED32",
             ]
         );
     }

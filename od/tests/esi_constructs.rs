@@ -128,7 +128,8 @@ fn sm_enable_is_the_number_the_file_gives() {
     // `Enable` is a HexDecValue in the schema: the SII enable byte (9 = enabled, in Op only).
     let sms = "<Sm StartAddress=\"#x1100\" ControlByte=\"#x64\" Enable=\"9\">Outputs</Sm>\n\
                <Sm StartAddress=\"#x1400\" ControlByte=\"#x20\" Enable=\"true\" Virtual=\"true\" OpOnly=\"1\" Watchdog=\"0\">Inputs</Sm>\n\
-               <Sm StartAddress=\"#x1800\" ControlByte=\"#x20\" Enable=\"#x0\">Inputs</Sm>";
+               <Sm StartAddress=\"#x1800\" ControlByte=\"#x20\" Enable=\"#x0\">Inputs</Sm>\n\
+               <Sm StartAddress=\"#x1A00\" ControlByte=\"#x20\" Enable=\"13\" Virtual=\"1\" OpOnly=\"1\">Inputs</Sm>";
     let (d, findings) = one(&device("", sms));
     assert_eq!(findings, vec![]);
     let ecat = d.ethercat.as_ref().unwrap();
@@ -151,13 +152,18 @@ fn sm_enable_is_the_number_the_file_gives() {
             (0x1100, 9, false, false, false),
             (0x1400, 1, true, true, false),
             (0x1800, 0, false, false, false),
+            (0x1A00, 13, true, true, false),
         ]
     );
     // The SII SyncM category: 8 bytes per sync manager, the enable byte at 6 (Virtual is bit 2, OpOnly
     // bit 3).
     let image = od::sii::parse(&od::sii::write(&d, 1).unwrap()).unwrap();
     let syncm = image.category(od::sii::category::SYNCM).unwrap();
-    assert_eq!([syncm[6], syncm[14], syncm[22]], [9, 0x0D, 0]);
+    // A byte that has the bits already keeps them.
+    assert_eq!(
+        [syncm[6], syncm[14], syncm[22], syncm[30]],
+        [9, 0x0D, 0, 0x0D]
+    );
 
     let e = esi::read_all(
         device("", "<Sm Enable=\"300\">Inputs</Sm>").as_bytes(),
@@ -983,4 +989,22 @@ fn bit_arrays_have_their_own_sii_type_index() {
         types,
         [(1, 0x2D), (2, 0x2E), (3, 0x2F), (4, 0x06), (5, 0x00)]
     );
+}
+
+/// A PDO entry's bit length in the SII is one byte: a gap longer than 255 bits becomes several gaps, an
+/// entry of an object that long (an OCTET_STRING of 40 bytes) stays one entry, at 255.
+#[test]
+fn only_gaps_are_split_in_the_sii() {
+    let pdos = "<TxPdo Fixed=\"1\" Sm=\"3\"><Index>#x1A00</Index><Name>In</Name>\n\
+<Entry><Index>#x6000</Index><SubIndex>0</SubIndex><BitLen>320</BitLen><Name>s</Name><DataType>STRING(40)</DataType></Entry>\n\
+<Entry><Index>#x0</Index><BitLen>320</BitLen></Entry>\n\
+</TxPdo>";
+    let (d, _) = one(&device("", pdos));
+    let image = od::sii::parse(&od::sii::write(&d, 1).unwrap()).unwrap();
+    let tx = image.category(od::sii::category::TXPDO).unwrap();
+    let entries: Vec<(u16, u8)> = tx[8..]
+        .chunks(8)
+        .map(|e| (u16::from_le_bytes([e[0], e[1]]), e[5]))
+        .collect();
+    assert_eq!(entries, [(0x6000, 255), (0, 255), (0, 65)]);
 }
