@@ -518,4 +518,41 @@ mod tests {
             ]
         );
     }
+
+    /// A CAN mapping of more than 64 bits does not fit a frame (a warning, as CANopen formats describe
+    /// CoE devices too); 64 bits do. In an EtherCAT description index 0 is a gap, any other entry is
+    /// checked; in a CANopen one 0x0000 is no gap.
+    #[test]
+    fn mapping_lengths_and_gaps() {
+        let mut desc = DeviceDescription::default();
+        let d = &mut desc.dictionary;
+        for (index, name) in [(0x1000, "Device type"), (0x1018, "Identity")] {
+            d.insert(Object::var(
+                index,
+                SubObject::new(name, DataType::Unsigned32, AccessType::Ro),
+            ));
+        }
+        d.insert(Object::var(
+            0x2000,
+            SubObject::new("In", DataType::Unsigned32, AccessType::Ro).with_pdo(PdoMapping::Tpdo),
+        ));
+        d.insert(mapping(0x1A00, &[0x2000_0020, 0x2000_0020]));
+        d.insert(mapping(0x1A01, &[0x2000_0020, 0x2000_0020, 0x0005_0008]));
+        d.insert(mapping(0x1A02, &[0x0000_0008]));
+        let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
+        assert_eq!(
+            text,
+            vec![
+                "warning: 0x1A01:00: maps 72 bits, more than the 64 of a CAN frame (fine over EtherCAT)",
+                "warning: 0x1A02:00: maps 0x0000:00, which does not exist",
+            ]
+        );
+        desc.ethercat = Some(Default::default());
+        desc.dictionary.insert(mapping(0x1A03, &[0x3000_0008]));
+        let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
+        assert_eq!(
+            text,
+            vec!["warning: 0x1A03:00: maps 0x3000:00, which does not exist"]
+        );
+    }
 }

@@ -978,7 +978,19 @@ fn object_lists_that_lely_reads_otherwise() {
             "27:2: warning: 2 object(s) in none of the object lists, which Lely leaves out: [2001], [2002]",
         ]
     );
-    // Eight are named, then an ellipsis.
+    // Eight are named, then an ellipsis for more.
+    let mut eight = text.clone();
+    for i in 3..=8 {
+        eight.push_str(&format!(
+            "[200{i}]\nParameterName=More\nDataType=0x0005\nAccessType=rw\n"
+        ));
+    }
+    let (_, warnings) = read_and_check(&eight);
+    assert_eq!(
+        warnings[3],
+        "27:2: warning: 8 object(s) in none of the object lists, which Lely leaves out: [2001], \
+         [2002], [2003], [2004], [2005], [2006], [2007], [2008]"
+    );
     let mut many = text.clone();
     for i in 3..=9 {
         many.push_str(&format!(
