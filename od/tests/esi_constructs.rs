@@ -1008,3 +1008,27 @@ fn only_gaps_are_split_in_the_sii() {
         .collect();
     assert_eq!(entries, [(0x6000, 255), (0, 255), (0, 65)]);
 }
+
+/// A finding about the device as a whole (a missing mandatory object) is placed at its `Device` element
+/// (line 4, after `<Descriptions><Groups/><Devices>`).
+#[test]
+fn device_findings_are_at_the_device_element() {
+    let objects = "<Object><Index>#x1008</Index><Name>Device name</Name><Type>STRING(4)</Type><BitSize>32</BitSize></Object>";
+    let text = device(objects, "<Mailbox><CoE/></Mailbox>");
+    let reading = read(&text);
+    let found: Vec<String> =
+        od::validate::validate_mapped(&reading.devices[0], &reading.sources[0])
+            .iter()
+            .map(|f| {
+                let p = f.position.expect("a position");
+                format!("{}:{}: {f}", p.line, p.column)
+            })
+            .collect();
+    assert_eq!(
+        found,
+        [
+            "4:33: warning: object 0x1000 (device type) is mandatory and missing",
+            "4:33: warning: object 0x1018 (identity) is mandatory and missing",
+        ]
+    );
+}
