@@ -1032,3 +1032,50 @@ fn device_findings_are_at_the_device_element() {
         ]
     );
 }
+
+/// Localized names of slots and module classes: the English one (LcId 1033) wherever it comes, else the
+/// first.
+#[test]
+fn slot_and_module_class_names_prefer_english() {
+    let text = MODULAR
+        .replace(
+            "<Name LcId=\"1031\">Achse 1</Name><Name LcId=\"1033\">Axis 1</Name>",
+            "<Name LcId=\"1033\">Axis 1</Name><Name LcId=\"1031\">Achse 1</Name>",
+        )
+        .replace(
+            "<Name>Terminals</Name>",
+            "<Name LcId=\"1031\">Klemmen</Name><Name LcId=\"1036\">Bornes</Name>",
+        )
+        .replace(
+            "<Name LcId=\"1033\">Digital inputs</Name>",
+            "<Name LcId=\"1031\">Digitale Eingänge</Name><Name LcId=\"1033\">Digital inputs</Name><Name LcId=\"1036\">Entrées</Name>",
+        );
+    let reading = read(&text);
+    let slots = reading.devices[0]
+        .ethercat
+        .as_ref()
+        .unwrap()
+        .slots
+        .as_ref()
+        .unwrap();
+    assert_eq!(slots.slots[0].name, "Axis 1");
+    assert_eq!(slots.slots[1].name, "Klemmen");
+    assert_eq!(slots.slots[1].module_classes[0].name, "Digital inputs");
+}
+
+/// The PDO after one that refers to a template gets its own entries.
+#[test]
+fn a_pdo_after_a_template_pdo_is_read() {
+    let pdos = "<RxPdo Ref=\"DigOutputBit\" Sm=\"2\"><Index>#x1601</Index><Name>Ref</Name>\n\
+<Entry><Index>#x0</Index><BitLen>16</BitLen></Entry></RxPdo>\n\
+<RxPdo Sm=\"2\"><Index>#x1600</Index><Name>Out</Name>\n\
+<Entry><Index>#x0</Index><BitLen>8</BitLen></Entry></RxPdo>";
+    let (d, _) = one(&device("", pdos));
+    let rx = &d.ethercat.as_ref().unwrap().rx_pdos;
+    assert_eq!(rx.len(), 1);
+    assert_eq!(
+        (rx[0].index, rx[0].name.as_str(), rx[0].entries.len()),
+        (0x1600, "Out", 1)
+    );
+    assert_eq!(rx[0].entries[0].bit_len, 8);
+}
