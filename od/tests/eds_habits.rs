@@ -1007,3 +1007,18 @@ fn object_lists_that_lely_reads_otherwise() {
     let (_, warnings) = read_and_check(&text[text.find("[1000]").unwrap()..]);
     assert_eq!(warnings, Vec::<String>::new());
 }
+
+/// Any one CAN key of `[DeviceInfo]`, a bit rate or another, gives the description its CAN capabilities.
+#[test]
+fn one_can_key_is_enough() {
+    for (key, check) in [("BaudRate_250=1", 250u32), ("Granularity=0", 0)] {
+        let text = format!("[DeviceInfo]\nVendorName=V\n{key}\n");
+        let desc = eds::read(text.as_bytes(), "k.eds").unwrap();
+        let can = desc.can.unwrap_or_else(|| panic!("{key}"));
+        if check == 250 {
+            assert_eq!(can.baud_rates, [250]);
+        } else {
+            assert_eq!((can.baud_rates.len(), can.granularity), (0, 0));
+        }
+    }
+}
