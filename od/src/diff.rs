@@ -719,29 +719,20 @@ fn slots(cx: &mut Cx<'_>, a: &Slots, b: &Slots) {
         &b.max_slot_group_count,
         number,
     );
-    cx.field(
-        "slot PDO increment",
-        slot_pdo_increment,
-        &b.slot_pdo_increment,
-        number,
-    );
-    cx.field(
-        "slot group PDO increment",
-        slot_group_pdo_increment,
-        &b.slot_group_pdo_increment,
-        number,
-    );
-    cx.field(
-        "slot index increment",
-        slot_index_increment,
-        &b.slot_index_increment,
-        number,
-    );
-    cx.field(
-        "slot group index increment",
-        slot_group_index_increment,
-        &b.slot_group_index_increment,
-        number,
+    increments(
+        cx,
+        [
+            slot_pdo_increment,
+            slot_group_pdo_increment,
+            slot_index_increment,
+            slot_group_index_increment,
+        ],
+        [
+            &b.slot_pdo_increment,
+            &b.slot_group_pdo_increment,
+            &b.slot_index_increment,
+            &b.slot_group_index_increment,
+        ],
     );
     cx.plain(
         "download module ident list",
@@ -775,6 +766,20 @@ fn slots(cx: &mut Cx<'_>, a: &Slots, b: &Slots) {
     );
 }
 
+/// The PDO and index increments per slot and slot group, which `Slots` gives for all slots and a `Slot`
+/// for itself.
+fn increments(cx: &mut Cx<'_>, a: [&Option<u32>; 4], b: [&Option<u32>; 4]) {
+    let fields = [
+        "slot PDO increment",
+        "slot group PDO increment",
+        "slot index increment",
+        "slot group index increment",
+    ];
+    for ((field, x), y) in fields.into_iter().zip(a).zip(b) {
+        cx.field(field, x, y, number);
+    }
+}
+
 fn slot(cx: &mut Cx<'_>, a: &Slot, b: &Slot) {
     let Slot {
         name,
@@ -793,29 +798,20 @@ fn slot(cx: &mut Cx<'_>, a: &Slot, b: &Slot) {
     cx.field("slot group", slot_group, &b.slot_group, number);
     cx.plain("min instances", min_instances, &b.min_instances);
     cx.plain("max instances", max_instances, &b.max_instances);
-    cx.field(
-        "slot PDO increment",
-        slot_pdo_increment,
-        &b.slot_pdo_increment,
-        number,
-    );
-    cx.field(
-        "slot group PDO increment",
-        slot_group_pdo_increment,
-        &b.slot_group_pdo_increment,
-        number,
-    );
-    cx.field(
-        "slot index increment",
-        slot_index_increment,
-        &b.slot_index_increment,
-        number,
-    );
-    cx.field(
-        "slot group index increment",
-        slot_group_index_increment,
-        &b.slot_group_index_increment,
-        number,
+    increments(
+        cx,
+        [
+            slot_pdo_increment,
+            slot_group_pdo_increment,
+            slot_index_increment,
+            slot_group_index_increment,
+        ],
+        [
+            &b.slot_pdo_increment,
+            &b.slot_group_pdo_increment,
+            &b.slot_index_increment,
+            &b.slot_group_index_increment,
+        ],
     );
     cx.text("tree view", tree_view, &b.tree_view);
     cx.field("module idents", module_idents, &b.module_idents, |v| {

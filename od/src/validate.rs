@@ -399,19 +399,25 @@ mod tests {
         );
     }
 
+    /// A description with 0x1000 and 0x1018, so that the checks have nothing to say about them.
+    fn with_mandatory_objects() -> DeviceDescription {
+        let mut desc = DeviceDescription::default();
+        for (index, name) in [(0x1000, "Device type"), (0x1018, "Identity")] {
+            desc.dictionary.insert(Object::var(
+                index,
+                SubObject::new(name, DataType::Unsigned32, AccessType::Ro),
+            ));
+        }
+        desc
+    }
+
     /// Entries of a mapping object this check does not read: POWERLINK's UNSIGNED64 ones (another
     /// layout), and one without a value in the file (a profile template's); and a NaN REAL default
     /// (Ingenia's), a value of its type, is no finding either.
     #[test]
     fn entries_without_a_cia_301_mapping_and_nan_defaults_are_no_findings() {
-        let mut desc = DeviceDescription::default();
+        let mut desc = with_mandatory_objects();
         let d = &mut desc.dictionary;
-        for (index, name) in [(0x1000, "Device type"), (0x1018, "Identity")] {
-            d.insert(Object::var(
-                index,
-                SubObject::new(name, DataType::Unsigned32, AccessType::Ro),
-            ));
-        }
         d.insert(
             Object::structured(0x1600, "POWERLINK mapping", ObjectKind::Array)
                 .with_sub(
@@ -480,13 +486,7 @@ mod tests {
             }
             o
         }
-        let mut desc = DeviceDescription::default();
-        for (index, name) in [(0x1000, "Device type"), (0x1018, "Identity")] {
-            desc.dictionary.insert(Object::var(
-                index,
-                SubObject::new(name, DataType::Unsigned32, AccessType::Ro),
-            ));
-        }
+        let mut desc = with_mandatory_objects();
         let d = &mut desc.dictionary;
         d.insert(structured(0x1003, ObjectKind::Record, 0, 4));
         d.insert(structured(0x1C12, ObjectKind::Array, 1, 4));
@@ -524,14 +524,8 @@ mod tests {
     /// checked; in a CANopen one 0x0000 is no gap.
     #[test]
     fn mapping_lengths_and_gaps() {
-        let mut desc = DeviceDescription::default();
+        let mut desc = with_mandatory_objects();
         let d = &mut desc.dictionary;
-        for (index, name) in [(0x1000, "Device type"), (0x1018, "Identity")] {
-            d.insert(Object::var(
-                index,
-                SubObject::new(name, DataType::Unsigned32, AccessType::Ro),
-            ));
-        }
         d.insert(Object::var(
             0x2000,
             SubObject::new("In", DataType::Unsigned32, AccessType::Ro).with_pdo(PdoMapping::Tpdo),

@@ -47,7 +47,6 @@ fn every_file_equals_itself_and_its_rewrite_differs_only_where_the_model_does() 
 }
 
 #[test]
-#[ignore = "minutes in a debug build"]
 fn every_large_file_equals_itself_and_its_rewrite_differs_only_where_the_model_does() {
     compare(files(true));
 }
