@@ -9,14 +9,13 @@
 //! `cargo bench -p ethercat-slave --bench frames [-- SECONDS]` (default 3 s per figure; without
 //! `--bench`, as under `cargo test`, a short run).
 
-#[path = "../tests/common/link.rs"]
-mod link;
+use testkit::link;
 
 use std::time::{Duration, Instant};
 
 use ds402::smd::binding::Device;
 use ds402::smd::indexer::Outputs;
-use ethercat_slave::al::state;
+use ethercat_slave::esc::al::state;
 use ethercat_slave::frame::{emit, parse};
 use ethercat_slave::master::{self, lrw_datagram, SocketWire, SRC};
 use ethercat_slave::raw::RawSocket;

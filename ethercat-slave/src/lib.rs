@@ -7,19 +7,16 @@
 //!
 //! In it: the register commands, FMMU logical addressing (LRD/LWR/LRW, byte-granular), the EEPROM
 //! interface reading an SII image (`od::sii`), the AL state machine with its SyncManager checks
-//! ([`al`]), SyncManager mailboxes and buffers and the watchdog ([`sm`]), Distributed Clocks
-//! ([`dc`]); [`smd`] puts the SMD model and its CoE server behind each ESC; [`raw`] and [`runtime`]
+//! ([`esc::al`]), SyncManager mailboxes and buffers and the watchdog ([`esc::sm`]), Distributed Clocks
+//! ([`esc::dc`]); [`smd`] puts the SMD model and its CoE server behind each ESC; [`raw`] and [`runtime`]
 //! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line; [`master`]
 //! is the master's side the tests and benchmarks use.
 #![deny(missing_docs)]
 
-pub mod al;
 pub mod cli;
-pub mod dc;
 pub mod esc;
 pub mod frame;
 pub mod master;
 pub mod raw;
 pub mod runtime;
-pub mod sm;
 pub mod smd;

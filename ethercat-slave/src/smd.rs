@@ -25,7 +25,7 @@ use od::coe::server::CoeServer;
 use od::sdo::frame::Multiplexer;
 use od::sdo::server::ServerConfig;
 
-use crate::al::{code, state, AlConfig};
+use crate::esc::al::{code, state, AlConfig};
 use crate::esc::{Chain, Esc};
 use crate::frame::FrameError;
 

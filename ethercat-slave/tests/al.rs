@@ -2,7 +2,7 @@
 
 mod common;
 
-use ethercat_slave::al::{code, state, AlConfig, AL_CONTROL, AL_STATUS_CODE};
+use ethercat_slave::esc::al::{code, state, AlConfig, AL_CONTROL, AL_STATUS_CODE};
 use ethercat_slave::esc::{cmd, Chain};
 use ethercat_slave::frame::{emit, parse, Datagram};
 

@@ -7,7 +7,7 @@ use std::time::Duration;
 use common::master::*;
 use ds402::smd::binding::Device;
 use ds402::smd::indexer::stat0;
-use ethercat_slave::al::state;
+use ethercat_slave::esc::al::state;
 use ethercat_slave::esc::cmd;
 use ethercat_slave::smd::SmdChain;
 

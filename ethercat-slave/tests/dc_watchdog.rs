@@ -8,8 +8,8 @@ use std::time::Duration;
 use common::master::*;
 use ds402::smd::binding::Device;
 use ds402::smd::indexer::{cmd0, stat0, stat1, Outputs};
-use ethercat_slave::al::state;
-use ethercat_slave::dc::HOP_NS;
+use ethercat_slave::esc::al::state;
+use ethercat_slave::esc::dc::HOP_NS;
 use ethercat_slave::esc::cmd;
 use ethercat_slave::smd::SmdChain;
 

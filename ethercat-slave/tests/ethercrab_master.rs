@@ -12,8 +12,7 @@
 //! (`async_io::block_on`, the one smol's `block_on` is), joined with `futures_lite::future::or`: when
 //! the test's future ends, the TX/RX task is dropped with it.
 
-#[path = "common/link.rs"]
-mod link;
+use testkit::link;
 
 use std::time::{Duration, Instant};
 

@@ -3,13 +3,12 @@
 //! link is back until the master requests Op again.
 
 mod common;
-#[path = "common/link.rs"]
-mod link;
+use testkit::link;
 
 use std::process::Command;
 use std::time::Duration;
 
-use ethercat_slave::al::state;
+use ethercat_slave::esc::al::state;
 use ethercat_slave::master::{self, SocketWire};
 use ethercat_slave::raw::RawSocket;
 

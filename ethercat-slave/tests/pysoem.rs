@@ -1,6 +1,6 @@
 //! A real EtherCAT master against the emulator: SOEM, through pysoem, runs
 //! `tests/python/pysoem_master.py` on the master's end of a veth pair while `smd-ethercat --units 2`
-//! answers on the other end (see `common/link.rs`). The script checks every value it sees and exits
+//! answers on the other end (see `testkit::link`). The script checks every value it sees and exits
 //! non-zero on the first mismatch; its output and the emulator's log are shown when it does.
 //!
 //! Needs root (a network namespace, a veth pair, raw sockets) and pysoem (`pip install pysoem`):
@@ -10,8 +10,7 @@ use std::io::Read;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-#[path = "common/link.rs"]
-mod link;
+use testkit::link;
 
 /// The script, in the crate's tests.
 fn script() -> String {

@@ -1,5 +1,5 @@
 //! The emulator's socket path as a master's frames reach it: a raw socket of the test's own on the
-//! master's end of a veth pair (see `common/link.rs`), `smd-ethercat --units N` on the other end.
+//! master's end of a veth pair (see `testkit::link`), `smd-ethercat --units N` on the other end.
 //! Valid frames come back processed, with the locally-administered bit set in the source address;
 //! malformed ones get no answer and leave the chain untouched; a flood of random frames leaves the
 //! emulator running and answering, and its summary line counts what it dropped.
@@ -12,8 +12,7 @@ use ethercat_slave::esc::cmd;
 use ethercat_slave::frame::{emit, parse, Datagram, ETHERTYPE};
 use ethercat_slave::raw::RawSocket;
 
-#[path = "common/link.rs"]
-mod link;
+use testkit::link;
 
 /// The test master's source address: universally administered (bit 0x02 of its first byte clear),
 /// so the emulator's answers are told apart by that bit.

@@ -10,7 +10,8 @@ pub mod frame;
 pub mod node;
 pub mod runtime;
 pub mod sim;
-pub mod tool;
+#[cfg(feature = "test-util")]
+pub mod test_util;
 pub mod transport;
 pub mod x67;
 

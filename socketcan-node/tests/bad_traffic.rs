@@ -3,12 +3,10 @@
 
 use std::time::{Duration, Instant};
 
-mod common;
-
-use common::RunningNode;
 use proptest::prelude::*;
 use socketcan_node::node::NodeConfig;
 use socketcan_node::sim::SimNode;
+use socketcan_node::test_util::RunningNode;
 use socketcan_node::transport::{BusEvent, CanBus, InProcessBus};
 use socketcan_node::{CanFrame, NmtState};
 

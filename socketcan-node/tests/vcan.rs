@@ -6,17 +6,14 @@
 //! - the node's runtime on vcan0: SDO, NMT, heartbeat;
 //! - `candump` of the `x67-node` binary's boot-up message and heartbeat;
 //! - python-canopen as the master over vcan0 (the same script as over socketcand);
-//! - 100,000 random frames on vcan0 leave the node answering and its heartbeat on time;
-//! - `sdo-tool` against the binary on vcan0.
-
-mod common;
+//! - 100,000 random frames on vcan0 leave the node answering and its heartbeat on time.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::RunningNode;
 use socketcan_node::node::NodeConfig;
+use socketcan_node::test_util::{next_on, RunningNode};
 use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
 use socketcan_node::CanFrame;
 
@@ -29,18 +26,6 @@ fn f(id: u16, data: &[u8]) -> CanFrame {
 
 fn open() -> SocketCanBus {
     SocketCanBus::open(IFACE).expect("vcan0 is up (tests/vcan/run brings it up)")
-}
-
-fn next_on(bus: &mut dyn CanBus, cob: u16, within: Duration) -> Option<(CanFrame, Instant)> {
-    let end = Instant::now() + within;
-    while Instant::now() < end {
-        if let Some(BusEvent::Frame { frame, .. }) = bus.recv(Duration::from_millis(20)).unwrap() {
-            if frame.cob_id() == Some(cob) {
-                return Some((frame, Instant::now()));
-            }
-        }
-    }
-    None
 }
 
 /// The `x67-node` binary on vcan0 as node `id`, returned once its boot-up message is on the bus (the
@@ -350,24 +335,4 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
         "{} beats in {secs:.1} s",
         beats.len()
     );
-}
-
-/// `sdo-tool` on vcan0 against the `x67-node` binary: a string read, a write read back, an abort.
-#[test]
-fn sdo_tool_on_vcan() {
-    let mut node = spawn_node(7);
-    let bus = ["--bus", "socketcan:vcan0", "--timeout-ms", "5000"];
-    assert_eq!(
-        common::sdo_tool_ok(&bus, &["read", "7", "0x1008:00", "vs"]),
-        "\"X67BC4321-10 / X67SM2436\"\n"
-    );
-    common::sdo_tool_ok(&bus, &["write", "7", "0x1017:00", "u16", "321"]);
-    assert_eq!(
-        common::sdo_tool_ok(&bus, &["read", "7", "0x1017:00", "u16"]),
-        "321\n"
-    );
-    let refused = common::sdo_tool(&bus, &["write", "7", "0x2110:00", "u8", "168"]);
-    assert_eq!(refused.status.code(), Some(1));
-    node.kill().unwrap();
-    node.wait().unwrap();
 }

@@ -4,13 +4,11 @@
 //! a DCF, apply of a DCF with read-back, and the usage errors of what EtherCAT does not do.
 
 mod common;
-#[path = "../../ethercat-slave/tests/common/link.rs"]
-mod ethercat_link;
 
 use std::path::Path;
 use std::process::Output;
 
-use ethercat_link::Link;
+use testkit::link::Link;
 
 fn esi() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))

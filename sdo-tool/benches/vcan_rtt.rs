@@ -9,9 +9,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use sdo_tool::Tool;
 use socketcan_node::node::storage::MemoryStorage;
 use socketcan_node::node::{Node, NodeConfig};
-use socketcan_node::tool::Tool;
 use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
 use socketcan_node::x67::{self, BusController};
 use socketcan_node::{runtime, CanFrame};

@@ -1,6 +1,6 @@
 //! Distributed Clocks (ETG.1000.4 §6.8, registers 0x0900–0x09FF) of the emulated ESC.
 //!
-//! Each slave has a local clock in nanoseconds: the chain's time ([`crate::esc::Chain::set_time`])
+//! Each slave has a local clock in nanoseconds: the chain's time ([`super::Chain::set_time`])
 //! plus a start offset of its own (slaves do not power up at the same instant) plus the time the frame
 //! takes to reach it ([`HOP_NS`] per slave on the way out, the same back).
 //!
@@ -15,7 +15,7 @@
 //!   cycle time): events at start + k·cycle in system time (one event for cycle 0). While active,
 //!   0x0990 reads the next event's time; 0x098E bit 0 is set after an event until read.
 
-use crate::esc::{touches, Esc};
+use super::{touches, Esc};
 
 /// Nanoseconds a frame takes from one slave to the next (ESC forwarding and a short cable).
 pub const HOP_NS: u64 = 500;

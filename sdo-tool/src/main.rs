@@ -3,10 +3,10 @@
 use clap::Parser;
 
 fn main() {
-    let args = socketcan_node::tool::cli::Args::parse();
-    if let Err(e) = socketcan_node::tool::cli::run(&args, None, &mut std::io::stdout()) {
+    let args = sdo_tool::cli::Args::parse();
+    if let Err(e) = sdo_tool::cli::run(&args, None, &mut std::io::stdout()) {
         if args.json {
-            println!("{}", socketcan_node::tool::cli::error_json(&e));
+            println!("{}", sdo_tool::cli::error_json(&e));
         } else {
             eprintln!("sdo-tool: {e}");
         }

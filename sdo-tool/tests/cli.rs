@@ -7,10 +7,10 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 
 use clap::Parser;
-use common::RunningNode;
+use sdo_tool::cli::{run, Args};
+use sdo_tool::ToolError;
 use socketcan_node::node::NodeConfig;
-use socketcan_node::tool::cli::{run, Args};
-use socketcan_node::tool::ToolError;
+use socketcan_node::test_util::RunningNode;
 use socketcan_node::transport::{CanBus, InProcessBus};
 
 const ID: u8 = 5;
@@ -173,7 +173,7 @@ fn hub(id: u8) -> (std::process::Child, u16) {
         .local_addr()
         .unwrap()
         .port();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_x67-node"))
+    let mut child = Command::new(testkit::cargo_binary("socketcan-node", "x67-node", &[]))
         .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
         .args(["--node-id", &id.to_string()])
         .stdout(Stdio::piped())
@@ -272,8 +272,8 @@ fn scan_finds_the_node_and_its_identity() {
 /// The CiA 309-3 gateway: a script of requests with the exact replies.
 #[test]
 fn gateway_script_with_exact_replies() {
-    use socketcan_node::tool::gateway::Gateway;
-    use socketcan_node::tool::Tool;
+    use sdo_tool::gateway::Gateway;
+    use sdo_tool::Tool;
     let n = Running::start();
     let mut tool = Tool::new(Box::new(n.bus.endpoint()), None);
     tool.set_timeout(std::time::Duration::from_millis(100));
@@ -462,7 +462,7 @@ fn json_output() {
         .tool(&["--json", "write", "5", "0x2110:00", "u8", "168"])
         .unwrap_err();
     assert_eq!(
-        socketcan_node::tool::cli::error_json(&e),
+        sdo_tool::cli::error_json(&e),
         serde_json::json!({
             "error": "0x2110:00: SDO abort 0x06090031 (Value of parameter written too high (download only))",
             "exit_code": 1,

@@ -1,67 +1,15 @@
-//! A veth pair for a master and the emulator: the master's end stays in this namespace, the other
-//! end is moved into a network namespace of its own where `smd-ethercat` runs on it. Shared by the
-//! tests of `ethercat-slave` and of `socketcan-node` (`sdo-tool --ethercat`). Created by
+//! A veth pair for a master and the EtherCAT emulator: the master's end stays in this namespace, the other end is
+//! moved into a network namespace of its own where `smd-ethercat` runs on it. Created by
 //! [`Link::up`], removed when the [`Link`] is dropped. Needs root (CAP_NET_ADMIN, CAP_NET_RAW); without
 //! it the test fails and says so.
-
-#![allow(dead_code)]
 
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 static NEXT: AtomicU32 = AtomicU32::new(0);
-
-/// `smd-ethercat`: this crate's binary in its own tests, otherwise (another crate's tests) built once
-/// per test process with the profile the tests run with.
-pub fn emulator() -> PathBuf {
-    if let Some(bin) = option_env!("CARGO_BIN_EXE_smd-ethercat") {
-        return PathBuf::from(bin);
-    }
-    static PATH: OnceLock<PathBuf> = OnceLock::new();
-    PATH.get_or_init(|| {
-        // target/<profile>/deps/<this test> → target/<profile>.
-        let exe = std::env::current_exe().expect("the test's path");
-        let dir = exe
-            .parent()
-            .and_then(|deps| deps.parent())
-            .expect("target/<profile>/deps")
-            .to_path_buf();
-        let profile = dir.file_name().and_then(|p| p.to_str()).unwrap_or("debug");
-        let target = dir.parent().expect("target dir");
-        let mut cargo = Command::new(env!("CARGO"));
-        cargo
-            .args([
-                "build",
-                "--quiet",
-                "-p",
-                "ethercat-slave",
-                "--bin",
-                "smd-ethercat",
-            ])
-            .arg("--target-dir")
-            .arg(target)
-            .current_dir(env!("CARGO_MANIFEST_DIR"));
-        match profile {
-            "debug" => {}
-            "release" => {
-                cargo.arg("--release");
-            }
-            other => {
-                cargo.args(["--profile", other]);
-            }
-        }
-        let status = cargo.status().expect("run cargo build");
-        assert!(status.success(), "cargo build -p ethercat-slave failed");
-        let bin = dir.join("smd-ethercat");
-        assert!(bin.exists(), "{} after cargo build", bin.display());
-        bin
-    })
-    .clone()
-}
 
 /// A link with the emulator running on its far end.
 pub struct Link {
@@ -74,6 +22,8 @@ pub struct Link {
     child: Option<Child>,
     /// What the emulator wrote on stderr, once stopped.
     log: PathBuf,
+    /// The `smd-ethercat` binary.
+    emulator: PathBuf,
 }
 
 fn ip(args: &[&str]) {
@@ -103,6 +53,7 @@ impl Link {
             slave: slave.clone(),
             child: None,
             log: std::env::temp_dir().join(format!("smd-ethercat-{id}.log")),
+            emulator: crate::cargo_binary("ethercat-slave", "smd-ethercat", &[]),
         };
         ip(&[
             "link", "add", &master, "type", "veth", "peer", "name", &slave, "netns", &ns,
@@ -118,7 +69,7 @@ impl Link {
         let log = std::fs::File::create(&self.log).expect("emulator log file");
         let mut child = Command::new("ip")
             .args(["netns", "exec", &self.ns])
-            .arg(emulator())
+            .arg(&self.emulator)
             .arg(&self.slave)
             .args(args)
             .stdout(Stdio::piped())

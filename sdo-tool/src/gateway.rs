@@ -11,7 +11,7 @@
 
 use std::time::Duration;
 
-use super::{NmtCommand, Tool, ToolError};
+use crate::{NmtCommand, Tool, ToolError};
 
 /// The gateway: the tool and its defaults.
 pub struct Gateway {

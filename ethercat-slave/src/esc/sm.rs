@@ -16,7 +16,7 @@
 //!   empties its mailbox. The status byte and the PDI control byte are the slave's: a master's write
 //!   to them is ignored.
 
-use crate::esc::Esc;
+use super::Esc;
 
 /// SyncManager register blocks the ESC has.
 pub const SYNC_MANAGERS: usize = 8;

@@ -12,8 +12,8 @@
 
 use od::DeviceDescription;
 
-use crate::esc::Esc;
-use crate::sm::SyncManager;
+use super::Esc;
+use super::sm::SyncManager;
 
 /// AL control register.
 pub const AL_CONTROL: u16 = 0x0120;

@@ -8,9 +8,9 @@ use od::dict::Dictionary;
 use od::types::DataType;
 use od::value::Value;
 
-use super::TypeCode;
-use crate::node::pdo::{PdoConfig, TPDO_COMM};
-use crate::CanFrame;
+use crate::TypeCode;
+use socketcan_node::node::pdo::{PdoConfig, TPDO_COMM};
+use socketcan_node::CanFrame;
 
 /// The NMT state a heartbeat byte names.
 pub fn nmt_state_name(byte: u8) -> &'static str {

@@ -36,7 +36,7 @@ use od::coe::sdo::{CoeSdo, CoeSdoCommand};
 use od::dict::Address;
 use od::sdo::frame::{ClientFrame, Multiplexer, ServerFrame};
 
-use super::{SdoAccess, ToolError};
+use crate::{SdoAccess, ToolError};
 
 /// Slaves a chain may have here (ethercrab wants a power of two).
 pub const MAX_SLAVES: usize = 128;

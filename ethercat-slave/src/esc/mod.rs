@@ -7,6 +7,10 @@
 //! 1 at each slave that writes. Auto-increment addressing: each slave takes the datagram when its ADP
 //! is 0 and increments ADP as the frame passes.
 
+pub mod al;
+pub mod dc;
+pub mod sm;
+
 use crate::frame::{datagrams, DatagramAt, FrameError};
 
 /// Commands (ETG.1000.4 Table 14).
@@ -109,7 +113,7 @@ pub struct Esc {
     /// The SII EEPROM image, read through the EEPROM interface registers.
     pub sii: Vec<u8>,
     /// What the AL state transitions check.
-    pub al: crate::al::AlConfig,
+    pub al: al::AlConfig,
     /// The last mailbox put for the master, for a repeat request.
     pub(crate) last_mailbox: Option<Vec<u8>>,
     /// A new output image arrived since [`Esc::take_outputs_written`].
@@ -118,7 +122,7 @@ pub struct Esc {
     pub(crate) watchdog_elapsed: std::time::Duration,
     watchdog_expired: bool,
     /// The Distributed Clock.
-    pub(crate) clock: crate::dc::Clock,
+    pub(crate) clock: dc::Clock,
 }
 
 impl Default for Esc {
@@ -151,22 +155,22 @@ impl Esc {
         let mut esc = Esc {
             mem: vec![0; MEMORY],
             sii: Vec::new(),
-            al: crate::al::AlConfig::default(),
+            al: al::AlConfig::default(),
             last_mailbox: None,
             outputs_written: false,
             watchdog_elapsed: std::time::Duration::ZERO,
             watchdog_expired: false,
-            clock: crate::dc::Clock::default(),
+            clock: dc::Clock::default(),
         };
         // ESC information (0x0000–0x0009): type, revision, build, FMMUs, SyncManagers, process RAM in
         // KiB, ports 0 and 1 MII, features: byte-oriented FMMUs, DC with 64-bit system time.
         esc.store(0x0000, &[0x11, 0x00, 0x02, 0x00]);
         esc.store(
             0x0004,
-            &[FMMUS as u8, crate::sm::SYNC_MANAGERS as u8, 60, 0x0F],
+            &[FMMUS as u8, sm::SYNC_MANAGERS as u8, 60, 0x0F],
         );
         esc.store(0x0008, &0x000Du16.to_le_bytes());
-        esc.store(crate::al::AL_STATUS, &[crate::al::state::INIT, 0]);
+        esc.store(al::AL_STATUS, &[al::state::INIT, 0]);
         // Watchdog divider 2498 (100 µs units), PDI and process-data watchdog 1000 (100 ms), status:
         // not expired.
         esc.store(WATCHDOG_DIVIDER, &2498u16.to_le_bytes());
@@ -219,7 +223,7 @@ impl Esc {
     /// watchdog time on a SyncManager with the watchdog enabled). Status 0x0440 bit 0 is 0 while it
     /// stays expired; 0x0442 counts expiries.
     pub fn tick(&mut self, dt: std::time::Duration) -> bool {
-        let guarded = (0..crate::sm::SYNC_MANAGERS).any(|n| {
+        let guarded = (0..sm::SYNC_MANAGERS).any(|n| {
             let sm = self.sync_manager(n);
             sm.enabled && !sm.is_mailbox() && sm.master_writes() && sm.watchdog()
         });
@@ -244,8 +248,8 @@ impl Esc {
 
     /// The application leaves for `state` with the error indication and `code` (e.g. a watchdog).
     pub fn al_fault(&mut self, state: u8, code: u16) {
-        self.store(crate::al::AL_STATUS, &[state | 0x10, 0]);
-        self.store(crate::al::AL_STATUS_CODE, &code.to_le_bytes());
+        self.store(al::AL_STATUS, &[state | 0x10, 0]);
+        self.store(al::AL_STATUS_CODE, &code.to_le_bytes());
     }
 
     /// The configured station address (register 0x0010).
@@ -255,7 +259,7 @@ impl Esc {
 
     /// The AL state (AL status bits 0–3) and whether the error indicator is set.
     pub fn al_state(&self) -> (u8, bool) {
-        let s = self.read_u16(crate::al::AL_STATUS);
+        let s = self.read_u16(al::AL_STATUS);
         ((s & 0x0F) as u8, s & 0x10 != 0)
     }
 
@@ -295,9 +299,9 @@ impl Esc {
 
     fn write_from(&mut self, ado: u16, data: &[u8]) {
         let len = data.len();
-        let sm_before = touches(ado, len, crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS)
-            .then(|| self.load(crate::sm::SM_BASE, 8 * crate::sm::SYNC_MANAGERS));
-        let time_before: [u8; 8] = self.bytes_at(crate::dc::SYSTEM_TIME);
+        let sm_before = touches(ado, len, sm::SM_BASE, 8 * sm::SYNC_MANAGERS)
+            .then(|| self.load(sm::SM_BASE, 8 * sm::SYNC_MANAGERS));
+        let time_before: [u8; 8] = self.bytes_at(dc::SYSTEM_TIME);
         let kept: Vec<(u16, Vec<u8>)> = READ_ONLY
             .iter()
             .filter(|(r, n)| touches(ado, len, *r, *n))
@@ -320,18 +324,18 @@ impl Esc {
     /// word address into the data register (ETG.1000.4 §6.4; command bits 8–10 of 0x0502 = 001).
     fn after_write(&mut self, ado: u16, len: usize) {
         let touches = |reg: u16, n: usize| touches(ado, len, reg, n);
-        if touches(crate::al::AL_CONTROL, 2) {
-            let control = self.read_u16(crate::al::AL_CONTROL);
+        if touches(al::AL_CONTROL, 2) {
+            let control = self.read_u16(al::AL_CONTROL);
             let (current, _) = self.al_state();
-            let (next, code) = crate::al::transition(self, control);
+            let (next, code) = al::transition(self, control);
             if code == u16::MAX {
                 // Error not acknowledged: nothing changes.
-            } else if code == crate::al::code::NONE {
-                self.store(crate::al::AL_STATUS, &[next, 0]);
-                self.store(crate::al::AL_STATUS_CODE, &[0, 0]);
+            } else if code == al::code::NONE {
+                self.store(al::AL_STATUS, &[next, 0]);
+                self.store(al::AL_STATUS_CODE, &[0, 0]);
             } else {
-                self.store(crate::al::AL_STATUS, &[current | 0x10, 0]);
-                self.store(crate::al::AL_STATUS_CODE, &code.to_le_bytes());
+                self.store(al::AL_STATUS, &[current | 0x10, 0]);
+                self.store(al::AL_STATUS_CODE, &code.to_le_bytes());
             }
         }
         if touches(EEPROM_CONTROL, 2) {

@@ -1,41 +1,19 @@
-//! What the node and `sdo-tool` tests share.
-#![allow(dead_code)]
+//! What the tests of this crate and of `sdo-tool` share (feature `test-util`): the X67 node of the
+//! library's runtime in a thread of its own, and waiting for one CAN-ID on a bus.
 
-use std::process::{Command, Output};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
-use socketcan_node::node::storage::MemoryStorage;
-use socketcan_node::node::{Node, NodeConfig};
-use socketcan_node::runtime::{self, RunStats};
-use socketcan_node::transport::CanBus;
-use socketcan_node::x67::{self, BusController};
+use crate::node::storage::MemoryStorage;
+use crate::node::{Node, NodeConfig};
+use crate::runtime::{self, RunStats};
+use crate::transport::{BusEvent, CanBus};
+use crate::x67::{self, BusController};
+use crate::CanFrame;
 
-/// `sdo-tool GLOBAL… ARGS…` as a user runs it; GLOBAL are the bus options (`--bus …`, `--ethercat …`).
-pub fn sdo_tool(global: &[&str], argv: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-        .args(global)
-        .args(argv)
-        .output()
-        .expect("run sdo-tool")
-}
-
-/// `sdo-tool GLOBAL… ARGS…`, expected to succeed: its standard output.
-pub fn sdo_tool_ok(global: &[&str], argv: &[&str]) -> String {
-    let o = sdo_tool(global, argv);
-    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
-    assert!(
-        o.status.success(),
-        "sdo-tool {argv:?}: {:?}\n{stdout}{}",
-        o.status.code(),
-        String::from_utf8_lossy(&o.stderr)
-    );
-    stdout
-}
-
-/// The X67 node (bus controller and one X67SM2436) of the library's runtime on `bus`, in a thread of
+/// The X67 node (bus controller and one X67SM2436) of the library's runtime on a bus, in a thread of
 /// its own; stopped when dropped.
 pub struct RunningNode {
     stop: Arc<AtomicBool>,
@@ -43,6 +21,7 @@ pub struct RunningNode {
 }
 
 impl RunningNode {
+    /// Starts the node with `config` on `bus`.
     pub fn start(config: NodeConfig, mut bus: impl CanBus + 'static) -> RunningNode {
         let stop = Arc::new(AtomicBool::new(false));
         let s = Arc::clone(&stop);
@@ -76,4 +55,17 @@ impl Drop for RunningNode {
             let _ = t.join();
         }
     }
+}
+
+/// The first frame with CAN-ID `cob` on `bus` within `within`, with the time it came.
+pub fn next_on(bus: &mut dyn CanBus, cob: u16, within: Duration) -> Option<(CanFrame, Instant)> {
+    let end = Instant::now() + within;
+    while Instant::now() < end {
+        if let Some(BusEvent::Frame { frame, .. }) = bus.recv(Duration::from_millis(20)).unwrap() {
+            if frame.cob_id() == Some(cob) {
+                return Some((frame, Instant::now()));
+            }
+        }
+    }
+    None
 }

@@ -7,9 +7,9 @@ use std::time::Duration;
 
 use clap::{Parser, Subcommand};
 
-use super::ethercat::EthercatSession;
-use super::{NmtCommand, SdoCommands, Tool, ToolError};
-use crate::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandClient};
+use crate::ethercat::EthercatSession;
+use crate::{NmtCommand, SdoCommands, Tool, ToolError};
+use socketcan_node::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandClient};
 
 /// The CANopen commissioning tool: SDO reads and writes, NMT, on SocketCAN or socketcand — and SDO
 /// reads and writes of EtherCAT slaves (CoE) with --ethercat.
@@ -288,7 +288,7 @@ pub fn run(
             )?;
         }
         Cmd::Watch { node, duration_ms } => {
-            let mut w = super::watch::Watcher::new(*node, tool.od.as_ref());
+            let mut w = crate::watch::Watcher::new(*node, tool.od.as_ref());
             let start = std::time::Instant::now();
             let end = duration_ms.map(|ms| start + Duration::from_millis(ms));
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -308,7 +308,7 @@ pub fn run(
                     }
                     None => Duration::from_millis(100),
                 };
-                if let Some(crate::BusEvent::Frame { frame, .. }) = tool.bus.recv(wait)? {
+                if let Some(socketcan_node::BusEvent::Frame { frame, .. }) = tool.bus.recv(wait)? {
                     if let Some(line) = w.line(&frame) {
                         let t = start.elapsed().as_secs_f64();
                         emit(
@@ -368,7 +368,7 @@ pub fn run(
             writeln!(out, "{} node(s)", nodes.len()).map_err(io)?;
         }
         Cmd::Gateway { listen } => {
-            let mut gw = super::gateway::Gateway::new(tool);
+            let mut gw = crate::gateway::Gateway::new(tool);
             match listen {
                 None => {
                     let stdin = std::io::stdin();
@@ -481,7 +481,7 @@ fn sdo_command(
             let dcf = load_description(file, "apply")?;
             let mut lines = Vec::new();
             let result = commands.apply(*node, &dcf, *dry_run, |step| {
-                use super::ApplyStep::*;
+                use crate::ApplyStep::*;
                 lines.push(match step {
                     WouldWrite { addr, value } => format!("would write {addr} = {value}"),
                     Written { addr, value } => format!("wrote {addr} = {value}"),
@@ -547,7 +547,7 @@ fn rate(bytes: u64, took: Duration) -> String {
 
 /// Answers every request line of `input` on `output`, until the input ends.
 fn serve(
-    gw: &mut super::gateway::Gateway,
+    gw: &mut crate::gateway::Gateway,
     input: impl std::io::BufRead,
     output: &mut dyn Write,
 ) -> std::io::Result<()> {

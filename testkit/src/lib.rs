@@ -1,0 +1,86 @@
+//! What the tests and benchmarks of several crates share:
+//!
+//! - [`cargo_binary`]: a binary of another package, built once per test process with the profile the
+//!   test runs with;
+//! - [`sibling_binary`]: a binary already built beside the running test (in the VM of the vcan
+//!   tests, where the runner builds first);
+//! - [`link`]: a veth pair with `smd-ethercat` running on its far end, in a network namespace of its
+//!   own.
+#![deny(missing_docs)]
+
+pub mod link;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::{Mutex, OnceLock};
+
+/// The workspace root.
+pub fn root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+}
+
+/// Binary `bin` of workspace package `package` with `features`, built (or found up to date) once per
+/// test process, in the target directory and with the profile of the running test or benchmark.
+pub fn cargo_binary(package: &str, bin: &str, features: &[&str]) -> PathBuf {
+    static BUILT: OnceLock<Mutex<HashMap<String, PathBuf>>> = OnceLock::new();
+    let mut built = BUILT
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    let key = format!("{package}/{bin}/{}", features.join(","));
+    if let Some(path) = built.get(&key) {
+        return path.clone();
+    }
+    // target/<profile>/deps/<this test> → target/<profile>.
+    let exe = std::env::current_exe().expect("the test's path");
+    let dir = exe
+        .parent()
+        .and_then(|deps| deps.parent())
+        .expect("target/<profile>/deps")
+        .to_path_buf();
+    let profile = dir.file_name().and_then(|p| p.to_str()).unwrap_or("debug");
+    let target = dir.parent().expect("target dir");
+    let mut cargo = Command::new(env!("CARGO"));
+    cargo
+        .args(["build", "--quiet", "--locked", "-p", package, "--bin", bin])
+        .arg("--target-dir")
+        .arg(target)
+        .current_dir(root());
+    if !features.is_empty() {
+        cargo.arg("--features").arg(features.join(","));
+    }
+    match profile {
+        "debug" => {}
+        "release" => {
+            cargo.arg("--release");
+        }
+        other => {
+            cargo.args(["--profile", other]);
+        }
+    }
+    let status = cargo.status().expect("run cargo build");
+    assert!(
+        status.success(),
+        "cargo build -p {package} --bin {bin} failed"
+    );
+    let path = dir.join(bin);
+    assert!(path.exists(), "{} after cargo build", path.display());
+    built.insert(key, path.clone());
+    path
+}
+
+/// The binary `name` that cargo built beside the running test (`target/<profile>/<name>`), for the
+/// tests of another package than the binary's, where [`cargo_binary`] cannot run (its build is
+/// the caller's: `tests/vcan/run` builds `x67-node` before the tests).
+pub fn sibling_binary(name: &str) -> PathBuf {
+    let exe = std::env::current_exe().expect("the test's path");
+    // target/<profile>/deps/<this test> → target/<profile>/<name>.
+    let bin = exe
+        .parent()
+        .and_then(|deps| deps.parent())
+        .expect("target/<profile>/deps")
+        .join(name);
+    assert!(bin.exists(), "{} is not built", bin.display());
+    bin
+}
