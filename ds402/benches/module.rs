@@ -3,7 +3,7 @@
 //! axis 2) and with both axes idle in Switch on disabled.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use ds402::module::Module;
+use ds402::x67::module::Module;
 
 const CYCLES: u64 = 10_000;
 

@@ -1,10 +1,10 @@
 //! Motor current of one X67SM2436 axis; each test names the rule of `rules/x67.md` it checks.
 
-use ds402::current::{
+use ds402::x67::current::{
     Config, ConfigError, CurrentModel, CurrentState, Level, Phase, ABORT_VALUE_TOO_HIGH,
     FULL_STEP_NEVER,
 };
-use ds402::ramp::RampState;
+use ds402::x67::ramp::RampState;
 
 fn config() -> Config {
     Config {

@@ -3,7 +3,7 @@
 //! in full, step by step.
 
 use ds402::cia402::{Action, Inputs, StateMachine, CW_FAULT_RESET, SW_WARNING};
-use ds402::errors::{
+use ds402::x67::errors::{
     ErrorCode, ErrorRegister, Kind, Temperature, CW_CURRENT_ERROR_DETECTION, CW_STALL_DETECTION,
     CW_WARNING_RESET,
 };
@@ -379,7 +379,7 @@ fn x67_18_11_3_8_01_temperature_register() {
 /// X67-3-11: the supply band 18.0 V … 48.125 V; outside it 0x3000 on both axes, inside no error.
 #[test]
 fn x67_3_11_supply_band() {
-    use ds402::errors::supply_in_range;
+    use ds402::x67::errors::supply_in_range;
     for (volts, ok) in [
         (24.0, true),
         (18.0, true),

@@ -7,11 +7,11 @@
 //! within a cycle; an input the harness sets between two cycles is seen in the next cycle at the counter
 //! values of that cycle's start, and a braking ramp it causes starts in the cycle after.
 
-use ds402::axis::{SW_INTERNAL_LIMIT, SW_TARGET_REACHED};
-use ds402::current::Level;
-use ds402::module::{Cam, Module};
-use ds402::motor::Load;
-use ds402::registers::{AxisReg, Register};
+use ds402::x67::axis::{SW_INTERNAL_LIMIT, SW_TARGET_REACHED};
+use ds402::x67::current::Level;
+use ds402::x67::module::{Cam, Module};
+use ds402::x67::motor::Load;
+use ds402::x67::registers::{AxisReg, Register};
 use proptest::prelude::*;
 
 // ----- helpers -----

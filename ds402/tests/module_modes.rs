@@ -10,7 +10,7 @@
 //! MaxDec 10 a move from standstill accelerates 10, 20, …, 100 (550 microsteps), brakes 90, 80, …, 10 (450
 //! microsteps), and cruises at 100 for the rest; the axis arrives in the following cycle with increment 0.
 
-use ds402::module::{Cam, Module};
+use ds402::x67::module::{Cam, Module};
 use proptest::prelude::*;
 
 // ----- status and control words -----

@@ -3,12 +3,12 @@
 //! (ramp, state machine, error register, current model) have their own tests; these prove the joined model.
 //! Each test names the rules of `rules/x67.md` it checks.
 
-use ds402::axis::modes;
+use ds402::x67::axis::modes;
 use ds402::cia402::{self, State};
-use ds402::current::Level;
-use ds402::module::{Diagnostic, Module};
-use ds402::motor::{self, Load, MotorParams};
-use ds402::registers::{Access, AxisReg, ModuleReg, RegType, Register, RegisterError};
+use ds402::x67::current::Level;
+use ds402::x67::module::{Diagnostic, Module};
+use ds402::x67::motor::{self, Load, MotorParams};
+use ds402::x67::registers::{Access, AxisReg, ModuleReg, RegType, Register, RegisterError};
 use Access::{Config as Wo, CyclicIn as Tx, CyclicOut as Rx, ReadAcyclic as Ro};
 use RegType::{Dint, Int, Sint, Uint, Usint};
 
@@ -1360,7 +1360,7 @@ fn x67_18_11_3_13_04_negative_limit_switch_warning() {
     assert!(m
         .axis(0)
         .errors()
-        .is_latched(ds402::errors::ErrorCode::PositiveLimitSwitch));
+        .is_latched(ds402::x67::errors::ErrorCode::PositiveLimitSwitch));
     assert_eq!(m.error_code(0), 0xFF20);
     assert_state(&m, 0, OPERATION_ENABLE);
 }
@@ -1444,7 +1444,7 @@ fn x67_18_11_3_13_09_open_circuit_lowest() {
     assert!(m
         .axis(0)
         .errors()
-        .is_latched(ds402::errors::ErrorCode::OpenCircuit));
+        .is_latched(ds402::x67::errors::ErrorCode::OpenCircuit));
 
     // Not powered: no open circuit.
     let mut m = Module::new();
@@ -1709,7 +1709,7 @@ fn x67_18_11_3_2_07_current_error_detection_bit() {
     assert!(!m
         .axis(0)
         .errors()
-        .is_latched(ds402::errors::ErrorCode::CurrentError));
+        .is_latched(ds402::x67::errors::ErrorCode::CurrentError));
     m.set_control(0, ENABLE_OPERATION | CURRENT_ERROR_DETECTION);
     m.step();
     assert_eq!(m.error_code(0), 0xFF00);
@@ -3550,7 +3550,7 @@ fn x67_18_5_32_error_code_registers() {
 /// at standstill in Switched on leaves the holding current flowing.
 #[test]
 fn x67_18_6_1_4_01_no_run_time_current_selection() {
-    use ds402::registers::Register;
+    use ds402::x67::registers::Register;
     for reg in Register::all() {
         let name = reg.name();
         assert!(

@@ -2,7 +2,7 @@
 //! 18.11.1.14 and 18.11.1.15. Each test names the rules it covers; positions and speeds are asserted cycle by
 //! cycle where the catalogue gives numbers.
 
-use ds402::ramp::{Config, Cycle, Ramp, RampState, Target, MAX_SPEED_SETPOINT};
+use ds402::x67::ramp::{Config, Cycle, Ramp, RampState, Target, MAX_SPEED_SETPOINT};
 use proptest::prelude::*;
 
 fn cfg(max_speed_pos: u16, max_acc: u16, max_dec: u16) -> Config {

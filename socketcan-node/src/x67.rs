@@ -20,8 +20,8 @@
 use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
-use ds402::module::Module;
-use ds402::registers::{Access, RegType, Register};
+use ds402::x67::module::Module;
+use ds402::x67::registers::{Access, RegType, Register};
 use od::abort::AbortCode;
 use od::dict::Dictionary;
 use od::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};

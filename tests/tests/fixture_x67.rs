@@ -303,7 +303,7 @@ fn communication_objects() {
 /// (X67-18.5-01, X67-18.5-03, X67-18.5-04).
 #[test]
 fn model_registers_match_the_fixture() {
-    use ds402::registers::{Access, RegType, Register};
+    use ds402::x67::registers::{Access, RegType, Register};
     let d = device().dictionary;
     let mut names = Vec::new();
     for reg in Register::all() {

@@ -7,8 +7,8 @@
 //! module takes them over once per cycle (X67-18.14-02 pick).
 //!
 //! ```
-//! use ds402::module::Module;
-//! use ds402::registers::{AxisReg, Register};
+//! use ds402::x67::module::Module;
+//! use ds402::x67::registers::{AxisReg, Register};
 //!
 //! let mut m = Module::new();
 //! for (name, value) in [("MaxSpeed01pos", 100), ("MaxAcc01", 10), ("MaxDec01", 10), ("MpGenMode01", 1)] {
@@ -36,7 +36,7 @@
 //!   negative and DI2 positive for axis 1, DI4 negative and DI5 positive for axis 2
 //!   ([`Module::set_limit_inputs`] changes it). These are also the A/B inputs of the encoders, so an axis with
 //!   an encoder on its shaft should not use limit switches there.
-//! - **Encoders.** An encoder on the shaft ([`crate::motor::Motor::encoder_lines`]) drives the A/B inputs of
+//! - **Encoders.** An encoder on the shaft ([`crate::x67::motor::Motor::encoder_lines`]) drives the A/B inputs of
 //!   its axis's group and the ABR counter (4x, A leading B counts up). Setting DI1/DI2 (DI4/DI5) by hand is
 //!   decoded the same way, so a harness can also feed quadrature directly.
 //! - **Holding a limit switch.** After a limit switch has stopped the axis, motion stays stopped until its
@@ -55,11 +55,11 @@
 //!   limits. A counter already outside the limits (set by mode −122) may only move back toward them.
 //! - **Current ratings** (X67-3-03/-04) are not enforced; breaking them writes a [`Diagnostic`].
 
-use crate::axis::{Axis, CycleContext, Frac, InputEdge};
-use crate::current::MODULE_NOMINAL_MILLIAMPS;
-use crate::errors::{supply_in_range, Temperature};
-use crate::ramp::Cycle;
-use crate::registers::{AxisReg, ModuleReg, Register, RegisterError};
+use crate::x67::axis::{Axis, CycleContext, Frac, InputEdge};
+use crate::x67::current::MODULE_NOMINAL_MILLIAMPS;
+use crate::x67::errors::{supply_in_range, Temperature};
+use crate::x67::ramp::Cycle;
+use crate::x67::registers::{AxisReg, ModuleReg, Register, RegisterError};
 
 /// Largest count rate of the encoder inputs in counts per second (X67-3-10: 200 kHz).
 pub const MAX_COUNT_RATE: i64 = 200_000;
@@ -365,7 +365,7 @@ impl Module {
             Register::Axis(
                 _,
                 AxisReg::HoldingCurrent | AxisReg::NominalCurrent | AxisReg::MaximumCurrent,
-            ) => i64::from(crate::current::MAX_PERCENT),
+            ) => i64::from(crate::x67::current::MAX_PERCENT),
             _ => max,
         };
         if value > max {
@@ -413,7 +413,7 @@ impl Module {
                     AxisReg::FixedPosB => c.fixed_pos_b = value as i32,
                     AxisReg::RefSpeed => c.ref_speed = value as u16,
                     AxisReg::RefConfig => {
-                        if crate::axis::AxisConfig::is_ref_condition(value as i8) {
+                        if crate::x67::axis::AxisConfig::is_ref_condition(value as i8) {
                             c.ref_config = value as i8;
                         }
                     }

@@ -13,7 +13,7 @@
 //! hysteresis of the over-temperature condition 0x4200, which it enters on each axis's register.
 //!
 //! ```
-//! use ds402::errors::{ErrorCode, ErrorRegister, Temperature};
+//! use ds402::x67::errors::{ErrorCode, ErrorRegister, Temperature};
 //!
 //! let mut axis = ErrorRegister::new();
 //! let mut temp = Temperature::new();

@@ -17,7 +17,7 @@
 //! at 10 ms, 4 at 25 ms, 20 at 5 ms); the cycle after that drives the weaker level.
 //!
 //! ```
-//! use ds402::current::{Config, CurrentModel, Level, Phase};
+//! use ds402::x67::current::{Config, CurrentModel, Level, Phase};
 //!
 //! let mut model = CurrentModel::new(Config { holding: 20, nominal: 60, maximum: 100, ..Config::default() })
 //!     .unwrap();
@@ -34,7 +34,7 @@
 //!
 //! Rule IDs (`X67-…`) refer to the rule catalogue of the X67SM2436 (`rules/x67.md`).
 
-use crate::ramp::RampState;
+use crate::x67::ramp::RampState;
 
 /// Largest value of ConfigOutput03a…08a, in percent of the module's nominal current (X67-18.11.1.1-01).
 pub const MAX_PERCENT: u8 = 167;

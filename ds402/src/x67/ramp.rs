@@ -9,7 +9,7 @@
 //! accelerations in microsteps/cycle² (X67-18.11.1.15-03).
 //!
 //! ```
-//! use ds402::ramp::{Config, Ramp, Target};
+//! use ds402::x67::ramp::{Config, Ramp, Target};
 //!
 //! let mut ramp = Ramp::new(Config { max_speed_pos: 20, max_acc: 10, max_dec: 10, ..Config::default() });
 //! ramp.set_target(Target::Position(100));

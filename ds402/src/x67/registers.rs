@@ -3,10 +3,10 @@
 //!
 //! [`Register`] names one register of one axis or of the module; [`Register::from_name`] parses the seed's
 //! spelling (`MaxAcc01`, `ConfigOutput07a`, `InputStatus`), and [`Register::info`] gives the table row.
-//! [`crate::module::Module::read`] and [`crate::module::Module::write`] access them.
+//! [`crate::x67::module::Module::read`] and [`crate::x67::module::Module::write`] access them.
 //!
 //! ```
-//! use ds402::registers::{Access, AxisReg, Register, RegType};
+//! use ds402::x67::registers::{Access, AxisReg, Register, RegType};
 //!
 //! let reg = Register::from_name("ConfigOutput07a").unwrap();
 //! assert_eq!(reg, Register::Axis(1, AxisReg::NominalCurrent));

@@ -2,7 +2,7 @@
 //! ramp generator, the error-code register and the current model joined with the modes of the Mode
 //! register, limit switches, software limits, homing and the read-back registers.
 //!
-//! An [`Axis`] is driven by its [`crate::module::Module`], which owns what both axes share (the general
+//! An [`Axis`] is driven by its [`crate::x67::module::Module`], which owns what both axes share (the general
 //! configuration, the digital inputs, supply and temperature) and calls, once per ramp-generator cycle,
 //! `begin` (take over the cyclic outputs, run the state machine, choose the set-point), then steps the ramp,
 //! moves the simulated motor and collects the input edges of the cycle, then `finish` (react to the edges,
@@ -10,13 +10,13 @@
 //!
 //! Rule IDs (`X67-…`) refer to the rule catalogue of the X67SM2436 (`rules/x67.md`). Where the seed is silent
 //! the code says which pick it follows; the choices of this model beyond the catalogue are listed in the
-//! module documentation of [`crate::module`].
+//! module documentation of [`crate::x67::module`].
 
 use crate::cia402::{Action, Inputs, State, StateMachine};
-use crate::current::{self, CurrentModel, CurrentState, Phase};
-use crate::errors::{ErrorCode, ErrorRegister, CW_STALL_DETECTION, CW_WARNING_RESET};
-use crate::motor::{self, Motor};
-use crate::ramp::{self, Cycle, Ramp, RampState, Target};
+use crate::x67::current::{self, CurrentModel, CurrentState, Phase};
+use crate::x67::errors::{ErrorCode, ErrorRegister, CW_STALL_DETECTION, CW_WARNING_RESET};
+use crate::x67::motor::{self, Motor};
+use crate::x67::ramp::{self, Cycle, Ramp, RampState, Target};
 
 /// Control word bit 4: New set-point (extended control word, X67-18.11.3.3.2-03).
 pub const CW_NEW_SETPOINT: u16 = 1 << 4;
