@@ -3,8 +3,8 @@
 //! (ramp, state machine, error register, current model) have their own tests; these prove the joined model.
 //! Each test names the rules of `rules/x67.md` it checks.
 
-use ds402::x67::axis::modes;
 use ds402::cia402::{self, State};
+use ds402::x67::axis::modes;
 use ds402::x67::current::Level;
 use ds402::x67::module::{Diagnostic, Module};
 use ds402::x67::motor::{self, Load, MotorParams};

@@ -13,12 +13,12 @@ use testkit::link;
 
 use std::time::{Duration, Instant};
 
-use ds402::smd::binding::Device;
 use ds402::smd::indexer::Outputs;
 use ethercat_slave::esc::al::state;
 use ethercat_slave::frame::{emit, parse};
 use ethercat_slave::master::{self, lrw_datagram, SocketWire, SRC};
 use ethercat_slave::raw::RawSocket;
+use ethercat_slave::smd::binding::Device;
 use ethercat_slave::smd::SmdChain;
 
 /// The LRW frame for `n` units and the working counter every answer must carry (3 per unit).

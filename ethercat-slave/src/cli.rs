@@ -5,8 +5,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
+use crate::smd::binding::Device;
 use clap::Parser;
-use ds402::smd::binding::Device;
 
 use crate::runtime::{self, Options, RuntimeError, Stats};
 

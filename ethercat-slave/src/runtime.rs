@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use ds402::smd::binding::Device;
+use crate::smd::binding::Device;
 
 use crate::raw::{RawError, RawSocket};
 use crate::smd::{SmdChain, SmdSlaveError};

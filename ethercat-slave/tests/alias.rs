@@ -5,8 +5,8 @@
 mod common;
 
 use common::master::*;
-use ds402::smd::binding::Device;
 use ethercat_slave::esc::cmd;
+use ethercat_slave::smd::binding::Device;
 use ethercat_slave::smd::SmdChain;
 
 #[test]

@@ -5,10 +5,10 @@ mod common;
 use std::time::Duration;
 
 use common::master::*;
-use ds402::smd::binding::Device;
 use ds402::smd::indexer::stat0;
 use ethercat_slave::esc::al::state;
 use ethercat_slave::esc::cmd;
+use ethercat_slave::smd::binding::Device;
 use ethercat_slave::smd::SmdChain;
 
 fn preop(n: usize) -> SmdChain {

@@ -6,11 +6,11 @@ mod common;
 use std::time::Duration;
 
 use common::master::*;
-use ds402::smd::binding::Device;
 use ds402::smd::indexer::{cmd0, stat0, stat1, Outputs};
 use ethercat_slave::esc::al::state;
-use ethercat_slave::esc::dc::HOP_NS;
 use ethercat_slave::esc::cmd;
+use ethercat_slave::esc::dc::HOP_NS;
+use ethercat_slave::smd::binding::Device;
 use ethercat_slave::smd::SmdChain;
 
 fn u64_of(d: &[u8]) -> u64 {

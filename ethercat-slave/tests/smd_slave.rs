@@ -5,10 +5,10 @@
 mod common;
 
 use common::master::*;
-use ds402::smd::binding::Device;
 use ds402::smd::indexer::{cmd0, stat0, stat1, Outputs};
 use ethercat_slave::esc::al::state;
 use ethercat_slave::esc::cmd;
+use ethercat_slave::smd::binding::Device;
 use ethercat_slave::smd::{decode_outputs, encode_inputs, encode_outputs, SmdChain};
 
 #[test]

@@ -5,14 +5,15 @@
 //! - [`config`]: the configuration data of Reference 5 (`8010:01–07`), its validity rules and the
 //!   CFG_Word_0 / CFG_Word_1 calculator of table R5.3;
 //! - [`indexer`]: the unit in Command Mode — commands, moves, status words;
-//! - [`binding`]: the indexer on the fixture's object dictionary (reads `0x7000`/`0x8010`, writes `0x6000`);
-//! - [`simulate`]: `smd simulate`'s offline runs of scripts against the indexer, as tables and charts;
-//! - [`plot`]: SVG charts; [`cli`]: the `smd` command line.
+//! - with feature `cli`: `simulate`, `smd simulate`'s offline runs of scripts against the indexer, as
+//!   tables and charts; `plot`, SVG charts; `cli`, the `smd` command line.
 
-pub mod binding;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod config;
 pub mod indexer;
+#[cfg(feature = "cli")]
 pub mod plot;
 pub mod profile;
+#[cfg(feature = "cli")]
 pub mod simulate;

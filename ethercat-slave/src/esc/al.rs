@@ -12,8 +12,8 @@
 
 use od::DeviceDescription;
 
-use super::Esc;
 use super::sm::SyncManager;
+use super::Esc;
 
 /// AL control register.
 pub const AL_CONTROL: u16 = 0x0120;

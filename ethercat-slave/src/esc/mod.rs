@@ -165,10 +165,7 @@ impl Esc {
         // ESC information (0x0000–0x0009): type, revision, build, FMMUs, SyncManagers, process RAM in
         // KiB, ports 0 and 1 MII, features: byte-oriented FMMUs, DC with 64-bit system time.
         esc.store(0x0000, &[0x11, 0x00, 0x02, 0x00]);
-        esc.store(
-            0x0004,
-            &[FMMUS as u8, sm::SYNC_MANAGERS as u8, 60, 0x0F],
-        );
+        esc.store(0x0004, &[FMMUS as u8, sm::SYNC_MANAGERS as u8, 60, 0x0F]);
         esc.store(0x0008, &0x000Du16.to_le_bytes());
         esc.store(al::AL_STATUS, &[al::state::INIT, 0]);
         // Watchdog divider 2498 (100 µs units), PDI and process-data watchdog 1000 (100 ms), status:

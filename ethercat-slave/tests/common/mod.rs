@@ -5,5 +5,6 @@ pub mod master;
 
 /// The SMD23K-B of the SMD fixture ESI.
 pub fn smd() -> od::DeviceDescription {
-    ethercat_slave::smd::description(ds402::smd::binding::Device::Smd23kB).expect("the fixture")
+    ethercat_slave::smd::description(ethercat_slave::smd::binding::Device::Smd23kB)
+        .expect("the fixture")
 }

@@ -1,17 +1,17 @@
 //! The SMD23K-B / SMD24K indexer bound to the object dictionary of `fixtures/`
-//! (`ds402::smd::binding`). The first tests prove ARCHITECTURE principle 2 for every address the model
+//! (`ethercat_slave::smd::binding`). The first tests prove ARCHITECTURE principle 2 for every address the model
 //! names; the others name the rule of `rules/smd.md` whose observable they check, seen through the
 //! dictionary (`0x7000` in, `0x8010` by SDO, `0x6000` out).
 
 use std::time::Duration;
 
 use ds402::od::{AbortCode, AccessType, DataType, Dictionary, OdError, PdoMapping, Value};
-use ds402::smd::binding::{
+use ds402::smd::config::{Configuration, EncoderKind};
+use ds402::smd::indexer::{cmd0, cmd1, stat0, Outputs};
+use ethercat_slave::smd::binding::{
     self, check, dictionary, entries, BindingError, Block, Device, Entry, Mismatch, SmdUnit,
     CONFIGURATION_INDEX, FIXTURE_ESI, INPUTS_INDEX, OUTPUTS_INDEX, TABLE,
 };
-use ds402::smd::config::{Configuration, EncoderKind};
-use ds402::smd::indexer::{cmd0, cmd1, stat0, Outputs};
 use proptest::prelude::*;
 
 const MS: Duration = Duration::from_millis(1);

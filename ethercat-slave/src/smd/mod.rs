@@ -1,6 +1,6 @@
 //! The SMD23K-B / SMD24K as an EtherCAT slave: an [`Esc`] with the SII image and the AL checks of the
 //! fixture's ESI, the CoE SDO server (`od::coe::server`) on the unit's dictionary behind its mailbox,
-//! and the indexer model (`ds402::smd::binding::SmdUnit`) behind its process data.
+//! and the indexer model bound to its dictionary ([`binding::SmdUnit`]) behind its process data.
 //!
 //! - [`SmdChain::process`] passes a frame through the chain; a mailbox the master completed in SM0 is
 //!   served at once and the answer put into SM1 (answers wait while SM1 is still full).
@@ -15,10 +15,12 @@
 //! - SYNC0 is accepted with a cycle time of 2 ms to 50 ms (SMD-T3-003); outside it Pre-Op → Safe-Op
 //!   is refused with AL status code 0x0036.
 
+pub mod binding;
+
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use ds402::smd::binding::{Device, SmdUnit, FIXTURE_ESI, FIXTURE_NAME};
+use binding::{Device, SmdUnit, FIXTURE_ESI, FIXTURE_NAME};
 use ds402::smd::config::EncoderKind;
 use ds402::smd::indexer::{Inputs, NetworkState, Outputs};
 use od::coe::server::CoeServer;

@@ -23,7 +23,7 @@
 //! dictionary that does not match, and the tests run it on both devices of the fixture.
 //!
 //! ```
-//! use ds402::smd::binding::{Device, SmdUnit, STATUS_WORD0};
+//! use ethercat_slave::smd::binding::{Device, SmdUnit, STATUS_WORD0};
 //! use ds402::smd::config::EncoderKind;
 //! use std::time::Duration;
 //!
@@ -48,8 +48,8 @@ use od::object::{AccessType, PdoMapping};
 use od::sdo::server::ServerEvent;
 use od::types::DataType;
 
-use super::config::{Configuration, EncoderKind};
-use super::indexer::{Indexer, Inputs, Outputs};
+use ds402::smd::config::{Configuration, EncoderKind};
+use ds402::smd::indexer::{Indexer, Inputs, Outputs};
 
 /// The ESI of both units as the generator writes it from `fixtures/src/smd.esi.xml` and
 /// `fixtures/identity.toml` (`fixtures/smd/SMD23K-B_SMD24K.esi.xml`).
@@ -438,7 +438,7 @@ impl SmdUnit {
     }
 
     /// The EtherCAT state the unit is in (see [`Indexer::set_network_state`]).
-    pub fn set_network_state(&mut self, state: crate::smd::indexer::NetworkState) {
+    pub fn set_network_state(&mut self, state: ds402::smd::indexer::NetworkState) {
         self.indexer.set_network_state(state);
     }
 
