@@ -7,11 +7,11 @@ use std::time::Instant;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use od::sdo::client::{ClientConfig, ClientEvent, SdoClient};
 use od::sdo::server::{SdoServer, ServerConfig};
-use od::sdo::Multiplexer;
+use od::sdo::Address;
 use od::{AccessType, DataType, Dictionary, Object, SubObject};
 
 const MIB: usize = 1 << 20;
-const DOMAIN: Multiplexer = Multiplexer::new(0x2000, 0);
+const DOMAIN: Address = Address::new(0x2000, 0);
 
 fn dictionary() -> Dictionary {
     let mut d = Dictionary::new();

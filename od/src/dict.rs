@@ -141,8 +141,9 @@ impl From<OdError> for AbortCode {
     }
 }
 
-/// The address of one sub-object.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+/// The address of one sub-object, `index:sub`: in the dictionary, in an SDO or CoE transfer (the
+/// multiplexer, bytes 1–3 of its initiate and abort frames), in a PDO mapping.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub struct Address {
     /// Index.
     pub index: u16,

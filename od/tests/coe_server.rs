@@ -10,7 +10,7 @@
 use std::time::{Duration, Instant};
 
 use od::coe::CoeServer;
-use od::sdo::{Multiplexer, ServerConfig, ServerEvent};
+use od::sdo::{Address, ServerConfig, ServerEvent};
 use od::{AbortCode, AccessType, DataType, Dictionary, Object, ObjectKind, SubObject, Value};
 
 /// Bytes from hexadecimal, `"0A 00 | 00 20 | 2B 10"`; `|` is only for the eye.
@@ -28,8 +28,8 @@ fn hd(text: &str, data: &[u8]) -> Vec<u8> {
     out
 }
 
-fn mux(index: u16, sub: u8) -> Multiplexer {
-    Multiplexer::new(index, sub)
+fn mux(index: u16, sub: u8) -> Address {
+    Address::new(index, sub)
 }
 
 /// `n` bytes of visible text: A–Z over and over.

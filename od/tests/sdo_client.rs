@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 
 use od::sdo::client::ReadSource;
 use od::sdo::{
-    ClientConfig, ClientEvent, Crc16, DownloadData, DownloadSource, Frame, Multiplexer, SdoClient,
+    Address, ClientConfig, ClientEvent, Crc16, DownloadData, DownloadSource, Frame, SdoClient,
     SdoClientError, UploadSink,
 };
 use od::AbortCode;
@@ -123,7 +123,7 @@ fn assert_uploaded(e: ClientEvent, data: &[u8]) {
     }
 }
 
-fn assert_aborted(e: ClientEvent, mux: Multiplexer, code: AbortCode, by_server: bool) {
+fn assert_aborted(e: ClientEvent, mux: Address, code: AbortCode, by_server: bool) {
     match e {
         ClientEvent::Failed(SdoClientError::Aborted {
             index,
@@ -147,8 +147,8 @@ fn progress(events: &[ClientEvent]) -> Vec<(u64, Option<u64>)> {
         .collect()
 }
 
-const HEARTBEAT: Multiplexer = Multiplexer::new(0x1017, 0);
-const DOMAIN: Multiplexer = Multiplexer::new(0x2000, 1);
+const HEARTBEAT: Address = Address::new(0x1017, 0);
+const DOMAIN: Address = Address::new(0x2000, 1);
 
 /// 20 bytes: two full segments and one of six bytes (20 = 2·7 + 6).
 fn twenty() -> Vec<u8> {
@@ -196,7 +196,7 @@ fn expedited_download_of_one_three_and_four_bytes() {
 
 #[test]
 fn expedited_upload() {
-    let mux = Multiplexer::new(0x1018, 1);
+    let mux = Address::new(0x1018, 1);
     let mut b = Bench::segmented();
     b.client.start_upload(b.now, mux).unwrap();
     expect(b.sent(), &["40 18 10 01 00 00 00 00"]);
@@ -237,7 +237,7 @@ fn fixed_size_uploads_skip_block_mode() {
 
 #[test]
 fn segmented_download() {
-    let mux = Multiplexer::new(0x1008, 0);
+    let mux = Address::new(0x1008, 0);
     let mut b = Bench::segmented();
     b.client.start_download(b.now, mux, *b"ABCDEFGHIJ").unwrap();
     // ccs 1, e 0, s 1; size 10.
@@ -291,7 +291,7 @@ fn empty_download_is_one_empty_last_segment() {
 
 #[test]
 fn segmented_upload() {
-    let mux = Multiplexer::new(0x1008, 0);
+    let mux = Address::new(0x1008, 0);
     let mut b = Bench::segmented();
     b.client.start_upload(b.now, mux).unwrap();
     expect(b.sent(), &["40 08 10 00 00 00 00 00"]);
@@ -308,7 +308,7 @@ fn segmented_upload() {
 
 #[test]
 fn segmented_upload_toggle_error_is_aborted_on_the_wire() {
-    let mux = Multiplexer::new(0x1008, 0);
+    let mux = Address::new(0x1008, 0);
     let mut b = Bench::segmented();
     b.client.start_upload(b.now, mux).unwrap();
     b.sent();

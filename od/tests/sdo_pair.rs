@@ -7,12 +7,12 @@ use std::time::{Duration, Instant};
 
 use od::sdo::client::{ClientConfig, ClientEvent, SdoClient, SdoClientError};
 use od::sdo::server::{SdoServer, ServerConfig};
-use od::sdo::{Frame, Multiplexer};
+use od::sdo::{Address, Frame};
 use od::{AbortCode, AccessType, DataType, Dictionary, Object, SubObject, Value};
 use proptest::prelude::*;
 
-const DOMAIN: Multiplexer = Multiplexer::new(0x2000, 0);
-const HEARTBEAT: Multiplexer = Multiplexer::new(0x1017, 0);
+const DOMAIN: Address = Address::new(0x2000, 0);
+const HEARTBEAT: Address = Address::new(0x1017, 0);
 
 fn dictionary() -> Dictionary {
     let mut d = Dictionary::new();
@@ -186,12 +186,12 @@ impl Pair {
         panic!("the transfer did not end");
     }
 
-    fn download(&mut self, mux: Multiplexer, data: &[u8]) -> Result<(), SdoClientError> {
+    fn download(&mut self, mux: Address, data: &[u8]) -> Result<(), SdoClientError> {
         self.client.start_download(self.now, mux, data.to_vec())?;
         self.drive().map(|_| ())
     }
 
-    fn upload(&mut self, mux: Multiplexer) -> Result<Vec<u8>, SdoClientError> {
+    fn upload(&mut self, mux: Address) -> Result<Vec<u8>, SdoClientError> {
         self.client.start_upload(self.now, mux)?;
         self.drive().map(|b| b.unwrap_or_default())
     }
@@ -271,25 +271,13 @@ fn typed_values_and_refusals_end_to_end() {
     p.download(HEARTBEAT, &1000u16.to_le_bytes()).unwrap();
     assert_eq!(p.dict.read_value(0x1017, 0).unwrap(), Value::Uint(1000));
     assert_eq!(
-        p.upload(Multiplexer::new(0x1000, 0)).unwrap(),
+        p.upload(Address::new(0x1000, 0)).unwrap(),
         0x0002_0192u32.to_le_bytes()
     );
     for (mux, data, code) in [
-        (
-            Multiplexer::new(0x1000, 0),
-            vec![0u8; 4],
-            AbortCode::ReadOnly,
-        ),
-        (
-            Multiplexer::new(0x3000, 0),
-            vec![0u8; 4],
-            AbortCode::NoObject,
-        ),
-        (
-            Multiplexer::new(0x1017, 1),
-            vec![0u8; 2],
-            AbortCode::NoSubIndex,
-        ),
+        (Address::new(0x1000, 0), vec![0u8; 4], AbortCode::ReadOnly),
+        (Address::new(0x3000, 0), vec![0u8; 4], AbortCode::NoObject),
+        (Address::new(0x1017, 1), vec![0u8; 2], AbortCode::NoSubIndex),
         (HEARTBEAT, vec![0u8; 3], AbortCode::LengthTooHigh),
     ] {
         let before = p.dict.clone();

@@ -3,7 +3,7 @@
 
 use std::time::{Duration, Instant};
 
-use od::sdo::{Frame, Multiplexer, SdoServer, ServerConfig, ServerEvent};
+use od::sdo::{Address, Frame, SdoServer, ServerConfig, ServerEvent};
 use od::{AbortCode, AccessType, DataType, Dictionary, Object, ObjectKind, SubObject, Value};
 
 /// A frame from its bytes written in hexadecimal, `"2B 17 10 00 E8 03 00 00"`.
@@ -19,8 +19,8 @@ fn hs(frames: &[&str]) -> Vec<Frame> {
     frames.iter().map(|f| h(f)).collect()
 }
 
-fn mux(index: u16, sub: u8) -> Multiplexer {
-    Multiplexer::new(index, sub)
+fn mux(index: u16, sub: u8) -> Address {
+    Address::new(index, sub)
 }
 
 /// The dictionary the tests serve.

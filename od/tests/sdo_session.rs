@@ -8,7 +8,7 @@ use std::io::{self, Read, Write};
 use std::time::{Duration, Instant};
 
 use od::sdo::{
-    ClientConfig, Crc16, Frame, Multiplexer, SdoClientError, SdoSession, SdoTransport, SessionError,
+    Address, ClientConfig, Crc16, Frame, SdoClientError, SdoSession, SdoTransport, SessionError,
 };
 use od::{AbortCode, DataType, Value, ValueError};
 
@@ -125,9 +125,9 @@ fn played(s: &SdoSession<Script>) {
     assert!(!s.client.is_busy());
 }
 
-const HEARTBEAT: Multiplexer = Multiplexer::new(0x1017, 0);
-const DEVICE_TYPE: Multiplexer = Multiplexer::new(0x1000, 0);
-const DOMAIN: Multiplexer = Multiplexer::new(0x2000, 1);
+const HEARTBEAT: Address = Address::new(0x1017, 0);
+const DEVICE_TYPE: Address = Address::new(0x1000, 0);
+const DOMAIN: Address = Address::new(0x2000, 1);
 
 #[test]
 fn write_u16_is_one_expedited_exchange() {
@@ -140,7 +140,7 @@ fn write_u16_is_one_expedited_exchange() {
 
 #[test]
 fn typed_writes() {
-    let mux = Multiplexer::new(0x2100, 2);
+    let mux = Address::new(0x2100, 2);
     let ok = "60 00 21 02 00 00 00 00";
     let mut s = Script::new()
         .line("2F 00 21 02 FF 00 00 00", &[ok]) // u8 255
@@ -176,7 +176,7 @@ fn eight_byte_writes_go_by_block_download() {
         // n 6: the last segment holds one byte.
         .line_frames(seg(0xD9, &[lo, hi]), vec![frame("A1 00 00 00 00 00 00 00")])
         .session();
-    s.write_u64(Multiplexer::new(0x2100, 0), v).unwrap();
+    s.write_u64(Address::new(0x2100, 0), v).unwrap();
     played(&s);
 }
 
@@ -193,11 +193,11 @@ fn typed_reads() {
         .session();
     assert_eq!(s.read_u32(DEVICE_TYPE).unwrap(), 0x0002_0192);
     assert_eq!(s.read_u16(HEARTBEAT).unwrap(), 1000);
-    assert_eq!(s.read_u8(Multiplexer::new(0x2100, 1)).unwrap(), 255);
-    assert_eq!(s.read_i16(Multiplexer::new(0x2100, 2)).unwrap(), -2);
-    assert_eq!(s.read_f32(Multiplexer::new(0x2100, 3)).unwrap(), -1.5);
-    assert!(s.read_bool(Multiplexer::new(0x2100, 4)).unwrap());
-    assert_eq!(s.read_i8(Multiplexer::new(0x2100, 5)).unwrap(), -128);
+    assert_eq!(s.read_u8(Address::new(0x2100, 1)).unwrap(), 255);
+    assert_eq!(s.read_i16(Address::new(0x2100, 2)).unwrap(), -2);
+    assert_eq!(s.read_f32(Address::new(0x2100, 3)).unwrap(), -1.5);
+    assert!(s.read_bool(Address::new(0x2100, 4)).unwrap());
+    assert_eq!(s.read_i8(Address::new(0x2100, 5)).unwrap(), -128);
     played(&s);
 }
 
@@ -210,7 +210,7 @@ fn eight_byte_read_falls_back_when_the_server_refuses_block_upload() {
         .line("60 00 00 00 00 00 00 00", &["00 00 00 00 00 00 00 F8"])
         .line("70 00 00 00 00 00 00 00", &["1D BF 00 00 00 00 00 00"])
         .session();
-    assert_eq!(s.read_f64(Multiplexer::new(0x2100, 0)).unwrap(), -1.5);
+    assert_eq!(s.read_f64(Address::new(0x2100, 0)).unwrap(), -1.5);
     played(&s);
 }
 
@@ -232,7 +232,7 @@ fn a_wrong_length_is_a_value_error() {
 
 #[test]
 fn read_and_write_values() {
-    let mux = Multiplexer::new(0x2100, 7);
+    let mux = Address::new(0x2100, 7);
     let mut s = Script::new()
         .line("40 00 21 07 00 00 00 00", &["4B 00 21 07 FE FF 00 00"])
         .line("2B 00 21 07 2C 01 00 00", &["60 00 21 07 00 00 00 00"])
@@ -253,7 +253,7 @@ fn read_and_write_values() {
 
 #[test]
 fn strings() {
-    let name = Multiplexer::new(0x1008, 0);
+    let name = Address::new(0x1008, 0);
     let data = b"hello world";
     let [lo, hi] = Crc16::of(data).to_le_bytes();
     let mut s = Script::new()

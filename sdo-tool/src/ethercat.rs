@@ -34,7 +34,7 @@ use od::abort::AbortCode;
 use od::coe::mailbox::{MailboxHeader, MailboxType};
 use od::coe::sdo::{CoeSdo, CoeSdoCommand};
 use od::dict::Address;
-use od::sdo::frame::{ClientFrame, Multiplexer, ServerFrame};
+use od::sdo::frame::{ClientFrame, ServerFrame};
 
 use crate::{SdoAccess, ToolError};
 
@@ -233,7 +233,7 @@ impl EthercatSession {
 async fn normal_download(
     maindevice: &MainDevice<'_>,
     station: u16,
-    mux: Multiplexer,
+    mux: Address,
     data: &[u8],
     timeout: Duration,
 ) -> Result<(), Failure> {
@@ -364,7 +364,7 @@ impl SdoAccess for EthercatSession {
                 sd.sdo_write(addr.index, addr.sub, data).await?;
                 Ok(())
             } else {
-                let mux = Multiplexer::new(addr.index, addr.sub);
+                let mux = Address::new(addr.index, addr.sub);
                 normal_download(maindevice, sd.configured_address(), mux, data, timeout).await
             }
         })

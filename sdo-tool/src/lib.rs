@@ -25,7 +25,7 @@ pub mod watch;
 use od::abort::AbortCode;
 use od::dict::{Address, Dictionary};
 use od::sdo::client::{ClientConfig, SdoClientError};
-use od::sdo::frame::{ClientFrame, Frame, Multiplexer};
+use od::sdo::frame::{ClientFrame, Frame};
 use od::sdo::session::{SdoSession, SdoTransport, SessionError};
 use od::types::DataType;
 use od::value::Value;
@@ -455,12 +455,12 @@ impl SdoAccess for CanSdo<'_> {
     }
 
     fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
-        let mux = Multiplexer::new(addr.index, addr.sub);
+        let mux = Address::new(addr.index, addr.sub);
         self.transfer(node, addr, |s| s.read_bytes(mux))
     }
 
     fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError> {
-        let mux = Multiplexer::new(addr.index, addr.sub);
+        let mux = Address::new(addr.index, addr.sub);
         self.transfer(node, addr, |s| s.write_bytes(mux, data))
     }
 
@@ -471,7 +471,7 @@ impl SdoAccess for CanSdo<'_> {
         addr: Address,
         data_type: DataType,
     ) -> Result<Value, ToolError> {
-        let mux = Multiplexer::new(addr.index, addr.sub);
+        let mux = Address::new(addr.index, addr.sub);
         self.transfer(node, addr, |s| s.read_value(mux, data_type))
     }
 }
@@ -764,7 +764,7 @@ impl Tool {
         progress: impl FnMut(u64, Option<u64>),
     ) -> Result<u64, ToolError> {
         let addr = self.object(object)?;
-        let mux = Multiplexer::new(addr.index, addr.sub);
+        let mux = Address::new(addr.index, addr.sub);
         self.transfer(node, addr, |s| s.upload_to(mux, sink, progress))
     }
 
@@ -778,7 +778,7 @@ impl Tool {
         progress: impl FnMut(u64, Option<u64>),
     ) -> Result<(), ToolError> {
         let addr = self.object(object)?;
-        let mux = Multiplexer::new(addr.index, addr.sub);
+        let mux = Address::new(addr.index, addr.sub);
         self.transfer(node, addr, |s| s.download_from(mux, source, len, progress))
     }
 
@@ -787,7 +787,7 @@ impl Tool {
     pub fn scan(&mut self, wait: Duration) -> Result<Vec<ScanEntry>, ToolError> {
         let mut found = std::collections::BTreeSet::new();
         let device_type = ClientFrame::InitiateUpload {
-            mux: Multiplexer::new(0x1000, 0),
+            mux: Address::new(0x1000, 0),
         }
         .emit();
         for id in 1..=127u16 {

@@ -24,7 +24,7 @@ use binding::{Device, SmdUnit, FIXTURE_ESI, FIXTURE_NAME};
 use ds402::smd::config::EncoderKind;
 use ds402::smd::indexer::{Inputs, NetworkState, Outputs};
 use od::coe::server::CoeServer;
-use od::sdo::frame::Multiplexer;
+use od::sdo::frame::Address;
 use od::sdo::server::ServerConfig;
 
 use crate::esc::al::{code, state, AlConfig};
@@ -345,10 +345,8 @@ impl Unit {
             _ => NetworkState::Init,
         };
         self.model.set_network_state(network);
-        let mapped: Vec<Multiplexer> = if matches!(al, state::OP | state::SAFEOP) {
-            (1..=8)
-                .map(|sub| Multiplexer { index: 0x7000, sub })
-                .collect()
+        let mapped: Vec<Address> = if matches!(al, state::OP | state::SAFEOP) {
+            (1..=8).map(|sub| Address { index: 0x7000, sub }).collect()
         } else {
             Vec::new()
         };

@@ -132,14 +132,14 @@ impl<'a> CoeSdo<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sdo::frame::{ExpeditedData, Multiplexer, SegmentData};
+    use crate::sdo::frame::{Address, ExpeditedData, SegmentData};
 
     #[test]
     fn expedited_download_request_in_a_mailbox() {
         // ETG.1000.6 §5.6.2.1: write UINT 0x03E8 to 0x8010:04; counter 1, master address 0.
         let frame = CoeSdo {
             command: CoeSdoCommand::Request(ClientFrame::InitiateDownloadExpedited {
-                mux: Multiplexer::new(0x8010, 4),
+                mux: Address::new(0x8010, 4),
                 data: ExpeditedData::new(&[0xE8, 0x03]),
             }),
             complete_access: false,
@@ -164,7 +164,7 @@ mod tests {
         let data = b"SMD23K-B\0";
         let frame = CoeSdo {
             command: CoeSdoCommand::Response(ServerFrame::InitiateUploadSegmented {
-                mux: Multiplexer::new(0x1008, 0),
+                mux: Address::new(0x1008, 0),
                 size: Some(9),
             }),
             complete_access: false,
@@ -182,7 +182,7 @@ mod tests {
         // Complete-access upload of 0x1C12 from sub-index 0: command 0x50.
         let req = CoeSdo {
             command: CoeSdoCommand::Request(ClientFrame::InitiateUpload {
-                mux: Multiplexer::new(0x1C12, 0),
+                mux: Address::new(0x1C12, 0),
             }),
             complete_access: true,
             extra: &[],
@@ -211,7 +211,7 @@ mod tests {
         // A complete-access download response: scs 3 with bit 4 set, 0x70.
         let resp = CoeSdo {
             command: CoeSdoCommand::Response(ServerFrame::InitiateDownload {
-                mux: Multiplexer::new(0x1C12, 0),
+                mux: Address::new(0x1C12, 0),
             }),
             complete_access: true,
             extra: &[],
@@ -277,7 +277,7 @@ mod tests {
         assert_eq!(AbortCode::MappedToRxPdo.code(), 0x0601_0006);
         let abort = CoeSdo {
             command: CoeSdoCommand::Response(ServerFrame::Abort {
-                mux: Multiplexer::new(0x7000, 1),
+                mux: Address::new(0x7000, 1),
                 code: AbortCode::MappedToRxPdo,
             }),
             complete_access: false,

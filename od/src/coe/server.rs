@@ -23,7 +23,7 @@ use crate::abort::AbortCode;
 use crate::coe::mailbox::{CoeHeader, CoeService, MailboxHeader, MailboxType, MAILBOX_HEADER_LEN};
 use crate::coe::sdo::{CoeSdo, CoeSdoCommand, CoeSdoError};
 use crate::dict::Dictionary;
-use crate::sdo::frame::{ClientFrame, ExpeditedData, Multiplexer, SegmentData, ServerFrame};
+use crate::sdo::frame::{Address, ClientFrame, ExpeditedData, SegmentData, ServerFrame};
 use crate::sdo::server::{ServerConfig, ServerEvent};
 
 pub use self::store::is_pdo_configuration;
@@ -73,7 +73,7 @@ enum Transfer {
 }
 
 impl Transfer {
-    fn mux(&self) -> Multiplexer {
+    fn mux(&self) -> Address {
         match self {
             Transfer::Download(t) => t.mux,
             Transfer::Upload(t) => t.mux,
@@ -114,7 +114,7 @@ impl Answer {
     }
 
     /// Abort SDO Transfer (ETG.1000.6 §5.6.2.7): an SDO request (CoE service 2) in either direction.
-    fn abort(mux: Multiplexer, code: AbortCode) -> Answer {
+    fn abort(mux: Address, code: AbortCode) -> Answer {
         Answer::Sdo {
             command: CoeSdoCommand::Request(ClientFrame::Abort { mux, code }),
             complete_access: false,
@@ -235,12 +235,12 @@ pub struct CoeServer {
     /// False: values that do not fit one mailbox are refused (0x06010005).
     segmented: bool,
     /// Entries whose download is blocked because they are mapped to an RxPDO (0x06010006).
-    rxpdo: HashSet<Multiplexer>,
+    rxpdo: HashSet<Address>,
     transfer: Option<Transfer>,
     /// The transfer timer: when the running transfer times out (`None` while idle).
     deadline: Option<Instant>,
     /// The transfer that timed out since the last request.
-    timed_out: Option<Multiplexer>,
+    timed_out: Option<Address>,
     /// The counter of the last response sent (0 before the first).
     counter: u8,
     /// The counter of the last request, when not 0.
@@ -281,12 +281,12 @@ impl CoeServer {
     /// Marks the entries mapped to an RxPDO while the slave is in SafeOp or Op (the process data owns
     /// them): an SDO download to one of them, or a complete download of its object, is refused with
     /// 0x06010006. Replaces the entries marked before; pass none when leaving SafeOp.
-    pub fn set_rxpdo_mapped(&mut self, entries: impl IntoIterator<Item = Multiplexer>) {
+    pub fn set_rxpdo_mapped(&mut self, entries: impl IntoIterator<Item = Address>) {
         self.rxpdo = entries.into_iter().collect();
     }
 
     /// The entries marked with [`set_rxpdo_mapped`](CoeServer::set_rxpdo_mapped).
-    pub fn rxpdo_mapped(&self) -> &HashSet<Multiplexer> {
+    pub fn rxpdo_mapped(&self) -> &HashSet<Address> {
         &self.rxpdo
     }
 
@@ -380,7 +380,7 @@ impl CoeServer {
         &mut self,
         now: Instant,
         mailbox: &[u8],
-        timed_out: Option<Multiplexer>,
+        timed_out: Option<Address>,
         d: &mut Dictionary,
     ) -> Option<Answer> {
         let Ok((header, data)) = MailboxHeader::split(mailbox) else {
@@ -400,7 +400,7 @@ impl CoeServer {
             return Some(Answer::MailboxError(MBXERR_SIZE_TOO_SHORT));
         };
         // Bytes 1–3, where initiate and abort frames carry the multiplexer.
-        let raw_mux = Multiplexer::new(u16::from_le_bytes([raw[1], raw[2]]), raw[3]);
+        let raw_mux = Address::new(u16::from_le_bytes([raw[1], raw[2]]), raw[3]);
         match CoeSdo::parse(CoeService::SdoRequest, sdo) {
             Ok(request) => self.request(now, request, raw_mux, timed_out, d),
             Err(CoeSdoError::Abort(code)) => Some(self.unexpected(now, raw_mux, code)),
@@ -413,8 +413,8 @@ impl CoeServer {
         &mut self,
         now: Instant,
         request: CoeSdo<'_>,
-        raw_mux: Multiplexer,
-        timed_out: Option<Multiplexer>,
+        raw_mux: Address,
+        timed_out: Option<Address>,
         d: &mut Dictionary,
     ) -> Option<Answer> {
         let CoeSdo {
@@ -485,7 +485,7 @@ impl CoeServer {
     fn download_expedited(
         &mut self,
         now: Instant,
-        mux: Multiplexer,
+        mux: Address,
         data: ExpeditedData,
         complete: bool,
         d: &mut Dictionary,
@@ -508,7 +508,7 @@ impl CoeServer {
     fn download(
         &mut self,
         now: Instant,
-        mux: Multiplexer,
+        mux: Address,
         size: Option<u32>,
         complete: bool,
         data: &[u8],
@@ -578,13 +578,7 @@ impl CoeServer {
     }
 
     /// Upload request (§5.6.2.4, §5.6.2.5).
-    fn upload(
-        &mut self,
-        now: Instant,
-        mux: Multiplexer,
-        complete: bool,
-        d: &mut Dictionary,
-    ) -> Answer {
+    fn upload(&mut self, now: Instant, mux: Address, complete: bool, d: &mut Dictionary) -> Answer {
         if let Some(refused) = self.check_complete(mux, complete) {
             return refused;
         }
@@ -653,8 +647,8 @@ impl CoeServer {
         &mut self,
         now: Instant,
         transfer: Option<Transfer>,
-        raw_mux: Multiplexer,
-        timed_out: Option<Multiplexer>,
+        raw_mux: Address,
+        timed_out: Option<Address>,
     ) -> Answer {
         match (transfer, timed_out) {
             (Some(t), _) => self.fail(now, t.mux(), AbortCode::InvalidCommand),
@@ -666,7 +660,7 @@ impl CoeServer {
 
     /// A request that does not fit: it ends the running transfer, and is answered with `code` about
     /// that transfer, or about `raw_mux` (bytes 1–3 of the request) when none runs.
-    fn unexpected(&mut self, now: Instant, raw_mux: Multiplexer, code: AbortCode) -> Answer {
+    fn unexpected(&mut self, now: Instant, raw_mux: Address, code: AbortCode) -> Answer {
         match self.transfer.take() {
             Some(t) => self.fail(now, t.mux(), code),
             None => self.refuse(raw_mux, code),
@@ -675,19 +669,19 @@ impl CoeServer {
 
     /// The start of a complete access is sub-index 0 or 1 (ETG.1000.6 §5.6.2.1.2): a later one is
     /// refused with 0x06010000.
-    fn check_complete(&mut self, mux: Multiplexer, complete: bool) -> Option<Answer> {
+    fn check_complete(&mut self, mux: Address, complete: bool) -> Option<Answer> {
         (complete && mux.sub > 1).then(|| self.refuse(mux, AbortCode::UnsupportedAccess))
     }
 
     /// Ends the transfer about `mux` with `code` and answers with the abort.
-    fn fail(&mut self, now: Instant, mux: Multiplexer, code: AbortCode) -> Answer {
+    fn fail(&mut self, now: Instant, mux: Address, code: AbortCode) -> Answer {
         self.transfer = None;
         self.engine.fail(now, mux, code);
         Answer::abort(mux, code)
     }
 
     /// Answers a request with an abort while no transfer runs, and reports it.
-    fn refuse(&mut self, mux: Multiplexer, code: AbortCode) -> Answer {
+    fn refuse(&mut self, mux: Address, code: AbortCode) -> Answer {
         self.engine.push_event(ServerEvent::Aborted {
             mux,
             code,

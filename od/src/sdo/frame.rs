@@ -11,6 +11,8 @@
 //! [`AbortCode::InvalidCommand`] (0x05040001).
 
 use crate::abort::AbortCode;
+/// The multiplexer of a transfer is the [`Address`] of its entry.
+pub use crate::dict::Address;
 
 /// The length of an SDO frame on CAN.
 pub const FRAME_LEN: usize = 8;
@@ -19,31 +21,16 @@ pub const FRAME_LEN: usize = 8;
 pub type Frame = [u8; FRAME_LEN];
 
 /// Index and sub-index of the entry a transfer is about (bytes 1–3 of initiate and abort frames).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct Multiplexer {
-    /// Index.
-    pub index: u16,
-    /// Sub-index.
-    pub sub: u8,
+fn read_address(f: &Frame) -> Address {
+    Address {
+        index: u16::from_le_bytes([f[1], f[2]]),
+        sub: f[3],
+    }
 }
 
-impl Multiplexer {
-    /// `index:sub`.
-    pub const fn new(index: u16, sub: u8) -> Multiplexer {
-        Multiplexer { index, sub }
-    }
-
-    fn read(f: &Frame) -> Multiplexer {
-        Multiplexer {
-            index: u16::from_le_bytes([f[1], f[2]]),
-            sub: f[3],
-        }
-    }
-
-    fn write(self, f: &mut Frame) {
-        f[1..3].copy_from_slice(&self.index.to_le_bytes());
-        f[3] = self.sub;
-    }
+fn write_address(a: Address, f: &mut Frame) {
+    f[1..3].copy_from_slice(&a.index.to_le_bytes());
+    f[3] = a.sub;
 }
 
 /// Data carried in bytes 1–7 of a segment: 0 to 7 bytes.
@@ -177,14 +164,14 @@ pub enum ClientFrame {
     /// Initiate SDO download, expedited (ccs = 1, e = 1).
     InitiateDownloadExpedited {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// The value.
         data: ExpeditedData,
     },
     /// Initiate SDO download, segmented (ccs = 1, e = 0); `size` is `None` when not indicated (s = 0).
     InitiateDownloadSegmented {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// The number of bytes to come.
         size: Option<u32>,
     },
@@ -200,7 +187,7 @@ pub enum ClientFrame {
     /// Initiate SDO upload (ccs = 2).
     InitiateUpload {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
     },
     /// Upload SDO segment request (ccs = 3).
     UploadSegment {
@@ -210,14 +197,14 @@ pub enum ClientFrame {
     /// Abort SDO transfer (cs = 4).
     Abort {
         /// The entry of the aborted transfer.
-        mux: Multiplexer,
+        mux: Address,
         /// Why.
         code: AbortCode,
     },
     /// Initiate block download (ccs = 6, cs = 0).
     InitiateBlockDownload {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// True when the client supports CRC (cc).
         crc: bool,
         /// The size, when indicated (s = 1).
@@ -233,7 +220,7 @@ pub enum ClientFrame {
     /// Initiate block upload (ccs = 5, cs = 0).
     InitiateBlockUpload {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// True when the client supports CRC (cc).
         crc: bool,
         /// Number of segments per block, 1–127.
@@ -261,7 +248,7 @@ pub enum ServerFrame {
     /// Initiate SDO download response (scs = 3).
     InitiateDownload {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
     },
     /// Download SDO segment response (scs = 1).
     DownloadSegment {
@@ -271,14 +258,14 @@ pub enum ServerFrame {
     /// Initiate SDO upload response, expedited (scs = 2, e = 1).
     InitiateUploadExpedited {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// The value.
         data: ExpeditedData,
     },
     /// Initiate SDO upload response, segmented (scs = 2, e = 0).
     InitiateUploadSegmented {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// The size, when indicated.
         size: Option<u32>,
     },
@@ -294,14 +281,14 @@ pub enum ServerFrame {
     /// Abort SDO transfer (cs = 4).
     Abort {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// Why.
         code: AbortCode,
     },
     /// Initiate block download response (scs = 5, ss = 0).
     InitiateBlockDownload {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// True when the server supports CRC (sc).
         crc: bool,
         /// Segments per block, 1–127.
@@ -319,7 +306,7 @@ pub enum ServerFrame {
     /// Initiate block upload response (scs = 6, ss = 0).
     InitiateBlockUpload {
         /// The entry.
-        mux: Multiplexer,
+        mux: Address,
         /// True when the server supports CRC (sc).
         crc: bool,
         /// The size, when indicated (s = 1).
@@ -372,10 +359,10 @@ impl BlockSegment {
     }
 }
 
-fn abort_frame(mux: Multiplexer, code: AbortCode) -> Frame {
+fn abort_frame(mux: Address, code: AbortCode) -> Frame {
     let mut f = [0u8; 8];
     f[0] = 0x80;
-    mux.write(&mut f);
+    write_address(mux, &mut f);
     f[4..8].copy_from_slice(&code.code().to_le_bytes());
     f
 }
@@ -412,19 +399,19 @@ fn initiate(f: &Frame) -> Initiate {
     }
 }
 
-fn emit_expedited(cs: u8, mux: Multiplexer, data: &ExpeditedData) -> Frame {
+fn emit_expedited(cs: u8, mux: Address, data: &ExpeditedData) -> Frame {
     let mut f = [0u8; 8];
     let (n, s) = data.n_and_s();
     f[0] = (cs << 5) | (n << 2) | 0x02 | s as u8;
-    mux.write(&mut f);
+    write_address(mux, &mut f);
     f[4..4 + data.as_slice().len()].copy_from_slice(data.as_slice());
     f
 }
 
-fn emit_sized(cs: u8, mux: Multiplexer, size: Option<u32>) -> Frame {
+fn emit_sized(cs: u8, mux: Address, size: Option<u32>) -> Frame {
     let mut f = [0u8; 8];
     f[0] = (cs << 5) | size.is_some() as u8;
-    mux.write(&mut f);
+    write_address(mux, &mut f);
     f[4..8].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
     f
 }
@@ -434,10 +421,10 @@ fn block_initiate(f: &Frame) -> (bool, Option<u32>) {
     (f[0] & 0x04 != 0, (f[0] & 0x02 != 0).then(|| size_field(f)))
 }
 
-fn emit_block_initiate(cs: u8, mux: Multiplexer, crc: bool, size: Option<u32>) -> Frame {
+fn emit_block_initiate(cs: u8, mux: Address, crc: bool, size: Option<u32>) -> Frame {
     let mut f = [0u8; 8];
     f[0] = (cs << 5) | ((crc as u8) << 2) | ((size.is_some() as u8) << 1);
-    mux.write(&mut f);
+    write_address(mux, &mut f);
     f[4..8].copy_from_slice(&size.unwrap_or(0).to_le_bytes());
     f
 }
@@ -474,7 +461,7 @@ impl ClientFrame {
     /// Parses a client frame (not a block segment: see [`BlockSegment`]).
     pub fn parse(f: &Frame) -> Result<ClientFrame, AbortCode> {
         let b = f[0];
-        let mux = Multiplexer::read(f);
+        let mux = read_address(f);
         Ok(match b >> 5 {
             0 => {
                 let (toggle, data, last) = segment(f);
@@ -535,7 +522,7 @@ impl ClientFrame {
             }
             ClientFrame::InitiateUpload { mux } => {
                 f[0] = 0x40;
-                mux.write(&mut f);
+                write_address(mux, &mut f);
             }
             ClientFrame::UploadSegment { toggle } => f[0] = 0x60 | ((toggle as u8) << 4),
             ClientFrame::Abort { mux, code } => return abort_frame(mux, code),
@@ -550,7 +537,7 @@ impl ClientFrame {
                 pst,
             } => {
                 f[0] = 0xA0 | ((crc as u8) << 2);
-                mux.write(&mut f);
+                write_address(mux, &mut f);
                 f[4] = blksize;
                 f[5] = pst;
             }
@@ -568,7 +555,7 @@ impl ServerFrame {
     /// Parses a server frame (not a block segment: see [`BlockSegment`]).
     pub fn parse(f: &Frame) -> Result<ServerFrame, AbortCode> {
         let b = f[0];
-        let mux = Multiplexer::read(f);
+        let mux = read_address(f);
         Ok(match b >> 5 {
             0 => {
                 let (toggle, data, last) = segment(f);
@@ -619,7 +606,7 @@ impl ServerFrame {
         match *self {
             ServerFrame::InitiateDownload { mux } => {
                 f[0] = 0x60;
-                mux.write(&mut f);
+                write_address(mux, &mut f);
             }
             ServerFrame::DownloadSegment { toggle } => f[0] = 0x20 | ((toggle as u8) << 4),
             ServerFrame::InitiateUploadExpedited { mux, data } => {
@@ -632,7 +619,7 @@ impl ServerFrame {
             ServerFrame::Abort { mux, code } => return abort_frame(mux, code),
             ServerFrame::InitiateBlockDownload { mux, crc, blksize } => {
                 f[0] = 0xA0 | ((crc as u8) << 2);
-                mux.write(&mut f);
+                write_address(mux, &mut f);
                 f[4] = blksize;
             }
             ServerFrame::BlockDownloadAck { ackseq, blksize } => {
@@ -692,8 +679,8 @@ impl Crc16 {
 mod tests {
     use super::*;
 
-    fn mux() -> Multiplexer {
-        Multiplexer::new(0x1017, 0x00)
+    fn mux() -> Address {
+        Address::new(0x1017, 0x00)
     }
 
     /// Each layout: parse the golden bytes, compare with the typed value, emit it back.
@@ -720,14 +707,14 @@ mod tests {
         client(
             [0x23, 0x00, 0x10, 0x00, 1, 2, 3, 4],
             ClientFrame::InitiateDownloadExpedited {
-                mux: Multiplexer::new(0x1000, 0),
+                mux: Address::new(0x1000, 0),
                 data: ExpeditedData::new(&[1, 2, 3, 4]),
             },
         );
         client(
             [0x21, 0x08, 0x10, 0x00, 0x20, 0x00, 0x00, 0x00],
             ClientFrame::InitiateDownloadSegmented {
-                mux: Multiplexer::new(0x1008, 0),
+                mux: Address::new(0x1008, 0),
                 size: Some(32),
             },
         );
@@ -751,7 +738,7 @@ mod tests {
         client(
             [0x40, 0x18, 0x10, 0x02, 0, 0, 0, 0],
             ClientFrame::InitiateUpload {
-                mux: Multiplexer::new(0x1018, 2),
+                mux: Address::new(0x1018, 2),
             },
         );
         client(
@@ -773,7 +760,7 @@ mod tests {
         client(
             [0xC6, 0x00, 0x20, 0x01, 0x00, 0x00, 0x10, 0x00],
             ClientFrame::InitiateBlockDownload {
-                mux: Multiplexer::new(0x2000, 1),
+                mux: Address::new(0x2000, 1),
                 crc: true,
                 size: Some(0x0010_0000),
             },
@@ -790,7 +777,7 @@ mod tests {
         client(
             [0xA4, 0x00, 0x20, 0x01, 0x7F, 0x04, 0, 0],
             ClientFrame::InitiateBlockUpload {
-                mux: Multiplexer::new(0x2000, 1),
+                mux: Address::new(0x2000, 1),
                 crc: true,
                 blksize: 127,
                 pst: 4,
@@ -825,21 +812,21 @@ mod tests {
         server(
             [0x4F, 0x01, 0x10, 0x00, 0x05, 0, 0, 0],
             ServerFrame::InitiateUploadExpedited {
-                mux: Multiplexer::new(0x1001, 0),
+                mux: Address::new(0x1001, 0),
                 data: ExpeditedData::new(&[5]),
             },
         );
         server(
             [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00],
             ServerFrame::InitiateUploadExpedited {
-                mux: Multiplexer::new(0x1000, 0),
+                mux: Address::new(0x1000, 0),
                 data: ExpeditedData::new(&[0x92, 0x01, 0x02, 0x00]),
             },
         );
         server(
             [0x41, 0x08, 0x10, 0x00, 0x09, 0, 0, 0],
             ServerFrame::InitiateUploadSegmented {
-                mux: Multiplexer::new(0x1008, 0),
+                mux: Address::new(0x1008, 0),
                 size: Some(9),
             },
         );
@@ -855,14 +842,14 @@ mod tests {
         server(
             [0x80, 0x00, 0x30, 0x00, 0x00, 0x00, 0x02, 0x06],
             ServerFrame::Abort {
-                mux: Multiplexer::new(0x3000, 0),
+                mux: Address::new(0x3000, 0),
                 code: AbortCode::NoObject,
             },
         );
         server(
             [0xA4, 0x00, 0x20, 0x01, 0x7F, 0, 0, 0],
             ServerFrame::InitiateBlockDownload {
-                mux: Multiplexer::new(0x2000, 1),
+                mux: Address::new(0x2000, 1),
                 crc: true,
                 blksize: 127,
             },
@@ -878,7 +865,7 @@ mod tests {
         server(
             [0xC6, 0x00, 0x20, 0x01, 0x00, 0x04, 0x00, 0x00],
             ServerFrame::InitiateBlockUpload {
-                mux: Multiplexer::new(0x2000, 1),
+                mux: Address::new(0x2000, 1),
                 crc: true,
                 size: Some(1024),
             },

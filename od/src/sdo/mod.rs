@@ -20,7 +20,7 @@ pub use client::{
     UploadSink, WriteSink,
 };
 pub use frame::{
-    BlockSegment, ClientFrame, Crc16, ExpeditedData, Frame, Multiplexer, SegmentData, ServerFrame,
+    Address, BlockSegment, ClientFrame, Crc16, ExpeditedData, Frame, SegmentData, ServerFrame,
 };
 pub use server::{SdoServer, ServerConfig, ServerEvent};
 pub use session::{SdoSession, SdoTransport, SessionError};

@@ -17,7 +17,7 @@ use crate::sdo::client::{
     ClientConfig, ClientEvent, DownloadData, DownloadSource, SdoClient, SdoClientError, UploadSink,
     MAX_READ_PER_CALL,
 };
-use crate::sdo::frame::{Frame, Multiplexer};
+use crate::sdo::frame::{Address, Frame};
 use crate::types::DataType;
 use crate::value::{Value, ValueError};
 
@@ -81,12 +81,12 @@ macro_rules! typed_access {
     ($($read:ident, $write:ident, $ty:ty, $data_type:expr;)*) => {
         $(
             #[doc = concat!("Reads a `", stringify!($ty), "` (", stringify!($data_type), ", little-endian).")]
-            pub fn $read(&mut self, mux: Multiplexer) -> Result<$ty, SessionError> {
+            pub fn $read(&mut self, mux: Address) -> Result<$ty, SessionError> {
                 Ok(<$ty>::from_le_bytes(self.read_array(mux, $data_type)?))
             }
 
             #[doc = concat!("Writes a `", stringify!($ty), "` (", stringify!($data_type), ", little-endian).")]
-            pub fn $write(&mut self, mux: Multiplexer, value: $ty) -> Result<(), SessionError> {
+            pub fn $write(&mut self, mux: Address, value: $ty) -> Result<(), SessionError> {
                 self.write_bytes(mux, &value.to_le_bytes())
             }
         )*
@@ -116,7 +116,7 @@ impl<T: SdoTransport> SdoSession<T> {
     }
 
     /// Reads a BOOLEAN: one byte, 0 or 1.
-    pub fn read_bool(&mut self, mux: Multiplexer) -> Result<bool, SessionError> {
+    pub fn read_bool(&mut self, mux: Address) -> Result<bool, SessionError> {
         let [b] = self.read_array(mux, DataType::Boolean)?;
         Ok(matches!(
             Value::decode(DataType::Boolean, &[b])?,
@@ -125,13 +125,13 @@ impl<T: SdoTransport> SdoSession<T> {
     }
 
     /// Writes a BOOLEAN: one byte, 0 or 1.
-    pub fn write_bool(&mut self, mux: Multiplexer, value: bool) -> Result<(), SessionError> {
+    pub fn write_bool(&mut self, mux: Address, value: bool) -> Result<(), SessionError> {
         self.write_bytes(mux, &[value as u8])
     }
 
     /// Reads a VISIBLE_STRING: UTF-8 when the bytes are, Latin-1 otherwise; trailing NUL bytes (a
     /// fixed-size buffer's padding) are cut.
-    pub fn read_string(&mut self, mux: Multiplexer) -> Result<String, SessionError> {
+    pub fn read_string(&mut self, mux: Address) -> Result<String, SessionError> {
         let mut bytes = self.read_bytes(mux)?;
         while bytes.last() == Some(&0) {
             bytes.pop();
@@ -143,17 +143,17 @@ impl<T: SdoTransport> SdoSession<T> {
     }
 
     /// Writes a VISIBLE_STRING (the string's UTF-8 bytes, no terminator).
-    pub fn write_string(&mut self, mux: Multiplexer, value: &str) -> Result<(), SessionError> {
+    pub fn write_string(&mut self, mux: Address, value: &str) -> Result<(), SessionError> {
         self.write_bytes(mux, value.as_bytes())
     }
 
     /// Reads the entry's bytes into memory (at most the client's upload limit).
-    pub fn read_bytes(&mut self, mux: Multiplexer) -> Result<Vec<u8>, SessionError> {
+    pub fn read_bytes(&mut self, mux: Address) -> Result<Vec<u8>, SessionError> {
         self.upload(mux, None)
     }
 
     /// Writes `data` to the entry.
-    pub fn write_bytes(&mut self, mux: Multiplexer, data: &[u8]) -> Result<(), SessionError> {
+    pub fn write_bytes(&mut self, mux: Address, data: &[u8]) -> Result<(), SessionError> {
         let now = self.transport.now();
         self.client.start_download(now, mux, data.to_vec())?;
         self.drive(&mut || Ok(()), &mut |_, _| {}).map(|_| ())
@@ -161,11 +161,7 @@ impl<T: SdoTransport> SdoSession<T> {
 
     /// Reads a value of `data_type`: the bytes must be a valid value of the type (exactly its size for
     /// the fixed-size types).
-    pub fn read_value(
-        &mut self,
-        mux: Multiplexer,
-        data_type: DataType,
-    ) -> Result<Value, SessionError> {
+    pub fn read_value(&mut self, mux: Address, data_type: DataType) -> Result<Value, SessionError> {
         let bytes = self.upload(mux, data_type.byte_size())?;
         Ok(Value::decode(data_type, &bytes)?)
     }
@@ -173,7 +169,7 @@ impl<T: SdoTransport> SdoSession<T> {
     /// Writes `value` encoded as `data_type`.
     pub fn write_value(
         &mut self,
-        mux: Multiplexer,
+        mux: Address,
         value: &Value,
         data_type: DataType,
     ) -> Result<(), SessionError> {
@@ -187,7 +183,7 @@ impl<T: SdoTransport> SdoSession<T> {
     /// has received part of the data.
     pub fn upload_to(
         &mut self,
-        mux: Multiplexer,
+        mux: Address,
         writer: &mut impl Write,
         mut progress: impl FnMut(u64, Option<u64>),
     ) -> Result<u64, SessionError> {
@@ -218,7 +214,7 @@ impl<T: SdoTransport> SdoSession<T> {
     /// fails or ends early aborts the transfer.
     pub fn download_from(
         &mut self,
-        mux: Multiplexer,
+        mux: Address,
         reader: &mut impl Read,
         len: u64,
         mut progress: impl FnMut(u64, Option<u64>),
@@ -264,7 +260,7 @@ impl<T: SdoTransport> SdoSession<T> {
     /// Reads exactly `N` bytes, the size of `data_type`.
     fn read_array<const N: usize>(
         &mut self,
-        mux: Multiplexer,
+        mux: Address,
         data_type: DataType,
     ) -> Result<[u8; N], SessionError> {
         let bytes = self.upload(mux, Some(N))?;
@@ -288,11 +284,7 @@ impl<T: SdoTransport> SdoSession<T> {
     }
 
     /// Uploads into memory; `expected` (a fixed size) keeps small values out of block mode.
-    fn upload(
-        &mut self,
-        mux: Multiplexer,
-        expected: Option<usize>,
-    ) -> Result<Vec<u8>, SessionError> {
+    fn upload(&mut self, mux: Address, expected: Option<usize>) -> Result<Vec<u8>, SessionError> {
         let now = self.transport.now();
         match expected {
             Some(n) => self.client.start_upload_expecting(now, mux, n as u64)?,

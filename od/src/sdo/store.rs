@@ -6,7 +6,7 @@
 
 use crate::abort::AbortCode;
 use crate::dict::Dictionary;
-use crate::sdo::frame::Multiplexer;
+use crate::sdo::frame::Address;
 
 /// How many bytes a download to an entry may bring (CiA 301 §7.2.4.3.3: the server refuses a download
 /// that announces more than the entry holds before any data comes).
@@ -25,25 +25,25 @@ pub enum DownloadCapacity {
 /// Every method answers a refusal with the CiA 301 abort code the server sends (§7.2.4.3.17).
 pub trait ObjectStore {
     /// The value of `mux` as an upload sends it; refused when the entry does not exist or is write-only.
-    fn upload(&mut self, mux: Multiplexer) -> Result<Vec<u8>, AbortCode>;
+    fn upload(&mut self, mux: Address) -> Result<Vec<u8>, AbortCode>;
 
     /// Whether `mux` may be downloaded to and how many bytes it takes, asked before any data is
     /// buffered: refused when the entry does not exist or is read-only or constant (0x06010002).
-    fn download_capacity(&self, mux: Multiplexer) -> Result<DownloadCapacity, AbortCode>;
+    fn download_capacity(&self, mux: Address) -> Result<DownloadCapacity, AbortCode>;
 
     /// Writes the whole value of a finished download, with every check (access, length, validity,
     /// limits). A refusal changes nothing.
-    fn download(&mut self, mux: Multiplexer, data: &[u8]) -> Result<(), AbortCode>;
+    fn download(&mut self, mux: Address, data: &[u8]) -> Result<(), AbortCode>;
 }
 
 impl ObjectStore for Dictionary {
-    fn upload(&mut self, mux: Multiplexer) -> Result<Vec<u8>, AbortCode> {
+    fn upload(&mut self, mux: Address) -> Result<Vec<u8>, AbortCode> {
         self.read(mux.index, mux.sub)
             .map(<[u8]>::to_vec)
             .map_err(|e| e.abort_code())
     }
 
-    fn download_capacity(&self, mux: Multiplexer) -> Result<DownloadCapacity, AbortCode> {
+    fn download_capacity(&self, mux: Address) -> Result<DownloadCapacity, AbortCode> {
         let entry = self.entry(mux.index, mux.sub).map_err(|e| e.abort_code())?;
         if !entry.access.kind.writable() {
             return Err(AbortCode::ReadOnly);
@@ -57,7 +57,7 @@ impl ObjectStore for Dictionary {
         })
     }
 
-    fn download(&mut self, mux: Multiplexer, data: &[u8]) -> Result<(), AbortCode> {
+    fn download(&mut self, mux: Address, data: &[u8]) -> Result<(), AbortCode> {
         self.write(mux.index, mux.sub, data)
             .map_err(|e| e.abort_code())
     }
@@ -96,27 +96,27 @@ mod tests {
     fn capacities() {
         let d = dict();
         assert_eq!(
-            d.download_capacity(Multiplexer::new(0x1017, 0)),
+            d.download_capacity(Address::new(0x1017, 0)),
             Ok(DownloadCapacity::Fixed(2))
         );
         assert_eq!(
-            d.download_capacity(Multiplexer::new(0x2000, 0)),
+            d.download_capacity(Address::new(0x2000, 0)),
             Ok(DownloadCapacity::UpTo(10))
         );
         assert_eq!(
-            d.download_capacity(Multiplexer::new(0x2001, 0)),
+            d.download_capacity(Address::new(0x2001, 0)),
             Ok(DownloadCapacity::Unbounded)
         );
         assert_eq!(
-            d.download_capacity(Multiplexer::new(0x1000, 0)),
+            d.download_capacity(Address::new(0x1000, 0)),
             Err(AbortCode::ReadOnly)
         );
         assert_eq!(
-            d.download_capacity(Multiplexer::new(0x3000, 0)),
+            d.download_capacity(Address::new(0x3000, 0)),
             Err(AbortCode::NoObject)
         );
         assert_eq!(
-            d.download_capacity(Multiplexer::new(0x1017, 1)),
+            d.download_capacity(Address::new(0x1017, 1)),
             Err(AbortCode::NoSubIndex)
         );
     }
@@ -125,25 +125,19 @@ mod tests {
     fn upload_and_download_check_access() {
         let mut d = dict();
         assert_eq!(
-            d.upload(Multiplexer::new(0x1000, 0)),
+            d.upload(Address::new(0x1000, 0)),
             Ok(vec![0x92, 0x01, 0x02, 0x00])
         );
+        assert_eq!(d.upload(Address::new(0x2001, 0)), Err(AbortCode::WriteOnly));
         assert_eq!(
-            d.upload(Multiplexer::new(0x2001, 0)),
-            Err(AbortCode::WriteOnly)
-        );
-        assert_eq!(
-            d.download(Multiplexer::new(0x1000, 0), &[0, 0, 0, 0]),
+            d.download(Address::new(0x1000, 0), &[0, 0, 0, 0]),
             Err(AbortCode::ReadOnly)
         );
         assert_eq!(
-            d.download(Multiplexer::new(0x1017, 0), &[1]),
+            d.download(Address::new(0x1017, 0), &[1]),
             Err(AbortCode::LengthTooLow)
         );
-        assert_eq!(
-            d.download(Multiplexer::new(0x1017, 0), &[0xE8, 0x03]),
-            Ok(())
-        );
+        assert_eq!(d.download(Address::new(0x1017, 0), &[0xE8, 0x03]), Ok(()));
         assert_eq!(d.read(0x1017, 0).unwrap(), &[0xE8, 0x03]);
     }
 }

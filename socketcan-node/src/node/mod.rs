@@ -38,7 +38,7 @@ use od::abort::AbortCode;
 use od::dict::Dictionary;
 use od::object::PdoMapping;
 use od::sdo::{
-    frame::Multiplexer,
+    frame::Address,
     server::{SdoServer, ServerConfig, ServerEvent},
     store::{DownloadCapacity, ObjectStore},
 };
@@ -1131,7 +1131,7 @@ impl<A: Application> Core<A> {
 }
 
 impl<A: Application> ObjectStore for Core<A> {
-    fn upload(&mut self, mux: Multiplexer) -> Result<Vec<u8>, AbortCode> {
+    fn upload(&mut self, mux: Address) -> Result<Vec<u8>, AbortCode> {
         let bytes = self
             .dict
             .read(mux.index, mux.sub)
@@ -1145,11 +1145,11 @@ impl<A: Application> ObjectStore for Core<A> {
         Ok(bytes.to_vec())
     }
 
-    fn download_capacity(&self, mux: Multiplexer) -> Result<DownloadCapacity, AbortCode> {
+    fn download_capacity(&self, mux: Address) -> Result<DownloadCapacity, AbortCode> {
         self.dict.download_capacity(mux)
     }
 
-    fn download(&mut self, mux: Multiplexer, data: &[u8]) -> Result<(), AbortCode> {
+    fn download(&mut self, mux: Address, data: &[u8]) -> Result<(), AbortCode> {
         let (index, sub) = (mux.index, mux.sub);
         let entry = self.dict.entry(index, sub).map_err(|e| e.abort_code())?;
         if !entry.access.kind.writable() {

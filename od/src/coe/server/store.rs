@@ -16,13 +16,13 @@ use std::collections::HashSet;
 use crate::abort::AbortCode;
 use crate::coe::complete;
 use crate::dict::Dictionary;
-use crate::sdo::frame::Multiplexer;
+use crate::sdo::frame::Address;
 use crate::sdo::store::{DownloadCapacity, ObjectStore};
 
 /// The dictionary as a CoE SDO server reads and writes it.
 pub(super) struct CoeStore<'a> {
     dict: &'a mut Dictionary,
-    rxpdo: &'a HashSet<Multiplexer>,
+    rxpdo: &'a HashSet<Address>,
     /// Complete access: the multiplexer names the object and the first sub-index (0 or 1).
     complete: bool,
 }
@@ -31,7 +31,7 @@ impl<'a> CoeStore<'a> {
     /// The store of one transfer: entry by entry, or the whole object when `complete`.
     pub(super) fn new(
         dict: &'a mut Dictionary,
-        rxpdo: &'a HashSet<Multiplexer>,
+        rxpdo: &'a HashSet<Address>,
         complete: bool,
     ) -> CoeStore<'a> {
         CoeStore {
@@ -42,7 +42,7 @@ impl<'a> CoeStore<'a> {
     }
 
     /// The EtherCAT rules for a download to `mux` (the object from `mux.sub` on, under complete access).
-    fn check_download(&self, mux: Multiplexer) -> Result<(), AbortCode> {
+    fn check_download(&self, mux: Address) -> Result<(), AbortCode> {
         let blocked = if self.complete {
             self.rxpdo
                 .iter()
@@ -78,7 +78,7 @@ pub fn is_pdo_configuration(index: u16) -> bool {
 /// up to the highest sub-index present, sub-index 0 as 16 bits. Refused when the object does not exist
 /// (0x06020000), is not an ARRAY or RECORD or has an entry of variable length (0x06010004), or has no
 /// entry that may be written (0x06010002).
-fn complete_capacity(d: &Dictionary, mux: Multiplexer) -> Result<DownloadCapacity, AbortCode> {
+fn complete_capacity(d: &Dictionary, mux: Address) -> Result<DownloadCapacity, AbortCode> {
     let object = d.object(mux.index).ok_or(AbortCode::NoObject)?;
     if !object.kind.has_subs() {
         return Err(AbortCode::CompleteAccessUnsupported);
@@ -101,7 +101,7 @@ fn complete_capacity(d: &Dictionary, mux: Multiplexer) -> Result<DownloadCapacit
 }
 
 impl ObjectStore for CoeStore<'_> {
-    fn upload(&mut self, mux: Multiplexer) -> Result<Vec<u8>, AbortCode> {
+    fn upload(&mut self, mux: Address) -> Result<Vec<u8>, AbortCode> {
         if self.complete {
             complete::upload(self.dict, mux.index, mux.sub == 0)
         } else {
@@ -109,7 +109,7 @@ impl ObjectStore for CoeStore<'_> {
         }
     }
 
-    fn download_capacity(&self, mux: Multiplexer) -> Result<DownloadCapacity, AbortCode> {
+    fn download_capacity(&self, mux: Address) -> Result<DownloadCapacity, AbortCode> {
         let capacity = if self.complete {
             complete_capacity(self.dict, mux)?
         } else {
@@ -119,7 +119,7 @@ impl ObjectStore for CoeStore<'_> {
         Ok(capacity)
     }
 
-    fn download(&mut self, mux: Multiplexer, data: &[u8]) -> Result<(), AbortCode> {
+    fn download(&mut self, mux: Address, data: &[u8]) -> Result<(), AbortCode> {
         self.check_download(mux)?;
         if self.complete {
             complete::download(self.dict, mux.index, mux.sub == 0, data)
@@ -134,15 +134,15 @@ impl ObjectStore for CoeStore<'_> {
 pub(super) struct Detached;
 
 impl ObjectStore for Detached {
-    fn upload(&mut self, _: Multiplexer) -> Result<Vec<u8>, AbortCode> {
+    fn upload(&mut self, _: Address) -> Result<Vec<u8>, AbortCode> {
         Err(AbortCode::General)
     }
 
-    fn download_capacity(&self, _: Multiplexer) -> Result<DownloadCapacity, AbortCode> {
+    fn download_capacity(&self, _: Address) -> Result<DownloadCapacity, AbortCode> {
         Err(AbortCode::General)
     }
 
-    fn download(&mut self, _: Multiplexer, _: &[u8]) -> Result<(), AbortCode> {
+    fn download(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
         Err(AbortCode::General)
     }
 }
@@ -210,17 +210,17 @@ mod tests {
         let none = HashSet::new();
         let mut store = CoeStore::new(&mut d, &none, false);
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x1600, 2)),
+            store.download_capacity(Address::new(0x1600, 2)),
             Err(AbortCode::SubIndex0MustBeZero)
         );
         assert_eq!(
-            store.download(Multiplexer::new(0x1600, 2), &[0x10, 0x02, 0x00, 0x70]),
+            store.download(Address::new(0x1600, 2), &[0x10, 0x02, 0x00, 0x70]),
             Err(AbortCode::SubIndex0MustBeZero)
         );
         // Sub-index 0 itself may be written; once it is 0 the entries may be too.
-        assert_eq!(store.download(Multiplexer::new(0x1600, 0), &[0]), Ok(()));
+        assert_eq!(store.download(Address::new(0x1600, 0), &[0]), Ok(()));
         assert_eq!(
-            store.download(Multiplexer::new(0x1600, 2), &[0x10, 0x02, 0x00, 0x70]),
+            store.download(Address::new(0x1600, 2), &[0x10, 0x02, 0x00, 0x70]),
             Ok(())
         );
         assert_eq!(d.read(0x1600, 2).unwrap(), &[0x10, 0x02, 0x00, 0x70]);
@@ -230,19 +230,19 @@ mod tests {
     fn rxpdo_mapped_entries_refuse_downloads() {
         let mut d = dict();
         d.write(0x1600, 0, &[0]).unwrap();
-        let mapped: HashSet<_> = [Multiplexer::new(0x1600, 1)].into();
+        let mapped: HashSet<_> = [Address::new(0x1600, 1)].into();
         let store = CoeStore::new(&mut d, &mapped, false);
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x1600, 1)),
+            store.download_capacity(Address::new(0x1600, 1)),
             Err(AbortCode::MappedToRxPdo)
         );
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x1600, 2)),
+            store.download_capacity(Address::new(0x1600, 2)),
             Ok(DownloadCapacity::Fixed(4))
         );
         let store = CoeStore::new(&mut d, &mapped, true);
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x1600, 0)),
+            store.download_capacity(Address::new(0x1600, 0)),
             Err(AbortCode::MappedToRxPdo)
         );
     }
@@ -254,24 +254,24 @@ mod tests {
         let store = CoeStore::new(&mut d, &none, true);
         // Sub-index 0 as 16 bits and two UNSIGNED32.
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x1600, 0)),
+            store.download_capacity(Address::new(0x1600, 0)),
             Ok(DownloadCapacity::UpTo(10))
         );
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x6000, 0)),
+            store.download_capacity(Address::new(0x6000, 0)),
             Err(AbortCode::ReadOnly)
         );
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x2000, 1)),
+            store.download_capacity(Address::new(0x2000, 1)),
             Err(AbortCode::CompleteAccessUnsupported)
         );
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x3000, 0)),
+            store.download_capacity(Address::new(0x3000, 0)),
             Err(AbortCode::NoObject)
         );
         // From sub-index 1 the rule of sub-index 0 applies as to a single entry.
         assert_eq!(
-            store.download_capacity(Multiplexer::new(0x1600, 1)),
+            store.download_capacity(Address::new(0x1600, 1)),
             Err(AbortCode::SubIndex0MustBeZero)
         );
     }

@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use super::store::Detached;
 use crate::abort::AbortCode;
-use crate::sdo::frame::{ClientFrame, Multiplexer, SegmentData, ServerFrame};
+use crate::sdo::frame::{Address, ClientFrame, SegmentData, ServerFrame};
 use crate::sdo::server::{SdoServer, ServerConfig, ServerEvent};
 use crate::sdo::store::ObjectStore;
 
@@ -65,7 +65,7 @@ impl Engine {
     pub(super) fn exchange(
         &mut self,
         now: Instant,
-        mux: Multiplexer,
+        mux: Address,
         frame: ClientFrame,
         store: &mut impl ObjectStore,
         keep_uploaded: bool,
@@ -95,13 +95,13 @@ impl Engine {
 
     /// Ends the transfer about `mux` after an answer the CoE server cannot use (which does not happen):
     /// aborted with 0x08000000 (general error).
-    pub(super) fn unexpected(&mut self, now: Instant, mux: Multiplexer) -> AbortCode {
+    pub(super) fn unexpected(&mut self, now: Instant, mux: Address) -> AbortCode {
         self.fail(now, mux, AbortCode::General);
         AbortCode::General
     }
 
     /// Ends the transfer about `mux` with an abort the CoE server decided on, and reports it.
-    pub(super) fn fail(&mut self, now: Instant, mux: Multiplexer, code: AbortCode) {
+    pub(super) fn fail(&mut self, now: Instant, mux: Address, code: AbortCode) {
         self.end_silently(now, mux);
         self.push_event(ServerEvent::Aborted {
             mux,
@@ -112,7 +112,7 @@ impl Engine {
 
     /// Ends the SDO server's transfer, if any, without writing anything and without an event: the CoE
     /// server reports the end itself.
-    pub(super) fn end_silently(&mut self, now: Instant, mux: Multiplexer) {
+    pub(super) fn end_silently(&mut self, now: Instant, mux: Address) {
         if self.server.is_busy() {
             let abort = ClientFrame::Abort {
                 mux,
@@ -141,7 +141,7 @@ pub(super) enum Part {
 #[derive(Debug)]
 pub(super) struct Download {
     /// The entry, or the object and first sub-index of a complete access.
-    pub(super) mux: Multiplexer,
+    pub(super) mux: Address,
     /// Complete access.
     pub(super) complete: bool,
     /// The toggle bit the master's next download segment must carry (0 on the first).
@@ -154,7 +154,7 @@ pub(super) struct Download {
 
 impl Download {
     /// A download of `size` bytes whose initiate the SDO server has accepted.
-    pub(super) fn new(mux: Multiplexer, complete: bool, size: u32) -> Download {
+    pub(super) fn new(mux: Address, complete: bool, size: u32) -> Download {
         Download {
             mux,
             complete,
@@ -223,7 +223,7 @@ impl Download {
 #[derive(Debug)]
 pub(super) struct Upload {
     /// The entry, or the object and first sub-index of a complete access.
-    pub(super) mux: Multiplexer,
+    pub(super) mux: Address,
     /// Complete access.
     pub(super) complete: bool,
     /// The toggle bit the master's next upload segment request must carry (0 on the first).
@@ -238,7 +238,7 @@ pub(super) struct Upload {
 
 impl Upload {
     /// An upload whose initiate the SDO server has answered with a segmented upload.
-    pub(super) fn new(mux: Multiplexer, complete: bool) -> Upload {
+    pub(super) fn new(mux: Address, complete: bool) -> Upload {
         Upload {
             mux,
             complete,

@@ -17,7 +17,7 @@
 //! it, and is 0 in the end frame otherwise.
 
 use crate::abort::AbortCode;
-use crate::sdo::frame::{BlockSegment, ClientFrame, Crc16, Frame, Multiplexer, ServerFrame};
+use crate::sdo::frame::{Address, BlockSegment, ClientFrame, Crc16, Frame, ServerFrame};
 
 use super::data::{check_size, crc_update, Failure, Sink, Source};
 use super::{Out, Step};
@@ -66,7 +66,7 @@ pub(super) struct BlockDownload {
 
 impl BlockDownload {
     /// Sends "initiate block download" with the size.
-    pub fn start(mux: Multiplexer, source: Source, crc: bool, out: &mut Out) -> BlockDownload {
+    pub fn start(mux: Address, source: Source, crc: bool, out: &mut Out) -> BlockDownload {
         out.send(ClientFrame::InitiateBlockDownload {
             mux,
             crc,
@@ -97,19 +97,14 @@ impl BlockDownload {
     }
 
     /// Takes a server frame (aborts are handled by the caller).
-    pub fn handle(&mut self, mux: Multiplexer, frame: ServerFrame, out: &mut Out) -> Step {
+    pub fn handle(&mut self, mux: Address, frame: ServerFrame, out: &mut Out) -> Step {
         match self.step(mux, frame, out) {
             Ok(step) => step,
             Err(f) => Step::Fail(f),
         }
     }
 
-    fn step(
-        &mut self,
-        mux: Multiplexer,
-        frame: ServerFrame,
-        out: &mut Out,
-    ) -> Result<Step, Failure> {
+    fn step(&mut self, mux: Address, frame: ServerFrame, out: &mut Out) -> Result<Step, Failure> {
         match (self.phase, frame) {
             (
                 DownloadPhase::Initiate,
@@ -214,7 +209,7 @@ pub(super) struct BlockUpload {
 impl BlockUpload {
     /// Sends "initiate block upload".
     pub fn start(
-        mux: Multiplexer,
+        mux: Address,
         sink: Sink,
         crc: bool,
         blksize: u8,
@@ -256,14 +251,14 @@ impl BlockUpload {
     }
 
     /// Takes a frame from the server (aborts are handled by the caller).
-    pub fn handle(&mut self, mux: Multiplexer, frame: &Frame, out: &mut Out) -> Step {
+    pub fn handle(&mut self, mux: Address, frame: &Frame, out: &mut Out) -> Step {
         match self.step(mux, frame, out) {
             Ok(step) => step,
             Err(f) => Step::Fail(f),
         }
     }
 
-    fn step(&mut self, mux: Multiplexer, frame: &Frame, out: &mut Out) -> Result<Step, Failure> {
+    fn step(&mut self, mux: Address, frame: &Frame, out: &mut Out) -> Result<Step, Failure> {
         let sink = self
             .sink
             .as_mut()

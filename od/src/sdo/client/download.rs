@@ -6,7 +6,7 @@
 //! by the server, `c = 1` on the last segment.
 
 use crate::abort::AbortCode;
-use crate::sdo::frame::{ClientFrame, ExpeditedData, Multiplexer, SegmentData, ServerFrame};
+use crate::sdo::frame::{Address, ClientFrame, ExpeditedData, SegmentData, ServerFrame};
 
 use super::data::{Failure, Source};
 use super::{ClientEvent, Out, Step};
@@ -37,7 +37,7 @@ pub(super) struct Download {
 impl Download {
     /// Starts the transfer: expedited for 1–4 bytes (the value read at once), segmented otherwise
     /// (the size is always indicated). The source must hold at most `u32::MAX` bytes.
-    pub fn start(mux: Multiplexer, mut source: Source, out: &mut Out) -> Result<Download, Failure> {
+    pub fn start(mux: Address, mut source: Source, out: &mut Out) -> Result<Download, Failure> {
         let len = source.len();
         let expedited = (1..=4).contains(&len);
         if expedited {
@@ -65,7 +65,7 @@ impl Download {
     }
 
     /// Takes a server frame (aborts are handled by the caller).
-    pub fn handle(&mut self, mux: Multiplexer, frame: ServerFrame, out: &mut Out) -> Step {
+    pub fn handle(&mut self, mux: Address, frame: ServerFrame, out: &mut Out) -> Step {
         match (&self.phase, frame) {
             (Phase::Initiate, ServerFrame::InitiateDownload { mux: m }) if m == mux => {
                 if self.expedited {

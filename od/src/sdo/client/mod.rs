@@ -18,7 +18,7 @@ use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use crate::abort::AbortCode;
-use crate::sdo::frame::{BlockSegment, ClientFrame, Frame, Multiplexer, ServerFrame};
+use crate::sdo::frame::{Address, BlockSegment, ClientFrame, Frame, ServerFrame};
 
 use self::block::{BlockDownload, BlockUpload};
 use self::data::{Failure, Sink, Source};
@@ -183,7 +183,7 @@ enum State {
 
 /// The running transfer.
 struct Transfer {
-    mux: Multiplexer,
+    mux: Address,
     state: State,
 }
 
@@ -280,7 +280,7 @@ impl SdoClient {
     pub fn start_download(
         &mut self,
         now: Instant,
-        mux: Multiplexer,
+        mux: Address,
         data: impl Into<DownloadData>,
     ) -> Result<(), SdoClientError> {
         if self.is_busy() {
@@ -307,7 +307,7 @@ impl SdoClient {
     }
 
     /// Starts reading the server's entry `mux` into memory; block upload when block transfer is on.
-    pub fn start_upload(&mut self, now: Instant, mux: Multiplexer) -> Result<(), SdoClientError> {
+    pub fn start_upload(&mut self, now: Instant, mux: Address) -> Result<(), SdoClientError> {
         let sink = self.memory_sink();
         self.begin_upload(now, mux, sink, self.config.block)
     }
@@ -318,7 +318,7 @@ impl SdoClient {
     pub fn start_upload_expecting(
         &mut self,
         now: Instant,
-        mux: Multiplexer,
+        mux: Address,
         expected: u64,
     ) -> Result<(), SdoClientError> {
         let sink = self.memory_sink();
@@ -331,7 +331,7 @@ impl SdoClient {
     pub fn start_upload_to(
         &mut self,
         now: Instant,
-        mux: Multiplexer,
+        mux: Address,
         sink: Box<dyn UploadSink + Send>,
     ) -> Result<(), SdoClientError> {
         let sink = Sink::Stream { sink, written: 0 };
@@ -348,7 +348,7 @@ impl SdoClient {
     fn begin_upload(
         &mut self,
         now: Instant,
-        mux: Multiplexer,
+        mux: Address,
         sink: Sink,
         block: bool,
     ) -> Result<(), SdoClientError> {
@@ -370,7 +370,7 @@ impl SdoClient {
         Ok(())
     }
 
-    fn begin(&mut self, now: Instant, mux: Multiplexer, state: State) {
+    fn begin(&mut self, now: Instant, mux: Address, state: State) {
         self.transfer = Some(Transfer { mux, state });
         self.response_due = now.checked_add(self.config.timeout);
     }
@@ -436,7 +436,7 @@ impl SdoClient {
 
     /// The server aborted: a refused block initiate falls back to a normal transfer, any other abort
     /// ends the transfer.
-    fn server_abort(&mut self, now: Instant, mux: Multiplexer, state: State, code: AbortCode) {
+    fn server_abort(&mut self, now: Instant, mux: Address, state: State, code: AbortCode) {
         let mut out = self.out();
         let retry = match state {
             State::BlockDownload(b) if b.is_initiating() => {
@@ -465,7 +465,7 @@ impl SdoClient {
     }
 
     /// Ends the transfer from the client's side: abort frame on the wire, failure reported.
-    fn fail(&mut self, mux: Multiplexer, failure: Failure) {
+    fn fail(&mut self, mux: Address, failure: Failure) {
         self.transfer = None;
         self.response_due = None;
         self.block.clear();
@@ -531,7 +531,7 @@ impl SdoClient {
 
 impl Failure {
     /// The error reported for this failure of the transfer of `mux`.
-    fn into_error(self, mux: Multiplexer, by_server: bool) -> SdoClientError {
+    fn into_error(self, mux: Address, by_server: bool) -> SdoClientError {
         self.error.unwrap_or(SdoClientError::Aborted {
             index: mux.index,
             sub: mux.sub,

@@ -118,9 +118,7 @@ fn block_size_0_in_the_config_counts_as_1() {
         ..ClientConfig::default()
     });
     let now = std::time::Instant::now();
-    assert!(client
-        .start_upload(now, Multiplexer::new(0x2000, 0))
-        .is_ok());
+    assert!(client.start_upload(now, Address::new(0x2000, 0)).is_ok());
     assert_eq!(
         client.poll_transmit(),
         Some([0xA4, 0x00, 0x20, 0x00, 1, 0, 0, 0])
@@ -135,9 +133,7 @@ fn the_response_timer_follows_the_config() {
     });
     let now = std::time::Instant::now();
     assert_eq!(client.poll_timeout(), None);
-    assert!(client
-        .start_upload(now, Multiplexer::new(0x1000, 0))
-        .is_ok());
+    assert!(client.start_upload(now, Address::new(0x1000, 0)).is_ok());
     assert_eq!(
         client.poll_timeout(),
         Some(now + Duration::from_millis(250))

@@ -9,7 +9,7 @@
 //! §7.2.4.3.13, protocol switch threshold).
 
 use crate::abort::AbortCode;
-use crate::sdo::frame::{ClientFrame, Multiplexer, ServerFrame};
+use crate::sdo::frame::{Address, ClientFrame, ServerFrame};
 
 use super::data::{check_size, Failure, Sink};
 use super::{Out, Step};
@@ -34,7 +34,7 @@ pub(super) struct Upload {
 
 impl Upload {
     /// Sends "initiate upload".
-    pub fn start(mux: Multiplexer, sink: Sink, out: &mut Out) -> Upload {
+    pub fn start(mux: Address, sink: Sink, out: &mut Out) -> Upload {
         out.send(ClientFrame::InitiateUpload { mux });
         Upload::waiting(sink)
     }
@@ -51,19 +51,14 @@ impl Upload {
     }
 
     /// Takes a server frame (aborts are handled by the caller).
-    pub fn handle(&mut self, mux: Multiplexer, frame: ServerFrame, out: &mut Out) -> Step {
+    pub fn handle(&mut self, mux: Address, frame: ServerFrame, out: &mut Out) -> Step {
         match self.step(mux, frame, out) {
             Ok(step) => step,
             Err(f) => Step::Fail(f),
         }
     }
 
-    fn step(
-        &mut self,
-        mux: Multiplexer,
-        frame: ServerFrame,
-        out: &mut Out,
-    ) -> Result<Step, Failure> {
+    fn step(&mut self, mux: Address, frame: ServerFrame, out: &mut Out) -> Result<Step, Failure> {
         let sink = self
             .sink
             .as_mut()

@@ -4,7 +4,7 @@
 use super::download::{check_against_announced, check_complete, Limit};
 use super::{Reply, ServerConfig, ServerEvent, Step, Transfer};
 use crate::abort::AbortCode;
-use crate::sdo::frame::{BlockSegment, ClientFrame, Crc16, Frame, Multiplexer, ServerFrame};
+use crate::sdo::frame::{Address, BlockSegment, ClientFrame, Crc16, Frame, ServerFrame};
 use crate::sdo::store::ObjectStore;
 
 /// Data bytes of one block segment.
@@ -13,7 +13,7 @@ const SEGMENT_DATA: usize = 7;
 /// Initiate block download: checks the entry and the announced size, answers the server's block size
 /// and CRC support, buffers nothing.
 pub(super) fn initiate(
-    mux: Multiplexer,
+    mux: Address,
     crc: bool,
     size: Option<u32>,
     store: &mut impl ObjectStore,
@@ -45,7 +45,7 @@ pub(super) fn initiate(
 #[derive(Debug)]
 pub(super) struct BlockDownload {
     /// The entry.
-    pub(super) mux: Multiplexer,
+    pub(super) mux: Address,
     /// True when both sides use the CRC.
     crc: bool,
     /// The size the client announced.

@@ -6,7 +6,7 @@
 
 use super::{upload, Reply, ServerConfig, ServerEvent, Step, Transfer};
 use crate::abort::AbortCode;
-use crate::sdo::frame::{BlockSegment, ClientFrame, Crc16, Frame, Multiplexer, ServerFrame};
+use crate::sdo::frame::{Address, BlockSegment, ClientFrame, Crc16, Frame, ServerFrame};
 use crate::sdo::store::ObjectStore;
 
 /// Data bytes of one block segment.
@@ -19,7 +19,7 @@ const BLOCK_SIZES: std::ops::RangeInclusive<u8> = 1..=127;
 /// when the value is no longer than the client's protocol switch threshold, with a normal initiate upload
 /// response (CiA 301 §7.2.4.3.13: pst).
 pub(super) fn initiate(
-    mux: Multiplexer,
+    mux: Address,
     crc: bool,
     blksize: u8,
     pst: u8,
@@ -66,7 +66,7 @@ enum Phase {
 #[derive(Debug)]
 pub(super) struct BlockUpload {
     /// The entry.
-    pub(super) mux: Multiplexer,
+    pub(super) mux: Address,
     /// True when both sides use the CRC.
     crc: bool,
     /// The value.
@@ -158,7 +158,7 @@ mod tests {
 
     fn upload(len: usize, blksize: u8) -> BlockUpload {
         BlockUpload {
-            mux: Multiplexer::new(0x2000, 0),
+            mux: Address::new(0x2000, 0),
             crc: true,
             data: (0..len).map(|i| i as u8).collect(),
             blksize,

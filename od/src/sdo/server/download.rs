@@ -3,7 +3,7 @@
 
 use super::{Reply, ServerConfig, ServerEvent, Step, Transfer};
 use crate::abort::AbortCode;
-use crate::sdo::frame::{ClientFrame, ExpeditedData, Multiplexer, ServerFrame};
+use crate::sdo::frame::{Address, ClientFrame, ExpeditedData, ServerFrame};
 use crate::sdo::store::{DownloadCapacity, ObjectStore};
 
 /// The most bytes a download may bring, and the abort code of more.
@@ -84,7 +84,7 @@ pub(super) fn check_complete(len: usize, size: Option<u32>) -> Result<(), AbortC
 /// Expedited download (e = 1): the value is in the initiate frame. Without the size indicated (s = 0)
 /// the entry's fixed size is taken when it is at most four bytes, all four bytes otherwise.
 pub(super) fn expedited(
-    mux: Multiplexer,
+    mux: Address,
     data: ExpeditedData,
     store: &mut impl ObjectStore,
     config: &ServerConfig,
@@ -103,7 +103,7 @@ pub(super) fn expedited(
 
 /// Initiate of a segmented download (e = 0): checks the entry and the announced size, buffers nothing.
 pub(super) fn initiate(
-    mux: Multiplexer,
+    mux: Address,
     size: Option<u32>,
     store: &mut impl ObjectStore,
     config: &ServerConfig,
@@ -127,7 +127,7 @@ pub(super) fn initiate(
 #[derive(Debug)]
 pub(super) struct Segmented {
     /// The entry.
-    pub(super) mux: Multiplexer,
+    pub(super) mux: Address,
     /// The toggle bit the next segment must carry (0 on the first).
     toggle: bool,
     /// The size the client announced.

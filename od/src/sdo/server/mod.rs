@@ -16,7 +16,7 @@ use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use crate::abort::AbortCode;
-use crate::sdo::frame::{ClientFrame, Frame, Multiplexer, ServerFrame};
+use crate::sdo::frame::{Address, ClientFrame, Frame, ServerFrame};
 use crate::sdo::store::ObjectStore;
 
 /// How a server behaves: its transfer timeout, block size, CRC support and DOMAIN limit.
@@ -54,18 +54,18 @@ pub enum ServerEvent {
     /// A download finished and its value is in the store.
     Downloaded {
         /// The entry written.
-        mux: Multiplexer,
+        mux: Address,
     },
     /// An upload finished: the client has the whole value.
     Uploaded {
         /// The entry read.
-        mux: Multiplexer,
+        mux: Address,
     },
     /// A transfer ended with an abort: sent by the server (`by_client = false`, the abort frame is on its
     /// way) or received from the client (`by_client = true`, nothing is sent).
     Aborted {
         /// The entry of the transfer.
-        mux: Multiplexer,
+        mux: Address,
         /// Why.
         code: AbortCode,
         /// True when the client aborted.
@@ -75,7 +75,7 @@ pub enum ServerEvent {
     /// and no abort frame is sent for it.
     Superseded {
         /// The entry of the transfer that ended.
-        mux: Multiplexer,
+        mux: Address,
     },
 }
 
@@ -101,7 +101,7 @@ enum Transfer {
 }
 
 impl Transfer {
-    fn mux(&self) -> Multiplexer {
+    fn mux(&self) -> Address {
         match self {
             Transfer::Download(t) => t.mux,
             Transfer::Upload(t) => t.mux,
@@ -377,7 +377,7 @@ impl SdoServer {
     }
 
     /// Carries out a step of the transfer about `mux`.
-    fn apply(&mut self, now: Instant, mux: Multiplexer, step: Step) {
+    fn apply(&mut self, now: Instant, mux: Address, step: Step) {
         match step {
             Ok(reply) => {
                 if let Some(f) = reply.frame {
@@ -402,7 +402,7 @@ impl SdoServer {
     }
 
     /// Sends an abort frame and reports it.
-    fn abort(&mut self, mux: Multiplexer, code: AbortCode) {
+    fn abort(&mut self, mux: Address, code: AbortCode) {
         self.push_transmit(ServerFrame::Abort { mux, code }.emit());
         self.push_event(ServerEvent::Aborted {
             mux,
@@ -427,6 +427,6 @@ impl SdoServer {
 }
 
 /// Bytes 1–3 of a frame read as a multiplexer (where initiate and abort frames carry it).
-fn frame_mux(frame: &Frame) -> Multiplexer {
-    Multiplexer::new(u16::from_le_bytes([frame[1], frame[2]]), frame[3])
+fn frame_mux(frame: &Frame) -> Address {
+    Address::new(u16::from_le_bytes([frame[1], frame[2]]), frame[3])
 }

@@ -3,18 +3,18 @@
 
 use super::{Reply, ServerEvent, Step, Transfer};
 use crate::abort::AbortCode;
-use crate::sdo::frame::{ClientFrame, ExpeditedData, Multiplexer, SegmentData, ServerFrame};
+use crate::sdo::frame::{Address, ClientFrame, ExpeditedData, SegmentData, ServerFrame};
 use crate::sdo::store::ObjectStore;
 
 /// Initiate SDO upload: reads the entry and answers.
-pub(super) fn initiate(mux: Multiplexer, store: &mut impl ObjectStore) -> Step {
+pub(super) fn initiate(mux: Address, store: &mut impl ObjectStore) -> Step {
     let data = store.upload(mux)?;
     Ok(respond(mux, data))
 }
 
 /// The initiate upload response for `data`: expedited for one to four bytes (s = 1, n), segmented with the
 /// size indicated otherwise (an empty value too: an expedited frame cannot say "no byte").
-pub(super) fn respond(mux: Multiplexer, data: Vec<u8>) -> Reply {
+pub(super) fn respond(mux: Address, data: Vec<u8>) -> Reply {
     if (1..=4).contains(&data.len()) {
         return Reply::send(ServerFrame::InitiateUploadExpedited {
             mux,
@@ -37,7 +37,7 @@ pub(super) fn respond(mux: Multiplexer, data: Vec<u8>) -> Reply {
 #[derive(Debug)]
 pub(super) struct Segmented {
     /// The entry.
-    pub(super) mux: Multiplexer,
+    pub(super) mux: Address,
     /// The toggle bit the next request must carry (0 on the first).
     toggle: bool,
     /// The value.
