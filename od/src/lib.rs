@@ -6,6 +6,10 @@
 //! - [`device`]: a [`DeviceDescription`] (identity, dictionary, format-specific parts).
 //! - [`esi`], [`xdd`], [`eds`]: readers and writers of EtherCAT ESI, CiA 311 XDD and CiA 306 EDS/DCF;
 //!   [`doc`] writes a Markdown reference; [`diff`] compares two descriptions.
+//! - [`hook`]: the one way a device model sits behind its dictionary ([`hook::DeviceHook`]), and the
+//!   process image of a PDO or SyncManager decoded from its mapping objects.
+//! - [`sdo`] (CiA 301 SDO server and client, sans-IO) and [`coe`] (the EtherCAT CoE server) serve a
+//!   dictionary and its model.
 #![deny(missing_docs)]
 
 pub mod abort;
@@ -17,6 +21,7 @@ pub mod doc;
 pub mod eds;
 pub mod error;
 pub mod esi;
+pub mod hook;
 pub mod load;
 pub mod object;
 pub mod report;

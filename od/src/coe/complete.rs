@@ -8,7 +8,8 @@
 //! refuse complete access with 0x06010004.
 
 use crate::abort::AbortCode;
-use crate::dict::Dictionary;
+use crate::dict::{Address, Dictionary};
+use crate::hook::{get_bits, put_bits, DeviceHook, NoHook};
 use crate::object::SubObject;
 
 /// The sub-indices that take part, with each one's bit size, or the refusal.
@@ -45,12 +46,24 @@ fn bits_of(entry: &SubObject) -> Result<u32, AbortCode> {
 
 /// Reads object `index` whole, access checked per entry (a write-only entry refuses with 0x06010001).
 pub fn upload(d: &Dictionary, index: u16, from_sub0: bool) -> Result<Vec<u8>, AbortCode> {
+    upload_through(d, &NoHook, index, from_sub0)
+}
+
+/// [`upload`] with the current values of what `hook` owns ([`crate::hook::value`]).
+pub fn upload_through(
+    d: &Dictionary,
+    hook: &dyn DeviceHook,
+    index: u16,
+    from_sub0: bool,
+) -> Result<Vec<u8>, AbortCode> {
     let layout = layout(d, index, from_sub0)?;
     let total: u32 = layout.iter().map(|&(_, b)| b).sum();
     let mut out = vec![0u8; total.div_ceil(8) as usize];
     let mut bit = 0u32;
+    let mut buf = [0u8; 8];
     for (sub, bits) in layout {
-        let bytes = d.read(index, sub).map_err(|e| e.abort_code())?;
+        d.read(index, sub).map_err(|e| e.abort_code())?;
+        let bytes = crate::hook::value(d, hook, Address::new(index, sub), &mut buf);
         let width = if sub == 0 && from_sub0 { 8 } else { bits };
         put_bits(&mut out, bit, width, bytes);
         bit += bits;
@@ -63,6 +76,18 @@ pub fn upload(d: &Dictionary, index: u16, from_sub0: bool) -> Result<Vec<u8>, Ab
 /// is the new number of entries: the entries up to it are written, and sub-index 0 last.
 pub fn download(
     d: &mut Dictionary,
+    index: u16,
+    from_sub0: bool,
+    data: &[u8],
+) -> Result<(), AbortCode> {
+    download_through(d, &mut NoHook, index, from_sub0, data)
+}
+
+/// [`download`] with `hook` behind the dictionary: the entries it owns are checked by it too
+/// ([`DeviceHook::check`]) before anything is written, then given to it in sub-index order.
+pub fn download_through(
+    d: &mut Dictionary,
+    hook: &mut dyn DeviceHook,
     index: u16,
     from_sub0: bool,
     data: &[u8],
@@ -113,44 +138,27 @@ pub fn download(
         }
         d.check(index, sub, bytes).map_err(|e| e.abort_code())
     };
-    for (sub, bytes) in &writes {
-        writable(d, *sub, bytes)?;
-    }
-    for (sub, bytes) in writes {
-        if d.entry(index, sub)
+    let owned = hook.owns(index);
+    let is_writable = |d: &Dictionary, sub: u8| {
+        d.entry(index, sub)
             .map(|e| e.access.kind.writable())
             .unwrap_or(false)
-        {
+    };
+    for (sub, bytes) in &writes {
+        writable(d, *sub, bytes)?;
+        if owned && is_writable(d, *sub) {
+            hook.check(Address::new(index, *sub), bytes)?;
+        }
+    }
+    for (sub, bytes) in writes {
+        if is_writable(d, sub) {
+            if owned {
+                hook.write(Address::new(index, sub), &bytes)?;
+            }
             d.write(index, sub, &bytes).map_err(|e| e.abort_code())?;
         }
     }
     Ok(())
-}
-
-/// Copies the low `bits` bits of `value` (little-endian) into `out` at bit offset `at`.
-fn put_bits(out: &mut [u8], at: u32, bits: u32, value: &[u8]) {
-    for i in 0..bits {
-        let v = value
-            .get((i / 8) as usize)
-            .map_or(0, |b| (b >> (i % 8)) & 1);
-        let pos = at + i;
-        if let Some(byte) = out.get_mut((pos / 8) as usize) {
-            *byte |= v << (pos % 8);
-        }
-    }
-}
-
-/// Reads `bits` bits of `data` at bit offset `at` into little-endian bytes.
-fn get_bits(data: &[u8], at: u32, bits: u32) -> Vec<u8> {
-    let mut out = vec![0u8; bits.div_ceil(8) as usize];
-    for i in 0..bits {
-        let pos = at + i;
-        let v = data
-            .get((pos / 8) as usize)
-            .map_or(0, |b| (b >> (pos % 8)) & 1);
-        out[(i / 8) as usize] |= v << (i % 8);
-    }
-    out
 }
 
 #[cfg(test)]

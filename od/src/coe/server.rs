@@ -23,6 +23,7 @@ use crate::abort::AbortCode;
 use crate::coe::mailbox::{CoeHeader, CoeService, MailboxHeader, MailboxType, MAILBOX_HEADER_LEN};
 use crate::coe::sdo::{CoeSdo, CoeSdoCommand, CoeSdoError};
 use crate::dict::Dictionary;
+use crate::hook::{Bound, Objects};
 use crate::sdo::frame::{Address, ClientFrame, ExpeditedData, SegmentData, ServerFrame};
 use crate::sdo::server::{ServerConfig, ServerEvent};
 
@@ -306,7 +307,14 @@ impl CoeServer {
     }
 
     /// Handles a mailbox the master wrote, received at `now`.
-    pub fn handle_mailbox(&mut self, now: Instant, mailbox: &[u8], d: &mut Dictionary) {
+    pub fn handle_mailbox<O: Objects + ?Sized>(
+        &mut self,
+        now: Instant,
+        mailbox: &[u8],
+        objects: &mut O,
+    ) {
+        let (dict, hook) = objects.split();
+        let d = &mut Bound::new(dict, hook);
         self.handle_timeout(now);
         let Ok(header) = MailboxHeader::parse(mailbox) else {
             return;
@@ -318,7 +326,7 @@ impl CoeServer {
             return;
         }
         self.last_request = (header.counter != 0).then_some(header.counter);
-        if let Some(bodies) = information(mailbox, d, self.mailbox_size) {
+        if let Some(bodies) = information(mailbox, d.dict, self.mailbox_size) {
             // SDO Information: every fragment goes out, the master reads them one after the other.
             let mut last = None;
             for body in bodies {
@@ -381,7 +389,7 @@ impl CoeServer {
         now: Instant,
         mailbox: &[u8],
         timed_out: Option<Address>,
-        d: &mut Dictionary,
+        d: &mut Bound<'_>,
     ) -> Option<Answer> {
         let Ok((header, data)) = MailboxHeader::split(mailbox) else {
             return Some(Answer::MailboxError(MBXERR_INVALID_SIZE));
@@ -415,7 +423,7 @@ impl CoeServer {
         request: CoeSdo<'_>,
         raw_mux: Address,
         timed_out: Option<Address>,
-        d: &mut Dictionary,
+        d: &mut Bound<'_>,
     ) -> Option<Answer> {
         let CoeSdo {
             command: CoeSdoCommand::Request(frame),
@@ -488,7 +496,7 @@ impl CoeServer {
         mux: Address,
         data: ExpeditedData,
         complete: bool,
-        d: &mut Dictionary,
+        d: &mut Bound<'_>,
     ) -> Answer {
         if let Some(refused) = self.check_complete(mux, complete) {
             return refused;
@@ -512,7 +520,7 @@ impl CoeServer {
         size: Option<u32>,
         complete: bool,
         data: &[u8],
-        d: &mut Dictionary,
+        d: &mut Bound<'_>,
     ) -> Answer {
         if let Some(refused) = self.check_complete(mux, complete) {
             return refused;
@@ -553,7 +561,7 @@ impl CoeServer {
         toggle: bool,
         data: &[u8],
         last: bool,
-        d: &mut Dictionary,
+        d: &mut Bound<'_>,
     ) -> Answer {
         if toggle != t.toggle {
             return self.fail(now, t.mux, AbortCode::ToggleBit);
@@ -578,7 +586,7 @@ impl CoeServer {
     }
 
     /// Upload request (§5.6.2.4, §5.6.2.5).
-    fn upload(&mut self, now: Instant, mux: Address, complete: bool, d: &mut Dictionary) -> Answer {
+    fn upload(&mut self, now: Instant, mux: Address, complete: bool, d: &mut Bound<'_>) -> Answer {
         if let Some(refused) = self.check_complete(mux, complete) {
             return refused;
         }
@@ -621,7 +629,7 @@ impl CoeServer {
         now: Instant,
         mut t: Upload,
         toggle: bool,
-        d: &mut Dictionary,
+        d: &mut Bound<'_>,
     ) -> Answer {
         if toggle != t.toggle {
             return self.fail(now, t.mux, AbortCode::ToggleBit);

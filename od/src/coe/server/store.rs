@@ -16,26 +16,27 @@ use std::collections::HashSet;
 use crate::abort::AbortCode;
 use crate::coe::complete;
 use crate::dict::Dictionary;
+use crate::hook::Bound;
 use crate::sdo::frame::Address;
 use crate::sdo::store::{DownloadCapacity, ObjectStore};
 
 /// The dictionary as a CoE SDO server reads and writes it.
-pub(super) struct CoeStore<'a> {
-    dict: &'a mut Dictionary,
+pub(super) struct CoeStore<'a, 'b> {
+    objects: &'a mut Bound<'b>,
     rxpdo: &'a HashSet<Address>,
     /// Complete access: the multiplexer names the object and the first sub-index (0 or 1).
     complete: bool,
 }
 
-impl<'a> CoeStore<'a> {
+impl<'a, 'b> CoeStore<'a, 'b> {
     /// The store of one transfer: entry by entry, or the whole object when `complete`.
     pub(super) fn new(
-        dict: &'a mut Dictionary,
+        objects: &'a mut Bound<'b>,
         rxpdo: &'a HashSet<Address>,
         complete: bool,
-    ) -> CoeStore<'a> {
+    ) -> CoeStore<'a, 'b> {
         CoeStore {
-            dict,
+            objects,
             rxpdo,
             complete,
         }
@@ -55,6 +56,7 @@ impl<'a> CoeStore<'a> {
         }
         if mux.sub >= 1 && is_pdo_configuration(mux.index) {
             let count = self
+                .objects
                 .dict
                 .entry(mux.index, 0)
                 .ok()
@@ -100,20 +102,21 @@ fn complete_capacity(d: &Dictionary, mux: Address) -> Result<DownloadCapacity, A
     Ok(DownloadCapacity::UpTo(bits.div_ceil(8) as usize))
 }
 
-impl ObjectStore for CoeStore<'_> {
+impl ObjectStore for CoeStore<'_, '_> {
     fn upload(&mut self, mux: Address) -> Result<Vec<u8>, AbortCode> {
+        let o = &mut *self.objects;
         if self.complete {
-            complete::upload(self.dict, mux.index, mux.sub == 0)
+            complete::upload_through(o.dict, o.hook, mux.index, mux.sub == 0)
         } else {
-            self.dict.upload(mux)
+            o.upload(mux)
         }
     }
 
     fn download_capacity(&self, mux: Address) -> Result<DownloadCapacity, AbortCode> {
         let capacity = if self.complete {
-            complete_capacity(self.dict, mux)?
+            complete_capacity(self.objects.dict, mux)?
         } else {
-            self.dict.download_capacity(mux)?
+            self.objects.download_capacity(mux)?
         };
         self.check_download(mux)?;
         Ok(capacity)
@@ -121,10 +124,11 @@ impl ObjectStore for CoeStore<'_> {
 
     fn download(&mut self, mux: Address, data: &[u8]) -> Result<(), AbortCode> {
         self.check_download(mux)?;
+        let o = &mut *self.objects;
         if self.complete {
-            complete::download(self.dict, mux.index, mux.sub == 0, data)
+            complete::download_through(o.dict, o.hook, mux.index, mux.sub == 0, data)
         } else {
-            self.dict.download(mux, data)
+            o.download(mux, data)
         }
     }
 }
@@ -208,7 +212,9 @@ mod tests {
     fn sub_index_0_must_be_0_for_writing_entries() {
         let mut d = dict();
         let none = HashSet::new();
-        let mut store = CoeStore::new(&mut d, &none, false);
+        let mut hook = crate::hook::NoHook;
+        let mut bound = Bound::new(&mut d, &mut hook);
+        let mut store = CoeStore::new(&mut bound, &none, false);
         assert_eq!(
             store.download_capacity(Address::new(0x1600, 2)),
             Err(AbortCode::SubIndex0MustBeZero)
@@ -231,7 +237,9 @@ mod tests {
         let mut d = dict();
         d.write(0x1600, 0, &[0]).unwrap();
         let mapped: HashSet<_> = [Address::new(0x1600, 1)].into();
-        let store = CoeStore::new(&mut d, &mapped, false);
+        let mut hook = crate::hook::NoHook;
+        let mut bound = Bound::new(&mut d, &mut hook);
+        let store = CoeStore::new(&mut bound, &mapped, false);
         assert_eq!(
             store.download_capacity(Address::new(0x1600, 1)),
             Err(AbortCode::MappedToRxPdo)
@@ -240,7 +248,7 @@ mod tests {
             store.download_capacity(Address::new(0x1600, 2)),
             Ok(DownloadCapacity::Fixed(4))
         );
-        let store = CoeStore::new(&mut d, &mapped, true);
+        let store = CoeStore::new(&mut bound, &mapped, true);
         assert_eq!(
             store.download_capacity(Address::new(0x1600, 0)),
             Err(AbortCode::MappedToRxPdo)
@@ -251,7 +259,9 @@ mod tests {
     fn complete_capacities() {
         let mut d = dict();
         let none = HashSet::new();
-        let store = CoeStore::new(&mut d, &none, true);
+        let mut hook = crate::hook::NoHook;
+        let mut bound = Bound::new(&mut d, &mut hook);
+        let store = CoeStore::new(&mut bound, &none, true);
         // Sub-index 0 as 16 bits and two UNSIGNED32.
         assert_eq!(
             store.download_capacity(Address::new(0x1600, 0)),
