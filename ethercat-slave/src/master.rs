@@ -13,7 +13,69 @@ use ds402::smd::indexer::{Inputs, Outputs};
 use crate::esc::cmd;
 use crate::frame::{emit, parse, Datagram};
 use crate::raw::RawSocket;
-use crate::smd::{decode_inputs, encode_outputs, SmdChain, PROCESS_DATA_LEN};
+use crate::smd::SmdChain;
+
+/// Output bytes (0x7000:01–08) and input bytes (0x6000:01–07) of one unit, as its manual's Reference 6
+/// lays them out: the master's own layout, independent of the slave's image built from the ESI.
+pub const PROCESS_DATA_LEN: usize = 20;
+
+/// Decodes the 20 output bytes (0x7000:01–08, packed little-endian).
+pub fn decode_outputs(b: &[u8; PROCESS_DATA_LEN]) -> Outputs {
+    let u16_at = |o: usize| u16::from_le_bytes([b[o], b[o + 1]]);
+    let u32_at = |o: usize| u32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
+    Outputs {
+        cmd0: u16_at(0),
+        cmd1: u16_at(2),
+        position: u32_at(4) as i32,
+        velocity: u32_at(8),
+        acceleration: u16_at(12),
+        deceleration: u16_at(14),
+        motor_current: u16_at(16),
+        jerk: u16_at(18),
+    }
+}
+
+/// Encodes the 20 output bytes (what a master puts into SM2).
+pub fn encode_outputs(o: &Outputs) -> [u8; PROCESS_DATA_LEN] {
+    let mut b = [0u8; PROCESS_DATA_LEN];
+    b[0..2].copy_from_slice(&o.cmd0.to_le_bytes());
+    b[2..4].copy_from_slice(&o.cmd1.to_le_bytes());
+    b[4..8].copy_from_slice(&o.position.to_le_bytes());
+    b[8..12].copy_from_slice(&o.velocity.to_le_bytes());
+    b[12..14].copy_from_slice(&o.acceleration.to_le_bytes());
+    b[14..16].copy_from_slice(&o.deceleration.to_le_bytes());
+    b[16..18].copy_from_slice(&o.motor_current.to_le_bytes());
+    b[18..20].copy_from_slice(&o.jerk.to_le_bytes());
+    b
+}
+
+/// Encodes the 20 input bytes (0x6000:01–07).
+pub fn encode_inputs(i: &Inputs) -> [u8; PROCESS_DATA_LEN] {
+    let mut b = [0u8; PROCESS_DATA_LEN];
+    b[0..2].copy_from_slice(&i.status0.to_le_bytes());
+    b[2..4].copy_from_slice(&i.status1.to_le_bytes());
+    b[4..8].copy_from_slice(&i.motor_position.to_le_bytes());
+    b[8..12].copy_from_slice(&i.encoder_position.to_le_bytes());
+    b[12..16].copy_from_slice(&i.trapped_encoder_position.to_le_bytes());
+    b[16..18].copy_from_slice(&i.motor_current.to_le_bytes());
+    b[18..20].copy_from_slice(&i.jerk.to_le_bytes());
+    b
+}
+
+/// Decodes the 20 input bytes (what a master reads from SM3).
+pub fn decode_inputs(b: &[u8; PROCESS_DATA_LEN]) -> Inputs {
+    let u16_at = |o: usize| u16::from_le_bytes([b[o], b[o + 1]]);
+    let u32_at = |o: usize| u32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
+    Inputs {
+        status0: u16_at(0),
+        status1: u16_at(2),
+        motor_position: u32_at(4) as i32,
+        encoder_position: u32_at(8) as i32,
+        trapped_encoder_position: u32_at(12) as i32,
+        motor_current: u16_at(16),
+        jerk: u16_at(18),
+    }
+}
 
 /// The master's source address.
 pub const SRC: [u8; 6] = [2, 0, 0, 0, 0, 1];

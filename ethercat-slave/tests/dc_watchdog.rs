@@ -161,7 +161,7 @@ fn op_with_sync0(c: &mut SmdChain, cfg1: u16) -> (u64, Outputs) {
 fn motion_starts_at(c: &mut SmdChain, mut o: Outputs) -> u64 {
     o.cmd0 = cmd0::RELATIVE_MOVE;
     o.position = 1_000;
-    let mut data: Vec<u8> = ethercat_slave::smd::encode_outputs(&o).to_vec();
+    let mut data: Vec<u8> = ethercat_slave::master::encode_outputs(&o).to_vec();
     data.resize(40, 0);
     let r = one(
         c,

@@ -31,7 +31,7 @@ fn units() -> Vec<SmdUnit> {
 
 /// 6000:01 STATUS_word0 as the dictionary holds it.
 fn status0(u: &SmdUnit) -> u16 {
-    match u.dict().read_value(INPUTS_INDEX, 1).unwrap() {
+    match u.value(INPUTS_INDEX, 1).unwrap() {
         Value::Uint(v) => u16::try_from(v).unwrap(),
         other => panic!("STATUS_word0 is {other:?}"),
     }
@@ -314,18 +314,14 @@ fn smd_t2_002_power_up_status_word0_is_0x4408_in_6000_01() {
         assert_eq!(status0(&u), 0x4408, "input image at power-up");
         let inputs = u.cycle(MS);
         assert_eq!(inputs.status0, 0x4408);
-        assert_eq!(u.dict().read(0x6000, 1).unwrap(), &[0x08, 0x44]);
-        assert_eq!(u.dict().read_value(0x6000, 1).unwrap(), Value::Uint(0x4408));
+        assert_eq!(u.sdo_read(0x6000, 1).unwrap(), &[0x08, 0x44]);
+        assert_eq!(u.value(0x6000, 1).unwrap(), Value::Uint(0x4408));
         assert_eq!(
             u.inputs(),
             inputs,
             "0x6000:01–07 hold what the cycle answered"
         );
-        assert_eq!(
-            u.dict().read_value(0x6000, 3).unwrap(),
-            Value::Int(0),
-            "Motor_Position"
-        );
+        assert_eq!(u.value(0x6000, 3).unwrap(), Value::Int(0), "Motor_Position");
     }
 }
 
@@ -413,12 +409,12 @@ fn smd_r6_relative_move_commanded_through_7000_ends_at_500_in_6000_03() {
         };
         u.write_outputs(&out);
         assert_eq!(u.outputs(), out);
-        assert_eq!(u.dict().read_value(0x7000, 2).unwrap(), Value::Uint(0x8000));
-        assert_eq!(u.dict().read_value(0x7000, 3).unwrap(), Value::Int(500));
+        assert_eq!(u.value(0x7000, 2).unwrap(), Value::Uint(0x8000));
+        assert_eq!(u.value(0x7000, 3).unwrap(), Value::Int(500));
         u.cycle(MS);
         out.cmd0 = cmd0::RELATIVE_MOVE;
         u.write_outputs(&out);
-        assert_eq!(u.dict().read(0x7000, 1).unwrap(), &[0x02, 0x00]);
+        assert_eq!(u.sdo_read(0x7000, 1).unwrap(), &[0x02, 0x00]);
 
         let mut cycles = 0;
         let mut moved = false;
@@ -432,7 +428,7 @@ fn smd_r6_relative_move_commanded_through_7000_ends_at_500_in_6000_03() {
         assert!(moved, "{device}: the move ran over several cycles");
         assert!(cycles > 1, "{device}");
         assert_eq!(
-            u.dict().read_value(0x6000, 3).unwrap(),
+            u.value(0x6000, 3).unwrap(),
             Value::Int(500),
             "{device}: Motor_Position"
         );

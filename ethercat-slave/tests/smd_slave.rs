@@ -8,8 +8,9 @@ use common::master::*;
 use ds402::smd::indexer::{cmd0, stat0, stat1, Outputs};
 use ethercat_slave::esc::al::state;
 use ethercat_slave::esc::cmd;
+use ethercat_slave::master::{decode_outputs, encode_inputs, encode_outputs};
 use ethercat_slave::smd::binding::Device;
-use ethercat_slave::smd::{decode_outputs, encode_inputs, encode_outputs, SmdChain};
+use ethercat_slave::smd::SmdChain;
 
 #[test]
 fn two_units_from_init_to_a_relative_move() {

@@ -1,22 +1,24 @@
 //! The indexer model bound to the SMD object dictionary of `fixtures/` (ARCHITECTURE principle 2: one
-//! dictionary, data-driven).
+//! dictionary, data-driven), through the one device hook of the project ([`od::hook::DeviceHook`]).
 //!
-//! An [`SmdUnit`] is an [`Indexer`] together with the dictionary of its device as the shipped ESI
-//! ([`FIXTURE_ESI`], the file CoE access serves) describes it:
+//! An [`SmdUnit`] is the dictionary of its device as the shipped ESI ([`FIXTURE_ESI`], the file CoE
+//! access serves) describes it, with [`SmdModel`] (the [`Indexer`]) behind it:
 //!
-//! - the unit **reads** its output image `0x7000:01–08` (CMD_word0 … Jerk) and its configuration
-//!   `0x8010:01–07` from the dictionary, and **writes** its input image `0x6000:01–07` (STATUS_word0 …
-//!   Jerk) into it;
+//! - the model **owns** the output image `0x7000:01–08` (CMD_word0 … Jerk: what the master last sent),
+//!   the input image `0x6000:01–07` (STATUS_word0 … Jerk: computed by the indexer when read) and the
+//!   configuration `0x8010:01–07` (the dictionary's values, told to the indexer when written); nothing
+//!   is copied through the dictionary on a cycle;
 //! - [`SmdUnit::sdo_write`] is an SDO download as the CoE server does it: the dictionary checks existence,
 //!   access, length and value ([`Dictionary::write`]) and refuses with an [`OdError`] (whose
 //!   [`OdError::abort_code`] is the SDO abort); a confirmed download to `0x8010:01–07` also reaches the
 //!   model through [`Indexer::write_config`], so it sets Position_Invalid (SMD-R2-012) and an invalid value
-//!   shows as Configuration_Error (SMD-T2-005);
-//! - [`SmdUnit::write_outputs`] is what a process-data frame of the master does: it sets the eight output
-//!   entries. In the fixture they are `ro` for SDO access, so [`SmdUnit::sdo_write`] to `0x7000` is
-//!   refused with [`OdError::ReadOnly`];
-//! - [`SmdUnit::cycle`] is one process-data exchange: `0x7000` → [`Outputs`] → [`Indexer::cycle`] →
-//!   [`Inputs`] → `0x6000`.
+//!   shows as Configuration_Error (SMD-T2-005); [`SmdUnit::handle_mailbox`] serves a CoE mailbox on the
+//!   same dictionary and model (complete access included);
+//! - [`SmdUnit::receive_process_data`] and [`SmdUnit::send_process_data`] are a frame's process data,
+//!   laid out as the PDO mapping of the description says ([`ProcessImage`]); [`SmdUnit::write_outputs`]
+//!   sets the output image directly. The outputs are `ro` for SDO access, so [`SmdUnit::sdo_write`] to
+//!   `0x7000` is refused with [`OdError::ReadOnly`];
+//! - [`SmdUnit::cycle`] is one process-data exchange: [`Outputs`] → [`Indexer::cycle`] → [`Inputs`].
 //!
 //! Every address the model uses is one entry of [`TABLE`], with the name, data type, access and PDO
 //! mapping the model expects. [`check`] proves them against a dictionary, [`SmdUnit::new`] refuses a
@@ -30,7 +32,7 @@
 //! let mut unit = SmdUnit::new(Device::Smd23kB, EncoderKind::Incremental).unwrap();
 //! let inputs = unit.cycle(Duration::from_millis(1));
 //! assert_eq!(inputs.status0, 0x4408);
-//! assert_eq!(unit.dict().read(STATUS_WORD0.index, STATUS_WORD0.sub).unwrap(), &[0x08, 0x44]);
+//! assert_eq!(unit.sdo_read(STATUS_WORD0.index, STATUS_WORD0.sub).unwrap(), [0x08, 0x44]);
 //! // Motor_Current 35 (3.5 A) is out of range: stored, and flagged as Configuration_Error.
 //! unit.sdo_write(0x8010, 7, &35u16.to_le_bytes()).unwrap();
 //! assert_eq!(unit.cycle(Duration::from_millis(1)).status0, 0x6408);
@@ -40,13 +42,16 @@ use std::fmt;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
+use od::abort::AbortCode;
 use od::coe::server::CoeServer;
-use od::dict::{Dictionary, OdError};
+use od::dict::{Address, Dictionary, OdError};
 use od::error::ParseError;
 use od::esi::Select;
+use od::hook::{self, DeviceHook, Objects, ProcessImage};
 use od::object::{AccessType, PdoMapping};
 use od::sdo::server::ServerEvent;
 use od::types::DataType;
+use od::value::Value;
 
 use ds402::smd::config::{Configuration, EncoderKind};
 use ds402::smd::indexer::{Indexer, Inputs, Outputs};
@@ -368,18 +373,113 @@ fn check_entry(dict: &Dictionary, e: &Entry) -> Result<(), Mismatch> {
     Ok(())
 }
 
-/// A unit: the indexer model on its device's dictionary.
+/// The indexer as the model behind its dictionary ([`DeviceHook`]): it owns the output image
+/// `0x7000` (what the master last sent, by process data), the input image `0x6000` (computed by the
+/// indexer when read) and the configuration `0x8010` (kept in the dictionary, told to the indexer
+/// when written: Position_Invalid, SMD-R2-012; Configuration_Error for an invalid value, SMD-T2-005).
+#[derive(Debug, Clone)]
+pub struct SmdModel {
+    indexer: Indexer,
+    outputs: Outputs,
+}
+
+/// Little-endian bytes of a value of `n` bytes into `out`.
+fn put(out: &mut [u8; 8], v: u64, n: usize) -> Option<usize> {
+    out[..n].copy_from_slice(&v.to_le_bytes()[..n]);
+    Some(n)
+}
+
+/// A little-endian value of up to 8 bytes.
+fn le(data: &[u8]) -> u64 {
+    let mut b = [0u8; 8];
+    let n = data.len().min(8);
+    b[..n].copy_from_slice(&data[..n]);
+    u64::from_le_bytes(b)
+}
+
+impl DeviceHook for SmdModel {
+    fn owns(&self, index: u16) -> bool {
+        matches!(index, OUTPUTS_INDEX | INPUTS_INDEX | CONFIGURATION_INDEX)
+    }
+
+    fn read(&self, at: Address, out: &mut [u8; 8]) -> Option<usize> {
+        match at.index {
+            OUTPUTS_INDEX => {
+                let o = &self.outputs;
+                match at.sub {
+                    1 => put(out, o.cmd0.into(), 2),
+                    2 => put(out, o.cmd1.into(), 2),
+                    3 => put(out, o.position as u32 as u64, 4),
+                    4 => put(out, o.velocity.into(), 4),
+                    5 => put(out, o.acceleration.into(), 2),
+                    6 => put(out, o.deceleration.into(), 2),
+                    7 => put(out, o.motor_current.into(), 2),
+                    8 => put(out, o.jerk.into(), 2),
+                    _ => None,
+                }
+            }
+            INPUTS_INDEX => {
+                let i = self.indexer.inputs();
+                match at.sub {
+                    1 => put(out, i.status0.into(), 2),
+                    2 => put(out, i.status1.into(), 2),
+                    3 => put(out, i.motor_position as u32 as u64, 4),
+                    4 => put(out, i.encoder_position as u32 as u64, 4),
+                    5 => put(out, i.trapped_encoder_position as u32 as u64, 4),
+                    6 => put(out, i.motor_current.into(), 2),
+                    7 => put(out, i.jerk.into(), 2),
+                    _ => None,
+                }
+            }
+            // The configuration is the dictionary's.
+            _ => None,
+        }
+    }
+
+    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+        let v = le(data);
+        match at.index {
+            OUTPUTS_INDEX => {
+                let o = &mut self.outputs;
+                match at.sub {
+                    1 => o.cmd0 = v as u16,
+                    2 => o.cmd1 = v as u16,
+                    3 => o.position = v as u32 as i32,
+                    4 => o.velocity = v as u32,
+                    5 => o.acceleration = v as u16,
+                    6 => o.deceleration = v as u16,
+                    7 => o.motor_current = v as u16,
+                    8 => o.jerk = v as u16,
+                    _ => {}
+                }
+            }
+            CONFIGURATION_INDEX => {
+                self.indexer.write_config(at.sub, v as u32);
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// A unit: the indexer model ([`SmdModel`]) behind its device's dictionary.
 #[derive(Debug, Clone)]
 pub struct SmdUnit {
     device: Device,
-    indexer: Indexer,
     dict: Dictionary,
+    model: SmdModel,
+}
+
+impl Objects for SmdUnit {
+    fn split(&mut self) -> (&mut Dictionary, &mut dyn DeviceHook) {
+        (&mut self.dict, &mut self.model)
+    }
 }
 
 impl SmdUnit {
     /// A unit at power-up: the fixture dictionary of `device` at its defaults, the configuration in memory
     /// taken from its `0x8010:01–07` defaults, and the power-up inputs (Position_Invalid, Stopped,
-    /// Module_OK) already in `0x6000`.
+    /// Module_OK).
     pub fn new(device: Device, kind: EncoderKind) -> Result<SmdUnit, BindingError> {
         SmdUnit::with_dictionary(device, dictionary(device)?, kind)
     }
@@ -400,14 +500,24 @@ impl SmdUnit {
             idle_current_reduction: value_of(&dict, &IDLE_CURRENT_REDUCTION),
             motor_current: value_of(&dict, &CFG_MOTOR_CURRENT),
         };
-        let mut unit = SmdUnit {
-            device,
-            indexer: Indexer::new(kind, config),
-            dict,
+        let outputs = Outputs {
+            cmd0: value_of(&dict, &CMD_WORD0),
+            cmd1: value_of(&dict, &CMD_WORD1),
+            position: value_of(&dict, &POSITION),
+            velocity: value_of(&dict, &VELOCITY),
+            acceleration: value_of(&dict, &ACCELERATION),
+            deceleration: value_of(&dict, &DECELERATION),
+            motor_current: value_of(&dict, &OUT_MOTOR_CURRENT),
+            jerk: value_of(&dict, &OUT_JERK),
         };
-        let inputs = unit.indexer.inputs();
-        unit.store_inputs(&inputs);
-        Ok(unit)
+        Ok(SmdUnit {
+            device,
+            dict,
+            model: SmdModel {
+                indexer: Indexer::new(kind, config),
+                outputs,
+            },
+        })
     }
 
     /// The device.
@@ -415,20 +525,26 @@ impl SmdUnit {
         self.device
     }
 
-    /// The dictionary: what an SDO upload reads, with the present input and output images.
+    /// The dictionary: descriptions, access, limits and the parameters. The values of `0x6000` and
+    /// `0x7000` are the model's ([`SmdUnit::value`], [`SmdUnit::sdo_read`]).
     pub fn dict(&self) -> &Dictionary {
         &self.dict
     }
 
-    /// The model.
-    pub fn indexer(&self) -> &Indexer {
-        &self.indexer
+    /// The model behind the dictionary.
+    pub fn model(&self) -> &SmdModel {
+        &self.model
     }
 
-    /// The model, for what the unit senses (inputs, shaft, temperature) and the network events (SYNC0,
+    /// The indexer.
+    pub fn indexer(&self) -> &Indexer {
+        &self.model.indexer
+    }
+
+    /// The indexer, for what the unit senses (inputs, shaft, temperature) and the network events (SYNC0,
     /// the SyncManager watchdog).
     pub fn indexer_mut(&mut self) -> &mut Indexer {
-        &mut self.indexer
+        &mut self.model.indexer
     }
 
     /// Sets the unit's serial number, `0x1018:04` (the SII holds the same).
@@ -439,140 +555,85 @@ impl SmdUnit {
 
     /// The EtherCAT state the unit is in (see [`Indexer::set_network_state`]).
     pub fn set_network_state(&mut self, state: ds402::smd::indexer::NetworkState) {
-        self.indexer.set_network_state(state);
+        self.model.indexer.set_network_state(state);
     }
 
-    /// An SDO upload of `index:sub` as the CoE server does it ([`Dictionary::read`]).
-    pub fn sdo_read(&self, index: u16, sub: u8) -> Result<&[u8], OdError> {
-        self.dict.read(index, sub)
+    /// The current value of `index:sub`, the model's for what it owns, decoded as the entry's type.
+    pub fn value(&self, index: u16, sub: u8) -> Result<Value, OdError> {
+        let data_type = self.dict.entry(index, sub)?.data_type;
+        let mut buf = [0u8; 8];
+        let bytes = hook::value(&self.dict, &self.model, Address::new(index, sub), &mut buf);
+        Value::decode(data_type, bytes).map_err(|e| OdError::InvalidValue {
+            index,
+            sub,
+            reason: e.to_string(),
+        })
+    }
+
+    /// An SDO upload of `index:sub` as the CoE server does it: refused as the dictionary refuses it
+    /// ([`Dictionary::read`]), else the current value.
+    pub fn sdo_read(&self, index: u16, sub: u8) -> Result<Vec<u8>, OdError> {
+        self.dict.read(index, sub)?;
+        let mut buf = [0u8; 8];
+        Ok(hook::value(&self.dict, &self.model, Address::new(index, sub), &mut buf).to_vec())
     }
 
     /// An SDO download of `bytes` to `index:sub` as the CoE server does it: the dictionary checks the
     /// entry, its access, the length and the value ([`Dictionary::write`]); a refusal changes nothing.
-    /// A confirmed download to `0x8010:01–07` is passed to [`Indexer::write_config`] (Position_Invalid,
-    /// SMD-R2-012; Configuration_Error for an invalid value, SMD-T2-005).
+    /// A confirmed download to `0x8010:01–07` reaches the model ([`SmdModel`]).
     pub fn sdo_write(&mut self, index: u16, sub: u8, bytes: &[u8]) -> Result<(), OdError> {
         self.dict.write(index, sub, bytes)?;
-        if let Some(e) = entry_at(index, sub).filter(|e| e.block == Block::Configuration) {
-            let value = self.get::<u32>(e);
-            self.indexer.write_config(sub, value);
+        let at = Address::new(index, sub);
+        if self.model.owns(index) {
+            // The SMD's model takes every value the dictionary accepts.
+            let _ = self.model.write(at, bytes);
         }
         Ok(())
     }
 
-    /// A CoE mailbox the master wrote (sync manager 0), served by `server` on the unit's dictionary; its
-    /// answers are left in `server` for the master to read. A confirmed download to `0x8010` reaches
-    /// the model as [`sdo_write`](SmdUnit::sdo_write)'s does: the entry written, and for a Complete
-    /// Access every sub-index whose value it changed. Returns the server's events.
+    /// A CoE mailbox the master wrote (sync manager 0), served by `server` on the unit's dictionary and
+    /// model; its answers are left in `server` for the master to read. Returns the server's events.
     pub fn handle_mailbox(
         &mut self,
         server: &mut CoeServer,
         now: Instant,
         mailbox: &[u8],
     ) -> Vec<ServerEvent> {
-        let before = self.configuration_values();
-        server.handle_mailbox(now, mailbox, &mut self.dict);
-        let events: Vec<ServerEvent> = std::iter::from_fn(|| server.poll_event()).collect();
-        let after = self.configuration_values();
-        for event in &events {
-            let ServerEvent::Downloaded { mux } = event else {
-                continue;
-            };
-            if mux.index != CONFIGURATION_INDEX {
-                continue;
-            }
-            for (k, value) in after.iter().enumerate() {
-                let sub = k as u8 + 1;
-                if sub == mux.sub || before[k] != *value {
-                    self.indexer.write_config(sub, *value);
-                }
-            }
-        }
-        events
+        server.handle_mailbox(now, mailbox, self);
+        std::iter::from_fn(|| server.poll_event()).collect()
     }
 
-    /// `0x8010:01–07` as the dictionary holds them.
-    fn configuration_values(&self) -> [u32; 7] {
-        let mut values = [0u32; 7];
-        for (k, v) in values.iter_mut().enumerate() {
-            if let Some(e) = entry_at(CONFIGURATION_INDEX, k as u8 + 1) {
-                *v = self.get::<u32>(e);
-            }
-        }
-        values
-    }
-
-    /// What a process-data frame of the master does: sets `0x7000:01–08` to `outputs`.
+    /// What a process-data frame of the master does: sets the output image `0x7000:01–08`.
     pub fn write_outputs(&mut self, outputs: &Outputs) {
-        self.put(&CMD_WORD0, &outputs.cmd0.to_le_bytes());
-        self.put(&CMD_WORD1, &outputs.cmd1.to_le_bytes());
-        self.put(&POSITION, &outputs.position.to_le_bytes());
-        self.put(&VELOCITY, &outputs.velocity.to_le_bytes());
-        self.put(&ACCELERATION, &outputs.acceleration.to_le_bytes());
-        self.put(&DECELERATION, &outputs.deceleration.to_le_bytes());
-        self.put(&OUT_MOTOR_CURRENT, &outputs.motor_current.to_le_bytes());
-        self.put(&OUT_JERK, &outputs.jerk.to_le_bytes());
+        self.model.outputs = *outputs;
     }
 
     /// The output image `0x7000:01–08` as the unit reads it.
     pub fn outputs(&self) -> Outputs {
-        Outputs {
-            cmd0: self.get(&CMD_WORD0),
-            cmd1: self.get(&CMD_WORD1),
-            position: self.get(&POSITION),
-            velocity: self.get(&VELOCITY),
-            acceleration: self.get(&ACCELERATION),
-            deceleration: self.get(&DECELERATION),
-            motor_current: self.get(&OUT_MOTOR_CURRENT),
-            jerk: self.get(&OUT_JERK),
-        }
+        self.model.outputs
     }
 
-    /// The input image `0x6000:01–07` as the dictionary holds it.
+    /// The input image `0x6000:01–07`.
     pub fn inputs(&self) -> Inputs {
-        Inputs {
-            status0: self.get(&STATUS_WORD0),
-            status1: self.get(&STATUS_WORD1),
-            motor_position: self.get(&MOTOR_POSITION),
-            encoder_position: self.get(&ENCODER_POSITION),
-            trapped_encoder_position: self.get(&TRAPPED_ENCODER_POSITION),
-            motor_current: self.get(&IN_MOTOR_CURRENT),
-            jerk: self.get(&IN_JERK),
-        }
+        self.model.indexer.inputs()
     }
 
-    /// One process-data exchange of `dt`: reads the outputs from `0x7000`, runs [`Indexer::cycle`], writes
-    /// the inputs into `0x6000` and answers them.
+    /// The output process data of a frame, laid out as `image` (from the RxPDO assignment): each
+    /// mapped entry delivered to the model or the dictionary ([`ProcessImage::unpack`]).
+    pub fn receive_process_data(&mut self, image: &ProcessImage, data: &[u8]) {
+        image.unpack(data, &mut self.dict, &mut self.model);
+    }
+
+    /// The input process data laid out as `image` (from the TxPDO assignment), from the model and the
+    /// dictionary ([`ProcessImage::pack`]).
+    pub fn send_process_data(&self, image: &ProcessImage, out: &mut [u8]) {
+        image.pack(&self.dict, &self.model, out);
+    }
+
+    /// One process-data exchange of `dt`: the output image to [`Indexer::cycle`], and the inputs it
+    /// answers.
     pub fn cycle(&mut self, dt: Duration) -> Inputs {
-        let outputs = self.outputs();
-        let inputs = self.indexer.cycle(outputs, dt);
-        self.store_inputs(&inputs);
-        inputs
-    }
-
-    fn store_inputs(&mut self, inputs: &Inputs) {
-        self.put(&STATUS_WORD0, &inputs.status0.to_le_bytes());
-        self.put(&STATUS_WORD1, &inputs.status1.to_le_bytes());
-        self.put(&MOTOR_POSITION, &inputs.motor_position.to_le_bytes());
-        self.put(&ENCODER_POSITION, &inputs.encoder_position.to_le_bytes());
-        self.put(
-            &TRAPPED_ENCODER_POSITION,
-            &inputs.trapped_encoder_position.to_le_bytes(),
-        );
-        self.put(&IN_MOTOR_CURRENT, &inputs.motor_current.to_le_bytes());
-        self.put(&IN_JERK, &inputs.jerk.to_le_bytes());
-    }
-
-    /// Sets a process-data entry from the device's side. [`check`] has proven the entry exists with the
-    /// type whose encoding `bytes` is and has no limits, so the store cannot be refused.
-    fn put(&mut self, e: &Entry, bytes: &[u8]) {
-        // Cannot fail after `check`; a refusal would leave the old value, never panic.
-        let _ = self.dict.store(e.index, e.sub, bytes);
-    }
-
-    /// The current value of a checked entry (0 if it could not be read, which [`check`] rules out).
-    fn get<T: TryFrom<i128> + Default>(&self, e: &Entry) -> T {
-        value_of(&self.dict, e)
+        self.model.indexer.cycle(self.model.outputs, dt)
     }
 }
 

@@ -7,8 +7,9 @@
 //! - [`SmdChain::advance`] moves the chain's clock (Distributed Clocks, the SDO transfer timer);
 //!   [`SmdChain::step`] is the slave's process-data cycle over the time advanced since the last one:
 //!   the SyncManager watchdog (its expiry in Op: Safe-Op with AL status code 0x001B, and the model's
-//!   Input_Error, SMD-R1-035), SYNC0 events to the model, in Op the 20 output bytes of SM2 to the
-//!   model, in Safe-Op and Op the model's 20 input bytes into SM3. [`SmdChain::cycle`] is both.
+//!   Input_Error, SMD-R1-035), SYNC0 events to the model, in Op the output bytes of SM2 to the
+//!   model, in Safe-Op and Op the model's input bytes into SM3, both laid out as the description's
+//!   PDO assignment (0x1C12, 0x1C13) and mapping objects (0x1600, 0x1A00) say (20 bytes each). [`SmdChain::cycle`] is both.
 //! - The model sees the EtherCAT state (PreOp_SafeOp, commands only in Op); in Safe-Op and Op the
 //!   output entries mapped to the RxPDO are the process data's (an SDO download is refused
 //!   0x06010006).
@@ -22,8 +23,9 @@ use std::time::{Duration, Instant};
 
 use binding::{Device, SmdUnit, FIXTURE_ESI, FIXTURE_NAME};
 use ds402::smd::config::EncoderKind;
-use ds402::smd::indexer::{Inputs, NetworkState, Outputs};
+use ds402::smd::indexer::NetworkState;
 use od::coe::server::CoeServer;
+use od::hook::ProcessImage;
 use od::sdo::frame::Address;
 use od::sdo::server::ServerConfig;
 
@@ -33,8 +35,6 @@ use crate::frame::FrameError;
 
 /// SYNC0 cycle times the unit accepts, in ns (SMD-T3-003: 2 ms to 50 ms).
 pub const SYNC0_CYCLE_RANGE: (u32, u32) = (2_000_000, 50_000_000);
-/// Output bytes (0x7000:01–08) and input bytes (0x6000:01–07).
-pub const PROCESS_DATA_LEN: usize = 20;
 
 /// Why a slave could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -52,64 +52,6 @@ pub fn description(device: Device) -> Result<od::DeviceDescription, SmdSlaveErro
     let select = od::esi::Select::Name(device.order_code().to_string());
     od::esi::read(FIXTURE_ESI.as_bytes(), FIXTURE_NAME, Some(&select))
         .map_err(|e| SmdSlaveError::Description(e.to_string()))
-}
-
-/// Decodes the 20 output bytes (0x7000:01–08, packed little-endian).
-pub fn decode_outputs(b: &[u8; PROCESS_DATA_LEN]) -> Outputs {
-    let u16_at = |o: usize| u16::from_le_bytes([b[o], b[o + 1]]);
-    let u32_at = |o: usize| u32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
-    Outputs {
-        cmd0: u16_at(0),
-        cmd1: u16_at(2),
-        position: u32_at(4) as i32,
-        velocity: u32_at(8),
-        acceleration: u16_at(12),
-        deceleration: u16_at(14),
-        motor_current: u16_at(16),
-        jerk: u16_at(18),
-    }
-}
-
-/// Encodes the 20 output bytes (what a master puts into SM2).
-pub fn encode_outputs(o: &Outputs) -> [u8; PROCESS_DATA_LEN] {
-    let mut b = [0u8; PROCESS_DATA_LEN];
-    b[0..2].copy_from_slice(&o.cmd0.to_le_bytes());
-    b[2..4].copy_from_slice(&o.cmd1.to_le_bytes());
-    b[4..8].copy_from_slice(&o.position.to_le_bytes());
-    b[8..12].copy_from_slice(&o.velocity.to_le_bytes());
-    b[12..14].copy_from_slice(&o.acceleration.to_le_bytes());
-    b[14..16].copy_from_slice(&o.deceleration.to_le_bytes());
-    b[16..18].copy_from_slice(&o.motor_current.to_le_bytes());
-    b[18..20].copy_from_slice(&o.jerk.to_le_bytes());
-    b
-}
-
-/// Encodes the 20 input bytes (0x6000:01–07).
-pub fn encode_inputs(i: &Inputs) -> [u8; PROCESS_DATA_LEN] {
-    let mut b = [0u8; PROCESS_DATA_LEN];
-    b[0..2].copy_from_slice(&i.status0.to_le_bytes());
-    b[2..4].copy_from_slice(&i.status1.to_le_bytes());
-    b[4..8].copy_from_slice(&i.motor_position.to_le_bytes());
-    b[8..12].copy_from_slice(&i.encoder_position.to_le_bytes());
-    b[12..16].copy_from_slice(&i.trapped_encoder_position.to_le_bytes());
-    b[16..18].copy_from_slice(&i.motor_current.to_le_bytes());
-    b[18..20].copy_from_slice(&i.jerk.to_le_bytes());
-    b
-}
-
-/// Decodes the 20 input bytes (what a master reads from SM3).
-pub fn decode_inputs(b: &[u8; PROCESS_DATA_LEN]) -> Inputs {
-    let u16_at = |o: usize| u16::from_le_bytes([b[o], b[o + 1]]);
-    let u32_at = |o: usize| u32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
-    Inputs {
-        status0: u16_at(0),
-        status1: u16_at(2),
-        motor_position: u32_at(4) as i32,
-        encoder_position: u32_at(8) as i32,
-        trapped_encoder_position: u32_at(12) as i32,
-        motor_current: u16_at(16),
-        jerk: u16_at(18),
-    }
 }
 
 /// One unit behind its ESC: the model and its CoE server.
@@ -130,6 +72,10 @@ pub struct SmdChain {
     /// SM2 / SM3 start addresses from the ESI.
     outputs_at: u16,
     inputs_at: u16,
+    /// The layouts of SM2 and SM3, from the PDO assignment (0x1C12, 0x1C13) and mapping objects of the
+    /// description.
+    output_image: ProcessImage,
+    input_image: ProcessImage,
     /// The chain's clock: nanoseconds since start, and the same as an instant for the SDO timer.
     time_ns: u64,
     now: Instant,
@@ -178,11 +124,27 @@ impl SmdChain {
                 state: state::INIT,
             });
         }
+        let images = units.first().map(|u| {
+            let d = u.model.dict();
+            (
+                ProcessImage::from_assignment(d, 0x1C12),
+                ProcessImage::from_assignment(d, 0x1C13),
+            )
+        });
+        let (output_image, input_image) = match images {
+            Some((Ok(o), Ok(i))) => (o, i),
+            Some((Err(e), _) | (_, Err(e))) => {
+                return Err(SmdSlaveError::Description(e.to_string()))
+            }
+            None => Default::default(),
+        };
         Ok(SmdChain {
             chain,
             units,
             outputs_at,
             inputs_at,
+            output_image,
+            input_image,
             time_ns: 0,
             now: Instant::now(),
             unstepped: Duration::ZERO,
@@ -277,22 +239,27 @@ impl SmdChain {
                 ago.min(dt)
             });
             if al == state::OP {
-                let outputs = esc.bytes_at(self.outputs_at);
-                unit.model.write_outputs(&decode_outputs(&outputs));
+                let outputs = esc.load(self.outputs_at, self.output_image.len());
+                unit.model
+                    .receive_process_data(&self.output_image, &outputs);
             }
-            let inputs = match sync0 {
+            match sync0 {
                 // The model runs up to the SYNC0 event, takes it, and runs on from it.
                 Some(ago) => {
                     if dt > ago {
                         unit.model.cycle(dt - ago);
                     }
                     unit.model.indexer_mut().sync0_event();
-                    unit.model.cycle(ago)
+                    unit.model.cycle(ago);
                 }
-                None => unit.model.cycle(dt),
-            };
+                None => {
+                    unit.model.cycle(dt);
+                }
+            }
             if matches!(al, state::OP | state::SAFEOP) {
-                esc.store(self.inputs_at, &encode_inputs(&inputs));
+                let mut inputs = vec![0u8; self.input_image.len()];
+                unit.model.send_process_data(&self.input_image, &mut inputs);
+                esc.store(self.inputs_at, &inputs);
             }
         }
         self.serve_mailboxes();
