@@ -23,7 +23,8 @@ use std::time::{Duration, Instant};
 use ds402::x67::module::Module;
 use ds402::x67::registers::{Access, RegType, Register};
 use od::abort::AbortCode;
-use od::dict::Dictionary;
+use od::dict::{Address, Dictionary};
+use od::hook::DeviceHook;
 use od::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
 use od::types::DataType;
 use od::value::Value;
@@ -292,12 +293,13 @@ fn decode(ty: RegType, data: &[u8]) -> Option<i64> {
     })
 }
 
-impl Application for BusController {
+impl DeviceHook for BusController {
     fn owns(&self, index: u16) -> bool {
         self.slots.contains_key(&index)
     }
 
-    fn read(&self, index: u16, sub: u8, out: &mut [u8; 8]) -> Option<usize> {
+    fn read(&self, at: Address, out: &mut [u8; 8]) -> Option<usize> {
+        let (index, sub) = (at.index, at.sub);
         match *self.slots.get(&index)? {
             Slot::Register(m, reg) if sub == 0 => {
                 let info = reg.info();
@@ -313,7 +315,8 @@ impl Application for BusController {
         }
     }
 
-    fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+        let (index, sub) = (at.index, at.sub);
         match self.slots.get(&index).copied() {
             Some(Slot::Register(m, reg)) if sub == 0 => {
                 let v = decode(reg.info().ty, data).ok_or(AbortCode::LengthMismatch)?;
@@ -342,7 +345,9 @@ impl Application for BusController {
             _ => Ok(()),
         }
     }
+}
 
+impl Application for BusController {
     fn advance(&mut self, now: Instant) {
         for m in 0..self.modules.len() {
             // Bounded catch-up: after a stall of the process, at most 10 s of module time.

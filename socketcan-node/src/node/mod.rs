@@ -35,10 +35,10 @@ use std::time::{Duration, Instant};
 
 pub use emcy::{error_register, AppError, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR};
 use od::abort::AbortCode;
-use od::dict::Dictionary;
+use od::dict::{Address, Dictionary};
+use od::hook::{self, DeviceHook};
 use od::object::PdoMapping;
 use od::sdo::{
-    frame::Address,
     server::{SdoServer, ServerConfig, ServerEvent},
     store::{DownloadCapacity, ObjectStore},
 };
@@ -52,16 +52,9 @@ pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
 /// "load" as a little-endian UNSIGNED32 (0x1011).
 pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;
 
-/// The device behind the node.
-pub trait Application {
-    /// True for the objects the application owns (reads and writes go through it).
-    fn owns(&self, index: u16) -> bool;
-    /// The current value of `index:sub` as little-endian bytes into `out`; the number of bytes, or
-    /// `None` when the dictionary's value stands.
-    fn read(&self, index: u16, sub: u8, out: &mut [u8; 8]) -> Option<usize>;
-    /// Takes a value the master wrote, after the dictionary checked its type and limits. A refusal
-    /// leaves everything as it was.
-    fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode>;
+/// The device behind the node: the model that owns its manufacturer objects ([`DeviceHook`], the
+/// project's one device hook), with its own time and its errors.
+pub trait Application: DeviceHook {
     /// Runs the application up to `now`.
     fn advance(&mut self, now: Instant);
     /// When [`advance`](Application::advance) is next due.
@@ -503,7 +496,7 @@ impl<A: Application> Core<A> {
             if self.dict.check(index, sub, &value).is_err() {
                 continue;
             }
-            if self.app.owns(index) && self.app.write(index, sub, &value).is_err() {
+            if self.app.owns(index) && self.app.write(Address::new(index, sub), &value).is_err() {
                 continue;
             }
             if self.dict.store(index, sub, &value).is_ok() {
@@ -801,19 +794,12 @@ impl<A: Application> Core<A> {
                 break;
             }
             if !e.is_dummy() {
-                let bytes: &[u8] = if self.app.owns(e.index) {
-                    match self.app.read(e.index, e.sub, &mut buf) {
-                        Some(k) => &buf[..k.min(8)],
-                        None => self
-                            .dict
-                            .entry(e.index, e.sub)
-                            .map_or(&[][..], |x| &x.value),
-                    }
-                } else {
-                    self.dict
-                        .entry(e.index, e.sub)
-                        .map_or(&[][..], |x| &x.value)
-                };
+                let bytes = hook::value(
+                    &self.dict,
+                    &self.app,
+                    Address::new(e.index, e.sub),
+                    &mut buf,
+                );
                 let k = bytes.len().min(len);
                 out[at..at + k].copy_from_slice(&bytes[..k]);
             }
@@ -974,13 +960,12 @@ impl<A: Application> Core<A> {
             if e.is_dummy() {
                 continue;
             }
-            if self.app.owns(e.index) {
-                if self.app.write(e.index, e.sub, bytes).is_ok() {
-                    let _ = self.dict.store(e.index, e.sub, bytes);
-                }
-            } else {
-                let _ = self.dict.store(e.index, e.sub, bytes);
-            }
+            hook::deliver(
+                &mut self.dict,
+                &mut self.app,
+                Address::new(e.index, e.sub),
+                bytes,
+            );
         }
     }
 
@@ -1132,17 +1117,7 @@ impl<A: Application> Core<A> {
 
 impl<A: Application> ObjectStore for Core<A> {
     fn upload(&mut self, mux: Address) -> Result<Vec<u8>, AbortCode> {
-        let bytes = self
-            .dict
-            .read(mux.index, mux.sub)
-            .map_err(|e| e.abort_code())?;
-        if self.app.owns(mux.index) {
-            let mut buf = [0u8; 8];
-            if let Some(n) = self.app.read(mux.index, mux.sub, &mut buf) {
-                return Ok(buf[..n.min(8)].to_vec());
-            }
-        }
-        Ok(bytes.to_vec())
+        hook::upload(&self.dict, &self.app, mux)
     }
 
     fn download_capacity(&self, mux: Address) -> Result<DownloadCapacity, AbortCode> {
@@ -1162,7 +1137,7 @@ impl<A: Application> ObjectStore for Core<A> {
             return Ok(());
         }
         if self.app.owns(index) {
-            self.app.write(index, sub, data)?;
+            self.app.write(mux, data)?;
         }
         self.dict
             .store(index, sub, data)
