@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use od::coe::server::CoeServer;
-use od::hook::{Bound, DeviceHook, ImageEntry, ProcessImage};
+use od::hook::{Bound, DeviceHook, ImageEntry, ImageError, ProcessImage};
 use od::sdo::server::ServerConfig;
 use od::sdo::store::ObjectStore;
 use od::{
@@ -186,6 +186,8 @@ fn an_image_from_an_assignment_packs_bits_without_gaps() {
         ]
     );
     assert_eq!((image.bits(), image.len()), (18, 3));
+    assert!(!image.is_empty());
+    assert!(ProcessImage::default().is_empty());
     let mut d = d;
     d.store(0x6001, 2, &[1]).unwrap();
     let m = Model {
@@ -196,6 +198,35 @@ fn an_image_from_an_assignment_packs_bits_without_gaps() {
     image.pack(&d, &m, &mut out);
     // 0x6000:02 from the model, then bit 16 = 0x6001:01 (0), bit 17 = 0x6001:02 (1).
     assert_eq!(out, [0x5A, 0xA5, 0b10]);
+}
+
+#[test]
+fn a_mapping_that_is_not_there_is_named() {
+    let mut d = dict();
+    assert_eq!(
+        ProcessImage::from_mapping(&d, 0x1601),
+        Err(ImageError::Missing {
+            index: 0x1601,
+            sub: 0
+        })
+    );
+    // An assignment naming a mapping object that is not there, at its first entry.
+    d.store(0x1C13, 1, &0x1A05u16.to_le_bytes()).unwrap();
+    assert_eq!(
+        ProcessImage::from_assignment(&d, 0x1C13),
+        Err(ImageError::Missing {
+            index: 0x1A05,
+            sub: 0
+        })
+    );
+    assert_eq!(
+        ImageError::Missing {
+            index: 0x1A05,
+            sub: 0
+        }
+        .to_string(),
+        "0x1A05:00, a PDO mapping or assignment entry, is not in the dictionary"
+    );
 }
 
 #[test]
