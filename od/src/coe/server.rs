@@ -366,6 +366,7 @@ impl CoeServer {
     }
 
     /// When [`handle_timeout`](CoeServer::handle_timeout) is due; `None` while idle.
+    #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         match (self.deadline, self.engine.poll_timeout()) {
             (Some(a), Some(b)) => Some(a.min(b)),
@@ -374,11 +375,13 @@ impl CoeServer {
     }
 
     /// The next mailbox for the master to read.
+    #[must_use]
     pub fn poll_transmit(&mut self) -> Option<Vec<u8>> {
         self.transmit.pop_front()
     }
 
     /// The next event.
+    #[must_use]
     pub fn poll_event(&mut self) -> Option<ServerEvent> {
         self.engine.poll_event()
     }

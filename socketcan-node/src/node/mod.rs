@@ -372,6 +372,7 @@ impl<A: Application> Node<A> {
     }
 
     /// When [`poll`](Node::poll) is next due.
+    #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         let c = &self.core;
         let mut t: Option<Instant> = None;
@@ -398,12 +399,14 @@ impl<A: Application> Node<A> {
     }
 
     /// The next frame to send.
+    #[must_use]
     pub fn poll_transmit(&mut self) -> Option<crate::CanFrame> {
         let (id, data, len) = self.core.tx.pop_front()?;
         crate::CanFrame::new(id, &data[..usize::from(len)])
     }
 
     /// The next event.
+    #[must_use]
     pub fn poll_event(&mut self) -> Option<NodeEvent> {
         self.core.events.pop_front()
     }

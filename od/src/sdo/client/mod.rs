@@ -492,16 +492,19 @@ impl SdoClient {
     }
 
     /// When [`handle_timeout`](SdoClient::handle_timeout) is due next; `None` while idle.
+    #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         self.transfer.as_ref().and(self.response_due)
     }
 
     /// The next frame to send to the server.
+    #[must_use]
     pub fn poll_transmit(&mut self) -> Option<Frame> {
         self.frames.pop_front().or_else(|| self.block.pop_front())
     }
 
     /// The next event.
+    #[must_use]
     pub fn poll_event(&mut self) -> Option<ClientEvent> {
         self.events.pop_front()
     }

@@ -272,11 +272,13 @@ impl SdoServer {
     }
 
     /// When [`handle_timeout`](SdoServer::handle_timeout) is due; `None` while idle.
+    #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         self.deadline
     }
 
     /// The next frame to send to the client.
+    #[must_use]
     pub fn poll_transmit(&mut self) -> Option<Frame> {
         if let Some(f) = self.transmit.pop_front() {
             return Some(f);
@@ -288,6 +290,7 @@ impl SdoServer {
     }
 
     /// The next event.
+    #[must_use]
     pub fn poll_event(&mut self) -> Option<ServerEvent> {
         self.events.pop_front()
     }
