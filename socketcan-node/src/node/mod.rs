@@ -1129,22 +1129,11 @@ impl<A: Application> ObjectStore for Core<A> {
 
     fn download(&mut self, mux: Address, data: &[u8]) -> Result<(), AbortCode> {
         let (index, sub) = (mux.index, mux.sub);
-        let entry = self.dict.entry(index, sub).map_err(|e| e.abort_code())?;
-        if !entry.access.kind.writable() {
-            return Err(AbortCode::ReadOnly);
-        }
-        self.dict
-            .check(index, sub, data)
-            .map_err(|e| e.abort_code())?;
+        hook::check_download(&self.dict, &self.app, mux, data)?;
         if self.check_download(index, sub, data)? {
             return Ok(());
         }
-        if self.app.owns(index) {
-            self.app.write(mux, data)?;
-        }
-        self.dict
-            .store(index, sub, data)
-            .map_err(|e| e.abort_code())?;
+        hook::store_download(&mut self.dict, &mut self.app, mux, data)?;
         self.after_download(index);
         Ok(())
     }
