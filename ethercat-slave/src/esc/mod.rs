@@ -274,9 +274,16 @@ impl Esc {
 
     /// Memory as the master sees it.
     pub fn load(&self, at: u16, len: usize) -> Vec<u8> {
-        (0..len)
-            .map(|k| self.mem[(usize::from(at) + k) % MEMORY])
-            .collect()
+        let mut out = vec![0; len];
+        self.load_into(at, &mut out);
+        out
+    }
+
+    /// As many bytes of memory from `at` as `out` holds, as [`load`](Esc::load) reads them.
+    pub fn load_into(&self, at: u16, out: &mut [u8]) {
+        for (k, b) in out.iter_mut().enumerate() {
+            *b = self.mem[(usize::from(at) + k) % MEMORY];
+        }
     }
 
     /// `N` bytes of memory from `at`, as [`load`](Esc::load) reads them.

@@ -76,6 +76,8 @@ pub struct SmdChain {
     /// description.
     output_image: ProcessImage,
     input_image: ProcessImage,
+    /// One unit's process data on its way between the ESC and the model, kept for every cycle.
+    image: Vec<u8>,
     /// The chain's clock: nanoseconds since start, and the same as an instant for the SDO timer.
     time_ns: u64,
     now: Instant,
@@ -143,6 +145,7 @@ impl SmdChain {
             units,
             outputs_at,
             inputs_at,
+            image: vec![0; output_image.len().max(input_image.len())],
             output_image,
             input_image,
             time_ns: 0,
@@ -239,9 +242,9 @@ impl SmdChain {
                 ago.min(dt)
             });
             if al == state::OP {
-                let outputs = esc.load(self.outputs_at, self.output_image.len());
-                unit.model
-                    .receive_process_data(&self.output_image, &outputs);
+                let outputs = &mut self.image[..self.output_image.len()];
+                esc.load_into(self.outputs_at, outputs);
+                unit.model.receive_process_data(&self.output_image, outputs);
             }
             match sync0 {
                 // The model runs up to the SYNC0 event, takes it, and runs on from it.
@@ -257,9 +260,9 @@ impl SmdChain {
                 }
             }
             if matches!(al, state::OP | state::SAFEOP) {
-                let mut inputs = vec![0u8; self.input_image.len()];
-                unit.model.send_process_data(&self.input_image, &mut inputs);
-                esc.store(self.inputs_at, &inputs);
+                let inputs = &mut self.image[..self.input_image.len()];
+                unit.model.send_process_data(&self.input_image, inputs);
+                esc.store(self.inputs_at, inputs);
             }
         }
         self.serve_mailboxes();
