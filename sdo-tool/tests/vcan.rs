@@ -4,35 +4,13 @@
 
 mod common;
 
-use std::process::{Command, Stdio};
-use std::time::Duration;
-
-use socketcan_node::test_util::next_on;
-use socketcan_node::transport::SocketCanBus;
+use socketcan_node::test_util::spawn_on_vcan;
 use testkit::sibling_binary;
-
-/// The `x67-node` binary on vcan0 as node `id`, returned once its boot-up message is on the bus (the
-/// VM emulates its CPU, so the start takes a variable time).
-fn spawn_node(id: u8) -> std::process::Child {
-    let mut bus = SocketCanBus::open("vcan0").expect("vcan0 is up (tests/vcan/run brings it up)");
-    let mut node = Command::new(sibling_binary("x67-node"))
-        .args(["--bus", "socketcan:vcan0", "--node-id", &id.to_string()])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let boot = next_on(&mut bus, 0x700 + u16::from(id), Duration::from_secs(30));
-    if boot.as_ref().map(|(frame, _)| frame.data()) != Some(&[0u8][..]) {
-        node.kill().unwrap();
-        panic!("x67-node {id} sent no boot-up message within 30 s: {boot:?}");
-    }
-    node
-}
 
 /// `sdo-tool` on vcan0 against the `x67-node` binary: a string read, a write read back, an abort.
 #[test]
 fn sdo_tool_on_vcan() {
-    let mut node = spawn_node(7);
+    let mut node = spawn_on_vcan(&sibling_binary("x67-node"), 7);
     let bus = ["--bus", "socketcan:vcan0", "--timeout-ms", "5000"];
     assert_eq!(
         common::sdo_tool_ok(&bus, &["read", "7", "0x1008:00", "vs"]),

@@ -1,6 +1,9 @@
 //! What the tests of this crate and of `sdo-tool` share (feature `test-util`): the X67 node of the
-//! library's runtime in a thread of its own, and waiting for one CAN-ID on a bus.
+//! library's runtime in a thread of its own, waiting for one CAN-ID on a bus, and the `x67-node`
+//! binary on vcan0.
 
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -9,7 +12,7 @@ use std::time::{Duration, Instant};
 use crate::node::storage::MemoryStorage;
 use crate::node::{Node, NodeConfig};
 use crate::runtime::{self, RunStats};
-use crate::transport::{BusEvent, CanBus};
+use crate::transport::{BusEvent, CanBus, SocketCanBus};
 use crate::x67::{self, BusController};
 use crate::CanFrame;
 
@@ -68,4 +71,22 @@ pub fn next_on(bus: &mut dyn CanBus, cob: u16, within: Duration) -> Option<(CanF
         }
     }
     None
+}
+
+/// The `x67-node` binary `bin` on vcan0 as node `id`, returned once its boot-up message is on the bus
+/// (the VM of the vcan tests emulates its CPU, so the start takes a variable time).
+pub fn spawn_on_vcan(bin: &Path, id: u8) -> Child {
+    let mut bus = SocketCanBus::open("vcan0").expect("vcan0 is up (tests/vcan/run brings it up)");
+    let mut node = Command::new(bin)
+        .args(["--bus", "socketcan:vcan0", "--node-id", &id.to_string()])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let boot = next_on(&mut bus, 0x700 + u16::from(id), Duration::from_secs(30));
+    if boot.as_ref().map(|(frame, _)| frame.data()) != Some(&[0u8][..]) {
+        node.kill().unwrap();
+        panic!("x67-node {id} sent no boot-up message within 30 s: {boot:?}");
+    }
+    node
 }

@@ -9,11 +9,12 @@
 //! - 100,000 random frames on vcan0 leave the node answering and its heartbeat on time.
 
 use std::io::{BufRead, BufReader};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use socketcan_node::node::NodeConfig;
-use socketcan_node::test_util::{next_on, RunningNode};
+use socketcan_node::test_util::{next_on, spawn_on_vcan, RunningNode};
 use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
 use socketcan_node::CanFrame;
 
@@ -26,24 +27,6 @@ fn f(id: u16, data: &[u8]) -> CanFrame {
 
 fn open() -> SocketCanBus {
     SocketCanBus::open(IFACE).expect("vcan0 is up (tests/vcan/run brings it up)")
-}
-
-/// The `x67-node` binary on vcan0 as node `id`, returned once its boot-up message is on the bus (the
-/// VM emulates its CPU, so the start takes a variable time).
-fn spawn_node(id: u8) -> std::process::Child {
-    let mut bus = open();
-    let mut node = Command::new(NODE)
-        .args(["--bus", "socketcan:vcan0", "--node-id", &id.to_string()])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let boot = next_on(&mut bus, 0x700 + u16::from(id), Duration::from_secs(30));
-    if boot.as_ref().map(|(frame, _)| frame.data()) != Some(&[0u8][..]) {
-        node.kill().unwrap();
-        panic!("x67-node {id} sent no boot-up message within 30 s: {boot:?}");
-    }
-    node
 }
 
 /// A node of the library's own runtime on vcan0 with a heartbeat, stopped when dropped.
@@ -249,7 +232,7 @@ fn candump_sees_the_binary_boot_up_and_heartbeat() {
 fn python_canopen_master_over_vcan() {
     let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
-    let mut node = spawn_node(1);
+    let mut node = spawn_on_vcan(Path::new(NODE), 1);
     let out = Command::new(&python)
         .arg(format!("{root}/tests/python/x67_master.py"))
         .arg("--eds")

@@ -32,13 +32,7 @@ pub fn cargo_binary(package: &str, bin: &str, features: &[&str]) -> PathBuf {
     if let Some(path) = built.get(&key) {
         return path.clone();
     }
-    // target/<profile>/deps/<this test> → target/<profile>.
-    let exe = std::env::current_exe().expect("the test's path");
-    let dir = exe
-        .parent()
-        .and_then(|deps| deps.parent())
-        .expect("target/<profile>/deps")
-        .to_path_buf();
+    let dir = profile_dir();
     let profile = dir.file_name().and_then(|p| p.to_str()).unwrap_or("debug");
     let target = dir.parent().expect("target dir");
     let mut cargo = Command::new(env!("CARGO"));
@@ -74,13 +68,16 @@ pub fn cargo_binary(package: &str, bin: &str, features: &[&str]) -> PathBuf {
 /// tests of another package than the binary's, where [`cargo_binary`] cannot run (its build is
 /// the caller's: `tests/vcan/run` builds `x67-node` before the tests).
 pub fn sibling_binary(name: &str) -> PathBuf {
-    let exe = std::env::current_exe().expect("the test's path");
-    // target/<profile>/deps/<this test> → target/<profile>/<name>.
-    let bin = exe
-        .parent()
-        .and_then(|deps| deps.parent())
-        .expect("target/<profile>/deps")
-        .join(name);
+    let bin = profile_dir().join(name);
     assert!(bin.exists(), "{} is not built", bin.display());
     bin
+}
+
+/// The directory of the running test's profile: target/<profile>/deps/<this test> → target/<profile>.
+fn profile_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("the test's path");
+    exe.parent()
+        .and_then(|deps| deps.parent())
+        .expect("target/<profile>/deps")
+        .to_path_buf()
 }
