@@ -10,11 +10,11 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use sdo_tool::Tool;
-use socketcan_node::node::storage::MemoryStorage;
 use socketcan_node::node::{Node, NodeConfig};
+use socketcan_node::runtime::{self, Station};
 use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
 use socketcan_node::x67::{self, BusController};
-use socketcan_node::{runtime, CanFrame};
+use socketcan_node::CanFrame;
 
 fn main() {
     let count: usize = std::env::args()
@@ -32,15 +32,11 @@ fn main() {
             0x5FF0,
             od::object::SubObject::new("Blob", od::DataType::Domain, od::object::AccessType::Rw),
         ));
-        let app =
-            BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).expect("app");
-        let mut nodes = [Node::new(
-            NodeConfig::new(1),
-            dict,
-            app,
-            Box::new(MemoryStorage::default()),
-        )
-        .expect("node")];
+        let now = Instant::now();
+        let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, now).expect("app");
+        let mut nodes = [Station::in_memory(
+            Node::new(NodeConfig::new(1), dict, app, now).expect("node"),
+        )];
         runtime::run(&mut nodes, &mut node_bus, &s).expect("run")
     });
     std::thread::sleep(Duration::from_millis(200));

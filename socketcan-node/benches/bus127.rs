@@ -7,11 +7,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use socketcan_node::node::storage::MemoryStorage;
 use socketcan_node::node::{Node, NodeConfig};
+use socketcan_node::runtime::{self, Station};
 use socketcan_node::transport::{BusEvent, CanBus, InProcessBus};
 use socketcan_node::x67::{self, BusController};
-use socketcan_node::{runtime, CanFrame};
+use socketcan_node::CanFrame;
 
 const NODES: u8 = 127;
 
@@ -35,7 +35,7 @@ fn main() {
     let stop_nodes = Arc::clone(&stop);
     let nodes_thread = std::thread::spawn(move || {
         let now = Instant::now();
-        let mut nodes: Vec<Node<BusController>> = (1..=NODES)
+        let mut nodes: Vec<Station<BusController>> = (1..=NODES)
             .map(|id| {
                 let mut dict = x67::dictionary(1).expect("fixture");
                 for comm in [0x1800, 0x1801] {
@@ -48,13 +48,7 @@ fn main() {
                     }
                 }
                 let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, now).expect("app");
-                Node::new(
-                    NodeConfig::new(id),
-                    dict,
-                    app,
-                    Box::new(MemoryStorage::default()),
-                )
-                .expect("node")
+                Station::in_memory(Node::new(NodeConfig::new(id), dict, app, now).expect("node"))
             })
             .collect();
         let cpu0 = thread_cpu_ns();

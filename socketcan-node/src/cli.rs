@@ -11,7 +11,7 @@ use clap::Parser;
 
 use crate::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
 use crate::node::{Node, NodeConfig, NodeError};
-use crate::runtime::{self, RunStats};
+use crate::runtime::{self, RunStats, Station};
 use crate::transport::{self, BusError, BusSpec, CanBus};
 use crate::x67::{self, BusController, X67Error, BUS_CONTROLLER};
 
@@ -80,8 +80,8 @@ pub enum CliError {
     },
 }
 
-/// The node `args` describe, ready to start.
-pub fn build_node(args: &Args) -> Result<Node<BusController>, CliError> {
+/// The node `args` describe with its storage, ready to start.
+pub fn build_node(args: &Args) -> Result<Station<BusController>, CliError> {
     let modules = usize::from(args.modules);
     let storage: Box<dyn ParameterStorage> = match &args.storage {
         Some(path) => {
@@ -106,15 +106,11 @@ pub fn build_node(args: &Args) -> Result<Node<BusController>, CliError> {
         None => Box::new(MemoryStorage::default()),
     };
     let dict = x67::dictionary(modules)?;
-    let app = BusController::new(
-        &dict,
-        modules,
-        Duration::from_micros(args.x2x_us),
-        Instant::now(),
-    )?;
+    let now = Instant::now();
+    let app = BusController::new(&dict, modules, Duration::from_micros(args.x2x_us), now)?;
     let mut config = NodeConfig::new(args.node_id);
     config.heartbeat_ms = args.heartbeat_ms;
-    Ok(Node::new(config, dict, app, storage)?)
+    Ok(Station::new(Node::new(config, dict, app, now)?, storage))
 }
 
 /// How to reach a node on `spec`, for the start-up message.
@@ -139,7 +135,7 @@ pub fn connect_hint(spec: &BusSpec) -> String {
 
 /// Runs `x67-node` until Ctrl-C (or `stop`, when given) and returns the run's counters.
 pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliError> {
-    let mut node = build_node(args)?;
+    let mut station = build_node(args)?;
     let (spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
         Some(spec) => (spec.clone(), transport::open(spec)?),
         None => transport::open_default()?,
@@ -164,7 +160,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         connect_hint(&spec)
     );
     tracing::info!(bus = %bus.describe(), node = args.node_id, "started");
-    let stats = runtime::run(std::slice::from_mut(&mut node), bus.as_mut(), &stop)?;
+    let stats = runtime::run(std::slice::from_mut(&mut station), bus.as_mut(), &stop)?;
     tracing::info!(
         received = stats.received,
         sent = stats.sent,

@@ -2,12 +2,13 @@
 //!
 //! [`run`] drives one or more [`Node`]s sharing one [`CanBus`]: frames from the bus go to every node,
 //! frames a node sends go to the bus and to the other nodes of the same process (they are on the same
-//! bus), and each node is polled when its timers are due. It returns when `stop` is set or the bus
-//! fails.
+//! bus), each node's timers run when [`Node::poll_timeout`] says, and the parameter sets a node saves
+//! go to its [`Station`]'s storage. It returns when `stop` is set or the bus fails.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+use crate::node::storage::{MemoryStorage, ParameterStorage};
 use crate::node::{Application, Node, NodeEvent};
 use crate::transport::{BusError, BusEvent, CanBus};
 use crate::CanFrame;
@@ -26,23 +27,58 @@ pub struct RunStats {
     pub bus_errors: u64,
 }
 
-/// Runs `nodes` on `bus` until `stop` is set. Every node is started first (boot-up messages).
+/// A node with the storage its parameter sets (0x1010, 0x1011) go to.
+pub struct Station<A: Application> {
+    /// The node.
+    pub node: Node<A>,
+    /// Where its parameters are kept.
+    pub storage: Box<dyn ParameterStorage>,
+}
+
+impl<A: Application> Station<A> {
+    /// `node` with `storage`; the node gets the set the storage holds (a set that cannot be read is
+    /// logged and the node starts with its defaults).
+    pub fn new(mut node: Node<A>, mut storage: Box<dyn ParameterStorage>) -> Station<A> {
+        match storage.load() {
+            Ok(set) => node.set_stored(set),
+            Err(e) => tracing::warn!(node = node.node_id(), "cannot read stored parameters: {e}"),
+        }
+        Station { node, storage }
+    }
+
+    /// `node` with parameters kept in memory only.
+    pub fn in_memory(node: Node<A>) -> Station<A> {
+        Station::new(node, Box::new(MemoryStorage::default()))
+    }
+
+    /// Carries out what the node asked of its storage.
+    fn persist(&mut self) {
+        while let Some(request) = self.node.poll_storage() {
+            if let Err(e) = request.apply(self.storage.as_mut()) {
+                tracing::error!(node = self.node.node_id(), "parameter storage failed: {e}");
+            }
+        }
+    }
+}
+
+/// Runs `stations` on `bus` until `stop` is set. Every node is started first (boot-up messages).
 pub fn run<A: Application>(
-    nodes: &mut [Node<A>],
+    stations: &mut [Station<A>],
     bus: &mut dyn CanBus,
     stop: &AtomicBool,
 ) -> Result<RunStats, BusError> {
     let mut stats = RunStats::default();
     let now = Instant::now();
-    for node in nodes.iter_mut() {
-        node.start(now);
+    for s in stations.iter_mut() {
+        s.node.start(now);
     }
+    let nodes = stations;
     let mut outgoing: Vec<(usize, CanFrame)> = Vec::new();
     let mut interest = Interest::default();
     flush(nodes, bus, &mut outgoing, &mut interest, &mut stats)?;
     while !stop.load(Ordering::Relaxed) {
         let now = Instant::now();
-        let next = nodes.iter().filter_map(Node::poll_timeout).min();
+        let next = nodes.iter().filter_map(|s| s.node.poll_timeout()).min();
         let wait = next.map_or(MAX_WAIT, |t| t.saturating_duration_since(now).min(MAX_WAIT));
         match bus.recv(wait)? {
             Some(BusEvent::Frame { frame, .. }) => {
@@ -50,7 +86,7 @@ pub fn run<A: Application>(
                 let at = Instant::now();
                 interest.refresh(nodes);
                 for &n in interest.takers(&frame) {
-                    nodes[n].handle_frame(at, &frame);
+                    nodes[n].node.handle_frame(at, &frame);
                 }
             }
             Some(BusEvent::Error(text)) => {
@@ -60,9 +96,9 @@ pub fn run<A: Application>(
             None => {}
         }
         let now = Instant::now();
-        for node in nodes.iter_mut() {
-            if node.poll_timeout().is_some_and(|t| t <= now) {
-                node.poll(now);
+        for s in nodes.iter_mut() {
+            if s.node.poll_timeout().is_some_and(|t| t <= now) {
+                s.node.handle_timeout(now);
             }
         }
         flush(nodes, bus, &mut outgoing, &mut interest, &mut stats)?;
@@ -80,9 +116,9 @@ struct Interest {
 }
 
 impl Interest {
-    fn refresh<A: Application>(&mut self, nodes: &[Node<A>]) {
-        let g = nodes.iter().fold(0u64, |g, n| {
-            g.wrapping_mul(31).wrapping_add(n.listen_generation())
+    fn refresh<A: Application>(&mut self, nodes: &[Station<A>]) {
+        let g = nodes.iter().fold(0u64, |g, s| {
+            g.wrapping_mul(31).wrapping_add(s.node.listen_generation())
         });
         if self.generation == Some(g) {
             return;
@@ -90,8 +126,8 @@ impl Interest {
         self.generation = Some(g);
         self.data = vec![Vec::new(); 0x800];
         self.rtr = vec![Vec::new(); 0x800];
-        for (k, node) in nodes.iter().enumerate() {
-            let (data, rtr) = node.listens();
+        for (k, s) in nodes.iter().enumerate() {
+            let (data, rtr) = s.node.listens();
             for &c in data {
                 self.data[usize::from(c & 0x7FF)].push(k);
             }
@@ -112,7 +148,7 @@ impl Interest {
 
 /// Sends what the nodes have to send; a frame of one node also reaches the others in this process.
 fn flush<A: Application>(
-    nodes: &mut [Node<A>],
+    nodes: &mut [Station<A>],
     bus: &mut dyn CanBus,
     outgoing: &mut Vec<(usize, CanFrame)>,
     interest: &mut Interest,
@@ -120,11 +156,12 @@ fn flush<A: Application>(
 ) -> Result<(), BusError> {
     loop {
         outgoing.clear();
-        for (n, node) in nodes.iter_mut().enumerate() {
-            while let Some(e) = node.poll_event() {
-                log_event(node.node_id(), &e);
+        for (n, s) in nodes.iter_mut().enumerate() {
+            while let Some(e) = s.node.poll_event() {
+                log_event(s.node.node_id(), &e);
             }
-            while let Some(f) = node.poll_transmit() {
+            s.persist();
+            while let Some(f) = s.node.poll_transmit() {
                 outgoing.push((n, f));
             }
         }
@@ -143,7 +180,7 @@ fn flush<A: Application>(
         for (from, f) in outgoing.iter() {
             for &n in interest.takers(f) {
                 if n != *from {
-                    nodes[n].handle_frame(at, f);
+                    nodes[n].node.handle_frame(at, f);
                 }
             }
         }
@@ -172,7 +209,7 @@ fn log_event(node: u8, e: &NodeEvent) {
             )
         }
         NodeEvent::Loaded(n) => tracing::info!(node, "{n} stored parameters loaded"),
-        NodeEvent::Storage(text) => tracing::warn!(node, "{text}"),
+        NodeEvent::Storage(e) => tracing::warn!(node, "stored parameters ignored: {e}"),
         NodeEvent::HeartbeatLost(p) => tracing::warn!(node, "heartbeat of node {p} missed"),
         NodeEvent::HeartbeatResumed(p) => tracing::info!(node, "heartbeat of node {p} back"),
         NodeEvent::Sdo(ev) => tracing::debug!(node, "SDO {ev:?}"),

@@ -29,6 +29,8 @@ pub struct SimNode {
     pub t0: Instant,
     /// Frames the node sent, with their time since `t0`.
     pub sent: Vec<(Duration, CanFrame)>,
+    /// Where the node's parameter sets go (written as the node asks, at once).
+    pub storage: Box<dyn ParameterStorage>,
 }
 
 impl SimNode {
@@ -60,13 +62,17 @@ impl SimNode {
         let t0 = Instant::now();
         let dict = x67::dictionary(modules)?;
         let app = BusController::new(&dict, modules, x2x, t0)?;
-        let mut node = Node::new(config, dict, app, storage)?;
+        let mut node = Node::new(config, dict, app, t0)?;
+        let mut storage = storage;
+        // A set that cannot be read is as none (the runtime logs it).
+        node.set_stored(storage.load().ok().flatten());
         node.start(t0);
         let mut sim = SimNode {
             node,
             now: t0,
             t0,
             sent: Vec::new(),
+            storage,
         };
         sim.collect();
         Ok(sim)
@@ -81,13 +87,18 @@ impl SimNode {
         while let Some(f) = self.node.poll_transmit() {
             self.sent.push((self.now - self.t0, f));
         }
+        while let Some(request) = self.node.poll_storage() {
+            if let Err(e) = request.apply(self.storage.as_mut()) {
+                panic!("the simulated node's storage failed: {e}");
+            }
+        }
     }
 
     /// Delivers `frame` now; returns the frames the node sent in answer.
     pub fn send(&mut self, frame: CanFrame) -> Vec<CanFrame> {
         let before = self.sent.len();
         self.node.handle_frame(self.now, &frame);
-        self.node.poll(self.now);
+        self.node.handle_timeout(self.now);
         self.collect();
         self.sent[before..].iter().map(|(_, f)| *f).collect()
     }
@@ -98,11 +109,11 @@ impl SimNode {
         let end = self.now + d;
         while let Some(t) = self.node.poll_timeout().filter(|t| *t <= end) {
             self.now = self.now.max(t);
-            self.node.poll(self.now);
+            self.node.handle_timeout(self.now);
             self.collect();
         }
         self.now = end;
-        self.node.poll(end);
+        self.node.handle_timeout(end);
         self.collect();
         self.sent[before..].iter().map(|(_, f)| *f).collect()
     }
@@ -112,7 +123,7 @@ impl SimNode {
     pub fn stall(&mut self, d: Duration) -> Vec<CanFrame> {
         let before = self.sent.len();
         self.now += d;
-        self.node.poll(self.now);
+        self.node.handle_timeout(self.now);
         self.collect();
         self.sent[before..].iter().map(|(_, f)| *f).collect()
     }

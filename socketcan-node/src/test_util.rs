@@ -9,9 +9,8 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crate::node::storage::MemoryStorage;
 use crate::node::{Node, NodeConfig};
-use crate::runtime::{self, RunStats};
+use crate::runtime::{self, RunStats, Station};
 use crate::transport::{BusEvent, CanBus, SocketCanBus};
 use crate::x67::{self, BusController};
 use crate::CanFrame;
@@ -30,9 +29,11 @@ impl RunningNode {
         let s = Arc::clone(&stop);
         let thread = std::thread::spawn(move || {
             let dict = x67::dictionary(1).unwrap();
-            let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, Instant::now()).unwrap();
-            let mut nodes =
-                [Node::new(config, dict, app, Box::new(MemoryStorage::default())).unwrap()];
+            let now = Instant::now();
+            let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, now).unwrap();
+            let mut nodes = [Station::in_memory(
+                Node::new(config, dict, app, now).unwrap(),
+            )];
             runtime::run(&mut nodes, &mut bus, &s).unwrap()
         });
         RunningNode {

@@ -348,7 +348,7 @@ impl DeviceHook for BusController {
 }
 
 impl Application for BusController {
-    fn advance(&mut self, now: Instant) {
+    fn handle_timeout(&mut self, now: Instant) {
         for m in 0..self.modules.len() {
             // Bounded catch-up: after a stall of the process, at most 10 s of module time.
             let mut steps = 0;

@@ -2,9 +2,10 @@
 
 use std::time::Duration;
 
-use socketcan_node::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
+use socketcan_node::node::storage::{FileStorage, MemoryStorage, ParameterStorage, StorageRequest};
 use socketcan_node::sim::SimNode;
-use socketcan_node::{CanFrame, NmtState, NodeConfig};
+use socketcan_node::x67::{self, BusController};
+use socketcan_node::{CanFrame, NmtState, Node, NodeConfig};
 
 const ID: u8 = 5;
 
@@ -426,6 +427,67 @@ fn store_and_restore_parameters() {
     m.nmt(0x81, ID);
     assert_eq!(m.sdo_read(0x1017, 0), Ok(vec![0, 0]));
     assert_eq!(m.node.app().modules()[0].read_named("MaxSpeed01pos"), 0);
+}
+
+/// CiA 301 §7.5.2.13/§7.5.2.14 on a sans-IO node: "save" and "load" are answered at once and become
+/// requests to the edge's storage; the node itself writes nothing, and a set handed to a new node
+/// before it starts is loaded at its boot.
+#[test]
+fn save_and_restore_are_requests_to_the_edge() {
+    let t0 = std::time::Instant::now();
+    let build = || {
+        let dict = x67::dictionary(1).unwrap();
+        let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, t0).unwrap();
+        Node::new(NodeConfig::new(ID), dict, app, t0).unwrap()
+    };
+    let exchange = |node: &mut Node<BusController>, request: [u8; 8]| {
+        node.handle_frame(t0, &f(0x605, &request));
+        let mut sent = Vec::new();
+        while let Some(frame) = node.poll_transmit() {
+            sent.push(frame);
+        }
+        sent
+    };
+    let mut node = build();
+    node.start(t0);
+    assert_eq!(node.poll_transmit(), Some(f(0x705, &[0x00])));
+    // 0x1017:00 = 1000 ms, then "save" to 0x1010:01.
+    let sent = exchange(&mut node, [0x2B, 0x17, 0x10, 0x00, 0xE8, 0x03, 0, 0]);
+    assert_eq!(sent, vec![f(0x585, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0])]);
+    assert_eq!(
+        node.poll_storage(),
+        None,
+        "a plain write asks nothing of the storage"
+    );
+    let sent = exchange(&mut node, [0x23, 0x10, 0x10, 0x01, b's', b'a', b'v', b'e']);
+    assert_eq!(sent, vec![f(0x585, &[0x60, 0x10, 0x10, 0x01, 0, 0, 0, 0])]);
+    let Some(StorageRequest::Save(set)) = node.poll_storage() else {
+        panic!("a save request");
+    };
+    let text = String::from_utf8(set.clone()).unwrap();
+    assert!(text.starts_with("x67-node parameters 1\n"), "{text}");
+    assert!(text.contains("1017:00 E803\n"), "{text}");
+    assert_eq!(node.poll_storage(), None, "one request per save");
+    // "load" to 0x1011:01: forget the set.
+    let sent = exchange(&mut node, [0x23, 0x11, 0x10, 0x01, b'l', b'o', b'a', b'd']);
+    assert_eq!(sent, vec![f(0x585, &[0x60, 0x11, 0x10, 0x01, 0, 0, 0, 0])]);
+    assert_eq!(node.poll_storage(), Some(StorageRequest::Clear));
+    // A new node given the saved set boots with its heartbeat of 1000 ms.
+    let mut next = build();
+    next.set_stored(Some(set));
+    next.start(t0);
+    assert_eq!(next.poll_transmit(), Some(f(0x705, &[0x00])));
+    let sent = exchange(&mut next, [0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(
+        sent,
+        vec![f(0x585, &[0x4B, 0x17, 0x10, 0x00, 0xE8, 0x03, 0, 0])]
+    );
+    // Without a set: the default 0.
+    let mut fresh = build();
+    fresh.start(t0);
+    let _ = fresh.poll_transmit();
+    let sent = exchange(&mut fresh, [0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(sent, vec![f(0x585, &[0x4B, 0x17, 0x10, 0x00, 0, 0, 0, 0])]);
 }
 
 #[test]

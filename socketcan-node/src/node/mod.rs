@@ -2,8 +2,20 @@
 //! and optional producer, PDOs from the dictionary, EMCY, store/restore parameters and the SDO server.
 //!
 //! The node takes frames with the time they arrived ([`Node::handle_frame`]), is driven by
-//! [`Node::poll`] at [`Node::poll_timeout`], and hands back the frames to send ([`Node::poll_transmit`]).
-//! No sockets, threads or clocks inside: the runtime at the edge owns those.
+//! [`Node::handle_timeout`] at [`Node::poll_timeout`], and hands back the frames to send
+//! ([`Node::poll_transmit`]). No sockets, threads, files or clocks inside: the runtime at the edge owns
+//! those. "Save" (0x1010) and "restore" (0x1011) become requests the edge carries out on its storage
+//! ([`Node::poll_storage`]); the edge hands the node the set it loaded ([`Node::set_stored`]).
+//!
+//! # Methods and polling order
+//!
+//! 1. [`Node::new`] at `now`, [`Node::set_stored`] with what the edge's storage holds, then
+//!    [`Node::start`] (boot-up message, Pre-operational).
+//! 2. For every frame received: [`Node::handle_frame`] with the time it arrived.
+//! 3. When [`Node::poll_timeout`] has passed: [`Node::handle_timeout`].
+//! 4. After each of those calls, drain [`Node::poll_transmit`] (frames in the order to send),
+//!    [`Node::poll_storage`] (parameter sets to write or forget) and [`Node::poll_event`].
+//! 5. Wait for a frame or for the next [`Node::poll_timeout`], whichever comes first.
 //!
 //! The device behind the node is an [`Application`]: it owns the manufacturer objects it declares, takes
 //! what the master writes to them (by SDO or RPDO), answers reads (SDO uploads and TPDOs), advances its
@@ -45,7 +57,7 @@ use od::sdo::{
 use pdo::{
     Direction, PdoConfig, COB_EXTENDED, COB_INVALID, COB_NO_RTR, MAP_OFFSET, RPDO_COMM, TPDO_COMM,
 };
-use storage::ParameterStorage;
+use storage::StorageRequest;
 
 /// "save" as a little-endian UNSIGNED32 (0x1010).
 pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
@@ -56,8 +68,8 @@ pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;
 /// project's one device hook), with its own time and its errors.
 pub trait Application: DeviceHook {
     /// Runs the application up to `now`.
-    fn advance(&mut self, now: Instant);
-    /// When [`advance`](Application::advance) is next due.
+    fn handle_timeout(&mut self, now: Instant);
+    /// When [`handle_timeout`](Application::handle_timeout) is next due.
     fn poll_timeout(&self) -> Option<Instant>;
     /// The errors active now.
     fn errors(&self, out: &mut Vec<AppError>);
@@ -131,8 +143,8 @@ pub enum NodeEvent {
     Saved,
     /// The stored parameters were forgotten (0x1011); defaults apply at the next reset.
     Restored,
-    /// Saving, forgetting or loading failed.
-    Storage(String),
+    /// The stored parameter set was refused as a whole at a reset (the defaults apply).
+    Storage(storage::ParamFileError),
     /// The stored parameter set was loaded at a reset (number of entries).
     Loaded(usize),
     /// The monitored heartbeat producer was missed.
@@ -171,7 +183,9 @@ struct Core<A: Application> {
     /// The dictionary as built (defaults, `--heartbeat-ms` applied) for resets.
     pristine: Dictionary,
     app: A,
-    storage: Box<dyn ParameterStorage>,
+    /// The parameter set as the edge's storage holds it (loaded at each reset).
+    stored: Option<Vec<u8>>,
+    storage_out: VecDeque<StorageRequest>,
     tx: VecDeque<(u16, [u8; 8], u8)>,
     events: VecDeque<NodeEvent>,
     rpdos: Vec<PdoConfig>,
@@ -202,13 +216,13 @@ pub struct Node<A: Application> {
 }
 
 impl<A: Application> Node<A> {
-    /// A node in Initialising over `dict` (the device's dictionary with its defaults), `app` and
-    /// `storage`. [`start`](Node::start) boots it.
+    /// A node in Initialising at `now` over `dict` (the device's dictionary with its defaults) and
+    /// `app`, with no stored parameters. [`start`](Node::start) boots it.
     pub fn new(
         config: NodeConfig,
         mut dict: Dictionary,
         app: A,
-        storage: Box<dyn ParameterStorage>,
+        now: Instant,
     ) -> Result<Node<A>, NodeError> {
         if !(1..=127).contains(&config.node_id) {
             return Err(NodeError::NodeId(config.node_id));
@@ -221,7 +235,6 @@ impl<A: Application> Node<A> {
             }
         }
         dict.reset(config.node_id);
-        let now = Instant::now();
         Ok(Node {
             sdo: SdoServer::new(config.sdo),
             core: Core {
@@ -230,7 +243,8 @@ impl<A: Application> Node<A> {
                 pristine: dict.clone(),
                 dict,
                 app,
-                storage,
+                stored: None,
+                storage_out: VecDeque::new(),
                 tx: VecDeque::new(),
                 events: VecDeque::new(),
                 rpdos: Vec::new(),
@@ -252,6 +266,12 @@ impl<A: Application> Node<A> {
                 generation: 0,
             },
         })
+    }
+
+    /// The parameter set the edge's storage holds (`None`: none), as written by an earlier
+    /// [`StorageRequest::Save`]; it is loaded at every reset, the first at [`start`](Node::start).
+    pub fn set_stored(&mut self, set: Option<Vec<u8>>) {
+        self.core.stored = set;
     }
 
     /// Boots the node at `now`: loads the stored parameters, sends the boot-up message and enters
@@ -285,7 +305,7 @@ impl<A: Application> Node<A> {
         &mut self.core.app
     }
 
-    /// The errors active now (as last seen by [`poll`](Node::poll)).
+    /// The errors active now (as last seen by [`handle_timeout`](Node::handle_timeout)).
     pub fn active_errors(&self) -> &[AppError] {
         &self.core.active
     }
@@ -362,7 +382,7 @@ impl<A: Application> Node<A> {
 
     /// Runs every timer due at `now`: application time, event-driven TPDOs, heartbeat, SYNC producer,
     /// EMCY inhibit, the SDO transfer timeout.
-    pub fn poll(&mut self, now: Instant) {
+    pub fn handle_timeout(&mut self, now: Instant) {
         self.core.now = now;
         self.sdo.handle_timeout(now);
         self.flush_sdo();
@@ -371,7 +391,7 @@ impl<A: Application> Node<A> {
         self.flush_sdo();
     }
 
-    /// When [`poll`](Node::poll) is next due.
+    /// When [`handle_timeout`](Node::handle_timeout) is next due.
     #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         let c = &self.core;
@@ -409,6 +429,13 @@ impl<A: Application> Node<A> {
     #[must_use]
     pub fn poll_event(&mut self) -> Option<NodeEvent> {
         self.core.events.pop_front()
+    }
+
+    /// The next request to the edge's parameter storage (a set to write for 0x1010, forgetting it
+    /// for 0x1011), in the order they were made.
+    #[must_use]
+    pub fn poll_storage(&mut self) -> Option<StorageRequest> {
+        self.core.storage_out.pop_front()
     }
 }
 
@@ -473,23 +500,13 @@ impl<A: Application> Core<A> {
         if full {
             self.app.reset(now);
         }
-        let stored = match self.storage.load() {
-            Ok(Some(bytes)) => match storage::decode(&bytes) {
-                Ok(set) => set,
-                Err(e) => {
-                    self.events.push_back(NodeEvent::Storage(format!(
-                        "stored parameters ignored: {e}"
-                    )));
-                    Vec::new()
-                }
-            },
-            Ok(None) => Vec::new(),
-            Err(e) => {
-                self.events.push_back(NodeEvent::Storage(format!(
-                    "cannot read stored parameters: {e}"
-                )));
+        let stored = match self.stored.as_deref().map(storage::decode) {
+            Some(Ok(set)) => set,
+            Some(Err(e)) => {
+                self.events.push_back(NodeEvent::Storage(e));
                 Vec::new()
             }
+            None => Vec::new(),
         };
         let mut loaded = 0;
         for (index, sub, value) in stored {
@@ -632,7 +649,7 @@ impl<A: Application> Core<A> {
             return;
         }
         if self.app.poll_timeout().is_some_and(|t| t <= now) {
-            self.app.advance(now);
+            self.app.handle_timeout(now);
             self.check_errors();
             if self.state == NmtState::Operational {
                 self.event_tpdos(now);
@@ -994,34 +1011,21 @@ impl<A: Application> Core<A> {
                 if value != SAVE_SIGNATURE {
                     return Err(AbortCode::CannotStore);
                 }
+                // Taken at once; the edge writes the set (CiA 301 §7.5.2.13 leaves when to it).
                 let set = storage::encode(&self.parameter_set());
-                return match self.storage.save(&set) {
-                    Ok(()) => {
-                        self.events.push_back(NodeEvent::Saved);
-                        Ok(true)
-                    }
-                    Err(e) => {
-                        self.events
-                            .push_back(NodeEvent::Storage(format!("save failed: {e}")));
-                        Err(AbortCode::HardwareError)
-                    }
-                };
+                self.stored = Some(set.clone());
+                self.storage_out.push_back(StorageRequest::Save(set));
+                self.events.push_back(NodeEvent::Saved);
+                return Ok(true);
             }
             0x1011 if sub >= 1 => {
                 if value != LOAD_SIGNATURE {
                     return Err(AbortCode::CannotStore);
                 }
-                return match self.storage.clear() {
-                    Ok(()) => {
-                        self.events.push_back(NodeEvent::Restored);
-                        Ok(true)
-                    }
-                    Err(e) => {
-                        self.events
-                            .push_back(NodeEvent::Storage(format!("restore failed: {e}")));
-                        Err(AbortCode::HardwareError)
-                    }
-                };
+                self.stored = None;
+                self.storage_out.push_back(StorageRequest::Clear);
+                self.events.push_back(NodeEvent::Restored);
+                return Ok(true);
             }
             0x1005 | 0x1014 => {
                 let id = (value & 0x7FF) as u16;

@@ -14,6 +14,25 @@ use std::path::{Path, PathBuf};
 /// First line of a parameter file.
 const MAGIC: &str = "x67-node parameters 1";
 
+/// What a node asks its edge to do with the stored parameter set ([`super::Node::poll_storage`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum StorageRequest {
+    /// Replace the stored set with this one (0x1010 "save").
+    Save(Vec<u8>),
+    /// Forget the stored set (0x1011 "load"): the defaults apply at the next reset.
+    Clear,
+}
+
+impl StorageRequest {
+    /// Carries the request out on `storage`.
+    pub fn apply(&self, storage: &mut dyn ParameterStorage) -> io::Result<()> {
+        match self {
+            StorageRequest::Save(set) => storage.save(set),
+            StorageRequest::Clear => storage.clear(),
+        }
+    }
+}
+
 /// A place to keep one parameter set.
 pub trait ParameterStorage: Send {
     /// The stored set, or `None` when there is none.
