@@ -2197,3 +2197,38 @@ proptest! {
         }
     }
 }
+
+/// The module's clock (X67-18.11.1.15-02: GeneralConfig01 bits 1–2 select the 25, 10 or 5 ms cycle): after
+/// `start` a cycle is due every cycle length; `handle_timeout` runs exactly the cycles due, each of the
+/// length selected when it runs, and a host stalled for an hour catches up 2000 cycles, then goes on
+/// from its present time.
+#[test]
+fn x67_18_11_1_15_02_module_clock_runs_the_cycles_due() {
+    let t0 = std::time::Instant::now();
+    let ms = std::time::Duration::from_millis;
+    let mut m = Module::new();
+    m.handle_timeout(t0 + ms(1000));
+    assert_eq!(
+        (m.time_ms(), m.poll_timeout()),
+        (0, None),
+        "no clock before start"
+    );
+    m.start(t0);
+    assert_eq!(m.poll_timeout(), Some(t0 + ms(25)));
+    m.handle_timeout(t0 + ms(24));
+    assert_eq!(m.time_ms(), 0);
+    m.handle_timeout(t0 + ms(25));
+    assert_eq!(m.time_ms(), 25);
+    m.handle_timeout(t0 + ms(87));
+    assert_eq!(m.time_ms(), 75, "cycles at 50 and 75 ms");
+    assert_eq!(m.poll_timeout(), Some(t0 + ms(100)));
+    // 5 ms from the next cycle on: the cycles due at 100, 105 and 110 ms are 5 ms cycles.
+    write(&mut m, "GeneralConfig01", 0, 0b100);
+    m.handle_timeout(t0 + ms(111));
+    assert_eq!(m.time_ms(), 75 + 5 + 5 + 5);
+    assert_eq!(m.poll_timeout(), Some(t0 + ms(115)));
+    let late = t0 + ms(3_600_000);
+    m.handle_timeout(late);
+    assert_eq!(m.time_ms(), 90 + 2000 * 5);
+    assert_eq!(m.poll_timeout(), Some(late + ms(5)));
+}

@@ -202,7 +202,6 @@ pub struct BusController {
     slots: HashMap<u16, Slot>,
     x2x: Duration,
     x2x_next: Instant,
-    module_next: Vec<Instant>,
     inputs: Vec<u8>,
 }
 
@@ -237,7 +236,6 @@ impl BusController {
             slots,
             x2x,
             x2x_next: now,
-            module_next: Vec::new(),
             inputs: vec![0; modules],
         };
         bc.power_on(modules, now);
@@ -245,14 +243,15 @@ impl BusController {
     }
 
     fn power_on(&mut self, modules: usize, now: Instant) {
-        self.modules = (0..modules).map(|_| Module::new()).collect();
-        self.module_next = (0..modules).map(|m| now + self.module_cycle(m)).collect();
+        self.modules = (0..modules)
+            .map(|_| {
+                let mut m = Module::new();
+                m.start(now);
+                m
+            })
+            .collect();
         self.x2x_next = now + self.x2x;
         self.inputs = vec![0; modules];
-    }
-
-    fn module_cycle(&self, m: usize) -> Duration {
-        Duration::from_millis(u64::from(self.modules[m].cycle().millis()))
     }
 
     /// The modules.
@@ -349,19 +348,9 @@ impl DeviceHook for BusController {
 
 impl Application for BusController {
     fn handle_timeout(&mut self, now: Instant) {
-        for m in 0..self.modules.len() {
-            // Bounded catch-up: after a stall of the process, at most 10 s of module time.
-            let mut steps = 0;
-            while self.module_next[m] <= now && steps < 2000 {
-                self.modules[m].step();
-                let _ = self.modules[m].take_diagnostics();
-                let cycle = self.module_cycle(m);
-                self.module_next[m] += cycle;
-                steps += 1;
-            }
-            if self.module_next[m] <= now {
-                self.module_next[m] = now + self.module_cycle(m);
-            }
+        for module in &mut self.modules {
+            module.handle_timeout(now);
+            let _ = module.take_diagnostics();
         }
         while self.x2x_next <= now {
             self.x2x_next += self.x2x;

@@ -6,6 +6,15 @@
 //! axes. The master writes the cyclic outputs ([`Module::write`] or the `set_*` shortcuts) at any time; the
 //! module takes them over once per cycle (X67-18.14-02 pick).
 //!
+//! # Methods and polling order
+//!
+//! On a real clock the host calls [`Module::start`] at power-on, then [`Module::handle_timeout`] whenever
+//! [`Module::poll_timeout`] has passed: it runs every cycle due by then, each of the length GeneralConfig01
+//! selects at that cycle (the model derives its time step itself). Register access ([`Module::read`],
+//! [`Module::write`]) and the harness may come between any two calls; [`Module::take_diagnostics`] drains
+//! what the cycles noted. [`Module::step`], [`Module::run`] and [`Module::run_ms`] run cycles without a
+//! clock (tests, simulations that count cycles).
+//!
 //! ```
 //! use ds402::x67::module::Module;
 //! use ds402::x67::registers::{AxisReg, Register};
@@ -55,6 +64,8 @@
 //!   limits. A counter already outside the limits (set by mode −122) may only move back toward them.
 //! - **Current ratings** (X67-3-03/-04) are not enforced; breaking them writes a [`Diagnostic`].
 
+use std::time::{Duration, Instant};
+
 use crate::x67::axis::{Axis, CycleContext, Frac, InputEdge};
 use crate::x67::current::MODULE_NOMINAL_MILLIAMPS;
 use crate::x67::errors::{supply_in_range, Temperature};
@@ -63,6 +74,10 @@ use crate::x67::registers::{AxisReg, ModuleReg, Register, RegisterError};
 
 /// Largest count rate of the encoder inputs in counts per second (X67-3-10: 200 kHz).
 pub const MAX_COUNT_RATE: i64 = 200_000;
+
+/// The most cycles one [`Module::handle_timeout`] runs: 10 s of module time at the 5 ms cycle, so a host
+/// that was stopped for long catches up in bounded time.
+pub const MAX_CATCH_UP: u32 = 2000;
 
 /// A switch fixed to the rotor of an axis: the input is high while the rotor position (microsteps) lies in
 /// `from..=to`.
@@ -183,6 +198,8 @@ pub struct Module {
     ratings: [Rating; 2],
     module_over: bool,
     diagnostics: Vec<Diagnostic>,
+    /// When the next cycle is due on the host's clock (`None` before [`Module::start`]).
+    next_cycle: Option<Instant>,
 }
 
 impl Default for Module {
@@ -213,7 +230,41 @@ impl Module {
             }; 2],
             module_over: false,
             diagnostics: Vec::new(),
+            next_cycle: None,
         }
+    }
+
+    /// Starts the module's clock at `now` (power-on): the first cycle is due one cycle later.
+    pub fn start(&mut self, now: Instant) {
+        self.next_cycle = Some(now + self.cycle_length());
+    }
+
+    /// Runs every cycle due at `now` (at most [`MAX_CATCH_UP`] after a stall of the host; the clock then
+    /// goes on from `now`). Nothing before [`Module::start`].
+    pub fn handle_timeout(&mut self, now: Instant) {
+        let Some(mut next) = self.next_cycle else {
+            return;
+        };
+        let mut steps = 0;
+        while next <= now && steps < MAX_CATCH_UP {
+            self.step();
+            next += self.cycle_length();
+            steps += 1;
+        }
+        if next <= now {
+            next = now + self.cycle_length();
+        }
+        self.next_cycle = Some(next);
+    }
+
+    /// When the next cycle is due (`None` before [`Module::start`]).
+    #[must_use]
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.next_cycle
+    }
+
+    fn cycle_length(&self) -> Duration {
+        Duration::from_millis(u64::from(self.cycle().millis()))
     }
 
     /// The ramp-generator cycle from GeneralConfig01 bits 1–2.
