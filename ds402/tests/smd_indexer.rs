@@ -3,8 +3,10 @@
 
 mod smd_rig;
 
-use ds402::smd::config::{Configuration, CFG0_USE_ENCODER};
-use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Outputs};
+use std::time::Duration;
+
+use ds402::smd::config::{Configuration, EncoderKind, CFG0_USE_ENCODER};
+use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1, Indexer, Outputs};
 use proptest::prelude::*;
 use smd_rig::Rig;
 
@@ -828,4 +830,47 @@ proptest! {
         prop_assert_eq!(r.pos(), offset);
         prop_assert!(r.s0() & stat0::MOVE_COMPLETE != 0);
     }
+}
+
+/// On the host's clock the model derives its time step: `exchange(now)` after `start` runs the same
+/// motion as `cycle` with the time since the previous exchange (a move at 1 ms, 3 ms and 7 ms
+/// steps, inputs equal at every step); before `start` the first exchange runs none, and a time
+/// before the last runs none either.
+#[test]
+fn exchange_derives_the_time_step_from_now() {
+    let t0 = std::time::Instant::now();
+    let mut by_dt = Rig::ready();
+    let mut by_now = by_dt.ix.clone();
+    by_now.start(t0);
+    let mut now = t0;
+    let mut out = by_dt.out;
+    out.cmd0 = cmd0::RELATIVE_MOVE;
+    out.position = 5_000;
+    let steps = [1u64, 3, 7].repeat(200);
+    for (k, ms) in steps.iter().enumerate() {
+        let dt = Duration::from_millis(*ms);
+        now += dt;
+        let a = by_dt.ix.cycle(out, dt);
+        let b = by_now.exchange(now, out);
+        assert_eq!(a, b, "step {k}");
+        assert_eq!(by_dt.ix.time(), by_now.time(), "step {k}");
+    }
+    assert_eq!(by_now.position(), 5_000, "the move ended at its target");
+    let mut fresh = Indexer::new(EncoderKind::Incremental, Configuration::default());
+    fresh.exchange(t0 + Duration::from_secs(9), Outputs::default());
+    assert_eq!(
+        fresh.time(),
+        Duration::ZERO,
+        "no start: the first exchange runs nothing"
+    );
+    fresh.exchange(t0 + Duration::from_secs(10), Outputs::default());
+    assert_eq!(fresh.time(), Duration::from_secs(1));
+    fresh.exchange(t0 + Duration::from_secs(2), Outputs::default());
+    assert_eq!(
+        fresh.time(),
+        Duration::from_secs(1),
+        "a time before the last: none"
+    );
+    fresh.exchange(t0 + Duration::from_secs(11), Outputs::default());
+    assert_eq!(fresh.time(), Duration::from_secs(2));
 }

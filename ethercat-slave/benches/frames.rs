@@ -1,7 +1,7 @@
 //! Frames per second the emulator answers, for a chain of 1 and of 16 SMD units in Op with one LRW of
 //! all process data per frame (40 bytes per unit):
 //!
-//! - **in process**: [`SmdChain::process`] alone, the ESC work per frame;
+//! - **in process**: [`SmdChain::handle_frame`] alone, the ESC work per frame;
 //! - **on a veth pair**: `smd-ethercat` in its own network namespace, a master on the other end
 //!   sending the next frame when the answer is back (one frame in flight, as a master's cycle does),
 //!   and with 8 frames in flight (what the emulator can take). Needs root.
@@ -16,10 +16,10 @@ use std::time::{Duration, Instant};
 use ds402::smd::indexer::Outputs;
 use ethercat_slave::esc::al::state;
 use ethercat_slave::frame::{emit, parse};
+use ethercat_slave::master::SimChain;
 use ethercat_slave::master::{self, lrw_datagram, SocketWire, SRC};
 use ethercat_slave::raw::RawSocket;
 use ethercat_slave::smd::binding::Device;
-use ethercat_slave::smd::SmdChain;
 
 /// The LRW frame for `n` units and the working counter every answer must carry (3 per unit).
 fn lrw_frame(n: usize) -> (Vec<u8>, u16) {
@@ -33,7 +33,7 @@ fn check(answer: &[u8], wkc: u16) {
 }
 
 fn in_process(n: usize, secs: f64) -> f64 {
-    let mut c = SmdChain::new(Device::Smd23kB, n).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, n).unwrap();
     master::bring_up(&mut c, state::OP).unwrap();
     let (frame, wkc) = lrw_frame(n);
     let mut f = frame.clone();

@@ -1,7 +1,8 @@
 //! The master's side of the emulator's tests, benchmarks and examples: the start-up a master does
 //! (station addresses, the SyncManagers and FMMUs of the ESI, the AL states), one LRW of all process
 //! data per cycle, and CoE SDO transfers through the mailbox framed byte by byte as ETG.1000.6 lays
-//! them out. It runs over any [`Wire`]: in process ([`SmdChain`]) or a raw socket ([`SocketWire`]).
+//! them out. It runs over any [`Wire`]: in process on a simulated clock ([`SimChain`]) or a raw socket
+//! ([`SocketWire`]).
 //!
 //! Unit k (0-based) gets station address 0x1001 + k; its outputs are mapped at logical address
 //! 20·k and its inputs at 20·n + 20·k, so one LRW of 40·n bytes carries every unit's process data.
@@ -11,9 +12,11 @@ use std::time::{Duration, Instant};
 use ds402::smd::indexer::{Inputs, Outputs};
 
 use crate::esc::cmd;
+use crate::frame::FrameError;
 use crate::frame::{emit, parse, Datagram};
 use crate::raw::RawSocket;
-use crate::smd::SmdChain;
+use crate::smd::binding::Device;
+use crate::smd::{SmdChain, SmdSlaveError};
 
 /// Output bytes (0x7000:01–08) and input bytes (0x6000:01–07) of one unit, as its manual's Reference 6
 /// lays them out: the master's own layout, independent of the slave's image built from the ESI.
@@ -130,7 +133,57 @@ pub trait Wire {
     fn units(&self) -> usize;
 }
 
-impl Wire for SmdChain {
+/// A chain in process on a simulated clock, as its host would run it: a frame takes no time, and
+/// [`SimChain::cycle`] moves the clock on and calls [`SmdChain::handle_timeout`] then. The units'
+/// cycle is 1 µs, so every [`SimChain::cycle`] of 1 µs or more runs one process-data cycle over the
+/// time since the last.
+pub struct SimChain {
+    /// The chain.
+    pub chain: SmdChain,
+    /// The simulated present.
+    pub now: Instant,
+}
+
+impl SimChain {
+    /// `n` units of `device`, powered on now.
+    pub fn new(device: Device, n: usize) -> Result<SimChain, SmdSlaveError> {
+        let now = Instant::now();
+        let chain = SmdChain::new(device, n, Duration::from_micros(1), now)?;
+        Ok(SimChain { chain, now })
+    }
+
+    /// A frame at the present time ([`SmdChain::handle_frame`]).
+    pub fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
+        self.chain.handle_frame(self.now, frame)
+    }
+
+    /// Moves the clock on by `dt` without running anything (the next frame carries the later time).
+    pub fn advance(&mut self, dt: Duration) {
+        self.now += dt;
+    }
+
+    /// Moves the clock on by `dt` and runs what is due then ([`SmdChain::handle_timeout`]).
+    pub fn cycle(&mut self, dt: Duration) {
+        self.now += dt;
+        self.chain.handle_timeout(self.now);
+    }
+}
+
+impl std::ops::Deref for SimChain {
+    type Target = SmdChain;
+
+    fn deref(&self) -> &SmdChain {
+        &self.chain
+    }
+}
+
+impl std::ops::DerefMut for SimChain {
+    fn deref_mut(&mut self) -> &mut SmdChain {
+        &mut self.chain
+    }
+}
+
+impl Wire for SimChain {
     fn exchange(&mut self, frame: &mut Vec<u8>) -> bool {
         self.process(frame).is_ok()
     }
@@ -140,7 +193,7 @@ impl Wire for SmdChain {
     }
 
     fn units(&self) -> usize {
-        self.len()
+        self.chain.len()
     }
 }
 

@@ -1,5 +1,6 @@
 //! The emulator on an interface: a chain of virtual SMD units answering every EtherCAT frame that
-//! arrives, as a real chain would, and running their process-data cycle on a fixed period.
+//! arrives, as a real chain would, and running their process-data cycle when the chain asks
+//! ([`SmdChain::poll_timeout`]). This is the edge: the socket, the clock and the carrier live here.
 //!
 //! A frame is processed by every unit in turn and sent back on the same interface with the source
 //! address's locally-administered bit set (as the first ESC's port 0 does), so the master can tell its
@@ -74,7 +75,7 @@ pub fn run(
     ready: impl FnOnce(),
 ) -> Result<Stats, RuntimeError> {
     let socket = RawSocket::open(&options.interface)?;
-    let mut chain = SmdChain::new(options.device, options.units)?;
+    let mut chain = SmdChain::new(options.device, options.units, options.cycle, Instant::now())?;
     ready();
     tracing::info!(
         interface = options.interface,
@@ -88,14 +89,15 @@ pub fn run(
     };
     let mut stats = Stats::default();
     let mut buf = vec![0u8; 9_216];
-    let start = Instant::now();
-    let mut next_step = options.cycle;
-    let mut next_carrier = Duration::ZERO;
+    let mut next_carrier = Instant::now();
     let mut link = carrier(&options.interface).unwrap_or(true);
     while !stop.load(Ordering::Relaxed) {
-        let elapsed = start.elapsed();
-        let wait = next_step
-            .saturating_sub(elapsed)
+        let now = Instant::now();
+        let wait = chain
+            .poll_timeout()
+            .map_or(Duration::from_millis(50), |t| {
+                t.saturating_duration_since(now)
+            })
             .min(Duration::from_millis(50));
         if socket.wait(wait).map_err(io)? {
             let mut spin_until = Instant::now() + options.busy_poll;
@@ -107,10 +109,10 @@ pub fn run(
                     }
                     break;
                 };
-                spin_until = Instant::now() + options.busy_poll;
-                chain.advance_to(start.elapsed());
+                let at = Instant::now();
+                spin_until = at + options.busy_poll;
                 let frame = &mut buf[..n];
-                match chain.process(frame) {
+                match chain.handle_frame(at, frame) {
                     Ok(()) => {
                         frame[6] |= 0x02;
                         if let Err(e) = socket.send(frame) {
@@ -125,22 +127,16 @@ pub fn run(
                 }
             }
         }
-        let t = start.elapsed();
-        if t >= next_step {
-            chain.advance_to(t);
-            chain.step();
-            next_step += options.cycle;
-            if next_step < t {
-                // Far behind (the process was stopped): go on from now.
-                next_step = t + options.cycle;
-            }
+        let now = Instant::now();
+        if chain.poll_timeout().is_some_and(|t| t <= now) {
+            chain.handle_timeout(now);
         }
-        if t >= next_carrier {
-            next_carrier = t + Duration::from_millis(100);
+        if now >= next_carrier {
+            next_carrier = now + Duration::from_millis(100);
             if let Some(up) = carrier(&options.interface) {
                 if link && !up {
                     tracing::warn!(interface = options.interface, "link lost");
-                    chain.link_lost();
+                    chain.link_lost(now);
                 }
                 link = up;
             }

@@ -2,6 +2,8 @@
 
 mod common;
 
+use std::time::Instant;
+
 use ethercat_slave::esc::al::{code, state, AlConfig, AL_CONTROL, AL_STATUS_CODE};
 use ethercat_slave::esc::{cmd, Chain};
 use ethercat_slave::frame::{emit, parse, Datagram};
@@ -17,7 +19,7 @@ fn write(c: &mut Chain, ado: u16, data: &[u8]) -> u16 {
         &[Datagram::new(cmd::APWR, 0, ado, data.to_vec())],
         [2, 0, 0, 0, 0, 1],
     );
-    c.process(&mut f).unwrap();
+    c.handle_frame(Instant::now(), &mut f).unwrap();
     parse(&f).unwrap()[0].wkc
 }
 

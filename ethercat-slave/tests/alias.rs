@@ -6,12 +6,12 @@ mod common;
 
 use common::master::*;
 use ethercat_slave::esc::cmd;
+use ethercat_slave::master::SimChain;
 use ethercat_slave::smd::binding::Device;
-use ethercat_slave::smd::SmdChain;
 
 #[test]
 fn alias_from_the_sii_addresses_the_unit_when_enabled() {
-    let mut c = SmdChain::new(Device::Smd23kB, 2).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 2).unwrap();
     configure(&mut c);
     assert_eq!(
         fprd(&mut c, 1, 0x0012, 2).0,

@@ -8,11 +8,11 @@ use common::master::*;
 use ds402::smd::indexer::stat0;
 use ethercat_slave::esc::al::state;
 use ethercat_slave::esc::cmd;
+use ethercat_slave::master::SimChain;
 use ethercat_slave::smd::binding::Device;
-use ethercat_slave::smd::SmdChain;
 
-fn preop(n: usize) -> SmdChain {
-    let mut c = SmdChain::new(Device::Smd23kB, n).unwrap();
+fn preop(n: usize) -> SimChain {
+    let mut c = SimChain::new(Device::Smd23kB, n).unwrap();
     bring_up(&mut c, state::PREOP);
     c
 }
@@ -108,7 +108,7 @@ fn answers_wait_for_the_master_to_read_sm1() {
 /// power-up, so STATUS_word0 shows the power-up bits (Position_Invalid, Stopped, Module_OK).
 #[test]
 fn smd_t2_008_inputs_by_sdo_in_preop() {
-    let mut c = SmdChain::new(Device::Smd23kB, 1).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
     let status = reg(&mut c, cmd::APRD, 0, 0x0130, vec![0; 2]);
     assert_eq!(
         (status.wkc, status.data),
@@ -138,10 +138,10 @@ fn normal_upload_of_the_device_name() {
 /// answers the abort code.
 #[test]
 fn smd_t2_005_configuration_by_coe_reaches_the_model() {
-    let mut c = SmdChain::new(Device::Smd23kB, 1).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
     bring_up(&mut c, state::SAFEOP);
     // The inputs of an LRW are those of the cycle before it: the second shows the first's effect.
-    let status = |c: &mut SmdChain| {
+    let status = |c: &mut SimChain| {
         lrw(c, &[Default::default()]);
         lrw(c, &[Default::default()]).1[0].status0
     };

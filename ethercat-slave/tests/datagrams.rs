@@ -3,6 +3,8 @@
 
 mod common;
 
+use std::time::Instant;
+
 use ethercat_slave::esc::{cmd, Chain, STATION_ADDRESS};
 use ethercat_slave::frame::{emit, parse, Datagram, FrameError};
 
@@ -10,7 +12,7 @@ const SRC: [u8; 6] = [2, 0, 0, 0, 0, 1];
 
 fn run(chain: &mut Chain, dgs: &[Datagram]) -> Vec<Datagram> {
     let mut f = emit(dgs, SRC);
-    chain.process(&mut f).unwrap();
+    chain.handle_frame(Instant::now(), &mut f).unwrap();
     parse(&f).unwrap()
 }
 
@@ -112,17 +114,26 @@ fn broken_frames_are_dropped() {
     for cut in [0, 10, 15, 20, 27] {
         let mut f = good[..cut].to_vec();
         assert!(
-            matches!(c.process(&mut f), Err(FrameError::Truncated { .. })),
+            matches!(
+                c.handle_frame(Instant::now(), &mut f),
+                Err(FrameError::Truncated { .. })
+            ),
             "{cut}"
         );
     }
     let mut f = good.clone();
     f[12] = 0x08;
     f[13] = 0x00;
-    assert_eq!(c.process(&mut f), Err(FrameError::EtherType(0x0800)));
+    assert_eq!(
+        c.handle_frame(Instant::now(), &mut f),
+        Err(FrameError::EtherType(0x0800))
+    );
     let mut f = good.clone();
     f[15] = 0x20 | (f[15] & 0x0F);
-    assert_eq!(c.process(&mut f), Err(FrameError::Type(2)));
+    assert_eq!(
+        c.handle_frame(Instant::now(), &mut f),
+        Err(FrameError::Type(2))
+    );
     assert_eq!(c.slaves[0].load(0x0120, 1), [0], "nothing written");
     // Any bytes: no panic.
     for n in 0..200usize {
@@ -131,7 +142,7 @@ fn broken_frames_are_dropped() {
             junk[12] = 0x88;
             junk[13] = 0xA4;
         }
-        let _ = c.process(&mut junk);
+        let _ = c.handle_frame(Instant::now(), &mut junk);
     }
 }
 
@@ -273,7 +284,7 @@ fn a_flood_of_random_frames_leaves_the_chain_answering() {
             f[13] = 0xA4;
             f[15] = (f[15] & 0x07) | 0x10;
         }
-        let _ = c.process(&mut f);
+        let _ = c.handle_frame(Instant::now(), &mut f);
     }
     let r = run(&mut c, &[Datagram::new(cmd::BRD, 0, 0x0000, vec![0; 2])]);
     assert_eq!(r[0].wkc, 3);

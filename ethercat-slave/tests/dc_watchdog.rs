@@ -10,8 +10,8 @@ use ds402::smd::indexer::{cmd0, stat0, stat1, Outputs};
 use ethercat_slave::esc::al::state;
 use ethercat_slave::esc::cmd;
 use ethercat_slave::esc::dc::HOP_NS;
+use ethercat_slave::master::SimChain;
 use ethercat_slave::smd::binding::Device;
-use ethercat_slave::smd::SmdChain;
 
 fn u64_of(d: &[u8]) -> u64 {
     u64::from_le_bytes(d[..8].try_into().unwrap())
@@ -31,7 +31,7 @@ fn smd_r1_023_dc_registers_latch_and_propagate_time() {
     assert!(modes
         .iter()
         .any(|m| m.name == "DC_Synchron" && m.assign_activate == 0x0300));
-    let mut c = SmdChain::new(Device::Smd23kB, 3).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 3).unwrap();
     configure(&mut c);
     // ESC features: DC (bit 2) with 64-bit system time (bit 3).
     for k in 0..3 {
@@ -91,7 +91,7 @@ fn smd_r1_023_dc_registers_latch_and_propagate_time() {
 
 /// Starts SYNC0 on unit k with `cycle` ns, first event `start_in` ns after its present system time;
 /// the first event's system time.
-fn start_sync0(c: &mut SmdChain, k: usize, cycle: u32, start_in: u64) -> u64 {
+fn start_sync0(c: &mut SimChain, k: usize, cycle: u32, start_in: u64) -> u64 {
     fpwr(c, k, 0x0981, vec![0]);
     let now = u64_of(&fprd(c, k, 0x0910, 8).0);
     let start = now + start_in;
@@ -113,7 +113,7 @@ fn smd_t3_003_sync0_cycle_between_2_and_50_ms() {
         (1_999_999, false),
         (51_000_000, false),
     ] {
-        let mut c = SmdChain::new(Device::Smd23kB, 1).unwrap();
+        let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
         bring_up(&mut c, state::PREOP);
         start_sync0(&mut c, 0, cycle, 1_000_000);
         request(&mut c, state::SAFEOP);
@@ -130,7 +130,7 @@ fn smd_t3_003_sync0_cycle_between_2_and_50_ms() {
 
 /// Brings one unit to Op with SYNC0 running (2 ms, first event 3 ms ahead), the driver enabled and
 /// the position preset; CFG_Word_1 = `cfg1` (by SDO in Pre-Op). The first SYNC0 event's system time.
-fn op_with_sync0(c: &mut SmdChain, cfg1: u16) -> (u64, Outputs) {
+fn op_with_sync0(c: &mut SimChain, cfg1: u16) -> (u64, Outputs) {
     bring_up(c, state::PREOP);
     download(c, 0, 0x8010, 2, &cfg1.to_le_bytes(), false).unwrap();
     request(c, state::SAFEOP);
@@ -158,7 +158,7 @@ fn op_with_sync0(c: &mut SmdChain, cfg1: u16) -> (u64, Outputs) {
 
 /// Sends a Relative move, then runs the chain in 20 µs steps: the system time at which the unit
 /// reports motion (Moving_CW) first.
-fn motion_starts_at(c: &mut SmdChain, mut o: Outputs) -> u64 {
+fn motion_starts_at(c: &mut SimChain, mut o: Outputs) -> u64 {
     o.cmd0 = cmd0::RELATIVE_MOVE;
     o.position = 1_000;
     let mut data: Vec<u8> = ethercat_slave::master::encode_outputs(&o).to_vec();
@@ -187,7 +187,7 @@ fn motion_starts_at(c: &mut SmdChain, mut o: Outputs) -> u64 {
 /// SYNC0 events starts 520 µs after the next event; with DC_Sync = 0 it starts at once (SMD-R1-021).
 #[test]
 fn smd_r1_022_moves_start_520_us_after_sync0_with_dc_sync() {
-    let mut c = SmdChain::new(Device::Smd23kB, 1).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
     let (first, o) = op_with_sync0(&mut c, 0x0043);
     let sent = u64_of(&fprd(&mut c, 0, 0x0910, 8).0);
     assert!(sent < first, "the command comes before the first SYNC0");
@@ -198,7 +198,7 @@ fn smd_r1_022_moves_start_520_us_after_sync0_with_dc_sync() {
         (started as i64 - first as i64) / 1000
     );
     // DC_Sync = 0: at once, SYNC0 or not.
-    let mut c = SmdChain::new(Device::Smd23kB, 1).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
     let (first, o) = op_with_sync0(&mut c, 0x0003);
     let sent = u64_of(&fprd(&mut c, 0, 0x0910, 8).0);
     let started = motion_starts_at(&mut c, o);
@@ -207,7 +207,7 @@ fn smd_r1_022_moves_start_520_us_after_sync0_with_dc_sync() {
 }
 
 /// Runs `ms` 1 ms cycles without any frame.
-fn silence(c: &mut SmdChain, ms: u32) {
+fn silence(c: &mut SimChain, ms: u32) {
     for _ in 0..ms {
         c.cycle(Duration::from_millis(1));
     }
@@ -219,7 +219,7 @@ fn silence(c: &mut SmdChain, ms: u32) {
 /// Op, Input_Error stays until Reset Errors (SMD-R6-055).
 #[test]
 fn smd_r1_035_sm_watchdog_drops_to_safe_op() {
-    let mut c = SmdChain::new(Device::Smd23kB, 1).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
     bring_up(&mut c, state::OP);
     let idle = Outputs::default();
     for _ in 0..5 {
@@ -264,7 +264,7 @@ fn smd_r1_035_sm_watchdog_drops_to_safe_op() {
 /// The watchdog time is the master's: 0x0420 = 200 with the default divider is 20 ms; 0 disables it.
 #[test]
 fn sm_watchdog_time_from_its_registers() {
-    let mut c = SmdChain::new(Device::Smd23kB, 1).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
     bring_up(&mut c, state::PREOP);
     fpwr(&mut c, 0, 0x0420, 200u16.to_le_bytes().to_vec());
     request(&mut c, state::SAFEOP);
@@ -275,7 +275,7 @@ fn sm_watchdog_time_from_its_registers() {
     assert_eq!(al(&mut c, 0).0, 0x0008);
     silence(&mut c, 2);
     assert_eq!(al(&mut c, 0), (0x0014, 0x001B));
-    let mut c = SmdChain::new(Device::Smd23kB, 1).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
     bring_up(&mut c, state::PREOP);
     fpwr(&mut c, 0, 0x0420, vec![0, 0]);
     request(&mut c, state::SAFEOP);
@@ -289,7 +289,7 @@ fn sm_watchdog_time_from_its_registers() {
 /// until the master requests Op again; the position is then invalid.
 #[test]
 fn smd_r1_036_link_loss_leaves_safe_op_until_requested() {
-    let mut c = SmdChain::new(Device::Smd23kB, 2).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 2).unwrap();
     bring_up(&mut c, state::OP);
     let preset = Outputs {
         cmd0: cmd0::PRESET_POSITION,
@@ -300,7 +300,7 @@ fn smd_r1_036_link_loss_leaves_safe_op_until_requested() {
     lrw(&mut c, &[Outputs::default(), Outputs::default()]);
     let (_, inputs) = lrw(&mut c, &[Outputs::default(), Outputs::default()]);
     assert_eq!(inputs[0].status0 & stat0::POSITION_INVALID, 0, "preset");
-    c.link_lost();
+    c.chain.link_lost(c.now);
     for k in 0..2 {
         assert_eq!(al(&mut c, k), (0x0014, 0x001B), "unit {k}");
     }

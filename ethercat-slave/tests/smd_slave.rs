@@ -8,13 +8,13 @@ use common::master::*;
 use ds402::smd::indexer::{cmd0, stat0, stat1, Outputs};
 use ethercat_slave::esc::al::state;
 use ethercat_slave::esc::cmd;
+use ethercat_slave::master::SimChain;
 use ethercat_slave::master::{decode_outputs, encode_inputs, encode_outputs};
 use ethercat_slave::smd::binding::Device;
-use ethercat_slave::smd::SmdChain;
 
 #[test]
 fn two_units_from_init_to_a_relative_move() {
-    let mut c = SmdChain::new(Device::Smd23kB, 2).unwrap();
+    let mut c = SimChain::new(Device::Smd23kB, 2).unwrap();
     assert_eq!(reg(&mut c, cmd::BRD, 0, 0, vec![0; 2]).wkc, 2);
     configure(&mut c);
     // The SII identity through the EEPROM interface of unit 2: serial number 2.
@@ -79,4 +79,46 @@ fn two_units_from_init_to_a_relative_move() {
         encode_inputs(&c.unit(0).unwrap().inputs())[4..8],
         5_000i32.to_le_bytes()
     );
+}
+
+/// The chain's one clock: a cycle runs only when `poll_timeout` has passed (a frame never runs one),
+/// over the whole time since the last; the Distributed Clocks count from the chain's power-on; a
+/// stalled host gets one cycle over the gap and the next a cycle later.
+#[test]
+fn the_chain_runs_its_cycle_when_its_poll_timeout_has_passed() {
+    let t0 = std::time::Instant::now();
+    let ms = std::time::Duration::from_millis;
+    let chain = ethercat_slave::smd::SmdChain::new(Device::Smd23kB, 1, ms(10), t0).unwrap();
+    let mut c = SimChain { chain, now: t0 };
+    let model_time = |c: &SimChain| c.unit(0).unwrap().indexer().time();
+    assert_eq!(c.poll_timeout(), Some(t0 + ms(10)));
+    c.now = t0 + ms(4);
+    assert_eq!(reg(&mut c, cmd::BRD, 0, 0x0130, vec![0; 2]).wkc, 1);
+    assert_eq!(c.time_ns(), 4_000_000, "the frame's time");
+    assert_eq!(model_time(&c), ms(0), "a frame runs no cycle");
+    c.chain.handle_timeout(t0 + ms(9));
+    assert_eq!(model_time(&c), ms(0), "not due yet");
+    assert_eq!(c.poll_timeout(), Some(t0 + ms(10)));
+    c.chain.handle_timeout(t0 + ms(10));
+    assert_eq!(model_time(&c), ms(10));
+    assert_eq!(c.poll_timeout(), Some(t0 + ms(20)));
+    c.chain.handle_timeout(t0 + ms(23));
+    assert_eq!(
+        model_time(&c),
+        ms(23),
+        "the cycle due at 20 ms ran at 23 ms, over 13 ms"
+    );
+    assert_eq!(c.poll_timeout(), Some(t0 + ms(30)), "the period holds");
+    c.chain.handle_timeout(t0 + ms(5_000));
+    assert_eq!(model_time(&c), ms(5_000));
+    assert_eq!(
+        c.poll_timeout(),
+        Some(t0 + ms(5_010)),
+        "after a stall: a cycle from now"
+    );
+    assert_eq!(c.time_ns(), 5_000_000_000);
+    // An earlier time than the chain has seen does not move its clocks back.
+    c.now = t0 + ms(1);
+    assert_eq!(reg(&mut c, cmd::BRD, 0, 0x0130, vec![0; 2]).wkc, 1);
+    assert_eq!(c.time_ns(), 5_000_000_000);
 }

@@ -70,8 +70,16 @@
 //! - The model starts in Op (as after the master's start-up); [`Indexer::set_network_state`] moves it.
 //!   Leaving Op stops a move at once and makes the position invalid (SMD-R6-056 gap); the output data
 //!   seen outside Op is the edge reference for the first Op data (SMD-R6-073 gap).
+//!
+//! # Methods and polling order
+//!
+//! On the host's clock: [`Indexer::start`] at power-on, then one [`Indexer::exchange`] per process-data
+//! exchange with its time; the model runs the motion since the previous exchange (it derives the time
+//! step itself). The EtherCAT state ([`Indexer::set_network_state`]), SYNC0 events
+//! ([`Indexer::sync0_event`]) and the harness (inputs, shaft, temperature) come between exchanges.
+//! [`Indexer::cycle`] is the same exchange with the time step given, for runs without a clock.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use super::config::{Cfg0, Configuration, EncoderKind, InputFunction, CFG0_USE_ENCODER};
 use super::profile::{MoveParams, Phase, Profile};
@@ -637,6 +645,8 @@ pub struct Indexer {
     power_up_config: Configuration,
     prev: Outputs,
     time: Duration,
+    /// The host time of the last [`Indexer::exchange`] (or of [`Indexer::start`]).
+    last_exchange: Option<Instant>,
     position: i64,
     /// Encoder_Position at the last preset, and the motor steps turned since then: the encoder
     /// turns with the motor, Encoder_Resolution counts per Motor_Resolution steps.
@@ -726,6 +736,7 @@ impl Indexer {
             power_up_config: config,
             prev: Outputs::default(),
             time: Duration::ZERO,
+            last_exchange: None,
             position: 0,
             encoder_base: 0,
             encoder_steps: 0,
@@ -957,6 +968,23 @@ impl Indexer {
         self.position
     }
 
+    /// Starts the model's clock at `now` (power-on): the first [`Indexer::exchange`] runs the motion
+    /// since then.
+    pub fn start(&mut self, now: Instant) {
+        self.last_exchange = Some(now);
+    }
+
+    /// One process-data exchange at `now`: takes `out`, acts on the inputs and on the commands, runs
+    /// the motion since the previous exchange (none before the first, without [`Indexer::start`]),
+    /// returns the inputs.
+    pub fn exchange(&mut self, now: Instant, out: Outputs) -> Inputs {
+        let dt = self
+            .last_exchange
+            .map_or(Duration::ZERO, |t| now.saturating_duration_since(t));
+        self.last_exchange = Some(self.last_exchange.map_or(now, |t| t.max(now)));
+        self.cycle(out, dt)
+    }
+
     /// One process-data exchange: takes `out`, acts on the inputs and on the commands, runs `dt` of
     /// motion, returns the inputs.
     pub fn cycle(&mut self, out: Outputs, dt: Duration) -> Inputs {
@@ -1005,6 +1033,8 @@ impl Indexer {
     /// (SMD-R1-014).
     pub fn power_cycle_turned(&mut self, counts: i64, peak_accel: f64) {
         let old = std::mem::replace(self, Indexer::new(self.kind, self.power_up_config));
+        // The host's clock goes on.
+        self.last_exchange = old.last_exchange;
         self.flash_program = old.flash_program.clone();
         self.program = old.flash_program;
         self.flash_encoder_offset = old.flash_encoder_offset;

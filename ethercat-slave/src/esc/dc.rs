@@ -1,6 +1,6 @@
 //! Distributed Clocks (ETG.1000.4 §6.8, registers 0x0900–0x09FF) of the emulated ESC.
 //!
-//! Each slave has a local clock in nanoseconds: the chain's time ([`super::Chain::set_time`])
+//! Each slave has a local clock in nanoseconds: the chain's time ([`super::Chain::set_now`])
 //! plus a start offset of its own (slaves do not power up at the same instant) plus the time the frame
 //! takes to reach it ([`HOP_NS`] per slave on the way out, the same back).
 //!

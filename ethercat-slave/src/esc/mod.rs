@@ -118,8 +118,9 @@ pub struct Esc {
     pub(crate) last_mailbox: Option<Vec<u8>>,
     /// A new output image arrived since [`Esc::take_outputs_written`].
     pub(crate) outputs_written: bool,
-    /// Time since the last output image (the SyncManager watchdog).
-    pub(crate) watchdog_elapsed: std::time::Duration,
+    /// The chain time (ns) of the last output image, or of the last check while no SyncManager is
+    /// watched (the SyncManager watchdog runs from it).
+    watchdog_from: u64,
     watchdog_expired: bool,
     /// The Distributed Clock.
     pub(crate) clock: dc::Clock,
@@ -158,7 +159,7 @@ impl Esc {
             al: al::AlConfig::default(),
             last_mailbox: None,
             outputs_written: false,
-            watchdog_elapsed: std::time::Duration::ZERO,
+            watchdog_from: 0,
             watchdog_expired: false,
             clock: dc::Clock::default(),
         };
@@ -191,15 +192,16 @@ impl Esc {
         self.clock.base = 1_000_000_007u64.wrapping_mul(k as u64 + 1);
     }
 
-    /// The chain's time in nanoseconds (the runtime's clock).
-    pub fn set_time(&mut self, ns: u64) {
-        self.clock.now = ns;
+    /// The chain's time in nanoseconds since the chain's time zero ([`Chain::handle_frame`] and
+    /// [`Chain::set_now`] set it from the host's `now`); it never goes back.
+    pub(crate) fn set_time(&mut self, ns: u64) {
+        self.clock.now = self.clock.now.max(ns);
     }
 
     /// A new output image: the SyncManager watchdog starts again.
     pub(crate) fn outputs_arrived(&mut self) {
         self.outputs_written = true;
-        self.watchdog_elapsed = std::time::Duration::ZERO;
+        self.watchdog_from = self.clock.now;
         self.watchdog_expired = false;
         self.store(WATCHDOG_STATUS_PD, &[1, 0]);
     }
@@ -216,23 +218,24 @@ impl Esc {
         std::time::Duration::from_nanos((divider + 2) * 40 * n)
     }
 
-    /// Runs the SyncManager watchdog for `dt`: true when it expired now (no output image for the
-    /// watchdog time on a SyncManager with the watchdog enabled). Status 0x0440 bit 0 is 0 while it
-    /// stays expired; 0x0442 counts expiries.
-    pub fn tick(&mut self, dt: std::time::Duration) -> bool {
+    /// Checks the SyncManager watchdog at the chain's present time: true when it expired now (no
+    /// output image for the watchdog time on a SyncManager with the watchdog enabled). Status 0x0440
+    /// bit 0 is 0 while it stays expired; 0x0442 counts expiries.
+    pub(crate) fn check_watchdog(&mut self) -> bool {
         let guarded = (0..sm::SYNC_MANAGERS).any(|n| {
             let sm = self.sync_manager(n);
             sm.enabled && !sm.is_mailbox() && sm.master_writes() && sm.watchdog()
         });
         let time = self.watchdog_time();
         if !guarded || time.is_zero() {
-            self.watchdog_elapsed = std::time::Duration::ZERO;
+            self.watchdog_from = self.clock.now;
             self.watchdog_expired = false;
             self.store(WATCHDOG_STATUS_PD, &[1, 0]);
             return false;
         }
-        self.watchdog_elapsed += dt;
-        if self.watchdog_elapsed >= time && !self.watchdog_expired {
+        let elapsed =
+            std::time::Duration::from_nanos(self.clock.now.saturating_sub(self.watchdog_from));
+        if elapsed >= time && !self.watchdog_expired {
             self.watchdog_expired = true;
             self.store(WATCHDOG_STATUS_PD, &[0, 0]);
             let [count] = self.bytes_at(WATCHDOG_COUNTER_PD);
@@ -493,10 +496,19 @@ impl Esc {
 }
 
 /// Slaves in the order a frame passes them.
+///
+/// # Methods and polling order
+///
+/// Every input carries the host's `now`: [`Chain::handle_frame`] processes a frame at that time (the
+/// Distributed Clocks latch it, the SyncManager watchdog restarts from it); [`Chain::set_now`] moves
+/// the chain's time on between frames. Time zero is the first `now` the chain is given (or
+/// [`Chain::start`]).
 #[derive(Debug, Clone, Default)]
 pub struct Chain {
     /// The slaves.
     pub slaves: Vec<Esc>,
+    /// The chain's time zero.
+    epoch: Option<std::time::Instant>,
 }
 
 impl Chain {
@@ -504,6 +516,7 @@ impl Chain {
     pub fn new(n: usize) -> Chain {
         let mut chain = Chain {
             slaves: (0..n).map(|_| Esc::new()).collect(),
+            epoch: None,
         };
         chain.link();
         chain
@@ -523,16 +536,37 @@ impl Chain {
         }
     }
 
-    /// The chain's time in nanoseconds, for the Distributed Clocks.
-    pub fn set_time(&mut self, ns: u64) {
+    /// Makes `now` the chain's time zero (power-on), if it has none yet.
+    pub fn start(&mut self, now: std::time::Instant) {
+        self.epoch.get_or_insert(now);
+    }
+
+    /// Moves the chain's time on to `now` (never back): the Distributed Clocks and the watchdogs.
+    pub fn set_now(&mut self, now: std::time::Instant) {
+        let epoch = *self.epoch.get_or_insert(now);
+        let ns = u64::try_from(now.saturating_duration_since(epoch).as_nanos()).unwrap_or(u64::MAX);
         for esc in &mut self.slaves {
             esc.set_time(ns);
         }
     }
 
-    /// Processes every datagram of `frame` in place, as the frame passes each slave in turn. A frame
-    /// that does not parse is left unchanged and the error returned (the caller drops it).
-    pub fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
+    /// The chain's time in nanoseconds since its time zero.
+    pub fn time_ns(&self) -> u64 {
+        self.slaves.first().map_or(0, |e| e.clock.now)
+    }
+
+    /// Processes every datagram of `frame` in place at `now`, as the frame passes each slave in turn.
+    /// A frame that does not parse is left unchanged and the error returned (the caller drops it).
+    pub fn handle_frame(
+        &mut self,
+        now: std::time::Instant,
+        frame: &mut [u8],
+    ) -> Result<(), FrameError> {
+        self.set_now(now);
+        self.process(frame)
+    }
+
+    fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
         let dgs = datagrams(frame)?;
         for esc in self.slaves.iter_mut() {
             for d in &dgs {

@@ -630,8 +630,14 @@ impl SmdUnit {
         image.pack(&self.dict, &self.model, out);
     }
 
-    /// One process-data exchange of `dt`: the output image to [`Indexer::cycle`], and the inputs it
-    /// answers.
+    /// One process-data exchange at `now`: the output image to [`Indexer::exchange`], and the inputs
+    /// it answers.
+    pub fn exchange(&mut self, now: Instant) -> Inputs {
+        self.model.indexer.exchange(now, self.model.outputs)
+    }
+
+    /// One process-data exchange of `dt`, without a clock: the output image to [`Indexer::cycle`],
+    /// and the inputs it answers.
     pub fn cycle(&mut self, dt: Duration) -> Inputs {
         self.model.indexer.cycle(self.model.outputs, dt)
     }

@@ -2,19 +2,29 @@
 //! fixture's ESI, the CoE SDO server (`od::coe::server`) on the unit's dictionary behind its mailbox,
 //! and the indexer model bound to its dictionary ([`binding::SmdUnit`]) behind its process data.
 //!
-//! - [`SmdChain::process`] passes a frame through the chain; a mailbox the master completed in SM0 is
-//!   served at once and the answer put into SM1 (answers wait while SM1 is still full).
-//! - [`SmdChain::advance`] moves the chain's clock (Distributed Clocks, the SDO transfer timer);
-//!   [`SmdChain::step`] is the slave's process-data cycle over the time advanced since the last one:
-//!   the SyncManager watchdog (its expiry in Op: Safe-Op with AL status code 0x001B, and the model's
-//!   Input_Error, SMD-R1-035), SYNC0 events to the model, in Op the output bytes of SM2 to the
-//!   model, in Safe-Op and Op the model's input bytes into SM3, both laid out as the description's
-//!   PDO assignment (0x1C12, 0x1C13) and mapping objects (0x1600, 0x1A00) say (20 bytes each). [`SmdChain::cycle`] is both.
+//! - [`SmdChain::handle_frame`] passes a frame through the chain at `now`; a mailbox the master
+//!   completed in SM0 is served at once and the answer put into SM1 (answers wait while SM1 is still
+//!   full).
+//! - [`SmdChain::handle_timeout`] runs, when [`SmdChain::poll_timeout`] has passed, the SDO transfer
+//!   timers and the units' process-data cycle over the time since the last one: the SyncManager
+//!   watchdog (its expiry in Op: Safe-Op with AL status code 0x001B, and the model's Input_Error,
+//!   SMD-R1-035), SYNC0 events to the model, in Op the output bytes of SM2 to the model, in Safe-Op
+//!   and Op the model's input bytes into SM3, both laid out as the description's PDO assignment
+//!   (0x1C12, 0x1C13) and mapping objects (0x1600, 0x1A00) say (20 bytes each).
 //! - The model sees the EtherCAT state (PreOp_SafeOp, commands only in Op); in Safe-Op and Op the
 //!   output entries mapped to the RxPDO are the process data's (an SDO download is refused
 //!   0x06010006).
 //! - SYNC0 is accepted with a cycle time of 2 ms to 50 ms (SMD-T3-003); outside it Pre-Op → Safe-Op
 //!   is refused with AL status code 0x0036.
+//!
+//! # Methods and polling order
+//!
+//! One clock, the host's: [`SmdChain::new`] at `now` (the chain's time zero: Distributed Clocks count
+//! from it), then for every frame that arrives [`SmdChain::handle_frame`] with its time, and
+//! [`SmdChain::handle_timeout`] whenever [`SmdChain::poll_timeout`] has passed (the next process-data
+//! cycle, or an SDO transfer timer before it). The answer to a frame is the frame itself, changed in
+//! place; nothing else leaves the chain. A host that stalled calls [`SmdChain::handle_timeout`] once
+//! with the present time: one cycle runs over the whole gap and the next is due a cycle later.
 
 pub mod binding;
 
@@ -78,16 +88,25 @@ pub struct SmdChain {
     input_image: ProcessImage,
     /// One unit's process data on its way between the ESC and the model, kept for every cycle.
     image: Vec<u8>,
-    /// The chain's clock: nanoseconds since start, and the same as an instant for the SDO timer.
-    time_ns: u64,
+    /// The units' process-data cycle.
+    cycle: Duration,
+    /// The latest time the chain was given.
     now: Instant,
-    /// Time advanced since the last [`SmdChain::step`].
-    unstepped: Duration,
+    /// When the last process-data cycle ran and when the next is due.
+    last_cycle: Instant,
+    next_cycle: Instant,
 }
 
 impl SmdChain {
-    /// `n` units of `device`, serial numbers 1…n, all in Init (SMD-T2-007).
-    pub fn new(device: Device, n: usize) -> Result<SmdChain, SmdSlaveError> {
+    /// `n` units of `device`, serial numbers 1…n, all in Init (SMD-T2-007), powered on at `now`, running
+    /// their process-data cycle every `cycle` (at least 1 µs).
+    pub fn new(
+        device: Device,
+        n: usize,
+        cycle: Duration,
+        now: Instant,
+    ) -> Result<SmdChain, SmdSlaveError> {
+        let cycle = cycle.max(Duration::from_micros(1));
         let desc = description(device)?;
         let ec = desc
             .ethercat
@@ -107,6 +126,7 @@ impl SmdChain {
             .and_then(|s| s.default_size)
             .unwrap_or(128);
         let mut chain = Chain::new(0);
+        chain.start(now);
         let mut units = Vec::new();
         for k in 0..n {
             let mut esc = Esc::new();
@@ -119,6 +139,7 @@ impl SmdChain {
                 .map_err(|e| SmdSlaveError::Description(e.to_string()))?;
             model.set_network_state(NetworkState::Init);
             model.set_serial_number(k as u32 + 1);
+            model.indexer_mut().start(now);
             units.push(Unit {
                 model,
                 coe: CoeServer::new(ServerConfig::default(), usize::from(mailbox_in)),
@@ -148,9 +169,10 @@ impl SmdChain {
             image: vec![0; output_image.len().max(input_image.len())],
             output_image,
             input_image,
-            time_ns: 0,
-            now: Instant::now(),
-            unstepped: Duration::ZERO,
+            cycle,
+            now,
+            last_cycle: now,
+            next_cycle: now + cycle,
         })
     }
 
@@ -174,11 +196,44 @@ impl SmdChain {
         self.units.get_mut(k).map(|u| &mut u.model)
     }
 
-    /// Processes a frame as it passes the chain, then serves the mailboxes it completed.
-    pub fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
-        self.chain.process(frame)?;
+    /// Processes a frame that arrived at `now` as it passes the chain, then serves the mailboxes it
+    /// completed.
+    pub fn handle_frame(&mut self, now: Instant, frame: &mut [u8]) -> Result<(), FrameError> {
+        self.set_now(now);
+        self.chain.handle_frame(self.now, frame)?;
         self.serve_mailboxes();
         Ok(())
+    }
+
+    /// Runs what is due at `now`: the SDO transfer timers and, once [`SmdChain::poll_timeout`]'s
+    /// cycle time has come, one process-data cycle of every unit over the time since the last one.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        self.set_now(now);
+        for unit in &mut self.units {
+            unit.coe.handle_timeout(self.now);
+        }
+        if self.now >= self.next_cycle {
+            self.step();
+            self.next_cycle += self.cycle;
+            if self.next_cycle <= self.now {
+                // Far behind (the host stalled): go on from now.
+                self.next_cycle = self.now + self.cycle;
+            }
+        }
+        self.serve_mailboxes();
+    }
+
+    /// When [`SmdChain::handle_timeout`] is next due: the next process-data cycle, or an SDO transfer
+    /// timer that runs out before it.
+    #[must_use]
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        let sdo = self.units.iter().filter_map(|u| u.coe.poll_timeout()).min();
+        Some(sdo.map_or(self.next_cycle, |t| t.min(self.next_cycle)))
+    }
+
+    fn set_now(&mut self, now: Instant) {
+        self.now = self.now.max(now);
+        self.chain.set_now(self.now);
     }
 
     fn serve_mailboxes(&mut self) {
@@ -203,33 +258,23 @@ impl SmdChain {
         }
     }
 
-    /// Moves the chain's clock on by `dt` (without running the models).
-    pub fn advance(&mut self, dt: Duration) {
-        self.time_ns = self.time_ns.saturating_add(dt.as_nanos() as u64);
-        self.now += dt;
-        self.unstepped += dt;
-        self.chain.set_time(self.time_ns);
-    }
-
-    /// Moves the chain's clock on to `t` since it started, if it is not there yet.
-    pub fn advance_to(&mut self, t: Duration) {
-        let now = Duration::from_nanos(self.time_ns);
-        if t > now {
-            self.advance(t - now);
-        }
-    }
-
-    /// The chain's clock in nanoseconds since it started.
+    /// The chain's clock in nanoseconds since its time zero.
     pub fn time_ns(&self) -> u64 {
-        self.time_ns
+        self.chain.time_ns()
     }
 
-    /// One process-data cycle of every unit over the time advanced since the last one.
-    pub fn step(&mut self) {
-        let dt = std::mem::take(&mut self.unstepped);
+    /// The units' process-data cycle.
+    pub fn cycle_time(&self) -> Duration {
+        self.cycle
+    }
+
+    /// One process-data cycle of every unit over the time since the last one.
+    fn step(&mut self) {
+        let now = self.now;
+        let dt = now.saturating_duration_since(self.last_cycle);
+        self.last_cycle = now;
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
-            unit.coe.handle_timeout(self.now);
-            let expired = esc.tick(dt);
+            let expired = esc.check_watchdog();
             let (al, _) = esc.al_state();
             if expired && al == state::OP {
                 // SMD-R1-035: the watchdog drops the unit to Safe-Op with the error indication.
@@ -250,13 +295,13 @@ impl SmdChain {
                 // The model runs up to the SYNC0 event, takes it, and runs on from it.
                 Some(ago) => {
                     if dt > ago {
-                        unit.model.cycle(dt - ago);
+                        unit.model.exchange(now - ago);
                     }
                     unit.model.indexer_mut().sync0_event();
-                    unit.model.cycle(ago);
+                    unit.model.exchange(now);
                 }
                 None => {
-                    unit.model.cycle(dt);
+                    unit.model.exchange(now);
                 }
             }
             if matches!(al, state::OP | state::SAFEOP) {
@@ -265,18 +310,12 @@ impl SmdChain {
                 esc.store(self.inputs_at, inputs);
             }
         }
-        self.serve_mailboxes();
-    }
-
-    /// [`advance`](SmdChain::advance) by `dt`, then [`step`](SmdChain::step).
-    pub fn cycle(&mut self, dt: Duration) {
-        self.advance(dt);
-        self.step();
     }
 
     /// The link to the master was lost (SMD-R1-036): a unit in Op drops to Safe-Op with the error
     /// indication, as on a watchdog expiry, and stays there until the master requests Op again.
-    pub fn link_lost(&mut self) {
+    pub fn link_lost(&mut self, now: Instant) {
+        self.set_now(now);
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
             if esc.al_state().0 == state::OP {
                 unit.drop_to_safe_op(esc);

@@ -9,61 +9,61 @@ use std::time::Duration;
 use ds402::smd::indexer::{Inputs, Outputs};
 use ethercat_slave::frame::Datagram;
 use ethercat_slave::master as m;
+use ethercat_slave::master::SimChain;
 #[allow(unused_imports)]
 pub use ethercat_slave::master::{station, MBX_IN, MBX_LEN, MBX_OUT, SRC};
-use ethercat_slave::smd::SmdChain;
 
 fn ok<T>(r: Result<T, m::MasterError>) -> T {
     r.unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// One datagram through the chain, answered.
-pub fn one(c: &mut SmdChain, d: Datagram) -> Datagram {
+pub fn one(c: &mut SimChain, d: Datagram) -> Datagram {
     ok(m::one(c, d))
 }
 
 /// A register datagram `command` to `adp`/`ado`.
-pub fn reg(c: &mut SmdChain, command: u8, adp: u16, ado: u16, data: Vec<u8>) -> Datagram {
+pub fn reg(c: &mut SimChain, command: u8, adp: u16, ado: u16, data: Vec<u8>) -> Datagram {
     ok(m::reg(c, command, adp, ado, data))
 }
 
 /// FPWR that unit `k` must take (working counter 1).
-pub fn fpwr(c: &mut SmdChain, k: usize, ado: u16, data: Vec<u8>) {
+pub fn fpwr(c: &mut SimChain, k: usize, ado: u16, data: Vec<u8>) {
     ok(m::fpwr(c, k, ado, data))
 }
 
 /// FPRD of `len` bytes at `ado` of unit `k` (data and working counter).
-pub fn fprd(c: &mut SmdChain, k: usize, ado: u16, len: usize) -> (Vec<u8>, u16) {
+pub fn fprd(c: &mut SimChain, k: usize, ado: u16, len: usize) -> (Vec<u8>, u16) {
     ok(m::fprd(c, k, ado, len))
 }
 
 /// AL status and AL status code of unit `k`.
-pub fn al(c: &mut SmdChain, k: usize) -> (u16, u16) {
+pub fn al(c: &mut SimChain, k: usize) -> (u16, u16) {
     ok(m::al(c, k))
 }
 
 /// Requests `state` from every unit; the working counter.
-pub fn request(c: &mut SmdChain, state: u8) -> u16 {
+pub fn request(c: &mut SimChain, state: u8) -> u16 {
     ok(m::request(c, state))
 }
 
 /// Station addresses, SyncManagers, FMMUs.
-pub fn configure(c: &mut SmdChain) {
+pub fn configure(c: &mut SimChain) {
     ok(m::configure(c))
 }
 
 /// Configures the chain and brings every unit to `to`.
-pub fn bring_up(c: &mut SmdChain, to: u8) {
+pub fn bring_up(c: &mut SimChain, to: u8) {
     ok(m::bring_up(c, to))
 }
 
 /// One LRW and a 1 ms cycle: the working counter and the inputs.
-pub fn lrw(c: &mut SmdChain, outputs: &[Outputs]) -> (u16, Vec<Inputs>) {
+pub fn lrw(c: &mut SimChain, outputs: &[Outputs]) -> (u16, Vec<Inputs>) {
     ok(m::lrw(c, outputs))
 }
 
 /// Writes `request` into unit k's SM0 (padded to its length), waits for SM1 to fill and reads it.
-pub fn mailbox(c: &mut SmdChain, k: usize, request: &[u8]) -> Vec<u8> {
+pub fn mailbox(c: &mut SimChain, k: usize, request: &[u8]) -> Vec<u8> {
     let mut m = request.to_vec();
     m.resize(MBX_LEN, 0);
     fpwr(c, k, MBX_OUT, m);
@@ -118,7 +118,7 @@ pub fn coe_answer(m: &[u8]) -> Result<Vec<u8>, u32> {
 }
 
 /// Expedited or normal SDO upload of `index:sub` (complete access with `ca`): the value.
-pub fn upload(c: &mut SmdChain, k: usize, index: u16, sub: u8, ca: bool) -> Result<Vec<u8>, u32> {
+pub fn upload(c: &mut SimChain, k: usize, index: u16, sub: u8, ca: bool) -> Result<Vec<u8>, u32> {
     let i = index.to_le_bytes();
     let cmd = if ca { 0x50 } else { 0x40 };
     let m = mailbox(
@@ -140,7 +140,7 @@ pub fn upload(c: &mut SmdChain, k: usize, index: u16, sub: u8, ca: bool) -> Resu
 
 /// Expedited SDO download (1–4 bytes) or, with `ca` or more bytes, a normal download in one mailbox.
 pub fn download(
-    c: &mut SmdChain,
+    c: &mut SimChain,
     k: usize,
     index: u16,
     sub: u8,

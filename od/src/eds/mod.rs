@@ -7,7 +7,7 @@
 //! # What is read (CiA 306-1)
 //!
 //! - `[FileInfo]` → [`FileInfo`](crate::device::FileInfo); `[DeviceInfo]` → the
-//!   [`Identity`](crate::device::Identity) and the [`CanInfo`](crate::device::CanInfo); `[DummyUsage]`
+//!   [`Identity`](crate::device::Identity) and the [`CanInfo`]; `[DummyUsage]`
 //!   → [`CanInfo::dummy_usage`](crate::device::CanInfo::dummy_usage); `[Comments]` →
 //!   [`DeviceDescription::comments`] (CiA 306-1 §4, the general sections of an EDS).
 //! - The object lists `[MandatoryObjects]`, `[OptionalObjects]`, `[ManufacturerObjects]`: every entry
@@ -148,7 +148,7 @@
 //! direction beyond what the access type implies, an object name that differs from the name of its VAR entry,
 //! the EtherCAT parts, bit rates other than the eight of CiA 306, and strings with line breaks or leading or
 //! trailing blanks. What a file left out is left out again: a description without
-//! [`CanInfo`](crate::device::CanInfo) (an EDS whose `[DeviceInfo]` has no CAN keys) is written without the
+//! [`CanInfo`] (an EDS whose `[DeviceInfo]` has no CAN keys) is written without the
 //! CAN keys of `[DeviceInfo]` and without `[DummyUsage]`, an empty `format_version` (a file without
 //! `EDSVersion`, as Lely's) without `EDSVersion`; a new file gets both from [`complete_new_file`].
 
