@@ -8,6 +8,19 @@
 //!   memory (bounded by [`ClientConfig::upload_limit`]) or into an [`UploadSink`].
 //!
 //! The blocking, typed convenience on top is [`crate::sdo::session`].
+//!
+//! # Methods and polling order
+//!
+//! Input carries the time; output is pulled:
+//!
+//! 1. Start a transfer with its time: [`SdoClient::start_download`], [`SdoClient::start_upload`] (or
+//!    `start_upload_expecting`, `start_upload_to`).
+//! 2. For every frame from the server (0x580 + node-ID): [`SdoClient::handle_frame`] with the time it
+//!    arrived; when [`SdoClient::poll_timeout`] has passed: [`SdoClient::handle_timeout`] (the answer
+//!    timer, 0x05040000 on expiry).
+//! 3. After each call, drain [`SdoClient::poll_transmit`] (frames for 0x600 + node-ID, in order; a block
+//!    download hands out a whole sub-block), then [`SdoClient::poll_event`] (the transfer's end).
+//! 4. Wait for the next frame or [`SdoClient::poll_timeout`], whichever comes first.
 
 mod block;
 mod data;
