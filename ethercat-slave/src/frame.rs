@@ -6,6 +6,78 @@
 //! address), length/flags (2: length bits 0–10, circulating bit 14, more-follows bit 15), IRQ (2), data,
 //! working counter (2).
 
+/// A datagram command (ETG.1000.4 Table 14) as the byte it is on the wire; a byte no table defines is
+/// kept as it is (the ESC passes such a datagram on unchanged, like NOP).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Command(pub u8);
+
+macro_rules! commands {
+    ($( $(#[$doc:meta])* $name:ident = $byte:literal; )*) => {
+        impl Command {
+            $( $(#[$doc])* pub const $name: Command = Command($byte); )*
+
+            /// Every command ETG.1000.4 defines, in the table's order.
+            pub const ALL: &'static [Command] = &[$(Command::$name,)*];
+
+            /// The command's name (`"LRW"`), or `None` for a byte no table defines.
+            pub const fn name(self) -> Option<&'static str> {
+                match self.0 {
+                    $($byte => Some(stringify!($name)),)*
+                    _ => None,
+                }
+            }
+        }
+
+        /// The commands as constants of their own, for `use esc::cmd::*`-style call sites.
+        pub mod cmd {
+            use super::Command;
+            $( $(#[$doc])* pub const $name: Command = Command::$name; )*
+        }
+    };
+}
+
+commands! {
+    /// No operation.
+    NOP = 0;
+    /// Auto-increment read.
+    APRD = 1;
+    /// Auto-increment write.
+    APWR = 2;
+    /// Auto-increment read-write.
+    APRW = 3;
+    /// Configured-address read.
+    FPRD = 4;
+    /// Configured-address write.
+    FPWR = 5;
+    /// Configured-address read-write.
+    FPRW = 6;
+    /// Broadcast read.
+    BRD = 7;
+    /// Broadcast write.
+    BWR = 8;
+    /// Broadcast read-write.
+    BRW = 9;
+    /// Logical read.
+    LRD = 10;
+    /// Logical write.
+    LWR = 11;
+    /// Logical read-write.
+    LRW = 12;
+    /// Auto-increment read, multiple write.
+    ARMW = 13;
+    /// Configured-address read, multiple write.
+    FRMW = 14;
+}
+
+impl std::fmt::Display for Command {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.name() {
+            Some(name) => f.write_str(name),
+            None => write!(f, "command 0x{:02X}", self.0),
+        }
+    }
+}
+
 /// The EtherType of EtherCAT.
 pub const ETHERTYPE: u16 = 0x88A4;
 /// Ethernet header bytes.
@@ -112,7 +184,7 @@ pub fn datagrams(frame: &[u8]) -> Result<Vec<DatagramAt>, FrameError> {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Datagram {
     /// Command.
-    pub cmd: u8,
+    pub cmd: Command,
     /// Index (the master's tag).
     pub index: u8,
     /// ADP (position or station address) and ADO (register), or a logical address.
@@ -125,7 +197,7 @@ pub struct Datagram {
 
 impl Datagram {
     /// A datagram addressing slave/station `adp`, register `ado`.
-    pub fn new(cmd: u8, adp: u16, ado: u16, data: Vec<u8>) -> Datagram {
+    pub fn new(cmd: Command, adp: u16, ado: u16, data: Vec<u8>) -> Datagram {
         Datagram {
             cmd,
             index: 0,
@@ -147,7 +219,7 @@ pub fn emit(datagrams: &[Datagram], src: [u8; 6]) -> Vec<u8> {
         .sum();
     f.extend_from_slice(&((body as u16 & 0x07FF) | 0x1000).to_le_bytes());
     for (k, d) in datagrams.iter().enumerate() {
-        f.push(d.cmd);
+        f.push(d.cmd.0);
         f.push(d.index);
         f.extend_from_slice(&d.address.to_le_bytes());
         let more = if k + 1 < datagrams.len() { 0x8000 } else { 0 };
@@ -168,7 +240,7 @@ pub fn parse(frame: &[u8]) -> Result<Vec<Datagram>, FrameError> {
     Ok(datagrams(frame)?
         .into_iter()
         .map(|d| Datagram {
-            cmd: frame[d.start],
+            cmd: Command(frame[d.start]),
             index: frame[d.start + 1],
             address: u32::from_le_bytes([
                 frame[d.start + 2],

@@ -11,7 +11,8 @@ use std::time::{Duration, Instant};
 
 use ds402::smd::indexer::{Inputs, Outputs};
 
-use crate::esc::cmd;
+use crate::esc::al::AlStatusCode;
+use crate::esc::{cmd, Command};
 use crate::frame::FrameError;
 use crate::frame::{emit, parse, Datagram};
 use crate::raw::RawSocket;
@@ -106,9 +107,7 @@ pub enum MasterError {
         expected: u16,
     },
     /// A unit refused a state.
-    #[error(
-        "unit {unit}: AL status 0x{status:04X}, code 0x{code:04X} after requesting state {state}"
-    )]
+    #[error("unit {unit}: AL status 0x{status:04X}, code {code} after requesting state {state}")]
     State {
         /// The unit (0-based).
         unit: usize,
@@ -117,7 +116,7 @@ pub enum MasterError {
         /// AL status.
         status: u16,
         /// AL status code.
-        code: u16,
+        code: AlStatusCode,
     },
 }
 
@@ -284,7 +283,7 @@ pub fn one(w: &mut impl Wire, d: Datagram) -> Result<Datagram, MasterError> {
 /// A register datagram `command` to `adp`/`ado`.
 pub fn reg(
     w: &mut impl Wire,
-    command: u8,
+    command: Command,
     adp: u16,
     ado: u16,
     data: Vec<u8>,
@@ -391,7 +390,7 @@ pub fn bring_up(w: &mut impl Wire, to: u8) -> Result<(), MasterError> {
                     unit: k,
                     state: s,
                     status,
-                    code,
+                    code: AlStatusCode::from(code),
                 });
             }
         }

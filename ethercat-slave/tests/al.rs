@@ -4,7 +4,7 @@ mod common;
 
 use std::time::Instant;
 
-use ethercat_slave::esc::al::{code, state, AlConfig, AL_CONTROL, AL_STATUS_CODE};
+use ethercat_slave::esc::al::{AlConfig, AlState, AlStatusCode, AL_CONTROL};
 use ethercat_slave::esc::{cmd, Chain};
 use ethercat_slave::frame::{emit, parse, Datagram};
 
@@ -23,11 +23,10 @@ fn write(c: &mut Chain, ado: u16, data: &[u8]) -> u16 {
     parse(&f).unwrap()[0].wkc
 }
 
-fn request(c: &mut Chain, control: u16) -> (u8, bool, u16) {
+fn request(c: &mut Chain, control: u16) -> (AlState, bool, AlStatusCode) {
     write(c, AL_CONTROL, &control.to_le_bytes());
     let (s, e) = c.slaves[0].al_state();
-    let code = u16::from_le_bytes(c.slaves[0].load(AL_STATUS_CODE, 2).try_into().unwrap());
-    (s, e, code)
+    (s, e, c.slaves[0].al_status_code())
 }
 
 /// SyncManager `n`: start, length, control byte, enabled.
@@ -41,43 +40,114 @@ fn sm(c: &mut Chain, n: u16, start: u16, len: u16, control: u8) {
 #[test]
 fn init_to_op_with_the_checks_of_each_step() {
     let mut c = smd_chain();
-    assert_eq!(c.slaves[0].al_state(), (state::INIT, false));
+    assert_eq!(c.slaves[0].al_state(), (AlState::Init, false));
     // Straight to Op: refused, error indicator set, code 0x0011; refused again until acknowledged.
     assert_eq!(
         request(&mut c, 0x08),
-        (state::INIT, true, code::INVALID_STATE_CHANGE)
+        (AlState::Init, true, AlStatusCode::InvalidStateChange)
     );
     assert_eq!(
         request(&mut c, 0x02).0,
-        state::INIT,
+        AlState::Init,
         "error not acknowledged"
     );
-    assert_eq!(request(&mut c, 0x11), (state::INIT, false, code::NONE));
+    assert_eq!(
+        request(&mut c, 0x11),
+        (AlState::Init, false, AlStatusCode::NoError)
+    );
     // Pre-Op without the mailbox SyncManagers: 0x0016.
     assert_eq!(
         request(&mut c, 0x02),
-        (state::INIT, true, code::INVALID_MAILBOX)
+        (AlState::Init, true, AlStatusCode::InvalidMailbox)
     );
     request(&mut c, 0x11);
     sm(&mut c, 0, 0x1000, 128, 0x26);
     sm(&mut c, 1, 0x1080, 128, 0x22);
-    assert_eq!(request(&mut c, 0x02), (state::PREOP, false, code::NONE));
+    assert_eq!(
+        request(&mut c, 0x02),
+        (AlState::PreOp, false, AlStatusCode::NoError)
+    );
     // Safe-Op with a wrong output length: 0x001D; then right: Safe-Op, then Op.
     sm(&mut c, 2, 0x1100, 18, 0x64);
     sm(&mut c, 3, 0x1400, 20, 0x20);
     assert_eq!(
         request(&mut c, 0x04),
-        (state::PREOP, true, code::INVALID_OUTPUTS)
+        (AlState::PreOp, true, AlStatusCode::InvalidOutputs)
     );
     request(&mut c, 0x12);
     sm(&mut c, 2, 0x1100, 20, 0x64);
-    assert_eq!(request(&mut c, 0x04), (state::SAFEOP, false, code::NONE));
-    assert_eq!(request(&mut c, 0x08), (state::OP, false, code::NONE));
+    assert_eq!(
+        request(&mut c, 0x04),
+        (AlState::SafeOp, false, AlStatusCode::NoError)
+    );
+    assert_eq!(
+        request(&mut c, 0x08),
+        (AlState::Op, false, AlStatusCode::NoError)
+    );
     // Back down is always allowed; bootstrap is not offered.
-    assert_eq!(request(&mut c, 0x02), (state::PREOP, false, code::NONE));
+    assert_eq!(
+        request(&mut c, 0x02),
+        (AlState::PreOp, false, AlStatusCode::NoError)
+    );
     assert_eq!(
         request(&mut c, 0x03),
-        (state::PREOP, true, code::BOOTSTRAP_NOT_SUPPORTED)
+        (AlState::PreOp, true, AlStatusCode::BootstrapNotSupported)
     );
-    assert_eq!(request(&mut c, 0x11), (state::INIT, false, code::NONE));
+    assert_eq!(
+        request(&mut c, 0x11),
+        (AlState::Init, false, AlStatusCode::NoError)
+    );
+}
+
+/// ETG.1000.6 Table 11 as the register holds it: the codes this slave sets, by number, and every code
+/// of the table back to itself; a reserved or vendor-specific number stays that number.
+#[test]
+fn al_status_codes_are_the_tables_numbers() {
+    for (code, number) in [
+        (AlStatusCode::NoError, 0x0000),
+        (AlStatusCode::InvalidStateChange, 0x0011),
+        (AlStatusCode::UnknownState, 0x0012),
+        (AlStatusCode::BootstrapNotSupported, 0x0013),
+        (AlStatusCode::InvalidMailbox, 0x0016),
+        (AlStatusCode::SyncManagerWatchdog, 0x001B),
+        (AlStatusCode::InvalidOutputs, 0x001D),
+        (AlStatusCode::InvalidInputs, 0x001E),
+        (AlStatusCode::DcSync0CycleTime, 0x0036),
+    ] {
+        assert_eq!(code.code(), number, "{code:?}");
+        assert_eq!(AlStatusCode::from(number), code);
+    }
+    for &code in AlStatusCode::ALL {
+        assert_eq!(AlStatusCode::from(code.code()), code);
+    }
+    assert_eq!(AlStatusCode::ALL.len(), 53);
+    assert_eq!(AlStatusCode::from(0x0004), AlStatusCode::Other(0x0004));
+    assert_eq!(AlStatusCode::from(0x8001).code(), 0x8001);
+    assert_eq!(
+        AlStatusCode::SyncManagerWatchdog.to_string(),
+        "0x001B (Sync manager watchdog)"
+    );
+    assert_eq!(
+        AlStatusCode::Other(0x8001).to_string(),
+        "0x8001 (vendor-specific)"
+    );
+    assert_eq!(AlStatusCode::Other(0x0004).to_string(), "0x0004 (reserved)");
+    for (state, bits, name) in [
+        (AlState::Init, 1, "Init"),
+        (AlState::PreOp, 2, "Pre-Op"),
+        (AlState::Boot, 3, "Bootstrap"),
+        (AlState::SafeOp, 4, "Safe-Op"),
+        (AlState::Op, 8, "Op"),
+    ] {
+        assert_eq!(state.bits(), bits);
+        assert_eq!(
+            AlState::from_bits(bits | 0x10),
+            Some(state),
+            "the error bit is not the state's"
+        );
+        assert_eq!(state.to_string(), name);
+    }
+    for bits in [0u8, 5, 6, 7, 9, 15] {
+        assert_eq!(AlState::from_bits(bits), None, "{bits}");
+    }
 }

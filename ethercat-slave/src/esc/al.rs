@@ -22,40 +22,236 @@ pub const AL_STATUS: u16 = 0x0130;
 /// AL status code register.
 pub const AL_STATUS_CODE: u16 = 0x0134;
 
-/// The states (AL status bits 0–3).
-pub mod state {
+/// An AL state (ETG.1000.6 §6.4.1), as AL control and AL status bits 0–3 hold it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AlState {
     /// Init.
-    pub const INIT: u8 = 1;
+    Init = 1,
     /// Pre-Operational.
-    pub const PREOP: u8 = 2;
+    PreOp = 2,
     /// Bootstrap.
-    pub const BOOT: u8 = 3;
+    Boot = 3,
     /// Safe-Operational.
-    pub const SAFEOP: u8 = 4;
+    SafeOp = 4,
     /// Operational.
-    pub const OP: u8 = 8;
+    Op = 8,
 }
 
-/// AL status codes (ETG.1000.6 Table 11).
-pub mod code {
-    /// No error.
-    pub const NONE: u16 = 0x0000;
-    /// Invalid requested state change.
-    pub const INVALID_STATE_CHANGE: u16 = 0x0011;
-    /// Unknown requested state.
-    pub const UNKNOWN_STATE: u16 = 0x0012;
-    /// Bootstrap not supported.
-    pub const BOOTSTRAP_NOT_SUPPORTED: u16 = 0x0013;
-    /// Invalid mailbox configuration (Pre-Op).
-    pub const INVALID_MAILBOX: u16 = 0x0016;
-    /// Invalid output configuration.
-    pub const INVALID_OUTPUTS: u16 = 0x001D;
-    /// Invalid input configuration.
-    pub const INVALID_INPUTS: u16 = 0x001E;
-    /// SyncManager watchdog.
-    pub const SM_WATCHDOG: u16 = 0x001B;
-    /// DC SYNC0 cycle time.
-    pub const SYNC0_CYCLE_TIME: u16 = 0x0036;
+impl AlState {
+    /// The state bits 0–3 of `byte` (AL control or AL status), or `None` when they name no state.
+    pub const fn from_bits(byte: u8) -> Option<AlState> {
+        match byte & 0x0F {
+            1 => Some(AlState::Init),
+            2 => Some(AlState::PreOp),
+            3 => Some(AlState::Boot),
+            4 => Some(AlState::SafeOp),
+            8 => Some(AlState::Op),
+            _ => None,
+        }
+    }
+
+    /// The state's bits as the registers hold them.
+    pub const fn bits(self) -> u8 {
+        self as u8
+    }
+}
+
+impl std::fmt::Display for AlState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            AlState::Init => "Init",
+            AlState::PreOp => "Pre-Op",
+            AlState::Boot => "Bootstrap",
+            AlState::SafeOp => "Safe-Op",
+            AlState::Op => "Op",
+        })
+    }
+}
+
+/// The state bits as bytes, for a master that writes AL control (a state, with bit 4 to acknowledge
+/// an error) and reads AL status register by register.
+pub mod state {
+    use super::AlState;
+
+    /// Init.
+    pub const INIT: u8 = AlState::Init.bits();
+    /// Pre-Operational.
+    pub const PREOP: u8 = AlState::PreOp.bits();
+    /// Bootstrap.
+    pub const BOOT: u8 = AlState::Boot.bits();
+    /// Safe-Operational.
+    pub const SAFEOP: u8 = AlState::SafeOp.bits();
+    /// Operational.
+    pub const OP: u8 = AlState::Op.bits();
+}
+
+macro_rules! al_status_codes {
+    ($( $(#[$doc:meta])* $name:ident = $code:literal, $text:literal; )*) => {
+        /// An AL status code (register 0x0134, ETG.1000.6 Table 11).
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum AlStatusCode {
+            $( $(#[$doc])* $name, )*
+            /// A code the table does not define (reserved, or vendor-specific from 0x8000).
+            Other(u16),
+        }
+
+        impl AlStatusCode {
+            /// Every code of the table, in its order.
+            pub const ALL: &'static [AlStatusCode] = &[$(AlStatusCode::$name,)*];
+
+            /// The 16-bit code as the register holds it.
+            pub const fn code(self) -> u16 {
+                match self {
+                    $(AlStatusCode::$name => $code,)*
+                    AlStatusCode::Other(code) => code,
+                }
+            }
+
+            /// The table's description of the code.
+            pub const fn description(self) -> &'static str {
+                match self {
+                    $(AlStatusCode::$name => $text,)*
+                    AlStatusCode::Other(code) if code >= 0x8000 => "vendor-specific",
+                    AlStatusCode::Other(_) => "reserved",
+                }
+            }
+        }
+
+        impl From<u16> for AlStatusCode {
+            fn from(code: u16) -> Self {
+                match code {
+                    $($code => AlStatusCode::$name,)*
+                    other => AlStatusCode::Other(other),
+                }
+            }
+        }
+    };
+}
+
+al_status_codes! {
+    /// 0x0000.
+    NoError = 0x0000, "No error";
+    /// 0x0001.
+    Unspecified = 0x0001, "Unspecified error";
+    /// 0x0002.
+    NoMemory = 0x0002, "No memory";
+    /// 0x0003.
+    InvalidDeviceSetup = 0x0003, "Invalid device setup";
+    /// 0x0005.
+    CompatibilityReserved = 0x0005, "Reserved due to compatibility reasons";
+    /// 0x0011.
+    InvalidStateChange = 0x0011, "Invalid requested state change";
+    /// 0x0012.
+    UnknownState = 0x0012, "Unknown requested state";
+    /// 0x0013.
+    BootstrapNotSupported = 0x0013, "Bootstrap not supported";
+    /// 0x0014.
+    NoValidFirmware = 0x0014, "No valid firmware";
+    /// 0x0015.
+    InvalidMailboxBoot = 0x0015, "Invalid mailbox configuration (Bootstrap)";
+    /// 0x0016.
+    InvalidMailbox = 0x0016, "Invalid mailbox configuration (Pre-Op)";
+    /// 0x0017.
+    InvalidSyncManager = 0x0017, "Invalid sync manager configuration";
+    /// 0x0018.
+    NoValidInputs = 0x0018, "No valid inputs available";
+    /// 0x0019.
+    NoValidOutputs = 0x0019, "No valid outputs";
+    /// 0x001A.
+    SynchronizationError = 0x001A, "Synchronization error";
+    /// 0x001B.
+    SyncManagerWatchdog = 0x001B, "Sync manager watchdog";
+    /// 0x001C.
+    InvalidSyncManagerTypes = 0x001C, "Invalid sync manager types";
+    /// 0x001D.
+    InvalidOutputs = 0x001D, "Invalid output configuration";
+    /// 0x001E.
+    InvalidInputs = 0x001E, "Invalid input configuration";
+    /// 0x001F.
+    InvalidWatchdog = 0x001F, "Invalid watchdog configuration";
+    /// 0x0020.
+    NeedsColdStart = 0x0020, "Slave needs cold start";
+    /// 0x0021.
+    NeedsInit = 0x0021, "Slave needs Init";
+    /// 0x0022.
+    NeedsPreOp = 0x0022, "Slave needs Pre-Op";
+    /// 0x0023.
+    NeedsSafeOp = 0x0023, "Slave needs Safe-Op";
+    /// 0x0024.
+    InvalidInputMapping = 0x0024, "Invalid input mapping";
+    /// 0x0025.
+    InvalidOutputMapping = 0x0025, "Invalid output mapping";
+    /// 0x0026.
+    InconsistentSettings = 0x0026, "Inconsistent settings";
+    /// 0x0027.
+    FreeRunNotSupported = 0x0027, "Free-run not supported";
+    /// 0x0028.
+    SyncModeNotSupported = 0x0028, "Synchronization not supported";
+    /// 0x0029.
+    FreeRunNeedsThreeBuffers = 0x0029, "Free-run needs 3-buffer mode";
+    /// 0x002A.
+    BackgroundWatchdog = 0x002A, "Background watchdog";
+    /// 0x002B.
+    NoValidInputsAndOutputs = 0x002B, "No valid inputs and outputs";
+    /// 0x002C.
+    FatalSyncError = 0x002C, "Fatal sync error";
+    /// 0x002D.
+    NoSyncError = 0x002D, "No sync error";
+    /// 0x0030.
+    InvalidDcSync = 0x0030, "Invalid DC SYNC configuration";
+    /// 0x0031.
+    InvalidDcLatch = 0x0031, "Invalid DC latch configuration";
+    /// 0x0032.
+    PllError = 0x0032, "PLL error";
+    /// 0x0033.
+    DcSyncIo = 0x0033, "DC sync IO error";
+    /// 0x0034.
+    DcSyncTimeout = 0x0034, "DC sync timeout error";
+    /// 0x0035.
+    DcInvalidSyncCycleTime = 0x0035, "DC invalid sync cycle time";
+    /// 0x0036.
+    DcSync0CycleTime = 0x0036, "DC SYNC0 cycle time";
+    /// 0x0037.
+    DcSync1CycleTime = 0x0037, "DC SYNC1 cycle time";
+    /// 0x0041.
+    MailboxAoe = 0x0041, "Mailbox AoE";
+    /// 0x0042.
+    MailboxEoe = 0x0042, "Mailbox EoE";
+    /// 0x0043.
+    MailboxCoe = 0x0043, "Mailbox CoE";
+    /// 0x0044.
+    MailboxFoe = 0x0044, "Mailbox FoE";
+    /// 0x0045.
+    MailboxSoe = 0x0045, "Mailbox SoE";
+    /// 0x004F.
+    MailboxVoe = 0x004F, "Mailbox VoE";
+    /// 0x0050.
+    EepromNoAccess = 0x0050, "EEPROM no access";
+    /// 0x0051.
+    EepromError = 0x0051, "EEPROM error";
+    /// 0x0060.
+    RestartedLocally = 0x0060, "Slave restarted locally";
+    /// 0x0061.
+    DeviceIdentificationUpdated = 0x0061, "Device identification value updated";
+    /// 0x00F0.
+    ApplicationControllerAvailable = 0x00F0, "Application controller available";
+}
+
+impl std::fmt::Display for AlStatusCode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "0x{:04X} ({})", self.code(), self.description())
+    }
+}
+
+/// What a write to AL control does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Transition {
+    /// Nothing: an error is indicated and the request does not acknowledge it.
+    Unchanged,
+    /// The requested state is entered (or kept), the error indication and code cleared.
+    To(AlState),
+    /// The request is refused: the state stays, with the error indication and this code.
+    Refused(AlStatusCode),
 }
 
 /// One SyncManager setting a transition checks.
@@ -119,59 +315,54 @@ impl SmRule {
 }
 
 /// The outcome of writing `control` to the AL control register of `esc` (its configuration, state
-/// and registers as they are): the new state and status code (0 when accepted).
-pub fn transition(esc: &Esc, control: u16) -> (u8, u16) {
+/// and registers as they are).
+pub fn transition(esc: &Esc, control: u16) -> Transition {
+    use AlState::{Boot, Init, Op, PreOp, SafeOp};
     let config = &esc.al;
     let (current, error) = esc.al_state();
-    let requested = (control & 0x0F) as u8;
     let acknowledge = control & 0x10 != 0;
     if error && !acknowledge {
-        return (current, u16::MAX); // no change while the error is not acknowledged
+        return Transition::Unchanged;
     }
-    let ok = (requested, code::NONE);
-    match requested {
-        state::INIT => ok,
-        state::BOOT => (current, code::BOOTSTRAP_NOT_SUPPORTED),
-        state::PREOP => match current {
-            state::INIT => match &config.mailbox {
-                Some([out, inn])
-                    if !(out.accepts(esc.sync_manager(0)) && inn.accepts(esc.sync_manager(1))) =>
-                {
-                    (current, code::INVALID_MAILBOX)
-                }
-                _ => ok,
-            },
-            state::PREOP | state::SAFEOP | state::OP => ok,
-            _ => (current, code::INVALID_STATE_CHANGE),
-        },
-        state::SAFEOP => match current {
-            state::PREOP => {
-                if config
-                    .outputs
-                    .is_some_and(|r| !r.accepts(esc.sync_manager(2)))
-                {
-                    (current, code::INVALID_OUTPUTS)
-                } else if config
-                    .inputs
-                    .is_some_and(|r| !r.accepts(esc.sync_manager(3)))
-                {
-                    (current, code::INVALID_INPUTS)
-                } else if config.sync0_cycle.is_some_and(|(lo, hi)| {
-                    // SYNC0 off is accepted; on, its cycle time must be in the range.
-                    esc.sync0_cycle().is_some_and(|c| !(lo..=hi).contains(&c))
-                }) {
-                    (current, code::SYNC0_CYCLE_TIME)
-                } else {
-                    ok
-                }
+    let Some(requested) = AlState::from_bits(control as u8) else {
+        return Transition::Refused(AlStatusCode::UnknownState);
+    };
+    let refuse = Transition::Refused;
+    match (requested, current) {
+        // Any state may go back down to Init.
+        (Init, _) => Transition::To(Init),
+        (Boot, _) => refuse(AlStatusCode::BootstrapNotSupported),
+        (PreOp, Init) => match &config.mailbox {
+            Some([out, inn])
+                if !(out.accepts(esc.sync_manager(0)) && inn.accepts(esc.sync_manager(1))) =>
+            {
+                refuse(AlStatusCode::InvalidMailbox)
             }
-            state::SAFEOP | state::OP => ok,
-            _ => (current, code::INVALID_STATE_CHANGE),
+            _ => Transition::To(PreOp),
         },
-        state::OP => match current {
-            state::SAFEOP | state::OP => ok,
-            _ => (current, code::INVALID_STATE_CHANGE),
-        },
-        _ => (current, code::UNKNOWN_STATE),
+        (PreOp, PreOp | SafeOp | Op) => Transition::To(PreOp),
+        (SafeOp, PreOp) => {
+            if config
+                .outputs
+                .is_some_and(|r| !r.accepts(esc.sync_manager(2)))
+            {
+                refuse(AlStatusCode::InvalidOutputs)
+            } else if config
+                .inputs
+                .is_some_and(|r| !r.accepts(esc.sync_manager(3)))
+            {
+                refuse(AlStatusCode::InvalidInputs)
+            } else if config.sync0_cycle.is_some_and(|(lo, hi)| {
+                // SYNC0 off is accepted; on, its cycle time must be in the range (SMD-T3-003).
+                esc.sync0_cycle().is_some_and(|c| !(lo..=hi).contains(&c))
+            }) {
+                refuse(AlStatusCode::DcSync0CycleTime)
+            } else {
+                Transition::To(SafeOp)
+            }
+        }
+        (SafeOp, SafeOp | Op) => Transition::To(SafeOp),
+        (Op, SafeOp | Op) => Transition::To(Op),
+        (PreOp | SafeOp | Op, _) => refuse(AlStatusCode::InvalidStateChange),
     }
 }

@@ -11,41 +11,8 @@ pub mod al;
 pub mod dc;
 pub mod sm;
 
+pub use crate::frame::{cmd, Command};
 use crate::frame::{datagrams, DatagramAt, FrameError};
-
-/// Commands (ETG.1000.4 Table 14).
-pub mod cmd {
-    /// No operation.
-    pub const NOP: u8 = 0;
-    /// Auto-increment read.
-    pub const APRD: u8 = 1;
-    /// Auto-increment write.
-    pub const APWR: u8 = 2;
-    /// Auto-increment read-write.
-    pub const APRW: u8 = 3;
-    /// Configured-address read.
-    pub const FPRD: u8 = 4;
-    /// Configured-address write.
-    pub const FPWR: u8 = 5;
-    /// Configured-address read-write.
-    pub const FPRW: u8 = 6;
-    /// Broadcast read.
-    pub const BRD: u8 = 7;
-    /// Broadcast write.
-    pub const BWR: u8 = 8;
-    /// Broadcast read-write.
-    pub const BRW: u8 = 9;
-    /// Logical read.
-    pub const LRD: u8 = 10;
-    /// Logical write.
-    pub const LWR: u8 = 11;
-    /// Logical read-write.
-    pub const LRW: u8 = 12;
-    /// Auto-increment read, multiple write.
-    pub const ARMW: u8 = 13;
-    /// Configured-address read, multiple write.
-    pub const FRMW: u8 = 14;
-}
 
 /// ESC memory size.
 pub const MEMORY: usize = 0x1_0000;
@@ -168,7 +135,7 @@ impl Esc {
         esc.store(0x0000, &[0x11, 0x00, 0x02, 0x00]);
         esc.store(0x0004, &[FMMUS as u8, sm::SYNC_MANAGERS as u8, 60, 0x0F]);
         esc.store(0x0008, &0x000Du16.to_le_bytes());
-        esc.store(al::AL_STATUS, &[al::state::INIT, 0]);
+        esc.store(al::AL_STATUS, &[al::AlState::Init.bits(), 0]);
         // Watchdog divider 2498 (100 µs units), PDI and process-data watchdog 1000 (100 ms), status:
         // not expired.
         esc.store(WATCHDOG_DIVIDER, &2498u16.to_le_bytes());
@@ -247,9 +214,9 @@ impl Esc {
     }
 
     /// The application leaves for `state` with the error indication and `code` (e.g. a watchdog).
-    pub fn al_fault(&mut self, state: u8, code: u16) {
-        self.store(al::AL_STATUS, &[state | 0x10, 0]);
-        self.store(al::AL_STATUS_CODE, &code.to_le_bytes());
+    pub fn al_fault(&mut self, state: al::AlState, code: al::AlStatusCode) {
+        self.store(al::AL_STATUS, &[state.bits() | 0x10, 0]);
+        self.store(al::AL_STATUS_CODE, &code.code().to_le_bytes());
     }
 
     /// The configured station address (register 0x0010).
@@ -258,9 +225,16 @@ impl Esc {
     }
 
     /// The AL state (AL status bits 0–3) and whether the error indicator is set.
-    pub fn al_state(&self) -> (u8, bool) {
+    pub fn al_state(&self) -> (al::AlState, bool) {
         let s = self.read_u16(al::AL_STATUS);
-        ((s & 0x0F) as u8, s & 0x10 != 0)
+        // Only the ESC writes AL status (the master cannot), always with a state of the table.
+        let state = al::AlState::from_bits(s as u8).unwrap_or(al::AlState::Init);
+        (state, s & 0x10 != 0)
+    }
+
+    /// The AL status code (register 0x0134).
+    pub fn al_status_code(&self) -> al::AlStatusCode {
+        al::AlStatusCode::from(self.read_u16(al::AL_STATUS_CODE))
     }
 
     /// A 16-bit register.
@@ -334,15 +308,13 @@ impl Esc {
         if touches(al::AL_CONTROL, 2) {
             let control = self.read_u16(al::AL_CONTROL);
             let (current, _) = self.al_state();
-            let (next, code) = al::transition(self, control);
-            if code == u16::MAX {
-                // Error not acknowledged: nothing changes.
-            } else if code == al::code::NONE {
-                self.store(al::AL_STATUS, &[next, 0]);
-                self.store(al::AL_STATUS_CODE, &[0, 0]);
-            } else {
-                self.store(al::AL_STATUS, &[current | 0x10, 0]);
-                self.store(al::AL_STATUS_CODE, &code.to_le_bytes());
+            match al::transition(self, control) {
+                al::Transition::Unchanged => {}
+                al::Transition::To(next) => {
+                    self.store(al::AL_STATUS, &[next.bits(), 0]);
+                    self.store(al::AL_STATUS_CODE, &[0, 0]);
+                }
+                al::Transition::Refused(code) => self.al_fault(current, code),
             }
         }
         if touches(EEPROM_CONTROL, 2) {
@@ -408,7 +380,7 @@ impl Esc {
     /// A logical datagram at `addr` over `data`: mapped reads copied in, mapped writes copied out,
     /// each through the SyncManager gate of its physical memory; the working-counter increment (1 for
     /// a read, 1 for LWR's write, 2 for LRW's write).
-    fn logical(&mut self, command: u8, addr: u32, data: &mut [u8]) -> u16 {
+    fn logical(&mut self, command: Command, addr: u32, data: &mut [u8]) -> u16 {
         let (want_read, want_write) = match command {
             cmd::LRD => (true, false),
             cmd::LWR => (false, true),
@@ -570,7 +542,7 @@ impl Chain {
         let dgs = datagrams(frame)?;
         for esc in self.slaves.iter_mut() {
             for d in &dgs {
-                let command = frame[d.start];
+                let command = Command(frame[d.start]);
                 let adp = u16::from_le_bytes([frame[d.start + 2], frame[d.start + 3]]);
                 let ado = u16::from_le_bytes([frame[d.start + 4], frame[d.start + 5]]);
                 let (access, addressed, auto, or) = match command {

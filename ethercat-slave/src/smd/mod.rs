@@ -39,7 +39,7 @@ use od::hook::ProcessImage;
 use od::sdo::frame::Address;
 use od::sdo::server::ServerConfig;
 
-use crate::esc::al::{code, state, AlConfig};
+use crate::esc::al::{AlConfig, AlState, AlStatusCode};
 use crate::esc::{Chain, Esc};
 use crate::frame::FrameError;
 
@@ -71,7 +71,7 @@ struct Unit {
     /// Answers waiting for SM1 to be read.
     pending: VecDeque<Vec<u8>>,
     /// The AL state the model and the server were last told.
-    state: u8,
+    state: AlState,
 }
 
 /// A chain of virtual SMD units.
@@ -144,7 +144,7 @@ impl SmdChain {
                 model,
                 coe: CoeServer::new(ServerConfig::default(), usize::from(mailbox_in)),
                 pending: VecDeque::new(),
-                state: state::INIT,
+                state: AlState::Init,
             });
         }
         let images = units.first().map(|u| {
@@ -239,9 +239,9 @@ impl SmdChain {
     fn serve_mailboxes(&mut self) {
         let now = self.now;
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
-            if esc.al_state().0 == state::INIT {
+            if esc.al_state().0 == AlState::Init {
                 // Told at once: the mailbox restarts before the master can use it again.
-                unit.sync_state(state::INIT);
+                unit.sync_state(AlState::Init);
             }
             if let Some(mailbox) = esc.take_mailbox() {
                 unit.sync_state(esc.al_state().0);
@@ -276,7 +276,7 @@ impl SmdChain {
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
             let expired = esc.check_watchdog();
             let (al, _) = esc.al_state();
-            if expired && al == state::OP {
+            if expired && al == AlState::Op {
                 // SMD-R1-035: the watchdog drops the unit to Safe-Op with the error indication.
                 unit.drop_to_safe_op(esc);
             }
@@ -286,7 +286,7 @@ impl SmdChain {
                 let ago = Duration::from_nanos(esc.system_time().saturating_sub(at));
                 ago.min(dt)
             });
-            if al == state::OP {
+            if al == AlState::Op {
                 let outputs = &mut self.image[..self.output_image.len()];
                 esc.load_into(self.outputs_at, outputs);
                 unit.model.receive_process_data(&self.output_image, outputs);
@@ -304,7 +304,7 @@ impl SmdChain {
                     unit.model.exchange(now);
                 }
             }
-            if matches!(al, state::OP | state::SAFEOP) {
+            if matches!(al, AlState::Op | AlState::SafeOp) {
                 let inputs = &mut self.image[..self.input_image.len()];
                 unit.model.send_process_data(&self.input_image, inputs);
                 esc.store(self.inputs_at, inputs);
@@ -317,9 +317,9 @@ impl SmdChain {
     pub fn link_lost(&mut self, now: Instant) {
         self.set_now(now);
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
-            if esc.al_state().0 == state::OP {
+            if esc.al_state().0 == AlState::Op {
                 unit.drop_to_safe_op(esc);
-                unit.sync_state(state::SAFEOP);
+                unit.sync_state(AlState::SafeOp);
             }
         }
     }
@@ -329,17 +329,17 @@ impl Unit {
     /// The master stopped reaching the unit in Op (watchdog, link): Safe-Op with the error indication
     /// and code 0x001B, and the model's Input_Error.
     fn drop_to_safe_op(&mut self, esc: &mut Esc) {
-        esc.al_fault(state::SAFEOP, code::SM_WATCHDOG);
+        esc.al_fault(AlState::SafeOp, AlStatusCode::SyncManagerWatchdog);
         self.model.indexer_mut().sm_watchdog_expired();
     }
 
     /// Tells the model and the CoE server the AL state.
-    fn sync_state(&mut self, al: u8) {
+    fn sync_state(&mut self, al: AlState) {
         if al == self.state {
             return;
         }
         self.state = al;
-        if al == state::INIT {
+        if al == AlState::Init {
             // The mailbox restarts in Init (as the ESC empties its SyncManagers): no transfer, no
             // answer waiting, and the mailbox counters from the start. A master that starts again
             // counts from 1 again, and a request with the counter of the request before Init would
@@ -348,13 +348,13 @@ impl Unit {
             self.pending.clear();
         }
         let network = match al {
-            state::OP => NetworkState::Op,
-            state::SAFEOP => NetworkState::SafeOp,
-            state::PREOP => NetworkState::PreOp,
+            AlState::Op => NetworkState::Op,
+            AlState::SafeOp => NetworkState::SafeOp,
+            AlState::PreOp => NetworkState::PreOp,
             _ => NetworkState::Init,
         };
         self.model.set_network_state(network);
-        let mapped: Vec<Address> = if matches!(al, state::OP | state::SAFEOP) {
+        let mapped: Vec<Address> = if matches!(al, AlState::Op | AlState::SafeOp) {
             (1..=8).map(|sub| Address { index: 0x7000, sub }).collect()
         } else {
             Vec::new()
