@@ -58,7 +58,7 @@ pub enum CliError {
     Runtime(#[from] RuntimeError),
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
-    Signal(String),
+    Signal(#[from] ctrlc::Error),
 }
 
 /// Runs until Ctrl-C (or `stop`, when given, is set); prints `ready` lines on stdout when on line.
@@ -68,8 +68,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError
         None => {
             let s = Arc::new(AtomicBool::new(false));
             let hook = s.clone();
-            ctrlc::set_handler(move || hook.store(true, Ordering::Relaxed))
-                .map_err(|e| CliError::Signal(e.to_string()))?;
+            ctrlc::set_handler(move || hook.store(true, Ordering::Relaxed))?;
             s
         }
     };

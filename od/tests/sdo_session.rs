@@ -85,6 +85,8 @@ impl Script {
 }
 
 impl SdoTransport for Script {
+    type Error = io::Error;
+
     fn send(&mut self, f: &Frame) -> io::Result<()> {
         if self.fail_send_at == Some(self.sent.len()) {
             return Err(io::Error::new(io::ErrorKind::BrokenPipe, "bus off"));

@@ -242,7 +242,7 @@ pub fn run(
     let mut tool = Tool::new(bus, desc.as_ref().map(|d| d.dictionary.clone()));
     tool.set_timeout(timeout);
     tool.sdo.block = !args.no_block;
-    let io = |e: std::io::Error| ToolError::Sdo(format!("cannot write the output: {e}"));
+    let io = ToolError::Output;
     let json = args.json;
     match &args.command {
         Cmd::Read { .. } | Cmd::Write { .. } | Cmd::Dump { .. } | Cmd::Apply { .. } => {
@@ -419,7 +419,7 @@ fn sdo_command(
     desc: Option<&od::DeviceDescription>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    let io = |e: std::io::Error| ToolError::Sdo(format!("cannot write the output: {e}"));
+    let io = ToolError::Output;
     let json = args.json;
     match &args.command {
         Cmd::Read { node, object, ty } => {
@@ -573,7 +573,7 @@ fn emit(
     } else {
         writeln!(out, "{text}")
     };
-    r.map_err(|e| ToolError::Sdo(format!("cannot write the output: {e}")))
+    r.map_err(ToolError::Output)
 }
 
 /// An error as `--json` prints it.

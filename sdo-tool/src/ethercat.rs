@@ -94,29 +94,109 @@ pub struct EthercatSession {
 }
 
 /// ethercrab's TX/RX task ended (it stops at the first frame it cannot place, e.g. one of another
-/// master that reached its socket before the socket was bound to the interface).
-struct TaskEnded(String);
+/// master that reached its socket before the socket was bound to the interface): its error, or none
+/// when it ended without one.
+#[derive(Debug)]
+pub struct TaskEnded(Option<Error>);
+
+impl std::fmt::Display for TaskEnded {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0 {
+            Some(e) => write!(f, "the TX/RX task failed: {e}"),
+            None => f.write_str("the TX/RX task has ended"),
+        }
+    }
+}
+
+impl std::error::Error for TaskEnded {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.0.as_ref().map(|e| e as _)
+    }
+}
+
+/// Why the EtherCAT side of the tool failed.
+#[derive(Debug, thiserror::Error)]
+pub enum EthercatError {
+    /// ethercrab's frame storage is taken (one session per process).
+    #[error("the PDU storage is in use")]
+    Storage,
+    /// The interface could not be opened.
+    #[error("interface {interface}: {source}")]
+    Interface {
+        /// The interface.
+        interface: String,
+        /// The operating system's reason.
+        source: std::io::Error,
+    },
+    /// The slaves could not be initialised.
+    #[error("interface {interface}: the slaves could not be brought to Pre-Op: {source}")]
+    Init {
+        /// The interface.
+        interface: String,
+        /// ethercrab's reason.
+        source: Error,
+    },
+    /// The TX/RX task ended on every try while the slaves were initialised.
+    #[error("interface {interface}: the slaves could not be brought to Pre-Op: {source}")]
+    InitEnded {
+        /// The interface.
+        interface: String,
+        /// How the task ended the last time.
+        source: TaskEnded,
+    },
+    /// No slave answered.
+    #[error("interface {interface}: no EtherCAT slave answered")]
+    NoSlaves {
+        /// The interface.
+        interface: String,
+    },
+    /// The TX/RX task ended during a transfer.
+    #[error("interface {interface}: {source}")]
+    Ended {
+        /// The interface.
+        interface: String,
+        /// How it ended.
+        source: TaskEnded,
+    },
+    /// A transfer failed in ethercrab.
+    #[error("{addr} of slave {position}: {source}")]
+    Transfer {
+        /// The entry.
+        addr: Address,
+        /// The slave's position.
+        position: u8,
+        /// ethercrab's reason.
+        source: Error,
+    },
+    /// The slave's answer is not what the protocol says, or the data does not fit.
+    #[error("{addr} of slave {position}: {detail}")]
+    Protocol {
+        /// The entry.
+        addr: Address,
+        /// The slave's position.
+        position: u8,
+        /// What was wrong.
+        detail: String,
+    },
+}
 
 /// Runs `f` with the TX/RX task until `f` ends; the task's end is an error (and `tx_rx` is `None`
 /// then).
 fn drive<T>(tx_rx: &mut Option<TxRx>, f: impl Future<Output = T>) -> Result<T, TaskEnded> {
     let Some(task) = tx_rx.as_mut() else {
-        return Err(TaskEnded("the TX/RX task has ended".into()));
+        return Err(TaskEnded(None));
     };
     let mut ended = None;
     let r = async_io::block_on(future::or(async { Some(f.await) }, async {
         let r = task.as_mut().await;
-        ended = Some(match r {
-            Ok(_) => "the TX/RX task has ended".to_string(),
-            Err(e) => format!("the TX/RX task failed: {e}"),
-        });
+        ended = Some(r.err());
         None
     }));
     match r {
         Some(v) => Ok(v),
         None => {
             *tx_rx = None;
-            Err(TaskEnded(ended.unwrap_or_default()))
+            Err(TaskEnded(ended.flatten()))
         }
     }
 }
@@ -124,7 +204,7 @@ fn drive<T>(tx_rx: &mut Option<TxRx>, f: impl Future<Output = T>) -> Result<T, T
 /// Why opening failed.
 enum OpenError {
     /// The TX/RX task ended while the slaves were initialised: worth another try.
-    TaskEnded(String),
+    TaskEnded(TaskEnded),
     /// Anything else.
     Tool(ToolError),
 }
@@ -137,7 +217,7 @@ impl EthercatSession {
     /// and its TX/RX task ends at the first frame it cannot place: with another master busy on another
     /// interface, a stray frame may end the first try. Up to three tries are made.
     pub fn open(interface: &str, timeout: Duration) -> Result<EthercatSession, ToolError> {
-        let mut last = String::new();
+        let mut last = TaskEnded(None);
         for _ in 0..3 {
             match EthercatSession::try_open(interface, timeout) {
                 Ok(s) => return Ok(s),
@@ -145,17 +225,19 @@ impl EthercatSession {
                 Err(OpenError::TaskEnded(why)) => last = why,
             }
         }
-        Err(ToolError::Ethercat(format!(
-            "interface {interface}: the slaves could not be brought to Pre-Op: {last}"
-        )))
+        Err(EthercatError::InitEnded {
+            interface: interface.to_string(),
+            source: last,
+        }
+        .into())
     }
 
     fn try_open(interface: &str, timeout: Duration) -> Result<EthercatSession, OpenError> {
         let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
             Box::leak(Box::new(PduStorage::new()));
-        let (tx, rx, pdu_loop) = storage.try_split().map_err(|_| {
-            OpenError::Tool(ToolError::Ethercat("the PDU storage is in use".into()))
-        })?;
+        let (tx, rx, pdu_loop) = storage
+            .try_split()
+            .map_err(|_| OpenError::Tool(EthercatError::Storage.into()))?;
         let maindevice = MainDevice::new(
             pdu_loop,
             Timeouts {
@@ -173,24 +255,37 @@ impl EthercatSession {
                 ..MainDeviceConfig::default()
             },
         );
-        let task = tx_rx_task(interface, tx, rx).map_err(|e| {
-            OpenError::Tool(ToolError::Ethercat(format!("interface {interface}: {e}")))
+        let task = tx_rx_task(interface, tx, rx).map_err(|source| {
+            OpenError::Tool(
+                EthercatError::Interface {
+                    interface: interface.to_string(),
+                    source,
+                }
+                .into(),
+            )
         })?;
         let mut tx_rx: Option<TxRx> = Some(Box::pin(task));
         let group = drive(
             &mut tx_rx,
             maindevice.init_single_group::<MAX_SLAVES, MAX_PDI>(ethercat_now),
         )
-        .map_err(|TaskEnded(why)| OpenError::TaskEnded(why))?
-        .map_err(|e| {
-            OpenError::Tool(ToolError::Ethercat(format!(
-                "interface {interface}: the slaves could not be brought to Pre-Op: {e}"
-            )))
+        .map_err(OpenError::TaskEnded)?
+        .map_err(|source| {
+            OpenError::Tool(
+                EthercatError::Init {
+                    interface: interface.to_string(),
+                    source,
+                }
+                .into(),
+            )
         })?;
         if group.is_empty() {
-            return Err(OpenError::Tool(ToolError::Ethercat(format!(
-                "interface {interface}: no EtherCAT slave answered"
-            ))));
+            return Err(OpenError::Tool(
+                EthercatError::NoSlaves {
+                    interface: interface.to_string(),
+                }
+                .into(),
+            ));
         }
         Ok(EthercatSession {
             interface: interface.to_string(),
@@ -202,8 +297,12 @@ impl EthercatSession {
     }
 
     /// The tool's error for the end of the TX/RX task.
-    fn ended(&self, TaskEnded(why): TaskEnded) -> ToolError {
-        ToolError::Ethercat(format!("interface {}: {why}", self.interface))
+    fn ended(&self, source: TaskEnded) -> ToolError {
+        EthercatError::Ended {
+            interface: self.interface.clone(),
+            source,
+        }
+        .into()
     }
 
     /// The tool's error for a failed transfer to `addr` on the slave at `position`.
@@ -220,10 +319,18 @@ impl EthercatSession {
                 node: position,
                 ms: self.timeout.as_millis(),
             },
-            Failure::Master(e) => ToolError::Ethercat(format!("{addr} of slave {position}: {e}")),
-            Failure::Protocol(text) => {
-                ToolError::Ethercat(format!("{addr} of slave {position}: {text}"))
+            Failure::Master(source) => EthercatError::Transfer {
+                addr,
+                position,
+                source,
             }
+            .into(),
+            Failure::Protocol(detail) => EthercatError::Protocol {
+                addr,
+                position,
+                detail,
+            }
+            .into(),
         }
     }
 }

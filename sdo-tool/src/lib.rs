@@ -180,15 +180,21 @@ pub enum ToolError {
     /// The command's words are wrong (object, type, value, node).
     #[error("{0}")]
     Usage(String),
-    /// Anything else of the SDO layer.
-    #[error("{0}")]
-    Sdo(String),
+    /// Anything else of the SDO layer (a client refusal, the data source or sink).
+    #[error(transparent)]
+    Session(SessionError<BusError>),
+    /// The bytes read are no value of the type asked for.
+    #[error(transparent)]
+    Value(#[from] od::value::ValueError),
+    /// The output (standard output or a file) could not be written.
+    #[error("cannot write the output: {0}")]
+    Output(#[source] std::io::Error),
     /// `apply`: entries read back differently from what was written.
     #[error("{0} entries read back differently from what was written")]
     Differences(usize),
     /// The EtherCAT network failed (the interface, the slaves' initialisation, a frame).
     #[error("EtherCAT: {0}")]
-    Ethercat(String),
+    Ethercat(#[from] ethercat::EthercatError),
 }
 
 impl ToolError {
@@ -198,7 +204,7 @@ impl ToolError {
             ToolError::Abort { .. } => 1,
             ToolError::Usage(_) => 2,
             ToolError::Timeout { .. } | ToolError::Bus(_) | ToolError::Ethercat(_) => 3,
-            ToolError::Sdo(_) => 3,
+            ToolError::Session(_) | ToolError::Value(_) | ToolError::Output(_) => 3,
             ToolError::Differences(_) => 4,
         }
     }
@@ -208,32 +214,30 @@ impl ToolError {
 pub struct BusTransport<'a> {
     bus: &'a mut dyn CanBus,
     node: u8,
-    /// A bus failure seen while receiving (reported after the transfer).
-    pub failure: Option<BusError>,
 }
 
 impl<'a> BusTransport<'a> {
     /// The channel to `node` on `bus`.
     pub fn new(bus: &'a mut dyn CanBus, node: u8) -> BusTransport<'a> {
-        BusTransport {
-            bus,
-            node,
-            failure: None,
-        }
+        BusTransport { bus, node }
     }
 }
 
 impl SdoTransport for BusTransport<'_> {
-    fn send(&mut self, frame: &Frame) -> std::io::Result<()> {
+    type Error = BusError;
+
+    fn send(&mut self, frame: &Frame) -> Result<(), BusError> {
+        // 8 bytes to 0x600 + 1…127 always make a CAN frame.
         let f = CanFrame::new(0x600 + u16::from(self.node), frame).ok_or_else(|| {
-            std::io::Error::new(std::io::ErrorKind::InvalidInput, "not an SDO frame")
+            BusError::Protocol {
+                what: self.bus.describe(),
+                detail: format!("no SDO request COB-ID for node {}", self.node),
+            }
         })?;
-        self.bus
-            .send(&f)
-            .map_err(|e| std::io::Error::other(e.to_string()))
+        self.bus.send(&f)
     }
 
-    fn recv(&mut self, until: Instant) -> std::io::Result<Option<Frame>> {
+    fn recv(&mut self, until: Instant) -> Result<Option<Frame>, BusError> {
         let want = 0x580 + u16::from(self.node);
         loop {
             let left = until.saturating_duration_since(Instant::now());
@@ -248,11 +252,7 @@ impl SdoTransport for BusTransport<'_> {
                 }
                 Ok(Some(_)) => {}
                 Ok(None) => return Ok(None),
-                Err(e) => {
-                    let text = e.to_string();
-                    self.failure = Some(e);
-                    return Err(std::io::Error::other(text));
-                }
+                Err(e) => return Err(e),
             }
         }
     }
@@ -390,7 +390,7 @@ pub trait SdoAccess {
         data_type: DataType,
     ) -> Result<Value, ToolError> {
         let bytes = self.read_bytes(node, addr)?;
-        Value::decode(data_type, &bytes).map_err(|e| ToolError::Sdo(e.to_string()))
+        Ok(Value::decode(data_type, &bytes)?)
     }
 }
 
@@ -408,7 +408,7 @@ impl<'a> CanSdo<'a> {
         CanSdo { bus, config }
     }
 
-    fn session_error(&self, node: u8, addr: Address, e: SessionError) -> ToolError {
+    fn session_error(&self, node: u8, addr: Address, e: SessionError<BusError>) -> ToolError {
         match e {
             SessionError::Sdo(SdoClientError::Aborted {
                 code: AbortCode::Timeout,
@@ -422,7 +422,8 @@ impl<'a> CanSdo<'a> {
             SessionError::Sdo(SdoClientError::Aborted {
                 index, sub, code, ..
             }) => ToolError::Abort { index, sub, code },
-            other => ToolError::Sdo(other.to_string()),
+            SessionError::Transport(e) => ToolError::Bus(e),
+            other => ToolError::Session(other),
         }
     }
 
@@ -431,15 +432,12 @@ impl<'a> CanSdo<'a> {
         &mut self,
         node: u8,
         addr: Address,
-        f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError>,
+        f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError<BusError>>,
     ) -> Result<R, ToolError> {
         self.check_node(node)?;
         let mut session =
             SdoSession::new(BusTransport::new(&mut *self.bus, node), self.config.clone());
         let result = f(&mut session);
-        if let Some(e) = session.transport.failure.take() {
-            return Err(e.into());
-        }
         drop(session);
         result.map_err(|e| self.session_error(node, addr, e))
     }
@@ -749,7 +747,7 @@ impl Tool {
         &mut self,
         node: u8,
         addr: Address,
-        f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError>,
+        f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError<BusError>>,
     ) -> Result<R, ToolError> {
         CanSdo::new(self.bus.as_mut(), &self.sdo).transfer(node, addr, f)
     }

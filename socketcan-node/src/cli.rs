@@ -69,7 +69,7 @@ pub enum CliError {
     Node(#[from] NodeError),
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
-    Signal(String),
+    Signal(#[from] ctrlc::Error),
     /// The storage file's directory.
     #[error("--storage {path}: {reason}")]
     Storage {
@@ -145,8 +145,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         None => {
             let s = Arc::new(AtomicBool::new(false));
             let h = Arc::clone(&s);
-            ctrlc::set_handler(move || h.store(true, Ordering::Relaxed))
-                .map_err(|e| CliError::Signal(e.to_string()))?;
+            ctrlc::set_handler(move || h.store(true, Ordering::Relaxed))?;
             s
         }
     };

@@ -49,9 +49,18 @@ pub const SYNC0_CYCLE_RANGE: (u32, u32) = (2_000_000, 50_000_000);
 /// Why a slave could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum SmdSlaveError {
-    /// The fixture's ESI.
+    /// The fixture's ESI does not read.
     #[error("the SMD description: {0}")]
-    Description(String),
+    Description(#[from] od::ParseError),
+    /// The fixture's ESI has no EtherCAT part.
+    #[error("the SMD description: no EtherCAT part")]
+    NoEthercat,
+    /// The unit's dictionary does not bind to the model.
+    #[error("the SMD description: {0}")]
+    Binding(#[from] binding::BindingError),
+    /// The PDO assignment or mapping does not give a process image.
+    #[error("the SMD description: {0}")]
+    Image(#[from] od::hook::ImageError),
     /// The SII image.
     #[error(transparent)]
     Sii(#[from] od::sii::SiiError),
@@ -60,8 +69,11 @@ pub enum SmdSlaveError {
 /// The fixture's description of `device`.
 pub fn description(device: Device) -> Result<od::DeviceDescription, SmdSlaveError> {
     let select = od::esi::Select::Name(device.order_code().to_string());
-    od::esi::read(FIXTURE_ESI.as_bytes(), FIXTURE_NAME, Some(&select))
-        .map_err(|e| SmdSlaveError::Description(e.to_string()))
+    Ok(od::esi::read(
+        FIXTURE_ESI.as_bytes(),
+        FIXTURE_NAME,
+        Some(&select),
+    )?)
 }
 
 /// One unit behind its ESC: the model and its CoE server.
@@ -108,10 +120,7 @@ impl SmdChain {
     ) -> Result<SmdChain, SmdSlaveError> {
         let cycle = cycle.max(Duration::from_micros(1));
         let desc = description(device)?;
-        let ec = desc
-            .ethercat
-            .as_ref()
-            .ok_or_else(|| SmdSlaveError::Description("no EtherCAT part".into()))?;
+        let ec = desc.ethercat.as_ref().ok_or(SmdSlaveError::NoEthercat)?;
         let at = |kind: &str| {
             ec.sync_managers
                 .iter()
@@ -135,8 +144,7 @@ impl SmdChain {
             esc.al = AlConfig::from_description(&desc);
             esc.al.sync0_cycle = Some(SYNC0_CYCLE_RANGE);
             chain.push(esc);
-            let mut model = SmdUnit::new(device, EncoderKind::Incremental)
-                .map_err(|e| SmdSlaveError::Description(e.to_string()))?;
+            let mut model = SmdUnit::new(device, EncoderKind::Incremental)?;
             model.set_network_state(NetworkState::Init);
             model.set_serial_number(k as u32 + 1);
             model.indexer_mut().start(now);
@@ -156,9 +164,7 @@ impl SmdChain {
         });
         let (output_image, input_image) = match images {
             Some((Ok(o), Ok(i))) => (o, i),
-            Some((Err(e), _) | (_, Err(e))) => {
-                return Err(SmdSlaveError::Description(e.to_string()))
-            }
+            Some((Err(e), _) | (_, Err(e))) => return Err(e.into()),
             None => Default::default(),
         };
         Ok(SmdChain {

@@ -23,25 +23,28 @@ use crate::value::{Value, ValueError};
 
 /// A channel to one SDO server: the frames a client sends and those the server answers with.
 pub trait SdoTransport {
+    /// Why the channel failed (kept as the source of [`SessionError::Transport`]).
+    type Error: std::error::Error + Send + Sync + 'static;
+
     /// Sends one frame to the server.
-    fn send(&mut self, frame: &Frame) -> io::Result<()>;
+    fn send(&mut self, frame: &Frame) -> Result<(), Self::Error>;
 
     /// Waits for the next frame from the server until `until`; `Ok(None)` when none came by then.
-    fn recv(&mut self, until: Instant) -> io::Result<Option<Frame>>;
+    fn recv(&mut self, until: Instant) -> Result<Option<Frame>, Self::Error>;
 
     /// The present time of the transport's clock.
     fn now(&self) -> Instant;
 }
 
-/// Why a session's read or write failed.
+/// Why a session's read or write failed; `E` is the transport's error.
 #[derive(Debug, thiserror::Error)]
-pub enum SessionError {
+pub enum SessionError<E: std::error::Error + 'static = io::Error> {
     /// The transfer failed (aborted by either side, or the client was busy).
     #[error(transparent)]
     Sdo(#[from] SdoClientError),
     /// The transport failed; the transfer was given up.
     #[error("SDO transport failed: {0}")]
-    Transport(#[source] io::Error),
+    Transport(#[source] E),
     /// Reading the data to download failed; the transfer was aborted with 0x08000000.
     #[error("reading the data to download failed: {0}")]
     Read(#[source] io::Error),
@@ -81,12 +84,12 @@ macro_rules! typed_access {
     ($($read:ident, $write:ident, $ty:ty, $data_type:expr;)*) => {
         $(
             #[doc = concat!("Reads a `", stringify!($ty), "` (", stringify!($data_type), ", little-endian).")]
-            pub fn $read(&mut self, mux: Address) -> Result<$ty, SessionError> {
+            pub fn $read(&mut self, mux: Address) -> Result<$ty, SessionError<T::Error>> {
                 Ok(<$ty>::from_le_bytes(self.read_array(mux, $data_type)?))
             }
 
             #[doc = concat!("Writes a `", stringify!($ty), "` (", stringify!($data_type), ", little-endian).")]
-            pub fn $write(&mut self, mux: Address, value: $ty) -> Result<(), SessionError> {
+            pub fn $write(&mut self, mux: Address, value: $ty) -> Result<(), SessionError<T::Error>> {
                 self.write_bytes(mux, &value.to_le_bytes())
             }
         )*
@@ -116,7 +119,7 @@ impl<T: SdoTransport> SdoSession<T> {
     }
 
     /// Reads a BOOLEAN: one byte, 0 or 1.
-    pub fn read_bool(&mut self, mux: Address) -> Result<bool, SessionError> {
+    pub fn read_bool(&mut self, mux: Address) -> Result<bool, SessionError<T::Error>> {
         let [b] = self.read_array(mux, DataType::Boolean)?;
         Ok(matches!(
             Value::decode(DataType::Boolean, &[b])?,
@@ -125,13 +128,13 @@ impl<T: SdoTransport> SdoSession<T> {
     }
 
     /// Writes a BOOLEAN: one byte, 0 or 1.
-    pub fn write_bool(&mut self, mux: Address, value: bool) -> Result<(), SessionError> {
+    pub fn write_bool(&mut self, mux: Address, value: bool) -> Result<(), SessionError<T::Error>> {
         self.write_bytes(mux, &[value as u8])
     }
 
     /// Reads a VISIBLE_STRING: UTF-8 when the bytes are, Latin-1 otherwise; trailing NUL bytes (a
     /// fixed-size buffer's padding) are cut.
-    pub fn read_string(&mut self, mux: Address) -> Result<String, SessionError> {
+    pub fn read_string(&mut self, mux: Address) -> Result<String, SessionError<T::Error>> {
         let mut bytes = self.read_bytes(mux)?;
         while bytes.last() == Some(&0) {
             bytes.pop();
@@ -143,17 +146,21 @@ impl<T: SdoTransport> SdoSession<T> {
     }
 
     /// Writes a VISIBLE_STRING (the string's UTF-8 bytes, no terminator).
-    pub fn write_string(&mut self, mux: Address, value: &str) -> Result<(), SessionError> {
+    pub fn write_string(
+        &mut self,
+        mux: Address,
+        value: &str,
+    ) -> Result<(), SessionError<T::Error>> {
         self.write_bytes(mux, value.as_bytes())
     }
 
     /// Reads the entry's bytes into memory (at most the client's upload limit).
-    pub fn read_bytes(&mut self, mux: Address) -> Result<Vec<u8>, SessionError> {
+    pub fn read_bytes(&mut self, mux: Address) -> Result<Vec<u8>, SessionError<T::Error>> {
         self.upload(mux, None)
     }
 
     /// Writes `data` to the entry.
-    pub fn write_bytes(&mut self, mux: Address, data: &[u8]) -> Result<(), SessionError> {
+    pub fn write_bytes(&mut self, mux: Address, data: &[u8]) -> Result<(), SessionError<T::Error>> {
         let now = self.transport.now();
         self.client.start_download(now, mux, data.to_vec())?;
         self.drive(&mut || Ok(()), &mut |_, _| {}).map(|_| ())
@@ -161,7 +168,11 @@ impl<T: SdoTransport> SdoSession<T> {
 
     /// Reads a value of `data_type`: the bytes must be a valid value of the type (exactly its size for
     /// the fixed-size types).
-    pub fn read_value(&mut self, mux: Address, data_type: DataType) -> Result<Value, SessionError> {
+    pub fn read_value(
+        &mut self,
+        mux: Address,
+        data_type: DataType,
+    ) -> Result<Value, SessionError<T::Error>> {
         let bytes = self.upload(mux, data_type.byte_size())?;
         Ok(Value::decode(data_type, &bytes)?)
     }
@@ -172,7 +183,7 @@ impl<T: SdoTransport> SdoSession<T> {
         mux: Address,
         value: &Value,
         data_type: DataType,
-    ) -> Result<(), SessionError> {
+    ) -> Result<(), SessionError<T::Error>> {
         let bytes = value.encode(data_type)?;
         self.write_bytes(mux, &bytes)
     }
@@ -186,7 +197,7 @@ impl<T: SdoTransport> SdoSession<T> {
         mux: Address,
         writer: &mut impl Write,
         mut progress: impl FnMut(u64, Option<u64>),
-    ) -> Result<u64, SessionError> {
+    ) -> Result<u64, SessionError<T::Error>> {
         let pipe = Arc::new(Mutex::new(Vec::new()));
         let now = self.transport.now();
         self.client.start_upload_to(
@@ -218,7 +229,7 @@ impl<T: SdoTransport> SdoSession<T> {
         reader: &mut impl Read,
         len: u64,
         mut progress: impl FnMut(u64, Option<u64>),
-    ) -> Result<(), SessionError> {
+    ) -> Result<(), SessionError<T::Error>> {
         let pipe = Arc::new(Mutex::new(VecDeque::with_capacity(MAX_READ_PER_CALL)));
         let mut supplied = 0u64;
         let mut fill = || {
@@ -262,7 +273,7 @@ impl<T: SdoTransport> SdoSession<T> {
         &mut self,
         mux: Address,
         data_type: DataType,
-    ) -> Result<[u8; N], SessionError> {
+    ) -> Result<[u8; N], SessionError<T::Error>> {
         let bytes = self.upload(mux, Some(N))?;
         let got = bytes.len();
         bytes.try_into().map_err(|_| {
@@ -284,7 +295,11 @@ impl<T: SdoTransport> SdoSession<T> {
     }
 
     /// Uploads into memory; `expected` (a fixed size) keeps small values out of block mode.
-    fn upload(&mut self, mux: Address, expected: Option<usize>) -> Result<Vec<u8>, SessionError> {
+    fn upload(
+        &mut self,
+        mux: Address,
+        expected: Option<usize>,
+    ) -> Result<Vec<u8>, SessionError<T::Error>> {
         let now = self.transport.now();
         match expected {
             Some(n) => self.client.start_upload_expecting(now, mux, n as u64)?,
@@ -300,9 +315,9 @@ impl<T: SdoTransport> SdoSession<T> {
     /// source or sink before every step; `progress` gets the progress events.
     fn drive(
         &mut self,
-        pump: &mut dyn FnMut() -> Result<(), SessionError>,
+        pump: &mut dyn FnMut() -> Result<(), SessionError<T::Error>>,
         progress: &mut dyn FnMut(u64, Option<u64>),
-    ) -> Result<Finished, SessionError> {
+    ) -> Result<Finished, SessionError<T::Error>> {
         loop {
             while let Some(frame) = self.client.poll_transmit() {
                 if let Err(e) = self.transport.send(&frame) {
