@@ -52,6 +52,7 @@ pub struct Args {
 
 /// Why `smd-ethercat` stopped with an error.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CliError {
     /// The emulator.
     #[error(transparent)]

@@ -87,6 +87,7 @@ pub const DATAGRAM_HEADER: usize = 10;
 
 /// Why a frame was not processed (it is dropped, as an ESC drops a frame it cannot parse).
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FrameError {
     /// Shorter than the headers say.
     #[error("frame of {len} bytes: {what}")]

@@ -92,6 +92,7 @@ pub const MBX_LEN: usize = 128;
 
 /// What went wrong on the master's side.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum MasterError {
     /// No answer to a frame.
     #[error("no answer to {0}")]

@@ -10,6 +10,7 @@ use crate::frame::ETHERTYPE;
 
 /// Why the socket could not be opened.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RawError {
     /// The interface name.
     #[error("interface {0:?}: no such interface")]

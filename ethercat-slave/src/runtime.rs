@@ -36,6 +36,7 @@ pub struct Options {
 
 /// Why the emulator stopped.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum RuntimeError {
     /// The socket.
     #[error(transparent)]

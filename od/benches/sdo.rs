@@ -45,6 +45,7 @@ fn run(client: &mut SdoClient, server: &mut SdoServer, d: &mut Dictionary, now: 
                 | ClientEvent::UploadedToSink { .. } => return frames,
                 ClientEvent::Failed(e) => panic!("{e}"),
                 ClientEvent::Progress { .. } => {}
+                other => panic!("unexpected {other:?}"),
             }
         }
         assert!(moved, "stalled");

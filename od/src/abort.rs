@@ -9,6 +9,7 @@ macro_rules! abort_codes {
     ($( $(#[$doc:meta])* $name:ident = $code:literal, $text:literal; )*) => {
         /// An SDO abort code.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[non_exhaustive]
         pub enum AbortCode {
             $( $(#[$doc])* $name, )*
             /// A code that none of the standards this crate follows defines.

@@ -231,6 +231,7 @@ impl ImageEntry {
 
 /// Why a process image could not be made from the mapping objects.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ImageError {
     /// A mapping or assignment object is not in the dictionary, or has no value at the sub-index.
     #[error(

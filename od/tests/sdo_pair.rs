@@ -146,6 +146,7 @@ impl Pair {
                     ClientEvent::Uploaded(bytes) => return Ok(Some(bytes)),
                     ClientEvent::UploadedToSink { .. } => return Ok(None),
                     ClientEvent::Failed(e) => return Err(e),
+                    other => panic!("an event this test does not know: {other:?}"),
                 }
             }
             // The next thing that happens: a frame arrives or a timer fires.

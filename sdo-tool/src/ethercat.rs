@@ -116,6 +116,7 @@ impl std::error::Error for TaskEnded {
 
 /// Why the EtherCAT side of the tool failed.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum EthercatError {
     /// ethercrab's frame storage is taken (one session per process).
     #[error("the PDU storage is in use")]

@@ -151,6 +151,7 @@ impl TypeCode {
 
 /// Why a command failed; [`ToolError::exit_code`] is the process's exit code.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum ToolError {
     /// The node (or the tool) aborted the transfer.
     #[error("0x{index:04X}:{sub:02X}: SDO abort {code}")]

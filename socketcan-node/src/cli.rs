@@ -57,6 +57,7 @@ pub struct Args {
 
 /// Why `x67-node` stopped with an error.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CliError {
     /// The bus.
     #[error(transparent)]

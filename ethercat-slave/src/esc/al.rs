@@ -89,6 +89,7 @@ macro_rules! al_status_codes {
     ($( $(#[$doc:meta])* $name:ident = $code:literal, $text:literal; )*) => {
         /// An AL status code (register 0x0134, ETG.1000.6 Table 11).
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[non_exhaustive]
         pub enum AlStatusCode {
             $( $(#[$doc])* $name, )*
             /// A code the table does not define (reserved, or vendor-specific from 0x8000).

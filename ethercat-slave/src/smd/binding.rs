@@ -65,6 +65,7 @@ pub const FIXTURE_NAME: &str = "SMD23K-B_SMD24K.esi.xml";
 
 /// Which of the two units of the ESI (on a command line: `smd23k-b`, `smd24k`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[non_exhaustive]
 pub enum Device {
     /// The SMD23K-B (size 23 motor).
     #[value(name = "smd23k-b")]
@@ -299,6 +300,7 @@ pub enum Mismatch {
 
 /// Why the model could not be bound to a dictionary.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum BindingError {
     /// The fixture ESI does not load, or does not describe the device.
     #[error("the SMD fixture does not give the {device} dictionary: {source}")]

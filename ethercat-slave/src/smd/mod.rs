@@ -48,6 +48,7 @@ pub const SYNC0_CYCLE_RANGE: (u32, u32) = (2_000_000, 50_000_000);
 
 /// Why a slave could not be built.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SmdSlaveError {
     /// The fixture's ESI does not read.
     #[error("the SMD description: {0}")]

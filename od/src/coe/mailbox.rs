@@ -11,6 +11,7 @@ pub const MAILBOX_HEADER_LEN: usize = 6;
 
 /// Why bytes are not a mailbox or CoE frame.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum FramingError {
     /// Fewer bytes than the header or the length field says.
     #[error("frame too short: {need} bytes needed, {got} present")]

@@ -37,6 +37,7 @@ pub struct CoeSdo<'a> {
 
 /// Why a mailbox is not a CoE SDO frame, or which abort answers it.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CoeSdoError {
     /// The mailbox or CoE framing is wrong.
     #[error(transparent)]

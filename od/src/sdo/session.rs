@@ -38,6 +38,7 @@ pub trait SdoTransport {
 
 /// Why a session's read or write failed; `E` is the transport's error.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SessionError<E: std::error::Error + 'static = io::Error> {
     /// The transfer failed (aborted by either side, or the client was busy).
     #[error(transparent)]

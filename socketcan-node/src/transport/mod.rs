@@ -21,6 +21,7 @@ use crate::frame::CanFrame;
 
 /// What a bus delivers.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum BusEvent {
     /// A frame from another participant, with the time it was received.
     Frame {
@@ -35,6 +36,7 @@ pub enum BusEvent {
 
 /// Why a bus operation failed.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum BusError {
     /// The interface or connection could not be opened.
     #[error("cannot open {what}: {source}")]

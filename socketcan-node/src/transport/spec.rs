@@ -9,6 +9,7 @@ pub const SOCKETCAND_DEFAULT_PORT: u16 = 29536;
 
 /// Which bus to use, as written on a command line.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum BusSpec {
     /// A SocketCAN interface: `socketcan:vcan0`.
     SocketCan {

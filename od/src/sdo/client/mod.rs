@@ -86,6 +86,7 @@ impl Default for ClientConfig {
 
 /// What a client reports, taken with [`SdoClient::poll_event`].
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum ClientEvent {
     /// Bytes confirmed so far: acknowledged by the server (download) or received (upload); `total` is
     /// the size when known. Consecutive progress reports that were not polled are merged into the last.
@@ -110,6 +111,7 @@ pub enum ClientEvent {
 
 /// Why an SDO client transfer failed or could not start.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SdoClientError {
     /// The transfer was aborted (CiA 301 §7.2.4.3.17): by the server (`by_server`), or by the client,
     /// which then sent `code` on the wire (a timeout is 0x05040000, a toggle error 0x05030000, an

@@ -50,6 +50,7 @@ impl Default for ServerConfig {
 
 /// What happened to a transfer, for the application (a node acts on a finished download) and for logs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum ServerEvent {
     /// A download finished and its value is in the store.
     Downloaded {

@@ -24,6 +24,7 @@ pub const MAX_ELEMENT: usize = 256;
 
 /// Why an element did not parse.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum CodecError {
     /// Text outside `< … >`, or an element that never closes within [`MAX_ELEMENT`] bytes.
     #[error("bytes outside an element `< … >`: {0:?}")]
