@@ -385,12 +385,6 @@ pub struct SmdModel {
     outputs: Outputs,
 }
 
-/// Little-endian bytes of a value of `n` bytes into `out`.
-fn put(out: &mut [u8; 8], v: u64, n: usize) -> Option<usize> {
-    out[..n].copy_from_slice(&v.to_le_bytes()[..n]);
-    Some(n)
-}
-
 /// A little-endian value of up to 8 bytes.
 fn le(data: &[u8]) -> u64 {
     let mut b = [0u8; 8];
@@ -405,37 +399,35 @@ impl DeviceHook for SmdModel {
     }
 
     fn read(&self, at: Address, out: &mut [u8; 8]) -> Option<usize> {
-        match at.index {
-            OUTPUTS_INDEX => {
-                let o = &self.outputs;
-                match at.sub {
-                    1 => put(out, o.cmd0.into(), 2),
-                    2 => put(out, o.cmd1.into(), 2),
-                    3 => put(out, o.position as u32 as u64, 4),
-                    4 => put(out, o.velocity.into(), 4),
-                    5 => put(out, o.acceleration.into(), 2),
-                    6 => put(out, o.deceleration.into(), 2),
-                    7 => put(out, o.motor_current.into(), 2),
-                    8 => put(out, o.jerk.into(), 2),
-                    _ => None,
-                }
+        // The size is the table's data type; the configuration is the dictionary's.
+        let entry = entry_at(at.index, at.sub).filter(|e| e.block != Block::Configuration)?;
+        let v: u64 = if entry.block == Block::Output {
+            let o = &self.outputs;
+            match at.sub {
+                1 => o.cmd0.into(),
+                2 => o.cmd1.into(),
+                3 => u64::from(o.position as u32),
+                4 => o.velocity.into(),
+                5 => o.acceleration.into(),
+                6 => o.deceleration.into(),
+                7 => o.motor_current.into(),
+                _ => o.jerk.into(),
             }
-            INPUTS_INDEX => {
-                let i = self.indexer.inputs();
-                match at.sub {
-                    1 => put(out, i.status0.into(), 2),
-                    2 => put(out, i.status1.into(), 2),
-                    3 => put(out, i.motor_position as u32 as u64, 4),
-                    4 => put(out, i.encoder_position as u32 as u64, 4),
-                    5 => put(out, i.trapped_encoder_position as u32 as u64, 4),
-                    6 => put(out, i.motor_current.into(), 2),
-                    7 => put(out, i.jerk.into(), 2),
-                    _ => None,
-                }
+        } else {
+            let i = self.indexer.inputs();
+            match at.sub {
+                1 => i.status0.into(),
+                2 => i.status1.into(),
+                3 => u64::from(i.motor_position as u32),
+                4 => u64::from(i.encoder_position as u32),
+                5 => u64::from(i.trapped_encoder_position as u32),
+                6 => i.motor_current.into(),
+                _ => i.jerk.into(),
             }
-            // The configuration is the dictionary's.
-            _ => None,
-        }
+        };
+        let n = entry.data_type.byte_size()?;
+        out[..n].copy_from_slice(&v.to_le_bytes()[..n]);
+        Some(n)
     }
 
     fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
