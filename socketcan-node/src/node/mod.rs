@@ -48,7 +48,7 @@ pub mod storage;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-pub use emcy::{error_register, AppError, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR};
+pub use emcy::{error_register, AppError, EmcyCode, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR};
 use nmt::Consumer;
 use od::dict::Dictionary;
 use od::hook::DeviceHook;
