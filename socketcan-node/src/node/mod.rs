@@ -37,6 +37,13 @@
 //! - Heartbeat consumer: monitoring starts with the first heartbeat of the producer; a missed heartbeat
 //!   raises EMCY 0x8130 (error register bit 4) and takes an Operational node to Pre-operational (the
 //!   CiA 301 default error behaviour); the next heartbeat clears the error.
+//!
+//! Inside, each service has its module: `nmt` (NMT states, resets, heartbeat producer and consumer),
+//! `emcy` (error codes, error register 0x1001 and history 0x1003, EMCY COB-ID and inhibit time),
+//! [`pdo`] (PDO configuration and the checks of the mapping procedure), `pdo_runtime` (RPDOs applied,
+//! TPDOs triggered, inhibit and event timers), `comm` (the rules of writes to the communication
+//! objects and their effects) and [`storage`] (the stored parameter set). This module keeps the node's
+//! API, the dispatch of received frames and the order of the timers.
 
 mod comm;
 mod emcy;
@@ -166,13 +173,16 @@ struct Core<A: Application> {
     storage_out: VecDeque<StorageRequest>,
     tx: VecDeque<(u16, [u8; 8], u8)>,
     events: VecDeque<NodeEvent>,
+    // The PDO engine (`pdo_runtime`).
     rpdos: Vec<PdoConfig>,
     rpdo_pending: Vec<Option<([u8; 8], usize)>>,
     tpdos: Vec<PdoConfig>,
     tpdo_state: Vec<TxState>,
+    // Heartbeat producer and consumer (`nmt`), SYNC producer.
     heartbeat_at: Option<Instant>,
     consumer: Consumer,
     sync_at: Option<Instant>,
+    // The EMCY producer (`emcy`).
     active: Vec<AppError>,
     history: Vec<u32>,
     emcy_queue: VecDeque<[u8; 8]>,
