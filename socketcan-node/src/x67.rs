@@ -30,7 +30,7 @@ use od::types::DataType;
 use od::value::Value;
 
 use crate::node::pdo::{MapEntry, COB_INVALID, MAP_OFFSET, RPDO_COMM, TPDO_COMM};
-use crate::node::{AppError, Application};
+use crate::node::{AppError, Application, EmcyCode};
 
 /// The fixture the node's dictionary comes from.
 pub const FIXTURE_XDD: &str = include_str!("../../fixtures/x67/X67SM2436.xdd");
@@ -364,8 +364,8 @@ impl Application for BusController {
     fn errors(&self, out: &mut Vec<AppError>) {
         for (m, module) in self.modules.iter().enumerate() {
             for a in 0..2 {
-                let code = module.error_code(a);
-                if code != 0 {
+                let code = EmcyCode(module.error_code(a));
+                if code != EmcyCode::NO_ERROR {
                     out.push(AppError {
                         code,
                         info: [m as u8 + 1, a as u8 + 1, 0, 0, 0],

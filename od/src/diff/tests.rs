@@ -1,6 +1,10 @@
 use super::*;
 use crate::device::*;
-use crate::object::{AccessType, DefaultValue, EcatStates, ObjectKind, PdoMapping};
+use crate::object::{
+    AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
+};
+use crate::types::DataType;
+use crate::value::Value;
 
 fn base() -> Dictionary {
     let mut d = Dictionary::new();

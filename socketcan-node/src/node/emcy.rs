@@ -1,50 +1,273 @@
-//! The EMCY producer's bookkeeping (CiA 301 §7.2.7): active errors, the error register 0x1001, the
-//! pre-defined error field 0x1003 and the frames to send.
+//! The EMCY producer (CiA 301 §7.2.7): error codes, active errors, the error register 0x1001, the
+//! pre-defined error field 0x1003 and the frames to send under COB-ID 0x1014 and inhibit time 0x1015.
+
+use std::fmt;
+use std::time::{Duration, Instant};
+
+use super::pdo::COB_INVALID;
+use super::{Application, Core, NmtState};
+
+/// An EMCY error code (CiA 301 §7.2.7.3.2, Table 21 "Emergency error codes"): bytes 0–1 of an EMCY
+/// frame, little-endian. The high byte names the class of the error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub struct EmcyCode(pub u16);
+
+impl EmcyCode {
+    /// 0x0000 "error reset or no error".
+    pub const NO_ERROR: EmcyCode = EmcyCode(0x0000);
+    /// 0x2300 "current, CANopen device output side" (X67SM2436: overcurrent).
+    pub const CURRENT_OUTPUT: EmcyCode = EmcyCode(0x2300);
+    /// 0x3000 "voltage – generic error" (X67SM2436: supply voltage).
+    pub const VOLTAGE: EmcyCode = EmcyCode(0x3000);
+    /// 0x4200 "temperature, CANopen device" (X67SM2436: module temperature).
+    pub const DEVICE_TEMPERATURE: EmcyCode = EmcyCode(0x4200);
+    /// 0x8130 "life guard error or heartbeat error".
+    pub const HEARTBEAT_ERROR: EmcyCode = EmcyCode(0x8130);
+    /// 0x8210 "PDO not processed due to length error".
+    pub const PDO_LENGTH_ERROR: EmcyCode = EmcyCode(0x8210);
+
+    /// The 16-bit code.
+    pub const fn get(self) -> u16 {
+        self.0
+    }
+
+    /// The code as it travels in an EMCY frame.
+    pub const fn to_le_bytes(self) -> [u8; 2] {
+        self.0.to_le_bytes()
+    }
+
+    /// The class of the code by its high byte (CiA 301 Table 21); a high byte the table does not list
+    /// takes the generic class of its first digit.
+    pub const fn class(self) -> &'static str {
+        match self.0 >> 8 {
+            0x00 => "error reset or no error",
+            0x10 => "generic error",
+            0x21 => "current, device input side",
+            0x22 => "current inside the device",
+            0x23 => "current, device output side",
+            0x31 => "mains voltage",
+            0x32 => "voltage inside the device",
+            0x33 => "output voltage",
+            0x41 => "ambient temperature",
+            0x42 => "device temperature",
+            0x61 => "internal software",
+            0x62 => "user software",
+            0x63 => "data set",
+            0x81 => "communication",
+            0x82 => "protocol error",
+            0xFF => "device specific",
+            _ => match self.0 >> 12 {
+                0x1 => "generic error",
+                0x2 => "current",
+                0x3 => "voltage",
+                0x4 => "temperature",
+                0x5 => "device hardware",
+                0x6 => "device software",
+                0x7 => "additional modules",
+                0x8 => "monitoring",
+                0x9 => "external error",
+                0xF => "additional functions",
+                _ => "no class of CiA 301",
+            },
+        }
+    }
+
+    /// The error register bit the code sets (CiA 301 Table 48), besides bit 0 (generic).
+    pub const fn register_bit(self) -> u8 {
+        match self.0 >> 12 {
+            0x2 => 1 << 1,
+            0x3 => 1 << 2,
+            0x4 => 1 << 3,
+            0x8 => 1 << 4,
+            0x6 => 1 << 5,
+            0xF => 1 << 7,
+            _ => 0,
+        }
+    }
+}
+
+impl From<u16> for EmcyCode {
+    fn from(code: u16) -> EmcyCode {
+        EmcyCode(code)
+    }
+}
+
+impl From<EmcyCode> for u16 {
+    fn from(code: EmcyCode) -> u16 {
+        code.0
+    }
+}
+
+impl fmt::Display for EmcyCode {
+    /// `0x8130 (communication)`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "0x{:04X} ({})", self.0, self.class())
+    }
+}
 
 /// EMCY error code "error reset or no error".
-pub const NO_ERROR: u16 = 0x0000;
+pub const NO_ERROR: EmcyCode = EmcyCode::NO_ERROR;
 /// EMCY error code "life guard error or heartbeat error".
-pub const HEARTBEAT_ERROR: u16 = 0x8130;
+pub const HEARTBEAT_ERROR: EmcyCode = EmcyCode::HEARTBEAT_ERROR;
 /// EMCY error code "PDO not processed due to length error".
-pub const PDO_LENGTH_ERROR: u16 = 0x8210;
+pub const PDO_LENGTH_ERROR: EmcyCode = EmcyCode::PDO_LENGTH_ERROR;
 
 /// An error the application reports: its EMCY code and the 5 manufacturer-specific bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct AppError {
     /// CiA 301 / device error code.
-    pub code: u16,
+    pub code: EmcyCode,
     /// Manufacturer-specific bytes 3–7 of the EMCY frame (which module and axis, for the X67 node).
     pub info: [u8; 5],
-}
-
-/// The error register bit an error code sets (CiA 301 Table 48), besides bit 0 (generic).
-pub const fn register_bit(code: u16) -> u8 {
-    match code >> 12 {
-        0x2 => 1 << 1,
-        0x3 => 1 << 2,
-        0x4 => 1 << 3,
-        0x8 => 1 << 4,
-        0x6 => 1 << 5,
-        0xF => 1 << 7,
-        _ => 0,
-    }
 }
 
 /// The error register for a set of active codes: bit 0 when any error is active, plus each code's bit.
 pub fn error_register<'a>(codes: impl IntoIterator<Item = &'a AppError>) -> u8 {
     let mut reg = 0u8;
     for e in codes {
-        reg |= 1 | register_bit(e.code);
+        reg |= 1 | e.code.register_bit();
     }
     reg
 }
 
 /// An EMCY frame's 8 data bytes.
-pub fn frame_data(code: u16, register: u8, info: [u8; 5]) -> [u8; 8] {
+pub fn frame_data(code: EmcyCode, register: u8, info: [u8; 5]) -> [u8; 8] {
     let c = code.to_le_bytes();
     [
         c[0], c[1], register, info[0], info[1], info[2], info[3], info[4],
     ]
+}
+
+/// Most EMCYs waiting for the inhibit time; more are dropped.
+const QUEUE_LIMIT: usize = 64;
+
+impl<A: Application> Core<A> {
+    /// Compares the application's errors with the active ones and raises / clears EMCYs. The errors
+    /// the node raises itself (heartbeat, PDO length) are not the application's to clear.
+    pub(super) fn check_errors(&mut self) {
+        let mut now_errors = std::mem::take(&mut self.scratch);
+        now_errors.clear();
+        self.app.errors(&mut now_errors);
+        let gone: Vec<AppError> = self
+            .active
+            .iter()
+            .filter(|e| e.code != HEARTBEAT_ERROR && e.code != PDO_LENGTH_ERROR)
+            .filter(|e| !now_errors.contains(e))
+            .copied()
+            .collect();
+        for e in gone {
+            self.clear_app_error(e);
+        }
+        for e in &now_errors {
+            if !self.active.contains(e) {
+                self.raise_error(*e);
+            }
+        }
+        self.scratch = now_errors;
+    }
+
+    /// Makes `e` active: history 0x1003, register 0x1001 and its EMCY.
+    pub(super) fn raise_error(&mut self, e: AppError) {
+        if self.active.contains(&e) {
+            return;
+        }
+        self.active.push(e);
+        self.history.insert(0, u32::from(e.code.get()));
+        self.history.truncate(
+            self.dict
+                .object(0x1003)
+                .map_or(0, |o| usize::from(o.max_sub())),
+        );
+        self.sync_error_objects();
+        let reg = error_register(&self.active);
+        self.queue_emcy(frame_data(e.code, reg, e.info));
+    }
+
+    /// Clears every active error with `code`.
+    pub(super) fn clear_error(&mut self, code: EmcyCode) {
+        let gone: Vec<AppError> = self
+            .active
+            .iter()
+            .filter(|e| e.code == code)
+            .copied()
+            .collect();
+        for e in gone {
+            self.clear_app_error(e);
+        }
+    }
+
+    fn clear_app_error(&mut self, e: AppError) {
+        self.active.retain(|a| *a != e);
+        self.sync_error_objects();
+        let reg = error_register(&self.active);
+        let c = e.code.to_le_bytes();
+        // "Error reset": code 0x0000, the remaining register, which module/axis and the cleared code.
+        self.queue_emcy(frame_data(
+            NO_ERROR,
+            reg,
+            [e.info[0], e.info[1], c[0], c[1], 0],
+        ));
+    }
+
+    /// 0x1003:00 written with 0: the history is emptied (the active errors stay).
+    pub(super) fn clear_history(&mut self) {
+        self.history.clear();
+        self.sync_error_objects();
+    }
+
+    /// Forgets the active errors, the history and the EMCYs not sent yet (a reset).
+    pub(super) fn reset_emcy(&mut self) {
+        self.active.clear();
+        self.history.clear();
+        self.emcy_queue.clear();
+        self.emcy_after = None;
+    }
+
+    /// Writes the error register 0x1001 and the history 0x1003 into the dictionary.
+    fn sync_error_objects(&mut self) {
+        let reg = error_register(&self.active);
+        let _ = self.dict.store(0x1001, 0, &[reg]);
+        let _ = self.dict.store(0x1003, 0, &[self.history.len() as u8]);
+        let max = self.dict.object(0x1003).map_or(0, |o| o.max_sub());
+        for s in 1..=max {
+            let v = self.history.get(usize::from(s) - 1).copied().unwrap_or(0);
+            let _ = self.dict.store(0x1003, s, &v.to_le_bytes());
+        }
+    }
+
+    /// Queues an EMCY frame's data and sends what the inhibit time allows.
+    pub(super) fn queue_emcy(&mut self, data: [u8; 8]) {
+        if self.emcy_queue.len() < QUEUE_LIMIT {
+            self.emcy_queue.push_back(data);
+        }
+        self.flush_emcy(self.now);
+    }
+
+    /// Sends queued EMCYs as the inhibit time (0x1015, 100 µs) allows; in Pre-operational and
+    /// Operational only, while the COB-ID is valid.
+    pub(super) fn flush_emcy(&mut self, now: Instant) {
+        if !matches!(self.state, NmtState::PreOperational | NmtState::Operational) {
+            return;
+        }
+        let cob = self.u32_at(0x1014, 0).unwrap_or(0x80 + u32::from(self.id));
+        if cob & COB_INVALID != 0 {
+            self.emcy_queue.clear();
+            return;
+        }
+        let inhibit = Duration::from_micros(100 * u64::from(self.u32_at(0x1015, 0).unwrap_or(0)));
+        while self.emcy_after.is_none_or(|t| t <= now) {
+            let Some(data) = self.emcy_queue.pop_front() else {
+                break;
+            };
+            self.tx.push_back(((cob & 0x7FF) as u16, data, 8));
+            self.emcy_after = (inhibit > Duration::ZERO).then(|| now + inhibit);
+        }
+    }
+
+    /// When the inhibit time lets the next queued EMCY go.
+    pub(super) fn emcy_timeout(&self) -> Option<Instant> {
+        self.emcy_after.filter(|_| !self.emcy_queue.is_empty())
+    }
 }
 
 #[cfg(test)]
@@ -53,7 +276,10 @@ mod tests {
 
     #[test]
     fn register_bits_follow_the_code_classes() {
-        let e = |code| AppError { code, info: [0; 5] };
+        let e = |code| AppError {
+            code: EmcyCode(code),
+            info: [0; 5],
+        };
         assert_eq!(error_register(&[e(0x2300)]), 0x03);
         assert_eq!(error_register(&[e(0x3000)]), 0x05);
         assert_eq!(error_register(&[e(0x4200)]), 0x09);
@@ -61,8 +287,38 @@ mod tests {
         assert_eq!(error_register(&[e(0xFF20), e(0x3000)]), 0x85);
         assert_eq!(error_register(&[]), 0x00);
         assert_eq!(
-            frame_data(0x4200, 0x09, [1, 2, 0, 0, 0]),
+            frame_data(EmcyCode(0x4200), 0x09, [1, 2, 0, 0, 0]),
             [0x00, 0x42, 0x09, 1, 2, 0, 0, 0]
         );
+    }
+
+    #[test]
+    fn codes_show_their_number_and_class() {
+        let shown = |code: u16| EmcyCode(code).to_string();
+        assert_eq!(shown(0x0000), "0x0000 (error reset or no error)");
+        assert_eq!(shown(0x1000), "0x1000 (generic error)");
+        assert_eq!(shown(0x2300), "0x2300 (current, device output side)");
+        assert_eq!(shown(0x3000), "0x3000 (voltage)");
+        assert_eq!(shown(0x4200), "0x4200 (device temperature)");
+        assert_eq!(shown(0x5000), "0x5000 (device hardware)");
+        assert_eq!(shown(0x6300), "0x6300 (data set)");
+        assert_eq!(shown(0x8130), "0x8130 (communication)");
+        assert_eq!(shown(0x8210), "0x8210 (protocol error)");
+        assert_eq!(shown(0x9000), "0x9000 (external error)");
+        assert_eq!(shown(0xF000), "0xF000 (additional functions)");
+        assert_eq!(shown(0xFF07), "0xFF07 (device specific)");
+        // A high byte the table does not list: the generic class of its first digit.
+        assert_eq!(shown(0x2400), "0x2400 (current)");
+        assert_eq!(shown(0xA000), "0xA000 (no class of CiA 301)");
+    }
+
+    #[test]
+    fn named_codes_are_the_tables_numbers() {
+        assert_eq!(NO_ERROR.get(), 0x0000);
+        assert_eq!(HEARTBEAT_ERROR.get(), 0x8130);
+        assert_eq!(PDO_LENGTH_ERROR.get(), 0x8210);
+        assert_eq!(EmcyCode::CURRENT_OUTPUT, EmcyCode::from(0x2300));
+        assert_eq!(u16::from(EmcyCode::VOLTAGE), 0x3000);
+        assert_eq!(EmcyCode::DEVICE_TEMPERATURE.to_le_bytes(), [0x00, 0x42]);
     }
 }

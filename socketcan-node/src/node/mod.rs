@@ -37,26 +37,31 @@
 //! - Heartbeat consumer: monitoring starts with the first heartbeat of the producer; a missed heartbeat
 //!   raises EMCY 0x8130 (error register bit 4) and takes an Operational node to Pre-operational (the
 //!   CiA 301 default error behaviour); the next heartbeat clears the error.
+//!
+//! Inside, each service has its module: `nmt` (NMT states, resets, heartbeat producer and consumer),
+//! `emcy` (error codes, error register 0x1001 and history 0x1003, EMCY COB-ID and inhibit time),
+//! [`pdo`] (PDO configuration and the checks of the mapping procedure), `pdo_runtime` (RPDOs applied,
+//! TPDOs triggered, inhibit and event timers), `comm` (the rules of writes to the communication
+//! objects and their effects) and [`storage`] (the stored parameter set). This module keeps the node's
+//! API, the dispatch of received frames and the order of the timers.
 
+mod comm;
 mod emcy;
+mod nmt;
 pub mod pdo;
+mod pdo_runtime;
 pub mod storage;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-pub use emcy::{error_register, AppError, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR};
-use od::abort::AbortCode;
-use od::dict::{Address, Dictionary};
-use od::hook::{self, DeviceHook};
-use od::object::PdoMapping;
-use od::sdo::{
-    server::{SdoServer, ServerConfig, ServerEvent},
-    store::{DownloadCapacity, ObjectStore},
-};
-use pdo::{
-    Direction, PdoConfig, COB_EXTENDED, COB_INVALID, COB_NO_RTR, MAP_OFFSET, RPDO_COMM, TPDO_COMM,
-};
+pub use emcy::{error_register, AppError, EmcyCode, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR};
+use nmt::Consumer;
+use od::dict::Dictionary;
+use od::hook::DeviceHook;
+use od::sdo::server::{SdoServer, ServerConfig, ServerEvent};
+use pdo::{PdoConfig, COB_NO_RTR};
+use pdo_runtime::TxState;
 use storage::StorageRequest;
 
 /// "save" as a little-endian UNSIGNED32 (0x1010).
@@ -155,26 +160,6 @@ pub enum NodeEvent {
     Sdo(ServerEvent),
 }
 
-/// Runtime state of one TPDO.
-#[derive(Debug, Clone, Default)]
-struct TxState {
-    last: Option<[u8; 8]>,
-    sync_count: u8,
-    /// Data changed since the last transmission (type 0) or a transmission is owed (254/255).
-    pending: bool,
-    inhibit_until: Option<Instant>,
-    event_at: Option<Instant>,
-}
-
-/// Heartbeat consumer of 0x1016:01.
-#[derive(Debug, Clone, Copy, Default)]
-struct Consumer {
-    node: u8,
-    time: Duration,
-    deadline: Option<Instant>,
-    lost: bool,
-}
-
 /// The node minus its SDO server, so the server can borrow it as its object store.
 struct Core<A: Application> {
     id: u8,
@@ -188,13 +173,16 @@ struct Core<A: Application> {
     storage_out: VecDeque<StorageRequest>,
     tx: VecDeque<(u16, [u8; 8], u8)>,
     events: VecDeque<NodeEvent>,
+    // The PDO engine (`pdo_runtime`).
     rpdos: Vec<PdoConfig>,
     rpdo_pending: Vec<Option<([u8; 8], usize)>>,
     tpdos: Vec<PdoConfig>,
     tpdo_state: Vec<TxState>,
+    // Heartbeat producer and consumer (`nmt`), SYNC producer.
     heartbeat_at: Option<Instant>,
     consumer: Consumer,
     sync_at: Option<Instant>,
+    // The EMCY producer (`emcy`).
     active: Vec<AppError>,
     history: Vec<u32>,
     emcy_queue: VecDeque<[u8; 8]>,
@@ -406,15 +394,8 @@ impl<A: Application> Node<A> {
         take(c.heartbeat_at);
         take(c.consumer.deadline);
         take(c.sync_at);
-        take(c.emcy_after.filter(|_| !c.emcy_queue.is_empty()));
-        if c.state == NmtState::Operational {
-            for (cfg, st) in c.tpdos.iter().zip(&c.tpdo_state) {
-                if cfg.valid() {
-                    take(st.event_at);
-                    take(st.inhibit_until.filter(|_| st.pending));
-                }
-            }
-        }
+        take(c.emcy_timeout());
+        take(c.tpdo_timeout());
         t
     }
 
@@ -448,167 +429,14 @@ impl<A: Application> Core<A> {
         Some(u32::from_le_bytes(b))
     }
 
-    fn set_state(&mut self, now: Instant, state: NmtState) {
-        if self.state == state {
-            return;
-        }
-        self.state = state;
-        self.events.push_back(NodeEvent::State(state));
-        if state == NmtState::Operational {
-            for (cfg, st) in self.tpdos.iter().zip(self.tpdo_state.iter_mut()) {
-                st.last = None;
-                st.sync_count = 0;
-                st.pending = matches!(cfg.transmission, 254 | 255);
-                st.event_at = (cfg.event_timer > 0)
-                    .then(|| now + Duration::from_millis(u64::from(cfg.event_timer)));
-            }
-            for p in &mut self.rpdo_pending {
-                *p = None;
-            }
-        }
-    }
-
-    /// NMT command `cs` for this node.
-    fn nmt(&mut self, now: Instant, cs: u8) {
-        if self.state == NmtState::Initialising {
-            return;
-        }
-        match cs {
-            0x01 => self.set_state(now, NmtState::Operational),
-            0x02 => self.set_state(now, NmtState::Stopped),
-            0x80 => self.set_state(now, NmtState::PreOperational),
-            0x81 => self.reset(now, true),
-            0x82 => self.reset(now, false),
-            _ => {}
-        }
-    }
-
-    /// Reset node (`full`) or reset communication, then boot-up and Pre-operational.
-    fn reset(&mut self, now: Instant, full: bool) {
-        self.events.push_back(NodeEvent::Reset(full));
-        self.state = NmtState::Initialising;
-        let range = if full {
-            0x0000..=0xFFFF
-        } else {
-            0x1000..=0x1FFF
-        };
-        for object in self.pristine.objects() {
-            if range.contains(&object.index) {
-                self.dict.insert(object.clone());
-            }
-        }
-        if full {
-            self.app.reset(now);
-        }
-        let stored = match self.stored.as_deref().map(storage::decode) {
-            Some(Ok(set)) => set,
-            Some(Err(e)) => {
-                self.events.push_back(NodeEvent::Storage(e));
-                Vec::new()
-            }
-            None => Vec::new(),
-        };
-        let mut loaded = 0;
-        for (index, sub, value) in stored {
-            if !range.contains(&index) || !self.storable(index, sub) {
-                continue;
-            }
-            if self.dict.check(index, sub, &value).is_err() {
-                continue;
-            }
-            if self.app.owns(index) && self.app.write(Address::new(index, sub), &value).is_err() {
-                continue;
-            }
-            if self.dict.store(index, sub, &value).is_ok() {
-                loaded += 1;
-            }
-        }
-        if loaded > 0 {
-            self.events.push_back(NodeEvent::Loaded(loaded));
-        }
-        self.active.clear();
-        self.history.clear();
-        self.emcy_queue.clear();
-        self.emcy_after = None;
-        self.tx.clear();
-        self.reload_pdos();
-        self.reload_consumer();
-        // Boot-up, then Pre-operational (CiA 301 §7.3.2.2.1).
-        self.tx.push_back((0x700 + u16::from(self.id), [0; 8], 1));
-        self.set_state(now, NmtState::PreOperational);
-        self.heartbeat_at = self.heartbeat_period().map(|p| now + p);
-        self.sync_at = self.sync_period().map(|p| now + p);
-        self.now = now;
-    }
-
-    /// True for the entries "save all parameters" keeps: writable, not mappable into PDOs (process
-    /// data), and not the store/restore commands or the error history themselves.
-    fn storable(&self, index: u16, sub: u8) -> bool {
-        if matches!(index, 0x1003 | 0x1010 | 0x1011) {
-            return false;
-        }
-        self.dict
-            .entry(index, sub)
-            .is_ok_and(|e| e.access.kind.writable() && e.pdo == PdoMapping::None)
-    }
-
-    fn parameter_set(&self) -> Vec<(u16, u8, Vec<u8>)> {
-        let mut out = Vec::new();
-        for object in self.dict.objects() {
-            for (&sub, entry) in &object.subs {
-                if self.storable(object.index, sub) {
-                    out.push((object.index, sub, entry.value.clone()));
-                }
-            }
-        }
-        out
-    }
-
-    fn heartbeat_period(&self) -> Option<Duration> {
-        let ms = self.u32_at(0x1017, 0).unwrap_or(0);
-        (ms > 0).then(|| Duration::from_millis(u64::from(ms)))
-    }
-
+    /// The SYNC producer's period: 0x1006 while 0x1005 bit 30 says this node produces SYNC.
     fn sync_period(&self) -> Option<Duration> {
         let cob = self.u32_at(0x1005, 0).unwrap_or(0x80);
         let us = self.u32_at(0x1006, 0).unwrap_or(0);
         (cob & 0x4000_0000 != 0 && us > 0).then(|| Duration::from_micros(u64::from(us)))
     }
 
-    fn reload_consumer(&mut self) {
-        let raw = self.u32_at(0x1016, 1).unwrap_or(0);
-        let node = (raw >> 16) as u8;
-        let ms = raw & 0xFFFF;
-        let was_lost = self.consumer.lost;
-        self.consumer = Consumer {
-            node,
-            time: if node == 0 || node > 127 {
-                Duration::ZERO
-            } else {
-                Duration::from_millis(u64::from(ms))
-            },
-            deadline: None,
-            lost: false,
-        };
-        if was_lost {
-            self.clear_error(HEARTBEAT_ERROR);
-        }
-        self.reload_listen();
-    }
-
-    fn reload_pdos(&mut self) {
-        let read = |base: u16, dict: &Dictionary| -> Vec<PdoConfig> {
-            (0..0x200)
-                .map_while(|n| PdoConfig::read(dict, base + n))
-                .collect()
-        };
-        self.rpdos = read(RPDO_COMM, &self.dict);
-        self.tpdos = read(TPDO_COMM, &self.dict);
-        self.rpdo_pending = vec![None; self.rpdos.len()];
-        self.tpdo_state.resize(self.tpdos.len(), TxState::default());
-        self.reload_listen();
-    }
-
+    /// The COB-IDs the node acts on, after a change of the SYNC COB-ID, the consumer or the PDOs.
     fn reload_listen(&mut self) {
         let mut l = vec![0x000, 0x600 + u16::from(self.id)];
         self.sync_cob = (self.u32_at(0x1005, 0).unwrap_or(0x80) & 0x7FF) as u16;
@@ -634,16 +462,9 @@ impl<A: Application> Core<A> {
         self.generation += 1;
     }
 
-    fn heartbeat_seen(&mut self, now: Instant) {
-        self.consumer.deadline = Some(now + self.consumer.time);
-        if self.consumer.lost {
-            self.consumer.lost = false;
-            self.events
-                .push_back(NodeEvent::HeartbeatResumed(self.consumer.node));
-            self.clear_error(HEARTBEAT_ERROR);
-        }
-    }
-
+    /// Every timer due at `now`, in this order: the application (then its errors and event-driven
+    /// TPDOs), heartbeat producer and consumer, SYNC producer, TPDO inhibit and event timers, EMCY
+    /// inhibit.
     fn poll(&mut self, now: Instant) {
         if self.state == NmtState::Initialising {
             return;
@@ -655,35 +476,7 @@ impl<A: Application> Core<A> {
                 self.event_tpdos(now);
             }
         }
-        if let Some(t) = self.heartbeat_at.filter(|t| *t <= now) {
-            self.tx.push_back((
-                0x700 + u16::from(self.id),
-                [self.state.heartbeat_byte(), 0, 0, 0, 0, 0, 0, 0],
-                1,
-            ));
-            let p = self.heartbeat_period().unwrap_or(Duration::from_secs(1));
-            // Keep the period without drift; a beat sent more than half a period late (a stalled
-            // thread, a machine under load) starts the period again from now, so that two beats
-            // never leave closer than half a period.
-            let next = t + p;
-            self.heartbeat_at = Some(if next < now + p / 2 { now + p } else { next });
-        }
-        if let Some(d) = self.consumer.deadline.filter(|d| *d <= now) {
-            let _ = d;
-            self.consumer.deadline = None;
-            if !self.consumer.lost {
-                self.consumer.lost = true;
-                self.events
-                    .push_back(NodeEvent::HeartbeatLost(self.consumer.node));
-                self.raise_error(AppError {
-                    code: HEARTBEAT_ERROR,
-                    info: [self.consumer.node, 0, 0, 0, 0],
-                });
-                if self.state == NmtState::Operational {
-                    self.set_state(now, NmtState::PreOperational);
-                }
-            }
-        }
+        self.heartbeat_timers(now);
         if let Some(t) = self.sync_at.filter(|t| *t <= now) {
             let p = self.sync_period().unwrap_or(Duration::from_secs(1));
             let next = t + p;
@@ -698,447 +491,5 @@ impl<A: Application> Core<A> {
             self.timed_tpdos(now);
         }
         self.flush_emcy(now);
-    }
-
-    /// Compares the application's errors with the active ones and raises / clears EMCYs.
-    fn check_errors(&mut self) {
-        let mut now_errors = std::mem::take(&mut self.scratch);
-        now_errors.clear();
-        self.app.errors(&mut now_errors);
-        let gone: Vec<AppError> = self
-            .active
-            .iter()
-            .filter(|e| e.code != HEARTBEAT_ERROR && e.code != PDO_LENGTH_ERROR)
-            .filter(|e| !now_errors.contains(e))
-            .copied()
-            .collect();
-        for e in gone {
-            self.clear_app_error(e);
-        }
-        for e in &now_errors {
-            if !self.active.contains(e) {
-                self.raise_error(*e);
-            }
-        }
-        self.scratch = now_errors;
-    }
-
-    fn raise_error(&mut self, e: AppError) {
-        if self.active.contains(&e) {
-            return;
-        }
-        self.active.push(e);
-        self.history.insert(0, u32::from(e.code));
-        self.history.truncate(
-            self.dict
-                .object(0x1003)
-                .map_or(0, |o| usize::from(o.max_sub())),
-        );
-        self.sync_error_objects();
-        let reg = error_register(&self.active);
-        self.queue_emcy(emcy::frame_data(e.code, reg, e.info));
-    }
-
-    fn clear_error(&mut self, code: u16) {
-        let gone: Vec<AppError> = self
-            .active
-            .iter()
-            .filter(|e| e.code == code)
-            .copied()
-            .collect();
-        for e in gone {
-            self.clear_app_error(e);
-        }
-    }
-
-    fn clear_app_error(&mut self, e: AppError) {
-        self.active.retain(|a| *a != e);
-        self.sync_error_objects();
-        let reg = error_register(&self.active);
-        let c = e.code.to_le_bytes();
-        // "Error reset": code 0x0000, the remaining register, which module/axis and the cleared code.
-        self.queue_emcy(emcy::frame_data(
-            NO_ERROR,
-            reg,
-            [e.info[0], e.info[1], c[0], c[1], 0],
-        ));
-    }
-
-    fn sync_error_objects(&mut self) {
-        let reg = error_register(&self.active);
-        let _ = self.dict.store(0x1001, 0, &[reg]);
-        let _ = self.dict.store(0x1003, 0, &[self.history.len() as u8]);
-        let max = self.dict.object(0x1003).map_or(0, |o| o.max_sub());
-        for s in 1..=max {
-            let v = self.history.get(usize::from(s) - 1).copied().unwrap_or(0);
-            let _ = self.dict.store(0x1003, s, &v.to_le_bytes());
-        }
-    }
-
-    fn queue_emcy(&mut self, data: [u8; 8]) {
-        if self.emcy_queue.len() < 64 {
-            self.emcy_queue.push_back(data);
-        }
-        self.flush_emcy(self.now);
-    }
-
-    /// Sends queued EMCYs as the inhibit time (0x1015, 100 µs) allows; in Pre-operational and
-    /// Operational only, while the COB-ID is valid.
-    fn flush_emcy(&mut self, now: Instant) {
-        if !matches!(self.state, NmtState::PreOperational | NmtState::Operational) {
-            return;
-        }
-        let cob = self.u32_at(0x1014, 0).unwrap_or(0x80 + u32::from(self.id));
-        if cob & COB_INVALID != 0 {
-            self.emcy_queue.clear();
-            return;
-        }
-        let inhibit = Duration::from_micros(100 * u64::from(self.u32_at(0x1015, 0).unwrap_or(0)));
-        while self.emcy_after.is_none_or(|t| t <= now) {
-            let Some(data) = self.emcy_queue.pop_front() else {
-                break;
-            };
-            self.tx.push_back(((cob & 0x7FF) as u16, data, 8));
-            self.emcy_after = (inhibit > Duration::ZERO).then(|| now + inhibit);
-        }
-    }
-
-    /// The data of TPDO `n` from the application and the dictionary (dummies are zero).
-    fn tpdo_data(&self, n: usize) -> ([u8; 8], usize) {
-        let mut out = [0u8; 8];
-        let mut at = 0usize;
-        let mut buf = [0u8; 8];
-        for e in &self.tpdos[n].map {
-            let len = e.len();
-            if at + len > 8 {
-                break;
-            }
-            if !e.is_dummy() {
-                let bytes = hook::value(
-                    &self.dict,
-                    &self.app,
-                    Address::new(e.index, e.sub),
-                    &mut buf,
-                );
-                let k = bytes.len().min(len);
-                out[at..at + k].copy_from_slice(&bytes[..k]);
-            }
-            at += len;
-        }
-        (out, at)
-    }
-
-    fn send_tpdo(&mut self, now: Instant, n: usize, data: [u8; 8], len: usize) {
-        let cfg = &self.tpdos[n];
-        let st = &mut self.tpdo_state[n];
-        self.tx.push_back((cfg.cob_id(), data, len as u8));
-        st.last = Some(data);
-        st.pending = false;
-        st.inhibit_until =
-            (cfg.inhibit > 0).then(|| now + Duration::from_micros(100 * u64::from(cfg.inhibit)));
-        st.event_at =
-            (cfg.event_timer > 0).then(|| now + Duration::from_millis(u64::from(cfg.event_timer)));
-    }
-
-    /// Event-driven TPDOs (254/255): data changed since the last transmission. Type 0: remember the
-    /// change for the next SYNC.
-    fn event_tpdos(&mut self, now: Instant) {
-        for n in 0..self.tpdos.len() {
-            let cfg = &self.tpdos[n];
-            if !cfg.valid() {
-                continue;
-            }
-            let t = cfg.transmission;
-            if !(t == 0 || t >= 254) {
-                continue;
-            }
-            let (data, len) = self.tpdo_data(n);
-            let st = &mut self.tpdo_state[n];
-            if st.last != Some(data) {
-                if t == 0 {
-                    st.pending = true;
-                    continue;
-                }
-                st.pending = true;
-            }
-            if t >= 254 && st.pending && st.inhibit_until.is_none_or(|i| i <= now) {
-                self.send_tpdo(now, n, data, len);
-            }
-        }
-    }
-
-    /// Inhibit expiries with a transmission owed, and event timers.
-    fn timed_tpdos(&mut self, now: Instant) {
-        for n in 0..self.tpdos.len() {
-            let cfg = &self.tpdos[n];
-            if !cfg.valid() || cfg.transmission < 254 {
-                continue;
-            }
-            let st = &self.tpdo_state[n];
-            let inhibit_ok = st.inhibit_until.is_none_or(|i| i <= now);
-            let timer = st.event_at.is_some_and(|t| t <= now);
-            if inhibit_ok && (st.pending || timer) {
-                let (data, len) = self.tpdo_data(n);
-                self.send_tpdo(now, n, data, len);
-            }
-        }
-    }
-
-    /// A SYNC: synchronous RPDOs take effect, synchronous TPDOs are sent.
-    fn sync(&mut self, now: Instant) {
-        if self.state != NmtState::Operational {
-            return;
-        }
-        for n in 0..self.rpdos.len() {
-            if let Some((data, len)) = self.rpdo_pending[n].take() {
-                self.apply_rpdo(n, &data[..len]);
-            }
-        }
-        for n in 0..self.tpdos.len() {
-            let cfg = &self.tpdos[n];
-            if !cfg.valid() {
-                continue;
-            }
-            let t = cfg.transmission;
-            let due = match t {
-                0 => {
-                    let (data, _) = self.tpdo_data(n);
-                    let st = &self.tpdo_state[n];
-                    st.pending || st.last != Some(data)
-                }
-                1..=240 => {
-                    let st = &mut self.tpdo_state[n];
-                    st.sync_count += 1;
-                    if st.sync_count >= t {
-                        st.sync_count = 0;
-                        true
-                    } else {
-                        false
-                    }
-                }
-                _ => false,
-            };
-            if due {
-                let (data, len) = self.tpdo_data(n);
-                self.send_tpdo(now, n, data, len);
-            }
-        }
-    }
-
-    /// A remote frame for a TPDO (COB-ID bit 30 clear): its current data.
-    fn rtr(&mut self, now: Instant, cob: u16) {
-        if self.state != NmtState::Operational {
-            return;
-        }
-        if let Some(n) = self
-            .tpdos
-            .iter()
-            .position(|c| c.valid() && c.cob_raw & COB_NO_RTR == 0 && c.cob_id() == cob)
-        {
-            let (data, len) = self.tpdo_data(n);
-            self.send_tpdo(now, n, data, len);
-        }
-    }
-
-    fn rpdo(&mut self, _now: Instant, cob: u16, data: &[u8]) {
-        let Some(n) = self
-            .rpdos
-            .iter()
-            .position(|c| c.valid() && c.cob_id() == cob)
-        else {
-            return;
-        };
-        let need = self.rpdos[n].len();
-        if data.len() < need {
-            let c = cob.to_le_bytes();
-            self.queue_emcy(emcy::frame_data(
-                PDO_LENGTH_ERROR,
-                error_register(&self.active) | 0x11,
-                [c[0], c[1], data.len() as u8, need as u8, 0],
-            ));
-            return;
-        }
-        if self.rpdos[n].transmission <= 240 {
-            let mut buf = [0u8; 8];
-            buf[..data.len()].copy_from_slice(data);
-            self.rpdo_pending[n] = Some((buf, data.len()));
-        } else {
-            self.apply_rpdo(n, data);
-        }
-    }
-
-    fn apply_rpdo(&mut self, n: usize, data: &[u8]) {
-        let mut at = 0usize;
-        for k in 0..self.rpdos[n].map.len() {
-            let e = self.rpdos[n].map[k];
-            let len = e.len();
-            if at + len > data.len() {
-                break;
-            }
-            let bytes = &data[at..at + len];
-            at += len;
-            if e.is_dummy() {
-                continue;
-            }
-            hook::deliver(
-                &mut self.dict,
-                &mut self.app,
-                Address::new(e.index, e.sub),
-                bytes,
-            );
-        }
-    }
-
-    /// Special rules of the communication objects, checked before a download is stored. `Ok(true)`: the
-    /// download is complete without storing the value (commands).
-    fn check_download(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<bool, AbortCode> {
-        let value = {
-            let mut b = [0u8; 4];
-            let n = data.len().min(4);
-            b[..n].copy_from_slice(&data[..n]);
-            u32::from_le_bytes(b)
-        };
-        match index {
-            0x1003 if sub == 0 => {
-                if value != 0 {
-                    return Err(AbortCode::InvalidValue);
-                }
-                self.history.clear();
-                self.sync_error_objects();
-                return Ok(true);
-            }
-            0x1010 if sub >= 1 => {
-                if value != SAVE_SIGNATURE {
-                    return Err(AbortCode::CannotStore);
-                }
-                // Taken at once; the edge writes the set (CiA 301 §7.5.2.13 leaves when to it).
-                let set = storage::encode(&self.parameter_set());
-                self.stored = Some(set.clone());
-                self.storage_out.push_back(StorageRequest::Save(set));
-                self.events.push_back(NodeEvent::Saved);
-                return Ok(true);
-            }
-            0x1011 if sub >= 1 => {
-                if value != LOAD_SIGNATURE {
-                    return Err(AbortCode::CannotStore);
-                }
-                self.stored = None;
-                self.storage_out.push_back(StorageRequest::Clear);
-                self.events.push_back(NodeEvent::Restored);
-                return Ok(true);
-            }
-            0x1005 | 0x1014 => {
-                let id = (value & 0x7FF) as u16;
-                if value & COB_EXTENDED != 0 || (index == 0x1014 && pdo::restricted_id(id)) {
-                    return Err(AbortCode::InvalidValue);
-                }
-            }
-            RPDO_COMM..=0x15FF | TPDO_COMM..=0x19FF => {
-                let n = usize::from(index & 0x1FF);
-                let cfg = if index < TPDO_COMM {
-                    self.rpdos.get(n)
-                } else {
-                    self.tpdos.get(n)
-                };
-                let valid = cfg.is_some_and(PdoConfig::valid);
-                match sub {
-                    1 => {
-                        let id = (value & 0x7FF) as u16;
-                        if value & COB_EXTENDED != 0
-                            || value & 0x1FFF_F800 != 0
-                            || pdo::restricted_id(id)
-                        {
-                            return Err(AbortCode::InvalidValue);
-                        }
-                        // The CAN-ID of a PDO that exists may not change (CiA 301 §7.5.2.35).
-                        let old = cfg.map_or(0, PdoConfig::cob_id);
-                        if valid && value & COB_INVALID == 0 && id != old {
-                            return Err(AbortCode::InvalidValue);
-                        }
-                    }
-                    2 => {
-                        let t = value as u8;
-                        if (241..=253).contains(&t) {
-                            return Err(AbortCode::InvalidValue);
-                        }
-                    }
-                    3 if index >= TPDO_COMM && valid => return Err(AbortCode::InvalidValue),
-                    _ => {}
-                }
-            }
-            0x1600..=0x17FF | 0x1A00..=0x1BFF => {
-                let comm = index - MAP_OFFSET;
-                let (dir, cfg) = if index < 0x1A00 {
-                    (Direction::Rx, self.rpdos.get(usize::from(comm - RPDO_COMM)))
-                } else {
-                    (Direction::Tx, self.tpdos.get(usize::from(comm - TPDO_COMM)))
-                };
-                if self.state != NmtState::PreOperational {
-                    return Err(AbortCode::DeviceState);
-                }
-                if cfg.is_some_and(PdoConfig::valid) {
-                    return Err(AbortCode::ParameterIncompatible);
-                }
-                if sub == 0 {
-                    if value != 0 {
-                        pdo::check_count(&self.dict, dir, index, value as u8)?;
-                    }
-                } else {
-                    if self.u32_at(index, 0).unwrap_or(0) != 0 {
-                        return Err(AbortCode::ParameterIncompatible);
-                    }
-                    pdo::check_entry(&self.dict, dir, value)?;
-                }
-            }
-            _ => {}
-        }
-        Ok(false)
-    }
-
-    /// Effects of a stored download on the node's services.
-    fn after_download(&mut self, index: u16) {
-        let now = self.now;
-        match index {
-            0x1005 | 0x1006 => {
-                self.sync_at = self.sync_period().map(|p| now + p);
-                self.reload_listen();
-            }
-            0x1016 => self.reload_consumer(),
-            0x1017 => self.heartbeat_at = self.heartbeat_period().map(|p| now + p),
-            0x1400..=0x1BFF => {
-                let before: Vec<bool> = self.tpdos.iter().map(PdoConfig::valid).collect();
-                self.reload_pdos();
-                for (n, cfg) in self.tpdos.iter().enumerate() {
-                    if cfg.valid() && !before.get(n).copied().unwrap_or(false) {
-                        self.tpdo_state[n] = TxState {
-                            pending: matches!(cfg.transmission, 254 | 255),
-                            ..TxState::default()
-                        };
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-}
-
-impl<A: Application> ObjectStore for Core<A> {
-    fn upload(&mut self, mux: Address) -> Result<Vec<u8>, AbortCode> {
-        hook::upload(&self.dict, &self.app, mux)
-    }
-
-    fn download_capacity(&self, mux: Address) -> Result<DownloadCapacity, AbortCode> {
-        self.dict.download_capacity(mux)
-    }
-
-    fn download(&mut self, mux: Address, data: &[u8]) -> Result<(), AbortCode> {
-        let (index, sub) = (mux.index, mux.sub);
-        hook::check_download(&self.dict, &self.app, mux, data)?;
-        if self.check_download(index, sub, data)? {
-            return Ok(());
-        }
-        hook::store_download(&mut self.dict, &mut self.app, mux, data)?;
-        self.after_download(index);
-        Ok(())
     }
 }
