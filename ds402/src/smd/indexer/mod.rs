@@ -84,176 +84,12 @@ use std::time::{Duration, Instant};
 use super::config::{Cfg0, Configuration, EncoderKind, InputFunction, CFG0_USE_ENCODER};
 use super::profile::{MoveParams, Phase, Profile};
 
-/// STATUS_word0 bits (Reference 6, Figure R6.4).
-pub mod stat0 {
-    /// Bit 0.
-    pub const MOVING_CW: u16 = 1 << 0;
-    /// Bit 1.
-    pub const MOVING_CCW: u16 = 1 << 1;
-    /// Bit 2.
-    pub const IN_HOLD_STATE: u16 = 1 << 2;
-    /// Bit 3.
-    pub const STOPPED: u16 = 1 << 3;
-    /// Bit 4.
-    pub const AT_HOME: u16 = 1 << 4;
-    /// Bit 5.
-    pub const ACCELERATING: u16 = 1 << 5;
-    /// Bit 6.
-    pub const DECELERATING: u16 = 1 << 6;
-    /// Bit 7.
-    pub const MOVE_COMPLETE: u16 = 1 << 7;
-    /// Bit 8.
-    pub const IN_ASSEMBLED_MODE: u16 = 1 << 8;
-    /// Bit 9.
-    pub const WAITING_FOR_SEGMENT: u16 = 1 << 9;
-    /// Bit 10.
-    pub const POSITION_INVALID: u16 = 1 << 10;
-    /// Bit 11.
-    pub const INPUT_ERROR: u16 = 1 << 11;
-    /// Bit 12.
-    pub const COMMAND_ERROR: u16 = 1 << 12;
-    /// Bit 13.
-    pub const CONFIGURATION_ERROR: u16 = 1 << 13;
-    /// Bit 14.
-    pub const MODULE_OK: u16 = 1 << 14;
-    /// Bit 15.
-    pub const MODE_FLAG: u16 = 1 << 15;
-}
+mod commands;
+mod words;
 
-/// STATUS_word1 bits (Reference 6, Figure R6.5).
-pub mod stat1 {
-    /// Bit 0.
-    pub const IN1_ACTIVE: u16 = 1 << 0;
-    /// Bit 1.
-    pub const IN2_ACTIVE: u16 = 1 << 1;
-    /// Bit 4.
-    pub const TEMPERATURE_ABOVE_90: u16 = 1 << 4;
-    /// Bit 5.
-    pub const PREOP_SAFEOP: u16 = 1 << 5;
-    /// Bit 7.
-    pub const DRIVER_FAULT: u16 = 1 << 7;
-    /// Bit 9.
-    pub const INVALID_JOG_CHANGE: u16 = 1 << 9;
-    /// Bit 10.
-    pub const LIMIT_CONDITION: u16 = 1 << 10;
-    /// Bit 11.
-    pub const HEARTBEAT: u16 = 1 << 11;
-    /// Bit 12.
-    pub const ABS_ENC_ERR: u16 = 1 << 12;
-    /// Bit 13.
-    pub const COMMAND_ACKNOWLEDGE: u16 = 1 << 13;
-    /// Bit 14.
-    pub const STALL_DETECTED: u16 = 1 << 14;
-    /// Bit 15.
-    pub const DRIVE_IS_ENABLED: u16 = 1 << 15;
-}
-
-/// CMD_word0 command bits (Reference 6, Figure R6.2).
-pub mod cmd0 {
-    /// Bit 0.
-    pub const ABSOLUTE_MOVE: u16 = 1 << 0;
-    /// Bit 1.
-    pub const RELATIVE_MOVE: u16 = 1 << 1;
-    /// Bit 2.
-    pub const HOLD_MOVE: u16 = 1 << 2;
-    /// Bit 3.
-    pub const RESUME_MOVE: u16 = 1 << 3;
-    /// Bit 4.
-    pub const IMMEDIATE_STOP: u16 = 1 << 4;
-    /// Bit 5.
-    pub const FIND_HOME_CW: u16 = 1 << 5;
-    /// Bit 6.
-    pub const FIND_HOME_CCW: u16 = 1 << 6;
-    /// Bit 7.
-    pub const JOG_CW: u16 = 1 << 7;
-    /// Bit 8.
-    pub const JOG_CCW: u16 = 1 << 8;
-    /// Bit 9.
-    pub const PRESET_POSITION: u16 = 1 << 9;
-    /// Bit 10.
-    pub const RESET_ERRORS: u16 = 1 << 10;
-    /// Bit 11.
-    pub const PROGRAM_ASSEMBLED: u16 = 1 << 11;
-    /// Bit 12.
-    pub const READ_ASSEMBLED_DATA: u16 = 1 << 12;
-    /// Bit 13.
-    pub const RUN_ASSEMBLED_MOVE: u16 = 1 << 13;
-    /// Bit 14.
-    pub const PRESET_ENCODER: u16 = 1 << 14;
-    /// Bit 15.
-    pub const MODE_SELECT: u16 = 1 << 15;
-}
-
-/// CMD_word1 bits (Reference 6, Figure R6.3).
-pub mod cmd1 {
-    /// Bit 11: Backplane_Proximity_Bit (homing with CFG_Word_0 bit 11).
-    pub const BACKPLANE_PROXIMITY: u16 = 1 << 11;
-    /// Bit 7: a Jog command runs as a Registration move.
-    pub const REGISTRATION_MOVE: u16 = 1 << 7;
-    /// Bit 4: Reverse_Blend_Direction (a Blend runs CCW).
-    pub const REVERSE_BLEND: u16 = 1 << 4;
-    /// Bit 5: Save_to_Flash.
-    pub const SAVE_TO_FLASH: u16 = 1 << 5;
-    /// Bit 8: Indexed_Command (the move waits for the Start Indexed input).
-    pub const INDEXED: u16 = 1 << 8;
-    /// Bit 9: Assembled_Move_Type (0 Blend, 1 Dwell).
-    pub const DWELL: u16 = 1 << 9;
-    /// Bit 1: take the move's current from the Motor_Current word.
-    pub const MOTOR_CURRENT: u16 = 1 << 1;
-    /// Bit 13: Preset Position presets to the scaled encoder position.
-    pub const PRESET_TO_ENCODER: u16 = 1 << 13;
-    /// Bit 15: Enable_Driver.
-    pub const ENABLE_DRIVER: u16 = 1 << 15;
-}
-
-/// Target / offset range of Absolute and Relative moves (SMD-R6-034).
-pub const POSITION_RANGE: std::ops::RangeInclusive<i32> = -8_388_608..=8_388_607;
-/// Highest Velocity (SMD-R6-035).
-pub const MAX_VELOCITY: u32 = 2_999_999;
-/// Highest Motor_Current word (×0.1 A, SMD-R6-039).
-pub const MAX_MOTOR_CURRENT: u16 = 34;
-/// The Heartbeat_Bit's half period (SMD-R6-067).
-pub const HEARTBEAT_HALF_PERIOD: Duration = Duration::from_millis(500);
-
-/// The 20 output bytes (`0x7000:01–08`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Outputs {
-    /// CMD_word0.
-    pub cmd0: u16,
-    /// CMD_word1.
-    pub cmd1: u16,
-    /// Position.
-    pub position: i32,
-    /// Velocity.
-    pub velocity: u32,
-    /// Acceleration.
-    pub acceleration: u16,
-    /// Deceleration.
-    pub deceleration: u16,
-    /// Motor_Current.
-    pub motor_current: u16,
-    /// Jerk.
-    pub jerk: u16,
-}
-
-/// The 20 input bytes (`0x6000:01–07`).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Inputs {
-    /// STATUS_word0.
-    pub status0: u16,
-    /// STATUS_word1.
-    pub status1: u16,
-    /// Motor_Position.
-    pub motor_position: i32,
-    /// Encoder_Position.
-    pub encoder_position: i32,
-    /// Trapped_Encoder_Position.
-    pub trapped_encoder_position: i32,
-    /// Motor_Current (×0.1 A) of the last move command.
-    pub motor_current: u16,
-    /// Jerk of the last move command.
-    pub jerk: u16,
-}
+use commands::Outcome;
+pub use commands::{MAX_MOTOR_CURRENT, MAX_VELOCITY, POSITION_RANGE};
+pub use words::{cmd0, cmd1, stat0, stat1, Inputs, Outputs, HEARTBEAT_HALF_PERIOD};
 
 /// What a running motion segment is for.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -612,19 +448,6 @@ enum Held {
     },
 }
 
-/// How a command was taken.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Outcome {
-    /// Run.
-    Accepted,
-    /// Refused with Command_Error.
-    CommandError,
-    /// Refused with Command_Error and Move_Complete (bad Jog parameters, SMD-R6-040).
-    CommandErrorComplete,
-    /// Refused with Input_Error (an active E-Stop or end limit).
-    InputError,
-}
-
 /// The limit input a move in direction `dir` (+1 CW, −1 CCW) runs into.
 fn limit_towards(dir: i64) -> InputFunction {
     if dir > 0 {
@@ -713,17 +536,6 @@ pub struct Indexer {
     in_current: u16,
     in_jerk: u16,
 }
-
-/// The mutually exclusive CMD_word0 command bits (SMD-R1-024 pick: 0–10, 13, 14).
-const EXCLUSIVE_BITS: u16 = 0x67FF;
-/// The CMD_word0 commands that are moves (may be indexed, SMD-R2-090).
-const MOVE_BITS: u16 = cmd0::ABSOLUTE_MOVE
-    | cmd0::RELATIVE_MOVE
-    | cmd0::JOG_CW
-    | cmd0::JOG_CCW
-    | cmd0::FIND_HOME_CW
-    | cmd0::FIND_HOME_CCW
-    | cmd0::RUN_ASSEMBLED_MOVE;
 
 impl Indexer {
     /// A unit at power-up with `config` in memory (Position_Invalid, Stopped, Module_OK).
@@ -1166,129 +978,6 @@ impl Indexer {
         }
     }
 
-    /// Acts on new output data (the edges against the previous data).
-    fn take(&mut self, out: Outputs) {
-        let prev = std::mem::replace(&mut self.prev, out);
-        // Command_Acknowledge falls when the host clears the acknowledged bit (SMD-R6-064).
-        if let Some(bit) = self.acknowledged {
-            if out.cmd0 & bit == 0 {
-                self.acknowledged = None;
-            }
-        }
-        if self.network != NetworkState::Op {
-            return; // SMD-R6-073: no commands outside Op.
-        }
-        // SMD-R6-010 gap pick: Mode_Select = 1 processes no commands and stops the heartbeat.
-        self.mode_flag = out.cmd0 & cmd0::MODE_SELECT != 0;
-        if self.flash_lockout || self.mode_flag {
-            return;
-        }
-        if out.cmd1 & cmd1::BACKPLANE_PROXIMITY & !prev.cmd1 != 0 {
-            self.proximity_edge();
-        }
-        self.program_handshake(prev, out);
-        // SMD-R2-093: clearing an indexed command's bit cancels it.
-        if let Some((bit, _)) = self.pending_index {
-            if out.cmd0 & bit == 0 {
-                self.pending_index = None;
-            }
-        }
-        // The mutually exclusive command bits (SMD-R1-024 pick: bits 0–10, 13, 14).
-        let rising = out.cmd0 & !prev.cmd0 & EXCLUSIVE_BITS;
-        if rising == 0 {
-            let current_edge = out.cmd1 & cmd1::MOTOR_CURRENT & !prev.cmd1;
-            if current_edge != 0 {
-                // SMD-R6-032 pick: the Motor_Current word applies at once.
-                if out.motor_current <= MAX_MOTOR_CURRENT {
-                    self.in_current = out.motor_current;
-                } else {
-                    self.command_error = true;
-                }
-            }
-            return;
-        }
-        if (out.cmd0 & EXCLUSIVE_BITS).count_ones() > 1 || self.programming.is_some() {
-            // Two command bits at 1 when one rises (SMD-R1-024: rising in the same update, R6
-            // "Command Bits Must Transition", or rising while another is still 1), or a command
-            // during assembled-move programming.
-            self.command_error = true;
-            return;
-        }
-        let had_motion = self.segment.is_some();
-        let outcome = if out.cmd1 & cmd1::INDEXED != 0 && rising & MOVE_BITS != 0 {
-            // SMD-R2-090: latched until the Start Indexed input's edge.
-            self.pending_index = Some((rising, out));
-            Outcome::Accepted
-        } else {
-            self.execute(rising, out)
-        };
-        // SMD-R1-021/-022, SMD-R5-022: with DC_Sync a new move waits for SYNC0.
-        if !had_motion
-            && self.segment.is_some()
-            && rising & (MOVE_BITS | cmd0::RESUME_MOVE) != 0
-            && self.config.cfg1 & super::config::CFG1_DC_SYNC != 0
-        {
-            self.sync_wait = Some(f64::INFINITY);
-        }
-        self.apply(outcome);
-    }
-
-    /// Runs the command of CMD_word0 bit `rising` with the data `out`.
-    fn execute(&mut self, rising: u16, out: Outputs) -> Outcome {
-        match rising {
-            cmd0::ABSOLUTE_MOVE => self.start_move(out, true),
-            cmd0::RELATIVE_MOVE => self.start_move(out, false),
-            cmd0::HOLD_MOVE => {
-                self.hold();
-                Outcome::Accepted
-            }
-            cmd0::RESUME_MOVE => self.resume(out),
-            cmd0::IMMEDIATE_STOP => {
-                self.stop_now();
-                Outcome::Accepted
-            }
-            cmd0::JOG_CW | cmd0::JOG_CCW if out.cmd1 & cmd1::REGISTRATION_MOVE != 0 => {
-                self.start_registration(out, if rising == cmd0::JOG_CW { 1 } else { -1 })
-            }
-            cmd0::JOG_CW => self.start_jog(out, 1),
-            cmd0::JOG_CCW => self.start_jog(out, -1),
-            cmd0::FIND_HOME_CW => self.find_home(out, 1),
-            cmd0::FIND_HOME_CCW => self.find_home(out, -1),
-            cmd0::PRESET_POSITION => self.preset_position(out),
-            cmd0::RESET_ERRORS => {
-                self.command_error = false;
-                self.input_error = false;
-                self.move_complete = false;
-                self.limit_condition = None; // SMD-R6-021
-                if self.stall {
-                    self.stall = false;
-                    self.stall_reference(); // SMD-R4-007
-                }
-                if self.sto_powered[0] && self.sto_powered[1] {
-                    self.sto_fault = false; // SMD-R1-006, SMD-R6-022
-                }
-                self.acknowledged = Some(cmd0::RESET_ERRORS);
-                Outcome::Accepted
-            }
-            cmd0::RUN_ASSEMBLED_MOVE => self.run_assembled(out),
-            cmd0::PRESET_ENCODER => self.preset_encoder(out),
-            _ => Outcome::CommandError,
-        }
-    }
-
-    fn apply(&mut self, outcome: Outcome) {
-        match outcome {
-            // Any command accepted clears At_Home (SMD-R2-022).
-            Outcome::Accepted => self.at_home = false,
-            Outcome::CommandError => self.command_error = true,
-            Outcome::CommandErrorComplete => {
-                self.command_error = true;
-                self.move_complete = true;
-            }
-            Outcome::InputError => self.input_error = true,
-        }
-    }
-
     /// The assembled-move programming handshake: Program_Assembled (bit 11) and Read_Assembled_Data
     /// (bit 12), SMD-R2-083 … -089, SMD-R6-016 pick.
     fn program_handshake(&mut self, prev: Outputs, out: Outputs) {
@@ -1472,30 +1161,6 @@ impl Indexer {
         if self.segment.is_none() {
             self.dwell_segment_done();
         }
-    }
-
-    /// The speed, acceleration and jerk checks of a move block (SMD-R6-035 … -038).
-    fn motion_params_ok(&self, velocity: u32, accel: u16, decel: u16, jerk: u16) -> bool {
-        (self.config.starting_speed..=MAX_VELOCITY).contains(&velocity)
-            && (1..=super::profile::MAX_ACCEL).contains(&accel)
-            && (1..=super::profile::MAX_ACCEL).contains(&decel)
-            && jerk <= super::profile::MAX_JERK
-    }
-
-    /// Every parameter check of a move block, the current included (SMD-R6-039).
-    fn params_ok(&self, out: &Outputs) -> bool {
-        self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, out.jerk)
-            && (out.cmd1 & cmd1::MOTOR_CURRENT == 0 || out.motor_current <= MAX_MOTOR_CURRENT)
-    }
-
-    /// Takes the move's current and jerk for the input words (SMD-R6-032, SMD-R6-050).
-    fn take_current_and_jerk(&mut self, out: &Outputs) {
-        self.in_current = if out.cmd1 & cmd1::MOTOR_CURRENT != 0 {
-            out.motor_current
-        } else {
-            self.config.motor_current
-        };
-        self.in_jerk = out.jerk;
     }
 
     fn start_move(&mut self, out: Outputs, absolute: bool) -> Outcome {
@@ -1981,40 +1646,6 @@ impl Indexer {
         self.stall_reference();
     }
 
-    fn preset_position(&mut self, out: Outputs) -> Outcome {
-        if self.busy() {
-            return Outcome::CommandError; // SMD-R6-027 pick.
-        }
-        self.position = if out.cmd1 & cmd1::PRESET_TO_ENCODER != 0 {
-            // Motor Position = Encoder Position × steps per turn / counts per turn (SMD-R6-024).
-            let enc = i64::from(self.encoder_position());
-            let res = i64::from(self.config.encoder_resolution.max(1));
-            enc * i64::from(self.config.motor_resolution) / res
-        } else {
-            i64::from(out.position)
-        };
-        self.move_complete = false;
-        self.position_invalid = false;
-        self.stall_reference();
-        self.acknowledged = Some(cmd0::PRESET_POSITION);
-        Outcome::Accepted
-    }
-
-    fn preset_encoder(&mut self, out: Outputs) -> Outcome {
-        if !self.encoder_enabled() {
-            return Outcome::CommandError; // SMD-R6-011 gap pick.
-        }
-        // The shaft's count stays; the offset makes Encoder_Position the Position word.
-        let raw = i64::from(self.encoder_position()) - self.encoder_base;
-        self.encoder_base = i64::from(out.position) - raw;
-        if out.cmd1 & cmd1::SAVE_TO_FLASH != 0 && self.kind == EncoderKind::Absolute {
-            self.flash_encoder_offset = self.encoder_base; // SMD-R6-012
-        }
-        self.stall_reference();
-        self.acknowledged = Some(cmd0::PRESET_ENCODER);
-        Outcome::Accepted
-    }
-
     /// Runs the motion for `dt`.
     fn advance(&mut self, dt: Duration) {
         self.time += dt;
@@ -2075,86 +1706,6 @@ impl Indexer {
             (i128::from(self.encoder_base) + counts + i128::from(self.encoder_extra)) as i64 as i32
         } else {
             0
-        }
-    }
-
-    /// STATUS_word0 as the unit reports it now.
-    pub fn status0(&self) -> u16 {
-        let mut s = if self.internal_fault {
-            0
-        } else {
-            stat0::MODULE_OK
-        };
-        let mut flag = |on: bool, bit: u16| {
-            if on {
-                s |= bit;
-            }
-        };
-        match self.segment.filter(|_| self.sync_wait.is_none()) {
-            Some(seg) => {
-                flag(seg.dir > 0, stat0::MOVING_CW);
-                flag(seg.dir < 0, stat0::MOVING_CCW);
-                let (acc, dec) = seg.phase();
-                flag(acc, stat0::ACCELERATING);
-                flag(dec, stat0::DECELERATING);
-            }
-            None => flag(true, stat0::STOPPED),
-        }
-        flag(self.held.is_some(), stat0::IN_HOLD_STATE);
-        flag(self.programming.is_some(), stat0::IN_ASSEMBLED_MODE);
-        flag(
-            self.programming.is_some() && self.waiting_for_segment,
-            stat0::WAITING_FOR_SEGMENT,
-        );
-        flag(self.at_home, stat0::AT_HOME);
-        flag(self.move_complete, stat0::MOVE_COMPLETE);
-        flag(self.position_invalid, stat0::POSITION_INVALID);
-        flag(self.input_error, stat0::INPUT_ERROR);
-        flag(self.command_error, stat0::COMMAND_ERROR);
-        flag(self.configuration_error(), stat0::CONFIGURATION_ERROR);
-        flag(self.mode_flag, stat0::MODE_FLAG);
-        s
-    }
-
-    /// STATUS_word1 as the unit reports it now.
-    pub fn status1(&self) -> u16 {
-        let mut s = 0;
-        let mut flag = |on: bool, bit: u16| {
-            if on {
-                s |= bit;
-            }
-        };
-        flag(self.active(0), stat1::IN1_ACTIVE);
-        flag(self.active(1), stat1::IN2_ACTIVE);
-        flag(
-            self.temperature > TEMPERATURE_WARNING,
-            stat1::TEMPERATURE_ABOVE_90,
-        );
-        flag(self.driver_fault(), stat1::DRIVER_FAULT);
-        flag(self.invalid_jog_change, stat1::INVALID_JOG_CHANGE);
-        flag(self.stall, stat1::STALL_DETECTED);
-        flag(self.network != NetworkState::Op, stat1::PREOP_SAFEOP);
-        flag(self.abs_encoder_error, stat1::ABS_ENC_ERR);
-        flag(self.limit_condition.is_some(), stat1::LIMIT_CONDITION);
-        flag(
-            (self.heartbeat_time.as_millis() / HEARTBEAT_HALF_PERIOD.as_millis()) % 2 == 1,
-            stat1::HEARTBEAT,
-        );
-        flag(self.acknowledged.is_some(), stat1::COMMAND_ACKNOWLEDGE);
-        flag(self.drive_enabled(), stat1::DRIVE_IS_ENABLED);
-        s
-    }
-
-    /// The 20 input bytes as the unit reports them now.
-    pub fn inputs(&self) -> Inputs {
-        Inputs {
-            status0: self.status0(),
-            status1: self.status1(),
-            motor_position: self.position as i32,
-            encoder_position: self.encoder_position(),
-            trapped_encoder_position: self.trapped,
-            motor_current: self.in_current,
-            jerk: self.in_jerk,
         }
     }
 }
