@@ -86,9 +86,13 @@ use super::profile::{MoveParams, Phase, Profile};
 
 mod assembled;
 mod commands;
+mod dc_inputs;
+mod drive;
+mod encoder;
 mod homing;
 mod jog;
 mod motion;
+mod network;
 mod registration;
 mod words;
 
@@ -96,40 +100,14 @@ use assembled::AssembledRun;
 pub use assembled::{AssembledSegment, MAX_SEGMENTS};
 use commands::Outcome;
 pub use commands::{MAX_MOTOR_CURRENT, MAX_VELOCITY, POSITION_RANGE};
+pub use drive::{IDLE_DELAY, OVER_TEMPERATURE, OVER_TEMPERATURE_CLEAR, TEMPERATURE_WARNING};
+pub use encoder::ABS_ENCODER_MAX_ACCEL;
 use homing::Homing;
 pub use homing::HOMING_PAUSE;
 use jog::Jog;
 use motion::{limit_towards, Curve, Held, Purpose, Segment};
+pub use network::{NetworkState, SYNC0_START_DELAY};
 pub use words::{cmd0, cmd1, stat0, stat1, Inputs, Outputs, HEARTBEAT_HALF_PERIOD};
-
-/// The EtherCAT state machine's state, as far as the unit's behaviour depends on it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum NetworkState {
-    /// Init: no process data.
-    Init,
-    /// Pre-Operational: mailbox (CoE) only.
-    PreOp,
-    /// Safe-Operational: inputs are sent, outputs not acted on.
-    SafeOp,
-    /// Operational: commands are processed.
-    #[default]
-    Op,
-}
-
-/// Shaft acceleration while unpowered above which the absolute encoder loses count (°/s², SMD-R1-017).
-pub const ABS_ENCODER_MAX_ACCEL: f64 = 160_000.0;
-
-/// Delay from SYNC0 to the start of motion with DC_Sync (SMD-R1-022).
-pub const SYNC0_START_DELAY: Duration = Duration::from_micros(520);
-
-/// Idle current reduction after this long without motion (SMD-R1-018).
-pub const IDLE_DELAY: Duration = Duration::from_millis(1500);
-/// Over-temperature fault above this (°C, SMD-R1-020).
-pub const OVER_TEMPERATURE: f64 = 95.0;
-/// The over-temperature fault clears at or below this (°C, the model's hysteresis).
-pub const OVER_TEMPERATURE_CLEAR: f64 = 90.0;
-/// Temperature_Above_90°C above this (°C, SMD-R6-074).
-pub const TEMPERATURE_WARNING: f64 = 90.0;
 
 /// The unit: configuration, command processing, inputs, motion, status.
 #[derive(Debug, Clone)]
@@ -305,140 +283,6 @@ impl Indexer {
         true
     }
 
-    /// Whether current flows into input `n` (1 or 2): the wiring, as a sensor drives it. Acted on at
-    /// the next cycle.
-    pub fn set_input(&mut self, n: usize, current_flows: bool) {
-        if let Some(c) = self.current.get_mut(n.wrapping_sub(1)) {
-            *c = current_flows;
-        }
-    }
-
-    /// Input `k` (0 or 1) active after the CFG_Word_1 level (SMD-R5-023): with its level bit 1 it is
-    /// active when current flows, with 0 when none flows.
-    fn active(&self, k: usize) -> bool {
-        let level = self.config.cfg1 & (1 << k) != 0;
-        self.current[k] == level
-    }
-
-    fn functions(&self) -> [Option<InputFunction>; 2] {
-        let c = Cfg0::from_word(self.config.cfg0);
-        [c.input1, c.input2]
-    }
-
-    /// An active input with function `f`.
-    fn input_active(&self, f: InputFunction) -> bool {
-        let fs = self.functions();
-        (0..2).any(|k| fs[k] == Some(f) && self.active(k))
-    }
-
-    /// E-Stop or an end limit is active: no Absolute, Relative or assembled move starts
-    /// (SMD-R1-029, SMD-R2-040).
-    fn start_blocked(&self) -> bool {
-        self.input_active(InputFunction::EStop)
-            || self.input_active(InputFunction::CwLimit)
-            || self.input_active(InputFunction::CcwLimit)
-    }
-
-    fn encoder_enabled(&self) -> bool {
-        self.config.cfg0 & CFG0_USE_ENCODER != 0
-    }
-
-    /// Drive_Is_Enabled: Enable_Driver with a valid configuration (SMD-R5-027, SMD-R6-030).
-    fn drive_enabled(&self) -> bool {
-        // An STO fault clears Drive_Is_Enabled; an over-temperature fault does not (SMD-R6-062).
-        self.prev.cmd1 & cmd1::ENABLE_DRIVER != 0 && !self.configuration_error() && !self.sto_fault
-    }
-
-    /// Moves may start: the driver is enabled and supplies current.
-    fn can_move(&self) -> bool {
-        self.drive_enabled() && !self.driver_fault()
-    }
-
-    /// Driver_Fault: over-temperature, or an STO fault not yet reset.
-    fn driver_fault(&self) -> bool {
-        self.over_temperature || self.sto_fault
-    }
-
-    /// The shaft is held (a hard stop) or free: while held, the encoder does not follow the motor.
-    pub fn set_shaft_blocked(&mut self, blocked: bool) {
-        self.shaft_blocked = blocked;
-    }
-
-    /// Turns the shaft from outside by `counts` encoder counts (a hand, a falling load).
-    pub fn turn_shaft(&mut self, counts: i64) {
-        self.encoder_extra += counts;
-    }
-
-    /// The driver electronics' temperature in °C (over 95 °C: fault; over 90 °C: warning).
-    pub fn set_temperature(&mut self, celsius: f64) {
-        self.temperature = celsius;
-    }
-
-    /// Whether STO input 1 and 2 are powered (24 V present).
-    pub fn set_sto(&mut self, input1: bool, input2: bool) {
-        self.sto_powered = [input1, input2];
-    }
-
-    /// An internal fault of the unit (Module_OK = 0 while present).
-    pub fn set_internal_fault(&mut self, fault: bool) {
-        self.internal_fault = fault;
-    }
-
-    /// The motor current the driver supplies now, in 0.1 A: 0 without Drive_Is_Enabled or with a
-    /// Driver_Fault; the last move's current while moving and for 1.5 s after a stop; then the idle
-    /// percentage of it (SMD-R1-018, -019, SMD-R2-101, -102, SMD-R6-061).
-    pub fn actual_current(&self) -> f64 {
-        // No current without Drive_Is_Enabled or with a Driver_Fault: what `can_move` says.
-        if !self.can_move() {
-            return 0.0;
-        }
-        let running = f64::from(self.in_current);
-        if self.segment.is_none() && self.time >= self.stopped_since + IDLE_DELAY {
-            running * f64::from(self.idle_pct) / 100.0
-        } else {
-            running
-        }
-    }
-
-    /// Takes a new reference for the stall comparison (SMD-R1-007 pick).
-    fn stall_reference(&mut self) {
-        self.stall_ref = (self.position, i64::from(self.encoder_position()));
-    }
-
-    /// Checks for a stall: with Use_Encoder and Enable_Stall_Detection, more than 45° between the
-    /// motor's and the encoder's turning since the reference (SMD-R1-007 … -011).
-    fn check_stall(&mut self) {
-        use super::config::CFG0_ENABLE_STALL_DETECTION;
-        let on = CFG0_USE_ENCODER | CFG0_ENABLE_STALL_DETECTION;
-        if self.config.cfg0 & on != on || self.stall {
-            return;
-        }
-        let motor_res = f64::from(self.config.motor_resolution.max(1));
-        let enc_res = f64::from(self.config.encoder_resolution.max(1));
-        let motor_deg = (self.position - self.stall_ref.0) as f64 * 360.0 / motor_res;
-        let enc_deg =
-            (i64::from(self.encoder_position()) - self.stall_ref.1) as f64 * 360.0 / enc_res;
-        if (motor_deg - enc_deg).abs() > 45.0 {
-            self.stall = true;
-            self.stop_now();
-        }
-    }
-
-    /// Temperature and STO, once per cycle.
-    fn check_driver(&mut self) {
-        if self.temperature > OVER_TEMPERATURE {
-            self.over_temperature = true;
-        } else if self.temperature <= OVER_TEMPERATURE_CLEAR {
-            self.over_temperature = false; // SMD-R6-071: clears itself.
-        }
-        if !(self.sto_powered[0] && self.sto_powered[1]) {
-            self.sto_fault = true; // SMD-R1-002; cleared only by Reset Errors (SMD-R1-005).
-        }
-        if self.driver_fault() && self.segment.is_some() {
-            self.stop_now();
-        }
-    }
-
     /// True while the motor turns (a move, a jog or a controlled stop).
     pub fn is_moving(&self) -> bool {
         self.segment.is_some()
@@ -515,121 +359,5 @@ impl Indexer {
             self.abs_encoder_error = peak_accel > ABS_ENCODER_MAX_ACCEL;
         }
         self.stall_reference();
-    }
-
-    /// The EtherCAT state changes (SMD-R6-056, -072, -073).
-    pub fn set_network_state(&mut self, state: NetworkState) {
-        if self.network == NetworkState::Op && state != NetworkState::Op {
-            if self.busy() {
-                self.stop_now();
-            }
-            self.position_invalid = true;
-        }
-        self.network = state;
-    }
-
-    /// The master stopped updating the outputs for longer than the SyncManager watchdog: Input_Error
-    /// and Safe-Op (SMD-R1-035, SMD-R6-054).
-    pub fn sm_watchdog_expired(&mut self) {
-        self.input_error = true;
-        self.set_network_state(NetworkState::SafeOp);
-    }
-
-    /// A SYNC0 event of the Distributed Clock at the start of the next cycle: with DC_Sync, a move
-    /// waiting for it starts 520 µs later (SMD-R1-022).
-    pub fn sync0_event(&mut self) {
-        if self.sync_wait == Some(f64::INFINITY) {
-            self.sync_wait = Some(SYNC0_START_DELAY.as_secs_f64());
-        }
-    }
-
-    /// The EtherCAT state.
-    pub fn network_state(&self) -> NetworkState {
-        self.network
-    }
-
-    /// A battery or encoder fault of an absolute-encoder unit (Abs_Enc_Err, SMD-R6-066); re-evaluated
-    /// at power-up in the real unit, set or cleared here at once.
-    pub fn set_abs_encoder_fault(&mut self, fault: bool) {
-        self.abs_encoder_error = fault && self.kind == EncoderKind::Absolute;
-    }
-
-    fn capture(&mut self) {
-        if self.encoder_enabled() {
-            self.trapped = self.encoder_position();
-        }
-    }
-
-    /// The input edges since the last cycle (Table R2.1 and R1 "Available Discrete DC Inputs").
-    fn sense_inputs(&mut self) {
-        let fs = self.functions();
-        for (k, function) in fs.into_iter().enumerate() {
-            let active = self.active(k);
-            let was = std::mem::replace(&mut self.was_active[k], active);
-            if active && !was {
-                match function {
-                    Some(InputFunction::EStop) => {
-                        // SMD-R1-027, SMD-R1-030, SMD-R2-014: always, moving or not.
-                        self.stop_now();
-                        self.input_error = true;
-                    }
-                    Some(f @ (InputFunction::CwLimit | InputFunction::CcwLimit))
-                        if self.homing.is_some() =>
-                    {
-                        self.homing_limit(f, k);
-                    }
-                    Some(InputFunction::Home) => self.home_edge(true),
-                    // SMD-R2-039, -041, -044: either limit stops any move; at rest nothing but
-                    // the input bit (SMD-R2-015).
-                    Some(InputFunction::CwLimit | InputFunction::CcwLimit) if self.busy() => {
-                        self.stop_now();
-                        self.input_error = true;
-                        self.limit_condition = Some(k);
-                    }
-                    Some(InputFunction::StartIndexed) => {
-                        self.capture(); // SMD-R1-025
-                                        // SMD-R2-090, -094, -095: a pending indexed command starts, if nothing runs.
-                        if let Some((bit, out)) = self.pending_index {
-                            if !self.busy() {
-                                let outcome = self.execute(
-                                    bit,
-                                    Outputs {
-                                        cmd1: out.cmd1 & !cmd1::INDEXED,
-                                        ..out
-                                    },
-                                );
-                                self.apply(outcome);
-                            }
-                        }
-                    }
-                    // SMD-R1-031, SMD-R1-033.
-                    Some(InputFunction::StopJog) if self.jogging() => {
-                        self.capture();
-                        if matches!(self.segment, Some(s) if matches!(s.purpose, Purpose::Jog { .. }))
-                        {
-                            self.controlled_stop(Purpose::JogStop);
-                        }
-                        // A registration move acts on the input's level (follow_jog).
-                    }
-                    _ => {}
-                }
-            }
-            if !active && was && function == Some(InputFunction::Home) {
-                self.home_edge(false);
-            }
-            if !active && was && self.limit_condition == Some(k) {
-                self.limit_condition = None; // SMD-R6-068
-            }
-        }
-    }
-
-    fn encoder_position(&self) -> i32 {
-        if self.encoder_enabled() {
-            let counts = (self.encoder_steps as i128 * i128::from(self.config.encoder_resolution))
-                .div_euclid(i128::from(self.config.motor_resolution.max(1)));
-            (i128::from(self.encoder_base) + counts + i128::from(self.encoder_extra)) as i64 as i32
-        } else {
-            0
-        }
     }
 }
