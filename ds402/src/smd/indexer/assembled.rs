@@ -21,7 +21,7 @@ pub struct AssembledSegment {
 }
 
 impl AssembledSegment {
-    pub(super) fn params(&self, cmd1: u16) -> Outputs {
+    fn params(&self, cmd1: u16) -> Outputs {
         Outputs {
             cmd0: 0,
             cmd1: cmd1 & !cmd1::MOTOR_CURRENT,
@@ -41,15 +41,15 @@ pub const MAX_SEGMENTS: usize = 16;
 /// An assembled move being run.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct AssembledRun {
-    pub(super) segments: Vec<AssembledSegment>,
+    segments: Vec<AssembledSegment>,
     /// The segment running now.
-    pub(super) idx: usize,
+    idx: usize,
     /// Dwell Move: the pause between segments; `None` for a Blend.
-    pub(super) dwell: Option<Duration>,
+    dwell: Option<Duration>,
     /// A Dwell pause that ends then.
-    pub(super) pause_until: Option<Duration>,
+    pause_until: Option<Duration>,
     /// Blend: the cumulative segment ends (steps from the start).
-    pub(super) ends: Vec<f64>,
+    ends: Vec<f64>,
 }
 
 impl Indexer {

@@ -27,10 +27,10 @@ pub(super) enum Outcome {
 }
 
 /// The mutually exclusive CMD_word0 command bits (SMD-R1-024 pick: 0–10, 13, 14).
-pub(super) const EXCLUSIVE_BITS: u16 = 0x67FF;
+const EXCLUSIVE_BITS: u16 = 0x67FF;
 
 /// The CMD_word0 commands that are moves (may be indexed, SMD-R2-090).
-pub(super) const MOVE_BITS: u16 = cmd0::ABSOLUTE_MOVE
+const MOVE_BITS: u16 = cmd0::ABSOLUTE_MOVE
     | cmd0::RELATIVE_MOVE
     | cmd0::JOG_CW
     | cmd0::JOG_CCW
@@ -192,7 +192,7 @@ impl Indexer {
         self.in_jerk = out.jerk;
     }
 
-    pub(super) fn preset_position(&mut self, out: Outputs) -> Outcome {
+    fn preset_position(&mut self, out: Outputs) -> Outcome {
         if self.busy() {
             return Outcome::CommandError; // SMD-R6-027 pick.
         }
@@ -211,7 +211,7 @@ impl Indexer {
         Outcome::Accepted
     }
 
-    pub(super) fn preset_encoder(&mut self, out: Outputs) -> Outcome {
+    fn preset_encoder(&mut self, out: Outputs) -> Outcome {
         if !self.encoder_enabled() {
             return Outcome::CommandError; // SMD-R6-011 gap pick.
         }

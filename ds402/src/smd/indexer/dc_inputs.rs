@@ -38,7 +38,7 @@ impl Indexer {
             || self.input_active(InputFunction::CcwLimit)
     }
 
-    pub(super) fn capture(&mut self) {
+    fn capture(&mut self) {
         if self.encoder_enabled() {
             self.trapped = self.encoder_position();
         }

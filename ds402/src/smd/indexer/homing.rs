@@ -7,7 +7,7 @@ use super::{limit_towards, Curve, Indexer, InputFunction, Outcome, Outputs, Purp
 
 /// The phases of a Find Home run (Reference 4, Figures R4.1–R4.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum HomePhase {
+enum HomePhase {
     /// At Velocity in the requested direction, looking for the Home input (steps 1–2).
     Search,
     /// Decelerating after the Home input became active (step 3).
@@ -36,10 +36,10 @@ pub(super) enum HomePhase {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Homing {
     /// +1 for Find Home CW, −1 for CCW.
-    pub(super) dir: i64,
-    pub(super) phase: HomePhase,
+    dir: i64,
+    phase: HomePhase,
     /// The command block's parameters.
-    pub(super) params: Outputs,
+    params: Outputs,
 }
 
 /// Length of each homing pause (R4 steps 3 and 6).
@@ -84,16 +84,16 @@ impl Indexer {
         Outcome::Accepted
     }
 
-    pub(super) fn proximity_mode(&self) -> bool {
+    fn proximity_mode(&self) -> bool {
         self.config.cfg0 & crate::smd::config::CFG0_USE_BACKPLANE_PROXIMITY != 0
     }
 
     /// Starts a homing motion in `dir` from the starting speed towards `speed`.
-    pub(super) fn home_run(&mut self, dir: i64, speed: f64, params: Outputs) {
+    fn home_run(&mut self, dir: i64, speed: f64, params: Outputs) {
         self.start_jog_curve(dir, speed, params, Purpose::Home);
     }
 
-    pub(super) fn set_home_phase(&mut self, phase: HomePhase) {
+    fn set_home_phase(&mut self, phase: HomePhase) {
         if let Some(h) = self.homing.as_mut() {
             h.phase = phase;
         }
@@ -196,7 +196,7 @@ impl Indexer {
 
     /// Home found: the motion stops here, Motor_Position (and an enabled encoder) read 0, the
     /// position is valid, At_Home is set, Move_Complete is not (SMD-R4-001 … -003).
-    pub(super) fn home_done(&mut self) {
+    fn home_done(&mut self) {
         self.segment = None;
         self.homing = None;
         self.position = 0;

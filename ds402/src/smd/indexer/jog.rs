@@ -19,7 +19,7 @@ pub(super) struct Jog {
 impl Jog {
     /// A jog from the starting speed `vs` ramping to `to` with the Acceleration, Deceleration and
     /// Jerk words of `p`.
-    pub(super) fn starting(vs: f64, to: f64, p: &Outputs) -> Jog {
+    fn starting(vs: f64, to: f64, p: &Outputs) -> Jog {
         let mut jog = Jog {
             speed: vs,
             ramp: None,

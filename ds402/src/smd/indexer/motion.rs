@@ -83,7 +83,7 @@ pub(super) struct Segment {
 }
 
 impl Segment {
-    pub(super) fn duration(&self) -> f64 {
+    fn duration(&self) -> f64 {
         match &self.curve {
             Curve::Profile(p) => p.total_time(),
             Curve::Ramp(r) => r.time,
@@ -92,11 +92,11 @@ impl Segment {
         }
     }
 
-    pub(super) fn finished(&self) -> bool {
+    fn finished(&self) -> bool {
         self.t >= self.duration()
     }
 
-    pub(super) fn advance(&mut self, dt: f64) {
+    fn advance(&mut self, dt: f64) {
         self.t += dt;
         if let Curve::Jog(j) = &mut self.curve {
             j.advance(dt);
