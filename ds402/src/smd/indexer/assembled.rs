@@ -35,7 +35,7 @@ impl AssembledSegment {
     }
 }
 
-/// Most segments of an assembled move (SMD-R2-069, -087).
+/// Most segments of an assembled move (SMD-R2-069, SMD-R2-087).
 pub const MAX_SEGMENTS: usize = 16;
 
 /// An assembled move being run.
@@ -59,10 +59,12 @@ impl Indexer {
     }
 
     /// The assembled-move programming handshake: Program_Assembled (bit 11) and Read_Assembled_Data
-    /// (bit 12), SMD-R2-083 … -089, SMD-R6-016 pick.
+    /// (bit 12), SMD-R2-083, SMD-R2-084, SMD-R2-085, SMD-R2-086, SMD-R2-087, SMD-R2-088,
+    /// SMD-R2-089, SMD-R6-016 pick.
     pub(super) fn program_handshake(&mut self, prev: Outputs, out: Outputs) {
         let rose = |bit: u16| out.cmd0 & bit != 0 && prev.cmd0 & bit == 0;
         let fell = |bit: u16| out.cmd0 & bit == 0 && prev.cmd0 & bit != 0;
+        // First Block: In_Assembled_Mode and Waiting_For_Assembled_Segment (SMD-R2-083).
         if rose(cmd0::PROGRAM_ASSEMBLED) {
             if self.busy() {
                 self.command_error = true;
@@ -79,6 +81,7 @@ impl Indexer {
         let Some(buf) = self.programming.as_mut() else {
             return;
         };
+        // Segment Block: checked and stored (SMD-R2-084).
         if rose(cmd0::READ_ASSEMBLED_DATA) && self.waiting_for_segment {
             let seg = AssembledSegment {
                 position: out.position,
@@ -90,7 +93,7 @@ impl Indexer {
             if valid && buf.len() < MAX_SEGMENTS {
                 buf.push(seg);
             } else {
-                self.command_error = true; // SMD-R2-072, -085, -087, SMD-R6-045
+                self.command_error = true; // SMD-R2-072, SMD-R2-085, SMD-R2-087, SMD-R6-045
             }
             self.waiting_for_segment = false;
         } else if fell(cmd0::READ_ASSEMBLED_DATA) && !self.waiting_for_segment {
@@ -99,6 +102,7 @@ impl Indexer {
         if fell(cmd0::PROGRAM_ASSEMBLED) {
             let program = self.programming.take();
             self.waiting_for_segment = false;
+            // SMD-R2-088; with CMD_word1 bit 5, Save_to_Flash, also to flash (SMD-R2-089).
             if out.cmd1 & cmd1::SAVE_TO_FLASH != 0 {
                 self.flash_program = program.clone();
                 self.flash_lockout = true;
@@ -108,11 +112,13 @@ impl Indexer {
     }
 
     /// Run Assembled Move (CMD_word0 bit 13): a Blend (CMD_word1 bit 9 = 0, direction bit 4) or a
-    /// Dwell Move (bit 9 = 1, the Jerk word is the dwell in ms), SMD-R2-068 … -080, SMD-R6-014.
+    /// Dwell Move (bit 9 = 1, the Jerk word is the dwell in ms), SMD-R2-068 … SMD-R2-080,
+    /// SMD-R6-014.
     pub(super) fn run_assembled(&mut self, out: Outputs) -> Outcome {
         let Some(segments) = self.program.clone() else {
             return Outcome::CommandError; // SMD-R2-069 gap
         };
+        // 2 to 16 segments (SMD-R2-069); not while a move runs (SMD-R2-034).
         if !(2..=MAX_SEGMENTS).contains(&segments.len()) || self.busy() || !self.can_move() {
             return Outcome::CommandError;
         }
@@ -123,6 +129,8 @@ impl Indexer {
         self.move_complete = false;
         self.in_current = self.config.motor_current;
         self.in_jerk = segments[0].jerk;
+        // CMD_word1 bit 9: a Dwell Move, the Jerk word the Dwell Time (SMD-R2-077, SMD-R6-003,
+        // SMD-R6-015); each segment's sign its direction (SMD-R2-078, SMD-R2-080).
         if out.cmd1 & cmd1::DWELL != 0 {
             let first = segments[0];
             self.assembled = Some(AssembledRun {
@@ -139,6 +147,8 @@ impl Indexer {
             }
             return Outcome::Accepted;
         }
+        // A Blend: every segment in the direction of CMD_word1 bit 4 (SMD-R2-070), one after
+        // another without stopping (SMD-R2-071).
         let dir = if out.cmd1 & cmd1::REVERSE_BLEND != 0 {
             -1
         } else {
@@ -211,7 +221,7 @@ impl Indexer {
         }
     }
 
-    /// A Dwell segment ended: pause before the next, or complete (SMD-R2-077, -079).
+    /// A Dwell segment ended: pause before the next, or complete (SMD-R2-077, SMD-R2-079).
     pub(super) fn dwell_segment_done(&mut self) {
         let Some(run) = self.assembled.as_mut() else {
             return;

@@ -12,8 +12,8 @@ impl Indexer {
         }
     }
 
-    /// Input `k` (0 or 1) active after the CFG_Word_1 level (SMD-R5-023): with its level bit 1 it is
-    /// active when current flows, with 0 when none flows.
+    /// Input `k` (0 or 1) active after the CFG_Word_1 level (SMD-R5-023): with its level bit 1 it
+    /// is active when current flows, with 0 when none flows.
     pub(super) fn active(&self, k: usize) -> bool {
         let level = self.config.cfg1 & (1 << k) != 0;
         self.current[k] == level
@@ -62,17 +62,19 @@ impl Indexer {
                     {
                         self.homing_limit(f, k);
                     }
+                    // Only a homing run acts on the Home input (SMD-R2-047).
                     Some(InputFunction::Home) => self.home_edge(true),
-                    // SMD-R2-039, -041, -044: either limit stops any move; at rest nothing but
-                    // the input bit (SMD-R2-015).
+                    // SMD-R2-039, SMD-R2-041, SMD-R2-044, SMD-R6-053, SMD-R6-068: either limit
+                    // stops any move; at rest nothing but the input bit (SMD-R2-015).
                     Some(InputFunction::CwLimit | InputFunction::CcwLimit) if self.busy() => {
                         self.stop_now();
                         self.input_error = true;
                         self.limit_condition = Some(k);
                     }
                     Some(InputFunction::StartIndexed) => {
-                        self.capture(); // SMD-R1-025
-                                        // SMD-R2-090, -094, -095: a pending indexed command starts, if nothing runs.
+                        // The capture (SMD-R1-025, SMD-R1-026, SMD-R5-019), then a pending indexed
+                        // command starts, if nothing runs (SMD-R2-090, SMD-R2-094, SMD-R2-095).
+                        self.capture();
                         if let Some((bit, out)) = self.pending_index {
                             if !self.busy() {
                                 let outcome = self.execute(
@@ -86,7 +88,7 @@ impl Indexer {
                             }
                         }
                     }
-                    // SMD-R1-031, SMD-R1-033.
+                    // SMD-R1-031, SMD-R1-033; other moves ignore the input (SMD-R1-032).
                     Some(InputFunction::StopJog) if self.jogging() => {
                         self.capture();
                         if matches!(self.segment, Some(s) if matches!(s.purpose, Purpose::Jog { .. }))

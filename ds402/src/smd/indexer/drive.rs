@@ -51,7 +51,7 @@ impl Indexer {
 
     /// The motor current the driver supplies now, in 0.1 A: 0 without Drive_Is_Enabled or with a
     /// Driver_Fault; the last move's current while moving and for 1.5 s after a stop; then the idle
-    /// percentage of it (SMD-R1-018, -019, SMD-R2-101, -102, SMD-R6-061).
+    /// percentage of it (SMD-R1-018, SMD-R1-019, SMD-R2-101, SMD-R2-102, SMD-R6-061).
     pub fn actual_current(&self) -> f64 {
         // No current without Drive_Is_Enabled or with a Driver_Fault: what `can_move` says.
         if !self.can_move() {
@@ -67,6 +67,7 @@ impl Indexer {
 
     /// Temperature and STO, once per cycle.
     pub(super) fn check_driver(&mut self) {
+        // SMD-R1-020: the over-temperature fault.
         if self.temperature > OVER_TEMPERATURE {
             self.over_temperature = true;
         } else if self.temperature <= OVER_TEMPERATURE_CLEAR {
@@ -75,6 +76,7 @@ impl Indexer {
         if !(self.sto_powered[0] && self.sto_powered[1]) {
             self.sto_fault = true; // SMD-R1-002; cleared only by Reset Errors (SMD-R1-005).
         }
+        // A driver fault ends a move like an Immediate Stop (SMD-R1-004 gap).
         if self.driver_fault() && self.segment.is_some() {
             self.stop_now();
         }

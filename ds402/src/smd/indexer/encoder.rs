@@ -3,7 +3,8 @@
 
 use super::{EncoderKind, Indexer, CFG0_USE_ENCODER};
 
-/// Shaft acceleration while unpowered above which the absolute encoder loses count (°/s², SMD-R1-017).
+/// Shaft acceleration while unpowered above which the absolute encoder loses count (°/s²,
+/// SMD-R1-017).
 pub const ABS_ENCODER_MAX_ACCEL: f64 = 160_000.0;
 
 impl Indexer {
@@ -27,7 +28,8 @@ impl Indexer {
     }
 
     /// Checks for a stall: with Use_Encoder and Enable_Stall_Detection, more than 45° between the
-    /// motor's and the encoder's turning since the reference (SMD-R1-007 … -011).
+    /// motor's and the encoder's turning since the reference (SMD-R1-007, SMD-R1-008, SMD-R1-009,
+    /// SMD-R1-010, SMD-R1-011).
     pub(super) fn check_stall(&mut self) {
         use crate::smd::config::CFG0_ENABLE_STALL_DETECTION;
         let on = CFG0_USE_ENCODER | CFG0_ENABLE_STALL_DETECTION;
@@ -55,8 +57,8 @@ impl Indexer {
         }
     }
 
-    /// A battery or encoder fault of an absolute-encoder unit (Abs_Enc_Err, SMD-R6-066); re-evaluated
-    /// at power-up in the real unit, set or cleared here at once.
+    /// A battery or encoder fault of an absolute-encoder unit (Abs_Enc_Err, SMD-R6-066);
+    /// re-evaluated at power-up in the real unit, set or cleared here at once.
     pub fn set_abs_encoder_fault(&mut self, fault: bool) {
         self.abs_encoder_error = fault && self.kind == EncoderKind::Absolute;
     }

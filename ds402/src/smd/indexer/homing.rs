@@ -46,7 +46,9 @@ pub(super) struct Homing {
 pub const HOMING_PAUSE: Duration = Duration::from_secs(2);
 
 impl Indexer {
-    /// Find Home CW (`dir` +1) or CCW (−1), Reference 4.
+    /// Find Home CW (`dir` +1) or CCW (−1), Reference 4: the search at Velocity in the requested
+    /// direction (SMD-R4-009, SMD-R4-011) with the block's parameters (SMD-R4-010); it may start
+    /// with an end limit active (SMD-R2-040), not with E-Stop (SMD-R1-029).
     pub(super) fn find_home(&mut self, out: Outputs, dir: i64) -> Outcome {
         if !self.functions().contains(&Some(InputFunction::Home)) {
             return Outcome::CommandError; // SMD-R4-004 gap.
@@ -119,7 +121,8 @@ impl Indexer {
         }
     }
 
-    /// CMD_word1 bit 11 rose (SMD-R4-017 … -022).
+    /// CMD_word1 bit 11 rose (SMD-R4-017, SMD-R4-018, SMD-R4-019, SMD-R4-020, SMD-R4-021,
+    /// SMD-R4-022).
     pub(super) fn proximity_edge(&mut self) {
         let Some(h) = self.homing else { return };
         if h.phase != HomePhase::Search || !self.proximity_mode() {
@@ -141,7 +144,8 @@ impl Indexer {
         }
     }
 
-    /// An end limit became active during a homing run (SMD-R4-023 … -027).
+    /// An end limit became active during a homing run (SMD-R4-023, SMD-R4-024, SMD-R4-025,
+    /// SMD-R4-026, SMD-R4-027).
     pub(super) fn homing_limit(&mut self, f: InputFunction, k: usize) {
         let Some(h) = self.homing else { return };
         let travel = limit_towards(h.dir);
@@ -165,7 +169,7 @@ impl Indexer {
         }
     }
 
-    /// A homing stop reached the starting speed: the pause begins.
+    /// A homing stop reached the starting speed: the 2 s pause begins (SMD-R4-012, SMD-R4-014).
     pub(super) fn homing_stopped(&mut self) {
         let Some(h) = self.homing else { return };
         let until = self.time + HOMING_PAUSE;
@@ -180,6 +184,7 @@ impl Indexer {
     pub(super) fn homing_pause_over(&mut self) {
         let Some(h) = self.homing else { return };
         match h.phase {
+            // SMD-R4-013, SMD-R4-024: at Velocity opposite to the requested direction.
             HomePhase::Pause1 { until } if self.time >= until => {
                 self.set_home_phase(HomePhase::Reverse);
                 self.home_run(-h.dir, f64::from(h.params.velocity), h.params);
@@ -194,8 +199,9 @@ impl Indexer {
         }
     }
 
-    /// Home found: the motion stops here, Motor_Position (and an enabled encoder) read 0, the
-    /// position is valid, At_Home is set, Move_Complete is not (SMD-R4-001 … -003).
+    /// Home found (SMD-R6-058): the motion stops here, Motor_Position (and an enabled encoder) read
+    /// 0, the position is valid, At_Home is set, Move_Complete is not (SMD-R4-001, SMD-R4-002,
+    /// SMD-R4-003).
     fn home_done(&mut self) {
         self.segment = None;
         self.homing = None;

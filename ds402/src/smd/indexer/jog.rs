@@ -81,12 +81,14 @@ impl Indexer {
         )
     }
 
-    /// Jog_CW (`dir` +1) or Jog_CCW (−1), or a held jog resumed under `bit`.
+    /// Jog_CW (`dir` +1) or Jog_CCW (−1), CMD_word0 bits 7 and 8 (SMD-R2-055, SMD-R2-056).
     pub(super) fn start_jog(&mut self, out: Outputs, dir: i64) -> Outcome {
         let bit = if dir > 0 { cmd0::JOG_CW } else { cmd0::JOG_CCW };
         self.jog(out, dir, bit, true)
     }
 
+    /// A jog in `dir` that runs while CMD_word0 `bit` stays 1 (a new one, or a held jog resumed
+    /// under Resume_Move, SMD-R2-038): it starts at V_S and accelerates to Velocity (SMD-R2-056).
     pub(super) fn jog(&mut self, out: Outputs, dir: i64, bit: u16, fresh: bool) -> Outcome {
         if !self.params_ok(&out) {
             // SMD-R6-040: a Jog with bad parameters also sets Move_Complete.
@@ -95,8 +97,8 @@ impl Indexer {
         if self.busy() || !self.can_move() {
             return Outcome::CommandError;
         }
-        // SMD-R1-029; SMD-R2-042/-045: not into an active limit (away from one is allowed,
-        // SMD-R2-043/-046).
+        // SMD-R1-029; SMD-R2-042/SMD-R2-045: not into an active limit (away from one is allowed,
+        // SMD-R2-043/SMD-R2-046).
         let into = limit_towards(dir);
         if self.input_active(InputFunction::EStop) || self.input_active(into) {
             return Outcome::InputError;
@@ -129,7 +131,7 @@ impl Indexer {
 
     /// While a jog runs: its bit falling ends it with a controlled stop (SMD-R2-057); new Velocity,
     /// Acceleration and Deceleration values take effect, invalid ones set Invalid_Jog_Change and are
-    /// ignored (SMD-R2-058 … -060, SMD-R6-069).
+    /// ignored (SMD-R2-058, SMD-R2-059, SMD-R2-060, SMD-R6-069).
     pub(super) fn follow_jog(&mut self, out: Outputs) {
         let Some(seg) = self.segment else { return };
         // A registration move has no Jerk word (it holds the MRMD's high word).
@@ -146,7 +148,8 @@ impl Indexer {
                 stopping,
                 mrmd,
             } => {
-                // SMD-R2-063, -066, -067: level-triggered stop conditions, from the MRMD on.
+                // SMD-R2-063, SMD-R2-066, SMD-R2-067: level-triggered stop conditions, from the
+                // MRMD on.
                 let stop_input = self.input_active(InputFunction::StopJog);
                 if (out.cmd0 & bit == 0 || stop_input) && seg.covered() >= mrmd {
                     self.run_out(stopping);

@@ -342,9 +342,9 @@ impl Indexer {
 
     /// A power cycle during which the unpowered shaft was turned by `counts` encoder counts with a
     /// peak acceleration of `peak_accel` °/s². An absolute encoder keeps its count, the turning
-    /// included, unless the acceleration exceeded 160,000 °/s² (Abs_Enc_Err, SMD-R1-016, -017); its
-    /// offset is the one saved to flash (SMD-R6-012, -013). An incremental encoder starts at 0
-    /// (SMD-R1-014).
+    /// included, unless the acceleration exceeded 160,000 °/s² (Abs_Enc_Err, SMD-R1-016,
+    /// SMD-R1-017); its offset is the one saved to flash (SMD-R6-012, SMD-R6-013). An incremental
+    /// encoder starts at 0 (SMD-R1-014).
     pub fn power_cycle_turned(&mut self, counts: i64, peak_accel: f64) {
         let old = std::mem::replace(self, Indexer::new(self.kind, self.power_up_config));
         // The host's clock goes on.

@@ -192,7 +192,7 @@ pub(super) fn limit_towards(dir: i64) -> InputFunction {
 
 impl Indexer {
     /// Stops all motion at once (Immediate Stop, E-Stop, end limit): no deceleration, the position
-    /// becomes invalid, a held move is cancelled.
+    /// becomes invalid, a held move is cancelled (SMD-R2-030, SMD-R6-028, SMD-R6-059).
     pub(super) fn stop_now(&mut self) {
         self.segment = None;
         self.sync_wait = None;
@@ -202,11 +202,15 @@ impl Indexer {
         self.position_invalid = true;
     }
 
-    /// A move, jog or homing run is in progress (a homing pause included).
+    /// A move, jog or homing run is in progress (a homing pause included): no other move starts
+    /// (SMD-R2-034).
     pub(super) fn busy(&self) -> bool {
         self.segment.is_some() || self.homing.is_some() || self.assembled.is_some()
     }
 
+    /// An Absolute (SMD-R2-052, SMD-R2-008) or Relative (SMD-R2-053) move: the Position in range
+    /// (SMD-R6-034), Absolute refused while Position_Invalid (SMD-R2-010), none while another move
+    /// runs (SMD-R2-034) or with the driver disabled (SMD-R6-031).
     pub(super) fn start_move(&mut self, out: Outputs, absolute: bool) -> Outcome {
         if !POSITION_RANGE.contains(&out.position)
             || !self.params_ok(&out)
@@ -227,12 +231,13 @@ impl Indexer {
         };
         // A new move cancels a held one (SMD-R2-033).
         self.held = None;
-        self.move_complete = false;
+        self.move_complete = false; // SMD-R6-057 (an accepted move)
         self.take_current_and_jerk(&out);
         self.run_to(target, out)
     }
 
-    /// Starts the motion to `target` with the parameters of `out`.
+    /// Starts the motion to `target` with the parameters of `out`: the whole profile is planned
+    /// before any motion (SMD-R2-051; Reference 3, SMD-R2-048, SMD-R2-050).
     pub(super) fn run_to(&mut self, target: i64, out: Outputs) -> Outcome {
         let distance = target - self.position;
         if distance == 0 {
@@ -289,6 +294,8 @@ impl Indexer {
         });
     }
 
+    /// Hold Move (CMD_word0 bit 2): a controlled stop into the hold state (SMD-R2-031, SMD-R2-021),
+    /// or a stop without a hold (SMD-R2-036).
     pub(super) fn hold(&mut self) {
         let Some(seg) = self.segment else {
             // A homing run or a Dwell move in a pause is abandoned; otherwise nothing to hold
@@ -333,6 +340,8 @@ impl Indexer {
         }
     }
 
+    /// Resume Move (CMD_word0 bit 3): the held move on to its target (SMD-R2-032, SMD-R6-044), or
+    /// the held jog (SMD-R2-038).
     pub(super) fn resume(&mut self, out: Outputs) -> Outcome {
         let Some(held) = self.held else {
             return Outcome::CommandError; // SMD-R2-035.
@@ -374,6 +383,7 @@ impl Indexer {
             return;
         };
         let mut dt = dt.as_secs_f64();
+        // DC_Sync: the motion starts 520 µs after SYNC0 (SMD-R1-022).
         if let Some(wait) = self.sync_wait {
             if dt <= wait {
                 self.sync_wait = Some(wait - dt);
@@ -385,6 +395,7 @@ impl Indexer {
         seg.advance(dt);
         let before = self.position;
         let end = seg.finished();
+        // A move ends exactly on its target (SMD-R2-052, SMD-R2-053).
         self.position = match seg.purpose {
             Purpose::Move if end => seg.target,
             Purpose::Move => {
@@ -393,6 +404,7 @@ impl Indexer {
             }
             _ => seg.origin + seg.dir * (seg.covered().round() as i64),
         };
+        // The encoder follows the shaft, not the command (SMD-R1-012, SMD-R6-046).
         if !self.shaft_blocked {
             self.encoder_steps += self.position - before;
         }
@@ -400,7 +412,9 @@ impl Indexer {
             self.segment = None;
             match seg.purpose {
                 Purpose::Move if self.assembled.is_some() => self.dwell_segment_done(),
+                // SMD-R2-020: Move_Complete at the end of a move without error.
                 Purpose::Move | Purpose::JogStop => self.move_complete = true,
+                // In_Hold_State once the hold's deceleration has stopped (SMD-R2-021).
                 Purpose::HoldStop(h) => self.held = Some(h),
                 Purpose::Home => self.homing_stopped(),
                 Purpose::Jog { .. }

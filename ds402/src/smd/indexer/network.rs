@@ -23,7 +23,7 @@ pub enum NetworkState {
 pub const SYNC0_START_DELAY: Duration = Duration::from_micros(520);
 
 impl Indexer {
-    /// The EtherCAT state changes (SMD-R6-056, -072, -073).
+    /// The EtherCAT state changes (SMD-R6-056, SMD-R6-072, SMD-R6-073).
     pub fn set_network_state(&mut self, state: NetworkState) {
         if self.network == NetworkState::Op && state != NetworkState::Op {
             if self.busy() {

@@ -5,8 +5,10 @@
 use super::{cmd0, cmd1, Curve, Indexer, Outcome, Outputs, Purpose, Segment};
 
 impl Indexer {
-    /// A Registration move (Jog bit with CMD_word1 bit 7): Position is the Stopping Distance, the
-    /// Minimum Registration Move Distance is (Jerk << 16) | Motor_Current (SMD-R6-041 … -043).
+    /// A Registration move (Jog bit with CMD_word1 bit 7, SMD-R6-029, SMD-R2-061): it runs like a
+    /// jog (SMD-R2-023: linear, no Jerk); Position is the Stopping Distance, the Minimum
+    /// Registration Move Distance is (Jerk << 16) | Motor_Current (SMD-R6-041, SMD-R6-042,
+    /// SMD-R6-043).
     pub(super) fn start_registration(&mut self, out: Outputs, dir: i64) -> Outcome {
         let mrmd = (u32::from(out.jerk) << 16) | u32::from(out.motor_current);
         if !(0..=8_388_607).contains(&out.position) || mrmd > 8_388_607 {
@@ -32,7 +34,8 @@ impl Indexer {
         outcome
     }
 
-    /// The registration run-out: exactly `stopping` more steps from here (SMD-R2-062, -064, -065).
+    /// The registration run-out: exactly `stopping` more steps from here (SMD-R2-062, SMD-R2-064,
+    /// SMD-R2-065).
     pub(super) fn run_out(&mut self, stopping: i64) {
         let Some(seg) = self.segment else { return };
         // The run-out brakes linearly.

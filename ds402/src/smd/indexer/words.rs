@@ -130,7 +130,7 @@ pub mod cmd1 {
 /// The Heartbeat_Bit's half period (SMD-R6-067).
 pub const HEARTBEAT_HALF_PERIOD: Duration = Duration::from_millis(500);
 
-/// The 20 output bytes (`0x7000:01–08`).
+/// The 20 output bytes (`0x7000:01–08`, SMD-R6-001).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Outputs {
     /// CMD_word0.
@@ -151,7 +151,7 @@ pub struct Outputs {
     pub jerk: u16,
 }
 
-/// The 20 input bytes (`0x6000:01–07`).
+/// The 20 input bytes (`0x6000:01–07`, SMD-R6-002).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Inputs {
     /// STATUS_word0.
@@ -171,8 +171,10 @@ pub struct Inputs {
 }
 
 impl Indexer {
-    /// STATUS_word0 as the unit reports it now.
+    /// STATUS_word0 as the unit reports it now (Reference 6, Figure R6.4; 0x4408 at power-up,
+    /// SMD-T2-002).
     pub fn status0(&self) -> u16 {
+        // Module_OK: 0 only for an internal fault (SMD-R6-051).
         let mut s = if self.internal_fault {
             0
         } else {
@@ -183,71 +185,74 @@ impl Indexer {
                 s |= bit;
             }
         };
+        // A move waiting for SYNC0 has not started yet (SMD-R1-022).
         match self.segment.filter(|_| self.sync_wait.is_none()) {
             Some(seg) => {
-                flag(seg.dir > 0, stat0::MOVING_CW);
-                flag(seg.dir < 0, stat0::MOVING_CCW);
+                flag(seg.dir > 0, stat0::MOVING_CW); // SMD-R2-016, SMD-R2-005
+                flag(seg.dir < 0, stat0::MOVING_CCW); // SMD-R2-016, SMD-R2-005
                 let (acc, dec) = seg.phase();
-                flag(acc, stat0::ACCELERATING);
-                flag(dec, stat0::DECELERATING);
+                flag(acc, stat0::ACCELERATING); // SMD-R2-017
+                flag(dec, stat0::DECELERATING); // SMD-R2-018
             }
-            None => flag(true, stat0::STOPPED),
+            None => flag(true, stat0::STOPPED), // SMD-R2-019
         }
-        flag(self.held.is_some(), stat0::IN_HOLD_STATE);
-        flag(self.programming.is_some(), stat0::IN_ASSEMBLED_MODE);
+        flag(self.held.is_some(), stat0::IN_HOLD_STATE); // SMD-R2-021
+        flag(self.programming.is_some(), stat0::IN_ASSEMBLED_MODE); // SMD-R6-060, SMD-R2-083
         flag(
             self.programming.is_some() && self.waiting_for_segment,
-            stat0::WAITING_FOR_SEGMENT,
+            stat0::WAITING_FOR_SEGMENT, // SMD-R6-060, SMD-R2-083, SMD-R2-084, SMD-R2-086
         );
-        flag(self.at_home, stat0::AT_HOME);
-        flag(self.move_complete, stat0::MOVE_COMPLETE);
-        flag(self.position_invalid, stat0::POSITION_INVALID);
-        flag(self.input_error, stat0::INPUT_ERROR);
-        flag(self.command_error, stat0::COMMAND_ERROR);
-        flag(self.configuration_error(), stat0::CONFIGURATION_ERROR);
-        flag(self.mode_flag, stat0::MODE_FLAG);
+        flag(self.at_home, stat0::AT_HOME); // SMD-R2-022, SMD-R4-003
+        flag(self.move_complete, stat0::MOVE_COMPLETE); // SMD-R2-020, SMD-R6-057
+        flag(self.position_invalid, stat0::POSITION_INVALID); // SMD-R2-009, SMD-R2-012
+        flag(self.input_error, stat0::INPUT_ERROR); // SMD-R1-030, SMD-R6-053, SMD-R6-054
+        flag(self.command_error, stat0::COMMAND_ERROR); // SMD-R6-052
+        flag(self.configuration_error(), stat0::CONFIGURATION_ERROR); // SMD-R5-026, SMD-T2-003
+        flag(self.mode_flag, stat0::MODE_FLAG); // SMD-R6-010
         s
     }
 
-    /// STATUS_word1 as the unit reports it now.
+    /// STATUS_word1 as the unit reports it now (Reference 6, Figure R6.5).
     pub fn status1(&self) -> u16 {
+        // The reserved bits 2, 3, 6 and 8 read 0 (SMD-R6-070).
         let mut s = 0;
         let mut flag = |on: bool, bit: u16| {
             if on {
                 s |= bit;
             }
         };
-        flag(self.active(0), stat1::IN1_ACTIVE);
-        flag(self.active(1), stat1::IN2_ACTIVE);
+        flag(self.active(0), stat1::IN1_ACTIVE); // SMD-R6-075, SMD-R5-023
+        flag(self.active(1), stat1::IN2_ACTIVE); // SMD-R6-075, SMD-R5-023
         flag(
             self.temperature > TEMPERATURE_WARNING,
-            stat1::TEMPERATURE_ABOVE_90,
+            stat1::TEMPERATURE_ABOVE_90, // SMD-R6-074
         );
-        flag(self.driver_fault(), stat1::DRIVER_FAULT);
-        flag(self.invalid_jog_change, stat1::INVALID_JOG_CHANGE);
-        flag(self.stall, stat1::STALL_DETECTED);
-        flag(self.network != NetworkState::Op, stat1::PREOP_SAFEOP);
-        flag(self.abs_encoder_error, stat1::ABS_ENC_ERR);
-        flag(self.limit_condition.is_some(), stat1::LIMIT_CONDITION);
+        flag(self.driver_fault(), stat1::DRIVER_FAULT); // SMD-R1-002, SMD-R1-020, SMD-R6-071
+        flag(self.invalid_jog_change, stat1::INVALID_JOG_CHANGE); // SMD-R6-069
+        flag(self.stall, stat1::STALL_DETECTED); // SMD-R1-007, SMD-R6-063
+        flag(self.network != NetworkState::Op, stat1::PREOP_SAFEOP); // SMD-R6-072
+        flag(self.abs_encoder_error, stat1::ABS_ENC_ERR); // SMD-R1-017, SMD-R6-066
+        flag(self.limit_condition.is_some(), stat1::LIMIT_CONDITION); // SMD-R6-068
         flag(
             (self.heartbeat_time.as_millis() / HEARTBEAT_HALF_PERIOD.as_millis()) % 2 == 1,
-            stat1::HEARTBEAT,
+            stat1::HEARTBEAT, // SMD-R6-067: every 500 ms in Command Mode
         );
-        flag(self.acknowledged.is_some(), stat1::COMMAND_ACKNOWLEDGE);
-        flag(self.drive_enabled(), stat1::DRIVE_IS_ENABLED);
+        flag(self.acknowledged.is_some(), stat1::COMMAND_ACKNOWLEDGE); // SMD-R6-064, SMD-R6-065
+        flag(self.drive_enabled(), stat1::DRIVE_IS_ENABLED); // SMD-R6-030, SMD-R5-027
         s
     }
 
-    /// The 20 input bytes as the unit reports them now.
+    /// The 20 input bytes as the unit reports them now (Table R6.18, SMD-R6-002).
     pub fn inputs(&self) -> Inputs {
         Inputs {
             status0: self.status0(),
             status1: self.status1(),
+            // The commanded position, wrapping at 32 bits (SMD-R6-046, SMD-R2-004).
             motor_position: self.position as i32,
-            encoder_position: self.encoder_position(),
-            trapped_encoder_position: self.trapped,
-            motor_current: self.in_current,
-            jerk: self.in_jerk,
+            encoder_position: self.encoder_position(), // SMD-R6-047, SMD-R1-015
+            trapped_encoder_position: self.trapped,    // SMD-R6-048
+            motor_current: self.in_current,            // SMD-R6-049
+            jerk: self.in_jerk,                        // SMD-R6-050
         }
     }
 }
