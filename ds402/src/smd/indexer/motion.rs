@@ -21,7 +21,7 @@ pub(super) enum Purpose {
     },
     /// The controlled stop that ends a jog (Move_Complete at its end).
     JogStop,
-    /// A phase of a Find Home run (what follows is in [`Homing`]).
+    /// A phase of a Find Home run (what follows is in [`Homing`](super::homing::Homing)).
     Home,
     /// A Registration move that runs like a jog while CMD_word0 `bit` stays 1; a stop condition after
     /// `mrmd` steps starts the run-out of `stopping` steps.
@@ -35,7 +35,7 @@ pub(super) enum Purpose {
     },
     /// A controlled stop that ends a move without Move_Complete (Hold during homing).
     Abort,
-    /// A Blend run (what follows is in [`AssembledRun`]).
+    /// A Blend run (what follows is in [`AssembledRun`](super::assembled::AssembledRun)).
     Blend,
 }
 
