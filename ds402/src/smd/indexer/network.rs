@@ -1,0 +1,56 @@
+//! The EtherCAT state as the unit sees it (Op or not, the SyncManager watchdog) and DC_Sync's
+//! SYNC0 events.
+
+use std::time::Duration;
+
+use super::Indexer;
+
+/// The EtherCAT state machine's state, as far as the unit's behaviour depends on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum NetworkState {
+    /// Init: no process data.
+    Init,
+    /// Pre-Operational: mailbox (CoE) only.
+    PreOp,
+    /// Safe-Operational: inputs are sent, outputs not acted on.
+    SafeOp,
+    /// Operational: commands are processed.
+    #[default]
+    Op,
+}
+
+/// Delay from SYNC0 to the start of motion with DC_Sync (SMD-R1-022).
+pub const SYNC0_START_DELAY: Duration = Duration::from_micros(520);
+
+impl Indexer {
+    /// The EtherCAT state changes (SMD-R6-056, SMD-R6-072, SMD-R6-073).
+    pub fn set_network_state(&mut self, state: NetworkState) {
+        if self.network == NetworkState::Op && state != NetworkState::Op {
+            if self.busy() {
+                self.stop_now();
+            }
+            self.position_invalid = true;
+        }
+        self.network = state;
+    }
+
+    /// The master stopped updating the outputs for longer than the SyncManager watchdog: Input_Error
+    /// and Safe-Op (SMD-R1-035, SMD-R6-054).
+    pub fn sm_watchdog_expired(&mut self) {
+        self.input_error = true;
+        self.set_network_state(NetworkState::SafeOp);
+    }
+
+    /// A SYNC0 event of the Distributed Clock at the start of the next cycle: with DC_Sync, a move
+    /// waiting for it starts 520 µs later (SMD-R1-022).
+    pub fn sync0_event(&mut self) {
+        if self.sync_wait == Some(f64::INFINITY) {
+            self.sync_wait = Some(SYNC0_START_DELAY.as_secs_f64());
+        }
+    }
+
+    /// The EtherCAT state.
+    pub fn network_state(&self) -> NetworkState {
+        self.network
+    }
+}
