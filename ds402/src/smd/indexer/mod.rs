@@ -33,9 +33,6 @@
 //! the absolute encoder (its count kept through a power cycle, the offset of Preset Encoder kept only
 //! when saved to flash, Abs_Enc_Err) against the incremental one (zero at every power-up).
 //! DC_Sync (CFG_Word_1 bit 6): a move waits for the next SYNC0 event and starts 520 µs after it.
-//! Not in it yet: assembled and indexed moves, stall detection, idle
-//! current reduction, STO and temperature, EtherCAT states — their command bits are refused with
-//! Command_Error.
 //!
 //! Choices where the manual is silent (catalogue picks unless said otherwise):
 //! - Hold during the final deceleration of a move whose controlled stop would pass the target: the move
