@@ -10,6 +10,7 @@ use crate::CanFrame;
 
 /// Why a simulated node could not be built.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SimError {
     /// The bus controller.
     #[error(transparent)]

@@ -49,6 +49,7 @@ pub const DEFAULT_X2X_CYCLE: Duration = Duration::from_millis(1);
 
 /// Why a bus controller could not be set up.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum X67Error {
     /// Module count outside 1–16.
     #[error("{0} modules: the node hosts 1 to {MAX_MODULES}")]
@@ -58,7 +59,7 @@ pub enum X67Error {
     Cycle(u128),
     /// The compiled-in fixture did not load.
     #[error("the X67SM2436 description does not load: {0}")]
-    Fixture(String),
+    Fixture(#[source] od::ParseError),
 }
 
 /// The node's dictionary for `modules` modules.
@@ -135,12 +136,11 @@ pub fn dictionary(modules: usize) -> Result<Dictionary, X67Error> {
 
 /// The fixture's dictionary, read once per process.
 fn fixture_dictionary() -> Result<Dictionary, X67Error> {
-    static FIXTURE: std::sync::OnceLock<Result<Dictionary, String>> = std::sync::OnceLock::new();
+    static FIXTURE: std::sync::OnceLock<Result<Dictionary, od::ParseError>> =
+        std::sync::OnceLock::new();
     FIXTURE
         .get_or_init(|| {
-            od::xdd::read(FIXTURE_XDD.as_bytes(), "X67SM2436.xdd")
-                .map(|d| d.dictionary)
-                .map_err(|e| e.to_string())
+            od::xdd::read(FIXTURE_XDD.as_bytes(), "X67SM2436.xdd").map(|d| d.dictionary)
         })
         .clone()
         .map_err(X67Error::Fixture)

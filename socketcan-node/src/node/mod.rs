@@ -131,6 +131,7 @@ impl NodeConfig {
 
 /// Why a node could not be built.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum NodeError {
     /// The node-ID is outside 1–127.
     #[error("node-ID {0} is outside 1 to 127")]
@@ -139,6 +140,7 @@ pub enum NodeError {
 
 /// What happened, for logs and tests.
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum NodeEvent {
     /// The NMT state changed.
     State(NmtState),

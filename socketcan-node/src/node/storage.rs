@@ -16,6 +16,7 @@ const MAGIC: &str = "x67-node parameters 1";
 
 /// What a node asks its edge to do with the stored parameter set ([`super::Node::poll_storage`]).
 #[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum StorageRequest {
     /// Replace the stored set with this one (0x1010 "save").
     Save(Vec<u8>),
@@ -125,6 +126,7 @@ impl ParameterStorage for FileStorage {
 
 /// Why a stored parameter set was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ParamFileError {
     /// The first line is not the format's.
     #[error("not a parameter set (first line is not {MAGIC:?})")]
