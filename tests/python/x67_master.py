@@ -59,11 +59,12 @@ def main():
 def run(network, args):
     node = canopen.RemoteNode(args.node_id, args.eds)
     network.add_node(node)
-    node.sdo.RESPONSE_TIMEOUT = 2.0
+    # Generous bounds: the node answers within milliseconds, but the machine may be busy.
+    node.sdo.RESPONSE_TIMEOUT = 5.0
 
     # Reset the node and see it boot.
     node.nmt.send_command(0x81)
-    node.nmt.wait_for_bootup(5)
+    node.nmt.wait_for_bootup(15)
     print("ok   boot-up after reset node", flush=True)
 
     # Identity and strings.
@@ -101,8 +102,8 @@ def run(network, args):
         ("PRE-OPERATIONAL", "PRE-OPERATIONAL"),
     ]:
         node.nmt.state = command
-        time.sleep(0.25)
-        node.nmt.wait_for_heartbeat(1)
+        # The heartbeat (100 ms) reports the new state; a late thread may still see an older one.
+        wait_for(f"NMT {command} in the heartbeat", lambda: node.nmt.state == state, 3)
         check(f"NMT {command}", node.nmt.state, state)
 
     # PDO maps as the node holds them.
@@ -119,7 +120,7 @@ def run(network, args):
         ["AbsPos01", "MpGenControl01", "MpGenMode01", "Dummy0005"],
     )
     node.nmt.state = "OPERATIONAL"
-    node.tpdo[1].wait_for_reception(2)
+    node.tpdo[1].wait_for_reception(6)
     print("ok   TPDO 1 received", flush=True)
 
     def status():
@@ -132,27 +133,27 @@ def run(network, args):
         node.rpdo[1].transmit()
 
     # The Ramp state machine: Switch on disabled -> Ready to switch on -> Switched on -> Operation enabled.
-    wait_for("Switch on disabled", lambda: status() & 0x004F == 0x0040, 3)
+    wait_for("Switch on disabled", lambda: status() & 0x004F == 0x0040, 9)
     send(0, 0x0006, 1)
-    wait_for("Ready to switch on", lambda: status() & 0x006F == 0x0021, 2)
+    wait_for("Ready to switch on", lambda: status() & 0x006F == 0x0021, 6)
     send(0, 0x0007, 1)
-    wait_for("Switched on", lambda: status() & 0x006F == 0x0023, 3)
+    wait_for("Switched on", lambda: status() & 0x006F == 0x0023, 9)
     send(0, 0x000F, 1)
-    wait_for("Operation enabled", lambda: status() & 0x006F == 0x0027, 2)
+    wait_for("Operation enabled", lambda: status() & 0x006F == 0x0027, 6)
 
     # Mode 1: move to 5000 and see the target reached at exactly that position.
     send(5000, 0x000F, 1)
     wait_for(
         "target 5000 reached (status bit 10)",
         lambda: node.tpdo[1]["AbsPos01ActVal"].raw == 5000 and status() & 0x0400,
-        10,
+        30,
     )
     check("AbsPos01ActVal by TPDO", node.tpdo[1]["AbsPos01ActVal"].raw, 5000)
     check("AbsPos01ActVal by SDO", node.sdo["AbsPos01ActVal"].raw, 5000)
 
     # Digital input 1 from the simulation object (not in the EDS: a raw download) shows in InputStatus.
     node.sdo.download(0x5F00, 1, b"\x01")
-    wait_for("DI1 in InputStatus", lambda: node.tpdo[1]["InputStatus"].raw == 0x01, 2)
+    wait_for("DI1 in InputStatus", lambda: node.tpdo[1]["InputStatus"].raw == 0x01, 6)
 
 
 if __name__ == "__main__":
