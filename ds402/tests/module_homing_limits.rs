@@ -19,7 +19,8 @@ use ds402::x67::motor::Load;
 use ds402::x67::registers::AxisReg;
 use proptest::prelude::*;
 use x67_rig::{
-    cat, cat_bools, get, increments as incs, set, set_currents, OPERATION_ENABLE, STATE_MASK,
+    cat, cat_bools, get, increments as incs, set, set_currents, set_ref_config, OPERATION_ENABLE,
+    STATE_MASK,
 };
 
 // ----- helpers -----
@@ -101,7 +102,7 @@ fn stall_homing(ref_speed: i64) -> Module {
     m.axis_mut(0).motor.encoder_lines = ENCODER_LINES;
     m.axis_mut(0).motor.load = Load::Value(7);
     set(&mut m, 0, AxisReg::StallDetectConfig, 0x30);
-    set(&mut m, 0, AxisReg::RefConfig, i64::from(ref_config::STALL));
+    set_ref_config(&mut m, 0, ref_config::STALL);
     m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.step();
     m
@@ -416,30 +417,42 @@ fn x67_18_11_3_3_10_08_homing_on_stall_abrupt_stop() {
 /// threshold of 0 or a speed not above StallDetectMinSpeed0n leave the run going.
 #[test]
 fn x67_18_11_3_3_10_09_stall_only_when_detectable() {
-    // Control bit 15 = 0.
-    let mut m = stall_homing(40);
-    m.axis_mut(0).motor.load = Load::Value(0);
-    m.set_control(0, ENABLE_OPERATION);
-    m.set_mode(0, modes::HOMING_POSITIVE);
-    assert_eq!(incs(&mut m, 0, 20), cat(&[&[10, 20, 30], &rep(40, 17)]));
-    assert_eq!((refs(&m, 0), m.error_code(0)), ((0, 0), 0));
-    assert!(!bit(&m, 0, SW_TARGET_REACHED));
-
-    // Stall threshold 0.
-    let mut m = stall_homing(40);
-    m.axis_mut(0).motor.load = Load::Value(0);
-    set(&mut m, 0, AxisReg::StallDetectConfig, 0x00);
-    m.set_mode(0, modes::HOMING_POSITIVE);
-    assert_eq!(incs(&mut m, 0, 20), cat(&[&[10, 20, 30], &rep(40, 17)]));
-    assert_eq!((refs(&m, 0), m.error_code(0)), ((0, 0), 0));
-
-    // Speed not above StallDetectMinSpeed01.
-    let mut m = stall_homing(40);
-    m.axis_mut(0).motor.load = Load::Value(0);
-    set(&mut m, 0, AxisReg::StallDetectMinSpeed, 40);
-    m.set_mode(0, modes::HOMING_NEGATIVE);
-    assert_eq!(incs(&mut m, 0, 20), cat(&[&[-10, -20, -30], &rep(-40, 17)]));
-    assert_eq!((refs(&m, 0), m.error_code(0)), ((0, 0), 0));
+    // One condition missing in each case: the run goes on at RefSpeed01 with no reference and no warning.
+    // (case, what removes the condition, mode, direction)
+    type Remove = fn(&mut Module);
+    let cases: [(&str, Remove, i8, i32); 3] = [
+        (
+            "control bit 15 = 0",
+            |m| m.set_control(0, ENABLE_OPERATION),
+            modes::HOMING_POSITIVE,
+            1,
+        ),
+        (
+            "stall threshold 0",
+            |m| set(m, 0, AxisReg::StallDetectConfig, 0x00),
+            modes::HOMING_POSITIVE,
+            1,
+        ),
+        (
+            "speed not above StallDetectMinSpeed01",
+            |m| set(m, 0, AxisReg::StallDetectMinSpeed, 40),
+            modes::HOMING_NEGATIVE,
+            -1,
+        ),
+    ];
+    for (case, missing, mode, dir) in cases {
+        let mut m = stall_homing(40);
+        m.axis_mut(0).motor.load = Load::Value(0);
+        missing(&mut m);
+        m.set_mode(0, mode);
+        let expected: Vec<i32> = cat(&[&[10, 20, 30], &rep(40, 17)])
+            .into_iter()
+            .map(|v| v * dir)
+            .collect();
+        assert_eq!(incs(&mut m, 0, 20), expected, "{case}");
+        assert_eq!((refs(&m, 0), m.error_code(0)), ((0, 0), 0), "{case}");
+        assert!(!bit(&m, 0, SW_TARGET_REACHED), "{case}");
+    }
 
     // All conditions met: the first cycle after one at speed > 0 ends the run.
     let mut m = stall_homing(40);
@@ -460,12 +473,7 @@ fn x67_18_11_3_3_10_10_immediate_homing() {
     m.run(30);
     assert_eq!(m.act_val(0), 500);
     abr_plus_three(&mut m);
-    set(
-        &mut m,
-        0,
-        AxisReg::RefConfig,
-        i64::from(ref_config::IMMEDIATE),
-    );
+    set_ref_config(&mut m, 0, ref_config::IMMEDIATE);
     m.set_mode(0, modes::HOMING_POSITIVE);
     let (inc, sw) = cycle(&mut m, 0);
     assert_eq!(inc, 0);
@@ -479,12 +487,7 @@ fn x67_18_11_3_3_10_10_immediate_homing() {
     m.set_mode(1, modes::POSITION);
     m.set_abs_pos(1, -777);
     m.run(40);
-    set(
-        &mut m,
-        1,
-        AxisReg::RefConfig,
-        i64::from(ref_config::IMMEDIATE),
-    );
+    set_ref_config(&mut m, 1, ref_config::IMMEDIATE);
     m.set_mode(1, modes::HOMING_NEGATIVE);
     assert_eq!(incs(&mut m, 1, 3), [0, 0, 0]);
     assert_eq!(refs(&m, 1), (-777, 0));
@@ -677,12 +680,7 @@ fn x67_18_11_1_9_01_homing_speed() {
 fn x67_18_11_1_11_01_di4_edges_for_both_axes() {
     // Axis 1, −121: DI4 rises at 600; DI3 (its R input) does nothing.
     let mut m = homing_axis(0, 40, 10, 10);
-    set(
-        &mut m,
-        0,
-        AxisReg::RefConfig,
-        i64::from(ref_config::DI4_RISING),
-    );
+    set_ref_config(&mut m, 0, ref_config::DI4_RISING);
     cam(&mut m, 4, 0, 600, 1_000_000);
     m.set_mode(0, modes::HOMING_POSITIVE);
     m.run(5);
@@ -695,12 +693,7 @@ fn x67_18_11_1_11_01_di4_edges_for_both_axes() {
 
     // Axis 2, −122: DI4 high up to 700, so its falling edge lies at 701.
     let mut m = homing_axis(1, 40, 10, 10);
-    set(
-        &mut m,
-        1,
-        AxisReg::RefConfig,
-        i64::from(ref_config::DI4_FALLING),
-    );
+    set_ref_config(&mut m, 1, ref_config::DI4_FALLING);
     cam(&mut m, 4, 1, -1_000_000, 700);
     m.step();
     assert_eq!(m.input_status() & 0x08, 0x08);
@@ -720,12 +713,7 @@ fn x67_18_11_1_11_01_di4_edges_for_both_axes() {
 fn x67_18_11_1_11_02_r_input_edges() {
     // Axis 2, Mode −128, −126: DI6 high from −800 on, so it falls at −801.
     let mut m = homing_axis(1, 40, 10, 10);
-    set(
-        &mut m,
-        1,
-        AxisReg::RefConfig,
-        i64::from(ref_config::R_FALLING),
-    );
+    set_ref_config(&mut m, 1, ref_config::R_FALLING);
     cam(&mut m, 6, 1, -800, 1_000_000);
     m.step();
     m.set_mode(1, modes::HOMING_NEGATIVE);
@@ -741,12 +729,7 @@ fn x67_18_11_1_11_02_r_input_edges() {
 
     // Axis 1, Mode −127, −126 by hand: DI3 high at the start is the inactive level.
     let mut m = homing_axis(0, 40, 10, 10);
-    set(
-        &mut m,
-        0,
-        AxisReg::RefConfig,
-        i64::from(ref_config::R_FALLING),
-    );
+    set_ref_config(&mut m, 0, ref_config::R_FALLING);
     m.set_input(3, true);
     m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 4), [10, 20, 30, 40]);
@@ -777,12 +760,7 @@ fn x67_18_11_1_11_03_stall_and_immediate() {
     assert_eq!(refs(&m, 0).0, 260);
 
     let mut m = homing_axis(0, 40, 10, 10);
-    set(
-        &mut m,
-        0,
-        AxisReg::RefConfig,
-        i64::from(ref_config::IMMEDIATE),
-    );
+    set_ref_config(&mut m, 0, ref_config::IMMEDIATE);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -128);
     m.set_mode(0, modes::HOMING_NEGATIVE);
     assert_eq!(incs(&mut m, 0, 3), [0, 0, 0]);
@@ -795,12 +773,7 @@ fn x67_18_11_1_11_04_minus_120_ignored() {
     let mut m = homing_axis(0, 40, 10, 10);
     set(&mut m, 0, AxisReg::RefConfig, -120);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -125);
-    set(
-        &mut m,
-        0,
-        AxisReg::RefConfig,
-        i64::from(ref_config::DI4_RISING),
-    );
+    set_ref_config(&mut m, 0, ref_config::DI4_RISING);
     set(&mut m, 0, AxisReg::RefConfig, -120);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -121);
     cam(&mut m, 4, 0, 600, 1_000_000);
@@ -827,12 +800,7 @@ fn x67_18_11_1_11_05_unlisted_values_ignored() {
     assert_eq!(refs(&m, 0).0, 100);
 
     let mut m = homing_axis(0, 40, 10, 10);
-    set(
-        &mut m,
-        0,
-        AxisReg::RefConfig,
-        i64::from(ref_config::R_FALLING),
-    );
+    set_ref_config(&mut m, 0, ref_config::R_FALLING);
     set(&mut m, 0, AxisReg::RefConfig, 0);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -126);
 }

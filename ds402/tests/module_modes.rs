@@ -15,8 +15,8 @@ mod x67_rig;
 use ds402::cia402::control::{ENABLE_OPERATION, SHUTDOWN, SWITCH_ON};
 use ds402::cia402::SW_WARNING;
 use ds402::x67::axis::{
-    modes, CW_CHANGE_IMMEDIATELY, CW_NEW_SETPOINT, CW_RELATIVE, CW_STOP, CW_SWAP_COUNTERS,
-    SW_SETPOINT_ACK, SW_TARGET_REACHED,
+    modes, ref_config, CW_CHANGE_IMMEDIATELY, CW_NEW_SETPOINT, CW_RELATIVE, CW_STOP,
+    CW_SWAP_COUNTERS, SW_SETPOINT_ACK, SW_TARGET_REACHED,
 };
 use ds402::x67::errors::CW_WARNING_RESET;
 use ds402::x67::module::{Cam, Module};
@@ -156,12 +156,12 @@ fn start_move(m: &mut Module, mode: i8, target: i32) -> bool {
     write(m, "FixedPos0nb", A1, i64::from(target));
     m.set_abs_pos(A1, target);
     match mode {
-        -123 => m.pulse_input(DI3),
-        -124 => m.set_input(DI3, true),
+        modes::MOVE_ON_INPUT => m.pulse_input(DI3),
+        modes::TWO_POSITION => m.set_input(DI3, true),
         _ => {}
     }
     m.set_mode(A1, mode);
-    mode == -123
+    mode == modes::MOVE_ON_INPUT
 }
 
 /// Runs a move to 3000 in mode 1 with `cw(k)` as the control word of cycle k; returns the trace.
@@ -204,7 +204,19 @@ fn after_edge(profile: Vec<i32>) -> Vec<i32> {
 fn x67_18_11_3_3_01_mode_register_values_read_back() {
     let mut m = standard();
     for mode in [
-        0i8, 1, 2, -120, -121, -122, -123, -124, -125, -126, -127, -128, 1,
+        modes::NONE,
+        modes::POSITION,
+        modes::SPEED,
+        modes::SET_HOME,
+        modes::REMAINING_DISTANCE,
+        modes::SET_POSITION,
+        modes::MOVE_ON_INPUT,
+        modes::TWO_POSITION,
+        modes::FIXED_A,
+        modes::FIXED_B,
+        modes::HOMING_POSITIVE,
+        modes::HOMING_NEGATIVE,
+        modes::POSITION,
     ] {
         m.set_mode(A1, mode);
         m.step();
@@ -703,7 +715,7 @@ fn x67_18_11_3_3_4_01_set_home_shifts_counter() {
     let mut m = standard();
     move_to(&mut m, 12_345);
     // Immediate referencing stores the counters where the axis stands.
-    write(&mut m, "RefConfig0n", A1, -128);
+    write(&mut m, "RefConfig0n", A1, i64::from(ref_config::IMMEDIATE));
     m.set_mode(A1, modes::HOMING_POSITIVE);
     trace(&mut m, A1, 2);
     assert_eq!(read(&m, "RefPos0nCyclicCounter", A1), 12_345);
@@ -1099,13 +1111,16 @@ fn x67_18_11_3_3_8_02_toggle_during_move() {
 /// ends at 0; the 80 in AbsPos01 is never a target. Mode −126 goes to FixedPos01b the same way.
 #[test]
 fn x67_18_11_3_3_9_01_fixed_position_from_speed_mode() {
-    for (mode, reg_name) in [(-125i8, "FixedPos0na"), (-126, "FixedPos0nb")] {
+    for (mode, reg_name) in [
+        (modes::FIXED_A, "FixedPos0na"),
+        (modes::FIXED_B, "FixedPos0nb"),
+    ] {
         let mut m = standard();
         write(&mut m, "FixedPos0na", A1, 0);
         write(&mut m, "FixedPos0nb", A1, 0);
         write(
             &mut m,
-            if mode == -125 {
+            if mode == modes::FIXED_A {
                 "FixedPos0nb"
             } else {
                 "FixedPos0na"
@@ -1164,7 +1179,7 @@ fn x67_18_11_3_1_02_speed_setpoint_signed() {
 /// speed from RefSpeed01; AbsPos01 changing every cycle has no effect.
 #[test]
 fn x67_18_11_3_1_03_abs_pos_unused_in_fixed_and_homing_modes() {
-    for mode in [-124i8, -125, -126] {
+    for mode in [modes::TWO_POSITION, modes::FIXED_A, modes::FIXED_B] {
         let mut m = standard();
         write(&mut m, "FixedPos0na", A1, 5000);
         write(&mut m, "FixedPos0nb", A1, -5000);
@@ -1175,7 +1190,7 @@ fn x67_18_11_3_1_03_abs_pos_unused_in_fixed_and_homing_modes() {
             m.set_abs_pos(A1, k * 977 - 40_000);
             t.push(cycle(&mut m, A1));
         }
-        let dir = if mode == -126 { -1 } else { 1 };
+        let dir = if mode == modes::FIXED_B { -1 } else { 1 };
         assert_eq!(incs(&t)[..60], profile(40, dir)[..], "mode {mode}");
         assert_eq!(m.act_val(A1), 5000 * dir);
     }
@@ -1289,7 +1304,14 @@ fn x67_18_11_3_2_04_bit_10_reserved() {
 /// and bit 10 stays 0 (pick).
 #[test]
 fn x67_18_11_1_3_01_max_speed_in_positioning_modes() {
-    for mode in [1i8, -121, -123, -124, -125, -126] {
+    for mode in [
+        modes::POSITION,
+        modes::REMAINING_DISTANCE,
+        modes::MOVE_ON_INPUT,
+        modes::TWO_POSITION,
+        modes::FIXED_A,
+        modes::FIXED_B,
+    ] {
         let mut m = standard();
         let late = start_move(&mut m, mode, 20_000);
         let t = trace(&mut m, A1, 220);
@@ -1328,19 +1350,30 @@ fn x67_18_11_1_3_02_max_speed_not_in_speed_mode_or_homing() {
 /// MaxAcc01 = 0 nothing starts, so with all registers at their defaults nothing moves.
 #[test]
 fn x67_18_11_1_4_01_max_acceleration() {
-    let mut m = standard();
-    m.set_abs_pos(A1, 100_000);
-    assert_eq!(incs(&trace(&mut m, A1, 4)), [10, 20, 30, 40]);
-    let mut m = standard();
-    m.set_mode(A1, modes::SPEED);
-    m.set_abs_pos(A1, 1000);
-    assert_eq!(incs(&trace(&mut m, A1, 4)), [10, 20, 30, 40]);
-    let mut m = standard();
-    write(&mut m, "RefSpeed0n", A1, 1000);
-    m.set_mode(A1, modes::HOMING_NEGATIVE);
-    assert_eq!(incs(&trace(&mut m, A1, 4)), [-10, -20, -30, -40]);
+    // (mode, AbsPos01, RefSpeed01, the first four increments)
+    let cases: [(i8, i32, i64, [i32; 4]); 3] = [
+        (modes::POSITION, 100_000, 0, [10, 20, 30, 40]),
+        (modes::SPEED, 1000, 0, [10, 20, 30, 40]),
+        (modes::HOMING_NEGATIVE, 0, 1000, [-10, -20, -30, -40]),
+    ];
+    for (mode, abs_pos, ref_speed, expected) in cases {
+        let mut m = standard();
+        write(&mut m, "RefSpeed0n", A1, ref_speed);
+        m.set_mode(A1, mode);
+        m.set_abs_pos(A1, abs_pos);
+        assert_eq!(
+            incs(&trace(&mut m, A1, 4)),
+            expected,
+            "mode {mode}, AbsPos01 {abs_pos}, RefSpeed01 {ref_speed}"
+        );
+    }
 
-    for (mode, speed, acc) in [(1i8, 100, 0), (2, 100, 0), (-127, 100, 0), (1, 0, 0)] {
+    for (mode, speed, acc) in [
+        (modes::POSITION, 100, 0),
+        (modes::SPEED, 100, 0),
+        (modes::HOMING_POSITIVE, 100, 0),
+        (modes::POSITION, 0, 0),
+    ] {
         let mut m = enabled(speed, acc, if speed == 0 { 0 } else { 10 });
         write(&mut m, "RefSpeed0n", A1, speed);
         m.set_mode(A1, mode);
@@ -1709,21 +1742,26 @@ fn x67_18_11_3_5_04_bit_12_mode_specific() {
     .collect();
     assert_eq!(acks, [true, true, false]);
 
-    let mut m = standard();
-    for k in 0..20u16 {
-        m.set_control(A1, ENABLE_OPERATION | (k % 2) << 4);
-        m.set_abs_pos(A1, i32::from(k) * 100);
-        m.step();
-        assert_eq!(m.status_word(A1) & SW_SETPOINT_ACK, 0);
-    }
-
-    let mut m = standard_ext();
-    m.set_mode(A1, modes::SPEED);
-    for k in 0..20u16 {
-        m.set_control(A1, ENABLE_OPERATION | (k % 2) << 4);
-        m.set_abs_pos(A1, 10);
-        m.step();
-        assert_eq!(m.status_word(A1) & SW_SETPOINT_ACK, 0);
+    // Bit 4 toggling without the extended control word (mode 1, AbsPos01 = 100·k) and with it in speed
+    // mode (AbsPos01 = 10): bit 12 stays 0.
+    // (case, the module, mode, AbsPos01 in cycle k)
+    type Setup = fn() -> Module;
+    type AbsPos = fn(u16) -> i32;
+    let cases: [(&str, Setup, i8, AbsPos); 2] = [
+        ("mode 1 without ext CW", standard, modes::POSITION, |k| {
+            i32::from(k) * 100
+        }),
+        ("mode 2 with ext CW", standard_ext, modes::SPEED, |_| 10),
+    ];
+    for (case, setup, mode, abs_pos) in cases {
+        let mut m = setup();
+        m.set_mode(A1, mode);
+        for k in 0..20u16 {
+            m.set_control(A1, ENABLE_OPERATION | (k % 2) << 4);
+            m.set_abs_pos(A1, abs_pos(k));
+            m.step();
+            assert_eq!(m.status_word(A1) & SW_SETPOINT_ACK, 0, "{case}, cycle {k}");
+        }
     }
 }
 
@@ -1731,7 +1769,13 @@ fn x67_18_11_3_5_04_bit_12_mode_specific() {
 /// target is reached.
 #[test]
 fn x67_18_11_4_2_11_bit_10_in_positioning_modes() {
-    for mode in [1i8, -123, -124, -125, -126] {
+    for mode in [
+        modes::POSITION,
+        modes::MOVE_ON_INPUT,
+        modes::TWO_POSITION,
+        modes::FIXED_A,
+        modes::FIXED_B,
+    ] {
         let mut m = standard();
         assert!(cycle(&mut m, A1).reached());
         let late = start_move(&mut m, mode, 1000);

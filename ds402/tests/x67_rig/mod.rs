@@ -99,6 +99,12 @@ pub fn read(m: &Module, name: &str, axis: usize) -> i64 {
     m.read_named(&reg(name, axis))
 }
 
+/// Writes RefConfig0n, the referencing condition (one of [`ds402::x67::axis::ref_config`]).
+#[track_caller]
+pub fn set_ref_config(m: &mut Module, axis: usize, value: i8) {
+    set(m, axis, AxisReg::RefConfig, i64::from(value));
+}
+
 /// Writes MaxSpeed0npos, MaxAcc0n and MaxDec0n.
 pub fn set_ramp(m: &mut Module, axis: usize, max_speed: i64, max_acc: i64, max_dec: i64) {
     set(m, axis, AxisReg::MaxSpeedPos, max_speed);
