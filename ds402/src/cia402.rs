@@ -40,7 +40,7 @@ pub mod control {
     pub const QUICK_STOP_BIT: u16 = 1 << 2;
     /// Bit 3: Enable operation.
     pub const ENABLE_OPERATION_BIT: u16 = 1 << 3;
-    /// Bits 0–3 and 7: the bits that select a command (X67-18.11.4.1-12).
+    /// Bits 0–3 and 7: the bits that select a command (X67-18.11.3.2-01, X67-18.11.4.1-12).
     pub const COMMAND_BITS: u16 = 0x008F;
 
     /// Shutdown: bit 0 = 0, bits 1 and 2 = 1, bit 7 = 0 (X67-18.11.4.1-01).
@@ -73,14 +73,14 @@ pub mod control {
 pub const SW_WARNING: u16 = 1 << 7;
 /// Status word bit 9: Remote, always 1 because the module has no local mode (X67-18.11.3.5-02).
 pub const SW_REMOTE: u16 = 1 << 9;
-/// The status-word bits the state machine owns: bits 0–6 from the state table, bit 8 (reserved, always 0) and
-/// bit 9 (Remote, always 1). All other bits (7 Warning, 10–15) come from the axis model.
+/// The status-word bits the state machine owns: bits 0–6 from the state table, bit 8 (reserved, always 0,
+/// X67-18.11.3.5-01) and bit 9 (Remote, always 1). All other bits (7 Warning, 10–15) come from the axis model.
 pub const SW_STATE_MASK: u16 = 0x037F;
 
 /// A state of the CiA 402 state machine (seed 002, 18.11.4.2 table and 18.11.4.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum State {
-    /// Initialisation after start-up; left by itself for Switch on disabled (X67-18.11.4.3-01/-02).
+    /// Initialisation after start-up; left by itself for Switch on disabled (X67-18.11.4.3-01, X67-18.11.4.3-02).
     NotReadyToSwitchOn,
     /// Motor voltage off, waiting for Shutdown.
     SwitchOnDisabled,
@@ -100,11 +100,12 @@ pub enum State {
 
 impl State {
     /// The state bits 0–6 of the status word, exactly as the table of seed 002, 18.11.4.2 gives them
-    /// (X67-18.11.4.2-01 … -08). Bit 5 (Quick stop) is `x` in Not ready to switch on, Switch on disabled,
-    /// Fault reaction active and Fault; it is 0 there (the catalogue's pick in X67-18.11.4.2-01). Bit 4
-    /// (Voltage enabled) follows the table, so it is 1 exactly in Switched on, Operation enabled and Quick
-    /// stop active (X67-18.11.4.2-09), also while the start-up identification powers the motor in Ready to
-    /// switch on (the catalogue's pick).
+    /// (X67-18.11.4.2-01, X67-18.11.4.2-02, X67-18.11.4.2-03, X67-18.11.4.2-04, X67-18.11.4.2-05, X67-18.11.4.2-06,
+    /// X67-18.11.4.2-07, X67-18.11.4.2-08). Bit 5 (Quick stop) is `x` in Not ready to switch on, Switch on disabled,
+    /// Fault reaction active and Fault; it is 0 there (the catalogue's pick in X67-18.11.4.2-01). Bit 4 (Voltage
+    /// enabled) follows the table, so it is 1 exactly in Switched on, Operation enabled and Quick stop active
+    /// (X67-18.11.4.2-09), also while the start-up identification powers the motor in Ready to switch on (the
+    /// catalogue's pick).
     pub const fn status_bits(self) -> u16 {
         match self {
             State::NotReadyToSwitchOn => 0x0000,
@@ -179,7 +180,7 @@ pub const fn status_word(state: State, extra_bits: u16) -> u16 {
 pub enum Command {
     /// `(CW & 0x87) == 0x06` (X67-18.11.4.1-01).
     Shutdown,
-    /// `(CW & 0x8F) == 0x07` outside Operation enabled (X67-18.11.4.1-02, -05).
+    /// `(CW & 0x8F) == 0x07` outside Operation enabled (X67-18.11.4.1-02, X67-18.11.4.1-05).
     SwitchOn,
     /// `(CW & 0x82) == 0x00` (X67-18.11.4.1-03).
     DisableVoltage,
@@ -201,7 +202,8 @@ impl Command {
     /// - Every other command needs bit 7 = 0, so a control word with bit 7 held at 1 is no command
     ///   (X67-18.11.4.1-09).
     /// - Only bits 0–3 and 7 take part. Bits 9 and 10, drawn as 0 in the table, are ignored: the catalogue's
-    ///   pick in X67-18.11.4.1-08. Bits 4–6, 8 and 11–15 are `x` (X67-18.11.4.1-12).
+    ///   pick in X67-18.11.4.1-08; bit 9 has no function and bit 10 is reserved (X67-18.11.3.2-03,
+    ///   X67-18.11.3.2-04). Bits 4–6, 8 and 11–15 are `x` (X67-18.11.4.1-12).
     ///
     /// With bit 7 = 0 the masks cover all 16 combinations of bits 0–3 exactly once, so this returns `None`
     /// only when bit 7 is 1 without an edge.
@@ -305,8 +307,8 @@ impl Transition {
 /// 2. Fault reaction active goes to Fault at once (X67-18.11.4.3-18); nothing else is evaluated there.
 /// 3. An Error moves every other state except Fault to Fault reaction active and switches the voltage off
 ///    (X67-18.11.4.3-16). It takes precedence over the command of the same cycle.
-/// 4. Fault reset clears errors and warnings in every state (X67-18.11.4.1-11, -13 pick); in Fault it also
-///    leaves for Switch on disabled if no Error is pending (X67-18.11.4.3-19/-20).
+/// 4. Fault reset clears errors and warnings in every state (X67-18.11.4.1-11, X67-18.11.4.1-13 pick); in Fault it
+///    also leaves for Switch on disabled if no Error is pending (X67-18.11.4.3-19, X67-18.11.4.3-20).
 /// 5. The command transitions of the seed's table.
 /// 6. In Quick stop active without a command that leaves it, standstill leads to Switch on disabled with the
 ///    voltage off (X67-18.11.4.3-14).
@@ -342,7 +344,7 @@ pub fn next(state: State, command: Option<Command>, ctx: &Inputs) -> Transition 
 
     match (state, command) {
         // Fault → Switch on disabled only without an Error condition; errors and warnings are reset
-        // (X67-18.11.4.3-19/-20).
+        // (X67-18.11.4.3-19, X67-18.11.4.3-20).
         (Fault, Some(FaultReset)) if !ctx.error_pending => {
             Transition::to(SwitchOnDisabled, &[ClearErrors])
         }

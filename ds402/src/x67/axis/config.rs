@@ -118,7 +118,7 @@ impl AxisConfig {
     }
 }
 
-/// A limit switch's configuration: off, active low or active high (X67-18.11.1.16-01/-02).
+/// A limit switch's configuration: off, active low or active high (X67-18.11.1.16-01, X67-18.11.1.16-02).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SwitchPolarity {
     /// 00, and the reserved 10 (the catalogue's pick).

@@ -152,8 +152,8 @@ impl Axis {
             None
         };
 
-        // Mixed decay (X67-18.11.1.10-01/-02, X67-18.11.1.13-02): always on at or below the minimum stall
-        // speed; above it 0 = off, 15 = on, 1…14 = on below 64·threshold microsteps/cycle.
+        // Mixed decay (X67-18.11.1.10-01, X67-18.11.1.10-02, X67-18.11.1.13-02): always on at or below the minimum
+        // stall speed; above it 0 = off, 15 = on, 1…14 = on below 64·threshold microsteps/cycle.
         let speed = ramp_state.speed.unsigned_abs();
         let threshold = self.config.mixed_decay_threshold();
         let mixed_decay = if speed <= u32::from(self.config.stall_detect_min_speed) {

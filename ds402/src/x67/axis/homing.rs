@@ -13,7 +13,7 @@ pub(super) enum HomingPhase {
     /// The active level is present at the start: travel against the homing direction until it goes
     /// (X67-18.11.3.3.10-07).
     Leave,
-    /// Travel in the homing direction until the condition (X67-18.11.3.3.10-06/-08).
+    /// Travel in the homing direction until the condition (X67-18.11.3.3.10-06, X67-18.11.3.3.10-08).
     Seek,
     /// The reference is taken; braking with MaxDec0n.
     Brake,
@@ -63,14 +63,16 @@ impl Axis {
             h.cycles = 0;
             h.phase = match rc {
                 ref_config::IMMEDIATE => {
+                    // RefConfig0n −128 (X67-18.11.1.11-03).
                     // Immediate referencing: store both counters at once, no motion (X67-18.11.3.3.10-10).
                     self.store_reference(self.ramp.position(), self.abr_counter());
                     HomingPhase::Done
                 }
+                // Homing on stall travels until the stall (X67-18.11.1.11-03, X67-18.11.3.3.10-08).
                 ref_config::STALL => HomingPhase::Seek,
                 _ => {
                     // Case 1: the active level is absent, seek it; case 2: it is present, leave it first
-                    // (X67-18.11.3.3.10-06/-07).
+                    // (X67-18.11.3.3.10-06, X67-18.11.3.3.10-07).
                     let (input, active_high) = self.ref_input(rc);
                     if ctx.levels[input] == active_high {
                         HomingPhase::Leave
@@ -85,7 +87,7 @@ impl Axis {
             HomingPhase::Leave => Desired::Speed(-dir * speed),
             HomingPhase::Seek => {
                 // Homing on stall: the reference is the counter at the stall and the motor stops abruptly,
-                // once StallRecognitionDelay0n cycles have passed (X67-18.11.3.3.10-08/-09,
+                // once StallRecognitionDelay0n cycles have passed (X67-18.11.3.3.10-08, X67-18.11.3.3.10-09,
                 // X67-18.11.1.12-01).
                 if rc == ref_config::STALL
                     && h.cycles >= u32::from(self.config.stall_recognition_delay)
@@ -108,7 +110,7 @@ impl Axis {
         desired
     }
 
-    /// The input and the active level of an input referencing condition (X67-18.11.1.11-01/-02).
+    /// The input and the active level of an input referencing condition (X67-18.11.1.11-01, X67-18.11.1.11-02).
     pub(super) fn ref_input(&self, rc: i8) -> (usize, bool) {
         let r_input = self.r_input();
         match rc {

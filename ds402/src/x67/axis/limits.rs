@@ -18,7 +18,7 @@ impl Axis {
         self.config.limit_switch_config & 0x80 != 0
     }
 
-    /// The polarity of limit switch `k` (0 = negative, 1 = positive; X67-18.11.1.16-01/-02).
+    /// The polarity of limit switch `k` (0 = negative, 1 = positive; X67-18.11.1.16-01, X67-18.11.1.16-02).
     const fn switch_polarity(&self, k: usize) -> SwitchPolarity {
         SwitchPolarity::from_bits(self.config.limit_switch_config >> (2 * k))
     }
@@ -43,8 +43,8 @@ impl Axis {
     }
 
     /// The software limits applied to the mode's set-point (X67-18.11.1.17): with the limits on the ramp is
-    /// bounded to [Min, Max] (X67-18.11.1.17-01/-02); a target outside them or Min > Max stops the axis and
-    /// sets SW bit 11 (X67-18.11.1.17-03/-04).
+    /// bounded to [Min, Max] (X67-18.11.1.17-01, X67-18.11.1.17-02); a target outside them or Min > Max stops the
+    /// axis and sets SW bit 11 (X67-18.11.1.17-03, X67-18.11.1.17-04).
     pub(super) fn software_limits(&mut self, desired: Desired) -> Desired {
         self.target_out_of_limits = false;
         self.limits_misconfigured = false;
@@ -73,8 +73,8 @@ impl Axis {
     }
 
     /// The limit switches applied to the mode's set-point: with direction monitoring a movement toward an
-    /// active switch is refused (X67-18.11.1.16-07/-08), and while a switch holds the axis it stays at speed 0
-    /// (X67-18.11.1.16-04).
+    /// active switch is refused (X67-18.11.1.16-07, X67-18.11.1.16-08), and while a switch holds the axis it stays at
+    /// speed 0 (X67-18.11.1.16-04).
     pub(super) fn limit_switches(&mut self, ctx: &CycleContext, desired: Desired) -> Desired {
         if self.direction_monitoring() {
             let dir = self.commanded_direction(desired);

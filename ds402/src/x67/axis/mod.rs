@@ -52,7 +52,8 @@ pub const CW_MOTOR_ID: u16 = 1 << 11;
 /// Control word bit 14: swap the internal and the ABR counter (X67-18.11.3.2-08).
 pub const CW_SWAP_COUNTERS: u16 = 1 << 14;
 
-/// Status word bit 10: Target reached (X67-18.11.4.2-11…16).
+/// Status word bit 10: Target reached (X67-18.11.4.2-11, X67-18.11.4.2-12, X67-18.11.4.2-13, X67-18.11.4.2-14,
+/// X67-18.11.4.2-15, X67-18.11.4.2-16).
 pub const SW_TARGET_REACHED: u16 = 1 << 10;
 /// Status word bit 11: Internal limit active (X67-18.11.3.5-03).
 pub const SW_INTERNAL_LIMIT: u16 = 1 << 11;
@@ -131,7 +132,7 @@ pub struct Observation {
     pub powered: bool,
     /// The current driven, when powered.
     pub current: Option<CurrentState>,
-    /// Mixed decay is on in this cycle (X67-18.11.1.10-01/-02, X67-18.11.1.13-02).
+    /// Mixed decay is on in this cycle (X67-18.11.1.10-01, X67-18.11.1.10-02, X67-18.11.1.13-02).
     pub mixed_decay: bool,
     /// The load value 0…7 of the stall detection.
     pub load_value: u8,
@@ -169,6 +170,7 @@ pub struct Axis {
     prev_cw: u16,
     cur_mode: i8,
     last_abs_pos: i32,
+    /// The axis's own state machine, commanded by its own control word (X67-18.11.4-01).
     sm: StateMachine,
     ramp: Ramp,
     errors: ErrorRegister,
@@ -242,8 +244,10 @@ impl Axis {
             powered: false,
             ident_left: None,
             ident_done: false,
+            // 0 until a measurement succeeds (X67-18.11.3.7-02).
             motor_identification: 0,
             abr: 0,
+            // Both reference registers read 0 before any homing (X67-18.11.3.9-02).
             ref_internal: 0,
             ref_abr: 0,
             applied: Desired::Stop,
@@ -395,7 +399,7 @@ impl Axis {
 
     /// Every state the state machine entered in the last cycle, in order; empty when the state did not change.
     /// An Error shows Fault reaction active and then Fault, as that state is left in the same cycle
-    /// (X67-18.11.4.3-16/-18). The simulation's state trace; no register shows Fault reaction active.
+    /// (X67-18.11.4.3-16, X67-18.11.4.3-18). The simulation's state trace; no register shows Fault reaction active.
     pub fn state_trace(&self) -> &[State] {
         &self.trace
     }
@@ -436,7 +440,7 @@ impl Axis {
     /// A target register value in the ramp's frame. Without software limits the counter may wrap, so the
     /// move goes the wrapping difference target − actual (X67-18.11.1.17-06 pick). With the limits on the
     /// counter cannot overflow, so a target inside them is approached without crossing the wrap
-    /// (X67-18.11.1.17-02/-03); the ramp's frame then holds the register values themselves.
+    /// (X67-18.11.1.17-02, X67-18.11.1.17-03); the ramp's frame then holds the register values themselves.
     fn frame(&self, target: i32) -> i64 {
         if self.ramp.bounds().is_some() {
             return i64::from(target);
@@ -445,6 +449,9 @@ impl Axis {
         pos + i64::from(target.wrapping_sub(pos as i32))
     }
 
+    /// Hands the ramp a new set-point when it differs from the one applied; the ramp re-plans from its present
+    /// speed and position, so a new target or speed may come before the current action has finished
+    /// (X67-18.11.3.3-04).
     fn apply(&mut self, desired: Desired) {
         if desired == self.applied {
             return;

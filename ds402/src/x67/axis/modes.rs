@@ -53,9 +53,10 @@ impl Axis {
         let r_input = self.r_input();
         let abs_changed = self.abs_pos != self.last_abs_pos;
         match self.cur_mode {
-            // Mode 1 (X67-18.11.3.3.1-01/-02, X67-18.11.3.3.2-01…-10).
+            // Mode 1: AbsPos0n is the target in microsteps (X67-18.11.3.3.1-01, X67-18.11.3.3.1-02,
+            // X67-18.11.3.1-01); the extended control word's handshake is in `position_mode` (18.11.3.3.2).
             POSITION => self.position_mode(ctx.extended_cw, rising, true),
-            // Mode 2: the signed speed set-point, clamped to ±65535 (X67-18.11.3.3.3-01/-02,
+            // Mode 2: the signed speed set-point, clamped to ±65535 (X67-18.11.3.3.3-01, X67-18.11.3.3.3-02,
             // X67-18.11.3.1-02).
             SPEED => Desired::Speed(
                 self.abs_pos
@@ -75,7 +76,7 @@ impl Axis {
             SET_POSITION => {
                 if entered || abs_changed {
                     // AbsPos0n becomes the internal counter without motion, in Operation enable only
-                    // (X67-18.11.3.3.6-01/-02).
+                    // (X67-18.11.3.3.6-01, X67-18.11.3.3.6-02).
                     let delta = self.abs_pos.wrapping_sub(self.internal_counter());
                     self.ramp.shift(i64::from(delta));
                     self.set_pulse = true;
@@ -83,7 +84,7 @@ impl Axis {
                 Desired::Stop
             }
             // Mode −121: like mode 1 before the trigger, then the end position of the trigger without the
-            // reversing loop (X67-18.11.3.3.5-01/-03/-06).
+            // reversing loop (X67-18.11.3.3.5-01, X67-18.11.3.3.5-03, X67-18.11.3.3.5-06).
             REMAINING_DISTANCE => match self.remaining {
                 Some(target) => Desired::Position {
                     target,
@@ -91,7 +92,7 @@ impl Axis {
                 },
                 None => self.position_mode(ctx.extended_cw, rising, false),
             },
-            // Mode −123: the target taken at the last rising edge (X67-18.11.3.3.7-01/-02).
+            // Mode −123: the target taken at the last rising edge (X67-18.11.3.3.7-01, X67-18.11.3.3.7-02).
             MOVE_ON_INPUT => match self.active_target {
                 Some(target) => Desired::Position {
                     target,
@@ -100,7 +101,7 @@ impl Axis {
                 None => Desired::Stop,
             },
             // Mode −124: the input level selects FixedPos0na or FixedPos0nb, also during a move
-            // (X67-18.11.3.3.8-01/-02).
+            // (X67-18.11.3.3.8-01, X67-18.11.3.3.8-02). Modes −124…−126 do not read AbsPos0n (X67-18.11.3.1-03).
             TWO_POSITION => Desired::Position {
                 target: if ctx.levels[r_input] {
                     self.config.fixed_pos_a
@@ -119,7 +120,7 @@ impl Axis {
                 rev_loop: true,
             },
             HOMING_POSITIVE | HOMING_NEGATIVE => self.homing_setpoint(ctx, entered),
-            // Mode 0 and the unlisted values: no motion (X67-18.11.3.3-02/-05).
+            // Mode 0 and the unlisted values: no motion (X67-18.11.3.3-02, X67-18.11.3.3-05).
             _ => Desired::Stop,
         }
     }
@@ -135,10 +136,12 @@ impl Axis {
                 rev_loop,
             };
         }
-        // The handshake: ↑ New set-point while Set-point acknowledge is 0 (X67-18.11.3.3.2-02/-03).
+        // With the extended control word AbsPos0n alone changes nothing (X67-18.11.3.3.2-01).
+        // The handshake: ↑ New set-point while Set-point acknowledge is 0 (X67-18.11.3.3.2-02, X67-18.11.3.3.2-03).
         if rising & CW_NEW_SETPOINT != 0 && !self.ack {
             // Bits 5 and 6 are sampled with the set-point (X67-18.11.3.3.2-03 pick). A relative set-point
-            // builds on the last target (X67-18.11.3.3.2-07…-10).
+            // builds on the last target (X67-18.11.3.3.2-07, X67-18.11.3.3.2-08, X67-18.11.3.3.2-09,
+            // X67-18.11.3.3.2-10).
             let target = if self.cw & CW_RELATIVE != 0 {
                 self.last_setpoint.wrapping_add(self.abs_pos)
             } else {
@@ -147,7 +150,7 @@ impl Axis {
             self.last_setpoint = target;
             self.ack = true;
             // Change set immediately, or a single set-point queued behind the current move
-            // (X67-18.11.3.3.2-05/-06).
+            // (X67-18.11.3.3.2-05, X67-18.11.3.3.2-06).
             let idle = self.active_target.is_none() || self.last.ramp.target_reached;
             if self.cw & CW_CHANGE_IMMEDIATELY != 0 || idle {
                 self.active_target = Some(target);
@@ -156,7 +159,7 @@ impl Axis {
                 self.queued = Some(target);
             }
         }
-        // Set-point acknowledge drops once New set-point is 0 again (X67-18.11.3.3.2-04/-11).
+        // Set-point acknowledge drops once New set-point is 0 again (X67-18.11.3.3.2-04, X67-18.11.3.3.2-11).
         if self.cw & CW_NEW_SETPOINT == 0 && self.queued.is_none() {
             self.ack = false;
         }
@@ -194,7 +197,7 @@ impl Axis {
             }
             MOVE_ON_INPUT if edge.input == r_input && edge.level => {
                 // The target is taken now: the ramp has it from here on, so bit 10 drops in this cycle
-                // (X67-18.11.3.3.7-01/-03, X67-18.11.4.2-11).
+                // (X67-18.11.3.3.7-01, X67-18.11.3.3.7-03, X67-18.11.4.2-11).
                 self.active_target = Some(self.abs_pos);
                 self.apply(Desired::Position {
                     target: self.abs_pos,

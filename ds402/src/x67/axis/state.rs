@@ -12,10 +12,10 @@ impl Axis {
     /// Samples the error and warning conditions of this cycle into the error register (X67-18.11.3.13) and
     /// carries out a Warning reset (↑ CW bit 12). `rising` holds the control-word bits that rose this cycle.
     pub(super) fn sample_errors(&mut self, ctx: &CycleContext, rising: u16) {
-        // Detection bits 13/15 and Warning reset (X67-18.11.3.2-07/-09).
+        // Detection bits 13/15 and Warning reset (X67-18.11.3.2-07, X67-18.11.3.2-09).
         self.errors.control_word(self.cw);
         // The Error-type conditions: supply voltage and overtemperature, module-wide or of the output stage
-        // (X67-3-11, X67-15-01, X67-18.6.3.1-02, X67-18.11.3.13-02/-03/-12).
+        // (X67-3-11, X67-15-01, X67-18.6.3.1-02, X67-18.11.3.13-02, X67-18.11.3.13-03, X67-18.11.3.13-12).
         self.errors
             .set_condition(ErrorCode::Voltage, ctx.supply_error);
         self.errors.set_condition(
@@ -23,7 +23,7 @@ impl Axis {
             ctx.over_temperature || self.motor.faults.output_stage_overtemperature,
         );
         // The warnings of the powered motor: open circuit, current error, overcurrent
-        // (X67-18.6.3.1-03/-04, X67-18.11.3.13-06/-07/-09).
+        // (X67-18.6.3.1-03, X67-18.6.3.1-04, X67-18.11.3.13-06, X67-18.11.3.13-07, X67-18.11.3.13-09).
         let powered = self.powered || self.ident_left.is_some();
         let speed_ps = self.speed_per_second(ctx.cycle);
         let faults = self.motor.faults;
@@ -35,7 +35,8 @@ impl Axis {
         );
         self.errors
             .set_condition(ErrorCode::Overcurrent, powered && faults.short);
-        // Stall (X67-18.6.1.1-02, X67-18.11.3.13-08).
+        // Stall (X67-18.6.1.1-02, X67-18.11.3.13-08); StallRecognitionDelay0n plays no part outside homing on
+        // stall (X67-18.11.1.12-02).
         self.load_value = self.motor.load_value(speed_ps);
         let stall = powered && self.stall_condition(self.load_value);
         self.errors.set_condition(ErrorCode::Stall, stall);
@@ -67,7 +68,7 @@ impl Axis {
     /// actions of its transitions carried out on the motor.
     pub(super) fn run_state_machine(&mut self, ctx: &CycleContext, identification_done: bool) {
         let inputs = Inputs {
-            // Only Error-type conditions move the state machine (X67-18.11.4.3-16/-17).
+            // Only Error-type conditions move the state machine (X67-18.11.4.3-16, X67-18.11.4.3-17).
             error_pending: self.errors.has_error(),
             standstill: self.ramp.standstill(),
             identification_done,
@@ -81,7 +82,8 @@ impl Axis {
                 Action::VoltageOn => self.powered = true,
                 // Switched on → Ready to switch on / Switch on disabled, Operation enable → Ready to switch on /
                 // Switch on disabled, Quick stop active at standstill, Fault reaction active
-                // (X67-18.11.4.3-05/-08/-11/-12/-14/-18): the voltage goes off at once, without braking.
+                // (X67-18.11.4.3-05, X67-18.11.4.3-08, X67-18.11.4.3-11, X67-18.11.4.3-12, X67-18.11.4.3-14,
+                // X67-18.11.4.3-18): the voltage goes off at once, without braking.
                 Action::VoltageOff => {
                     self.powered = false;
                     self.ident_left = None;
@@ -97,9 +99,10 @@ impl Axis {
                     self.ident_left = Some(1000u32.div_ceil(ctx.cycle.millis()));
                 }
                 // Disable operation and Quick stop brake through the mode's Stop set-point outside Operation
-                // enable (X67-18.11.4.3-10/-13); Enable operation resumes the mode (X67-18.11.4.3-09/-15).
+                // enable (X67-18.11.4.3-10, X67-18.11.4.3-13); Enable operation resumes the mode (X67-18.11.4.3-09,
+                // X67-18.11.4.3-15).
                 Action::Decelerate { .. } | Action::EnableMotion => {}
-                // Fault reset: errors and warnings are reset (X67-18.11.4.1-11, X67-18.11.4.3-19/-20).
+                // Fault reset: errors and warnings are reset (X67-18.11.4.1-11, X67-18.11.4.3-19, X67-18.11.4.3-20).
                 Action::ClearErrors => self.errors.fault_reset(),
             }
         }
@@ -118,8 +121,8 @@ impl Axis {
         }
     }
 
-    /// Motoridentification0n from the motor, the supply voltage and the nominal current (X67-18.11.3.7-01/-03,
-    /// X67-18.11.3.7-06).
+    /// Motoridentification0n from the motor, the supply voltage and the nominal current (X67-18.11.3.7-01,
+    /// X67-18.11.3.7-03, X67-18.11.3.7-06).
     fn measure_identification(&mut self, supply_volts: f64) {
         let nominal_ma =
             u32::from(self.config.nominal_current) * current::MODULE_NOMINAL_MILLIAMPS / 100;

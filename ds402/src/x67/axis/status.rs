@@ -21,7 +21,7 @@ impl Axis {
             extra |= SW_TARGET_REACHED;
         }
         // Bit 11: a target outside the software limits, Min > Max, or the ramp held at a limit
-        // (X67-18.11.3.5-03, X67-18.11.1.17-03/-04).
+        // (X67-18.11.3.5-03, X67-18.11.1.17-03, X67-18.11.1.17-04).
         if self.limits_misconfigured || self.target_out_of_limits || rs.limited {
             extra |= SW_INTERNAL_LIMIT;
         }
@@ -40,13 +40,14 @@ impl Axis {
         self.sm.status_word(extra)
     }
 
-    /// Status-word bit 10 (X67-18.11.4.2-11…16, X67-18.11.3.3-03).
+    /// Status-word bit 10 (X67-18.11.4.2-11, X67-18.11.4.2-12, X67-18.11.4.2-13, X67-18.11.4.2-14, X67-18.11.4.2-15,
+    /// X67-18.11.4.2-16, X67-18.11.3.3-03).
     fn target_reached_bit(&self, ctx: &CycleContext, rs: RampState, reached: bool) -> bool {
         let standstill = rs.standstill;
         if self.sm.state != State::OperationEnabled {
             return standstill;
         }
-        // With the Stop bit: braking or speed 0, in every mode (X67-18.11.4.2-15/-16).
+        // With the Stop bit: braking or speed 0, in every mode (X67-18.11.4.2-15, X67-18.11.4.2-16).
         if ctx.extended_cw && self.cw & CW_STOP != 0 {
             return standstill;
         }
