@@ -880,17 +880,62 @@ fn x67_18_11_3_9_02_zero_before_homing() {
 
 // ----- limit switches: X67-18.11.1.16 -----
 
+/// A limit-switch case: axis 1 running in Mode 2 with LimitSwitchConfig01 = `config`, `input` driven through
+/// `levels`, what [`drive`] returns for them, and the increments of the braking that follows.
+struct SwitchCase {
+    config: i64,
+    input: usize,
+    levels: &'static [bool],
+    seen: &'static [(i32, u16)],
+    braking: &'static [i32],
+}
+
+/// Runs `case` at `speed` and checks it, naming the case in each assertion.
+#[track_caller]
+fn check_switch(case: &SwitchCase, speed: i32) {
+    let SwitchCase {
+        config,
+        input,
+        levels,
+        seen,
+        braking,
+    } = *case;
+    let mut m = running(config, speed);
+    assert_eq!(
+        drive(&mut m, input, levels),
+        seen,
+        "config {config:#06b}, DI{input}"
+    );
+    assert_eq!(
+        incs(&mut m, 0, braking.len()),
+        braking,
+        "config {config:#06b}, DI{input}"
+    );
+}
+
 /// X67-18.11.1.16-01: bits 0–1 set the negative switch (DI1): 11 active high, 01 active low, 10 (reserved)
 /// and 00 off. Only the edge into the active level triggers 0xFF20 and the braking.
 #[test]
 fn x67_18_11_1_16_01_negative_switch_polarity() {
-    let mut m = running(0b11, -40);
-    assert_eq!(drive(&mut m, 1, &[true]), [(-40, 0xFF20)]);
-    assert_eq!(incs(&mut m, 0, 8), [-35, -30, -25, -20, -15, -10, -5, 0]);
-
-    let mut m = running(0b01, -40);
-    assert_eq!(drive(&mut m, 1, &[true, false]), [(-40, 0), (-40, 0xFF20)]);
-    assert_eq!(incs(&mut m, 0, 2), [-35, -30]);
+    let cases = [
+        SwitchCase {
+            config: 0b11,
+            input: 1,
+            levels: &[true],
+            seen: &[(-40, 0xFF20)],
+            braking: &[-35, -30, -25, -20, -15, -10, -5, 0],
+        },
+        SwitchCase {
+            config: 0b01,
+            input: 1,
+            levels: &[true, false],
+            seen: &[(-40, 0), (-40, 0xFF20)],
+            braking: &[-35, -30],
+        },
+    ];
+    for case in &cases {
+        check_switch(case, -40);
+    }
 
     for config in [0b10, 0b00] {
         let mut m = running(config, -40);
@@ -906,15 +951,33 @@ fn x67_18_11_1_16_01_negative_switch_polarity() {
 /// X67-18.11.1.16-02: bits 2–3 set the positive switch (DI2) with the same encoding; 0xFF21.
 #[test]
 fn x67_18_11_1_16_02_positive_switch_polarity() {
-    let mut m = running(0b0100, 40);
-    assert_eq!(drive(&mut m, 2, &[true, false]), [(40, 0), (40, 0xFF21)]);
-    assert_eq!(incs(&mut m, 0, 8), [35, 30, 25, 20, 15, 10, 5, 0]);
-
-    let mut m = running(0b1100, 40);
-    assert_eq!(drive(&mut m, 2, &[true]), [(40, 0xFF21)]);
-    // The negative switch's input is not the positive switch.
-    let mut m = running(0b1100, 40);
-    assert_eq!(drive(&mut m, 1, &[true]), [(40, 0)]);
+    let cases = [
+        SwitchCase {
+            config: 0b0100,
+            input: 2,
+            levels: &[true, false],
+            seen: &[(40, 0), (40, 0xFF21)],
+            braking: &[35, 30, 25, 20, 15, 10, 5, 0],
+        },
+        SwitchCase {
+            config: 0b1100,
+            input: 2,
+            levels: &[true],
+            seen: &[(40, 0xFF21)],
+            braking: &[],
+        },
+        // The negative switch's input is not the positive switch.
+        SwitchCase {
+            config: 0b1100,
+            input: 1,
+            levels: &[true],
+            seen: &[(40, 0)],
+            braking: &[],
+        },
+    ];
+    for case in &cases {
+        check_switch(case, 40);
+    }
 
     for config in [0b1000, 0b0000] {
         let mut m = running(config, 40);

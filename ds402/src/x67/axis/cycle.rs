@@ -2,14 +2,13 @@
 //! the ramp's set-point from the mode, the software limits, the limit switches and the Stop bit;
 //! [`Axis::finish`] reacts to the input edges of the cycle, drives the current and builds the status word.
 
+use super::config::ref_config;
 use super::homing::is_homing;
 use super::modes;
 use super::{Axis, CycleContext, Desired, Observation, CW_STOP};
 use crate::cia402::State;
 use crate::x67::current::{self, CurrentState, Phase};
 use crate::x67::ramp::RampState;
-
-use super::config::ref_config;
 
 impl Axis {
     /// The start of a cycle: take over the cyclic outputs, sample the error conditions, run the state machine
