@@ -9,37 +9,78 @@
 //! returned status word.
 //!
 //! ```
-//! use ds402::cia402::{Action, Inputs, State, StateMachine};
+//! use ds402::cia402::{control, Action, Inputs, State, StateMachine};
 //!
 //! let mut sm = StateMachine::new();
 //! let idle = Inputs { standstill: true, ..Inputs::default() };
-//! assert_eq!(sm.step(0x0000, &idle).status_word, 0x0240); // Switch on disabled
-//! assert_eq!(sm.step(0x0006, &idle).status_word, 0x0221); // Shutdown → Ready to switch on
-//! let out = sm.step(0x0007, &idle); // first Switch on: motor identification first
+//! assert_eq!(sm.step(control::DISABLE_VOLTAGE, &idle).status_word, 0x0240); // Switch on disabled
+//! assert_eq!(sm.step(control::SHUTDOWN, &idle).status_word, 0x0221); // Ready to switch on
+//! let out = sm.step(control::SWITCH_ON, &idle); // first Switch on: motor identification first
 //! assert_eq!((out.state, out.actions), (State::ReadyToSwitchOn, vec![Action::StartIdentification]));
 //! let done = Inputs { identification_done: true, ..idle };
-//! assert_eq!(sm.step(0x0007, &done).status_word, 0x0233); // Switched on
-//! assert_eq!(sm.step(0x000F, &idle).status_word, 0x0237); // Operation enabled
+//! assert_eq!(sm.step(control::SWITCH_ON, &done).status_word, 0x0233); // Switched on
+//! assert_eq!(sm.step(control::ENABLE_OPERATION, &idle).status_word, 0x0237); // Operation enabled
 //! ```
 //!
 //! Rule IDs (`X67-…`) refer to the rule catalogue of the X67SM2436 (`rules/x67.md`), sections 18.11.4.1 to
 //! 18.11.4.3 and 18.11.3.5.
 
 /// Control word bit 7: Fault reset, acting on its rising edge (X67-18.11.4.1-07).
-pub const CW_FAULT_RESET: u16 = 1 << 7;
+pub const CW_FAULT_RESET: u16 = control::FAULT_RESET;
+
+/// The control-word bits 0–3 and 7 and the commands of the state machine, as the command table of seed 002,
+/// 18.11.4.1 gives them. Each command is a pattern and the mask of the bits the table fixes:
+/// `(CW & mask) == pattern`.
+pub mod control {
+    /// Bit 0: Switch on.
+    pub const SWITCH_ON_BIT: u16 = 1 << 0;
+    /// Bit 1: Enable voltage.
+    pub const ENABLE_VOLTAGE_BIT: u16 = 1 << 1;
+    /// Bit 2: Quick stop (the command is bit 2 = 0).
+    pub const QUICK_STOP_BIT: u16 = 1 << 2;
+    /// Bit 3: Enable operation.
+    pub const ENABLE_OPERATION_BIT: u16 = 1 << 3;
+    /// Bits 0–3 and 7: the bits that select a command (X67-18.11.3.2-01, X67-18.11.4.1-12).
+    pub const COMMAND_BITS: u16 = 0x008F;
+
+    /// Shutdown: bit 0 = 0, bits 1 and 2 = 1, bit 7 = 0 (X67-18.11.4.1-01).
+    pub const SHUTDOWN: u16 = ENABLE_VOLTAGE_BIT | QUICK_STOP_BIT;
+    /// The bits Shutdown fixes: 0, 1, 2 and 7.
+    pub const SHUTDOWN_MASK: u16 = 0x0087;
+    /// Switch on: bits 3..0 = 0111, bit 7 = 0 (X67-18.11.4.1-02).
+    pub const SWITCH_ON: u16 = SWITCH_ON_BIT | ENABLE_VOLTAGE_BIT | QUICK_STOP_BIT;
+    /// The bits Switch on fixes: 0–3 and 7.
+    pub const SWITCH_ON_MASK: u16 = COMMAND_BITS;
+    /// Disable voltage: bit 1 = 0, bit 7 = 0 (X67-18.11.4.1-03).
+    pub const DISABLE_VOLTAGE: u16 = 0x0000;
+    /// The bits Disable voltage fixes: 1 and 7.
+    pub const DISABLE_VOLTAGE_MASK: u16 = 0x0082;
+    /// Quick stop: bit 1 = 1, bit 2 = 0, bit 7 = 0 (X67-18.11.4.1-04).
+    pub const QUICK_STOP: u16 = ENABLE_VOLTAGE_BIT;
+    /// The bits Quick stop fixes: 1, 2 and 7.
+    pub const QUICK_STOP_MASK: u16 = 0x0086;
+    /// Disable operation: the pattern of Switch on, given in Operation enable (X67-18.11.4.1-05).
+    pub const DISABLE_OPERATION: u16 = SWITCH_ON;
+    /// Enable operation: bits 3..0 = 1111, bit 7 = 0 (X67-18.11.4.1-06).
+    pub const ENABLE_OPERATION: u16 = SWITCH_ON | ENABLE_OPERATION_BIT;
+    /// The bits Enable operation fixes: 0–3 and 7.
+    pub const ENABLE_OPERATION_MASK: u16 = COMMAND_BITS;
+    /// Bit 7: Fault reset, on its rising edge whatever the other bits hold (X67-18.11.4.1-07).
+    pub const FAULT_RESET: u16 = 1 << 7;
+}
 
 /// Status word bit 7: Warning (seed 002, 18.11.3.5).
 pub const SW_WARNING: u16 = 1 << 7;
 /// Status word bit 9: Remote, always 1 because the module has no local mode (X67-18.11.3.5-02).
 pub const SW_REMOTE: u16 = 1 << 9;
-/// The status-word bits the state machine owns: bits 0–6 from the state table, bit 8 (reserved, always 0) and
-/// bit 9 (Remote, always 1). All other bits (7 Warning, 10–15) come from the axis model.
+/// The status-word bits the state machine owns: bits 0–6 from the state table, bit 8 (reserved, always 0,
+/// X67-18.11.3.5-01) and bit 9 (Remote, always 1). All other bits (7 Warning, 10–15) come from the axis model.
 pub const SW_STATE_MASK: u16 = 0x037F;
 
 /// A state of the CiA 402 state machine (seed 002, 18.11.4.2 table and 18.11.4.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum State {
-    /// Initialisation after start-up; left by itself for Switch on disabled (X67-18.11.4.3-01/-02).
+    /// Initialisation after start-up; left by itself for Switch on disabled (X67-18.11.4.3-01, X67-18.11.4.3-02).
     NotReadyToSwitchOn,
     /// Motor voltage off, waiting for Shutdown.
     SwitchOnDisabled,
@@ -59,11 +100,12 @@ pub enum State {
 
 impl State {
     /// The state bits 0–6 of the status word, exactly as the table of seed 002, 18.11.4.2 gives them
-    /// (X67-18.11.4.2-01 … -08). Bit 5 (Quick stop) is `x` in Not ready to switch on, Switch on disabled,
-    /// Fault reaction active and Fault; it is 0 there (the catalogue's pick in X67-18.11.4.2-01). Bit 4
-    /// (Voltage enabled) follows the table, so it is 1 exactly in Switched on, Operation enabled and Quick
-    /// stop active (X67-18.11.4.2-09), also while the start-up identification powers the motor in Ready to
-    /// switch on (the catalogue's pick).
+    /// (X67-18.11.4.2-01, X67-18.11.4.2-02, X67-18.11.4.2-03, X67-18.11.4.2-04, X67-18.11.4.2-05, X67-18.11.4.2-06,
+    /// X67-18.11.4.2-07, X67-18.11.4.2-08). Bit 5 (Quick stop) is `x` in Not ready to switch on, Switch on disabled,
+    /// Fault reaction active and Fault; it is 0 there (the catalogue's pick in X67-18.11.4.2-01). Bit 4 (Voltage
+    /// enabled) follows the table, so it is 1 exactly in Switched on, Operation enabled and Quick stop active
+    /// (X67-18.11.4.2-09), also while the start-up identification powers the motor in Ready to switch on (the
+    /// catalogue's pick).
     pub const fn status_bits(self) -> u16 {
         match self {
             State::NotReadyToSwitchOn => 0x0000,
@@ -138,7 +180,7 @@ pub const fn status_word(state: State, extra_bits: u16) -> u16 {
 pub enum Command {
     /// `(CW & 0x87) == 0x06` (X67-18.11.4.1-01).
     Shutdown,
-    /// `(CW & 0x8F) == 0x07` outside Operation enabled (X67-18.11.4.1-02, -05).
+    /// `(CW & 0x8F) == 0x07` outside Operation enabled (X67-18.11.4.1-02, X67-18.11.4.1-05).
     SwitchOn,
     /// `(CW & 0x82) == 0x00` (X67-18.11.4.1-03).
     DisableVoltage,
@@ -160,7 +202,8 @@ impl Command {
     /// - Every other command needs bit 7 = 0, so a control word with bit 7 held at 1 is no command
     ///   (X67-18.11.4.1-09).
     /// - Only bits 0–3 and 7 take part. Bits 9 and 10, drawn as 0 in the table, are ignored: the catalogue's
-    ///   pick in X67-18.11.4.1-08. Bits 4–6, 8 and 11–15 are `x` (X67-18.11.4.1-12).
+    ///   pick in X67-18.11.4.1-08; bit 9 has no function and bit 10 is reserved (X67-18.11.3.2-03,
+    ///   X67-18.11.3.2-04). Bits 4–6, 8 and 11–15 are `x` (X67-18.11.4.1-12).
     ///
     /// With bit 7 = 0 the masks cover all 16 combinations of bits 0–3 exactly once, so this returns `None`
     /// only when bit 7 is 1 without an edge.
@@ -172,23 +215,25 @@ impl Command {
                 None
             };
         }
-        let cw = control_word & 0x008F;
-        Some(if cw & 0x0082 == 0x0000 {
-            Command::DisableVoltage
-        } else if cw & 0x0086 == 0x0002 {
-            Command::QuickStop
-        } else if cw & 0x0087 == 0x0006 {
-            Command::Shutdown
-        } else if cw == 0x000F {
-            Command::EnableOperation
-        } else {
-            // The only pattern left: bits 3..0 = 0111.
-            if matches!(state, State::OperationEnabled) {
-                Command::DisableOperation
+        let cw = control_word & control::COMMAND_BITS;
+        Some(
+            if cw & control::DISABLE_VOLTAGE_MASK == control::DISABLE_VOLTAGE {
+                Command::DisableVoltage
+            } else if cw & control::QUICK_STOP_MASK == control::QUICK_STOP {
+                Command::QuickStop
+            } else if cw & control::SHUTDOWN_MASK == control::SHUTDOWN {
+                Command::Shutdown
+            } else if cw & control::ENABLE_OPERATION_MASK == control::ENABLE_OPERATION {
+                Command::EnableOperation
             } else {
-                Command::SwitchOn
-            }
-        })
+                // The only pattern left: bits 3..0 = 0111.
+                if matches!(state, State::OperationEnabled) {
+                    Command::DisableOperation
+                } else {
+                    Command::SwitchOn
+                }
+            },
+        )
     }
 }
 
@@ -262,8 +307,8 @@ impl Transition {
 /// 2. Fault reaction active goes to Fault at once (X67-18.11.4.3-18); nothing else is evaluated there.
 /// 3. An Error moves every other state except Fault to Fault reaction active and switches the voltage off
 ///    (X67-18.11.4.3-16). It takes precedence over the command of the same cycle.
-/// 4. Fault reset clears errors and warnings in every state (X67-18.11.4.1-11, -13 pick); in Fault it also
-///    leaves for Switch on disabled if no Error is pending (X67-18.11.4.3-19/-20).
+/// 4. Fault reset clears errors and warnings in every state (X67-18.11.4.1-11, X67-18.11.4.1-13 pick); in Fault it
+///    also leaves for Switch on disabled if no Error is pending (X67-18.11.4.3-19, X67-18.11.4.3-20).
 /// 5. The command transitions of the seed's table.
 /// 6. In Quick stop active without a command that leaves it, standstill leads to Switch on disabled with the
 ///    voltage off (X67-18.11.4.3-14).
@@ -273,15 +318,18 @@ pub fn next(state: State, command: Option<Command>, ctx: &Inputs) -> Transition 
     use State::*;
 
     match state {
+        // Fault reaction active → Fault at once (X67-18.11.4.3-18).
         FaultReactionActive => return Transition::to(Fault, &[]),
         NotReadyToSwitchOn | SwitchOnDisabled | ReadyToSwitchOn | SwitchedOn | OperationEnabled
         | QuickStopActive
             if ctx.error_pending =>
         {
-            // The voltage goes off in every state, also where it was already off, and also when a start-up
-            // identification in Ready to switch on powers the motor.
+            // Any state → Fault reaction active on an Error-type condition (X67-18.11.4.3-16). The voltage
+            // goes off in every state, also where it was already off, and also when a start-up
+            // identification in Ready to switch on powers the motor (X67-18.11.4.3-18).
             return Transition::to(FaultReactionActive, &[VoltageOff]);
         }
+        // Not ready to switch on → Switch on disabled by itself (X67-18.11.4.3-02).
         NotReadyToSwitchOn => return Transition::to(SwitchOnDisabled, &[]),
         _ => {}
     }
@@ -295,19 +343,24 @@ pub fn next(state: State, command: Option<Command>, ctx: &Inputs) -> Transition 
     };
 
     match (state, command) {
+        // Fault → Switch on disabled only without an Error condition; errors and warnings are reset
+        // (X67-18.11.4.3-19, X67-18.11.4.3-20).
         (Fault, Some(FaultReset)) if !ctx.error_pending => {
             Transition::to(SwitchOnDisabled, &[ClearErrors])
         }
+        // Fault reset in any other state (and in Fault with an Error still present) resets errors and
+        // warnings without a state change (X67-18.11.4.1-11, X67-18.11.4.3-19).
         (_, Some(FaultReset)) => Transition::to(state, &[ClearErrors]),
 
-        // Switch on disabled → Ready to switch on: "No others actions are performed."
+        // Switch on disabled → Ready to switch on: "No others actions are performed." (X67-18.11.4.3-03)
         (SwitchOnDisabled, Some(Shutdown)) => Transition::to(ReadyToSwitchOn, &[]),
 
-        // Ready to switch on → Switch on disabled: "No others actions are performed."
+        // Ready to switch on → Switch on disabled: "No others actions are performed." (X67-18.11.4.3-04)
         (ReadyToSwitchOn, Some(DisableVoltage | QuickStop)) => {
             Transition::to(SwitchOnDisabled, &[])
         }
-        // Ready to switch on → Switched on; the first time after start-up only after the identification.
+        // Ready to switch on → Switched on (X67-18.11.4.3-06); the first time after start-up only after the
+        // identification (X67-18.11.4.3-07).
         (ReadyToSwitchOn, Some(SwitchOn)) if ctx.identification_done => {
             Transition::to(SwitchedOn, &[VoltageOn])
         }
@@ -315,11 +368,13 @@ pub fn next(state: State, command: Option<Command>, ctx: &Inputs) -> Transition 
             Transition::to(ReadyToSwitchOn, &[StartIdentification])
         }
 
-        // Switched on → Switch on disabled / Ready to switch on: the voltage goes off at once.
+        // Switched on → Switch on disabled / Ready to switch on: the voltage goes off at once
+        // (X67-18.11.4.3-05, X67-18.11.4.3-08).
         (SwitchedOn, Some(DisableVoltage | QuickStop)) => {
             Transition::to(SwitchOnDisabled, &[VoltageOff])
         }
         (SwitchedOn, Some(Shutdown)) => Transition::to(ReadyToSwitchOn, &[VoltageOff]),
+        // Switched on → Operation enable: motion follows the mode (X67-18.11.4.3-09).
         (SwitchedOn, Some(EnableOperation)) => Transition::to(OperationEnabled, &[EnableMotion]),
 
         // Operation enabled → Switched on: brake with the configured deceleration, voltage stays on. The state
@@ -328,16 +383,17 @@ pub fn next(state: State, command: Option<Command>, ctx: &Inputs) -> Transition 
             state: SwitchedOn,
             actions: brake(false),
         },
-        // Operation enabled → Ready to switch on / Switch on disabled: voltage off at once, no braking.
+        // Operation enabled → Ready to switch on / Switch on disabled: voltage off at once, no braking
+        // (X67-18.11.4.3-11, X67-18.11.4.3-12).
         (OperationEnabled, Some(Shutdown)) => Transition::to(ReadyToSwitchOn, &[VoltageOff]),
         (OperationEnabled, Some(DisableVoltage)) => Transition::to(SwitchOnDisabled, &[VoltageOff]),
-        // Operation enabled → Quick stop active: brake with the configured deceleration.
+        // Operation enabled → Quick stop active: brake with the configured deceleration (X67-18.11.4.3-13).
         (OperationEnabled, Some(QuickStop)) => Transition {
             state: QuickStopActive,
             actions: brake(true),
         },
 
-        // Quick stop active → Operation enabled.
+        // Quick stop active → Operation enabled (X67-18.11.4.3-15).
         (QuickStopActive, Some(EnableOperation)) => {
             Transition::to(OperationEnabled, &[EnableMotion])
         }

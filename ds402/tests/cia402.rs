@@ -1,7 +1,14 @@
 //! Tests of the CiA 402 state machine against the X67SM2436 rule catalogue, sections 18.11.3.5 and 18.11.4.1 to
 //! 18.11.4.3. Each test names the rules it covers; status words are asserted in full, cycle by cycle.
 
+use ds402::cia402::control::{
+    DISABLE_OPERATION, DISABLE_VOLTAGE, ENABLE_OPERATION, FAULT_RESET, QUICK_STOP, QUICK_STOP_BIT,
+    SHUTDOWN, SWITCH_ON,
+};
 use ds402::cia402::{next, status_word, Action, Command, Inputs, State, StateMachine};
+
+/// Quick stop with bits 0 and 3 still set, as a master sends it from Operation enabled (0x000B).
+const QUICK_STOP_FROM_ENABLED: u16 = ENABLE_OPERATION & !QUICK_STOP_BIT;
 
 /// Status words of each state as the seed's table gives them (bit 5 = 0 where it is x) plus Remote (bit 9).
 const NRTSO: u16 = 0x0200;
@@ -62,18 +69,18 @@ fn expect(sm: &mut StateMachine, cw: u16, ctx: Inputs, sw: u16, actions: &[Actio
 /// A machine that has run the first Switch on with its identification, back in Switch on disabled.
 fn started() -> StateMachine {
     let mut sm = StateMachine::new();
-    sm.step(0x0000, &idle());
-    sm.step(0x0006, &idle());
-    sm.step(0x0007, &idle());
+    sm.step(DISABLE_VOLTAGE, &idle());
+    sm.step(SHUTDOWN, &idle());
+    sm.step(SWITCH_ON, &idle());
     sm.step(
-        0x0007,
+        SWITCH_ON,
         &Inputs {
             identification_done: true,
             ..idle()
         },
     );
     assert_eq!(sm.state, State::SwitchedOn);
-    sm.step(0x0000, &idle());
+    sm.step(DISABLE_VOLTAGE, &idle());
     assert_eq!(sm.state, State::SwitchOnDisabled);
     sm
 }
@@ -81,11 +88,11 @@ fn started() -> StateMachine {
 /// A new machine after Shutdown and its first Switch on: in Ready to switch on, the identification running.
 fn identifying() -> StateMachine {
     let mut sm = StateMachine::new();
-    sm.step(0, &idle());
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    sm.step(DISABLE_VOLTAGE, &idle());
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
     expect(
         &mut sm,
-        0x0007,
+        SWITCH_ON,
         idle(),
         RTSO,
         &[Action::StartIdentification],
@@ -98,17 +105,17 @@ fn in_state(state: State) -> StateMachine {
     let mut sm = started();
     let path: &[u16] = match state {
         State::SwitchOnDisabled => &[],
-        State::ReadyToSwitchOn => &[0x0006],
-        State::SwitchedOn => &[0x0006, 0x0007],
-        State::OperationEnabled => &[0x0006, 0x0007, 0x000F],
-        State::QuickStopActive => &[0x0006, 0x0007, 0x000F],
+        State::ReadyToSwitchOn => &[SHUTDOWN],
+        State::SwitchedOn => &[SHUTDOWN, SWITCH_ON],
+        State::OperationEnabled => &[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION],
+        State::QuickStopActive => &[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION],
         _ => unreachable!(),
     };
     for &cw in path {
         sm.step(cw, &moving());
     }
     if state == State::QuickStopActive {
-        sm.step(0x000B, &moving());
+        sm.step(QUICK_STOP_FROM_ENABLED, &moving());
     }
     assert_eq!(sm.state, state);
     sm
@@ -122,38 +129,44 @@ fn power_up_sequence_with_identification() {
     assert_eq!(sm.state, State::NotReadyToSwitchOn);
     assert_eq!(sm.status_word(0), NRTSO);
     // Internal initialisation: Switch on disabled after one cycle, without a command.
-    expect(&mut sm, 0x0000, idle(), SOD, &[]);
-    expect(&mut sm, 0x0000, idle(), SOD, &[]);
+    expect(&mut sm, DISABLE_VOLTAGE, idle(), SOD, &[]);
+    expect(&mut sm, DISABLE_VOLTAGE, idle(), SOD, &[]);
     // Shutdown: no other action.
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
     // First Switch on: the identification starts once; the state stays Ready to switch on (bit 4 = 0).
     expect(
         &mut sm,
-        0x0007,
+        SWITCH_ON,
         idle(),
         RTSO,
         &[Action::StartIdentification],
     );
     for _ in 0..39 {
-        expect(&mut sm, 0x0007, idle(), RTSO, &[]);
+        expect(&mut sm, SWITCH_ON, idle(), RTSO, &[]);
     }
     let done = Inputs {
         identification_done: true,
         ..idle()
     };
-    expect(&mut sm, 0x0007, done, SO, &[Action::VoltageOn]);
+    expect(&mut sm, SWITCH_ON, done, SO, &[Action::VoltageOn]);
     assert!(sm.identified);
-    expect(&mut sm, 0x0007, idle(), SO, &[]);
-    expect(&mut sm, 0x000F, idle(), OE, &[Action::EnableMotion]);
-    expect(&mut sm, 0x000F, idle(), OE, &[]);
+    expect(&mut sm, SWITCH_ON, idle(), SO, &[]);
+    expect(
+        &mut sm,
+        ENABLE_OPERATION,
+        idle(),
+        OE,
+        &[Action::EnableMotion],
+    );
+    expect(&mut sm, ENABLE_OPERATION, idle(), OE, &[]);
 }
 
 /// X67-18.11.4.3-07: a later Switch on reaches Switched on within one cycle, without identification.
 #[test]
 fn later_switch_on_skips_identification() {
     let mut sm = started();
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
-    expect(&mut sm, 0x0007, idle(), SO, &[Action::VoltageOn]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
+    expect(&mut sm, SWITCH_ON, idle(), SO, &[Action::VoltageOn]);
 }
 
 /// X67-18.11.4.3-07 (model choice): an identification cut short by Disable voltage switches the voltage off and
@@ -161,23 +174,23 @@ fn later_switch_on_skips_identification() {
 #[test]
 fn aborted_identification_runs_again() {
     let mut sm = identifying();
-    expect(&mut sm, 0x0000, idle(), SOD, &[Action::VoltageOff]);
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(&mut sm, DISABLE_VOLTAGE, idle(), SOD, &[Action::VoltageOff]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
     expect(
         &mut sm,
-        0x0007,
+        SWITCH_ON,
         idle(),
         RTSO,
         &[Action::StartIdentification],
     );
     // Shutdown while it runs: no transition from Ready to switch on; the measurement finishes.
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
     let done = Inputs {
         identification_done: true,
         ..idle()
     };
-    expect(&mut sm, 0x0006, done, RTSO, &[]);
-    expect(&mut sm, 0x0007, idle(), SO, &[Action::VoltageOn]);
+    expect(&mut sm, SHUTDOWN, done, RTSO, &[]);
+    expect(&mut sm, SWITCH_ON, idle(), SO, &[Action::VoltageOn]);
 }
 
 /// X67-18.11.4.1-01: Shutdown is (CW & 0x87) == 0x06.
@@ -240,9 +253,9 @@ fn decode_disable_operation_by_state() {
         Some(Command::SwitchOn)
     );
     let mut sm = in_state(State::OperationEnabled);
-    expect(&mut sm, 0x0007, idle(), SO, &[]);
+    expect(&mut sm, DISABLE_OPERATION, idle(), SO, &[]);
     let mut sm = in_state(State::ReadyToSwitchOn);
-    expect(&mut sm, 0x0007, idle(), SO, &[Action::VoltageOn]);
+    expect(&mut sm, SWITCH_ON, idle(), SO, &[Action::VoltageOn]);
 }
 
 /// X67-18.11.4.1-06: Enable operation is (CW & 0x8F) == 0x0F.
@@ -289,9 +302,9 @@ fn reserved_bits_9_10_ignored() {
 #[test]
 fn bit_7_must_be_cleared_before_next_command() {
     let mut sm = started();
-    expect(&mut sm, 0x0080, idle(), SOD, &[Action::ClearErrors]);
+    expect(&mut sm, FAULT_RESET, idle(), SOD, &[Action::ClearErrors]);
     expect(&mut sm, 0x0086, idle(), SOD, &[]);
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
 }
 
 /// X67-18.11.4.1-10 (state-machine part): a rising edge on bit 12 (Warning reset) does not affect the state
@@ -301,9 +314,15 @@ fn warning_reset_bit_does_not_affect_state() {
     let mut sm = in_state(State::OperationEnabled);
     expect(&mut sm, 0x100F, idle(), OE, &[]);
     let mut sm = started();
-    expect(&mut sm, 0x0000, error(), FAULT, &[Action::VoltageOff]);
+    expect(
+        &mut sm,
+        DISABLE_VOLTAGE,
+        error(),
+        FAULT,
+        &[Action::VoltageOff],
+    );
     expect(&mut sm, 0x1000, error(), FAULT, &[]);
-    expect(&mut sm, 0x0000, idle(), FAULT, &[]);
+    expect(&mut sm, DISABLE_VOLTAGE, idle(), FAULT, &[]);
     expect(&mut sm, 0x1000, idle(), FAULT, &[]);
 }
 
@@ -317,7 +336,7 @@ fn fault_reset_outside_fault_clears_warnings() {
         State::OperationEnabled,
     ] {
         let mut sm = in_state(state);
-        let cw = sm.last_control | 0x0080;
+        let cw = sm.last_control | FAULT_RESET;
         let out = sm.step(cw, &idle());
         assert_eq!((out.state, out.actions), (state, vec![Action::ClearErrors]));
     }
@@ -342,7 +361,7 @@ fn free_bits_do_not_select_transitions() {
     }
     let mut sm = started();
     expect(&mut sm, 0x4000, idle(), SOD, &[]);
-    expect(&mut sm, 0x0000, idle(), SOD, &[]);
+    expect(&mut sm, DISABLE_VOLTAGE, idle(), SOD, &[]);
 }
 
 /// X67-18.11.4.1-13: a command without a transition from the state leaves it unchanged: 0x0F or 0x07 in Switch
@@ -350,19 +369,31 @@ fn free_bits_do_not_select_transitions() {
 #[test]
 fn command_without_transition_keeps_state() {
     let mut sm = started();
-    expect(&mut sm, 0x000F, idle(), SOD, &[]);
-    expect(&mut sm, 0x0007, idle(), SOD, &[]);
-    expect(&mut sm, 0x0002, idle(), SOD, &[]);
+    expect(&mut sm, ENABLE_OPERATION, idle(), SOD, &[]);
+    expect(&mut sm, SWITCH_ON, idle(), SOD, &[]);
+    expect(&mut sm, QUICK_STOP, idle(), SOD, &[]);
     let mut sm = in_state(State::ReadyToSwitchOn);
-    expect(&mut sm, 0x000F, idle(), RTSO, &[]);
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(&mut sm, ENABLE_OPERATION, idle(), RTSO, &[]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
     let mut sm = in_state(State::SwitchedOn);
-    expect(&mut sm, 0x0007, idle(), SO, &[]);
+    expect(&mut sm, SWITCH_ON, idle(), SO, &[]);
     let mut sm = in_state(State::OperationEnabled);
-    expect(&mut sm, 0x000F, idle(), OE, &[]);
+    expect(&mut sm, ENABLE_OPERATION, idle(), OE, &[]);
     let mut sm = started();
-    expect(&mut sm, 0x0000, error(), FAULT, &[Action::VoltageOff]);
-    for cw in [0x0006, 0x0007, 0x000F, 0x0002, 0x0000] {
+    expect(
+        &mut sm,
+        DISABLE_VOLTAGE,
+        error(),
+        FAULT,
+        &[Action::VoltageOff],
+    );
+    for cw in [
+        SHUTDOWN,
+        SWITCH_ON,
+        ENABLE_OPERATION,
+        QUICK_STOP,
+        DISABLE_VOLTAGE,
+    ] {
         expect(&mut sm, cw, idle(), FAULT, &[]);
     }
 }
@@ -372,7 +403,13 @@ fn command_without_transition_keeps_state() {
 #[test]
 fn disable_voltage_in_quick_stop_active() {
     let mut sm = in_state(State::QuickStopActive);
-    expect(&mut sm, 0x0000, moving(), SOD, &[Action::VoltageOff]);
+    expect(
+        &mut sm,
+        DISABLE_VOLTAGE,
+        moving(),
+        SOD,
+        &[Action::VoltageOff],
+    );
 }
 
 /// X67-18.11.4.2-01 … -08, X67-18.11.3.5-01, -02: the exact state bits, bit 8 = 0 and Remote = 1 in every
@@ -422,13 +459,13 @@ fn axis_bits_pass_through() {
         extra_status: 0xC480 | 0x007F,
         ..idle()
     };
-    expect(&mut sm, 0x000F, ctx, 0xC480 | OE, &[]);
+    expect(&mut sm, ENABLE_OPERATION, ctx, 0xC480 | OE, &[]);
 }
 
 /// X67-18.11.4.3-04: Disable voltage or Quick stop in Ready to switch on → Switch on disabled, no other action.
 #[test]
 fn ready_to_switch_on_to_switch_on_disabled() {
-    for cw in [0x0000, 0x0002] {
+    for cw in [DISABLE_VOLTAGE, QUICK_STOP] {
         let mut sm = in_state(State::ReadyToSwitchOn);
         expect(&mut sm, cw, idle(), SOD, &[]);
     }
@@ -437,7 +474,7 @@ fn ready_to_switch_on_to_switch_on_disabled() {
 /// X67-18.11.4.3-05: Disable voltage or Quick stop in Switched on → Switch on disabled, voltage off at once.
 #[test]
 fn switched_on_to_switch_on_disabled() {
-    for cw in [0x0000, 0x0002] {
+    for cw in [DISABLE_VOLTAGE, QUICK_STOP] {
         let mut sm = in_state(State::SwitchedOn);
         expect(&mut sm, cw, idle(), SOD, &[Action::VoltageOff]);
     }
@@ -447,7 +484,7 @@ fn switched_on_to_switch_on_disabled() {
 #[test]
 fn switched_on_shutdown() {
     let mut sm = in_state(State::SwitchedOn);
-    expect(&mut sm, 0x0006, idle(), RTSO, &[Action::VoltageOff]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[Action::VoltageOff]);
 }
 
 /// X67-18.11.4.3-10: Disable operation brakes a moving axis with the configured deceleration, keeps the voltage
@@ -457,29 +494,35 @@ fn disable_operation_decelerates() {
     let mut sm = in_state(State::OperationEnabled);
     expect(
         &mut sm,
-        0x0007,
+        DISABLE_OPERATION,
         moving(),
         SO,
         &[Action::Decelerate { quick: false }],
     );
-    expect(&mut sm, 0x0007, moving(), SO, &[]);
-    expect(&mut sm, 0x0007, idle(), SO, &[]);
+    expect(&mut sm, DISABLE_OPERATION, moving(), SO, &[]);
+    expect(&mut sm, DISABLE_OPERATION, idle(), SO, &[]);
     let mut sm = in_state(State::OperationEnabled);
-    expect(&mut sm, 0x0007, idle(), SO, &[]);
+    expect(&mut sm, DISABLE_OPERATION, idle(), SO, &[]);
 }
 
 /// X67-18.11.4.3-11: Shutdown in Operation enabled → Ready to switch on, voltage off at once, no braking.
 #[test]
 fn operation_enabled_shutdown() {
     let mut sm = in_state(State::OperationEnabled);
-    expect(&mut sm, 0x0006, moving(), RTSO, &[Action::VoltageOff]);
+    expect(&mut sm, SHUTDOWN, moving(), RTSO, &[Action::VoltageOff]);
 }
 
 /// X67-18.11.4.3-12: Disable voltage in Operation enabled → Switch on disabled, voltage off.
 #[test]
 fn operation_enabled_disable_voltage() {
     let mut sm = in_state(State::OperationEnabled);
-    expect(&mut sm, 0x0000, moving(), SOD, &[Action::VoltageOff]);
+    expect(
+        &mut sm,
+        DISABLE_VOLTAGE,
+        moving(),
+        SOD,
+        &[Action::VoltageOff],
+    );
 }
 
 /// X67-18.11.4.3-13, -14: Quick stop brakes, stays in Quick stop active while moving and goes to Switch on
@@ -489,31 +532,49 @@ fn quick_stop_to_standstill() {
     let mut sm = in_state(State::OperationEnabled);
     expect(
         &mut sm,
-        0x000B,
+        QUICK_STOP_FROM_ENABLED,
         moving(),
         QSA,
         &[Action::Decelerate { quick: true }],
     );
     for _ in 0..5 {
-        expect(&mut sm, 0x000B, moving(), QSA, &[]);
+        expect(&mut sm, QUICK_STOP_FROM_ENABLED, moving(), QSA, &[]);
     }
-    expect(&mut sm, 0x000B, idle(), SOD, &[Action::VoltageOff]);
-    expect(&mut sm, 0x000B, idle(), SOD, &[]);
+    expect(
+        &mut sm,
+        QUICK_STOP_FROM_ENABLED,
+        idle(),
+        SOD,
+        &[Action::VoltageOff],
+    );
+    expect(&mut sm, QUICK_STOP_FROM_ENABLED, idle(), SOD, &[]);
     // Already standing: Quick stop active is shown for one cycle.
     let mut sm = in_state(State::OperationEnabled);
-    expect(&mut sm, 0x0002, idle(), QSA, &[]);
-    expect(&mut sm, 0x0002, idle(), SOD, &[Action::VoltageOff]);
+    expect(&mut sm, QUICK_STOP, idle(), QSA, &[]);
+    expect(&mut sm, QUICK_STOP, idle(), SOD, &[Action::VoltageOff]);
 }
 
 /// X67-18.11.4.3-15: Enable operation takes Quick stop active back to Operation enabled.
 #[test]
 fn quick_stop_back_to_operation_enabled() {
     let mut sm = in_state(State::QuickStopActive);
-    expect(&mut sm, 0x000B, moving(), QSA, &[]);
-    expect(&mut sm, 0x000F, moving(), OE, &[Action::EnableMotion]);
+    expect(&mut sm, QUICK_STOP_FROM_ENABLED, moving(), QSA, &[]);
+    expect(
+        &mut sm,
+        ENABLE_OPERATION,
+        moving(),
+        OE,
+        &[Action::EnableMotion],
+    );
     // Also at the standstill cycle: the command wins over the automatic transition.
     let mut sm = in_state(State::QuickStopActive);
-    expect(&mut sm, 0x000F, idle(), OE, &[Action::EnableMotion]);
+    expect(
+        &mut sm,
+        ENABLE_OPERATION,
+        idle(),
+        OE,
+        &[Action::EnableMotion],
+    );
 }
 
 /// X67-18.11.4.3-16, -18, X67-18.11.4.2-07, -08: an Error moves every state to Fault reaction active, switches
@@ -540,7 +601,7 @@ fn error_passes_through_fault_reaction_active() {
     }
     // From start-up, too.
     let mut sm = StateMachine::new();
-    let out = sm.step(0, &error());
+    let out = sm.step(DISABLE_VOLTAGE, &error());
     assert_eq!(out.trace, vec![State::FaultReactionActive, State::Fault]);
     // The pure function shows the intermediate state.
     let t = next(
@@ -578,26 +639,38 @@ fn warning_does_not_change_state() {
         extra_status: 0x0080,
         ..idle()
     };
-    expect(&mut sm, 0x000F, warn, OE | 0x0080, &[]);
-    expect(&mut sm, 0x000F, warn, OE | 0x0080, &[]);
+    expect(&mut sm, ENABLE_OPERATION, warn, OE | 0x0080, &[]);
+    expect(&mut sm, ENABLE_OPERATION, warn, OE | 0x0080, &[]);
 }
 
 /// X67-18.11.4.3-19, -20: Fault reset leaves Fault only when no error remains, and clears errors and warnings.
 #[test]
 fn fault_reset() {
     let mut sm = in_state(State::OperationEnabled);
-    expect(&mut sm, 0x000F, error(), FAULT, &[Action::VoltageOff]);
+    expect(
+        &mut sm,
+        ENABLE_OPERATION,
+        error(),
+        FAULT,
+        &[Action::VoltageOff],
+    );
     // Error still present: stays in Fault (the latched warnings are still cleared).
-    expect(&mut sm, 0x0080, error(), FAULT, &[Action::ClearErrors]);
-    expect(&mut sm, 0x0000, error(), FAULT, &[]);
+    expect(&mut sm, FAULT_RESET, error(), FAULT, &[Action::ClearErrors]);
+    expect(&mut sm, DISABLE_VOLTAGE, error(), FAULT, &[]);
     // Condition gone, but bit 7 held: no new edge.
-    expect(&mut sm, 0x0000, idle(), FAULT, &[]);
-    expect(&mut sm, 0x0080, idle(), SOD, &[Action::ClearErrors]);
-    expect(&mut sm, 0x0080, idle(), SOD, &[]);
+    expect(&mut sm, DISABLE_VOLTAGE, idle(), FAULT, &[]);
+    expect(&mut sm, FAULT_RESET, idle(), SOD, &[Action::ClearErrors]);
+    expect(&mut sm, FAULT_RESET, idle(), SOD, &[]);
     // Back up again.
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
-    expect(&mut sm, 0x0007, idle(), SO, &[Action::VoltageOn]);
-    expect(&mut sm, 0x000F, idle(), OE, &[Action::EnableMotion]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
+    expect(&mut sm, SWITCH_ON, idle(), SO, &[Action::VoltageOn]);
+    expect(
+        &mut sm,
+        ENABLE_OPERATION,
+        idle(),
+        OE,
+        &[Action::EnableMotion],
+    );
 }
 
 /// X67-18.11.4.3-21: motion only in Operation enabled.
@@ -620,15 +693,15 @@ fn disable_voltage_from_every_state() {
     ];
     for (state, sw, actions) in cases {
         let mut sm = in_state(state);
-        expect(&mut sm, 0x0000, moving(), sw, &actions);
+        expect(&mut sm, DISABLE_VOLTAGE, moving(), sw, &actions);
     }
     // Not ready to switch on: initialisation goes on to Switch on disabled.
     let mut sm = StateMachine::new();
-    expect(&mut sm, 0x0000, idle(), SOD, &[]);
+    expect(&mut sm, DISABLE_VOLTAGE, idle(), SOD, &[]);
     // Fault: no transition.
     let mut sm = started();
-    sm.step(0, &error());
-    expect(&mut sm, 0x0000, idle(), FAULT, &[]);
+    sm.step(DISABLE_VOLTAGE, &error());
+    expect(&mut sm, DISABLE_VOLTAGE, idle(), FAULT, &[]);
     // Fault reaction active (pure function): on to Fault.
     let t = next(
         State::FaultReactionActive,
@@ -643,13 +716,13 @@ fn disable_voltage_from_every_state() {
 #[test]
 fn error_during_identification() {
     let mut sm = identifying();
-    expect(&mut sm, 0x0007, error(), FAULT, &[Action::VoltageOff]);
+    expect(&mut sm, SWITCH_ON, error(), FAULT, &[Action::VoltageOff]);
     assert!(!sm.identifying && !sm.identified);
-    expect(&mut sm, 0x0080, idle(), SOD, &[Action::ClearErrors]);
-    expect(&mut sm, 0x0006, idle(), RTSO, &[]);
+    expect(&mut sm, FAULT_RESET, idle(), SOD, &[Action::ClearErrors]);
+    expect(&mut sm, SHUTDOWN, idle(), RTSO, &[]);
     expect(
         &mut sm,
-        0x0007,
+        SWITCH_ON,
         idle(),
         RTSO,
         &[Action::StartIdentification],

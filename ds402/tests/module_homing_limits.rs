@@ -7,25 +7,23 @@
 //! within a cycle; an input the harness sets between two cycles is seen in the next cycle at the counter
 //! values of that cycle's start, and a braking ramp it causes starts in the cycle after.
 
-use ds402::x67::axis::{SW_INTERNAL_LIMIT, SW_TARGET_REACHED};
+mod x67_rig;
+
+use ds402::cia402::control::ENABLE_OPERATION;
+use ds402::cia402::SW_WARNING;
+use ds402::x67::axis::{modes, ref_config, CW_SWAP_COUNTERS, SW_INTERNAL_LIMIT, SW_TARGET_REACHED};
 use ds402::x67::current::Level;
+use ds402::x67::errors::{CW_STALL_DETECTION, CW_WARNING_RESET};
 use ds402::x67::module::{Cam, Module};
 use ds402::x67::motor::Load;
-use ds402::x67::registers::{AxisReg, Register};
+use ds402::x67::registers::AxisReg;
 use proptest::prelude::*;
+use x67_rig::{
+    cat, cat_bools, get, increments as incs, set, set_currents, set_ref_config, OPERATION_ENABLE,
+    STATE_MASK,
+};
 
 // ----- helpers -----
-
-/// Status-word mask and value of Operation enable (X67-18.11.4.2-05).
-const STATE_MASK: u16 = 0x037F;
-const OPERATION_ENABLE: u16 = 0x0237;
-/// Status-word bit 7: warning.
-const SW_WARNING: u16 = 1 << 7;
-/// Control words: Enable operation, and the bits added to it.
-const CW_ENABLE: u16 = 0x000F;
-const CW_WARNING_RESET: u16 = 1 << 12;
-const CW_SWAP_COUNTERS: u16 = 1 << 14;
-const CW_STALL_DETECTION: u16 = 1 << 15;
 
 /// Encoder lines for the tests with an ABR counter: 4 × 500 counts per 200 × 256 microsteps, i.e. 5 counts
 /// per 128 microsteps.
@@ -34,15 +32,6 @@ const ENCODER_LINES: u32 = 500;
 /// The ABR count of an encoder with [`ENCODER_LINES`] at a rotor position (4x evaluation, rounded down).
 fn abr_at(rotor: i64) -> i64 {
     (rotor * 4 * i64::from(ENCODER_LINES)).div_euclid(200 * 256)
-}
-
-fn set(m: &mut Module, axis: usize, reg: AxisReg, value: i64) {
-    m.write(Register::Axis(axis, reg), value)
-        .unwrap_or_else(|e| panic!("{e}"));
-}
-
-fn get(m: &Module, axis: usize, reg: AxisReg) -> i64 {
-    m.read(Register::Axis(axis, reg))
 }
 
 /// RefPos0nCyclicCounter and RefPos0nAcyclicCounter.
@@ -57,32 +46,8 @@ fn refs(m: &Module, axis: usize) -> (i64, i64) {
 /// MaxAcc0n and MaxDec0n, and currents of 20 % (holding), 50 % (nominal) and 100 % (maximum).
 fn enabled(axis: usize, max_speed: i64, acc: i64, dec: i64) -> Module {
     let mut m = Module::new();
-    for (reg, value) in [
-        (AxisReg::MaxSpeedPos, max_speed),
-        (AxisReg::MaxAcc, acc),
-        (AxisReg::MaxDec, dec),
-        (AxisReg::HoldingCurrent, 20),
-        (AxisReg::NominalCurrent, 50),
-        (AxisReg::MaximumCurrent, 100),
-    ] {
-        set(&mut m, axis, reg, value);
-    }
-    m.step();
-    assert_eq!(m.status_word(axis) & 0x035F, 0x0240);
-    m.set_control(axis, 0x0006);
-    m.step();
-    assert_eq!(m.status_word(axis) & STATE_MASK, 0x0221);
-    m.set_control(axis, 0x0007);
-    for _ in 0..60 {
-        m.step();
-        if m.status_word(axis) & STATE_MASK == 0x0233 {
-            break;
-        }
-    }
-    assert_eq!(m.status_word(axis) & STATE_MASK, 0x0233);
-    m.set_control(axis, CW_ENABLE);
-    m.step();
-    assert_eq!(m.status_word(axis) & STATE_MASK, OPERATION_ENABLE);
+    set_currents(&mut m, axis, 20, 50, 100);
+    x67_rig::operation_enable(&mut m, axis, max_speed, acc, dec);
     assert_eq!(m.act_val(axis), 0);
     m
 }
@@ -96,14 +61,8 @@ fn homing_axis(axis: usize, ref_speed: i64, acc: i64, dec: i64) -> Module {
 
 /// One cycle; returns the increment of AbsPos0nActVal (control bit 14 = 0) and the status word after it.
 fn cycle(m: &mut Module, axis: usize) -> (i32, u16) {
-    let before = m.act_val(axis);
-    m.step();
-    (m.act_val(axis).wrapping_sub(before), m.status_word(axis))
-}
-
-/// The increments of `n` cycles.
-fn incs(m: &mut Module, axis: usize, n: usize) -> Vec<i32> {
-    (0..n).map(|_| cycle(m, axis).0).collect()
+    let c = x67_rig::cycle(m, axis);
+    (c.inc, c.sw)
 }
 
 /// The increments of `n` cycles with SW bit `mask` after each.
@@ -120,10 +79,6 @@ fn rep(value: i32, n: usize) -> Vec<i32> {
     vec![value; n]
 }
 
-fn cat(parts: &[&[i32]]) -> Vec<i32> {
-    parts.concat()
-}
-
 fn bit(m: &Module, axis: usize, mask: u16) -> bool {
     m.status_word(axis) & mask != 0
 }
@@ -133,11 +88,6 @@ fn abr_plus_three(m: &mut Module) {
     m.set_input(1, true);
     m.set_input(2, true);
     m.set_input(1, false);
-}
-
-/// `a` followed by `b`.
-fn cat_bools(a: &[bool], b: &[bool]) -> Vec<bool> {
-    [a, b].concat()
 }
 
 /// A cam on `input` carried by the rotor of `axis`.
@@ -152,8 +102,8 @@ fn stall_homing(ref_speed: i64) -> Module {
     m.axis_mut(0).motor.encoder_lines = ENCODER_LINES;
     m.axis_mut(0).motor.load = Load::Value(7);
     set(&mut m, 0, AxisReg::StallDetectConfig, 0x30);
-    set(&mut m, 0, AxisReg::RefConfig, -127);
-    m.set_control(0, CW_ENABLE | CW_STALL_DETECTION);
+    set_ref_config(&mut m, 0, ref_config::STALL);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.step();
     m
 }
@@ -163,7 +113,7 @@ fn stall_homing(ref_speed: i64) -> Module {
 fn running(config: i64, speed: i32) -> Module {
     let mut m = enabled(0, 0, 10, 5);
     set(&mut m, 0, AxisReg::LimitSwitchConfig, config);
-    m.set_mode(0, 2);
+    m.set_mode(0, modes::SPEED);
     m.set_abs_pos(0, speed);
     let s = speed.signum();
     assert_eq!(incs(&mut m, 0, 5), [10 * s, 20 * s, 30 * s, 40 * s, 40 * s]);
@@ -205,7 +155,7 @@ fn limits(m: &mut Module, axis: usize, min: i64, max: i64) {
 #[test]
 fn x67_18_11_3_3_10_01_positive_and_negative_homing() {
     let mut m = homing_axis(0, 40, 10, 10);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 7), [10, 20, 30, 40, 40, 40, 40]);
     assert_eq!(m.act_val(0), 220);
     assert!(!bit(&m, 0, SW_TARGET_REACHED));
@@ -213,7 +163,7 @@ fn x67_18_11_3_3_10_01_positive_and_negative_homing() {
 
     // Axis 2 (R input DI6) homes negative; axis 1's registers are not touched by it.
     let mut m = homing_axis(1, 40, 10, 10);
-    m.set_mode(1, -128);
+    m.set_mode(1, modes::HOMING_NEGATIVE);
     assert_eq!(incs(&mut m, 1, 7), [-10, -20, -30, -40, -40, -40, -40]);
     assert_eq!(m.act_val(1), -220);
     assert_eq!(m.act_val(0), 0);
@@ -225,10 +175,10 @@ fn x67_18_11_3_3_10_01_positive_and_negative_homing() {
 #[test]
 fn x67_18_11_3_3_10_02_standstill_before_homing() {
     let mut m = homing_axis(0, 40, 10, 5);
-    m.set_mode(0, 2);
+    m.set_mode(0, modes::SPEED);
     m.set_abs_pos(0, 50);
     assert_eq!(incs(&mut m, 0, 6), [10, 20, 30, 40, 50, 50]);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     let run = incs_bits(&mut m, 0, 15, SW_TARGET_REACHED);
     let got: Vec<i32> = run.iter().map(|r| r.0).collect();
     assert_eq!(
@@ -239,10 +189,10 @@ fn x67_18_11_3_3_10_02_standstill_before_homing() {
 
     // The same from a negative speed into negative homing.
     let mut m = homing_axis(0, 20, 10, 10);
-    m.set_mode(0, 2);
+    m.set_mode(0, modes::SPEED);
     m.set_abs_pos(0, -30);
     assert_eq!(incs(&mut m, 0, 4), [-10, -20, -30, -30]);
-    m.set_mode(0, -128);
+    m.set_mode(0, modes::HOMING_NEGATIVE);
     assert_eq!(incs(&mut m, 0, 7), [-20, -10, 0, -10, -20, -20, -20]);
 }
 
@@ -252,7 +202,7 @@ fn x67_18_11_3_3_10_02_standstill_before_homing() {
 fn x67_18_11_3_3_10_03_ref_speed_max_acc_max_dec() {
     let mut m = enabled(0, 10, 7, 4);
     set(&mut m, 0, AxisReg::RefSpeed, 30);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 7), [7, 14, 21, 28, 30, 30, 30]);
     assert_eq!(m.act_val(0), 160);
     // DI3 rises between two cycles (RefConfig01 default −125).
@@ -280,7 +230,7 @@ fn x67_18_11_3_3_10_04_references_stored_at_the_edge() {
             to: 1_000_000,
         },
     );
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     // 10, 30, 60, 100, then 40 per cycle: 980 after cycle 26, 1020 after cycle 27.
     let run = incs_bits(&mut m, 0, 26, SW_TARGET_REACHED);
     assert_eq!(m.act_val(0), 980);
@@ -324,7 +274,7 @@ fn x67_18_11_3_3_10_05_no_change_of_the_counter() {
             to: 1_000_000,
         },
     );
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     m.run(40);
     assert_eq!(refs(&m, 0).0, 1000);
     assert_eq!(m.act_val(0), 1080);
@@ -333,7 +283,7 @@ fn x67_18_11_3_3_10_05_no_change_of_the_counter() {
     assert_eq!(m.act_val(0), 1080);
 
     // Mode 1 to 0 travels the whole 1080 back.
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 0);
     let path = incs(&mut m, 0, 40);
     assert_eq!(path.iter().sum::<i32>(), -1080);
@@ -349,7 +299,7 @@ fn x67_18_11_3_3_10_06_case_1_level_absent_at_start() {
     abr_plus_three(&mut m);
     m.step();
     assert_eq!(get(&m, 0, AxisReg::ActValAcyclic), 3);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 6), [10, 20, 30, 40, 40, 40]);
     let p = m.act_val(0);
     assert_eq!(p, 180);
@@ -368,7 +318,7 @@ fn x67_18_11_3_3_10_06_case_1_level_absent_at_start() {
 
     // Axis 2, negative homing on DI6.
     let mut m = homing_axis(1, 25, 5, 5);
-    m.set_mode(1, -128);
+    m.set_mode(1, modes::HOMING_NEGATIVE);
     assert_eq!(incs(&mut m, 1, 6), [-5, -10, -15, -20, -25, -25]);
     m.set_input(3, true);
     m.set_input(4, true);
@@ -404,7 +354,7 @@ fn x67_18_11_3_3_10_07_case_2_level_present_at_start() {
     );
     m.step();
     assert_eq!(m.input_status() & 0x04, 0x04);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     let leave = incs(&mut m, 0, 15);
     assert_eq!(leave, cat(&[&[-10, -20, -30], &rep(-40, 12)]));
     assert_eq!(m.act_val(0), -540);
@@ -422,7 +372,7 @@ fn x67_18_11_3_3_10_07_case_2_level_present_at_start() {
     let mut m = homing_axis(0, 40, 10, 10);
     m.set_input(3, true);
     m.step();
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 3), [-10, -20, -30]);
     m.set_input(3, false);
     assert_eq!(incs(&mut m, 0, 1), [-40]);
@@ -444,7 +394,7 @@ fn x67_18_11_3_3_10_07_case_2_level_present_at_start() {
 #[test]
 fn x67_18_11_3_3_10_08_homing_on_stall_abrupt_stop() {
     let mut m = stall_homing(40);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 7), [10, 20, 30, 40, 40, 40, 40]);
     assert_eq!(m.error_code(0), 0);
     assert_eq!(m.act_val(0), 220);
@@ -467,35 +417,47 @@ fn x67_18_11_3_3_10_08_homing_on_stall_abrupt_stop() {
 /// threshold of 0 or a speed not above StallDetectMinSpeed0n leave the run going.
 #[test]
 fn x67_18_11_3_3_10_09_stall_only_when_detectable() {
-    // Control bit 15 = 0.
-    let mut m = stall_homing(40);
-    m.axis_mut(0).motor.load = Load::Value(0);
-    m.set_control(0, CW_ENABLE);
-    m.set_mode(0, -127);
-    assert_eq!(incs(&mut m, 0, 20), cat(&[&[10, 20, 30], &rep(40, 17)]));
-    assert_eq!((refs(&m, 0), m.error_code(0)), ((0, 0), 0));
-    assert!(!bit(&m, 0, SW_TARGET_REACHED));
-
-    // Stall threshold 0.
-    let mut m = stall_homing(40);
-    m.axis_mut(0).motor.load = Load::Value(0);
-    set(&mut m, 0, AxisReg::StallDetectConfig, 0x00);
-    m.set_mode(0, -127);
-    assert_eq!(incs(&mut m, 0, 20), cat(&[&[10, 20, 30], &rep(40, 17)]));
-    assert_eq!((refs(&m, 0), m.error_code(0)), ((0, 0), 0));
-
-    // Speed not above StallDetectMinSpeed01.
-    let mut m = stall_homing(40);
-    m.axis_mut(0).motor.load = Load::Value(0);
-    set(&mut m, 0, AxisReg::StallDetectMinSpeed, 40);
-    m.set_mode(0, -128);
-    assert_eq!(incs(&mut m, 0, 20), cat(&[&[-10, -20, -30], &rep(-40, 17)]));
-    assert_eq!((refs(&m, 0), m.error_code(0)), ((0, 0), 0));
+    // One condition missing in each case: the run goes on at RefSpeed01 with no reference and no warning.
+    // (case, what removes the condition, mode, direction)
+    type Remove = fn(&mut Module);
+    let cases: [(&str, Remove, i8, i32); 3] = [
+        (
+            "control bit 15 = 0",
+            |m| m.set_control(0, ENABLE_OPERATION),
+            modes::HOMING_POSITIVE,
+            1,
+        ),
+        (
+            "stall threshold 0",
+            |m| set(m, 0, AxisReg::StallDetectConfig, 0x00),
+            modes::HOMING_POSITIVE,
+            1,
+        ),
+        (
+            "speed not above StallDetectMinSpeed01",
+            |m| set(m, 0, AxisReg::StallDetectMinSpeed, 40),
+            modes::HOMING_NEGATIVE,
+            -1,
+        ),
+    ];
+    for (case, missing, mode, dir) in cases {
+        let mut m = stall_homing(40);
+        m.axis_mut(0).motor.load = Load::Value(0);
+        missing(&mut m);
+        m.set_mode(0, mode);
+        let expected: Vec<i32> = cat(&[&[10, 20, 30], &rep(40, 17)])
+            .into_iter()
+            .map(|v| v * dir)
+            .collect();
+        assert_eq!(incs(&mut m, 0, 20), expected, "{case}");
+        assert_eq!((refs(&m, 0), m.error_code(0)), ((0, 0), 0), "{case}");
+        assert!(!bit(&m, 0, SW_TARGET_REACHED), "{case}");
+    }
 
     // All conditions met: the first cycle after one at speed > 0 ends the run.
     let mut m = stall_homing(40);
     m.axis_mut(0).motor.load = Load::Value(0);
-    m.set_mode(0, -128);
+    m.set_mode(0, modes::HOMING_NEGATIVE);
     assert_eq!(incs(&mut m, 0, 3), [-10, 0, 0]);
     assert_eq!(refs(&m, 0), (-10, abr_at(-10)));
     assert_eq!(m.error_code(0), 0xFF01);
@@ -506,13 +468,13 @@ fn x67_18_11_3_3_10_09_stall_only_when_detectable() {
 #[test]
 fn x67_18_11_3_3_10_10_immediate_homing() {
     let mut m = enabled(0, 100, 10, 10);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 500);
     m.run(30);
     assert_eq!(m.act_val(0), 500);
     abr_plus_three(&mut m);
-    set(&mut m, 0, AxisReg::RefConfig, -128);
-    m.set_mode(0, -127);
+    set_ref_config(&mut m, 0, ref_config::IMMEDIATE);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     let (inc, sw) = cycle(&mut m, 0);
     assert_eq!(inc, 0);
     assert!(sw & SW_TARGET_REACHED != 0);
@@ -522,11 +484,11 @@ fn x67_18_11_3_3_10_10_immediate_homing() {
 
     // Negative homing, axis 2, somewhere else.
     let mut m = enabled(1, 100, 10, 10);
-    m.set_mode(1, 1);
+    m.set_mode(1, modes::POSITION);
     m.set_abs_pos(1, -777);
     m.run(40);
-    set(&mut m, 1, AxisReg::RefConfig, -128);
-    m.set_mode(1, -128);
+    set_ref_config(&mut m, 1, ref_config::IMMEDIATE);
+    m.set_mode(1, modes::HOMING_NEGATIVE);
     assert_eq!(incs(&mut m, 1, 3), [0, 0, 0]);
     assert_eq!(refs(&m, 1), (-777, 0));
     assert!(bit(&m, 1, SW_TARGET_REACHED));
@@ -546,7 +508,7 @@ fn x67_18_11_4_2_13_target_reached_in_homing() {
         },
     );
     assert!(bit(&m, 0, SW_TARGET_REACHED));
-    m.set_mode(0, -128);
+    m.set_mode(0, modes::HOMING_NEGATIVE);
     let run = incs_bits(&mut m, 0, 14, SW_TARGET_REACHED);
     let got: Vec<i32> = run.iter().map(|r| r.0).collect();
     // −10, −30, −60, −100, …, −300 (the edge at the end of cycle 9), then braking.
@@ -567,7 +529,7 @@ fn x67_18_11_4_2_13_target_reached_in_homing() {
 #[test]
 fn x67_18_11_1_1_03_nominal_current_in_stall_homing() {
     let mut m = stall_homing(40);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     let mut levels = Vec::new();
     for _ in 0..8 {
         m.step();
@@ -595,7 +557,7 @@ fn x67_18_11_1_1_03_nominal_current_in_stall_homing() {
 
     // Homing on the R input speeds up with the maximum current.
     let mut m = homing_axis(0, 40, 10, 10);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     m.step();
     let c = m.axis(0).observation().current.unwrap();
     assert_eq!(c.level, Level::Maximum);
@@ -614,7 +576,7 @@ fn x67_18_11_1_12_01_stall_recognition_delay() {
         let mut m = stall_homing(40);
         m.axis_mut(0).motor.load = Load::Value(2);
         set(&mut m, 0, AxisReg::StallRecognitionDelay, delay);
-        m.set_mode(0, -127);
+        m.set_mode(0, modes::HOMING_POSITIVE);
         let t0 = m.time_ms();
         let n = run.len();
         assert_eq!(incs(&mut m, 0, n), run, "delay {delay}");
@@ -636,8 +598,8 @@ fn x67_18_11_1_12_02_delay_only_in_stall_homing() {
     m.axis_mut(0).motor.load = Load::Value(2);
     set(&mut m, 0, AxisReg::StallDetectConfig, 0x30);
     set(&mut m, 0, AxisReg::StallRecognitionDelay, 255);
-    m.set_control(0, CW_ENABLE | CW_STALL_DETECTION);
-    m.set_mode(0, 1);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 10_000);
     assert_eq!(incs(&mut m, 0, 1), [10]);
     assert_eq!(
@@ -659,7 +621,7 @@ fn x67_18_11_1_13_01_minimum_speed_for_stall_detection() {
         let mut m = stall_homing(ref_speed);
         m.axis_mut(0).motor.load = Load::Value(0);
         set(&mut m, 0, AxisReg::StallDetectMinSpeed, 50);
-        m.set_mode(0, -127);
+        m.set_mode(0, modes::HOMING_POSITIVE);
         let run = incs(&mut m, 0, 10);
         if stops {
             assert_eq!(run, [10, 20, 30, 40, 50, 51, 0, 0, 0, 0]);
@@ -677,8 +639,8 @@ fn x67_18_11_1_13_01_minimum_speed_for_stall_detection() {
     m.axis_mut(0).motor.load = Load::Value(0);
     set(&mut m, 0, AxisReg::StallDetectConfig, 0x70);
     set(&mut m, 0, AxisReg::StallDetectMinSpeed, 50);
-    m.set_control(0, CW_ENABLE | CW_STALL_DETECTION);
-    m.set_mode(0, 2);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
+    m.set_mode(0, modes::SPEED);
     m.set_abs_pos(0, 50);
     assert_eq!(incs(&mut m, 0, 20), cat(&[&[10, 20, 30, 40], &rep(50, 16)]));
     assert_eq!(m.error_code(0), 0);
@@ -694,15 +656,15 @@ fn x67_18_11_1_13_01_minimum_speed_for_stall_detection() {
 #[test]
 fn x67_18_11_1_9_01_homing_speed() {
     let mut m = homing_axis(0, 25, 100, 100);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 5), [25; 5]);
 
     let mut m = enabled(0, 100, 10, 10);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 300);
     m.run(20);
     assert_eq!(m.act_val(0), 300);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     let run = incs_bits(&mut m, 0, 10, SW_TARGET_REACHED);
     assert_eq!(run, vec![(0, false); 10]);
     assert_eq!(refs(&m, 0), (0, 0));
@@ -718,9 +680,9 @@ fn x67_18_11_1_9_01_homing_speed() {
 fn x67_18_11_1_11_01_di4_edges_for_both_axes() {
     // Axis 1, −121: DI4 rises at 600; DI3 (its R input) does nothing.
     let mut m = homing_axis(0, 40, 10, 10);
-    set(&mut m, 0, AxisReg::RefConfig, -121);
+    set_ref_config(&mut m, 0, ref_config::DI4_RISING);
     cam(&mut m, 4, 0, 600, 1_000_000);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     m.run(5);
     m.set_input(3, true);
     m.run(5);
@@ -731,11 +693,11 @@ fn x67_18_11_1_11_01_di4_edges_for_both_axes() {
 
     // Axis 2, −122: DI4 high up to 700, so its falling edge lies at 701.
     let mut m = homing_axis(1, 40, 10, 10);
-    set(&mut m, 1, AxisReg::RefConfig, -122);
+    set_ref_config(&mut m, 1, ref_config::DI4_FALLING);
     cam(&mut m, 4, 1, -1_000_000, 700);
     m.step();
     assert_eq!(m.input_status() & 0x08, 0x08);
-    m.set_mode(1, -127);
+    m.set_mode(1, modes::HOMING_POSITIVE);
     // 10, 30, 60, 100, then 40 per cycle: 700 after cycle 19, 740 after cycle 20.
     m.run(19);
     assert_eq!((m.act_val(1), refs(&m, 1).0), (700, 0));
@@ -751,10 +713,10 @@ fn x67_18_11_1_11_01_di4_edges_for_both_axes() {
 fn x67_18_11_1_11_02_r_input_edges() {
     // Axis 2, Mode −128, −126: DI6 high from −800 on, so it falls at −801.
     let mut m = homing_axis(1, 40, 10, 10);
-    set(&mut m, 1, AxisReg::RefConfig, -126);
+    set_ref_config(&mut m, 1, ref_config::R_FALLING);
     cam(&mut m, 6, 1, -800, 1_000_000);
     m.step();
-    m.set_mode(1, -128);
+    m.set_mode(1, modes::HOMING_NEGATIVE);
     m.run(4);
     m.set_input(3, false);
     m.set_input(3, true);
@@ -767,9 +729,9 @@ fn x67_18_11_1_11_02_r_input_edges() {
 
     // Axis 1, Mode −127, −126 by hand: DI3 high at the start is the inactive level.
     let mut m = homing_axis(0, 40, 10, 10);
-    set(&mut m, 0, AxisReg::RefConfig, -126);
+    set_ref_config(&mut m, 0, ref_config::R_FALLING);
     m.set_input(3, true);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 4), [10, 20, 30, 40]);
     m.set_input(6, false);
     m.set_input(6, true);
@@ -787,7 +749,7 @@ fn x67_18_11_1_11_02_r_input_edges() {
 fn x67_18_11_1_11_03_stall_and_immediate() {
     let mut m = stall_homing(40);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -127);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     m.run(5);
     m.set_input(3, true);
     m.run(3);
@@ -798,9 +760,9 @@ fn x67_18_11_1_11_03_stall_and_immediate() {
     assert_eq!(refs(&m, 0).0, 260);
 
     let mut m = homing_axis(0, 40, 10, 10);
-    set(&mut m, 0, AxisReg::RefConfig, -128);
+    set_ref_config(&mut m, 0, ref_config::IMMEDIATE);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -128);
-    m.set_mode(0, -128);
+    m.set_mode(0, modes::HOMING_NEGATIVE);
     assert_eq!(incs(&mut m, 0, 3), [0, 0, 0]);
     assert!(bit(&m, 0, SW_TARGET_REACHED));
 }
@@ -811,11 +773,11 @@ fn x67_18_11_1_11_04_minus_120_ignored() {
     let mut m = homing_axis(0, 40, 10, 10);
     set(&mut m, 0, AxisReg::RefConfig, -120);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -125);
-    set(&mut m, 0, AxisReg::RefConfig, -121);
+    set_ref_config(&mut m, 0, ref_config::DI4_RISING);
     set(&mut m, 0, AxisReg::RefConfig, -120);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -121);
     cam(&mut m, 4, 0, 600, 1_000_000);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     m.run(4);
     m.set_input(3, true);
     m.run(16);
@@ -831,14 +793,14 @@ fn x67_18_11_1_11_05_unlisted_values_ignored() {
         set(&mut m, 0, AxisReg::RefConfig, v);
         assert_eq!(get(&m, 0, AxisReg::RefConfig), -125, "value {v}");
     }
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     assert_eq!(incs(&mut m, 0, 4), [10, 20, 30, 40]);
     m.set_input(3, true);
     m.step();
     assert_eq!(refs(&m, 0).0, 100);
 
     let mut m = homing_axis(0, 40, 10, 10);
-    set(&mut m, 0, AxisReg::RefConfig, -126);
+    set_ref_config(&mut m, 0, ref_config::R_FALLING);
     set(&mut m, 0, AxisReg::RefConfig, 0);
     assert_eq!(get(&m, 0, AxisReg::RefConfig), -126);
 }
@@ -850,7 +812,7 @@ fn x67_18_11_1_11_06_default_minus_125() {
     assert_eq!(m.read_named("RefConfig01"), -125);
     assert_eq!(m.read_named("RefConfig02"), -125);
     let mut m = homing_axis(0, 40, 10, 10);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     m.run(4);
     m.set_input(4, true);
     m.set_input(6, true);
@@ -870,7 +832,7 @@ fn x67_18_11_3_9_01_cyclic_and_acyclic_references() {
     let mut m = homing_axis(0, 40, 10, 10);
     m.axis_mut(0).motor.encoder_lines = ENCODER_LINES;
     cam(&mut m, 3, 0, 12_345, 1_000_000);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     m.run(320);
     assert_eq!(abr_at(12_345), 482);
     assert_eq!(refs(&m, 0), (12_345, 482));
@@ -878,14 +840,14 @@ fn x67_18_11_3_9_01_cyclic_and_acyclic_references() {
     assert_eq!(m.act_val(0), 12_440);
     assert_eq!(get(&m, 0, AxisReg::ActValAcyclic), abr_at(12_440));
 
-    m.set_control(0, CW_ENABLE | CW_SWAP_COUNTERS);
+    m.set_control(0, ENABLE_OPERATION | CW_SWAP_COUNTERS);
     m.step();
     assert_eq!(refs(&m, 0), (482, 12_345));
     assert_eq!(m.act_val(0) as i64, abr_at(12_440));
     assert_eq!(get(&m, 0, AxisReg::ActValAcyclic), 12_440);
     assert_eq!(m.status_word(0) & STATE_MASK, OPERATION_ENABLE);
 
-    m.set_control(0, CW_ENABLE);
+    m.set_control(0, ENABLE_OPERATION);
     m.step();
     assert_eq!(refs(&m, 0), (12_345, 482));
     assert_eq!(m.act_val(0), 12_440);
@@ -905,12 +867,12 @@ fn x67_18_11_3_9_02_zero_before_homing() {
     }
     let mut m = enabled(0, 100, 10, 10);
     abr_plus_three(&mut m);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 3000);
     m.run(50);
     assert_eq!(m.act_val(0), 3000);
     assert_eq!(refs(&m, 0), (0, 0));
-    m.set_control(0, CW_ENABLE | CW_SWAP_COUNTERS);
+    m.set_control(0, ENABLE_OPERATION | CW_SWAP_COUNTERS);
     m.step();
     assert_eq!(refs(&m, 0), (0, 0));
     assert_eq!(refs(&m, 1), (0, 0));
@@ -918,17 +880,62 @@ fn x67_18_11_3_9_02_zero_before_homing() {
 
 // ----- limit switches: X67-18.11.1.16 -----
 
+/// A limit-switch case: axis 1 running in Mode 2 with LimitSwitchConfig01 = `config`, `input` driven through
+/// `levels`, what [`drive`] returns for them, and the increments of the braking that follows.
+struct SwitchCase {
+    config: i64,
+    input: usize,
+    levels: &'static [bool],
+    seen: &'static [(i32, u16)],
+    braking: &'static [i32],
+}
+
+/// Runs `case` at `speed` and checks it, naming the case in each assertion.
+#[track_caller]
+fn check_switch(case: &SwitchCase, speed: i32) {
+    let SwitchCase {
+        config,
+        input,
+        levels,
+        seen,
+        braking,
+    } = *case;
+    let mut m = running(config, speed);
+    assert_eq!(
+        drive(&mut m, input, levels),
+        seen,
+        "config {config:#06b}, DI{input}"
+    );
+    assert_eq!(
+        incs(&mut m, 0, braking.len()),
+        braking,
+        "config {config:#06b}, DI{input}"
+    );
+}
+
 /// X67-18.11.1.16-01: bits 0–1 set the negative switch (DI1): 11 active high, 01 active low, 10 (reserved)
 /// and 00 off. Only the edge into the active level triggers 0xFF20 and the braking.
 #[test]
 fn x67_18_11_1_16_01_negative_switch_polarity() {
-    let mut m = running(0b11, -40);
-    assert_eq!(drive(&mut m, 1, &[true]), [(-40, 0xFF20)]);
-    assert_eq!(incs(&mut m, 0, 8), [-35, -30, -25, -20, -15, -10, -5, 0]);
-
-    let mut m = running(0b01, -40);
-    assert_eq!(drive(&mut m, 1, &[true, false]), [(-40, 0), (-40, 0xFF20)]);
-    assert_eq!(incs(&mut m, 0, 2), [-35, -30]);
+    let cases = [
+        SwitchCase {
+            config: 0b11,
+            input: 1,
+            levels: &[true],
+            seen: &[(-40, 0xFF20)],
+            braking: &[-35, -30, -25, -20, -15, -10, -5, 0],
+        },
+        SwitchCase {
+            config: 0b01,
+            input: 1,
+            levels: &[true, false],
+            seen: &[(-40, 0), (-40, 0xFF20)],
+            braking: &[-35, -30],
+        },
+    ];
+    for case in &cases {
+        check_switch(case, -40);
+    }
 
     for config in [0b10, 0b00] {
         let mut m = running(config, -40);
@@ -944,15 +951,33 @@ fn x67_18_11_1_16_01_negative_switch_polarity() {
 /// X67-18.11.1.16-02: bits 2–3 set the positive switch (DI2) with the same encoding; 0xFF21.
 #[test]
 fn x67_18_11_1_16_02_positive_switch_polarity() {
-    let mut m = running(0b0100, 40);
-    assert_eq!(drive(&mut m, 2, &[true, false]), [(40, 0), (40, 0xFF21)]);
-    assert_eq!(incs(&mut m, 0, 8), [35, 30, 25, 20, 15, 10, 5, 0]);
-
-    let mut m = running(0b1100, 40);
-    assert_eq!(drive(&mut m, 2, &[true]), [(40, 0xFF21)]);
-    // The negative switch's input is not the positive switch.
-    let mut m = running(0b1100, 40);
-    assert_eq!(drive(&mut m, 1, &[true]), [(40, 0)]);
+    let cases = [
+        SwitchCase {
+            config: 0b0100,
+            input: 2,
+            levels: &[true, false],
+            seen: &[(40, 0), (40, 0xFF21)],
+            braking: &[35, 30, 25, 20, 15, 10, 5, 0],
+        },
+        SwitchCase {
+            config: 0b1100,
+            input: 2,
+            levels: &[true],
+            seen: &[(40, 0xFF21)],
+            braking: &[],
+        },
+        // The negative switch's input is not the positive switch.
+        SwitchCase {
+            config: 0b1100,
+            input: 1,
+            levels: &[true],
+            seen: &[(40, 0)],
+            braking: &[],
+        },
+    ];
+    for case in &cases {
+        check_switch(case, 40);
+    }
 
     for config in [0b1000, 0b0000] {
         let mut m = running(config, 40);
@@ -1016,7 +1041,7 @@ fn x67_18_11_1_16_05_acknowledge_and_next_edge() {
     m.run(10);
     assert_eq!((m.act_val(0), m.error_code(0)), (320, 0xFF21));
 
-    m.set_control(0, CW_ENABLE | CW_WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_WARNING_RESET);
     let (inc, sw) = cycle(&mut m, 0);
     assert_eq!((inc, m.error_code(0)), (10, 0));
     assert_eq!(sw & SW_WARNING, 0);
@@ -1051,7 +1076,7 @@ fn x67_18_11_1_16_06_overshoot_and_retrigger_when_reversing() {
     assert_eq!(m.input_status() & 0x01, 0, "braked past the switch");
     assert_eq!(m.error_code(0), 0xFF20);
 
-    m.set_control(0, CW_ENABLE | CW_WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_WARNING_RESET);
     m.set_abs_pos(0, 40);
     assert_eq!(drive_none(&mut m, 2), [(10, 0), (20, 0)]);
     assert_eq!(m.act_val(0), -1010);
@@ -1072,7 +1097,7 @@ fn x67_18_11_1_16_07_direction_monitoring() {
     m.set_input(1, true);
     m.step();
     assert_eq!(m.error_code(0), 0);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 5000);
     m.run(20);
     m.set_input(1, false);
@@ -1085,7 +1110,7 @@ fn x67_18_11_1_16_07_direction_monitoring() {
     // Without direction monitoring the same active edge stops the positive move.
     let mut m = enabled(0, 100, 10, 10);
     set(&mut m, 0, AxisReg::LimitSwitchConfig, 0x03);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 5000);
     m.run(20);
     m.set_input(1, true);
@@ -1102,7 +1127,7 @@ fn x67_18_11_1_16_07_direction_monitoring() {
             set(&mut m, 0, AxisReg::LimitSwitchConfig, config);
             cam(&mut m, 1, 0, -3000, -2000);
             cam(&mut m, 2, 0, 2000, 3000);
-            m.set_mode(0, 1);
+            m.set_mode(0, modes::POSITION);
             m.set_abs_pos(0, target);
             let mut crossed = false;
             for _ in 0..150 {
@@ -1127,7 +1152,7 @@ fn x67_18_11_1_16_07_direction_monitoring() {
     m.axis_mut(0).motor.params.reversed = true;
     set(&mut m, 0, AxisReg::LimitSwitchConfig, 0x83);
     cam(&mut m, 1, 0, -3000, -2000);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 2500);
     m.run(40);
     assert_eq!((m.act_val(0), m.axis(0).motor.rotor()), (2500, -2500));
@@ -1142,7 +1167,7 @@ fn x67_18_11_1_16_07_direction_monitoring() {
 fn x67_18_11_1_16_08_move_toward_active_switch_refused() {
     let mut m = enabled(0, 100, 10, 10);
     set(&mut m, 0, AxisReg::LimitSwitchConfig, 0x83);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, -10_000);
     m.run(15);
     assert_eq!(m.act_val(0), -1050);
@@ -1157,14 +1182,14 @@ fn x67_18_11_1_16_08_move_toward_active_switch_refused() {
     assert_eq!(m.act_val(0), -1500);
 
     // Acknowledged with the negative target still there: refused.
-    m.set_control(0, CW_ENABLE | CW_WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_WARNING_RESET);
     assert_eq!(drive_none(&mut m, 5), [(0, 0xFF20); 5]);
     assert!(bit(&m, 0, SW_WARNING));
     // A positive target is held until the acknowledgement, then runs.
-    m.set_control(0, CW_ENABLE);
+    m.set_control(0, ENABLE_OPERATION);
     m.set_abs_pos(0, 5000);
     assert_eq!(drive_none(&mut m, 1), [(0, 0xFF20)]);
-    m.set_control(0, CW_ENABLE | CW_WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_WARNING_RESET);
     assert_eq!(drive_none(&mut m, 3), [(10, 0), (20, 0), (30, 0)]);
     m.run(100);
     assert_eq!((m.act_val(0), m.error_code(0)), (5000, 0));
@@ -1176,12 +1201,12 @@ fn x67_18_11_1_16_08_move_toward_active_switch_refused() {
     m.set_input(5, true);
     m.step();
     assert_eq!(m.error_code(1), 0);
-    m.set_mode(1, 1);
+    m.set_mode(1, modes::POSITION);
     m.set_abs_pos(1, 3000);
     m.run(5);
     assert_eq!((m.act_val(1), m.error_code(1)), (0, 0xFF21));
     m.set_abs_pos(1, -3000);
-    m.set_control(1, CW_ENABLE | CW_WARNING_RESET);
+    m.set_control(1, ENABLE_OPERATION | CW_WARNING_RESET);
     m.run(60);
     assert_eq!((m.act_val(1), m.error_code(1)), (-3000, 0));
 }
@@ -1194,7 +1219,7 @@ fn x67_18_11_1_16_08_move_toward_active_switch_refused() {
 fn x67_18_11_1_17_01_on_when_either_is_non_zero() {
     let mut m = enabled(0, 100, 10, 10);
     limits(&mut m, 0, 0, 10_000);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, -5);
     assert_eq!(
         incs_bits(&mut m, 0, 5, SW_INTERNAL_LIMIT),
@@ -1209,7 +1234,7 @@ fn x67_18_11_1_17_01_on_when_either_is_non_zero() {
 
     let mut m = enabled(0, 100, 10, 10);
     limits(&mut m, 0, -100, 0);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 5);
     assert_eq!(
         incs_bits(&mut m, 0, 5, SW_INTERNAL_LIMIT),
@@ -1222,7 +1247,7 @@ fn x67_18_11_1_17_01_on_when_either_is_non_zero() {
     assert!(!bit(&m, 0, SW_INTERNAL_LIMIT));
 
     let mut m = enabled(0, 100, 10, 10);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, -5);
     assert_eq!(
         incs_bits(&mut m, 0, 2, SW_INTERNAL_LIMIT),
@@ -1249,7 +1274,7 @@ fn x67_18_11_1_17_02_containment_in_speed_mode_and_homing() {
 
     let mut m = enabled(0, 0, 10, 5);
     limits(&mut m, 0, -1000, 1000);
-    m.set_mode(0, 2);
+    m.set_mode(0, modes::SPEED);
     m.set_abs_pos(0, 40);
     let run = incs_bits(&mut m, 0, approach.len(), SW_INTERNAL_LIMIT);
     assert_eq!(run.iter().map(|r| r.0).collect::<Vec<_>>(), approach);
@@ -1266,13 +1291,13 @@ fn x67_18_11_1_17_02_containment_in_speed_mode_and_homing() {
 
     let mut m = homing_axis(0, 40, 10, 5);
     limits(&mut m, 0, -1000, 1000);
-    m.set_mode(0, -127);
+    m.set_mode(0, modes::HOMING_POSITIVE);
     let run = incs_bits(&mut m, 0, approach.len(), SW_INTERNAL_LIMIT);
     assert_eq!(run.iter().map(|r| r.0).collect::<Vec<_>>(), approach);
     assert_eq!(run.iter().map(|r| r.1).collect::<Vec<_>>(), held);
     assert_eq!(m.act_val(0), 1000);
     assert!(!bit(&m, 0, SW_TARGET_REACHED), "homing has not ended");
-    m.set_mode(0, -128);
+    m.set_mode(0, modes::HOMING_NEGATIVE);
     for _ in 0..120 {
         m.step();
         assert!((-1000..=1000).contains(&m.act_val(0)));
@@ -1288,7 +1313,7 @@ fn x67_18_11_1_17_02_containment_in_speed_mode_and_homing() {
 fn x67_18_11_1_17_03_target_outside_sets_bit_11() {
     let mut m = enabled(0, 100, 10, 10);
     limits(&mut m, 0, 0, 10_000);
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 20_000);
     assert_eq!(incs_bits(&mut m, 0, 5, SW_INTERNAL_LIMIT), [(0, true); 5]);
 
@@ -1318,7 +1343,7 @@ fn x67_18_11_1_17_03_target_outside_sets_bit_11() {
 
     // The same for a fixed position (mode −125).
     set(&mut m, 0, AxisReg::FixedPosA, 10_001);
-    m.set_mode(0, -125);
+    m.set_mode(0, modes::FIXED_A);
     assert_eq!(incs_bits(&mut m, 0, 3, SW_INTERNAL_LIMIT), [(0, true); 3]);
     set(&mut m, 0, AxisReg::FixedPosA, 10_000);
     m.run(80);
@@ -1336,7 +1361,7 @@ fn x67_18_11_1_17_04_min_above_max() {
         bit(&m, 0, SW_INTERNAL_LIMIT),
         "whatever the target and mode"
     );
-    m.set_mode(0, 1);
+    m.set_mode(0, modes::POSITION);
     m.set_abs_pos(0, 75);
     assert_eq!(incs_bits(&mut m, 0, 10, SW_INTERNAL_LIMIT), [(0, true); 10]);
     m.set_abs_pos(0, 0);
@@ -1357,11 +1382,11 @@ fn x67_18_11_1_17_06_overflow_only_without_limits() {
         if limited {
             limits(&mut m, 0, i64::from(i32::MIN), i64::from(i32::MAX));
         }
-        m.set_mode(0, -122);
+        m.set_mode(0, modes::SET_POSITION);
         m.set_abs_pos(0, i32::MAX - 1000);
         m.step();
         assert_eq!(m.act_val(0), i32::MAX - 1000);
-        m.set_mode(0, 2);
+        m.set_mode(0, modes::SPEED);
         m.set_abs_pos(0, 40);
         if limited {
             let run = incs_bits(&mut m, 0, 30, SW_INTERNAL_LIMIT);
@@ -1397,10 +1422,10 @@ fn x67_18_11_1_17_06_positioning_across_the_wrap() {
         if limited {
             limits(&mut m, 0, i64::from(i32::MIN), i64::from(i32::MAX));
         }
-        m.set_mode(0, -122);
+        m.set_mode(0, modes::SET_POSITION);
         m.set_abs_pos(0, i32::MAX - 1000);
         m.step();
-        m.set_mode(0, 1);
+        m.set_mode(0, modes::POSITION);
         m.set_abs_pos(0, i32::MIN + 99);
         let run = incs_bits(&mut m, 0, 30, SW_INTERNAL_LIMIT);
         assert!(run.iter().all(|r| !r.1), "limited = {limited}");
@@ -1424,7 +1449,7 @@ fn x67_18_11_1_17_06_positioning_across_the_wrap() {
 #[test]
 fn x67_18_11_3_5_03_internal_limit_bit() {
     let mut m = enabled(0, 0, 20, 20);
-    m.set_mode(0, 2);
+    m.set_mode(0, modes::SPEED);
     m.set_abs_pos(0, -200);
     for _ in 0..30 {
         m.step();
@@ -1446,7 +1471,7 @@ fn x67_18_11_3_5_03_internal_limit_bit() {
     m.run(60);
     assert_eq!(i64::from(m.act_val(0)), here + 500);
     assert!(bit(&m, 0, SW_INTERNAL_LIMIT), "upper limit");
-    m.set_mode(0, 0);
+    m.set_mode(0, modes::NONE);
     m.step();
     assert!(!bit(&m, 0, SW_INTERNAL_LIMIT), "mode 0: nothing held back");
     limits(&mut m, 0, here + 600, here);
@@ -1535,7 +1560,7 @@ fn command_strategy() -> impl Strategy<Value = Command> {
 fn apply(m: &mut Module, command: &Command, levels: &mut [bool; 6]) {
     match *command {
         Command::Target(t) => {
-            m.set_mode(0, 1);
+            m.set_mode(0, modes::POSITION);
             m.set_abs_pos(0, t);
         }
         Command::Fixed { b, pos } => {
@@ -1548,7 +1573,7 @@ fn apply(m: &mut Module, command: &Command, levels: &mut [bool; 6]) {
             m.set_mode(0, mode);
         }
         Command::Speed(v) => {
-            m.set_mode(0, 2);
+            m.set_mode(0, modes::SPEED);
             m.set_abs_pos(0, v);
         }
         Command::Homing {

@@ -10,34 +10,22 @@
 //! MaxDec 10 a move from standstill accelerates 10, 20, …, 100 (550 microsteps), brakes 90, 80, …, 10 (450
 //! microsteps), and cruises at 100 for the rest; the axis arrives in the following cycle with increment 0.
 
+mod x67_rig;
+
+use ds402::cia402::control::{ENABLE_OPERATION, SHUTDOWN, SWITCH_ON};
+use ds402::cia402::SW_WARNING;
+use ds402::x67::axis::{
+    modes, ref_config, CW_CHANGE_IMMEDIATELY, CW_NEW_SETPOINT, CW_RELATIVE, CW_STOP,
+    CW_SWAP_COUNTERS, SW_SETPOINT_ACK, SW_TARGET_REACHED,
+};
+use ds402::x67::errors::CW_WARNING_RESET;
 use ds402::x67::module::{Cam, Module};
 use proptest::prelude::*;
-
-// ----- status and control words -----
-
-/// The status-word bits that fix the state (X67-18.11.4.2-03…06).
-const STATE_MASK: u16 = 0x037F;
-const OPERATION_ENABLE: u16 = 0x0237;
-const SWITCHED_ON: u16 = 0x0233;
-const READY_TO_SWITCH_ON: u16 = 0x0221;
-/// Switch on disabled and Not ready to switch on fix fewer bits (X67-18.11.4.2-01/-02).
-const DISABLED_MASK: u16 = 0x035F;
-const SWITCH_ON_DISABLED: u16 = 0x0240;
-const NOT_READY: u16 = 0x0200;
-
-const SW_WARNING: u16 = 1 << 7;
-const SW_TARGET_REACHED: u16 = 1 << 10;
-const SW_SETPOINT_ACK: u16 = 1 << 12;
-
-const CW_SHUTDOWN: u16 = 0x0006;
-const CW_SWITCH_ON: u16 = 0x0007;
-const CW_ENABLE: u16 = 0x000F;
-const CW_NEW_SETPOINT: u16 = 1 << 4;
-const CW_IMMEDIATE: u16 = 1 << 5;
-const CW_RELATIVE: u16 = 1 << 6;
-const CW_STOP: u16 = 1 << 8;
-const CW_WARNING_RESET: u16 = 1 << 12;
-const CW_SWAP: u16 = 1 << 14;
+use x67_rig::{
+    cat, cat_bools, cycle, enable_operation, read, set_ramp, state, switch_on, trace, write, Cyc,
+    DISABLED_MASK, OPERATION_ENABLE, QUICK_STOP_FROM_ENABLED, READY, STATE_MASK, SWITCHED_ON,
+    SWITCH_ON_DISABLED,
+};
 
 /// Axis 1 (registers …01, R input DI3).
 const A1: usize = 0;
@@ -46,66 +34,12 @@ const DI3: usize = 3;
 
 // ----- bringing an axis up -----
 
-/// A register name of `axis`: `"MaxAcc0n"` → `"MaxAcc01"` / `"MaxAcc02"`.
-fn reg(name: &str, axis: usize) -> String {
-    name.replace("0n", if axis == 0 { "01" } else { "02" })
-}
-
-fn write(m: &mut Module, name: &str, axis: usize, value: i64) {
-    let name = reg(name, axis);
-    m.write_named(&name, value)
-        .unwrap_or_else(|e| panic!("{name} = {value}: {e}"));
-}
-
-fn read(m: &Module, name: &str, axis: usize) -> i64 {
-    m.read_named(&reg(name, axis))
-}
-
-/// Writes MaxSpeed0npos, MaxAcc0n and MaxDec0n.
-fn set_ramp(m: &mut Module, axis: usize, speed: i64, acc: i64, dec: i64) {
-    write(m, "MaxSpeed0npos", axis, speed);
-    write(m, "MaxAcc0n", axis, acc);
-    write(m, "MaxDec0n", axis, dec);
-}
-
-fn state(m: &Module, axis: usize) -> u16 {
-    m.status_word(axis) & STATE_MASK
-}
-
-/// Takes `axis` from power-up to Switched on: Shutdown, then Switch on, which runs the 1.0 s start-up motor
-/// identification in Ready to switch on (X67-18.11.4.3-07) at whatever cycle GeneralConfig01 sets.
-fn switch_on(m: &mut Module, axis: usize) {
-    if m.status_word(axis) & DISABLED_MASK == NOT_READY {
-        m.step();
-    }
-    assert_eq!(m.status_word(axis) & DISABLED_MASK, SWITCH_ON_DISABLED);
-    m.set_control(axis, CW_SHUTDOWN);
-    m.step();
-    assert_eq!(state(m, axis), READY_TO_SWITCH_ON);
-    m.set_control(axis, CW_SWITCH_ON);
-    for _ in 0..=1000 / 5 {
-        m.step();
-        if state(m, axis) == SWITCHED_ON {
-            return;
-        }
-        assert_eq!(state(m, axis), READY_TO_SWITCH_ON);
-    }
-    panic!("axis {axis} did not reach Switched on");
-}
-
-/// Enable operation from Switched on: one cycle, in which the selected mode already acts.
-fn enable_operation(m: &mut Module, axis: usize) {
-    m.set_control(axis, CW_ENABLE);
-    m.step();
-    assert_eq!(state(m, axis), OPERATION_ENABLE);
-}
-
 /// A module whose axis 1 is in Operation enable with these ramp registers, in mode 1 at position 0 with
 /// AbsPos01 = 0, so it stands still.
 fn enabled(speed: i64, acc: i64, dec: i64) -> Module {
     let mut m = Module::new();
     set_ramp(&mut m, A1, speed, acc, dec);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     switch_on(&mut m, A1);
     enable_operation(&mut m, A1);
     assert_eq!(m.act_val(A1), 0);
@@ -122,46 +56,13 @@ fn standard_ext() -> Module {
     let mut m = Module::new();
     m.write_named("GeneralConfig01", 1).unwrap();
     set_ramp(&mut m, A1, 100, 10, 10);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     switch_on(&mut m, A1);
     enable_operation(&mut m, A1);
     m
 }
 
 // ----- traces -----
-
-/// One cycle as the master sees it: the increment of AbsPos0nActVal, its value and the status word.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Cyc {
-    inc: i32,
-    pos: i32,
-    sw: u16,
-}
-
-impl Cyc {
-    fn reached(self) -> bool {
-        self.sw & SW_TARGET_REACHED != 0
-    }
-
-    fn ack(self) -> bool {
-        self.sw & SW_SETPOINT_ACK != 0
-    }
-}
-
-fn cycle(m: &mut Module, axis: usize) -> Cyc {
-    let before = m.act_val(axis);
-    m.step();
-    let pos = m.act_val(axis);
-    Cyc {
-        inc: pos.wrapping_sub(before),
-        pos,
-        sw: m.status_word(axis),
-    }
-}
-
-fn trace(m: &mut Module, axis: usize, n: usize) -> Vec<Cyc> {
-    (0..n).map(|_| cycle(m, axis)).collect()
-}
 
 /// Runs until status bit 10 is 1 (at most `limit` cycles) and returns every cycle, the last included.
 fn until_reached(m: &mut Module, axis: usize, limit: usize) -> Vec<Cyc> {
@@ -204,10 +105,6 @@ fn seq(from: i32, to: i32, step: i32) -> Vec<i32> {
     out
 }
 
-fn cat(parts: &[&[i32]]) -> Vec<i32> {
-    parts.concat()
-}
-
 /// The increments of a move from standstill over 1000 + 100·`cruise` microsteps with MaxSpeed 100 and
 /// MaxAcc = MaxDec = 10, in direction `dir`, followed by the arrival cycle (increment 0).
 fn profile(cruise: usize, dir: i32) -> Vec<i32> {
@@ -229,28 +126,23 @@ fn moving_then_reached(len: usize) -> Vec<bool> {
     v
 }
 
-/// `a` followed by `b`.
-fn cat_bool(a: &[bool], b: &[bool]) -> Vec<bool> {
-    [a, b].concat()
-}
-
 /// Gives a set-point through the handshake: AbsPos01 and a rising edge on CW bit 4 (with `bits` 5/6), for one
 /// cycle; returns that cycle.
 fn handshake(m: &mut Module, value: i32, bits: u16) -> Cyc {
     m.set_abs_pos(A1, value);
-    m.set_control(A1, CW_ENABLE | CW_NEW_SETPOINT | bits);
+    m.set_control(A1, ENABLE_OPERATION | CW_NEW_SETPOINT | bits);
     cycle(m, A1)
 }
 
 /// Clears CW bit 4 (keeping `bits`) and runs one cycle.
 fn release(m: &mut Module, bits: u16) -> Cyc {
-    m.set_control(A1, CW_ENABLE | bits);
+    m.set_control(A1, ENABLE_OPERATION | bits);
     cycle(m, A1)
 }
 
 /// Moves axis 1 in mode 1 to `target` and waits there.
 fn move_to(m: &mut Module, target: i32) -> Vec<Cyc> {
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     m.set_abs_pos(A1, target);
     let t = until_reached(m, A1, 2000);
     assert_eq!(m.act_val(A1), target);
@@ -264,12 +156,12 @@ fn start_move(m: &mut Module, mode: i8, target: i32) -> bool {
     write(m, "FixedPos0nb", A1, i64::from(target));
     m.set_abs_pos(A1, target);
     match mode {
-        -123 => m.pulse_input(DI3),
-        -124 => m.set_input(DI3, true),
+        modes::MOVE_ON_INPUT => m.pulse_input(DI3),
+        modes::TWO_POSITION => m.set_input(DI3, true),
         _ => {}
     }
     m.set_mode(A1, mode);
-    mode == -123
+    mode == modes::MOVE_ON_INPUT
 }
 
 /// Runs a move to 3000 in mode 1 with `cw(k)` as the control word of cycle k; returns the trace.
@@ -312,7 +204,19 @@ fn after_edge(profile: Vec<i32>) -> Vec<i32> {
 fn x67_18_11_3_3_01_mode_register_values_read_back() {
     let mut m = standard();
     for mode in [
-        0i8, 1, 2, -120, -121, -122, -123, -124, -125, -126, -127, -128, 1,
+        modes::NONE,
+        modes::POSITION,
+        modes::SPEED,
+        modes::SET_HOME,
+        modes::REMAINING_DISTANCE,
+        modes::SET_POSITION,
+        modes::MOVE_ON_INPUT,
+        modes::TWO_POSITION,
+        modes::FIXED_A,
+        modes::FIXED_B,
+        modes::HOMING_POSITIVE,
+        modes::HOMING_NEGATIVE,
+        modes::POSITION,
     ] {
         m.set_mode(A1, mode);
         m.step();
@@ -327,20 +231,20 @@ fn x67_18_11_3_3_01_mode_register_values_read_back() {
 #[test]
 fn x67_18_11_3_3_02_mode_0_no_motion_and_brakes() {
     let mut m = standard();
-    m.set_mode(A1, 0);
+    m.set_mode(A1, modes::NONE);
     m.set_abs_pos(A1, 5000);
     let t = trace(&mut m, A1, 30);
     assert!(t.iter().all(|c| c.inc == 0 && c.pos == 0 && c.reached()));
 
     // A move in mode 1, switched to mode 0 at full speed.
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     let t = trace(&mut m, A1, 15);
     assert_eq!(incs(&t), cat(&[&seq(10, 100, 10), &[100; 5]]));
     assert_eq!(t[14].pos, 1050);
-    m.set_mode(A1, 0);
+    m.set_mode(A1, modes::NONE);
     let t = trace(&mut m, A1, 15);
     assert_eq!(incs(&t), cat(&[&seq(90, 10, -10), &[0; 6]]));
-    assert_eq!(bit10(&t), cat_bool(&[false; 9], &[true; 6]));
+    assert_eq!(bit10(&t), cat_bools(&[false; 9], &[true; 6]));
     assert_eq!(m.act_val(A1), 1500);
 }
 
@@ -351,7 +255,7 @@ fn x67_18_11_3_3_02_mode_0_no_motion_and_brakes() {
 fn x67_18_11_3_3_03_target_reached_for_all_modes() {
     let mut m = Module::new();
     set_ramp(&mut m, A1, 100, 10, 10);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     switch_on(&mut m, A1);
     assert_ne!(m.status_word(A1) & SW_TARGET_REACHED, 0);
 
@@ -362,7 +266,7 @@ fn x67_18_11_3_3_03_target_reached_for_all_modes() {
     assert_eq!(bit10(&t), moving_then_reached(20));
     assert_eq!(m.act_val(A1), 1000);
 
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 30);
     let t = trace(&mut m, A1, 5);
     assert_eq!(incs(&t), [10, 20, 30, 30, 30]);
@@ -375,7 +279,7 @@ fn x67_18_11_3_3_03_target_reached_for_all_modes() {
 #[test]
 fn x67_18_11_3_3_04_new_setpoint_replans_without_jump() {
     let mut m = enabled(100, 10, 5);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 100);
     let t = trace(&mut m, A1, 3);
     assert_eq!(incs(&t), [10, 20, 30]);
@@ -388,7 +292,7 @@ fn x67_18_11_3_3_04_new_setpoint_replans_without_jump() {
     let t = trace(&mut m, A1, 8);
     assert_eq!(incs(&t), [30, 40, 50, 60, 70, 80, 90, 100]);
     let here = m.act_val(A1);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     m.set_abs_pos(A1, here + 10_000);
     let t = trace(&mut m, A1, 5);
     assert_eq!(incs(&t), [100; 5]);
@@ -406,7 +310,7 @@ fn x67_18_11_3_3_05_unlisted_mode_acts_as_mode_0() {
         assert!(t.iter().all(|c| c.inc == 0 && c.reached()), "mode {mode}");
         assert_eq!(read(&m, "ModeReadback0n", A1), i64::from(mode));
 
-        m.set_mode(A1, 1);
+        m.set_mode(A1, modes::POSITION);
         trace(&mut m, A1, 12);
         m.set_mode(A1, mode);
         let t = trace(&mut m, A1, 11);
@@ -457,7 +361,7 @@ fn x67_18_11_3_3_1_02_abs_pos_taken_at_once() {
 
     let mut m = Module::new();
     set_ramp(&mut m, A1, 100, 10, 10);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     switch_on(&mut m, A1);
     m.set_abs_pos(A1, 1000);
     let before = m.act_val(A1);
@@ -578,10 +482,10 @@ fn x67_18_11_3_3_2_06_set_of_setpoints_switches_at_once() {
     let mut m = standard_ext();
     let mut t = vec![handshake(&mut m, 10_000, 0), release(&mut m, 0)];
     t.extend(trace(&mut m, A1, 27));
-    let c = handshake(&mut m, 20_000, CW_IMMEDIATE);
+    let c = handshake(&mut m, 20_000, CW_CHANGE_IMMEDIATELY);
     assert!(c.ack());
     t.push(c);
-    let c = release(&mut m, CW_IMMEDIATE);
+    let c = release(&mut m, CW_CHANGE_IMMEDIATELY);
     assert!(!c.ack());
     t.push(c);
     t.extend(until_reached(&mut m, A1, 300));
@@ -630,7 +534,7 @@ fn x67_18_11_3_3_2_09_relative_base_across_mode_change() {
     until_reached(&mut m, A1, 100);
     assert_eq!(m.act_val(A1), 1000);
 
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 100);
     let t = trace(&mut m, A1, 40);
     assert_eq!(incs(&t), cat(&[&seq(10, 100, 10), &[100; 30]]));
@@ -640,7 +544,7 @@ fn x67_18_11_3_3_2_09_relative_base_across_mode_change() {
     assert_eq!(m.act_val(A1), 5000);
 
     // Back in mode 1 nothing moves until a handshake; the old target 1000 is not resumed.
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     let t = trace(&mut m, A1, 5);
     assert!(t.iter().all(|c| c.pos == 5000));
     let mut t = vec![
@@ -657,13 +561,13 @@ fn x67_18_11_3_3_2_09_relative_base_across_mode_change() {
 #[test]
 fn x67_18_11_3_3_2_10_relative_base_zero_after_start() {
     let mut m = standard_ext();
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 100);
     trace(&mut m, A1, 50);
     m.set_abs_pos(A1, 0);
     trace(&mut m, A1, 10);
     assert_eq!(m.act_val(A1), 5000);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     handshake(&mut m, 700, CW_RELATIVE);
     release(&mut m, CW_RELATIVE);
     until_reached(&mut m, A1, 200);
@@ -718,18 +622,22 @@ fn standard_bits_scenario(ext: bool) -> Vec<Vec<Regs>> {
     };
     let mut phases = vec![
         run(&mut m, 0, 1),
-        run(&mut m, CW_SHUTDOWN, 1),
-        run(&mut m, CW_SWITCH_ON, 45),
+        run(&mut m, SHUTDOWN, 1),
+        run(&mut m, SWITCH_ON, 45),
     ];
-    m.set_mode(A1, -122);
+    m.set_mode(A1, modes::SET_POSITION);
     m.set_abs_pos(A1, 777);
-    phases.push(run(&mut m, CW_ENABLE, 2));
-    phases.push(run(&mut m, CW_ENABLE | CW_SWAP, 2));
+    phases.push(run(&mut m, ENABLE_OPERATION, 2));
+    phases.push(run(&mut m, ENABLE_OPERATION | CW_SWAP_COUNTERS, 2));
     m.set_input(2, true);
-    phases.push(run(&mut m, CW_ENABLE | CW_SWAP, 2));
-    phases.push(run(&mut m, CW_ENABLE | CW_SWAP | CW_WARNING_RESET, 2));
-    phases.push(run(&mut m, 0x000B | CW_SWAP, 3));
-    phases.push(run(&mut m, CW_SWAP, 2));
+    phases.push(run(&mut m, ENABLE_OPERATION | CW_SWAP_COUNTERS, 2));
+    phases.push(run(
+        &mut m,
+        ENABLE_OPERATION | CW_SWAP_COUNTERS | CW_WARNING_RESET,
+        2,
+    ));
+    phases.push(run(&mut m, QUICK_STOP_FROM_ENABLED | CW_SWAP_COUNTERS, 3));
+    phases.push(run(&mut m, CW_SWAP_COUNTERS, 2));
     phases
 }
 
@@ -744,7 +652,7 @@ fn x67_18_11_3_3_2_12_other_bits_keep_meaning() {
     let last = |k: usize| *ext[k].last().unwrap();
     let state_of = |r: Regs| r.0 & STATE_MASK;
     assert_eq!(last(0).0 & DISABLED_MASK, SWITCH_ON_DISABLED);
-    assert_eq!(state_of(last(1)), READY_TO_SWITCH_ON);
+    assert_eq!(state_of(last(1)), READY);
     assert_eq!(state_of(last(2)), SWITCHED_ON);
     // Mode −122 sets the internal counter on Enable operation; bit 14 swaps it into the acyclic register.
     assert_eq!(state_of(last(3)), OPERATION_ENABLE);
@@ -773,7 +681,7 @@ fn x67_18_11_3_3_2_12_other_bits_keep_meaning() {
 #[test]
 fn x67_18_11_3_3_3_01_speed_mode_ramps_to_setpoint() {
     let mut m = enabled(0, 5, 20);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 50);
     let t = trace(&mut m, A1, 15);
     assert_eq!(incs(&t), cat(&[&seq(5, 50, 5), &[50; 5]]));
@@ -786,7 +694,7 @@ fn x67_18_11_3_3_3_01_speed_mode_ramps_to_setpoint() {
 #[test]
 fn x67_18_11_3_3_3_02_speed_setpoint_clamped() {
     let mut m = enabled(0, 60_000, 65_535);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 100_000);
     let t = trace(&mut m, A1, 4);
     assert_eq!(incs(&t), [60_000, 65_535, 65_535, 65_535]);
@@ -807,14 +715,14 @@ fn x67_18_11_3_3_4_01_set_home_shifts_counter() {
     let mut m = standard();
     move_to(&mut m, 12_345);
     // Immediate referencing stores the counters where the axis stands.
-    write(&mut m, "RefConfig0n", A1, -128);
-    m.set_mode(A1, -127);
+    write(&mut m, "RefConfig0n", A1, i64::from(ref_config::IMMEDIATE));
+    m.set_mode(A1, modes::HOMING_POSITIVE);
     trace(&mut m, A1, 2);
     assert_eq!(read(&m, "RefPos0nCyclicCounter", A1), 12_345);
     move_to(&mut m, 12_400);
     let rotor = m.axis(A1).motor.rotor();
 
-    m.set_mode(A1, -120);
+    m.set_mode(A1, modes::SET_HOME);
     m.set_abs_pos(A1, 0);
     let t = trace(&mut m, A1, 5);
     assert_eq!(positions(&t), [55; 5]);
@@ -836,10 +744,10 @@ fn x67_18_11_3_3_4_01_set_home_shifts_counter() {
 fn x67_18_11_3_3_4_02_set_home_only_in_operation_enable() {
     let mut m = standard();
     move_to(&mut m, 12_400);
-    m.set_control(A1, CW_SWITCH_ON);
+    m.set_control(A1, SWITCH_ON);
     m.step();
     assert_eq!(state(&m, A1), SWITCHED_ON);
-    m.set_mode(A1, -120);
+    m.set_mode(A1, modes::SET_HOME);
     m.set_abs_pos(A1, 100);
     let t = trace(&mut m, A1, 5);
     assert_eq!(positions(&t), [12_400; 5]);
@@ -858,7 +766,7 @@ fn x67_18_11_3_3_4_02_set_home_only_in_operation_enable() {
 #[test]
 fn x67_18_11_3_3_5_01_before_trigger_like_mode_1() {
     let mut m = standard();
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     m.set_abs_pos(A1, 3000);
     let t = trace(&mut m, A1, 50);
     assert_eq!(incs(&t), cat(&[&profile(20, 1), &[0; 10]]));
@@ -881,7 +789,7 @@ fn x67_18_11_3_3_5_02_trigger_target_is_actual_plus_offset() {
             to: i64::from(i32::MAX),
         },
     );
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     m.set_abs_pos(A1, 10_000);
     // 550 after 10 cycles, then 100 a cycle: the rotor passes 4321 in cycle 48 (4250 → 4350).
     let t = trace(&mut m, A1, 48);
@@ -899,7 +807,7 @@ fn x67_18_11_3_3_5_02_trigger_target_is_actual_plus_offset() {
 fn x67_18_11_3_3_5_03_abs_pos_ignored_after_trigger() {
     let mut m = standard();
     write(&mut m, "FixedPos0na", A1, 1000);
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     m.set_abs_pos(A1, 3000);
     trace(&mut m, A1, 50);
     m.pulse_input(DI3);
@@ -913,9 +821,9 @@ fn x67_18_11_3_3_5_03_abs_pos_ignored_after_trigger() {
     let t = trace(&mut m, A1, 30);
     assert!(t.iter().all(|c| c.pos == 4000));
 
-    m.set_mode(A1, 0);
+    m.set_mode(A1, modes::NONE);
     m.step();
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     let t = trace(&mut m, A1, 60);
     assert_eq!(incs(&t), cat(&[&profile(20, 1), &[0; 20]]));
     assert_eq!(m.act_val(A1), 7000);
@@ -928,7 +836,7 @@ fn x67_18_11_3_3_5_03_abs_pos_ignored_after_trigger() {
 fn x67_18_11_3_3_5_04_bit_10_only_after_trigger() {
     let mut m = standard();
     write(&mut m, "FixedPos0na", A1, 1000);
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     m.set_abs_pos(A1, 3000);
     let t = trace(&mut m, A1, 60);
     assert_eq!(m.act_val(A1), 3000);
@@ -948,7 +856,7 @@ fn remaining_at_3000(ref_config: i64, level: bool) -> Module {
     write(&mut m, "FixedPos0na", A1, 1000);
     m.set_input(DI3, level);
     m.step();
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     m.set_abs_pos(A1, 3000);
     trace(&mut m, A1, 60);
     assert_eq!(m.act_val(A1), 3000);
@@ -985,7 +893,7 @@ fn x67_18_11_3_3_5_05_trigger_edge_from_ref_config() {
     let mut m = standard();
     assert_eq!(read(&m, "RefConfig0n", A1), -125);
     write(&mut m, "FixedPos0na", A1, 1000);
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     m.step();
     m.set_input(DI3, true);
     until_reached(&mut m, A1, 100);
@@ -999,7 +907,7 @@ fn x67_18_11_3_3_5_06_no_reversing_loop() {
     let mut m = standard();
     write(&mut m, "RevLoop0n", A1, 500);
     write(&mut m, "FixedPos0na", A1, 1000);
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     m.set_abs_pos(A1, 3000);
     let t = trace(&mut m, A1, 50);
     assert_eq!(incs(&t), cat(&[&profile(20, 1), &[0; 10]]));
@@ -1026,7 +934,7 @@ fn x67_18_11_3_3_5_06_no_reversing_loop() {
 fn x67_18_11_3_3_6_01_set_actual_position() {
     let mut m = standard();
     move_to(&mut m, 1000);
-    m.set_mode(A1, -122);
+    m.set_mode(A1, modes::SET_POSITION);
     m.set_abs_pos(A1, 777);
     let t = trace(&mut m, A1, 5);
     assert_eq!(positions(&t), [777; 5]);
@@ -1037,7 +945,7 @@ fn x67_18_11_3_3_6_01_set_actual_position() {
     assert_eq!(positions(&t), [-5; 3]);
     assert_eq!(m.axis(A1).motor.rotor(), 1000);
     // Back in mode 1 the axis moves from the new value.
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     m.set_abs_pos(A1, 995);
     let t = until_reached(&mut m, A1, 100);
     assert_eq!(incs(&t), profile(0, 1));
@@ -1051,8 +959,8 @@ fn x67_18_11_3_3_6_01_set_actual_position() {
 fn x67_18_11_3_3_6_02_set_position_only_in_operation_enable() {
     let mut m = standard();
     move_to(&mut m, 1000);
-    m.set_control(A1, CW_SWITCH_ON);
-    m.set_mode(A1, -122);
+    m.set_control(A1, SWITCH_ON);
+    m.set_mode(A1, modes::SET_POSITION);
     m.set_abs_pos(A1, 777);
     let t = trace(&mut m, A1, 5);
     assert_eq!(state(&m, A1), SWITCHED_ON);
@@ -1064,7 +972,7 @@ fn x67_18_11_3_3_6_02_set_position_only_in_operation_enable() {
     m.set_abs_pos(A1, 10_000);
     trace(&mut m, A1, 20);
     assert_eq!(m.act_val(A1), 1550);
-    m.set_mode(A1, -122);
+    m.set_mode(A1, modes::SET_POSITION);
     m.set_abs_pos(A1, 0);
     let t = trace(&mut m, A1, 11);
     assert_eq!(
@@ -1083,7 +991,7 @@ fn x67_18_11_3_3_6_02_set_position_only_in_operation_enable() {
 #[test]
 fn x67_18_11_3_3_7_01_target_on_rising_edge() {
     let mut m = standard();
-    m.set_mode(A1, -123);
+    m.set_mode(A1, modes::MOVE_ON_INPUT);
     m.set_abs_pos(A1, 8000);
     let t = trace(&mut m, A1, 20);
     assert!(t.iter().all(|c| c.pos == 0));
@@ -1099,7 +1007,7 @@ fn x67_18_11_3_3_7_01_target_on_rising_edge() {
 #[test]
 fn x67_3_07_short_pulse_triggers_mode_123() {
     let mut m = standard();
-    m.set_mode(A1, -123);
+    m.set_mode(A1, modes::MOVE_ON_INPUT);
     m.set_abs_pos(A1, 1000);
     m.step();
     m.pulse_input(DI3);
@@ -1115,7 +1023,7 @@ fn x67_3_07_short_pulse_triggers_mode_123() {
 #[test]
 fn x67_18_11_3_3_7_02_no_target_without_new_edge() {
     let mut m = standard();
-    m.set_mode(A1, -123);
+    m.set_mode(A1, modes::MOVE_ON_INPUT);
     m.set_abs_pos(A1, 8000);
     m.set_input(DI3, true);
     until_reached(&mut m, A1, 200);
@@ -1138,7 +1046,7 @@ fn x67_18_11_3_3_7_02_no_target_without_new_edge() {
 #[test]
 fn x67_18_11_3_3_7_03_edge_during_move_applies_at_once() {
     let mut m = standard();
-    m.set_mode(A1, -123);
+    m.set_mode(A1, modes::MOVE_ON_INPUT);
     m.set_abs_pos(A1, 8000);
     m.pulse_input(DI3);
     let t = trace(&mut m, A1, 31);
@@ -1167,7 +1075,7 @@ fn x67_18_11_3_3_8_01_input_level_selects_target() {
     write(&mut m, "FixedPos0na", A1, 1000);
     write(&mut m, "FixedPos0nb", A1, -1000);
     m.set_input(DI3, true);
-    m.set_mode(A1, -124);
+    m.set_mode(A1, modes::TWO_POSITION);
     let t = until_reached(&mut m, A1, 100);
     assert_eq!(incs(&t), profile(0, 1));
     assert_eq!(m.act_val(A1), 1000);
@@ -1185,7 +1093,7 @@ fn x67_18_11_3_3_8_02_toggle_during_move() {
     write(&mut m, "FixedPos0na", A1, 5000);
     write(&mut m, "FixedPos0nb", A1, -1000);
     m.set_input(DI3, true);
-    m.set_mode(A1, -124);
+    m.set_mode(A1, modes::TWO_POSITION);
     let t = trace(&mut m, A1, 10);
     assert_eq!(incs(&t), seq(10, 100, 10));
     m.set_input(DI3, false);
@@ -1203,13 +1111,16 @@ fn x67_18_11_3_3_8_02_toggle_during_move() {
 /// ends at 0; the 80 in AbsPos01 is never a target. Mode −126 goes to FixedPos01b the same way.
 #[test]
 fn x67_18_11_3_3_9_01_fixed_position_from_speed_mode() {
-    for (mode, reg_name) in [(-125i8, "FixedPos0na"), (-126, "FixedPos0nb")] {
+    for (mode, reg_name) in [
+        (modes::FIXED_A, "FixedPos0na"),
+        (modes::FIXED_B, "FixedPos0nb"),
+    ] {
         let mut m = standard();
         write(&mut m, "FixedPos0na", A1, 0);
         write(&mut m, "FixedPos0nb", A1, 0);
         write(
             &mut m,
-            if mode == -125 {
+            if mode == modes::FIXED_A {
                 "FixedPos0nb"
             } else {
                 "FixedPos0na"
@@ -1217,7 +1128,7 @@ fn x67_18_11_3_3_9_01_fixed_position_from_speed_mode() {
             A1,
             3000,
         );
-        m.set_mode(A1, 2);
+        m.set_mode(A1, modes::SPEED);
         m.set_abs_pos(A1, 80);
         let t = trace(&mut m, A1, 15);
         assert_eq!(incs(&t), cat(&[&seq(10, 80, 10), &[80; 7]]));
@@ -1257,7 +1168,7 @@ fn x67_18_11_3_1_01_abs_pos_in_microsteps() {
 #[test]
 fn x67_18_11_3_1_02_speed_setpoint_signed() {
     let mut m = standard();
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, -40);
     let t = trace(&mut m, A1, 8);
     assert_eq!(incs(&t), [-10, -20, -30, -40, -40, -40, -40, -40]);
@@ -1268,7 +1179,7 @@ fn x67_18_11_3_1_02_speed_setpoint_signed() {
 /// speed from RefSpeed01; AbsPos01 changing every cycle has no effect.
 #[test]
 fn x67_18_11_3_1_03_abs_pos_unused_in_fixed_and_homing_modes() {
-    for mode in [-124i8, -125, -126] {
+    for mode in [modes::TWO_POSITION, modes::FIXED_A, modes::FIXED_B] {
         let mut m = standard();
         write(&mut m, "FixedPos0na", A1, 5000);
         write(&mut m, "FixedPos0nb", A1, -5000);
@@ -1279,13 +1190,13 @@ fn x67_18_11_3_1_03_abs_pos_unused_in_fixed_and_homing_modes() {
             m.set_abs_pos(A1, k * 977 - 40_000);
             t.push(cycle(&mut m, A1));
         }
-        let dir = if mode == -126 { -1 } else { 1 };
+        let dir = if mode == modes::FIXED_B { -1 } else { 1 };
         assert_eq!(incs(&t)[..60], profile(40, dir)[..], "mode {mode}");
         assert_eq!(m.act_val(A1), 5000 * dir);
     }
     let mut m = standard();
     write(&mut m, "RefSpeed0n", A1, 40);
-    m.set_mode(A1, -127);
+    m.set_mode(A1, modes::HOMING_POSITIVE);
     let mut t = Vec::new();
     for k in 0..10 {
         m.set_abs_pos(A1, -k * 3000);
@@ -1302,8 +1213,8 @@ fn x67_18_11_3_1_03_abs_pos_unused_in_fixed_and_homing_modes() {
 /// change neither the state nor the motion nor the status word.
 #[test]
 fn x67_18_11_3_2_01_bits_4_to_6_without_ext_cw() {
-    let plain = move_with_control(false, |_| CW_ENABLE);
-    let toggled = move_with_control(false, |k| CW_ENABLE | ((k as u16 * 5) & 7) << 4);
+    let plain = move_with_control(false, |_| ENABLE_OPERATION);
+    let toggled = move_with_control(false, |k| ENABLE_OPERATION | ((k as u16 * 5) & 7) << 4);
     assert_eq!(incs(&plain), cat(&[&profile(20, 1), &[0; 10]]));
     assert_eq!(toggled, plain);
     assert!(toggled.iter().all(|c| !c.ack()));
@@ -1317,13 +1228,13 @@ fn x67_18_11_3_2_02_stop_bit() {
     let mut m = Module::new();
     m.write_named("GeneralConfig01", 1).unwrap();
     set_ramp(&mut m, A1, 100, 10, 20);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     switch_on(&mut m, A1);
     enable_operation(&mut m, A1);
     m.set_abs_pos(A1, 100);
     let t = trace(&mut m, A1, 12);
     assert_eq!(incs(&t), cat(&[&seq(10, 100, 10), &[100; 2]]));
-    m.set_control(A1, CW_ENABLE | CW_STOP);
+    m.set_control(A1, ENABLE_OPERATION | CW_STOP);
     let t = trace(&mut m, A1, 8);
     assert_eq!(incs(&t), [80, 60, 40, 20, 0, 0, 0, 0]);
     assert_eq!(
@@ -1331,16 +1242,16 @@ fn x67_18_11_3_2_02_stop_bit() {
         [false, false, false, false, true, true, true, true]
     );
     assert_eq!(state(&m, A1), OPERATION_ENABLE);
-    m.set_control(A1, CW_ENABLE);
+    m.set_control(A1, ENABLE_OPERATION);
     let t = trace(&mut m, A1, 11);
     assert_eq!(incs(&t), cat(&[&seq(10, 100, 10), &[100]]));
-    assert_eq!(bit10(&t), cat_bool(&[false; 9], &[true; 2]));
+    assert_eq!(bit10(&t), cat_bools(&[false; 9], &[true; 2]));
 
     let mut m = enabled(100, 10, 20);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 100);
     trace(&mut m, A1, 12);
-    m.set_control(A1, CW_ENABLE | CW_STOP);
+    m.set_control(A1, ENABLE_OPERATION | CW_STOP);
     let t = trace(&mut m, A1, 8);
     assert!(t.iter().all(|c| c.inc == 100 && c.reached()));
 }
@@ -1352,31 +1263,33 @@ fn x67_18_11_3_2_03_bit_9_no_function() {
     const BIT_9: u16 = 1 << 9;
     let mut m = Module::new();
     set_ramp(&mut m, A1, 100, 10, 10);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     m.step();
-    m.set_control(A1, CW_SHUTDOWN | BIT_9);
+    m.set_control(A1, SHUTDOWN | BIT_9);
     m.step();
-    assert_eq!(state(&m, A1), READY_TO_SWITCH_ON);
-    m.set_control(A1, CW_SWITCH_ON | BIT_9);
+    assert_eq!(state(&m, A1), READY);
+    m.set_control(A1, SWITCH_ON | BIT_9);
     m.run(41);
     assert_eq!(state(&m, A1), SWITCHED_ON);
-    m.set_control(A1, CW_ENABLE | BIT_9);
+    m.set_control(A1, ENABLE_OPERATION | BIT_9);
     m.step();
     assert_eq!(state(&m, A1), OPERATION_ENABLE);
     assert_eq!(read(&m, "ControlReadback0n", A1), 0x020F);
     m.set_abs_pos(A1, 3000);
     let with = trace(&mut m, A1, 50);
-    assert_eq!(with, move_with_control(false, |_| CW_ENABLE));
+    assert_eq!(with, move_with_control(false, |_| ENABLE_OPERATION));
 }
 
 /// X67-18.11.3.2-04: CW bit 10 is reserved: setting it changes nothing but ControlReadback01.
 #[test]
 fn x67_18_11_3_2_04_bit_10_reserved() {
-    let plain = move_with_control(false, |_| CW_ENABLE);
-    let with = move_with_control(false, |k| CW_ENABLE | if k % 3 == 0 { 1 << 10 } else { 0 });
+    let plain = move_with_control(false, |_| ENABLE_OPERATION);
+    let with = move_with_control(false, |k| {
+        ENABLE_OPERATION | if k % 3 == 0 { 1 << 10 } else { 0 }
+    });
     assert_eq!(with, plain);
     let mut m = standard();
-    m.set_control(A1, CW_ENABLE | 1 << 10);
+    m.set_control(A1, ENABLE_OPERATION | 1 << 10);
     m.step();
     assert_eq!(read(&m, "ControlReadback0n", A1), 0x040F);
     assert_eq!(state(&m, A1), OPERATION_ENABLE);
@@ -1391,7 +1304,14 @@ fn x67_18_11_3_2_04_bit_10_reserved() {
 /// and bit 10 stays 0 (pick).
 #[test]
 fn x67_18_11_1_3_01_max_speed_in_positioning_modes() {
-    for mode in [1i8, -121, -123, -124, -125, -126] {
+    for mode in [
+        modes::POSITION,
+        modes::REMAINING_DISTANCE,
+        modes::MOVE_ON_INPUT,
+        modes::TWO_POSITION,
+        modes::FIXED_A,
+        modes::FIXED_B,
+    ] {
         let mut m = standard();
         let late = start_move(&mut m, mode, 20_000);
         let t = trace(&mut m, A1, 220);
@@ -1414,14 +1334,14 @@ fn x67_18_11_1_3_01_max_speed_in_positioning_modes() {
 #[test]
 fn x67_18_11_1_3_02_max_speed_not_in_speed_mode_or_homing() {
     let mut m = enabled(10, 100, 100);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 500);
     let t = trace(&mut m, A1, 7);
     assert_eq!(incs(&t), [100, 200, 300, 400, 500, 500, 500]);
 
     let mut m = enabled(10, 50, 50);
     write(&mut m, "RefSpeed0n", A1, 200);
-    m.set_mode(A1, -127);
+    m.set_mode(A1, modes::HOMING_POSITIVE);
     let t = trace(&mut m, A1, 6);
     assert_eq!(incs(&t), [50, 100, 150, 200, 200, 200]);
 }
@@ -1430,19 +1350,30 @@ fn x67_18_11_1_3_02_max_speed_not_in_speed_mode_or_homing() {
 /// MaxAcc01 = 0 nothing starts, so with all registers at their defaults nothing moves.
 #[test]
 fn x67_18_11_1_4_01_max_acceleration() {
-    let mut m = standard();
-    m.set_abs_pos(A1, 100_000);
-    assert_eq!(incs(&trace(&mut m, A1, 4)), [10, 20, 30, 40]);
-    let mut m = standard();
-    m.set_mode(A1, 2);
-    m.set_abs_pos(A1, 1000);
-    assert_eq!(incs(&trace(&mut m, A1, 4)), [10, 20, 30, 40]);
-    let mut m = standard();
-    write(&mut m, "RefSpeed0n", A1, 1000);
-    m.set_mode(A1, -128);
-    assert_eq!(incs(&trace(&mut m, A1, 4)), [-10, -20, -30, -40]);
+    // (mode, AbsPos01, RefSpeed01, the first four increments)
+    let cases: [(i8, i32, i64, [i32; 4]); 3] = [
+        (modes::POSITION, 100_000, 0, [10, 20, 30, 40]),
+        (modes::SPEED, 1000, 0, [10, 20, 30, 40]),
+        (modes::HOMING_NEGATIVE, 0, 1000, [-10, -20, -30, -40]),
+    ];
+    for (mode, abs_pos, ref_speed, expected) in cases {
+        let mut m = standard();
+        write(&mut m, "RefSpeed0n", A1, ref_speed);
+        m.set_mode(A1, mode);
+        m.set_abs_pos(A1, abs_pos);
+        assert_eq!(
+            incs(&trace(&mut m, A1, 4)),
+            expected,
+            "mode {mode}, AbsPos01 {abs_pos}, RefSpeed01 {ref_speed}"
+        );
+    }
 
-    for (mode, speed, acc) in [(1i8, 100, 0), (2, 100, 0), (-127, 100, 0), (1, 0, 0)] {
+    for (mode, speed, acc) in [
+        (modes::POSITION, 100, 0),
+        (modes::SPEED, 100, 0),
+        (modes::HOMING_POSITIVE, 100, 0),
+        (modes::POSITION, 0, 0),
+    ] {
         let mut m = enabled(speed, acc, if speed == 0 { 0 } else { 10 });
         write(&mut m, "RefSpeed0n", A1, speed);
         m.set_mode(A1, mode);
@@ -1466,7 +1397,7 @@ fn x67_18_11_1_5_01_max_deceleration() {
     assert_eq!(m.act_val(A1), 10_000);
 
     let mut m = enabled(100, 10, 5);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 100);
     trace(&mut m, A1, 10);
     m.set_abs_pos(A1, 0);
@@ -1483,7 +1414,7 @@ fn x67_18_11_1_5_01_max_deceleration() {
             to: 1 << 40,
         },
     );
-    m.set_mode(A1, -127);
+    m.set_mode(A1, modes::HOMING_POSITIVE);
     let t = until_reached(&mut m, A1, 200);
     assert_eq!(
         incs(&t),
@@ -1507,7 +1438,7 @@ fn x67_18_11_1_6_01_reversing_loop_only_in_positioning_modes() {
 
     let mut m = standard();
     write(&mut m, "RevLoop0n", A1, 1000);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 50);
     trace(&mut m, A1, 10);
     m.set_abs_pos(A1, 0);
@@ -1516,7 +1447,7 @@ fn x67_18_11_1_6_01_reversing_loop_only_in_positioning_modes() {
 
     let mut m = standard();
     write(&mut m, "RevLoop0n", A1, 1000);
-    m.set_mode(A1, -121);
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
     m.set_abs_pos(A1, 3000);
     let t = trace(&mut m, A1, 50);
     assert_eq!(incs(&t), cat(&[&profile(20, 1), &[0; 10]]));
@@ -1532,7 +1463,7 @@ fn x67_18_11_1_6_01_reversing_loop_only_in_positioning_modes() {
             to: 1 << 40,
         },
     );
-    m.set_mode(A1, -127);
+    m.set_mode(A1, modes::HOMING_POSITIVE);
     let t = until_reached(&mut m, A1, 200);
     assert_eq!(incs(&t), cat(&[&[10, 20, 30], &[40; 49], &[30, 20, 10, 0]]));
     assert_eq!(m.act_val(A1), 2080);
@@ -1591,14 +1522,14 @@ fn x67_18_11_1_7_01_fixed_position_a() {
     let mut m = standard();
     assert_eq!(read(&m, "FixedPos0na", A1), 0);
     write(&mut m, "FixedPos0na", A1, 5000);
-    m.set_mode(A1, -125);
+    m.set_mode(A1, modes::FIXED_A);
     let t = until_reached(&mut m, A1, 200);
     assert_eq!(incs(&t), profile(40, 1));
     assert_eq!(m.act_val(A1), 5000);
 
     let mut m = standard();
     write(&mut m, "FixedPos0na", A1, 5000);
-    m.set_mode(A1, -125);
+    m.set_mode(A1, modes::FIXED_A);
     let mut t = trace(&mut m, A1, 20);
     write(&mut m, "FixedPos0na", A1, 7000);
     t.extend(until_reached(&mut m, A1, 200));
@@ -1612,7 +1543,7 @@ fn x67_18_11_1_8_01_fixed_position_b() {
     let mut m = standard();
     assert_eq!(read(&m, "FixedPos0nb", A1), 0);
     write(&mut m, "FixedPos0nb", A1, -3000);
-    m.set_mode(A1, -126);
+    m.set_mode(A1, modes::FIXED_B);
     let t = until_reached(&mut m, A1, 200);
     assert_eq!(incs(&t), profile(20, -1));
     assert_eq!(m.act_val(A1), -3000);
@@ -1684,7 +1615,7 @@ fn x67_18_11_1_14_03_jerk_time_change_waits_for_standstill() {
 
     // Speed mode: written while running, the change waits for the stop.
     let mut m = standard();
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 50);
     trace(&mut m, A1, 6);
     write(&mut m, "JoltTime0n", A1, 10);
@@ -1708,7 +1639,7 @@ fn x67_18_11_1_15_01_extended_control_word_for_both_axes() {
     m.write_named("GeneralConfig01", 1).unwrap();
     for axis in [0, 1] {
         set_ramp(&mut m, axis, 100, 10, 10);
-        m.set_mode(axis, 1);
+        m.set_mode(axis, modes::POSITION);
         switch_on(&mut m, axis);
         enable_operation(&mut m, axis);
         m.set_abs_pos(axis, 5000);
@@ -1718,7 +1649,7 @@ fn x67_18_11_1_15_01_extended_control_word_for_both_axes() {
         assert_eq!((m.act_val(0), m.act_val(1)), (0, 0));
     }
     m.set_abs_pos(1, 1000);
-    m.set_control(1, CW_ENABLE | CW_NEW_SETPOINT);
+    m.set_control(1, ENABLE_OPERATION | CW_NEW_SETPOINT);
     let t = until_reached(&mut m, 1, 100);
     assert_eq!(incs(&t), profile(0, 1));
     assert_eq!((m.act_val(0), m.act_val(1)), (0, 1000));
@@ -1733,7 +1664,7 @@ fn x67_18_11_1_15_02_cycle_time() {
         let mut m = Module::new();
         m.write_named("GeneralConfig01", config).unwrap();
         set_ramp(&mut m, A1, 100, 10, 10);
-        m.set_mode(A1, 2);
+        m.set_mode(A1, modes::SPEED);
         switch_on(&mut m, A1);
         enable_operation(&mut m, A1);
         m.set_abs_pos(A1, 10);
@@ -1756,7 +1687,7 @@ fn x67_18_11_1_15_03_cycle_is_time_base() {
         let mut m = Module::new();
         m.write_named("GeneralConfig01", config).unwrap();
         set_ramp(&mut m, A1, 100, 10, 10);
-        m.set_mode(A1, 1);
+        m.set_mode(A1, modes::POSITION);
         switch_on(&mut m, A1);
         enable_operation(&mut m, A1);
         m.set_abs_pos(A1, 1_000_000);
@@ -1777,7 +1708,7 @@ fn x67_18_11_1_15_04_reserved_bits() {
         let mut m = Module::new();
         m.write_named("GeneralConfig01", config).unwrap();
         set_ramp(&mut m, A1, 100, 10, 10);
-        m.set_mode(A1, 1);
+        m.set_mode(A1, modes::POSITION);
         switch_on(&mut m, A1);
         enable_operation(&mut m, A1);
         m.set_abs_pos(A1, 3000);
@@ -1811,21 +1742,26 @@ fn x67_18_11_3_5_04_bit_12_mode_specific() {
     .collect();
     assert_eq!(acks, [true, true, false]);
 
-    let mut m = standard();
-    for k in 0..20u16 {
-        m.set_control(A1, CW_ENABLE | (k % 2) << 4);
-        m.set_abs_pos(A1, i32::from(k) * 100);
-        m.step();
-        assert_eq!(m.status_word(A1) & SW_SETPOINT_ACK, 0);
-    }
-
-    let mut m = standard_ext();
-    m.set_mode(A1, 2);
-    for k in 0..20u16 {
-        m.set_control(A1, CW_ENABLE | (k % 2) << 4);
-        m.set_abs_pos(A1, 10);
-        m.step();
-        assert_eq!(m.status_word(A1) & SW_SETPOINT_ACK, 0);
+    // Bit 4 toggling without the extended control word (mode 1, AbsPos01 = 100·k) and with it in speed
+    // mode (AbsPos01 = 10): bit 12 stays 0.
+    // (case, the module, mode, AbsPos01 in cycle k)
+    type Setup = fn() -> Module;
+    type AbsPos = fn(u16) -> i32;
+    let cases: [(&str, Setup, i8, AbsPos); 2] = [
+        ("mode 1 without ext CW", standard, modes::POSITION, |k| {
+            i32::from(k) * 100
+        }),
+        ("mode 2 with ext CW", standard_ext, modes::SPEED, |_| 10),
+    ];
+    for (case, setup, mode, abs_pos) in cases {
+        let mut m = setup();
+        m.set_mode(A1, mode);
+        for k in 0..20u16 {
+            m.set_control(A1, ENABLE_OPERATION | (k % 2) << 4);
+            m.set_abs_pos(A1, abs_pos(k));
+            m.step();
+            assert_eq!(m.status_word(A1) & SW_SETPOINT_ACK, 0, "{case}, cycle {k}");
+        }
     }
 }
 
@@ -1833,7 +1769,13 @@ fn x67_18_11_3_5_04_bit_12_mode_specific() {
 /// target is reached.
 #[test]
 fn x67_18_11_4_2_11_bit_10_in_positioning_modes() {
-    for mode in [1i8, -123, -124, -125, -126] {
+    for mode in [
+        modes::POSITION,
+        modes::MOVE_ON_INPUT,
+        modes::TWO_POSITION,
+        modes::FIXED_A,
+        modes::FIXED_B,
+    ] {
         let mut m = standard();
         assert!(cycle(&mut m, A1).reached());
         let late = start_move(&mut m, mode, 1000);
@@ -1856,7 +1798,7 @@ fn x67_18_11_4_2_11_bit_10_in_positioning_modes() {
 #[test]
 fn x67_18_11_4_2_12_bit_10_in_speed_mode() {
     let mut m = standard();
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 50);
     let t = trace(&mut m, A1, 7);
     assert_eq!(incs(&t), [10, 20, 30, 40, 50, 50, 50]);
@@ -1879,7 +1821,7 @@ fn x67_18_11_4_2_12_bit_10_in_speed_mode() {
 #[test]
 fn x67_18_11_4_2_14_bit_10_in_mode_122() {
     let mut m = standard();
-    m.set_mode(A1, -122);
+    m.set_mode(A1, modes::SET_POSITION);
     m.set_abs_pos(A1, 777);
     let t = trace(&mut m, A1, 4);
     assert_eq!(bit10(&t), [false, true, true, true]);
@@ -1898,12 +1840,12 @@ fn x67_18_11_4_2_15_bit_10_with_stop() {
     let mut t = vec![handshake(&mut m, 10_000, 0), release(&mut m, 0)];
     t.extend(trace(&mut m, A1, 18));
     assert_eq!(m.act_val(A1), 1550);
-    m.set_control(A1, CW_ENABLE | CW_STOP);
+    m.set_control(A1, ENABLE_OPERATION | CW_STOP);
     let t = trace(&mut m, A1, 14);
     assert_eq!(incs(&t), cat(&[&seq(90, 10, -10), &[0; 5]]));
-    assert_eq!(bit10(&t), cat_bool(&[false; 9], &[true; 5]));
+    assert_eq!(bit10(&t), cat_bools(&[false; 9], &[true; 5]));
     assert_eq!(m.act_val(A1), 2000);
-    m.set_control(A1, CW_ENABLE);
+    m.set_control(A1, ENABLE_OPERATION);
     let t = until_reached(&mut m, A1, 200);
     assert_eq!(incs(&t), profile(70, 1));
     assert_eq!(m.act_val(A1), 10_000);
@@ -1913,10 +1855,12 @@ fn x67_18_11_4_2_15_bit_10_with_stop() {
 /// 10 follows the mode.
 #[test]
 fn x67_18_11_4_2_16_bit_8_without_ext_cw() {
-    let plain = move_with_control(false, |_| CW_ENABLE);
-    let stop = move_with_control(false, |k| CW_ENABLE | if k >= 5 { CW_STOP } else { 0 });
+    let plain = move_with_control(false, |_| ENABLE_OPERATION);
+    let stop = move_with_control(false, |k| {
+        ENABLE_OPERATION | if k >= 5 { CW_STOP } else { 0 }
+    });
     assert_eq!(stop, plain);
-    assert_eq!(bit10(&stop), cat_bool(&[false; 39], &[true; 11]));
+    assert_eq!(bit10(&stop), cat_bools(&[false; 39], &[true; 11]));
     assert_eq!(stop.last().unwrap().pos, 3000);
 }
 
@@ -1930,23 +1874,23 @@ fn x67_18_11_4_2_16_bit_8_without_ext_cw() {
 fn x67_18_11_4_3_21_motion_only_in_operation_enable() {
     let mut m = Module::new();
     set_ramp(&mut m, A1, 100, 10, 10);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     switch_on(&mut m, A1);
     m.set_abs_pos(A1, 1000);
     let t = trace(&mut m, A1, 20);
     assert!(t
         .iter()
         .all(|c| c.pos == 0 && c.sw & STATE_MASK == SWITCHED_ON));
-    m.set_control(A1, CW_ENABLE);
+    m.set_control(A1, ENABLE_OPERATION);
     let t = until_reached(&mut m, A1, 100);
     assert_eq!(t[0].sw & STATE_MASK, OPERATION_ENABLE);
     assert_eq!(incs(&t), profile(0, 1));
 
     // Mode 2 in Switched on does not move either.
     let mut m = standard();
-    m.set_control(A1, CW_SWITCH_ON);
+    m.set_control(A1, SWITCH_ON);
     m.step();
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 50);
     assert!(trace(&mut m, A1, 10).iter().all(|c| c.pos == 0));
 }
@@ -1960,11 +1904,11 @@ fn x67_18_11_4_3_21_motion_only_in_operation_enable() {
 #[test]
 fn x67_18_11_1_17_06_counter_wraps_in_speed_mode() {
     let mut m = enabled(100, 100, 100);
-    m.set_mode(A1, -122);
+    m.set_mode(A1, modes::SET_POSITION);
     m.set_abs_pos(A1, 2_147_483_000);
     m.step();
     assert_eq!(m.act_val(A1), 2_147_483_000);
-    m.set_mode(A1, 2);
+    m.set_mode(A1, modes::SPEED);
     m.set_abs_pos(A1, 100);
     let t = trace(&mut m, A1, 9);
     assert_eq!(incs(&t), [100; 9]);
@@ -1990,10 +1934,10 @@ fn x67_18_11_1_17_06_counter_wraps_in_speed_mode() {
 #[test]
 fn x67_18_11_1_17_06_wrapping_distance_in_mode_1() {
     let mut m = standard();
-    m.set_mode(A1, -122);
+    m.set_mode(A1, modes::SET_POSITION);
     m.set_abs_pos(A1, 2_147_483_000);
     m.step();
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     m.set_abs_pos(A1, -2_147_483_000);
     let t = until_reached(&mut m, A1, 100);
     assert!(t.iter().all(|c| c.inc >= 0));
@@ -2020,15 +1964,15 @@ fn x67_18_14_02_value_at_cycle_boundary() {
 
     let mut m = standard_ext();
     m.set_abs_pos(A1, 3000);
-    m.set_control(A1, CW_ENABLE | CW_NEW_SETPOINT);
-    m.set_control(A1, CW_ENABLE);
+    m.set_control(A1, ENABLE_OPERATION | CW_NEW_SETPOINT);
+    m.set_control(A1, ENABLE_OPERATION);
     let t = trace(&mut m, A1, 10);
     assert!(t.iter().all(|c| c.pos == 0 && !c.ack()));
 
     let mut m = standard();
-    m.set_mode(A1, -122);
+    m.set_mode(A1, modes::SET_POSITION);
     m.set_abs_pos(A1, 777);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     m.set_abs_pos(A1, 0);
     let t = trace(&mut m, A1, 5);
     assert!(t.iter().all(|c| c.pos == 0 && c.reached()));
@@ -2037,7 +1981,7 @@ fn x67_18_14_02_value_at_cycle_boundary() {
     let mut m = Module::new();
     m.write_named("GeneralConfig01", 4).unwrap();
     set_ramp(&mut m, A1, 100, 10, 10);
-    m.set_mode(A1, 1);
+    m.set_mode(A1, modes::POSITION);
     switch_on(&mut m, A1);
     enable_operation(&mut m, A1);
     m.set_abs_pos(A1, -7000);

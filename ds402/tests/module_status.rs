@@ -3,114 +3,34 @@
 //! (ramp, state machine, error register, current model) have their own tests; these prove the joined model.
 //! Each test names the rules of `rules/x67.md` it checks.
 
-use ds402::cia402::{self, State};
-use ds402::x67::axis::modes;
+mod x67_rig;
+
+use ds402::cia402::control::{
+    DISABLE_OPERATION, DISABLE_VOLTAGE, ENABLE_OPERATION, ENABLE_VOLTAGE_BIT, FAULT_RESET,
+    QUICK_STOP, SHUTDOWN, SWITCH_ON,
+};
+use ds402::cia402::{self, State, SW_WARNING};
+use ds402::x67::axis::{modes, CW_MOTOR_ID, CW_SWAP_COUNTERS, SW_TARGET_REACHED};
 use ds402::x67::current::Level;
+use ds402::x67::errors::{CW_CURRENT_ERROR_DETECTION, CW_STALL_DETECTION, CW_WARNING_RESET};
 use ds402::x67::module::{Diagnostic, Module};
 use ds402::x67::motor::{self, Load, MotorParams};
 use ds402::x67::registers::{Access, AxisReg, ModuleReg, RegType, Register, RegisterError};
+use x67_rig::{
+    assert_state, increments, operation_enable, set, set_currents, switch_on, FAULT,
+    FAULT_REACTION_ACTIVE, NOT_READY, OPERATION_ENABLE, QUICK_STOP_ACTIVE, QUICK_STOP_FROM_ENABLED,
+    READY, SWITCHED_ON, SWITCH_ON_DISABLED,
+};
 use Access::{Config as Wo, CyclicIn as Tx, CyclicOut as Rx, ReadAcyclic as Ro};
 use RegType::{Dint, Int, Sint, Uint, Usint};
 
-// ----- control words (18.11.4.1) -----
-
-const DISABLE_VOLTAGE: u16 = 0x0000;
-const QUICK_STOP: u16 = 0x0002;
-const SHUTDOWN: u16 = 0x0006;
-const SWITCH_ON: u16 = 0x0007;
-/// Disable operation has the pattern of Switch on (X67-18.11.4.1-05).
-const DISABLE_OPERATION: u16 = 0x0007;
-/// Quick stop with bits 0 and 3 still set, as a master sends it from Operation enable.
-const QUICK_STOP_FROM_ENABLED: u16 = 0x000B;
-const ENABLE_OPERATION: u16 = 0x000F;
-const FAULT_RESET: u16 = 0x0080;
-const MOTOR_ID: u16 = 0x0800;
-const WARNING_RESET: u16 = 0x1000;
-const CURRENT_ERROR_DETECTION: u16 = 0x2000;
-const SWAP_COUNTERS: u16 = 0x4000;
-const STALL_DETECTION: u16 = 0x8000;
-
-// ----- status-word state patterns (18.11.4.2) -----
-
-const NOT_READY: u16 = 0x0200;
-const SWITCH_ON_DISABLED: u16 = 0x0240;
-const READY: u16 = 0x0221;
-const SWITCHED_ON: u16 = 0x0233;
-const OPERATION_ENABLE: u16 = 0x0237;
-const QUICK_STOP_ACTIVE: u16 = 0x0217;
-const FAULT_REACTION_ACTIVE: u16 = 0x020F;
-const FAULT: u16 = 0x0208;
-
+/// Status word bit 4: Voltage enabled (X67-18.11.4.2-09).
 const SW_VOLTAGE_ENABLED: u16 = 1 << 4;
-const SW_WARNING: u16 = 1 << 7;
-const SW_TARGET_REACHED: u16 = 1 << 10;
 
 // ----- helpers -----
 
-/// The mask of a state pattern: bit 5 is `x` in Not ready to switch on, Switch on disabled, Fault reaction
-/// active and Fault (0x035F), and fixed in the other four states (0x037F).
-fn mask(pattern: u16) -> u16 {
-    match pattern {
-        READY | SWITCHED_ON | OPERATION_ENABLE | QUICK_STOP_ACTIVE => 0x037F,
-        _ => 0x035F,
-    }
-}
-
-#[track_caller]
-fn assert_state(m: &Module, axis: usize, pattern: u16) {
-    let sw = m.status_word(axis);
-    assert_eq!(
-        sw & mask(pattern),
-        pattern,
-        "axis {}: status word {sw:#06x}, expected the pattern {pattern:#06x}",
-        axis + 1
-    );
-}
-
-fn set(m: &mut Module, axis: usize, reg: AxisReg, value: i64) {
-    m.write(Register::Axis(axis, reg), value).unwrap();
-}
-
 fn named(m: &Module, name: &str) -> i64 {
     m.read_named(name)
-}
-
-/// ConfigOutput03a/04a/05a (axis 1) or 06a/07a/08a (axis 2) in percent of 3 A.
-fn set_currents(m: &mut Module, axis: usize, holding: i64, nominal: i64, maximum: i64) {
-    set(m, axis, AxisReg::HoldingCurrent, holding);
-    set(m, axis, AxisReg::NominalCurrent, nominal);
-    set(m, axis, AxisReg::MaximumCurrent, maximum);
-}
-
-/// Brings `axis` from power-up or Switch on disabled to Switched on: the first cycle after power-up,
-/// Shutdown, then Switch on, which waits for the start-up motor identification the first time.
-fn switch_on(m: &mut Module, axis: usize) {
-    if m.axis(axis).state() == State::NotReadyToSwitchOn {
-        m.step();
-    }
-    m.set_control(axis, SHUTDOWN);
-    m.step();
-    assert_state(m, axis, READY);
-    m.set_control(axis, SWITCH_ON);
-    for _ in 0..300 {
-        m.step();
-        if m.axis(axis).state() == State::SwitchedOn {
-            break;
-        }
-    }
-    assert_state(m, axis, SWITCHED_ON);
-}
-
-/// The helper of this file: writes MaxSpeed0npos, MaxAcc0n and MaxDec0n and brings `axis` to Operation
-/// enable (Shutdown, Switch on with the start-up identification, Enable operation).
-fn operation_enable(m: &mut Module, axis: usize, max_speed: u16, max_acc: u16, max_dec: u16) {
-    set(m, axis, AxisReg::MaxSpeedPos, i64::from(max_speed));
-    set(m, axis, AxisReg::MaxAcc, i64::from(max_acc));
-    set(m, axis, AxisReg::MaxDec, i64::from(max_dec));
-    switch_on(m, axis);
-    m.set_control(axis, ENABLE_OPERATION);
-    m.step();
-    assert_state(m, axis, OPERATION_ENABLE);
 }
 
 /// A module with axis 1 in Operation enable in speed mode 2 at `speed` microsteps/cycle, reached with
@@ -118,7 +38,7 @@ fn operation_enable(m: &mut Module, axis: usize, max_speed: u16, max_acc: u16, m
 fn running(speed: i32, acc: u16) -> Module {
     let mut m = Module::new();
     set_currents(&mut m, 0, 20, 50, 80);
-    operation_enable(&mut m, 0, 0, acc, acc);
+    operation_enable(&mut m, 0, 0, i64::from(acc), i64::from(acc));
     m.set_mode(0, modes::SPEED);
     m.set_abs_pos(0, speed);
     for _ in 0..10_000 {
@@ -133,14 +53,7 @@ fn running(speed: i32, acc: u16) -> Module {
 
 /// One cycle; returns how far AbsPos0nActVal moved in it.
 fn step_increment(m: &mut Module, axis: usize) -> i32 {
-    let before = m.act_val(axis);
-    m.step();
-    m.act_val(axis).wrapping_sub(before)
-}
-
-/// The per-cycle increments of AbsPos0nActVal over `n` cycles.
-fn increments(m: &mut Module, axis: usize, n: usize) -> Vec<i32> {
-    (0..n).map(|_| step_increment(m, axis)).collect()
+    x67_rig::cycle(m, axis).inc
 }
 
 /// The current level driven in the last cycle (`None` when the motor is not powered).
@@ -267,7 +180,7 @@ fn snapshot(state: State) -> Module {
 /// threshold 0.
 fn stall_probe() -> Module {
     let mut m = running(30, 10);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.step();
     m
 }
@@ -483,7 +396,14 @@ fn x67_18_11_4_3_03_shutdown_from_switch_on_disabled() {
 /// to Switch on disabled.
 #[test]
 fn x67_18_11_4_3_04_ready_to_switch_on_disabled() {
-    for cw in [DISABLE_VOLTAGE, QUICK_STOP, 0x000D, 0x000B] {
+    // Disable voltage with bits 0, 2 and 3 set (0x000D) and Quick stop with bits 0 and 3 set (0x000B).
+    let disable_voltage_with_x_bits = ENABLE_OPERATION & !ENABLE_VOLTAGE_BIT;
+    for cw in [
+        DISABLE_VOLTAGE,
+        QUICK_STOP,
+        disable_voltage_with_x_bits,
+        QUICK_STOP_FROM_ENABLED,
+    ] {
         let mut m = Module::new();
         m.step();
         m.set_control(0, SHUTDOWN);
@@ -797,7 +717,7 @@ fn x67_18_11_4_3_16_no_command_reaches_fault() {
 fn x67_18_11_4_3_17_warning_does_not_change_the_state() {
     let mut m = running(20, 10);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     assert_eq!(increments(&mut m, 0, 3), [20, 20, 20]);
     assert_eq!(named(&m, "ErrorCode01"), 0xFF01);
     assert_eq!(m.status_word(0) & 0x03FF, OPERATION_ENABLE | SW_WARNING);
@@ -859,7 +779,7 @@ fn x67_18_11_4_3_19_fault_reset_only_without_error_condition() {
 fn x67_18_11_4_3_20_fault_reset_clears_errors_and_warnings() {
     let mut m = running(20, 10);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.run(2);
     assert_eq!(named(&m, "ErrorCode01"), 0xFF01);
     m.set_temperature(86.0);
@@ -868,7 +788,7 @@ fn x67_18_11_4_3_20_fault_reset_clears_errors_and_warnings() {
     assert_eq!(named(&m, "ErrorCode01"), 0x4200);
     assert_ne!(m.status_word(0) & SW_WARNING, 0);
     m.set_temperature(60.0);
-    m.set_control(0, FAULT_RESET | STALL_DETECTION);
+    m.set_control(0, FAULT_RESET | CW_STALL_DETECTION);
     m.step();
     assert_state(&m, 0, SWITCH_ON_DISABLED);
     assert_eq!(named(&m, "ErrorCode01"), 0);
@@ -993,7 +913,7 @@ fn x67_18_11_4_2_10_warning_bit() {
     m.axis_mut(0).motor.faults.short = false;
     m.run(3);
     assert_ne!(m.status_word(0) & SW_WARNING, 0);
-    m.set_control(0, ENABLE_OPERATION | WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_WARNING_RESET);
     m.step();
     assert_eq!(m.status_word(0) & SW_WARNING, 0);
     assert_eq!(named(&m, "ErrorCode01"), 0);
@@ -1007,14 +927,14 @@ fn x67_18_11_4_2_10_warning_bit() {
 fn x67_18_11_4_1_10_warning_reset_leaves_errors() {
     let mut m = running(20, 10);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.run(2);
     assert_eq!(named(&m, "ErrorCode01"), 0xFF01);
     m.set_temperature(86.0);
     m.step();
     assert_state(&m, 0, FAULT);
     assert_ne!(m.status_word(0) & SW_WARNING, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION | WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION | CW_WARNING_RESET);
     m.step();
     assert_state(&m, 0, FAULT);
     assert_eq!(named(&m, "ErrorCode01"), 0x4200);
@@ -1027,18 +947,18 @@ fn x67_18_11_4_1_10_warning_reset_leaves_errors() {
 fn x67_18_11_4_1_11_fault_reset_clears_warnings_in_any_state() {
     let mut m = running(20, 10);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.run(2);
     assert_eq!(named(&m, "ErrorCode01"), 0xFF01);
 
     let mut still = m.clone();
-    still.set_control(0, ENABLE_OPERATION | STALL_DETECTION | FAULT_RESET);
+    still.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION | FAULT_RESET);
     still.step();
     assert_eq!(named(&still, "ErrorCode01"), 0xFF01);
     assert_state(&still, 0, OPERATION_ENABLE);
 
     m.axis_mut(0).motor.load = Load::Value(7);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION | FAULT_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION | FAULT_RESET);
     assert_eq!(step_increment(&mut m, 0), 20);
     assert_eq!(named(&m, "ErrorCode01"), 0);
     assert_eq!(m.status_word(0) & SW_WARNING, 0);
@@ -1046,7 +966,7 @@ fn x67_18_11_4_1_11_fault_reset_clears_warnings_in_any_state() {
     assert!(m.axis(0).state_trace().is_empty());
     // Bit 7 held at 1 is no command; back to Enable operation changes nothing either.
     m.step();
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     assert_eq!(increments(&mut m, 0, 2), [20, 20]);
     assert_state(&m, 0, OPERATION_ENABLE);
 }
@@ -1072,7 +992,7 @@ fn x67_18_11_4_1_12_other_bits_act_in_every_state() {
         ),
         (5000, 12)
     );
-    m.set_control(0, DISABLE_VOLTAGE | SWAP_COUNTERS);
+    m.set_control(0, DISABLE_VOLTAGE | CW_SWAP_COUNTERS);
     m.step();
     assert_state(&m, 0, SWITCH_ON_DISABLED);
     assert!(m.axis(0).state_trace().is_empty());
@@ -1384,7 +1304,7 @@ fn x67_18_11_3_13_05_positive_limit_switch_warning() {
 #[test]
 fn x67_18_11_3_13_06_overcurrent_warning() {
     let mut m = running(50, 10);
-    m.set_control(0, ENABLE_OPERATION | CURRENT_ERROR_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_CURRENT_ERROR_DETECTION);
     m.axis_mut(0).motor.faults.open_winding = true;
     m.step();
     assert_eq!(m.error_code(0), 0xFF00);
@@ -1399,7 +1319,7 @@ fn x67_18_11_3_13_06_overcurrent_warning() {
 fn x67_18_11_3_13_07_current_error_warning() {
     let mut m = running(50, 10);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.step();
     assert_eq!(m.error_code(0), 0xFF01);
     m.axis_mut(0).motor.faults.open_winding = true;
@@ -1407,7 +1327,7 @@ fn x67_18_11_3_13_07_current_error_warning() {
     assert_eq!(m.error_code(0), 0xFF01);
     m.set_control(
         0,
-        ENABLE_OPERATION | STALL_DETECTION | CURRENT_ERROR_DETECTION,
+        ENABLE_OPERATION | CW_STALL_DETECTION | CW_CURRENT_ERROR_DETECTION,
     );
     assert_eq!(step_increment(&mut m, 0), 50);
     assert_eq!(m.error_code(0), 0xFF00);
@@ -1423,7 +1343,7 @@ fn x67_18_11_3_13_08_stall_warning() {
     m.axis_mut(0).motor.faults.open_winding = true;
     m.step();
     assert_eq!(m.error_code(0), 0xFF11);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     assert_eq!(increments(&mut m, 0, 2), [50, 50]);
     assert_eq!(m.error_code(0), 0xFF01);
     assert_state(&m, 0, OPERATION_ENABLE);
@@ -1438,7 +1358,7 @@ fn x67_18_11_3_13_09_open_circuit_lowest() {
     m.step();
     assert_eq!(m.error_code(0), 0xFF11);
     assert_ne!(m.status_word(0) & SW_WARNING, 0);
-    m.set_control(0, ENABLE_OPERATION | CURRENT_ERROR_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_CURRENT_ERROR_DETECTION);
     m.step();
     assert_eq!(m.error_code(0), 0xFF00);
     assert!(m
@@ -1461,13 +1381,13 @@ fn x67_18_11_3_13_10_priority() {
     let mut m = running(50, 10);
     make_stall(&mut m, 0);
     m.axis_mut(0).motor.faults.short = true;
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.run(2);
     assert_eq!(m.error_code(0), 0x2300);
     m.axis_mut(0).motor.faults.short = false;
     m.step();
     assert_eq!(m.error_code(0), 0x2300);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION | WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION | CW_WARNING_RESET);
     m.step();
     assert_eq!(m.error_code(0), 0xFF01);
 }
@@ -1478,7 +1398,7 @@ fn x67_18_11_3_13_10_priority() {
 fn x67_18_11_3_13_11_fault_and_warning_bits_together() {
     let mut m = running(50, 10);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.run(2);
     m.set_temperature(85.0);
     m.step();
@@ -1496,7 +1416,7 @@ fn x67_18_11_3_13_12_per_axis_lists() {
         operation_enable(&mut m, axis, 0, 10, 10);
         m.set_mode(axis, modes::SPEED);
         m.set_abs_pos(axis, 30);
-        m.set_control(axis, ENABLE_OPERATION | STALL_DETECTION);
+        m.set_control(axis, ENABLE_OPERATION | CW_STALL_DETECTION);
     }
     // Axis 1 has a stall threshold too, but its load value (7) stays above it.
     set(&mut m, 0, AxisReg::StallDetectConfig, 0x30);
@@ -1520,7 +1440,7 @@ fn x67_18_6_3_1_01_errors_in_error_code_and_status_word() {
     assert_eq!(Register::from_name("Error status"), None);
     let mut base = running(50, 10);
     make_stall(&mut base, 0);
-    base.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    base.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     let mut stalled = base.clone();
     base.axis_mut(0).motor.load = Load::Value(7);
     base.run(5);
@@ -1558,7 +1478,7 @@ fn x67_18_6_3_1_02_overtemperature_per_output_stage_and_module() {
 #[test]
 fn x67_18_6_3_1_03_current_error_open_winding_and_back_emf() {
     let mut m = running(50, 10);
-    m.set_control(0, ENABLE_OPERATION | CURRENT_ERROR_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_CURRENT_ERROR_DETECTION);
     m.axis_mut(0).motor.faults.open_winding = true;
     m.step();
     assert_eq!(m.error_code(0), 0xFF00);
@@ -1574,7 +1494,7 @@ fn x67_18_6_3_1_03_current_error_open_winding_and_back_emf() {
     ] {
         let mut m = running(speed, 10_025);
         m.axis_mut(0).motor.load = load;
-        m.set_control(0, ENABLE_OPERATION | CURRENT_ERROR_DETECTION);
+        m.set_control(0, ENABLE_OPERATION | CW_CURRENT_ERROR_DETECTION);
         m.run(2);
         assert_eq!(m.error_code(0), code, "{load:?} at {speed}");
     }
@@ -1598,16 +1518,16 @@ fn x67_18_6_3_1_04_overcurrent_on_short() {
 fn x67_18_6_3_1_05_latched_until_acknowledged() {
     let mut m = running(50, 10);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.run(2);
     assert_eq!(m.error_code(0), 0xFF01);
     m.axis_mut(0).motor.load = Load::Value(7);
     m.run(10);
     assert_eq!(m.error_code(0), 0xFF01);
     assert_ne!(m.status_word(0) & SW_WARNING, 0);
-    for ack in [WARNING_RESET, FAULT_RESET] {
+    for ack in [CW_WARNING_RESET, FAULT_RESET] {
         let mut m = m.clone();
-        m.set_control(0, ENABLE_OPERATION | STALL_DETECTION | ack);
+        m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION | ack);
         m.step();
         assert_eq!(m.error_code(0), 0, "{ack:#06x}");
         assert_eq!(m.status_word(0) & SW_WARNING, 0);
@@ -1627,7 +1547,7 @@ fn x67_18_6_3_2_01_acknowledgment_per_axis() {
         m.set_mode(axis, modes::SPEED);
         m.set_abs_pos(axis, 30);
         make_stall(&mut m, axis);
-        m.set_control(axis, ENABLE_OPERATION | STALL_DETECTION);
+        m.set_control(axis, ENABLE_OPERATION | CW_STALL_DETECTION);
     }
     m.run(5);
     assert_eq!((m.error_code(0), m.error_code(1)), (0xFF01, 0xFF01));
@@ -1635,7 +1555,7 @@ fn x67_18_6_3_2_01_acknowledgment_per_axis() {
         m.axis_mut(axis).motor.load = Load::Value(7);
     }
     m.step();
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION | WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION | CW_WARNING_RESET);
     m.step();
     assert_eq!((m.error_code(0), m.error_code(1)), (0, 0xFF01));
     assert_eq!(m.status_word(0) & SW_WARNING, 0);
@@ -1656,7 +1576,7 @@ fn x67_18_11_3_2_05_motor_id_on_rising_edge() {
     m.axis_mut(0).motor.params.inductance_mh = 6.0;
     m.step();
     assert_eq!(named(&m, "Motoridentification01"), 133);
-    m.set_control(0, ENABLE_OPERATION | MOTOR_ID);
+    m.set_control(0, ENABLE_OPERATION | CW_MOTOR_ID);
     m.step();
     let six = expected_identification(6.0, 1.5, 24.0, 50).unwrap();
     assert_eq!(six, 267);
@@ -1668,7 +1588,7 @@ fn x67_18_11_3_2_05_motor_id_on_rising_edge() {
     m.set_control(0, ENABLE_OPERATION);
     m.step();
     assert_eq!(named(&m, "Motoridentification01"), i64::from(six));
-    m.set_control(0, ENABLE_OPERATION | MOTOR_ID);
+    m.set_control(0, ENABLE_OPERATION | CW_MOTOR_ID);
     m.step();
     assert_eq!(named(&m, "Motoridentification01"), 400);
 }
@@ -1679,18 +1599,18 @@ fn x67_18_11_3_2_05_motor_id_on_rising_edge() {
 fn x67_18_11_3_2_06_warning_reset() {
     let mut m = running(50, 10);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.run(2);
     assert_eq!(m.error_code(0), 0xFF01);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION | WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION | CW_WARNING_RESET);
     m.step();
     assert_eq!(m.error_code(0), 0xFF01);
     assert_ne!(m.status_word(0) & SW_WARNING, 0);
 
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.step();
     m.axis_mut(0).motor.load = Load::Value(7);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION | WARNING_RESET);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION | CW_WARNING_RESET);
     m.step();
     assert_eq!(m.error_code(0), 0);
     assert_eq!(m.status_word(0) & SW_WARNING, 0);
@@ -1710,7 +1630,7 @@ fn x67_18_11_3_2_07_current_error_detection_bit() {
         .axis(0)
         .errors()
         .is_latched(ds402::x67::errors::ErrorCode::CurrentError));
-    m.set_control(0, ENABLE_OPERATION | CURRENT_ERROR_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_CURRENT_ERROR_DETECTION);
     m.step();
     assert_eq!(m.error_code(0), 0xFF00);
 }
@@ -1730,7 +1650,7 @@ fn x67_18_11_3_2_08_counter_swap() {
     assert_eq!(named(&m, "AbsPos01ActVal"), 5000);
     assert_eq!(named(&m, "AbsPos01ActValAcyclic"), 120);
     assert_eq!(m.input_object(0)[0..4], 5000i32.to_le_bytes());
-    m.set_control(0, ENABLE_OPERATION | SWAP_COUNTERS);
+    m.set_control(0, ENABLE_OPERATION | CW_SWAP_COUNTERS);
     m.step();
     assert_eq!(named(&m, "AbsPos01ActVal"), 120);
     assert_eq!(named(&m, "AbsPos01ActValAcyclic"), 5000);
@@ -1751,7 +1671,7 @@ fn x67_18_11_3_2_09_stall_detection_bit() {
     make_stall(&mut m, 0);
     m.run(5);
     assert_eq!(m.error_code(0), 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.step();
     assert_eq!(m.error_code(0), 0xFF01);
 }
@@ -1769,7 +1689,7 @@ fn x67_18_6_1_1_01_threshold_per_axis() {
         operation_enable(&mut m, axis, 0, 10, 10);
         m.set_mode(axis, modes::SPEED);
         m.set_abs_pos(axis, 30);
-        m.set_control(axis, ENABLE_OPERATION | STALL_DETECTION);
+        m.set_control(axis, ENABLE_OPERATION | CW_STALL_DETECTION);
         m.axis_mut(axis).motor.load = Load::Value(2);
     }
     set(&mut m, 0, AxisReg::StallDetectConfig, 0x8F);
@@ -1950,7 +1870,7 @@ fn x67_18_11_1_13_01_minimum_speed_for_stall_detection() {
         operation_enable(&mut m, 0, 0, 10, 10);
         set(&mut m, 0, AxisReg::StallDetectMinSpeed, 50);
         make_stall(&mut m, 0);
-        m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+        m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
         m.set_mode(0, modes::SPEED);
         m.set_abs_pos(0, 50);
         assert_eq!(increments(&mut m, 0, 8), [10, 20, 30, 40, 50, 50, 50, 50]);
@@ -1972,7 +1892,7 @@ fn x67_18_6_1_3_01_minimum_speed_in_microsteps_per_cycle() {
     let mut m = running(51, 51);
     set(&mut m, 0, AxisReg::StallDetectMinSpeed, 50);
     make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
     m.step();
     assert_eq!(m.error_code(0), 0xFF01);
 }
@@ -2020,7 +1940,7 @@ fn x67_18_11_1_12_02_recognition_delay_only_for_homing() {
         operation_enable(&mut m, 0, 100, 10, 10);
         set(&mut m, 0, AxisReg::StallRecognitionDelay, delay);
         make_stall(&mut m, 0);
-        m.set_control(0, ENABLE_OPERATION | STALL_DETECTION);
+        m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
         m.set_mode(0, modes::POSITION);
         m.set_abs_pos(0, 10_000);
         let first = (1..=20)
@@ -2056,7 +1976,7 @@ fn x67_18_6_3_6_01_motor_id_trigger_is_control_bit_11() {
     for axis in 0..2 {
         m.axis_mut(axis).motor.params.inductance_mh = 6.0;
     }
-    m.set_control(0, SWITCH_ON | MOTOR_ID);
+    m.set_control(0, SWITCH_ON | CW_MOTOR_ID);
     m.step();
     assert_eq!(
         (
@@ -2122,7 +2042,7 @@ fn x67_18_11_3_7_02_zero_until_measured() {
     set_currents(&mut m, 0, 20, 100, 80);
     assert_eq!(named(&m, "Motoridentification01"), 0);
     m.run(3);
-    m.set_control(0, MOTOR_ID);
+    m.set_control(0, CW_MOTOR_ID);
     m.run(3);
     assert_eq!(named(&m, "Motoridentification01"), 0);
     assert_eq!(named(&m, "Motoridentification02"), 0);
@@ -2159,7 +2079,7 @@ fn x67_18_11_3_7_04_only_at_standstill_in_half_step_position() {
     m.set_mode(0, modes::POSITION);
     let trigger = |m: &mut Module, inductance: f64| {
         m.axis_mut(0).motor.params.inductance_mh = inductance;
-        m.set_control(0, ENABLE_OPERATION | MOTOR_ID);
+        m.set_control(0, ENABLE_OPERATION | CW_MOTOR_ID);
         m.step();
         m.set_control(0, ENABLE_OPERATION);
         m.step();
@@ -2857,7 +2777,7 @@ fn x67_18_6_1_5_01_counter_choice_per_axis() {
     m.step();
     quadrature(&mut m, 0, 5);
     quadrature(&mut m, 1, 9);
-    m.set_control(1, SWAP_COUNTERS);
+    m.set_control(1, CW_SWAP_COUNTERS);
     m.step();
     assert_eq!(
         (
@@ -2892,7 +2812,7 @@ fn x67_18_11_3_4_01_cyclic_position() {
         );
     }
     assert_eq!(m.act_val(0), -10 - 20 - 30 - 30 - 30);
-    m.set_control(0, ENABLE_OPERATION | SWAP_COUNTERS);
+    m.set_control(0, ENABLE_OPERATION | CW_SWAP_COUNTERS);
     m.step();
     assert_eq!(m.act_val(0), -2);
     assert_eq!(m.input_object(0)[0..4], [0xFE, 0xFF, 0xFF, 0xFF]);
@@ -2912,7 +2832,7 @@ fn x67_18_11_3_10_01_acyclic_position() {
     assert_eq!(named(&m, "AbsPos01ActValAcyclic"), 33);
     let cyclic = named(&m, "AbsPos01ActVal");
     assert_eq!(cyclic, 3000);
-    m.set_control(0, ENABLE_OPERATION | SWAP_COUNTERS);
+    m.set_control(0, ENABLE_OPERATION | CW_SWAP_COUNTERS);
     m.step();
     assert_eq!(named(&m, "AbsPos01ActValAcyclic"), cyclic);
 }
@@ -2994,8 +2914,8 @@ fn x67_18_11_3_11_01_control_read_back() {
 #[test]
 fn x67_18_11_3_12_01_mode_read_back() {
     let mut m = Module::new();
-    m.set_mode(0, -125);
-    m.set_mode(1, 2);
+    m.set_mode(0, modes::FIXED_A);
+    m.set_mode(1, modes::SPEED);
     m.step();
     assert_eq!(named(&m, "ModeReadback01"), -125);
     assert_eq!((named(&m, "ModeReadback01") as i8) as u8, 0x83);
@@ -3453,7 +3373,7 @@ fn x67_18_5_24_actual_position_registers() {
     let mut m = Module::new();
     m.step();
     quadrature(&mut m, 1, -5);
-    m.set_control(1, SWAP_COUNTERS);
+    m.set_control(1, CW_SWAP_COUNTERS);
     m.step();
     assert_eq!(named(&m, "AbsPos02ActVal"), -5);
     assert_eq!(m.input_object(1)[0..4], [0xFB, 0xFF, 0xFF, 0xFF]);
@@ -3570,7 +3490,7 @@ fn x67_18_6_1_4_01_no_run_time_current_selection() {
     // Current-selection bits of function model 0 (bits 14–15 of MotorXStepX) set in every cyclic output.
     m.set_abs_pos(0, i32::from_le_bytes([0, 0xC0, 0, 0xC0]));
     m.set_mode(0, modes::NONE);
-    m.set_control(0, 0x0007 | 0x4000);
+    m.set_control(0, SWITCH_ON | 0x4000);
     m.run(10);
     assert_eq!(
         (level(&m, 0), milliamps(&m, 0)),

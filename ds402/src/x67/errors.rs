@@ -264,7 +264,7 @@ impl ErrorRegister {
     }
 
     /// The value of ErrorCode0n: the latched code with the highest priority, or 0x0000 when nothing is
-    /// pending (X67-18.11.3.13-01, -10).
+    /// pending (X67-18.11.3.13-01, X67-18.11.3.13-10).
     pub fn register(&self) -> u16 {
         self.highest().map_or(0, ErrorCode::code)
     }

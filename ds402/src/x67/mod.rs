@@ -1,4 +1,4 @@
-//! The B&R X67SM2436 two-axis stepper module in function model "Ramp" (seed 001, the B&R manual).
+//! The B&R X67SM2436 two-axis stepper module in function model "Ramp" (seed 002, the B&R data sheet).
 //!
 //! - [`ramp`]: the ramp generator of one axis (speed, acceleration, reversing loop, jerk limitation);
 //! - [`current`]: the motor current of one axis (holding, nominal and maximum current, the 100 ms hold,

@@ -62,7 +62,7 @@
 //! - **Software limits and homing/speed mode.** The ramp brakes so that it stops at the limit; status bit 11 is
 //!   1 in every cycle in which a limit holds the set-point back. The reversing-loop point is kept inside the
 //!   limits. A counter already outside the limits (set by mode −122) may only move back toward them.
-//! - **Current ratings** (X67-3-03/-04) are not enforced; breaking them writes a [`Diagnostic`].
+//! - **Current ratings** (X67-3-03, X67-3-04) are not enforced; breaking them writes a [`Diagnostic`].
 
 use std::time::{Duration, Instant};
 
@@ -327,7 +327,7 @@ impl Module {
             .fold(0, |acc, (k, &l)| acc | (u8::from(l) << k))
     }
 
-    /// The 8-byte input CAN object `object` (0 or 1) as the bus controller sends it (X67-18.5.2-02/-03):
+    /// The 8-byte input CAN object `object` (0 or 1) as the bus controller sends it (X67-18.5.2-02, X67-18.5.2-03):
     /// AbsPos0nActVal, MpGenStatus0n and, in object 0, InputStatus; little-endian, unused bytes 0.
     pub fn input_object(&self, object: usize) -> [u8; 8] {
         let a = self.axis(object);
@@ -341,7 +341,7 @@ impl Module {
     }
 
     /// Takes an 8-byte output CAN object `object` (0 or 1): AbsPos0n, MpGenControl0n and MpGenMode0n;
-    /// byte 7 is ignored (X67-18.5.2-02/-04).
+    /// byte 7 is ignored (X67-18.5.2-02, X67-18.5.2-04).
     pub fn output_object(&mut self, object: usize, data: [u8; 8]) {
         let a = self.axis_mut(object);
         a.set_abs_pos(i32::from_le_bytes([data[0], data[1], data[2], data[3]]));
@@ -565,7 +565,7 @@ impl Module {
         std::mem::take(&mut self.diagnostics)
     }
 
-    /// 4x decoding of a hand-driven A/B input change on the ABR counter of its group (X67-3-08/-09).
+    /// 4x decoding of a hand-driven A/B input change on the ABR counter of its group (X67-3-08, X67-3-09).
     fn quadrature(&mut self, k: usize, level: bool) {
         let (group, a_in, b_in) = match k {
             0 | 1 => (0, 0, 1),

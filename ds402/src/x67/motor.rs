@@ -3,7 +3,7 @@
 //! Nothing in the seed describes a motor; this is the harness that lets the axis model and the node exercise
 //! every path: a two-phase stepper with a winding inductance and resistance (for the motor identification,
 //! X67-18.11.3.7-01), a rotor that follows the internal counter unless it is blocked or wired in reverse, an
-//! optional ABR incremental encoder on the shaft (X67-3-08/-09), a mechanical load that sets the load value
+//! optional ABR incremental encoder on the shaft (X67-3-08, X67-3-09), a mechanical load that sets the load value
 //! 0…7 (X67-18.6.1.1-03) and injectable faults (open or shorted winding, output-stage over-temperature).
 //!
 //! Units: rotor positions in microsteps (1/256 full step, X67-3-05), speeds in microsteps/second.

@@ -112,7 +112,7 @@ pub struct Config {
     /// Ramp-generator cycle, decoded from GeneralConfig01 with [`Cycle::from_general_config`].
     pub cycle: Cycle,
     /// MaxSpeed0npos: speed limit of the absolute positioning moves in microsteps/cycle; not used in speed
-    /// mode (X67-18.11.1.3-01/-02). 0 means no positioning move can start.
+    /// mode (X67-18.11.1.3-01, X67-18.11.1.3-02). 0 means no positioning move can start.
     pub max_speed_pos: u16,
     /// MaxAcc0n: largest rise of the speed magnitude per cycle, all modes (X67-18.11.1.4-01). 0 means the
     /// axis cannot start.
@@ -121,10 +121,11 @@ pub struct Config {
     /// positioning move does not start, and any braking stops the ramp within one cycle (catalogue pick).
     pub max_dec: u16,
     /// JoltTime0n: FIFO length of the jerk limitation, 0 = off, values above 80 act as 80
-    /// (X67-18.11.1.14-01/-02).
+    /// (X67-18.11.1.14-01, X67-18.11.1.14-02).
     pub jolt_time: u8,
     /// RevLoop0n: reversing loop in microsteps for the absolute positioning moves, 0 = off. A move in the
-    /// direction of its sign overshoots the target by |RevLoop0n| and comes back (X67-18.11.1.6-02/-03).
+    /// direction of its sign overshoots the target by |RevLoop0n| and comes back (X67-18.11.1.6-02,
+    /// X67-18.11.1.6-03).
     pub rev_loop: i16,
 }
 
