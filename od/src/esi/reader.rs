@@ -2,11 +2,7 @@
 //! per-device raw records (data types, objects, EtherCAT parts) that are resolved into a
 //! [`DeviceDescription`] when the device's element ends. Nothing but the current device is held.
 
-use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
-
-use quick_xml::events::{BytesStart, Event};
-use quick_xml::Reader;
 
 use crate::device::{
     CoeFlags, DeviceDescription, Eeprom, EthercatInfo, InitCmd, Mailbox, Module, ModulePdoGroup,
@@ -14,14 +10,15 @@ use crate::device::{
     SyncManager,
 };
 use crate::dict::{Address, Dictionary};
-use crate::error::{LineIndex, ParseError, Position};
+use crate::error::{ParseError, Position};
 use crate::object::{
     Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
 };
-use crate::report::{Finding, Reading, SourceMap};
+use crate::report::{Reading, SourceMap};
 use crate::types::DataType;
 use crate::value::{parse_hex_bytes, Value};
 use crate::xml;
+use crate::xml::cursor::{normalize_line_ends, Cursor, Document, Element, Node};
 
 /// Deepest type-alias chain followed (`DT… → BaseType → …`).
 const MAX_TYPE_DEPTH: usize = 8;
@@ -56,34 +53,29 @@ tags! {
     Data, DcOpModeName, ProfileNo, AddInfo,
 }
 
-/// The source text and its name, for error positions, and the warnings found so far.
+/// The document being read: error positions and the warnings found so far.
 #[derive(Clone, Copy)]
 struct Ctx<'a> {
-    src: &'a str,
-    name: &'a str,
-    lines: &'a LineIndex,
-    findings: &'a RefCell<Vec<Finding>>,
+    doc: &'a Document<'a>,
 }
 
 impl Ctx<'_> {
     fn pos(&self, offset: usize) -> Position {
-        self.lines.position(self.src.as_bytes(), offset)
+        self.doc.position(offset)
     }
 
     fn err(&self, offset: usize, message: impl Into<String>) -> ParseError {
-        ParseError::new(self.name, self.pos(offset), message)
+        self.doc.error(offset, message)
     }
 
     /// A warning at `offset`.
     fn warn(&self, offset: usize, message: impl Into<String>) {
-        let f = Finding::warning(self.pos(offset), message);
-        self.findings.borrow_mut().push(f);
+        self.doc.warn(offset, message);
     }
 
     /// A warning at `offset` about the dictionary entry `address`.
     fn warn_about(&self, offset: usize, address: Address, message: impl Into<String>) {
-        let f = Finding::warning(self.pos(offset), message).at(address);
-        self.findings.borrow_mut().push(f);
+        self.doc.warn_about(offset, address, message);
     }
 
     /// A number as [`xml::parse_number`] reads it; a hexadecimal number with both prefixes (`#x0x6041`,
@@ -334,14 +326,8 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         }
         e
     })?;
-    let lines = LineIndex::new(text.as_bytes());
-    let findings = RefCell::new(Vec::new());
-    let ctx = Ctx {
-        src: &text,
-        name: source_name,
-        lines: &lines,
-        findings: &findings,
-    };
+    let doc = Document::new(&text, source_name);
+    let ctx = Ctx { doc: &doc };
     let mut parser = Parser {
         ctx,
         stack: Vec::new(),
@@ -378,7 +364,7 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
             ecat.modules = modules.clone();
         }
     }
-    let mut findings = findings.into_inner();
+    let mut findings = doc.take_findings();
     // In file order: a device's findings about its PDOs come when the device ends.
     findings.sort_by_key(|f| f.position.map(|p| (p.line, p.column)));
     Ok(Reading {
@@ -403,78 +389,42 @@ fn decode_error_position(bytes: &[u8]) -> Position {
 
 impl<'a> Parser<'a> {
     fn run(&mut self) -> Result<(), ParseError> {
-        let mut reader = Reader::from_str(self.ctx.src);
+        let mut cursor = Cursor::new(self.ctx.doc);
         let mut root_seen = false;
         loop {
-            let offset = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
-            let event = match reader.read_event() {
-                Ok(e) => e,
-                Err(e) => {
-                    let at = usize::try_from(reader.error_position()).unwrap_or(offset);
-                    return Err(self.ctx.err(at, format!("malformed XML: {e}")));
-                }
-            };
-            match event {
-                Event::Start(e) => {
+            match cursor.next()? {
+                Node::Start(e) => {
                     if self.stack.is_empty() {
-                        self.check_root(&e, offset, root_seen)?;
+                        self.check_root(&e, root_seen)?;
                         root_seen = true;
                     }
-                    self.start(&e, offset)?;
+                    self.start(&e)?;
                 }
-                Event::Empty(e) => {
-                    if self.stack.is_empty() {
-                        self.check_root(&e, offset, root_seen)?;
-                        root_seen = true;
-                    }
-                    self.start(&e, offset)?;
-                    self.end(offset)?;
-                }
-                Event::End(_) => self.end(offset)?,
+                Node::End { offset } => self.end(offset)?,
                 // White space before an element's text is layout: skip it without decoding.
-                Event::Text(t)
-                    if self.text_offset.is_none() && t.iter().all(u8::is_ascii_whitespace) => {}
-                Event::Text(t) if self.collecting() => {
-                    let s = t
-                        .xml10_content()
-                        .map_err(|e| self.ctx.err(offset, format!("undecodable text: {e}")))?;
-                    self.push_text(&s, offset);
+                Node::Text(t, _) if self.text_offset.is_none() && t.is_blank() => {}
+                Node::Text(t, offset) if self.collecting() => self.push_text(&t.content(), offset),
+                Node::CData(t, offset) if self.collecting() => {
+                    self.push_text(&normalize_line_ends(t), offset)
                 }
-                Event::CData(t) if self.collecting() => {
-                    let s = t
-                        .xml10_content()
-                        .map_err(|e| self.ctx.err(offset, format!("undecodable text: {e}")))?;
-                    self.push_text(&s, offset);
-                }
-                Event::GeneralRef(r) if self.collecting() => {
-                    let c = match r.resolve_char_ref() {
-                        Ok(Some(c)) => Some(c),
-                        Ok(None) => xml::predefined_entity(r.as_ref()),
-                        Err(_) => None,
-                    };
-                    match c {
-                        Some(c) => {
-                            let mut buf = [0u8; 4];
-                            self.push_text(c.encode_utf8(&mut buf), offset);
-                        }
-                        None => {
-                            return Err(self.ctx.err(
-                                offset,
-                                format!(
-                                    "unknown entity `&{};`",
-                                    String::from_utf8_lossy(r.as_ref())
-                                ),
-                            ))
-                        }
+                Node::Ref(r, offset) if self.collecting() => match r.resolve() {
+                    Ok(Some(c)) => {
+                        let mut buf = [0u8; 4];
+                        self.push_text(c.encode_utf8(&mut buf), offset);
                     }
-                }
-                Event::Eof => break,
+                    Ok(None) | Err(_) => {
+                        return Err(self
+                            .ctx
+                            .err(offset, format!("unknown entity `&{};`", r.name())))
+                    }
+                },
+                Node::Eof => break,
                 _ => {}
             }
         }
         if let Some(open) = self.stack.last() {
             return Err(self.ctx.err(
-                self.ctx.src.len(),
+                self.ctx.doc.text().len(),
                 format!("unexpected end of file: <{}> is not closed", open.name()),
             ));
         }
@@ -486,14 +436,14 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    fn check_root(&self, e: &BytesStart, offset: usize, seen: bool) -> Result<(), ParseError> {
-        let tag = Tag::of(e.local_name().as_ref());
+    fn check_root(&self, e: &Element, seen: bool) -> Result<(), ParseError> {
+        let tag = Tag::of(e.local_name());
         if seen || !matches!(tag, Tag::EtherCATInfo | Tag::EtherCATModule) {
             return Err(self.ctx.err(
-                offset,
+                e.offset(),
                 format!(
                     "expected an <EtherCATInfo> root element, found <{}>",
-                    String::from_utf8_lossy(e.name().as_ref())
+                    String::from_utf8_lossy(e.name())
                 ),
             ));
         }
@@ -516,36 +466,29 @@ impl<'a> Parser<'a> {
         self.text.push_str(s);
     }
 
-    /// An attribute's value and its offset in the source.
-    fn attrs(
-        &self,
-        e: &BytesStart,
-        offset: usize,
-    ) -> Result<Vec<(Vec<u8>, String, usize)>, ParseError> {
+    /// Each attribute's local name, value, and the offset of its name in the source.
+    fn attrs(&self, e: &Element) -> Result<Vec<(Vec<u8>, String, usize)>, ParseError> {
         let mut out = Vec::new();
-        let raw = e.attributes_raw();
-        if raw.iter().all(u8::is_ascii_whitespace) {
-            return Ok(out);
-        }
-        let raw_start = offset + 1 + e.name().as_ref().len();
         for a in e.attributes() {
-            let a = a.map_err(|err| self.ctx.err(offset, format!("malformed attribute: {err}")))?;
-            let key = a.key.local_name().as_ref().to_vec();
-            let at = find(raw, a.key.as_ref()).map_or(offset, |p| raw_start + p);
+            let a = a.map_err(|err| {
+                self.ctx
+                    .err(e.offset(), format!("malformed attribute: {err}"))
+            })?;
+            let at = a.name_offset();
             let value = a
-                .unescape_value()
+                .value()
                 .map_err(|err| {
                     self.ctx
                         .err(at, format!("malformed attribute value: {err}"))
                 })?
                 .into_owned();
-            out.push((key, value, at));
+            out.push((a.key().to_vec(), value, at));
         }
         Ok(out)
     }
 
-    fn start(&mut self, e: &BytesStart, offset: usize) -> Result<(), ParseError> {
-        let tag = Tag::of(e.local_name().as_ref());
+    fn start(&mut self, e: &Element) -> Result<(), ParseError> {
+        let tag = Tag::of(e.local_name());
         self.stack.push(tag);
         self.text.clear();
         self.text_offset = None;
@@ -553,21 +496,16 @@ impl<'a> Parser<'a> {
             return Ok(());
         }
         let stack = std::mem::take(&mut self.stack);
-        let result = self.on_start(&stack, tag, e, offset);
+        let result = self.on_start(&stack, tag, e);
         self.stack = stack;
         result
     }
 
-    fn on_start(
-        &mut self,
-        stack: &[Tag],
-        tag: Tag,
-        e: &BytesStart,
-        offset: usize,
-    ) -> Result<(), ParseError> {
+    fn on_start(&mut self, stack: &[Tag], tag: Tag, e: &Element) -> Result<(), ParseError> {
+        let offset = e.offset();
         if matches!(tag, Tag::Name | Tag::Comment) {
             self.lcid = None;
-            for (k, v, at) in self.attrs(e, offset)? {
+            for (k, v, at) in self.attrs(e)? {
                 if k == b"LcId" {
                     self.lcid = Some(self.ctx.number(&v, at, "the LcId attribute")?);
                 }
@@ -576,7 +514,7 @@ impl<'a> Parser<'a> {
         let Some(depth) = self.device_depth else {
             match stack {
                 [Tag::EtherCATInfo | Tag::EtherCATModule, Tag::Vendor] => {
-                    for (k, v, _) in self.attrs(e, offset)? {
+                    for (k, v, _) in self.attrs(e)? {
                         if k == b"FileVersion" {
                             self.file_version = v.trim().to_string();
                         }
@@ -604,7 +542,7 @@ impl<'a> Parser<'a> {
         };
         let rel = stack.get(depth + 1..).unwrap_or_default();
         let ctx = self.ctx;
-        let attrs = self.attrs(e, offset)?;
+        let attrs = self.attrs(e)?;
         let Some(dev) = self.device.as_mut() else {
             return Ok(());
         };
@@ -1357,13 +1295,6 @@ fn pdo_of(dev: &mut RawDevice, tag: Tag) -> Option<&mut Pdo> {
     } else {
         dev.ecat.tx_pdos.last_mut()
     }
-}
-
-fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
-    if needle.is_empty() {
-        return None;
-    }
-    hay.windows(needle.len()).position(|w| w == needle)
 }
 
 /// The `DependOnSlot` and `DependOnSlotGroup` attributes of an element.
