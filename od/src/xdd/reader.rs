@@ -5,21 +5,19 @@
 use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 
-use quick_xml::events::{BytesStart, Event};
-use quick_xml::Reader;
-
 use super::{
     has_string_capacity, parse_access_type, parse_baud, parse_parameter_access, parse_pdo,
     parse_type_element, XddType, STRING_LENGTH_PROPERTY,
 };
 use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo};
 use crate::dict::Dictionary;
-use crate::error::{LineIndex, ParseError, Position};
+use crate::error::{ParseError, Position};
 use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
 use crate::report::{Finding, Reading, SourceMap};
 use crate::types::DataType;
 use crate::value::Value;
 use crate::xml;
+use crate::xml::cursor::{Cursor, Document, Element, Node};
 
 /// Reads an XDD or XDC file. `source_name` names the file in errors.
 ///
@@ -45,11 +43,12 @@ pub fn read(bytes: &[u8], source_name: &str) -> Result<DeviceDescription, ParseE
 /// Reads an XDD or XDC file as [`read`] does, with where each object was read and the reader's warnings.
 pub fn read_file(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
     let text = xml::decode(bytes, source_name)?;
-    let mut scan = Scan::new(&text, source_name);
+    let doc = Document::new(&text, source_name);
+    let mut scan = Scan::new(&doc);
     scan.run()?;
     let mut source = SourceMap::default();
     source.set_device(Position { line: 1, column: 1 });
-    let at = |offset: usize| scan.lines.position(text.as_bytes(), offset);
+    let at = |offset: usize| doc.position(offset);
     for o in &scan.objects {
         source.set_object(o.index, at(o.offset));
         for sub in &o.subs {
@@ -254,9 +253,9 @@ struct FileAttrs {
 }
 
 /// The state of one pass over the file.
-struct Scan<'a, 's> {
-    src: &'a str,
-    source_name: &'s str,
+struct Scan<'a> {
+    /// The file: error positions and warnings.
+    doc: &'a Document<'a>,
     stack: Vec<Ctx>,
     seen_root: bool,
     text: String,
@@ -289,10 +288,6 @@ struct Scan<'a, 's> {
     /// Dummy entries by data type index: used or not (the last entry for a type wins).
     dummies: BTreeMap<u16, bool>,
     commissioning: Option<Commissioning>,
-    /// The warnings, in file order.
-    findings: std::cell::RefCell<Vec<Finding>>,
-    /// Turns byte offsets into positions for warnings.
-    lines: LineIndex,
 }
 
 /// The local part of a qualified name (`q1:parameter` → `parameter`).
@@ -305,14 +300,6 @@ fn local(name: &[u8]) -> &[u8] {
 
 fn show(name: &[u8]) -> Cow<'_, str> {
     String::from_utf8_lossy(name)
-}
-
-/// XML attribute-value normalisation (XML 1.0 §3.3.3): literal tabs and line ends become spaces.
-fn normalize_attr(text: Cow<'_, str>) -> Cow<'_, str> {
-    if !text.contains(['\t', '\n', '\r']) {
-        return text;
-    }
-    Cow::Owned(text.replace("\r\n", " ").replace(['\t', '\n', '\r'], " "))
 }
 
 /// True for the types whose text value is read literally (no trimming, empty is a value).
@@ -345,11 +332,10 @@ fn strip_node_id(text: &str) -> Option<&str> {
     None
 }
 
-impl<'a, 's> Scan<'a, 's> {
-    fn new(src: &'a str, source_name: &'s str) -> Self {
+impl<'a> Scan<'a> {
+    fn new(doc: &'a Document<'a>) -> Self {
         Scan {
-            src,
-            source_name,
+            doc,
             stack: vec![Ctx::Document],
             seen_root: false,
             text: String::new(),
@@ -379,85 +365,51 @@ impl<'a, 's> Scan<'a, 's> {
             baud_rates: BTreeSet::new(),
             dummies: BTreeMap::new(),
             commissioning: None,
-            findings: std::cell::RefCell::new(Vec::new()),
-            lines: LineIndex::new(src.as_bytes()),
         }
     }
 
     fn err(&self, offset: usize, message: impl Into<String>) -> ParseError {
-        ParseError::at_offset(self.source_name, self.src.as_bytes(), offset, message)
-    }
-
-    /// The byte offset of `slice` in the source, when it is a part of it.
-    fn offset_of(&self, slice: &[u8]) -> Option<usize> {
-        let base = self.src.as_ptr() as usize;
-        let p = slice.as_ptr() as usize;
-        (p >= base && p + slice.len() <= base + self.src.len()).then(|| p - base)
+        self.doc.error(offset, message)
     }
 
     fn run(&mut self) -> Result<(), ParseError> {
-        let src = self.src;
-        let mut reader = Reader::from_str(src);
-        reader.config_mut().check_end_names = true;
+        let mut cursor = Cursor::new(self.doc);
         loop {
-            let before = reader.buffer_position() as usize;
-            let event = match reader.read_event() {
-                Ok(e) => e,
-                Err(e) => {
-                    return Err(self.err(
-                        reader.error_position() as usize,
-                        format!("malformed XML: {e}"),
-                    ))
-                }
-            };
-            match event {
-                Event::Start(e) => {
-                    let offset = self.element_offset(&e, before);
-                    let ctx = self.open(&e, offset)?;
+            match cursor.next()? {
+                Node::Start(e) => {
+                    let ctx = self.open(&e, e.offset())?;
                     self.stack.push(ctx);
                 }
-                Event::Empty(e) => {
-                    let offset = self.element_offset(&e, before);
-                    let ctx = self.open(&e, offset)?;
-                    self.close(ctx, offset)?;
-                }
-                Event::End(_) => {
+                Node::End { offset } => {
                     let ctx = self.stack.pop().unwrap_or(Ctx::Document);
                     if ctx == Ctx::Document || self.stack.is_empty() {
-                        return Err(self.err(before, "closing tag without an open element"));
+                        return Err(self.err(offset, "closing tag without an open element"));
                     }
-                    self.close(ctx, before)?;
+                    self.close(ctx, offset)?;
                 }
-                Event::Text(t) => {
+                Node::Text(t, _) => {
                     if self.collecting() {
-                        match t.decode() {
-                            // XML 1.0 §2.11: literal CR LF and CR are read as LF.
-                            Ok(s) if s.contains('\r') => self
-                                .text
-                                .push_str(&s.replace("\r\n", "\n").replace('\r', "\n")),
-                            Ok(s) => self.text.push_str(&s),
-                            Err(e) => return Err(self.err(before, format!("bad text: {e}"))),
-                        }
+                        self.text.push_str(&t.content());
                     }
                 }
-                Event::CData(t) => {
+                Node::CData(t, _) => {
                     if self.collecting() {
-                        self.text.push_str(&String::from_utf8_lossy(&t));
+                        self.text.push_str(&t);
                     }
                 }
-                Event::GeneralRef(r) => {
+                Node::Ref(r, before) => {
                     if self.collecting() {
-                        let c = match r.resolve_char_ref() {
+                        let c = match r.resolve() {
                             Ok(Some(c)) => c,
-                            Ok(None) => xml::predefined_entity(&r).ok_or_else(|| {
-                                self.err(
+                            Ok(None) => {
+                                return Err(self.err(
                                     before,
                                     format!(
                                         "unknown entity `&{};` (expected &lt; &gt; &amp; &apos; &quot; or a character reference)",
-                                        show(&r)
+                                        r.name()
                                     ),
-                                )
-                            })?,
+                                ))
+                            }
                             Err(e) => {
                                 return Err(self.err(before, format!("bad character reference: {e}")))
                             }
@@ -465,13 +417,12 @@ impl<'a, 's> Scan<'a, 's> {
                         self.text.push(c);
                     }
                 }
-                Event::Eof => break,
-                Event::Decl(_) | Event::PI(_) | Event::Comment(_) | Event::DocType(_) => {}
+                Node::Eof => break,
             }
         }
         if self.stack.len() > 1 {
             return Err(self.err(
-                src.len(),
+                self.doc.text().len(),
                 "unexpected end of file: an element is not closed",
             ));
         }
@@ -484,11 +435,6 @@ impl<'a, 's> Scan<'a, 's> {
         Ok(())
     }
 
-    fn element_offset(&self, e: &BytesStart<'_>, fallback: usize) -> usize {
-        self.offset_of(e.name().as_ref())
-            .map_or(fallback, |o| o.saturating_sub(1))
-    }
-
     fn collecting(&self) -> bool {
         matches!(
             self.stack.last(),
@@ -499,7 +445,7 @@ impl<'a, 's> Scan<'a, 's> {
     /// Calls `f` with the local name and value of every attribute of `e`.
     fn attrs(
         &mut self,
-        e: &BytesStart<'_>,
+        e: &Element<'a>,
         offset: usize,
         mut f: impl FnMut(&mut Self, &[u8], Attr<'a>) -> Result<(), ParseError>,
     ) -> Result<(), ParseError> {
@@ -509,50 +455,20 @@ impl<'a, 's> Scan<'a, 's> {
                 Err(err) => {
                     return Err(self.err(
                         offset,
-                        format!(
-                            "malformed attribute in <{}>: {err}",
-                            show(e.name().as_ref())
-                        ),
+                        format!("malformed attribute in <{}>: {err}", show(e.name())),
                     ))
                 }
             };
-            let raw: &[u8] = &a.value;
-            let (value_offset, raw_text): (usize, Cow<'a, str>) = match self.offset_of(raw) {
-                Some(o) => match self.src.get(o..o + raw.len()) {
-                    Some(s) => (o, Cow::Borrowed(s)),
-                    None => (
-                        offset,
-                        Cow::Owned(String::from_utf8_lossy(raw).into_owned()),
-                    ),
-                },
-                None => (
-                    offset,
-                    Cow::Owned(String::from_utf8_lossy(raw).into_owned()),
-                ),
-            };
             // Literal tabs and line ends become spaces before references are resolved, so `&#10;` stays.
-            let text = match normalize_attr(raw_text) {
-                Cow::Borrowed(s) => match quick_xml::escape::unescape(s) {
-                    Ok(t) => t,
-                    Err(err) => {
-                        return Err(self.err(value_offset, format!("bad attribute value: {err}")))
-                    }
-                },
-                Cow::Owned(s) => match quick_xml::escape::unescape(&s) {
-                    Ok(t) => Cow::Owned(t.into_owned()),
-                    Err(err) => {
-                        return Err(self.err(value_offset, format!("bad attribute value: {err}")))
-                    }
-                },
-            };
-            let key = a.key.as_ref();
-            let key = local(key);
+            let text = a
+                .normalized_value()
+                .map_err(|err| self.err(a.value_offset(), format!("bad attribute value: {err}")))?;
             f(
                 self,
-                key,
+                local(a.name()),
                 Attr {
                     text,
-                    offset: value_offset,
+                    offset: a.value_offset(),
                 },
             )?;
         }
@@ -562,7 +478,7 @@ impl<'a, 's> Scan<'a, 's> {
     /// The value of the attribute `name` of `e`, which must be there.
     fn required_attr(
         &mut self,
-        e: &BytesStart<'_>,
+        e: &Element<'a>,
         offset: usize,
         name: &[u8],
     ) -> Result<Attr<'a>, ParseError> {
@@ -579,17 +495,16 @@ impl<'a, 's> Scan<'a, 's> {
                 format!(
                     "expected a {} attribute in <{}>",
                     show(name),
-                    show(local(e.name().as_ref()))
+                    show(local(e.name()))
                 ),
             )
         })
     }
 
     /// Handles a start tag in the current context and answers the context of its content.
-    fn open(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<Ctx, ParseError> {
+    fn open(&mut self, e: &Element<'a>, offset: usize) -> Result<Ctx, ParseError> {
         let parent = self.stack.last().copied().unwrap_or(Ctx::Skip);
-        let qname = e.name();
-        let name = local(qname.as_ref());
+        let name = local(e.name());
         let ctx = match (parent, name) {
             (Ctx::Document, b"ISO15745ProfileContainer") => {
                 self.seen_root = true;
@@ -852,7 +767,7 @@ impl<'a, 's> Scan<'a, 's> {
     }
 
     /// True when the element's `lang` attribute names English (or is absent on a single-language file).
-    fn english(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<bool, ParseError> {
+    fn english(&mut self, e: &Element<'a>, offset: usize) -> Result<bool, ParseError> {
         let mut english = false;
         self.attrs(e, offset, |_, key, v| {
             if key == b"lang" {
@@ -923,7 +838,7 @@ impl<'a, 's> Scan<'a, 's> {
             })
     }
 
-    fn open_body(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<Ctx, ParseError> {
+    fn open_body(&mut self, e: &Element<'a>, offset: usize) -> Result<Ctx, ParseError> {
         let mut kind: Option<Cow<'a, str>> = None;
         let mut file = FileAttrs::default();
         self.attrs(e, offset, |_, key, v| {
@@ -985,7 +900,7 @@ impl<'a, 's> Scan<'a, 's> {
 
     fn open_data_type(
         &mut self,
-        e: &BytesStart<'_>,
+        e: &Element<'a>,
         offset: usize,
         kind: DtKind,
     ) -> Result<(), ParseError> {
@@ -1013,7 +928,7 @@ impl<'a, 's> Scan<'a, 's> {
         Ok(())
     }
 
-    fn open_parameter(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<(), ParseError> {
+    fn open_parameter(&mut self, e: &Element<'a>, offset: usize) -> Result<(), ParseError> {
         let mut id = None;
         let mut param = ParamRec::new();
         self.attrs(e, offset, |s, key, v| {
@@ -1042,7 +957,7 @@ impl<'a, 's> Scan<'a, 's> {
 
     fn open_parameter_child(
         &mut self,
-        e: &BytesStart<'_>,
+        e: &Element<'a>,
         offset: usize,
         child: &[u8],
     ) -> Result<Ctx, ParseError> {
@@ -1168,7 +1083,7 @@ impl<'a, 's> Scan<'a, 's> {
             })
     }
 
-    fn open_object(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<(), ParseError> {
+    fn open_object(&mut self, e: &Element<'a>, offset: usize) -> Result<(), ParseError> {
         let mut attrs = EntryAttrs::default();
         let mut index = None;
         let mut name: Cow<'a, str> = Cow::Borrowed("");
@@ -1204,7 +1119,7 @@ impl<'a, 's> Scan<'a, 's> {
         Ok(())
     }
 
-    fn open_sub_object(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<(), ParseError> {
+    fn open_sub_object(&mut self, e: &Element<'a>, offset: usize) -> Result<(), ParseError> {
         let mut attrs = EntryAttrs::default();
         let mut sub = None;
         let mut name: Cow<'a, str> = Cow::Borrowed("");
@@ -1239,7 +1154,7 @@ impl<'a, 's> Scan<'a, 's> {
         Ok(())
     }
 
-    fn read_dummy(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<(), ParseError> {
+    fn read_dummy(&mut self, e: &Element<'a>, offset: usize) -> Result<(), ParseError> {
         self.attrs(e, offset, |s, key, v| {
             if key != b"entry" {
                 return Ok(());
@@ -1273,11 +1188,7 @@ impl<'a, 's> Scan<'a, 's> {
         })
     }
 
-    fn read_general_features(
-        &mut self,
-        e: &BytesStart<'_>,
-        offset: usize,
-    ) -> Result<(), ParseError> {
+    fn read_general_features(&mut self, e: &Element<'a>, offset: usize) -> Result<(), ParseError> {
         self.attrs(e, offset, |s, key, v| {
             match key {
                 b"granularity" => {
@@ -1306,7 +1217,7 @@ impl<'a, 's> Scan<'a, 's> {
         })
     }
 
-    fn read_commissioning(&mut self, e: &BytesStart<'_>, offset: usize) -> Result<(), ParseError> {
+    fn read_commissioning(&mut self, e: &Element<'a>, offset: usize) -> Result<(), ParseError> {
         let mut c = Commissioning::default();
         let mut has_node_id = false;
         self.attrs(e, offset, |s, key, v| {
@@ -1415,7 +1326,7 @@ impl<'a, 's> Scan<'a, 's> {
         }
         desc.commissioning = self.commissioning.take();
         desc.dictionary = dictionary;
-        Ok((desc, self.findings.into_inner()))
+        Ok((desc, self.doc.take_findings()))
     }
 
     /// How an entry whose `dataType` is no CiA 301 basic type is read: the POWERLINK types (EPSG DS
@@ -1445,10 +1356,7 @@ impl<'a, 's> Scan<'a, 's> {
 
     /// A warning at byte `offset`.
     fn warn(&self, offset: usize, message: String) {
-        let at = self.lines.position(self.src.as_bytes(), offset);
-        self.findings
-            .borrow_mut()
-            .push(Finding::warning(at, message));
+        self.doc.warn(offset, message);
     }
 
     fn param(&self, r: &Option<Attr<'a>>) -> Result<Option<&ParamRec<'a>>, ParseError> {

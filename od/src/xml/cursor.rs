@@ -153,10 +153,11 @@ impl<'a> Element<'a> {
         self.start.attributes().map(move |a| {
             let a = a?;
             let (_, key) = doc.borrow(a.key.local_name().into_inner(), offset);
-            let (name_offset, _) = doc.borrow(a.key.as_ref(), offset);
+            let (name_offset, name) = doc.borrow(a.key.as_ref(), offset);
             let (value_offset, raw) = doc.borrow(&a.value, offset);
             Ok(Attribute {
                 key,
+                name,
                 name_offset,
                 raw,
                 value_offset,
@@ -168,6 +169,7 @@ impl<'a> Element<'a> {
 /// An attribute of a start tag.
 pub(crate) struct Attribute<'a> {
     key: Cow<'a, str>,
+    name: Cow<'a, str>,
     name_offset: usize,
     raw: Cow<'a, str>,
     value_offset: usize,
@@ -177,6 +179,11 @@ impl<'a> Attribute<'a> {
     /// The name without its namespace prefix (`xsi:type` → `type`).
     pub(crate) fn key(&self) -> &[u8] {
         self.key.as_bytes()
+    }
+
+    /// The name as written, with its namespace prefix.
+    pub(crate) fn name(&self) -> &[u8] {
+        self.name.as_bytes()
     }
 
     /// Byte offset of the attribute's name as written (its prefix, if any).
