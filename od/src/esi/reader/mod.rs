@@ -1,4 +1,4 @@
-//! The streaming ESI reader: quick-xml events over the decoded file, a stack of known element names, and
+//! The streaming ESI reader: the XML cursor's nodes over the decoded file, a stack of known element names, and
 //! per-device raw records (data types, objects, EtherCAT parts) that are resolved into a
 //! [`DeviceDescription`] when the device's element ends. Nothing but the current device is held.
 //!
