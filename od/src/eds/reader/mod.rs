@@ -6,11 +6,9 @@ use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::ops::Range;
 
-use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo, Identity};
 use crate::error::{LineIndex, ParseError, Position};
-use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
+use crate::object::ObjectKind;
 use crate::report::{Finding, Reading, SourceMap};
-use crate::types::{DataType, STANDARD_TYPES};
 use crate::value::{parse_integer, Value};
 
 mod objects;

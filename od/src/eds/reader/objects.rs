@@ -1,6 +1,14 @@
 //! Objects and sub-objects of an EDS/DCF: their sections' keys, object codes, data types and values.
 
-use super::*;
+use super::{
+    c_suffix, dropped, shown, split_node_id, Builder, Entry, Fields, ObjectSections, Section,
+    Typed, OBJECT_KEYS, OBJECT_KINDS, OBJ_ACCESS, OBJ_COMPACT, OBJ_DATA_TYPE, OBJ_DEFAULT,
+    OBJ_FLAGS, OBJ_HIGH, OBJ_LOW, OBJ_NAME, OBJ_PDO, OBJ_SUB_NUMBER, OBJ_TYPE, OBJ_VALUE,
+};
+use crate::error::ParseError;
+use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
+use crate::types::{DataType, STANDARD_TYPES};
+use crate::value::{parse_integer, Value};
 
 impl<'i, 'a> Builder<'i, 'a> {
     pub(super) fn object(

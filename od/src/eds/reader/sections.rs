@@ -1,7 +1,13 @@
 //! The description from the named sections of an EDS/DCF: `[FileInfo]`, `[DeviceInfo]`,
 //! `[DummyUsage]`, `[Comments]`, `[DeviceComissioning]` and the object lists.
 
-use super::*;
+use super::hex_u16;
+use std::collections::BTreeMap;
+
+use super::{strip_prefix_ignore_case, Builder, Entry, Kind, Section};
+use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo, Identity};
+use crate::error::ParseError;
+use crate::value::parse_integer;
 
 impl<'i, 'a> Builder<'i, 'a> {
     pub(super) fn build(&self) -> Result<DeviceDescription, ParseError> {

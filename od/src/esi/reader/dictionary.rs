@@ -1,8 +1,17 @@
 //! Resolution of one device's raw dictionary records: data types, objects, their entries, values and
 //! flags, into a [`Dictionary`].
 
+use std::collections::{BTreeMap, HashMap};
+
 use super::pdo::apply_pdos;
-use super::*;
+use super::{clip, At, Ctx, RawDataType, RawDevice, RawFlags, RawInfo, RawObject, MAX_TYPE_DEPTH};
+use crate::device::DeviceDescription;
+use crate::dict::Dictionary;
+use crate::error::ParseError;
+use crate::object::{Access, AccessType, DefaultValue, Object, ObjectKind, SubObject};
+use crate::report::SourceMap;
+use crate::types::DataType;
+use crate::value::{parse_hex_bytes, Value};
 
 /// What a type name stands for.
 enum Resolved<'t> {

@@ -1,8 +1,19 @@
 //! What each known element of an ESI means: its attributes when it starts, its text when it ends, into
 //! the raw records of the current device (or the file's vendor).
 
+use super::{
+    clip, At, EntryAt, Parser, RawDataType, RawDevice, RawFlags, RawInfo, RawObject, RawSubItem,
+    Tag,
+};
+use crate::device::{
+    CoeFlags, Eeprom, InitCmd, Mailbox, ModulePdoGroup, OpMode, Pdo, PdoEntry, PdoRef, Slot,
+    SlotModuleClass, SlotModuleIdent, Slots, SyncManager,
+};
+use crate::error::ParseError;
+use crate::object::EcatStates;
+use crate::xml::cursor::Element;
+
 use super::fields::{enable, flag, init_cmd_of, pdo_of, read_flag, read_info, slot_depend};
-use super::*;
 
 impl Parser<'_> {
     pub(super) fn on_start(

@@ -1,7 +1,11 @@
 //! Element text and attribute values of an ESI that several elements share: booleans, slot
 //! dependencies, access flags and the values of `Info`.
 
-use super::*;
+use super::{clip, At, Ctx, RawDevice, RawFlags, RawInfo, Tag};
+use crate::device::{InitCmd, Pdo, SlotDepend};
+use crate::error::ParseError;
+use crate::object::{Access, AccessType, EcatStates, PdoMapping};
+use crate::xml;
 
 pub(super) fn init_cmd_of(dev: &mut RawDevice) -> Option<&mut InitCmd> {
     dev.ecat

@@ -1,28 +1,19 @@
-//! The streaming ESI reader: the XML cursor's nodes over the decoded file, a stack of known element names, and
-//! per-device raw records (data types, objects, EtherCAT parts) that are resolved into a
+//! The streaming ESI reader: the XML cursor's nodes over the decoded file, a stack of known element
+//! names, and per-device raw records (data types, objects, EtherCAT parts) that are resolved into a
 //! [`DeviceDescription`] when the device's element ends. Nothing but the current device is held.
 //!
 //! The parts: `walk` (the cursor's nodes, the tag stack, text and attributes), `elements` (what each
 //! known element means), `fields` (values several elements share), `dictionary` (data types and objects
 //! into a dictionary) and `pdo` (what the device's PDOs say about its dictionary).
 
-use std::collections::{BTreeMap, HashMap};
-
-use crate::device::{
-    CoeFlags, DeviceDescription, Eeprom, EthercatInfo, InitCmd, Mailbox, Module, ModulePdoGroup,
-    OpMode, Pdo, PdoEntry, PdoRef, Slot, SlotDepend, SlotModuleClass, SlotModuleIdent, Slots,
-    SyncManager,
-};
-use crate::dict::{Address, Dictionary};
+use crate::device::{DeviceDescription, EthercatInfo, Module};
+use crate::dict::Address;
 use crate::error::{ParseError, Position};
-use crate::object::{
-    Access, AccessType, DefaultValue, EcatStates, Object, ObjectKind, PdoMapping, SubObject,
-};
+use crate::object::{Access, EcatStates, PdoMapping};
 use crate::report::{Reading, SourceMap};
-use crate::types::DataType;
-use crate::value::{parse_hex_bytes, Value};
+use crate::value::parse_hex_bytes;
 use crate::xml;
-use crate::xml::cursor::{normalize_line_ends, Cursor, Document, Element, Node};
+use crate::xml::cursor::Document;
 
 mod dictionary;
 mod elements;

@@ -2,7 +2,12 @@
 //! and the entries only a PDO describes.
 
 use super::dictionary::type_of_size;
-use super::*;
+use super::{clip, Ctx, RawDevice};
+use crate::dict::{Address, Dictionary};
+use crate::object::{AccessType, Object, ObjectKind, PdoMapping, SubObject};
+use crate::report::SourceMap;
+use crate::types::DataType;
+use crate::value::Value;
 
 /// `p` with the direction `dir` added.
 fn with_direction(p: PdoMapping, dir: PdoMapping) -> PdoMapping {

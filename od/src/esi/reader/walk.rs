@@ -3,7 +3,10 @@
 //! description there.
 
 use super::dictionary::build_device;
-use super::*;
+use super::{Parser, Tag};
+use crate::device::Module;
+use crate::error::ParseError;
+use crate::xml::cursor::{normalize_line_ends, Cursor, Element, Node};
 
 impl<'a> Parser<'a> {
     pub(super) fn run(&mut self) -> Result<(), ParseError> {

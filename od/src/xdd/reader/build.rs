@@ -1,7 +1,17 @@
 //! The end of the pass: `uniqueIDRef`s resolved, objects and entries built, values parsed, and the
 //! description put together.
 
-use super::*;
+use super::{
+    has_string_capacity, is_text_type, strip_node_id, Attr, DtKind, DtRec, EntryAttrs, ObjRec,
+    ParamRec, Scan, TypeRef, XddType,
+};
+use crate::device::{DeviceDescription, FileInfo};
+use crate::dict::Dictionary;
+use crate::error::ParseError;
+use crate::object::{AccessType, DefaultValue, Object, ObjectKind, SubObject};
+use crate::report::Finding;
+use crate::types::DataType;
+use crate::value::Value;
 
 impl<'a> Scan<'a> {
     /// Resolves the references and builds the description.

@@ -2,7 +2,18 @@
 //! and sub-objects, dummy usage, general features and commissioning, and the attribute values they
 //! share.
 
-use super::*;
+use std::borrow::Cow;
+
+use super::{
+    parse_access_type, parse_baud, parse_parameter_access, parse_pdo, parse_type_element, Attr,
+    Ctx, DtKind, DtRec, EntryAttrs, FileAttrs, ObjRec, ParamRec, Scan, SubRec, TextKind, TypeRef,
+    STRING_LENGTH_PROPERTY,
+};
+use crate::device::Commissioning;
+use crate::error::ParseError;
+use crate::object::ObjectKind;
+use crate::xml;
+use crate::xml::cursor::Element;
 
 impl<'a> Scan<'a> {
     pub(super) fn boolean(&self, v: &Attr<'_>, what: &str) -> Result<bool, ParseError> {

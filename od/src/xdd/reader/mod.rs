@@ -1,6 +1,6 @@
-//! Streaming XDD/XDC reader (CiA 311): one pass over the nodes of the XML cursor that keeps small records of the
-//! objects, parameters and data types it meets, then the resolution of `uniqueIDRef`s into a
-//! [`DeviceDescription`].
+//! Streaming XDD/XDC reader (CiA 311): one pass over the nodes of the XML cursor that keeps small
+//! records of the objects, parameters and data types it meets, then the resolution of `uniqueIDRef`s
+//! into a [`DeviceDescription`].
 //!
 //! The parts: `walk` (the cursor's nodes, the context stack, text and attributes), `elements` (what
 //! the attributes of each element say) and `build` (references resolved, the description built).
@@ -12,15 +12,13 @@ use super::{
     has_string_capacity, parse_access_type, parse_baud, parse_parameter_access, parse_pdo,
     parse_type_element, XddType, STRING_LENGTH_PROPERTY,
 };
-use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo};
-use crate::dict::Dictionary;
+use crate::device::{CanInfo, Commissioning, DeviceDescription};
 use crate::error::{ParseError, Position};
-use crate::object::{AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
-use crate::report::{Finding, Reading, SourceMap};
+use crate::object::{AccessType, ObjectKind, PdoMapping};
+use crate::report::{Reading, SourceMap};
 use crate::types::DataType;
-use crate::value::Value;
 use crate::xml;
-use crate::xml::cursor::{Cursor, Document, Element, Node};
+use crate::xml::cursor::Document;
 
 mod build;
 mod elements;

@@ -1,5 +1,6 @@
 use super::*;
-use crate::object::ObjectKind;
+use crate::object::{DefaultValue, ObjectKind};
+use crate::value::Value;
 
 fn wrap(network: &str, device: &str) -> String {
     format!(
@@ -41,14 +42,14 @@ fn node_id_defaults_must_fit_for_node_127() {
 #[test]
 fn inline_objects() {
     let text = wrap(
-        r#"<CANopenObject index="1014" name="COB-ID EMCY" objectType="7" dataType="0007" accessType="rw" defaultValue="$NODEID+0x80" PDOmapping="no"/>
+            r#"<CANopenObject index="1014" name="COB-ID EMCY" objectType="7" dataType="0007" accessType="rw" defaultValue="$NODEID+0x80" PDOmapping="no"/>
 <CANopenObject index="2000" name="Speed" objectType="7" dataType="0003" accessType="rww" defaultValue="-5" lowLimit="-100" highLimit="0x64" PDOmapping="RPDO"/>
 <CANopenObject index="1018" name="Identity" objectType="9" subNumber="2">
   <CANopenSubObject subIndex="00" name="Highest sub-index supported" objectType="7" dataType="0005" accessType="ro" defaultValue="1"/>
   <CANopenSubObject subIndex="01" name="Vendor-ID" objectType="7" dataType="0007" accessType="ro" defaultValue="0x12E" PDOmapping="optional"/>
 </CANopenObject>"#,
-        "<DeviceIdentity><vendorName>B&amp;R</vendorName><productName>P</productName><orderNumber>X-1</orderNumber></DeviceIdentity>",
-    );
+            "<DeviceIdentity><vendorName>B&amp;R</vendorName><productName>P</productName><orderNumber>X-1</orderNumber></DeviceIdentity>",
+        );
     let d = read(text.as_bytes(), "t.xdd").unwrap();
     assert_eq!(d.dictionary.len(), 3);
     let emcy = d.dictionary.entry(0x1014, 0).unwrap();
@@ -110,7 +111,7 @@ fn parameters_by_unique_id_in_either_order_with_prefixes() {
   <q1:parameter uniqueID="UID_OBJ_2100" access="readWrite"><description lang="en">Error bits
 second line</description><BITSTRING/><q1:defaultValue value="00 01"/></q1:parameter>
   <q1:parameter uniqueID="UID_OBJ_2101" access="readWrite"><label lang="en">Mode</label><UINT/><q1:defaultValue value="9"/>
-<q1:allowedValues><q1:range><q1:minValue value="1"/><q1:maxValue value="5"/></q1:range></q1:allowedValues></q1:parameter>
+    <q1:allowedValues><q1:range><q1:minValue value="1"/><q1:maxValue value="5"/></q1:range></q1:allowedValues></q1:parameter>
   <q1:parameter uniqueID="UID_OBJ_6000"><description lang="en">Digital inputs.</description><q1:dataTypeIDRef uniqueIDRef="UID_ARR_6000"/></q1:parameter>
   <q1:parameter uniqueID="UID_SUB_600000"><label lang="en">Highest sub-index supported</label><USINT/><q1:defaultValue value="0x01"/></q1:parameter>
   <q1:parameter uniqueID="UID_SUB_600001"><label lang="en">Input 1 of 8</label><q1:defaultValue value="0"/></q1:parameter>
@@ -120,8 +121,8 @@ second line</description><BITSTRING/><q1:defaultValue value="00 01"/></q1:parame
 </ProfileBody></ISO15745Profile>"#;
     for (first, second) in [(network, device), (device, network)] {
         let text = format!(
-            "<?xml version=\"1.1\" encoding=\"utf-8\"?>\n<ISO15745ProfileContainer xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\">{first}{second}</ISO15745ProfileContainer>"
-        );
+                "<?xml version=\"1.1\" encoding=\"utf-8\"?>\n<ISO15745ProfileContainer xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\">{first}{second}</ISO15745ProfileContainer>"
+            );
         let d = read(text.as_bytes(), "p.xdd").unwrap();
         assert_eq!(d.identity.vendor_id, 5);
         assert_eq!(d.identity.product_code, 7);
@@ -369,9 +370,9 @@ fn errors_name_line_and_column() {
 #[test]
 fn line_ends_and_references_in_text_and_attributes() {
     let text = wrap(
-        "<CANopenObject index=\"2000\" name=\"a&#10;b\tc\r\nd\" objectType=\"7\" dataType=\"0009\" defaultValue=\"x&#9;&lt;&#x20AC;\" uniqueIDRef=\"P\"/>",
-        "<ApplicationProcess><parameterList><parameter uniqueID=\"P\"><description>one\r\ntwo\rthree&#13;&amp;<![CDATA[<four>]]></description></parameter></parameterList></ApplicationProcess>",
-    );
+            "<CANopenObject index=\"2000\" name=\"a&#10;b\tc\r\nd\" objectType=\"7\" dataType=\"0009\" defaultValue=\"x&#9;&lt;&#x20AC;\" uniqueIDRef=\"P\"/>",
+            "<ApplicationProcess><parameterList><parameter uniqueID=\"P\"><description>one\r\ntwo\rthree&#13;&amp;<![CDATA[<four>]]></description></parameter></parameterList></ApplicationProcess>",
+        );
     let d = read(text.as_bytes(), "t.xdd").unwrap();
     let o = d.dictionary.object(0x2000).unwrap();
     assert_eq!(o.name, "a\nb c d");
@@ -385,10 +386,10 @@ fn line_ends_and_references_in_text_and_attributes() {
 #[test]
 fn unknown_elements_and_attributes_are_skipped() {
     let text = wrap(
-        r#"<vendorThing index="zz"><CANopenObject index="zz"/></vendorThing>
+            r#"<vendorThing index="zz"><CANopenObject index="zz"/></vendorThing>
 <CANopenObject index="1000" name="A" objectType="7" dataType="0007" vendorAttr="?" objFlags="0001" denotation="x" subNumber="0"><extra/></CANopenObject>"#,
-        "<DeviceIdentity><vendorFamily>x</vendorFamily></DeviceIdentity><foo><parameterList/></foo>",
-    );
+            "<DeviceIdentity><vendorFamily>x</vendorFamily></DeviceIdentity><foo><parameterList/></foo>",
+        );
     let d = read(text.as_bytes(), "t.xdd").unwrap();
     assert_eq!(d.dictionary.len(), 1);
 }

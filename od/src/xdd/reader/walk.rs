@@ -1,7 +1,12 @@
 //! The element walk of the XDD reader: the cursor's nodes onto the stack of contexts, the text kept,
 //! attributes, and what each start and end tag means in its context.
 
-use super::*;
+use super::{
+    local, parse_baud, parse_type_element, show, Attr, Ctx, DtKind, IdField, Scan, TextKind,
+};
+use crate::error::ParseError;
+use crate::xml;
+use crate::xml::cursor::{Cursor, Element, Node};
 
 impl<'a> Scan<'a> {
     pub(super) fn run(&mut self) -> Result<(), ParseError> {
