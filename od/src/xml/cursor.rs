@@ -340,3 +340,128 @@ fn cdata(t: BytesCData<'_>) -> Cow<'_, str> {
         Cow::Owned(b) => Cow::Owned(String::from_utf8_lossy(&b).into_owned()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every node of `text` in a short notation, with its offset.
+    fn walk(text: &str) -> Result<Vec<String>, ParseError> {
+        let doc = Document::new(text, "t.xml");
+        let mut cursor = Cursor::new(&doc);
+        let mut out = Vec::new();
+        loop {
+            out.push(match cursor.next()? {
+                Node::Start(e) => format!(
+                    "<{}>@{} local={}",
+                    String::from_utf8_lossy(e.name()),
+                    e.offset(),
+                    String::from_utf8_lossy(e.local_name())
+                ),
+                Node::End { offset } => format!("</>@{offset}"),
+                Node::Text(t, at) if t.is_blank() => format!("blank@{at}"),
+                Node::Text(t, at) => format!("text {:?}@{at}", t.content()),
+                Node::CData(t, at) => format!("cdata {t:?}@{at}"),
+                Node::Ref(r, at) => format!("ref {} {:?}@{at}", r.name(), r.resolve().ok()),
+                Node::Eof => return Ok(out),
+            });
+        }
+    }
+
+    #[test]
+    fn nodes_come_with_their_offsets_and_an_empty_tag_ends_where_it_starts() {
+        let nodes =
+            walk("<?xml version=\"1.0\"?>\n<q:a>x&amp;&#x20AC;&bogus;<b/><![CDATA[c\r\nd]]></q:a>")
+                .unwrap();
+        assert_eq!(
+            nodes,
+            [
+                "blank@21",
+                "<q:a>@22 local=a",
+                "text \"x\"@27",
+                "ref amp Some(Some('&'))@28",
+                "ref #x20AC Some(Some('€'))@33",
+                "ref bogus Some(None)@41",
+                "<b>@48 local=b",
+                "</>@48",
+                "cdata \"c\\r\\nd\"@52",
+                "</>@68",
+            ]
+        );
+    }
+
+    #[test]
+    fn text_reads_line_ends_as_lf() {
+        let nodes = walk("<a>one\r\ntwo\rthree</a>").unwrap();
+        assert_eq!(nodes[1], "text \"one\\ntwo\\nthree\"@3");
+        assert_eq!(normalize_line_ends(Cow::Borrowed("a\r\nb\rc")), "a\nb\nc");
+    }
+
+    #[test]
+    fn attributes_have_the_offsets_of_their_name_and_value() {
+        let text = "<a\n  x:k=\"1&#10;2\t3\"  b='&lt;'/>";
+        let doc = Document::new(text, "t.xml");
+        let mut cursor = Cursor::new(&doc);
+        let Node::Start(e) = cursor.next().unwrap() else {
+            panic!("expected a start tag");
+        };
+        let attrs: Vec<_> = e.attributes().map(Result::unwrap).collect();
+        assert_eq!(attrs[0].key(), b"k");
+        assert_eq!(attrs[0].name(), b"x:k");
+        assert_eq!(
+            doc.position(attrs[0].name_offset()),
+            Position { line: 2, column: 3 }
+        );
+        assert_eq!(
+            doc.position(attrs[0].value_offset()),
+            Position { line: 2, column: 8 }
+        );
+        assert_eq!(attrs[0].value().unwrap(), "1\n2\t3");
+        assert_eq!(attrs[0].normalized_value().unwrap(), "1\n2 3");
+        assert_eq!(attrs[1].key(), b"b");
+        assert_eq!(attrs[1].value().unwrap(), "<");
+        assert!(matches!(cursor.next().unwrap(), Node::End { offset: 0 }));
+        assert!(matches!(cursor.next().unwrap(), Node::Eof));
+    }
+
+    #[test]
+    fn a_repeated_attribute_and_a_bad_reference_in_a_value_are_errors() {
+        let doc = Document::new("<a k=\"1\" k=\"2\" v=\"&nope;\"/>", "t.xml");
+        let mut cursor = Cursor::new(&doc);
+        let Node::Start(e) = cursor.next().unwrap() else {
+            panic!("expected a start tag");
+        };
+        let mut attrs = e.attributes();
+        assert!(attrs.next().unwrap().is_ok());
+        assert!(attrs.next().unwrap().is_err());
+        let doc = Document::new("<a v=\"&nope;\"/>", "t.xml");
+        let mut cursor = Cursor::new(&doc);
+        let Node::Start(e) = cursor.next().unwrap() else {
+            panic!("expected a start tag");
+        };
+        let a = e.attributes().next().unwrap().unwrap();
+        assert!(a.value().is_err());
+        assert!(a.normalized_value().is_err());
+    }
+
+    #[test]
+    fn malformed_xml_is_an_error_where_quick_xml_finds_it() {
+        let e = walk("<a>\n  <b></c>\n</a>").unwrap_err();
+        assert_eq!(e.source_name, "t.xml");
+        assert_eq!(e.position.line, 2);
+        assert!(e.message.starts_with("malformed XML: "), "{e}");
+    }
+
+    #[test]
+    fn warnings_are_kept_in_the_order_given() {
+        let doc = Document::new("<a>\n<b/></a>", "t.xml");
+        doc.warn(4, "second line");
+        doc.warn(0, "first line");
+        let findings = doc.take_findings();
+        assert_eq!(findings.len(), 2);
+        assert_eq!(findings[0].position, Some(Position { line: 2, column: 1 }));
+        assert_eq!(findings[1].message, "first line");
+        assert!(doc.take_findings().is_empty());
+        assert_eq!(doc.error(4, "x").position, Position { line: 2, column: 1 });
+    }
+}
