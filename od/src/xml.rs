@@ -1,6 +1,6 @@
 //! Shared pieces of the XML readers and writers (ESI, XDD): decoding the file's character encoding,
 //! numbers as ESI and XDD write them, an escaping writer with stable indentation, and the
-//! [`cursor`](self::cursor) both readers walk a document with.
+//! `cursor` both readers walk a document with.
 
 use std::borrow::Cow;
 

@@ -234,8 +234,10 @@ impl<'a> Text<'a> {
     pub(crate) fn content(&self) -> Cow<'a, str> {
         match self.0.xml10_content() {
             Ok(s) => s,
-            // The reader runs over a `str`, so the text is UTF-8.
-            Err(_) => Cow::Owned(String::from_utf8_lossy(&self.0).replace("\r\n", "\n")),
+            // The reader runs over a `str`, so the text is UTF-8 and this is not reached.
+            Err(_) => {
+                Cow::Owned(normalize_line_ends(String::from_utf8_lossy(&self.0)).into_owned())
+            }
         }
     }
 }
