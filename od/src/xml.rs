@@ -1,7 +1,10 @@
 //! Shared pieces of the XML readers and writers (ESI, XDD): decoding the file's character encoding,
-//! numbers as ESI and XDD write them, and an escaping writer with stable indentation.
+//! numbers as ESI and XDD write them, an escaping writer with stable indentation, and the
+//! `cursor` both readers walk a document with.
 
 use std::borrow::Cow;
+
+pub(crate) mod cursor;
 
 use crate::error::ParseError;
 

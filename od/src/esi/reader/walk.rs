@@ -1,0 +1,184 @@
+//! The element walk of the ESI reader: the cursor's nodes onto the stack of known tags, the text of
+//! the innermost element, its attributes, and the end of a device or module, which is resolved into a
+//! description there.
+
+use super::dictionary::build_device;
+use super::{Parser, Tag};
+use crate::device::Module;
+use crate::error::ParseError;
+use crate::xml::cursor::{normalize_line_ends, Cursor, Element, Node};
+
+impl<'a> Parser<'a> {
+    pub(super) fn run(&mut self) -> Result<(), ParseError> {
+        let mut cursor = Cursor::new(self.ctx.doc);
+        let mut root_seen = false;
+        loop {
+            match cursor.next()? {
+                Node::Start(e) => {
+                    if self.stack.is_empty() {
+                        self.check_root(&e, root_seen)?;
+                        root_seen = true;
+                    }
+                    self.start(&e)?;
+                }
+                Node::End { offset } => self.end(offset)?,
+                // White space before an element's text is layout: skip it without decoding.
+                Node::Text(t, _) if self.text_offset.is_none() && t.is_blank() => {}
+                Node::Text(t, offset) if self.collecting() => self.push_text(&t.content(), offset),
+                Node::CData(t, offset) if self.collecting() => {
+                    self.push_text(&normalize_line_ends(t), offset)
+                }
+                Node::Ref(r, offset) if self.collecting() => match r.resolve() {
+                    Ok(Some(c)) => {
+                        let mut buf = [0u8; 4];
+                        self.push_text(c.encode_utf8(&mut buf), offset);
+                    }
+                    Ok(None) | Err(_) => {
+                        return Err(self
+                            .ctx
+                            .err(offset, format!("unknown entity `&{};`", r.name())))
+                    }
+                },
+                Node::Eof => break,
+                _ => {}
+            }
+        }
+        if let Some(open) = self.stack.last() {
+            return Err(self.ctx.err(
+                self.ctx.doc.text().len(),
+                format!("unexpected end of file: <{}> is not closed", open.name()),
+            ));
+        }
+        if !root_seen {
+            return Err(self
+                .ctx
+                .err(0, "expected an <EtherCATInfo> element, found no element"));
+        }
+        Ok(())
+    }
+
+    fn check_root(&self, e: &Element, seen: bool) -> Result<(), ParseError> {
+        let tag = Tag::of(e.local_name());
+        if seen || !matches!(tag, Tag::EtherCATInfo | Tag::EtherCATModule) {
+            return Err(self.ctx.err(
+                e.offset(),
+                format!(
+                    "expected an <EtherCATInfo> root element, found <{}>",
+                    String::from_utf8_lossy(e.name())
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// True when the innermost element is one whose text the reader may use.
+    fn collecting(&self) -> bool {
+        matches!(self.stack.last(), Some(t) if *t != Tag::Other)
+    }
+
+    fn push_text(&mut self, s: &str, offset: usize) {
+        if self.text_offset.is_none() {
+            if s.trim().is_empty() {
+                return;
+            }
+            let lead = s.len() - s.trim_start().len();
+            self.text_offset = Some(offset + lead);
+        }
+        self.text.push_str(s);
+    }
+
+    /// Each attribute's local name, value, and the offset of its name in the source.
+    pub(super) fn attrs(&self, e: &Element) -> Result<Vec<(Vec<u8>, String, usize)>, ParseError> {
+        let mut out = Vec::new();
+        for a in e.attributes() {
+            let a = a.map_err(|err| {
+                self.ctx
+                    .err(e.offset(), format!("malformed attribute: {err}"))
+            })?;
+            let at = a.name_offset();
+            let value = a
+                .value()
+                .map_err(|err| {
+                    self.ctx
+                        .err(at, format!("malformed attribute value: {err}"))
+                })?
+                .into_owned();
+            out.push((a.key().to_vec(), value, at));
+        }
+        Ok(out)
+    }
+
+    fn start(&mut self, e: &Element) -> Result<(), ParseError> {
+        let tag = Tag::of(e.local_name());
+        self.stack.push(tag);
+        self.text.clear();
+        self.text_offset = None;
+        if tag == Tag::Other {
+            return Ok(());
+        }
+        let stack = std::mem::take(&mut self.stack);
+        let result = self.on_start(&stack, tag, e);
+        self.stack = stack;
+        result
+    }
+
+    fn end(&mut self, offset: usize) -> Result<(), ParseError> {
+        let Some(&tag) = self.stack.last() else {
+            return Ok(());
+        };
+        let result = if tag == Tag::Other {
+            Ok(())
+        } else {
+            let stack = std::mem::take(&mut self.stack);
+            let text = std::mem::take(&mut self.text);
+            let at = self.text_offset.unwrap_or(offset);
+            let r = self.on_end(&stack, tag, text.trim(), at);
+            self.stack = stack;
+            self.text = text;
+            self.text.clear();
+            r
+        };
+        self.text_offset = None;
+        self.stack.pop();
+        if self.device_depth == Some(self.stack.len()) {
+            self.device_depth = None;
+            if let Some(raw) = self.device.take() {
+                let module = raw.is_module.then(|| {
+                    (
+                        raw.module_ident,
+                        raw.module_class.clone(),
+                        raw.module_pdo_group,
+                        raw.dc_op_mode_name.clone(),
+                        raw.profile_no,
+                        raw.add_info,
+                    )
+                });
+                let (desc, source) = build_device(self.ctx, raw)?;
+                match module {
+                    Some((ident, class, pdo_group, dc_op_mode_name, profile_no, add_info)) => {
+                        let ecat = desc.ethercat.unwrap_or_default();
+                        self.modules.push(Module {
+                            ident,
+                            class,
+                            pdo_group,
+                            type_name: desc.identity.order_code,
+                            name: desc.identity.product_name,
+                            rx_pdos: ecat.rx_pdos,
+                            tx_pdos: ecat.tx_pdos,
+                            mailbox: ecat.mailbox,
+                            profile_no,
+                            add_info,
+                            dictionary: desc.dictionary,
+                            dc_op_mode_name,
+                        });
+                    }
+                    None => {
+                        self.done.push(desc);
+                        self.sources.push(source);
+                    }
+                }
+            }
+        }
+        result
+    }
+}
