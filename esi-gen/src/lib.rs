@@ -210,6 +210,7 @@ pub struct FixturesArgs {
 
 /// Why a command failed.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A description could not be loaded.
     #[error(transparent)]

@@ -14,6 +14,7 @@ use crate::value::{Value, ValueError};
 
 /// Why a dictionary access was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum OdError {
     /// No object at the index (0x06020000).
     #[error("object 0x{index:04X} does not exist")]
@@ -203,6 +204,7 @@ impl fmt::Display for Address {
 
 /// Why a name look-up found no single entry.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum LookupError {
     /// No object or sub-object has this name.
     #[error("no object or sub-object is named `{0}`")]

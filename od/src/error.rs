@@ -133,6 +133,7 @@ impl ParseError {
 
 /// Loading a description failed.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum LoadError {
     /// The file could not be read.
     #[error("{path}: {source}")]

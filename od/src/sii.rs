@@ -35,6 +35,7 @@ pub mod category {
 
 /// Why an image could not be made or read.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SiiError {
     /// The description has no EtherCAT part.
     #[error("the device has no EtherCAT description (no ESI Sm/Fmmu/Eeprom data)")]

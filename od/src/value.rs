@@ -42,6 +42,7 @@ pub struct TimeValue {
 
 /// Why bytes or text could not be turned into a value of a type.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ValueError {
     /// Fewer bytes than the type takes.
     #[error("{data_type} takes {expected} bytes, got {got}")]

@@ -158,6 +158,7 @@ pub struct ProfileArgs {
 
 /// Why a command failed.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum CliError {
     /// The profile.
     #[error(transparent)]

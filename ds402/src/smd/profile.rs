@@ -28,6 +28,7 @@ pub const MAX_ACCEL: u16 = 5000;
 
 /// Why a profile cannot be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ProfileError {
     /// Acceleration or Deceleration outside 1 … 5000 steps/s/ms.
     #[error("{which} {value} is outside 1 to 5000 steps/s/ms")]

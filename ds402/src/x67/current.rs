@@ -69,6 +69,7 @@ pub struct Config {
 
 /// A configuration value outside its range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum ConfigError {
     /// A current register was given more than [`MAX_PERCENT`] (X67-18.11.1.1-01).
     ValueTooHigh {

@@ -412,6 +412,7 @@ impl fmt::Display for Register {
 
 /// Why a register write was refused; the register keeps its value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RegisterError {
     /// The register is read-only for the master (CiA 301 abort 0x06010002).
     #[error("{0} is read-only")]

@@ -178,6 +178,7 @@ pub struct Script {
 
 /// What is wrong with a line of a script.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum LineError {
     /// The first word is no statement.
     #[error("unknown statement {0:?} (expected unit, cycle, config, at or until)")]
@@ -286,6 +287,7 @@ pub enum LineError {
 
 /// Why a script was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
 pub enum ScriptError {
     /// A line is wrong.
     #[error("{file}:{line}: {error}")]
