@@ -199,3 +199,37 @@ fn other_mailbox_protocols_get_a_mailbox_error() {
         0x2301u32.to_le_bytes()
     );
 }
+
+/// The mailbox restarts in Init only: a request with the counter of the last one is a repeat in
+/// Safe-Op too (answered with the last answer again, not executed), while after Init the same
+/// counter starts a new exchange.
+#[test]
+fn the_mailbox_restarts_in_init_only() {
+    let mut c = preop(1);
+    let k = next_counter();
+    let vendor = [0x43, 0x18, 0x10, 0x01, 0xC1, 0x0A, 0x00, 0x00];
+    let a = mailbox(
+        &mut c,
+        0,
+        &coe_request(k, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
+    );
+    assert_eq!(coe_answer(&a).unwrap(), vendor);
+    request(&mut c, state::SAFEOP);
+    assert_eq!(al(&mut c, 0), (0x0004, 0));
+    let device_type = [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0];
+    let b = mailbox(&mut c, 0, &coe_request(k, &device_type));
+    assert_eq!(
+        coe_answer(&b).unwrap(),
+        vendor,
+        "a repeat: the last answer again"
+    );
+    request(&mut c, state::INIT);
+    request(&mut c, state::PREOP);
+    assert_eq!(al(&mut c, 0), (0x0002, 0));
+    let d = mailbox(&mut c, 0, &coe_request(k, &device_type));
+    assert_eq!(
+        coe_answer(&d).unwrap()[..4],
+        [0x43, 0x00, 0x10, 0x00],
+        "after Init: a new request"
+    );
+}

@@ -317,3 +317,58 @@ fn smd_r1_036_link_loss_leaves_safe_op_until_requested() {
     assert_ne!(inputs[0].status0 & stat0::POSITION_INVALID, 0, "SMD-R6-056");
     assert_eq!(inputs[0].status1 & stat1::PREOP_SAFEOP, 0);
 }
+
+/// SMD-R1-022 with a SYNC0 start time already past when SYNC0 is activated: its events count from
+/// that time, so the first has passed before any move written after the activation; a move waits
+/// for the next event (one 2 ms cycle after the start time) and starts 520 µs after it.
+#[test]
+fn smd_r1_022_a_past_start_time_puts_the_first_sync0_before_the_move() {
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
+    let (_, o) = op_with_sync0(&mut c, 0x0043);
+    fpwr(&mut c, 0, 0x0981, vec![0]);
+    let now = u64_of(&fprd(&mut c, 0, 0x0910, 8).0);
+    let start = now - 1_000_000;
+    fpwr(&mut c, 0, 0x0990, start.to_le_bytes().to_vec());
+    fpwr(&mut c, 0, 0x09A0, 2_000_000u32.to_le_bytes().to_vec());
+    fpwr(&mut c, 0, 0x0981, vec![0x03]);
+    let started = motion_starts_at(&mut c, o);
+    let next = start + 2_000_000;
+    assert!(
+        (next + 520_000..=next + 560_000).contains(&started),
+        "started {} µs after the start time",
+        (started - start) / 1000
+    );
+}
+
+/// SMD-R1-022 inside one cycle of the unit: with 1 ms cycles and a SYNC0 event 100 µs into a
+/// cycle, the unit runs up to the event, takes it, and runs on from it, so a move waiting for it
+/// starts 520 µs after it — 620 µs into the cycle, before the cycle ends — and the first inputs
+/// after the cycle report it moving.
+#[test]
+fn smd_r1_022_the_sync0_event_falls_inside_the_cycle() {
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
+    let (_, mut o) = op_with_sync0(&mut c, 0x0043);
+    fpwr(&mut c, 0, 0x0981, vec![0]);
+    let now = u64_of(&fprd(&mut c, 0, 0x0910, 8).0);
+    fpwr(&mut c, 0, 0x0990, (now + 100_000).to_le_bytes().to_vec());
+    fpwr(&mut c, 0, 0x09A0, 2_000_000u32.to_le_bytes().to_vec());
+    fpwr(&mut c, 0, 0x0981, vec![0x03]);
+    o.cmd0 = cmd0::RELATIVE_MOVE;
+    o.position = 1_000;
+    let mut data: Vec<u8> = ethercat_slave::master::encode_outputs(&o).to_vec();
+    data.resize(40, 0);
+    let r = one(
+        &mut c,
+        ethercat_slave::frame::Datagram {
+            cmd: cmd::LRW,
+            index: 0,
+            address: 0,
+            data,
+            wkc: 0,
+        },
+    );
+    assert_eq!(r.wkc, 3);
+    c.cycle(Duration::from_millis(1));
+    let status0 = c.unit(0).unwrap().inputs().status0;
+    assert_ne!(status0 & stat0::MOVING_CW, 0, "status {status0:#06x}");
+}

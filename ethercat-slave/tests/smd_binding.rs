@@ -565,3 +565,53 @@ fn smd_t2_008_inputs_readable_by_sdo() {
         assert_eq!(u.sdo_read(0x6000, 1).unwrap(), &0x6408u16.to_le_bytes());
     }
 }
+
+/// Each output entry 0x7000:01–08 reads by SDO as the model holds it, in its type's size (SMD
+/// Reference 6: words 2 bytes, Position and Velocity 4), little-endian; so do the inputs, the
+/// encoder turned by hand to a count of its own.
+#[test]
+fn process_data_entries_read_by_sdo_in_their_sizes() {
+    let mut u = unit(Device::Smd23kB);
+    u.write_outputs(&Outputs {
+        cmd0: 0x0102,
+        cmd1: 0x0304,
+        position: -5,
+        velocity: 0x0A0B_0C0D,
+        acceleration: 0x1112,
+        deceleration: 0x1314,
+        motor_current: 0x1516,
+        jerk: 0x1718,
+    });
+    let expected: [(u8, &[u8]); 8] = [
+        (1, &[0x02, 0x01]),
+        (2, &[0x04, 0x03]),
+        (3, &[0xFB, 0xFF, 0xFF, 0xFF]),
+        (4, &[0x0D, 0x0C, 0x0B, 0x0A]),
+        (5, &[0x12, 0x11]),
+        (6, &[0x14, 0x13]),
+        (7, &[0x16, 0x15]),
+        (8, &[0x18, 0x17]),
+    ];
+    for (sub, bytes) in expected {
+        assert_eq!(u.sdo_read(0x7000, sub).unwrap(), bytes, "0x7000:{sub:02X}");
+    }
+    let mut u2 = unit(Device::Smd23kB);
+    // Use_Encoder (CFG_Word_0 bit 10): Encoder_Position counts.
+    u2.indexer_mut()
+        .write_config(1, u32::from(ds402::smd::config::CFG0_USE_ENCODER));
+    u2.indexer_mut().turn_shaft(-300);
+    let i = u2.cycle(MS);
+    assert_eq!(i.encoder_position, -300, "turned by hand");
+    let expected: [(u8, Vec<u8>); 7] = [
+        (1, i.status0.to_le_bytes().to_vec()),
+        (2, i.status1.to_le_bytes().to_vec()),
+        (3, i.motor_position.to_le_bytes().to_vec()),
+        (4, vec![0xD4, 0xFE, 0xFF, 0xFF]),
+        (5, i.trapped_encoder_position.to_le_bytes().to_vec()),
+        (6, i.motor_current.to_le_bytes().to_vec()),
+        (7, i.jerk.to_le_bytes().to_vec()),
+    ];
+    for (sub, bytes) in expected {
+        assert_eq!(u2.sdo_read(0x6000, sub).unwrap(), bytes, "0x6000:{sub:02X}");
+    }
+}

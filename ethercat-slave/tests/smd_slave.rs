@@ -91,6 +91,7 @@ fn the_chain_runs_its_cycle_when_its_poll_timeout_has_passed() {
     let chain = ethercat_slave::smd::SmdChain::new(Device::Smd23kB, 1, ms(10), t0).unwrap();
     let mut c = SimChain { chain, now: t0 };
     let model_time = |c: &SimChain| c.unit(0).unwrap().indexer().time();
+    assert_eq!(c.cycle_time(), ms(10));
     assert_eq!(c.poll_timeout(), Some(t0 + ms(10)));
     c.now = t0 + ms(4);
     assert_eq!(reg(&mut c, cmd::BRD, 0, 0x0130, vec![0; 2]).wkc, 1);
@@ -121,4 +122,29 @@ fn the_chain_runs_its_cycle_when_its_poll_timeout_has_passed() {
     c.now = t0 + ms(1);
     assert_eq!(reg(&mut c, cmd::BRD, 0, 0x0130, vec![0; 2]).wkc, 1);
     assert_eq!(c.time_ns(), 5_000_000_000);
+}
+
+/// The model is told each AL state the unit enters (its own view: SMD-R6-072 PreOp_SafeOp, commands
+/// only in Op): Init at power-up, then Pre-Op, Safe-Op, Op, and back through Init.
+#[test]
+fn the_model_follows_the_al_state() {
+    use ds402::smd::indexer::NetworkState;
+    let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
+    let seen = |c: &SimChain| c.unit(0).unwrap().indexer().network_state();
+    assert_eq!(seen(&c), NetworkState::Init);
+    configure(&mut c);
+    for (s, network) in [
+        (state::PREOP, NetworkState::PreOp),
+        (state::SAFEOP, NetworkState::SafeOp),
+        (state::OP, NetworkState::Op),
+        (state::INIT, NetworkState::Init),
+        (state::PREOP, NetworkState::PreOp),
+    ] {
+        if s == state::OP {
+            lrw(&mut c, &[Outputs::default()]);
+        }
+        assert_eq!(request(&mut c, s), 1);
+        c.cycle(std::time::Duration::from_millis(1));
+        assert_eq!(seen(&c), network, "state {s}");
+    }
 }
