@@ -1,15 +1,24 @@
-//! The object dictionary and device descriptions.
+//! The object dictionary and device descriptions, in four groups.
 //!
+//! **The model.**
 //! - [`types`] and [`value`]: the CiA 301 basic data types and their little-endian encoding.
 //! - [`object`] and [`dict`]: objects, sub-objects and the [`Dictionary`], with access, type, length and
-//!   range checks whose refusals map onto SDO [`AbortCode`]s.
-//! - [`device`]: a [`DeviceDescription`] (identity, dictionary, format-specific parts).
-//! - [`esi`], [`xdd`], [`eds`]: readers and writers of EtherCAT ESI, CiA 311 XDD and CiA 306 EDS/DCF;
-//!   [`doc`] writes a Markdown reference; [`diff`] compares two descriptions.
+//!   range checks whose refusals map onto SDO [`AbortCode`]s ([`abort`]).
 //! - [`hook`]: the one way a device model sits behind its dictionary ([`hook::DeviceHook`]), and the
 //!   process image of a PDO or SyncManager decoded from its mapping objects.
-//! - [`sdo`] (CiA 301 SDO server and client, sans-IO) and [`coe`] (the EtherCAT CoE server) serve a
-//!   dictionary and its model.
+//!
+//! **The descriptions.**
+//! - [`device`]: a [`DeviceDescription`] (identity, dictionary, format-specific parts).
+//! - [`esi`], [`xdd`], [`eds`]: readers and writers of EtherCAT ESI, CiA 311 XDD and CiA 306 EDS/DCF; the
+//!   two XML readers walk the file with one cursor ([`xml`]); [`load`] reads a file of any of them,
+//!   [`error`] and [`report`] say what was wrong or lost and where.
+//! - [`sii`] (the EtherCAT SII image), [`doc`] (a Markdown reference), [`diff`] (two descriptions
+//!   compared), [`validate`] (a description's own consistency).
+//!
+//! **SDO.** [`sdo`]: the CiA 301 SDO frames, server and client (sans-IO), and a blocking session.
+//!
+//! **CoE.** [`coe`]: the EtherCAT mailbox, SDO over CoE, complete access and the CoE server, on the same
+//! dictionary and model.
 #![deny(missing_docs)]
 
 pub mod abort;
