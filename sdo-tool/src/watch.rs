@@ -10,6 +10,7 @@ use od::value::Value;
 
 use crate::TypeCode;
 use socketcan_node::node::pdo::{PdoConfig, TPDO_COMM};
+use socketcan_node::node::EmcyCode;
 use socketcan_node::CanFrame;
 
 /// The NMT state a heartbeat byte names.
@@ -20,40 +21,6 @@ pub fn nmt_state_name(byte: u8) -> &'static str {
         0x05 => "operational",
         0x7F => "pre-operational",
         _ => "unknown state",
-    }
-}
-
-/// The meaning of an EMCY error code (CiA 301 Table 26, and the codes of the X67SM2436 model).
-pub fn emcy_meaning(code: u16) -> &'static str {
-    match code {
-        0x0000 => "error reset or no error",
-        0x1000 => "generic error",
-        0x2300 => "current, device output side",
-        0x3000 => "voltage",
-        0x4200 => "temperature, device",
-        0x8110 => "CAN overrun (objects lost)",
-        0x8120 => "CAN in error passive mode",
-        0x8130 => "life guard error or heartbeat error",
-        0x8140 => "recovered from bus off",
-        0x8150 => "CAN-ID collision",
-        0x8210 => "PDO not processed due to length error",
-        0x8220 => "PDO length exceeded",
-        0x8240 => "unexpected SYNC data length",
-        0x8250 => "RPDO timeout",
-        c => match c >> 12 {
-            0x1 => "generic error",
-            0x2 => "current",
-            0x3 => "voltage",
-            0x4 => "temperature",
-            0x5 => "device hardware",
-            0x6 => "device software",
-            0x7 => "additional modules",
-            0x8 => "monitoring",
-            0x9 => "external error",
-            0xF if c >> 8 == 0xFF => "device specific",
-            0xF => "additional functions",
-            _ => "unknown",
-        },
     }
 }
 
@@ -146,7 +113,7 @@ impl Watcher {
                 let code = u16::from_le_bytes([d[0], d[1]]);
                 Some(format!(
                     "node {id}: EMCY 0x{code:04X} ({}), error register 0x{:02X}, data {:02X} {:02X} {:02X} {:02X} {:02X}",
-                    emcy_meaning(code),
+                    EmcyCode(code).meaning(),
                     d[2],
                     d[3],
                     d[4],

@@ -36,6 +36,28 @@ impl EmcyCode {
         self.0.to_le_bytes()
     }
 
+    /// What the code means: the codes CiA 301 Table 21 names one by one (and those of the X67SM2436
+    /// model), else the class of its high byte ([`EmcyCode::class`]).
+    pub const fn meaning(self) -> &'static str {
+        match self.0 {
+            0x0000 => "error reset or no error",
+            0x1000 => "generic error",
+            0x2300 => "current, device output side",
+            0x3000 => "voltage",
+            0x4200 => "temperature, device",
+            0x8110 => "CAN overrun (objects lost)",
+            0x8120 => "CAN in error passive mode",
+            0x8130 => "life guard error or heartbeat error",
+            0x8140 => "recovered from bus off",
+            0x8150 => "CAN-ID collision",
+            0x8210 => "PDO not processed due to length error",
+            0x8220 => "PDO length exceeded",
+            0x8240 => "unexpected SYNC data length",
+            0x8250 => "RPDO timeout",
+            _ => self.class(),
+        }
+    }
+
     /// The class of the code by its high byte (CiA 301 Table 21); a high byte the table does not list
     /// takes the generic class of its first digit.
     pub const fn class(self) -> &'static str {
@@ -99,9 +121,9 @@ impl From<EmcyCode> for u16 {
 }
 
 impl fmt::Display for EmcyCode {
-    /// `0x8130 (communication)`.
+    /// `0x8130 (life guard error or heartbeat error)`: the number and its [`EmcyCode::meaning`].
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "0x{:04X} ({})", self.0, self.class())
+        write!(f, "0x{:04X} ({})", self.0, self.meaning())
     }
 }
 
@@ -295,15 +317,26 @@ mod tests {
     #[test]
     fn codes_show_their_number_and_class() {
         let shown = |code: u16| EmcyCode(code).to_string();
+        // Codes the table names one by one.
         assert_eq!(shown(0x0000), "0x0000 (error reset or no error)");
         assert_eq!(shown(0x1000), "0x1000 (generic error)");
         assert_eq!(shown(0x2300), "0x2300 (current, device output side)");
         assert_eq!(shown(0x3000), "0x3000 (voltage)");
-        assert_eq!(shown(0x4200), "0x4200 (device temperature)");
+        assert_eq!(shown(0x4200), "0x4200 (temperature, device)");
+        assert_eq!(
+            shown(0x8130),
+            "0x8130 (life guard error or heartbeat error)"
+        );
+        assert_eq!(
+            shown(0x8210),
+            "0x8210 (PDO not processed due to length error)"
+        );
+        // Others: the class of the high byte.
+        assert_eq!(shown(0x4210), "0x4210 (device temperature)");
         assert_eq!(shown(0x5000), "0x5000 (device hardware)");
         assert_eq!(shown(0x6300), "0x6300 (data set)");
-        assert_eq!(shown(0x8130), "0x8130 (communication)");
-        assert_eq!(shown(0x8210), "0x8210 (protocol error)");
+        assert_eq!(shown(0x8131), "0x8131 (communication)");
+        assert_eq!(shown(0x8211), "0x8211 (protocol error)");
         assert_eq!(shown(0x9000), "0x9000 (external error)");
         assert_eq!(shown(0xF000), "0xF000 (additional functions)");
         assert_eq!(shown(0xFF07), "0xFF07 (device specific)");
