@@ -1,4 +1,5 @@
-//! The object dictionary and device descriptions, in four groups.
+//! The object dictionary and device descriptions, in four groups: [`model`], [`description`], [`sdo`]
+//! and [`coe`] (each module of the first two is also reachable from the crate root, `od::dict`, `od::esi`, …).
 //!
 //! **The model.**
 //! - [`types`] and [`value`]: the CiA 301 basic data types and their little-endian encoding.
@@ -21,26 +22,37 @@
 //! dictionary and model.
 #![deny(missing_docs)]
 
-pub mod abort;
+pub mod model {
+    //! The model: data types, values, objects, the dictionary, abort codes and the device hook.
+    pub mod abort;
+    pub mod dict;
+    pub mod hook;
+    pub mod object;
+    pub mod types;
+    pub mod value;
+}
+
+pub mod description {
+    //! The descriptions: the formats' readers and writers and what is built on them.
+    pub mod device;
+    pub mod diff;
+    pub mod doc;
+    pub mod eds;
+    pub mod error;
+    pub mod esi;
+    pub mod load;
+    pub mod report;
+    pub mod sii;
+    pub mod validate;
+    pub mod xdd;
+    pub mod xml;
+}
+
 pub mod coe;
-pub mod device;
-pub mod dict;
-pub mod diff;
-pub mod doc;
-pub mod eds;
-pub mod error;
-pub mod esi;
-pub mod hook;
-pub mod load;
-pub mod object;
-pub mod report;
 pub mod sdo;
-pub mod sii;
-pub mod types;
-pub mod validate;
-pub mod value;
-pub mod xdd;
-pub mod xml;
+
+pub use description::{device, diff, doc, eds, error, esi, load, report, sii, validate, xdd, xml};
+pub use model::{abort, dict, hook, object, types, value};
 
 pub use abort::AbortCode;
 pub use device::DeviceDescription;

@@ -48,7 +48,7 @@ ERROR_FLAG, ACK = 0x10, 0x10
 AL_SM_WATCHDOG = 0x001B
 AL_SYNC0_CYCLE = 0x0036
 
-# SDO abort codes (od/src/abort.rs).
+# SDO abort codes (od/src/model/abort.rs).
 ABORT_READ_ONLY = 0x06010002
 ABORT_NO_OBJECT = 0x06020000
 ABORT_LENGTH_TOO_HIGH = 0x06070012
