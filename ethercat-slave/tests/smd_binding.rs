@@ -600,8 +600,24 @@ fn process_data_entries_read_by_sdo_in_their_sizes() {
     u2.indexer_mut()
         .write_config(1, u32::from(ds402::smd::config::CFG0_USE_ENCODER));
     u2.indexer_mut().turn_shaft(-300);
+    // A move with Jerk 7 running: in.Jerk reports it (SMD-R6-050).
+    let mut o = Outputs {
+        cmd1: cmd1::ENABLE_DRIVER,
+        velocity: 1_000,
+        acceleration: 10,
+        deceleration: 10,
+        jerk: 7,
+        ..Outputs::default()
+    };
+    for (cmd, position) in [(cmd0::PRESET_POSITION, 0), (0, 0), (cmd0::RELATIVE_MOVE, 100)] {
+        o.cmd0 = cmd;
+        o.position = position;
+        u2.write_outputs(&o);
+        u2.cycle(MS);
+    }
     let i = u2.cycle(MS);
     assert_eq!(i.encoder_position, -300, "turned by hand");
+    assert_eq!(i.jerk, 7);
     let expected: [(u8, Vec<u8>); 7] = [
         (1, i.status0.to_le_bytes().to_vec()),
         (2, i.status1.to_le_bytes().to_vec()),
