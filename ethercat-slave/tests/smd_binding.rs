@@ -609,7 +609,11 @@ fn process_data_entries_read_by_sdo_in_their_sizes() {
         jerk: 7,
         ..Outputs::default()
     };
-    for (cmd, position) in [(cmd0::PRESET_POSITION, 0), (0, 0), (cmd0::RELATIVE_MOVE, 100)] {
+    for (cmd, position) in [
+        (cmd0::PRESET_POSITION, 0),
+        (0, 0),
+        (cmd0::RELATIVE_MOVE, 100),
+    ] {
         o.cmd0 = cmd;
         o.position = position;
         u2.write_outputs(&o);

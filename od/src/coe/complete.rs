@@ -127,36 +127,30 @@ pub fn download_through(
         }
         writes.push((0, vec![count]));
     }
-    let writable = |d: &Dictionary, sub: u8, bytes: &[u8]| -> Result<(), AbortCode> {
+    // Every entry is checked (dictionary, then model) before anything is written: a refusal
+    // changes nothing.
+    let owned = hook.owns(index);
+    let mut plan = Vec::with_capacity(writes.len());
+    for (sub, bytes) in writes {
         let entry = d.entry(index, sub).map_err(|e| e.abort_code())?;
         if !entry.access.kind.writable() {
             // Sub-index 0 of a fixed structure may be "written" with its own value.
-            if sub == 0 && entry.value.as_slice() == bytes {
-                return Ok(());
+            if sub == 0 && entry.value.as_slice() == bytes.as_slice() {
+                continue;
             }
             return Err(AbortCode::ReadOnly);
         }
-        d.check(index, sub, bytes).map_err(|e| e.abort_code())
-    };
-    let owned = hook.owns(index);
-    let is_writable = |d: &Dictionary, sub: u8| {
-        d.entry(index, sub)
-            .map(|e| e.access.kind.writable())
-            .unwrap_or(false)
-    };
-    for (sub, bytes) in &writes {
-        writable(d, *sub, bytes)?;
-        if owned && is_writable(d, *sub) {
-            hook.check(Address::new(index, *sub), bytes)?;
+        d.check(index, sub, &bytes).map_err(|e| e.abort_code())?;
+        if owned {
+            hook.check(Address::new(index, sub), &bytes)?;
         }
+        plan.push((sub, bytes));
     }
-    for (sub, bytes) in writes {
-        if is_writable(d, sub) {
-            if owned {
-                hook.write(Address::new(index, sub), &bytes)?;
-            }
-            d.write(index, sub, &bytes).map_err(|e| e.abort_code())?;
+    for (sub, bytes) in plan {
+        if owned {
+            hook.write(Address::new(index, sub), &bytes)?;
         }
+        d.write(index, sub, &bytes).map_err(|e| e.abort_code())?;
     }
     Ok(())
 }
