@@ -3,6 +3,7 @@
 use std::time::Duration;
 
 use socketcan_node::node::storage::{FileStorage, MemoryStorage, ParameterStorage, StorageRequest};
+use socketcan_node::node::NodeEvent;
 use socketcan_node::sim::SimNode;
 use socketcan_node::x67::{self, BusController};
 use socketcan_node::{CanFrame, NmtState, Node, NodeConfig};
@@ -116,7 +117,41 @@ fn heartbeat_default_from_the_configuration() {
     cfg.heartbeat_ms = Some(200);
     let mut n = SimNode::with(cfg, 1, Box::new(MemoryStorage::default())).unwrap();
     assert_eq!(n.sdo_read(0x1017, 0), Ok(vec![200, 0]));
-    assert_eq!(n.advance_ms(200), vec![f(0x705, &[0x7F])]);
+    assert_eq!(n.advance_ms(400), vec![f(0x705, &[0x7F]); 2]);
+    // Boot-up at 0, then one heartbeat every 200 ms from the boot, none before.
+    assert_eq!(
+        n.sent_on(0x705),
+        vec![
+            (Duration::ZERO, f(0x705, &[0x00])),
+            (Duration::from_millis(200), f(0x705, &[0x7F])),
+            (Duration::from_millis(400), f(0x705, &[0x7F])),
+        ]
+    );
+}
+
+/// A SYNC producer (0x1005 bit 30, 0x1006 = 10 ms) stored with "save" runs from the next boot: the
+/// first SYNC one period after the boot-up message, then every 10 ms.
+#[test]
+fn a_stored_sync_producer_starts_one_period_after_the_boot() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sync.params");
+    let storage = || Box::new(FileStorage::new(&path)) as Box<dyn ParameterStorage>;
+    let mut n = SimNode::with(NodeConfig::new(ID), 1, storage()).unwrap();
+    n.sdo_write(0x1006, 0, &10_000u32.to_le_bytes()).unwrap();
+    n.sdo_write(0x1005, 0, &0x4000_0080u32.to_le_bytes())
+        .unwrap();
+    n.sdo_write(0x1010, 1, b"save").unwrap();
+    let mut m = SimNode::with(NodeConfig::new(ID), 1, storage()).unwrap();
+    m.advance_ms(30);
+    let ms = Duration::from_millis;
+    assert_eq!(
+        m.sent_on(0x080),
+        vec![
+            (ms(10), f(0x080, &[])),
+            (ms(20), f(0x080, &[])),
+            (ms(30), f(0x080, &[]))
+        ]
+    );
 }
 
 #[test]
@@ -473,10 +508,14 @@ fn save_and_restore_are_requests_to_the_edge() {
     assert_eq!(sent, vec![f(0x585, &[0x60, 0x11, 0x10, 0x01, 0, 0, 0, 0])]);
     assert_eq!(node.poll_storage(), Some(StorageRequest::Clear));
     // A new node given the saved set boots with its heartbeat of 1000 ms.
+    let lines = text.lines().count();
     let mut next = build();
     next.set_stored(Some(set));
     next.start(t0);
     assert_eq!(next.poll_transmit(), Some(f(0x705, &[0x00])));
+    let events: Vec<NodeEvent> = std::iter::from_fn(|| next.poll_event()).collect();
+    // Every entry of the set (its lines but the first, naming the format, and the last, the CRC).
+    assert!(events.contains(&NodeEvent::Loaded(lines - 2)), "{events:?}");
     let sent = exchange(&mut next, [0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
     assert_eq!(
         sent,
@@ -486,6 +525,11 @@ fn save_and_restore_are_requests_to_the_edge() {
     let mut fresh = build();
     fresh.start(t0);
     let _ = fresh.poll_transmit();
+    let events: Vec<NodeEvent> = std::iter::from_fn(|| fresh.poll_event()).collect();
+    assert!(
+        !events.iter().any(|e| matches!(e, NodeEvent::Loaded(_))),
+        "nothing loaded: no Loaded event; {events:?}"
+    );
     let sent = exchange(&mut fresh, [0x40, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
     assert_eq!(sent, vec![f(0x585, &[0x4B, 0x17, 0x10, 0x00, 0, 0, 0, 0])]);
 }
