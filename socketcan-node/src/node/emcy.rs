@@ -331,6 +331,17 @@ mod tests {
             shown(0x8210),
             "0x8210 (PDO not processed due to length error)"
         );
+        for (code, meaning) in [
+            (0x8110, "CAN overrun (objects lost)"),
+            (0x8120, "CAN in error passive mode"),
+            (0x8140, "recovered from bus off"),
+            (0x8150, "CAN-ID collision"),
+            (0x8220, "PDO length exceeded"),
+            (0x8240, "unexpected SYNC data length"),
+            (0x8250, "RPDO timeout"),
+        ] {
+            assert_eq!(EmcyCode(code).meaning(), meaning, "{code:#06x}");
+        }
         // Others: the class of the high byte.
         assert_eq!(shown(0x4210), "0x4210 (device temperature)");
         assert_eq!(shown(0x5000), "0x5000 (device hardware)");
