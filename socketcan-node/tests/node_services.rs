@@ -584,3 +584,36 @@ fn second_module_objects_and_pdos() {
     assert_eq!(n.sdo_read(0x2308, 0), Ok(vec![0x04]));
     assert_eq!(n.sdo_read(0x2008, 0), Ok(vec![0x00]));
 }
+
+/// An NMT reset ends any SDO transfer (CiA 301 §7.3.2.2.1: the communication parameters and the
+/// SDO server start again): a block download begun before "reset communication" or "reset node"
+/// does not swallow the next request as its segment; the next upload is answered at once.
+#[test]
+fn an_nmt_reset_ends_an_sdo_block_download() {
+    for reset in [0x82u8, 0x81] {
+        let mut n = node();
+        // Block download of 2 bytes to 0x1017:00, CRC supported: the server takes it, 127 per block.
+        assert_eq!(
+            n.send(f(0x605, &[0xC6, 0x17, 0x10, 0x00, 0x02, 0, 0, 0])),
+            vec![f(0x585, &[0xA4, 0x17, 0x10, 0x00, 0x7F, 0, 0, 0])],
+            "reset {reset:#04x}"
+        );
+        assert_eq!(
+            n.nmt(reset, ID),
+            vec![f(0x705, &[0x00])],
+            "reset {reset:#04x}"
+        );
+        // Upload of 0x1018:00: four entries.
+        assert_eq!(
+            n.send(f(0x605, &[0x40, 0x18, 0x10, 0x00, 0, 0, 0, 0])),
+            vec![f(0x585, &[0x4F, 0x18, 0x10, 0x00, 0x04, 0, 0, 0])],
+            "reset {reset:#04x}"
+        );
+        // Nothing of the old transfer comes later (its timer is gone with it).
+        assert_eq!(
+            n.advance_ms(2_000),
+            Vec::<CanFrame>::new(),
+            "reset {reset:#04x}"
+        );
+    }
+}
