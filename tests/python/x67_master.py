@@ -11,6 +11,7 @@ difference, naming what was expected and what came.
 
 import argparse
 import sys
+import threading
 import time
 
 import canopen
@@ -62,9 +63,20 @@ def run(network, args):
     # Generous bounds: the node answers within milliseconds, but the machine may be busy.
     node.sdo.RESPONSE_TIMEOUT = 5.0
 
-    # Reset the node and see it boot.
+    # Reset the node and see it boot: listen before asking, so that a boot-up message that comes back
+    # before this thread waits is not missed.
+    booted = threading.Event()
+
+    def on_heartbeat(can_id, data, timestamp):
+        if bytes(data) == b"\x00":
+            booted.set()
+
+    network.subscribe(0x700 + args.node_id, on_heartbeat)
     node.nmt.send_command(0x81)
-    node.nmt.wait_for_bootup(15)
+    if not booted.wait(15):
+        print("FAIL boot-up after reset node: not within 15 s", flush=True)
+        sys.exit(1)
+    network.unsubscribe(0x700 + args.node_id, on_heartbeat)
     print("ok   boot-up after reset node", flush=True)
 
     # Identity and strings.
