@@ -7,7 +7,14 @@ use std::time::Duration;
 
 use clap::{Parser, Subcommand};
 
-use crate::ethercat::EthercatSession;
+use crate::ethercat::{check_interface_name, EthercatSession};
+
+/// `--ethercat IFACE`: a name the kernel could give an interface, checked before any socket.
+fn interface_name(s: &str) -> Result<String, String> {
+    check_interface_name(s)
+        .map(|()| s.to_string())
+        .map_err(|e| e.to_string())
+}
 use crate::{NmtCommand, SdoCommands, Tool, ToolError};
 use socketcan_node::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandClient};
 
@@ -30,7 +37,13 @@ pub struct Args {
     pub bus: Option<BusSpec>,
     /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
     /// (1 = first); read, write, dump and apply only.
-    #[arg(long, global = true, value_name = "IFACE", conflicts_with = "bus")]
+    #[arg(
+        long,
+        global = true,
+        value_name = "IFACE",
+        conflicts_with = "bus",
+        value_parser = interface_name
+    )]
     pub ethercat: Option<String>,
     /// A device description (EDS, DCF, XDD or ESI) for object names, types and limits.
     #[arg(long, global = true, value_name = "FILE")]

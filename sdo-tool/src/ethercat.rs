@@ -114,10 +114,39 @@ impl std::error::Error for TaskEnded {
     }
 }
 
+/// Longest network interface name Linux takes (IFNAMSIZ less the terminating NUL).
+pub const MAX_INTERFACE_NAME: usize = 15;
+
+/// Checks that `name` can name a network interface: 1 to 15 bytes, no `/`, whitespace or NUL, not
+/// `.` or `..` (the kernel's rules), before any socket is opened.
+pub fn check_interface_name(name: &str) -> Result<(), EthercatError> {
+    let bad = name.is_empty()
+        || name.len() > MAX_INTERFACE_NAME
+        || name == "."
+        || name == ".."
+        || name
+            .chars()
+            .any(|c| c == '/' || c == '\0' || c.is_whitespace());
+    if bad {
+        return Err(EthercatError::InterfaceName {
+            interface: name.escape_debug().to_string(),
+        });
+    }
+    Ok(())
+}
+
 /// Why the EtherCAT side of the tool failed.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum EthercatError {
+    /// The name cannot name a network interface.
+    #[error(
+        "interface \"{interface}\": not an interface name (1 to {MAX_INTERFACE_NAME} bytes, no '/', space or NUL)"
+    )]
+    InterfaceName {
+        /// The name given, escaped.
+        interface: String,
+    },
     /// ethercrab's frame storage is taken (one session per process).
     #[error("the PDU storage is in use")]
     Storage,
@@ -218,6 +247,7 @@ impl EthercatSession {
     /// and its TX/RX task ends at the first frame it cannot place: with another master busy on another
     /// interface, a stray frame may end the first try. Up to three tries are made.
     pub fn open(interface: &str, timeout: Duration) -> Result<EthercatSession, ToolError> {
+        check_interface_name(interface)?;
         let mut last = TaskEnded(None);
         for _ in 0..3 {
             match EthercatSession::try_open(interface, timeout) {

@@ -517,3 +517,39 @@ fn against_python_canopen_local_node() {
     hub.kill().unwrap();
     hub.wait().unwrap();
 }
+
+/// `--ethercat` takes only a name the kernel could give an interface (1 to 15 bytes, no '/', space
+/// or NUL): a longer one is a usage error of one line, exit 2, before any socket is opened.
+#[test]
+fn an_ethercat_interface_name_over_15_bytes_is_refused() {
+    for name in ["a234567890123456", "veth/0", "has space", ""] {
+        let o = common::sdo_tool(&["--ethercat", name], &["read", "1", "0x1000", "u32"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name:?}: {err}");
+        assert!(err.contains("not an interface name"), "{name:?}: {err}");
+    }
+    // 15 bytes is a name (no such interface here: a transport failure, exit 3).
+    let o = common::sdo_tool(
+        &["--ethercat", "a23456789012345"],
+        &["read", "1", "0x1000", "u32"],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let e = sdo_tool::ethercat::EthercatSession::open(
+        &"x".repeat(17),
+        std::time::Duration::from_secs(1),
+    );
+    assert!(
+        matches!(
+            e,
+            Err(sdo_tool::ToolError::Ethercat(
+                sdo_tool::ethercat::EthercatError::InterfaceName { .. }
+            ))
+        ),
+        "the library refuses it too"
+    );
+}
