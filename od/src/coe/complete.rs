@@ -276,6 +276,33 @@ mod tests {
         assert_eq!(d, before);
     }
 
+    /// ETG.1000.6 complete access to a fixed structure: a read-only sub-index 0 may be "written" with
+    /// its own value (the subs are written), any other value is refused with 0x06010002 and nothing
+    /// changes.
+    #[test]
+    fn a_read_only_sub0_takes_only_its_own_value() {
+        let mut d = dict();
+        d.insert(
+            Object::structured(0x7000, "Outputs", ObjectKind::Record)
+                .with_sub(
+                    0,
+                    SubObject::new("n", DataType::Unsigned8, AccessType::Ro)
+                        .with_default(Value::Uint(2)),
+                )
+                .with_sub(1, SubObject::new("x", DataType::Unsigned16, AccessType::Rw))
+                .with_sub(2, SubObject::new("y", DataType::Unsigned16, AccessType::Rw)),
+        );
+        download(&mut d, 0x7000, true, &[0x02, 0x00, 0x34, 0x12, 0x78, 0x56]).unwrap();
+        assert_eq!(d.read(0x7000, 1).unwrap(), &[0x34, 0x12]);
+        assert_eq!(d.read(0x7000, 2).unwrap(), &[0x78, 0x56]);
+        let before = d.clone();
+        assert_eq!(
+            download(&mut d, 0x7000, true, &[0x01, 0x00, 0x11, 0x11]),
+            Err(AbortCode::ReadOnly)
+        );
+        assert_eq!(d, before);
+    }
+
     #[test]
     fn var_objects_refuse_complete_access() {
         let mut d = dict();
