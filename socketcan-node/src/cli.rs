@@ -71,13 +71,13 @@ pub enum CliError {
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
     Signal(#[from] ctrlc::Error),
-    /// The storage file's directory.
-    #[error("--storage {path}: {reason}")]
+    /// The storage file cannot be used (its directory, its kind, its size, its reading).
+    #[error("--storage {path}: {source}")]
     Storage {
         /// The file given.
         path: String,
         /// What is wrong.
-        reason: String,
+        source: std::io::Error,
     },
 }
 
@@ -90,17 +90,21 @@ pub fn build_node(args: &Args) -> Result<Station<BusController>, CliError> {
                 Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
                 _ => PathBuf::from("."),
             };
+            let refuse = |kind, why: String| CliError::Storage {
+                path: path.display().to_string(),
+                source: std::io::Error::new(kind, why),
+            };
             if !dir.is_dir() {
-                return Err(CliError::Storage {
-                    path: path.display().to_string(),
-                    reason: format!("directory {} does not exist", dir.display()),
-                });
+                return Err(refuse(
+                    std::io::ErrorKind::NotFound,
+                    format!("directory {} does not exist", dir.display()),
+                ));
             }
             if path.is_dir() {
-                return Err(CliError::Storage {
-                    path: path.display().to_string(),
-                    reason: "is a directory".into(),
-                });
+                return Err(refuse(
+                    std::io::ErrorKind::InvalidInput,
+                    "is a directory".into(),
+                ));
             }
             Box::new(FileStorage::new(path))
         }
@@ -111,7 +115,14 @@ pub fn build_node(args: &Args) -> Result<Station<BusController>, CliError> {
     let app = BusController::new(&dict, modules, Duration::from_micros(args.x2x_us), now)?;
     let mut config = NodeConfig::new(args.node_id);
     config.heartbeat_ms = args.heartbeat_ms;
-    Ok(Station::new(Node::new(config, dict, app, now)?, storage))
+    let node = Node::new(config, dict, app, now)?;
+    Station::try_new(node, storage).map_err(|source| CliError::Storage {
+        path: args
+            .storage
+            .as_ref()
+            .map_or_else(String::new, |p| p.display().to_string()),
+        source,
+    })
 }
 
 /// How to reach a node on `spec`, for the start-up message.

@@ -38,12 +38,25 @@ pub struct Station<A: Application> {
 impl<A: Application> Station<A> {
     /// `node` with `storage`; the node gets the set the storage holds (a set that cannot be read is
     /// logged and the node starts with its defaults).
-    pub fn new(mut node: Node<A>, mut storage: Box<dyn ParameterStorage>) -> Station<A> {
-        match storage.load() {
-            Ok(set) => node.set_stored(set),
-            Err(e) => tracing::warn!(node = node.node_id(), "cannot read stored parameters: {e}"),
-        }
+    pub fn new(node: Node<A>, storage: Box<dyn ParameterStorage>) -> Station<A> {
+        let id = node.node_id();
+        let mut storage = storage;
+        let set = storage.load().unwrap_or_else(|e| {
+            tracing::warn!(node = id, "cannot read stored parameters: {e}");
+            None
+        });
+        let mut node = node;
+        node.set_stored(set);
         Station { node, storage }
+    }
+
+    /// `node` with `storage`, or why the storage cannot be read (not a regular file, too large, …).
+    pub fn try_new(
+        mut node: Node<A>,
+        mut storage: Box<dyn ParameterStorage>,
+    ) -> Result<Station<A>, std::io::Error> {
+        node.set_stored(storage.load()?);
+        Ok(Station { node, storage })
     }
 
     /// `node` with parameters kept in memory only.

@@ -184,6 +184,27 @@ fn bad_arguments_exit_2_with_the_reason() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("200 is not in 1..=127"));
+    // A FIFO as the storage file: refused at once with one line (it is never opened).
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("params");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let out = Command::new(NODE)
+        .args([
+            "--storage",
+            fifo.to_str().unwrap(),
+            "--bus",
+            "socketcand-listen:127.0.0.1:0",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("params is not a regular file"), "{err}");
 }
 
 /// Store parameters (0x1010) into a file; a process killed at any moment leaves the old set or the
@@ -226,6 +247,15 @@ fn killed_while_saving_leaves_the_old_or_the_new_parameter_set() {
         if now == value {
             saved = Some(value);
         }
+        // What the killed save left beside the file is gone once a node has loaded the set.
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(
+            names.iter().all(|n| n == "node1.params"),
+            "run {k}: {names:?}"
+        );
         check.child.kill().unwrap();
         check.child.wait().unwrap();
     }

@@ -14,6 +14,10 @@ use std::path::{Path, PathBuf};
 /// First line of a parameter file.
 const MAGIC: &str = "x67-node parameters 1";
 
+/// The largest parameter file [`FileStorage`] reads: far above any set a node writes (16 modules make
+/// some 40 KiB), so that a file that is not one is refused before it is read.
+pub const MAX_PARAMETER_FILE: u64 = 4 << 20;
+
 /// What a node asks its edge to do with the stored parameter set ([`super::Node::poll_storage`]).
 #[derive(Debug, Clone, PartialEq, Eq)]
 #[non_exhaustive]
@@ -94,20 +98,75 @@ impl FileStorage {
     fn sync_dir(&self) -> io::Result<()> {
         fs::File::open(self.dir())?.sync_all()
     }
+
+    /// The name of this file's temporary copies, beside it: `.NAME.tmp-…`.
+    fn temp_prefix(&self) -> String {
+        let name = self
+            .path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        format!(".{name}.tmp-")
+    }
+
+    /// Removes the temporary copies a process killed during a save left beside the file.
+    fn remove_stale_copies(&self) {
+        let prefix = self.temp_prefix();
+        let Ok(entries) = fs::read_dir(self.dir()) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let stale = entry.file_name().to_string_lossy().starts_with(&prefix)
+                && entry.file_type().is_ok_and(|t| t.is_file());
+            if stale {
+                let _ = fs::remove_file(entry.path());
+            }
+        }
+    }
+}
+
+/// Reads `path` if it is a regular file of at most [`MAX_PARAMETER_FILE`] bytes (`None` when it does
+/// not exist); anything else is refused before it is read or opened.
+fn read_bounded(path: &Path) -> io::Result<Option<Vec<u8>>> {
+    use std::io::Read as _;
+    let meta = match fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    let refuse = |why: String| io::Error::new(io::ErrorKind::InvalidInput, why);
+    if !meta.is_file() {
+        return Err(refuse(format!("{} is not a regular file", path.display())));
+    }
+    if meta.len() > MAX_PARAMETER_FILE {
+        return Err(refuse(format!(
+            "{} is {} bytes, over the {MAX_PARAMETER_FILE}-byte limit of a parameter file",
+            path.display(),
+            meta.len()
+        )));
+    }
+    let file = fs::File::open(path)?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    // A file that grew since: read no more than the limit and one byte.
+    file.take(MAX_PARAMETER_FILE + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > MAX_PARAMETER_FILE {
+        return Err(refuse(format!(
+            "{} is over the {MAX_PARAMETER_FILE}-byte limit of a parameter file",
+            path.display()
+        )));
+    }
+    Ok(Some(bytes))
 }
 
 impl ParameterStorage for FileStorage {
+    /// The stored set (removing first what a save killed midway left beside it).
     fn load(&mut self) -> io::Result<Option<Vec<u8>>> {
-        match fs::read(&self.path) {
-            Ok(bytes) => Ok(Some(bytes)),
-            Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(None),
-            Err(e) => Err(e),
-        }
+        self.remove_stale_copies();
+        read_bounded(&self.path)
     }
 
     fn save(&mut self, data: &[u8]) -> io::Result<()> {
         let mut tmp = tempfile::Builder::new()
-            .prefix(".params-")
+            .prefix(&self.temp_prefix())
             .tempfile_in(self.dir())?;
         tmp.write_all(data)?;
         tmp.as_file().sync_all()?;
@@ -260,5 +319,59 @@ mod tests {
         s.clear().unwrap();
         assert_eq!(s.load().unwrap(), None);
         s.clear().unwrap();
+    }
+
+    /// What is not a parameter file is refused before it is read: a FIFO (opening one would wait for
+    /// a writer forever), a directory, a file over the limit (no more read than the limit).
+    #[test]
+    fn file_storage_reads_only_bounded_regular_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("fifo");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap();
+        assert!(made.success());
+        let e = FileStorage::new(&fifo).load().unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::InvalidInput);
+        assert!(e.to_string().ends_with("fifo is not a regular file"), "{e}");
+        let e = FileStorage::new(dir.path()).load().unwrap_err();
+        assert!(e.to_string().ends_with("is not a regular file"), "{e}");
+        let big = dir.path().join("big");
+        let f = fs::File::create(&big).unwrap();
+        f.set_len(MAX_PARAMETER_FILE + 1).unwrap();
+        let e = FileStorage::new(&big).load().unwrap_err();
+        assert!(
+            e.to_string().ends_with(&format!(
+                "big is {} bytes, over the 4194304-byte limit of a parameter file",
+                4 * 1024 * 1024 + 1
+            )),
+            "{e}"
+        );
+        // At the limit: read (and refused as a set by `decode`, not by its size).
+        f.set_len(MAX_PARAMETER_FILE).unwrap();
+        assert_eq!(
+            FileStorage::new(&big).load().unwrap().map(|b| b.len()),
+            Some(4 << 20)
+        );
+    }
+
+    /// A save killed midway leaves its temporary copy beside the file; the next load removes it (and
+    /// only this file's copies).
+    #[test]
+    fn stale_copies_of_a_killed_save_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("node5.params");
+        fs::write(dir.path().join(".node5.params.tmp-a1b2c3"), b"half").unwrap();
+        fs::write(dir.path().join(".node6.params.tmp-a1b2c3"), b"other").unwrap();
+        let mut s = FileStorage::new(&path);
+        s.save(b"set").unwrap();
+        assert_eq!(s.load().unwrap().as_deref(), Some(&b"set"[..]));
+        let mut names: Vec<String> = fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names, [".node6.params.tmp-a1b2c3", "node5.params"]);
     }
 }
