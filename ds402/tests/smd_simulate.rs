@@ -503,6 +503,22 @@ fn errors_exit_2() {
         "{err}"
     );
 
+    // A device or a FIFO is refused before it is read or opened.
+    let fifo = dir.path().join("fifo.smd");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    for path in [fifo.to_str().unwrap(), "/dev/zero"] {
+        let (code, _, err) = smd(&["simulate", path]);
+        assert_eq!(code, 2, "{path}");
+        assert_eq!(
+            err.trim(),
+            format!("smd: cannot read {path}: not a regular file")
+        );
+    }
+
     let good = examples().join("relative-move.smd");
     let (code, _, err) = smd(&["simulate", good.to_str().unwrap(), "--every", "1.5"]);
     assert_eq!(code, 2);

@@ -625,12 +625,16 @@ pub struct IdentityEntry {
     pub revision: Option<u32>,
 }
 
+/// The largest identity file read (a few lines per device; anything larger is not one).
+pub const MAX_IDENTITY_FILE: u64 = 1 << 20;
+
 impl IdentityFile {
-    /// Reads an identity file.
+    /// Reads an identity file: a regular file of at most [`MAX_IDENTITY_FILE`] bytes.
     pub fn load(path: &Path) -> Result<IdentityFile, Error> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        let bytes = od::load::read_limited(path, MAX_IDENTITY_FILE)?;
+        let text = String::from_utf8(bytes).map_err(|_| Error::Identity {
             path: path.to_path_buf(),
-            source,
+            message: "not UTF-8 text".into(),
         })?;
         IdentityFile::parse(&text).map_err(|message| Error::Identity {
             path: path.to_path_buf(),

@@ -174,6 +174,36 @@ fn identity_overrides_reach_the_output() {
     );
 }
 
+/// An identity file that is not a regular file (a device, a FIFO) is refused before it is opened,
+/// with one line, exit 2.
+#[test]
+fn an_identity_file_must_be_a_regular_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("ids.toml");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    for path in ["/dev/zero", fifo.to_str().unwrap()] {
+        let o = esi_gen(&[
+            "eds",
+            "fixtures/src/smd.esi.xml",
+            "--device",
+            "SMD24K",
+            "--identity",
+            path,
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{path}: {}", stderr(&o));
+        assert_eq!(stderr(&o).lines().count(), 1, "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!("{path}: not a regular file")),
+            "{}",
+            stderr(&o)
+        );
+    }
+}
+
 #[test]
 fn dcf_carries_the_node_id() {
     let o = esi_gen(&[

@@ -282,6 +282,15 @@ pub fn run(
             )?;
         }
         Cmd::Download { node, object, file } => {
+            // Looked at before opening: opening a FIFO waits for a writer; a device has no length.
+            let kind = std::fs::metadata(file)
+                .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
+            if !kind.is_file() {
+                return Err(ToolError::Usage(format!(
+                    "{}: not a regular file",
+                    file.display()
+                )));
+            }
             let mut f = std::fs::File::open(file)
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
             let len = f

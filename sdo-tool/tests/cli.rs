@@ -256,6 +256,18 @@ fn save_restore_upload_download() {
         .tool(&["download", "5", "0x1017:00", hb.to_str().unwrap()])
         .unwrap_err();
     assert_eq!(e.exit_code(), 1, "{e}");
+    // A FIFO or a device is not a file to download: refused before it is opened.
+    let fifo = dir.path().join("fifo");
+    assert!(std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    for file in [fifo.to_str().unwrap(), "/dev/zero"] {
+        let e = n.tool(&["download", "5", "0x1017:00", file]).unwrap_err();
+        assert_eq!(e.exit_code(), 2, "{e}");
+        assert_eq!(e.to_string(), format!("{file}: not a regular file"));
+    }
 }
 
 #[test]

@@ -149,8 +149,8 @@ pub enum LoadError {
     /// The path is not a regular file (a folder, a FIFO, a device).
     #[error("{0}: not a regular file")]
     NotAFile(PathBuf),
-    /// The file is larger than a description file can be.
-    #[error("{path}: {size} bytes, more than the {limit} a description file may have")]
+    /// The file is larger than its kind of file may be.
+    #[error("{path}: {size} bytes, more than the {limit} such a file may have")]
     TooLarge {
         /// The file.
         path: PathBuf,

@@ -180,7 +180,7 @@ mod tests {
         assert_eq!(
             e.to_string(),
             format!(
-                "{}: 10 bytes, more than the 9 a description file may have",
+                "{}: 10 bytes, more than the 9 such a file may have",
                 file.display()
             )
         );
