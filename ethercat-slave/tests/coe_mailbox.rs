@@ -233,3 +233,55 @@ fn the_mailbox_restarts_in_init_only() {
         "after Init: a new request"
     );
 }
+
+/// A master that writes SM0 and never reads SM1 cannot make the unit queue answers without bound
+/// (ETG.1000.6 §5.5: the mailbox is a one-request, one-answer exchange): the unit takes a request
+/// only once the answers before it are on their way, so SM0 stays full and refuses the master's
+/// writes (working counter 0); read back in order, the answers are those of the requests taken,
+/// none stale.
+#[test]
+fn a_master_that_never_reads_sm1_gets_backpressure_not_a_queue() {
+    let mut c = preop(1);
+    let request = |counter: u8, sub: u8| {
+        let mut m = coe_request(counter, &[0x40, 0x18, 0x10, sub, 0, 0, 0, 0]);
+        m.resize(MBX_LEN, 0);
+        m
+    };
+    let mut written = Vec::new();
+    for k in 0..200u8 {
+        let counter = k % 7 + 1;
+        let sub = k % 4 + 1;
+        let wkc = reg(
+            &mut c,
+            cmd::FPWR,
+            station(0),
+            MBX_OUT,
+            request(counter, sub),
+        )
+        .wkc;
+        if wkc == 1 {
+            written.push(sub);
+        }
+        c.cycle(Duration::from_millis(1));
+    }
+    // One answer in SM1, one waiting for it, one request in SM0: three taken, the rest refused.
+    assert_eq!(written, [1, 2, 3]);
+    for sub in [1u8, 2, 3] {
+        let answer = mailbox_answer(&mut c);
+        assert_eq!(coe_answer(&answer).unwrap()[..4], [0x43, 0x18, 0x10, sub]);
+    }
+    let (status, _) = fprd(&mut c, 0, 0x080D, 1);
+    assert_eq!(status[0] & 0x08, 0, "nothing more to read");
+}
+
+/// Reads SM1 once it is full (a few cycles at most).
+fn mailbox_answer(c: &mut SimChain) -> Vec<u8> {
+    for _ in 0..10 {
+        let (status, _) = fprd(c, 0, 0x080D, 1);
+        if status[0] & 0x08 != 0 {
+            return fprd(c, 0, MBX_IN, MBX_LEN).0;
+        }
+        c.cycle(Duration::from_millis(1));
+    }
+    panic!("SM1 did not fill");
+}

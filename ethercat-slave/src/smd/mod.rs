@@ -250,17 +250,17 @@ impl SmdChain {
                 // Told at once: the mailbox restarts before the master can use it again.
                 unit.sync_state(AlState::Init);
             }
-            if let Some(mailbox) = esc.take_mailbox() {
-                unit.sync_state(esc.al_state().0);
-                unit.model.handle_mailbox(&mut unit.coe, now, &mailbox);
-                unit.pending
-                    .extend(std::iter::from_fn(|| unit.coe.poll_transmit()));
-            }
-            while let Some(next) = unit.pending.front() {
-                if !esc.put_mailbox(next) {
-                    break;
+            unit.send_pending(esc);
+            // One request at a time (ETG.1000.6 §5.5): the next is taken only once the answers
+            // before it are in SM1 or read, so a master that never reads SM1 finds SM0 full.
+            if unit.pending.is_empty() {
+                if let Some(mailbox) = esc.take_mailbox() {
+                    unit.sync_state(esc.al_state().0);
+                    unit.model.handle_mailbox(&mut unit.coe, now, &mailbox);
+                    unit.pending
+                        .extend(std::iter::from_fn(|| unit.coe.poll_transmit()));
+                    unit.send_pending(esc);
                 }
-                unit.pending.pop_front();
             }
         }
     }
@@ -333,6 +333,16 @@ impl SmdChain {
 }
 
 impl Unit {
+    /// Puts the waiting answers into SM1 while it takes them.
+    fn send_pending(&mut self, esc: &mut Esc) {
+        while let Some(next) = self.pending.front() {
+            if !esc.put_mailbox(next) {
+                break;
+            }
+            self.pending.pop_front();
+        }
+    }
+
     /// The master stopped reaching the unit in Op (watchdog, link): Safe-Op with the error indication
     /// and code 0x001B, and the model's Input_Error.
     fn drop_to_safe_op(&mut self, esc: &mut Esc) {
