@@ -40,10 +40,6 @@ impl EmcyCode {
     /// model), else the class of its high byte ([`EmcyCode::class`]).
     pub const fn meaning(self) -> &'static str {
         match self.0 {
-            0x0000 => "error reset or no error",
-            0x1000 => "generic error",
-            0x2300 => "current, device output side",
-            0x3000 => "voltage",
             0x4200 => "temperature, device",
             0x8110 => "CAN overrun (objects lost)",
             0x8120 => "CAN in error passive mode",
