@@ -60,6 +60,10 @@ impl Splitter {
 
     /// The next complete element (the text between `<` and `>`, trimmed), or a framing error for
     /// stray bytes, which are dropped. `None` when more bytes are needed.
+    ///
+    /// An element is the bytes from a `<` to the first `>` with no `<` between: a `<` that is not
+    /// closed before the next `<` is stray, so it cannot swallow the element after it. A run of
+    /// stray bytes (however long, within [`MAX_ELEMENT`]) is one error, dropped at once.
     pub fn next_element(&mut self) -> Option<Result<String, CodecError>> {
         // Whitespace between elements is allowed.
         let skip = self
@@ -78,25 +82,28 @@ impl Splitter {
                 .position(|&b| b == b'<')
                 .unwrap_or(self.buf.len());
             let junk: Vec<u8> = self.buf.drain(..end).collect();
-            return Some(Err(CodecError::Framing(lossy(&junk))));
+            return Some(Err(CodecError::Framing(truncated(&junk))));
         }
-        match self.buf.iter().position(|&b| b == b'>') {
-            Some(end) if end < MAX_ELEMENT => {
+        let window = &self.buf[..self.buf.len().min(MAX_ELEMENT)];
+        let close = window.iter().position(|&b| b == b'>');
+        // The element's start: the last '<' before its '>' (or before the window's end).
+        let open = window[..close.unwrap_or(window.len())]
+            .iter()
+            .rposition(|&b| b == b'<')
+            .unwrap_or(0);
+        if open > 0 {
+            let junk: Vec<u8> = self.buf.drain(..open).collect();
+            return Some(Err(CodecError::Framing(truncated(&junk))));
+        }
+        match close {
+            Some(end) => {
                 let inner = lossy(&self.buf[1..end]).trim().to_string();
                 self.buf.drain(..=end);
                 Some(Ok(inner))
             }
-            Some(end) => {
-                let junk: Vec<u8> = self.buf.drain(..=end).collect();
-                Some(Err(CodecError::Framing(truncated(&junk))))
-            }
             None if self.buf.len() >= MAX_ELEMENT => {
-                // Never closes within the bound: drop up to the next '<' after the first byte.
-                let end = self.buf[1..]
-                    .iter()
-                    .position(|&b| b == b'<')
-                    .map_or(self.buf.len(), |p| p + 1);
-                let junk: Vec<u8> = self.buf.drain(..end).collect();
+                // Never closes within the bound: dropped whole.
+                let junk: Vec<u8> = self.buf.drain(..MAX_ELEMENT).collect();
                 Some(Err(CodecError::Framing(truncated(&junk))))
             }
             None => None,
@@ -116,9 +123,35 @@ fn lossy(bytes: &[u8]) -> String {
 fn truncated(bytes: &[u8]) -> String {
     let mut s = lossy(&bytes[..bytes.len().min(40)]);
     if bytes.len() > 40 {
-        s.push('…');
+        s.push_str("...");
     }
     s
+}
+
+/// `text` as printable ASCII for an element: `<`, `>`, `\` and control bytes as `\xNN`, anything
+/// beyond ASCII as `\u{…}`, at most 120 characters of it (then `...`), so that an answer never
+/// carries a byte a client cannot decode or a bracket that ends the element early.
+pub fn ascii_text(text: &str) -> String {
+    let mut out = String::new();
+    for (k, c) in text.chars().enumerate() {
+        if k == 120 {
+            out.push_str("...");
+            break;
+        }
+        match c {
+            '<' | '>' | '\\' => {
+                let _ = write!(out, "\\x{:02x}", c as u32);
+            }
+            ' '..='~' => out.push(c),
+            c if c.is_ascii() => {
+                let _ = write!(out, "\\x{:02x}", c as u32);
+            }
+            c => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
+        }
+    }
+    out
 }
 
 /// What a client says to the server.
@@ -348,7 +381,7 @@ impl Message {
             Message::Hi => "< hi >".into(),
             Message::Ok => "< ok >".into(),
             Message::Echo => "< echo >".into(),
-            Message::Error(t) => format!("< error {t} >"),
+            Message::Error(t) => format!("< error {} >", ascii_text(t)),
             Message::Frame { frame, at } => frame_element(frame, *at),
             Message::Other(t) => format!("< {t} >"),
         }
@@ -392,6 +425,67 @@ mod tests {
         assert_eq!(s.next_element(), Some(Ok("echo".into())));
         assert_eq!(s.next_element(), None);
         assert_eq!(s.pending(), 0);
+    }
+
+    /// A `<` not closed before the next `<` is stray: it cannot swallow the element after it.
+    #[test]
+    fn an_unclosed_element_does_not_swallow_the_next() {
+        let mut s = Splitter::new();
+        s.push(b"< junk < open can0 >");
+        assert_eq!(
+            s.next_element(),
+            Some(Err(CodecError::Framing("< junk ".into())))
+        );
+        assert_eq!(s.next_element(), Some(Ok("open can0".into())));
+        assert_eq!(s.next_element(), None);
+    }
+
+    /// A run of stray `<` is dropped a window at a time: 1,001 of them before `echo>` are four
+    /// errors (255, 255, 255 and 235 bytes), then the element.
+    #[test]
+    fn a_run_of_stray_brackets_is_dropped_a_window_at_a_time() {
+        let mut s = Splitter::new();
+        s.push(&[b'<'; 1001]);
+        s.push(b"echo>");
+        let mut sizes = Vec::new();
+        loop {
+            match s.next_element() {
+                Some(Err(CodecError::Framing(t))) => sizes.push(t),
+                Some(Ok(e)) => {
+                    assert_eq!(e, "echo");
+                    break;
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        let forty = format!("{}...", "<".repeat(40));
+        assert_eq!(sizes, [forty.clone(), forty.clone(), forty.clone(), forty]);
+        assert_eq!(s.pending(), 0);
+    }
+
+    /// Answers carry printable ASCII only: brackets, backslashes, control bytes and what is beyond
+    /// ASCII are escaped, and a long text is cut.
+    #[test]
+    fn error_texts_are_printable_ascii() {
+        assert_eq!(
+            ascii_text("\u{e9}<x>\\\u{1}"),
+            "\\u{e9}\\x3cx\\x3e\\x5c\\x01"
+        );
+        assert_eq!(
+            ascii_text(&"a".repeat(130)),
+            format!("{}...", "a".repeat(120))
+        );
+        let mut s = Splitter::new();
+        s.push(&[0xFF, 0xFE, b'<', b'e', b'c', b'h', b'o', b'>']);
+        let Some(Err(e)) = s.next_element() else {
+            panic!("stray bytes");
+        };
+        let answer = Message::Error(e.to_string()).emit();
+        assert!(answer.is_ascii(), "{answer}");
+        assert_eq!(
+            answer,
+            "< error bytes outside an element `\\x3c \\u{2026} \\x3e`: \"\\u{fffd}\\u{fffd}\" >"
+        );
     }
 
     #[test]
