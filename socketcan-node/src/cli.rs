@@ -148,10 +148,14 @@ pub fn connect_hint(spec: &BusSpec) -> String {
 /// Runs `x67-node` until Ctrl-C (or `stop`, when given) and returns the run's counters.
 pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliError> {
     let mut station = build_node(args)?;
-    let (spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
+    let (mut spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
         Some(spec) => (spec.clone(), transport::open(spec)?),
         None => transport::open_default()?,
     };
+    // Port 0 asks the system for a free port: the hint names the one it chose.
+    if let (BusSpec::SocketcandListen { addr }, Some(bound)) = (&mut spec, bus.listen_addr()) {
+        *addr = bound;
+    }
     let stop = match stop {
         Some(s) => s,
         None => {

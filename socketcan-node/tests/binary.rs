@@ -290,3 +290,35 @@ fn joins_a_socketcand_bus_as_a_client() {
     child.kill().unwrap();
     child.wait().unwrap();
 }
+
+/// `socketcand-listen:127.0.0.1:0` asks the system for a free port: the start-up line names the port
+/// chosen, and a client reaches the node there.
+#[test]
+fn a_listener_on_port_0_prints_the_port_it_got() {
+    let mut child = Command::new(NODE)
+        .args(["--bus", "socketcand-listen:127.0.0.1:0"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let at = line
+        .find("server on 127.0.0.1:")
+        .unwrap_or_else(|| panic!("{line}"));
+    let port: u16 = line[at + "server on 127.0.0.1:".len()..]
+        .split(|c: char| !c.is_ascii_digit())
+        .next()
+        .and_then(|p| p.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert_ne!(port, 0, "{line}");
+    let mut bus = client(port);
+    assert_eq!(
+        sdo(&mut bus, [0x40, 0x18, 0x10, 0, 0, 0, 0, 0]),
+        [0x4F, 0x18, 0x10, 0, 4, 0, 0, 0]
+    );
+    child.kill().unwrap();
+    child.wait().unwrap();
+}

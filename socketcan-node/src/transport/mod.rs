@@ -78,6 +78,12 @@ pub trait CanBus: Send {
 
     /// A short description for logs (`socketcan:vcan0`, `socketcand://127.0.0.1:29536/can0`, …).
     fn describe(&self) -> String;
+
+    /// The address a listening bus (a socketcand server) was bound to, with the port the system
+    /// chose for port 0; `None` for a bus that does not listen.
+    fn listen_addr(&self) -> Option<std::net::SocketAddr> {
+        None
+    }
 }
 
 impl<B: CanBus + ?Sized> CanBus for Box<B> {
@@ -91,6 +97,10 @@ impl<B: CanBus + ?Sized> CanBus for Box<B> {
 
     fn describe(&self) -> String {
         (**self).describe()
+    }
+
+    fn listen_addr(&self) -> Option<std::net::SocketAddr> {
+        (**self).listen_addr()
     }
 }
 

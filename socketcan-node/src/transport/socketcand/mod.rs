@@ -15,7 +15,12 @@
 //!   in the same TCP segment would fail its handshake.
 //! - Each client has its own writer with a queue of [`CLIENT_QUEUE`] elements; a client that does not
 //!   read loses the frames that do not fit, as a CAN controller's receive queue overflows, and the bus
-//!   goes on for everyone else. At most [`MAX_CLIENTS`] clients at once.
+//!   goes on for everyone else. At most [`MAX_CLIENTS`] clients at once; when they are all there, a new
+//!   client takes the place of the oldest one that has not opened a channel (a silent connection
+//!   cannot lock the others out), and a client that opens none within [`OPEN_DEADLINE`] is closed.
+//! - Answers never amplify input: a client's `< error … >` answers total at most [`ERROR_ALLOWANCE`]
+//!   bytes plus a quarter of what it sent, each text escaped to printable ASCII; a run of stray bytes
+//!   is one error; drops are logged at powers of two.
 
 pub mod codec;
 
@@ -41,6 +46,11 @@ pub const MAX_CLIENTS: usize = 32;
 pub const RAW_MODE_SETTLE: Duration = Duration::from_millis(50);
 /// How long the client waits for each handshake answer.
 pub const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(5);
+/// Error answers a client gets at most: this many bytes plus a quarter of what it sent (a flood of
+/// bad input is answered with less than it sends).
+pub const ERROR_ALLOWANCE: u64 = 4096;
+/// How long a connected client has to open a channel before the server closes it.
+pub const OPEN_DEADLINE: Duration = Duration::from_secs(10);
 
 /// Frames received from clients and not yet taken by the node, at most.
 const NODE_QUEUE: usize = 8192;
@@ -51,6 +61,10 @@ struct Peer {
     tx: SyncSender<Out>,
     raw: bool,
     dropped: u64,
+    /// A channel is open (the handshake is done).
+    opened: bool,
+    /// The connection, to close it from outside its threads.
+    stream: TcpStream,
 }
 
 /// What a client's writer sends.
@@ -99,6 +113,8 @@ struct Shared {
     to_node: SyncSender<(CanFrame, SystemTime)>,
     stop: AtomicBool,
     next_id: AtomicU64,
+    /// Frames from clients dropped because the node's queue was full.
+    dropped_to_node: AtomicU64,
 }
 
 impl Shared {
@@ -136,6 +152,7 @@ impl SocketcandServer {
             to_node,
             stop: AtomicBool::new(false),
             next_id: AtomicU64::new(1),
+            dropped_to_node: AtomicU64::new(0),
         });
         let s = Arc::clone(&shared);
         let accept = std::thread::Builder::new()
@@ -187,6 +204,10 @@ impl CanBus for SocketcandServer {
     fn describe(&self) -> String {
         format!("socketcand-listen:{}", self.addr)
     }
+
+    fn listen_addr(&self) -> Option<SocketAddr> {
+        Some(self.addr)
+    }
 }
 
 fn accept_loop(listener: &TcpListener, shared: &Arc<Shared>) {
@@ -212,11 +233,29 @@ fn accept_loop(listener: &TcpListener, shared: &Arc<Shared>) {
 fn serve(stream: TcpStream, peer: SocketAddr, shared: &Arc<Shared>) -> std::io::Result<()> {
     stream.set_nonblocking(false)?;
     stream.set_nodelay(true)?;
-    if shared.peers().list.len() >= MAX_CLIENTS {
-        let mut s = stream;
-        let _ = s.write_all(b"< error too many clients >");
-        let _ = s.shutdown(Shutdown::Both);
-        return Ok(());
+    {
+        let mut peers = shared.peers();
+        if peers.list.len() >= MAX_CLIENTS {
+            // The oldest client without a channel makes room; with every client in session, the new
+            // one is refused.
+            match peers.list.iter().position(|p| !p.opened) {
+                Some(k) => {
+                    let silent = peers.list.remove(k);
+                    let _ = silent.stream.shutdown(Shutdown::Both);
+                    tracing::info!(
+                        client = silent.id,
+                        "socketcand client without a channel closed for a new one"
+                    );
+                }
+                None => {
+                    drop(peers);
+                    let mut s = stream;
+                    let _ = s.write_all(b"< error too many clients >");
+                    let _ = s.shutdown(Shutdown::Both);
+                    return Ok(());
+                }
+            }
+        }
     }
     let id = shared.next_id.fetch_add(1, Ordering::Relaxed);
     let (tx, rx) = mpsc::sync_channel::<Out>(CLIENT_QUEUE);
@@ -230,6 +269,8 @@ fn serve(stream: TcpStream, peer: SocketAddr, shared: &Arc<Shared>) -> std::io::
         tx,
         raw: false,
         dropped: 0,
+        opened: false,
+        stream: stream.try_clone()?,
     });
     tracing::info!(%peer, client = id, "socketcand client connected");
     std::thread::Builder::new()
@@ -291,7 +332,16 @@ fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared, spoke: &SyncSender
     let mut buf = [0u8; 4096];
     let mut opened = false;
     let mut raw = false;
+    let connected = Instant::now();
+    // No amplification: bytes received and error bytes answered.
+    let (mut received, mut answered) = (0u64, 0u64);
     while !shared.stop.load(Ordering::Relaxed) {
+        if !opened && connected.elapsed() >= OPEN_DEADLINE {
+            let text = Message::Error("no channel opened in time".into()).emit();
+            // Queued before the peer goes: its writer sends it, then closes the connection.
+            shared.peers().reply(id, &text);
+            return;
+        }
         let n = match stream.read(&mut buf) {
             Ok(0) => return,
             Ok(n) => n,
@@ -299,6 +349,7 @@ fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared, spoke: &SyncSender
             Err(e) if e.kind() == ErrorKind::Interrupted => continue,
             Err(_) => return,
         };
+        received += n as u64;
         splitter.push(&buf[..n]);
         while let Some(element) = splitter.next_element() {
             // Whatever the client says after `< rawmode >` shows it has read the acknowledgement.
@@ -318,8 +369,16 @@ fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared, spoke: &SyncSender
                     handle(c, id, &mut opened, shared)
                 }
             };
-            if let Some(a) = answer {
-                shared.peers().reply(id, &a.emit());
+            match answer {
+                Some(a @ Message::Error(_)) => {
+                    let text = a.emit();
+                    if answered + text.len() as u64 <= ERROR_ALLOWANCE + received / 4 {
+                        answered += text.len() as u64;
+                        shared.peers().reply(id, &text);
+                    }
+                }
+                Some(a) => shared.peers().reply(id, &a.emit()),
+                None => {}
             }
         }
     }
@@ -331,6 +390,9 @@ fn handle(command: Command, id: u64, opened: &mut bool, shared: &Shared) -> Opti
         Command::Open(channel) if !*opened => {
             tracing::debug!(client = id, channel, "socketcand open");
             *opened = true;
+            if let Some(p) = shared.peers().list.iter_mut().find(|p| p.id == id) {
+                p.opened = true;
+            }
             Some(Message::Ok)
         }
         Command::Open(_) => Some(Message::Error("a channel is open already".into())),
@@ -360,7 +422,14 @@ fn handle(command: Command, id: u64, opened: &mut bool, shared: &Shared) -> Opti
             let element: Arc<str> = Arc::from(frame_element(&frame, at));
             shared.peers().broadcast(id, &element);
             if shared.to_node.try_send((frame, at)).is_err() {
-                tracing::warn!(client = id, "node receive queue full, {frame} dropped");
+                let n = shared.dropped_to_node.fetch_add(1, Ordering::Relaxed) + 1;
+                if n.is_power_of_two() {
+                    tracing::warn!(
+                        client = id,
+                        dropped = n,
+                        "node receive queue full: frames dropped"
+                    );
+                }
             }
             None
         }
@@ -642,6 +711,98 @@ mod tests {
         read_until(&mut t, "< echo >");
         t.write_all(b"< send 123 1 AB >").unwrap();
         assert_eq!(next_frame(&mut s), f(0x123, &[0xAB]));
+    }
+
+    /// More silent connections than [`MAX_CLIENTS`] cannot lock a client out: a new client takes the
+    /// place of the oldest one without a channel, and its handshake is answered at once (within a
+    /// second on a busy machine); clients in session keep theirs.
+    #[test]
+    fn silent_connections_do_not_lock_clients_out() {
+        let mut s = server();
+        let mut session = connect(&s);
+        let silent: Vec<TcpStream> = (0..MAX_CLIENTS + 8)
+            .map(|_| TcpStream::connect(s.local_addr()).unwrap())
+            .collect();
+        std::thread::sleep(Duration::from_millis(300));
+        let started = Instant::now();
+        let mut probe = SocketcandClient::connect("127.0.0.1", s.local_addr().port(), "can0")
+            .expect("served despite the silent connections");
+        assert!(
+            started.elapsed() < Duration::from_secs(1),
+            "{:?}",
+            started.elapsed()
+        );
+        std::thread::sleep(RAW_MODE_SETTLE + Duration::from_millis(20));
+        // Both sessions are on the bus.
+        probe.send(&f(0x123, &[1])).unwrap();
+        assert_eq!(next_frame(&mut s), f(0x123, &[1]));
+        assert_eq!(next_frame(&mut session), f(0x123, &[1]));
+        assert!(s.clients() <= MAX_CLIENTS, "{}", s.clients());
+        drop(silent);
+    }
+
+    /// A client that opens no channel within [`OPEN_DEADLINE`] is told so and closed (not before).
+    #[test]
+    fn a_client_without_a_channel_is_closed_after_the_deadline() {
+        let s = server();
+        let mut t = TcpStream::connect(s.local_addr()).unwrap();
+        t.set_read_timeout(Some(OPEN_DEADLINE * 3)).unwrap();
+        let started = Instant::now();
+        let mut got = Vec::new();
+        let mut buf = [0u8; 256];
+        loop {
+            match t.read(&mut buf) {
+                Ok(0) | Err(_) => break,
+                Ok(n) => got.extend_from_slice(&buf[..n]),
+            }
+        }
+        assert!(
+            started.elapsed() >= OPEN_DEADLINE,
+            "{:?}",
+            started.elapsed()
+        );
+        assert_eq!(
+            String::from_utf8_lossy(&got),
+            "< hi >< error no channel opened in time >"
+        );
+    }
+
+    /// A flood of bad input gets less back than it sends: at most [`ERROR_ALLOWANCE`] bytes of
+    /// errors plus a quarter of the input, and the session goes on.
+    #[test]
+    fn bad_input_is_not_amplified() {
+        let s = server();
+        let mut t = TcpStream::connect(s.local_addr()).unwrap();
+        t.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        let reader = {
+            let mut t = t.try_clone().unwrap();
+            std::thread::spawn(move || {
+                let mut got = Vec::new();
+                let mut buf = [0u8; 65536];
+                while !got.ends_with(b"< echo >") {
+                    match t.read(&mut buf) {
+                        Ok(0) | Err(_) => break,
+                        Ok(n) => got.extend_from_slice(&buf[..n]),
+                    }
+                }
+                got
+            })
+        };
+        t.write_all(b"< open can0 >").unwrap();
+        let junk: Vec<u8> = b"<x>".repeat(100_000);
+        t.write_all(&junk).unwrap();
+        t.write_all(b"< echo >").unwrap();
+        let got = reader.join().unwrap();
+        assert!(got.ends_with(b"< echo >"), "the session goes on");
+        let limit =
+            ERROR_ALLOWANCE as usize + (13 + junk.len() + 8) / 4 + b"< hi >< ok >< echo >".len();
+        assert!(
+            got.len() <= limit,
+            "{} bytes back for {} sent",
+            got.len(),
+            junk.len()
+        );
+        assert!(got.is_ascii());
     }
 
     #[test]
