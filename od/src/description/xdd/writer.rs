@@ -1,7 +1,7 @@
 //! XDD writer (CiA 311): both profile bodies, every entry with its attributes inline, and a parameter list
 //! only for what the object list cannot say (descriptions, structure type names, string capacities).
 
-use crate::device::{CanInfo, DeviceDescription, FileInfo};
+use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo};
 use crate::object::{AccessType, Object, ObjectKind, SubObject};
 use crate::types::DataType;
 use crate::value::Value;
@@ -59,8 +59,10 @@ pub fn write(desc: &DeviceDescription) -> String {
         write_object(&mut w, object);
     }
     w.end();
-    // The CAN parts only for a description that has them (a POWERLINK one has not).
-    if let Some(can) = &desc.can {
+    // The CAN parts only for a description that has them (a POWERLINK one has not), or the defaults
+    // the network management of a configured node needs (read back as CAN parts: the same text).
+    let default_can = CanInfo::default();
+    if let Some(can) = written_can(desc, &default_can) {
         w.start("dummyUsage", &[]);
         // The schema knows Dummy0001 to Dummy0007 only.
         for d in 1..=7u16 {
@@ -76,20 +78,32 @@ pub fn write(desc: &DeviceDescription) -> String {
     w.finish()
 }
 
-/// The transport layers and network management of a CANopen network body: the CAN capabilities, when
-/// the description has them, and the commissioning values of a configured node.
-fn write_network(w: &mut XmlWriter, desc: &DeviceDescription) {
-    let configured = desc.commissioning.as_ref().and_then(|c| {
+/// The commissioning values of a configured node (a node-ID of 1 to 127) and that node-ID.
+fn configured(desc: &DeviceDescription) -> Option<(&Commissioning, u8)> {
+    desc.commissioning.as_ref().and_then(|c| {
         c.node_id
             .filter(|id| (1..=127).contains(id))
             .map(|id| (c, id))
-    });
+    })
+}
+
+/// The CAN parts written: the description's, or for a configured node without them the defaults
+/// (CANopenGeneralFeatures is required in NetworkManagement, as an EDS writes them); none otherwise.
+fn written_can<'a>(desc: &'a DeviceDescription, default: &'a CanInfo) -> Option<&'a CanInfo> {
+    match (&desc.can, configured(desc)) {
+        (Some(can), _) => Some(can),
+        (None, Some(_)) => Some(default),
+        (None, None) => None,
+    }
+}
+
+/// The transport layers and network management of a CANopen network body: the CAN capabilities, when
+/// the description has them, and the commissioning values of a configured node.
+fn write_network(w: &mut XmlWriter, desc: &DeviceDescription) {
+    let configured = configured(desc);
     let default_can = CanInfo::default();
-    let can = match (&desc.can, configured) {
-        (Some(can), _) => can,
-        // CANopenGeneralFeatures is required in NetworkManagement: the defaults, as an EDS writes them.
-        (None, Some(_)) => &default_can,
-        (None, None) => return,
+    let Some(can) = written_can(desc, &default_can) else {
+        return;
     };
     w.start("TransportLayers", &[]);
     w.start("PhysicalLayer", &[]);
