@@ -390,23 +390,16 @@ pub fn run(
             writeln!(out, "{} node(s)", nodes.len()).map_err(io)?;
         }
         Cmd::Gateway { listen } => {
-            let mut gw = crate::gateway::Gateway::new(tool);
+            let gw = std::sync::Arc::new(std::sync::Mutex::new(crate::gateway::Gateway::new(tool)));
             match listen {
                 None => {
                     let stdin = std::io::stdin();
-                    serve(&mut gw, stdin.lock(), out).map_err(io)?;
+                    crate::gateway::serve(&gw, stdin.lock(), out).map_err(io)?;
                 }
                 Some(addr) => {
                     let listener = std::net::TcpListener::bind(addr)
                         .map_err(|e| ToolError::Usage(format!("--listen {addr}: {e}")))?;
-                    for stream in listener.incoming() {
-                        let Ok(stream) = stream else { continue };
-                        let Ok(reader) = stream.try_clone() else {
-                            continue;
-                        };
-                        let mut writer = stream;
-                        let _ = serve(&mut gw, std::io::BufReader::new(reader), &mut writer);
-                    }
+                    gateway_connections(&listener, &gw);
                 }
             }
             return Ok(());
@@ -567,21 +560,45 @@ fn rate(bytes: u64, took: Duration) -> String {
     )
 }
 
-/// Answers every request line of `input` on `output`, until the input ends.
-fn serve(
-    gw: &mut crate::gateway::Gateway,
-    input: impl std::io::BufRead,
-    output: &mut dyn Write,
-) -> std::io::Result<()> {
-    for line in input.lines() {
-        let line = line?;
-        if let Some(reply) = gw.handle(&line) {
-            writeln!(output, "{reply}")?;
-            output.flush()?;
+/// The gateway's TCP clients, each on its own thread (a silent one holds only its own), sharing
+/// the gateway one request at a time; at most [`GATEWAY_CLIENTS`] at once, the next refused with
+/// `ERROR:102`.
+fn gateway_connections(
+    listener: &std::net::TcpListener,
+    gw: &std::sync::Arc<std::sync::Mutex<crate::gateway::Gateway>>,
+) {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let active = std::sync::Arc::new(AtomicUsize::new(0));
+    for stream in listener.incoming() {
+        let Ok(mut stream) = stream else { continue };
+        if active.load(Ordering::Relaxed) >= GATEWAY_CLIENTS {
+            let _ = writeln!(
+                stream,
+                "ERROR:102 #Request not processed due to internal state (too many clients)"
+            );
+            continue;
+        }
+        let Ok(reader) = stream.try_clone() else {
+            continue;
+        };
+        let (gw, mine) = (std::sync::Arc::clone(gw), std::sync::Arc::clone(&active));
+        active.fetch_add(1, Ordering::Relaxed);
+        let spawned = std::thread::Builder::new()
+            .name("gateway-client".into())
+            .spawn(move || {
+                let mut writer = stream;
+                let _ = crate::gateway::serve(&gw, std::io::BufReader::new(reader), &mut writer);
+                mine.fetch_sub(1, Ordering::Relaxed);
+            });
+        if spawned.is_err() {
+            // No thread for it: the client's connection is dropped with the closure.
+            active.fetch_sub(1, Ordering::Relaxed);
         }
     }
-    Ok(())
 }
+
+/// Gateway clients served at once at most.
+pub const GATEWAY_CLIENTS: usize = 16;
 
 /// Writes `text`, or with `--json` the JSON object `value`, as one line.
 fn emit(

@@ -221,3 +221,61 @@ impl Gateway {
         }
     }
 }
+
+/// The longest request line a gateway takes: requests are short, a written string value fits with
+/// room. A longer line is answered `ERROR:101 #Syntax error` and skipped without being kept.
+pub const MAX_LINE: usize = 4096;
+
+/// Answers every request line of `input` on `output` until the input ends, taking the gateway for
+/// one line at a time (several connections may share it). No line is held beyond [`MAX_LINE`].
+pub fn serve(
+    gateway: &std::sync::Mutex<Gateway>,
+    mut input: impl std::io::BufRead,
+    output: &mut dyn std::io::Write,
+) -> std::io::Result<()> {
+    let mut line: Vec<u8> = Vec::new();
+    let mut too_long = false;
+    let mut answer = |line: &mut Vec<u8>, too_long: &mut bool| -> std::io::Result<()> {
+        let reply = if *too_long {
+            Some(gateway_error(101))
+        } else {
+            let text = String::from_utf8_lossy(line);
+            let mut gw = gateway
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            gw.handle(text.trim_end_matches('\r'))
+        };
+        line.clear();
+        *too_long = false;
+        if let Some(reply) = reply {
+            writeln!(output, "{reply}")?;
+            output.flush()?;
+        }
+        Ok(())
+    };
+    loop {
+        let buf = input.fill_buf()?;
+        if buf.is_empty() {
+            // The input ended: a last line without its newline is a request too.
+            if !line.is_empty() || too_long {
+                answer(&mut line, &mut too_long)?;
+            }
+            return Ok(());
+        }
+        let newline = buf.iter().position(|&b| b == b'\n');
+        let part = &buf[..newline.unwrap_or(buf.len())];
+        if !too_long {
+            if line.len() + part.len() > MAX_LINE {
+                too_long = true;
+                line.clear();
+            } else {
+                line.extend_from_slice(part);
+            }
+        }
+        let taken = newline.map_or(buf.len(), |p| p + 1);
+        input.consume(taken);
+        if newline.is_some() {
+            answer(&mut line, &mut too_long)?;
+        }
+    }
+}

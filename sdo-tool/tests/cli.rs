@@ -565,3 +565,65 @@ fn an_ethercat_interface_name_over_15_bytes_is_refused() {
         "the library refuses it too"
     );
 }
+
+/// The gateway holds no line beyond `MAX_LINE`: a longer one is answered with a syntax error and
+/// skipped, the next request is answered as usual (CR LF or LF), and a last line without its newline
+/// is a request too.
+#[test]
+fn the_gateway_takes_lines_of_bounded_length() {
+    use sdo_tool::gateway::{serve, Gateway, MAX_LINE};
+    use sdo_tool::Tool;
+    let n = Running::start();
+    let mut tool = Tool::new(Box::new(n.bus.endpoint()), None);
+    tool.set_timeout(std::time::Duration::from_millis(100));
+    let gw = std::sync::Mutex::new(Gateway::new(tool));
+    let mut input = vec![b'x'; 1_000_000];
+    input.extend_from_slice(b"\n[1] 5 r 0x1018 0 u8\r\n");
+    input.extend(std::iter::repeat_n(b'y', MAX_LINE));
+    input.extend_from_slice(b"\n[2] 5 r 0x1018 0 u8");
+    let mut out = Vec::new();
+    serve(&gw, std::io::Cursor::new(input), &mut out).unwrap();
+    assert_eq!(
+        String::from_utf8(out).unwrap(),
+        "ERROR:101 #Syntax error\n[1] 4\nERROR:100 #Request not supported\n[2] 4\n"
+    );
+}
+
+/// Over TCP a silent client holds only its own connection: another one is answered at once.
+#[test]
+fn a_silent_gateway_client_does_not_block_the_others() {
+    use std::io::{BufRead, Write};
+    let n = Running::start();
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let listen = format!("127.0.0.1:{port}");
+    let args = Args::try_parse_from(["sdo-tool", "gateway", "--listen", &listen]).unwrap();
+    let bus: Box<dyn CanBus> = Box::new(n.bus.endpoint());
+    std::thread::spawn(move || {
+        let mut out = Vec::new();
+        let _ = run(&args, Some(bus), &mut out);
+    });
+    let connect = || {
+        for _ in 0..100 {
+            if let Ok(s) = std::net::TcpStream::connect(("127.0.0.1", port)) {
+                return s;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        panic!("the gateway does not listen");
+    };
+    let _silent = connect();
+    let mut talker = connect();
+    talker
+        .set_read_timeout(Some(std::time::Duration::from_secs(5)))
+        .unwrap();
+    talker.write_all(b"[1] 5 r 0x1018 0 u8\n").unwrap();
+    let mut reply = String::new();
+    std::io::BufReader::new(talker)
+        .read_line(&mut reply)
+        .unwrap();
+    assert_eq!(reply, "[1] 4\n");
+}
