@@ -204,7 +204,7 @@ fn bad_arguments_exit_2_with_the_reason() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(err.contains("params is not a regular file"), "{err}");
+    assert!(err.contains("params: not a regular file"), "{err}");
 }
 
 /// Store parameters (0x1010) into a file; a process killed at any moment leaves the old set or the

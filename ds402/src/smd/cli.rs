@@ -202,21 +202,9 @@ pub const MAX_SCRIPT: u64 = 16 << 20;
 /// A script's text: a regular file (a FIFO or a device is refused before it is opened) of at most
 /// [`MAX_SCRIPT`] bytes, in UTF-8.
 fn read_script(path: &std::path::Path) -> std::io::Result<String> {
-    use std::io::{Error, ErrorKind, Read as _};
-    if !std::fs::metadata(path)?.is_file() {
-        return Err(Error::new(ErrorKind::InvalidInput, "not a regular file"));
-    }
-    let mut text = String::new();
-    std::fs::File::open(path)?
-        .take(MAX_SCRIPT + 1)
-        .read_to_string(&mut text)?;
-    if text.len() as u64 > MAX_SCRIPT {
-        return Err(Error::new(
-            ErrorKind::InvalidInput,
-            format!("more than the {MAX_SCRIPT} bytes a script may have"),
-        ));
-    }
-    Ok(text)
+    let bytes = crate::od::load::read_limited(path, MAX_SCRIPT)?;
+    String::from_utf8(bytes)
+        .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
 }
 
 fn simulate(a: &SimulateArgs, out: &mut dyn Write) -> Result<i32, CliError> {

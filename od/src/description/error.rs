@@ -163,3 +163,20 @@ pub enum LoadError {
     #[error("{0}: not an ESI, XDD, EDS or DCF file (expected EtherCATInfo or ISO15745ProfileContainer XML, or an INI file with [FileInfo]/[DeviceInfo])")]
     UnknownFormat(PathBuf),
 }
+
+impl From<LoadError> for std::io::Error {
+    /// The reading failure as an I/O error for a caller that names the file itself: the system's
+    /// error as it was, a refusal by kind and size without the path.
+    fn from(e: LoadError) -> std::io::Error {
+        use std::io::{Error, ErrorKind};
+        match e {
+            LoadError::Io { source, .. } => source,
+            LoadError::NotAFile(_) => Error::new(ErrorKind::InvalidInput, "not a regular file"),
+            LoadError::TooLarge { size, limit, .. } => Error::new(
+                ErrorKind::InvalidInput,
+                format!("{size} bytes, more than the {limit} such a file may have"),
+            ),
+            other => Error::new(ErrorKind::InvalidData, other),
+        }
+    }
+}

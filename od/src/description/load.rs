@@ -163,6 +163,39 @@ pub fn read_limited(path: &Path, limit: u64) -> Result<Vec<u8>, LoadError> {
 
 #[cfg(test)]
 mod tests {
+
+    /// A refusal becomes an I/O error that leaves the path to its caller; the system's error is kept.
+    #[test]
+    fn load_errors_as_io_errors() {
+        use std::io::ErrorKind;
+        let e = std::io::Error::from(LoadError::NotAFile("/dev/zero".into()));
+        assert_eq!(
+            (e.kind(), e.to_string()),
+            (ErrorKind::InvalidInput, "not a regular file".into())
+        );
+        let e = std::io::Error::from(LoadError::TooLarge {
+            path: "big".into(),
+            size: 10,
+            limit: 9,
+        });
+        assert_eq!(
+            e.to_string(),
+            "10 bytes, more than the 9 such a file may have"
+        );
+        let gone = std::io::Error::new(ErrorKind::NotFound, "gone");
+        let e = std::io::Error::from(LoadError::Io {
+            path: "x".into(),
+            source: gone,
+        });
+        assert_eq!(
+            (e.kind(), e.to_string()),
+            (ErrorKind::NotFound, "gone".into())
+        );
+        let e = std::io::Error::from(LoadError::UnknownFormat("f.txt".into()));
+        assert_eq!(e.kind(), ErrorKind::InvalidData);
+        assert!(e.to_string().starts_with("f.txt: not an ESI"), "{e}");
+    }
+
     use super::*;
 
     #[test]
