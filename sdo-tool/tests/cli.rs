@@ -534,12 +534,15 @@ fn against_python_canopen_local_node() {
 /// or NUL): a longer one is a usage error of one line, exit 2, before any socket is opened.
 #[test]
 fn an_ethercat_interface_name_over_15_bytes_is_refused() {
-    for name in ["a234567890123456", "veth/0", "has space", ""] {
+    for name in ["a234567890123456", "veth/0", "has space", "", ".", ".."] {
         let o = common::sdo_tool(&["--ethercat", name], &["read", "1", "0x1000", "u32"]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{name:?}: {err}");
         assert!(err.contains("not an interface name"), "{name:?}: {err}");
     }
+    // A NUL cannot reach a command line; the library refuses it.
+    assert!(sdo_tool::ethercat::check_interface_name("ve\0th").is_err());
+    assert!(sdo_tool::ethercat::check_interface_name("veth0.1").is_ok());
     // 15 bytes is a name (no such interface here: a transport failure, exit 3).
     let o = common::sdo_tool(
         &["--ethercat", "a23456789012345"],
