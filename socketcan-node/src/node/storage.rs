@@ -312,7 +312,11 @@ mod tests {
         let e = FileStorage::new(&fifo).load().unwrap_err();
         assert_eq!(e.kind(), io::ErrorKind::InvalidInput);
         assert_eq!(e.to_string(), "not a regular file");
-        let e = FileStorage::new(dir.path()).load().unwrap_err();
+        // A folder as the file (inside the test's own folder, so that the clean-up of stale copies
+        // looks there and nowhere else).
+        let folder = dir.path().join("folder");
+        fs::create_dir(&folder).unwrap();
+        let e = FileStorage::new(&folder).load().unwrap_err();
         assert_eq!(e.to_string(), "not a regular file");
         let big = dir.path().join("big");
         let f = fs::File::create(&big).unwrap();
