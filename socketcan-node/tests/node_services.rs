@@ -617,3 +617,17 @@ fn an_nmt_reset_ends_an_sdo_block_download() {
         );
     }
 }
+
+/// The other NMT commands leave an SDO transfer alone: a segmented upload goes on across a start.
+#[test]
+fn an_nmt_start_does_not_end_an_sdo_transfer() {
+    let mut n = node();
+    assert_eq!(
+        n.send(f(0x605, &[0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0])),
+        vec![f(0x585, &[0x41, 0x08, 0x10, 0x00, 24, 0, 0, 0])]
+    );
+    n.nmt(0x01, ID);
+    assert_eq!(n.node.state(), NmtState::Operational);
+    let out = n.send(f(0x605, &[0x60, 0, 0, 0, 0, 0, 0, 0]));
+    assert_eq!(out, vec![f(0x585, b"\x00X67BC43")]);
+}
