@@ -483,3 +483,13 @@ fn a_flood_of_random_frames_leaves_the_emulator_answering() {
          {answered} answered, {dropped} dropped"
     );
 }
+
+/// The emulator's raw socket asks for a 16 MiB receive buffer and gets it (as root, past
+/// rmem_max): the kernel reports twice the size asked, its bookkeeping included. Opened on the
+/// loopback interface only; nothing is sent.
+#[test]
+fn the_raw_socket_has_a_large_receive_buffer() {
+    use ethercat_slave::raw::RECEIVE_BUFFER;
+    let socket = RawSocket::open("lo").expect("a raw socket on lo (root)");
+    assert_eq!(socket.receive_buffer().unwrap(), 2 * RECEIVE_BUFFER);
+}
