@@ -322,15 +322,10 @@ impl<A: Application> Node<A> {
         if cob == 0x000 {
             if frame.len() == 2 && !frame.is_rtr() {
                 let d = frame.data();
-                if d[1] == 0 || d[1] == core.id {
-                    let resets =
-                        matches!(d[0], 0x81 | 0x82) && core.state != NmtState::Initialising;
-                    core.nmt(now, d[0]);
-                    if resets {
-                        // A reset starts the SDO server again too (CiA 301 §7.3.2.2.1): a transfer
-                        // in progress ends without an abort, its timer with it.
-                        self.sdo = SdoServer::new(*self.sdo.config());
-                    }
+                // A reset starts the SDO server again too (CiA 301 §7.3.2.2.1): a transfer in
+                // progress ends without an abort, its timer with it.
+                if (d[1] == 0 || d[1] == core.id) && core.nmt(now, d[0]) {
+                    self.sdo = SdoServer::new(*self.sdo.config());
                 }
             }
             return;

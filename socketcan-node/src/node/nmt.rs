@@ -31,10 +31,10 @@ impl<A: Application> Core<A> {
         }
     }
 
-    /// NMT command `cs` for this node.
-    pub(super) fn nmt(&mut self, now: Instant, cs: u8) {
+    /// NMT command `cs` for this node; true when it reset the node (node or communication).
+    pub(super) fn nmt(&mut self, now: Instant, cs: u8) -> bool {
         if self.state == NmtState::Initialising {
-            return;
+            return false;
         }
         match cs {
             0x01 => self.set_state(now, NmtState::Operational),
@@ -44,6 +44,7 @@ impl<A: Application> Core<A> {
             0x82 => self.reset(now, false),
             _ => {}
         }
+        matches!(cs, 0x81 | 0x82)
     }
 
     /// Reset node (`full`) or reset communication, then boot-up and Pre-operational.
