@@ -267,21 +267,9 @@ fn a_master_that_never_reads_sm1_gets_backpressure_not_a_queue() {
     // One answer in SM1, one waiting for it, one request in SM0: three taken, the rest refused.
     assert_eq!(written, [1, 2, 3]);
     for sub in [1u8, 2, 3] {
-        let answer = mailbox_answer(&mut c);
+        let answer = answer(&mut c, 0);
         assert_eq!(coe_answer(&answer).unwrap()[..4], [0x43, 0x18, 0x10, sub]);
     }
     let (status, _) = fprd(&mut c, 0, 0x080D, 1);
     assert_eq!(status[0] & 0x08, 0, "nothing more to read");
-}
-
-/// Reads SM1 once it is full (a few cycles at most).
-fn mailbox_answer(c: &mut SimChain) -> Vec<u8> {
-    for _ in 0..10 {
-        let (status, _) = fprd(c, 0, 0x080D, 1);
-        if status[0] & 0x08 != 0 {
-            return fprd(c, 0, MBX_IN, MBX_LEN).0;
-        }
-        c.cycle(Duration::from_millis(1));
-    }
-    panic!("SM1 did not fill");
 }

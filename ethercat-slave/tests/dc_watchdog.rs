@@ -91,10 +91,10 @@ fn smd_r1_023_dc_registers_latch_and_propagate_time() {
 
 /// Starts SYNC0 on unit k with `cycle` ns, first event `start_in` ns after its present system time;
 /// the first event's system time.
-fn start_sync0(c: &mut SimChain, k: usize, cycle: u32, start_in: u64) -> u64 {
+fn start_sync0(c: &mut SimChain, k: usize, cycle: u32, start_in: i64) -> u64 {
     fpwr(c, k, 0x0981, vec![0]);
     let now = u64_of(&fprd(c, k, 0x0910, 8).0);
-    let start = now + start_in;
+    let start = now.wrapping_add_signed(start_in);
     fpwr(c, k, 0x0990, start.to_le_bytes().to_vec());
     fpwr(c, k, 0x09A0, cycle.to_le_bytes().to_vec());
     fpwr(c, k, 0x0981, vec![0x03]);
@@ -158,7 +158,19 @@ fn op_with_sync0(c: &mut SimChain, cfg1: u16) -> (u64, Outputs) {
 
 /// Sends a Relative move, then runs the chain in 20 µs steps: the system time at which the unit
 /// reports motion (Moving_CW) first.
-fn motion_starts_at(c: &mut SimChain, mut o: Outputs) -> u64 {
+fn motion_starts_at(c: &mut SimChain, o: Outputs) -> u64 {
+    send_move(c, o);
+    for _ in 0..1_000 {
+        c.cycle(Duration::from_micros(20));
+        if c.unit(0).unwrap().inputs().status0 & stat0::MOVING_CW != 0 {
+            return u64_of(&fprd(c, 0, 0x0910, 8).0);
+        }
+    }
+    panic!("no motion");
+}
+
+/// Sends a Relative move of 1,000 steps with `o`'s other words in one LRW, without a cycle.
+fn send_move(c: &mut SimChain, mut o: Outputs) {
     o.cmd0 = cmd0::RELATIVE_MOVE;
     o.position = 1_000;
     let mut data: Vec<u8> = ethercat_slave::master::encode_outputs(&o).to_vec();
@@ -174,13 +186,6 @@ fn motion_starts_at(c: &mut SimChain, mut o: Outputs) -> u64 {
         },
     );
     assert_eq!(r.wkc, 3);
-    for _ in 0..1_000 {
-        c.cycle(Duration::from_micros(20));
-        if c.unit(0).unwrap().inputs().status0 & stat0::MOVING_CW != 0 {
-            return u64_of(&fprd(c, 0, 0x0910, 8).0);
-        }
-    }
-    panic!("no motion");
 }
 
 /// SMD-R1-022, SMD-T3-004: with SYNC0 running and CFG1.6 DC_Sync = 1, a move commanded between two
@@ -325,12 +330,7 @@ fn smd_r1_036_link_loss_leaves_safe_op_until_requested() {
 fn smd_r1_022_a_past_start_time_puts_the_first_sync0_before_the_move() {
     let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
     let (_, o) = op_with_sync0(&mut c, 0x0043);
-    fpwr(&mut c, 0, 0x0981, vec![0]);
-    let now = u64_of(&fprd(&mut c, 0, 0x0910, 8).0);
-    let start = now - 1_000_000;
-    fpwr(&mut c, 0, 0x0990, start.to_le_bytes().to_vec());
-    fpwr(&mut c, 0, 0x09A0, 2_000_000u32.to_le_bytes().to_vec());
-    fpwr(&mut c, 0, 0x0981, vec![0x03]);
+    let start = start_sync0(&mut c, 0, 2_000_000, -1_000_000);
     let started = motion_starts_at(&mut c, o);
     let next = start + 2_000_000;
     assert!(
@@ -347,27 +347,9 @@ fn smd_r1_022_a_past_start_time_puts_the_first_sync0_before_the_move() {
 #[test]
 fn smd_r1_022_the_sync0_event_falls_inside_the_cycle() {
     let mut c = SimChain::new(Device::Smd23kB, 1).unwrap();
-    let (_, mut o) = op_with_sync0(&mut c, 0x0043);
-    fpwr(&mut c, 0, 0x0981, vec![0]);
-    let now = u64_of(&fprd(&mut c, 0, 0x0910, 8).0);
-    fpwr(&mut c, 0, 0x0990, (now + 100_000).to_le_bytes().to_vec());
-    fpwr(&mut c, 0, 0x09A0, 2_000_000u32.to_le_bytes().to_vec());
-    fpwr(&mut c, 0, 0x0981, vec![0x03]);
-    o.cmd0 = cmd0::RELATIVE_MOVE;
-    o.position = 1_000;
-    let mut data: Vec<u8> = ethercat_slave::master::encode_outputs(&o).to_vec();
-    data.resize(40, 0);
-    let r = one(
-        &mut c,
-        ethercat_slave::frame::Datagram {
-            cmd: cmd::LRW,
-            index: 0,
-            address: 0,
-            data,
-            wkc: 0,
-        },
-    );
-    assert_eq!(r.wkc, 3);
+    let (_, o) = op_with_sync0(&mut c, 0x0043);
+    start_sync0(&mut c, 0, 2_000_000, 100_000);
+    send_move(&mut c, o);
     c.cycle(Duration::from_millis(1));
     let status0 = c.unit(0).unwrap().inputs().status0;
     assert_ne!(status0 & stat0::MOVING_CW, 0, "status {status0:#06x}");

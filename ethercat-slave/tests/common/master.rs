@@ -68,6 +68,11 @@ pub fn mailbox(c: &mut SimChain, k: usize, request: &[u8]) -> Vec<u8> {
     let mut m = request.to_vec();
     m.resize(MBX_LEN, 0);
     fpwr(c, k, MBX_OUT, m);
+    answer(c, k)
+}
+
+/// Waits (a few 1 ms cycles at most) for unit k's SM1 to fill and reads it.
+pub fn answer(c: &mut SimChain, k: usize) -> Vec<u8> {
     for _ in 0..10 {
         let (status, _) = fprd(c, k, 0x080D, 1);
         if status[0] & 0x08 != 0 {
