@@ -18,6 +18,11 @@
 //!   goes on for everyone else. At most [`MAX_CLIENTS`] clients at once; when they are all there, a new
 //!   client takes the place of the oldest one that has not opened a channel (a silent connection
 //!   cannot lock the others out), and a client that opens none within [`OPEN_DEADLINE`] is closed.
+//!   A client that takes none of what the server writes for [`STALL_TIMEOUT`] is closed too.
+//! - Each client may put [`CLIENT_FRAME_RATE`] frames a second on the bus (with a burst of
+//!   [`CLIENT_FRAME_BURST`]), about what one 1 Mbit/s CAN bus carries; beyond that its input is read
+//!   more slowly and TCP holds it back. No client can flood the node or the others, and the node's
+//!   heartbeat, SYNC and PDOs keep their instants.
 //! - Answers never amplify input: a client's `< error … >` answers total at most [`ERROR_ALLOWANCE`]
 //!   bytes plus a quarter of what it sent, each text escaped to printable ASCII; a run of stray bytes
 //!   is one error; drops are logged at powers of two.
@@ -51,6 +56,17 @@ pub const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(5);
 pub const ERROR_ALLOWANCE: u64 = 4096;
 /// How long a connected client has to open a channel before the server closes it.
 pub const OPEN_DEADLINE: Duration = Duration::from_secs(10);
+/// Frames one client may put on the bus per second, on average: about what a 1 Mbit/s CAN bus
+/// carries (an 8-byte frame with an 11-bit identifier is 111 bits with its interframe space, at
+/// most 9,009 frames/s before bit stuffing). A client that sends faster is read more slowly, so TCP
+/// holds it back; the node and the other clients are not flooded by one client.
+pub const CLIENT_FRAME_RATE: u32 = 10_000;
+/// Frames a client may send at once above [`CLIENT_FRAME_RATE`] (an SDO block of 127 segments fits
+/// several times over).
+pub const CLIENT_FRAME_BURST: u32 = 1_000;
+/// How long a client's connection may take none of what the server writes to it before the server
+/// closes it: a client that stopped reading gives its place back.
+pub const STALL_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// Frames received from clients and not yet taken by the node, at most.
 const NODE_QUEUE: usize = 8192;
@@ -287,7 +303,46 @@ fn serve(stream: TcpStream, peer: SocketAddr, shared: &Arc<Shared>) -> std::io::
     Ok(())
 }
 
+/// A token bucket of frames: [`CLIENT_FRAME_RATE`] a second, at most [`CLIENT_FRAME_BURST`] saved.
+#[derive(Debug)]
+struct SendBudget {
+    /// Frames that may be sent now, in millionths of a frame.
+    micro: u64,
+    last: Instant,
+}
+
+impl SendBudget {
+    const FULL: u64 = CLIENT_FRAME_BURST as u64 * 1_000_000;
+
+    fn new(now: Instant) -> SendBudget {
+        SendBudget {
+            micro: Self::FULL,
+            last: now,
+        }
+    }
+
+    /// Takes one frame at `now`; `None` when it may go, else how long to wait first (for a batch of
+    /// 64 frames, so that a client at the limit is not woken for each frame).
+    fn take(&mut self, now: Instant) -> Option<Duration> {
+        let dt = now.saturating_duration_since(self.last);
+        self.last = self.last.max(now);
+        let earned = dt.as_micros() as u64 * u64::from(CLIENT_FRAME_RATE);
+        self.micro = self.micro.saturating_add(earned).min(Self::FULL);
+        if self.micro >= 1_000_000 {
+            self.micro -= 1_000_000;
+            return None;
+        }
+        let want = 64 * 1_000_000 - self.micro;
+        Some(Duration::from_micros(
+            want.div_ceil(u64::from(CLIENT_FRAME_RATE)),
+        ))
+    }
+}
+
 fn write_loop(mut stream: TcpStream, rx: &Receiver<Out>, spoke: &Receiver<()>) {
+    // A client that takes nothing for this long has stopped reading: the write fails and the
+    // connection closes.
+    let _ = stream.set_write_timeout(Some(STALL_TIMEOUT));
     let mut batch = String::new();
     let mut next: Option<Out> = None;
     loop {
@@ -333,6 +388,7 @@ fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared, spoke: &SyncSender
     let mut opened = false;
     let mut raw = false;
     let connected = Instant::now();
+    let mut budget = SendBudget::new(connected);
     // No amplification: bytes received and error bytes answered.
     let (mut received, mut answered) = (0u64, 0u64);
     while !shared.stop.load(Ordering::Relaxed) {
@@ -359,6 +415,15 @@ fn read_loop(mut stream: TcpStream, id: u64, shared: &Shared, spoke: &SyncSender
             let answer = match element.map(|e| Command::parse(&e)) {
                 Err(e) | Ok(Err(e)) => Some(Message::Error(e.to_string())),
                 Ok(Ok(c)) => {
+                    if matches!(c, Command::Send(_)) {
+                        // Beyond its budget the client waits here, unread (TCP holds it back).
+                        while let Some(wait) = budget.take(Instant::now()) {
+                            if shared.stop.load(Ordering::Relaxed) {
+                                return;
+                            }
+                            std::thread::sleep(wait);
+                        }
+                    }
                     if opened {
                         match c {
                             Command::RawMode => raw = true,
@@ -739,6 +804,106 @@ mod tests {
         assert_eq!(next_frame(&mut session), f(0x123, &[1]));
         assert!(s.clients() <= MAX_CLIENTS, "{}", s.clients());
         drop(silent);
+    }
+
+    /// The send budget: [`CLIENT_FRAME_BURST`] frames at once, then [`CLIENT_FRAME_RATE`] a second
+    /// (10 frames a millisecond), a wait for 64 frames (6.4 ms) when it is spent; time going back
+    /// earns nothing and idle time saves no more than the burst.
+    #[test]
+    fn the_send_budget_is_10000_frames_a_second_after_a_burst_of_1000() {
+        let t0 = Instant::now();
+        let mut b = SendBudget::new(t0);
+        for k in 0..1000 {
+            assert_eq!(b.take(t0), None, "frame {k} of the burst");
+        }
+        assert_eq!(b.take(t0), Some(Duration::from_micros(6400)));
+        let t1 = t0 + Duration::from_millis(1);
+        for k in 0..10 {
+            assert_eq!(b.take(t1), None, "frame {k} of the millisecond");
+        }
+        assert_eq!(b.take(t1), Some(Duration::from_micros(6400)));
+        assert_eq!(
+            b.take(t0),
+            Some(Duration::from_micros(6400)),
+            "earlier time"
+        );
+        // 100 µs more: one frame; then 64 frames need 6.4 ms less the 0 µs saved.
+        let t2 = t1 + Duration::from_micros(100);
+        assert_eq!(b.take(t2), None);
+        assert_eq!(b.take(t2), Some(Duration::from_micros(6400)));
+        // 50 µs: half a frame saved, the wait is for the other 63.5.
+        let t3 = t2 + Duration::from_micros(50);
+        assert_eq!(b.take(t3), Some(Duration::from_micros(6350)));
+        let t4 = t3 + Duration::from_secs(10);
+        for k in 0..1000 {
+            assert_eq!(b.take(t4), None, "frame {k} after 10 s idle");
+        }
+        assert!(b.take(t4).is_some(), "no more than the burst saved");
+    }
+
+    /// A client that sends faster than [`CLIENT_FRAME_RATE`] is held back: 3,000 frames written at
+    /// once reach the node in no less than the time the 2,000 beyond the burst take at the rate
+    /// (200 ms), all of them, in order.
+    #[test]
+    fn a_client_beyond_its_budget_is_held_back_not_dropped() {
+        let mut s = server();
+        let mut t = TcpStream::connect(s.local_addr()).unwrap();
+        t.write_all(b"< open can0 >< rawmode >").unwrap();
+        let text: String = (0..3000u32)
+            .map(|k| format!("< send 123 2 {:02X} {:02X} >", k & 0xFF, k >> 8))
+            .collect();
+        let started = Instant::now();
+        t.write_all(text.as_bytes()).unwrap();
+        for k in 0..3000u32 {
+            assert_eq!(
+                next_frame(&mut s),
+                f(0x123, &[(k & 0xFF) as u8, (k >> 8) as u8]),
+                "frame {k}"
+            );
+        }
+        assert!(
+            started.elapsed() >= Duration::from_millis(200),
+            "{:?}",
+            started.elapsed()
+        );
+    }
+
+    /// A client in session that takes none of what is written to it for [`STALL_TIMEOUT`] is closed;
+    /// one that reads stays.
+    #[test]
+    fn a_client_that_stops_reading_is_closed_after_the_stall_timeout() {
+        let mut s = server();
+        let stalled = connect(&s);
+        let mut reader = connect(&s);
+        let stop = Arc::new(AtomicBool::new(false));
+        let st = Arc::clone(&stop);
+        let drain = std::thread::spawn(move || {
+            let mut n = 0u64;
+            while !st.load(Ordering::Relaxed) {
+                if let Ok(Some(BusEvent::Frame { .. })) = reader.recv(Duration::from_millis(10)) {
+                    n += 1;
+                }
+            }
+            (reader, n)
+        });
+        let started = Instant::now();
+        let frame = f(0x181, &[0xA5; 8]);
+        while s.clients() == 2 && started.elapsed() < STALL_TIMEOUT * 4 {
+            for _ in 0..200 {
+                s.send(&frame).unwrap();
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let closed_after = started.elapsed();
+        stop.store(true, Ordering::Relaxed);
+        let (_reader, read) = drain.join().unwrap();
+        assert_eq!(s.clients(), 1, "after {closed_after:?}");
+        assert!(
+            closed_after >= STALL_TIMEOUT,
+            "closed after {closed_after:?}"
+        );
+        assert!(read > 0);
+        drop(stalled);
     }
 
     /// A client that opens no channel within [`OPEN_DEADLINE`] is told so and closed (not before).
