@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A real EtherCAT master (SOEM, through pysoem) against `smd-ethercat`.
 
-    pysoem_master.py IFACE N [--sync0-too-fast]
+    pysoem_master.py IFACE N [--sync0-too-fast | --hold-op SECONDS]
 
 IFACE is the master's interface, N the number of units `smd-ethercat --units N` emulates on the far
 end of the link. Every check compares exact values; the first mismatch ends the run with a message on
@@ -25,6 +25,10 @@ Default scenario:
 --sync0-too-fast (SMD-T3-003): with SYNC0 at 1 ms (and 1.999999 ms, 50.000001 ms) the Safe-Op request
 is refused: the units stay in Pre-Op with the error flag and AL status code 0x0036; after an
 acknowledgement 50 ms and 2 ms are accepted.
+
+--hold-op SECONDS: the units to Op (SYNC0 2 ms) without the SDO checks; "in Op" is printed on stdout
+when they are there (the caller may now load the link), then the process data runs at ~1 ms for
+SECONDS with the working counter checked in every cycle and every unit read in (Op, 0) every 100 ms.
 """
 
 import argparse
@@ -477,12 +481,40 @@ def scenario_run(bus, n):
     )
 
 
+def scenario_hold_op(bus, n, seconds):
+    """Op held for `seconds`: every cycle at the expected working counter, (Op, 0) every 100 ms."""
+    sync0(bus, 2_000_000)
+    bus.restart_clock()
+    bus.request(SAFEOP, SAFEOP, 0)
+    bus.run(20)
+    bus.request(OP, OP, 0)
+    bus.run(10, want_wkc=True)
+    print("in Op", flush=True)
+    start = bus.cycles
+    reads = 0
+    end = time.monotonic() + seconds
+    next_read = time.monotonic()
+    while time.monotonic() < end:
+        bus.cycle(want_wkc=True)
+        if time.monotonic() >= next_read:
+            eq(bus.states(), [(OP, 0)] * n, f"(AL state, code) after {bus.cycles - start} cycles in Op")
+            reads += 1
+            next_read += 0.1
+    eq(bus.states(), [(OP, 0)] * n, "(AL state, code) at the end")
+    return (
+        f"pysoem master: {n} × {NAME} held Op for {seconds:g} s: {bus.cycles - start} cycles, "
+        f"wkc {bus.m.expected_wkc} in each, (Op, 0) at {reads + 1} state reads"
+    )
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("iface")
     ap.add_argument("units", type=int)
     ap.add_argument("--sync0-too-fast", action="store_true",
                     help="prove the SYNC0 cycle check instead of running the units")
+    ap.add_argument("--hold-op", type=float, metavar="SECONDS",
+                    help="hold the units in Op for SECONDS instead of the default scenario")
     args = ap.parse_args()
     try:
         import pysoem
@@ -504,9 +536,12 @@ def main():
         master.open(args.iface)
         bus = Bus(pysoem, master, n)
         enumerate_units(bus, n)
-        pre_op_sdo(pysoem, bus)
+        if args.hold_op is None:
+            pre_op_sdo(pysoem, bus)
         map_in_pre_op(bus, n)
-        if args.sync0_too_fast:
+        if args.hold_op is not None:
+            summary = scenario_hold_op(bus, n, args.hold_op)
+        elif args.sync0_too_fast:
             summary = scenario_sync0_too_fast(bus, n)
         else:
             summary = scenario_run(bus, n)
