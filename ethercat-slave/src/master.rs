@@ -137,6 +137,7 @@ pub trait Wire {
 /// [`SimChain::cycle`] moves the clock on and calls [`SmdChain::handle_timeout`] then. The units'
 /// cycle is 1 µs, so every [`SimChain::cycle`] of 1 µs or more runs one process-data cycle over the
 /// time since the last.
+#[derive(Clone)]
 pub struct SimChain {
     /// The chain.
     pub chain: SmdChain,

@@ -12,6 +12,21 @@ use ethercat_slave::master::SimChain;
 use ethercat_slave::master::{decode_outputs, encode_inputs, encode_outputs};
 use ethercat_slave::smd::binding::Device;
 
+/// A clone of a chain is a second chain in the same state that runs on its own: the clone goes to
+/// Pre-Op while the original stays in Init (SMD-T2-007), then the original goes to Pre-Op too.
+#[test]
+fn a_cloned_chain_runs_on_its_own() {
+    let mut a = SimChain::new(Device::Smd23kB, 2).unwrap();
+    configure(&mut a);
+    let mut b = a.clone();
+    assert_eq!(request(&mut b, state::PREOP), 2);
+    let al = |c: &mut SimChain| reg(c, cmd::BRD, 0, 0x0130, vec![0; 2]).data[0];
+    assert_eq!(al(&mut b), state::PREOP);
+    assert_eq!(al(&mut a), state::INIT);
+    assert_eq!(request(&mut a, state::PREOP), 2);
+    assert_eq!(al(&mut a), state::PREOP);
+}
+
 #[test]
 fn two_units_from_init_to_a_relative_move() {
     let mut c = SimChain::new(Device::Smd23kB, 2).unwrap();

@@ -78,6 +78,7 @@ pub fn description(device: Device) -> Result<od::DeviceDescription, SmdSlaveErro
 }
 
 /// One unit behind its ESC: the model and its CoE server.
+#[derive(Clone)]
 struct Unit {
     model: SmdUnit,
     coe: CoeServer,
@@ -87,7 +88,9 @@ struct Unit {
     state: AlState,
 }
 
-/// A chain of virtual SMD units.
+/// A chain of virtual SMD units. A clone is a second chain in the same state (a fuzz target or a
+/// test builds one chain from the description and clones it for each case).
+#[derive(Clone)]
 pub struct SmdChain {
     /// The ESCs in frame order.
     pub chain: Chain,

@@ -65,7 +65,7 @@ fn information(mailbox: &[u8], d: &Dictionary, mailbox_size: usize) -> Option<Ve
 }
 
 /// A transfer in progress over several mailboxes.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 enum Transfer {
     /// A normal download waiting for the master's next download segment.
     Download(Download),
@@ -228,7 +228,7 @@ impl Answer {
 /// - **Data beyond the announced size**, in the download request or a segment, is 0x06070012 and ends
 ///   the transfer with nothing written. A segment with c = 1 that leaves the value short is 0x06070013.
 /// - [`ServerEvent::Uploaded`] is reported when the master has been sent the last byte.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct CoeServer {
     engine: Engine,
     /// Sync manager 1 size: the longest response.

@@ -22,7 +22,7 @@ const EVENT_CAPACITY: usize = 16;
 const SEGMENT_DATA: usize = 7;
 
 /// The SDO server that does the work, and the events of the CoE server.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(super) struct Engine {
     server: SdoServer,
     events: VecDeque<ServerEvent>,
@@ -138,7 +138,7 @@ pub(super) enum Part {
 }
 
 /// A normal download in progress: the SDO server has taken the initiate and the data so far.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(super) struct Download {
     /// The entry, or the object and first sub-index of a complete access.
     pub(super) mux: Address,
@@ -220,7 +220,7 @@ impl Download {
 }
 
 /// A normal upload in progress: the SDO server has answered the initiate with a segmented upload.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(super) struct Upload {
     /// The entry, or the object and first sub-index of a complete access.
     pub(super) mux: Address,

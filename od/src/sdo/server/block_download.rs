@@ -42,7 +42,7 @@ pub(super) fn initiate(
 }
 
 /// A block download: receiving sub-blocks, then waiting for the end frame.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(super) struct BlockDownload {
     /// The entry.
     pub(super) mux: Address,

@@ -63,7 +63,7 @@ enum Phase {
 }
 
 /// A block upload.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(super) struct BlockUpload {
     /// The entry.
     pub(super) mux: Address,

@@ -124,7 +124,7 @@ pub(super) fn initiate(
 }
 
 /// A segmented download waiting for its next segment (CiA 301 §7.2.4.3.4).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(super) struct Segmented {
     /// The entry.
     pub(super) mux: Address,

@@ -89,7 +89,7 @@ const EVENT_CAPACITY: usize = 16;
 const ABORT_BYTE: u8 = 0x80;
 
 /// A transfer in progress: the server is busy with at most one (CiA 301 §7.2.4.1).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 enum Transfer {
     /// Segmented download, waiting for the next segment.
     Download(download::Segmented),
@@ -208,7 +208,7 @@ type Step = Result<Reply, AbortCode>;
 /// - **CRC**: used when both sides support it; a server without CRC support sends 0 in the CRC field.
 /// - **Time**: a frame handled after the transfer's deadline first times the transfer out (as if
 ///   `handle_timeout` had run), then is handled by the idle server.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct SdoServer {
     config: ServerConfig,
     transfer: Option<Transfer>,

@@ -34,7 +34,7 @@ pub(super) fn respond(mux: Address, data: Vec<u8>) -> Reply {
 }
 
 /// A segmented upload waiting for the next segment request (CiA 301 §7.2.4.3.7).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(super) struct Segmented {
     /// The entry.
     pub(super) mux: Address,
