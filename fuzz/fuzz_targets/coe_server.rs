@@ -24,7 +24,11 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         unit.handle_mailbox(&mut coe, now, &tail[..n]);
         let mut answers = 0;
         while let Some(answer) = coe.poll_transmit() {
-            assert!(answer.len() <= MAILBOX, "{} bytes for a {MAILBOX}-byte mailbox", answer.len());
+            assert!(
+                answer.len() <= MAILBOX,
+                "{} bytes for a {MAILBOX}-byte mailbox",
+                answer.len()
+            );
             answers += 1;
             assert!(answers <= 4096, "answers without end");
         }

@@ -3,7 +3,9 @@
 //! same text: the first byte picks the format (ESI, XDD, EDS), the rest is the file.
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let Some((&pick, file)) = data.split_first() else { return };
+    let Some((&pick, file)) = data.split_first() else {
+        return;
+    };
     match pick % 3 {
         0 => {
             if let Ok(devs) = od::esi::read_all(file, "fuzz") {
@@ -11,7 +13,8 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
                     return;
                 }
                 let text = od::esi::write_all(&devs);
-                let back = od::esi::read_all(text.as_bytes(), "written").expect("written ESI reads");
+                let back =
+                    od::esi::read_all(text.as_bytes(), "written").expect("written ESI reads");
                 assert_eq!(od::esi::write_all(&back), text);
             }
         }

@@ -10,18 +10,31 @@ use od::{AccessType, DataType, Dictionary, Object, ObjectKind, SubObject, Value}
 
 fn dictionary() -> Dictionary {
     let mut d = Dictionary::new();
-    d.insert(Object::var(0x1000, SubObject::new("Device type", DataType::Unsigned32, AccessType::Ro)));
-    d.insert(Object::var(0x1017, SubObject::new("Heartbeat", DataType::Unsigned16, AccessType::Rw)));
+    d.insert(Object::var(
+        0x1000,
+        SubObject::new("Device type", DataType::Unsigned32, AccessType::Ro),
+    ));
+    d.insert(Object::var(
+        0x1017,
+        SubObject::new("Heartbeat", DataType::Unsigned16, AccessType::Rw),
+    ));
     d.insert(Object::var(
         0x1008,
         SubObject::new("Name", DataType::VisibleString, AccessType::Rw)
             .with_bit_size(8 * 64)
             .with_default(Value::String("a name that needs a segmented upload".into())),
     ));
-    d.insert(Object::var(0x2000, SubObject::new("Blob", DataType::Domain, AccessType::Rw)));
+    d.insert(Object::var(
+        0x2000,
+        SubObject::new("Blob", DataType::Domain, AccessType::Rw),
+    ));
     d.insert(
         Object::structured(0x2001, "Rec", ObjectKind::Record)
-            .with_sub(0, SubObject::new("n", DataType::Unsigned8, AccessType::Ro).with_default(Value::Uint(2)))
+            .with_sub(
+                0,
+                SubObject::new("n", DataType::Unsigned8, AccessType::Ro)
+                    .with_default(Value::Uint(2)),
+            )
             .with_sub(
                 1,
                 SubObject::new("lim", DataType::Integer32, AccessType::Rw)
@@ -34,7 +47,10 @@ fn dictionary() -> Dictionary {
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let mut d = dictionary();
-    let config = ServerConfig { domain_limit: 4096, ..ServerConfig::default() };
+    let config = ServerConfig {
+        domain_limit: 4096,
+        ..ServerConfig::default()
+    };
     let mut server = SdoServer::new(config);
     let mut now = Instant::now();
     // Each record: one byte of time step (in 10 ms), eight bytes of frame.

@@ -30,6 +30,10 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
             let inner = &answer[1..answer.len() - 1];
             assert!(!inner.contains('<') && !inner.contains('>'), "{answer}");
         }
-        assert!(s.pending() <= MAX_ELEMENT + piece.len(), "{} bytes held", s.pending());
+        assert!(
+            s.pending() <= MAX_ELEMENT + piece.len(),
+            "{} bytes held",
+            s.pending()
+        );
     }
 });
