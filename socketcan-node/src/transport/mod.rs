@@ -19,6 +19,19 @@ pub use spec::{BusSpec, SpecError, SOCKETCAND_DEFAULT_PORT};
 
 use crate::frame::CanFrame;
 
+/// A count of dropped frames that says when to log: at the 1st, 2nd, 4th, 8th, … drop, so that a
+/// flood of drops is a handful of lines with the running total, not one line per frame.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct DropCount(u64);
+
+impl DropCount {
+    /// Counts one drop; the total when it is a power of two (time to log it).
+    pub(crate) fn add(&mut self) -> Option<u64> {
+        self.0 += 1;
+        self.0.is_power_of_two().then_some(self.0)
+    }
+}
+
 /// What a bus delivers.
 #[derive(Debug, Clone, PartialEq, Eq)]
 #[non_exhaustive]
@@ -151,5 +164,18 @@ fn recv_queued(
         Ok((frame, at)) => Ok(Some(BusEvent::Frame { frame, at })),
         Err(RecvTimeoutError::Timeout) => Ok(None),
         Err(RecvTimeoutError::Disconnected) => Err(BusError::Closed(describe())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::DropCount;
+
+    /// Logged at drops 1, 2, 4, 8, 16, …, 1024: 11 lines for 1,500 drops.
+    #[test]
+    fn drops_are_logged_at_powers_of_two() {
+        let mut d = DropCount::default();
+        let logged: Vec<u64> = (0..1500).filter_map(|_| d.add()).collect();
+        assert_eq!(logged, [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024]);
     }
 }

@@ -7,13 +7,15 @@ use std::time::{Duration, SystemTime};
 use embedded_can::Frame as _;
 use socketcan::{CanSocket, Socket, SocketOptions};
 
-use super::{BusError, BusEvent, CanBus};
+use super::{BusError, BusEvent, CanBus, DropCount};
 use crate::frame::CanFrame;
 
 /// An open SocketCAN interface.
 pub struct SocketCanBus {
     socket: CanSocket,
     name: String,
+    /// Frames dropped at a full transmit queue.
+    dropped: DropCount,
 }
 
 impl SocketCanBus {
@@ -29,7 +31,11 @@ impl SocketCanBus {
         // Frames this socket sends are not delivered back to it (CanBus contract); CAN_RAW's
         // default already is "no own messages", said here once more for clarity.
         socket.set_recv_own_msgs(false).map_err(open_error)?;
-        Ok(SocketCanBus { socket, name })
+        Ok(SocketCanBus {
+            socket,
+            name,
+            dropped: DropCount::default(),
+        })
     }
 }
 
@@ -67,9 +73,11 @@ impl CanBus for SocketCanBus {
                 Ok(()) => return Ok(()),
                 Err(e) if e.kind() == ErrorKind::Interrupted => continue,
                 // A full transmit queue (ENOBUFS) drops the frame, as a controller without
-                // arbitration success would: reported, not fatal.
+                // arbitration success would: reported (at powers of two), not fatal.
                 Err(e) if e.raw_os_error() == Some(libc_enobufs()) => {
-                    tracing::warn!(bus = %self.name, "transmit queue full, {frame} dropped");
+                    if let Some(n) = self.dropped.add() {
+                        tracing::warn!(bus = %self.name, dropped = n, "transmit queue full, {frame} dropped");
+                    }
                     return Ok(());
                 }
                 Err(source) => {

@@ -40,7 +40,7 @@ use std::time::{Duration, Instant, SystemTime};
 
 use codec::{frame_element, Command, Message, Splitter};
 
-use super::{BusError, BusEvent, CanBus};
+use super::{BusError, BusEvent, CanBus, DropCount};
 use crate::frame::CanFrame;
 
 /// Elements queued for one client at most.
@@ -76,7 +76,7 @@ struct Peer {
     id: u64,
     tx: SyncSender<Out>,
     raw: bool,
-    dropped: u64,
+    dropped: DropCount,
     /// A channel is open (the handshake is done).
     opened: bool,
     /// The connection, to close it from outside its threads.
@@ -105,11 +105,10 @@ impl Peers {
                 continue;
             }
             if let Err(TrySendError::Full(_)) = p.tx.try_send(Out::Text(Arc::clone(element))) {
-                p.dropped += 1;
-                if p.dropped.is_power_of_two() {
+                if let Some(n) = p.dropped.add() {
                     tracing::warn!(
                         client = p.id,
-                        dropped = p.dropped,
+                        dropped = n,
                         "socketcand client does not read: frames dropped"
                     );
                 }
@@ -130,7 +129,7 @@ struct Shared {
     stop: AtomicBool,
     next_id: AtomicU64,
     /// Frames from clients dropped because the node's queue was full.
-    dropped_to_node: AtomicU64,
+    dropped_to_node: Mutex<DropCount>,
 }
 
 impl Shared {
@@ -168,7 +167,7 @@ impl SocketcandServer {
             to_node,
             stop: AtomicBool::new(false),
             next_id: AtomicU64::new(1),
-            dropped_to_node: AtomicU64::new(0),
+            dropped_to_node: Mutex::new(DropCount::default()),
         });
         let s = Arc::clone(&shared);
         let accept = std::thread::Builder::new()
@@ -284,7 +283,7 @@ fn serve(stream: TcpStream, peer: SocketAddr, shared: &Arc<Shared>) -> std::io::
         id,
         tx,
         raw: false,
-        dropped: 0,
+        dropped: DropCount::default(),
         opened: false,
         stream: stream.try_clone()?,
     });
@@ -487,8 +486,12 @@ fn handle(command: Command, id: u64, opened: &mut bool, shared: &Shared) -> Opti
             let element: Arc<str> = Arc::from(frame_element(&frame, at));
             shared.peers().broadcast(id, &element);
             if shared.to_node.try_send((frame, at)).is_err() {
-                let n = shared.dropped_to_node.fetch_add(1, Ordering::Relaxed) + 1;
-                if n.is_power_of_two() {
+                let logged = shared
+                    .dropped_to_node
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .add();
+                if let Some(n) = logged {
                     tracing::warn!(
                         client = id,
                         dropped = n,
