@@ -124,10 +124,30 @@ pub fn load_reading(path: &Path) -> Result<(Format, Reading), LoadError> {
     Ok((format, reading))
 }
 
+/// The environment variable that replaces every file size limit of the tools (descriptions, identity
+/// files, scripts, parameter sets) with its value in bytes, for the rare file larger than its default.
+pub const LIMIT_VARIABLE: &str = "OD_MAX_FILE_BYTES";
+
+/// The size limit in force: `default`, or the value of [`LIMIT_VARIABLE`] when it is set (`None`
+/// when unset; a value that is not a whole number of bytes is an error, never ignored).
+pub fn limit_from(default: u64, set: Option<&std::ffi::OsStr>) -> Result<u64, LoadError> {
+    match set {
+        None => Ok(default),
+        Some(v) => {
+            let text = v.to_string_lossy();
+            text.trim()
+                .replace('_', "")
+                .parse()
+                .map_err(|_| LoadError::BadLimit(text.into_owned()))
+        }
+    }
+}
+
 /// The bytes of the regular file at `path`, refused when it is something else (a FIFO, a device such
-/// as `/dev/zero`, a folder) or larger than `limit` bytes, so that no input makes the reader wait or
-/// take memory out of proportion.
+/// as `/dev/zero`, a folder) or larger than `limit` bytes (or what [`LIMIT_VARIABLE`] says), so that
+/// no input makes the reader wait or take memory out of proportion.
 pub fn read_limited(path: &Path, limit: u64) -> Result<Vec<u8>, LoadError> {
+    let limit = limit_from(limit, std::env::var_os(LIMIT_VARIABLE).as_deref())?;
     let io = |source| LoadError::Io {
         path: path.to_path_buf(),
         source,
@@ -150,7 +170,9 @@ pub fn read_limited(path: &Path, limit: u64) -> Result<Vec<u8>, LoadError> {
     }
     let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
     // The file may grow while it is read: never more than the limit.
-    file.take(limit + 1).read_to_end(&mut bytes).map_err(io)?;
+    file.take(limit.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
     if bytes.len() as u64 > limit {
         return Err(LoadError::TooLarge {
             path: path.to_path_buf(),
@@ -163,6 +185,24 @@ pub fn read_limited(path: &Path, limit: u64) -> Result<Vec<u8>, LoadError> {
 
 #[cfg(test)]
 mod tests {
+    /// The variable replaces the default; unset keeps it; `1_000` is 1,000; anything else is refused
+    /// with the value named.
+    #[test]
+    fn the_limit_variable_replaces_the_default_or_is_refused() {
+        use std::ffi::OsStr;
+        assert_eq!(limit_from(256, None).unwrap(), 256);
+        assert_eq!(limit_from(256, Some(OsStr::new("1000"))).unwrap(), 1000);
+        assert_eq!(limit_from(256, Some(OsStr::new("1_000"))).unwrap(), 1000);
+        assert_eq!(limit_from(256, Some(OsStr::new(" 7 "))).unwrap(), 7);
+        for bad in ["", "1 MiB", "-1", "0x100", "lots"] {
+            assert_eq!(
+                limit_from(256, Some(OsStr::new(bad)))
+                    .unwrap_err()
+                    .to_string(),
+                format!("OD_MAX_FILE_BYTES={bad:?} is not a number of bytes")
+            );
+        }
+    }
 
     /// A refusal becomes an I/O error that leaves the path to its caller; the system's error is kept.
     #[test]
@@ -180,7 +220,7 @@ mod tests {
         });
         assert_eq!(
             e.to_string(),
-            "10 bytes, more than the 9 such a file may have"
+            "10 bytes, more than the 9 such a file may have (OD_MAX_FILE_BYTES=BYTES raises the limit)"
         );
         let gone = std::io::Error::new(ErrorKind::NotFound, "gone");
         let e = std::io::Error::from(LoadError::Io {
@@ -213,7 +253,7 @@ mod tests {
         assert_eq!(
             e.to_string(),
             format!(
-                "{}: 10 bytes, more than the 9 such a file may have",
+                "{}: 10 bytes, more than the 9 such a file may have (OD_MAX_FILE_BYTES=BYTES raises the limit)",
                 file.display()
             )
         );
