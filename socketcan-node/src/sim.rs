@@ -44,6 +44,21 @@ impl SimNode {
         )
     }
 
+    /// A second node in this one's state, at the same simulated time, with its parameters in memory:
+    /// a copy of the set this one's storage holds (a fuzz target or a test builds one node and forks
+    /// it for each case).
+    pub fn fork(&mut self) -> SimNode {
+        SimNode {
+            node: self.node.clone(),
+            now: self.now,
+            t0: self.t0,
+            sent: self.sent.clone(),
+            storage: Box::new(MemoryStorage {
+                data: self.storage.load().ok().flatten(),
+            }),
+        }
+    }
+
     /// A node with the given configuration and storage, booted at time zero.
     pub fn with(
         config: NodeConfig,

@@ -197,6 +197,7 @@ enum Slot {
 }
 
 /// The bus controller and its modules: the node's [`Application`].
+#[derive(Clone)]
 pub struct BusController {
     modules: Vec<Module>,
     slots: HashMap<u16, Slot>,

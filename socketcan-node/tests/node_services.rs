@@ -631,3 +631,27 @@ fn an_nmt_start_does_not_end_an_sdo_transfer() {
     let out = n.send(f(0x605, &[0x60, 0, 0, 0, 0, 0, 0, 0]));
     assert_eq!(out, vec![f(0x585, b"\x00X67BC43")]);
 }
+
+/// A fork is a second node in the same state that runs on its own: a write to the fork leaves the
+/// original as it was, and the set the original had saved (0x1010:01 "save") is the fork's stored
+/// set, loaded at its reset node.
+#[test]
+fn a_forked_node_runs_on_its_own_with_a_copy_of_the_stored_set() {
+    let mut a = node();
+    let ms = |v: u16| Ok(v.to_le_bytes().to_vec());
+    a.sdo_write(0x1017, 0, &200u16.to_le_bytes()).unwrap();
+    a.sdo_write(0x1010, 1, b"save").unwrap();
+    a.sdo_write(0x1017, 0, &300u16.to_le_bytes()).unwrap();
+    let mut b = a.fork();
+    assert_eq!(b.sdo_read(0x1017, 0), ms(300));
+    b.sdo_write(0x1017, 0, &400u16.to_le_bytes()).unwrap();
+    assert_eq!(a.sdo_read(0x1017, 0), ms(300));
+    assert_eq!(b.sdo_read(0x1017, 0), ms(400));
+    b.nmt(0x81, ID);
+    assert_eq!(
+        b.sdo_read(0x1017, 0),
+        ms(200),
+        "the saved set, at the fork's reset"
+    );
+    assert_eq!(a.sdo_read(0x1017, 0), ms(300), "the original not reset");
+}

@@ -163,6 +163,7 @@ pub enum NodeEvent {
 }
 
 /// The node minus its SDO server, so the server can borrow it as its object store.
+#[derive(Clone)]
 struct Core<A: Application> {
     id: u8,
     state: NmtState,
@@ -200,6 +201,7 @@ struct Core<A: Application> {
 }
 
 /// A CiA 301 node; see the [module documentation](self).
+#[derive(Clone)]
 pub struct Node<A: Application> {
     sdo: SdoServer,
     core: Core<A>,
