@@ -91,7 +91,7 @@ impl CanBus for SocketCanBus {
     }
 
     fn recv(&mut self, timeout: Duration) -> Result<Option<BusEvent>, BusError> {
-        match self.socket.read_frame_timeout(timeout) {
+        match self.socket.read_frame_timeout(poll_wait(timeout)) {
             Ok(socketcan::CanFrame::Error(e)) => {
                 Ok(Some(BusEvent::Error(e.into_error().to_string())))
             }
@@ -113,6 +113,14 @@ impl CanBus for SocketCanBus {
     }
 }
 
+/// The wait to give poll(2), which counts whole milliseconds: `timeout` rounded up, so that a wait
+/// shorter than a millisecond (a timer due soon) sleeps until it is due instead of polling at once,
+/// over and over, until then.
+fn poll_wait(timeout: Duration) -> Duration {
+    let ms = timeout.as_nanos().div_ceil(1_000_000);
+    Duration::from_millis(u64::try_from(ms).unwrap_or(u64::MAX))
+}
+
 /// ENOBUFS on Linux.
 const fn libc_enobufs() -> i32 {
     105
@@ -121,6 +129,23 @@ const fn libc_enobufs() -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Waits round up to whole milliseconds; zero stays zero.
+    #[test]
+    fn poll_waits_round_up_to_whole_milliseconds() {
+        let us = Duration::from_micros;
+        for (wait, want) in [
+            (us(0), 0),
+            (Duration::from_nanos(1), 1),
+            (us(999), 1),
+            (us(1000), 1),
+            (us(1001), 2),
+            (us(49_999), 50),
+            (Duration::MAX, u64::MAX),
+        ] {
+            assert_eq!(poll_wait(wait), Duration::from_millis(want), "{wait:?}");
+        }
+    }
 
     #[test]
     fn frames_convert_both_ways() {
