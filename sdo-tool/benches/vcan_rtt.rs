@@ -3,7 +3,8 @@
 //! `scripts/bench-vcan` (`--features vcan-tests`).
 //!
 //! `vcan_rtt [COUNT]` (default 5000) prints min, median, 99th percentile and mean; then a 1 MiB DOMAIN
-//! downloaded and uploaded with `sdo-tool`'s library (block and segmented), and a scan of an empty bus.
+//! downloaded and uploaded with `sdo-tool`'s library (block and segmented), a scan of an empty bus,
+//! and the CPU time an idle `x67-node` binary (the path in `X67_NODE`) takes on vcan0 over 10 s.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -99,6 +100,7 @@ fn main() {
         found.len(),
         t0.elapsed().as_secs_f64()
     );
+    idle_cpu();
     // The first 100 warm up.
     let mut rtts = rtts.split_off(100);
     rtts.sort();
@@ -112,5 +114,48 @@ fn main() {
         us(rtts[rtts.len() / 2]),
         us(rtts[rtts.len() * 99 / 100]),
         mean
+    );
+}
+
+/// User and system CPU time of process `pid` so far, from /proc (clock ticks of 10 ms).
+fn cpu_ticks(pid: u32) -> u64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).expect("/proc/PID/stat");
+    // The fields after the command name (which is in parentheses and may hold spaces).
+    let rest = &stat[stat.rfind(')').expect("stat format") + 2..];
+    let fields: Vec<&str> = rest.split(' ').collect();
+    // utime and stime are fields 14 and 15 of stat(5), 12 and 13 after the name.
+    fields[11].parse::<u64>().expect("utime") + fields[12].parse::<u64>().expect("stime")
+}
+
+/// An idle `x67-node` on vcan0 (one module, 100 ms heartbeat, the default 1 ms X2X cycle): its CPU
+/// time over 10 s after a second to start, as a share of one core.
+fn idle_cpu() {
+    let Some(bin) = std::env::var_os("X67_NODE") else {
+        println!("idle x67-node: X67_NODE not set (tests/vcan/run bench sets it)");
+        return;
+    };
+    let mut child = std::process::Command::new(bin)
+        .args([
+            "--bus",
+            "socketcan:vcan0",
+            "--node-id",
+            "2",
+            "--heartbeat-ms",
+            "100",
+        ])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("x67-node starts");
+    std::thread::sleep(Duration::from_secs(1));
+    let (t0, c0) = (Instant::now(), cpu_ticks(child.id()));
+    std::thread::sleep(Duration::from_secs(10));
+    let (wall, cpu) = (t0.elapsed(), cpu_ticks(child.id()) - c0);
+    let _ = child.kill();
+    let _ = child.wait();
+    println!(
+        "idle x67-node on vcan0 (1 module, heartbeat 100 ms, X2X 1 ms): {:.1} % of one core over {:.1} s",
+        cpu as f64 / 100.0 / wall.as_secs_f64() * 100.0,
+        wall.as_secs_f64()
     );
 }
