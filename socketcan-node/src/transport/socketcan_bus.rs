@@ -69,21 +69,21 @@ impl CanBus for SocketCanBus {
             detail: format!("{frame} is not a classic CAN frame"),
         })?;
         loop {
-            match self.socket.write_frame(&f) {
-                Ok(()) => return Ok(()),
-                Err(e) if e.kind() == ErrorKind::Interrupted => continue,
-                // A full transmit queue (ENOBUFS) drops the frame, as a controller without
-                // arbitration success would: reported (at powers of two), not fatal.
-                Err(e) if e.raw_os_error() == Some(libc_enobufs()) => {
+            let Err(e) = self.socket.write_frame(&f) else {
+                return Ok(());
+            };
+            match failed_send(&e) {
+                FailedSend::Again => continue,
+                FailedSend::Dropped => {
                     if let Some(n) = self.dropped.add() {
                         tracing::warn!(bus = %self.name, dropped = n, "transmit queue full, {frame} dropped");
                     }
                     return Ok(());
                 }
-                Err(source) => {
+                FailedSend::Fatal => {
                     return Err(BusError::Io {
                         what: self.name.clone(),
-                        source,
+                        source: e,
                     })
                 }
             }
@@ -121,6 +121,28 @@ fn poll_wait(timeout: Duration) -> Duration {
     Duration::from_millis(u64::try_from(ms).unwrap_or(u64::MAX))
 }
 
+/// What a failed write of a frame means.
+#[derive(Debug, PartialEq, Eq)]
+enum FailedSend {
+    /// Interrupted by a signal: write again.
+    Again,
+    /// A full transmit queue (ENOBUFS): the frame is dropped, as a controller that never wins
+    /// arbitration drops it; reported (at powers of two), not fatal.
+    Dropped,
+    /// The interface failed (down, gone): the bus ends.
+    Fatal,
+}
+
+fn failed_send(e: &std::io::Error) -> FailedSend {
+    if e.kind() == ErrorKind::Interrupted {
+        FailedSend::Again
+    } else if e.raw_os_error() == Some(libc_enobufs()) {
+        FailedSend::Dropped
+    } else {
+        FailedSend::Fatal
+    }
+}
+
 /// ENOBUFS on Linux.
 const fn libc_enobufs() -> i32 {
     105
@@ -129,6 +151,32 @@ const fn libc_enobufs() -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A signal writes again, a full transmit queue drops the frame, anything else ends the bus.
+    #[test]
+    fn failed_sends_are_retried_dropped_or_fatal() {
+        use std::io::Error;
+        assert_eq!(
+            failed_send(&Error::from(ErrorKind::Interrupted)),
+            FailedSend::Again
+        );
+        assert_eq!(
+            failed_send(&Error::from_raw_os_error(105)),
+            FailedSend::Dropped
+        );
+        for errno in [100, 19, 6, 104] {
+            // ENETDOWN, ENODEV, ENXIO, ECONNRESET
+            assert_eq!(
+                failed_send(&Error::from_raw_os_error(errno)),
+                FailedSend::Fatal,
+                "{errno}"
+            );
+        }
+        assert_eq!(
+            failed_send(&Error::from(ErrorKind::WouldBlock)),
+            FailedSend::Fatal
+        );
+    }
 
     /// Waits round up to whole milliseconds; zero stays zero.
     #[test]
