@@ -168,6 +168,11 @@ fn nmt_commands_reach_the_node() {
 
 /// `x67-node` as node `id` and socketcand server on a free port of 127.0.0.1, once it listens.
 fn hub(id: u8) -> (std::process::Child, u16) {
+    hub_with(id, &[])
+}
+
+/// [`hub`] with `extra` arguments for `x67-node`.
+fn hub_with(id: u8, extra: &[&str]) -> (std::process::Child, u16) {
     let port = std::net::TcpListener::bind("127.0.0.1:0")
         .unwrap()
         .local_addr()
@@ -176,6 +181,7 @@ fn hub(id: u8) -> (std::process::Child, u16) {
     let mut child = Command::new(testkit::cargo_binary("socketcan-node", "x67-node", &[]))
         .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
         .args(["--node-id", &id.to_string()])
+        .args(extra)
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
@@ -187,6 +193,51 @@ fn hub(id: u8) -> (std::process::Child, u16) {
     )
     .unwrap();
     (child, port)
+}
+
+/// `x67-node --modules 2 --write-description FILE.eds` names module 2's registers (`AbsPos01_M2` at
+/// 0x2400), and `sdo-tool --od FILE` reaches them by name on the node running with 2 modules; module
+/// 1's register of the same kind is untouched.
+#[test]
+fn the_written_description_names_module_2_for_od() {
+    let dir = tempfile::tempdir().unwrap();
+    let eds = dir.path().join("node.eds");
+    let eds = eds.to_str().unwrap();
+    let out = Command::new(testkit::cargo_binary("socketcan-node", "x67-node", &[]))
+        .args(["--modules", "2", "--write-description", eds])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    // 93 objects of the bus controller and module 1; for module 2 its 71 registers, its simulation
+    // inputs and the communication and mapping objects of its 2 RPDOs and 2 TPDOs (8).
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        format!(
+            "x67-node: wrote {eds} (EDS: X67BC4321-10 with 2 X67SM2436 modules, 173 objects)\n"
+        )
+    );
+    let (mut node, port) = hub_with(3, &["--modules", "2"]);
+    let bus = format!("socketcand://127.0.0.1:{port}/can0");
+    let named = ["--bus", bus.as_str(), "--od", eds];
+    assert_eq!(
+        common::sdo_tool_ok(&named, &["write", "3", "AbsPos01_M2", "-1234"]),
+        "OK\n"
+    );
+    assert_eq!(
+        common::sdo_tool_ok(&named, &["read", "3", "AbsPos01_M2"]),
+        "-1234\n"
+    );
+    let plain = ["--bus", bus.as_str()];
+    assert_eq!(
+        common::sdo_tool_ok(&plain, &["read", "3", "0x2400:00", "i32"]),
+        "-1234\n"
+    );
+    assert_eq!(
+        common::sdo_tool_ok(&named, &["read", "3", "AbsPos01"]),
+        "0\n"
+    );
+    node.kill().unwrap();
+    node.wait().unwrap();
 }
 
 /// The binary over socketcand: `x67-node` on a free port, `sdo-tool --bus socketcand://…`.

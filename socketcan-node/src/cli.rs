@@ -53,6 +53,12 @@ pub struct Args {
     /// 250).
     #[arg(long, value_name = "US", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(250..=100_000))]
     pub x2x_us: u64,
+
+    /// Writes the description of the node with --modules modules (every module's registers and PDOs,
+    /// the simulation inputs at 0x5F00+) to FILE and exits: an EDS for FILE.eds, an XDD for FILE.xdd.
+    /// Give it to a master's --od, python-canopen's add_node or any tool that reads descriptions.
+    #[arg(long, value_name = "FILE")]
+    pub write_description: Option<PathBuf>,
 }
 
 /// Why `x67-node` stopped with an error.
@@ -71,6 +77,14 @@ pub enum CliError {
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
     Signal(#[from] ctrlc::Error),
+    /// The description file cannot be written, or its name says no format.
+    #[error("--write-description {path}: {why}")]
+    Description {
+        /// The file given.
+        path: String,
+        /// What is wrong.
+        why: String,
+    },
     /// The storage file cannot be used (its directory, its kind, its size, its reading).
     #[error("--storage {path}: {source}")]
     Storage {
@@ -145,8 +159,39 @@ pub fn connect_hint(spec: &BusSpec) -> String {
     }
 }
 
+/// Writes the description of the node `args` describe to `path` (EDS or XDD by the extension); what
+/// it wrote, for the user.
+pub fn write_description(args: &Args, path: &std::path::Path) -> Result<String, CliError> {
+    let refuse = |why: String| CliError::Description {
+        path: path.display().to_string(),
+        why,
+    };
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let desc = x67::description(usize::from(args.modules))?;
+    let (format, text) = match ext.as_deref() {
+        Some("eds") => ("EDS", od::eds::write_eds(&desc)),
+        Some("xdd") => ("XDD", od::xdd::write(&desc)),
+        _ => return Err(refuse("the name must end in .eds or .xdd".into())),
+    };
+    std::fs::write(path, text).map_err(|e| refuse(e.to_string()))?;
+    Ok(format!(
+        "x67-node: wrote {} ({format}: {BUS_CONTROLLER} with {} X67SM2436 module{}, {} objects)",
+        path.display(),
+        args.modules,
+        if args.modules == 1 { "" } else { "s" },
+        desc.dictionary.len()
+    ))
+}
+
 /// Runs `x67-node` until Ctrl-C (or `stop`, when given) and returns the run's counters.
 pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliError> {
+    if let Some(path) = &args.write_description {
+        let said = write_description(args, path)?;
+        let _ = writeln!(std::io::stdout(), "{said}");
+        return Ok(RunStats::default());
+    }
     let mut station = build_node(args)?;
     let (mut spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
         Some(spec) => (spec.clone(), transport::open(spec)?),

@@ -81,9 +81,18 @@ pub fn dictionary(modules: usize) -> Result<Dictionary, X67Error> {
     for m in 0..modules {
         let shift = MODULE_STRIDE * m as u16;
         if m > 0 {
+            // Module m's registers are named as module 1's with `_Mm` appended (`InputStatus_M2`),
+            // so that a description of the whole node names each of them once.
+            let suffix = format!("_M{}", m + 1);
             for o in &base {
                 let mut o = o.clone();
                 o.index += shift;
+                o.name.push_str(&suffix);
+                if !o.kind.has_subs() {
+                    if let Some(s) = o.subs.get_mut(&0) {
+                        s.name.push_str(&suffix);
+                    }
+                }
                 dict.insert(o);
             }
             for o in &pdo_objects {
@@ -129,12 +138,23 @@ pub fn dictionary(modules: usize) -> Result<Dictionary, X67Error> {
                 dict.insert(o);
             }
         }
-        dict.insert(sim_object(SIM_BASE + m as u16));
+        dict.insert(sim_object(m));
     }
     Ok(dict)
 }
 
 /// The fixture's dictionary, read once per process.
+/// The description of the node with `modules` modules, as it runs: the module's description (its
+/// identity, file information and CAN parts) with the dictionary of [`dictionary`], every module's
+/// registers and PDOs and the simulation inputs at 0x5F00 + m−1 included. Written as an EDS or XDD,
+/// it lets a master name module 2's objects as it names module 1's.
+pub fn description(modules: usize) -> Result<od::DeviceDescription, X67Error> {
+    let mut desc =
+        od::xdd::read(FIXTURE_XDD.as_bytes(), "X67SM2436.xdd").map_err(X67Error::Fixture)?;
+    desc.dictionary = dictionary(modules)?;
+    Ok(desc)
+}
+
 fn fixture_dictionary() -> Result<Dictionary, X67Error> {
     static FIXTURE: std::sync::OnceLock<Result<Dictionary, od::ParseError>> =
         std::sync::OnceLock::new();
@@ -146,47 +166,53 @@ fn fixture_dictionary() -> Result<Dictionary, X67Error> {
         .map_err(X67Error::Fixture)
 }
 
-fn sim_object(index: u16) -> Object {
+/// Module `m`'s (0-based) simulation inputs, at 0x5F00 + m, named after the module (1-based).
+fn sim_object(m: usize) -> Object {
+    let index = SIM_BASE + m as u16;
     let entry = |name: &str, t: DataType, v: Value| {
         SubObject::new(name, t, AccessType::Rw)
             .with_default(v)
             .with_pdo(PdoMapping::Rpdo)
     };
-    Object::structured(index, "Simulation inputs", ObjectKind::Record)
-        .with_sub(
-            0,
-            SubObject::new(
-                "Highest sub-index supported",
-                DataType::Unsigned8,
-                AccessType::Ro,
-            )
-            .with_default(Value::Uint(3)),
+    Object::structured(
+        index,
+        format!("Simulation inputs module {}", m + 1),
+        ObjectKind::Record,
+    )
+    .with_sub(
+        0,
+        SubObject::new(
+            "Highest sub-index supported",
+            DataType::Unsigned8,
+            AccessType::Ro,
         )
-        .with_sub(
-            1,
-            entry(
-                "Digital inputs DI1-DI6",
-                DataType::Unsigned8,
-                Value::Uint(0),
-            )
-            .with_limits(None, Some(Value::Uint(0x3F))),
+        .with_default(Value::Uint(3)),
+    )
+    .with_sub(
+        1,
+        entry(
+            "Digital inputs DI1-DI6",
+            DataType::Unsigned8,
+            Value::Uint(0),
         )
-        .with_sub(
-            2,
-            entry(
-                "Supply voltage [0.1 V]",
-                DataType::Unsigned16,
-                Value::Uint(240),
-            ),
-        )
-        .with_sub(
-            3,
-            entry(
-                "Module temperature [degC]",
-                DataType::Integer8,
-                Value::Int(25),
-            ),
-        )
+        .with_limits(None, Some(Value::Uint(0x3F))),
+    )
+    .with_sub(
+        2,
+        entry(
+            "Supply voltage [0.1 V]",
+            DataType::Unsigned16,
+            Value::Uint(240),
+        ),
+    )
+    .with_sub(
+        3,
+        entry(
+            "Module temperature [degC]",
+            DataType::Integer8,
+            Value::Int(25),
+        ),
+    )
 }
 
 /// What an application object is.

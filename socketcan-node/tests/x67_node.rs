@@ -191,3 +191,33 @@ fn x67_18_5_2_input_objects_byte_by_byte() {
     assert_eq!(t2.data(), &[0, 0, 0, 0, a0, a1, 0x00, 0x00]);
     assert_eq!(n.sdo_read(0x2108, 0), Ok(vec![0x45, 0x23, 0x01, 0x00]));
 }
+
+/// Module m ≥ 2's registers are named as module 1's with `_Mm` appended, each module's simulation
+/// inputs after the module; module 1 keeps the description's names. A description of the whole node
+/// (written by `x67-node --write-description`) names every object once.
+#[test]
+fn each_module_names_its_objects_once() {
+    let dict = x67::dictionary(3).unwrap();
+    let at = |name: &str| dict.lookup(name).map(|a| (a.index, a.sub));
+    assert_eq!(at("InputStatus"), Ok((0x2008, 0)));
+    assert_eq!(at("InputStatus_M2"), Ok((0x2308, 0)));
+    assert_eq!(at("InputStatus_M3"), Ok((0x2608, 0)));
+    assert_eq!(at("ConfigOutput03a_M2"), Ok((0x2410, 0)));
+    assert!(at("InputStatus_M4").is_err());
+    assert_eq!(
+        at("Simulation inputs module 2.Supply voltage [0.1 V]"),
+        Ok((0x5F01, 2))
+    );
+    assert_eq!(
+        dict.object(0x5F00).unwrap().name,
+        "Simulation inputs module 1"
+    );
+    // Written and read back as an EDS, the names are the same.
+    let desc = x67::description(3).unwrap();
+    let back = od::eds::read(od::eds::write_eds(&desc).as_bytes(), "node.eds").unwrap();
+    assert_eq!(
+        back.dictionary.lookup("InputStatus_M3").map(|a| a.index),
+        Ok(0x2608)
+    );
+    assert_eq!(back.dictionary.len(), dict.len());
+}
