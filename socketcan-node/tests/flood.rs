@@ -17,6 +17,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
 
+use socketcan_node::test_util::next_on;
 use socketcan_node::transport::{BusEvent, CanBus, SocketcandClient};
 use socketcan_node::CanFrame;
 
@@ -95,18 +96,6 @@ fn f(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::new(id, data).unwrap()
 }
 
-fn next_on(bus: &mut dyn CanBus, cob: u16) -> CanFrame {
-    let end = Instant::now() + Duration::from_secs(5);
-    while Instant::now() < end {
-        if let Some(BusEvent::Frame { frame, .. }) = bus.recv(Duration::from_millis(50)).unwrap() {
-            if frame.cob_id() == Some(cob) {
-                return frame;
-            }
-        }
-    }
-    panic!("no frame on {cob:03X} within 5 s");
-}
-
 fn ms(d: Duration) -> f64 {
     d.as_secs_f64() * 1e3
 }
@@ -125,11 +114,20 @@ fn heartbeat_and_sync_tpdo_keep_their_instants_under_an_sdo_and_random_frame_flo
         .send(&f(0x601, &[0x2F, 0x00, 0x18, 0x02, 1, 0, 0, 0]))
         .unwrap();
     assert_eq!(
-        next_on(&mut master, 0x581).data8(),
+        next_on(&mut master, 0x581, Duration::from_secs(5))
+            .expect("SDO answer")
+            .0
+            .data8(),
         [0x60, 0x00, 0x18, 0x02, 0, 0, 0, 0]
     );
     master.send(&f(0x000, &[0x01, 0x01])).unwrap();
-    assert_eq!(next_on(&mut master, 0x701).data(), &[0x05]);
+    assert_eq!(
+        next_on(&mut master, 0x701, Duration::from_secs(5))
+            .expect("heartbeat")
+            .0
+            .data(),
+        &[0x05]
+    );
 
     let stop = Arc::new(AtomicBool::new(false));
     let flood = flooder(port, 0x9E37_79B9, Arc::clone(&stop));
