@@ -5,6 +5,8 @@
 
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use od::sdo::{
@@ -50,6 +52,8 @@ struct Script {
     now: Instant,
     /// Sends fail from this frame on (counting from 0).
     fail_send_at: Option<usize>,
+    /// A flag this transport sets once its clock has run this long (a Ctrl-C during a wait).
+    cancel_after: Option<(Duration, Arc<AtomicBool>)>,
 }
 
 impl Script {
@@ -62,6 +66,7 @@ impl Script {
             t0,
             now: t0,
             fail_send_at: None,
+            cancel_after: None,
         }
     }
 
@@ -106,6 +111,11 @@ impl SdoTransport for Script {
             Some(f) => Ok(Some(f)),
             None => {
                 self.now = self.now.max(until);
+                if let Some((after, flag)) = &self.cancel_after {
+                    if self.now - self.t0 >= *after {
+                        flag.store(true, Ordering::Relaxed);
+                    }
+                }
                 Ok(None)
             }
         }
@@ -338,6 +348,49 @@ fn block_upload_script(mux: &str, data: &[u8]) -> Script {
     script
         .line_frames(start, vec![seg(0xC1 | n << 2, &[lo, hi])])
         .line("A1 00 00 00 00 00 00 00", &[])
+}
+
+/// A cancel flag already set: the upload's request (a block upload of 127 segments) goes out and is
+/// aborted at once with 0x08000000 (`80 00 20 01 00 00 00 08`); it ends with `Cancelled` and leaves
+/// the client idle.
+#[test]
+fn a_cancelled_upload_is_aborted_with_0x08000000() {
+    let flag = Arc::new(AtomicBool::new(true));
+    let mut s = Script::new()
+        .line("A4 00 20 01 7F 00 00 00", &[])
+        .line("80 00 20 01 00 00 00 08", &[])
+        .session()
+        .with_cancel(Arc::clone(&flag));
+    let mut out = Vec::new();
+    assert!(matches!(
+        s.upload_to(DOMAIN, &mut out, |_, _| {}),
+        Err(SessionError::Cancelled)
+    ));
+    assert!(out.is_empty());
+    played(&s);
+}
+
+/// A flag set while the client waits for the server (here 200 ms into a wait of 1 s) ends the
+/// transfer within the next look at the flag (50 ms): the abort is 0x08000000, not the timeout's
+/// 0x05040000, and it leaves 200 to 250 ms after the request.
+#[test]
+fn a_cancel_during_a_wait_aborts_before_the_timeout() {
+    let flag = Arc::new(AtomicBool::new(false));
+    let mut script = Script::new()
+        .line("A4 00 20 01 7F 00 00 00", &[])
+        .line("80 00 20 01 00 00 00 08", &[]);
+    script.cancel_after = Some((Duration::from_millis(200), Arc::clone(&flag)));
+    let mut s = script.session().with_cancel(Arc::clone(&flag));
+    assert!(matches!(
+        s.upload_to(DOMAIN, &mut Vec::new(), |_, _| {}),
+        Err(SessionError::Cancelled)
+    ));
+    let waited = s.transport.now - s.transport.t0;
+    assert!(
+        (Duration::from_millis(200)..=Duration::from_millis(250)).contains(&waited),
+        "{waited:?}"
+    );
+    played(&s);
 }
 
 #[test]

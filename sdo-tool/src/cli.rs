@@ -255,6 +255,14 @@ pub fn run(
     let mut tool = Tool::new(bus, desc.as_ref().map(|d| d.dictionary.clone()));
     tool.set_timeout(timeout);
     tool.sdo.block = !args.no_block;
+    if matches!(args.command, Cmd::Upload { .. } | Cmd::Download { .. }) {
+        // Ctrl-C aborts the transfer on the bus (0x08000000) instead of leaving the node in it.
+        let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let f = std::sync::Arc::clone(&flag);
+        if ctrlc::set_handler(move || f.store(true, std::sync::atomic::Ordering::Relaxed)).is_ok() {
+            tool.cancel = Some(flag);
+        }
+    }
     let io = ToolError::Output;
     let json = args.json;
     match &args.command {
@@ -266,12 +274,23 @@ pub fn run(
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
             let bar = progress_bar(None);
             let started = std::time::Instant::now();
-            let n = tool.upload(*node, object, &mut f, |done, total| {
+            let n = match tool.upload(*node, object, &mut f, |done, total| {
                 if let Some(t) = total {
                     bar.set_length(t);
                 }
                 bar.set_position(done);
-            })?;
+            }) {
+                Ok(n) => n,
+                Err(ToolError::Interrupted { .. }) => {
+                    bar.finish_and_clear();
+                    drop(f);
+                    let _ = std::fs::remove_file(file);
+                    return Err(ToolError::Interrupted {
+                        removed: Some(file.clone()),
+                    });
+                }
+                Err(e) => return Err(e),
+            };
             bar.finish_and_clear();
             let took = started.elapsed();
             emit(

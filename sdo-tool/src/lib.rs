@@ -15,6 +15,8 @@
 //! type may be left out, and a value that the dictionary refuses (type, length, limits, access) is
 //! refused before anything is sent.
 
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub mod cli;
@@ -196,10 +198,18 @@ pub enum ToolError {
     /// The EtherCAT network failed (the interface, the slaves' initialisation, a frame).
     #[error("EtherCAT: {0}")]
     Ethercat(#[from] ethercat::EthercatError),
+    /// Ctrl-C during a transfer: the abort 0x08000000 was sent to the node; an upload's partial file
+    /// was removed.
+    #[error("interrupted: the transfer was aborted with 0x08000000{}", removed.as_ref().map(|p| format!("; the partial {} was removed", p.display())).unwrap_or_default())]
+    Interrupted {
+        /// The partial file removed, for an upload.
+        removed: Option<std::path::PathBuf>,
+    },
 }
 
 impl ToolError {
-    /// 1 SDO abort, 2 usage, 3 timeout or transport failure, 4 verification difference.
+    /// 1 SDO abort, 2 usage, 3 timeout or transport failure, 4 verification difference, 130
+    /// interrupted (Ctrl-C, as a shell reports SIGINT).
     pub fn exit_code(&self) -> i32 {
         match self {
             ToolError::Abort { .. } => 1,
@@ -207,6 +217,7 @@ impl ToolError {
             ToolError::Timeout { .. } | ToolError::Bus(_) | ToolError::Ethercat(_) => 3,
             ToolError::Session(_) | ToolError::Value(_) | ToolError::Output(_) => 3,
             ToolError::Differences(_) => 4,
+            ToolError::Interrupted { .. } => 130,
         }
     }
 }
@@ -401,12 +412,18 @@ pub struct CanSdo<'a> {
     pub bus: &'a mut dyn CanBus,
     /// The client settings (timeout, block mode).
     pub config: &'a ClientConfig,
+    /// Set (by a Ctrl-C handler) to abort the running transfer.
+    pub cancel: Option<Arc<AtomicBool>>,
 }
 
 impl<'a> CanSdo<'a> {
     /// The SDO client on `bus` with `config`.
     pub fn new(bus: &'a mut dyn CanBus, config: &'a ClientConfig) -> CanSdo<'a> {
-        CanSdo { bus, config }
+        CanSdo {
+            bus,
+            config,
+            cancel: None,
+        }
     }
 
     fn session_error(&self, node: u8, addr: Address, e: SessionError<BusError>) -> ToolError {
@@ -424,6 +441,7 @@ impl<'a> CanSdo<'a> {
                 index, sub, code, ..
             }) => ToolError::Abort { index, sub, code },
             SessionError::Transport(e) => ToolError::Bus(e),
+            SessionError::Cancelled => ToolError::Interrupted { removed: None },
             other => ToolError::Session(other),
         }
     }
@@ -438,6 +456,9 @@ impl<'a> CanSdo<'a> {
         self.check_node(node)?;
         let mut session =
             SdoSession::new(BusTransport::new(&mut *self.bus, node), self.config.clone());
+        if let Some(flag) = &self.cancel {
+            session = session.with_cancel(Arc::clone(flag));
+        }
         let result = f(&mut session);
         drop(session);
         result.map_err(|e| self.session_error(node, addr, e))
@@ -682,6 +703,8 @@ pub struct Tool {
     pub od: Option<Dictionary>,
     /// The SDO client settings (timeout, block mode).
     pub sdo: ClientConfig,
+    /// Set (by a Ctrl-C handler) to abort the running transfer with 0x08000000.
+    pub cancel: Option<Arc<AtomicBool>>,
 }
 
 impl Tool {
@@ -691,12 +714,14 @@ impl Tool {
             bus,
             od,
             sdo: ClientConfig::default(),
+            cancel: None,
         }
     }
 
     /// Runs `f` on the SDO commands over this tool's bus.
     pub fn with_commands<R>(&mut self, f: impl FnOnce(&mut SdoCommands<'_>) -> R) -> R {
         let mut can = CanSdo::new(self.bus.as_mut(), &self.sdo);
+        can.cancel = self.cancel.clone();
         f(&mut SdoCommands::new(&mut can, self.od.as_ref()))
     }
 
@@ -750,7 +775,9 @@ impl Tool {
         addr: Address,
         f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError<BusError>>,
     ) -> Result<R, ToolError> {
-        CanSdo::new(self.bus.as_mut(), &self.sdo).transfer(node, addr, f)
+        let mut can = CanSdo::new(self.bus.as_mut(), &self.sdo);
+        can.cancel = self.cancel.clone();
+        can.transfer(node, addr, f)
     }
 
     /// `upload NODE OBJECT`: the object's bytes into `sink`, reporting progress (bytes so far, size

@@ -681,3 +681,61 @@ fn a_silent_gateway_client_does_not_block_the_others() {
         .unwrap();
     assert_eq!(reply, "[1] 4\n");
 }
+
+/// Ctrl-C during an upload: the waiting transfer is aborted on the bus with 0x08000000
+/// (`609#80 08 10 00 00 00 00 08`, after the block upload request `609#A4 08 10 00 7F 00 00 00`),
+/// long before the 10 s timeout; the partial file is removed and the exit code is 130.
+#[test]
+fn ctrl_c_in_an_upload_aborts_it_on_the_bus_and_removes_the_partial_file() {
+    use socketcan_node::transport::{BusEvent, SocketcandClient};
+    use std::time::Duration;
+    let (mut node, port) = hub(3);
+    let mut watch = SocketcandClient::connect("127.0.0.1", port, "can0").unwrap();
+    std::thread::sleep(Duration::from_millis(100));
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("name.bin");
+    let tool = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+        .args(["--bus", &format!("socketcand://127.0.0.1:{port}/can0")])
+        .args(["--timeout-ms", "10000", "upload", "9", "0x1008"])
+        .arg(&file)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Node 9 does not exist: the request waits for an answer that never comes.
+    let mut next_609 = || loop {
+        match watch.recv(Duration::from_secs(5)).unwrap() {
+            Some(BusEvent::Frame { frame, .. }) if frame.cob_id() == Some(0x609) => {
+                return frame.data8()
+            }
+            Some(_) => {}
+            None => panic!("no frame on 609 within 5 s"),
+        }
+    };
+    assert_eq!(next_609(), [0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0]);
+    assert!(file.exists(), "the output file is open");
+    let sent = std::time::Instant::now();
+    let kill = Command::new("kill")
+        .args(["-INT", &tool.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    assert_eq!(next_609(), [0x80, 0x08, 0x10, 0x00, 0x00, 0x00, 0x00, 0x08]);
+    let out = tool.wait_with_output().unwrap();
+    assert!(
+        sent.elapsed() < Duration::from_secs(5),
+        "ended {:?} after Ctrl-C",
+        sent.elapsed()
+    );
+    assert_eq!(out.status.code(), Some(130));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        format!(
+            "sdo-tool: interrupted: the transfer was aborted with 0x08000000; the partial {} was removed\n",
+            file.display()
+        )
+    );
+    assert!(!file.exists());
+    node.kill().unwrap();
+    node.wait().unwrap();
+}

@@ -9,8 +9,9 @@
 
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use crate::abort::AbortCode;
 use crate::sdo::client::{
@@ -56,7 +57,14 @@ pub enum SessionError<E: std::error::Error + 'static = io::Error> {
     /// type.
     #[error(transparent)]
     Value(#[from] ValueError),
+    /// The caller cancelled the transfer ([`SdoSession::with_cancel`], a Ctrl-C); the abort
+    /// 0x08000000 (general error: CiA 301 has no code of its own for a user's abort) was sent.
+    #[error("cancelled; the transfer was aborted with 0x08000000")]
+    Cancelled,
 }
+
+/// How often a session with a cancel flag looks at it while it waits for the server.
+pub const CANCEL_CHECK: Duration = Duration::from_millis(50);
 
 /// How a transfer driven by [`SdoSession`] ended well.
 enum Finished {
@@ -79,6 +87,8 @@ pub struct SdoSession<T: SdoTransport> {
     pub client: SdoClient,
     /// The channel to the server.
     pub transport: T,
+    /// Set by the caller (a Ctrl-C handler) to end the running transfer with an abort.
+    cancel: Option<Arc<AtomicBool>>,
 }
 
 macro_rules! typed_access {
@@ -103,7 +113,17 @@ impl<T: SdoTransport> SdoSession<T> {
         SdoSession {
             client: SdoClient::new(config),
             transport,
+            cancel: None,
         }
+    }
+
+    /// The session, with `flag` to cancel a transfer: once it is set, the running transfer is
+    /// aborted (0x08000000 sent to the server) within [`CANCEL_CHECK`] and ends with
+    /// [`SessionError::Cancelled`]; so does every transfer begun while it stays set.
+    #[must_use]
+    pub fn with_cancel(mut self, flag: Arc<AtomicBool>) -> SdoSession<T> {
+        self.cancel = Some(flag);
+        self
     }
 
     typed_access! {
@@ -320,6 +340,14 @@ impl<T: SdoTransport> SdoSession<T> {
         progress: &mut dyn FnMut(u64, Option<u64>),
     ) -> Result<Finished, SessionError<T::Error>> {
         loop {
+            if self
+                .cancel
+                .as_ref()
+                .is_some_and(|c| c.load(Ordering::Relaxed))
+            {
+                self.give_up(AbortCode::General);
+                return Err(SessionError::Cancelled);
+            }
             while let Some(frame) = self.client.poll_transmit() {
                 if let Err(e) = self.transport.send(&frame) {
                     self.give_up(AbortCode::General);
@@ -344,11 +372,15 @@ impl<T: SdoTransport> SdoSession<T> {
                 }
             }
             let now = self.transport.now();
-            let until = self
+            let mut until = self
                 .client
                 .poll_timeout()
-                .or_else(|| now.checked_add(std::time::Duration::from_secs(3600)))
+                .or_else(|| now.checked_add(Duration::from_secs(3600)))
                 .unwrap_or(now);
+            if self.cancel.is_some() {
+                // Woken at least this often to see the flag.
+                until = until.min(now + CANCEL_CHECK);
+            }
             match self.transport.recv(until) {
                 Ok(Some(frame)) => {
                     let now = self.transport.now();
