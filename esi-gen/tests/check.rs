@@ -270,16 +270,16 @@ fn what_is_not_a_regular_file_is_refused_at_once() {
     );
 }
 
-/// `OD_MAX_FILE_BYTES` replaces the size limit: at 100 bytes the fixture (105,773 bytes) is refused
+/// `CANOPEN_MAX_FILE_BYTES` replaces the size limit: at 100 bytes the fixture (105,773 bytes) is refused
 /// before it is read, the line naming its size and the way to raise the limit; a value that is not a
 /// number of bytes is named as such; at its exact size the file reads.
 #[test]
-fn od_max_file_bytes_replaces_the_size_limit() {
+fn canopen_max_file_bytes_replaces_the_size_limit() {
     let file = "fixtures/src/smd.esi.xml";
     let run = |limit: &str| {
         Command::new(env!("CARGO_BIN_EXE_esi-gen"))
             .args(["check", file])
-            .env("OD_MAX_FILE_BYTES", limit)
+            .env("CANOPEN_MAX_FILE_BYTES", limit)
             .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join(".."))
             .output()
             .expect("runs")
@@ -289,7 +289,7 @@ fn od_max_file_bytes_replaces_the_size_limit() {
     assert!(
         stdout(&o).contains(&format!(
             "\n  {file}: error: 105773 bytes, more than the 100 such a file may have \
-             (OD_MAX_FILE_BYTES=BYTES raises the limit)\n"
+             (CANOPEN_MAX_FILE_BYTES=BYTES raises the limit)\n"
         )),
         "{}",
         stdout(&o)
@@ -298,7 +298,7 @@ fn od_max_file_bytes_replaces_the_size_limit() {
     assert_eq!(o.status.code(), Some(1));
     assert!(
         stdout(&o).contains(&format!(
-            "\n  {file}: error: OD_MAX_FILE_BYTES=\"lots\" is not a number of bytes\n"
+            "\n  {file}: error: CANOPEN_MAX_FILE_BYTES=\"lots\" is not a number of bytes\n"
         )),
         "{}",
         stdout(&o)

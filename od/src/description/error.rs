@@ -150,7 +150,7 @@ pub enum LoadError {
     #[error("{0}: not a regular file")]
     NotAFile(PathBuf),
     /// The file is larger than its kind of file may be.
-    #[error("{path}: {size} bytes, more than the {limit} such a file may have (OD_MAX_FILE_BYTES=BYTES raises the limit)")]
+    #[error("{path}: {size} bytes, more than the {limit} such a file may have (CANOPEN_MAX_FILE_BYTES=BYTES raises the limit)")]
     TooLarge {
         /// The file.
         path: PathBuf,
@@ -159,8 +159,8 @@ pub enum LoadError {
         /// The limit.
         limit: u64,
     },
-    /// `OD_MAX_FILE_BYTES` is set to something that is not a number of bytes.
-    #[error("OD_MAX_FILE_BYTES={0:?} is not a number of bytes")]
+    /// `CANOPEN_MAX_FILE_BYTES` is set to something that is not a number of bytes.
+    #[error("CANOPEN_MAX_FILE_BYTES={0:?} is not a number of bytes")]
     BadLimit(String),
     /// The format could not be told from the name or the contents.
     #[error("{0}: not an ESI, XDD, EDS or DCF file (expected EtherCATInfo or ISO15745ProfileContainer XML, or an INI file with [FileInfo]/[DeviceInfo])")]
@@ -179,7 +179,7 @@ impl From<LoadError> for std::io::Error {
                 ErrorKind::InvalidInput,
                 format!(
                     "{size} bytes, more than the {limit} such a file may have \
-                     (OD_MAX_FILE_BYTES=BYTES raises the limit)"
+                     (CANOPEN_MAX_FILE_BYTES=BYTES raises the limit)"
                 ),
             ),
             other => Error::new(ErrorKind::InvalidData, other),

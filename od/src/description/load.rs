@@ -126,7 +126,7 @@ pub fn load_reading(path: &Path) -> Result<(Format, Reading), LoadError> {
 
 /// The environment variable that replaces every file size limit of the tools (descriptions, identity
 /// files, scripts, parameter sets) with its value in bytes, for the rare file larger than its default.
-pub const LIMIT_VARIABLE: &str = "OD_MAX_FILE_BYTES";
+pub const LIMIT_VARIABLE: &str = "CANOPEN_MAX_FILE_BYTES";
 
 /// The size limit in force: `default`, or the value of [`LIMIT_VARIABLE`] when it is set (`None`
 /// when unset; a value that is not a whole number of bytes is an error, never ignored).
@@ -199,7 +199,7 @@ mod tests {
                 limit_from(256, Some(OsStr::new(bad)))
                     .unwrap_err()
                     .to_string(),
-                format!("OD_MAX_FILE_BYTES={bad:?} is not a number of bytes")
+                format!("CANOPEN_MAX_FILE_BYTES={bad:?} is not a number of bytes")
             );
         }
     }
@@ -220,7 +220,7 @@ mod tests {
         });
         assert_eq!(
             e.to_string(),
-            "10 bytes, more than the 9 such a file may have (OD_MAX_FILE_BYTES=BYTES raises the limit)"
+            "10 bytes, more than the 9 such a file may have (CANOPEN_MAX_FILE_BYTES=BYTES raises the limit)"
         );
         let gone = std::io::Error::new(ErrorKind::NotFound, "gone");
         let e = std::io::Error::from(LoadError::Io {
@@ -253,7 +253,7 @@ mod tests {
         assert_eq!(
             e.to_string(),
             format!(
-                "{}: 10 bytes, more than the 9 such a file may have (OD_MAX_FILE_BYTES=BYTES raises the limit)",
+                "{}: 10 bytes, more than the 9 such a file may have (CANOPEN_MAX_FILE_BYTES=BYTES raises the limit)",
                 file.display()
             )
         );

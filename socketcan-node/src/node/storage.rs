@@ -325,7 +325,7 @@ mod tests {
         assert_eq!(
             e.to_string(),
             format!(
-                "{} bytes, more than the 4194304 such a file may have (OD_MAX_FILE_BYTES=BYTES raises the limit)",
+                "{} bytes, more than the 4194304 such a file may have (CANOPEN_MAX_FILE_BYTES=BYTES raises the limit)",
                 4 * 1024 * 1024 + 1
             )
         );
