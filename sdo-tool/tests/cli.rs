@@ -240,6 +240,29 @@ fn the_written_description_names_module_2_for_od() {
     node.wait().unwrap();
 }
 
+/// `CANOPEN_BUS` is the bus when `--bus` is not given; `--bus` wins over it.
+#[test]
+fn canopen_bus_is_the_default_bus() {
+    let (mut node, port) = hub(3);
+    let run = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+            .env("CANOPEN_BUS", format!("socketcand://127.0.0.1:{port}/can0"))
+            .args(extra)
+            .args(["read", "3", "0x1008:00", "vs"])
+            .output()
+            .unwrap()
+    };
+    let out = run(&[]);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout),
+        "\"X67BC4321-10 / X67SM2436\"\n"
+    );
+    let out = run(&["--bus", "socketcand://127.0.0.1:1/can0"]);
+    assert_eq!(out.status.code(), Some(3), "the --bus given is used");
+    node.kill().unwrap();
+    node.wait().unwrap();
+}
+
 /// The binary over socketcand: `x67-node` on a free port, `sdo-tool --bus socketcand://…`.
 #[test]
 fn binary_over_socketcand() {

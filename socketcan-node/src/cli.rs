@@ -24,10 +24,10 @@ use crate::x67::{self, BusController, X67Error, BUS_CONTROLLER};
 #[derive(Debug, Clone, Parser)]
 #[command(name = "x67-node", version)]
 pub struct Args {
-    /// The bus: socketcan:IFACE (e.g. socketcan:vcan0), socketcand://HOST:PORT/CHANNEL (a socketcand
-    /// daemon to join), or socketcand-listen:ADDR:PORT (be a socketcand server; binds only the address
-    /// given, 127.0.0.1 keeps it on this machine).
-    #[arg(long, value_name = "BUS")]
+    /// The bus: IFACE or socketcan:IFACE (e.g. vcan0, can0), socketcand://HOST:PORT/CHANNEL (a
+    /// socketcand daemon to join), or socketcand-listen:ADDR:PORT (be a socketcand server; binds only
+    /// the address given, 127.0.0.1 keeps it on this machine).
+    #[arg(long, value_name = "BUS", env = "CANOPEN_BUS")]
     pub bus: Option<BusSpec>,
 
     /// The node-ID, 1 to 127 (the bus controller's node number switches).
@@ -266,7 +266,7 @@ mod tests {
                 &["x67-node", "--x2x-us", "249"],
                 "249 is not in 250..=100000",
             ),
-            (&["x67-node", "--bus", "vcan0"], "unknown kind of bus"),
+            (&["x67-node", "--bus", "tcp://vcan0"], "unknown kind of bus"),
             (&["x67-node", "--heartbeat-ms", "70000"], "70000"),
         ] {
             let e = Args::try_parse_from(argv).unwrap_err().to_string();

@@ -1,8 +1,14 @@
-//! The bus notation: `socketcan:IFACE`, `socketcand://HOST:PORT/CHANNEL`, `socketcand-listen:ADDR:PORT`.
+//! The bus notation: `socketcan:IFACE` (or the bare `IFACE`, as candump and python-can users write
+//! it), `socketcand://HOST:PORT/CHANNEL`, `socketcand-listen:ADDR:PORT`. Every tool takes its default
+//! bus from [`BUS_VARIABLE`] when `--bus` is not given.
 
 use std::fmt;
 use std::net::SocketAddr;
 use std::str::FromStr;
+
+/// The environment variable every tool reads its bus from when `--bus` is not given, in the same
+/// notation (`CANOPEN_BUS=can0`, `CANOPEN_BUS=socketcand://10.0.0.2:29536/can1`).
+pub const BUS_VARIABLE: &str = "CANOPEN_BUS";
 
 /// socketcand's usual TCP port.
 pub const SOCKETCAND_DEFAULT_PORT: u16 = 29536;
@@ -35,7 +41,7 @@ pub enum BusSpec {
 
 /// Why a bus notation was refused.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("bad bus {text:?}: {reason} (expected socketcan:IFACE, socketcand://HOST:PORT/CHANNEL or socketcand-listen:ADDR:PORT)")]
+#[error("bad bus {text:?}: {reason} (expected IFACE or socketcan:IFACE, socketcand://HOST:PORT/CHANNEL or socketcand-listen:ADDR:PORT)")]
 pub struct SpecError {
     /// The text given.
     pub text: String,
@@ -51,7 +57,7 @@ impl FromStr for BusSpec {
             text: text.to_string(),
             reason: reason.to_string(),
         };
-        if let Some(iface) = text.strip_prefix("socketcan:") {
+        let iface = |iface: &str| {
             // Linux interface names: 1–15 bytes, no '/', no whitespace.
             if iface.is_empty() || iface.len() > 15 {
                 return Err(err("the interface name must be 1 to 15 characters"));
@@ -59,9 +65,21 @@ impl FromStr for BusSpec {
             if iface.contains(['/', ':']) || iface.chars().any(char::is_whitespace) {
                 return Err(err("the interface name holds '/', ':' or a space"));
             }
-            return Ok(BusSpec::SocketCan {
+            Ok(BusSpec::SocketCan {
                 iface: iface.to_string(),
-            });
+            })
+        };
+        if let Some(name) = text.strip_prefix("socketcan:") {
+            return iface(name);
+        }
+        // A bare interface name (`can0`, `vcan0`, `slcan0`): what candump and python-can take.
+        if !text.is_empty()
+            && text
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '@'))
+            && text.starts_with(|c: char| c.is_ascii_alphabetic())
+        {
+            return iface(text);
         }
         if let Some(rest) = text.strip_prefix("socketcand://") {
             let (authority, channel) = match rest.split_once('/') {
@@ -142,6 +160,18 @@ impl fmt::Display for BusSpec {
 mod tests {
     use super::*;
 
+    /// A bare interface name is SocketCAN, as candump and python-can take it.
+    #[test]
+    fn a_bare_interface_name_is_socketcan() {
+        for name in ["can0", "vcan0", "slcan0", "can_fd-1", "vxcan0.1"] {
+            assert_eq!(
+                name.parse::<BusSpec>().unwrap(),
+                BusSpec::SocketCan { iface: name.into() },
+                "{name}"
+            );
+        }
+    }
+
     #[test]
     fn parses_each_kind() {
         assert_eq!(
@@ -188,7 +218,10 @@ mod tests {
     #[test]
     fn refuses_bad_notation_with_the_reason() {
         for (text, reason) in [
-            ("vcan0", "unknown kind"),
+            ("tcp://host", "unknown kind"),
+            ("0can", "unknown kind"),
+            ("", "unknown kind"),
+            ("averyveryverylongname", "1 to 15"),
             ("socketcan:", "1 to 15"),
             ("socketcan:averyveryverylongname", "1 to 15"),
             ("socketcand://:29536/can0", "host is missing"),
