@@ -33,7 +33,7 @@ use socketcan_node::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandC
 #[command(name = "sdo-tool", version)]
 pub struct Args {
     /// The bus: IFACE or socketcan:IFACE (e.g. can0, vcan0), or socketcand://HOST:PORT/CHANNEL.
-    #[arg(long, global = true, value_name = "BUS", env = "CANOPEN_BUS")]
+    #[arg(long, global = true, value_name = "BUS", env = socketcan_node::transport::BUS_VARIABLE)]
     pub bus: Option<BusSpec>,
     /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
     /// (1 = first); read, write, dump and apply only.

@@ -27,7 +27,7 @@ pub struct Args {
     /// The bus: IFACE or socketcan:IFACE (e.g. vcan0, can0), socketcand://HOST:PORT/CHANNEL (a
     /// socketcand daemon to join), or socketcand-listen:ADDR:PORT (be a socketcand server; binds only
     /// the address given, 127.0.0.1 keeps it on this machine).
-    #[arg(long, value_name = "BUS", env = "CANOPEN_BUS")]
+    #[arg(long, value_name = "BUS", env = transport::BUS_VARIABLE)]
     pub bus: Option<BusSpec>,
 
     /// The node-ID, 1 to 127 (the bus controller's node number switches).

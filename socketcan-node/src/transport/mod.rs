@@ -15,7 +15,7 @@ use std::time::{Duration, SystemTime};
 pub use inprocess::{Endpoint, InProcessBus};
 pub use socketcan_bus::SocketCanBus;
 pub use socketcand::{SocketcandClient, SocketcandServer};
-pub use spec::{BusSpec, SpecError, SOCKETCAND_DEFAULT_PORT};
+pub use spec::{BusSpec, SpecError, BUS_VARIABLE, SOCKETCAND_DEFAULT_PORT};
 
 use crate::frame::CanFrame;
 
