@@ -21,14 +21,14 @@ use socketcan_node::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandC
 /// The CANopen commissioning tool: SDO reads and writes, NMT, on SocketCAN or socketcand — and SDO
 /// reads and writes of EtherCAT slaves (CoE) with --ethercat.
 ///
-/// Without --bus it uses SocketCAN vcan0 where this machine has it, and otherwise the socketcand
-/// server that `x67-node` starts on 127.0.0.1:29536. With --ethercat IFACE the tool is an EtherCAT
+/// Without --bus (or CANOPEN_BUS) it uses SocketCAN vcan0 where this machine has it, and otherwise
+/// the socketcand server that `x67-node` starts on 127.0.0.1:29536. With --ethercat IFACE the tool is an EtherCAT
 /// master on that network interface instead (root or CAP_NET_RAW): it brings the chain's slaves to
 /// Pre-Op and reaches their object dictionary through their CoE mailbox; NODE is then the slave's
 /// position in the chain, 1 for the first; read, write, dump and apply work there, the other
 /// commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
 /// hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort, 2 usage, 3 timeout or
-/// transport failure.
+/// transport failure, 4 verification difference (apply), 130 interrupted (Ctrl-C).
 #[derive(Debug, Parser)]
 #[command(name = "sdo-tool", version)]
 pub struct Args {
