@@ -18,9 +18,9 @@ use crate::x67::{self, BusController, X67Error, BUS_CONTROLLER};
 /// A virtual CANopen node: a B&R X67BC4321-10 bus controller with X67SM2436 stepper modules in
 /// function model "Ramp".
 ///
-/// Without --bus (or CANOPEN_BUS) it uses SocketCAN vcan0 where this machine has it, and otherwise listens as a
-/// socketcand server on 127.0.0.1:29536, which python-can's "socketcand" interface and this
-/// project's tools reach.
+/// Without --bus (or CANOPEN_BUS) it uses SocketCAN vcan0 where this machine has it, and otherwise
+/// listens as a socketcand server on 127.0.0.1:29536, which python-can's "socketcand" interface and
+/// this project's tools reach.
 #[derive(Debug, Clone, Parser)]
 #[command(name = "x67-node", version)]
 pub struct Args {
