@@ -16,6 +16,8 @@ fn interface_name(s: &str) -> Result<String, String> {
         .map_err(|e| e.to_string())
 }
 use crate::{NmtCommand, SdoCommands, Tool, ToolError};
+use od::dict::Address;
+use socketcan_node::node::SAVE_SIGNATURE;
 use socketcan_node::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandClient};
 
 /// The CANopen commissioning tool: SDO reads and writes, NMT, on SocketCAN or socketcand — and SDO
@@ -103,7 +105,9 @@ pub enum Cmd {
         /// The bytes to send.
         file: PathBuf,
     },
-    /// Read every readable object of the --od description from the node into a DCF.
+    /// Read the node's parameters (the writable entries of the --od description, without command
+    /// objects, cyclic outputs and DOMAINs) into a DCF; the write-only ones, which cannot be read
+    /// back, are named.
     Dump {
         /// Node-ID, 1–127 (with --ethercat: the slave's position, 1 = first).
         node: u8,
@@ -111,8 +115,11 @@ pub enum Cmd {
         #[arg(short, long)]
         output: PathBuf,
     },
-    /// Write the values a DCF sets (ParameterValue) to the node, reading each back; the first refused
-    /// write stops it. Exit 4 when a value reads back differently.
+    /// Write the values a DCF sets (ParameterValue) to the node in CiA 301 order (each PDO made
+    /// invalid, its mapping count 0, the entries, the count, the PDO as the file gives it), reading
+    /// each back. An entry the node refuses as such (read-only, missing) is skipped with a warning,
+    /// another refusal is counted and the rest goes on. Exit 1 when a write was refused, 4 when a
+    /// value reads back differently.
     Apply {
         /// Node-ID, 1–127 (with --ethercat: the slave's position, 1 = first).
         node: u8,
@@ -121,6 +128,13 @@ pub enum Cmd {
         /// Only show what would be written.
         #[arg(long)]
         dry_run: bool,
+        /// Stop at the first refused write, as a strict configuration manager does.
+        #[arg(long)]
+        stop_on_error: bool,
+        /// When every value is written and reads back equal, "save all parameters" (0x1010:01), so
+        /// that the node keeps them over a power cycle.
+        #[arg(long)]
+        save: bool,
     },
     /// Show heartbeats, NMT state changes, EMCY messages in words and (with --od and NODE) TPDOs
     /// decoded field by field, until Ctrl-C or --duration-ms.
@@ -483,27 +497,71 @@ fn sdo_command(
             let mut d = desc.cloned().ok_or_else(|| {
                 ToolError::Usage("dump needs the node's description: --od FILE".into())
             })?;
-            let (read, refused) = commands.dump(*node, &mut d)?;
+            let outcome = commands.dump(*node, &mut d)?;
             od::eds::complete_new_file(&mut d);
             std::fs::write(output, od::eds::write_dcf(&d))
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
-            let not_read: Vec<String> = refused
+            let name = |a: &Address| {
+                d.dictionary
+                    .entry(a.index, a.sub)
+                    .map(|e| format!("{a} ({})", e.name))
+                    .unwrap_or_else(|_| a.to_string())
+            };
+            let not_read: Vec<String> = outcome
+                .refused
                 .iter()
-                .map(|(a, code)| format!("{a}: not read, {code}"))
+                .map(|(a, code)| format!("{}: not read, {code}", name(a)))
                 .collect();
-            let mut text = not_read.join("\n");
-            if !text.is_empty() {
+            let write_only: Vec<String> = outcome
+                .skipped
+                .iter()
+                .filter(|(_, why)| *why == crate::config::Skip::WriteOnly)
+                .map(|(a, _)| name(a))
+                .collect();
+            let mut counts: std::collections::BTreeMap<&str, usize> = Default::default();
+            for (_, why) in &outcome.skipped {
+                let kind = match why {
+                    crate::config::Skip::Command(_) => "command objects",
+                    crate::config::Skip::NotWritable => "not writable",
+                    crate::config::Skip::CyclicOutput(_) => "cyclic outputs",
+                    crate::config::Skip::Domain => "DOMAINs",
+                    crate::config::Skip::WriteOnly => "write-only",
+                };
+                *counts.entry(kind).or_default() += 1;
+            }
+            let mut text = String::new();
+            for l in &not_read {
+                text.push_str(l);
                 text.push('\n');
             }
-            text.push_str(&format!("{read} entries written to {}", output.display()));
+            if !write_only.is_empty() {
+                text.push_str(&format!(
+                    "{} write-only parameters cannot be read back and are not in the file: {}\n",
+                    write_only.len(),
+                    write_only.join(", ")
+                ));
+            }
+            let left_out: Vec<String> = counts.iter().map(|(k, n)| format!("{n} {k}")).collect();
+            text.push_str(&format!(
+                "{} entries written to {}{}",
+                outcome.read,
+                output.display(),
+                if left_out.is_empty() {
+                    String::new()
+                } else {
+                    format!("; left out: {}", left_out.join(", "))
+                }
+            ));
             emit(
                 out,
                 json,
                 text,
                 serde_json::json!({
-                    "entries": read,
+                    "entries": outcome.read,
                     "file": output.display().to_string(),
                     "not_read": not_read,
+                    "write_only": write_only,
+                    "left_out": counts,
                 }),
             )?;
         }
@@ -511,22 +569,36 @@ fn sdo_command(
             node,
             file,
             dry_run,
+            stop_on_error,
+            save,
         } => {
             let dcf = load_description(file, "apply")?;
             let mut lines = Vec::new();
-            let result = commands.apply(*node, &dcf, *dry_run, |step| {
+            let result = commands.apply(*node, &dcf, *dry_run, *stop_on_error, |step| {
                 use crate::ApplyStep::*;
+                let with =
+                    |step: &Option<&str>| step.map(|s| format!(" ({s})")).unwrap_or_default();
                 lines.push(match step {
-                    WouldWrite { addr, value } => format!("would write {addr} = {value}"),
-                    Written { addr, value } => format!("wrote {addr} = {value}"),
+                    WouldWrite { addr, value, step } => {
+                        format!("would write {addr} = {value}{}", with(step))
+                    }
+                    Written { addr, value, step } => {
+                        format!("wrote {addr} = {value}{}", with(step))
+                    }
                     Differs {
                         addr,
                         value,
                         read_back,
                     } => format!("DIFFERS {addr} = {value}, reads back {read_back}"),
-                    Refused { addr, value, error } => {
-                        format!("REFUSED {addr} = {value}: {error}; nothing after it written")
-                    }
+                    Refused { addr, value, error } => format!(
+                        "REFUSED {addr} = {value}: {error}{}",
+                        if *stop_on_error {
+                            "; nothing after it written"
+                        } else {
+                            ""
+                        }
+                    ),
+                    Skipped { addr, value, why } => format!("skipped {addr} = {value}: {why}"),
                 });
             });
             if json {
@@ -537,16 +609,25 @@ fn sdo_command(
                 }
             }
             let outcome = result?;
+            writeln!(
+                out,
+                "{} entries {}, {} skipped, {} refused",
+                outcome.written,
+                if *dry_run { "to write" } else { "written" },
+                outcome.skipped,
+                outcome.refused
+            )
+            .map_err(io)?;
+            if outcome.refused > 0 {
+                return Err(ToolError::Refused(outcome.refused));
+            }
             if outcome.differences > 0 {
                 return Err(ToolError::Differences(outcome.differences));
             }
-            writeln!(
-                out,
-                "{} entries {}",
-                outcome.written,
-                if *dry_run { "to write" } else { "written" }
-            )
-            .map_err(io)?;
+            if *save && !*dry_run {
+                commands.write(*node, "0x1010:01", Some("u32"), &SAVE_SIGNATURE.to_string())?;
+                writeln!(out, "saved: 0x1010:01 = \"save\"").map_err(io)?;
+            }
         }
         other => {
             return Err(ToolError::Usage(format!(

@@ -20,6 +20,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub mod cli;
+pub mod config;
 pub mod ethercat;
 pub mod gateway;
 pub mod watch;
@@ -195,6 +196,9 @@ pub enum ToolError {
     /// `apply`: entries read back differently from what was written.
     #[error("{0} entries read back differently from what was written")]
     Differences(usize),
+    /// `apply`: writes the node refused (for their value or its state); the others were written.
+    #[error("{0} writes refused")]
+    Refused(usize),
     /// The EtherCAT network failed (the interface, the slaves' initialisation, a frame).
     #[error("EtherCAT: {0}")]
     Ethercat(#[from] ethercat::EthercatError),
@@ -212,7 +216,7 @@ impl ToolError {
     /// interrupted (Ctrl-C, as a shell reports SIGINT).
     pub fn exit_code(&self) -> i32 {
         match self {
-            ToolError::Abort { .. } => 1,
+            ToolError::Abort { .. } | ToolError::Refused(_) => 1,
             ToolError::Usage(_) => 2,
             ToolError::Timeout { .. } | ToolError::Bus(_) | ToolError::Ethercat(_) => 3,
             ToolError::Session(_) | ToolError::Value(_) | ToolError::Output(_) => 3,
@@ -296,19 +300,23 @@ pub struct ScanEntry {
 /// One step of [`SdoCommands::apply`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ApplyStep {
-    /// `--dry-run`: would be written.
+    /// `--dry-run`: would be written (`step`: a step of a procedure, not a value of the file).
     WouldWrite {
         /// The entry.
         addr: Address,
         /// The value.
         value: String,
+        /// The procedure's step this write is, if it is one.
+        step: Option<&'static str>,
     },
-    /// Written and read back equal (or not readable).
+    /// Written and read back equal (or not readable; a procedure's step is not read back).
     Written {
         /// The entry.
         addr: Address,
         /// The value.
         value: String,
+        /// The procedure's step this write is, if it is one.
+        step: Option<&'static str>,
     },
     /// Written, but the node reads back something else.
     Differs {
@@ -319,7 +327,8 @@ pub enum ApplyStep {
         /// What the node reads back.
         read_back: String,
     },
-    /// The write was refused; nothing after it is written.
+    /// The node refused the write of this value (a range, a state): counted, the others go on
+    /// unless `--stop-on-error`.
     Refused {
         /// The entry.
         addr: Address,
@@ -328,15 +337,40 @@ pub enum ApplyStep {
         /// Why.
         error: String,
     },
+    /// Not written: the file sets a command object or an entry the description makes read-only, or
+    /// the node refuses the entry as such (its access, its existence), a warning.
+    Skipped {
+        /// The entry.
+        addr: Address,
+        /// The value.
+        value: String,
+        /// Why.
+        why: String,
+    },
 }
 
 /// What [`SdoCommands::apply`] did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct ApplyOutcome {
-    /// Entries written (or, with `--dry-run`, to be written).
+    /// Entries written (or, with `--dry-run`, to be written), the procedures' steps not counted.
     pub written: usize,
     /// Entries that read back differently.
     pub differences: usize,
+    /// Writes the node refused for their value or its state.
+    pub refused: usize,
+    /// Entries skipped with a warning.
+    pub skipped: usize,
+}
+
+/// What [`SdoCommands::dump`] did.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct DumpOutcome {
+    /// Entries read into the file.
+    pub read: usize,
+    /// Entries the node refused to give, with its abort.
+    pub refused: Vec<(Address, AbortCode)>,
+    /// Entries of the description left out, with the reason ([`config::Skip`]).
+    pub skipped: Vec<(Address, config::Skip)>,
 }
 
 /// NMT commands (CiA 301 §7.2.8.3.1).
@@ -589,106 +623,153 @@ impl<'a> SdoCommands<'a> {
         self.sdo.read_bytes(node, addr)
     }
 
-    /// `dump`: every readable entry of `desc`'s dictionary read from `node` into it (its current
-    /// values, marked as set so a DCF carries them). Returns how many were read and the entries the
-    /// node refused, with the abort.
+    /// `dump`: the node's parameters (see [`config`]) read from `node` into `desc`'s dictionary,
+    /// marked as set so that a DCF carries them; the entries left out, with the reason.
     pub fn dump(
         &mut self,
         node: u8,
         desc: &mut od::DeviceDescription,
-    ) -> Result<(usize, Vec<(Address, AbortCode)>), ToolError> {
+    ) -> Result<DumpOutcome, ToolError> {
         self.sdo.check_node(node)?;
-        let addrs: Vec<Address> = desc
-            .dictionary
-            .objects()
-            .flat_map(|o| {
-                o.subs
-                    .iter()
-                    .filter(|(_, e)| e.access.kind.readable() && e.data_type != DataType::Domain)
-                    .map(move |(sub, _)| Address {
-                        index: o.index,
-                        sub: *sub,
-                    })
-            })
-            .collect();
-        let mut read = 0;
+        let (addrs, mut skipped) = config::dump_entries(&desc.dictionary);
+        let mut values = std::collections::BTreeMap::new();
         let mut refused = Vec::new();
         for a in addrs {
             match self.read_raw(node, a) {
                 Ok(bytes) => {
-                    if desc
-                        .dictionary
-                        .store_parameter(a.index, a.sub, &bytes)
-                        .is_ok()
-                    {
-                        read += 1;
-                    }
+                    values.insert(a, bytes);
                 }
                 Err(ToolError::Abort { code, .. }) => refused.push((a, code)),
                 Err(e) => return Err(e),
             }
         }
+        let outputs = config::mapped_outputs(&desc.dictionary, &values);
+        let mut read = 0;
+        for (a, bytes) in values {
+            if let Some(&mapping) = outputs.get(&a) {
+                skipped.push((a, config::Skip::CyclicOutput(Some(mapping))));
+            } else if desc
+                .dictionary
+                .store_parameter(a.index, a.sub, &bytes)
+                .is_ok()
+            {
+                read += 1;
+            }
+        }
+        skipped.sort_by_key(|(a, _)| *a);
         // The entries the node did not give keep their defaults, `$NODEID` ones now for this node.
         desc.set_node_id(Some(node));
-        Ok((read, refused))
+        Ok(DumpOutcome {
+            read,
+            refused,
+            skipped,
+        })
     }
 
-    /// `apply`: writes every value the DCF sets (`ParameterValue`) to a writable entry, in index
-    /// order, reading each back. Stops at the first refused write. `dry_run` writes nothing.
+    /// `apply`: writes the values the DCF sets, in the order of [`config::plan`] (each PDO by the
+    /// CiA 301 procedure), reading each value back. A refusal of the entry itself (read-only,
+    /// missing) is skipped with a warning; another refusal is counted and the rest goes on, unless
+    /// `stop_on_error`, which stops there with the abort. `dry_run` writes nothing.
     pub fn apply(
         &mut self,
         node: u8,
         dcf: &od::DeviceDescription,
         dry_run: bool,
+        stop_on_error: bool,
         mut report: impl FnMut(&ApplyStep),
     ) -> Result<ApplyOutcome, ToolError> {
+        self.sdo.check_node(node)?;
+        let dict = &dcf.dictionary;
+        let show = |addr: Address, bytes: &[u8]| match dict.entry(addr.index, addr.sub) {
+            Ok(e) => Value::decode(e.data_type, bytes)
+                .map(|v| TypeCode::of(e.data_type).format(&v))
+                .unwrap_or_else(|_| format!("{bytes:02X?}")),
+            Err(_) => format!("{bytes:02X?}"),
+        };
+        let (writes, skipped) = config::plan(dict);
         let mut outcome = ApplyOutcome::default();
-        for o in dcf.dictionary.objects() {
-            for (sub, e) in &o.subs {
-                if !e.value_set || !e.access.kind.writable() {
-                    continue;
-                }
-                let addr = Address {
-                    index: o.index,
-                    sub: *sub,
-                };
-                let text = Value::decode(e.data_type, &e.value)
-                    .map(|v| TypeCode::of(e.data_type).format(&v))
-                    .unwrap_or_else(|_| format!("{:02X?}", e.value));
-                if dry_run {
-                    report(&ApplyStep::WouldWrite { addr, value: text });
+        for (addr, why) in skipped {
+            let bytes = dict
+                .entry(addr.index, addr.sub)
+                .map(|e| e.value.clone())
+                .unwrap_or_default();
+            outcome.skipped += 1;
+            report(&ApplyStep::Skipped {
+                addr,
+                value: show(addr, &bytes),
+                why: why.to_string(),
+            });
+        }
+        for w in writes {
+            let value = show(w.addr, &w.bytes);
+            if dry_run {
+                if w.step.is_none() {
                     outcome.written += 1;
+                }
+                report(&ApplyStep::WouldWrite {
+                    addr: w.addr,
+                    value,
+                    step: w.step,
+                });
+                continue;
+            }
+            match self.sdo.write_bytes(node, w.addr, &w.bytes) {
+                Ok(()) => {}
+                Err(ToolError::Abort { code, .. })
+                    if config::refused_by_design(code) && !stop_on_error =>
+                {
+                    outcome.skipped += 1;
+                    report(&ApplyStep::Skipped {
+                        addr: w.addr,
+                        value,
+                        why: format!("the node refuses it: {code}"),
+                    });
                     continue;
                 }
-                if let Err(err) = self.sdo.write_bytes(node, addr, &e.value) {
+                Err(err @ ToolError::Abort { .. }) => {
                     report(&ApplyStep::Refused {
-                        addr,
-                        value: text,
+                        addr: w.addr,
+                        value,
                         error: err.to_string(),
                     });
-                    return Err(err);
-                }
-                outcome.written += 1;
-                let back = self.read_raw(node, addr);
-                match back {
-                    Ok(b) if b == e.value => report(&ApplyStep::Written { addr, value: text }),
-                    Ok(b) => {
-                        let got = Value::decode(e.data_type, &b)
-                            .map(|v| TypeCode::of(e.data_type).format(&v))
-                            .unwrap_or_else(|_| format!("{b:02X?}"));
-                        outcome.differences += 1;
-                        report(&ApplyStep::Differs {
-                            addr,
-                            value: text,
-                            read_back: got,
-                        });
+                    if stop_on_error {
+                        return Err(err);
                     }
-                    // A write-only entry cannot be read back: written, not verified.
-                    Err(ToolError::Abort { .. }) => {
-                        report(&ApplyStep::Written { addr, value: text })
-                    }
-                    Err(err) => return Err(err),
+                    outcome.refused += 1;
+                    continue;
                 }
+                Err(err) => return Err(err),
+            }
+            if w.step.is_some() {
+                report(&ApplyStep::Written {
+                    addr: w.addr,
+                    value,
+                    step: w.step,
+                });
+                continue;
+            }
+            outcome.written += 1;
+            match self.read_raw(node, w.addr) {
+                Ok(b) if b == w.bytes => report(&ApplyStep::Written {
+                    addr: w.addr,
+                    value,
+                    step: None,
+                }),
+                Ok(b) => {
+                    outcome.differences += 1;
+                    report(&ApplyStep::Differs {
+                        addr: w.addr,
+                        value,
+                        read_back: show(w.addr, &b),
+                    });
+                }
+                // A write-only entry cannot be read back: written, not verified.
+                Err(ToolError::Abort { .. }) => report(&ApplyStep::Written {
+                    addr: w.addr,
+                    value,
+                    step: None,
+                }),
+                Err(err) => return Err(err),
             }
         }
         Ok(outcome)

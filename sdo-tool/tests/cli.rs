@@ -45,6 +45,16 @@ impl Running {
         run(&args, Some(bus), &mut out)?;
         Ok(String::from_utf8(out).unwrap())
     }
+
+    /// What the tool printed, and its error if it failed.
+    fn tool_output(&self, argv: &[&str]) -> (String, Option<ToolError>) {
+        let args =
+            Args::try_parse_from(std::iter::once("sdo-tool").chain(argv.iter().copied())).unwrap();
+        let bus: Box<dyn CanBus> = Box::new(self.bus.endpoint());
+        let mut out = Vec::new();
+        let e = run(&args, Some(bus), &mut out).err();
+        (String::from_utf8(out).unwrap(), e)
+    }
 }
 
 #[test]
@@ -413,75 +423,177 @@ fn gateway_script_with_exact_replies() {
     }
 }
 
-/// `dump` reads the node into a DCF; `apply` writes a DCF's values in order, reading each back, and
-/// stops at the first refused write, leaving the objects after it as they were.
+/// The DCF round trip on CANopen: `dump` reads the node's parameters (not its command objects, status
+/// or cyclic outputs) and names the write-only ones it cannot read; the file, edited, goes back with
+/// `apply` — each PDO by the CiA 301 procedure, every value read back — and `--save` stores it, so a
+/// reset node keeps it.
 #[test]
-fn dump_and_apply() {
+fn dump_edit_apply_save_round_trips_on_canopen() {
     let n = Running::start();
     let dir = tempfile::tempdir().unwrap();
     let dcf = dir.path().join("node5.dcf");
     n.tool(&["write", "5", "0x1017:00", "u16", "750"]).unwrap();
+    n.tool(&["write", "5", "0x1800:02", "u8", "1"]).unwrap();
     let out = n
         .tool(&["--od", &eds(), "dump", "5", "-o", dcf.to_str().unwrap()])
         .unwrap();
+    let lines: Vec<&str> = out.lines().collect();
     assert!(
-        out.lines()
-            .last()
-            .unwrap()
-            .ends_with(&format!("written to {}", dcf.display())),
+        lines[0].starts_with(
+            "39 write-only parameters cannot be read back and are not in the file: \
+             0x2010:00 (GeneralConfig01), 0x2110:00 (ConfigOutput03a), "
+        ),
         "{out}"
     );
-    let text = std::fs::read_to_string(&dcf).unwrap();
-    assert!(text.contains("[DeviceComissioning]"), "a DCF");
-    assert!(
-        text.contains("NodeID=5") || text.contains("NodeId=5"),
-        "node 5"
+    assert_eq!(
+        lines[1],
+        format!(
+            "37 entries written to {}; left out: 13 command objects, 6 cyclic outputs, \
+             39 not writable, 39 write-only",
+            dcf.display()
+        )
     );
     let (_, devices) = od::load::load(&dcf).unwrap();
-    assert_eq!(
-        devices[0].dictionary.entry(0x1017, 0).unwrap().value,
-        750u16.to_le_bytes(),
-        "the node's value, not the default"
-    );
+    let d = &devices[0].dictionary;
+    assert_eq!(d.entry(0x1017, 0).unwrap().value, 750u16.to_le_bytes());
+    for (index, sub, what) in [
+        (0x1003u16, 0u8, "the error history (a command)"),
+        (0x1010, 1, "store (a command)"),
+        (0x1018, 1, "identity (read-only)"),
+        (0x2100, 0, "AbsPos01 (a cyclic output)"),
+        (0x2110, 0, "ConfigOutput03a (write-only)"),
+    ] {
+        assert!(
+            !d.entry(index, sub).unwrap().value_set,
+            "{what} not in the DCF"
+        );
+    }
 
-    // A DCF that sets 0x1017, then a mapping entry of the valid RPDO 1 (refused by the node:
-    // 0x06040043), then ConfigOutput03a.
+    // Edited: the heartbeat 300 ms. Applied: RPDO 1 by the procedure, then the rest read back.
+    let (_, mut devices) = od::load::load(&dcf).unwrap();
+    devices[0]
+        .dictionary
+        .store_parameter(0x1017, 0, &300u16.to_le_bytes())
+        .unwrap();
+    std::fs::write(&dcf, od::eds::write_dcf(&devices[0])).unwrap();
+    let out = n.tool(&["apply", "5", dcf.to_str().unwrap()]).unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    let rpdo1 = lines
+        .iter()
+        .position(|l| l.starts_with("wrote 0x1400:01"))
+        .expect("RPDO 1 written");
+    // COB-ID 0x205 (node 5), invalid 0x80000205 while its mapping changes; the mapping of the
+    // description: AbsPos01 (0x2100, 32 bits), MpGenControl01 (0x2101, 16), MpGenMode01 (0x2102,
+    // 8), a dummy byte (UNSIGNED8, 0x0005).
+    assert_eq!(
+        lines[rpdo1..rpdo1 + 9],
+        [
+            "wrote 0x1400:01 = 2147484165 (the PDO made invalid while it changes)",
+            "wrote 0x1400:02 = 255",
+            "wrote 0x1600:00 = 0 (the count 0 while the entries change)",
+            "wrote 0x1600:01 = 553648160",
+            "wrote 0x1600:02 = 553713680",
+            "wrote 0x1600:03 = 553779208",
+            "wrote 0x1600:04 = 327688",
+            "wrote 0x1600:00 = 4",
+            "wrote 0x1400:01 = 517",
+        ]
+    );
+    assert!(lines.contains(&"wrote 0x1017:00 = 300"), "{out}");
+    assert_eq!(
+        *lines.last().unwrap(),
+        "37 entries written, 0 skipped, 0 refused"
+    );
+    assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), "300\n");
+    assert_eq!(n.tool(&["read", "5", "0x1800:02", "u8"]).unwrap(), "1\n");
+
+    // With --save the set survives a reset node.
+    let out = n
+        .tool(&["apply", "5", dcf.to_str().unwrap(), "--save"])
+        .unwrap();
+    assert!(out.ends_with("saved: 0x1010:01 = \"save\"\n"), "{out}");
+    n.tool(&["write", "5", "0x1017:00", "u16", "900"]).unwrap();
+    n.tool(&["nmt", "reset", "5"]).unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), "300\n");
+}
+
+/// `apply` of a DCF made elsewhere: a command object it sets is left out, an object the node does not
+/// have is skipped with a warning (0x06020000), a mapping entry of a valid RPDO the node refuses
+/// (0x06040043, the DCF sets no COB-ID to make it invalid) is reported and the rest goes on (exit 1);
+/// `--stop-on-error` stops at that refusal instead.
+#[test]
+fn apply_skips_and_reports_refusals_and_goes_on() {
+    let n = Running::start();
+    let dir = tempfile::tempdir().unwrap();
     let (_, mut devices) = od::load::load(Path::new(&eds())).unwrap();
     let d = &mut devices[0];
+    d.dictionary.insert(od::object::Object::var(
+        0x2FFF,
+        od::object::SubObject::new(
+            "Elsewhere",
+            od::DataType::Unsigned8,
+            od::object::AccessType::Rw,
+        ),
+    ));
     for (index, sub, bytes) in [
-        (0x1017u16, 0u8, 1_000u16.to_le_bytes().to_vec()),
+        (0x1010u16, 1u8, 0x6576_6173u32.to_le_bytes().to_vec()),
+        (0x1017, 0, 1_000u16.to_le_bytes().to_vec()),
         (0x1600, 1, 0x2100_0020u32.to_le_bytes().to_vec()),
         (0x2110, 0, vec![20]),
+        (0x2FFF, 0, vec![7]),
     ] {
         d.dictionary.store_parameter(index, sub, &bytes).unwrap();
     }
     let bad = dir.path().join("bad.dcf");
     std::fs::write(&bad, od::eds::write_dcf(d)).unwrap();
+    let before = n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap();
     let out = n
         .tool(&["apply", "5", bad.to_str().unwrap(), "--dry-run"])
         .unwrap();
     assert!(out.contains("would write 0x1017:00 = 1000"), "{out}");
-    assert!(out.ends_with("3 entries to write\n"), "{out}");
+    assert!(
+        out.ends_with("4 entries to write, 1 skipped, 0 refused\n"),
+        "{out}"
+    );
     assert_eq!(
         n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(),
-        "750\n",
+        before,
         "dry run"
     );
-    let e = n.tool(&["apply", "5", bad.to_str().unwrap()]).unwrap_err();
-    assert_eq!(e.exit_code(), 1, "{e}");
+
+    let (out, e) = n.tool_output(&["apply", "5", bad.to_str().unwrap(), "--stop-on-error"]);
+    assert_eq!(e.map(|e| e.exit_code()), Some(1));
     assert!(
-        e.to_string().contains("0x1600:01: SDO abort 0x06040043"),
-        "{e}"
-    );
-    assert_eq!(
-        n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(),
-        "1000\n",
-        "before: written"
+        out.contains(
+            "REFUSED 0x1600:01 = 553648160: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason); nothing after it written"
+        ),
+        "{out}"
     );
     assert_eq!(
         n.tool(&["read", "5", "0x2130:00", "u8"]).unwrap(),
         "0\n",
-        "after: not written"
+        "stopped"
+    );
+
+    let (out, e) = n.tool_output(&["apply", "5", bad.to_str().unwrap()]);
+    assert_eq!(e.map(|e| e.to_string()), Some("1 writes refused".into()));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines,
+        [
+            "skipped 0x1010:01 = 1702257011: store parameters: a command",
+            "wrote 0x1017:00 = 1000",
+            "REFUSED 0x1600:01 = 553648160: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason)",
+            "wrote 0x2110:00 = 20",
+            "skipped 0x2FFF:00 = 7: the node refuses it: 0x06020000 (Object does not exist in the object dictionary)",
+            "2 entries written, 2 skipped, 1 refused",
+        ]
+    );
+    assert_eq!(
+        n.tool(&["read", "5", "0x2130:00", "u8"]).unwrap(),
+        "20\n",
+        "written after the refusal (its read-back register)"
     );
 }
 

@@ -184,8 +184,12 @@ fn usage_and_transport_errors() {
     );
 }
 
+/// The DCF round trip over EtherCAT: unit 2's parameters (0x8010, the only writable entries of the
+/// ESI) dumped, one edited, applied to unit 1 and read back; the identity, the inputs (0x6000) and the
+/// cyclic outputs (0x7000, RxPDO-mapped) are not in the file, so nothing is refused. Then a DCF made
+/// from the ESI with three values.
 #[test]
-fn dump_and_apply() {
+fn dump_edit_apply_round_trips_on_ethercat() {
     let link = Link::up(&["--units", "2"]);
     let dir = tempfile::tempdir().unwrap();
     let od = esi();
@@ -195,34 +199,57 @@ fn dump_and_apply() {
         &link,
         &["--od", &od, "dump", "2", "-o", dcf.to_str().unwrap()],
     );
-    assert!(
-        out.lines()
-            .last()
-            .unwrap()
-            .ends_with(&format!("entries written to {}", dcf.display())),
-        "{out}"
-    );
-    let (_, devices) = od::load::load(&dcf).unwrap();
-    let d = &devices[0].dictionary;
-    assert_eq!(d.entry(0x1008, 0).unwrap().value, b"SMD23K-B");
     assert_eq!(
-        d.entry(0x1018, 4).unwrap().value,
-        2u32.to_le_bytes(),
-        "unit 2's serial"
+        out,
+        format!(
+            "7 entries written to {}; left out: 53 not writable\n",
+            dcf.display()
+        )
     );
+    let (_, mut devices) = od::load::load(&dcf).unwrap();
+    let d = &mut devices[0].dictionary;
     assert_eq!(
         d.entry(0x8010, 6).unwrap().value,
         40u16.to_le_bytes(),
         "the unit's value, not the default"
     );
     assert_eq!(d.entry(0x8010, 3).unwrap().value, 141u32.to_le_bytes());
-    assert!(d.entry(0x6000, 1).unwrap().value_set, "inputs read too");
+    for (index, sub) in [(0x1008u16, 0u8), (0x1018, 4), (0x6000, 1), (0x7000, 1)] {
+        assert!(
+            !d.entry(index, sub).unwrap().value_set,
+            "0x{index:04X}:{sub:02X} not in the DCF"
+        );
+    }
+    d.store_parameter(0x8010, 3, &2_000u32.to_le_bytes())
+        .unwrap();
+    std::fs::write(&dcf, od::eds::write_dcf(&devices[0])).unwrap();
+    let out = ok(&link, &["apply", "1", dcf.to_str().unwrap()]);
+    assert_eq!(
+        out.lines().collect::<Vec<_>>(),
+        [
+            "wrote 0x8010:01 = 0",
+            "wrote 0x8010:02 = 3",
+            "wrote 0x8010:03 = 2000",
+            "wrote 0x8010:04 = 2000",
+            "wrote 0x8010:05 = 2048",
+            "wrote 0x8010:06 = 40",
+            "wrote 0x8010:07 = 10",
+            "7 entries written, 0 skipped, 0 refused",
+        ]
+    );
+    assert_eq!(ok(&link, &["read", "1", "0x8010:03", "u32"]), "2000\n");
+    assert_eq!(ok(&link, &["read", "1", "0x8010:06", "u16"]), "40\n");
+    assert_eq!(
+        ok(&link, &["read", "2", "0x8010:03", "u32"]),
+        "141\n",
+        "unit 2 untouched"
+    );
 
-    // A DCF that sets three configuration values: applied to unit 1, each read back.
+    // A DCF that sets three configuration values: applied to unit 2, each read back.
     let (_, mut devices) = od::load::load(Path::new(&od)).unwrap();
     let d = &mut devices[0];
     for (sub, bytes) in [
-        (3u8, 2_000u32.to_le_bytes().to_vec()),
+        (3u8, 3_000u32.to_le_bytes().to_vec()),
         (4, 400u16.to_le_bytes().to_vec()),
         (7, 20u16.to_le_bytes().to_vec()),
     ] {
@@ -230,24 +257,23 @@ fn dump_and_apply() {
     }
     let file = dir.path().join("config.dcf");
     std::fs::write(&file, od::eds::write_dcf(d)).unwrap();
-    let out = ok(&link, &["apply", "1", file.to_str().unwrap(), "--dry-run"]);
-    assert!(out.ends_with("3 entries to write\n"), "{out}");
-    assert_eq!(
-        ok(&link, &["read", "1", "0x8010:03", "u32"]),
-        "141\n",
-        "dry run"
+    let out = ok(&link, &["apply", "2", file.to_str().unwrap(), "--dry-run"]);
+    assert!(
+        out.ends_with("3 entries to write, 0 skipped, 0 refused\n"),
+        "{out}"
     );
-    let out = ok(&link, &["apply", "1", file.to_str().unwrap()]);
-    assert_eq!(
-        out,
-        "wrote 0x8010:03 = 2000\nwrote 0x8010:04 = 400\nwrote 0x8010:07 = 20\n3 entries written\n"
-    );
-    assert_eq!(ok(&link, &["read", "1", "0x8010:03", "u32"]), "2000\n");
-    assert_eq!(ok(&link, &["read", "1", "0x8010:04", "u16"]), "400\n");
-    assert_eq!(ok(&link, &["read", "1", "0x8010:07", "u16"]), "20\n");
     assert_eq!(
         ok(&link, &["read", "2", "0x8010:03", "u32"]),
         "141\n",
-        "unit 2 untouched"
+        "dry run"
     );
+    let out = ok(&link, &["apply", "2", file.to_str().unwrap()]);
+    assert_eq!(
+        out,
+        "wrote 0x8010:03 = 3000\nwrote 0x8010:04 = 400\nwrote 0x8010:07 = 20\n\
+         3 entries written, 0 skipped, 0 refused\n"
+    );
+    assert_eq!(ok(&link, &["read", "2", "0x8010:03", "u32"]), "3000\n");
+    assert_eq!(ok(&link, &["read", "2", "0x8010:04", "u16"]), "400\n");
+    assert_eq!(ok(&link, &["read", "2", "0x8010:07", "u16"]), "20\n");
 }

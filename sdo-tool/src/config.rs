@@ -1,0 +1,473 @@
+//! What a configuration file (a DCF) carries and in which order it is written back: the choices of
+//! `dump` and `apply`, without any I/O.
+//!
+//! **Dump.** A DCF carries a node's *parameters*: entries a master writes once to configure it. Not
+//! carried:
+//! - command objects ([`COMMAND_OBJECTS`]): 0x1003 (writing 0 clears the error history), 0x1010 and
+//!   0x1011 (store and restore), 0x1013 (a running time stamp), 0x1F51 (program control);
+//! - entries that are not writable (`ro`, `const`): status, identity, measured values;
+//! - cyclic outputs: entries written by process data, `rww` in an EDS (CiA 306: read/write on process
+//!   output) or mapped into an RPDO (CANopen 0x1600–0x17FF) or RxPDO (EtherCAT, the same objects) as the
+//!   node's mapping is read, or as the description gives it where the mapping is not writable;
+//! - DOMAINs (a program, a file: `upload` moves them);
+//! - write-only entries, which cannot be read back: they are named, so the user knows the DCF lacks
+//!   them.
+//!
+//! **Apply** ([`plan`]) writes what the DCF sets in index order, but each PDO with the CiA 301
+//! §7.5.2.35–38 procedure: its COB-ID invalid (bit 31 set), its other communication parameters, the
+//! mapping's count 0, the mapping entries, the count, then the COB-ID as the DCF gives it. CoE PDO
+//! assignments (0x1C10–0x1C2F, ETG.1020) go the same way: count 0, the entries, the count. Command
+//! objects a DCF sets (one made elsewhere) are left out and said so.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use od::abort::AbortCode;
+use od::dict::{Address, Dictionary};
+use od::object::{AccessType, SubObject};
+use od::types::DataType;
+use od::value::Value;
+
+/// Objects that are commands, not parameters, with what writing them does.
+pub const COMMAND_OBJECTS: &[(u16, &str)] = &[
+    (0x1003, "pre-defined error field: writing 0 clears it"),
+    (0x1010, "store parameters: a command"),
+    (0x1011, "restore default parameters: a command"),
+    (0x1013, "high-resolution time stamp: a running value"),
+    (0x1F51, "program control: a command"),
+];
+
+/// The command object `index` is, with what writing it does.
+pub fn command_object(index: u16) -> Option<&'static str> {
+    COMMAND_OBJECTS
+        .iter()
+        .find(|(i, _)| *i == index)
+        .map(|(_, what)| *what)
+}
+
+/// Why an entry is not in a DCF, or not written from one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Skip {
+    /// A command object (see [`COMMAND_OBJECTS`]).
+    Command(&'static str),
+    /// Not writable (`ro`, `const`).
+    NotWritable,
+    /// Written by process data: `rww`, or mapped into the RPDO whose mapping object is given.
+    CyclicOutput(Option<u16>),
+    /// A DOMAIN.
+    Domain,
+    /// Write-only: cannot be read back, so a dump cannot capture it.
+    WriteOnly,
+}
+
+impl std::fmt::Display for Skip {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Skip::Command(what) => write!(f, "{what}"),
+            Skip::NotWritable => write!(f, "not writable"),
+            Skip::CyclicOutput(None) => write!(f, "a cyclic output (rww)"),
+            Skip::CyclicOutput(Some(m)) => write!(f, "a cyclic output (mapped by 0x{m:04X})"),
+            Skip::Domain => write!(f, "a DOMAIN (upload moves it)"),
+            Skip::WriteOnly => write!(f, "write-only: cannot be read back, not in the file"),
+        }
+    }
+}
+
+/// Why `entry` at `addr` is no parameter a dump reads, before any mapping is known.
+fn not_a_parameter(addr: Address, entry: &SubObject) -> Option<Skip> {
+    if let Some(what) = command_object(addr.index) {
+        return Some(Skip::Command(what));
+    }
+    if entry.data_type == DataType::Domain {
+        return Some(Skip::Domain);
+    }
+    match entry.access.kind {
+        AccessType::Ro | AccessType::Const => Some(Skip::NotWritable),
+        AccessType::Rww => Some(Skip::CyclicOutput(None)),
+        AccessType::Wo => Some(Skip::WriteOnly),
+        AccessType::Rw | AccessType::Rwr => None,
+    }
+}
+
+/// The entries of `dict` a dump reads, in index order, and the ones it leaves out with the reason
+/// (mapped outputs are found only once the mapping is read: [`mapped_outputs`]).
+pub fn dump_entries(dict: &Dictionary) -> (Vec<Address>, Vec<(Address, Skip)>) {
+    let mut read = Vec::new();
+    let mut skipped = Vec::new();
+    for o in dict.objects() {
+        for (&sub, e) in &o.subs {
+            let addr = Address::new(o.index, sub);
+            match not_a_parameter(addr, e) {
+                None => read.push(addr),
+                Some(why) => skipped.push((addr, why)),
+            }
+        }
+    }
+    (read, skipped)
+}
+
+/// The RPDO mapping objects' range (CiA 301; the RxPDO mapping of CoE is the same).
+const RPDO_MAPPING: std::ops::RangeInclusive<u16> = 0x1600..=0x17FF;
+
+/// The entries the RPDOs map, each with its mapping object: from `read` (what the node gave) where a
+/// mapping entry was read, else from the description's default.
+pub fn mapped_outputs(
+    dict: &Dictionary,
+    read: &BTreeMap<Address, Vec<u8>>,
+) -> BTreeMap<Address, u16> {
+    let value = |addr: Address| -> Option<u64> {
+        match read.get(&addr) {
+            Some(bytes) => {
+                let mut b = [0u8; 8];
+                let n = bytes.len().min(8);
+                b[..n].copy_from_slice(&bytes[..n]);
+                Some(u64::from_le_bytes(b))
+            }
+            None => match dict
+                .entry(addr.index, addr.sub)
+                .ok()?
+                .default
+                .as_ref()?
+                .value
+            {
+                Value::Uint(v) => Some(v),
+                Value::Int(v) => u64::try_from(v).ok(),
+                _ => None,
+            },
+        }
+    };
+    let mut mapped = BTreeMap::new();
+    for o in dict.objects().filter(|o| RPDO_MAPPING.contains(&o.index)) {
+        let count = value(Address::new(o.index, 0)).unwrap_or(0).min(64) as u8;
+        for sub in 1..=count {
+            if let Some(raw) = value(Address::new(o.index, sub)) {
+                let raw = raw as u32;
+                let target = Address::new((raw >> 16) as u16, (raw >> 8) as u8);
+                // A dummy entry (an index below 0x1000, a data type) maps nothing.
+                if target.index >= 0x1000 {
+                    mapped.insert(target, o.index);
+                }
+            }
+        }
+    }
+    mapped
+}
+
+/// One write of [`plan`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Write {
+    /// The entry.
+    pub addr: Address,
+    /// The bytes.
+    pub bytes: Vec<u8>,
+    /// A step of a procedure (a PDO made invalid, a count set to 0), not a value of the file: it is
+    /// not read back.
+    pub step: Option<&'static str>,
+}
+
+/// The writes that apply `dict`'s set values, in order, and what it sets that is not written.
+pub fn plan(dict: &Dictionary) -> (Vec<Write>, Vec<(Address, Skip)>) {
+    let mut values: BTreeMap<Address, Vec<u8>> = BTreeMap::new();
+    let mut skipped = Vec::new();
+    for o in dict.objects() {
+        for (&sub, e) in &o.subs {
+            if !e.value_set {
+                continue;
+            }
+            let addr = Address::new(o.index, sub);
+            if let Some(what) = command_object(o.index) {
+                skipped.push((addr, Skip::Command(what)));
+            } else if !e.access.kind.writable() {
+                skipped.push((addr, Skip::NotWritable));
+            } else {
+                values.insert(addr, e.value.clone());
+            }
+        }
+    }
+    let mut writes = Vec::new();
+    let mut done: BTreeSet<u16> = BTreeSet::new();
+    let indices: Vec<u16> = values.keys().map(|a| a.index).collect();
+    for index in indices {
+        if done.contains(&index) {
+            continue;
+        }
+        match index {
+            0x1400..=0x15FF | 0x1800..=0x19FF => {
+                pdo(&values, index, &mut writes);
+                done.insert(index);
+                done.insert(index + 0x200);
+            }
+            0x1600..=0x17FF | 0x1A00..=0x1BFF => {
+                // A mapping whose PDO's communication object the file does not set.
+                if !done.contains(&(index - 0x200)) {
+                    counted(&values, index, &mut writes);
+                }
+                done.insert(index);
+            }
+            0x1C10..=0x1C2F => {
+                counted(&values, index, &mut writes);
+                done.insert(index);
+            }
+            _ => {
+                writes.extend(
+                    values
+                        .range(Address::new(index, 0)..=Address::new(index, 0xFF))
+                        .map(|(a, b)| Write {
+                            addr: *a,
+                            bytes: b.clone(),
+                            step: None,
+                        }),
+                );
+                done.insert(index);
+            }
+        }
+    }
+    (writes, skipped)
+}
+
+/// One PDO: the communication object `comm` and its mapping `comm + 0x200`, by CiA 301's procedure.
+fn pdo(values: &BTreeMap<Address, Vec<u8>>, comm: u16, writes: &mut Vec<Write>) {
+    let cob = values.get(&Address::new(comm, 1));
+    if let Some(cob) = cob.filter(|b| b.len() == 4) {
+        let mut invalid = cob.clone();
+        invalid[3] |= 0x80;
+        writes.push(Write {
+            addr: Address::new(comm, 1),
+            bytes: invalid,
+            step: Some("the PDO made invalid while it changes"),
+        });
+    }
+    for (a, b) in values.range(Address::new(comm, 2)..=Address::new(comm, 0xFF)) {
+        writes.push(Write {
+            addr: *a,
+            bytes: b.clone(),
+            step: None,
+        });
+    }
+    counted(values, comm + 0x200, writes);
+    if let Some(cob) = cob {
+        writes.push(Write {
+            addr: Address::new(comm, 1),
+            bytes: cob.clone(),
+            step: None,
+        });
+    }
+}
+
+/// An object whose sub-index 0 counts its entries (a PDO mapping, a PDO assignment): the count 0,
+/// the entries up to the count, then the count. Without a count in the file, its entries as they are.
+fn counted(values: &BTreeMap<Address, Vec<u8>>, index: u16, writes: &mut Vec<Write>) {
+    let entries = values.range(Address::new(index, 1)..=Address::new(index, 0xFF));
+    let Some(count) = values.get(&Address::new(index, 0)) else {
+        writes.extend(entries.map(|(a, b)| Write {
+            addr: *a,
+            bytes: b.clone(),
+            step: None,
+        }));
+        return;
+    };
+    let n = count.first().copied().unwrap_or(0);
+    writes.push(Write {
+        addr: Address::new(index, 0),
+        bytes: vec![0; count.len().max(1)],
+        step: Some("the count 0 while the entries change"),
+    });
+    writes.extend(entries.filter(|(a, _)| a.sub <= n).map(|(a, b)| Write {
+        addr: *a,
+        bytes: b.clone(),
+        step: None,
+    }));
+    writes.push(Write {
+        addr: Address::new(index, 0),
+        bytes: count.clone(),
+        step: None,
+    });
+}
+
+/// Whether a refusal with `code` means the device does not take this entry at all (its access,
+/// its existence), rather than this value now: such an entry is skipped with a warning.
+pub fn refused_by_design(code: AbortCode) -> bool {
+    matches!(
+        code.code(),
+        0x0601_0000 | 0x0601_0002 | 0x0602_0000 | 0x0609_0011
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use od::object::{Object, ObjectKind};
+
+    fn entry(t: DataType, access: AccessType) -> SubObject {
+        SubObject::new("e", t, access)
+    }
+
+    /// A dictionary of a TPDO (0x1800 / 0x1A00 with two entries), a CoE PDO assignment (0x1C13), a
+    /// parameter, a command object and a read-only entry, each set to `value`.
+    fn dcf() -> Dictionary {
+        use AccessType::*;
+        use DataType::*;
+        let mut d = Dictionary::new();
+        d.insert(Object::var(0x1017, entry(Unsigned16, Rw)));
+        d.insert(Object::var(0x1001, entry(Unsigned8, Ro)));
+        d.insert(
+            Object::structured(0x1010, "store", ObjectKind::Array)
+                .with_sub(0, entry(Unsigned8, Ro))
+                .with_sub(1, entry(Unsigned32, Rw)),
+        );
+        d.insert(
+            Object::structured(0x1800, "TPDO 1", ObjectKind::Record)
+                .with_sub(0, entry(Unsigned8, Ro))
+                .with_sub(1, entry(Unsigned32, Rw))
+                .with_sub(2, entry(Unsigned8, Rw)),
+        );
+        let mut map = Object::structured(0x1A00, "TPDO 1 mapping", ObjectKind::Record)
+            .with_sub(0, entry(Unsigned8, Rw));
+        for s in 1..=3 {
+            map = map.with_sub(s, entry(Unsigned32, Rw));
+        }
+        d.insert(map);
+        d.insert(
+            Object::structured(0x1C13, "TxPDO assign", ObjectKind::Array)
+                .with_sub(0, entry(Unsigned8, Rw))
+                .with_sub(1, entry(Unsigned16, Rw)),
+        );
+        for (index, sub, bytes) in [
+            (0x1017u16, 0u8, vec![0xE8, 0x03]),
+            (0x1001, 0, vec![0]),
+            (0x1010, 1, b"save".to_vec()),
+            (0x1800, 1, 0x185u32.to_le_bytes().to_vec()),
+            (0x1800, 2, vec![1]),
+            (0x1A00, 0, vec![2]),
+            (0x1A00, 1, 0x6041_0010u32.to_le_bytes().to_vec()),
+            (0x1A00, 2, 0x6064_0020u32.to_le_bytes().to_vec()),
+            // Beyond the count: not written.
+            (0x1A00, 3, 0x6077_0010u32.to_le_bytes().to_vec()),
+            (0x1C13, 0, vec![1]),
+            (0x1C13, 1, 0x1A00u16.to_le_bytes().to_vec()),
+        ] {
+            let e = d
+                .object_mut(index)
+                .and_then(|o| o.subs.get_mut(&sub))
+                .unwrap();
+            e.value = bytes;
+            e.value_set = true;
+        }
+        d
+    }
+
+    /// CiA 301's order for a PDO (COB-ID invalid, the other parameters, count 0, the entries up to
+    /// the count, the count, the COB-ID), ETG.1020's for an assignment; a command object and a
+    /// read-only entry are not written.
+    #[test]
+    fn a_pdo_is_written_by_the_cia_301_procedure() {
+        let (writes, skipped) = plan(&dcf());
+        let got: Vec<(u16, u8, Vec<u8>, bool)> = writes
+            .iter()
+            .map(|w| (w.addr.index, w.addr.sub, w.bytes.clone(), w.step.is_some()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (0x1017, 0, vec![0xE8, 0x03], false),
+                (0x1800, 1, vec![0x85, 0x01, 0x00, 0x80], true),
+                (0x1800, 2, vec![1], false),
+                (0x1A00, 0, vec![0], true),
+                (0x1A00, 1, vec![0x10, 0x00, 0x41, 0x60], false),
+                (0x1A00, 2, vec![0x20, 0x00, 0x64, 0x60], false),
+                (0x1A00, 0, vec![2], false),
+                (0x1800, 1, vec![0x85, 0x01, 0x00, 0x00], false),
+                (0x1C13, 0, vec![0], true),
+                (0x1C13, 1, vec![0x00, 0x1A], false),
+                (0x1C13, 0, vec![1], false),
+            ]
+        );
+        assert_eq!(
+            skipped,
+            [
+                (Address::new(0x1001, 0), Skip::NotWritable),
+                (
+                    Address::new(0x1010, 1),
+                    Skip::Command("store parameters: a command")
+                )
+            ]
+        );
+    }
+
+    /// A mapping whose communication object the file does not set goes alone, by its count.
+    #[test]
+    fn a_mapping_without_its_pdo_goes_by_its_count() {
+        let mut d = dcf();
+        for sub in 1..=2 {
+            d.object_mut(0x1800)
+                .and_then(|o| o.subs.get_mut(&sub))
+                .unwrap()
+                .value_set = false;
+        }
+        let (writes, _) = plan(&d);
+        let pdo: Vec<(u16, u8)> = writes
+            .iter()
+            .filter(|w| (0x1800..0x1C00).contains(&w.addr.index))
+            .map(|w| (w.addr.index, w.addr.sub))
+            .collect();
+        assert_eq!(pdo, [(0x1A00, 0), (0x1A00, 1), (0x1A00, 2), (0x1A00, 0)]);
+    }
+
+    /// Outputs are the entries the RPDO mappings hold: as read where read, else the description's
+    /// defaults; a dummy entry (index 0x0005) maps nothing, entries beyond the count neither.
+    #[test]
+    fn mapped_outputs_follow_the_mapping_read_or_its_defaults() {
+        use AccessType::*;
+        use DataType::*;
+        let mut d = Dictionary::new();
+        for (index, entries) in [
+            (0x1600u16, [0x2100_0020u32, 0x0005_0008]),
+            (0x1601, [0x2200_0010, 0x2201_0010]),
+        ] {
+            let mut o = Object::structured(index, "map", ObjectKind::Record)
+                .with_sub(0, entry(Unsigned8, Ro).with_default(Value::Uint(2)));
+            for (k, raw) in entries.iter().enumerate() {
+                o = o.with_sub(
+                    k as u8 + 1,
+                    entry(Unsigned32, Ro).with_default(Value::Uint(u64::from(*raw))),
+                );
+            }
+            d.insert(o);
+        }
+        let mut read = BTreeMap::new();
+        // 0x1601 read: one entry only, and another object than its default.
+        read.insert(Address::new(0x1601, 0), vec![1]);
+        read.insert(
+            Address::new(0x1601, 1),
+            0x2300_0108u32.to_le_bytes().to_vec(),
+        );
+        let got: Vec<(Address, u16)> = mapped_outputs(&d, &read).into_iter().collect();
+        assert_eq!(
+            got,
+            [
+                (Address::new(0x2100, 0), 0x1600),
+                (Address::new(0x2300, 1), 0x1601)
+            ]
+        );
+    }
+
+    /// Only a refusal of the entry as such is "by design".
+    #[test]
+    fn refusals_by_design() {
+        for (code, design) in [
+            (0x0601_0000, true),
+            (0x0601_0002, true),
+            (0x0602_0000, true),
+            (0x0609_0011, true),
+            (0x0609_0030, false),
+            (0x0800_0020, false),
+            (0x0604_0043, false),
+            (0x0607_0010, false),
+        ] {
+            assert_eq!(
+                refused_by_design(AbortCode::from(code)),
+                design,
+                "0x{code:08X}"
+            );
+        }
+    }
+}
