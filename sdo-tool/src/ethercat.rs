@@ -1,11 +1,14 @@
 //! `sdo-tool --ethercat IFACE`: the SDO commands over EtherCAT, through the CoE mailboxes of the
 //! slaves, with ethercrab as the master.
 //!
-//! [`EthercatSession::open`] opens the interface with ethercrab's Linux raw socket, brings every slave
-//! of the chain to Pre-Op (mailboxes configured from each slave's SII) and keeps them there; NODE is
-//! the slave's position in the chain, 1 for the first. Each transfer runs ethercrab's TX/RX task and
-//! the transfer in one executor (`async_io::block_on`) until the transfer ends; between transfers
-//! nothing is sent. Dropping the session closes the socket; the slaves stay in Pre-Op.
+//! [`EthercatSession::open`] opens the interface with ethercrab's Linux raw socket and first reads
+//! the slaves' AL status with one broadcast read. A chain beyond Init belongs to another master (or a
+//! configuration tool): the session refuses it, naming the state, and sends nothing else — it never
+//! changes the state of a running chain. A chain in Init is brought to Pre-Op (mailboxes configured
+//! from each slave's SII) for the transfers; NODE is the slave's position in the chain, 1 for the
+//! first. Each transfer runs ethercrab's TX/RX task and the transfer in one executor
+//! (`async_io::block_on`) until the transfer ends; between transfers nothing is sent. Dropping the
+//! session asks every slave for Init again (the state it found) and closes the socket.
 //!
 //! - **Upload**: ethercrab's `sdo_read` into a byte buffer (expedited, normal and segmented upload).
 //! - **Download**: 1 to 4 bytes with ethercrab's `sdo_write` of the byte slice (expedited); other
@@ -57,6 +60,28 @@ const SM1: u16 = 0x0808;
 const SM_STATUS: u16 = 5;
 /// SyncManager status bit 3: the mailbox is full.
 const MAILBOX_FULL: u8 = 0x08;
+/// AL control and AL status (ETG.1000.4 §6.4.1).
+const AL_CONTROL: u16 = 0x0120;
+const AL_STATUS: u16 = 0x0130;
+/// AL state Init.
+const INIT: u16 = 0x01;
+
+/// The state a broadcast read of AL status shows beyond Init (`al` is every slave's status OR'd):
+/// the highest one, or `None` when every slave is in Init.
+pub fn beyond_init(al: u16) -> Option<&'static str> {
+    let states = al & 0x0F;
+    if states & 0x08 != 0 {
+        Some("Op")
+    } else if states & 0x04 != 0 {
+        Some("Safe-Op")
+    } else if states == 0x03 {
+        Some("Bootstrap")
+    } else if states & 0x02 != 0 {
+        Some("Pre-Op")
+    } else {
+        None
+    }
+}
 
 type TxRx = Pin<Box<dyn Future<Output = Result<(PduTx<'static>, PduRx<'static>), Error>>>>;
 type Group = SubDeviceGroup<MAX_SLAVES, MAX_PDI>;
@@ -158,6 +183,16 @@ pub enum EthercatError {
         /// The operating system's reason.
         source: std::io::Error,
     },
+    /// The chain is beyond Init: another master (or a configuration tool) has it.
+    #[error("interface {interface}: the chain is in {state} (AL status 0x{al:04X}, every slave's OR'd): another master runs it; sdo-tool --ethercat takes only a chain in Init and leaves it there")]
+    Running {
+        /// The interface.
+        interface: String,
+        /// The highest state found.
+        state: &'static str,
+        /// The AL status read.
+        al: u16,
+    },
     /// The slaves could not be initialised.
     #[error("interface {interface}: the slaves could not be brought to Pre-Op: {source}")]
     Init {
@@ -231,6 +266,77 @@ fn drive<T>(tx_rx: &mut Option<TxRx>, f: impl Future<Output = T>) -> Result<T, T
     }
 }
 
+/// The frame index of the AL status probe: above the 16 frame buffers SOEM and ethercrab use, so a
+/// master running the chain never takes the probe's answer for its own, nor this probe its frames.
+const PROBE_INDEX: u8 = 0xE5;
+
+/// A broadcast read (BRD) of AL status on `interface` through a raw socket of its own, so that the
+/// frames of another master on the same interface do not disturb it: every slave's AL status OR'd,
+/// or `None` when no slave answers within 3 × 100 ms (or the socket cannot be opened: ethercrab
+/// reports that next).
+fn probe_al_status(interface: &str) -> Option<u16> {
+    let socket = ethercat_slave::raw::RawSocket::open(interface).ok()?;
+    let mut frame = vec![0u8; 60];
+    frame[..6].fill(0xFF);
+    frame[6..12].fill(0x10);
+    frame[12..14].copy_from_slice(&[0x88, 0xA4]);
+    // EtherCAT header: 14 bytes of datagrams, type 1; then BRD 0x0130, 2 bytes.
+    frame[14..16].copy_from_slice(&(0x1000u16 | 14).to_le_bytes());
+    frame[16] = 0x07;
+    frame[17] = PROBE_INDEX;
+    frame[20..22].copy_from_slice(&AL_STATUS.to_le_bytes());
+    frame[22..24].copy_from_slice(&2u16.to_le_bytes());
+    let mut buf = vec![0u8; 2048];
+    for _ in 0..3 {
+        socket.send(&frame).ok()?;
+        let deadline = Instant::now() + Duration::from_millis(100);
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            match socket.recv(&mut buf) {
+                // The answer: from a slave (locally administered source), our index.
+                Ok(Some(n)) if n >= 30 && buf[6] & 0x02 != 0 && buf[17] == PROBE_INDEX => {
+                    let wkc = u16::from_le_bytes([buf[28], buf[29]]);
+                    return (wkc > 0).then(|| u16::from_le_bytes([buf[26], buf[27]]));
+                }
+                Ok(Some(_)) => {}
+                Ok(None) if !left.is_zero() => {
+                    socket.wait(left).ok()?;
+                }
+                Ok(None) => break,
+                Err(_) => return None,
+            }
+        }
+    }
+    None
+}
+
+impl Drop for EthercatSession {
+    /// Every slave back to Init, the state the session found the chain in: one broadcast write of AL
+    /// control, then AL status read until every slave shows Init (at most the session's timeout).
+    fn drop(&mut self) {
+        let md = &self.maindevice;
+        let asked = drive(
+            &mut self.tx_rx,
+            Command::bwr(AL_CONTROL).ignore_wkc().send(md, INIT),
+        );
+        if !matches!(asked, Ok(Ok(()))) {
+            return;
+        }
+        let deadline = Instant::now() + self.timeout;
+        while Instant::now() < deadline {
+            let al = drive(
+                &mut self.tx_rx,
+                Command::brd(AL_STATUS).ignore_wkc().receive::<u16>(md),
+            );
+            match al {
+                Ok(Ok(al)) if beyond_init(al).is_none() => return,
+                Ok(Ok(_)) => std::thread::sleep(Duration::from_millis(1)),
+                _ => return,
+            }
+        }
+    }
+}
+
 /// Why opening failed.
 enum OpenError {
     /// The TX/RX task ended while the slaves were initialised: worth another try.
@@ -264,6 +370,19 @@ impl EthercatSession {
     }
 
     fn try_open(interface: &str, timeout: Duration) -> Result<EthercatSession, OpenError> {
+        // Before ethercrab sends anything: a chain another master runs is left alone.
+        if let Some(al) = probe_al_status(interface) {
+            if let Some(state) = beyond_init(al) {
+                return Err(OpenError::Tool(
+                    EthercatError::Running {
+                        interface: interface.to_string(),
+                        state,
+                        al,
+                    }
+                    .into(),
+                ));
+            }
+        }
         let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
             Box::leak(Box::new(PduStorage::new()));
         let (tx, rx, pdu_loop) = storage
@@ -508,5 +627,31 @@ impl SdoAccess for EthercatSession {
         })
         .map_err(|e| self.ended(e))?;
         r.map_err(|f| self.error(node, addr, f))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::beyond_init;
+
+    /// The highest state in the OR of every slave's AL status (Init 1, Pre-Op 2, Bootstrap 3,
+    /// Safe-Op 4, Op 8; the error flag 0x10 aside); `None` only when all are in Init.
+    #[test]
+    fn the_highest_state_beyond_init() {
+        for (al, state) in [
+            (0x0001, None),
+            (0x0011, None),
+            (0x0000, None),
+            (0x0002, Some("Pre-Op")),
+            (0x0003, Some("Bootstrap")),
+            (0x0004, Some("Safe-Op")),
+            (0x0014, Some("Safe-Op")),
+            (0x0006, Some("Safe-Op")),
+            (0x0008, Some("Op")),
+            (0x000E, Some("Op")),
+            (0x0009, Some("Op")),
+        ] {
+            assert_eq!(beyond_init(al), state, "0x{al:04X}");
+        }
     }
 }

@@ -277,3 +277,50 @@ fn dump_edit_apply_round_trips_on_ethercat() {
     assert_eq!(ok(&link, &["read", "2", "0x8010:04", "u16"]), "400\n");
     assert_eq!(ok(&link, &["read", "2", "0x8010:07", "u16"]), "20\n");
 }
+
+/// Next to a running master: while pysoem holds both units in Op (`pysoem_master.py --hold-op 3`,
+/// the working counter checked in every cycle and (Op, 0) read every 100 ms), `sdo-tool --ethercat`
+/// reads the AL status once, finds Op and refuses in one line (exit 3), sending nothing that changes
+/// a state; pysoem's run ends without one bad cycle. Before and after, on the idle chain, a run
+/// finds Init and leaves Init.
+#[test]
+fn a_chain_another_master_runs_is_left_alone() {
+    use std::io::{BufRead, BufReader};
+    use std::process::{Command, Stdio};
+    let link = Link::up(&["--units", "2"]);
+    assert_eq!(ok(&link, &["read", "1", "0x1008", "vs"]), "\"SMD23K-B\"\n");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../ethercat-slave/tests/python/pysoem_master.py");
+    let mut master = Command::new("python3")
+        .arg(&script)
+        .args([link.master.as_str(), "2", "--hold-op", "3"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("python3 with pysoem (scripts/setup-test-deps installs it)");
+    let mut lines = BufReader::new(master.stdout.take().unwrap()).lines();
+    let first = lines.next().and_then(Result::ok);
+    assert_eq!(first.as_deref(), Some("in Op"), "pysoem reached Op");
+    let out = tool(&link, &["read", "1", "0x1008", "vs"]);
+    assert_eq!(out.status.code(), Some(3));
+    assert_eq!(
+        stderr(&out),
+        format!(
+            "sdo-tool: EtherCAT: interface {}: the chain is in Op (AL status 0x0008, every slave's \
+             OR'd): another master runs it; sdo-tool --ethercat takes only a chain in Init and \
+             leaves it there\n",
+            link.master
+        )
+    );
+    let rest: Vec<String> = lines.map_while(Result::ok).collect();
+    let status = master.wait().unwrap();
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut master.stderr.take().unwrap(), &mut err).unwrap();
+    assert!(status.success(), "pysoem: {rest:?}\n{err}");
+    assert!(
+        rest.last().is_some_and(|l| l.contains("held Op for 3 s")),
+        "{rest:?}"
+    );
+    // pysoem's script asks for Init at its end: the chain is idle again, and served.
+    assert_eq!(ok(&link, &["read", "2", "0x1018:04", "u32"]), "2\n");
+}
