@@ -618,6 +618,15 @@ fn sdo_command(
                 outcome.refused
             )
             .map_err(io)?;
+            if outcome.refused_in_state > 0 {
+                writeln!(
+                    out,
+                    "{} refused for the node's present state (0x08000022): configure it in \
+                     Pre-Operational (sdo-tool nmt preop {node}) and apply again",
+                    outcome.refused_in_state
+                )
+                .map_err(io)?;
+            }
             if outcome.refused > 0 {
                 return Err(ToolError::Refused(outcome.refused));
             }

@@ -360,6 +360,8 @@ pub struct ApplyOutcome {
     pub refused: usize,
     /// Entries skipped with a warning.
     pub skipped: usize,
+    /// Of the refused writes, those refused for the node's present state (0x08000022).
+    pub refused_in_state: usize,
 }
 
 /// What [`SdoCommands::dump`] did.
@@ -736,6 +738,9 @@ impl<'a> SdoCommands<'a> {
                         return Err(err);
                     }
                     outcome.refused += 1;
+                    if matches!(err, ToolError::Abort { code, .. } if code.code() == 0x0800_0022) {
+                        outcome.refused_in_state += 1;
+                    }
                     continue;
                 }
                 Err(err) => return Err(err),

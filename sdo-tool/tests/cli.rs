@@ -518,6 +518,36 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
     assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), "300\n");
 }
 
+/// A node in Operational refuses PDO mapping changes for its state (0x08000022): `apply` says to
+/// configure it in Pre-Operational; there it goes through.
+#[test]
+fn apply_in_operational_says_to_configure_in_pre_operational() {
+    let n = Running::start();
+    let dir = tempfile::tempdir().unwrap();
+    let dcf = dir.path().join("node5.dcf");
+    n.tool(&["--od", &eds(), "dump", "5", "-o", dcf.to_str().unwrap()])
+        .unwrap();
+    n.tool(&["nmt", "start", "5"]).unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let (out, e) = n.tool_output(&["apply", "5", dcf.to_str().unwrap()]);
+    assert_eq!(e.map(|e| e.exit_code()), Some(1));
+    let last = out.lines().last().unwrap();
+    assert!(
+        last.ends_with(
+            " refused for the node's present state (0x08000022): configure it in Pre-Operational \
+             (sdo-tool nmt preop 5) and apply again"
+        ),
+        "{out}"
+    );
+    n.tool(&["nmt", "preop", "5"]).unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let out = n.tool(&["apply", "5", dcf.to_str().unwrap()]).unwrap();
+    assert!(
+        out.ends_with(" entries written, 0 skipped, 0 refused\n"),
+        "{out}"
+    );
+}
+
 /// `apply` of a DCF made elsewhere: a command object it sets is left out, an object the node does not
 /// have is skipped with a warning (0x06020000), a mapping entry of a valid RPDO the node refuses
 /// (0x06040043, the DCF sets no COB-ID to make it invalid) is reported and the rest goes on (exit 1);

@@ -1,0 +1,309 @@
+//! Every command line of the README works when pasted from the repository root.
+//!
+//! - Each ```` ```sh ```` block runs as one bash session from the repository root, the project's
+//!   binaries first on `PATH` (the README has the user put `target/release` there), against the
+//!   processes the README starts: its main job (`x67-node` with no arguments, node 1, the socketcand
+//!   server on 127.0.0.1:29536), and whatever a block starts itself (the EtherCAT block its veth pair
+//!   and emulator). Every command must end with exit 0, or with the code its trailing `# exit N` says.
+//! - Each ```` ```python ```` block runs with python3, as a user runs it with the main job up.
+//! - In ```` ```text ```` blocks, a line `$ COMMAND` is a command too (its output follows it).
+//! - A command named inline in the prose (`` `bash scripts/…` ``, `` `cargo bench -p P --bench B` ``)
+//!   must name a script or benchmark that exists; the two set-up commands (the indented ones, which
+//!   run the main job and the whole suite) are not run here, but their scripts must exist.
+//!
+//! Needs root for the EtherCAT block (a network namespace and a veth pair), as the suite does.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+
+fn root() -> &'static Path {
+    testkit::root()
+}
+
+/// One command of a block: its first line in the README and its text (several lines for a heredoc
+/// or a continued line), and the exit code it must end with.
+#[derive(Debug)]
+struct Cmd {
+    line: usize,
+    text: String,
+    exit: i32,
+}
+
+/// A fenced block: its kind and the line of its opening fence.
+#[derive(Debug)]
+struct Block {
+    kind: String,
+    line: usize,
+    body: Vec<(usize, String)>,
+}
+
+fn blocks(readme: &str) -> Vec<Block> {
+    let mut out = Vec::new();
+    let mut open: Option<Block> = None;
+    for (k, l) in readme.lines().enumerate() {
+        let n = k + 1;
+        if let Some(fence) = l.strip_prefix("```") {
+            match open.take() {
+                Some(b) => out.push(b),
+                None => {
+                    open = Some(Block {
+                        kind: fence.trim().to_string(),
+                        line: n,
+                        body: Vec::new(),
+                    })
+                }
+            }
+            continue;
+        }
+        if let Some(b) = open.as_mut() {
+            b.body.push((n, l.to_string()));
+        }
+    }
+    assert!(open.is_none(), "README.md: a fence is not closed");
+    out
+}
+
+/// The commands of an `sh` block: comments and blank lines dropped, heredocs and `\` continuations
+/// joined to their command.
+fn commands(block: &Block) -> Vec<Cmd> {
+    let mut out = Vec::new();
+    let mut lines = block.body.iter().peekable();
+    while let Some((n, l)) = lines.next() {
+        let t = l.trim();
+        if t.is_empty() || t.starts_with('#') {
+            continue;
+        }
+        let mut text = l.clone();
+        let mut last = l.clone();
+        while last.trim_end().ends_with('\\') {
+            let Some((_, next)) = lines.next() else { break };
+            text.push('\n');
+            text.push_str(next);
+            last = next.clone();
+        }
+        if let Some(at) = l.find("<<'") {
+            let tag: String = l[at + 3..].chars().take_while(|c| *c != '\'').collect();
+            for (_, next) in lines.by_ref() {
+                text.push('\n');
+                text.push_str(next);
+                if next.trim() == tag {
+                    break;
+                }
+            }
+        }
+        let exit = l
+            .rsplit_once("# exit ")
+            .and_then(|(_, c)| {
+                let digits: String = c.chars().take_while(char::is_ascii_digit).collect();
+                digits.parse().ok()
+            })
+            .unwrap_or(0);
+        out.push(Cmd {
+            line: *n,
+            text,
+            exit,
+        });
+    }
+    out
+}
+
+/// A directory of links named as the binaries, to put first on `PATH`.
+fn binaries() -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("readme-bin-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for (package, bin, features) in [
+        ("socketcan-node", "x67-node", &[][..]),
+        ("sdo-tool", "sdo-tool", &[]),
+        ("esi-gen", "esi-gen", &[]),
+        ("ethercat-slave", "smd-ethercat", &[]),
+        ("ds402", "smd", &["cli"]),
+    ] {
+        let path = testkit::cargo_binary(package, bin, features);
+        std::os::unix::fs::symlink(&path, dir.join(bin)).unwrap();
+    }
+    dir
+}
+
+/// The main job as the README starts it (`bash scripts/main`: `x67-node` without arguments), once
+/// it says it listens; killed when dropped.
+struct MainJob(Child);
+
+impl MainJob {
+    fn start(bin: &Path) -> MainJob {
+        let mut child = Command::new(bin.join("x67-node"))
+            .current_dir(root())
+            .env_remove("CANOPEN_BUS")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        assert!(
+            line.starts_with("x67-node: node 1 ") && line.contains("127.0.0.1:29536"),
+            "the main job: {line}"
+        );
+        MainJob(child)
+    }
+}
+
+impl Drop for MainJob {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Runs `script` with `program` from the repository root, `bin` first on PATH; its output.
+fn run(program: &str, script: &str, bin: &Path) -> std::process::Output {
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    Command::new(program)
+        .arg("-c")
+        .arg(script)
+        .current_dir(root())
+        .env("PATH", path)
+        .env_remove("CANOPEN_BUS")
+        .output()
+        .unwrap()
+}
+
+/// The bash script of one block: each command, then a check of its exit code that names its line.
+fn script(cmds: &[Cmd]) -> String {
+    let mut s = String::new();
+    for c in cmds {
+        s.push_str(&c.text);
+        s.push('\n');
+        if c.text.trim_end().ends_with('&') {
+            continue;
+        }
+        s.push_str(&format!(
+            "rc=$?; if [ $rc -ne {} ]; then echo \"README.md:{}: exit $rc, not {}\" >&2; \
+             kill $(jobs -p) 2>/dev/null; exit 1; fi\n",
+            c.exit, c.line, c.exit
+        ));
+    }
+    s.push_str("kill $(jobs -p) 2>/dev/null; wait 2>/dev/null; exit 0\n");
+    s
+}
+
+#[test]
+fn every_command_line_of_the_readme_works_when_pasted() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let bin = binaries();
+    // What an interrupted earlier run of the EtherCAT block may have left.
+    let _ = Command::new("ip").args(["netns", "del", "ecat"]).output();
+    let _ = Command::new("ip").args(["link", "del", "ecat0"]).output();
+    let _main = MainJob::start(&bin);
+    let mut ran = 0;
+    let mut failures = Vec::new();
+    for b in blocks(&readme) {
+        let (program, text, count) = match b.kind.as_str() {
+            "sh" => {
+                let cmds = commands(&b);
+                (String::from("bash"), script(&cmds), cmds.len())
+            }
+            "python" => {
+                let body: Vec<&str> = b.body.iter().map(|(_, l)| l.as_str()).collect();
+                (String::from("python3"), body.join("\n"), 1)
+            }
+            "text" => {
+                let cmds: Vec<Cmd> = b
+                    .body
+                    .iter()
+                    .filter_map(|(n, l)| {
+                        l.strip_prefix("$ ").map(|c| Cmd {
+                            line: *n,
+                            text: c.to_string(),
+                            exit: 0,
+                        })
+                    })
+                    .collect();
+                if cmds.is_empty() {
+                    continue;
+                }
+                let n = cmds.len();
+                (String::from("bash"), script(&cmds), n)
+            }
+            "" => panic!(
+                "README.md:{}: a block without a kind: sh (commands), python or text",
+                b.line
+            ),
+            _ => continue,
+        };
+        let out = run(&program, &text, &bin);
+        ran += count;
+        if !out.status.success() {
+            failures.push(format!(
+                "README.md:{} ({}): {}\n{}{}",
+                b.line,
+                b.kind,
+                out.status,
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n---\n"));
+    assert!(ran >= 30, "only {ran} commands found in the README");
+    println!("{ran} commands of the README ran");
+}
+
+/// The scripts and benchmarks the prose and the indented set-up commands name exist.
+#[test]
+fn every_script_and_benchmark_the_readme_names_exists() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let mut checked = 0;
+    for (k, line) in readme.lines().enumerate() {
+        let mut rest = line;
+        while let Some(at) = rest.find("bash ") {
+            let path: String = rest[at + 5..]
+                .chars()
+                .take_while(|c| !c.is_whitespace() && *c != '`')
+                .collect();
+            if path.starts_with("scripts/") || path.starts_with("tests/") {
+                assert!(
+                    root().join(&path).is_file(),
+                    "README.md:{}: {path} does not exist",
+                    k + 1
+                );
+                checked += 1;
+            }
+            rest = &rest[at + 5..];
+        }
+        let mut rest = line;
+        while let Some(at) = rest.find("cargo bench -p ") {
+            let words: Vec<&str> = rest[at..]
+                .split(|c: char| c.is_whitespace() || c == '`')
+                .filter(|w| !w.is_empty())
+                .collect();
+            let (package, bench) = (words[3], words[5]);
+            assert_eq!(words[4], "--bench", "README.md:{}", k + 1);
+            let dir = match package {
+                "od" | "ds402" | "sdo-tool" | "esi-gen" | "socketcan-node" | "ethercat-slave" => {
+                    package
+                }
+                other => panic!("README.md:{}: no package {other}", k + 1),
+            };
+            assert!(
+                root()
+                    .join(dir)
+                    .join("benches")
+                    .join(format!("{bench}.rs"))
+                    .is_file(),
+                "README.md:{}: no benchmark {bench} in {package}",
+                k + 1
+            );
+            checked += 1;
+            rest = &rest[at + 15..];
+        }
+    }
+    assert!(checked >= 5, "only {checked} scripts and benchmarks named");
+}
