@@ -211,7 +211,23 @@ fn look_up_by_name_is_case_insensitive() {
     );
     assert_eq!(
         d.lookup("nothing"),
-        Err(LookupError::NotFound("nothing".into()))
+        Err(LookupError::NotFound {
+            name: "nothing".into(),
+            similar: vec![]
+        })
+    );
+    // A name close to one of the dictionary's: named in the refusal, once though two entries have it.
+    let e = d.lookup("Labl").unwrap_err();
+    assert_eq!(
+        e,
+        LookupError::NotFound {
+            name: "Labl".into(),
+            similar: vec!["Label".into()]
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "no object or sub-object is named `Labl`; did you mean `Label`?"
     );
     match d.lookup("Label") {
         Err(LookupError::Ambiguous { candidates, .. }) => {

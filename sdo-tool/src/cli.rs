@@ -155,6 +155,9 @@ pub enum Cmd {
         /// Node-ID, 1–127.
         node: u8,
     },
+    /// The entries of the --od description, one per line: address, name, type, access, default and
+    /// limits (no bus needed); the names `read` and `write` take.
+    List,
     /// Every node on the bus (asked for 0x1000, or seen by boot-up or heartbeat), with its identity.
     Scan {
         /// How long to listen for answers, in ms.
@@ -234,7 +237,66 @@ fn command_name(command: &Cmd) -> &'static str {
         Cmd::Scan { .. } => "scan",
         Cmd::Gateway { .. } => "gateway",
         Cmd::Nmt { .. } => "nmt",
+        Cmd::List => "list",
     }
+}
+
+/// `list`: every entry of `desc`, in index order.
+fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result<(), ToolError> {
+    let io = ToolError::Output;
+    let mut rows = Vec::new();
+    for o in desc.dictionary.objects() {
+        for (&sub, e) in &o.subs {
+            let name = if o.kind.has_subs() {
+                format!("{}.{}", o.name, e.name)
+            } else {
+                o.name.clone()
+            };
+            let default = e.default.as_ref().map(|d| {
+                if d.plus_node_id {
+                    format!("$NODEID+{}", d.value)
+                } else {
+                    d.value.to_string()
+                }
+            });
+            let limits = match (&e.low, &e.high) {
+                (None, None) => None,
+                (lo, hi) => Some(format!(
+                    "{}..{}",
+                    lo.as_ref().map(|v| v.to_string()).unwrap_or_default(),
+                    hi.as_ref().map(|v| v.to_string()).unwrap_or_default()
+                )),
+            };
+            let addr = Address::new(o.index, sub);
+            if json {
+                rows.push(serde_json::json!({
+                    "address": addr.to_string(),
+                    "name": name,
+                    "type": e.data_type.to_string(),
+                    "access": e.access.kind.as_str(),
+                    "default": default,
+                    "limits": limits,
+                }));
+            } else {
+                let mut line = format!(
+                    "{addr}  {name}  {}  {}",
+                    e.data_type,
+                    e.access.kind.as_str()
+                );
+                if let Some(d) = default {
+                    line.push_str(&format!("  default {d}"));
+                }
+                if let Some(l) = limits {
+                    line.push_str(&format!("  limits {l}"));
+                }
+                writeln!(out, "{line}").map_err(io)?;
+            }
+        }
+    }
+    if json {
+        writeln!(out, "{}", serde_json::json!({ "entries": rows })).map_err(io)?;
+    }
+    Ok(())
 }
 
 /// Runs `args` on `bus` (opened from the arguments when `None`), printing to `out`. With
@@ -250,6 +312,12 @@ pub fn run(
         None => None,
     };
     let timeout = Duration::from_millis(args.timeout_ms.max(1));
+    if let Cmd::List = args.command {
+        let desc = desc
+            .as_ref()
+            .ok_or_else(|| ToolError::Usage("list needs a description: --od FILE".into()))?;
+        return list(desc, args.json, out);
+    }
     if let Some(interface) = &args.ethercat {
         if !is_sdo_command(&args.command) {
             return Err(ToolError::Usage(format!(
@@ -283,6 +351,8 @@ pub fn run(
         Cmd::Read { .. } | Cmd::Write { .. } | Cmd::Dump { .. } | Cmd::Apply { .. } => {
             return tool.with_commands(|commands| sdo_command(commands, args, desc.as_ref(), out));
         }
+        // Answered above, before any bus is opened.
+        Cmd::List => {}
         Cmd::Upload { node, object, file } => {
             let mut f = std::fs::File::create(file)
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;

@@ -518,6 +518,40 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
     assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), "300\n");
 }
 
+/// `list --od FILE`: every entry of the description, one line each, the names `read` and `write`
+/// take; without --od a usage error; with --json one document. A name that is not there is refused
+/// with the names close to it.
+#[test]
+fn list_shows_the_description_and_names_are_suggested() {
+    let n = Running::start();
+    let od = eds();
+    let out = n.tool(&["--od", &od, "list"]).unwrap();
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 134);
+    for want in [
+        "0x1000:00  Device type  UNSIGNED32  ro  default 0",
+        "0x1017:00  Producer heartbeat time  UNSIGNED16  rw  default 0",
+        "0x1018:01  Identity.Vendor-ID  UNSIGNED32  ro  default 2862",
+        "0x2110:00  ConfigOutput03a  UNSIGNED8  wo  default 0  limits 0..167",
+    ] {
+        assert!(lines.contains(&want), "{want}\n{out}");
+    }
+    assert_eq!(n.tool(&["list"]).unwrap_err().exit_code(), 2);
+    let json: serde_json::Value =
+        serde_json::from_str(&n.tool(&["--od", &od, "--json", "list"]).unwrap()).unwrap();
+    assert_eq!(json["entries"].as_array().unwrap().len(), 134);
+    assert_eq!(json["entries"][0]["name"], "Device type");
+    let e = n
+        .tool(&["--od", &od, "read", "5", "ConfigOutput3a"])
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "object \"ConfigOutput3a\": no object or sub-object is named `ConfigOutput3a`; did you \
+         mean `ConfigOutput03a`, `ConfigOutput04a`, `ConfigOutput05a`?"
+    );
+    assert_eq!(e.exit_code(), 2);
+}
+
 /// A node in Operational refuses PDO mapping changes for its state (0x08000022): `apply` says to
 /// configure it in Pre-Operational; there it goes through.
 #[test]

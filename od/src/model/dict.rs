@@ -206,9 +206,14 @@ impl fmt::Display for Address {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum LookupError {
-    /// No object or sub-object has this name.
-    #[error("no object or sub-object is named `{0}`")]
-    NotFound(String),
+    /// No object or sub-object has this name; the names closest to it, if any are close.
+    #[error("no object or sub-object is named `{name}`{}", did_you_mean(similar))]
+    NotFound {
+        /// The name.
+        name: String,
+        /// Names of the dictionary that look like it, closest first (at most 3).
+        similar: Vec<String>,
+    },
     /// Several entries have this name.
     #[error("`{name}` names several entries: {}", .candidates.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "))]
     Ambiguous {
@@ -217,6 +222,21 @@ pub enum LookupError {
         /// The entries it names.
         candidates: Vec<Address>,
     },
+}
+
+fn did_you_mean(similar: &[String]) -> String {
+    if similar.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; did you mean {}?",
+            similar
+                .iter()
+                .map(|n| format!("`{n}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    }
 }
 
 /// An object dictionary: objects by index.
@@ -340,19 +360,41 @@ impl Dictionary {
                         .collect();
                     return match hits.len() {
                         1 => Ok(hits[0]),
-                        0 => Err(LookupError::NotFound(wanted.to_string())),
+                        0 => Err(self.not_found(wanted)),
                         _ => Err(LookupError::Ambiguous {
                             name: wanted.to_string(),
                             candidates: hits,
                         }),
                     };
                 }
-                Err(LookupError::NotFound(wanted.to_string()))
+                Err(self.not_found(wanted))
             }
             _ => Err(LookupError::Ambiguous {
                 name: wanted.to_string(),
                 candidates: found,
             }),
+        }
+    }
+
+    /// The not-found error for `name`, with the names that look like it: a similarity (Jaro–Winkler,
+    /// case-insensitive) of at least 0.85, closest first, at most three.
+    fn not_found(&self, name: &str) -> LookupError {
+        let wanted = name.to_lowercase();
+        let mut scored: Vec<(f64, &str)> = Vec::new();
+        for o in self.objects.values() {
+            let names =
+                std::iter::once(o.name.as_str()).chain(o.subs.values().map(|s| s.name.as_str()));
+            for n in names {
+                let score = strsim::jaro_winkler(&wanted, &n.to_lowercase());
+                if score >= 0.85 && !scored.iter().any(|(_, m)| m.eq_ignore_ascii_case(n)) {
+                    scored.push((score, n));
+                }
+            }
+        }
+        scored.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(b.1)));
+        LookupError::NotFound {
+            name: name.to_string(),
+            similar: scored.iter().take(3).map(|(_, n)| n.to_string()).collect(),
         }
     }
 
@@ -365,7 +407,7 @@ impl Dictionary {
             .collect();
         match hits.len() {
             1 => Ok(hits[0]),
-            0 => Err(LookupError::NotFound(name.trim().to_string())),
+            0 => Err(self.not_found(name.trim())),
             _ => Err(LookupError::Ambiguous {
                 name: name.trim().to_string(),
                 candidates: hits.into_iter().map(|i| Address::new(i, 0)).collect(),
