@@ -216,6 +216,13 @@ fn look_up_by_name_is_case_insensitive() {
             similar: vec![]
         })
     );
+    // An object's sub-object that is not there: the object named, and its sub-objects.
+    let e = d.lookup("Configuration data.colour").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "`Configuration Data` has no sub-object named `colour`; its sub-objects: SubIndex 000, \
+         CFG_Word_0, Speed, Label"
+    );
     // A name close to one of the dictionary's: named in the refusal, once though two entries have it.
     let e = d.lookup("Labl").unwrap_err();
     assert_eq!(

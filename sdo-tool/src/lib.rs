@@ -585,12 +585,46 @@ impl<'a> SdoCommands<'a> {
         Ok(TypeCode::of(e.data_type))
     }
 
+    /// With a dictionary: `addr`'s access refuses `what` (`"read"` or `"written"`) — a write-only
+    /// entry is not read, a read-only one not written — before anything is sent.
+    fn check_access(&self, addr: Address, write: bool) -> Result<(), ToolError> {
+        let Some(e) = self.od.and_then(|od| od.entry(addr.index, addr.sub).ok()) else {
+            return Ok(());
+        };
+        let kind = e.access.kind;
+        let refused = if write {
+            !kind.writable()
+        } else {
+            !kind.readable()
+        };
+        if refused {
+            return Err(ToolError::Usage(format!(
+                "{addr} ({}) is {} ({}) in the description: not {}",
+                e.name,
+                if write { "read-only" } else { "write-only" },
+                kind.as_str(),
+                if write { "written" } else { "read" }
+            )));
+        }
+        Ok(())
+    }
+
     /// `read NODE OBJECT [TYPE]`: the value as text.
     pub fn read(&mut self, node: u8, object: &str, ty: Option<&str>) -> Result<String, ToolError> {
         self.sdo.check_node(node)?;
         let addr = self.object(object)?;
         let code = self.type_for(addr, ty)?;
-        let v = self.sdo.read_value(node, addr, code.data_type)?;
+        self.check_access(addr, false)?;
+        let v = match self.sdo.read_value(node, addr, code.data_type) {
+            Ok(v) => v,
+            // The bytes came; the type asked for does not fit them: the user's type is wrong.
+            Err(ToolError::Value(e) | ToolError::Session(SessionError::Value(e))) => {
+                return Err(ToolError::Usage(format!(
+                    "{addr}: {e}: the entry is of another type (read it as its own type, or as hex)"
+                )))
+            }
+            Err(e) => return Err(e),
+        };
         Ok(code.format(&v))
     }
 
@@ -609,6 +643,7 @@ impl<'a> SdoCommands<'a> {
         let bytes = v
             .encode(code.data_type)
             .map_err(|e| ToolError::Usage(format!("{value:?}: {e}")))?;
+        self.check_access(addr, true)?;
         if let Some(od) = self.od {
             // Refused before anything is sent: what the dictionary refuses, the node would too.
             if let Err(e) = od.check(addr.index, addr.sub, &bytes) {

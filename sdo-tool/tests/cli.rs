@@ -552,6 +552,34 @@ fn list_shows_the_description_and_names_are_suggested() {
     assert_eq!(e.exit_code(), 2);
 }
 
+/// Refusals that name the user's mistake, before anything is sent where the description tells: a
+/// type that does not fit the bytes read (exit 2, not a transport failure), a write to a read-only
+/// entry and a read of a write-only one (from the description's access).
+#[test]
+fn mistakes_are_named_before_sending() {
+    let n = Running::start();
+    let od = eds();
+    for (argv, says) in [
+        (
+            &["read", "5", "0x1008:00", "u16"][..],
+            "0x1008:00: UNSIGNED16 takes 2 bytes, got 24: the entry is of another type (read it \
+             as its own type, or as hex)",
+        ),
+        (
+            &["--od", &od, "write", "5", "0x1018:01", "5"],
+            "0x1018:01 (Vendor-ID) is read-only (ro) in the description: not written",
+        ),
+        (
+            &["--od", &od, "read", "5", "ConfigOutput03a"],
+            "0x2110:00 (ConfigOutput03a) is write-only (wo) in the description: not read",
+        ),
+    ] {
+        let e = n.tool(argv).unwrap_err();
+        assert_eq!(e.to_string(), says);
+        assert_eq!(e.exit_code(), 2, "{argv:?}");
+    }
+}
+
 /// A node in Operational refuses PDO mapping changes for its state (0x08000022): `apply` says to
 /// configure it in Pre-Operational; there it goes through.
 #[test]

@@ -214,6 +214,16 @@ pub enum LookupError {
         /// Names of the dictionary that look like it, closest first (at most 3).
         similar: Vec<String>,
     },
+    /// The object is there, but none of its sub-objects has this name.
+    #[error("`{object}` has no sub-object named `{sub}`; its sub-objects: {}", subs.join(", "))]
+    NoSub {
+        /// The object's name.
+        object: String,
+        /// The sub-object's name asked for.
+        sub: String,
+        /// Its sub-objects' names.
+        subs: Vec<String>,
+    },
     /// Several entries have this name.
     #[error("`{name}` names several entries: {}", .candidates.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "))]
     Ambiguous {
@@ -360,7 +370,11 @@ impl Dictionary {
                         .collect();
                     return match hits.len() {
                         1 => Ok(hits[0]),
-                        0 => Err(self.not_found(wanted)),
+                        0 => Err(LookupError::NoSub {
+                            object: object.name.clone(),
+                            sub: sub_name.trim().to_string(),
+                            subs: object.subs.values().map(|s| s.name.clone()).collect(),
+                        }),
                         _ => Err(LookupError::Ambiguous {
                             name: wanted.to_string(),
                             candidates: hits,
