@@ -241,6 +241,43 @@ fn command_name(command: &Cmd) -> &'static str {
     }
 }
 
+/// The node an SDO command addresses.
+fn command_node(command: &Cmd) -> Option<u8> {
+    match command {
+        Cmd::Read { node, .. }
+        | Cmd::Write { node, .. }
+        | Cmd::Dump { node, .. }
+        | Cmd::Apply { node, .. } => Some(*node),
+        _ => None,
+    }
+}
+
+/// When `node`'s 0x1018:01 and 0x1018:02 (vendor and product) are not the description's: the warning
+/// that says so. Nothing when they match, or when the node does not give them (the command then
+/// reports what it finds).
+fn identity_mismatch(
+    commands: &mut SdoCommands<'_>,
+    node: u8,
+    desc: &od::DeviceDescription,
+) -> Option<String> {
+    let id = &desc.identity;
+    if id.vendor_id == 0 && id.product_code == 0 {
+        return None;
+    }
+    let mut read = |sub: u8| {
+        let b = commands.read_raw(node, Address::new(0x1018, sub)).ok()?;
+        Some(u32::from_le_bytes(b.get(..4)?.try_into().ok()?))
+    };
+    let (vendor, product) = (read(1)?, read(2)?);
+    (vendor != id.vendor_id || product != id.product_code).then(|| {
+        format!(
+            "the description (--od) is of vendor 0x{:08X}, product 0x{:08X} ({}); node {node} \
+             reports vendor 0x{vendor:08X}, product 0x{product:08X}",
+            id.vendor_id, id.product_code, id.product_name
+        )
+    })
+}
+
 /// `list`: every entry of `desc`, in index order.
 fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result<(), ToolError> {
     let io = ToolError::Output;
@@ -539,6 +576,11 @@ fn sdo_command(
 ) -> Result<(), ToolError> {
     let io = ToolError::Output;
     let json = args.json;
+    if let (Some(d), Some(node)) = (desc, command_node(&args.command)) {
+        if let Some(w) = identity_mismatch(commands, node, d) {
+            eprintln!("sdo-tool: warning: {w}");
+        }
+    }
     match &args.command {
         Cmd::Read { node, object, ty } => {
             let v = commands.read(*node, object, ty.as_deref())?;

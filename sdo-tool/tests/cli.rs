@@ -250,6 +250,37 @@ fn the_written_description_names_module_2_for_od() {
     node.wait().unwrap();
 }
 
+/// A description of another device (`--od` of the SMD23K-B against the X67 node) is warned about on
+/// stderr, naming both identities; the command still runs. The node's own description: no warning.
+#[test]
+fn a_description_of_another_device_is_warned_about() {
+    let (mut node, port) = hub(3);
+    let bus = format!("socketcand://127.0.0.1:{port}/can0");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let run = |od: &str| {
+        Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+            .args(["--bus", &bus, "--od"])
+            .arg(root.join(od))
+            .args(["read", "3", "0x1017:00", "u16"])
+            .output()
+            .unwrap()
+    };
+    let out = run("fixtures/smd/SMD23K-B.eds");
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "0\n");
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "sdo-tool: warning: the description (--od) is of vendor 0x00000AC1, product 0x00002301 \
+         (SMD23K-B Integrated Stepper Indexer/Driver/Motor (EtherCAT)); node 3 reports vendor \
+         0x00000B2E, product 0x00002436\n"
+    );
+    let out = run("fixtures/x67/X67SM2436.eds");
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+    node.kill().unwrap();
+    node.wait().unwrap();
+}
+
 /// `CANOPEN_BUS` is the bus when `--bus` is not given; `--bus` wins over it.
 #[test]
 fn canopen_bus_is_the_default_bus() {
