@@ -144,6 +144,25 @@ pub enum Cmd {
         /// Stop after this many ms.
         #[arg(long)]
         duration_ms: Option<u64>,
+        /// Also write every frame to FILE in candump's log format (`candump -L`), for `decode`,
+        /// canplayer or python-can.
+        #[arg(long, value_name = "FILE")]
+        log: Option<PathBuf>,
+        /// Also show the frames it cannot name, as ID#DATA.
+        #[arg(long)]
+        raw: bool,
+    },
+    /// Names every frame of a candump log (`candump -L`, or `watch --log`; `-` reads standard
+    /// input): NMT, boot-up and heartbeats, SYNC, EMCY, SDO transfers reassembled with their values,
+    /// and with --od and NODE the node's PDOs field by field.
+    Decode {
+        /// The log.
+        log: PathBuf,
+        /// Only this node (its PDOs need --od).
+        node: Option<u8>,
+        /// Also show the frames it cannot name, as ID#DATA.
+        #[arg(long)]
+        raw: bool,
     },
     /// Store the node's parameters: 0x1010:01 = "save".
     Save {
@@ -238,7 +257,82 @@ fn command_name(command: &Cmd) -> &'static str {
         Cmd::Gateway { .. } => "gateway",
         Cmd::Nmt { .. } => "nmt",
         Cmd::List => "list",
+        Cmd::Decode { .. } => "decode",
     }
+}
+
+/// The longest line `decode` reads; a longer one is skipped.
+const MAX_LOG_LINE: u64 = 4096;
+
+/// `decode`: every frame of a candump log, named, with its time since the log's first frame.
+fn decode(
+    path: &std::path::Path,
+    node: Option<u8>,
+    raw: bool,
+    dict: Option<&od::Dictionary>,
+    json: bool,
+    out: &mut dyn Write,
+) -> Result<(), ToolError> {
+    use std::io::{BufRead, Read};
+    let input: Box<dyn Read> = if path.as_os_str() == "-" {
+        Box::new(std::io::stdin())
+    } else {
+        let kind = std::fs::metadata(path)
+            .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?;
+        if kind.is_dir() {
+            return Err(ToolError::Usage(format!("{}: a directory", path.display())));
+        }
+        Box::new(
+            std::fs::File::open(path)
+                .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?,
+        )
+    };
+    let mut reader = std::io::BufReader::new(input);
+    let mut w = crate::watch::Watcher::new(node, dict).with_raw(raw);
+    let mut first = None;
+    let mut line = Vec::new();
+    let mut skipped = 0usize;
+    loop {
+        line.clear();
+        let n = (&mut reader)
+            .take(MAX_LOG_LINE)
+            .read_until(b'\n', &mut line)
+            .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?;
+        if n == 0 {
+            break;
+        }
+        if line.last() != Some(&b'\n') && n as u64 == MAX_LOG_LINE {
+            // A line longer than any log line: the rest of it is skipped.
+            let mut sink = Vec::new();
+            let _ = reader.read_until(b'\n', &mut sink);
+            skipped += 1;
+            continue;
+        }
+        let text = String::from_utf8_lossy(&line);
+        let Some((t, frame)) = crate::watch::candump_line(&text) else {
+            if !text.trim().is_empty() {
+                skipped += 1;
+            }
+            continue;
+        };
+        let t0 = *first.get_or_insert(t);
+        let t = t - t0;
+        for named in w.at(t, &frame) {
+            emit(
+                out,
+                json,
+                format!("{t:>10.6}  {named}"),
+                serde_json::json!({"t": t, "event": named}),
+            )?;
+        }
+    }
+    if skipped > 0 {
+        eprintln!(
+            "sdo-tool: {skipped} line(s) of {} are no candump -L frames: skipped",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 /// The node an SDO command addresses.
@@ -349,6 +443,16 @@ pub fn run(
         None => None,
     };
     let timeout = Duration::from_millis(args.timeout_ms.max(1));
+    if let Cmd::Decode { log, node, raw } = &args.command {
+        return decode(
+            log,
+            *node,
+            *raw,
+            desc.as_ref().map(|d| &d.dictionary),
+            args.json,
+            out,
+        );
+    }
     if let Cmd::List = args.command {
         let desc = desc
             .as_ref()
@@ -389,7 +493,7 @@ pub fn run(
             return tool.with_commands(|commands| sdo_command(commands, args, desc.as_ref(), out));
         }
         // Answered above, before any bus is opened.
-        Cmd::List => {}
+        Cmd::List | Cmd::Decode { .. } => {}
         Cmd::Upload { node, object, file } => {
             let mut f = std::fs::File::create(file)
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
@@ -449,8 +553,25 @@ pub fn run(
                 serde_json::json!({"bytes": len, "seconds": took.as_secs_f64()}),
             )?;
         }
-        Cmd::Watch { node, duration_ms } => {
-            let mut w = crate::watch::Watcher::new(*node, tool.od.as_ref());
+        Cmd::Watch {
+            node,
+            duration_ms,
+            log,
+            raw,
+        } => {
+            let mut w = crate::watch::Watcher::new(*node, tool.od.as_ref()).with_raw(*raw);
+            let iface = match &args.bus {
+                Some(BusSpec::SocketCan { iface }) => iface.clone(),
+                Some(BusSpec::Socketcand { channel, .. }) => channel.clone(),
+                _ => "can0".to_string(),
+            };
+            let mut log = match log {
+                Some(path) => Some(std::io::BufWriter::new(
+                    std::fs::File::create(path)
+                        .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?,
+                )),
+                None => None,
+            };
             let start = std::time::Instant::now();
             let end = duration_ms.map(|ms| start + Duration::from_millis(ms));
             let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -470,16 +591,25 @@ pub fn run(
                     }
                     None => Duration::from_millis(100),
                 };
-                if let Some(socketcan_node::BusEvent::Frame { frame, .. }) = tool.bus.recv(wait)? {
-                    if let Some(line) = w.line(&frame) {
-                        let t = start.elapsed().as_secs_f64();
-                        emit(
-                            out,
-                            json,
-                            format!("{t:>9.3}  {line}"),
-                            serde_json::json!({"t": t, "event": line}),
-                        )?;
+                let event = tool.bus.recv(wait)?;
+                let t = start.elapsed().as_secs_f64();
+                let lines = match event {
+                    Some(socketcan_node::BusEvent::Frame { frame, at }) => {
+                        if let Some(l) = log.as_mut() {
+                            writeln!(l, "{}", crate::watch::candump(at, &iface, &frame))
+                                .map_err(io)?;
+                        }
+                        w.at(t, &frame)
                     }
+                    _ => w.missed(t),
+                };
+                for line in lines {
+                    emit(
+                        out,
+                        json,
+                        format!("{t:>9.3}  {line}"),
+                        serde_json::json!({"t": t, "event": line}),
+                    )?;
                 }
             }
         }

@@ -1,6 +1,9 @@
-//! `sdo-tool watch`: what goes on on the bus, in words — heartbeats and NMT state changes, EMCY
-//! messages with their error code's meaning, and TPDOs of a node decoded field by field from its
-//! mapping in a description.
+//! `sdo-tool watch` and `sdo-tool decode`: what goes on on the bus, in words — NMT commands,
+//! boot-up messages, heartbeats and the state changes they show, SYNC, EMCY messages with their error
+//! code's meaning, SDO transfers (expedited and segmented ones reassembled into one line with the
+//! value, block transfers with their size, aborts with their code's meaning), and a node's PDOs (TPDOs
+//! and RPDOs) decoded field by field from its mapping in a description. A frame that is none of these
+//! is shown as it is when raw frames are asked for.
 
 use std::collections::HashMap;
 
@@ -9,7 +12,9 @@ use od::types::DataType;
 use od::value::Value;
 
 use crate::TypeCode;
-use socketcan_node::node::pdo::{PdoConfig, TPDO_COMM};
+use od::abort::AbortCode;
+use od::dict::Address;
+use socketcan_node::node::pdo::{PdoConfig, RPDO_COMM, TPDO_COMM};
 use socketcan_node::node::EmcyCode;
 use socketcan_node::CanFrame;
 
@@ -24,11 +29,21 @@ pub fn nmt_state_name(byte: u8) -> &'static str {
     }
 }
 
-/// One decoded TPDO: its COB-ID and the mapped entries with their names and types.
+/// One decoded PDO: its kind and number, and the mapped entries with their names and types.
 #[derive(Debug, Clone)]
 struct PdoLayout {
+    kind: &'static str,
     number: u16,
     fields: Vec<(String, DataType, usize)>,
+}
+
+/// An SDO transfer seen going on, for one node.
+#[derive(Debug, Clone)]
+struct Transfer {
+    mux: Address,
+    upload: bool,
+    block: bool,
+    data: Vec<u8>,
 }
 
 /// Decodes the bus's frames into lines.
@@ -36,6 +51,12 @@ pub struct Watcher {
     node: Option<u8>,
     last_state: HashMap<u8, u8>,
     pdos: HashMap<u16, PdoLayout>,
+    od: Option<Dictionary>,
+    transfers: HashMap<u8, Transfer>,
+    raw: bool,
+    /// Per node: its last heartbeat's time, the period seen between its last two, whether its
+    /// silence was reported, and whether the last was a boot-up message.
+    beats: HashMap<u8, (f64, Option<f64>, bool, bool)>,
 }
 
 impl Watcher {
@@ -45,14 +66,21 @@ impl Watcher {
         if let (Some(node), Some(od)) = (node, od) {
             let mut d = od.clone();
             d.reset(node);
-            for k in 0..512u16 {
-                let Some(pdo) = PdoConfig::read(&d, TPDO_COMM + k).filter(PdoConfig::valid) else {
+            for (kind, comm, k) in (0..512u16)
+                .map(|k| ("TPDO", TPDO_COMM, k))
+                .chain((0..512u16).map(|k| ("RPDO", RPDO_COMM, k)))
+            {
+                let Some(pdo) = PdoConfig::read(&d, comm + k).filter(PdoConfig::valid) else {
                     continue;
                 };
                 let fields = pdo
                     .map
                     .iter()
                     .map(|e| {
+                        // A dummy entry (a data type's index) fills bytes, nothing else.
+                        if e.index < 0x1000 {
+                            return ("Dummy".to_string(), DataType::Unsigned8, e.len());
+                        }
                         let (name, ty) = match d.entry(e.index, e.sub) {
                             Ok(entry) => (entry.name.clone(), entry.data_type),
                             Err(_) => (
@@ -66,6 +94,7 @@ impl Watcher {
                 pdos.insert(
                     pdo.cob_id(),
                     PdoLayout {
+                        kind,
                         number: k + 1,
                         fields,
                     },
@@ -76,6 +105,251 @@ impl Watcher {
             node,
             last_state: HashMap::new(),
             pdos,
+            od: od.cloned(),
+            transfers: HashMap::new(),
+            raw: false,
+            beats: HashMap::new(),
+        }
+    }
+
+    /// The lines for `frame` received at `t` (seconds): first the heartbeats found missing by then
+    /// ([`Watcher::missed`]), then the frame's own.
+    pub fn at(&mut self, t: f64, frame: &CanFrame) -> Vec<String> {
+        let mut lines = self.missed(t);
+        if let Some(c @ 0x701..=0x77F) = frame.cob_id() {
+            if frame.len() == 1 {
+                let id = (c - 0x700) as u8;
+                let boot = frame.data()[0] == 0;
+                // A period is between two heartbeats: not from a boot-up message to the first.
+                let period = match self.beats.get(&id) {
+                    Some((last, _, _, false)) if !boot => Some(t - *last).filter(|p| *p > 0.0),
+                    _ => None,
+                };
+                self.beats.insert(id, (t, period, false, boot));
+            }
+        }
+        lines.extend(self.line(frame));
+        lines
+    }
+
+    /// A line for each watched node whose heartbeat has not come for more than twice the period seen
+    /// between its last two beats (a consumer time of twice the producer's, as CiA 301 systems are
+    /// commonly set up), once per silence.
+    pub fn missed(&mut self, t: f64) -> Vec<String> {
+        let mut lines = Vec::new();
+        let mut ids: Vec<u8> = self.beats.keys().copied().collect();
+        ids.sort_unstable();
+        for id in ids {
+            if !self.wanted(id) {
+                continue;
+            }
+            let Some((last, Some(period), reported, _)) = self.beats.get_mut(&id) else {
+                continue;
+            };
+            // More than twice the period (a microsecond of rounding aside).
+            if !*reported && t - *last > 2.0 * *period + 1e-6 {
+                *reported = true;
+                lines.push(format!(
+                    "node {id}: heartbeat missed: none for {:.3} s (period {:.3} s)",
+                    t - *last,
+                    period
+                ));
+            }
+        }
+        lines
+    }
+
+    /// Also shows the frames it cannot name, as `ID#DATA`.
+    pub fn with_raw(mut self, raw: bool) -> Watcher {
+        self.raw = raw;
+        self
+    }
+
+    /// `index:sub (name)` with the description's name where it has one.
+    fn named(&self, mux: Address) -> String {
+        match self
+            .od
+            .as_ref()
+            .and_then(|d| d.entry(mux.index, mux.sub).ok())
+        {
+            Some(e) => format!("{mux} ({})", e.name),
+            None => mux.to_string(),
+        }
+    }
+
+    /// `bytes` as a value of `mux`'s type in the description, else as hex bytes.
+    fn value(&self, mux: Address, bytes: &[u8]) -> String {
+        let typed = self
+            .od
+            .as_ref()
+            .and_then(|d| d.entry(mux.index, mux.sub).ok())
+            .and_then(|e| {
+                Value::decode(e.data_type, bytes)
+                    .ok()
+                    .map(|v| TypeCode::of(e.data_type).format(&v))
+            });
+        typed.unwrap_or_else(|| hex(bytes))
+    }
+
+    /// An SDO frame of node `id`, `request` from the client (0x600 + id) or not (0x580 + id).
+    fn sdo(&mut self, id: u8, request: bool, d: &[u8]) -> Option<String> {
+        if d.len() != 8 {
+            return None;
+        }
+        let mux = Address::new(u16::from_le_bytes([d[1], d[2]]), d[3]);
+        let cs = d[0] >> 5;
+        let who = format!("node {id}: SDO");
+        // A block transfer: the frames of the side that sends the data are segments (any first
+        // byte); the other side's 0xA1 ends it (CiA 301 §7.2.4.3.9–16).
+        if let Some(t) = self.transfers.get(&id).filter(|t| t.block).cloned() {
+            if request != t.upload {
+                return None;
+            }
+            if d[0] == 0xA1 {
+                self.transfers.remove(&id);
+                return Some(format!(
+                    "{who} {} {} (block transfer)",
+                    if t.upload { "read" } else { "written" },
+                    self.named(t.mux)
+                ));
+            }
+            if cs != 4 {
+                return None;
+            }
+        }
+        // An abort, from either side, ends the transfer.
+        if cs == 4 {
+            self.transfers.remove(&id);
+            let code = AbortCode::from(u32::from_le_bytes([d[4], d[5], d[6], d[7]]));
+            return Some(format!(
+                "{who} {} aborts {}: {code}",
+                if request { "client" } else { "server" },
+                self.named(mux)
+            ));
+        }
+        let t = self.transfers.get(&id).cloned();
+        match (request, cs, t) {
+            // Initiate download: expedited (the value in the frame) or the size announced.
+            (true, 1, _) => {
+                let (e, s) = (d[0] & 0x02 != 0, d[0] & 0x01 != 0);
+                if e {
+                    let n = if s {
+                        4 - usize::from((d[0] >> 2) & 3)
+                    } else {
+                        4
+                    };
+                    self.transfers.remove(&id);
+                    Some(format!(
+                        "{who} write {} = {}",
+                        self.named(mux),
+                        self.value(mux, &d[4..4 + n])
+                    ))
+                } else {
+                    self.transfers.insert(
+                        id,
+                        Transfer {
+                            mux,
+                            upload: false,
+                            block: false,
+                            data: Vec::new(),
+                        },
+                    );
+                    None
+                }
+            }
+            (true, 2, _) => {
+                self.transfers.insert(
+                    id,
+                    Transfer {
+                        mux,
+                        upload: true,
+                        block: false,
+                        data: Vec::new(),
+                    },
+                );
+                None
+            }
+            // Block download (0xC0–0xC7 with bit 0 clear) or upload (0xA0, 0xA4) begun by the client.
+            (true, 6, _) if d[0] & 0x01 == 0 => {
+                self.transfers.insert(
+                    id,
+                    Transfer {
+                        mux,
+                        upload: false,
+                        block: true,
+                        data: Vec::new(),
+                    },
+                );
+                None
+            }
+            (true, 5, _) if d[0] & 0x03 == 0 => {
+                self.transfers.insert(
+                    id,
+                    Transfer {
+                        mux,
+                        upload: true,
+                        block: true,
+                        data: Vec::new(),
+                    },
+                );
+                None
+            }
+            // Download segment: data after byte 0, 7 − n of them, c = last.
+            (true, 0, Some(mut t)) if !t.upload && !t.block => {
+                let n = usize::from((d[0] >> 1) & 7);
+                t.data.extend_from_slice(&d[1..8 - n]);
+                let last = d[0] & 0x01 != 0;
+                self.transfers.insert(id, t);
+                last.then(|| {
+                    let t = self.transfers.get(&id).cloned().unwrap();
+                    format!(
+                        "{who} write {} = {} ({} bytes, segmented)",
+                        self.named(t.mux),
+                        self.value(t.mux, &t.data),
+                        t.data.len()
+                    )
+                })
+            }
+            // Initiate upload response: expedited, or the size of what follows.
+            (false, 2, _) => {
+                let (e, s) = (d[0] & 0x02 != 0, d[0] & 0x01 != 0);
+                if e {
+                    let n = if s {
+                        4 - usize::from((d[0] >> 2) & 3)
+                    } else {
+                        4
+                    };
+                    self.transfers.remove(&id);
+                    Some(format!(
+                        "{who} read {} = {}",
+                        self.named(mux),
+                        self.value(mux, &d[4..4 + n])
+                    ))
+                } else {
+                    None
+                }
+            }
+            (false, 3, _) => {
+                self.transfers.remove(&id);
+                Some(format!("{who} written {}", self.named(mux)))
+            }
+            // Upload segment: data after byte 0, 7 − n of them, c = last.
+            (false, 0, Some(mut t)) if t.upload && !t.block => {
+                let n = usize::from((d[0] >> 1) & 7);
+                t.data.extend_from_slice(&d[1..8 - n]);
+                if d[0] & 0x01 == 0 {
+                    self.transfers.insert(id, t);
+                    return None;
+                }
+                self.transfers.remove(&id);
+                Some(format!(
+                    "{who} read {} = {} ({} bytes, segmented)",
+                    self.named(t.mux),
+                    self.value(t.mux, &t.data),
+                    t.data.len()
+                ))
+            }
+            _ => None,
         }
     }
 
@@ -85,9 +359,40 @@ impl Watcher {
 
     /// The line for `frame`, if it is one the watcher reports.
     pub fn line(&mut self, frame: &CanFrame) -> Option<String> {
+        let named = self.named_line(frame);
+        if named.is_some() || !self.raw {
+            return named;
+        }
+        Some(frame.to_string())
+    }
+
+    fn named_line(&mut self, frame: &CanFrame) -> Option<String> {
         let cob = frame.cob_id()?;
         let d = frame.data();
         match cob {
+            0x000 if d.len() == 2 => {
+                let (cs, id) = (d[0], d[1]);
+                if id != 0 && !self.wanted(id) {
+                    return None;
+                }
+                let what = match cs {
+                    0x01 => "start",
+                    0x02 => "stop",
+                    0x80 => "enter pre-operational",
+                    0x81 => "reset node",
+                    0x82 => "reset communication",
+                    _ => return Some(format!("NMT command 0x{cs:02X} to node {id}")),
+                };
+                Some(if id == 0 {
+                    format!("NMT {what}: all nodes")
+                } else {
+                    format!("NMT {what}: node {id}")
+                })
+            }
+            0x080 if d.len() <= 1 => Some(match d.first() {
+                Some(c) => format!("SYNC {c}"),
+                None => "SYNC".to_string(),
+            }),
             0x701..=0x77F if d.len() == 1 => {
                 let id = (cob - 0x700) as u8;
                 if !self.wanted(id) {
@@ -122,6 +427,14 @@ impl Watcher {
                     d[7]
                 ))
             }
+            0x581..=0x5FF | 0x601..=0x67F if !self.pdos.contains_key(&cob) => {
+                let request = cob >= 0x600;
+                let id = (cob & 0x7F) as u8;
+                if !self.wanted(id) {
+                    return None;
+                }
+                self.sdo(id, request, d)
+            }
             _ => {
                 let layout = self.pdos.get(&cob)?;
                 let mut at = 0;
@@ -136,12 +449,55 @@ impl Watcher {
                     parts.push(format!("{name}={}", TypeCode::of(*ty).format(&v)));
                 }
                 Some(format!(
-                    "node {}: TPDO {} {}",
+                    "node {}: {} {} {}",
                     self.node.unwrap_or(0),
+                    layout.kind,
                     layout.number,
                     parts.join(" ")
                 ))
             }
         }
     }
+}
+
+/// Bytes as `01 02 0A`.
+fn hex(bytes: &[u8]) -> String {
+    bytes
+        .iter()
+        .map(|b| format!("{b:02X}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A `candump -L` line: `(SECONDS.MICROS) IFACE ID#DATA`, with the time in seconds.
+pub fn candump_line(line: &str) -> Option<(f64, CanFrame)> {
+    let (ts, rest) = line.trim().strip_prefix('(')?.split_once(") ")?;
+    let t: f64 = ts.parse().ok()?;
+    let (_, frame) = rest.trim().split_once(' ')?;
+    let (id, data) = frame.split_once('#')?;
+    let extended = id.len() > 3;
+    let raw = u32::from_str_radix(id, 16).ok()?;
+    if let Some(len) = data.strip_prefix('R') {
+        let len = if len.is_empty() { 0 } else { len.parse().ok()? };
+        return Some((t, CanFrame::new_remote_frame(raw, extended, len)?));
+    }
+    if data.len() % 2 != 0 || data.len() > 16 || data.starts_with('#') {
+        return None;
+    }
+    let bytes: Vec<u8> = (0..data.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(&data[i..i + 2], 16).ok())
+        .collect::<Option<_>>()?;
+    let frame = if extended {
+        CanFrame::new_extended(raw, &bytes)?
+    } else {
+        CanFrame::new(u16::try_from(raw).ok()?, &bytes)?
+    };
+    Some((t, frame))
+}
+
+/// `frame` as a `candump -L` line received at `at` on `iface`.
+pub fn candump(at: std::time::SystemTime, iface: &str, frame: &CanFrame) -> String {
+    let t = at.duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
+    format!("({}.{:06}) {iface} {frame}", t.as_secs(), t.subsec_micros())
 }

@@ -611,6 +611,75 @@ fn mistakes_are_named_before_sending() {
     }
 }
 
+/// `decode` names every frame of a candump log written by hand from CiA 301's layouts: boot-up, the
+/// state changes the heartbeat shows, an NMT command, an expedited write and its confirmation, a
+/// segmented upload of 0x1008 reassembled (24 bytes in 4 segments, toggles 0 1 0 1, the last with
+/// n = 4), a heartbeat found missing when the next frame comes 0.3 s after it (period 0.1 s), an
+/// abort, SYNC, the node's TPDO 1 and RPDO 1 by the description's mapping; a frame of no kind only
+/// with --raw; a line that is no frame is skipped and counted.
+#[test]
+fn decode_names_every_frame_of_a_candump_log() {
+    let n = Running::start();
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("bus.log");
+    std::fs::write(
+        &log,
+        "(100.000000) can0 701#00\n\
+         (100.100000) can0 701#7F\n\
+         (100.200000) can0 000#0101\n\
+         (100.210000) can0 601#2B17100064000000\n\
+         (100.211000) can0 581#6017100000000000\n\
+         (100.300000) can0 701#05\n\
+         (100.310000) can0 601#4008100000000000\n\
+         (100.311000) can0 581#4108100018000000\n\
+         (100.312000) can0 601#6000000000000000\n\
+         (100.313000) can0 581#0058363742433433\n\
+         (100.314000) can0 601#7000000000000000\n\
+         (100.315000) can0 581#1032312D3130202F\n\
+         (100.316000) can0 601#6000000000000000\n\
+         (100.317000) can0 581#0020583637534D32\n\
+         (100.318000) can0 601#7000000000000000\n\
+         (100.319000) can0 581#1934333600000000\n\
+         (100.400000) can0 701#05\n\
+         (100.500000) can0 701#05\n\
+         (100.800000) can0 601#4018100500000000\n\
+         (100.801000) can0 581#8018100511000906\n\
+         not a frame\n\
+         (100.900000) can0 080#\n\
+         (100.901000) can0 181#8813000040060100\n\
+         (100.902000) can0 201#102700000F000100\n\
+         (100.903000) can0 123#DEAD\n",
+    )
+    .unwrap();
+    let log = log.to_str().unwrap();
+    let out = n.tool(&["--od", &eds(), "decode", log, "1"]).unwrap();
+    assert_eq!(
+        out.lines().collect::<Vec<_>>(),
+        [
+            "  0.000000  node 1: boot-up",
+            "  0.100000  node 1: NMT boot-up -> pre-operational",
+            "  0.200000  NMT start: node 1",
+            "  0.210000  node 1: SDO write 0x1017:00 (Producer heartbeat time) = 100",
+            "  0.211000  node 1: SDO written 0x1017:00 (Producer heartbeat time)",
+            "  0.300000  node 1: NMT pre-operational -> operational",
+            "  0.319000  node 1: SDO read 0x1008:00 (Manufacturer device name) = \"X67BC4321-10 / X67SM2436\" (24 bytes, segmented)",
+            "  0.400000  node 1: heartbeat, operational",
+            "  0.500000  node 1: heartbeat, operational",
+            "  0.800000  node 1: heartbeat missed: none for 0.300 s (period 0.100 s)",
+            "  0.801000  node 1: SDO server aborts 0x1018:05: 0x06090011 (Sub-index does not exist)",
+            "  0.900000  SYNC",
+            "  0.901000  node 1: TPDO 1 AbsPos01ActVal=5000 MpGenStatus01=1600 InputStatus=1",
+            "  0.902000  node 1: RPDO 1 AbsPos01=10000 MpGenControl01=15 MpGenMode01=1",
+        ]
+    );
+    let out = n.tool(&["decode", log, "--raw"]).unwrap();
+    assert_eq!(out.lines().last(), Some("  0.903000  123#DEAD"));
+    assert!(
+        out.contains("  0.902000  201#102700000F000100\n"),
+        "without --od a PDO is raw: {out}"
+    );
+}
+
 /// A node in Operational refuses PDO mapping changes for its state (0x08000022): `apply` says to
 /// configure it in Pre-Operational; there it goes through.
 #[test]
