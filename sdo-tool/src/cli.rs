@@ -335,6 +335,32 @@ fn decode(
     Ok(())
 }
 
+/// A value as JSON: numbers as numbers, a string as its text, bytes as hex (`"01 02 0A"`), a time
+/// as its milliseconds and days.
+pub fn json_value(v: &od::value::Value) -> serde_json::Value {
+    use od::value::Value;
+    match v {
+        Value::Bool(b) => (*b).into(),
+        Value::Int(i) => (*i).into(),
+        Value::Uint(u) => (*u).into(),
+        Value::Real32(f) => {
+            serde_json::Number::from_f64(f64::from(*f)).map_or(serde_json::Value::Null, Into::into)
+        }
+        Value::Real64(f) => {
+            serde_json::Number::from_f64(*f).map_or(serde_json::Value::Null, Into::into)
+        }
+        Value::String(t) => t.clone().into(),
+        Value::Unicode(u) => String::from_utf16_lossy(u).into(),
+        Value::Bytes(b) => b
+            .iter()
+            .map(|x| format!("{x:02X}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+            .into(),
+        Value::Time(t) => serde_json::json!({"ms": t.ms, "days": t.days}),
+    }
+}
+
 /// The node an SDO command addresses.
 fn command_node(command: &Cmd) -> Option<u8> {
     match command {
@@ -624,13 +650,19 @@ pub fn run(
         Cmd::Scan { wait_ms } => {
             let nodes = tool.scan(Duration::from_millis(*wait_ms))?;
             if json {
+                // Numbers as numbers, the name as its text.
+                let number = |v: &Option<String>| {
+                    v.as_deref()
+                        .and_then(|t| u64::from_str_radix(t.trim_start_matches("0x"), 16).ok())
+                };
                 let list: Vec<serde_json::Value> = nodes
                     .iter()
                     .map(|n| {
                         serde_json::json!({
-                            "node": n.node, "device_type": n.device_type, "vendor": n.vendor,
-                            "product": n.product, "revision": n.revision, "serial": n.serial,
-                            "name": n.name,
+                            "node": n.node, "device_type": number(&n.device_type),
+                            "vendor": number(&n.vendor), "product": number(&n.product),
+                            "revision": number(&n.revision), "serial": number(&n.serial),
+                            "name": n.name.as_deref().map(|t| t.trim_matches('"')),
                         })
                     })
                     .collect();
@@ -713,16 +745,17 @@ fn sdo_command(
     }
     match &args.command {
         Cmd::Read { node, object, ty } => {
-            let v = commands.read(*node, object, ty.as_deref())?;
+            let (value, text) = commands.read_typed(*node, object, ty.as_deref())?;
             let addr = commands.object(object)?;
             emit(
                 out,
                 json,
-                &v,
+                &text,
                 serde_json::json!({
                     "node": node,
                     "object": addr.to_string(),
-                    "value": v,
+                    "value": json_value(&value),
+                    "text": text,
                 }),
             )?;
         }

@@ -611,6 +611,16 @@ impl<'a> SdoCommands<'a> {
 
     /// `read NODE OBJECT [TYPE]`: the value as text.
     pub fn read(&mut self, node: u8, object: &str, ty: Option<&str>) -> Result<String, ToolError> {
+        self.read_typed(node, object, ty).map(|(_, text)| text)
+    }
+
+    /// `read NODE OBJECT [TYPE]`: the value, and as text.
+    pub fn read_typed(
+        &mut self,
+        node: u8,
+        object: &str,
+        ty: Option<&str>,
+    ) -> Result<(Value, String), ToolError> {
         self.sdo.check_node(node)?;
         let addr = self.object(object)?;
         let code = self.type_for(addr, ty)?;
@@ -625,7 +635,8 @@ impl<'a> SdoCommands<'a> {
             }
             Err(e) => return Err(e),
         };
-        Ok(code.format(&v))
+        let text = code.format(&v);
+        Ok((v, text))
     }
 
     /// `write NODE OBJECT [TYPE] VALUE`.

@@ -827,16 +827,26 @@ fn watch_decodes_the_bus() {
     );
 }
 
-/// `--json`: one JSON object per result; errors with their exit code and abort.
+/// `--json`: one JSON object per result, values typed (numbers as numbers, a string as its text, the
+/// text form beside); errors with their exit code and abort.
 #[test]
 fn json_output() {
     let n = Running::start();
-    let v: serde_json::Value =
-        serde_json::from_str(&n.tool(&["--json", "read", "5", "0x1018:00", "u8"]).unwrap())
-            .unwrap();
+    let json = |argv: &[&str]| -> serde_json::Value {
+        serde_json::from_str(&n.tool(argv).unwrap()).unwrap()
+    };
     assert_eq!(
-        v,
-        serde_json::json!({"node": 5, "object": "0x1018:00", "value": "4"})
+        json(&["--json", "read", "5", "0x1018:00", "u8"]),
+        serde_json::json!({"node": 5, "object": "0x1018:00", "value": 4, "text": "4"})
+    );
+    assert_eq!(
+        json(&["--json", "read", "5", "0x1018:01", "x32"]),
+        serde_json::json!({"node": 5, "object": "0x1018:01", "value": 2862, "text": "0x00000B2E"})
+    );
+    assert_eq!(
+        json(&["--json", "read", "5", "0x1008:00", "vs"]),
+        serde_json::json!({"node": 5, "object": "0x1008:00", "value": "X67BC4321-10 / X67SM2436",
+            "text": "\"X67BC4321-10 / X67SM2436\""})
     );
     let v: serde_json::Value = serde_json::from_str(
         &n.tool(&["--json", "write", "5", "0x1017:00", "u16", "5"])
@@ -846,8 +856,11 @@ fn json_output() {
     assert_eq!(v, serde_json::json!({"ok": true}));
     let v: serde_json::Value =
         serde_json::from_str(&n.tool(&["--json", "scan", "--wait-ms", "150"]).unwrap()).unwrap();
-    assert_eq!(v["nodes"][0]["node"], 5);
-    assert_eq!(v["nodes"][0]["name"], "\"X67BC4321-10 / X67SM2436\"");
+    assert_eq!(
+        v["nodes"][0],
+        serde_json::json!({"node": 5, "device_type": 0, "vendor": 2862, "product": 0x2436,
+            "revision": 1, "serial": 0, "name": "X67BC4321-10 / X67SM2436"})
+    );
     let e = n
         .tool(&["--json", "write", "5", "0x2110:00", "u8", "168"])
         .unwrap_err();
