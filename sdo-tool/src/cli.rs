@@ -174,6 +174,12 @@ pub enum Cmd {
         /// Node-ID, 1–127.
         node: u8,
     },
+    /// With --ethercat: every slave of the chain, read only (any state, whoever runs the chain): its
+    /// position (1 = first), AL state, and SII identity (vendor, product, revision, serial), with the
+    /// device's name where the --od description has its product code.
+    Slaves,
+    /// With --ethercat: every slave's AL state and AL status code, read only.
+    States,
     /// The entries of the --od description, one per line: address, name, type, access, default and
     /// limits (no bus needed); the names `read` and `write` take.
     List,
@@ -258,7 +264,66 @@ fn command_name(command: &Cmd) -> &'static str {
         Cmd::Nmt { .. } => "nmt",
         Cmd::List => "list",
         Cmd::Decode { .. } => "decode",
+        Cmd::Slaves => "slaves",
+        Cmd::States => "states",
     }
+}
+
+/// `slaves` and `states` on the chain of `interface`.
+fn chain(
+    interface: &str,
+    identity: bool,
+    desc: Option<&od::DeviceDescription>,
+    json: bool,
+    out: &mut dyn Write,
+) -> Result<(), ToolError> {
+    let io = ToolError::Output;
+    let slaves = crate::ethercat::slaves(interface, identity)?;
+    let name = |product: u32| {
+        desc.filter(|d| d.identity.product_code == product)
+            .map(|d| d.identity.order_code.clone())
+            .filter(|n| !n.is_empty())
+    };
+    if json {
+        let list: Vec<serde_json::Value> = slaves
+            .iter()
+            .map(|s| {
+                let mut v = serde_json::json!({
+                    "position": s.position,
+                    "state": crate::ethercat::state_name(s.al_status),
+                    "al_status": s.al_status,
+                    "al_status_code": s.al_code,
+                });
+                if let Some([vendor, product, revision, serial]) = s.identity {
+                    v["vendor"] = vendor.into();
+                    v["product"] = product.into();
+                    v["revision"] = revision.into();
+                    v["serial"] = serial.into();
+                    v["name"] = name(product).into();
+                }
+                v
+            })
+            .collect();
+        writeln!(out, "{}", serde_json::json!({ "slaves": list })).map_err(io)?;
+        return Ok(());
+    }
+    for s in &slaves {
+        let state = crate::ethercat::state_name(s.al_status);
+        let mut line = format!("{:>3}  {state:<10}", s.position);
+        if identity {
+            match s.identity {
+                Some([vendor, product, revision, serial]) => line.push_str(&format!(
+                    "  0x{vendor:08X}  0x{product:08X}  0x{revision:08X}  {serial:>10}  {}",
+                    name(product).unwrap_or_default()
+                )),
+                None => line.push_str("  (no SII identity)"),
+            }
+        } else {
+            line.push_str(&format!("  AL status code 0x{:04X}", s.al_code));
+        }
+        writeln!(out, "{}", line.trim_end()).map_err(io)?;
+    }
+    Ok(())
 }
 
 /// The longest line `decode` reads; a longer one is skipped.
@@ -485,6 +550,21 @@ pub fn run(
             .ok_or_else(|| ToolError::Usage("list needs a description: --od FILE".into()))?;
         return list(desc, args.json, out);
     }
+    if let Cmd::Slaves | Cmd::States = args.command {
+        let Some(interface) = &args.ethercat else {
+            return Err(ToolError::Usage(format!(
+                "`{}` is an EtherCAT command: give --ethercat IFACE",
+                command_name(&args.command)
+            )));
+        };
+        return chain(
+            interface,
+            matches!(args.command, Cmd::Slaves),
+            desc.as_ref(),
+            args.json,
+            out,
+        );
+    }
     if let Some(interface) = &args.ethercat {
         if !is_sdo_command(&args.command) {
             return Err(ToolError::Usage(format!(
@@ -519,7 +599,7 @@ pub fn run(
             return tool.with_commands(|commands| sdo_command(commands, args, desc.as_ref(), out));
         }
         // Answered above, before any bus is opened.
-        Cmd::List | Cmd::Decode { .. } => {}
+        Cmd::List | Cmd::Decode { .. } | Cmd::Slaves | Cmd::States => {}
         Cmd::Upload { node, object, file } => {
             let mut f = std::fs::File::create(file)
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;

@@ -69,7 +69,8 @@ fn read_and_write_by_position() {
     let o = tool(&link, &["--json", "read", "2", "0x1018:02", "x32"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["value"], "0x00002301");
+    assert_eq!(v["value"], 0x2301);
+    assert_eq!(v["text"], "0x00002301");
     assert_eq!(v["object"], "0x1018:02");
 
     // Refused by the slave: exit 1 with the abort code and its meaning, as over CAN.
@@ -278,6 +279,31 @@ fn dump_edit_apply_round_trips_on_ethercat() {
     assert_eq!(ok(&link, &["read", "2", "0x8010:07", "u16"]), "20\n");
 }
 
+/// `slaves`: positions from 1, the AL state, the SII identity (AMCI 0x0AC1, SMD23K-B 0x2301,
+/// revision 1, serial numbers 1 and 2) and the name from the ESI; read only, so the units stay in
+/// Init. Without --ethercat a usage error.
+#[test]
+fn slaves_lists_the_chain_read_only() {
+    let link = Link::up(&["--units", "2"]);
+    let od = esi();
+    assert_eq!(
+        ok(&link, &["--od", &od, "slaves"]),
+        concat!(
+            "  1  INIT        0x00000AC1  0x00002301  0x00000001           1  SMD23K-B\n",
+            "  2  INIT        0x00000AC1  0x00002301  0x00000001           2  SMD23K-B\n"
+        )
+    );
+    let v: serde_json::Value = serde_json::from_str(&ok(&link, &["--json", "slaves"])).unwrap();
+    assert_eq!(v["slaves"][1]["serial"], 2);
+    assert_eq!(v["slaves"][1]["state"], "INIT");
+    let out = common::sdo_tool(&[], &["slaves"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        stderr(&out),
+        "sdo-tool: `slaves` is an EtherCAT command: give --ethercat IFACE\n"
+    );
+}
+
 /// Next to a running master: while pysoem holds both units in Op (`pysoem_master.py --hold-op 3`,
 /// the working counter checked in every cycle and (Op, 0) read every 100 ms), `sdo-tool --ethercat`
 /// reads the AL status once, finds Op and refuses in one line (exit 3), sending nothing that changes
@@ -301,6 +327,11 @@ fn a_chain_another_master_runs_is_left_alone() {
     let mut lines = BufReader::new(master.stdout.take().unwrap()).lines();
     let first = lines.next().and_then(Result::ok);
     assert_eq!(first.as_deref(), Some("in Op"), "pysoem reached Op");
+    // A read-only look is fine next to a running master.
+    assert_eq!(
+        ok(&link, &["states"]),
+        "  1  OP          AL status code 0x0000\n  2  OP          AL status code 0x0000\n"
+    );
     let out = tool(&link, &["read", "1", "0x1008", "vs"]);
     assert_eq!(out.status.code(), Some(3));
     assert_eq!(
