@@ -129,8 +129,8 @@ pub fn mapped_outputs(
                 .as_ref()?
                 .value
             {
+                // Mapping entries are UNSIGNED32.
                 Value::Uint(v) => Some(v),
-                Value::Int(v) => u64::try_from(v).ok(),
                 _ => None,
             },
         }
@@ -196,11 +196,10 @@ pub fn plan(dict: &Dictionary) -> (Vec<Write>, Vec<(Address, Skip)>) {
                 done.insert(index);
                 done.insert(index + 0x200);
             }
+            // A mapping whose PDO's communication object the file does not set (one whose object
+            // it sets went with that PDO above).
             0x1600..=0x17FF | 0x1A00..=0x1BFF => {
-                // A mapping whose PDO's communication object the file does not set.
-                if !done.contains(&(index - 0x200)) {
-                    counted(&values, index, &mut writes);
-                }
+                counted(&values, index, &mut writes);
                 done.insert(index);
             }
             0x1C10..=0x1C2F => {
