@@ -118,7 +118,7 @@ impl Watcher {
         let mut lines = self.missed(t);
         if let Some(c @ 0x701..=0x77F) = frame.cob_id() {
             if frame.len() == 1 {
-                let id = (c - 0x700) as u8;
+                let id = (c & 0x7F) as u8;
                 let boot = frame.data()[0] == 0;
                 // A period is between two heartbeats: not from a boot-up message to the first.
                 let period = match self.beats.get(&id) {
@@ -500,4 +500,101 @@ pub fn candump_line(line: &str) -> Option<(f64, CanFrame)> {
 pub fn candump(at: std::time::SystemTime, iface: &str, frame: &CanFrame) -> String {
     let t = at.duration_since(std::time::UNIX_EPOCH).unwrap_or_default();
     format!("({}.{:06}) {iface} {frame}", t.as_secs(), t.subsec_micros())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(id: u16, data: &[u8]) -> CanFrame {
+        CanFrame::new(id, data).unwrap()
+    }
+
+    /// Feeds `frames` (time, COB-ID, data) to a watcher of every node; every line with its time.
+    fn run(frames: &[(f64, u16, &[u8])]) -> Vec<(f64, String)> {
+        let mut w = Watcher::new(None, None);
+        frames
+            .iter()
+            .flat_map(|(t, id, d)| {
+                w.at(*t, &f(*id, d))
+                    .into_iter()
+                    .map(move |l| (*t, l))
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    }
+
+    /// Node 3 beats every 0.1 s: a frame at exactly twice the period after the last beat is not
+    /// late yet, one 2 µs later is, and only once. A boot-up message starts the count again: after
+    /// it no period is known, so a silence is not reported until two heartbeats have shown one;
+    /// two beats at the same instant show none either.
+    #[test]
+    fn a_heartbeat_is_missing_after_more_than_twice_its_period() {
+        let sync = (0x080u16, &[][..]);
+        let lines = run(&[
+            (0.0, 0x703, &[0x05]),
+            (0.1, 0x703, &[0x05]),
+            (0.3, sync.0, sync.1),
+            (0.300002, sync.0, sync.1),
+            (0.5, sync.0, sync.1),
+            (0.6, 0x703, &[0x05]),
+            (0.7, 0x703, &[0x00]),
+            (2.0, sync.0, sync.1),
+            (2.1, 0x703, &[0x7F]),
+            (2.1, 0x703, &[0x7F]),
+            (3.0, sync.0, sync.1),
+        ]);
+        let missed: Vec<&(f64, String)> =
+            lines.iter().filter(|(_, l)| l.contains("missed")).collect();
+        assert_eq!(
+            missed,
+            [&(
+                0.300002,
+                "node 3: heartbeat missed: none for 0.200 s (period 0.100 s)".to_string()
+            )]
+        );
+    }
+
+    /// SDO frames of node 3 in words: an expedited read; a block upload whose segments (any first
+    /// byte, here 0x80 and 0xC2 that look like an abort and a block download) are the server's and
+    /// pass unnamed, until the client's 0xA1 ends it; an abort during a block download from the
+    /// server's side.
+    #[test]
+    fn sdo_frames_in_words() {
+        let lines: Vec<String> = run(&[
+            (0.0, 0x603, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
+            (0.0, 0x583, &[0x43, 0x18, 0x10, 0x01, 0x2E, 0x0B, 0, 0]),
+            // Block upload of 0x1008: initiate, the server's answer, start, 2 segments, ack, end.
+            (0.1, 0x603, &[0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0]),
+            (0.1, 0x583, &[0xC6, 0x08, 0x10, 0x00, 0x0A, 0, 0, 0]),
+            (0.1, 0x603, &[0xA3, 0, 0, 0, 0, 0, 0, 0]),
+            (
+                0.1,
+                0x583,
+                &[0x01, 0x80, 0x81, 0x82, 0x83, 0x84, 0x85, 0x86],
+            ),
+            (0.1, 0x583, &[0x82, 0xC2, 0x08, 0x10, 0, 0, 0, 0]),
+            (0.1, 0x603, &[0xA2, 0x02, 0x7F, 0, 0, 0, 0, 0]),
+            (0.1, 0x583, &[0xC9, 0, 0, 0, 0, 0, 0, 0]),
+            (0.1, 0x603, &[0xA1, 0, 0, 0, 0, 0, 0, 0]),
+            // Block download of 0x2000:01 aborted by the server.
+            (0.2, 0x603, &[0xC6, 0x00, 0x20, 0x01, 0x10, 0, 0, 0]),
+            (
+                0.2,
+                0x583,
+                &[0x80, 0x00, 0x20, 0x01, 0x00, 0x00, 0x00, 0x08],
+            ),
+        ])
+        .into_iter()
+        .map(|(_, l)| l)
+        .collect();
+        assert_eq!(
+            lines,
+            [
+                "node 3: SDO read 0x1018:01 = 2E 0B 00 00",
+                "node 3: SDO read 0x1008:00 (block transfer)",
+                "node 3: SDO server aborts 0x2000:01: 0x08000000 (General error)",
+            ]
+        );
+    }
 }
