@@ -250,8 +250,11 @@ impl BusController {
         let mut slots = HashMap::new();
         let end = 0x2000 + MODULE_STRIDE * modules as u16;
         for o in dict.objects().filter(|o| (0x2000..end).contains(&o.index)) {
-            if let Some(reg) = Register::from_name(&o.name) {
-                let m = usize::from((o.index - 0x2000) / MODULE_STRIDE);
+            // Module m's objects are module 1's at m strides on (their names carry `_Mm`): the
+            // register is the one module 1's object at that place names.
+            let m = usize::from((o.index - 0x2000) / MODULE_STRIDE);
+            let first = dict.object(o.index - MODULE_STRIDE * m as u16);
+            if let Some(reg) = first.and_then(|f| Register::from_name(&f.name)) {
                 slots.insert(o.index, Slot::Register(m, reg));
             }
         }
