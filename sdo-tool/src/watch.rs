@@ -230,21 +230,16 @@ impl Watcher {
         let t = self.transfers.get(&id).cloned();
         match (request, cs, t) {
             // Initiate download: expedited (the value in the frame) or the size announced.
-            (true, 1, _) => {
-                let (e, s) = (d[0] & 0x02 != 0, d[0] & 0x01 != 0);
-                if e {
-                    let n = if s {
-                        4 - usize::from((d[0] >> 2) & 3)
-                    } else {
-                        4
-                    };
+            (true, 1, _) => match expedited(d) {
+                Some(data) => {
                     self.transfers.remove(&id);
                     Some(format!(
                         "{who} write {} = {}",
                         self.named(mux),
-                        self.value(mux, &d[4..4 + n])
+                        self.value(mux, data)
                     ))
-                } else {
+                }
+                None => {
                     self.transfers.insert(
                         id,
                         Transfer {
@@ -256,7 +251,7 @@ impl Watcher {
                     );
                     None
                 }
-            }
+            },
             (true, 2, _) => {
                 self.transfers.insert(
                     id,
@@ -296,48 +291,37 @@ impl Watcher {
             }
             // Download segment: data after byte 0, 7 − n of them, c = last.
             (true, 0, Some(mut t)) if !t.upload && !t.block => {
-                let n = usize::from((d[0] >> 1) & 7);
-                t.data.extend_from_slice(&d[1..8 - n]);
-                let last = d[0] & 0x01 != 0;
-                self.transfers.insert(id, t);
-                last.then(|| {
-                    let t = self.transfers.get(&id).cloned().unwrap();
-                    format!(
-                        "{who} write {} = {} ({} bytes, segmented)",
-                        self.named(t.mux),
-                        self.value(t.mux, &t.data),
-                        t.data.len()
-                    )
-                })
+                let (data, last) = segment(d);
+                t.data.extend_from_slice(data);
+                if !last {
+                    self.transfers.insert(id, t);
+                    return None;
+                }
+                let line = format!(
+                    "{who} write {} = {} ({} bytes, segmented)",
+                    self.named(t.mux),
+                    self.value(t.mux, &t.data),
+                    t.data.len()
+                );
+                self.transfers.remove(&id);
+                Some(line)
             }
             // Initiate upload response: expedited, or the size of what follows.
-            (false, 2, _) => {
-                let (e, s) = (d[0] & 0x02 != 0, d[0] & 0x01 != 0);
-                if e {
-                    let n = if s {
-                        4 - usize::from((d[0] >> 2) & 3)
-                    } else {
-                        4
-                    };
-                    self.transfers.remove(&id);
-                    Some(format!(
-                        "{who} read {} = {}",
-                        self.named(mux),
-                        self.value(mux, &d[4..4 + n])
-                    ))
-                } else {
-                    None
-                }
-            }
+            (false, 2, _) => expedited(d).map(|data| {
+                self.transfers.remove(&id);
+                format!("{who} read {} = {}", self.named(mux), self.value(mux, data))
+            }),
+            // Initiate download response: the end of an expedited download; a segmented one goes on.
+            (false, 3, Some(t)) if !t.upload && !t.block => None,
             (false, 3, _) => {
                 self.transfers.remove(&id);
                 Some(format!("{who} written {}", self.named(mux)))
             }
             // Upload segment: data after byte 0, 7 − n of them, c = last.
             (false, 0, Some(mut t)) if t.upload && !t.block => {
-                let n = usize::from((d[0] >> 1) & 7);
-                t.data.extend_from_slice(&d[1..8 - n]);
-                if d[0] & 0x01 == 0 {
+                let (data, last) = segment(d);
+                t.data.extend_from_slice(data);
+                if !last {
                     self.transfers.insert(id, t);
                     return None;
                 }
@@ -460,6 +444,22 @@ impl Watcher {
     }
 }
 
+/// The data bytes of an expedited initiate frame (byte 0 with `e`, `s` and `n`; CiA 301
+/// §7.2.4.3.3/6): 4 − n with the size indicated, all 4 without; `None` when not expedited.
+fn expedited(d: &[u8]) -> Option<&[u8]> {
+    let (e, s) = (d[0] & 0x02 != 0, d[0] & 0x01 != 0);
+    e.then(|| {
+        let n = if s { usize::from((d[0] >> 2) & 3) } else { 0 };
+        &d[4..8 - n]
+    })
+}
+
+/// A segment's data (byte 0 with `n` of the 7 bytes unused) and whether it is the last (`c`).
+fn segment(d: &[u8]) -> (&[u8], bool) {
+    let n = usize::from((d[0] >> 1) & 7);
+    (&d[1..8 - n], d[0] & 0x01 != 0)
+}
+
 /// Bytes as `01 02 0A`.
 fn hex(bytes: &[u8]) -> String {
     bytes
@@ -552,6 +552,51 @@ mod tests {
                 0.300002,
                 "node 3: heartbeat missed: none for 0.200 s (period 0.100 s)".to_string()
             )]
+        );
+    }
+
+    /// Expedited transfers by their `e`, `s` and `n` bits: 4 bytes without the size, 3 with n = 1, 2
+    /// with n = 2; a segmented download (the initiate announcing 10 bytes, segments of 7 and 3 with
+    /// toggles 0 and 1, the last with n = 4 and c) in one line, the server's initiate answer not
+    /// taken for its end; the client's block download and upload initiates, and a block frame with
+    /// no transfer going on, which is nothing.
+    #[test]
+    fn expedited_and_segmented_transfers_by_their_bits() {
+        let lines: Vec<String> = run(&[
+            (0.0, 0x603, &[0x22, 0x00, 0x20, 0x01, 1, 2, 3, 4]),
+            (0.0, 0x603, &[0x27, 0x00, 0x20, 0x01, 1, 2, 3, 9]),
+            (0.0, 0x583, &[0x4B, 0x00, 0x20, 0x01, 5, 6, 9, 9]),
+            (0.0, 0x583, &[0x42, 0x00, 0x20, 0x01, 5, 6, 7, 8]),
+            (0.1, 0x603, &[0x21, 0x00, 0x20, 0x02, 10, 0, 0, 0]),
+            (0.1, 0x583, &[0x60, 0x00, 0x20, 0x02, 0, 0, 0, 0]),
+            (0.1, 0x603, &[0x00, 1, 2, 3, 4, 5, 6, 7]),
+            (0.1, 0x583, &[0x20, 0, 0, 0, 0, 0, 0, 0]),
+            (0.1, 0x603, &[0x19, 8, 9, 10, 0, 0, 0, 0]),
+            (0.1, 0x583, &[0x30, 0, 0, 0, 0, 0, 0, 0]),
+            // Block frames with nothing going on: an end (0xC1) and a start (0xA3) are nothing.
+            (0.2, 0x603, &[0xC1, 0, 0, 0, 0, 0, 0, 0]),
+            (0.2, 0x603, &[0xA3, 0, 0, 0, 0, 0, 0, 0]),
+            // A block download: begun by 0xC6, its segments (the client's) unnamed, ended by 0xA1.
+            (0.3, 0x603, &[0xC6, 0x00, 0x20, 0x03, 3, 0, 0, 0]),
+            (0.3, 0x583, &[0xA4, 0x00, 0x20, 0x03, 0x7F, 0, 0, 0]),
+            (0.3, 0x603, &[0x81, 1, 2, 3, 0, 0, 0, 0]),
+            (0.3, 0x583, &[0xA2, 0x01, 0x7F, 0, 0, 0, 0, 0]),
+            (0.3, 0x603, &[0xD1, 0, 0, 0, 0, 0, 0, 0]),
+            (0.3, 0x583, &[0xA1, 0, 0, 0, 0, 0, 0, 0]),
+        ])
+        .into_iter()
+        .map(|(_, l)| l)
+        .collect();
+        assert_eq!(
+            lines,
+            [
+                "node 3: SDO write 0x2000:01 = 01 02 03 04",
+                "node 3: SDO write 0x2000:01 = 01 02 03",
+                "node 3: SDO read 0x2000:01 = 05 06",
+                "node 3: SDO read 0x2000:01 = 05 06 07 08",
+                "node 3: SDO write 0x2000:02 = 01 02 03 04 05 06 07 08 09 0A (10 bytes, segmented)",
+                "node 3: SDO written 0x2000:03 (block transfer)",
+            ]
         );
     }
 
