@@ -555,6 +555,90 @@ mod tests {
         );
     }
 
+    /// NMT commands by their command byte, to one node or all; SYNC with and without its counter; a
+    /// frame of a wrong length on those identifiers is none of them. A segmented upload of 10 bytes
+    /// (toggles 0 and 1, the last with n = 4) in one line.
+    #[test]
+    fn nmt_sync_and_a_segmented_upload() {
+        let lines: Vec<String> = run(&[
+            (0.0, 0x000, &[0x01, 3]),
+            (0.0, 0x000, &[0x02, 0]),
+            (0.0, 0x000, &[0x80, 3]),
+            (0.0, 0x000, &[0x81, 3]),
+            (0.0, 0x000, &[0x82, 3]),
+            (0.0, 0x000, &[0x42, 3]),
+            (0.0, 0x000, &[0x01]),
+            (0.0, 0x080, &[]),
+            (0.0, 0x080, &[7]),
+            (0.0, 0x080, &[7, 8]),
+            (0.1, 0x603, &[0x40, 0x00, 0x20, 0x02, 0, 0, 0, 0]),
+            (0.1, 0x583, &[0x41, 0x00, 0x20, 0x02, 10, 0, 0, 0]),
+            (0.1, 0x603, &[0x60, 0, 0, 0, 0, 0, 0, 0]),
+            (0.1, 0x583, &[0x00, 1, 2, 3, 4, 5, 6, 7]),
+            (0.1, 0x603, &[0x70, 0, 0, 0, 0, 0, 0, 0]),
+            (0.1, 0x583, &[0x19, 8, 9, 10, 0, 0, 0, 0]),
+            // e without s, n bits set: all four bytes (the n bits count only with s).
+            (0.2, 0x603, &[0x2E, 0x00, 0x20, 0x01, 1, 2, 3, 4]),
+        ])
+        .into_iter()
+        .map(|(_, l)| l)
+        .collect();
+        assert_eq!(
+            lines,
+            [
+                "NMT start: node 3",
+                "NMT stop: all nodes",
+                "NMT enter pre-operational: node 3",
+                "NMT reset node: node 3",
+                "NMT reset communication: node 3",
+                "NMT command 0x42 to node 3",
+                "SYNC",
+                "SYNC 7",
+                "node 3: SDO read 0x2000:02 = 01 02 03 04 05 06 07 08 09 0A (10 bytes, segmented)",
+                "node 3: SDO write 0x2000:01 = 01 02 03 04",
+            ]
+        );
+    }
+
+    /// `candump -L` lines: standard and extended identifiers, remote frames with and without a
+    /// length, empty data; what is not one (odd or too many data digits, CAN FD's `##`, no time)
+    /// is none.
+    #[test]
+    fn candump_lines_both_ways() {
+        let (t, fr) = candump_line("(1700000000.250000) can0 601#4018100100000000").unwrap();
+        assert_eq!(t, 1_700_000_000.25);
+        assert_eq!(fr, f(0x601, &[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]));
+        assert_eq!(
+            candump_line("(1.0) vcan0 1ABCDEF0#0102").unwrap().1,
+            CanFrame::new_extended(0x1ABC_DEF0, &[1, 2]).unwrap()
+        );
+        assert_eq!(
+            candump_line("(1.0) can0 123#R").unwrap().1,
+            CanFrame::new_remote_frame(0x123, false, 0).unwrap()
+        );
+        assert_eq!(
+            candump_line("(1.0) can0 123#R5").unwrap().1,
+            CanFrame::new_remote_frame(0x123, false, 5).unwrap()
+        );
+        assert_eq!(candump_line("(1.0) can0 080#").unwrap().1, f(0x080, &[]));
+        for bad in [
+            "(1.0) can0 123#012",
+            "(1.0) can0 123#000102030405060708",
+            "(1.0) can0 123##1020304",
+            "can0 123#01",
+            "(x) can0 123#01",
+            "(1.0) can0 12G#01",
+            "",
+        ] {
+            assert_eq!(candump_line(bad), None, "{bad:?}");
+        }
+        let at = std::time::UNIX_EPOCH + std::time::Duration::from_micros(1_700_000_000_250_001);
+        assert_eq!(
+            candump(at, "can0", &f(0x181, &[1, 2])),
+            "(1700000000.250001) can0 181#0102"
+        );
+    }
+
     /// Expedited transfers by their `e`, `s` and `n` bits: 4 bytes without the size, 3 with n = 1, 2
     /// with n = 2; a segmented download (the initiate announcing 10 bytes, segments of 7 and 3 with
     /// toggles 0 and 1, the last with n = 4 and c) in one line, the server's initiate answer not
