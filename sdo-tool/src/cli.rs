@@ -426,6 +426,87 @@ pub fn json_value(v: &od::value::Value) -> serde_json::Value {
     }
 }
 
+/// The index of the RECORD or ARRAY `text` names as a whole (its name, or its index without a
+/// sub-index, `0x1018`), for `read` to read every entry of it.
+fn whole_object(dict: &od::Dictionary, text: &str) -> Option<u16> {
+    let t = text.trim();
+    if t.contains(':') || t.contains('.') {
+        return None;
+    }
+    let index = match t
+        .strip_prefix("0x")
+        .or_else(|| t.strip_prefix("0X"))
+        .map(|h| u16::from_str_radix(h, 16))
+    {
+        Some(Ok(i)) => i,
+        Some(Err(_)) => return None,
+        None => {
+            dict.objects()
+                .find(|o| o.kind.has_subs() && o.name.eq_ignore_ascii_case(t))?
+                .index
+        }
+    };
+    dict.object(index)
+        .filter(|o| o.kind.has_subs())
+        .map(|o| o.index)
+}
+
+/// `read` of a whole RECORD or ARRAY: each readable entry of it, in sub-index order, a line each;
+/// an entry the node refuses is said so and the others go on (exit 1 at the end).
+fn read_object(
+    commands: &mut SdoCommands<'_>,
+    node: u8,
+    dict: &od::Dictionary,
+    index: u16,
+    json: bool,
+    out: &mut dyn Write,
+) -> Result<(), ToolError> {
+    let io = ToolError::Output;
+    let object = dict.object(index).expect("whole_object found it");
+    let mut entries = Vec::new();
+    let mut refused = 0;
+    for (&sub, e) in &object.subs {
+        if !e.access.kind.readable() {
+            continue;
+        }
+        let addr = Address::new(index, sub);
+        // The type from the description (the commands have it).
+        match commands.read_typed(node, &addr.to_string(), None) {
+            Ok((value, text)) => {
+                if !json {
+                    writeln!(out, "{addr}  {} = {text}", e.name).map_err(io)?;
+                }
+                entries.push(serde_json::json!({
+                    "object": addr.to_string(), "name": e.name,
+                    "value": json_value(&value), "text": text,
+                }));
+            }
+            Err(err @ ToolError::Abort { .. }) => {
+                refused += 1;
+                if !json {
+                    writeln!(out, "{addr}  {}: {err}", e.name).map_err(io)?;
+                }
+                entries.push(serde_json::json!({
+                    "object": addr.to_string(), "name": e.name, "error": err.to_string(),
+                }));
+            }
+            Err(err) => return Err(err),
+        }
+    }
+    if json {
+        writeln!(
+            out,
+            "{}",
+            serde_json::json!({"node": node, "object": format!("0x{index:04X}"), "entries": entries})
+        )
+        .map_err(io)?;
+    }
+    if refused > 0 {
+        return Err(ToolError::Refused(refused));
+    }
+    Ok(())
+}
+
 /// The node an SDO command addresses.
 fn command_node(command: &Cmd) -> Option<u8> {
     match command {
@@ -825,6 +906,11 @@ fn sdo_command(
     }
     match &args.command {
         Cmd::Read { node, object, ty } => {
+            if let (Some(d), None) = (desc, ty) {
+                if let Some(index) = whole_object(&d.dictionary, object) {
+                    return read_object(commands, *node, &d.dictionary, index, json, out);
+                }
+            }
             let (value, text) = commands.read_typed(*node, object, ty.as_deref())?;
             let addr = commands.object(object)?;
             emit(

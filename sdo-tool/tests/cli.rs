@@ -680,6 +680,40 @@ fn decode_names_every_frame_of_a_candump_log() {
     );
 }
 
+/// `read` of a whole RECORD with --od, by its name or its bare index: every readable entry, a line
+/// each with its name, typed from the description; as JSON one object with the entries. Without
+/// --od a bare index is sub-index 0, as before.
+#[test]
+fn read_of_a_whole_record() {
+    let n = Running::start();
+    let od = eds();
+    let lines = "0x1018:00  Highest sub-index supported = 4\n\
+                 0x1018:01  Vendor-ID = 2862\n\
+                 0x1018:02  Product code = 9270\n\
+                 0x1018:03  Revision number = 1\n\
+                 0x1018:04  Serial number = 0\n";
+    assert_eq!(
+        n.tool(&["--od", &od, "read", "5", "Identity"]).unwrap(),
+        lines
+    );
+    assert_eq!(
+        n.tool(&["--od", &od, "read", "5", "0x1018"]).unwrap(),
+        lines
+    );
+    let v: serde_json::Value = serde_json::from_str(
+        &n.tool(&["--od", &od, "--json", "read", "5", "0x1018"])
+            .unwrap(),
+    )
+    .unwrap();
+    assert_eq!(v["object"], "0x1018");
+    assert_eq!(v["entries"].as_array().unwrap().len(), 5);
+    assert_eq!(
+        v["entries"][1],
+        serde_json::json!({"object": "0x1018:01", "name": "Vendor-ID", "value": 2862, "text": "2862"})
+    );
+    assert_eq!(n.tool(&["read", "5", "0x1018", "u8"]).unwrap(), "4\n");
+}
+
 /// A node in Operational refuses PDO mapping changes for its state (0x08000022): `apply` says to
 /// configure it in Pre-Operational; there it goes through.
 #[test]
