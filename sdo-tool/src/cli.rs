@@ -646,6 +646,10 @@ pub fn run(
             out,
         );
     }
+    // A name the description does not have is refused before any bus or chain is opened.
+    if let Cmd::Read { object, .. } | Cmd::Write { object, .. } = &args.command {
+        crate::object(desc.as_ref().map(|d| &d.dictionary), object)?;
+    }
     if let Some(interface) = &args.ethercat {
         if !is_sdo_command(&args.command) {
             return Err(ToolError::Usage(format!(

@@ -281,6 +281,25 @@ fn a_description_of_another_device_is_warned_about() {
     node.wait().unwrap();
 }
 
+/// A name the description does not have is refused (exit 2, with the names close to it) before the
+/// bus is opened: here a bus nobody listens on, which would otherwise be the error (exit 3).
+#[test]
+fn names_are_resolved_before_the_bus_is_opened() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let out = Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+        .args(["--bus", "socketcand://127.0.0.1:1/can0", "--od"])
+        .arg(root.join("fixtures/x67/X67SM2436.eds"))
+        .args(["read", "1", "InputStatu"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "sdo-tool: object \"InputStatu\": no object or sub-object is named `InputStatu`; did you \
+         mean `InputStatus`?\n"
+    );
+}
+
 /// `CANOPEN_BUS` is the bus when `--bus` is not given; `--bus` wins over it.
 #[test]
 fn canopen_bus_is_the_default_bus() {
