@@ -188,20 +188,12 @@ fn hub_with(id: u8, extra: &[&str]) -> (std::process::Child, u16) {
         .local_addr()
         .unwrap()
         .port();
-    let mut child = Command::new(testkit::cargo_binary("socketcan-node", "x67-node", &[]))
-        .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
-        .args(["--node-id", &id.to_string()])
-        .args(extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    std::io::BufRead::read_line(
-        &mut std::io::BufReader::new(child.stdout.as_mut().unwrap()),
-        &mut line,
-    )
-    .unwrap();
+    let (child, _) = testkit::start_until_first_line(
+        Command::new(testkit::cargo_binary("socketcan-node", "x67-node", &[]))
+            .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
+            .args(["--node-id", &id.to_string()])
+            .args(extra),
+    );
     (child, port)
 }
 

@@ -5,7 +5,7 @@
 use std::io::{BufRead, BufReader};
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdout, Command, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use socketcan_node::transport::{BusEvent, CanBus, SocketcandClient};
@@ -29,7 +29,6 @@ fn free_port() -> u16 {
 struct NodeProcess {
     child: Child,
     port: u16,
-    _stdout: BufReader<ChildStdout>,
 }
 
 impl Drop for NodeProcess {
@@ -41,24 +40,15 @@ impl Drop for NodeProcess {
 
 fn start_node(extra: &[&str]) -> NodeProcess {
     let port = free_port();
-    let mut child = Command::new(NODE)
-        .arg("--bus")
-        .arg(format!("socketcand-listen:127.0.0.1:{port}"))
-        .args(extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
     // The first line on stdout says the node is listening.
-    let mut line = String::new();
-    let mut stdout = BufReader::new(child.stdout.take().unwrap());
-    stdout.read_line(&mut line).unwrap();
+    let (child, line) = testkit::start_until_first_line(
+        Command::new(NODE)
+            .arg("--bus")
+            .arg(format!("socketcand-listen:127.0.0.1:{port}"))
+            .args(extra),
+    );
     assert!(line.starts_with("x67-node: node "), "{line}");
-    NodeProcess {
-        child,
-        port,
-        _stdout: stdout,
-    }
+    NodeProcess { child, port }
 }
 
 fn client(port: u16) -> SocketcandClient {
@@ -295,16 +285,9 @@ fn joins_a_socketcand_bus_as_a_client() {
 /// chosen, and a client reaches the node there.
 #[test]
 fn a_listener_on_port_0_prints_the_port_it_got() {
-    let mut child = Command::new(NODE)
-        .args(["--bus", "socketcand-listen:127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
+    let (mut child, line) = testkit::start_until_first_line(
+        Command::new(NODE).args(["--bus", "socketcand-listen:127.0.0.1:0"]),
+    );
     let at = line
         .find("server on 127.0.0.1:")
         .unwrap_or_else(|| panic!("{line}"));

@@ -9,9 +9,9 @@
 //! the machine, not the node, stopped (a loaded or preempted VM); such instants are listed, not
 //! failed, and at most 5 % of them may be.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::{TcpListener, TcpStream};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -37,17 +37,11 @@ impl Drop for NodeProcess {
 }
 
 fn start_node(port: u16) -> NodeProcess {
-    let mut child = Command::new(NODE)
-        .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
-        .args(["--node-id", "1", "--heartbeat-ms", "100"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
+    let (child, line) = testkit::start_until_first_line(
+        Command::new(NODE)
+            .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
+            .args(["--node-id", "1", "--heartbeat-ms", "100"]),
+    );
     assert!(line.starts_with("x67-node: node 1"), "{line}");
     NodeProcess(child)
 }

@@ -4,6 +4,7 @@
 //!   test runs with;
 //! - [`sibling_binary`]: a binary already built beside the running test (in the VM of the vcan
 //!   tests, where the runner builds first);
+//! - [`start_until_first_line`]: a server started and given the time to say where it listens;
 //! - [`link`]: a veth pair with `smd-ethercat` running on its far end, in a network namespace of its
 //!   own.
 #![deny(missing_docs)]
@@ -11,8 +12,9 @@
 pub mod link;
 
 use std::collections::HashMap;
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Child, Command, Stdio};
 use std::sync::{Mutex, OnceLock};
 
 /// The workspace root.
@@ -80,4 +82,21 @@ fn profile_dir() -> PathBuf {
         .and_then(|deps| deps.parent())
         .expect("target/<profile>/deps")
         .to_path_buf()
+}
+
+/// `command` started with its standard output piped (standard error to nowhere), once it has printed
+/// its first line (a server saying where it listens): the child and that line. The pipe stays with
+/// the child, open while it runs, so later output does not meet a closed pipe.
+pub fn start_until_first_line(command: &mut Command) -> (Child, String) {
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {command:?}: {e}"));
+    let mut out = BufReader::new(child.stdout.take().expect("stdout piped"));
+    let mut line = String::new();
+    out.read_line(&mut line)
+        .unwrap_or_else(|e| panic!("{command:?} printed nothing: {e}"));
+    child.stdout = Some(out.into_inner());
+    (child, line)
 }

@@ -13,9 +13,8 @@
 //!
 //! Needs root for the EtherCAT block (a network namespace and a veth pair), as the suite does.
 
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command};
 
 fn root() -> &'static Path {
     testkit::root()
@@ -132,17 +131,11 @@ struct MainJob(Child);
 
 impl MainJob {
     fn start(bin: &Path) -> MainJob {
-        let mut child = Command::new(bin.join("x67-node"))
-            .current_dir(root())
-            .env_remove("CANOPEN_BUS")
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().unwrap())
-            .read_line(&mut line)
-            .unwrap();
+        let (child, line) = testkit::start_until_first_line(
+            Command::new(bin.join("x67-node"))
+                .current_dir(root())
+                .env_remove("CANOPEN_BUS"),
+        );
         assert!(
             line.starts_with("x67-node: node 1 ") && line.contains("127.0.0.1:29536"),
             "the main job: {line}"
