@@ -12,32 +12,9 @@ use ethercat_slave::frame::datagrams;
 use ethercat_slave::raw::RawSocket;
 use testkit::link;
 
-/// The script, in the crate's tests.
-fn script() -> String {
-    format!(
-        "{}/tests/python/pysoem_master.py",
-        env!("CARGO_MANIFEST_DIR")
-    )
-}
-
-/// Root and an importable pysoem, or a failure that says which is missing.
-fn preflight() {
-    // SAFETY: geteuid(2) has no preconditions and cannot fail.
-    let uid = unsafe { libc::geteuid() };
-    assert_eq!(
-        uid, 0,
-        "the flood test needs root (network namespaces, veth pairs, raw sockets)"
-    );
-    let out = Command::new("python3")
-        .args(["-c", "import pysoem"])
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run python3 for the pysoem master: {e}"));
-    assert!(
-        out.status.success(),
-        "pysoem is not importable by python3 (pip install pysoem): {}",
-        String::from_utf8_lossy(&out.stderr).trim()
-    );
-}
+#[path = "common/pysoem.rs"]
+mod pysoem_master;
+use pysoem_master::{preflight, script};
 
 /// Junk frames at `rate` a second on `iface` until `stop`: three kinds that do not parse (datagram
 /// length beyond the frame, frame type 4, a datagram cut short) and one well-formed NOP, in turn.

@@ -12,32 +12,9 @@ use std::time::{Duration, Instant};
 
 use testkit::link;
 
-/// The script, in the crate's tests.
-fn script() -> String {
-    format!(
-        "{}/tests/python/pysoem_master.py",
-        env!("CARGO_MANIFEST_DIR")
-    )
-}
-
-/// Root and an importable pysoem, or a failure that says which is missing.
-fn preflight() {
-    // SAFETY: geteuid(2) has no preconditions and cannot fail.
-    let uid = unsafe { libc::geteuid() };
-    assert_eq!(
-        uid, 0,
-        "the pysoem tests need root (network namespaces, veth pairs, raw sockets); running as uid {uid}"
-    );
-    let out = Command::new("python3")
-        .args(["-c", "import pysoem; print(pysoem.__version__)"])
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run python3 for the pysoem master: {e}"));
-    assert!(
-        out.status.success(),
-        "pysoem is not importable by python3 (pip install pysoem): {}",
-        String::from_utf8_lossy(&out.stderr).trim()
-    );
-}
+#[path = "common/pysoem.rs"]
+mod pysoem_master;
+use pysoem_master::{preflight, script};
 
 /// Runs the script with `extra` arguments against two units on a fresh link; its summary line.
 fn run_master(extra: &[&str]) -> String {
