@@ -227,18 +227,17 @@ impl Watcher {
                 self.named(mux)
             ));
         }
-        let t = self.transfers.get(&id).cloned();
+        // Taken out (not copied: a long segmented transfer would be copied at every segment) and
+        // put back by whatever leaves it going on.
+        let t = self.transfers.remove(&id);
         match (request, cs, t) {
             // Initiate download: expedited (the value in the frame) or the size announced.
             (true, 1, _) => match expedited(d) {
-                Some(data) => {
-                    self.transfers.remove(&id);
-                    Some(format!(
-                        "{who} write {} = {}",
-                        self.named(mux),
-                        self.value(mux, data)
-                    ))
-                }
+                Some(data) => Some(format!(
+                    "{who} write {} = {}",
+                    self.named(mux),
+                    self.value(mux, data)
+                )),
                 None => {
                     self.transfers.insert(
                         id,
@@ -303,20 +302,28 @@ impl Watcher {
                     self.value(t.mux, &t.data),
                     t.data.len()
                 );
-                self.transfers.remove(&id);
                 Some(line)
             }
             // Initiate upload response: expedited, or the size of what follows.
-            (false, 2, _) => expedited(d).map(|data| {
-                self.transfers.remove(&id);
-                format!("{who} read {} = {}", self.named(mux), self.value(mux, data))
-            }),
+            (false, 2, t) => match expedited(d) {
+                Some(data) => Some(format!(
+                    "{who} read {} = {}",
+                    self.named(mux),
+                    self.value(mux, data)
+                )),
+                None => {
+                    if let Some(t) = t {
+                        self.transfers.insert(id, t);
+                    }
+                    None
+                }
+            },
             // Initiate download response: the end of an expedited download; a segmented one goes on.
-            (false, 3, Some(t)) if !t.upload && !t.block => None,
-            (false, 3, _) => {
-                self.transfers.remove(&id);
-                Some(format!("{who} written {}", self.named(mux)))
+            (false, 3, Some(t)) if !t.upload && !t.block => {
+                self.transfers.insert(id, t);
+                None
             }
+            (false, 3, _) => Some(format!("{who} written {}", self.named(mux))),
             // Upload segment: data after byte 0, 7 − n of them, c = last.
             (false, 0, Some(mut t)) if t.upload && !t.block => {
                 let (data, last) = segment(d);
@@ -325,7 +332,6 @@ impl Watcher {
                     self.transfers.insert(id, t);
                     return None;
                 }
-                self.transfers.remove(&id);
                 Some(format!(
                     "{who} read {} = {} ({} bytes, segmented)",
                     self.named(t.mux),
@@ -333,7 +339,12 @@ impl Watcher {
                     t.data.len()
                 ))
             }
-            _ => None,
+            (_, _, t) => {
+                if let Some(t) = t {
+                    self.transfers.insert(id, t);
+                }
+                None
+            }
         }
     }
 
