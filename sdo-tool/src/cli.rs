@@ -27,8 +27,8 @@ use socketcan_node::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandC
 /// the socketcand server that `x67-node` starts on 127.0.0.1:29536. With --ethercat IFACE the tool is an EtherCAT
 /// master on that network interface instead (root or CAP_NET_RAW): it brings the chain's slaves to
 /// Pre-Op and reaches their object dictionary through their CoE mailbox; NODE is then the slave's
-/// position in the chain, 1 for the first; read, write, dump and apply work there, the other
-/// commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
+/// position in the chain, 1 for the first; read, write, dump and apply work there, and slaves,
+/// states and sdos are EtherCAT's own; the other commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
 /// hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort, 2 usage, 3 timeout or
 /// transport failure, 4 verification difference (apply), 130 interrupted (Ctrl-C).
 #[derive(Debug, Parser)]
@@ -38,7 +38,7 @@ pub struct Args {
     #[arg(long, global = true, value_name = "BUS", env = socketcan_node::transport::BUS_VARIABLE)]
     pub bus: Option<BusSpec>,
     /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
-    /// (1 = first); read, write, dump and apply only.
+    /// (1 = first); read, write, dump, apply, slaves, states and sdos only.
     #[arg(
         long,
         global = true,
@@ -180,6 +180,15 @@ pub enum Cmd {
     Slaves,
     /// With --ethercat: every slave's AL state and AL status code, read only.
     States,
+    /// With --ethercat: the object dictionary of the slave at NODE (every slave without it) as the
+    /// slave describes it by SDO Information, in the layout of IgH's `ethercat sdos`: each object,
+    /// then each entry with its access in Pre-Op, Safe-Op and Op (`rwrwrw`), type, bit length and
+    /// name. `read` and `write` take the type from the same source when neither TYPE nor --od is
+    /// given.
+    Sdos {
+        /// The slave's position (1 = first).
+        node: Option<u8>,
+    },
     /// The entries of the --od description, one per line: address, name, type, access, default and
     /// limits (no bus needed); the names `read` and `write` take.
     List,
@@ -266,6 +275,7 @@ fn command_name(command: &Cmd) -> &'static str {
         Cmd::Decode { .. } => "decode",
         Cmd::Slaves => "slaves",
         Cmd::States => "states",
+        Cmd::Sdos { .. } => "sdos",
     }
 }
 
@@ -322,6 +332,97 @@ fn chain(
             line.push_str(&format!("  AL status code 0x{:04X}", s.al_code));
         }
         writeln!(out, "{}", line.trim_end()).map_err(io)?;
+    }
+    Ok(())
+}
+
+/// `sdos`: the dictionary of the slave at `node` (every slave when `None`) by SDO Information.
+fn sdos(
+    session: &mut EthercatSession,
+    node: Option<u8>,
+    json: bool,
+    out: &mut dyn Write,
+) -> Result<(), ToolError> {
+    use crate::SdoAccess;
+    let io = ToolError::Output;
+    let positions: Vec<u8> = match node {
+        Some(n) => {
+            session.check_node(n)?;
+            vec![n]
+        }
+        None => (1..=session.slave_count())
+            .map(|n| u8::try_from(n).unwrap_or(u8::MAX))
+            .collect(),
+    };
+    let type_name = |code: u16| match od::coe::info::data_type(code) {
+        Some(t) => t.to_string(),
+        None => format!("type 0x{code:04X}"),
+    };
+    let object_code = |code: u8| match code {
+        7 => "VAR".to_string(),
+        8 => "ARRAY".to_string(),
+        9 => "RECORD".to_string(),
+        c => format!("object code {c}"),
+    };
+    for &position in &positions {
+        let objects = session.sdos(position)?;
+        if json {
+            let list: Vec<serde_json::Value> = objects
+                .iter()
+                .map(|o| {
+                    let entries: Vec<serde_json::Value> = o
+                        .entries
+                        .iter()
+                        .map(|e| {
+                            serde_json::json!({
+                                "sub": e.sub, "name": e.name,
+                                "type": type_name(e.data_type), "type_code": e.data_type,
+                                "bits": e.bit_length, "access": e.access_text(),
+                                "rxpdo": e.access & 0x40 != 0, "txpdo": e.access & 0x80 != 0,
+                            })
+                        })
+                        .collect();
+                    serde_json::json!({
+                        "index": o.object.index, "object": format!("0x{:04X}", o.object.index),
+                        "name": o.object.name, "object_code": object_code(o.object.object_code),
+                        "max_sub": o.object.max_sub, "entries": entries,
+                    })
+                })
+                .collect();
+            writeln!(
+                out,
+                "{}",
+                serde_json::json!({"position": position, "objects": list})
+            )
+            .map_err(io)?;
+            continue;
+        }
+        if positions.len() > 1 {
+            writeln!(out, "=== Slave {position} ===").map_err(io)?;
+        }
+        for o in &objects {
+            writeln!(
+                out,
+                "SDO 0x{:04X}, {}, \"{}\"",
+                o.object.index,
+                object_code(o.object.object_code),
+                o.object.name
+            )
+            .map_err(io)?;
+            for e in &o.entries {
+                writeln!(
+                    out,
+                    "  0x{:04X}:{:02X}, {}, {}, {} bit, \"{}\"",
+                    e.index,
+                    e.sub,
+                    e.access_text(),
+                    type_name(e.data_type),
+                    e.bit_length,
+                    e.name
+                )
+                .map_err(io)?;
+            }
+        }
     }
     Ok(())
 }
@@ -631,13 +732,17 @@ pub fn run(
             .ok_or_else(|| ToolError::Usage("list needs a description: --od FILE".into()))?;
         return list(desc, args.json, out);
     }
-    if let Cmd::Slaves | Cmd::States = args.command {
+    if let Cmd::Slaves | Cmd::States | Cmd::Sdos { .. } = args.command {
         let Some(interface) = &args.ethercat else {
             return Err(ToolError::Usage(format!(
                 "`{}` is an EtherCAT command: give --ethercat IFACE",
                 command_name(&args.command)
             )));
         };
+        if let Cmd::Sdos { node } = args.command {
+            let mut session = EthercatSession::open(interface, timeout)?;
+            return sdos(&mut session, node, args.json, out);
+        }
         return chain(
             interface,
             matches!(args.command, Cmd::Slaves),
@@ -653,8 +758,8 @@ pub fn run(
     if let Some(interface) = &args.ethercat {
         if !is_sdo_command(&args.command) {
             return Err(ToolError::Usage(format!(
-                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump and \
-                 apply are available",
+                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, \
+                 apply, slaves, states and sdos are available",
                 command_name(&args.command)
             )));
         }
@@ -684,7 +789,7 @@ pub fn run(
             return tool.with_commands(|commands| sdo_command(commands, args, desc.as_ref(), out));
         }
         // Answered above, before any bus is opened.
-        Cmd::List | Cmd::Decode { .. } | Cmd::Slaves | Cmd::States => {}
+        Cmd::List | Cmd::Decode { .. } | Cmd::Slaves | Cmd::States | Cmd::Sdos { .. } => {}
         Cmd::Upload { node, object, file } => {
             let mut f = std::fs::File::create(file)
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;

@@ -34,10 +34,12 @@ use ethercrab::{
 };
 use futures_lite::future;
 use od::abort::AbortCode;
-use od::coe::mailbox::{MailboxHeader, MailboxType};
+use od::coe::info;
+use od::coe::mailbox::{CoeHeader, CoeService, MailboxHeader, MailboxType};
 use od::coe::sdo::{CoeSdo, CoeSdoCommand};
 use od::dict::Address;
 use od::sdo::frame::{ClientFrame, ServerFrame};
+use od::types::DataType;
 
 use crate::{SdoAccess, ToolError};
 
@@ -51,8 +53,6 @@ const MAX_FRAMES: usize = 16;
 const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
 /// The largest entry an upload reads.
 pub const MAX_UPLOAD: usize = 4096;
-/// Mailbox header (6), CoE header (2) and the eight SDO bytes of a normal download request.
-const NORMAL_DOWNLOAD_OVERHEAD: usize = 16;
 /// SyncManager registers: SM0 (the master's write mailbox) at 0x0800, SM1 (its read mailbox) at
 /// 0x0808, 8 bytes each; the status byte at offset 5.
 const SM0: u16 = 0x0800;
@@ -96,6 +96,15 @@ enum Failure {
     Timeout,
     /// The slave's answer is not what the protocol says, or the data does not fit.
     Protocol(String),
+    /// The slave answered with a mailbox error (ETG.1000.4 Table 30: 2 unsupported protocol, …).
+    MailboxError(u16),
+    /// A request longer than the slave's write mailbox.
+    TooLong {
+        /// The request's bytes.
+        bytes: usize,
+        /// The mailbox's.
+        mailbox: u16,
+    },
 }
 
 impl From<Error> for Failure {
@@ -644,18 +653,53 @@ impl EthercatSession {
                 detail,
             }
             .into(),
+            Failure::MailboxError(code) => EthercatError::Protocol {
+                addr,
+                position,
+                detail: format!(
+                    "the slave answered with mailbox error {code} ({})",
+                    mailbox_error(code)
+                ),
+            }
+            .into(),
+            Failure::TooLong { bytes, mailbox } => EthercatError::Protocol {
+                addr,
+                position,
+                detail: format!(
+                    "a {bytes}-byte request does not fit the slave's {mailbox}-byte mailbox"
+                ),
+            }
+            .into(),
         }
     }
 }
 
-/// A normal download of `data` to `mux` on the slave at `station`, through its mailboxes (SM0 and
-/// SM1 as the master configured them).
-async fn normal_download(
+/// The meaning of a mailbox error code (ETG.1000.4 §5.6, the error reply's Detail).
+pub fn mailbox_error(code: u16) -> &'static str {
+    match code {
+        1 => "syntax of the mailbox header",
+        2 => "mailbox protocol not supported",
+        3 => "channel field invalid",
+        4 => "service not supported",
+        5 => "invalid mailbox header",
+        6 => "mailbox data too short",
+        7 => "no more memory in the slave",
+        8 => "inconsistent data length",
+        _ => "unknown code",
+    }
+}
+
+/// One request mailbox put into the write mailbox (SM0) of the slave at `station`, and the answers
+/// taken from its read mailbox (SM1), each given to `take` until it says the answer is whole
+/// (`Ok(true)`); at most `timeout` for each answer mailbox. `request` is a mailbox with counter 0
+/// (no repeat detection, so ethercrab's own counter sequence is not disturbed), padded here to the
+/// mailbox's size. A CoE emergency that comes before the answer is passed over.
+async fn mailbox_exchange(
     maindevice: &MainDevice<'_>,
     station: u16,
-    mux: Address,
-    data: &[u8],
+    mut request: Vec<u8>,
     timeout: Duration,
+    mut take: impl FnMut(MailboxHeader, &[u8]) -> Result<bool, Failure>,
 ) -> Result<(), Failure> {
     let sm: [u8; 16] = Command::fprd(station, SM0).receive(maindevice).await?;
     let (out_at, out_len) = (
@@ -670,34 +714,22 @@ async fn normal_download(
     if !is_mailbox(sm[4]) || !is_mailbox(sm[12]) || out_len == 0 || in_len == 0 {
         return Err(Failure::Protocol("the slave has no CoE mailbox".into()));
     }
-    let size = u32::try_from(data.len())
-        .map_err(|_| Failure::Protocol(format!("{} bytes are too many", data.len())))?;
-    if data.len() + NORMAL_DOWNLOAD_OVERHEAD > usize::from(out_len) {
-        return Err(Failure::Protocol(format!(
-            "{} bytes do not fit the slave's {out_len}-byte mailbox (segmented download is not \
-             supported over EtherCAT)",
-            data.len()
-        )));
+    if request.len() > usize::from(out_len) {
+        return Err(Failure::TooLong {
+            bytes: request.len(),
+            mailbox: out_len,
+        });
     }
-    let mut request = CoeSdo {
-        command: CoeSdoCommand::Request(ClientFrame::InitiateDownloadSegmented {
-            mux,
-            size: Some(size),
-        }),
-        complete_access: false,
-        extra: data,
-    }
-    .to_mailbox(0, 0);
     request.resize(usize::from(out_len), 0);
-    let deadline = Instant::now() + timeout;
     let status = |sm: u16| async move {
         let s: u8 = Command::fprd(station, sm + SM_STATUS)
             .receive(maindevice)
             .await?;
         Ok::<bool, Failure>(s & MAILBOX_FULL != 0)
     };
-    // Until SyncManager `sm`'s mailbox is full (`full`) or empty, at most until the deadline.
+    // Until SyncManager `sm`'s mailbox is full (`full`) or empty, at most `timeout`.
     let until = |sm: u16, full: bool| async move {
+        let deadline = Instant::now() + timeout;
         while status(sm).await? != full {
             if Instant::now() >= deadline {
                 return Err(Failure::Timeout);
@@ -716,28 +748,218 @@ async fn normal_download(
     Command::fpwr(station, out_at)
         .send_receive_slice(maindevice, request.as_slice())
         .await?;
-    until(SM1, true).await?;
-    let answer = Command::fprd(station, in_at)
-        .receive_slice(maindevice, in_len)
-        .await?;
-    let answer: &[u8] = &answer;
-    let (_, sdo) = CoeSdo::from_mailbox(answer).map_err(|e| {
-        Failure::Protocol(match MailboxHeader::parse(answer) {
-            Ok(h) if h.mailbox_type == MailboxType::Error => {
-                "the slave answered with a mailbox error".to_string()
+    loop {
+        until(SM1, true).await?;
+        let answer = Command::fprd(station, in_at)
+            .receive_slice(maindevice, in_len)
+            .await?;
+        let (header, data) = MailboxHeader::split(&answer)
+            .map_err(|e| Failure::Protocol(format!("the slave's answer is no mailbox: {e}")))?;
+        match header.mailbox_type {
+            MailboxType::Error => {
+                let code = data.get(2..4).map(|c| u16::from_le_bytes([c[0], c[1]]));
+                return Err(Failure::MailboxError(code.unwrap_or(0)));
             }
-            _ => format!("the slave's answer is no CoE SDO response: {e}"),
-        })
-    })?;
-    match sdo.command {
-        CoeSdoCommand::Response(ServerFrame::InitiateDownload { mux: m }) if m == mux => Ok(()),
-        CoeSdoCommand::Request(ClientFrame::Abort { code, .. })
-        | CoeSdoCommand::Response(ServerFrame::Abort { code, .. }) => {
-            Err(Failure::Abort(code.code()))
+            MailboxType::Coe
+                if CoeHeader::parse(data).map(|h| h.service) == Ok(CoeService::Emergency) => {}
+            _ => {
+                if take(header, data)? {
+                    return Ok(());
+                }
+            }
         }
-        other => Err(Failure::Protocol(format!(
-            "the slave answered the download with {other:?}"
-        ))),
+    }
+}
+
+/// A normal download of `data` to `mux` on the slave at `station` (ETG.1000.6 §5.6.2.1, the data
+/// in the initiate request).
+async fn normal_download(
+    maindevice: &MainDevice<'_>,
+    station: u16,
+    mux: Address,
+    data: &[u8],
+    timeout: Duration,
+) -> Result<(), Failure> {
+    let size = u32::try_from(data.len())
+        .map_err(|_| Failure::Protocol(format!("{} bytes are too many", data.len())))?;
+    let request = CoeSdo {
+        command: CoeSdoCommand::Request(ClientFrame::InitiateDownloadSegmented {
+            mux,
+            size: Some(size),
+        }),
+        complete_access: false,
+        extra: data,
+    }
+    .to_mailbox(0, 0);
+    let mut done = Err(Failure::Timeout);
+    mailbox_exchange(maindevice, station, request, timeout, |header, body| {
+        let sdo = CoeHeader::parse(body)
+            .map_err(|e| e.to_string())
+            .and_then(|h| CoeSdo::parse(h.service, &body[2..]).map_err(|e| e.to_string()))
+            .map_err(|e| {
+                Failure::Protocol(format!("the slave's answer is no CoE SDO response: {e}"))
+            })?;
+        let _ = header;
+        done = match sdo.command {
+            CoeSdoCommand::Response(ServerFrame::InitiateDownload { mux: m }) if m == mux => Ok(()),
+            CoeSdoCommand::Request(ClientFrame::Abort { code, .. })
+            | CoeSdoCommand::Response(ServerFrame::Abort { code, .. }) => {
+                Err(Failure::Abort(code.code()))
+            }
+            other => Err(Failure::Protocol(format!(
+                "the slave answered the download with {other:?}"
+            ))),
+        };
+        Ok(true)
+    })
+    .await
+    .map_err(|f| match f {
+        Failure::TooLong { mailbox, .. } => Failure::Protocol(format!(
+            "{} bytes do not fit the slave's {mailbox}-byte mailbox (segmented download is not \
+             supported over EtherCAT)",
+            data.len()
+        )),
+        other => other,
+    })?;
+    done
+}
+
+/// One SDO Information request to the slave at `station`: the whole answer's OpCode and data,
+/// its fragments joined.
+async fn sdo_info(
+    maindevice: &MainDevice<'_>,
+    station: u16,
+    request: info::Request,
+    timeout: Duration,
+) -> Result<(u8, Vec<u8>), Failure> {
+    let mailbox = MailboxHeader::wrap(MailboxType::Coe, 0, 0, &info::request(request));
+    let mut whole = info::Reassembly::new();
+    let mut answer = None;
+    mailbox_exchange(
+        maindevice,
+        station,
+        mailbox,
+        timeout,
+        |_, body| match whole.push(body) {
+            Ok(Some(done)) => {
+                answer = Some(done);
+                Ok(true)
+            }
+            Ok(None) => Ok(false),
+            Err(info::InfoError::Refused(code)) => Err(Failure::Abort(code.code())),
+            Err(e) => Err(Failure::Protocol(e.to_string())),
+        },
+    )
+    .await?;
+    answer.ok_or(Failure::Timeout)
+}
+
+/// One object of a slave's dictionary as SDO Information describes it, with its entries (those the
+/// slave has: a sub-index it answers "does not exist" for is left out).
+#[derive(Debug, Clone)]
+pub struct InfoObject {
+    /// The description of the object.
+    pub object: info::ObjectDescription,
+    /// Its entries, in sub-index order.
+    pub entries: Vec<info::EntryDescription>,
+}
+
+impl EthercatSession {
+    /// The slaves of the chain.
+    pub fn slave_count(&self) -> usize {
+        self.group.len()
+    }
+
+    /// One SDO Information request to the slave at `node` (its position): the whole answer.
+    fn info(&mut self, node: u8, request: info::Request) -> Result<(u8, Vec<u8>), ToolError> {
+        self.check_node(node)?;
+        let addr = match request {
+            info::Request::Object(index) => Address::new(index, 0),
+            info::Request::Entry { index, sub, .. } => Address::new(index, sub),
+            info::Request::OdList(_) => Address::new(0, 0),
+        };
+        let (group, maindevice, timeout) = (&self.group, &self.maindevice, self.timeout);
+        let r = drive(&mut self.tx_rx, async {
+            let sd = group
+                .subdevice(maindevice, usize::from(node) - 1)
+                .map_err(Failure::Master)?;
+            sdo_info(maindevice, sd.configured_address(), request, timeout).await
+        })
+        .map_err(|e| self.ended(e))?;
+        r.map_err(|f| match (request, f) {
+            (info::Request::OdList(_), Failure::Abort(code)) => EthercatError::Protocol {
+                addr,
+                position: node,
+                detail: format!(
+                    "SDO Information refused the object list: {}",
+                    AbortCode::from(code)
+                ),
+            }
+            .into(),
+            (_, f) => self.error(node, addr, f),
+        })
+    }
+
+    /// SDO Information's description of the entry `addr` on the slave at `node`.
+    pub fn entry_description(
+        &mut self,
+        node: u8,
+        addr: Address,
+    ) -> Result<info::EntryDescription, ToolError> {
+        let (_, data) = self.info(
+            node,
+            info::Request::Entry {
+                index: addr.index,
+                sub: addr.sub,
+                value_info: 0,
+            },
+        )?;
+        self.parsed(node, addr, info::EntryDescription::parse(&data))
+    }
+
+    /// An answer's data read as a description, or the protocol error naming it.
+    fn parsed<T>(
+        &self,
+        node: u8,
+        addr: Address,
+        r: Result<T, info::InfoError>,
+    ) -> Result<T, ToolError> {
+        r.map_err(|e| {
+            EthercatError::Protocol {
+                addr,
+                position: node,
+                detail: e.to_string(),
+            }
+            .into()
+        })
+    }
+
+    /// The dictionary of the slave at `node` as SDO Information gives it (ETG.1000.6 §5.6.3): every
+    /// object of list 1 (all objects), each with its description and those of its entries
+    /// 0..=MaxSubindex (a sub-index the slave says does not exist, 0x06090011, is left out).
+    pub fn sdos(&mut self, node: u8) -> Result<Vec<InfoObject>, ToolError> {
+        let list = info::OdList::All;
+        let (_, data) = self.info(node, info::Request::OdList(list))?;
+        let indices = self.parsed(node, Address::new(0, 0), info::od_list_indices(list, &data))?;
+        let mut objects = Vec::with_capacity(indices.len());
+        for index in indices {
+            let addr = Address::new(index, 0);
+            let (_, data) = self.info(node, info::Request::Object(index))?;
+            let object = self.parsed(node, addr, info::ObjectDescription::parse(&data))?;
+            let mut entries = Vec::new();
+            for sub in 0..=object.max_sub {
+                match self.entry_description(node, Address::new(index, sub)) {
+                    Ok(e) => entries.push(e),
+                    Err(ToolError::Abort {
+                        code: AbortCode::NoSubIndex,
+                        ..
+                    }) => {}
+                    Err(e) => return Err(e),
+                }
+            }
+            objects.push(InfoObject { object, entries });
+        }
+        Ok(objects)
     }
 }
 
@@ -772,6 +994,17 @@ impl SdoAccess for EthercatSession {
                 Failure::Protocol(format!("longer than {MAX_UPLOAD} bytes")),
             )),
             Err(e) => Err(self.error(node, addr, e.into())),
+        }
+    }
+
+    /// The type SDO Information gives the entry; `None` when it is no basic type, or when the slave
+    /// gives no SDO Information (the caller then asks for a type).
+    fn entry_type(&mut self, node: u8, addr: Address) -> Result<Option<DataType>, ToolError> {
+        match self.entry_description(node, addr) {
+            Ok(e) => Ok(info::data_type(e.data_type)),
+            // The entry is not there: as the read itself would say.
+            Err(e @ ToolError::Abort { .. }) => Err(e),
+            Err(_) => Ok(None),
         }
     }
 

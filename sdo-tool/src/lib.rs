@@ -430,6 +430,13 @@ pub trait SdoAccess {
     /// Writes `data` to the entry.
     fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError>;
 
+    /// The entry's type as the node itself describes it (EtherCAT's SDO Information), for a command
+    /// given neither a type nor a description; `None` where the network or node has no such
+    /// service.
+    fn entry_type(&mut self, _node: u8, _addr: Address) -> Result<Option<DataType>, ToolError> {
+        Ok(None)
+    }
+
     /// Reads a value of `data_type`: the bytes must be a valid value of the type.
     fn read_value(
         &mut self,
@@ -567,8 +574,14 @@ impl<'a> SdoCommands<'a> {
         object(self.od, text)
     }
 
-    /// The type to use: the one given, else the dictionary's.
-    fn type_for(&self, addr: Address, given: Option<&str>) -> Result<TypeCode, ToolError> {
+    /// The type to use: the one given, else the dictionary's, else the one the node describes
+    /// (SDO Information).
+    fn type_for(
+        &mut self,
+        node: u8,
+        addr: Address,
+        given: Option<&str>,
+    ) -> Result<TypeCode, ToolError> {
         if let Some(t) = given {
             return TypeCode::parse(t).ok_or_else(|| {
                 ToolError::Usage(format!(
@@ -576,9 +589,14 @@ impl<'a> SdoCommands<'a> {
                 ))
             });
         }
-        let od = self.od.ok_or_else(|| {
-            ToolError::Usage("give the type (e.g. u16), or a description with --od".into())
-        })?;
+        let Some(od) = self.od else {
+            return match self.sdo.entry_type(node, addr)? {
+                Some(t) => Ok(TypeCode::of(t)),
+                None => Err(ToolError::Usage(
+                    "give the type (e.g. u16), or a description with --od".into(),
+                )),
+            };
+        };
         let e = od
             .entry(addr.index, addr.sub)
             .map_err(|e| ToolError::Usage(format!("{addr}: {e}")))?;
@@ -623,7 +641,7 @@ impl<'a> SdoCommands<'a> {
     ) -> Result<(Value, String), ToolError> {
         self.sdo.check_node(node)?;
         let addr = self.object(object)?;
-        let code = self.type_for(addr, ty)?;
+        let code = self.type_for(node, addr, ty)?;
         self.check_access(addr, false)?;
         let v = match self.sdo.read_value(node, addr, code.data_type) {
             Ok(v) => v,
@@ -649,7 +667,7 @@ impl<'a> SdoCommands<'a> {
     ) -> Result<(), ToolError> {
         self.sdo.check_node(node)?;
         let addr = self.object(object)?;
-        let code = self.type_for(addr, ty)?;
+        let code = self.type_for(node, addr, ty)?;
         let v = code.parse_value(value).map_err(ToolError::Usage)?;
         let bytes = v
             .encode(code.data_type)

@@ -148,7 +148,7 @@ fn usage_and_transport_errors() {
         assert_eq!(o.status.code(), Some(2), "{argv:?}: {}", stderr(&o));
         assert!(
             stderr(&o).contains(&format!(
-                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump and apply",
+                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, slaves, states and sdos are available\n",
                 argv[0]
             )),
             "{}",
@@ -162,9 +162,8 @@ fn usage_and_transport_errors() {
     );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
-    // No type and no description.
-    let o = tool(&link, &["read", "1", "0x1000"]);
-    assert_eq!(o.status.code(), Some(2));
+    // No type and no description: the type is the slave's (SDO Information), UNSIGNED32.
+    assert_eq!(ok(&link, &["read", "1", "0x1000"]), "0\n");
     // No such interface: a transport failure.
     let o = common::sdo_tool(
         &["--ethercat", "nosuchif0"],
@@ -354,4 +353,89 @@ fn a_chain_another_master_runs_is_left_alone() {
     );
     // pysoem's script asks for Init at its end: the chain is idle again, and served.
     assert_eq!(ok(&link, &["read", "2", "0x1018:04", "u32"]), "2\n");
+}
+
+/// `sdos` lists the slave's dictionary by SDO Information (ETG.1000.6 §5.6.3), in IgH's layout; and
+/// `read`/`write` with neither TYPE nor --od take the entry's type from the same service.
+#[test]
+fn sdos_and_reads_without_a_description() {
+    let link = Link::up(&["--units", "2"]);
+    let listing = ok(&link, &["sdos", "1"]);
+    // The ESI's 13 objects, in index order; 0x1018 and 0x8010 in full.
+    let objects: Vec<&str> = listing.lines().filter(|l| l.starts_with("SDO ")).collect();
+    assert_eq!(objects.len(), 13, "{listing}");
+    assert_eq!(objects[0], "SDO 0x1000, VAR, \"Device type\"");
+    assert_eq!(objects[12], "SDO 0x8010, RECORD, \"Configuration Data\"");
+    assert!(
+        listing.contains(concat!(
+            "SDO 0x1018, RECORD, \"Identity\"\n",
+            "  0x1018:00, r-r-r-, UNSIGNED8, 8 bit, \"SubIndex 000\"\n",
+            "  0x1018:01, r-r-r-, UNSIGNED32, 32 bit, \"Vendor ID\"\n",
+            "  0x1018:02, r-r-r-, UNSIGNED32, 32 bit, \"Product code\"\n",
+            "  0x1018:03, r-r-r-, UNSIGNED32, 32 bit, \"Revision\"\n",
+            "  0x1018:04, r-r-r-, UNSIGNED32, 32 bit, \"Serial number\"\n",
+            "SDO 0x1600, RECORD, \"Outputs\"\n",
+        )),
+        "{listing}"
+    );
+    assert!(
+        listing.ends_with(concat!(
+            "SDO 0x8010, RECORD, \"Configuration Data\"\n",
+            "  0x8010:00, r-r-r-, UNSIGNED8, 8 bit, \"SubIndex 000\"\n",
+            "  0x8010:01, rwrwrw, UNSIGNED16, 16 bit, \"CFG_Word_0\"\n",
+            "  0x8010:02, rwrwrw, UNSIGNED16, 16 bit, \"CFG_Word_1\"\n",
+            "  0x8010:03, rwrwrw, UNSIGNED32, 32 bit, \"Starting_Speed\"\n",
+            "  0x8010:04, rwrwrw, UNSIGNED16, 16 bit, \"Motor_Resolution\"\n",
+            "  0x8010:05, rwrwrw, UNSIGNED16, 16 bit, \"Encoder_Resolution\"\n",
+            "  0x8010:06, rwrwrw, UNSIGNED16, 16 bit, \"Idle_current_reduction\"\n",
+            "  0x8010:07, rwrwrw, UNSIGNED16, 16 bit, \"Motor_Current\"\n",
+        )),
+        "{listing}"
+    );
+    // Every slave, each under its position.
+    let both = ok(&link, &["sdos"]);
+    let headers: Vec<&str> = both.lines().filter(|l| l.starts_with("===")).collect();
+    assert_eq!(headers, ["=== Slave 1 ===", "=== Slave 2 ==="]);
+    assert_eq!(both.lines().count(), 2 * (listing.lines().count() + 1));
+    // One JSON object per slave; the inputs are TxPDO-mappable.
+    let v: serde_json::Value = serde_json::from_str(&ok(&link, &["--json", "sdos", "2"])).unwrap();
+    assert_eq!(v["position"], 2);
+    let status = &v["objects"][10];
+    assert_eq!(status["object"], "0x6000");
+    assert_eq!(status["object_code"], "RECORD");
+    assert_eq!(status["max_sub"], 7);
+    assert_eq!(
+        status["entries"][1],
+        serde_json::json!({"sub": 1, "name": "STATUS_word0", "type": "UNSIGNED16",
+            "type_code": 6, "bits": 16, "access": "r-r-r-", "rxpdo": false, "txpdo": true})
+    );
+    let o = tool(&link, &["sdos", "3"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        stderr(&o),
+        format!(
+            "sdo-tool: slave position 3 is not 1 to 2 (the chain on {} has 2 slaves)\n",
+            link.master
+        )
+    );
+
+    // No TYPE, no --od: the type is the slave's own description of the entry.
+    assert_eq!(ok(&link, &["read", "1", "0x8010:03"]), "141\n");
+    assert_eq!(ok(&link, &["read", "1", "0x1008"]), "\"SMD23K-B\"\n");
+    assert_eq!(ok(&link, &["read", "2", "0x6000:03"]), "0\n");
+    assert_eq!(ok(&link, &["write", "1", "0x8010:03", "600"]), "OK\n");
+    assert_eq!(ok(&link, &["read", "1", "0x8010:03", "u32"]), "600\n");
+    // An entry the slave does not have: its SDO Info Error, as the read would be refused.
+    let o = tool(&link, &["read", "1", "0x2345:00"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "sdo-tool: 0x2345:00: SDO abort 0x06020000 (Object does not exist in the object dictionary)\n"
+    );
+    let o = tool(&link, &["read", "1", "0x1018:09"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        "sdo-tool: 0x1018:09: SDO abort 0x06090011 (Sub-index does not exist)\n"
+    );
 }
