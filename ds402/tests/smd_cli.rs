@@ -207,3 +207,151 @@ fn config_decode_names_settings_and_violations() {
     assert_eq!(code, 2);
     assert!(err.contains("is not a 16-bit word"), "{err}");
 }
+
+/// `--json`: each command's result is one JSON object with numbers as numbers, and nothing else on
+/// standard output; an error is a JSON object too (exit 2).
+#[test]
+fn json_output_of_every_command() {
+    let parse = |out: &str| -> Vec<serde_json::Value> {
+        out.lines()
+            .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("{l:?}: {e}")))
+            .collect()
+    };
+    // The profile of Table R3.2's values (SMD-R3-009, SMD-R3-011): the same figures as the text.
+    let (code, out, err) = smd(&[
+        "--json",
+        "profile",
+        "--start",
+        "141",
+        "--speed",
+        "100000",
+        "--accel",
+        "20",
+        "--decel",
+        "25",
+        "--distance",
+        "300000",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = parse(&out);
+    assert_eq!(v.len(), 1, "{out}");
+    let p = &v[0];
+    assert_eq!(p["shape"], "triangular");
+    assert_eq!(
+        format!("{:.1}", p["peak_speed"].as_f64().unwrap()),
+        "81649.8"
+    );
+    assert_eq!(
+        format!("{:.4}", p["total_time"].as_f64().unwrap()),
+        "7.3358"
+    );
+    assert_eq!(
+        format!("{:.1}", p["total_distance"].as_f64().unwrap()),
+        "300000.0"
+    );
+    assert_eq!(
+        format!("{:.4}", p["accel"]["time"].as_f64().unwrap()),
+        "4.0754"
+    );
+    assert_eq!(p["accel"]["shape"], "linear");
+    assert_eq!(p["accel"]["low_speed"], 141.0);
+    assert_eq!(
+        format!("{:.1}", p["decel"]["distance"].as_f64().unwrap()),
+        "133333.3"
+    );
+    assert_eq!(p["cruise"]["distance"], 0.0);
+
+    // 0x2411 (SMD-R5-001): Input 1 CW Limit, Input 2 CCW Limit, encoder, stall detection.
+    let (code, out, _) = smd(&[
+        "--json",
+        "config",
+        "encode",
+        "--input1",
+        "cw-limit",
+        "--input2",
+        "ccw-limit",
+        "--encoder",
+        "--stall-detection",
+    ]);
+    assert_eq!(code, 0);
+    let v = parse(&out);
+    assert_eq!(v.len(), 1);
+    assert_eq!(v[0]["cfg_word0"], 0x2411);
+    assert_eq!(v[0]["cfg_word1"], serde_json::Value::Null);
+    assert_eq!(v[0]["cfg0"]["input1"], "CW Limit");
+    assert_eq!(v[0]["cfg0"]["input2"], "CCW Limit");
+    assert_eq!(v[0]["cfg0"]["use_encoder"], true);
+    assert_eq!(v[0]["valid"], true);
+    assert_eq!(v[0]["violations"], serde_json::json!([]));
+    // Both inputs Home and stall detection without encoder (SMD-R5-018, SMD-R5-011): exit 1.
+    let (code, out, _) = smd(&["config", "decode", "0x2036", "0x0041", "--json"]);
+    assert_eq!(code, 1);
+    let v = parse(&out);
+    assert_eq!(v.len(), 1);
+    assert_eq!(v[0]["cfg_word0"], 0x2036);
+    assert_eq!(v[0]["cfg1"]["in1_active_level"], 1);
+    assert_eq!(v[0]["cfg1"]["in2_active_level"], 0);
+    assert_eq!(v[0]["cfg1"]["dc_sync"], true);
+    assert_eq!(v[0]["valid"], false);
+    let rules: Vec<&str> = v[0]["violations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x["rule"].as_str().unwrap())
+        .collect();
+    assert_eq!(rules, ["SMD-R5-018", "SMD-R5-011"]);
+
+    // A simulation: one object per table line. A Relative move of 5000 steps from a preset 0.
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("relative.smd");
+    std::fs::write(
+        &script,
+        "at 0ms out cmd1=0x8000 velocity=10000 acceleration=100 deceleration=100\n\
+         at 10ms out cmd0=0x0200\nat 20ms out cmd0=0\n\
+         at 30ms out cmd0=0x0002 position=5000\nat 40ms out cmd0=0\nuntil 1s\n",
+    )
+    .unwrap();
+    let path = script.to_str().unwrap();
+    let (code, text, _) = smd(&["simulate", path]);
+    assert_eq!(code, 0);
+    let (code, out, err) = smd(&["--json", "simulate", path]);
+    assert_eq!(code, 0, "{err}");
+    let rows = parse(&out);
+    // The text's lines less its two header lines.
+    assert_eq!(rows.len(), text.lines().count() - 2);
+    assert_eq!(rows[0]["t"], 0.0);
+    assert_eq!(rows[0]["status_word0"], 0x4408);
+    assert_eq!(
+        rows[0]["status_word0_bits"],
+        serde_json::json!(["Stopped", "Position_Invalid", "Module_OK"])
+    );
+    let last = rows.last().unwrap();
+    assert_eq!(last["t"], 1.0);
+    assert_eq!(last["motor_position"], 5000);
+    assert_eq!(last["speed"], 0.0);
+    assert_eq!(last["status_word0"], 0x4088);
+    assert_eq!(
+        last["status_word0_bits"],
+        serde_json::json!(["Stopped", "Move_Complete", "Module_OK"])
+    );
+    assert_eq!(
+        last["status_word1_bits"],
+        serde_json::json!(["Drive_Is_Enabled"])
+    );
+
+    // An error: one JSON object on standard output, nothing on standard error.
+    let missing = dir.path().join("missing.smd");
+    let (code, out, err) = smd(&["--json", "simulate", missing.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert_eq!(err, "");
+    let v = parse(&out);
+    assert_eq!(v.len(), 1);
+    assert_eq!(v[0]["exit_code"], 2);
+    assert!(
+        v[0]["error"]
+            .as_str()
+            .unwrap()
+            .starts_with(&format!("cannot read {}: ", missing.display())),
+        "{out}"
+    );
+}

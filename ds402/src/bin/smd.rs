@@ -7,7 +7,11 @@ fn main() {
     match ds402::smd::cli::run(&args, &mut std::io::stdout()) {
         Ok(code) => std::process::exit(code),
         Err(e) => {
-            eprintln!("smd: {e}");
+            if args.json {
+                println!("{}", ds402::smd::cli::error_json(&e));
+            } else {
+                eprintln!("smd: {e}");
+            }
             std::process::exit(2);
         }
     }

@@ -14,6 +14,10 @@ use super::simulate::{self, Options, Script};
 #[derive(Debug, Parser)]
 #[command(name = "smd", version)]
 pub struct Args {
+    /// Machine-readable output: one JSON object per result on standard output, nothing else (a
+    /// simulation's table one object per line).
+    #[arg(long, global = true)]
+    pub json: bool,
     /// What to do.
     #[command(subcommand)]
     pub command: Cmd,
@@ -188,11 +192,12 @@ pub enum CliError {
 /// Runs `args`, printing to `out`; the process's exit code on success (0, or 1 where a command
 /// reports a finding such as an invalid configuration).
 pub fn run(args: &Args, out: &mut dyn Write) -> Result<i32, CliError> {
+    let json = args.json;
     match &args.command {
-        Cmd::Profile(p) => profile(p, out),
-        Cmd::Config(ConfigCmd::Encode(e)) => encode(e, out),
-        Cmd::Config(ConfigCmd::Decode(d)) => decode(d, out),
-        Cmd::Simulate(s) => simulate(s, out),
+        Cmd::Profile(p) => profile(p, json, out),
+        Cmd::Config(ConfigCmd::Encode(e)) => encode(e, json, out),
+        Cmd::Config(ConfigCmd::Decode(d)) => decode(d, json, out),
+        Cmd::Simulate(s) => simulate(s, json, out),
     }
 }
 
@@ -207,7 +212,49 @@ fn read_script(path: &std::path::Path) -> std::io::Result<String> {
         .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
 }
 
-fn simulate(a: &SimulateArgs, out: &mut dyn Write) -> Result<i32, CliError> {
+/// Writes `value` as one line of JSON.
+fn json_line(out: &mut dyn Write, value: &serde_json::Value) -> Result<(), CliError> {
+    writeln!(out, "{value}")?;
+    Ok(())
+}
+
+/// A configuration check's findings as JSON: the words, valid or not, and each violation with its
+/// rule.
+fn decoded_json(d: &super::config::Decoded) -> serde_json::Value {
+    let input = |f: Option<InputFunction>| match f {
+        Some(function) => serde_json::Value::from(function.manual_name()),
+        None => serde_json::Value::Null,
+    };
+    let cfg1 = d.cfg1.map(|c| {
+        serde_json::json!({
+            "in1_active_level": u8::from(c.in1_active_level),
+            "in2_active_level": u8::from(c.in2_active_level),
+            "dc_sync": c.dc_sync,
+            "reserved_bits": c.reserved,
+        })
+    });
+    let c = &d.cfg0;
+    serde_json::json!({
+        "cfg_word0": d.word0,
+        "cfg_word1": d.word1,
+        "cfg0": {
+            "input1": input(c.input1),
+            "input2": input(c.input2),
+            "use_encoder": c.use_encoder,
+            "use_backplane_proximity": c.use_backplane_proximity,
+            "enable_stall_detection": c.enable_stall_detection,
+            "disable_antiresonance": c.disable_antiresonance,
+            "reserved_bits": c.reserved,
+        },
+        "cfg1": cfg1,
+        "valid": d.is_valid(),
+        "violations": d.violations.iter().map(|v| serde_json::json!({
+            "text": v.to_string(), "rule": v.rule(),
+        })).collect::<Vec<_>>(),
+    })
+}
+
+fn simulate(a: &SimulateArgs, json: bool, out: &mut dyn Write) -> Result<i32, CliError> {
     let file = a.script.display().to_string();
     let source = read_script(&a.script).map_err(|source| CliError::Read {
         path: file.clone(),
@@ -218,15 +265,45 @@ fn simulate(a: &SimulateArgs, out: &mut dyn Write) -> Result<i32, CliError> {
         simulate::check_every(&script, every)?;
     }
     let trace = simulate::run(&script, &Options { every: a.every });
-    simulate::write_table(&trace, out)?;
+    if json {
+        for s in &trace.lines {
+            let i = &s.inputs;
+            json_line(
+                out,
+                &serde_json::json!({
+                    "t": s.time.as_secs_f64(),
+                    "motor_position": i.motor_position,
+                    "encoder_position": i.encoder_position,
+                    "trapped_encoder_position": i.trapped_encoder_position,
+                    // Negative zero is zero.
+                    "speed": if s.speed == 0.0 { 0.0 } else { s.speed },
+                    "status_word0": i.status0,
+                    "status_word1": i.status1,
+                    "status_word0_bits":
+                        simulate::set_bit_names(i.status0, &simulate::STATUS0_NAMES),
+                    "status_word1_bits":
+                        simulate::set_bit_names(i.status1, &simulate::STATUS1_NAMES),
+                }),
+            )?;
+        }
+    } else {
+        simulate::write_table(&trace, out)?;
+    }
     if let Some(path) = &a.plot {
         simulate::plot(&trace, path)?;
-        writeln!(out, "# chart written to {}", path.display())?;
+        if json {
+            json_line(
+                out,
+                &serde_json::json!({"chart": path.display().to_string()}),
+            )?;
+        } else {
+            writeln!(out, "# chart written to {}", path.display())?;
+        }
     }
     Ok(0)
 }
 
-fn encode(e: &EncodeArgs, out: &mut dyn Write) -> Result<i32, CliError> {
+fn encode(e: &EncodeArgs, json: bool, out: &mut dyn Write) -> Result<i32, CliError> {
     let cfg0 = Cfg0 {
         input1: Some(e.input1),
         input2: Some(e.input2),
@@ -237,7 +314,6 @@ fn encode(e: &EncodeArgs, out: &mut dyn Write) -> Result<i32, CliError> {
         ..Cfg0::default()
     };
     let word0 = cfg0.encode();
-    writeln!(out, "{word0:#06x}")?;
     let word1 = (e.in1_active_on_current || e.in2_active_on_current || e.dc_sync).then(|| {
         Cfg1 {
             in1_active_level: e.in1_active_on_current,
@@ -247,23 +323,46 @@ fn encode(e: &EncodeArgs, out: &mut dyn Write) -> Result<i32, CliError> {
         }
         .encode()
     });
+    let decoded = decode_words(word0, word1);
+    if json {
+        json_line(out, &decoded_json(&decoded))?;
+        return Ok(if decoded.is_valid() { 0 } else { 1 });
+    }
+    writeln!(out, "{word0:#06x}")?;
     if let Some(w) = word1 {
         writeln!(out, "{w:#06x}")?;
     }
-    let decoded = decode_words(word0, word1);
     for v in &decoded.violations {
         writeln!(out, "invalid: {v} [{}]", v.rule())?;
     }
     Ok(if decoded.is_valid() { 0 } else { 1 })
 }
 
-fn decode(d: &DecodeArgs, out: &mut dyn Write) -> Result<i32, CliError> {
+fn decode(d: &DecodeArgs, json: bool, out: &mut dyn Write) -> Result<i32, CliError> {
     let decoded = decode_words(d.cfg_word0, d.cfg_word1);
-    writeln!(out, "{decoded}")?;
+    if json {
+        json_line(out, &decoded_json(&decoded))?;
+    } else {
+        writeln!(out, "{decoded}")?;
+    }
     Ok(if decoded.is_valid() { 0 } else { 1 })
 }
 
-fn profile(a: &ProfileArgs, out: &mut dyn Write) -> Result<i32, CliError> {
+/// A phase of a move as JSON.
+fn phase_json(p: &super::profile::Phase) -> serde_json::Value {
+    use super::profile::PhaseShape;
+    serde_json::json!({
+        "shape": match p.shape {
+            PhaseShape::Linear => "linear",
+            PhaseShape::TriangularS => "triangular S-curve",
+            PhaseShape::TrapezoidalS => "trapezoidal S-curve",
+        },
+        "low_speed": p.low, "high_speed": p.high, "accel": p.accel, "jerk": p.jerk,
+        "time": p.time, "distance": p.distance, "peak_accel": p.peak_accel,
+    })
+}
+
+fn profile(a: &ProfileArgs, json: bool, out: &mut dyn Write) -> Result<i32, CliError> {
     let profile = Profile::plan(MoveParams {
         start_speed: f64::from(a.start),
         speed: f64::from(a.speed),
@@ -272,7 +371,27 @@ fn profile(a: &ProfileArgs, out: &mut dyn Write) -> Result<i32, CliError> {
         jerk: a.jerk,
         distance: a.distance.unsigned_abs() as f64,
     })?;
-    write!(out, "{profile}")?;
+    if json {
+        use super::profile::MoveShape;
+        json_line(
+            out,
+            &serde_json::json!({
+                "shape": match profile.shape {
+                    MoveShape::Trapezoidal => "trapezoidal",
+                    MoveShape::Triangular => "triangular",
+                },
+                "threshold": profile.threshold,
+                "peak_speed": profile.peak_speed,
+                "accel": phase_json(&profile.accel),
+                "cruise": {"time": profile.cruise_time, "distance": profile.cruise_distance},
+                "decel": phase_json(&profile.decel),
+                "total_time": profile.total_time(),
+                "total_distance": profile.total_distance(),
+            }),
+        )?;
+    } else {
+        write!(out, "{profile}")?;
+    }
     if let Some(path) = &a.plot {
         let points = profile.speed_samples(1000);
         plot::line_chart(
@@ -291,7 +410,19 @@ fn profile(a: &ProfileArgs, out: &mut dyn Write) -> Result<i32, CliError> {
                 points: &points,
             }],
         )?;
-        writeln!(out, "chart written to {}", path.display())?;
+        if json {
+            json_line(
+                out,
+                &serde_json::json!({"chart": path.display().to_string()}),
+            )?;
+        } else {
+            writeln!(out, "chart written to {}", path.display())?;
+        }
     }
     Ok(0)
+}
+
+/// An error as `--json` prints it (on standard output, exit code 2).
+pub fn error_json(e: &CliError) -> serde_json::Value {
+    serde_json::json!({"error": e.to_string(), "exit_code": 2})
 }

@@ -88,7 +88,9 @@ pub use chart::plot;
 pub use script::{
     parse_time, Action, Event, Field, LineError, Script, ScriptError, Shown, Type, CONFIG_NAMES,
 };
-pub use table::{bit_names, format_line, header, write_table, STATUS0_NAMES, STATUS1_NAMES};
+pub use table::{
+    bit_names, format_line, header, set_bit_names, write_table, STATUS0_NAMES, STATUS1_NAMES,
+};
 pub use trace::{check_every, run, EveryError, Options, Sample, Trace};
 
 /// The long help of `smd simulate` (the format of the script and of the table).

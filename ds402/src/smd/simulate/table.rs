@@ -46,17 +46,22 @@ pub const STATUS1_NAMES: [&str; 16] = [
     "Drive_Is_Enabled",
 ];
 
+/// The names of the bits set in `word`, bit 0 first, from `table` (`bit_N` where it has none).
+pub fn set_bit_names(word: u16, table: &[&str; 16]) -> Vec<String> {
+    (0..16)
+        .filter(|&b| word & (1 << b) != 0)
+        .map(|b| match table[b] {
+            "" => format!("bit_{b}"),
+            n => n.to_string(),
+        })
+        .collect()
+}
+
 /// The names of the set bits of STATUS_word0 (not Module_OK, `!Module_OK` when clear), then ` | ` and
 /// those of STATUS_word1 (not the Heartbeat_Bit) when any is set.
 pub fn bit_names(status0: u16, status1: u16) -> String {
     let names = |word: u16, table: &[&'static str; 16], skip: u16| -> Vec<String> {
-        (0..16)
-            .filter(|&b| word & (1 << b) != 0 && (1 << b) != skip)
-            .map(|b| match table[b] {
-                "" => format!("bit_{b}"),
-                n => n.to_string(),
-            })
-            .collect()
+        set_bit_names(word & !skip, table)
     };
     let mut w0 = names(status0, &STATUS0_NAMES, stat0::MODULE_OK);
     if status0 & stat0::MODULE_OK == 0 {
