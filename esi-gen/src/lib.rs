@@ -22,6 +22,12 @@ pub mod summary;
 #[derive(Debug, Parser)]
 #[command(name = "esi-gen", version, about, long_about = None)]
 pub struct Cli {
+    /// Machine-readable output on standard output, nothing else there: a conversion's report, the
+    /// SII image written and the fixtures written or stale as one JSON object; `check` as one JSON
+    /// document; `diff` one object per difference; an error as one object (exit code 2). A
+    /// conversion then needs `-o FILE`, since standard output carries the report.
+    #[arg(long, global = true)]
+    pub json: bool,
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -165,8 +171,9 @@ pub struct CheckArgs {
     /// List every finding (without it, a file's summary shows the first 20, a batch line its errors).
     #[arg(long)]
     pub all: bool,
-    /// Print one JSON document: every file with its devices and findings, and a summary.
-    #[arg(long)]
+    /// `--json` (a global flag): one JSON document, every file with its devices and findings, and a
+    /// summary.
+    #[arg(skip)]
     pub json: bool,
     /// Count warnings as errors.
     #[arg(long)]
@@ -192,8 +199,8 @@ pub struct DiffArgs {
     /// is refused with the list of them.
     #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
-    /// Print one JSON object per line for each difference instead of text.
-    #[arg(long)]
+    /// `--json` (a global flag): one JSON object per line for each difference instead of text.
+    #[arg(skip)]
     pub json: bool,
 }
 
@@ -264,6 +271,9 @@ pub enum Error {
     /// The file holds no device.
     #[error("{0}: the file describes no device")]
     NoDevice(PathBuf),
+    /// `--json` with a conversion to standard output.
+    #[error("--json writes its report on standard output: give the file to write with -o FILE")]
+    JsonNeedsOutput,
     /// No SII image could be made.
     #[error("{path}: {source}")]
     Sii {
@@ -285,13 +295,15 @@ fn parse_u32(text: &str) -> Result<u32, String> {
 
 /// Runs a parsed command line, writing normal output to `out`.
 pub fn run(cli: Cli, out: &mut dyn Write, err: &mut dyn Write) -> Outcome {
+    let json = cli.json;
     match cli.command {
-        Command::Esi(c) => convert(&c, out, err, Target::Esi),
-        Command::Xdd(c) => convert(&c, out, err, Target::Xdd),
-        Command::Eds(c) => convert(&c, out, err, Target::Eds),
-        Command::Doc(c) => convert(&c, out, err, Target::Doc),
+        Command::Esi(c) => convert(&c, json, out, err, Target::Esi),
+        Command::Xdd(c) => convert(&c, json, out, err, Target::Xdd),
+        Command::Eds(c) => convert(&c, json, out, err, Target::Eds),
+        Command::Doc(c) => convert(&c, json, out, err, Target::Doc),
         Command::Dcf(d) => convert(
             &d.convert,
+            json,
             out,
             err,
             Target::Dcf {
@@ -311,20 +323,38 @@ pub fn run(cli: Cli, out: &mut dyn Write, err: &mut dyn Write) -> Outcome {
                 path: a.output.clone(),
                 source,
             })?;
-            write_out(
-                out,
-                &format!("wrote {} ({} bytes)\n", a.output.display(), image.len()),
-            )?;
+            let text = if json {
+                json_line(&serde_json::json!({
+                    "output": a.output.display().to_string(), "bytes": image.len(),
+                }))
+            } else {
+                format!("wrote {} ({} bytes)\n", a.output.display(), image.len())
+            };
+            write_out(out, &text)?;
             Ok(0)
         }
-        Command::Check(c) => summary::run(&c, out),
-        Command::Diff(d) => compare::run(&d, out),
+        Command::Check(mut c) => {
+            c.json = json;
+            summary::run(&c, out)
+        }
+        Command::Diff(mut d) => {
+            d.json = json;
+            compare::run(&d, out)
+        }
         Command::Fixtures(f) => {
             let files = fixtures::generate(&f.root)?;
+            let shown = |paths: &mut dyn Iterator<Item = &Path>| -> Vec<String> {
+                paths.map(|p| p.display().to_string()).collect()
+            };
             if f.check {
                 let stale = fixtures::stale(&files);
-                for p in &stale {
-                    write_out(out, &format!("stale: {}\n", p.display()))?;
+                if json {
+                    let list = shown(&mut stale.iter().map(|p| p.as_path()));
+                    write_out(out, &json_line(&serde_json::json!({ "stale": list })))?;
+                } else {
+                    for p in &stale {
+                        write_out(out, &format!("stale: {}\n", p.display()))?;
+                    }
                 }
                 return Ok(if stale.is_empty() { 0 } else { 1 });
             }
@@ -339,11 +369,27 @@ pub fn run(cli: Cli, out: &mut dyn Write, err: &mut dyn Write) -> Outcome {
                     path: path.clone(),
                     source,
                 })?;
-                write_out(out, &format!("wrote {}\n", path.display()))?;
+                if !json {
+                    write_out(out, &format!("wrote {}\n", path.display()))?;
+                }
+            }
+            if json {
+                let list = shown(&mut files.iter().map(|(p, _)| p.as_path()));
+                write_out(out, &json_line(&serde_json::json!({ "written": list })))?;
             }
             Ok(0)
         }
     }
+}
+
+/// `value` as one line of JSON.
+fn json_line(value: &serde_json::Value) -> String {
+    format!("{value}\n")
+}
+
+/// An error as `--json` prints it (on standard output; exit code 2).
+pub fn error_json(e: &Error) -> serde_json::Value {
+    serde_json::json!({"error": e.to_string(), "exit_code": 2})
 }
 
 fn write_out(out: &mut dyn Write, text: &str) -> Result<(), Error> {
@@ -411,7 +457,17 @@ impl Target {
     }
 }
 
-fn convert(c: &Convert, out: &mut dyn Write, err: &mut dyn Write, target: Target) -> Outcome {
+fn convert(
+    c: &Convert,
+    json: bool,
+    out: &mut dyn Write,
+    err: &mut dyn Write,
+    target: Target,
+) -> Outcome {
+    let to_stdout = c.output.as_deref().is_none_or(|p| p.as_os_str() == "-");
+    if json && to_stdout {
+        return Err(Error::JsonNeedsOutput);
+    }
     let (_, mut devices) = load_selected(&c.input, c.device.device.as_deref())?;
     if devices.is_empty() {
         return Err(Error::NoDevice(c.input.clone()));
@@ -445,6 +501,34 @@ fn convert(c: &Convert, out: &mut dyn Write, err: &mut dyn Write, target: Target
             source,
         })?,
     }
+    if json {
+        let (format, not_kept) = match target.format() {
+            Some(format) => (
+                format.to_string(),
+                match loss_groups(format, &devices, &text) {
+                    Ok(groups) => serde_json::json!(groups
+                        .iter()
+                        .map(|(kind, count, example)| serde_json::json!({
+                            "kind": kind, "count": count, "example": example,
+                        }))
+                        .collect::<Vec<_>>()),
+                    Err(e) => serde_json::json!({ "does_not_read_back": e }),
+                },
+            ),
+            None => ("Markdown".to_string(), serde_json::Value::Null),
+        };
+        let output = c.output.as_deref().map(|p| p.display().to_string());
+        let value = serde_json::json!({
+            "input": c.input.display().to_string(),
+            "output": output,
+            "format": format,
+            "bytes": text.len(),
+            "devices": devices.iter().map(summary::label).collect::<Vec<_>>(),
+            "not_kept": not_kept,
+        });
+        write_out(out, &json_line(&value))?;
+        return Ok(0);
+    }
     if let Some(format) = target.format() {
         let note = losses(&c.input, format, &devices, &text);
         err.write_all(note.as_bytes()).map_err(|source| Error::Io {
@@ -464,8 +548,8 @@ pub fn losses(
     devices: &[DeviceDescription],
     written: &str,
 ) -> String {
-    let back = match od::load::read_bytes(written.as_bytes(), "written", format) {
-        Ok(back) => back,
+    let groups = match loss_groups(format, devices, written) {
+        Ok(groups) => groups,
         Err(e) => {
             return format!(
                 "esi-gen: {}: written as {format}, it does not read back: {e}\n",
@@ -473,6 +557,31 @@ pub fn losses(
             )
         }
     };
+    if groups.is_empty() {
+        return String::new();
+    }
+    let total: usize = groups.iter().map(|g| g.1).sum();
+    let mut text = format!(
+        "esi-gen: {}: written as {format}, {total} difference(s) read back (what {format} does not carry, or adds):\n",
+        input.display()
+    );
+    for (kind, n, example) in &groups {
+        let example = clip(example, 100);
+        text.push_str(&format!("  {n:>5} × {kind}: {example}\n"));
+    }
+    text
+}
+
+/// The differences of what `written` (a text in `format`) reads back from `devices`, grouped by
+/// kind: each kind with its count and its first place, in the order they come; or why it does not
+/// read back.
+fn loss_groups(
+    format: Format,
+    devices: &[DeviceDescription],
+    written: &str,
+) -> Result<Vec<(String, usize, String)>, String> {
+    let back =
+        od::load::read_bytes(written.as_bytes(), "written", format).map_err(|e| e.to_string())?;
     let mut groups: Vec<(String, usize, String)> = Vec::new();
     let mut count = |kind: String, example: String| match groups.iter_mut().find(|g| g.0 == kind) {
         Some(g) => g.1 += 1,
@@ -499,19 +608,7 @@ pub fn losses(
             }
         }
     }
-    if groups.is_empty() {
-        return String::new();
-    }
-    let total: usize = groups.iter().map(|g| g.1).sum();
-    let mut text = format!(
-        "esi-gen: {}: written as {format}, {total} difference(s) read back (what {format} does not carry, or adds):\n",
-        input.display()
-    );
-    for (kind, n, example) in &groups {
-        let example = clip(example, 100);
-        text.push_str(&format!("  {n:>5} × {kind}: {example}\n"));
-    }
-    text
+    Ok(groups)
 }
 
 /// The kind of a difference, for grouping: its place without keys (`TxPdo entry`, `entry`, `EtherCAT`)

@@ -447,3 +447,82 @@ fn conversions_name_what_they_do_not_keep() {
     let o = esi_gen(&["doc", s]);
     assert_eq!((o.status.code(), stderr(&o)), (Some(0), String::new()));
 }
+
+/// `--json` on every command: one JSON object on standard output and nothing on standard error;
+/// a conversion's report carries what the target format does not keep, as the text report does.
+#[test]
+fn json_output_of_every_command() {
+    let one = |o: &Output| -> serde_json::Value {
+        assert_eq!(stderr(o), "", "nothing on standard error");
+        let out = stdout(o);
+        assert_eq!(out.lines().count(), 1, "one line: {out}");
+        serde_json::from_str(&out).unwrap_or_else(|e| panic!("{out}: {e}"))
+    };
+    let src = tmp("json.xml");
+    std::fs::write(&src, SMALL_ESI).unwrap();
+    let s = src.to_str().unwrap();
+    let eds = tmp("json.eds");
+    let o = esi_gen(&["--json", "eds", s, "-o", eds.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0));
+    let v = one(&o);
+    assert_eq!(v["format"], "EDS");
+    assert_eq!(v["input"], s);
+    assert_eq!(v["output"], eds.to_str().unwrap());
+    assert_eq!(
+        v["bytes"],
+        std::fs::metadata(&eds).unwrap().len(),
+        "the size of the file written"
+    );
+    assert_eq!(
+        v["not_kept"],
+        serde_json::json!([{"kind": "EtherCAT left out", "count": 1, "example": "- EtherCAT"}])
+    );
+    assert_eq!(v["devices"].as_array().unwrap().len(), 1);
+    // ESI to ESI keeps everything: an empty list.
+    let o = esi_gen(&[
+        "esi",
+        s,
+        "--json",
+        "-o",
+        tmp("json-again.xml").to_str().unwrap(),
+    ]);
+    assert_eq!(one(&o)["not_kept"], serde_json::json!([]));
+    // The report takes standard output: the file must be named.
+    let o = esi_gen(&["--json", "eds", s]);
+    assert_eq!(o.status.code(), Some(2));
+    let v = one(&o);
+    assert_eq!(v["exit_code"], 2);
+    assert_eq!(
+        v["error"],
+        "--json writes its report on standard output: give the file to write with -o FILE"
+    );
+    // An error as one object: a missing file.
+    let o = esi_gen(&["--json", "check", "no-such-file.xml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        one(&o)["error"]
+            .as_str()
+            .unwrap()
+            .starts_with("no-such-file.xml: "),
+        "{}",
+        stdout(&o)
+    );
+    // The SII image: its file and size.
+    let bin = tmp("json.bin");
+    let o = esi_gen(&["--json", "sii", s, "-o", bin.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v = one(&o);
+    assert_eq!(v["output"], bin.to_str().unwrap());
+    assert_eq!(v["bytes"], std::fs::metadata(&bin).unwrap().len());
+    // The fixtures are up to date: nothing stale.
+    let o = esi_gen(&["--json", "fixtures", "--check"]);
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(one(&o), serde_json::json!({"stale": []}));
+    // `check` and `diff` as before, with the flag before or after the command.
+    let o = esi_gen(&["--json", "check", s]);
+    assert_eq!(o.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["files"][0]["path"], s);
+    let o = esi_gen(&["diff", s, s, "--json"]);
+    assert_eq!((o.status.code(), stdout(&o)), (Some(0), String::new()));
+}
