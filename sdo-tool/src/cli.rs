@@ -1151,41 +1151,76 @@ fn sdo_command(
                     Skipped { addr, value, why } => format!("skipped {addr} = {value}: {why}"),
                 });
             });
+            let outcome = match result {
+                Ok(o) => o,
+                Err(e) => {
+                    // The steps up to the failure, then the failure.
+                    if json {
+                        writeln!(out, "{}", serde_json::json!({ "steps": lines })).map_err(io)?;
+                    } else {
+                        for l in &lines {
+                            writeln!(out, "{l}").map_err(io)?;
+                        }
+                    }
+                    return Err(e);
+                }
+            };
+            // Saved only when everything was written and reads back equal.
+            let save_result =
+                (*save && !*dry_run && outcome.refused == 0 && outcome.differences == 0).then(
+                    || commands.write(*node, "0x1010:01", Some("u32"), &SAVE_SIGNATURE.to_string()),
+                );
+            let saved = matches!(save_result, Some(Ok(())));
             if json {
-                writeln!(out, "{}", serde_json::json!({ "steps": lines })).map_err(io)?;
+                writeln!(
+                    out,
+                    "{}",
+                    serde_json::json!({
+                        "steps": lines,
+                        "written": if *dry_run { 0 } else { outcome.written },
+                        "to_write": if *dry_run { outcome.written } else { 0 },
+                        "skipped": outcome.skipped,
+                        "refused": outcome.refused,
+                        "refused_in_state": outcome.refused_in_state,
+                        "differences": outcome.differences,
+                        "saved": saved,
+                    })
+                )
+                .map_err(io)?;
             } else {
                 for l in &lines {
                     writeln!(out, "{l}").map_err(io)?;
                 }
-            }
-            let outcome = result?;
-            writeln!(
-                out,
-                "{} entries {}, {} skipped, {} refused",
-                outcome.written,
-                if *dry_run { "to write" } else { "written" },
-                outcome.skipped,
-                outcome.refused
-            )
-            .map_err(io)?;
-            if outcome.refused_in_state > 0 {
                 writeln!(
                     out,
-                    "{} refused for the node's present state (0x08000022): configure it in \
-                     Pre-Operational (sdo-tool nmt preop {node}) and apply again",
-                    outcome.refused_in_state
+                    "{} entries {}, {} skipped, {} refused",
+                    outcome.written,
+                    if *dry_run { "to write" } else { "written" },
+                    outcome.skipped,
+                    outcome.refused
                 )
                 .map_err(io)?;
+                if outcome.refused_in_state > 0 {
+                    writeln!(
+                        out,
+                        "{} refused for the node's present state (0x08000022): configure it in \
+                         Pre-Operational (sdo-tool nmt preop {node}) and apply again",
+                        outcome.refused_in_state
+                    )
+                    .map_err(io)?;
+                }
+                if saved {
+                    writeln!(out, "saved: 0x1010:01 = \"save\"").map_err(io)?;
+                }
+            }
+            if let Some(Err(e)) = save_result {
+                return Err(e);
             }
             if outcome.refused > 0 {
                 return Err(ToolError::Refused(outcome.refused));
             }
             if outcome.differences > 0 {
                 return Err(ToolError::Differences(outcome.differences));
-            }
-            if *save && !*dry_run {
-                commands.write(*node, "0x1010:01", Some("u32"), &SAVE_SIGNATURE.to_string())?;
-                writeln!(out, "saved: 0x1010:01 = \"save\"").map_err(io)?;
             }
         }
         other => {

@@ -832,6 +832,19 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
         "20\n",
         "written after the refusal (its read-back register)"
     );
+    // --json: one object with the same steps and the counts, and nothing else on the output.
+    let (out, e) = n.tool_output(&["--json", "apply", "5", bad.to_str().unwrap()]);
+    assert_eq!(e.map(|e| e.exit_code()), Some(1));
+    assert_eq!(out.lines().count(), 1, "{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        v,
+        serde_json::json!({
+            "steps": &lines[..5],
+            "written": 2, "to_write": 0, "skipped": 2, "refused": 1,
+            "refused_in_state": 0, "differences": 0, "saved": false,
+        })
+    );
 }
 
 /// `watch`: heartbeats, the NMT change, a TPDO decoded from the description, an EMCY in words.
