@@ -25,10 +25,12 @@
 pub mod model {
     //! The model: data types, values, objects, the dictionary, abort codes and the device hook.
     pub mod abort;
+    pub mod bits;
     pub mod dict;
     pub mod hook;
     pub mod object;
     pub mod types;
+    pub mod units;
     pub mod value;
 }
 
@@ -52,7 +54,7 @@ pub mod coe;
 pub mod sdo;
 
 pub use description::{device, diff, doc, eds, error, esi, load, report, sii, validate, xdd, xml};
-pub use model::{abort, dict, hook, object, types, value};
+pub use model::{abort, bits, dict, hook, object, types, units, value};
 
 pub use abort::AbortCode;
 pub use device::DeviceDescription;

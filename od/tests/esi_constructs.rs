@@ -101,6 +101,55 @@ fn limits_outside_the_type_are_dropped() {
     );
 }
 
+/// `Info/Unit` (ETG.1004 unit codes, as Beckhoff's EL9xxx and ELM37xx give them) is kept, of a VAR
+/// and of a record's SubItem, written back and compared; one that is no number is dropped with a
+/// warning.
+#[test]
+fn units_are_kept() {
+    let objects = "<Object><Index>#x8000</Index><Name>Threshold</Name><Type>UDINT</Type>\n\
+                   <Info><DefaultData>50c30000</DefaultData><Unit>#xfd260000</Unit></Info></Object>\n\
+                   <Object><Index>#x8001</Index><Name>Limits</Name><Type>DT8001</Type><BitSize>48</BitSize>\n\
+                   <Info><SubItem><Name>SubIndex 000</Name><Info><DefaultData>01</DefaultData></Info></SubItem>\n\
+                   <SubItem><Name>Temperature</Name><Info><DefaultData>5000</DefaultData><Unit>#x2d0000</Unit></Info></SubItem></Info></Object>\n\
+                   <Object><Index>#x8002</Index><Name>Odd</Name><Type>UINT</Type><Info><Unit>volts</Unit></Info></Object>";
+    let types = "<DataType><Name>DT8001</Name><BitSize>24</BitSize>\
+                 <SubItem><SubIdx>0</SubIdx><Name>SubIndex 000</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs></SubItem>\
+                 <SubItem><SubIdx>1</SubIdx><Name>Temperature</Name><Type>UINT</Type><BitSize>16</BitSize><BitOffs>8</BitOffs></SubItem>\
+                 </DataType>";
+    let text =
+        device(objects, "").replace("<DataTypes/>", &format!("<DataTypes>{types}</DataTypes>"));
+    let (d, findings) = one(&text);
+    assert_eq!(
+        d.dictionary.entry(0x8000, 0).unwrap().unit,
+        Some(0xFD26_0000)
+    );
+    assert_eq!(d.dictionary.entry(0x8001, 0).unwrap().unit, None);
+    assert_eq!(
+        d.dictionary.entry(0x8001, 1).unwrap().unit,
+        Some(0x002D_0000)
+    );
+    assert_eq!(d.dictionary.entry(0x8002, 0).unwrap().unit, None);
+    assert_eq!(
+        said(&findings),
+        ["12:75: warning: <Unit> \"volts\" is no 32-bit unit code; the unit is dropped"]
+    );
+    assert_eq!(od::units::unit_text(0xFD26_0000), "mV");
+    // An EDS has no unit: the comparison says what is lost.
+    let back = od::eds::read(od::eds::write_eds(&d).as_bytes(), "t.eds").unwrap();
+    let lost: Vec<String> = od::diff::diff_devices(&d, &back)
+        .iter()
+        .map(|x| x.to_string())
+        .filter(|x| x.contains("unit"))
+        .collect();
+    assert_eq!(
+        lost,
+        [
+            "~ 0x8000:00 unit: mV -> none",
+            "~ 0x8001:01 unit: °C -> none"
+        ]
+    );
+}
+
 #[test]
 fn a_string_shorter_than_its_default_takes_the_default_size() {
     // SOES writes `STRING(0)` for strings set at run time, with the build's default.

@@ -313,6 +313,10 @@ pub struct SubObject {
     pub pdo: PdoMapping,
     /// Default value.
     pub default: Option<DefaultValue>,
+    /// The unit of the value, ETG.1004 / CiA 303-2 encoded (ESI `Info/Unit`): the prefix's power of
+    /// ten (signed) in bits 31–24, the unit in 23–16, a unit it is divided by in 15–8; see
+    /// [`crate::units::unit_text`].
+    pub unit: Option<u32>,
     /// Lowest value a write may set.
     pub low: Option<Value>,
     /// Highest value a write may set.
@@ -345,6 +349,7 @@ impl SubObject {
             access: access.into(),
             pdo: PdoMapping::None,
             default: None,
+            unit: None,
             low: None,
             high: None,
             value,

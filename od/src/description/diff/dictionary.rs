@@ -63,12 +63,16 @@ fn sub_object(cx: &mut Cx<'_>, a: &SubObject, b: &SubObject) {
         access,
         pdo,
         default,
+        unit,
         low,
         high,
         value,
         value_set,
         value_plus_node_id,
     } = a;
+    cx.field("unit", unit, &b.unit, |u| {
+        Shown::Plain(u.map_or_else(|| "none".into(), crate::units::unit_text))
+    });
     cx.text("name", name, &b.name);
     cx.field("description", description, &b.description, |v| match v {
         Some(t) => Shown::Text(t.clone()),

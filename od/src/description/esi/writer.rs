@@ -856,10 +856,13 @@ fn info_children(w: &mut XmlWriter, sub: &SubObject, node: u8) {
     {
         w.text("DefaultData", &[], &hex_bytes(&d));
     }
+    if let Some(u) = sub.unit {
+        w.text("Unit", &[], &format!("#x{u:08x}"));
+    }
 }
 
 fn has_info(sub: &SubObject) -> bool {
-    sub.low.is_some() || sub.high.is_some() || sub.default.is_some()
+    sub.low.is_some() || sub.high.is_some() || sub.default.is_some() || sub.unit.is_some()
 }
 
 fn write_object(w: &mut XmlWriter, object: &Object, types: &Types, node: u8) {

@@ -471,6 +471,7 @@ fn apply_info(ctx: Ctx, sub: &mut SubObject, info: &RawInfo, index: u16) -> Resu
             }
         }
     };
+    sub.unit = info.unit;
     sub.low = limit(&info.min_data, &info.min_value, ["MinData", "MinValue"]);
     sub.high = limit(&info.max_data, &info.max_value, ["MaxData", "MaxValue"]);
     if let Some(v) = &default {

@@ -146,6 +146,13 @@ pub(super) fn read_info(
         Tag::MinValue => info.min_value = Some(keep()),
         Tag::MaxValue => info.max_value = Some(keep()),
         Tag::DefaultString => info.default_string = Some(keep()),
+        Tag::Unit => match crate::xml::parse_number(text).and_then(|v| u32::try_from(v).ok()) {
+            Some(code) => info.unit = Some(code),
+            None => ctx.warn(
+                at,
+                format!("<Unit> {text:?} is no 32-bit unit code; the unit is dropped"),
+            ),
+        },
         _ => {}
     }
     Ok(())

@@ -51,7 +51,7 @@ tags! {
     TxPdo, Exclude, Entry, SubIndex, BitLen, Mailbox, CoE, FoE, EoE, Dc, OpMode, Desc, AssignActivate,
     CycleTimeSync0, ShiftTimeSync0, CycleTimeSync1, ShiftTimeSync1, Eeprom, ByteSize, ConfigData,
     BootStrap, Slots, Slot, ModuleIdent, ModuleClass, Class, VendorId, ModulePdoGroup, InitCmd, Transition,
-    Data, DcOpModeName, ProfileNo, AddInfo,
+    Data, DcOpModeName, ProfileNo, AddInfo, Unit,
 }
 
 /// The document being read: error positions and the warnings found so far.
@@ -224,6 +224,7 @@ struct RawInfo {
     max_data: Option<(Vec<u8>, usize)>,
     min_value: Option<At>,
     max_value: Option<At>,
+    unit: Option<u32>,
 }
 
 #[derive(Debug, Default)]
