@@ -232,3 +232,54 @@ fn the_client_side_reads_back_the_whole_dictionary() {
         Err(info::InfoError::Refused(od::AbortCode::NoObject))
     );
 }
+
+/// ValueInfo (ETG.1000.6 §5.6.3.6): of the unit, default, minimum and maximum asked for, the answer
+/// gives those the entry has, each of the entry's size after the access and before the name.
+#[test]
+fn entry_descriptions_give_the_values_asked_for() {
+    use od::coe::info::EntryDescription;
+    let mut d = smd();
+    let mut s = CoeServer::new(ServerConfig::default(), 128);
+    // 0x8010:03 Starting_Speed has a default (141) and no unit or limits: ValueInfo 0x78 asked,
+    // 0x10 answered.
+    let (_, _, data) = split(&serve(&mut s, &mut d, &request(5, &[0x10, 0x80, 0x03, 0x78]))[0]);
+    assert_eq!(
+        data[..14],
+        [0x10, 0x80, 0x03, 0x10, 0x07, 0x00, 0x20, 0x00, 0x3F, 0x00, 0x8D, 0x00, 0x00, 0x00]
+    );
+    assert_eq!(&data[14..], b"Starting_Speed");
+    // With a unit (mV) and limits 1..1999999 given to it: all four, in their order.
+    {
+        let e = d.object_mut(0x8010).unwrap().subs.get_mut(&3).unwrap();
+        e.unit = Some(0xFD26_0000);
+        e.low = Some(od::Value::Uint(1));
+        e.high = Some(od::Value::Uint(1_999_999));
+    }
+    let (_, _, data) = split(&serve(&mut s, &mut d, &request(5, &[0x10, 0x80, 0x03, 0x78]))[0]);
+    assert_eq!(
+        data[..30],
+        [
+            0x10, 0x80, 0x03, 0x78, 0x07, 0x00, 0x20, 0x00, 0x3F, 0x00, // header, access
+            0x00, 0x00, 0x26, 0xFD, // unit
+            0x8D, 0x00, 0x00, 0x00, // default 141
+            0x01, 0x00, 0x00, 0x00, // minimum 1
+            0x7F, 0x84, 0x1E, 0x00, // maximum 1,999,999
+            b'S', b't', b'a', b'r',
+        ]
+    );
+    let e = EntryDescription::parse(&data).unwrap();
+    assert_eq!(e.unit, Some(0xFD26_0000));
+    assert_eq!(e.default, Some(vec![0x8D, 0, 0, 0]));
+    assert_eq!(e.min, Some(vec![1, 0, 0, 0]));
+    assert_eq!(e.max, Some(vec![0x7F, 0x84, 0x1E, 0x00]));
+    assert_eq!(e.name, "Starting_Speed");
+    // Only the minimum asked for: only it.
+    let (_, _, data) = split(&serve(&mut s, &mut d, &request(5, &[0x10, 0x80, 0x03, 0x20]))[0]);
+    assert_eq!(data[3], 0x20);
+    assert_eq!(data[10..14], [0x01, 0x00, 0x00, 0x00]);
+    assert_eq!(&data[14..], b"Starting_Speed");
+    // A string gives no values: 0x1008's default is not sent.
+    let (_, _, data) = split(&serve(&mut s, &mut d, &request(5, &[0x08, 0x10, 0x00, 0x10]))[0]);
+    assert_eq!(data[3], 0x00);
+    assert_eq!(&data[10..], b"Device name");
+}

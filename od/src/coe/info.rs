@@ -11,10 +11,12 @@
 //! - **Get Object Description** (3 → 4): Index, DataType (u16: the entries' type for VAR and ARRAY,
 //!   the standard record type for the CiA 301 records, else 0), MaxSubindex (u8), ObjectCode (u8: 7
 //!   VAR, 8 ARRAY, 9 RECORD), Name.
-//! - **Get Entry Description** (5 → 6): Index, Subindex, ValueInfo (u8; none of unit, default,
-//!   minimum or maximum is given, so 0 in the answer), DataType (u16; BITn as 0x0030 + n − 1),
-//!   BitLength (u16), ObjectAccess (u16: bits 0–2 readable in Pre-Op / Safe-Op / Op, 3–5 writable
-//!   in them, 6 RxPDO and 7 TxPDO mappable), Name.
+//! - **Get Entry Description** (5 → 6): Index, Subindex, ValueInfo (u8: of what the request asks
+//!   for — 0x08 unit, 0x10 default, 0x20 minimum, 0x40 maximum — those the entry has; values only
+//!   for fixed-size types), DataType (u16; BITn as 0x0030 + n − 1), BitLength (u16), ObjectAccess
+//!   (u16: bits 0–2 readable in Pre-Op / Safe-Op / Op, 3–5 writable in them, 6 RxPDO and 7 TxPDO
+//!   mappable), then the unit (u32) and values ValueInfo announces, each of the entry's size, and
+//!   the Name.
 //!
 //! An answer longer than the mailbox is sent in fragments, Incomplete set on all but the last and
 //! Fragments Left counting down; the master reads them one after the other without asking again. A
@@ -112,18 +114,51 @@ fn serve(body: &[u8], d: &Dictionary) -> Result<(u8, Vec<u8>), AbortCode> {
         opcode::GET_ENTRY => {
             let index = u16_at(0)?;
             let sub = *request.get(2).ok_or(AbortCode::InvalidCommand)?;
+            let asked = request.get(3).copied().unwrap_or(0);
             let entry = d.entry(index, sub)?;
+            let t = entry.data_type;
+            // The values asked for that the entry has, at its size (fixed-size types only).
+            let fixed = t.byte_size().filter(|_| !t.is_variable());
+            let value =
+                |v: Option<&crate::value::Value>| fixed.and(v).and_then(|v| v.encode(t).ok());
+            let unit = (asked & 0x08 != 0).then_some(entry.unit).flatten();
+            let values =
+                [
+                    (
+                        0x10,
+                        value(
+                            entry.default.as_ref().map(|dv| &dv.value).filter(|_| {
+                                !entry.default.as_ref().is_some_and(|dv| dv.plus_node_id)
+                            }),
+                        ),
+                    ),
+                    (0x20, value(entry.low.as_ref())),
+                    (0x40, value(entry.high.as_ref())),
+                ];
+            let mut info = if unit.is_some() { 0x08 } else { 0 };
+            for (bit, v) in &values {
+                if asked & bit != 0 && v.is_some() {
+                    info |= bit;
+                }
+            }
             let mut out = index.to_le_bytes().to_vec();
             out.push(sub);
-            out.push(0);
-            out.extend_from_slice(&type_code(entry.data_type).to_le_bytes());
-            let bits = entry
-                .data_type
+            out.push(info);
+            out.extend_from_slice(&type_code(t).to_le_bytes());
+            let bits = t
                 .bit_size()
                 .or(entry.bit_size)
                 .unwrap_or(8 * entry.value.len() as u32);
             out.extend_from_slice(&(bits.min(0xFFFF) as u16).to_le_bytes());
             out.extend_from_slice(&object_access(entry).to_le_bytes());
+            if let Some(u) = unit {
+                out.extend_from_slice(&u.to_le_bytes());
+            }
+            for (bit, v) in values {
+                if let (true, Some(bytes)) = (info & bit != 0, v) {
+                    out.extend_from_slice(&bytes);
+                }
+            }
             out.extend_from_slice(entry.name.as_bytes());
             Ok((opcode::ENTRY, out))
         }
@@ -464,8 +499,15 @@ pub struct EntryDescription {
     /// ObjectAccess: bits 0–2 readable in Pre-Op, Safe-Op, Op, 3–5 writable in them, 6 RxPDO and 7
     /// TxPDO mappable.
     pub access: u16,
-    /// What follows the access: unit, default, minimum and maximum as ValueInfo gives, then the
-    /// name (bytes that are not UTF-8 replaced). With ValueInfo 0 all of it is the name.
+    /// The unit (ValueInfo 0x08; see [`crate::units::unit_text`]).
+    pub unit: Option<u32>,
+    /// The default value's bytes (ValueInfo 0x10).
+    pub default: Option<Vec<u8>>,
+    /// The minimum's bytes (ValueInfo 0x20).
+    pub min: Option<Vec<u8>>,
+    /// The maximum's bytes (ValueInfo 0x40).
+    pub max: Option<Vec<u8>>,
+    /// The name, after the values (bytes that are not UTF-8 replaced).
     pub name: String,
 }
 
@@ -481,20 +523,30 @@ impl EntryDescription {
         };
         let bit_length = u16::from_le_bytes([*b0, *b1]);
         let value_len = usize::from(bit_length).div_ceil(8);
-        let mut skip = 0;
-        if value_info & 0x08 != 0 {
-            skip += 4;
-        }
-        for bit in [0x10, 0x20, 0x40] {
+        let missing = || {
+            InfoError::Malformed(format!(
+                "an entry description without the values ValueInfo 0x{value_info:02X} announces"
+            ))
+        };
+        let mut at = 0;
+        let mut take = |len: usize| -> Result<Vec<u8>, InfoError> {
+            let bytes = rest.get(at..at + len).ok_or_else(missing)?.to_vec();
+            at += len;
+            Ok(bytes)
+        };
+        let unit = if value_info & 0x08 != 0 {
+            let b = take(4)?;
+            Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        } else {
+            None
+        };
+        let mut values = [None, None, None];
+        for (k, bit) in [0x10, 0x20, 0x40].into_iter().enumerate() {
             if value_info & bit != 0 {
-                skip += value_len;
+                values[k] = Some(take(value_len)?);
             }
         }
-        let name = rest.get(skip..).ok_or_else(|| {
-            InfoError::Malformed(format!(
-                "an entry description without the {skip} value bytes ValueInfo 0x{value_info:02X} announces"
-            ))
-        })?;
+        let [default, min, max] = values;
         Ok(EntryDescription {
             index: u16::from_le_bytes([*i0, *i1]),
             sub: *sub,
@@ -502,7 +554,11 @@ impl EntryDescription {
             data_type: u16::from_le_bytes([*t0, *t1]),
             bit_length,
             access: u16::from_le_bytes([*a0, *a1]),
-            name: name_text(name),
+            unit,
+            default,
+            min,
+            max,
+            name: name_text(&rest[at..]),
         })
     }
 
@@ -678,6 +734,10 @@ mod client_tests {
                 data_type: 0x0006,
                 bit_length: 16,
                 access: 0x0087,
+                unit: None,
+                default: None,
+                min: None,
+                max: None,
                 name: "Statusword".into()
             }
         );
@@ -693,6 +753,10 @@ mod client_tests {
         e.extend_from_slice(b"Speed");
         let e = EntryDescription::parse(&e).unwrap();
         assert_eq!(e.name, "Speed");
+        assert_eq!(e.unit, Some(0xDDCC_BBAA));
+        assert_eq!(e.default, Some(vec![0x01, 0x00]));
+        assert_eq!(e.min, Some(vec![0x00, 0x00]));
+        assert_eq!(e.max, None);
         assert_eq!(e.access_text(), "rwrwrw");
         // Announced but missing.
         let short = [
@@ -710,6 +774,10 @@ mod client_tests {
             data_type: 7,
             bit_length: 32,
             access,
+            unit: None,
+            default: None,
+            min: None,
+            max: None,
             name: String::new(),
         };
         assert_eq!(e(0x0001).access_text(), "r-----");
