@@ -527,6 +527,76 @@ pub fn json_value(v: &od::value::Value) -> serde_json::Value {
     }
 }
 
+/// What a read value means beyond its number: its unit (from the description) and the names of
+/// the bits set in it (those the description lists, or CiA 402's for its controlword and
+/// statusword).
+#[derive(Debug, Default, PartialEq)]
+pub struct Meaning {
+    /// The unit's symbol.
+    pub unit: Option<String>,
+    /// The names of the set bits, lowest bit first; `None` when the entry has no named bits.
+    pub bits: Option<Vec<String>>,
+}
+
+impl Meaning {
+    /// The meaning of `value` read from `addr` as `read_as` (the type given, else the
+    /// description's), with `dict` for its description.
+    pub fn of(
+        dict: Option<&od::Dictionary>,
+        addr: Address,
+        value: &od::value::Value,
+        read_as: Option<od::DataType>,
+    ) -> Meaning {
+        use od::value::Value;
+        let object = dict.and_then(|d| d.object(addr.index));
+        let entry = object.and_then(|o| o.subs.get(&addr.sub));
+        let unit = entry
+            .and_then(|e| e.unit)
+            .map(od::units::unit_text)
+            .filter(|u| !u.is_empty());
+        let number = match value {
+            Value::Uint(u) => Some(*u),
+            Value::Int(i) => Some(*i as u64),
+            _ => None,
+        };
+        let bits = number.and_then(|n| {
+            let size = read_as.or(entry.map(|e| e.data_type))?.bit_size()?;
+            let description = entry.and_then(|e| {
+                e.description.as_deref().or(object
+                    .filter(|o| !o.kind.has_subs())
+                    .and_then(|o| o.description.as_deref()))
+            });
+            let named = od::bits::bit_names(addr.index, addr.sub, description, size);
+            (!named.is_empty()).then(|| od::bits::set_names(n, &named))
+        });
+        Meaning { unit, bits }
+    }
+
+    /// `text` with the unit after it and the set bits in brackets: `50000 mV`,
+    /// `17416  [Stopped Position_Invalid Module_OK]`.
+    pub fn show(&self, text: &str) -> String {
+        let mut t = text.to_string();
+        if let Some(u) = &self.unit {
+            t.push(' ');
+            t.push_str(u);
+        }
+        if let Some(bits) = &self.bits {
+            t.push_str(&format!("  [{}]", bits.join(" ")));
+        }
+        t
+    }
+
+    /// Adds `unit` and `bits` to a JSON object where there are any.
+    pub fn add_to(&self, v: &mut serde_json::Value) {
+        if let Some(u) = &self.unit {
+            v["unit"] = u.clone().into();
+        }
+        if let Some(bits) = &self.bits {
+            v["bits"] = bits.clone().into();
+        }
+    }
+}
+
 /// The index of the RECORD or ARRAY `text` names as a whole (its name, or its index without a
 /// sub-index, `0x1018`), for `read` to read every entry of it.
 fn whole_object(dict: &od::Dictionary, text: &str) -> Option<u16> {
@@ -574,13 +644,16 @@ fn read_object(
         // The type from the description (the commands have it).
         match commands.read_typed(node, &addr.to_string(), None) {
             Ok((value, text)) => {
+                let meaning = Meaning::of(Some(dict), addr, &value, None);
                 if !json {
-                    writeln!(out, "{addr}  {} = {text}", e.name).map_err(io)?;
+                    writeln!(out, "{addr}  {} = {}", e.name, meaning.show(&text)).map_err(io)?;
                 }
-                entries.push(serde_json::json!({
+                let mut v = serde_json::json!({
                     "object": addr.to_string(), "name": e.name,
                     "value": json_value(&value), "text": text,
-                }));
+                });
+                meaning.add_to(&mut v);
+                entries.push(v);
             }
             Err(err @ ToolError::Abort { .. }) => {
                 refused += 1;
@@ -672,6 +745,7 @@ fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result
                 )),
             };
             let addr = Address::new(o.index, sub);
+            let unit = e.unit.map(od::units::unit_text);
             if json {
                 rows.push(serde_json::json!({
                     "address": addr.to_string(),
@@ -680,6 +754,7 @@ fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result
                     "access": e.access.kind.as_str(),
                     "default": default,
                     "limits": limits,
+                    "unit": unit,
                 }));
             } else {
                 let mut line = format!(
@@ -692,6 +767,9 @@ fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result
                 }
                 if let Some(l) = limits {
                     line.push_str(&format!("  limits {l}"));
+                }
+                if let Some(u) = unit {
+                    line.push_str(&format!("  unit {u}"));
                 }
                 writeln!(out, "{line}").map_err(io)?;
             }
@@ -1022,17 +1100,19 @@ fn sdo_command(
             }
             let (value, text) = commands.read_typed(*node, object, ty.as_deref())?;
             let addr = commands.object(object)?;
-            emit(
-                out,
-                json,
-                &text,
-                serde_json::json!({
-                    "node": node,
-                    "object": addr.to_string(),
-                    "value": json_value(&value),
-                    "text": text,
-                }),
-            )?;
+            let read_as = ty
+                .as_deref()
+                .and_then(crate::TypeCode::parse)
+                .map(|c| c.data_type);
+            let meaning = Meaning::of(commands.od, addr, &value, read_as);
+            let mut v = serde_json::json!({
+                "node": node,
+                "object": addr.to_string(),
+                "value": json_value(&value),
+                "text": text,
+            });
+            meaning.add_to(&mut v);
+            emit(out, json, meaning.show(&text), v)?;
         }
         Cmd::Write { node, object, rest } => {
             let (ty, value) = match rest.as_slice() {
@@ -1316,4 +1396,91 @@ pub fn error_json(e: &ToolError) -> serde_json::Value {
         _ => None,
     };
     serde_json::json!({"error": e.to_string(), "exit_code": e.exit_code(), "abort": abort})
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Meaning;
+    use od::dict::Address;
+    use od::object::{AccessType, Object, SubObject};
+    use od::{DataType, Dictionary, Value};
+
+    fn dict() -> Dictionary {
+        let mut d = Dictionary::new();
+        let mut threshold = SubObject::new("Threshold", DataType::Unsigned32, AccessType::Rw);
+        threshold.unit = Some(0xFD26_0000);
+        d.insert(Object::var(0x8000, threshold));
+        d.insert(Object::var(
+            0x2000,
+            SubObject::new("Flags", DataType::Unsigned8, AccessType::Ro)
+                .with_description("Bit 7 Ready; 1 Busy; 0 Error."),
+        ));
+        d
+    }
+
+    /// A unit follows the value; the set bits of a word whose description lists them come in
+    /// brackets, lowest first; CiA 402's statusword is known without a description.
+    #[test]
+    fn values_are_shown_with_their_unit_and_bits() {
+        let d = dict();
+        let m = Meaning::of(
+            Some(&d),
+            Address::new(0x8000, 0),
+            &Value::Uint(50_000),
+            None,
+        );
+        assert_eq!(m.unit.as_deref(), Some("mV"));
+        assert_eq!(m.bits, None);
+        assert_eq!(m.show("50000"), "50000 mV");
+        let m = Meaning::of(Some(&d), Address::new(0x2000, 0), &Value::Uint(0x83), None);
+        assert_eq!(
+            m.bits,
+            Some(vec!["Error".to_string(), "Busy".into(), "Ready".into()])
+        );
+        assert_eq!(m.show("131"), "131  [Error Busy Ready]");
+        // No bit set: the brackets are empty, so that the word is seen to have named bits.
+        let m = Meaning::of(Some(&d), Address::new(0x2000, 0), &Value::Uint(0), None);
+        assert_eq!(m.show("0"), "0  []");
+        // CiA 402 statusword 0x0637 read as u16 without a description: Operation enabled, Remote,
+        // Target reached.
+        let m = Meaning::of(
+            None,
+            Address::new(0x6041, 0),
+            &Value::Uint(0x0637),
+            Some(DataType::Unsigned16),
+        );
+        assert_eq!(
+            m.bits.unwrap(),
+            [
+                "Ready_to_switch_on",
+                "Switched_on",
+                "Operation_enabled",
+                "Voltage_enabled",
+                "Quick_stop",
+                "Remote",
+                "Target_reached"
+            ]
+        );
+        // Read as another size, or with no size known, it is not the statusword.
+        let m = Meaning::of(
+            None,
+            Address::new(0x6041, 0),
+            &Value::Uint(0x0637),
+            Some(DataType::Unsigned32),
+        );
+        assert_eq!(m, Meaning::default());
+        let m = Meaning::of(None, Address::new(0x6041, 0), &Value::Uint(0x0637), None);
+        assert_eq!(m, Meaning::default());
+        // A string has no bits.
+        let m = Meaning::of(
+            Some(&d),
+            Address::new(0x2000, 0),
+            &Value::String("x".into()),
+            None,
+        );
+        assert_eq!(m.bits, None);
+        let mut v = serde_json::json!({});
+        Meaning::of(Some(&d), Address::new(0x8000, 0), &Value::Uint(1), None).add_to(&mut v);
+        assert_eq!(v, serde_json::json!({"unit": "mV"}));
+    }
 }
