@@ -151,6 +151,13 @@ pub enum Cmd {
         /// Also show the frames it cannot name, as ID#DATA.
         #[arg(long)]
         raw: bool,
+        /// The frames to take, as candump's filters (hex identifiers): ID, ID:MASK, LOW-HIGH, ~ to
+        /// invert; several with commas or again. The others are neither shown nor logged.
+        #[arg(long, value_name = "FILTER", value_delimiter = ',')]
+        filter: Vec<crate::watch::CobFilter>,
+        /// Only these kinds of lines: nmt, heartbeat, sync, emcy, sdo, pdo, other (with commas).
+        #[arg(long, value_name = "KINDS", value_delimiter = ',')]
+        only: Vec<crate::watch::Kind>,
     },
     /// Names every frame of a candump log (`candump -L`, or `watch --log`; `-` reads standard
     /// input): NMT, boot-up and heartbeats, SYNC, EMCY, SDO transfers reassembled with their values,
@@ -163,6 +170,13 @@ pub enum Cmd {
         /// Also show the frames it cannot name, as ID#DATA.
         #[arg(long)]
         raw: bool,
+        /// The frames to take, as candump's filters (hex identifiers): ID, ID:MASK, LOW-HIGH, ~ to
+        /// invert; several with commas or again.
+        #[arg(long, value_name = "FILTER", value_delimiter = ',')]
+        filter: Vec<crate::watch::CobFilter>,
+        /// Only these kinds of lines: nmt, heartbeat, sync, emcy, sdo, pdo, other (with commas).
+        #[arg(long, value_name = "KINDS", value_delimiter = ',')]
+        only: Vec<crate::watch::Kind>,
     },
     /// Store the node's parameters: 0x1010:01 = "save".
     Save {
@@ -433,9 +447,7 @@ const MAX_LOG_LINE: u64 = 4096;
 /// `decode`: every frame of a candump log, named, with its time since the log's first frame.
 fn decode(
     path: &std::path::Path,
-    node: Option<u8>,
-    raw: bool,
-    dict: Option<&od::Dictionary>,
+    mut w: crate::watch::Watcher,
     json: bool,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
@@ -454,7 +466,6 @@ fn decode(
         )
     };
     let mut reader = std::io::BufReader::new(input);
-    let mut w = crate::watch::Watcher::new(node, dict).with_raw(raw);
     let mut first = None;
     let mut line = Vec::new();
     let mut skipped = 0usize;
@@ -794,15 +805,19 @@ pub fn run(
         None => None,
     };
     let timeout = Duration::from_millis(args.timeout_ms.max(1));
-    if let Cmd::Decode { log, node, raw } = &args.command {
-        return decode(
-            log,
-            *node,
-            *raw,
-            desc.as_ref().map(|d| &d.dictionary),
-            args.json,
-            out,
-        );
+    if let Cmd::Decode {
+        log,
+        node,
+        raw,
+        filter,
+        only,
+    } = &args.command
+    {
+        let w = crate::watch::Watcher::new(*node, desc.as_ref().map(|d| &d.dictionary))
+            .with_raw(*raw)
+            .with_filters(filter.clone())
+            .with_only(only.clone());
+        return decode(log, w, args.json, out);
     }
     if let Cmd::List = args.command {
         let desc = desc
@@ -932,8 +947,13 @@ pub fn run(
             duration_ms,
             log,
             raw,
+            filter,
+            only,
         } => {
-            let mut w = crate::watch::Watcher::new(*node, tool.od.as_ref()).with_raw(*raw);
+            let mut w = crate::watch::Watcher::new(*node, tool.od.as_ref())
+                .with_raw(*raw)
+                .with_filters(filter.clone())
+                .with_only(only.clone());
             let iface = match &args.bus {
                 Some(BusSpec::SocketCan { iface }) => iface.clone(),
                 Some(BusSpec::Socketcand { channel, .. }) => channel.clone(),
@@ -969,7 +989,8 @@ pub fn run(
                 let t = start.elapsed().as_secs_f64();
                 let lines = match event {
                     Some(socketcan_node::BusEvent::Frame { frame, at }) => {
-                        if let Some(l) = log.as_mut() {
+                        let taken = w.takes(&frame);
+                        if let Some(l) = log.as_mut().filter(|_| taken) {
                             writeln!(l, "{}", crate::watch::candump(at, &iface, &frame))
                                 .map_err(io)?;
                         }

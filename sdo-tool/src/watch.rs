@@ -18,6 +18,117 @@ use socketcan_node::node::pdo::{PdoConfig, RPDO_COMM, TPDO_COMM};
 use socketcan_node::node::EmcyCode;
 use socketcan_node::CanFrame;
 
+/// A frame filter by COB-ID, as candump takes them (IDs in hex, with or without `0x`):
+/// `ID:MASK` passes a frame whose ID matches ID in the bits of MASK, `LOW-HIGH` a range, `ID` one
+/// identifier; a leading `~` inverts any of them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CobFilter {
+    /// The lowest identifier that passes (with `mask`: the identifier to match).
+    low: u16,
+    /// The highest (with `mask`: unused).
+    high: u16,
+    /// `ID:MASK`'s mask.
+    mask: Option<u16>,
+    /// `~`: what does not match passes.
+    invert: bool,
+}
+
+impl CobFilter {
+    /// Whether `cob` passes this filter.
+    pub fn passes(&self, cob: u16) -> bool {
+        let hit = match self.mask {
+            Some(m) => cob & m == self.low & m,
+            None => (self.low..=self.high).contains(&cob),
+        };
+        hit != self.invert
+    }
+}
+
+impl std::str::FromStr for CobFilter {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<CobFilter, String> {
+        let bad = || {
+            format!(
+                "filter {text:?} is not ID, ID:MASK or LOW-HIGH (hex CAN identifiers up to 7FF, \
+                 ~ before it to invert)"
+            )
+        };
+        let t = text.trim();
+        let (invert, t) = match t.strip_prefix('~') {
+            Some(rest) => (true, rest),
+            None => (false, t),
+        };
+        let id = |x: &str| {
+            let x = x.trim();
+            let h = x
+                .strip_prefix("0x")
+                .or_else(|| x.strip_prefix("0X"))
+                .unwrap_or(x);
+            u16::from_str_radix(h, 16).ok().filter(|v| *v <= 0x7FF)
+        };
+        let (low, high, mask) = if let Some((a, m)) = t.split_once(':') {
+            let a = id(a).ok_or_else(bad)?;
+            (a, a, Some(id(m).ok_or_else(bad)?))
+        } else if let Some((a, b)) = t.split_once('-') {
+            let (a, b) = (id(a).ok_or_else(bad)?, id(b).ok_or_else(bad)?);
+            if a > b {
+                return Err(bad());
+            }
+            (a, b, None)
+        } else {
+            let a = id(t).ok_or_else(bad)?;
+            (a, a, None)
+        };
+        Ok(CobFilter {
+            low,
+            high,
+            mask,
+            invert,
+        })
+    }
+}
+
+/// What a frame (or a line about a node) is, for `--only`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Kind {
+    /// NMT commands (0x000).
+    Nmt,
+    /// Heartbeats and boot-up messages (0x701–0x77F), and a heartbeat missed.
+    Heartbeat,
+    /// SYNC (0x080).
+    Sync,
+    /// EMCY (0x081–0x0FF).
+    Emcy,
+    /// SDO (0x581–0x5FF, 0x601–0x67F).
+    Sdo,
+    /// A PDO of the node's mapping.
+    Pdo,
+    /// Anything else (shown with `--raw`).
+    Other,
+}
+
+impl std::str::FromStr for Kind {
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Kind, String> {
+        Ok(match text.trim().to_ascii_lowercase().as_str() {
+            "nmt" => Kind::Nmt,
+            "heartbeat" | "hb" => Kind::Heartbeat,
+            "sync" => Kind::Sync,
+            "emcy" => Kind::Emcy,
+            "sdo" => Kind::Sdo,
+            "pdo" => Kind::Pdo,
+            "other" | "raw" => Kind::Other,
+            _ => {
+                return Err(format!(
+                    "{text:?} is not nmt, heartbeat, sync, emcy, sdo, pdo or other"
+                ))
+            }
+        })
+    }
+}
+
 /// The NMT state a heartbeat byte names.
 pub fn nmt_state_name(byte: u8) -> &'static str {
     match byte & 0x7F {
@@ -57,6 +168,10 @@ pub struct Watcher {
     /// Per node: its last heartbeat's time, the period seen between its last two, whether its
     /// silence was reported, and whether the last was a boot-up message.
     beats: HashMap<u8, (f64, Option<f64>, bool, bool)>,
+    /// The frames taken (any filter passing; every frame when there is none).
+    filters: Vec<CobFilter>,
+    /// The kinds shown (every kind when empty).
+    only: Vec<Kind>,
 }
 
 impl Watcher {
@@ -109,6 +224,47 @@ impl Watcher {
             transfers: HashMap::new(),
             raw: false,
             beats: HashMap::new(),
+            filters: Vec::new(),
+            only: Vec::new(),
+        }
+    }
+
+    /// Takes only the frames one of `filters` passes (all when empty), as candump's filters do:
+    /// the others are not looked at at all.
+    pub fn with_filters(mut self, filters: Vec<CobFilter>) -> Watcher {
+        self.filters = filters;
+        self
+    }
+
+    /// Shows only lines of `kinds` (all when empty).
+    pub fn with_only(mut self, kinds: Vec<Kind>) -> Watcher {
+        self.only = kinds;
+        self
+    }
+
+    /// Whether the filters take `frame` (one without an 11-bit identifier only when there are
+    /// none).
+    pub fn takes(&self, frame: &CanFrame) -> bool {
+        match frame.cob_id() {
+            Some(cob) => self.filters.is_empty() || self.filters.iter().any(|f| f.passes(cob)),
+            None => self.filters.is_empty(),
+        }
+    }
+
+    fn shows(&self, kind: Kind) -> bool {
+        self.only.is_empty() || self.only.contains(&kind)
+    }
+
+    /// The kind of a frame of `cob`.
+    fn kind(&self, cob: u16) -> Kind {
+        match cob {
+            _ if self.pdos.contains_key(&cob) => Kind::Pdo,
+            0x000 => Kind::Nmt,
+            0x080 => Kind::Sync,
+            0x081..=0x0FF => Kind::Emcy,
+            0x581..=0x5FF | 0x601..=0x67F => Kind::Sdo,
+            0x700..=0x77F => Kind::Heartbeat,
+            _ => Kind::Other,
         }
     }
 
@@ -116,6 +272,9 @@ impl Watcher {
     /// ([`Watcher::missed`]), then the frame's own.
     pub fn at(&mut self, t: f64, frame: &CanFrame) -> Vec<String> {
         let mut lines = self.missed(t);
+        if !self.takes(frame) {
+            return lines;
+        }
         if let Some(c @ 0x701..=0x77F) = frame.cob_id() {
             if frame.len() == 1 {
                 let id = (c & 0x7F) as u8;
@@ -137,6 +296,9 @@ impl Watcher {
     /// commonly set up), once per silence.
     pub fn missed(&mut self, t: f64) -> Vec<String> {
         let mut lines = Vec::new();
+        if !self.shows(Kind::Heartbeat) {
+            return lines;
+        }
         let mut ids: Vec<u8> = self.beats.keys().copied().collect();
         ids.sort_unstable();
         for id in ids {
@@ -354,7 +516,15 @@ impl Watcher {
 
     /// The line for `frame`, if it is one the watcher reports.
     pub fn line(&mut self, frame: &CanFrame) -> Option<String> {
+        if !self.takes(frame) {
+            return None;
+        }
+        // An SDO transfer is followed even when its lines are not shown.
         let named = self.named_line(frame);
+        let kind = frame.cob_id().map_or(Kind::Other, |c| self.kind(c));
+        if !self.shows(kind) {
+            return None;
+        }
         if named.is_some() || !self.raw {
             return named;
         }
@@ -773,6 +943,116 @@ mod tests {
                 "node 3: SDO read 0x1008:00 (block transfer)",
                 "node 3: SDO server aborts 0x2000:01: 0x08000000 (General error)",
             ]
+        );
+    }
+
+    /// candump's filter forms: one ID, ID:MASK, a range, `~` inverting; hex with or without 0x.
+    #[test]
+    fn filters_take_what_candump_would() {
+        let f = |t: &str| t.parse::<CobFilter>().unwrap();
+        let takes = |t: &str, ids: &[u16]| -> Vec<u16> {
+            let f = f(t);
+            ids.iter().copied().filter(|&c| f.passes(c)).collect()
+        };
+        let ids = [
+            0x000, 0x080, 0x185, 0x186, 0x1FF, 0x205, 0x585, 0x605, 0x705, 0x7FF,
+        ];
+        assert_eq!(takes("185", &ids), [0x185]);
+        assert_eq!(takes("0x185", &ids), [0x185]);
+        // Node 5's every COB-ID: the low 7 bits are 5.
+        assert_eq!(takes("5:7F", &ids), [0x185, 0x205, 0x585, 0x605, 0x705]);
+        assert_eq!(takes("180-1FF", &ids), [0x185, 0x186, 0x1FF]);
+        assert_eq!(takes("0x580-0x67F", &ids), [0x585, 0x605]);
+        // Not a heartbeat (0x700–0x77F): 0x7FF is not one.
+        assert_eq!(
+            takes("~700:780", &ids),
+            [0x000, 0x080, 0x185, 0x186, 0x1FF, 0x205, 0x585, 0x605, 0x7FF]
+        );
+        assert_eq!(takes("~185", &ids).len(), ids.len() - 1);
+        for bad in ["", "800", "1FF-180", "x", "185:", "-", "185:800", "~"] {
+            let e = bad.parse::<CobFilter>().unwrap_err();
+            assert!(
+                e.starts_with(&format!("filter {bad:?} is not ID, ID:MASK or LOW-HIGH")),
+                "{e}"
+            );
+        }
+        assert_eq!("sdo".parse::<Kind>(), Ok(Kind::Sdo));
+        assert_eq!("HB".parse::<Kind>(), Ok(Kind::Heartbeat));
+        assert_eq!("raw".parse::<Kind>(), Ok(Kind::Other));
+        assert!("pdos".parse::<Kind>().is_err());
+    }
+
+    /// With filters only the frames they pass are looked at: a heartbeat filtered out is neither
+    /// shown nor counted for a missed beat. With `--only`, the kinds not asked for are not shown,
+    /// but an SDO transfer is still followed.
+    #[test]
+    fn filters_and_kinds_choose_what_is_shown() {
+        let frames: &[(f64, u16, &[u8])] = &[
+            (0.00, 0x000, &[0x01, 0x05]),
+            (0.01, 0x705, &[0x05]),
+            (0.02, 0x080, &[]),
+            (0.03, 0x605, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
+            (
+                0.04,
+                0x585,
+                &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00],
+            ),
+            (0.05, 0x085, &[0x10, 0x81, 0x11, 0, 0, 0, 0, 0]),
+            (0.06, 0x123, &[0xAA]),
+        ];
+        let run_with = |w: Watcher| -> Vec<String> {
+            let mut w = w.with_raw(true);
+            frames
+                .iter()
+                .flat_map(|(t, id, d)| w.at(*t, &f(*id, d)))
+                .collect()
+        };
+        let all = run_with(Watcher::new(None, None));
+        assert_eq!(all.len(), 7, "{all:?}");
+        let sdo_only =
+            run_with(Watcher::new(None, None).with_filters(vec!["580-67F".parse().unwrap()]));
+        // The upload's request names nothing yet (raw), its answer the value.
+        assert_eq!(
+            sdo_only,
+            [
+                "605#4000100000000000",
+                "node 5: SDO read 0x1000:00 = 92 01 02 00"
+            ]
+        );
+        let by_kind =
+            run_with(Watcher::new(None, None).with_only(vec![Kind::Emcy, Kind::Other, Kind::Sync]));
+        assert_eq!(
+            by_kind,
+            [
+                "SYNC",
+                "node 5: EMCY 0x8110 (CAN overrun (objects lost)), error register 0x11, data 00 00 00 00 00",
+                "123#AA",
+            ]
+        );
+        // SDOs not asked for: nothing of the upload.
+        let nmt = run_with(Watcher::new(None, None).with_only(vec![Kind::Nmt]));
+        assert_eq!(nmt, ["NMT start: node 5"]);
+        // A heartbeat filtered out does not count: no missed beat after it.
+        let mut w = Watcher::new(None, None).with_filters(vec!["~700:780".parse().unwrap()]);
+        for t in [0.0, 0.1, 0.2] {
+            assert!(w.at(t, &f(0x703, &[0x05])).is_empty());
+        }
+        assert!(w.missed(5.0).is_empty());
+        let mut w = Watcher::new(None, None).with_only(vec![Kind::Sdo]);
+        for t in [0.0, 0.1] {
+            assert!(w.at(t, &f(0x703, &[0x05])).is_empty());
+        }
+        assert!(
+            w.missed(5.0).is_empty(),
+            "a missed beat is a heartbeat line"
+        );
+        let mut w = Watcher::new(None, None).with_only(vec![Kind::Heartbeat]);
+        for t in [0.0, 0.1] {
+            w.at(t, &f(0x703, &[0x05]));
+        }
+        assert_eq!(
+            w.missed(5.0),
+            ["node 3: heartbeat missed: none for 4.900 s (period 0.100 s)"]
         );
     }
 }

@@ -689,6 +689,67 @@ fn decode_names_every_frame_of_a_candump_log() {
         out.contains("  0.902000  201#102700000F000100\n"),
         "without --od a PDO is raw: {out}"
     );
+    // candump's filters: node 1's SDO identifiers only; then the kinds asked for. Times stay those
+    // since the log's first frame.
+    let out = n
+        .tool(&["--od", &eds(), "decode", log, "--filter", "581,601"])
+        .unwrap();
+    assert_eq!(
+        out.lines().collect::<Vec<_>>(),
+        [
+            "  0.210000  node 1: SDO write 0x1017:00 (Producer heartbeat time) = 100",
+            "  0.211000  node 1: SDO written 0x1017:00 (Producer heartbeat time)",
+            "  0.319000  node 1: SDO read 0x1008:00 (Manufacturer device name) = \"X67BC4321-10 / X67SM2436\" (24 bytes, segmented)",
+            "  0.801000  node 1: SDO server aborts 0x1018:05: 0x06090011 (Sub-index does not exist)",
+        ]
+    );
+    let out = n
+        .tool(&[
+            "--od",
+            &eds(),
+            "decode",
+            log,
+            "1",
+            "--only",
+            "heartbeat,pdo",
+            "--filter",
+            "181-201",
+        ])
+        .unwrap();
+    // The heartbeats are filtered out, so no beat is missed either.
+    assert_eq!(
+        out.lines().collect::<Vec<_>>(),
+        [
+            "  0.901000  node 1: TPDO 1 AbsPos01ActVal=5000 MpGenStatus01=1600 InputStatus=1",
+            "  0.902000  node 1: RPDO 1 AbsPos01=10000 MpGenControl01=15 MpGenMode01=1",
+        ]
+    );
+    // Several filters: a frame any of them passes is taken. Not NMT (~0) or 181-201: everything
+    // but the NMT command; of it the heartbeat lines.
+    let out = n
+        .tool(&["decode", log, "--only", "hb", "--filter", "~0,181-201"])
+        .unwrap();
+    assert_eq!(
+        out.lines().collect::<Vec<_>>(),
+        [
+            "  0.000000  node 1: boot-up",
+            "  0.100000  node 1: NMT boot-up -> pre-operational",
+            "  0.300000  node 1: NMT pre-operational -> operational",
+            "  0.400000  node 1: heartbeat, operational",
+            "  0.500000  node 1: heartbeat, operational",
+            "  0.800000  node 1: heartbeat missed: none for 0.300 s (period 0.100 s)",
+        ]
+    );
+    // A filter that is none: a usage error (exit 2) naming it.
+    use clap::Parser;
+    let e = sdo_tool::cli::Args::try_parse_from(["sdo-tool", "decode", log, "--filter", "800"])
+        .unwrap_err();
+    assert_eq!(e.exit_code(), 2);
+    assert!(
+        e.to_string()
+            .contains("filter \"800\" is not ID, ID:MASK or LOW-HIGH"),
+        "{e}"
+    );
 }
 
 /// `read` of a whole RECORD with --od, by its name or its bare index: every readable entry, a line
