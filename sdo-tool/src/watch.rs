@@ -1,9 +1,11 @@
 //! `sdo-tool watch` and `sdo-tool decode`: what goes on on the bus, in words — NMT commands,
 //! boot-up messages, heartbeats and the state changes they show, SYNC, EMCY messages with their error
-//! code's meaning, SDO transfers (expedited and segmented ones reassembled into one line with the
-//! value, block transfers with their size, aborts with their code's meaning), and a node's PDOs (TPDOs
-//! and RPDOs) decoded field by field from its mapping in a description. A frame that is none of these
-//! is shown as it is when raw frames are asked for.
+//! code's meaning, SDO transfers (expedited, segmented and block ones reassembled into one line with
+//! the value — a block transfer's sub-blocks as their acknowledgements take them, so a segment sent
+//! again counts once — aborts with their code's meaning), and a node's PDOs (TPDOs and RPDOs)
+//! decoded field by field from its mapping in a description. A frame that is none of these is shown
+//! as it is when raw frames are asked for. candump's COB-ID filters and a choice of kinds narrow
+//! what is looked at and shown.
 
 use std::collections::HashMap;
 
@@ -155,6 +157,22 @@ struct Transfer {
     upload: bool,
     block: bool,
     data: Vec<u8>,
+    /// A block transfer's progress.
+    sub_block: SubBlock,
+}
+
+/// What an observer of a block transfer keeps (CiA 301 §7.2.4.3.9–16): the data side's segments of
+/// the sub-block going on until the other side acknowledges them.
+#[derive(Debug, Clone, Default)]
+struct SubBlock {
+    /// The data side sends segments: after the server's initiate answer (a download) or the
+    /// client's start, 0xA3 (an upload).
+    started: bool,
+    /// The segments of the sub-block as they came: sequence number, last, the 7 bytes.
+    pending: Vec<(u8, bool, [u8; 7])>,
+    /// The last segment was acknowledged: the data side's next frame is the end, with the number
+    /// of bytes of the last segment that carry no data.
+    all_in: bool,
 }
 
 /// Decodes the bus's frames into lines.
@@ -361,26 +379,62 @@ impl Watcher {
         let mux = Address::new(u16::from_le_bytes([d[1], d[2]]), d[3]);
         let cs = d[0] >> 5;
         let who = format!("node {id}: SDO");
-        // A block transfer: the frames of the side that sends the data are segments (any first
-        // byte); the other side's 0xA1 ends it (CiA 301 §7.2.4.3.9–16).
-        if let Some(t) = self.transfers.get(&id).filter(|t| t.block).cloned() {
+        // A block transfer (CiA 301 §7.2.4.3.9–16): the frames of the side that sends the data are
+        // segments (sequence number and last bit; 0x80, sequence 0, is an abort), then the end
+        // with n; the other side acknowledges sub-blocks (0xA2 with the last segment in sequence)
+        // and ends it with 0xA1.
+        let mut aborted = cs == 4;
+        if self.transfers.get(&id).is_some_and(|t| t.block) {
+            let mut t = self.transfers.remove(&id).expect("looked up");
+            let b = &mut t.sub_block;
             if request != t.upload {
-                return None;
-            }
-            if d[0] == 0xA1 {
-                self.transfers.remove(&id);
-                return Some(format!(
-                    "{who} {} {} (block transfer)",
-                    if t.upload { "read" } else { "written" },
-                    self.named(t.mux)
-                ));
-            }
-            if cs != 4 {
-                return None;
+                aborted = d[0] == 0x80 && b.started && !b.all_in;
+                if !aborted {
+                    if b.all_in && d[0] & 0xE3 == 0xC1 {
+                        let n = usize::from((d[0] >> 2) & 0x07);
+                        t.data.truncate(t.data.len().saturating_sub(n));
+                    } else if b.started && !b.all_in {
+                        let mut bytes = [0u8; 7];
+                        bytes.copy_from_slice(&d[1..8]);
+                        b.pending.push((d[0] & 0x7F, d[0] & 0x80 != 0, bytes));
+                    }
+                    self.transfers.insert(id, t);
+                    return None;
+                }
+            } else {
+                match d[0] {
+                    0xA1 => {
+                        return Some(format!(
+                            "{who} {} {} = {} ({} bytes, block transfer)",
+                            if t.upload { "read" } else { "written" },
+                            self.named(t.mux),
+                            self.value(t.mux, &t.data),
+                            t.data.len()
+                        ));
+                    }
+                    // The acknowledgement: the segments up to the last one in sequence are in.
+                    0xA2 => {
+                        let mut next = 1u8;
+                        for (seq, last, bytes) in std::mem::take(&mut b.pending) {
+                            if seq == next && seq <= d[1] {
+                                t.data.extend_from_slice(&bytes);
+                                b.all_in |= last;
+                                next = next.saturating_add(1);
+                            }
+                        }
+                    }
+                    0xA3 if t.upload => b.started = true,
+                    _ if cs == 5 && !t.upload => b.started = true,
+                    _ => {}
+                }
+                if !aborted {
+                    self.transfers.insert(id, t);
+                    return None;
+                }
             }
         }
         // An abort, from either side, ends the transfer.
-        if cs == 4 {
+        if aborted {
             self.transfers.remove(&id);
             let code = AbortCode::from(u32::from_le_bytes([d[4], d[5], d[6], d[7]]));
             return Some(format!(
@@ -408,6 +462,7 @@ impl Watcher {
                             upload: false,
                             block: false,
                             data: Vec::new(),
+                            sub_block: SubBlock::default(),
                         },
                     );
                     None
@@ -421,6 +476,7 @@ impl Watcher {
                         upload: true,
                         block: false,
                         data: Vec::new(),
+                        sub_block: SubBlock::default(),
                     },
                 );
                 None
@@ -434,6 +490,7 @@ impl Watcher {
                         upload: false,
                         block: true,
                         data: Vec::new(),
+                        sub_block: SubBlock::default(),
                     },
                 );
                 None
@@ -446,6 +503,7 @@ impl Watcher {
                         upload: true,
                         block: true,
                         data: Vec::new(),
+                        sub_block: SubBlock::default(),
                     },
                 );
                 None
@@ -898,15 +956,15 @@ mod tests {
                 "node 3: SDO read 0x2000:01 = 05 06",
                 "node 3: SDO read 0x2000:01 = 05 06 07 08",
                 "node 3: SDO write 0x2000:02 = 01 02 03 04 05 06 07 08 09 0A (10 bytes, segmented)",
-                "node 3: SDO written 0x2000:03 (block transfer)",
+                "node 3: SDO written 0x2000:03 = 01 02 03 (3 bytes, block transfer)",
             ]
         );
     }
 
     /// SDO frames of node 3 in words: an expedited read; a block upload whose segments (any first
-    /// byte, here 0x80 and 0xC2 that look like an abort and a block download) are the server's and
-    /// pass unnamed, until the client's 0xA1 ends it; an abort during a block download from the
-    /// server's side.
+    /// byte, here 0x01 and 0x82 that look like a download segment and an abort) are the server's
+    /// data, until the client's 0xA1 ends it; an abort during a block download from the server's
+    /// side.
     #[test]
     fn sdo_frames_in_words() {
         let lines: Vec<String> = run(&[
@@ -923,7 +981,8 @@ mod tests {
             ),
             (0.1, 0x583, &[0x82, 0xC2, 0x08, 0x10, 0, 0, 0, 0]),
             (0.1, 0x603, &[0xA2, 0x02, 0x7F, 0, 0, 0, 0, 0]),
-            (0.1, 0x583, &[0xC9, 0, 0, 0, 0, 0, 0, 0]),
+            // The end: n = 4 bytes of the last segment carry no data.
+            (0.1, 0x583, &[0xD1, 0, 0, 0, 0, 0, 0, 0]),
             (0.1, 0x603, &[0xA1, 0, 0, 0, 0, 0, 0, 0]),
             // Block download of 0x2000:01 aborted by the server.
             (0.2, 0x603, &[0xC6, 0x00, 0x20, 0x01, 0x10, 0, 0, 0]),
@@ -940,7 +999,7 @@ mod tests {
             lines,
             [
                 "node 3: SDO read 0x1018:01 = 2E 0B 00 00",
-                "node 3: SDO read 0x1008:00 (block transfer)",
+                "node 3: SDO read 0x1008:00 = 80 81 82 83 84 85 86 C2 08 10 (10 bytes, block transfer)",
                 "node 3: SDO server aborts 0x2000:01: 0x08000000 (General error)",
             ]
         );
@@ -1053,6 +1112,65 @@ mod tests {
         assert_eq!(
             w.missed(5.0),
             ["node 3: heartbeat missed: none for 4.900 s (period 0.100 s)"]
+        );
+    }
+
+    /// A block download of 0x2000:04 (blksize 4) in which the third segment is lost: the server
+    /// acknowledges 2, the client sends the rest again as a new sub-block (sequence numbers from
+    /// 1); the data is what the acknowledgements took, less the end's n. Then a block download
+    /// the client aborts (0x80: sequence number 0 is no segment).
+    #[test]
+    fn a_block_transfer_with_a_lost_segment_is_reassembled() {
+        let lines: Vec<String> = run(&[
+            (0.0, 0x603, &[0xC6, 0x00, 0x20, 0x04, 25, 0, 0, 0]),
+            (0.0, 0x583, &[0xA4, 0x00, 0x20, 0x04, 4, 0, 0, 0]),
+            (
+                0.0,
+                0x603,
+                &[0x01, 0x10, 0x11, 0x12, 0x13, 0x14, 0x15, 0x16],
+            ),
+            (
+                0.0,
+                0x603,
+                &[0x02, 0x20, 0x21, 0x22, 0x23, 0x24, 0x25, 0x26],
+            ),
+            (
+                0.0,
+                0x603,
+                &[0x04, 0x40, 0x41, 0x42, 0x43, 0x44, 0x45, 0x46],
+            ),
+            (0.0, 0x583, &[0xA2, 0x02, 0x04, 0, 0, 0, 0, 0]),
+            (
+                0.0,
+                0x603,
+                &[0x01, 0x30, 0x31, 0x32, 0x33, 0x34, 0x35, 0x36],
+            ),
+            (0.0, 0x603, &[0x82, 0x40, 0x41, 0x42, 0x43, 0, 0, 0]),
+            (0.0, 0x583, &[0xA2, 0x02, 0x04, 0, 0, 0, 0, 0]),
+            // 7 + 7 + 7 + 4 = 25 bytes: n = 3.
+            (0.0, 0x603, &[0xCD, 0x12, 0x34, 0, 0, 0, 0, 0]),
+            (0.0, 0x583, &[0xA1, 0, 0, 0, 0, 0, 0, 0]),
+            (0.1, 0x603, &[0xC2, 0x00, 0x20, 0x05, 0, 0, 0, 0]),
+            (0.1, 0x583, &[0xA0, 0x00, 0x20, 0x05, 4, 0, 0, 0]),
+            (0.1, 0x603, &[0x01, 1, 2, 3, 4, 5, 6, 7]),
+            (
+                0.1,
+                0x603,
+                &[0x80, 0x00, 0x20, 0x05, 0x00, 0x00, 0x04, 0x05],
+            ),
+            // Nothing goes on now: the server's late acknowledgement is nothing.
+            (0.1, 0x583, &[0xA2, 0x01, 0x04, 0, 0, 0, 0, 0]),
+        ])
+        .into_iter()
+        .map(|(_, l)| l)
+        .collect();
+        assert_eq!(
+            lines,
+            [
+                "node 3: SDO written 0x2000:04 = 10 11 12 13 14 15 16 20 21 22 23 24 25 26 30 31 32 \
+                 33 34 35 36 40 41 42 43 (25 bytes, block transfer)",
+                "node 3: SDO client aborts 0x2000:05: 0x05040000 (SDO protocol timed out)",
+            ]
         );
     }
 }
