@@ -236,6 +236,28 @@ fn look_up_by_name_is_case_insensitive() {
         e.to_string(),
         "no object or sub-object is named `Labl`; did you mean `Label`?"
     );
+    // A sub-index by its number after the object's name or index, decimal or hex.
+    assert_eq!(
+        d.lookup("Configuration data.2").unwrap(),
+        Address::new(0x8010, 2)
+    );
+    assert_eq!(d.lookup("0x8010.3").unwrap(), Address::new(0x8010, 3));
+    assert_eq!(d.lookup("0x8010.0x01").unwrap(), Address::new(0x8010, 1));
+    assert_eq!(d.lookup("0x8010.Speed").unwrap(), Address::new(0x8010, 2));
+    // A number the object has no sub-index for is said to be a sub-index, not a name.
+    assert_eq!(
+        d.lookup("Configuration data.9").unwrap_err().to_string(),
+        "`Configuration Data` (0x8010) has no sub-index 9; its sub-indices: 0 SubIndex 000, \
+         1 CFG_Word_0, 2 Speed, 3 Label"
+    );
+    assert_eq!(
+        d.lookup("0x4321.1").unwrap_err(),
+        LookupError::NoIndex(0x4321)
+    );
+    assert_eq!(
+        LookupError::NoIndex(0x4321).to_string(),
+        "there is no object 0x4321"
+    );
     match d.lookup("Label") {
         Err(LookupError::Ambiguous { candidates, .. }) => {
             assert_eq!(

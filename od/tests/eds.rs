@@ -1355,7 +1355,7 @@ fn node_id_defaults_must_fit_for_node_127() {
         "[1000]\nParameterName=x\nDataType=7\nAccessType=ro\nDefaultValue=$NODEID+0xFFFFFFFF\n";
     let dev = assert_warnings(
         text.as_bytes(),
-        &["5:14: DefaultValue= in [1000]: with node-ID 127 the value does not fit: 4294967422 does not fit in UNSIGNED32; the default is dropped"],
+        &["5:14: DefaultValue= in [1000]: with node-ID 127 the value does not fit: 4294967422 does not fit in UNSIGNED32, 0 to 4294967295; the default is dropped"],
     );
     assert_eq!(dev.dictionary.entry(0x1000, 0).unwrap().default, None);
     assert_eq!(dev.dictionary.entry(0x1000, 0).unwrap().value, [0; 4]);

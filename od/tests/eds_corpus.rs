@@ -387,6 +387,6 @@ fn files_once_refused_load_with_warnings() {
     }
     // SOMANET: 0xDEADBEEF for an INTEGER16.
     let (desc, w) = warnings("somanet-SOMANET_CIA402.eds");
-    assert!(w.contains(&"1225:14: DefaultValue= in [6071sub1]: 0xDEADBEEF does not fit in INTEGER16; the default is dropped".to_string()), "{w:#?}");
+    assert!(w.contains(&"1225:14: DefaultValue= in [6071sub1]: 0xDEADBEEF does not fit in INTEGER16, -32768 to 32767; the default is dropped".to_string()), "{w:#?}");
     assert_eq!(desc.dictionary.entry(0x6071, 1).unwrap().default, None);
 }

@@ -179,8 +179,8 @@ DefaultValue=@ABCD
     assert_eq!(
         warnings,
         [
-            "5:14: DefaultValue= in [2000]: 0xDEADBEEF does not fit in INTEGER16; the default is dropped",
-            "6:10: LowLimit= in [2000]: -40000 does not fit in INTEGER16; the limit is dropped",
+            "5:14: DefaultValue= in [2000]: 0xDEADBEEF does not fit in INTEGER16, -32768 to 32767; the default is dropped",
+            "6:10: LowLimit= in [2000]: -40000 does not fit in INTEGER16, -32768 to 32767; the limit is dropped",
             "12:14: DefaultValue= in [2001]: `0` is not a OCTET_STRING value: expected hexadecimal byte digits; the default is dropped",
             "17:14: DefaultValue= in [2002]: `$NODEID+1.5` adds the node-ID to a REAL32, and $NODEID is added to integers only; the default is dropped",
             "18:10: LowLimit= in [2002]: `$NODEID` adds the node-ID, which a limit cannot; the limit is dropped",
@@ -458,7 +458,7 @@ ParameterValue=$NODEID+0xFFFF
     let (mut desc, warnings) = read_warnings(text);
     assert_eq!(
         warnings,
-        ["27:16: ParameterValue= in [2000]: with node-ID 127 the value does not fit: 65662 does not fit in UNSIGNED16; the value is dropped"]
+        ["27:16: ParameterValue= in [2000]: with node-ID 127 the value does not fit: 65662 does not fit in UNSIGNED16, 0 to 65535; the value is dropped"]
     );
     assert_eq!(desc.commissioning, None);
     let cob = desc.dictionary.entry(0x1400, 1).unwrap();

@@ -747,14 +747,7 @@ fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result
                     d.value.to_string()
                 }
             });
-            let limits = match (&e.low, &e.high) {
-                (None, None) => None,
-                (lo, hi) => Some(format!(
-                    "{}..{}",
-                    lo.as_ref().map(|v| v.to_string()).unwrap_or_default(),
-                    hi.as_ref().map(|v| v.to_string()).unwrap_or_default()
-                )),
-            };
+            let limits = crate::limits_text(e);
             let addr = Address::new(o.index, sub);
             let unit = e.unit.map(od::units::unit_text);
             if json {
@@ -1141,6 +1134,29 @@ fn sdo_command(
                 [t, v] => (Some(t.as_str()), v.as_str()),
                 _ => return Err(ToolError::Usage("write NODE OBJECT [TYPE] VALUE".into())),
             };
+            // A type alone is a value left out, unless the entry is a string it could be.
+            if let (None, Some(t)) = (ty, crate::TypeCode::parse(value)) {
+                let addr = commands.object(object)?;
+                let textual = commands
+                    .od
+                    .and_then(|d| d.entry(addr.index, addr.sub).ok())
+                    .is_some_and(|e| {
+                        matches!(
+                            e.data_type,
+                            od::DataType::VisibleString
+                                | od::DataType::UnicodeString
+                                | od::DataType::OctetString
+                                | od::DataType::Domain
+                        )
+                    });
+                if !textual {
+                    return Err(ToolError::Usage(format!(
+                        "{addr}: the value is missing after the type {value} (write NODE OBJECT \
+                         [TYPE] VALUE; {} as TYPE)",
+                        t.data_type
+                    )));
+                }
+            }
             commands.write(*node, object, ty, value)?;
             emit(out, json, "OK", serde_json::json!({"ok": true}))?;
         }

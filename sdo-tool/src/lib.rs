@@ -125,8 +125,8 @@ impl TypeCode {
                 .map(Value::Bytes)
                 .ok_or_else(|| format!("{text:?} is not hex bytes (e.g. 01 02 0A)"));
         }
-        Value::parse_text(self.data_type, t)
-            .map_err(|e| format!("{text:?} is no {}: {e}", self.data_type))
+        // The error names the value and the type (and an integer type's range).
+        Value::parse_text(self.data_type, t).map_err(|e| e.to_string())
     }
 
     /// Formats a value read from a node.
@@ -554,6 +554,16 @@ pub fn object(od: Option<&Dictionary>, text: &str) -> Result<Address, ToolError>
     }
 }
 
+/// An entry's limits as text: `0 to 167`, `at least 1`, `at most 100`; `None` without limits.
+pub fn limits_text(e: &od::SubObject) -> Option<String> {
+    match (&e.low, &e.high) {
+        (Some(lo), Some(hi)) => Some(format!("{lo} to {hi}")),
+        (Some(lo), None) => Some(format!("at least {lo}")),
+        (None, Some(hi)) => Some(format!("at most {hi}")),
+        (None, None) => None,
+    }
+}
+
 /// The commands that are SDO transfers and nothing else — `read`, `write`, `dump`, `apply` — on any
 /// [`SdoAccess`], with an optional dictionary for names, types and limits.
 pub struct SdoCommands<'a> {
@@ -668,17 +678,33 @@ impl<'a> SdoCommands<'a> {
         self.sdo.check_node(node)?;
         let addr = self.object(object)?;
         let code = self.type_for(node, addr, ty)?;
-        let v = code.parse_value(value).map_err(ToolError::Usage)?;
+        // Every refusal of the value is `ADDR: why (not sent)`.
+        let refused = |why: String| ToolError::Usage(format!("{addr}: {why} (not sent)"));
+        let v = code.parse_value(value).map_err(refused)?;
         let bytes = v
             .encode(code.data_type)
-            .map_err(|e| ToolError::Usage(format!("{value:?}: {e}")))?;
+            .map_err(|e| refused(format!("{value:?}: {e}")))?;
         self.check_access(addr, true)?;
         if let Some(od) = self.od {
             // Refused before anything is sent: what the dictionary refuses, the node would too.
             if let Err(e) = od.check(addr.index, addr.sub, &bytes) {
-                return Err(ToolError::Usage(format!(
-                    "{addr} = {value}: {e} (not sent)"
-                )));
+                let why = match &e {
+                    od::OdError::TooHigh { value, .. } | od::OdError::TooLow { value, .. } => {
+                        let limits = od
+                            .entry(addr.index, addr.sub)
+                            .ok()
+                            .and_then(limits_text)
+                            .unwrap_or_default();
+                        let which = if matches!(e, od::OdError::TooHigh { .. }) {
+                            "above"
+                        } else {
+                            "below"
+                        };
+                        format!("{value} is {which} the description's limits, {limits}")
+                    }
+                    other => other.to_string(),
+                };
+                return Err(refused(why));
             }
         }
         self.sdo.write_bytes(node, addr, &bytes)

@@ -574,7 +574,7 @@ fn list_shows_the_description_and_names_are_suggested() {
         "0x1000:00  Device type  UNSIGNED32  ro  default 0",
         "0x1017:00  Producer heartbeat time  UNSIGNED16  rw  default 0",
         "0x1018:01  Identity.Vendor-ID  UNSIGNED32  ro  default 2862",
-        "0x2110:00  ConfigOutput03a  UNSIGNED8  wo  default 0  limits 0..167",
+        "0x2110:00  ConfigOutput03a  UNSIGNED8  wo  default 0  limits 0 to 167",
     ] {
         assert!(lines.contains(&want), "{want}\n{out}");
     }
@@ -1197,4 +1197,61 @@ fn ctrl_c_in_an_upload_aborts_it_on_the_bus_and_removes_the_partial_file() {
     assert!(!file.exists());
     node.kill().unwrap();
     node.wait().unwrap();
+}
+
+/// A refused value is named with its entry and why, in one form (`ADDR: why (not sent)`), with the
+/// type's range or the description's limits; a type without a value is a value left out; nothing is
+/// sent for any of them.
+#[test]
+fn refused_values_say_the_range_they_miss() {
+    let n = Running::start();
+    let od = eds();
+    let before = n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap();
+    let refused = |argv: &[&str]| {
+        let e = n.tool(argv).unwrap_err();
+        assert_eq!(e.exit_code(), 2, "{argv:?}: {e}");
+        e.to_string()
+    };
+    assert_eq!(
+        refused(&["write", "5", "0x1017:00", "u16", "70000"]),
+        "0x1017:00: 70000 does not fit in UNSIGNED16, 0 to 65535 (not sent)"
+    );
+    assert_eq!(
+        refused(&["write", "5", "0x1017:00", "i8", "-200"]),
+        "0x1017:00: -200 does not fit in INTEGER8, -128 to 127 (not sent)"
+    );
+    assert_eq!(
+        refused(&["--od", &od, "write", "5", "0x1017:00", "70000"]),
+        "0x1017:00: 70000 does not fit in UNSIGNED16, 0 to 65535 (not sent)"
+    );
+    assert_eq!(
+        refused(&["write", "5", "0x1017:00", "u16", "ten"]),
+        "0x1017:00: `ten` is not a UNSIGNED16 value: expected an integer (not sent)"
+    );
+    // The description's limits of ConfigOutput03a, as `list` shows them.
+    assert_eq!(
+        refused(&["--od", &od, "write", "5", "ConfigOutput03a", "168"]),
+        "0x2110:00: 168 is above the description's limits, 0 to 167 (not sent)"
+    );
+    // A type where the value should be.
+    assert_eq!(
+        refused(&["write", "5", "0x1017:00", "u16"]),
+        "0x1017:00: the value is missing after the type u16 (write NODE OBJECT [TYPE] VALUE; \
+         UNSIGNED16 as TYPE)"
+    );
+    assert_eq!(
+        refused(&["--od", &od, "write", "5", "Producer heartbeat time", "x16"]),
+        "0x1017:00: the value is missing after the type x16 (write NODE OBJECT [TYPE] VALUE; \
+         UNSIGNED16 as TYPE)"
+    );
+    // A sub-index by number that the object does not have: said as a sub-index.
+    assert!(
+        refused(&["--od", &od, "read", "5", "Identity.9"])
+            .ends_with("`Identity` (0x1018) has no sub-index 9; its sub-indices: 0 Highest sub-index supported, 1 Vendor-ID, 2 Product code, 3 Revision number, 4 Serial number"),
+    );
+    assert_eq!(
+        n.tool(&["--od", &od, "read", "5", "Identity.2"]).unwrap(),
+        "9270\n"
+    );
+    assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), before);
 }

@@ -224,6 +224,21 @@ pub enum LookupError {
         /// Its sub-objects' names.
         subs: Vec<String>,
     },
+    /// `OBJECT.N` with a sub-index number the object does not have.
+    #[error("`{object}` (0x{index:04X}) has no sub-index {sub}; its sub-indices: {}", subs.iter().map(|(s, n)| format!("{s} {n}")).collect::<Vec<_>>().join(", "))]
+    NoSubIndex {
+        /// The object's name.
+        object: String,
+        /// Its index.
+        index: u16,
+        /// The sub-index asked for.
+        sub: u8,
+        /// Its sub-indices with their names.
+        subs: Vec<(u8, String)>,
+    },
+    /// `0xINDEX.SUB` with an index the dictionary does not have.
+    #[error("there is no object 0x{0:04X}")]
+    NoIndex(u16),
     /// Several entries have this name.
     #[error("`{name}` names several entries: {}", .candidates.iter().map(|a| a.to_string()).collect::<Vec<_>>().join(", "))]
     Ambiguous {
@@ -360,8 +375,48 @@ impl Dictionary {
             1 => Ok(found[0]),
             0 => {
                 if let Some((obj_name, sub_name)) = wanted.split_once('.') {
-                    let obj = self.lookup_object(obj_name)?;
+                    // The object by its name, or by its index (`0x1018.2`).
+                    let by_index = obj_name
+                        .trim()
+                        .strip_prefix("0x")
+                        .or_else(|| obj_name.trim().strip_prefix("0X"))
+                        .and_then(|h| u16::from_str_radix(h, 16).ok());
+                    let obj = match by_index {
+                        Some(i) if self.objects.contains_key(&i) => i,
+                        Some(i) => return Err(LookupError::NoIndex(i)),
+                        None => self.lookup_object(obj_name)?,
+                    };
                     let object = &self.objects[&obj];
+                    // A sub-index number (`Identity.2`, `0x1018.0x02`) rather than a name.
+                    let sub_text = sub_name.trim();
+                    let number = sub_text
+                        .strip_prefix("0x")
+                        .or_else(|| sub_text.strip_prefix("0X"))
+                        .map_or_else(
+                            || sub_text.parse::<u8>().ok(),
+                            |h| u8::from_str_radix(h, 16).ok(),
+                        );
+                    if let Some(n) = number {
+                        if object.subs.contains_key(&n) {
+                            return Ok(Address::new(obj, n));
+                        }
+                        if !object
+                            .subs
+                            .values()
+                            .any(|s| s.name.eq_ignore_ascii_case(sub_text))
+                        {
+                            return Err(LookupError::NoSubIndex {
+                                object: object.name.clone(),
+                                index: obj,
+                                sub: n,
+                                subs: object
+                                    .subs
+                                    .iter()
+                                    .map(|(&k, s)| (k, s.name.clone()))
+                                    .collect(),
+                            });
+                        }
+                    }
                     let hits: Vec<Address> = object
                         .subs
                         .iter()

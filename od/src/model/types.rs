@@ -419,6 +419,29 @@ mod tests {
     use super::*;
 
     #[test]
+    fn integer_ranges_are_the_types() {
+        assert_eq!(DataType::Unsigned8.integer_range(), Some((0, 255)));
+        assert_eq!(DataType::Integer8.integer_range(), Some((-128, 127)));
+        assert_eq!(DataType::Unsigned16.integer_range(), Some((0, 65_535)));
+        assert_eq!(
+            DataType::Integer24.integer_range(),
+            Some((-8_388_608, 8_388_607))
+        );
+        assert_eq!(
+            DataType::Unsigned64.integer_range(),
+            Some((0, i128::from(u64::MAX)))
+        );
+        assert_eq!(
+            DataType::Integer64.integer_range(),
+            Some((i128::from(i64::MIN), i128::from(i64::MAX)))
+        );
+        assert_eq!(DataType::Boolean.integer_range(), Some((0, 1)));
+        assert_eq!(DataType::Bit(3).integer_range(), Some((0, 7)));
+        assert_eq!(DataType::Real32.integer_range(), None);
+        assert_eq!(DataType::VisibleString.integer_range(), None);
+    }
+
+    #[test]
     fn every_standard_type_round_trips_through_its_index() {
         for &t in STANDARD_TYPES {
             assert_eq!(DataType::from_index(t.index()), Some(t), "{t}");

@@ -82,7 +82,7 @@ pub enum ValueError {
         got: &'static str,
     },
     /// A number outside what the type can hold.
-    #[error("{value} does not fit in {data_type}")]
+    #[error("{value} does not fit in {data_type}{}", data_type.integer_range().map(|(lo, hi)| format!(", {lo} to {hi}")).unwrap_or_default())]
     OutOfRange {
         /// The type.
         data_type: DataType,
