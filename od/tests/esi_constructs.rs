@@ -134,6 +134,14 @@ fn units_are_kept() {
         ["12:75: warning: <Unit> \"volts\" is no 32-bit unit code; the unit is dropped"]
     );
     assert_eq!(od::units::unit_text(0xFD26_0000), "mV");
+    // Info only where there is something in it: 0x8000's, 0x8001's and its two SubItems'; none
+    // for 0x8002, whose unit was dropped.
+    assert_eq!(
+        esi::write_all(std::slice::from_ref(&d))
+            .matches("<Info")
+            .count(),
+        4
+    );
     // An EDS has no unit: the comparison says what is lost.
     let back = od::eds::read(od::eds::write_eds(&d).as_bytes(), "t.eds").unwrap();
     let lost: Vec<String> = od::diff::diff_devices(&d, &back)

@@ -677,6 +677,20 @@ mod client_tests {
         ));
     }
 
+    /// 131,074 bytes (every one of 65,536 indices and the list type) is the longest answer.
+    #[test]
+    fn the_longest_answer_is_an_od_list_of_every_index() {
+        let whole = |last: usize| {
+            let mut r = Reassembly::new();
+            for k in 0..131u16 {
+                r.push(&fragment(2, true, 131 - k, &[0u8; 1000]))?;
+            }
+            r.push(&fragment(2, false, 0, &vec![0u8; last]))
+        };
+        assert_eq!(whole(74).unwrap().unwrap().1.len(), 131_074);
+        assert!(matches!(whole(75), Err(InfoError::Malformed(m)) if m.contains("longer")));
+    }
+
     #[test]
     fn an_answer_longer_than_any_is_refused() {
         let mut r = Reassembly::new();

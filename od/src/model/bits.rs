@@ -183,6 +183,12 @@ mod tests {
         assert!(listed_bits("Bitrate 500 kbit/s").is_empty());
         assert!(listed_bits("no list here").is_empty());
         assert!(listed_bits("Bit 99 Far; 64 Beyond").is_empty());
+        assert_eq!(listed_bits("Bit 63 Top; 64 Over"), [(63, "Top".into())]);
+        // The list ends at the first period after its parentheses close: what follows is prose.
+        assert_eq!(
+            names(&listed_bits("Bit 1 A (on, 1.5 s); 0 B. See also; 5 Extra")),
+            [(1, "A"), (0, "B")]
+        );
     }
 
     /// CiA 402's statusword and controlword, of the first and the third axis; not for another entry
@@ -222,10 +228,15 @@ mod tests {
             names(&bit_names(0x6041, 0, Some("Bit 0 Mine"), 16)),
             [(0, "Mine")]
         );
-        // A listed bit beyond the entry's size is not one of its bits.
+        // A listed bit beyond the entry's size is not one of its bits: an 8-bit entry's are 0 to 7.
         assert_eq!(
-            names(&bit_names(0x2000, 0, Some("Bit 9 High; 1 Low"), 8)),
-            [(1, "Low")]
+            names(&bit_names(
+                0x2000,
+                0,
+                Some("Bit 9 High; 8 Edge; 7 Top; 1 Low"),
+                8
+            )),
+            [(7, "Top"), (1, "Low")]
         );
     }
 }

@@ -115,6 +115,69 @@ mod tests {
         assert_eq!(unit_text(0x0000_0000), "");
     }
 
+    /// CiA 303-2's SI units and prefixes, each on its own: the unit with no prefix, and metre with
+    /// each prefix.
+    #[test]
+    fn every_unit_and_prefix_of_the_table() {
+        let units: [(u32, &str); 28] = [
+            (0x01, "m"),
+            (0x02, "kg"),
+            (0x03, "s"),
+            (0x04, "A"),
+            (0x05, "K"),
+            (0x06, "mol"),
+            (0x07, "cd"),
+            (0x10, "rad"),
+            (0x11, "sr"),
+            (0x20, "Hz"),
+            (0x21, "N"),
+            (0x22, "Pa"),
+            (0x23, "J"),
+            (0x24, "W"),
+            (0x25, "C"),
+            (0x26, "V"),
+            (0x27, "F"),
+            (0x28, "Ω"),
+            (0x29, "S"),
+            (0x2A, "Wb"),
+            (0x2B, "T"),
+            (0x2C, "H"),
+            (0x2D, "°C"),
+            (0x2E, "lm"),
+            (0x2F, "lx"),
+            (0x30, "Bq"),
+            (0x31, "Gy"),
+            (0x32, "Sv"),
+        ];
+        for (index, symbol) in units {
+            assert_eq!(unit_text(index << 16), symbol, "unit 0x{index:02X}");
+            assert_eq!(
+                unit_text(index << 8),
+                format!("1/{symbol}"),
+                "per 0x{index:02X}"
+            );
+        }
+        let prefixes: [(i8, &str); 13] = [
+            (12, "T"),
+            (9, "G"),
+            (6, "M"),
+            (3, "k"),
+            (2, "h"),
+            (1, "da"),
+            (0, ""),
+            (-1, "d"),
+            (-2, "c"),
+            (-3, "m"),
+            (-6, "µ"),
+            (-9, "n"),
+            (-12, "p"),
+        ];
+        for (power, symbol) in prefixes {
+            let code = (u32::from(power as u8) << 24) | 0x0001_0000;
+            assert_eq!(unit_text(code), format!("{symbol}m"), "10^{power}");
+        }
+    }
+
     #[test]
     fn an_unknown_unit_or_prefix_is_shown_as_its_code() {
         assert_eq!(unit_text(0x00A0_0000), "unit 0x00A00000");
