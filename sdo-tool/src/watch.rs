@@ -165,9 +165,6 @@ struct Transfer {
 /// the sub-block going on until the other side acknowledges them.
 #[derive(Debug, Clone, Default)]
 struct SubBlock {
-    /// The data side sends segments: after the server's initiate answer (a download) or the
-    /// client's start, 0xA3 (an upload).
-    started: bool,
     /// The segments of the sub-block as they came: sequence number, last, the 7 bytes.
     pending: Vec<(u8, bool, [u8; 7])>,
     /// The last segment was acknowledged: the data side's next frame is the end, with the number
@@ -388,15 +385,18 @@ impl Watcher {
             let mut t = self.transfers.remove(&id).expect("looked up");
             let b = &mut t.sub_block;
             if request != t.upload {
-                aborted = d[0] == 0x80 && b.started && !b.all_in;
+                aborted = d[0] == 0x80 && !b.all_in;
                 if !aborted {
-                    if b.all_in && d[0] & 0xE3 == 0xC1 {
-                        let n = usize::from((d[0] >> 2) & 0x07);
-                        t.data.truncate(t.data.len().saturating_sub(n));
-                    } else if b.started && !b.all_in {
+                    if !b.all_in {
+                        // A segment. The server's initiate answer of an upload, before the
+                        // client's start, comes here too; its sequence number (0x40 to 0x46) is
+                        // never the next one an acknowledgement takes.
                         let mut bytes = [0u8; 7];
                         bytes.copy_from_slice(&d[1..8]);
                         b.pending.push((d[0] & 0x7F, d[0] & 0x80 != 0, bytes));
+                    } else if d[0] & 0xE3 == 0xC1 {
+                        let n = usize::from((d[0] >> 2) & 0x07);
+                        t.data.truncate(t.data.len().saturating_sub(n));
                     }
                     self.transfers.insert(id, t);
                     return None;
@@ -423,8 +423,6 @@ impl Watcher {
                             }
                         }
                     }
-                    0xA3 if t.upload => b.started = true,
-                    _ if cs == 5 && !t.upload => b.started = true,
                     _ => {}
                 }
                 if !aborted {
@@ -1035,9 +1033,20 @@ mod tests {
                 "{e}"
             );
         }
-        assert_eq!("sdo".parse::<Kind>(), Ok(Kind::Sdo));
-        assert_eq!("HB".parse::<Kind>(), Ok(Kind::Heartbeat));
-        assert_eq!("raw".parse::<Kind>(), Ok(Kind::Other));
+        assert_eq!(takes("185-185", &ids), [0x185]);
+        for (name, kind) in [
+            ("nmt", Kind::Nmt),
+            ("heartbeat", Kind::Heartbeat),
+            ("HB", Kind::Heartbeat),
+            ("sync", Kind::Sync),
+            ("EMCY", Kind::Emcy),
+            ("sdo", Kind::Sdo),
+            ("pdo", Kind::Pdo),
+            ("other", Kind::Other),
+            ("raw", Kind::Other),
+        ] {
+            assert_eq!(name.parse::<Kind>(), Ok(kind), "{name}");
+        }
         assert!("pdos".parse::<Kind>().is_err());
     }
 
@@ -1078,15 +1087,16 @@ mod tests {
                 "node 5: SDO read 0x1000:00 = 92 01 02 00"
             ]
         );
-        let by_kind =
-            run_with(Watcher::new(None, None).with_only(vec![Kind::Emcy, Kind::Other, Kind::Sync]));
+        let only = |kinds: Vec<Kind>| run_with(Watcher::new(None, None).with_only(kinds));
+        assert_eq!(only(vec![Kind::Sync]), ["SYNC"]);
         assert_eq!(
-            by_kind,
-            [
-                "SYNC",
-                "node 5: EMCY 0x8110 (CAN overrun (objects lost)), error register 0x11, data 00 00 00 00 00",
-                "123#AA",
-            ]
+            only(vec![Kind::Emcy]),
+            ["node 5: EMCY 0x8110 (CAN overrun (objects lost)), error register 0x11, data 00 00 00 00 00"]
+        );
+        assert_eq!(only(vec![Kind::Other]), ["123#AA"]);
+        assert_eq!(
+            only(vec![Kind::Heartbeat, Kind::Sync]),
+            ["node 5: heartbeat, operational", "SYNC"]
         );
         // SDOs not asked for: nothing of the upload.
         let nmt = run_with(Watcher::new(None, None).with_only(vec![Kind::Nmt]));
@@ -1171,6 +1181,78 @@ mod tests {
                  33 34 35 36 40 41 42 43 (25 bytes, block transfer)",
                 "node 3: SDO client aborts 0x2000:05: 0x05040000 (SDO protocol timed out)",
             ]
+        );
+    }
+
+    /// A server that acknowledges fewer segments than came (2 of 3, the third sent again), a
+    /// segment seen twice, and a sub-block of 65 segments whose last (0xC1: last, sequence 65)
+    /// looks like an end; then a client abort before the server's initiate answer.
+    #[test]
+    fn block_segments_count_as_acknowledged() {
+        let seg = |seq: u8, last: bool, fill: u8| {
+            let mut d = [fill; 8];
+            d[0] = seq | if last { 0x80 } else { 0 };
+            d
+        };
+        let mut frames: Vec<(f64, u16, Vec<u8>)> = vec![
+            (0.0, 0x603, vec![0xC6, 0x00, 0x20, 0x06, 28, 0, 0, 0]),
+            (0.0, 0x583, vec![0xA4, 0x00, 0x20, 0x06, 3, 0, 0, 0]),
+            (0.0, 0x603, seg(1, false, 0x11).to_vec()),
+            (0.0, 0x603, seg(1, false, 0x11).to_vec()),
+            (0.0, 0x603, seg(2, false, 0x22).to_vec()),
+            (0.0, 0x603, seg(3, false, 0x33).to_vec()),
+            (0.0, 0x583, vec![0xA2, 0x02, 0x03, 0, 0, 0, 0, 0]),
+            (0.0, 0x603, seg(1, false, 0x33).to_vec()),
+            (0.0, 0x603, seg(2, true, 0x44).to_vec()),
+            (0.0, 0x583, vec![0xA2, 0x02, 0x03, 0, 0, 0, 0, 0]),
+            // 4 × 7 = 28 bytes: n = 0.
+            (0.0, 0x603, vec![0xC1, 0, 0, 0, 0, 0, 0, 0]),
+            (0.0, 0x583, vec![0xA1, 0, 0, 0, 0, 0, 0, 0]),
+            (0.1, 0x603, vec![0xC6, 0x00, 0x20, 0x07, 0xC7, 0x01, 0, 0]),
+            (0.1, 0x583, vec![0xA4, 0x00, 0x20, 0x07, 127, 0, 0, 0]),
+        ];
+        for k in 1..=65u8 {
+            frames.push((0.1, 0x603, seg(k, k == 65, k).to_vec()));
+        }
+        frames.extend([
+            (0.1, 0x583, vec![0xA2, 65, 127, 0, 0, 0, 0, 0]),
+            // 65 × 7 = 455 bytes for 455: n = 0.
+            (0.1, 0x603, vec![0xC1, 0, 0, 0, 0, 0, 0, 0]),
+            (0.1, 0x583, vec![0xA1, 0, 0, 0, 0, 0, 0, 0]),
+            (0.2, 0x603, vec![0xC6, 0x00, 0x20, 0x08, 4, 0, 0, 0]),
+            (
+                0.2,
+                0x603,
+                vec![0x80, 0x00, 0x20, 0x08, 0x00, 0x00, 0x00, 0x08],
+            ),
+        ]);
+        let mut w = Watcher::new(None, None);
+        let lines: Vec<String> = frames
+            .iter()
+            .flat_map(|(t, id, d)| w.at(*t, &f(*id, d)))
+            .collect();
+        assert_eq!(lines.len(), 3, "{lines:#?}");
+        let mut first = "node 3: SDO written 0x2000:06 = ".to_string();
+        let bytes: Vec<String> = [0x11u8, 0x22, 0x33, 0x44]
+            .iter()
+            .flat_map(|b| std::iter::repeat_n(format!("{b:02X}"), 7))
+            .collect();
+        first.push_str(&bytes.join(" "));
+        first.push_str(" (28 bytes, block transfer)");
+        assert_eq!(lines[0], first);
+        let long: Vec<String> = (1..=65u8)
+            .flat_map(|k| std::iter::repeat_n(format!("{k:02X}"), 7))
+            .collect();
+        assert_eq!(
+            lines[1],
+            format!(
+                "node 3: SDO written 0x2000:07 = {} (455 bytes, block transfer)",
+                long.join(" ")
+            )
+        );
+        assert_eq!(
+            lines[2],
+            "node 3: SDO client aborts 0x2000:08: 0x08000000 (General error)"
         );
     }
 }
