@@ -1452,6 +1452,25 @@ mod tests {
             SubObject::new("Flags", DataType::Unsigned8, AccessType::Ro)
                 .with_description("Bit 7 Ready; 1 Busy; 0 Error."),
         ));
+        d.insert(Object::var(
+            0x2001,
+            SubObject::new("Signed", DataType::Integer8, AccessType::Ro)
+                .with_description("Bit 7 Negative; 0 Odd"),
+        ));
+        // A VAR whose bit list is the object's description; a RECORD whose object description
+        // lists bits that are not its entries'.
+        let mut var = Object::var(
+            0x2002,
+            SubObject::new("Word", DataType::Unsigned16, AccessType::Ro),
+        );
+        var.description = Some("Bit 9 Nine".into());
+        d.insert(var);
+        let mut record = Object::structured(0x2003, "Rec", od::ObjectKind::Record).with_sub(
+            1,
+            SubObject::new("Entry", DataType::Unsigned16, AccessType::Ro),
+        );
+        record.description = Some("Bit 9 Nine".into());
+        d.insert(record);
         d
     }
 
@@ -1508,6 +1527,14 @@ mod tests {
         assert_eq!(m, Meaning::default());
         let m = Meaning::of(None, Address::new(0x6041, 0), &Value::Uint(0x0637), None);
         assert_eq!(m, Meaning::default());
+        // A signed word: its two's complement bits (-127 is 0x81).
+        let m = Meaning::of(Some(&d), Address::new(0x2001, 0), &Value::Int(-127), None);
+        assert_eq!(m.bits, Some(vec!["Odd".to_string(), "Negative".into()]));
+        // A VAR's object description lists its bits; a RECORD's does not list its entries'.
+        let m = Meaning::of(Some(&d), Address::new(0x2002, 0), &Value::Uint(0x200), None);
+        assert_eq!(m.bits, Some(vec!["Nine".to_string()]));
+        let m = Meaning::of(Some(&d), Address::new(0x2003, 1), &Value::Uint(0x200), None);
+        assert_eq!(m.bits, None);
         // A string has no bits.
         let m = Meaning::of(
             Some(&d),

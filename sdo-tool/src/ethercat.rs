@@ -1028,7 +1028,27 @@ impl SdoAccess for EthercatSession {
 
 #[cfg(test)]
 mod tests {
-    use super::beyond_init;
+    use super::{beyond_init, mailbox_error};
+
+    /// ETG.1000.4 §5.6's mailbox error codes.
+    #[test]
+    fn mailbox_errors_have_their_meanings() {
+        let table = [
+            (1, "syntax of the mailbox header"),
+            (2, "mailbox protocol not supported"),
+            (3, "channel field invalid"),
+            (4, "service not supported"),
+            (5, "invalid mailbox header"),
+            (6, "mailbox data too short"),
+            (7, "no more memory in the slave"),
+            (8, "inconsistent data length"),
+            (0, "unknown code"),
+            (9, "unknown code"),
+        ];
+        for (code, meaning) in table {
+            assert_eq!(mailbox_error(code), meaning, "{code}");
+        }
+    }
 
     /// The highest state in the OR of every slave's AL status (Init 1, Pre-Op 2, Bootstrap 3,
     /// Safe-Op 4, Op 8; the error flag 0x10 aside); `None` only when all are in Init.

@@ -98,6 +98,23 @@ fn read_and_write_by_position() {
         "{}",
         stderr(&o)
     );
+    // The largest normal download fits the 128-byte mailbox exactly (6 + 2 + 8 + 112 bytes): sent,
+    // and refused by the slave as read-only; one byte more is not sent.
+    let fill = |n: usize| vec!["41"; n].join(" ");
+    let o = tool(&link, &["write", "1", "0x1008", "os", &fill(112)]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("SDO abort 0x06010002"),
+        "{}",
+        stderr(&o)
+    );
+    let o = tool(&link, &["write", "1", "0x1008", "os", &fill(113)]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o),
+        "sdo-tool: EtherCAT: 0x1008:00 of slave 1: 113 bytes do not fit the slave's 128-byte \
+         mailbox (segmented download is not supported over EtherCAT)\n"
+    );
     let o = tool(&link, &["write", "1", "0x1008", "vs", "A longer name"]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(
