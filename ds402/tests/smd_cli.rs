@@ -283,6 +283,16 @@ fn json_output_of_every_command() {
     assert_eq!(v[0]["cfg0"]["use_encoder"], true);
     assert_eq!(v[0]["valid"], true);
     assert_eq!(v[0]["violations"], serde_json::json!([]));
+    // Any one CFG_Word_1 flag gives CFG_Word_1 (bit 0, bit 1, bit 6: Table R5.3).
+    for (flag, word1) in [
+        ("--in1-active-on-current", 0x0001),
+        ("--in2-active-on-current", 0x0002),
+        ("--dc-sync", 0x0040),
+    ] {
+        let (code, out, _) = smd(&["--json", "config", "encode", flag]);
+        assert_eq!(code, 0, "{flag}");
+        assert_eq!(parse(&out)[0]["cfg_word1"], word1, "{flag}");
+    }
     // Both inputs Home and stall detection without encoder (SMD-R5-018, SMD-R5-011): exit 1.
     let (code, out, _) = smd(&["config", "decode", "0x2036", "0x0041", "--json"]);
     assert_eq!(code, 1);

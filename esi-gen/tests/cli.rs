@@ -518,6 +518,20 @@ fn json_output_of_every_command() {
     let o = esi_gen(&["--json", "fixtures", "--check"]);
     assert_eq!(o.status.code(), Some(0));
     assert_eq!(one(&o), serde_json::json!({"stale": []}));
+    // Regenerating into a copy of the sources: the 11 files written, as one object.
+    let copy = tmp("fixtures-copy");
+    std::fs::create_dir_all(copy.join("src")).unwrap();
+    for f in ["src/smd.esi.xml", "src/x67sm2436.xdd", "identity.toml"] {
+        std::fs::copy(root().join("fixtures").join(f), copy.join(f)).unwrap();
+    }
+    let o = esi_gen(&["--json", "fixtures", "--root", copy.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v = one(&o);
+    let written = v["written"].as_array().unwrap();
+    assert_eq!(written.len(), 11, "{v}");
+    for w in written {
+        assert!(std::path::Path::new(w.as_str().unwrap()).is_file(), "{w}");
+    }
     // `check` and `diff` as before, with the flag before or after the command.
     let o = esi_gen(&["--json", "check", s]);
     assert_eq!(o.status.code(), Some(0));
