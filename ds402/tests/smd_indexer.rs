@@ -139,8 +139,8 @@ fn smd_r1_024_motion_command_bits_are_exclusive() {
     r.command(cmd0::ABSOLUTE_MOVE | cmd0::RELATIVE_MOVE);
     assert_eq!(
         clean(&r),
-        stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE | stat0::STOPPED,
-        "rejected: Move_Complete of the last move stays"
+        stat0::COMMAND_ERROR | stat0::STOPPED,
+        "rejected; a move command was written, so Move_Complete is reset (SMD-R6-057)"
     );
     for _ in 0..100 {
         r.cycle();

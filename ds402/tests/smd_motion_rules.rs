@@ -461,6 +461,57 @@ fn smd_r6_057_058_move_complete() {
     assert_eq!(r.s0() & stat0::MOVE_COMPLETE, 0);
 }
 
+/// SMD-R6-057 (R6 STATUS_word0 bit 7, p.79: Move_Complete "is reset to 0 when the next move
+/// command is written"): a move command that is written and refused clears it as an accepted one
+/// does. After a Relative move STAT0 is Module_OK | Move_Complete | Stopped = 0x4088; then:
+/// - a Relative move below the Starting Speed (SMD-R6-035): Command_Error, no Move_Complete,
+///   0x5008;
+/// - after Reset Errors and a second move, a Relative move written with Hold Move at 1
+///   (SMD-R1-024): 0x5008 again;
+/// - Hold Move alone, which is no move command, leaves Move_Complete: 0x4088;
+/// - a Jog below the Starting Speed sets Move_Complete with Command_Error (SMD-R6-040): 0x5088.
+#[test]
+fn smd_r6_057_a_refused_move_clears_move_complete_too() {
+    let mut r = rig(0);
+    let settle = |r: &mut Rig| {
+        for _ in 0..10 {
+            r.cycle();
+        }
+    };
+    let complete = |r: &mut Rig| {
+        trace(r, 500);
+        settle(r);
+        assert_eq!(r.s0(), 0x4088, "after a completed move");
+    };
+    complete(&mut r);
+    r.out.velocity = 100; // below the Starting Speed 141
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_eq!(r.s0(), 0x5008, "refused for its speed");
+    r.command(0);
+    assert_eq!(r.s0(), 0x5008, "and it stays so with CMD_word0 = 0");
+    r.out.velocity = 10_000;
+    r.command(cmd0::RESET_ERRORS);
+    r.command(0);
+    complete(&mut r);
+    // Hold Move at 1, then Relative Move rising beside it.
+    r.command(cmd0::HOLD_MOVE);
+    assert_eq!(r.s0(), 0x4088, "Hold Move is no move command");
+    r.command(cmd0::HOLD_MOVE | cmd0::RELATIVE_MOVE);
+    assert_eq!(r.s0(), 0x5008, "refused: two command bits");
+    r.command(0);
+    r.command(cmd0::RESET_ERRORS);
+    r.command(0);
+    complete(&mut r);
+    r.out.velocity = 100;
+    r.command(cmd0::JOG_CW);
+    assert_eq!(
+        r.s0(),
+        0x5088,
+        "a Jog with a bad speed sets it with Command_Error"
+    );
+    assert_eq!(r.pos(), 1_500, "no move was made");
+}
+
 /// SMD-R6-070: reserved STATUS_word1 bits 8, 6, 3, 2 always read 0.
 #[test]
 fn smd_r6_070_reserved_status_bits() {

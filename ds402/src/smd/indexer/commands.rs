@@ -88,6 +88,13 @@ impl Indexer {
             }
             return;
         }
+        // SMD-R6-057 (R6 STATUS_word0 bit 7: "reset to 0 when the next move command is
+        // written"): a move command clears Move_Complete when it is written, whether it is then
+        // accepted or refused; a Jog or Registration with a bad parameter sets it again
+        // (SMD-R6-040, in `apply`).
+        if rising & MOVE_BITS != 0 {
+            self.move_complete = false;
+        }
         if (out.cmd0 & EXCLUSIVE_BITS).count_ones() > 1 || self.programming.is_some() {
             // Two command bits at 1 when one rises (SMD-R1-024: rising in the same update, R6
             // "Command Bits Must Transition", or rising while another is still 1), or a command

@@ -231,7 +231,6 @@ impl Indexer {
         };
         // A new move cancels a held one (SMD-R2-033).
         self.held = None;
-        self.move_complete = false; // SMD-R6-057 (an accepted move)
         self.take_current_and_jerk(&out);
         self.run_to(target, out)
     }
