@@ -512,6 +512,36 @@ fn smd_r6_057_a_refused_move_clears_move_complete_too() {
     assert_eq!(r.pos(), 1_500, "no move was made");
 }
 
+/// R6 STATUS_word1 bit 7 (p.81): "If the driver section … is enabled, this bit will be a 1 during a
+/// Overtemperature Fault". At 99 °C with Enable_Driver = 0, STATUS_word1 (the Heartbeat_Bit left
+/// out) is Temperature_Above_90C alone, 0x0010; with the driver enabled it is Drive_Is_Enabled |
+/// Driver_Fault | Temperature_Above_90C, 0x8090 (SMD-R6-062: the driver stays enabled); disabled
+/// again, 0x0010. An STO fault sets the bit with the driver disabled too (SMD-R1-002): 0x0080.
+#[test]
+fn driver_fault_for_over_temperature_only_with_the_driver_enabled() {
+    let mut r = rig(0);
+    let s1 = |r: &mut Rig| {
+        r.cycle();
+        r.s1() & !stat1::HEARTBEAT
+    };
+    r.out.cmd1 &= !cmd1::ENABLE_DRIVER;
+    assert_eq!(s1(&mut r), 0x0000);
+    r.ix.set_temperature(99.0);
+    assert_eq!(s1(&mut r), 0x0010, "disabled: no Driver_Fault");
+    r.out.cmd1 |= cmd1::ENABLE_DRIVER;
+    assert_eq!(s1(&mut r), 0x8090, "enabled: Driver_Fault");
+    r.out.cmd1 &= !cmd1::ENABLE_DRIVER;
+    assert_eq!(s1(&mut r), 0x0010, "disabled again");
+    r.ix.set_temperature(25.0);
+    assert_eq!(s1(&mut r), 0x0000);
+    r.ix.set_sto(false, true);
+    assert_eq!(
+        s1(&mut r),
+        0x0080,
+        "STO: Driver_Fault with the driver disabled"
+    );
+}
+
 /// SMD-R6-070: reserved STATUS_word1 bits 8, 6, 3, 2 always read 0.
 #[test]
 fn smd_r6_070_reserved_status_bits() {

@@ -227,7 +227,13 @@ impl Indexer {
             self.temperature > TEMPERATURE_WARNING,
             stat1::TEMPERATURE_ABOVE_90, // SMD-R6-074
         );
-        flag(self.driver_fault(), stat1::DRIVER_FAULT); // SMD-R1-002, SMD-R1-020, SMD-R6-071
+        // R6 STATUS_word1 bit 7 (p.81): "If the driver section … is enabled, this bit will be a 1
+        // during a Overtemperature Fault"; an STO fault sets it whatever the driver (SMD-R1-002,
+        // SMD-R1-020, SMD-R6-071). The current is removed either way (`driver_fault`).
+        flag(
+            self.sto_fault || (self.over_temperature && self.drive_enabled()),
+            stat1::DRIVER_FAULT,
+        );
         flag(self.invalid_jog_change, stat1::INVALID_JOG_CHANGE); // SMD-R6-069
         flag(self.stall, stat1::STALL_DETECTED); // SMD-R1-007, SMD-R6-063
         flag(self.network != NetworkState::Op, stat1::PREOP_SAFEOP); // SMD-R6-072
