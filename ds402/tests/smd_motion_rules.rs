@@ -542,6 +542,89 @@ fn driver_fault_for_over_temperature_only_with_the_driver_enabled() {
     );
 }
 
+/// SMD-R6-069 (R6 STATUS_word1 bit 9, p.80: Invalid_Jog_Change "will reset when valid jog data is
+/// sent from the host controller"): Acceleration 0 written during a Jog sets the bit; it stays set
+/// in every cycle of the jog's stop and after it while Acceleration is still 0, since invalid jog
+/// data is still being sent; Acceleration 20 written with no jog running clears it.
+#[test]
+fn smd_r6_069_invalid_jog_change_clears_when_valid_data_is_sent() {
+    let mut r = rig(0);
+    r.command(cmd0::JOG_CW);
+    r.until(2_000, |i| {
+        i.status0 & (stat0::ACCELERATING | stat0::MOVING_CW) == stat0::MOVING_CW
+    });
+    r.out.acceleration = 0;
+    r.cycle();
+    assert_eq!(
+        r.s1() & stat1::INVALID_JOG_CHANGE,
+        stat1::INVALID_JOG_CHANGE
+    );
+    r.out.cmd0 = 0;
+    let mut cycles = 0;
+    while r.cycle().status0 & stat0::STOPPED == 0 {
+        assert_eq!(
+            r.s1() & stat1::INVALID_JOG_CHANGE,
+            stat1::INVALID_JOG_CHANGE,
+            "stopping"
+        );
+        cycles += 1;
+    }
+    assert!(
+        cycles > 100,
+        "the jog's stop from 10,000 steps/s takes 0.5 s: {cycles} cycles"
+    );
+    for _ in 0..100 {
+        assert_eq!(
+            r.cycle().status1 & stat1::INVALID_JOG_CHANGE,
+            stat1::INVALID_JOG_CHANGE,
+            "stopped, Acceleration still 0"
+        );
+    }
+    r.out.acceleration = 20;
+    assert_eq!(
+        r.cycle().status1 & stat1::INVALID_JOG_CHANGE,
+        0,
+        "valid data sent"
+    );
+}
+
+/// R2 Jog Moves (p.34: a Jog Move's speed and ramps "can be changed while the move is in
+/// progress") and Registration Moves (p.36: the Programmed Speed and Deceleration "set with the
+/// command"): a Registration move at 10,000 steps/s keeps that speed when Velocity 5,000 is
+/// written — 1,000 steps in each 100 ms at cruise (SMD-R2-002) — and an invalid Acceleration
+/// written during it sets no Invalid_Jog_Change; ended by CMD_word0 = 0 it runs out exactly its
+/// Stopping Distance of 2,000 steps (SMD-R2-062).
+#[test]
+fn a_registration_move_keeps_the_values_of_its_command() {
+    let mut r = rig(0);
+    r.out.cmd1 |= cmd1::REGISTRATION_MOVE;
+    r.out.position = 2_000;
+    r.command(cmd0::JOG_CW);
+    r.until(2_000, |i| {
+        i.status0 & (stat0::ACCELERATING | stat0::MOVING_CW) == stat0::MOVING_CW
+    });
+    r.out.velocity = 5_000;
+    r.out.acceleration = 0;
+    for _ in 0..3 {
+        let from = r.pos();
+        for _ in 0..100 {
+            assert_eq!(r.cycle().status1 & stat1::INVALID_JOG_CHANGE, 0);
+            assert_eq!(
+                r.s0() & (stat0::ACCELERATING | stat0::DECELERATING),
+                0,
+                "cruise"
+            );
+        }
+        assert_eq!(r.pos() - from, 1_000, "10,000 steps/s for 100 ms");
+    }
+    // The condition is seen at the start of the cycle CMD_word0 = 0 arrives in: the run-out
+    // counts from the position reported before it.
+    let trigger = r.pos();
+    r.out.cmd0 = 0;
+    r.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), trigger + 2_000, "exactly the Stopping Distance");
+}
+
 /// SMD-R6-070: reserved STATUS_word1 bits 8, 6, 3, 2 always read 0.
 #[test]
 fn smd_r6_070_reserved_status_bits() {

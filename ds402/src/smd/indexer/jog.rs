@@ -131,34 +131,53 @@ impl Indexer {
 
     /// While a jog runs: its bit falling ends it with a controlled stop (SMD-R2-057); new Velocity,
     /// Acceleration and Deceleration values take effect, invalid ones set Invalid_Jog_Change and are
-    /// ignored (SMD-R2-058, SMD-R2-059, SMD-R2-060, SMD-R6-069).
+    /// ignored (SMD-R2-058, SMD-R2-059, SMD-R2-060, SMD-R6-069). A Registration move keeps the
+    /// values "set with the command" (R2 Registration Moves NOTE): only a Jog Move's speed and
+    /// ramps "can be changed while the move is in progress" (R2 Jog Moves).
     pub(super) fn follow_jog(&mut self, out: Outputs) {
-        let Some(seg) = self.segment else { return };
-        // A registration move has no Jerk word (it holds the MRMD's high word).
-        let jerk = match seg.purpose {
-            Purpose::Jog { bit } => {
+        let jog = match self.segment {
+            Some(
+                seg @ Segment {
+                    purpose: Purpose::Jog { bit },
+                    ..
+                },
+            ) => {
                 if out.cmd0 & bit == 0 {
                     self.controlled_stop(Purpose::JogStop);
                     return;
                 }
-                out.jerk
+                Some(seg)
             }
-            Purpose::Registration {
-                bit,
-                stopping,
-                mrmd,
-            } => {
+            Some(
+                seg @ Segment {
+                    purpose:
+                        Purpose::Registration {
+                            bit,
+                            stopping,
+                            mrmd,
+                        },
+                    ..
+                },
+            ) => {
                 // SMD-R2-063, SMD-R2-066, SMD-R2-067: level-triggered stop conditions, from the
                 // MRMD on.
                 let stop_input = self.input_active(InputFunction::StopJog);
                 if (out.cmd0 & bit == 0 || stop_input) && seg.covered() >= mrmd {
                     self.run_out(stopping);
-                    return;
                 }
-                0
+                None
             }
-            _ => return,
+            _ => None,
         };
+        let Some(seg) = jog else {
+            // No jog runs: Invalid_Jog_Change "will reset when valid jog data is sent from the
+            // host controller" (R6 STATUS_word1 bit 9), a jog running or not (SMD-R6-069).
+            if self.motion_params_ok(out.velocity, out.acceleration, out.deceleration, out.jerk) {
+                self.invalid_jog_change = false;
+            }
+            return;
+        };
+        let jerk = out.jerk;
         let p = seg.params;
         if (out.velocity, out.acceleration, out.deceleration, jerk)
             == (p.velocity, p.acceleration, p.deceleration, p.jerk)
