@@ -226,7 +226,8 @@ fn the_help_tells_the_device_syntax() {
     }
     let text = stdout(&esi_gen(&["diff", "--help"]));
     assert!(
-        text.contains("--json\n          Print one JSON object per line for each difference"),
+        text.contains("--json\n          Machine-readable output on standard output")
+            && text.contains("`diff` one object per difference"),
         "{text}"
     );
 }
