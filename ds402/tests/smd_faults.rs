@@ -249,7 +249,11 @@ fn smd_r4_008_home_to_a_hard_stop() {
     }
     r.ix.set_shaft_blocked(true); // the hard stop
     r.until(10_000, |i| i.status1 & stat1::STALL_DETECTED != 0);
-    assert_ne!(r.s0() & (stat0::STOPPED | stat0::POSITION_INVALID), 0);
+    // SMD-R4-007: the jog stopped with Position_Invalid (STAT0 = Module_OK | Position_Invalid |
+    // Stopped, 0x4408) and Stall_Detected with the driver enabled (STAT1 less the Heartbeat_Bit:
+    // 0xC000).
+    assert_eq!(r.s0(), 0x4408);
+    assert_eq!(r.s1() & !stat1::HEARTBEAT, 0xC000);
     r.command(cmd0::RESET_ERRORS);
     assert_eq!(r.s1() & stat1::STALL_DETECTED, 0);
     r.command(0);

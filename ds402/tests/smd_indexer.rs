@@ -237,11 +237,35 @@ fn smd_r2_010_011_absolute_needs_a_valid_position() {
 /// and Position_Invalid; Command_Acknowledge while the bit stays 1, 0 once it is cleared.
 #[test]
 fn smd_r6_023_026_064_preset_position_and_acknowledge() {
+    // Each of the two bits is cleared: Position_Invalid after an Immediate Stop during a move
+    // (Move_Complete 0), Move_Complete after a move run to its end (Position_Invalid 0).
     let mut r = Rig::ready();
-    r.move_to_end(cmd0::RELATIVE_MOVE, 10);
+    r.out.position = 100_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    for _ in 0..50 {
+        r.cycle();
+    }
     r.command(cmd0::IMMEDIATE_STOP);
     r.command(0);
-    assert_ne!(r.s0() & (stat0::MOVE_COMPLETE | stat0::POSITION_INVALID), 0);
+    assert_eq!(
+        r.s0() & (stat0::MOVE_COMPLETE | stat0::POSITION_INVALID),
+        stat0::POSITION_INVALID
+    );
+    r.out.position = 7;
+    r.command(cmd0::PRESET_POSITION);
+    assert_eq!(
+        (
+            r.pos(),
+            r.s0() & (stat0::MOVE_COMPLETE | stat0::POSITION_INVALID)
+        ),
+        (7, 0)
+    );
+    r.command(0);
+    r.move_to_end(cmd0::RELATIVE_MOVE, 10);
+    assert_eq!(
+        r.s0() & (stat0::MOVE_COMPLETE | stat0::POSITION_INVALID),
+        stat0::MOVE_COMPLETE
+    );
     for p in [i32::MIN, i32::MAX] {
         r.out.position = p;
         r.command(cmd0::PRESET_POSITION);

@@ -230,7 +230,11 @@ fn smd_r2_041_044_limit_stops_a_jog() {
 fn smd_r2_055_056_057_jog_runs_and_stops() {
     let mut r = rig(GP, GP, false);
     r.command(cmd0::JOG_CCW);
-    assert_ne!(r.s0() & (stat0::ACCELERATING | stat0::MOVING_CCW), 0);
+    // The first cycle of the jog: moving CCW and accelerating, both.
+    assert_eq!(
+        r.s0() & (stat0::ACCELERATING | stat0::MOVING_CCW | stat0::MOVING_CW | stat0::STOPPED),
+        stat0::ACCELERATING | stat0::MOVING_CCW
+    );
     let n = r.until(10_000, |i| i.status0 & stat0::ACCELERATING == 0);
     // (10,000 − 141) / 10,000 steps/s² ≈ 986 ms.
     assert!((984..=988).contains(&n), "{n} ms accelerating");
@@ -388,10 +392,21 @@ fn smd_r1_025_026_start_indexed_capture() {
     );
     input(&mut r, 2, true);
     assert_eq!(r.last.trapped_encoder_position, 77);
+    input(&mut r, 2, false);
 
-    let mut off = rig(GP, START_INDEXED, false);
-    input(&mut off, 2, true);
-    assert_eq!(off.last.trapped_encoder_position, 0);
+    // The encoder switched off (CFG_Word_0 without Use_Encoder): Encoder_Position reads 0, and an
+    // edge captures nothing — Trapped_Encoder_Position keeps 77, where a capture would give 0.
+    r.ix.write_config(1, u32::from(START_INDEXED << 3));
+    r.cycle();
+    assert_eq!(
+        (r.last.encoder_position, r.last.trapped_encoder_position),
+        (0, 77)
+    );
+    input(&mut r, 2, true);
+    assert_eq!(
+        r.last.trapped_encoder_position, 77,
+        "no capture with the encoder off"
+    );
 }
 
 /// SMD-R2-038 picks: Hold during a jog (the Jog bit falling in the same update) holds it; Resume runs

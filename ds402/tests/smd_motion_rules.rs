@@ -56,6 +56,11 @@ fn smd_r2_003_024_linear_acceleration() {
         .filter(|x| x.1 & stat0::ACCELERATING != 0)
         .map(|x| x.0)
         .collect();
+    // From V_S = 141 steps/s in steps of 20: 161 in the first accelerating cycle, and the last
+    // below 10,000 is 141 + 20 × 492 = 9,981, so 492 cycles (the next one is at 10,000, cruise).
+    assert_eq!(acc.len(), 492);
+    assert!((acc[0] - 161.0).abs() < 1e-6, "{}", acc[0]);
+    assert!((acc[491] - 9_981.0).abs() < 1e-6, "{}", acc[491]);
     for w in acc.windows(2) {
         assert!((w[1] - w[0] - 20.0).abs() < 1e-6, "{} → {}", w[0], w[1]);
     }
