@@ -73,28 +73,60 @@ fn smd_r2_083_to_088_programming_handshake() {
 }
 
 /// SMD-R2-072, SMD-R2-085, SMD-R6-045, SMD-R2-087: a bad segment (Velocity below V_S, Position out of
-/// range) is a Command_Error at its handshake and not stored; a 17th segment likewise.
+/// range) is a Command_Error at its handshake and not stored; a 17th segment likewise. Each bad
+/// segment is tried in a program of its own (Command_Error stays until Reset Errors, so a second
+/// one would show nothing new), after a good one; and every handshake of 16 good segments is
+/// checked free of Command_Error, so that the error is the 17th's and the first 16 are kept.
 #[test]
 fn smd_r2_072_085_087_bad_segments() {
     let mut r = rig(0);
-    let seen = program(
-        &mut r,
-        &[(1_000, 100, 10, 10), (8_388_608, 2_000, 10, 10)],
-        false,
-    );
-    assert_ne!(seen[1] & stat0::COMMAND_ERROR, 0);
-    assert_eq!(seen[1] & stat0::WAITING_FOR_SEGMENT, 0);
-    assert_eq!(r.ix.assembled_program().map(<[_]>::len), Some(0));
-    r.command(cmd0::RESET_ERRORS);
-    r.command(0);
+    for bad in [(1_000, 100, 10, 10), (8_388_608, 2_000, 10, 10)] {
+        let seen = program(&mut r, &[(500, 2_000, 10, 10), bad], false);
+        // [0] First Block, [1]/[2] the good segment's handshake, [3] the bad one's edge.
+        assert_eq!(
+            seen[1] & stat0::COMMAND_ERROR,
+            0,
+            "{bad:?}: the good segment"
+        );
+        assert_eq!(seen[2] & stat0::COMMAND_ERROR, 0, "{bad:?}");
+        assert_eq!(
+            seen[3] & (stat0::COMMAND_ERROR | stat0::WAITING_FOR_SEGMENT),
+            stat0::COMMAND_ERROR,
+            "{bad:?}: refused, not waiting"
+        );
+        let stored: Vec<i32> =
+            r.ix.assembled_program()
+                .unwrap()
+                .iter()
+                .map(|g| g.position)
+                .collect();
+        assert_eq!(stored, [500], "{bad:?}: only the good segment is stored");
+        r.command(cmd0::RESET_ERRORS);
+        r.command(0);
+        assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    }
     let segs: Vec<Seg> = (0..17).map(|k| (100 + k, 2_000, 10, 10)).collect();
     let seen = program(&mut r, &segs, false);
+    assert_eq!(seen.len(), 36, "First Block, 2 per segment, the end");
+    for (k, s) in seen[1..33].iter().enumerate() {
+        assert_eq!(
+            s & stat0::COMMAND_ERROR,
+            0,
+            "handshake step {k} of the first 16"
+        );
+    }
     assert_eq!(
-        seen[seen.len() - 3] & stat0::COMMAND_ERROR,
+        seen[33] & stat0::COMMAND_ERROR,
         stat0::COMMAND_ERROR,
         "the 17th"
     );
-    assert_eq!(r.ix.assembled_program().map(<[_]>::len), Some(16));
+    let stored: Vec<i32> =
+        r.ix.assembled_program()
+            .unwrap()
+            .iter()
+            .map(|g| g.position)
+            .collect();
+    assert_eq!(stored, (100..116).collect::<Vec<i32>>(), "the first 16");
 }
 
 /// Runs the stored move (CMD_word0 = 0x2000) to its end; (speed, status) per cycle.
