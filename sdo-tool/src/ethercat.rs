@@ -690,8 +690,8 @@ pub fn mailbox_error(code: u16) -> &'static str {
 }
 
 /// One request mailbox put into the write mailbox (SM0) of the slave at `station`, and the answers
-/// taken from its read mailbox (SM1), each given to `take` until it says the answer is whole
-/// (`Ok(true)`); at most `timeout` for each answer mailbox. `request` is a mailbox with counter 0
+/// taken from its read mailbox (SM1), the data of each (after its mailbox header) given to `take`
+/// until it says the answer is whole (`Ok(true)`); at most `timeout` for each answer mailbox. `request` is a mailbox with counter 0
 /// (no repeat detection, so ethercrab's own counter sequence is not disturbed), padded here to the
 /// mailbox's size. A CoE emergency that comes before the answer is passed over.
 async fn mailbox_exchange(
@@ -699,7 +699,7 @@ async fn mailbox_exchange(
     station: u16,
     mut request: Vec<u8>,
     timeout: Duration,
-    mut take: impl FnMut(MailboxHeader, &[u8]) -> Result<bool, Failure>,
+    mut take: impl FnMut(&[u8]) -> Result<bool, Failure>,
 ) -> Result<(), Failure> {
     let sm: [u8; 16] = Command::fprd(station, SM0).receive(maindevice).await?;
     let (out_at, out_len) = (
@@ -763,7 +763,7 @@ async fn mailbox_exchange(
             MailboxType::Coe
                 if CoeHeader::parse(data).map(|h| h.service) == Ok(CoeService::Emergency) => {}
             _ => {
-                if take(header, data)? {
+                if take(data)? {
                     return Ok(());
                 }
             }
@@ -792,14 +792,13 @@ async fn normal_download(
     }
     .to_mailbox(0, 0);
     let mut done = Err(Failure::Timeout);
-    mailbox_exchange(maindevice, station, request, timeout, |header, body| {
+    mailbox_exchange(maindevice, station, request, timeout, |body| {
         let sdo = CoeHeader::parse(body)
             .map_err(|e| e.to_string())
             .and_then(|h| CoeSdo::parse(h.service, &body[2..]).map_err(|e| e.to_string()))
             .map_err(|e| {
                 Failure::Protocol(format!("the slave's answer is no CoE SDO response: {e}"))
             })?;
-        let _ = header;
         done = match sdo.command {
             CoeSdoCommand::Response(ServerFrame::InitiateDownload { mux: m }) if m == mux => Ok(()),
             CoeSdoCommand::Request(ClientFrame::Abort { code, .. })
@@ -835,12 +834,8 @@ async fn sdo_info(
     let mailbox = MailboxHeader::wrap(MailboxType::Coe, 0, 0, &info::request(request));
     let mut whole = info::Reassembly::new();
     let mut answer = None;
-    mailbox_exchange(
-        maindevice,
-        station,
-        mailbox,
-        timeout,
-        |_, body| match whole.push(body) {
+    mailbox_exchange(maindevice, station, mailbox, timeout, |body| {
+        match whole.push(body) {
             Ok(Some(done)) => {
                 answer = Some(done);
                 Ok(true)
@@ -848,8 +843,8 @@ async fn sdo_info(
             Ok(None) => Ok(false),
             Err(info::InfoError::Refused(code)) => Err(Failure::Abort(code.code())),
             Err(e) => Err(Failure::Protocol(e.to_string())),
-        },
-    )
+        }
+    })
     .await?;
     answer.ok_or(Failure::Timeout)
 }
