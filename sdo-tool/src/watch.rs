@@ -302,7 +302,7 @@ impl Watcher {
                 self.beats.insert(id, (t, period, false, boot));
             }
         }
-        lines.extend(self.line(frame));
+        lines.extend(self.taken_line(frame));
         lines
     }
 
@@ -575,6 +575,11 @@ impl Watcher {
         if !self.takes(frame) {
             return None;
         }
+        self.taken_line(frame)
+    }
+
+    /// The line for `frame`, which the filters took.
+    fn taken_line(&mut self, frame: &CanFrame) -> Option<String> {
         // An SDO transfer is followed even when its lines are not shown.
         let named = self.named_line(frame);
         let kind = frame.cob_id().map_or(Kind::Other, |c| self.kind(c));
