@@ -218,6 +218,25 @@ fn json_line(out: &mut dyn Write, value: &serde_json::Value) -> Result<(), CliEr
     Ok(())
 }
 
+/// Says where a chart went: `{"chart": PATH}`, or the text line after `prefix` (`# ` where it
+/// follows a table).
+fn chart_written(
+    out: &mut dyn Write,
+    json: bool,
+    prefix: &str,
+    path: &std::path::Path,
+) -> Result<(), CliError> {
+    if json {
+        json_line(
+            out,
+            &serde_json::json!({"chart": path.display().to_string()}),
+        )
+    } else {
+        writeln!(out, "{prefix}chart written to {}", path.display())?;
+        Ok(())
+    }
+}
+
 /// A configuration check's findings as JSON: the words, valid or not, and each violation with its
 /// rule.
 fn decoded_json(d: &super::config::Decoded) -> serde_json::Value {
@@ -291,14 +310,7 @@ fn simulate(a: &SimulateArgs, json: bool, out: &mut dyn Write) -> Result<i32, Cl
     }
     if let Some(path) = &a.plot {
         simulate::plot(&trace, path)?;
-        if json {
-            json_line(
-                out,
-                &serde_json::json!({"chart": path.display().to_string()}),
-            )?;
-        } else {
-            writeln!(out, "# chart written to {}", path.display())?;
-        }
+        chart_written(out, json, "# ", path)?;
     }
     Ok(0)
 }
@@ -410,14 +422,7 @@ fn profile(a: &ProfileArgs, json: bool, out: &mut dyn Write) -> Result<i32, CliE
                 points: &points,
             }],
         )?;
-        if json {
-            json_line(
-                out,
-                &serde_json::json!({"chart": path.display().to_string()}),
-            )?;
-        } else {
-            writeln!(out, "chart written to {}", path.display())?;
-        }
+        chart_written(out, json, "", path)?;
     }
     Ok(0)
 }
