@@ -343,13 +343,10 @@ pub fn run(cli: Cli, out: &mut dyn Write, err: &mut dyn Write) -> Outcome {
         }
         Command::Fixtures(f) => {
             let files = fixtures::generate(&f.root)?;
-            let shown = |paths: &mut dyn Iterator<Item = &Path>| -> Vec<String> {
-                paths.map(|p| p.display().to_string()).collect()
-            };
             if f.check {
                 let stale = fixtures::stale(&files);
                 if json {
-                    let list = shown(&mut stale.iter().map(|p| p.as_path()));
+                    let list: Vec<String> = stale.iter().map(|p| p.display().to_string()).collect();
                     write_out(out, &json_line(&serde_json::json!({ "stale": list })))?;
                 } else {
                     for p in &stale {
@@ -374,7 +371,8 @@ pub fn run(cli: Cli, out: &mut dyn Write, err: &mut dyn Write) -> Outcome {
                 }
             }
             if json {
-                let list = shown(&mut files.iter().map(|(p, _)| p.as_path()));
+                let list: Vec<String> =
+                    files.iter().map(|(p, _)| p.display().to_string()).collect();
                 write_out(out, &json_line(&serde_json::json!({ "written": list })))?;
             }
             Ok(0)
