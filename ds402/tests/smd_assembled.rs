@@ -72,6 +72,15 @@ fn smd_r2_083_to_088_programming_handshake() {
     assert_eq!(r.ix.assembled_program().map(<[_]>::len), Some(2));
 }
 
+/// The positions of the stored program's segments.
+fn stored(r: &Rig) -> Vec<i32> {
+    r.ix.assembled_program()
+        .unwrap()
+        .iter()
+        .map(|g| g.position)
+        .collect()
+}
+
 /// SMD-R2-072, SMD-R2-085, SMD-R6-045, SMD-R2-087: a bad segment (Velocity below V_S, Position out of
 /// range) is a Command_Error at its handshake and not stored; a 17th segment likewise. Each bad
 /// segment is tried in a program of its own (Command_Error stays until Reset Errors, so a second
@@ -94,13 +103,11 @@ fn smd_r2_072_085_087_bad_segments() {
             stat0::COMMAND_ERROR,
             "{bad:?}: refused, not waiting"
         );
-        let stored: Vec<i32> =
-            r.ix.assembled_program()
-                .unwrap()
-                .iter()
-                .map(|g| g.position)
-                .collect();
-        assert_eq!(stored, [500], "{bad:?}: only the good segment is stored");
+        assert_eq!(
+            stored(&r),
+            [500],
+            "{bad:?}: only the good segment is stored"
+        );
         r.command(cmd0::RESET_ERRORS);
         r.command(0);
         assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
@@ -120,13 +127,7 @@ fn smd_r2_072_085_087_bad_segments() {
         stat0::COMMAND_ERROR,
         "the 17th"
     );
-    let stored: Vec<i32> =
-        r.ix.assembled_program()
-            .unwrap()
-            .iter()
-            .map(|g| g.position)
-            .collect();
-    assert_eq!(stored, (100..116).collect::<Vec<i32>>(), "the first 16");
+    assert_eq!(stored(&r), (100..116).collect::<Vec<i32>>(), "the first 16");
 }
 
 /// Runs the stored move (CMD_word0 = 0x2000) to its end; (speed, status) per cycle.

@@ -4,22 +4,25 @@ mod smd_bin;
 
 use smd_bin::smd;
 
+/// The arguments of `smd profile` for Table R3.2's values and a 300,000-step move.
+const TABLE_R3_2: [&str; 11] = [
+    "profile",
+    "--start",
+    "141",
+    "--speed",
+    "100000",
+    "--accel",
+    "20",
+    "--decel",
+    "25",
+    "--distance",
+    "300000",
+];
+
 /// `smd profile` with the Table R3.2 values and a 300,000-step move (SMD-R3-009, SMD-R3-011).
 #[test]
 fn profile_prints_the_phases_and_the_peak() {
-    let (code, out, err) = smd(&[
-        "profile",
-        "--start",
-        "141",
-        "--speed",
-        "100000",
-        "--accel",
-        "20",
-        "--decel",
-        "25",
-        "--distance",
-        "300000",
-    ]);
+    let (code, out, err) = smd(&TABLE_R3_2);
     assert_eq!(code, 0, "{err}");
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(
@@ -218,20 +221,9 @@ fn json_output_of_every_command() {
             .collect()
     };
     // The profile of Table R3.2's values (SMD-R3-009, SMD-R3-011): the same figures as the text.
-    let (code, out, err) = smd(&[
-        "--json",
-        "profile",
-        "--start",
-        "141",
-        "--speed",
-        "100000",
-        "--accel",
-        "20",
-        "--decel",
-        "25",
-        "--distance",
-        "300000",
-    ]);
+    let mut argv = vec!["--json"];
+    argv.extend(TABLE_R3_2);
+    let (code, out, err) = smd(&argv);
     assert_eq!(code, 0, "{err}");
     let v = parse(&out);
     assert_eq!(v.len(), 1, "{out}");
