@@ -610,6 +610,117 @@ fn x67_18_11_4_3_12_disable_voltage_during_motion() {
     assert_eq!(m.act_val(0), 1050);
 }
 
+/// The DC bus voltage, worked out from the data sheet, after Disable voltage on a motor turning at `speed`
+/// microsteps per 25 ms cycle with `share` of its kinetic energy coming back: the rotor's ½·J·ω² with the
+/// harness motor's 0.3 kg·cm² and 200 × 256 microsteps per revolution, into the 200 µF bus capacitance
+/// (section 3) charged to `supply` volts: √(V² + 2E/C).
+fn bus_after_disable(supply: f64, speed: f64, share: f64) -> f64 {
+    let omega = speed * 40.0 / 51_200.0 * 2.0 * std::f64::consts::PI;
+    let joules = 0.5 * 0.3e-4 * omega * omega * share;
+    (supply * supply + 2.0 * joules / 200e-6).sqrt()
+}
+
+/// X67-18.11.4.3-12 and its pick (X67-18.11.3.13-02): Disable voltage on a motor turning at 8000
+/// microsteps/cycle (6.25 revolutions/s) sends its energy into the DC bus. From a 46 V supply the bus rises
+/// to 48.45 V, above the 48.125 V of the supply band: the next cycle both axes go to Fault with 0x3000.
+/// From 45 V (47.50 V), under a load that takes half of the energy (47.24 V), or with the motor at a
+/// standstill, nothing happens. The rise falls away with τ = 1152 Ω × 200 µF = 0.2304 s: a Fault reset two
+/// cycles later still finds the bus at 48.20 V and is refused; one cycle after that (47.97 V) it is taken.
+#[test]
+fn x67_18_11_4_3_12_disable_voltage_on_a_turning_motor_overvolts_the_dc_bus() {
+    let v0 = bus_after_disable(46.0, 8000.0, 1.0);
+    assert!((v0 - 48.4491).abs() < 1e-4, "{v0}");
+    let decay = (-0.025f64 / (1152.0 * 200e-6)).exp();
+    let after = |cycles: i32| 46.0 + (v0 - 46.0) * decay.powi(cycles);
+    assert!(
+        after(1) > 48.125 && after(2) < 48.125,
+        "{} {}",
+        after(1),
+        after(2)
+    );
+
+    let turning = |supply: f64, torque: u8| {
+        let mut m = running(8000, 1000);
+        m.axis_mut(0).motor.load = Load::Torque(torque);
+        m.set_supply(supply);
+        m.step();
+        assert_state(&m, 0, OPERATION_ENABLE);
+        assert_eq!(m.dc_bus_volts(), supply);
+        m.set_control(0, DISABLE_VOLTAGE);
+        m.step();
+        assert_state(&m, 0, SWITCH_ON_DISABLED);
+        assert_eq!(milliamps(&m, 0), 0);
+        m
+    };
+
+    // 46 V: the bus goes over; the next status shows Fault on both axes, voltage off.
+    let mut m = turning(46.0, 0);
+    assert!((m.dc_bus_volts() - v0).abs() < 1e-9, "{}", m.dc_bus_volts());
+    assert_eq!(named(&m, "ErrorCode01"), 0);
+    m.step();
+    for axis in 0..2 {
+        assert_state(&m, axis, FAULT);
+        assert_eq!(
+            m.axis(axis).state_trace(),
+            [State::FaultReactionActive, State::Fault]
+        );
+    }
+    assert_eq!(named(&m, "ErrorCode01"), 0x3000);
+    assert_eq!(named(&m, "ErrorCode02"), 0x3000);
+    assert!(
+        (m.dc_bus_volts() - after(1)).abs() < 1e-9,
+        "{}",
+        m.dc_bus_volts()
+    );
+    // A Fault reset in the next cycle meets the bus at 48.20 V: refused.
+    let mut early = m.clone();
+    early.set_control(0, FAULT_RESET);
+    early.step();
+    assert_state(&early, 0, FAULT);
+    assert_eq!(named(&early, "ErrorCode01"), 0x3000);
+    // One cycle later the bus is at 47.97 V and the first Fault reset is taken.
+    m.step();
+    assert_state(&m, 0, FAULT);
+    assert!(
+        (m.dc_bus_volts() - after(2)).abs() < 1e-9,
+        "{}",
+        m.dc_bus_volts()
+    );
+    m.set_control(0, FAULT_RESET);
+    m.step();
+    assert_state(&m, 0, SWITCH_ON_DISABLED);
+    assert_eq!(named(&m, "ErrorCode01"), 0);
+    assert_state(&m, 1, FAULT);
+
+    // 45 V, or half the energy taken by the load: below the band's top, no error.
+    for (supply, torque, share) in [(45.0, 0, 1.0), (46.0, 50, 0.5)] {
+        let expected = bus_after_disable(supply, 8000.0, share);
+        assert!(expected < 48.125 && expected > supply + 1.0, "{expected}");
+        let mut m = turning(supply, torque);
+        assert!(
+            (m.dc_bus_volts() - expected).abs() < 1e-9,
+            "{supply} V: {}",
+            m.dc_bus_volts()
+        );
+        m.run(3);
+        assert_state(&m, 0, SWITCH_ON_DISABLED);
+        assert_eq!(named(&m, "ErrorCode01"), 0, "{supply} V, {torque} %");
+        assert_eq!(named(&m, "ErrorCode02"), 0);
+    }
+
+    // At a standstill there is nothing to give back.
+    let mut m = Module::new();
+    m.set_supply(48.0);
+    operation_enable(&mut m, 0, 100, 10, 10);
+    m.set_control(0, DISABLE_VOLTAGE);
+    m.step();
+    assert_state(&m, 0, SWITCH_ON_DISABLED);
+    assert_eq!(m.dc_bus_volts(), 48.0);
+    m.step();
+    assert_state(&m, 0, SWITCH_ON_DISABLED);
+    assert_eq!(named(&m, "ErrorCode01"), 0);
+}
+
 /// X67-18.11.4.3-13: Quick stop during a move shows Quick stop active while the speed falls by MaxDec01 (5)
 /// per cycle, at maximum current.
 #[test]

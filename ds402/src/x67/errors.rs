@@ -282,6 +282,47 @@ pub fn supply_in_range(volts: f64) -> bool {
     (SUPPLY_MIN_VOLTS..=SUPPLY_MAX_VOLTS).contains(&volts)
 }
 
+/// The capacitance of the module's DC bus in F (seed 002, section 3: "DC bus capacitance 200 µF").
+pub const DC_BUS_FARADS: f64 = 200e-6;
+/// The time constant in s with which the DC bus falls back to the supply voltage after regeneration: the
+/// bus capacitance discharging through the module's own consumption, 2 W at 48 V (section 3, "Internal I/O
+/// at 48 VDC max. 2 W"): R = 48² / 2 = 1152 Ω, τ = R·C = 0.2304 s.
+pub const DC_BUS_DISCHARGE_SECONDS: f64 = 1152.0 * DC_BUS_FARADS;
+
+/// The module's DC bus, which both motor bridges share and the supply feeds.
+///
+/// Switching the voltage off on a turning motor sends its energy back into the bus capacitance
+/// (18.11.4.3: "regeneration on a motor running at no load can cause an overvoltage error on the DC bus"),
+/// which raises the bus to `√(V² + 2E/C)`; the supply cannot take current back, so the rise then falls
+/// away through the module's consumption with [`DC_BUS_DISCHARGE_SECONDS`]. A bus above
+/// [`SUPPLY_MAX_VOLTS`] is the overvoltage of the catalogue's pick, reported as 0x3000 on both axes
+/// (X67-18.11.4.3-12, X67-18.11.3.13-02).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DcBus {
+    /// How far the bus lies above the supply voltage, in V (0 or more).
+    rise: f64,
+}
+
+impl DcBus {
+    /// The bus voltage in V with the supply at `supply_volts`.
+    pub fn volts(&self, supply_volts: f64) -> f64 {
+        supply_volts + self.rise
+    }
+
+    /// Takes `joules` of regenerated energy into the bus capacitance.
+    pub fn regenerate(&mut self, supply_volts: f64, joules: f64) {
+        if joules > 0.0 && supply_volts.is_finite() {
+            let v = self.volts(supply_volts);
+            self.rise = (v * v + 2.0 * joules / DC_BUS_FARADS).sqrt() - supply_volts;
+        }
+    }
+
+    /// Lets `seconds` pass: the rise falls by `e^(−t/τ)`.
+    pub fn discharge(&mut self, seconds: f64) {
+        self.rise *= (-seconds / DC_BUS_DISCHARGE_SECONDS).exp();
+    }
+}
+
 /// The module temperature at which the over-temperature condition appears, in °C (X67-15-01).
 pub const CUTOFF_CELSIUS: f64 = 85.0;
 /// The module temperature at or below which the over-temperature condition goes, in °C (X67-15-02).

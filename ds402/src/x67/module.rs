@@ -63,12 +63,16 @@
 //!   1 in every cycle in which a limit holds the set-point back. The reversing-loop point is kept inside the
 //!   limits. A counter already outside the limits (set by mode −122) may only move back toward them.
 //! - **Current ratings** (X67-3-03, X67-3-04) are not enforced; breaking them writes a [`Diagnostic`].
+//! - **Regeneration** (X67-18.11.4.3-12). When the voltage goes off on a turning motor, its kinetic energy
+//!   ([`crate::x67::motor::Motor::regenerated_joules`]) charges the 200 µF DC bus that both bridges share
+//!   ([`crate::x67::errors::DcBus`]); a bus above 48.125 V is the voltage error 0x3000 on both axes until
+//!   the rise has discharged through the module's own consumption ([`Module::dc_bus_volts`]).
 
 use std::time::{Duration, Instant};
 
 use crate::x67::axis::{Axis, CycleContext, Frac, InputEdge};
 use crate::x67::current::MODULE_NOMINAL_MILLIAMPS;
-use crate::x67::errors::{supply_in_range, Temperature};
+use crate::x67::errors::{supply_in_range, DcBus, Temperature, SUPPLY_MAX_VOLTS};
 use crate::x67::ramp::Cycle;
 use crate::x67::registers::{AxisReg, ModuleReg, Register, RegisterError};
 
@@ -194,6 +198,7 @@ pub struct Module {
     limit_inputs: [[usize; 2]; 2],
     temperature: Temperature,
     supply_volts: f64,
+    dc_bus: DcBus,
     time_ms: u64,
     ratings: [Rating; 2],
     module_over: bool,
@@ -223,6 +228,7 @@ impl Module {
             limit_inputs: [[0, 1], [3, 4]],
             temperature,
             supply_volts: 24.0,
+            dc_bus: DcBus::default(),
             time_ms: 0,
             ratings: [Rating {
                 recovery_ms: 10_000,
@@ -501,6 +507,12 @@ impl Module {
         self.temperature.update(celsius);
     }
 
+    /// The DC bus voltage in V: the supply's, raised for a while by the energy of a turning motor whose
+    /// voltage went off (X67-18.11.4.3-12).
+    pub fn dc_bus_volts(&self) -> f64 {
+        self.dc_bus.volts(self.supply_volts)
+    }
+
     /// Sets the supply voltage in V (X67-3-11).
     pub fn set_supply(&mut self, volts: f64) {
         if !volts.is_nan() {
@@ -610,7 +622,10 @@ impl Module {
         let mut ctx = CycleContext {
             cycle,
             extended_cw: self.general_config & 1 != 0,
-            supply_error: !supply_in_range(self.supply_volts),
+            // The supply out of its band, or the DC bus above it after regeneration (X67-3-11,
+            // X67-18.11.4.3-12).
+            supply_error: !supply_in_range(self.supply_volts)
+                || self.dc_bus.volts(self.supply_volts) > SUPPLY_MAX_VOLTS,
             over_temperature: self.temperature.over_temperature(),
             supply_volts: self.supply_volts,
             levels: self.levels,
@@ -622,9 +637,12 @@ impl Module {
         for e in self.pending.iter().rev() {
             ctx.levels_before[e.input] = !e.level;
         }
+        self.dc_bus.discharge(f64::from(cycle.millis()) / 1000.0);
         for (n, axis) in self.axes.iter_mut().enumerate() {
             ctx.limit_inputs = self.limit_inputs[n];
             axis.begin(&ctx);
+            self.dc_bus
+                .regenerate(self.supply_volts, axis.take_regenerated());
         }
 
         // Motion: ramps, rotors, encoders.

@@ -31,11 +31,15 @@ pub struct MotorParams {
     /// The speed in microsteps/second above which the back-EMF keeps the commanded current out of the windings
     /// under load (X67-18.6.3.1-03); without load the limit is 5 % lower.
     pub back_emf_limit: i64,
+    /// The moment of inertia of the rotor and what turns with it, in kg·m². Its kinetic energy goes back
+    /// into the DC bus when the voltage is switched off on a turning motor (18.11.4.3, see
+    /// [`Motor::regenerated_joules`]).
+    pub inertia_kg_m2: f64,
 }
 
 impl Default for MotorParams {
-    /// A 1.8° motor with 3 mH and 1.5 Ω per winding and a back-EMF limit of 400 000 microsteps/s
-    /// (about 7.8 revolutions per second).
+    /// A 1.8° motor with 3 mH and 1.5 Ω per winding, a back-EMF limit of 400 000 microsteps/s (about 7.8
+    /// revolutions per second) and 0.3 kg·cm² of rotor inertia (3 × 10⁻⁵ kg·m², a NEMA 23 motor's).
     fn default() -> Self {
         MotorParams {
             steps_per_rev: 200,
@@ -43,6 +47,7 @@ impl Default for MotorParams {
             resistance_ohm: 1.5,
             reversed: false,
             back_emf_limit: 400_000,
+            inertia_kg_m2: 3.0e-5,
         }
     }
 }
@@ -181,6 +186,24 @@ impl Motor {
             Load::Value(v) => v.min(7),
             Load::Torque(t) => load_value(speed, t),
         }
+    }
+
+    /// The energy in J that a rotor turning at `speed` microsteps/second gives back when the motor voltage
+    /// goes off (18.11.4.3, Operation enable → Switch on disabled: "regeneration on a motor running at no
+    /// load"): its kinetic energy ½·J·ω², less the share a load torque takes while it coasts to a stop
+    /// (`torque` percent of it); nothing from a blocked rotor.
+    pub fn regenerated_joules(&self, speed: i64) -> f64 {
+        if self.faults.blocked {
+            return 0.0;
+        }
+        let per_rev = f64::from(self.params.steps_per_rev.max(1)) * MICROSTEPS_PER_STEP as f64;
+        let omega = speed as f64 / per_rev * std::f64::consts::TAU;
+        let kinetic = 0.5 * self.params.inertia_kg_m2 * omega * omega;
+        let kept = match self.load {
+            Load::Torque(t) => 1.0 - f64::from(t.min(100)) / 100.0,
+            Load::Value(_) => 1.0,
+        };
+        kinetic * kept
     }
 
     /// Whether the back-EMF keeps the commanded current out of the windings at `speed` microsteps/second

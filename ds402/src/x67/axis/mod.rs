@@ -176,6 +176,8 @@ pub struct Axis {
     errors: ErrorRegister,
     current: CurrentModel,
     powered: bool,
+    /// Energy regenerated into the DC bus this cycle, in J, for the module to take (X67-18.11.4.3-12).
+    regenerated_joules: f64,
     ident_left: Option<u32>,
     ident_done: bool,
     motor_identification: u16,
@@ -242,6 +244,7 @@ impl Axis {
             current: CurrentModel::new(current::Config::default())
                 .unwrap_or_else(|_| unreachable!()),
             powered: false,
+            regenerated_joules: 0.0,
             ident_left: None,
             ident_done: false,
             // 0 until a measurement succeeds (X67-18.11.3.7-02).
@@ -479,6 +482,11 @@ impl Axis {
             jolt_time: self.config.jolt_time,
             rev_loop: if rev_loop { self.config.rev_loop } else { 0 },
         }
+    }
+
+    /// Takes the energy regenerated into the DC bus since the last call, in J (X67-18.11.4.3-12).
+    pub(crate) fn take_regenerated(&mut self) -> f64 {
+        std::mem::take(&mut self.regenerated_joules)
     }
 
     /// Speed of the last cycle in microsteps/second.

@@ -85,6 +85,11 @@ impl Axis {
                 // (X67-18.11.4.3-05, X67-18.11.4.3-08, X67-18.11.4.3-11, X67-18.11.4.3-12, X67-18.11.4.3-14,
                 // X67-18.11.4.3-18): the voltage goes off at once, without braking.
                 Action::VoltageOff => {
+                    // A turning motor gives its energy back into the DC bus (X67-18.11.4.3-12).
+                    if self.powered {
+                        let speed = self.speed_per_second(ctx.cycle);
+                        self.regenerated_joules += self.motor.regenerated_joules(speed);
+                    }
                     self.powered = false;
                     self.ident_left = None;
                     self.stop_now();
