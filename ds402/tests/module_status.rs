@@ -1322,6 +1322,15 @@ fn x67_3_11_supply_range() {
             assert_state(&m, axis, SWITCH_ON_DISABLED);
         }
     }
+    // A reading that is not a number is no voltage: the supply stays at 24 V.
+    for volts in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let mut m = Module::new();
+        m.step();
+        m.set_supply(volts);
+        m.run(3);
+        assert_eq!(m.dc_bus_volts(), 24.0, "{volts}");
+        assert_eq!(m.error_code(0), 0, "{volts}");
+    }
 }
 
 // ===== 18.11.3.13 Error code =====

@@ -309,12 +309,11 @@ impl DcBus {
         supply_volts + self.rise
     }
 
-    /// Takes `joules` of regenerated energy into the bus capacitance.
+    /// Takes `joules` (0 or more) of regenerated energy into the bus capacitance, with the supply at
+    /// `supply_volts` (finite).
     pub fn regenerate(&mut self, supply_volts: f64, joules: f64) {
-        if joules > 0.0 && supply_volts.is_finite() {
-            let v = self.volts(supply_volts);
-            self.rise = (v * v + 2.0 * joules / DC_BUS_FARADS).sqrt() - supply_volts;
-        }
+        let v = self.volts(supply_volts);
+        self.rise = (v * v + 2.0 * joules / DC_BUS_FARADS).sqrt() - supply_volts;
     }
 
     /// Lets `seconds` pass: the rise falls by `e^(−t/τ)`.

@@ -513,9 +513,9 @@ impl Module {
         self.dc_bus.volts(self.supply_volts)
     }
 
-    /// Sets the supply voltage in V (X67-3-11).
+    /// Sets the supply voltage in V (X67-3-11); a value that is not a finite number is ignored.
     pub fn set_supply(&mut self, volts: f64) {
-        if !volts.is_nan() {
+        if volts.is_finite() {
             self.supply_volts = volts;
         }
     }
