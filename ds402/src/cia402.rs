@@ -248,9 +248,6 @@ pub struct Inputs {
     /// The start-up motor-identification measurement has finished. [`StateMachine`] latches it, so the axis
     /// model may report it as a one-cycle pulse or as a level.
     pub identification_done: bool,
-    /// Status-word bits the axis model owns: 7 (Warning), 10 (Target reached), 11 (Internal limit active),
-    /// 12 (mode-specific), 13–15 (motor load). Bits 0–6, 8 and 9 are ignored.
-    pub extra_status: u16,
 }
 
 /// Something the axis must do because of a transition.
@@ -415,7 +412,8 @@ pub fn next(state: State, command: Option<Command>, ctx: &Inputs) -> Transition 
 pub struct Output {
     /// The state at the end of the cycle.
     pub state: State,
-    /// The status word to send ([`status_word`] of `state` with [`Inputs::extra_status`]).
+    /// The state's part of the status word ([`status_word`] of `state` with no bits of the axis model; the
+    /// axis adds its bits 7 and 10–15 with [`StateMachine::status_word`]).
     pub status_word: u16,
     /// The command decoded from the control word, if any.
     pub command: Option<Command>,
@@ -522,7 +520,7 @@ impl StateMachine {
 
         Output {
             state: self.state,
-            status_word: status_word(self.state, ctx.extra_status),
+            status_word: status_word(self.state, 0),
             command,
             trace,
             actions,

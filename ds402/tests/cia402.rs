@@ -450,16 +450,15 @@ fn voltage_enabled_bit() {
     }
 }
 
-/// X67-18.11.4.2-10, X67-18.11.3.5-05: the warning bit and bits 10–15 come from the axis model unchanged; the
-/// state bits cannot be overridden.
+/// X67-18.11.4.2-10, X67-18.11.3.5-05: the warning bit and bits 10–15 come from the axis model unchanged
+/// through `StateMachine::status_word`, as the X67 axis builds its status word; the state bits cannot be
+/// overridden, and the step's own status word carries the state alone.
 #[test]
 fn axis_bits_pass_through() {
     let mut sm = in_state(State::OperationEnabled);
-    let ctx = Inputs {
-        extra_status: 0xC480 | 0x007F,
-        ..idle()
-    };
-    expect(&mut sm, ENABLE_OPERATION, ctx, 0xC480 | OE, &[]);
+    expect(&mut sm, ENABLE_OPERATION, idle(), OE, &[]);
+    assert_eq!(sm.status_word(0xC480 | 0x007F), 0xC480 | OE);
+    assert_eq!(sm.status_word(0xFFFF), 0xFC00 | 0x0080 | OE);
 }
 
 /// X67-18.11.4.3-04: Disable voltage or Quick stop in Ready to switch on → Switch on disabled, no other action.
@@ -629,18 +628,6 @@ fn error_passes_through_fault_reaction_active() {
             );
         }
     }
-}
-
-/// X67-18.11.4.3-17: a warning only sets bit 7 and never changes the state.
-#[test]
-fn warning_does_not_change_state() {
-    let mut sm = in_state(State::OperationEnabled);
-    let warn = Inputs {
-        extra_status: 0x0080,
-        ..idle()
-    };
-    expect(&mut sm, ENABLE_OPERATION, warn, OE | 0x0080, &[]);
-    expect(&mut sm, ENABLE_OPERATION, warn, OE | 0x0080, &[]);
 }
 
 /// X67-18.11.4.3-19, -20: Fault reset leaves Fault only when no error remains, and clears errors and warnings.

@@ -398,22 +398,21 @@ fn x67_3_11_supply_band() {
     }
 }
 
-/// One cycle of an axis: the register takes the control word, then the state machine steps with
-/// `error_pending = has_error()` and the Warning bit, and its `ClearErrors` action is carried out.
+/// One cycle of an axis, as the module runs it: the register takes the control word, the state machine
+/// steps with `error_pending = has_error()`, its `ClearErrors` action is carried out, and the status
+/// word is the state's with the Warning bit as the register has it after that.
 fn cycle(sm: &mut StateMachine, r: &mut ErrorRegister, cw: u16) -> u16 {
     r.control_word(cw);
     let ctx = Inputs {
         error_pending: r.has_error(),
         standstill: true,
         identification_done: true,
-        extra_status: if r.has_warning() { SW_WARNING } else { 0 },
     };
     let out = sm.step(cw, &ctx);
     if out.actions.contains(&Action::ClearErrors) {
         r.fault_reset();
     }
-    // Recompute bit 7 after a reset in the same cycle.
-    (out.status_word & !SW_WARNING) | if r.has_warning() { SW_WARNING } else { 0 }
+    sm.status_word(if r.has_warning() { SW_WARNING } else { 0 })
 }
 
 /// X67-15-02 observe, with the state machine: 86 °C then 84 °C → Fault reset refused, Fault and 0x4200

@@ -822,19 +822,42 @@ fn x67_18_11_4_3_16_no_command_reaches_fault() {
     }
 }
 
-/// X67-18.11.4.3-17: a warning (stall 0xFF01) in Operation enable sets SW bit 7 and leaves the state and
-/// the motion alone.
+/// X67-18.11.4.3-17: a warning in Operation enable sets SW bit 7 and leaves the state and the motion
+/// alone — the stall 0xFF01, an open winding (current error 0xFF00, which ranks above its open circuit
+/// 0xFF11) and a shorted winding (overcurrent 0x2300) — through the module as a master sees it.
 #[test]
 fn x67_18_11_4_3_17_warning_does_not_change_the_state() {
-    let mut m = running(20, 10);
-    make_stall(&mut m, 0);
-    m.set_control(0, ENABLE_OPERATION | CW_STALL_DETECTION);
-    assert_eq!(increments(&mut m, 0, 3), [20, 20, 20]);
-    assert_eq!(named(&m, "ErrorCode01"), 0xFF01);
-    assert_eq!(m.status_word(0) & 0x03FF, OPERATION_ENABLE | SW_WARNING);
-    assert!(m.axis(0).state_trace().is_empty());
-    assert_eq!(increments(&mut m, 0, 3), [20, 20, 20]);
-    assert_state(&m, 0, OPERATION_ENABLE);
+    type Inject = fn(&mut Module);
+    let cases: [(&str, Inject, u16, u16); 3] = [
+        ("stall", |m| make_stall(m, 0), CW_STALL_DETECTION, 0xFF01),
+        (
+            "open winding",
+            |m| m.axis_mut(0).motor.faults.open_winding = true,
+            CW_CURRENT_ERROR_DETECTION,
+            0xFF00,
+        ),
+        (
+            "shorted winding",
+            |m| m.axis_mut(0).motor.faults.short = true,
+            0,
+            0x2300,
+        ),
+    ];
+    for (case, inject, detection, code) in cases {
+        let mut m = running(20, 10);
+        inject(&mut m);
+        m.set_control(0, ENABLE_OPERATION | detection);
+        assert_eq!(increments(&mut m, 0, 3), [20, 20, 20], "{case}");
+        assert_eq!(named(&m, "ErrorCode01"), i64::from(code), "{case}");
+        assert_eq!(
+            m.status_word(0) & 0x03FF,
+            OPERATION_ENABLE | SW_WARNING,
+            "{case}"
+        );
+        assert!(m.axis(0).state_trace().is_empty(), "{case}");
+        assert_eq!(increments(&mut m, 0, 3), [20, 20, 20], "{case}");
+        assert_state(&m, 0, OPERATION_ENABLE);
+    }
 }
 
 /// X67-18.11.4.3-18: after an Error the next status already shows Fault, the phase current is off and

@@ -12,33 +12,7 @@ fn rig(cfg0: u16) -> Rig {
     Rig::ready_with(cfg0, 5_000, 20, 20)
 }
 
-/// (position, velocity, acceleration, deceleration)
-type Seg = (i32, u32, u16, u16);
-
-/// The programming routine of R2 (p.41): First Block, then one Segment Block handshake per segment,
-/// then Program_Assembled back to 0. Returns STATUS_word0 after each step.
-fn program(r: &mut Rig, segments: &[Seg], save: bool) -> Vec<u16> {
-    let mut seen = Vec::new();
-    r.command(cmd0::PROGRAM_ASSEMBLED);
-    seen.push(r.s0());
-    for &(position, velocity, acceleration, deceleration) in segments {
-        r.out.position = position;
-        r.out.velocity = velocity;
-        r.out.acceleration = acceleration;
-        r.out.deceleration = deceleration;
-        r.command(cmd0::PROGRAM_ASSEMBLED | cmd0::READ_ASSEMBLED_DATA);
-        seen.push(r.s0());
-        r.command(cmd0::PROGRAM_ASSEMBLED);
-        seen.push(r.s0());
-    }
-    if save {
-        r.out.cmd1 |= cmd1::SAVE_TO_FLASH;
-    }
-    r.command(0);
-    seen.push(r.s0());
-    r.out.cmd1 &= !cmd1::SAVE_TO_FLASH;
-    seen
-}
+use smd_rig::Seg;
 
 /// SMD-R2-083 … SMD-R2-088, SMD-R6-016, SMD-R6-060: Program_Assembled sets In_Assembled_Mode and
 /// Waiting_For_Assembled_Segment; each Read_Assembled_Data edge takes a segment and clears Waiting,
@@ -50,11 +24,7 @@ fn smd_r2_083_to_088_programming_handshake() {
         r.s0() & (stat0::IN_ASSEMBLED_MODE | stat0::WAITING_FOR_SEGMENT),
         0
     );
-    let seen = program(
-        &mut r,
-        &[(1_000, 2_000, 10, 10), (2_000, 4_000, 10, 10)],
-        false,
-    );
+    let seen = r.program(&[(1_000, 2_000, 10, 10), (2_000, 4_000, 10, 10)], false);
     let bits = |s: u16| s & (stat0::IN_ASSEMBLED_MODE | stat0::WAITING_FOR_SEGMENT);
     let both = stat0::IN_ASSEMBLED_MODE | stat0::WAITING_FOR_SEGMENT;
     assert_eq!(
@@ -90,7 +60,7 @@ fn stored(r: &Rig) -> Vec<i32> {
 fn smd_r2_072_085_087_bad_segments() {
     let mut r = rig(0);
     for bad in [(1_000, 100, 10, 10), (8_388_608, 2_000, 10, 10)] {
-        let seen = program(&mut r, &[(500, 2_000, 10, 10), bad], false);
+        let seen = r.program(&[(500, 2_000, 10, 10), bad], false);
         // [0] First Block, [1]/[2] the good segment's handshake, [3] the bad one's edge.
         assert_eq!(
             seen[1] & stat0::COMMAND_ERROR,
@@ -113,7 +83,7 @@ fn smd_r2_072_085_087_bad_segments() {
         assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
     }
     let segs: Vec<Seg> = (0..17).map(|k| (100 + k, 2_000, 10, 10)).collect();
-    let seen = program(&mut r, &segs, false);
+    let seen = r.program(&segs, false);
     assert_eq!(seen.len(), 36, "First Block, 2 per segment, the end");
     for (k, s) in seen[1..33].iter().enumerate() {
         assert_eq!(
@@ -153,8 +123,7 @@ fn run(r: &mut Rig, cmd1_extra: u16, jerk: u16) -> Vec<(f64, u16)> {
 #[test]
 fn smd_r2_070_071_074_075_blend_move() {
     let mut r = rig(0);
-    program(
-        &mut r,
+    r.program(
         &[
             (10_000, 4_000, 10, 10),
             (-10_000, 8_000, 5, 20),
@@ -184,11 +153,7 @@ fn smd_r2_070_071_074_075_blend_move() {
 #[test]
 fn smd_r2_073_same_speed_boundary() {
     let mut r = rig(0);
-    program(
-        &mut r,
-        &[(20_000, 4_000, 10, 10), (20_000, 4_000, 10, 10)],
-        false,
-    );
+    r.program(&[(20_000, 4_000, 10, 10), (20_000, 4_000, 10, 10)], false);
     let trace = run(&mut r, 0, 0);
     // Between the end of the first ramp and the final braking: constant speed, no phase bits.
     let cruise: Vec<&(f64, u16)> = trace.iter().filter(|t| t.0 == 4_000.0).collect();
@@ -208,8 +173,7 @@ fn smd_r2_073_same_speed_boundary() {
 #[test]
 fn smd_r2_076_short_blend_segment_jumps() {
     let mut r = rig(0);
-    program(
-        &mut r,
+    r.program(
         &[
             (1_000, 20_000, 10, 10),
             (20_000, 8_000, 10, 10),
@@ -280,8 +244,7 @@ fn smd_r2_076_short_blend_segment_jumps() {
 #[test]
 fn smd_r2_077_to_080_dwell_move() {
     let mut r = rig(0);
-    program(
-        &mut r,
+    r.program(
         &[
             (3_000, 4_000, 20, 20),
             (-1_000, 4_000, 20, 20),
@@ -343,11 +306,7 @@ fn pauses_and_directions(trace: &[(f64, u16)]) -> (Vec<usize>, Vec<i32>) {
 #[test]
 fn smd_r6_014_run_assembled_move() {
     let mut r = rig(0);
-    program(
-        &mut r,
-        &[(3_000, 4_000, 20, 20), (-1_000, 6_000, 20, 20)],
-        false,
-    );
+    r.program(&[(3_000, 4_000, 20, 20), (-1_000, 6_000, 20, 20)], false);
     // CMD_word1 bit 13 is not the run bit.
     r.out.cmd1 |= cmd1::PRESET_TO_ENCODER;
     for _ in 0..100 {
@@ -399,7 +358,7 @@ fn smd_r2_069_081_stored_program() {
     assert_ne!(trace[0].1 & stat0::COMMAND_ERROR, 0);
     r.command(cmd0::RESET_ERRORS);
     r.command(0);
-    program(&mut r, &[(1_000, 4_000, 20, 20)], false);
+    r.program(&[(1_000, 4_000, 20, 20)], false);
     assert_ne!(
         run(&mut r, 0, 0)[0].1 & stat0::COMMAND_ERROR,
         0,
@@ -407,11 +366,7 @@ fn smd_r2_069_081_stored_program() {
     );
     r.command(cmd0::RESET_ERRORS);
     r.command(0);
-    program(
-        &mut r,
-        &[(1_000, 4_000, 20, 20), (1_000, 4_000, 20, 20)],
-        false,
-    );
+    r.program(&[(1_000, 4_000, 20, 20), (1_000, 4_000, 20, 20)], false);
     let start = r.pos();
     run(&mut r, 0, 0);
     run(&mut r, 0, 0);
@@ -420,17 +375,69 @@ fn smd_r2_069_081_stored_program() {
     assert!(r.ix.assembled_program().is_none());
 }
 
+/// SMD-R2-069: programs of 2 and of 16 segments (the bounds) run without error, as a Blend and as a
+/// Dwell. Blend: segment k of (k + 1) × 50 steps at 2,000 or 4,000 steps/s, all CW whatever the sign
+/// — 2 segments end 150 steps on, 16 end 50 × (1 + … + 16) = 6,800 on. Dwell: segments of ±300 steps
+/// in turn, 10 ms apart — 2 or 16 runs in alternating directions with 1 or 15 pauses, ending where
+/// they started. No cycle of any run shows Command_Error, and each ends with Move_Complete.
+#[test]
+fn smd_r2_069_two_and_sixteen_segments_run() {
+    for n in [2usize, 16] {
+        let blend: Vec<Seg> = (0..n)
+            .map(|k| {
+                let sign = if k % 3 == 1 { -1 } else { 1 };
+                (sign * 50 * (k as i32 + 1), [2_000, 4_000][k % 2], 20, 20)
+            })
+            .collect();
+        let mut r = rig(0);
+        let seen = r.program(&blend, false);
+        assert_eq!(seen.len(), 2 * n + 2);
+        assert!(
+            seen.iter().all(|s| s & stat0::COMMAND_ERROR == 0),
+            "{seen:?}"
+        );
+        assert_eq!(r.ix.assembled_program().map(<[_]>::len), Some(n));
+        let trace = run(&mut r, 0, 0);
+        assert!(
+            trace.iter().all(|t| t.1 & stat0::COMMAND_ERROR == 0),
+            "{n} segments"
+        );
+        assert_ne!(
+            trace[trace.len() - 1].1 & stat0::MOVE_COMPLETE,
+            0,
+            "{n} segments"
+        );
+        let expected = if n == 2 { 150 } else { 6_800 };
+        assert_eq!(r.pos(), expected, "Blend of {n}");
+
+        let dwell: Vec<Seg> = (0..n)
+            .map(|k| (if k % 2 == 0 { 300 } else { -300 }, 4_000, 20, 20))
+            .collect();
+        let mut r = rig(0);
+        r.program(&dwell, false);
+        let trace = run(&mut r, cmd1::DWELL, 10);
+        assert!(
+            trace.iter().all(|t| t.1 & stat0::COMMAND_ERROR == 0),
+            "{n} segments"
+        );
+        assert_ne!(trace[trace.len() - 1].1 & stat0::MOVE_COMPLETE, 0);
+        let (pauses, dirs) = pauses_and_directions(&trace);
+        assert_eq!(dirs, (0..n).map(|k| [1, -1][k % 2]).collect::<Vec<i32>>());
+        assert_eq!(pauses.len(), n - 1, "{pauses:?}");
+        for p in &pauses {
+            assert!((9..=12).contains(p), "{pauses:?}");
+        }
+        assert_eq!(r.pos(), 0, "Dwell of {n}");
+    }
+}
+
 /// SMD-R2-089, SMD-R2-082: saved to flash when Program_Assembled falls with Save_to_Flash; then every
 /// command is ignored until power is cycled; after the cycle (and a configuration write) the flash
 /// program runs.
 #[test]
 fn smd_r2_082_089_flash() {
     let mut r = rig(0);
-    let seen = program(
-        &mut r,
-        &[(2_000, 4_000, 20, 20), (2_000, 4_000, 20, 20)],
-        true,
-    );
+    let seen = r.program(&[(2_000, 4_000, 20, 20), (2_000, 4_000, 20, 20)], true);
     assert_eq!(
         seen.last().unwrap() & (stat0::IN_ASSEMBLED_MODE | stat0::WAITING_FOR_SEGMENT),
         0

@@ -742,6 +742,206 @@ fn smd_r6_030_031_r5_027_enable_driver() {
     );
 }
 
+/// Runs `cycles` cycles with CMD_word0 held and asserts in each that the command was refused and nothing
+/// moved: Command_Error and Stopped set, no Moving, Accelerating or Decelerating bit, Motor_Position at
+/// `at` (SMD-R2-051).
+#[track_caller]
+fn assert_refused_without_motion(r: &mut Rig, case: &str, at: i32, cycles: usize) {
+    let motion = stat0::MOVING_CW | stat0::MOVING_CCW | stat0::ACCELERATING | stat0::DECELERATING;
+    for k in 0..cycles {
+        assert_eq!(
+            r.s0() & (stat0::COMMAND_ERROR | stat0::STOPPED | motion),
+            stat0::COMMAND_ERROR | stat0::STOPPED,
+            "{case}, cycle {k}"
+        );
+        assert_eq!(r.pos(), at, "{case}, cycle {k}");
+        r.cycle();
+    }
+}
+
+/// SMD-R2-051: the unit checks the whole command before any motion, so a refused command never moves:
+/// for 300 cycles after each of these, Motor_Position stays where it was and Stopped stays 1 — bad
+/// parameters for an Absolute, a Relative, a Jog each way, a Registration move and a Find Home; a
+/// Find Home with no Home input; a Resume with nothing held; a Run Assembled with no program; two move
+/// bits at once.
+#[test]
+fn smd_r2_051_a_refused_command_never_moves() {
+    type Setup = fn(&mut Rig) -> u16;
+    let cases: [(&str, Setup); 10] = [
+        ("Absolute, Velocity 140", |r| {
+            r.out.velocity = 140;
+            cmd0::ABSOLUTE_MOVE
+        }),
+        ("Relative, Acceleration 0", |r| {
+            r.out.acceleration = 0;
+            cmd0::RELATIVE_MOVE
+        }),
+        ("Jog CW, Deceleration 5,001", |r| {
+            r.out.deceleration = 5_001;
+            cmd0::JOG_CW
+        }),
+        ("Jog CCW, Velocity 3,000,000", |r| {
+            r.out.velocity = 3_000_000;
+            cmd0::JOG_CCW
+        }),
+        ("Registration, Position out of range", |r| {
+            r.out.cmd1 |= cmd1::REGISTRATION_MOVE;
+            r.out.position = 8_388_608;
+            cmd0::JOG_CW
+        }),
+        ("Find Home, Jerk 5,001", |r| {
+            r.ix.write_config(1, 6);
+            r.cycle();
+            r.command(cmd0::PRESET_POSITION);
+            r.command(0);
+            r.out.jerk = 5_001;
+            cmd0::FIND_HOME_CW
+        }),
+        ("Find Home, no Home input", |_| cmd0::FIND_HOME_CCW),
+        ("Resume, nothing held", |_| cmd0::RESUME_MOVE),
+        ("Run Assembled, no program", |_| cmd0::RUN_ASSEMBLED_MOVE),
+        ("Absolute and Relative", |_| {
+            cmd0::ABSOLUTE_MOVE | cmd0::RELATIVE_MOVE
+        }),
+    ];
+    for (case, setup) in cases {
+        let mut r = Rig::ready();
+        r.out.position = 2_000;
+        let c = setup(&mut r);
+        let at = r.pos();
+        r.command(c);
+        assert_refused_without_motion(&mut r, case, at, 300);
+    }
+}
+
+/// SMD-R6-031 (pick): with Enable_Driver 0 every move command is refused — Absolute, Relative, Jog and
+/// Registration each way, Find Home each way, Resume of a held move, Run Assembled — with Command_Error
+/// and no motion; Preset Position, Reset Errors, Immediate Stop and programming still work.
+#[test]
+fn smd_r6_031_every_move_refused_with_the_driver_off() {
+    let moves = [
+        ("Absolute", 0, cmd0::ABSOLUTE_MOVE),
+        ("Relative", 0, cmd0::RELATIVE_MOVE),
+        ("Jog CW", 0, cmd0::JOG_CW),
+        ("Jog CCW", 0, cmd0::JOG_CCW),
+        ("Registration CW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CW),
+        ("Registration CCW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CCW),
+        ("Find Home CW", 0, cmd0::FIND_HOME_CW),
+        ("Find Home CCW", 0, cmd0::FIND_HOME_CCW),
+        ("Resume", 0, cmd0::RESUME_MOVE),
+        ("Run Assembled", 0, cmd0::RUN_ASSEMBLED_MOVE),
+    ];
+    for (case, extra, c) in moves {
+        // IN1 = Home; a stored program; a Relative move held at 1 s.
+        let mut r = Rig::ready_with(6, 10_000, 10, 10);
+        r.program(&[(1_000, 4_000, 10, 10), (1_000, 4_000, 10, 10)], false);
+        r.out.position = 100_000;
+        r.command(cmd0::RELATIVE_MOVE);
+        for _ in 0..1_000 {
+            r.cycle();
+        }
+        r.command(cmd0::HOLD_MOVE);
+        r.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
+        assert_ne!(r.s0() & stat0::IN_HOLD_STATE, 0);
+        r.command(0);
+        let at = r.pos();
+        r.out.cmd1 = extra;
+        r.out.position = 2_000;
+        r.cycle();
+        assert_eq!(r.s1() & stat1::DRIVE_IS_ENABLED, 0);
+        r.command(c);
+        assert_refused_without_motion(&mut r, case, at, 300);
+    }
+
+    let mut r = Rig::ready();
+    r.out.cmd1 = 0;
+    r.cycle();
+    r.out.position = 777;
+    r.command(cmd0::PRESET_POSITION);
+    assert_eq!(r.pos(), 777);
+    r.command(0);
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    r.command(cmd0::RESET_ERRORS);
+    assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
+    r.command(cmd0::IMMEDIATE_STOP);
+    assert_eq!(
+        r.s0() & (stat0::COMMAND_ERROR | stat0::POSITION_INVALID),
+        stat0::POSITION_INVALID
+    );
+    r.command(0);
+    let seen = r.program(&[(1_000, 4_000, 10, 10), (500, 4_000, 10, 10)], false);
+    assert!(
+        seen.iter().all(|s| s & stat0::COMMAND_ERROR == 0),
+        "{seen:?}"
+    );
+    assert_eq!(r.ix.assembled_program().map(<[_]>::len), Some(2));
+}
+
+/// SMD-R6-009: a set error bit does not stop a later valid command: with Command_Error, Input_Error or
+/// Stall_Detected set, a Relative move of 1,000 runs to its end with Move_Complete, the error bit still
+/// set until Reset Errors.
+#[test]
+fn smd_r6_009_error_bits_do_not_block_valid_commands() {
+    type Raise = fn(&mut Rig);
+    let cases: [(&str, u16, Raise, u16, u16); 3] = [
+        (
+            "Command_Error",
+            0,
+            |r| {
+                r.out.acceleration = 0;
+                r.command(cmd0::RELATIVE_MOVE);
+                r.out.acceleration = 10;
+            },
+            stat0::COMMAND_ERROR,
+            0,
+        ),
+        (
+            "Input_Error",
+            1, // IN1 = CW limit
+            |r| {
+                r.ix.set_input(1, true);
+                r.command(cmd0::JOG_CW);
+                r.ix.set_input(1, false);
+            },
+            stat0::INPUT_ERROR,
+            0,
+        ),
+        (
+            "Stall_Detected",
+            CFG0_USE_ENCODER | ds402::smd::config::CFG0_ENABLE_STALL_DETECTION,
+            |r| {
+                r.ix.turn_shaft(300);
+                r.cycle();
+                r.ix.turn_shaft(-300);
+            },
+            0,
+            stat1::STALL_DETECTED,
+        ),
+    ];
+    for (case, cfg0, raise, bit0, bit1) in cases {
+        let mut r = Rig::ready_with(cfg0, 10_000, 10, 10);
+        raise(&mut r);
+        r.command(0);
+        assert_eq!((r.s0() & bit0, r.s1() & bit1), (bit0, bit1), "{case}");
+        let start = r.pos();
+        r.out.position = 1_000;
+        r.command(cmd0::RELATIVE_MOVE);
+        assert_eq!(r.s0() & stat0::STOPPED, 0, "{case}: it runs");
+        r.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
+        assert_eq!(r.pos(), start + 1_000, "{case}");
+        assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0, "{case}");
+        assert_eq!(
+            (r.s0() & bit0, r.s1() & bit1),
+            (bit0, bit1),
+            "{case}: still set"
+        );
+        r.command(0);
+        r.command(cmd0::RESET_ERRORS);
+        assert_eq!((r.s0() & bit0, r.s1() & bit1), (0, 0), "{case}");
+    }
+}
+
 /// SMD-R6-067: the Heartbeat_Bit changes state every 500 ms.
 #[test]
 fn smd_r6_067_heartbeat() {

@@ -4,7 +4,7 @@
 mod smd_rig;
 
 use ds402::smd::config::CFG0_USE_ENCODER;
-use ds402::smd::indexer::{cmd0, stat0, stat1};
+use ds402::smd::indexer::{cmd0, cmd1, stat0, stat1};
 use smd_rig::Rig;
 
 const GP: u16 = 0;
@@ -181,27 +181,59 @@ fn smd_r2_040_no_move_from_an_active_limit() {
     assert_eq!(r.pos(), 0);
 }
 
-/// SMD-R2-042, SMD-R2-043, SMD-R2-045, SMD-R2-046: a jog into an active limit is refused with
-/// Input_Error; a jog away from it runs.
+/// SMD-R2-042, SMD-R2-043, SMD-R2-045, SMD-R2-046: a Jog or a Registration move into an active limit
+/// is refused with Input_Error — for 200 cycles Motor_Position stays 0, Stopped stays 1 and no Moving
+/// bit comes — and one away from it runs, with no Input_Error, in its direction at 10 steps/ms once up
+/// to speed. Both limits, both kinds of move.
 #[test]
 fn smd_r2_042_043_045_046_jogging_at_a_limit() {
     for (limit_input, into, away) in [
         (1usize, cmd0::JOG_CW, cmd0::JOG_CCW),
         (2, cmd0::JOG_CCW, cmd0::JOG_CW),
     ] {
-        let mut r = rig(CW_LIMIT, CCW_LIMIT, false);
-        input(&mut r, limit_input, true);
-        r.command(into);
-        assert_eq!(
-            r.s0() & (stat0::INPUT_ERROR | stat0::STOPPED),
-            stat0::INPUT_ERROR | stat0::STOPPED
-        );
-        r.command(cmd0::RESET_ERRORS);
-        r.command(0);
-        jog(&mut r, away, 100);
-        assert_eq!(r.s0() & (stat0::INPUT_ERROR | stat0::STOPPED), 0);
-        let dir = if away == cmd0::JOG_CW { 1 } else { -1 };
-        assert!(r.pos() * dir > 0, "{}", r.pos());
+        for registration in [0, cmd1::REGISTRATION_MOVE] {
+            let case = format!("limit on IN{limit_input}, CMD_word1 {registration:#06x}");
+            let mut r = rig(CW_LIMIT, CCW_LIMIT, false);
+            r.out.cmd1 |= registration;
+            r.out.position = 1_000; // the Registration move's stopping distance
+            input(&mut r, limit_input, true);
+            r.command(into);
+            for _ in 0..200 {
+                assert_eq!(
+                    r.s0()
+                        & (stat0::INPUT_ERROR
+                            | stat0::STOPPED
+                            | stat0::MOVING_CW
+                            | stat0::MOVING_CCW),
+                    stat0::INPUT_ERROR | stat0::STOPPED,
+                    "{case}"
+                );
+                assert_eq!(r.pos(), 0, "{case}");
+                r.cycle();
+            }
+            r.command(cmd0::RESET_ERRORS);
+            r.command(0);
+            let (dir, moving) = if away == cmd0::JOG_CW {
+                (1, stat0::MOVING_CW)
+            } else {
+                (-1, stat0::MOVING_CCW)
+            };
+            r.command(away);
+            let mut before = r.pos();
+            for k in 0..1_200 {
+                r.cycle();
+                assert_eq!(
+                    r.s0() & (stat0::INPUT_ERROR | stat0::STOPPED | moving),
+                    moving,
+                    "{case}, cycle {k}"
+                );
+                // 10,000 steps/s reached after (10,000 − 141) / 10 ≈ 986 ms.
+                if k >= 1_000 {
+                    assert_eq!((r.pos() - before) * dir, 10, "{case}, cycle {k}");
+                }
+                before = r.pos();
+            }
+        }
     }
 }
 
@@ -338,7 +370,7 @@ fn smd_r6_040_bad_jog_parameters_complete() {
     );
 }
 
-/// SMD-R1-031, SMD-R1-033, SMD-R1-032: a Stop Jog edge during a jog is a controlled stop with
+/// SMD-R1-031, SMD-R1-033: a Stop Jog edge during a jog is a controlled stop with
 /// Move_Complete and captures the encoder; during a Relative move it changes nothing; at rest it
 /// captures nothing.
 #[test]
@@ -370,6 +402,97 @@ fn smd_r1_031_032_033_stop_jog_input() {
     assert_eq!(r.pos() - start, 5_000);
     assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
     assert_eq!(r.last.trapped_encoder_position, trapped);
+}
+
+/// SMD-R1-032: the Stop Jog input only acts on Jog and Registration moves: during an Absolute move, a
+/// Relative move, a Blend, a Dwell and a Find Home, three edges of it (on, off, on) change nothing —
+/// every cycle's input words, bar IN1_Active, are those of the same move without them, and each move
+/// ends where it would: 5,000; 5,000; 1,000 + 1,000; 1,000 − 400; home at 0.
+#[test]
+fn smd_r1_032_stop_jog_input_ignored_by_other_moves() {
+    type Start = fn(&mut Rig);
+    let cases: [(&str, Start, i32, u16); 5] = [
+        (
+            "Absolute",
+            |r| {
+                r.out.position = 5_000;
+                r.command(cmd0::ABSOLUTE_MOVE);
+            },
+            5_000,
+            stat0::MOVE_COMPLETE,
+        ),
+        (
+            "Relative",
+            |r| {
+                r.out.position = 5_000;
+                r.command(cmd0::RELATIVE_MOVE);
+            },
+            5_000,
+            stat0::MOVE_COMPLETE,
+        ),
+        (
+            "Blend",
+            |r| {
+                r.program(&[(1_000, 4_000, 10, 10), (1_000, 8_000, 10, 10)], false);
+                r.command(cmd0::RUN_ASSEMBLED_MOVE);
+            },
+            2_000,
+            stat0::MOVE_COMPLETE,
+        ),
+        (
+            "Dwell",
+            |r| {
+                r.program(&[(1_000, 4_000, 10, 10), (-400, 8_000, 10, 10)], false);
+                r.out.cmd1 |= cmd1::DWELL;
+                r.out.jerk = 200;
+                r.command(cmd0::RUN_ASSEMBLED_MOVE);
+            },
+            600,
+            stat0::MOVE_COMPLETE,
+        ),
+        (
+            "Find Home",
+            |r| {
+                r.out.velocity = 2_000;
+                r.command(cmd0::FIND_HOME_CW);
+            },
+            0,
+            stat0::AT_HOME,
+        ),
+    ];
+    for (name, start, end, done) in cases {
+        let run = |edges: bool| {
+            // IN1 = Stop Jog, IN2 = Home over steps 1,500 … 1,700.
+            let mut r = rig(STOP_JOG, 6, true);
+            start(&mut r);
+            let mut trace = Vec::new();
+            for k in 0..12_000 {
+                if edges && [100, 300, 500].contains(&k) {
+                    r.ix.set_input(1, k != 300);
+                }
+                if r.s0() & stat0::AT_HOME == 0 {
+                    r.ix.set_input(2, (1_500..=1_700).contains(&r.ix.position()));
+                }
+                let mut i = r.cycle();
+                i.status1 &= !stat1::IN1_ACTIVE;
+                trace.push(i);
+            }
+            trace
+        };
+        let with = run(true);
+        assert_eq!(with, run(false), "{name}");
+        let last = with[with.len() - 1];
+        assert_eq!(last.motor_position, end, "{name}");
+        assert_eq!(
+            last.status0 & (done | stat0::STOPPED | stat0::COMMAND_ERROR | stat0::INPUT_ERROR),
+            done | stat0::STOPPED,
+            "{name}"
+        );
+        // The edges fell in the motion.
+        for k in [100, 300, 500] {
+            assert_eq!(with[k].status0 & stat0::STOPPED, 0, "{name}, cycle {k}");
+        }
+    }
 }
 
 /// SMD-R1-025, SMD-R1-026: with the encoder on, every Start Indexed edge copies Encoder_Position into

@@ -8,6 +8,9 @@ use ds402::smd::indexer::{cmd0, cmd1, stat0, Indexer, Inputs, Outputs};
 
 pub const MS: Duration = Duration::from_millis(1);
 
+/// An assembled-move segment: (position, velocity, acceleration, deceleration).
+pub type Seg = (i32, u32, u16, u16);
+
 /// A unit with the default configuration and a master that exchanges data every 1 ms.
 pub struct Rig {
     pub ix: Indexer,
@@ -47,12 +50,20 @@ impl Rig {
         r
     }
 
-    /// Driver enabled, position preset to 0 (valid), move parameters set, CMD_word0 back at 0.
+    /// Driver enabled, position preset to 0 (valid), move parameters set, and a move of 100 steps out
+    /// and back just completed: Motor_Position 0 with Move_Complete 1, so that a test sees whether
+    /// what it does resets Move_Complete (SMD-R6-057). CMD_word0 back at 0.
     pub fn ready() -> Rig {
         let mut r = Rig::ready_with(0, 10_000, 10, 10);
         r.command(cmd0::RESET_ERRORS);
         r.command(0);
-        assert_eq!(r.s0() & (stat0::POSITION_INVALID | stat0::MOVE_COMPLETE), 0);
+        r.move_to_end(cmd0::RELATIVE_MOVE, 100);
+        r.move_to_end(cmd0::RELATIVE_MOVE, -100);
+        assert_eq!(r.pos(), 0);
+        assert_eq!(
+            r.s0() & (stat0::POSITION_INVALID | stat0::MOVE_COMPLETE | stat0::COMMAND_ERROR),
+            stat0::MOVE_COMPLETE
+        );
         r
     }
 
@@ -96,5 +107,31 @@ impl Rig {
         let n = self.until(600_000, |i| i.status0 & stat0::STOPPED != 0);
         self.command(0);
         n
+    }
+
+    /// The programming routine of R2 (p.41): First Block, then one Segment Block handshake per
+    /// segment, then Program_Assembled back to 0 (with Save_to_Flash when `save`). Returns
+    /// STATUS_word0 after each step.
+    pub fn program(&mut self, segments: &[Seg], save: bool) -> Vec<u16> {
+        let mut seen = Vec::new();
+        self.command(cmd0::PROGRAM_ASSEMBLED);
+        seen.push(self.s0());
+        for &(position, velocity, acceleration, deceleration) in segments {
+            self.out.position = position;
+            self.out.velocity = velocity;
+            self.out.acceleration = acceleration;
+            self.out.deceleration = deceleration;
+            self.command(cmd0::PROGRAM_ASSEMBLED | cmd0::READ_ASSEMBLED_DATA);
+            seen.push(self.s0());
+            self.command(cmd0::PROGRAM_ASSEMBLED);
+            seen.push(self.s0());
+        }
+        if save {
+            self.out.cmd1 |= cmd1::SAVE_TO_FLASH;
+        }
+        self.command(0);
+        seen.push(self.s0());
+        self.out.cmd1 &= !cmd1::SAVE_TO_FLASH;
+        seen
     }
 }

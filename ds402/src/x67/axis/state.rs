@@ -72,7 +72,6 @@ impl Axis {
             error_pending: self.errors.has_error(),
             standstill: self.ramp.standstill(),
             identification_done,
-            extra_status: 0,
         };
         let out = self.sm.step(self.cw, &inputs);
         self.trace = out.trace;
