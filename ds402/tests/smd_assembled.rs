@@ -431,6 +431,103 @@ fn smd_r2_069_two_and_sixteen_segments_run() {
     }
 }
 
+/// SMD-R2-074, SMD-R2-075, SMD-R2-071: a Blend of 1,000 steps at 4,000 steps/s then 1,000 at 2,000
+/// (both ramps 10 = 10,000 steps/s²), worked out by hand, from the status words and positions alone:
+/// accelerate from V_S = 141 for (4,000 − 141) / 10 = 386 ms (799 steps), run at 4 steps/ms to the
+/// boundary at 1,000; slow to 2,000 with the last segment's Deceleration for 200 ms (600 steps), run at
+/// 2 steps/ms, then the final deceleration with the same slope, (2,000 − 141) / 10 = 186 ms (199 steps),
+/// ending at 2,000 with Move_Complete, never stopped on the way.
+#[test]
+fn smd_r2_074_075_blend_speeds_and_both_slow_downs() {
+    let mut r = rig(0);
+    r.program(&[(1_000, 4_000, 10, 10), (1_000, 2_000, 10, 10)], false);
+    r.out.cmd1 = cmd1::ENABLE_DRIVER;
+    r.command(cmd0::RUN_ASSEMBLED_MOVE);
+    let mut trace = vec![r.last];
+    for _ in 0..3_000 {
+        trace.push(r.cycle());
+    }
+    let bits = stat0::ACCELERATING | stat0::DECELERATING | stat0::STOPPED;
+    // (bits, first cycle, length) of each run of equal motion bits.
+    let mut ph: Vec<(u16, usize, usize)> = Vec::new();
+    for (k, i) in trace.iter().enumerate() {
+        match ph.last_mut() {
+            Some(p) if p.0 == i.status0 & bits => p.2 += 1,
+            _ => ph.push((i.status0 & bits, k, 1)),
+        }
+    }
+    let kinds: Vec<u16> = ph.iter().map(|p| p.0).collect();
+    assert_eq!(
+        kinds,
+        [
+            stat0::ACCELERATING,
+            0,
+            stat0::DECELERATING,
+            0,
+            stat0::DECELERATING,
+            stat0::STOPPED
+        ],
+        "{ph:?}"
+    );
+    for (k, ms) in [(0, 386.0), (2, 200.0), (4, 186.0)] {
+        assert!((ph[k].2 as f64 - ms).abs() <= 2.0, "phase {k}: {ph:?}");
+    }
+    let cruise = |k: usize| {
+        let (_, first, len) = ph[k];
+        (first..first + len)
+            .map(|c| trace[c].motor_position - trace[c - 1].motor_position)
+            .collect::<Vec<i32>>()
+    };
+    assert_eq!(cruise(1), vec![4; ph[1].2]);
+    assert_eq!(cruise(3), vec![2; ph[3].2]);
+    // The boundary: the slow-down starts within a cycle of 1,000 steps.
+    let at = trace[ph[2].1 - 1].motor_position;
+    assert!((996..=1_004).contains(&at), "{at}");
+    let end = trace[ph[5].1];
+    assert_eq!(end.motor_position, 2_000);
+    assert_ne!(end.status0 & stat0::MOVE_COMPLETE, 0);
+    for i in &trace[..ph[5].1] {
+        assert_eq!(i.status0 & (stat0::MOVE_COMPLETE | stat0::COMMAND_ERROR), 0);
+    }
+}
+
+/// SMD-R2-086: Waiting_For_Assembled_Segment comes back only when Read_Assembled_Data falls: held at 1
+/// for 5 cycles after a segment was taken, it stays 0 all that time.
+#[test]
+fn smd_r2_086_waiting_returns_only_on_the_falling_edge() {
+    let mut r = rig(0);
+    r.command(cmd0::PROGRAM_ASSEMBLED);
+    assert_ne!(r.s0() & stat0::WAITING_FOR_SEGMENT, 0);
+    r.out.position = 1_000;
+    r.out.velocity = 2_000;
+    for _ in 0..5 {
+        r.command(cmd0::PROGRAM_ASSEMBLED | cmd0::READ_ASSEMBLED_DATA);
+        assert_eq!(r.s0() & stat0::WAITING_FOR_SEGMENT, 0);
+    }
+    r.command(cmd0::PROGRAM_ASSEMBLED);
+    assert_ne!(r.s0() & stat0::WAITING_FOR_SEGMENT, 0);
+    r.command(0);
+    assert_eq!(stored(&r), [1_000], "one segment for one rising edge");
+}
+
+/// SMD-R6-032 with an assembled move: its segments carry no current, so with CMD_word1 bit 1 set and
+/// out.Motor_Current = 25 the run uses the configured current: in.Motor_Current reads 8010:07's 10
+/// throughout, with no Command_Error.
+#[test]
+fn smd_r6_032_an_assembled_move_runs_at_the_configured_current() {
+    let mut r = rig(0);
+    r.program(&[(500, 2_000, 10, 10), (500, 3_000, 10, 10)], false);
+    let trace = {
+        r.out.motor_current = 25;
+        run(&mut r, cmd1::MOTOR_CURRENT, 0)
+    };
+    assert!(trace.len() > 100);
+    assert_ne!(trace[trace.len() - 1].1 & stat0::MOVE_COMPLETE, 0);
+    assert!(trace.iter().all(|t| t.1 & stat0::COMMAND_ERROR == 0));
+    assert_eq!(r.last.motor_current, 10);
+    assert_eq!(r.pos(), 1_000);
+}
+
 /// SMD-R2-089, SMD-R2-082: saved to flash when Program_Assembled falls with Save_to_Flash; then every
 /// command is ignored until power is cycled; after the cycle (and a configuration write) the flash
 /// program runs.

@@ -942,6 +942,31 @@ fn smd_r6_009_error_bits_do_not_block_valid_commands() {
     }
 }
 
+/// The unit's encoder kind is the one it was built with; `is_moving` is true exactly in the cycles in
+/// which STATUS_word0 shows Stopped = 0, over a whole Relative move and at rest before and after.
+#[test]
+fn encoder_kind_and_is_moving_as_reported() {
+    for kind in [EncoderKind::Incremental, EncoderKind::Absolute] {
+        assert_eq!(
+            Indexer::new(kind, Configuration::default()).encoder_kind(),
+            kind
+        );
+    }
+    let mut r = Rig::ready();
+    assert!(!r.ix.is_moving());
+    r.out.position = 2_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    let mut moving = 0;
+    for _ in 0..2_000 {
+        let i = r.cycle();
+        assert_eq!(r.ix.is_moving(), i.status0 & stat0::STOPPED == 0);
+        moving += usize::from(r.ix.is_moving());
+    }
+    assert!(moving > 300, "{moving}");
+    assert!(!r.ix.is_moving());
+    assert_eq!(r.pos(), 2_000);
+}
+
 /// SMD-R6-067: the Heartbeat_Bit changes state every 500 ms.
 #[test]
 fn smd_r6_067_heartbeat() {
