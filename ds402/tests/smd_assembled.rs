@@ -588,6 +588,66 @@ fn smd_r2_090_092_094_095_indexed_moves() {
     }
 }
 
+/// SMD-R2-090: every move type waits, indexed, for the Start Indexed edge — Absolute, Relative, Jog and
+/// Registration each way, Find Home each way, Blend, Dwell: for 200 cycles Stopped stays 1 and
+/// Motor_Position 0; the IN1 edge starts it in that cycle, in its direction.
+#[test]
+fn smd_r2_090_every_move_type_waits_for_the_edge() {
+    let cases: [(&str, u16, u16, u16); 10] = [
+        ("Absolute", 0, cmd0::ABSOLUTE_MOVE, stat0::MOVING_CW),
+        ("Relative", 0, cmd0::RELATIVE_MOVE, stat0::MOVING_CW),
+        ("Jog CW", 0, cmd0::JOG_CW, stat0::MOVING_CW),
+        ("Jog CCW", 0, cmd0::JOG_CCW, stat0::MOVING_CCW),
+        (
+            "Registration CW",
+            cmd1::REGISTRATION_MOVE,
+            cmd0::JOG_CW,
+            stat0::MOVING_CW,
+        ),
+        (
+            "Registration CCW",
+            cmd1::REGISTRATION_MOVE,
+            cmd0::JOG_CCW,
+            stat0::MOVING_CCW,
+        ),
+        ("Find Home CW", 0, cmd0::FIND_HOME_CW, stat0::MOVING_CW),
+        ("Find Home CCW", 0, cmd0::FIND_HOME_CCW, stat0::MOVING_CCW),
+        ("Blend", 0, cmd0::RUN_ASSEMBLED_MOVE, stat0::MOVING_CW),
+        (
+            "Dwell",
+            cmd1::DWELL,
+            cmd0::RUN_ASSEMBLED_MOVE,
+            stat0::MOVING_CW,
+        ),
+    ];
+    for (case, extra, c, moving) in cases {
+        // IN1 = Start Indexed, IN2 = Home.
+        let mut r = rig(START_INDEXED | (6 << 3));
+        r.program(&[(1_000, 4_000, 10, 10), (1_000, 2_000, 10, 10)], false);
+        r.out.cmd1 = cmd1::ENABLE_DRIVER | cmd1::INDEXED | extra;
+        r.out.position = 1_500;
+        r.out.velocity = 5_000;
+        r.out.jerk = 10;
+        r.command(c);
+        for k in 0..200 {
+            assert_eq!(
+                r.s0() & (stat0::STOPPED | stat0::COMMAND_ERROR | stat0::INPUT_ERROR),
+                stat0::STOPPED,
+                "{case}, cycle {k}"
+            );
+            assert_eq!(r.pos(), 0, "{case}");
+            r.cycle();
+        }
+        r.ix.set_input(1, true);
+        r.cycle();
+        assert_eq!(
+            r.s0() & (stat0::STOPPED | stat0::MOVING_CW | stat0::MOVING_CCW),
+            moving,
+            "{case}"
+        );
+    }
+}
+
 /// SMD-R2-093, SMD-R2-096: clearing the command cancels it; a new edge latches new parameters.
 #[test]
 fn smd_r2_093_096_indexed_cancel_and_new_parameters() {
