@@ -17,7 +17,7 @@ use ds402::x67::module::{Diagnostic, Module};
 use ds402::x67::motor::{self, Load, MotorParams};
 use ds402::x67::registers::{Access, AxisReg, ModuleReg, RegType, Register, RegisterError};
 use x67_rig::{
-    assert_state, increments, operation_enable, set, set_currents, switch_on, FAULT,
+    assert_state, increments, mask, operation_enable, set, set_currents, switch_on, FAULT,
     FAULT_REACTION_ACTIVE, NOT_READY, OPERATION_ENABLE, QUICK_STOP_ACTIVE, QUICK_STOP_FROM_ENABLED,
     READY, SWITCHED_ON, SWITCH_ON_DISABLED,
 };
@@ -597,6 +597,122 @@ fn x67_18_11_4_3_11_shutdown_during_motion_cuts_the_voltage() {
     assert_eq!(milliamps(&m, 0), 0);
     assert_eq!(m.act_val(0), 1050);
     assert_eq!(increments(&mut m, 0, 5), [0; 5]);
+}
+
+/// The command of the seed's table (18.11.4.1) that control word `cw` gives after `prev`, written out
+/// from the table: a rising bit 7 is a Fault reset; otherwise bit 7 = 1 is no command; then bit 1 = 0 is
+/// Disable voltage, bit 2 = 0 Quick stop, bit 0 = 0 Shutdown, bit 3 = 0 Switch on (Disable operation)
+/// and bit 3 = 1 Enable operation.
+fn table_command(prev: u16, cw: u16) -> Option<&'static str> {
+    if cw & 0x80 != 0 {
+        return (prev & 0x80 == 0).then_some("fault reset");
+    }
+    Some(if cw & 0x02 == 0 {
+        "disable voltage"
+    } else if cw & 0x04 == 0 {
+        "quick stop"
+    } else if cw & 0x01 == 0 {
+        "shutdown"
+    } else if cw & 0x08 == 0 {
+        "switch on"
+    } else {
+        "enable operation"
+    })
+}
+
+/// The state pattern after `command` in the state shown by `from`, from the transitions of 18.11.4.3;
+/// a command with no transition leaves the state as it is (X67-18.11.4.1-13).
+fn table_next(from: u16, command: Option<&str>) -> u16 {
+    match (from, command) {
+        (SWITCH_ON_DISABLED, Some("shutdown")) => READY,
+        (READY, Some("switch on")) => SWITCHED_ON,
+        (READY | SWITCHED_ON, Some("disable voltage" | "quick stop")) => SWITCH_ON_DISABLED,
+        (SWITCHED_ON, Some("enable operation")) => OPERATION_ENABLE,
+        (SWITCHED_ON | OPERATION_ENABLE, Some("shutdown")) => READY,
+        (OPERATION_ENABLE, Some("switch on")) => SWITCHED_ON,
+        (OPERATION_ENABLE | QUICK_STOP_ACTIVE, Some("disable voltage")) => SWITCH_ON_DISABLED,
+        (OPERATION_ENABLE, Some("quick stop")) => QUICK_STOP_ACTIVE,
+        (QUICK_STOP_ACTIVE, Some("enable operation")) => OPERATION_ENABLE,
+        (FAULT, Some("fault reset")) => SWITCH_ON_DISABLED,
+        (state, _) => state,
+    }
+}
+
+/// X67-18.11.4.1-01 … X67-18.11.4.1-09, X67-18.11.4.1-13, through the module as a master drives it:
+/// every control word of bits 0–7, alone and with bit 9 or 10 set, written in each state (Switch on
+/// disabled, Ready to switch on and Switched on after the identification, Operation enable and Quick
+/// stop active while moving, Fault with its cause gone) gives the state the seed's command table and
+/// transitions give. And bit 7 already 1 before: 0x0086 is no command, 0x0006 then Shutdown.
+#[test]
+fn x67_18_11_4_1_command_table_through_the_module() {
+    let tour = tour();
+    let at = |state: State| {
+        tour.iter()
+            .rev()
+            .find(|(s, _)| *s == state)
+            .unwrap()
+            .1
+            .clone()
+    };
+    let mut ready = at(State::SwitchedOn);
+    ready.set_control(0, SHUTDOWN);
+    ready.step();
+    assert_state(&ready, 0, READY);
+    let mut fault = at(State::SwitchOnDisabled);
+    fault.set_temperature(86.0);
+    fault.step();
+    fault.set_temperature(25.0);
+    fault.set_control(0, DISABLE_VOLTAGE);
+    fault.step();
+    assert_state(&fault, 0, FAULT);
+    let snapshots = [
+        (SWITCH_ON_DISABLED, at(State::SwitchOnDisabled), 0),
+        (READY, ready, SHUTDOWN),
+        (SWITCHED_ON, at(State::SwitchedOn), SWITCH_ON),
+        (
+            OPERATION_ENABLE,
+            at(State::OperationEnabled),
+            ENABLE_OPERATION,
+        ),
+        (
+            QUICK_STOP_ACTIVE,
+            at(State::QuickStopActive),
+            QUICK_STOP_FROM_ENABLED,
+        ),
+        (FAULT, fault, DISABLE_VOLTAGE),
+    ];
+    let mut tried = 0;
+    for (from, base, prev) in &snapshots {
+        assert_state(base, 0, *from);
+        for low in 0u16..=0xFF {
+            for reserved in [0, 0x0200, 0x0400] {
+                let cw = low | reserved;
+                let mut m = base.clone();
+                m.set_control(0, cw);
+                m.step();
+                let expected = table_next(*from, table_command(*prev, cw));
+                assert_eq!(
+                    m.status_word(0) & mask(expected),
+                    expected,
+                    "from {from:#06x} with CW {cw:#06x}: SW {:#06x}",
+                    m.status_word(0)
+                );
+                tried += 1;
+            }
+        }
+    }
+    assert_eq!(tried, 6 * 256 * 3);
+
+    // X67-18.11.4.1-09: with bit 7 already 1, 0x0086 is no Shutdown; 0x0006 is.
+    let mut m = at(State::SwitchOnDisabled);
+    m.set_control(0, FAULT_RESET);
+    m.step();
+    m.set_control(0, SHUTDOWN | FAULT_RESET);
+    m.step();
+    assert_state(&m, 0, SWITCH_ON_DISABLED);
+    m.set_control(0, SHUTDOWN);
+    m.step();
+    assert_state(&m, 0, READY);
 }
 
 /// X67-18.11.4.3-12: Disable voltage during a move: Switch on disabled, no phase current, no braking.
