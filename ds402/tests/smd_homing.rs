@@ -269,6 +269,45 @@ fn smd_r4_011_to_015_home_input_only_profile() {
     assert_eq!(r.s0() & stat0::AT_HOME, 0);
 }
 
+/// IN1 = Home, active over steps −5,200 … −5,000.
+fn home_at_minus_5000(p: i64) -> (bool, bool) {
+    ((-5_200..=-5_000).contains(&p), false)
+}
+
+/// SMD-R4-009, SMD-R4-011 … SMD-R4-015: Find Home CCW is the mirror image of Find Home CW: search CCW,
+/// brake past the edge at −5,000, 2 s, back off CW past it, 2 s, return CCW at V_S, home at 0.
+#[test]
+fn smd_r4_009_find_home_ccw_is_the_mirror_image() {
+    let mut r = rig(HOME);
+    r.out.acceleration = 40;
+    let trace = home(&mut r, cmd0::FIND_HOME_CCW, home_at_minus_5000, 16_000);
+    let ph = phases(&trace);
+    assert_eq!(
+        kinds(&ph),
+        [CCW_ACC, CCW_RUN, CCW_DEC, PAUSE, CW_ACC, CW_RUN, CW_DEC, PAUSE, CCW_RUN, HOMED],
+        "{ph:?}"
+    );
+    assert_cruise(&trace, ph[1], -5);
+    assert_cruise(&trace, ph[5], 5);
+    let at = |k: usize| trace[k].motor_position;
+    assert!(
+        (-5_005..=-5_000).contains(&at(ph[2].first - 1)),
+        "{}",
+        at(ph[2].first - 1)
+    );
+    assert!(
+        (-5_000..-4_995).contains(&at(ph[6].first - 1)),
+        "{}",
+        at(ph[6].first - 1)
+    );
+    for k in [3, 7] {
+        assert!((1_999..=2_001).contains(&ph[k].len), "pause {:?}", ph[k]);
+    }
+    assert_at_vs(&trace, ph[8], -1);
+    assert_eq!(trace[ph[9].first].motor_position, 0);
+    assert_rest(&trace, ph[9].first, 3_000);
+}
+
 /// SMD-R4-016: the Home input already active when Find Home is issued: the profile starts at step 5,
 /// CCW from the first cycle, with no first approach and no first pause; then the 2 s pause, the return
 /// at V_S and home.
@@ -323,12 +362,14 @@ fn flag_while_braking(p: i64) -> (bool, bool) {
     )
 }
 
-/// A Find Home CW with Use_Backplane_Proximity, CMD1.11 pulsed 0 → 1 → 0 over steps 15,000 … 15,100.
+/// A Find Home CW with Use_Backplane_Proximity, CMD1.11 at 1 for the one cycle after the motor passed
+/// step 15,000, 0 before and after.
 fn proximity_run(sensors: Sensors, ms: usize) -> Vec<Inputs> {
     let mut r = rig(HOME | CFG0_USE_BACKPLANE_PROXIMITY);
     r.cycle();
     r.out.cmd0 = cmd0::FIND_HOME_CW;
     let mut trace = Vec::new();
+    let mut pulsed = false;
     for _ in 0..ms {
         if r.s0() & stat0::AT_HOME == 0 {
             step(&mut r, sensors);
@@ -336,11 +377,11 @@ fn proximity_run(sensors: Sensors, ms: usize) -> Vec<Inputs> {
             r.cycle();
         }
         trace.push(r.last);
-        let p = r.ix.position();
-        if (15_000..15_100).contains(&p) {
-            r.out.cmd1 |= cmd1::BACKPLANE_PROXIMITY; // the 0→1 edge ...
-        } else {
-            r.out.cmd1 &= !cmd1::BACKPLANE_PROXIMITY; // ... and back to 0 (SMD-R4-020)
+        // The 0→1 edge, and back to 0 in the next cycle (SMD-R4-020).
+        r.out.cmd1 &= !cmd1::BACKPLANE_PROXIMITY;
+        if !pulsed && r.ix.position() >= 15_000 {
+            r.out.cmd1 |= cmd1::BACKPLANE_PROXIMITY;
+            pulsed = true;
         }
     }
     trace

@@ -111,10 +111,10 @@ impl Indexer {
         } else {
             self.execute(rising, out)
         };
-        // SMD-R1-021/SMD-R1-022, SMD-R5-022: with DC_Sync a new move waits for SYNC0.
+        // SMD-R1-021/SMD-R1-022, SMD-R5-022: with DC_Sync a new move waits for SYNC0. Only a move
+        // command or a Resume starts motion from rest.
         if !had_motion
             && self.segment.is_some()
-            && rising & (MOVE_BITS | cmd0::RESUME_MOVE) != 0
             && self.config.cfg1 & crate::smd::config::CFG1_DC_SYNC != 0
         {
             self.sync_wait = Some(f64::INFINITY);
