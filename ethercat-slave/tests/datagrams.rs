@@ -264,6 +264,60 @@ fn eeprom_interface_reads_the_sii_image() {
     assert_eq!(u32::from_le_bytes(data[..4].try_into().unwrap()), 42);
 }
 
+/// Writes beside a DC register do not act on it (ETG.1000.4 §9): the 4 bytes just before the system
+/// time (0x090C) and the 8 just after it (0x0918) leave the system time difference (0x092C) at 0, and
+/// the 4 bytes after the port 0 receive time (0x0904) latch nothing into 0x0900; the register's own
+/// writes then do both.
+#[test]
+fn writes_beside_a_dc_register_do_not_act_on_it() {
+    let mut c = Chain::new(2);
+    let read = |c: &mut Chain, at: u16, n: usize| {
+        run(c, &[Datagram::new(cmd::APRD, 0, at, vec![0; n])])[0]
+            .data
+            .clone()
+    };
+    let write = |c: &mut Chain, at: u16, data: Vec<u8>| {
+        let r = run(c, &[Datagram::new(cmd::APWR, 0, at, data)]);
+        assert_eq!(r[0].wkc, 1);
+    };
+    assert_eq!(read(&mut c, 0x092C, 4), [0; 4]);
+    write(&mut c, 0x090C, vec![0x55; 4]);
+    write(&mut c, 0x0918, vec![0x55; 8]);
+    assert_eq!(read(&mut c, 0x092C, 4), [0; 4], "no system-time write");
+    let latched = read(&mut c, 0x0900, 4);
+    write(&mut c, 0x0904, vec![0; 4]);
+    assert_eq!(read(&mut c, 0x0900, 4), latched, "no receive-time latch");
+    // The registers themselves: a system time 2^40 ns ahead, a latch of the local time.
+    write(&mut c, 0x0910, (1u64 << 40).to_le_bytes().to_vec());
+    assert_ne!(read(&mut c, 0x092C, 4), [0; 4]);
+    write(&mut c, 0x0900, vec![0; 4]);
+    assert_ne!(read(&mut c, 0x0900, 4), latched);
+}
+
+/// The DL status (0x0110) of each slave of a chain of three: PDI operational, link and communication on
+/// port 0, and on port 1 where a slave follows (0x5A31); the last one's port 1 is closed (0x5611).
+#[test]
+fn dl_status_shows_where_the_chain_ends() {
+    let mut c = Chain::new(3);
+    for (k, expected) in [(0u16, 0x5A31u16), (1, 0x5A31), (2, 0x5611)] {
+        let r = run(
+            &mut c,
+            &[Datagram::new(
+                cmd::APRD,
+                0u16.wrapping_sub(k),
+                0x0110,
+                vec![0; 2],
+            )],
+        );
+        assert_eq!(
+            (r[0].wkc, r[0].data.clone()),
+            (1, expected.to_le_bytes().to_vec()),
+            "slave {k}"
+        );
+    }
+    assert_eq!(format!("{:?}", c.slaves[2]), "Esc { station_address: 0 }");
+}
+
 /// A flood of 100,000 random frames (EtherCAT-typed, random datagrams, random lengths) leaves the
 /// chain answering a valid frame exactly.
 #[test]
