@@ -149,9 +149,10 @@ impl Esc {
     /// Where the slave is in a chain of `n`: the DL status (ports 0 and 1 open with communication
     /// when a slave follows; ports 2 and 3 closed) and the DC propagation.
     pub fn set_position(&mut self, k: usize, n: usize) {
-        let last = k + 1 >= n;
-        let mut dl: u16 = 0x0001 | 0x0010 | 0x0200 | 0x1000 | 0x4000;
-        dl |= if last { 0x0400 } else { 0x0020 | 0x0800 };
+        // Bits 0 (PDI operational), 4 (link on port 0), 9 (communication on port 0), 12 and 14
+        // (ports 2 and 3 closed), and for port 1: link and communication (bits 5 and 11) where a
+        // slave follows, closed (bit 10) at the end of the chain.
+        let dl: u16 = if k + 1 >= n { 0x5611 } else { 0x5A31 };
         self.store(DL_STATUS, &dl.to_le_bytes());
         self.clock.position = k as u64;
         self.clock.return_hops = 2 * (n.saturating_sub(k + 1)) as u64;
