@@ -83,8 +83,6 @@ pub struct Esc {
     pub al: al::AlConfig,
     /// The last mailbox put for the master, for a repeat request.
     pub(crate) last_mailbox: Option<Vec<u8>>,
-    /// A new output image arrived since [`Esc::take_outputs_written`].
-    pub(crate) outputs_written: bool,
     /// The chain time (ns) of the last output image, or of the last check while no SyncManager is
     /// watched (the SyncManager watchdog runs from it).
     watchdog_from: u64,
@@ -125,7 +123,6 @@ impl Esc {
             sii: Vec::new(),
             al: al::AlConfig::default(),
             last_mailbox: None,
-            outputs_written: false,
             watchdog_from: 0,
             watchdog_expired: false,
             clock: dc::Clock::default(),
@@ -168,16 +165,11 @@ impl Esc {
 
     /// A new output image: the SyncManager watchdog starts again.
     pub(crate) fn outputs_arrived(&mut self) {
-        self.outputs_written = true;
         self.watchdog_from = self.clock.now;
         self.watchdog_expired = false;
         self.store(WATCHDOG_STATUS_PD, &[1, 0]);
     }
 
-    /// Whether a new output image arrived since the last call.
-    pub fn take_outputs_written(&mut self) -> bool {
-        std::mem::take(&mut self.outputs_written)
-    }
 
     /// The process-data watchdog time: (divider + 2) × 40 ns × 0x0420; zero when disabled.
     pub fn watchdog_time(&self) -> std::time::Duration {
