@@ -645,6 +645,22 @@ fn smd_r2_090_every_move_type_waits_for_the_edge() {
             moving,
             "{case}"
         );
+        // From the edge on it is the move the same command gives at once without Indexed_Command:
+        // STATUS_word0 and Motor_Position cycle for cycle.
+        let mut plain = rig(START_INDEXED | (6 << 3));
+        plain.program(&[(1_000, 4_000, 10, 10), (1_000, 2_000, 10, 10)], false);
+        plain.out = Outputs {
+            cmd1: cmd1::ENABLE_DRIVER | extra,
+            ..r.out
+        };
+        plain.command(c);
+        let seen = |r: &Rig| (r.s0(), r.pos());
+        assert_eq!(seen(&r), seen(&plain), "{case}, first cycle");
+        for k in 1..3_000 {
+            r.cycle();
+            plain.cycle();
+            assert_eq!(seen(&r), seen(&plain), "{case}, cycle {k}");
+        }
     }
 }
 

@@ -170,7 +170,6 @@ impl Esc {
         self.store(WATCHDOG_STATUS_PD, &[1, 0]);
     }
 
-
     /// The process-data watchdog time: (divider + 2) × 40 ns × 0x0420; zero when disabled.
     pub fn watchdog_time(&self) -> std::time::Duration {
         let divider = u64::from(self.read_u16(WATCHDOG_DIVIDER));

@@ -1,7 +1,7 @@
 //! The two discrete DC inputs (Reference 1, "Available Discrete DC Inputs"; Reference 5, CFG_Word_0
 //! and CFG_Word_1): their active levels, their functions and what their edges do.
 
-use super::{cmd1, Cfg0, Indexer, InputFunction, Outputs, Purpose};
+use super::{Cfg0, Indexer, InputFunction, Purpose};
 
 impl Indexer {
     /// Whether current flows into input `n` (1 or 2): the wiring, as a sensor drives it. Acted on at
@@ -77,13 +77,8 @@ impl Indexer {
                         self.capture();
                         if let Some((bit, out)) = self.pending_index {
                             if !self.busy() {
-                                let outcome = self.execute(
-                                    bit,
-                                    Outputs {
-                                        cmd1: out.cmd1 & !cmd1::INDEXED,
-                                        ..out
-                                    },
-                                );
+                                // Only a command's arrival reads Indexed_Command.
+                                let outcome = self.execute(bit, out);
                                 self.apply(outcome);
                             }
                         }
