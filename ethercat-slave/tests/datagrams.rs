@@ -294,6 +294,82 @@ fn writes_beside_a_dc_register_do_not_act_on_it() {
     assert_ne!(read(&mut c, 0x0900, 4), latched);
 }
 
+/// A broadcast read ORs what the slaves hold: two slaves in Init both give AL status 0x0001, which
+/// ORed is 0x0001 (an exclusive or would give 0); a station address only one holds comes through.
+#[test]
+fn a_broadcast_read_ors_the_slaves_values() {
+    let mut c = Chain::new(2);
+    let r = run(&mut c, &[Datagram::new(cmd::BRD, 0, 0x0130, vec![0; 2])]);
+    assert_eq!((r[0].wkc, r[0].data.clone()), (2, vec![0x01, 0x00]));
+    run(
+        &mut c,
+        &[Datagram::new(
+            cmd::APWR,
+            0,
+            STATION_ADDRESS,
+            vec![0x34, 0x12],
+        )],
+    );
+    let r = run(
+        &mut c,
+        &[Datagram::new(cmd::BRD, 0, STATION_ADDRESS, vec![0; 2])],
+    );
+    assert_eq!(r[0].data, [0x34, 0x12]);
+}
+
+/// A master's write over a whole SyncManager's registers, here SM2's at 0x0810, takes its start,
+/// length, control and activate bytes, but not the ESC's own status (byte 5) or PDI control (byte 7).
+#[test]
+fn sync_manager_status_and_pdi_bytes_are_the_escs() {
+    let mut c = Chain::new(1);
+    let written = vec![0x00, 0x11, 0x04, 0x00, 0x64, 0xFF, 0x01, 0xFF];
+    run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x0810, written)]);
+    let r = run(&mut c, &[Datagram::new(cmd::APRD, 0, 0x0810, vec![0; 8])]);
+    assert_eq!(r[0].data, [0x00, 0x11, 0x04, 0x00, 0x64, 0x00, 0x01, 0x00]);
+}
+
+/// An EEPROM write (command 0x02 with write enable, ETG.1000.4 §6.4) of the image's last word takes
+/// it; one word past the end is refused with the error bit 0x2000 and changes nothing.
+#[test]
+fn eeprom_writes_up_to_the_last_word() {
+    let d = common::smd();
+    let mut c = Chain::new(1);
+    c.slaves[0].sii = od::sii::write(&d, 42).unwrap();
+    let image = c.slaves[0].sii.clone();
+    let words = (image.len() / 2) as u32;
+    let write = |c: &mut Chain, word: u32| {
+        run(
+            c,
+            &[Datagram::new(
+                cmd::APWR,
+                0,
+                0x0504,
+                word.to_le_bytes().to_vec(),
+            )],
+        );
+        run(c, &[Datagram::new(cmd::APWR, 0, 0x0508, vec![0xAB, 0xCD])]);
+        run(
+            c,
+            &[Datagram::new(
+                cmd::APWR,
+                0,
+                0x0502,
+                0x0201u16.to_le_bytes().to_vec(),
+            )],
+        );
+        let status = run(c, &[Datagram::new(cmd::APRD, 0, 0x0502, vec![0; 2])]);
+        u16::from_le_bytes([status[0].data[0], status[0].data[1]])
+    };
+    assert_eq!(write(&mut c, words) & 0x2000, 0x2000, "past the end");
+    assert_eq!(c.slaves[0].sii, image);
+    assert_eq!(write(&mut c, words - 1) & 0x2000, 0);
+    let mut expected = image.clone();
+    let n = expected.len();
+    expected[n - 2..].copy_from_slice(&[0xAB, 0xCD]);
+    assert_eq!(c.slaves[0].sii, expected);
+    assert_eq!(&eeprom_read(&mut c, words - 1)[..2], [0xAB, 0xCD]);
+}
+
 /// The DL status (0x0110) of each slave of a chain of three: PDI operational, link and communication on
 /// port 0, and on port 1 where a slave follows (0x5A31); the last one's port 1 is closed (0x5611).
 #[test]

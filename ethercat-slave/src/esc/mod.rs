@@ -287,9 +287,7 @@ impl Esc {
         if let Some(before) = sm_before {
             self.sm_registers_written(&before);
         }
-        if usize::from(ado) < 0x0A00 && usize::from(ado) + len > 0x0900 {
-            self.dc_after_write(ado, len, time_before);
-        }
+        self.dc_after_write(ado, len, time_before);
         self.after_write(ado, len);
     }
 
@@ -322,7 +320,7 @@ impl Esc {
                     self.store(EEPROM_DATA, &bytes);
                 }
                 // Write: one word from the data register, with write enable in the same access.
-                0x02 if control & 0x0001 != 0 && word * 2 + 1 < self.sii.len() => {
+                0x02 if control & 0x0001 != 0 && word * 2 + 2 <= self.sii.len() => {
                     let d: [u8; 2] = self.bytes_at(EEPROM_DATA);
                     self.sii[word * 2..word * 2 + 2].copy_from_slice(&d);
                 }
@@ -355,8 +353,7 @@ impl Esc {
         if n >= FMMUS {
             return None;
         }
-        let base = usize::from(FMMU_BASE) + 16 * n;
-        let r = &self.mem[base..base + 16];
+        let r: [u8; 16] = self.bytes_at(FMMU_BASE + 16 * n as u16);
         if r[12] & 0x01 == 0 {
             return None;
         }
@@ -588,4 +585,75 @@ fn add_wkc(frame: &mut [u8], d: &DatagramAt, inc: u16) {
     let at = d.wkc();
     let wkc = u16::from_le_bytes([frame[at], frame[at + 1]]).wrapping_add(inc);
     frame[at..at + 2].copy_from_slice(&wkc.to_le_bytes());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An ESC with SyncManager 2 at 0x1100, 4 bytes, with `control`, `activate` and PDI control `pdi`.
+    fn with_sm2(control: u8, activate: u8, pdi: u8) -> Esc {
+        let mut esc = Esc::new();
+        esc.store(
+            sm::SM_BASE + 16,
+            &[0x00, 0x11, 4, 0, control, 0, activate, pdi],
+        );
+        esc
+    }
+
+    /// The process-data watchdog (ETG.1000.4 §6.3) guards only a SyncManager that is activated, not
+    /// disabled by the PDI, buffered, written by the master and with its watchdog bit (control 0x64);
+    /// with the default divider 2498 and time 1000 it expires after exactly (2498 + 2) × 40 ns × 1000 =
+    /// 100 ms, not 1 ns before; 0x0440 bit 0 goes to 0 and 0x0442 counts 1.
+    #[test]
+    fn the_watchdog_guards_an_enabled_output_sync_manager_only() {
+        for (case, control, activate, pdi, guarded) in [
+            ("outputs with the watchdog", 0x64, 1, 0, true),
+            ("not activated", 0x64, 0, 0, false),
+            ("disabled by the PDI", 0x64, 1, 1, false),
+            ("mailbox", 0x66, 1, 0, false),
+            ("read by the master", 0x60, 1, 0, false),
+            ("without the watchdog bit", 0x24, 1, 0, false),
+        ] {
+            let mut esc = with_sm2(control, activate, pdi);
+            assert_eq!(esc.watchdog_time(), std::time::Duration::from_millis(100));
+            esc.set_time(99_999_999);
+            assert!(!esc.check_watchdog(), "{case}");
+            assert_eq!(esc.load(WATCHDOG_STATUS_PD, 2), [1, 0], "{case}");
+            esc.set_time(100_000_000);
+            assert_eq!(esc.check_watchdog(), guarded, "{case}");
+            let expired = if guarded { [0, 0] } else { [1, 0] };
+            assert_eq!(esc.load(WATCHDOG_STATUS_PD, 2), expired, "{case}");
+            assert_eq!(
+                esc.load(WATCHDOG_COUNTER_PD, 1),
+                [u8::from(guarded)],
+                "{case}"
+            );
+        }
+    }
+
+    /// The watchdog time from its registers: (divider + 2) × 40 ns × time.
+    #[test]
+    fn watchdog_time_from_divider_and_time() {
+        let mut esc = Esc::new();
+        for (divider, time, ns) in [
+            (0u16, 1u16, 80u64),
+            (0, 0, 0),
+            (1, 3, 360),
+            (0xFFFF, 0xFFFF, 65_537 * 40 * 65_535),
+        ] {
+            esc.store(WATCHDOG_DIVIDER, &divider.to_le_bytes());
+            esc.store(WATCHDOG_TIME_PD, &time.to_le_bytes());
+            assert_eq!(esc.watchdog_time(), std::time::Duration::from_nanos(ns));
+        }
+    }
+
+    /// The application's store at the end of the memory keeps what fits and leaves the rest out; the
+    /// master's read wraps round to address 0, the ESC type 0x11.
+    #[test]
+    fn a_store_past_the_end_of_memory_keeps_what_fits() {
+        let mut esc = Esc::new();
+        esc.store(0xFFFF, &[0xA5, 0x5A]);
+        assert_eq!(esc.load(0xFFFF, 2), [0xA5, 0x11]);
+    }
 }
