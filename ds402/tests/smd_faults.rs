@@ -94,12 +94,25 @@ fn smd_r1_020_r6_071_074_over_temperature() {
     r.ix.set_temperature(89.0);
     r.cycle();
     assert_eq!(r.s1() & stat1::TEMPERATURE_ABOVE_90, 0);
+    // "Above": exactly 90 °C is no warning, exactly 95 °C no fault.
+    r.ix.set_temperature(90.0);
+    r.cycle();
+    assert_eq!(r.s1() & stat1::TEMPERATURE_ABOVE_90, 0, "90 °C");
+    r.ix.set_temperature(95.0);
+    r.cycle();
+    assert_eq!(
+        r.s1() & (stat1::TEMPERATURE_ABOVE_90 | stat1::DRIVER_FAULT),
+        stat1::TEMPERATURE_ABOVE_90,
+        "95 °C"
+    );
+    r.ix.set_temperature(89.0);
+    r.cycle();
     r.out.position = 50_000;
     r.command(cmd0::RELATIVE_MOVE);
     for _ in 0..200 {
         r.cycle();
     }
-    r.ix.set_temperature(96.0);
+    r.ix.set_temperature(95.1);
     r.cycle();
     assert_eq!(
         r.s1() & (stat1::DRIVER_FAULT | stat1::DRIVE_IS_ENABLED),

@@ -213,6 +213,66 @@ fn logical_read_write_through_fmmus() {
     assert_eq!(r[0].wkc, 0);
 }
 
+/// A logical datagram of `command` at `address` over `data`: (WKC, the data after it).
+fn logical(
+    c: &mut Chain,
+    command: ethercat_slave::frame::Command,
+    address: u32,
+    data: Vec<u8>,
+) -> (u16, Vec<u8>) {
+    let r = run(
+        c,
+        &[Datagram {
+            cmd: command,
+            index: 0,
+            address,
+            data,
+            wkc: 0,
+        }],
+    );
+    (r[0].wkc, r[0].data.clone())
+}
+
+/// Each FMMU acts only in its direction, each logical command only in its own (ETG.1000.4 §5.4.4):
+/// LRD through a write-only FMMU reads nothing, LWR through a read-only FMMU writes nothing, and an
+/// LWR over both a write and a read FMMU writes (WKC 1) without reading into the frame. An FMMU whose
+/// physical area runs past the end of the memory is left out (WKC 0).
+#[test]
+fn fmmus_and_logical_commands_keep_their_directions() {
+    let mut c = Chain::new(1);
+    fmmu(&mut c, 0, 0, 0x100, 4, 0x1100, 0x02); // write only
+    fmmu(&mut c, 0, 1, 0x200, 4, 0x1200, 0x01); // read only
+    c.slaves[0].store(0x1100, &[0x11; 4]);
+    c.slaves[0].store(0x1200, &[0x22; 4]);
+    assert_eq!(
+        logical(&mut c, cmd::LRD, 0x100, vec![0; 4]),
+        (0, vec![0; 4])
+    );
+    assert_eq!(
+        logical(&mut c, cmd::LWR, 0x200, vec![9; 4]),
+        (0, vec![9; 4])
+    );
+    assert_eq!(c.slaves[0].load(0x1200, 4), [0x22; 4]);
+    // 0x100 … 0x103 written, 0x200 … 0x203 not read, in one LWR over both.
+    let mut data = vec![7; 0x104];
+    data[0x100..].copy_from_slice(&[1, 2, 3, 4]);
+    let (wkc, after) = logical(&mut c, cmd::LWR, 0, data.clone());
+    assert_eq!((wkc, after.len()), (1, 0x104));
+    assert_eq!(after, data, "a write leaves the frame's data");
+    assert_eq!(c.slaves[0].load(0x1100, 4), [1, 2, 3, 4]);
+    let mut both = vec![0; 0x204];
+    both[0x100..0x104].copy_from_slice(&[5, 6, 7, 8]);
+    let (wkc, after) = logical(&mut c, cmd::LWR, 0, both.clone());
+    assert_eq!(wkc, 1);
+    assert_eq!(after, both);
+    // Physical 0xFFF0 … 0x1000F does not fit in the 64 KiB.
+    fmmu(&mut c, 0, 2, 0x400, 32, 0xFFF0, 0x01);
+    assert_eq!(
+        logical(&mut c, cmd::LRD, 0x400, vec![0xEE; 32]),
+        (0, vec![0xEE; 32])
+    );
+}
+
 /// Reads 8 bytes of the SII at `word` as a master does: address, read command, data register.
 fn eeprom_read(c: &mut Chain, word: u32) -> Vec<u8> {
     run(
