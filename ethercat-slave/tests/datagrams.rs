@@ -249,6 +249,11 @@ fn fmmus_and_logical_commands_keep_their_directions() {
         (0, vec![0; 4])
     );
     assert_eq!(
+        c.slaves[0].load(0x1100, 4),
+        [0x11; 4],
+        "a read writes nothing"
+    );
+    assert_eq!(
         logical(&mut c, cmd::LWR, 0x200, vec![9; 4]),
         (0, vec![9; 4])
     );
@@ -265,11 +270,17 @@ fn fmmus_and_logical_commands_keep_their_directions() {
     let (wkc, after) = logical(&mut c, cmd::LWR, 0, both.clone());
     assert_eq!(wkc, 1);
     assert_eq!(after, both);
-    // Physical 0xFFF0 … 0x1000F does not fit in the 64 KiB.
+    // Physical 0xFFF0 … 0x1000F does not fit in the 64 KiB; 0xFFFC … 0xFFFF just does.
     fmmu(&mut c, 0, 2, 0x400, 32, 0xFFF0, 0x01);
     assert_eq!(
         logical(&mut c, cmd::LRD, 0x400, vec![0xEE; 32]),
         (0, vec![0xEE; 32])
+    );
+    fmmu(&mut c, 0, 3, 0x500, 4, 0xFFFC, 0x01);
+    c.slaves[0].store(0xFFFC, &[1, 2, 3, 4]);
+    assert_eq!(
+        logical(&mut c, cmd::LRD, 0x500, vec![0; 4]),
+        (1, vec![1, 2, 3, 4])
     );
 }
 
