@@ -195,18 +195,57 @@ fn smd_r1_024_motion_command_bits_are_exclusive() {
     assert_eq!(r.ix.assembled_program(), None, "still programming");
 }
 
-/// SMD-R2-034: a move command during a running move is refused; the running move ends where it would.
+/// SMD-R2-034: no move starts while another runs: during a Relative move of 5,000, an Absolute, a
+/// Relative, a Jog and a Registration move each way, a Find Home each way and a Run Assembled are each
+/// refused with Command_Error, and the running move ends where it would, cycle for cycle as without
+/// the refused command.
 #[test]
 fn smd_r2_034_no_new_move_while_one_runs() {
-    let mut r = Rig::ready();
-    r.out.position = 5_000;
-    r.command(cmd0::RELATIVE_MOVE);
-    r.command(0);
-    r.out.position = 100;
-    r.command(cmd0::RELATIVE_MOVE);
-    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
-    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
-    assert_eq!(r.pos(), 5_000);
+    let moves = [
+        ("Absolute", 0, cmd0::ABSOLUTE_MOVE),
+        ("Relative", 0, cmd0::RELATIVE_MOVE),
+        ("Jog CW", 0, cmd0::JOG_CW),
+        ("Jog CCW", 0, cmd0::JOG_CCW),
+        ("Registration CW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CW),
+        ("Registration CCW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CCW),
+        ("Find Home CW", 0, cmd0::FIND_HOME_CW),
+        ("Find Home CCW", 0, cmd0::FIND_HOME_CCW),
+        ("Run Assembled", 0, cmd0::RUN_ASSEMBLED_MOVE),
+    ];
+    let start = || {
+        // IN1 = Home, never active; a stored program.
+        let mut r = Rig::ready_with(6, 10_000, 10, 10);
+        r.program(&[(1_000, 4_000, 10, 10), (1_000, 4_000, 10, 10)], false);
+        r.out.position = 5_000;
+        r.command(cmd0::RELATIVE_MOVE);
+        r.command(0);
+        for _ in 0..100 {
+            r.cycle();
+        }
+        r
+    };
+    let mut alone = start();
+    let mut undisturbed = Vec::new();
+    for _ in 0..3_000 {
+        let i = alone.cycle();
+        undisturbed.push((i.status0 & !stat0::COMMAND_ERROR, i.motor_position));
+    }
+    assert_eq!(alone.pos(), 5_000);
+    for (case, extra, c) in moves {
+        let mut r = start();
+        r.out.cmd1 |= extra;
+        r.out.position = 100;
+        r.command(c);
+        assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0, "{case}");
+        let mut seen = vec![(r.s0() & !stat0::COMMAND_ERROR, r.pos())];
+        r.command(0);
+        seen.push((r.s0() & !stat0::COMMAND_ERROR, r.pos()));
+        for _ in 2..3_000 {
+            let i = r.cycle();
+            seen.push((i.status0 & !stat0::COMMAND_ERROR, i.motor_position));
+        }
+        assert_eq!(seen, undisturbed, "{case}");
+    }
 }
 
 /// SMD-R2-010: an Absolute move while Position_Invalid is refused: Command_Error, no motion, no

@@ -189,6 +189,12 @@ fn smd_r1_017_r6_066_abs_encoder_error() {
         abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
         0
     );
+    abs.set_abs_encoder_fault(false);
+    assert_eq!(
+        abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
+        0,
+        "the fault gone"
+    );
     let mut inc = unit(EncoderKind::Incremental);
     inc.set_abs_encoder_fault(true);
     inc.power_cycle_turned(0, 1e9);

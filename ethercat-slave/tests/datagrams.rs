@@ -106,6 +106,73 @@ fn armw_distributes_one_slaves_value() {
     }
 }
 
+/// The read-write commands by configured address and broadcast (ETG.1000.4 §5.4): three slaves at
+/// 0x1000 … 0x1002 holding 0x01, 0x02, 0x03 at 0x0F80.
+/// - FPRW to 0x1001 reads its 0x02 into the frame and writes 0x09 there: WKC 3, the others untouched;
+/// - FRMW from 0x1001: the slave before it takes the frame's 0x00, 0x1001 reads its 0x09 into the
+///   frame, the slave after takes 0x09: WKC 3;
+/// - BRW: each slave ORs its byte into the frame and takes what reached it: 0x10 → slave 0 (then
+///   0x10 | 0x00 = 0x10), → slave 1 (0x10 | 0x09 = 0x19), → slave 2 (0x19 | 0x09): WKC 3 × 3.
+#[test]
+fn configured_and_broadcast_read_write() {
+    let mut c = Chain::new(3);
+    for k in 0..3u16 {
+        c.slaves[usize::from(k)].store(STATION_ADDRESS, &(0x1000 + k).to_le_bytes());
+        c.slaves[usize::from(k)].store(0x0F80, &[k as u8 + 1]);
+    }
+    let mem = |c: &Chain| -> Vec<u8> { c.slaves.iter().map(|s| s.load(0x0F80, 1)[0]).collect() };
+    let r = run(
+        &mut c,
+        &[Datagram::new(cmd::FPRW, 0x1001, 0x0F80, vec![0x09])],
+    );
+    assert_eq!((r[0].wkc, r[0].data.clone()), (3, vec![0x02]));
+    assert_eq!(mem(&c), [0x01, 0x09, 0x03]);
+    let r = run(
+        &mut c,
+        &[Datagram::new(cmd::FRMW, 0x1001, 0x0F80, vec![0x00])],
+    );
+    assert_eq!((r[0].wkc, r[0].data.clone()), (3, vec![0x09]));
+    assert_eq!(mem(&c), [0x00, 0x09, 0x09]);
+    let r = run(&mut c, &[Datagram::new(cmd::BRW, 0, 0x0F80, vec![0x10])]);
+    assert_eq!((r[0].wkc, r[0].data.clone()), (9, vec![0x19]));
+    assert_eq!(mem(&c), [0x10, 0x10, 0x19]);
+}
+
+/// A read-write whose write the SyncManager refuses counts the read alone: APRW over the buffer of a
+/// SyncManager the master only reads (SM3, buffered, ECAT reads) gives WKC 1 and the buffer's bytes.
+#[test]
+fn a_read_write_with_the_write_refused_counts_one() {
+    let mut c = Chain::new(1);
+    run(
+        &mut c,
+        &[Datagram::new(
+            cmd::APWR,
+            0,
+            0x0818,
+            vec![0x00, 0x12, 4, 0, 0x00, 0, 0x01, 0],
+        )],
+    );
+    c.slaves[0].store(0x1200, &[1, 2, 3, 4]);
+    let r = run(&mut c, &[Datagram::new(cmd::APRW, 0, 0x1200, vec![9; 4])]);
+    assert_eq!((r[0].wkc, r[0].data.clone()), (1, vec![1, 2, 3, 4]));
+}
+
+/// The chain's clock: `start` makes its instant time zero, and the time then counts from there; a
+/// chain never started takes its first instant as zero.
+#[test]
+fn chain_time_counts_from_its_start() {
+    let t0 = Instant::now();
+    let mut c = Chain::new(1);
+    c.start(t0);
+    c.set_now(t0 + std::time::Duration::from_millis(5));
+    assert_eq!(c.time_ns(), 5_000_000);
+    let mut later = Chain::new(1);
+    later.set_now(t0 + std::time::Duration::from_millis(5));
+    assert_eq!(later.time_ns(), 0);
+    later.set_now(t0 + std::time::Duration::from_millis(7));
+    assert_eq!(later.time_ns(), 2_000_000);
+}
+
 /// A malformed or truncated frame is refused with the reason and changes nothing.
 #[test]
 fn broken_frames_are_dropped() {
