@@ -438,17 +438,29 @@ fn smd_r4_021_proximity_bit_never_set() {
     assert!(trace[trace.len() - 1].motor_position > 17_200);
 }
 
-/// SMD-R4-022: with CFG_Word_0 bit 11 = 0, CMD_word1 bit 11 changes nothing: the run with the bit is
-/// the run without it, cycle for cycle, and it is the Home-input-only profile.
+/// SMD-R4-022: with CFG_Word_0 bit 11 = 0, CMD_word1 bit 11 changes nothing: the run with the bit
+/// rising in the search (at step 2,000) is the run without it, cycle for cycle, and it is the
+/// Home-input-only profile.
 #[test]
 fn smd_r4_022_proximity_bit_ignored_without_the_configuration() {
     let run = |proximity: bool| {
         let mut r = rig(HOME);
         r.out.acceleration = 40;
-        if proximity {
-            r.out.cmd1 |= cmd1::BACKPLANE_PROXIMITY;
+        r.cycle();
+        r.out.cmd0 = cmd0::FIND_HOME_CW;
+        let mut trace = Vec::new();
+        for _ in 0..14_000 {
+            if r.s0() & stat0::AT_HOME == 0 {
+                step(&mut r, home_at_5000);
+            } else {
+                r.cycle();
+            }
+            trace.push(r.last);
+            if proximity && r.ix.position() >= 2_000 {
+                r.out.cmd1 |= cmd1::BACKPLANE_PROXIMITY;
+            }
         }
-        home(&mut r, cmd0::FIND_HOME_CW, home_at_5000, 14_000)
+        trace
     };
     let with = run(true);
     assert_eq!(with, run(false));
