@@ -178,16 +178,30 @@ fn chain_time_counts_from_its_start() {
 fn broken_frames_are_dropped() {
     let mut c = Chain::new(1);
     let good = emit(&[Datagram::new(cmd::BWR, 0, 0x0120, vec![9])], SRC);
-    for cut in [0, 10, 15, 20, 27] {
+    // 14 bytes of Ethernet header and 2 of EtherCAT header, then one datagram of 10 + 1 + 2 bytes.
+    for (cut, what) in [
+        (0, "the Ethernet or EtherCAT header"),
+        (10, "the Ethernet or EtherCAT header"),
+        (15, "the Ethernet or EtherCAT header"),
+        (16, "the datagrams the EtherCAT header announces"),
+        (20, "the datagrams the EtherCAT header announces"),
+        (28, "the datagrams the EtherCAT header announces"),
+    ] {
         let mut f = good[..cut].to_vec();
-        assert!(
-            matches!(
-                c.handle_frame(Instant::now(), &mut f),
-                Err(FrameError::Truncated { .. })
-            ),
+        assert_eq!(
+            c.handle_frame(Instant::now(), &mut f),
+            Err(FrameError::Truncated { len: cut, what }),
             "{cut}"
         );
     }
+    // A short frame of another EtherType is refused for its type, not its length.
+    let mut f = good[..20].to_vec();
+    f[12] = 0x08;
+    f[13] = 0x06;
+    assert_eq!(
+        c.handle_frame(Instant::now(), &mut f),
+        Err(FrameError::EtherType(0x0806))
+    );
     let mut f = good.clone();
     f[12] = 0x08;
     f[13] = 0x00;
