@@ -138,6 +138,58 @@ fn configured_and_broadcast_read_write() {
     assert_eq!(mem(&c), [0x10, 0x10, 0x19]);
 }
 
+/// A frame built by hand: the Ethernet header, an EtherCAT header announcing `body` bytes, then
+/// `datagram` (as many bytes of it as given), no padding.
+fn raw_frame(body: u16, datagram: &[u8]) -> Vec<u8> {
+    let mut f = vec![0xFF; 6];
+    f.extend_from_slice(&SRC);
+    f.extend_from_slice(&[0x88, 0xA4]);
+    f.extend_from_slice(&(0x1000 | body).to_le_bytes());
+    f.extend_from_slice(datagram);
+    f
+}
+
+/// Each datagram's lengths are checked against the body the EtherCAT header announces (ETG.1000.4
+/// §5.3): a body that ends right after a datagram's 10-byte header lacks its data and working
+/// counter; one 1 or 2 bytes short of the working counter likewise; one that is exact is taken.
+#[test]
+fn datagram_lengths_against_the_announced_body() {
+    let mut c = Chain::new(1);
+    // BRD, index 0, ADP 0, ADO 0x0130, 1 data byte, not followed.
+    let header = [cmd::BRD.0, 0, 0, 0, 0x30, 0x01, 1, 0, 0, 0];
+    let mut whole = header.to_vec();
+    whole.extend_from_slice(&[0, 0, 0]);
+    for body in [10u16, 11, 12] {
+        let mut f = raw_frame(body, &whole[..usize::from(body)]);
+        let len = f.len();
+        assert_eq!(
+            c.handle_frame(Instant::now(), &mut f),
+            Err(FrameError::Truncated {
+                len,
+                what: "a datagram's data and working counter"
+            }),
+            "body {body}"
+        );
+    }
+    let mut f = raw_frame(9, &header[..9]);
+    let len = f.len();
+    assert_eq!(
+        c.handle_frame(Instant::now(), &mut f),
+        Err(FrameError::Truncated {
+            len,
+            what: "a datagram header"
+        })
+    );
+    let mut f = raw_frame(13, &whole);
+    c.handle_frame(Instant::now(), &mut f).unwrap();
+    let r = parse(&f).unwrap();
+    assert_eq!(
+        (r[0].wkc, r[0].data.clone()),
+        (1, vec![0x01]),
+        "AL status Init"
+    );
+}
+
 /// A read-write whose write the SyncManager refuses counts the read alone: APRW over the buffer of a
 /// SyncManager the master only reads (SM3, buffered, ECAT reads) gives WKC 1 and the buffer's bytes.
 #[test]
