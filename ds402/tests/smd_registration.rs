@@ -57,6 +57,52 @@ fn smd_r2_061_062_065_run_out_after_the_stop_input() {
     assert_eq!(r.s0() & stat0::POSITION_INVALID, 0);
 }
 
+/// SMD-R2-062, SMD-R2-065: the run-out's path, cycle by cycle, from the status words and positions:
+/// with a Stopping Distance of 20,000 at 10,000 steps/s and Deceleration 10, it cruises at 10
+/// steps/ms for (20,000 − 4,999.0) / 10,000 = 1.5001 s, then brakes for (10,000 − 141) / 10,000 =
+/// 0.9859 s; half-way through the braking (493 ms in) it has covered 10,000 × 0.493 − 10,000 ×
+/// 0.493² / 2 = 3,714.8 steps of it.
+#[test]
+fn smd_r2_062_065_run_out_path() {
+    let mut r = rig();
+    program(&mut r, 20_000, 0);
+    r.command(cmd0::JOG_CW);
+    cycles(&mut r, 2_000);
+    r.ix.set_input(1, true);
+    r.cycle();
+    let mut path = vec![(r.s0(), r.pos())];
+    while r.s0() & stat0::STOPPED == 0 {
+        let i = r.cycle();
+        path.push((i.status0, i.motor_position));
+        assert!(path.len() < 5_000);
+    }
+    let braking = path
+        .iter()
+        .position(|p| p.0 & stat0::DECELERATING != 0)
+        .unwrap();
+    assert!(
+        (braking as f64 - 1_500.1).abs() <= 2.0,
+        "cruise {braking} ms"
+    );
+    for w in path[..braking].windows(2) {
+        assert_eq!(w[1].1 - w[0].1, 10, "cruise at 10 steps/ms");
+    }
+    let stop = path.len() - 1;
+    assert!(
+        ((stop - braking) as f64 - 985.9).abs() <= 2.0,
+        "braking {} ms",
+        stop - braking
+    );
+    let from = path[braking - 1].1;
+    let half = path[braking - 1 + 493].1 - from;
+    assert!(
+        (f64::from(half) - 3_714.8).abs() <= 11.0,
+        "{half} steps in 493 ms"
+    );
+    // 20,000 from where the condition was taken, before the trigger cycle's 10 steps.
+    assert_eq!(path[stop].1 - path[0].1, 19_990);
+}
+
 /// SMD-R2-062, SMD-R2-020 (Registration): the run-out is exactly the Stopping Distance from where the condition was taken.
 #[test]
 fn smd_r2_062_exact_stopping_distance() {

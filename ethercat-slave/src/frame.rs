@@ -230,9 +230,8 @@ pub fn emit(datagrams: &[Datagram], src: [u8; 6]) -> Vec<u8> {
         f.extend_from_slice(&d.wkc.to_le_bytes());
     }
     // Ethernet minimum payload.
-    if f.len() < 60 {
-        f.resize(60, 0);
-    }
+    let padded = f.len().max(60);
+    f.resize(padded, 0);
     f
 }
 

@@ -61,6 +61,17 @@ fn init_to_op_with_the_checks_of_each_step() {
         (AlState::Init, true, AlStatusCode::InvalidMailbox)
     );
     request(&mut c, 0x11);
+    // Each mailbox SyncManager alone is not enough: the other one wrong is 0x0016 too.
+    for (sm0, sm1) in [(0x26, 0x26), (0x22, 0x22)] {
+        sm(&mut c, 0, 0x1000, 128, sm0);
+        sm(&mut c, 1, 0x1080, 128, sm1);
+        assert_eq!(
+            request(&mut c, 0x02),
+            (AlState::Init, true, AlStatusCode::InvalidMailbox),
+            "SM0 {sm0:#04x}, SM1 {sm1:#04x}"
+        );
+        request(&mut c, 0x11);
+    }
     sm(&mut c, 0, 0x1000, 128, 0x26);
     sm(&mut c, 1, 0x1080, 128, 0x22);
     assert_eq!(

@@ -138,6 +138,52 @@ fn configured_and_broadcast_read_write() {
     assert_eq!(mem(&c), [0x10, 0x10, 0x19]);
 }
 
+/// What `emit` writes `parse` reads back, field by field: command, index, the 32-bit address (ADP and
+/// ADO), data and working counter of each datagram; a short frame is padded to the 60-byte Ethernet
+/// minimum.
+#[test]
+fn emit_and_parse_round_trip() {
+    let dgs = vec![
+        Datagram {
+            cmd: cmd::FPRW,
+            index: 0xA5,
+            address: 0x1234_5678,
+            data: vec![1, 2, 3],
+            wkc: 0xBEEF,
+        },
+        Datagram {
+            cmd: cmd::LRD,
+            index: 7,
+            address: 0x8000_0001,
+            data: vec![9; 40],
+            wkc: 2,
+        },
+    ];
+    let f = emit(&dgs, SRC);
+    assert_eq!(f.len(), 14 + 2 + (10 + 3 + 2) + (10 + 40 + 2));
+    assert_eq!(parse(&f).unwrap(), dgs);
+    let short = emit(&dgs[..1], SRC);
+    assert_eq!(short.len(), 60);
+    assert_eq!(short[14 + 2 + 15..], [0; 60 - 31]);
+    assert_eq!(parse(&short).unwrap(), dgs[..1]);
+}
+
+/// The local clocks a frame meets: each slave further on is 500 ns later (ETG.1000.4 §9.1), on top of
+/// its own power-up start: a broadcast latch of the receive times gives slave 1 − slave 0 =
+/// 1,000,000,007 (their starts apart) + 500 ns, and slave 2 − slave 1 the same.
+#[test]
+fn local_clocks_are_one_hop_apart() {
+    let mut c = Chain::new(3);
+    run(&mut c, &[Datagram::new(cmd::BWR, 0, 0x0900, vec![0; 4])]);
+    let t: Vec<u64> = c
+        .slaves
+        .iter()
+        .map(|s| u64::from_le_bytes(s.load(0x0918, 8).try_into().unwrap()))
+        .collect();
+    assert_eq!(t[1] - t[0], 1_000_000_007 + 500);
+    assert_eq!(t[2] - t[1], 1_000_000_007 + 500);
+}
+
 /// A frame built by hand: the Ethernet header, an EtherCAT header announcing `body` bytes, then
 /// `datagram` (as many bytes of it as given), no padding.
 fn raw_frame(body: u16, datagram: &[u8]) -> Vec<u8> {

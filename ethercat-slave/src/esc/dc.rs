@@ -76,12 +76,15 @@ impl Esc {
 
     /// Before the master reads DC registers: the system time and the next SYNC0 time are current.
     pub(crate) fn dc_before_read(&mut self, at: u16, len: usize) {
-        if !touches(at, len, SYSTEM_TIME, 0x0990 + 8 - 0x0910) {
-            return;
+        if touches(at, len, SYSTEM_TIME, 8) {
+            let t = self.system_time();
+            self.store(SYSTEM_TIME, &t.to_le_bytes());
         }
-        let t = self.system_time();
-        self.store(SYSTEM_TIME, &t.to_le_bytes());
-        if let Some(next) = self.clock.next_sync0 {
+        if let Some(next) = self
+            .clock
+            .next_sync0
+            .filter(|_| touches(at, len, START_TIME, 8))
+        {
             self.store(START_TIME, &next.to_le_bytes());
         }
     }
