@@ -71,9 +71,11 @@ fn smd_r2_062_065_run_out_path() {
     r.ix.set_input(1, true);
     r.cycle();
     let mut path = vec![(r.s0(), r.pos())];
+    let mut speeds = vec![r.ix.speed()];
     while r.s0() & stat0::STOPPED == 0 {
         let i = r.cycle();
         path.push((i.status0, i.motor_position));
+        speeds.push(r.ix.speed());
         assert!(path.len() < 5_000);
     }
     let braking = path
@@ -99,6 +101,9 @@ fn smd_r2_062_065_run_out_path() {
         (f64::from(half) - 3_714.8).abs() <= 11.0,
         "{half} steps in 493 ms"
     );
+    // The speed the simulator reports: 10,000 − 10,000 × 0.493 = 5,070 steps/s there.
+    let mid = speeds[braking - 1 + 493];
+    assert!((mid - 5_070.0).abs() <= 10.0, "{mid} steps/s half-way");
     // 20,000 from where the condition was taken, before the trigger cycle's 10 steps.
     assert_eq!(path[stop].1 - path[0].1, 19_990);
 }

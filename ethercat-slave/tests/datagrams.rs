@@ -538,8 +538,18 @@ fn writes_beside_a_dc_register_do_not_act_on_it() {
     write(&mut c, 0x0904, vec![0; 4]);
     assert_eq!(read(&mut c, 0x0900, 4), latched, "no receive-time latch");
     // The registers themselves: a system time 2^40 ns ahead, a latch of the local time.
+    // The difference (ETG.1000.4 §9.2): bit 31 set when the local copy is smaller than the time
+    // written, the magnitude held at 0x7FFF_FFFF: 2^40 ns ahead of a local time near 10^9 ns.
     write(&mut c, 0x0910, (1u64 << 40).to_le_bytes().to_vec());
-    assert_ne!(read(&mut c, 0x092C, 4), [0; 4]);
+    assert_eq!(read(&mut c, 0x092C, 4), 0xFFFF_FFFFu32.to_le_bytes());
+    // 0 written: the local copy is larger by its time since power-up, 1,000,000,007 ns and the few
+    // this test has taken: bit 31 clear.
+    write(&mut c, 0x0910, 0u64.to_le_bytes().to_vec());
+    let behind = u32::from_le_bytes(read(&mut c, 0x092C, 4).try_into().unwrap());
+    assert!(
+        (1_000_000_007..2_000_000_007).contains(&behind),
+        "{behind:#x}"
+    );
     write(&mut c, 0x0900, vec![0; 4]);
     assert_ne!(read(&mut c, 0x0900, 4), latched);
 }
