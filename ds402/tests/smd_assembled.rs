@@ -528,6 +528,58 @@ fn smd_r6_032_an_assembled_move_runs_at_the_configured_current() {
     assert_eq!(r.pos(), 1_000);
 }
 
+/// SMD-R2-036: Hold during a Blend, or during a Dwell segment, decelerates at once to a controlled
+/// stop; the move is not held (In_Hold_State stays 0) and a later Resume is a Command_Error with no
+/// motion. SMD-R2-034: in a Dwell move's pause nothing is moving, yet no other move starts.
+#[test]
+fn smd_r2_036_hold_stops_an_assembled_move_for_good() {
+    for (case, extra) in [("Blend", 0), ("Dwell", cmd1::DWELL)] {
+        let mut r = rig(0);
+        r.program(&[(3_000, 4_000, 20, 20), (3_000, 4_000, 20, 20)], false);
+        r.out.cmd1 = cmd1::ENABLE_DRIVER | extra;
+        r.out.jerk = 500;
+        r.command(cmd0::RUN_ASSEMBLED_MOVE);
+        for _ in 0..400 {
+            r.cycle();
+        }
+        r.command(cmd0::HOLD_MOVE);
+        assert_eq!(
+            r.s0() & (stat0::DECELERATING | stat0::STOPPED),
+            stat0::DECELERATING,
+            "{case}"
+        );
+        r.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
+        assert_eq!(
+            r.s0() & (stat0::IN_HOLD_STATE | stat0::MOVE_COMPLETE),
+            0,
+            "{case}"
+        );
+        let at = r.pos();
+        r.command(0);
+        r.command(cmd0::RESUME_MOVE);
+        assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0, "{case}");
+        for _ in 0..1_000 {
+            assert_eq!(r.pos(), at, "{case}");
+            r.cycle();
+        }
+    }
+    // The pause between two Dwell segments: Stopped, and a Relative move is refused.
+    let mut r = rig(0);
+    r.program(&[(500, 4_000, 20, 20), (500, 4_000, 20, 20)], false);
+    r.out.cmd1 = cmd1::ENABLE_DRIVER | cmd1::DWELL;
+    r.out.jerk = 1_000;
+    r.command(cmd0::RUN_ASSEMBLED_MOVE);
+    r.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 500);
+    r.command(0);
+    r.out.position = 100;
+    r.command(cmd0::RELATIVE_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0, "in the pause");
+    r.command(0);
+    r.until(5_000, |i| i.status0 & stat0::MOVE_COMPLETE != 0);
+    assert_eq!(r.pos(), 1_000, "the program goes on");
+}
+
 /// SMD-R2-089, SMD-R2-082: saved to flash when Program_Assembled falls with Save_to_Flash; then every
 /// command is ignored until power is cycled; after the cycle (and a configuration write) the flash
 /// program runs.

@@ -589,6 +589,26 @@ fn smd_r2_029_controlled_stop() {
 }
 
 /// SMD-R2-035: Resume with nothing held is a Command_Error; a running move carries on.
+/// SMD-R2-031, the model's pick where the manual is silent: a Hold written once the move's final
+/// braking has begun (here in its first cycle, (10,000² − 141²) / 20,000 = 4,999 steps still to go)
+/// would stop where the braking ends anyway, so the move ends on its own deceleration: Move_Complete
+/// at the target, not held.
+#[test]
+fn smd_r2_031_hold_in_the_final_braking_completes_the_move() {
+    let mut r = Rig::ready();
+    r.out.position = 20_000;
+    r.command(cmd0::RELATIVE_MOVE);
+    r.command(0);
+    r.until(10_000, |i| i.status0 & stat0::DECELERATING != 0);
+    r.command(cmd0::HOLD_MOVE);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert_eq!(r.pos(), 20_000);
+    assert_eq!(
+        r.s0() & (stat0::IN_HOLD_STATE | stat0::MOVE_COMPLETE),
+        stat0::MOVE_COMPLETE
+    );
+}
+
 /// SMD-R2-037: Hold with nothing running changes nothing.
 #[test]
 fn smd_r2_035_037_resume_and_hold_without_a_move() {

@@ -210,6 +210,35 @@ fn smd_r6_041_042_registration_parameters() {
     );
 }
 
+/// SMD-R2-036: Hold during a registration move's run-out (after the Stop input) stops it short, not
+/// held: In_Hold_State 0, a Resume is a Command_Error and nothing moves.
+#[test]
+fn smd_r2_036_hold_during_the_run_out() {
+    let mut r = rig();
+    program(&mut r, 20_000, 0);
+    r.command(cmd0::JOG_CW);
+    cycles(&mut r, 2_000);
+    r.ix.set_input(1, true);
+    r.cycle();
+    let trigger = r.pos();
+    cycles(&mut r, 200);
+    r.command(cmd0::HOLD_MOVE);
+    assert_ne!(r.s0() & stat0::DECELERATING, 0);
+    r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
+    assert!(
+        r.pos() < trigger + 20_000 - 1_000,
+        "stopped short: {}",
+        r.pos() - trigger
+    );
+    assert_eq!(r.s0() & (stat0::IN_HOLD_STATE | stat0::MOVE_COMPLETE), 0);
+    let at = r.pos();
+    r.command(0);
+    r.command(cmd0::RESUME_MOVE);
+    assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
+    cycles(&mut r, 1_000);
+    assert_eq!(r.pos(), at);
+}
+
 /// SMD-R2-036: Hold during a registration move decelerates to a stop; not held.
 #[test]
 fn smd_r2_036_hold_during_registration() {

@@ -315,7 +315,9 @@ impl Indexer {
                 let ramp = self.stop_ramp(&seg, seg.params.jerk);
                 let left = (seg.target - seg.origin).unsigned_abs() as f64 - seg.covered();
                 if ramp.distance >= left {
-                    return; // Completes on its own deceleration.
+                    // Already braking into the target: a hold would stop there too, so the move
+                    // completes on its own deceleration (SMD-R2-031, the model's pick).
+                    return;
                 }
                 self.controlled_stop(Purpose::HoldStop(Held::Move { target: seg.target }));
             }
