@@ -85,8 +85,7 @@ pub(crate) struct Gate {
 impl Esc {
     /// SyncManager `n` as configured.
     pub fn sync_manager(&self, n: usize) -> SyncManager {
-        let b = usize::from(SM_BASE) + 8 * n;
-        let r = &self.mem[b..b + 8];
+        let r: [u8; 8] = self.bytes_at(SM_BASE + 8 * n as u16);
         SyncManager {
             start: u16::from_le_bytes([r[0], r[1]]),
             len: u16::from_le_bytes([r[2], r[3]]),
