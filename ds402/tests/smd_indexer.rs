@@ -595,14 +595,18 @@ fn smd_r2_029_controlled_stop() {
 /// at the target, not held.
 #[test]
 fn smd_r2_031_hold_in_the_final_braking_completes_the_move() {
+    // From 5,000, so that the move's start is not 0.
     let mut r = Rig::ready();
+    r.out.position = 5_000;
+    r.command(cmd0::PRESET_POSITION);
+    r.command(0);
     r.out.position = 20_000;
     r.command(cmd0::RELATIVE_MOVE);
     r.command(0);
     r.until(10_000, |i| i.status0 & stat0::DECELERATING != 0);
     r.command(cmd0::HOLD_MOVE);
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
-    assert_eq!(r.pos(), 20_000);
+    assert_eq!(r.pos(), 25_000);
     assert_eq!(
         r.s0() & (stat0::IN_HOLD_STATE | stat0::MOVE_COMPLETE),
         stat0::MOVE_COMPLETE
@@ -826,7 +830,7 @@ fn assert_refused_without_motion(r: &mut Rig, case: &str, at: i32, cycles: usize
 #[test]
 fn smd_r2_051_a_refused_command_never_moves() {
     type Setup = fn(&mut Rig) -> u16;
-    let cases: [(&str, Setup); 10] = [
+    let cases: [(&str, Setup); 11] = [
         ("Absolute, Velocity 140", |r| {
             r.out.velocity = 140;
             cmd0::ABSOLUTE_MOVE
@@ -858,6 +862,18 @@ fn smd_r2_051_a_refused_command_never_moves() {
         }),
         ("Find Home, no Home input", |_| cmd0::FIND_HOME_CCW),
         ("Resume, nothing held", |_| cmd0::RESUME_MOVE),
+        ("Resume of a held move, Acceleration 0", |r| {
+            r.out.position = 100_000;
+            r.command(cmd0::RELATIVE_MOVE);
+            for _ in 0..500 {
+                r.cycle();
+            }
+            r.command(cmd0::HOLD_MOVE);
+            r.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
+            r.command(0);
+            r.out.acceleration = 0;
+            cmd0::RESUME_MOVE
+        }),
         ("Run Assembled, no program", |_| cmd0::RUN_ASSEMBLED_MOVE),
         ("Absolute and Relative", |_| {
             cmd0::ABSOLUTE_MOVE | cmd0::RELATIVE_MOVE

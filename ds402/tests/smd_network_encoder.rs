@@ -245,4 +245,16 @@ fn smd_r1_021_022_r5_022_dc_sync() {
     assert!(r.pos() <= 1, "{}", r.pos());
     r.until(20_000, |i| i.status0 & stat0::STOPPED != 0);
     assert_eq!(r.pos(), 10_000);
+
+    // With updates every 200 µs the 520 µs are counted across them: stopped after 200 and 400 µs,
+    // moving after 600.
+    r.command(0);
+    r.command(cmd0::RELATIVE_MOVE);
+    r.ix.sync0_event();
+    let step = std::time::Duration::from_micros(200);
+    for k in 1..=3 {
+        let s0 = r.ix.cycle(r.out, step).status0;
+        let moving = s0 & stat0::STOPPED == 0;
+        assert_eq!(moving, k == 3, "after {} µs", 200 * k);
+    }
 }
