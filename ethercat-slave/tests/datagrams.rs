@@ -184,6 +184,78 @@ fn local_clocks_are_one_hop_apart() {
     assert_eq!(t[2] - t[1], 1_000_000_007 + 500);
 }
 
+/// A mailbox SyncManager is written only when the master's write reaches its last byte (ETG.1000.4
+/// §8.2.1): SM0 at 0x1000, 128 bytes, master writes; 127 bytes leave it empty, the 128th fills it
+/// (status bit 3), and while it is full even a one-byte write at its first address is refused.
+#[test]
+fn a_mailbox_fills_with_its_last_byte() {
+    let mut c = Chain::new(1);
+    run(
+        &mut c,
+        &[Datagram::new(
+            cmd::APWR,
+            0,
+            0x0800,
+            vec![0x00, 0x10, 128, 0, 0x26, 0, 0x01, 0],
+        )],
+    );
+    let status = |c: &mut Chain| run(c, &[Datagram::new(cmd::APRD, 0, 0x0805, vec![0])])[0].data[0];
+    let r = run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x1000, vec![7; 127])]);
+    assert_eq!(r[0].wkc, 1);
+    assert_eq!(status(&mut c) & 0x08, 0, "127 bytes: not full");
+    let r = run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x107F, vec![7])]);
+    assert_eq!(r[0].wkc, 1);
+    assert_eq!(status(&mut c) & 0x08, 0x08, "the last byte: full");
+    let r = run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x1000, vec![9])]);
+    assert_eq!(r[0].wkc, 0, "full: refused");
+    assert_eq!(c.slaves[0].load(0x1000, 1), [7]);
+}
+
+/// The system time difference at a chain time that does not move (every frame at one instant): slave
+/// 0's local clock is its power-up start, 1,000,000,007 ns. A 32-bit write of the system time compares
+/// the low halves only; an 8-byte write compares all 64 bits.
+#[test]
+fn a_32_bit_system_time_write_compares_the_low_half() {
+    let t0 = Instant::now();
+    let mut c = Chain::new(1);
+    let mut at = |dgs: &[Datagram]| {
+        let mut f = emit(dgs, SRC);
+        c.handle_frame(t0, &mut f).unwrap();
+        parse(&f).unwrap()
+    };
+    let local: u64 = 1_000_000_007;
+    // 1,000 ns ahead in the low half, with a high half that 32 bits do not carry.
+    at(&[Datagram::new(
+        cmd::APWR,
+        0,
+        0x0910,
+        ((local + 1_000) as u32).to_le_bytes().to_vec(),
+    )]);
+    let d = at(&[Datagram::new(cmd::APRD, 0, 0x092C, vec![0; 4])]);
+    assert_eq!(
+        d[0].data,
+        (0x8000_0000u32 | 1_000).to_le_bytes(),
+        "local smaller by 1,000"
+    );
+    at(&[Datagram::new(
+        cmd::APWR,
+        0,
+        0x0910,
+        ((local - 300) as u32).to_le_bytes().to_vec(),
+    )]);
+    let d = at(&[Datagram::new(cmd::APRD, 0, 0x092C, vec![0; 4])]);
+    assert_eq!(d[0].data, 300u32.to_le_bytes(), "local larger by 300");
+    // All 64 bits: 2^32 + 1,000 ahead, held at 0x7FFF_FFFF.
+    at(&[Datagram::new(
+        cmd::APWR,
+        0,
+        0x0910,
+        ((1u64 << 32) + local + 1_000).to_le_bytes().to_vec(),
+    )]);
+    let d = at(&[Datagram::new(cmd::APRD, 0, 0x092C, vec![0; 4])]);
+    assert_eq!(d[0].data, 0xFFFF_FFFFu32.to_le_bytes());
+}
+
 /// A frame built by hand: the Ethernet header, an EtherCAT header announcing `body` bytes, then
 /// `datagram` (as many bytes of it as given), no padding.
 fn raw_frame(body: u16, datagram: &[u8]) -> Vec<u8> {

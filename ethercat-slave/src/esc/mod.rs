@@ -648,6 +648,29 @@ mod tests {
         }
     }
 
+    /// SYNC0 events (ETG.1000.4 §9.3): with a 1 ms cycle from a start 1 ms after power-up, the events
+    /// passed are reported as the last one of them, and the next is the one after it; none before
+    /// the start or between two.
+    #[test]
+    fn sync0_events_passed_are_reported_by_the_last_one() {
+        let mut esc = Esc::new();
+        let base = 1_000_000_007u64; // slave 0's local clock at time 0
+        esc.write_from(dc::SYNC0_CYCLE, &1_000_000u32.to_le_bytes());
+        esc.write_from(dc::START_TIME, &(base + 1_000_000).to_le_bytes());
+        esc.write_from(dc::SYNC_ACTIVATION, &[0x03]);
+        for (ns, passed) in [
+            (500_000, None),
+            (4_500_000, Some(base + 4_000_000)),
+            (4_900_000, None),
+            (5_000_000, Some(base + 5_000_000)),
+            (5_999_999, None),
+            (9_200_000, Some(base + 9_000_000)),
+        ] {
+            esc.set_time(ns);
+            assert_eq!(esc.sync0_passed(), passed, "at {ns} ns");
+        }
+    }
+
     /// The application's store at the end of the memory keeps what fits and leaves the rest out; the
     /// master's read wraps round to address 0, the ESC type 0x11.
     #[test]
