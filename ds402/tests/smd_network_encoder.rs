@@ -46,6 +46,16 @@ fn smd_r6_056_leaving_op() {
     for _ in 0..200 {
         r.cycle();
     }
+    // Op again while in Op is no change of state: the move goes on, the position stays valid.
+    let at = r.pos();
+    r.ix.set_network_state(NetworkState::Op);
+    r.cycle();
+    assert_eq!(
+        r.s0() & (stat0::STOPPED | stat0::POSITION_INVALID),
+        0,
+        "Op to Op"
+    );
+    assert!(r.pos() > at);
     r.ix.set_network_state(NetworkState::PreOp);
     r.cycle();
     assert_eq!(

@@ -210,6 +210,32 @@ fn smd_r6_041_042_registration_parameters() {
     );
 }
 
+/// SMD-R6-041 … SMD-R6-043, SMD-R6-040: the MRMD is (Jerk << 16) | Motor_Current and may be up to
+/// 8,388,607: 0x7F_FFFF starts the move, 0x80_0000 is a Command_Error with Move_Complete and no
+/// motion. The MRMD's low half in the Motor_Current word is no current, even with CMD_word1 bit 1:
+/// in.Motor_Current stays 8010:07's 10 while the move runs.
+#[test]
+fn smd_r6_041_043_mrmd_bounds_and_no_current_from_it() {
+    let mut r = rig();
+    program(&mut r, 1_000, 8_388_607);
+    r.out.cmd1 |= cmd1::MOTOR_CURRENT;
+    r.command(cmd0::JOG_CW);
+    cycles(&mut r, 100);
+    assert_eq!(r.s0() & (stat0::COMMAND_ERROR | stat0::STOPPED), 0);
+    assert_eq!(r.last.motor_current, 10);
+    assert!(r.pos() > 0);
+
+    let mut r = rig();
+    program(&mut r, 1_000, 8_388_608);
+    r.command(cmd0::JOG_CW);
+    assert_eq!(
+        r.s0() & (stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE | stat0::STOPPED),
+        stat0::COMMAND_ERROR | stat0::MOVE_COMPLETE | stat0::STOPPED
+    );
+    cycles(&mut r, 100);
+    assert_eq!(r.pos(), 0);
+}
+
 /// SMD-R2-036: Hold during a registration move's run-out (after the Stop input) stops it short, not
 /// held: In_Hold_State 0, a Resume is a Command_Error and nothing moves.
 #[test]
