@@ -209,6 +209,35 @@ fn a_mailbox_fills_with_its_last_byte() {
     let r = run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x1000, vec![9])]);
     assert_eq!(r[0].wkc, 0, "full: refused");
     assert_eq!(c.slaves[0].load(0x1000, 1), [7]);
+    // A new length is a new configuration: the mailbox is empty again; so is a deactivation.
+    run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x0802, vec![64, 0])]);
+    assert_eq!(status(&mut c) & 0x08, 0, "reconfigured: empty");
+    run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x1000, vec![7; 64])]);
+    assert_eq!(status(&mut c) & 0x08, 0x08);
+    run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x0806, vec![0])]);
+    assert_eq!(status(&mut c) & 0x08, 0, "deactivated: empty");
+}
+
+/// A buffered SyncManager the master writes (SM2, 0x64) shows the write event (status bit 0) after
+/// every complete write of its buffer, the second as the first.
+#[test]
+fn an_output_buffer_write_sets_the_write_event() {
+    let mut c = Chain::new(1);
+    run(
+        &mut c,
+        &[Datagram::new(
+            cmd::APWR,
+            0,
+            0x0810,
+            vec![0x00, 0x11, 4, 0, 0x64, 0, 0x01, 0],
+        )],
+    );
+    for k in 0..2 {
+        let r = run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x1100, vec![k; 4])]);
+        assert_eq!(r[0].wkc, 1);
+        let s = run(&mut c, &[Datagram::new(cmd::APRD, 0, 0x0815, vec![0])]);
+        assert_eq!(s[0].data[0] & 0x01, 0x01, "write {k}");
+    }
 }
 
 /// The system time difference at a chain time that does not move (every frame at one instant): slave
