@@ -111,6 +111,10 @@ fn ethercrab_finds_configures_and_moves_two_units() {
     let maindevice = MainDevice::new(
         pdu_loop,
         Timeouts {
+            // Generous for a loaded machine: a frame that comes back after its PDU timeout ends
+            // ethercrab's TX/RX task (ReceiveFrame), and the emulator is a process of its own.
+            pdu: Duration::from_millis(1000),
+            eeprom: Duration::from_millis(1000),
             wait_loop_delay: Duration::from_millis(1),
             mailbox_response: Duration::from_millis(1000),
             ..Timeouts::default()
