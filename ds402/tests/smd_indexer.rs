@@ -195,23 +195,26 @@ fn smd_r1_024_motion_command_bits_are_exclusive() {
     assert_eq!(r.ix.assembled_program(), None, "still programming");
 }
 
+/// Every move command the rules name (SMD-R2-034, SMD-R6-031): its name, the CMD_word1 bits it needs
+/// and its CMD_word0 bit.
+const MOVES: [(&str, u16, u16); 9] = [
+    ("Absolute", 0, cmd0::ABSOLUTE_MOVE),
+    ("Relative", 0, cmd0::RELATIVE_MOVE),
+    ("Jog CW", 0, cmd0::JOG_CW),
+    ("Jog CCW", 0, cmd0::JOG_CCW),
+    ("Registration CW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CW),
+    ("Registration CCW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CCW),
+    ("Find Home CW", 0, cmd0::FIND_HOME_CW),
+    ("Find Home CCW", 0, cmd0::FIND_HOME_CCW),
+    ("Run Assembled", 0, cmd0::RUN_ASSEMBLED_MOVE),
+];
+
 /// SMD-R2-034: no move starts while another runs: during a Relative move of 5,000, an Absolute, a
 /// Relative, a Jog and a Registration move each way, a Find Home each way and a Run Assembled are each
 /// refused with Command_Error, and the running move ends where it would, cycle for cycle as without
 /// the refused command.
 #[test]
 fn smd_r2_034_no_new_move_while_one_runs() {
-    let moves = [
-        ("Absolute", 0, cmd0::ABSOLUTE_MOVE),
-        ("Relative", 0, cmd0::RELATIVE_MOVE),
-        ("Jog CW", 0, cmd0::JOG_CW),
-        ("Jog CCW", 0, cmd0::JOG_CCW),
-        ("Registration CW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CW),
-        ("Registration CCW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CCW),
-        ("Find Home CW", 0, cmd0::FIND_HOME_CW),
-        ("Find Home CCW", 0, cmd0::FIND_HOME_CCW),
-        ("Run Assembled", 0, cmd0::RUN_ASSEMBLED_MOVE),
-    ];
     let start = || {
         // IN1 = Home, never active; a stored program.
         let mut r = Rig::ready_with(6, 10_000, 10, 10);
@@ -231,7 +234,7 @@ fn smd_r2_034_no_new_move_while_one_runs() {
         undisturbed.push((i.status0 & !stat0::COMMAND_ERROR, i.motor_position));
     }
     assert_eq!(alone.pos(), 5_000);
-    for (case, extra, c) in moves {
+    for (case, extra, c) in MOVES {
         let mut r = start();
         r.out.cmd1 |= extra;
         r.out.position = 100;
@@ -863,14 +866,7 @@ fn smd_r2_051_a_refused_command_never_moves() {
         ("Find Home, no Home input", |_| cmd0::FIND_HOME_CCW),
         ("Resume, nothing held", |_| cmd0::RESUME_MOVE),
         ("Resume of a held move, Acceleration 0", |r| {
-            r.out.position = 100_000;
-            r.command(cmd0::RELATIVE_MOVE);
-            for _ in 0..500 {
-                r.cycle();
-            }
-            r.command(cmd0::HOLD_MOVE);
-            r.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
-            r.command(0);
+            r.hold_a_move(100_000, 500);
             r.out.acceleration = 0;
             cmd0::RESUME_MOVE
         }),
@@ -894,31 +890,13 @@ fn smd_r2_051_a_refused_command_never_moves() {
 /// and no motion; Preset Position, Reset Errors, Immediate Stop and programming still work.
 #[test]
 fn smd_r6_031_every_move_refused_with_the_driver_off() {
-    let moves = [
-        ("Absolute", 0, cmd0::ABSOLUTE_MOVE),
-        ("Relative", 0, cmd0::RELATIVE_MOVE),
-        ("Jog CW", 0, cmd0::JOG_CW),
-        ("Jog CCW", 0, cmd0::JOG_CCW),
-        ("Registration CW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CW),
-        ("Registration CCW", cmd1::REGISTRATION_MOVE, cmd0::JOG_CCW),
-        ("Find Home CW", 0, cmd0::FIND_HOME_CW),
-        ("Find Home CCW", 0, cmd0::FIND_HOME_CCW),
-        ("Resume", 0, cmd0::RESUME_MOVE),
-        ("Run Assembled", 0, cmd0::RUN_ASSEMBLED_MOVE),
-    ];
-    for (case, extra, c) in moves {
+    let resume = ("Resume", 0, cmd0::RESUME_MOVE);
+    for (case, extra, c) in MOVES.into_iter().chain([resume]) {
         // IN1 = Home; a stored program; a Relative move held at 1 s.
         let mut r = Rig::ready_with(6, 10_000, 10, 10);
         r.program(&[(1_000, 4_000, 10, 10), (1_000, 4_000, 10, 10)], false);
-        r.out.position = 100_000;
-        r.command(cmd0::RELATIVE_MOVE);
-        for _ in 0..1_000 {
-            r.cycle();
-        }
-        r.command(cmd0::HOLD_MOVE);
-        r.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
+        r.hold_a_move(100_000, 1_000);
         assert_ne!(r.s0() & stat0::IN_HOLD_STATE, 0);
-        r.command(0);
         let at = r.pos();
         r.out.cmd1 = extra;
         r.out.position = 2_000;

@@ -30,11 +30,9 @@ fn cycles(r: &mut Rig, n: u32) {
     }
 }
 
-/// SMD-R2-061, SMD-R2-062, SMD-R2-065, SMD-R1-033: a CW registration move runs like a jog; the Stop
-/// input's edge (after the MRMD) runs out exactly the Stopping Distance — here longer than the
-/// braking distance, so it cruises, then brakes to V_S — and completes; the edge captured the encoder.
-#[test]
-fn smd_r2_061_062_065_run_out_after_the_stop_input() {
+/// A CW registration move with Stopping Distance 20,000 run at Velocity for 2 s, then the Stop input's
+/// edge and the cycle that takes it.
+fn triggered_run_out() -> Rig {
     let mut r = rig();
     program(&mut r, 20_000, 0);
     r.command(cmd0::JOG_CW);
@@ -42,6 +40,15 @@ fn smd_r2_061_062_065_run_out_after_the_stop_input() {
     assert_eq!(r.ix.speed(), 10_000.0, "runs like a jog");
     r.ix.set_input(1, true);
     r.cycle();
+    r
+}
+
+/// SMD-R2-061, SMD-R2-062, SMD-R2-065, SMD-R1-033: a CW registration move runs like a jog; the Stop
+/// input's edge (after the MRMD) runs out exactly the Stopping Distance — here longer than the
+/// braking distance, so it cruises, then brakes to V_S — and completes; the edge captured the encoder.
+#[test]
+fn smd_r2_061_062_065_run_out_after_the_stop_input() {
+    let mut r = triggered_run_out();
     let trigger = r.pos();
     let enc = r.last.trapped_encoder_position;
     assert!(enc > 0, "captured at the edge");
@@ -64,12 +71,7 @@ fn smd_r2_061_062_065_run_out_after_the_stop_input() {
 /// 0.493² / 2 = 3,714.8 steps of it.
 #[test]
 fn smd_r2_062_065_run_out_path() {
-    let mut r = rig();
-    program(&mut r, 20_000, 0);
-    r.command(cmd0::JOG_CW);
-    cycles(&mut r, 2_000);
-    r.ix.set_input(1, true);
-    r.cycle();
+    let mut r = triggered_run_out();
     let mut path = vec![(r.s0(), r.pos())];
     let mut speeds = vec![r.ix.speed()];
     while r.s0() & stat0::STOPPED == 0 {
@@ -240,12 +242,7 @@ fn smd_r6_041_043_mrmd_bounds_and_no_current_from_it() {
 /// held: In_Hold_State 0, a Resume is a Command_Error and nothing moves.
 #[test]
 fn smd_r2_036_hold_during_the_run_out() {
-    let mut r = rig();
-    program(&mut r, 20_000, 0);
-    r.command(cmd0::JOG_CW);
-    cycles(&mut r, 2_000);
-    r.ix.set_input(1, true);
-    r.cycle();
+    let mut r = triggered_run_out();
     let trigger = r.pos();
     cycles(&mut r, 200);
     r.command(cmd0::HOLD_MOVE);

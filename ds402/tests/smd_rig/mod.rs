@@ -109,6 +109,19 @@ impl Rig {
         n
     }
 
+    /// A Relative move of `position` run for `ms` cycles, then held: Hold_Move until Stopped,
+    /// CMD_word0 back at 0.
+    pub fn hold_a_move(&mut self, position: i32, ms: u32) {
+        self.out.position = position;
+        self.command(cmd0::RELATIVE_MOVE);
+        for _ in 0..ms {
+            self.cycle();
+        }
+        self.command(cmd0::HOLD_MOVE);
+        self.until(5_000, |i| i.status0 & stat0::STOPPED != 0);
+        self.command(0);
+    }
+
     /// The programming routine of R2 (p.41): First Block, then one Segment Block handshake per
     /// segment, then Program_Assembled back to 0 (with Save_to_Flash when `save`). Returns
     /// STATUS_word0 after each step.
