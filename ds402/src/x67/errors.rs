@@ -316,9 +316,12 @@ impl DcBus {
         self.rise = (v * v + 2.0 * joules / DC_BUS_FARADS).sqrt() - supply_volts;
     }
 
-    /// Lets `seconds` pass: the rise falls by `e^(−t/τ)`.
+    /// Lets `seconds` pass: the rise falls by `e^(−t/τ)`. A bus at the supply voltage (the usual
+    /// case, every cycle) costs no exponential.
     pub fn discharge(&mut self, seconds: f64) {
-        self.rise *= (-seconds / DC_BUS_DISCHARGE_SECONDS).exp();
+        if self.rise != 0.0 {
+            self.rise *= (-seconds / DC_BUS_DISCHARGE_SECONDS).exp();
+        }
     }
 }
 
