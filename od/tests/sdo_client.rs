@@ -17,7 +17,7 @@ use std::io;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use od::sdo::client::ReadSource;
+use od::sdo::client::{ReadSource, WriteSink};
 use od::sdo::{
     Address, ClientConfig, ClientEvent, Crc16, DownloadData, DownloadSource, Frame, SdoClient,
     SdoClientError, UploadSink,
@@ -559,6 +559,188 @@ fn block_download_errors_in_acks() {
     }
 }
 
+#[test]
+fn an_ack_drops_the_segments_of_the_sub_block_not_yet_sent() {
+    let data = twenty();
+    let (lo, hi) = crc_bytes(&data);
+    let mut b = Bench::new(ClientConfig::default());
+    b.client
+        .start_download(b.now, DOMAIN, data.clone())
+        .unwrap();
+    b.sent();
+    b.server("A4 00 20 01 7F 00 00 00");
+    // Only the first segment is out when the server acknowledges it: the next sub-block starts at
+    // byte 7, numbered from 1, and segments 2 and 3 of the old one are not sent any more.
+    let first = b.client.poll_transmit().map(|f| hex(&f));
+    assert_eq!(first, Some(seg(0x01, &data[0..7])));
+    b.server("A2 01 7F 00 00 00 00 00");
+    assert_eq!(
+        b.sent(),
+        [seg(0x01, &data[7..14]), seg(0x82, &data[14..20])]
+    );
+    // The same with the sub-block that holds the last segment: an ack of both while one is still
+    // queued ends the download, and the end frame is all that is sent.
+    b.server("A2 00 7F 00 00 00 00 00");
+    let first = b.client.poll_transmit().map(|f| hex(&f));
+    assert_eq!(first, Some(seg(0x01, &data[7..14])));
+    b.server("A2 02 7F 00 00 00 00 00");
+    assert_eq!(b.sent(), [hex(&[0xC5, lo, hi, 0, 0, 0, 0, 0])]);
+    b.server("A1 00 00 00 00 00 00 00");
+    assert_downloaded(b.outcome());
+}
+
+#[test]
+fn an_abort_with_its_unused_bits_set_is_an_abort() {
+    // CiA 301 §7.2.4.3.17: an abort is cs = 4 in bits 7–5; bits 4–0 are not used.
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    expect(b.sent(), &["A4 00 20 01 7F 00 00 00"]);
+    // To the block upload initiate: the upload again, normal.
+    b.server("9F 00 20 01 01 00 04 05");
+    expect(b.sent(), &["40 00 20 01 00 00 00 00"]);
+    b.server("81 00 20 01 00 00 02 06");
+    assert!(b.sent().is_empty());
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::NoObject, true);
+
+    // After the last segment of a block upload, waiting for its end.
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    b.sent();
+    b.server("C6 00 20 01 03 00 00 00");
+    expect(b.sent(), &["A3 00 00 00 00 00 00 00"]);
+    b.server(&seg(0x81, &[1, 2, 3]));
+    expect(b.sent(), &["A2 01 7F 00 00 00 00 00"]);
+    b.server("84 00 20 01 04 00 04 05");
+    assert!(b.sent().is_empty());
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::CrcError, true);
+}
+
+#[test]
+fn an_initiate_response_for_another_entry_is_refused() {
+    // The server answers for 0x2000:02 where 0x2000:01 was asked: abort 0x05040001 (command
+    // specifier not valid or unknown) from the client, for each kind of initiate.
+    let wrong = "80 00 20 01 01 00 04 05";
+    let mut b = Bench::segmented();
+    for answer in ["43 00 20 02 01 02 03 04", "41 00 20 02 05 00 00 00"] {
+        b.client.start_upload(b.now, DOMAIN).unwrap();
+        expect(b.sent(), &["40 00 20 01 00 00 00 00"]);
+        b.server(answer);
+        expect(b.sent(), &[wrong]);
+        assert_aborted(b.outcome(), DOMAIN, AbortCode::InvalidCommand, false);
+    }
+    let mut b = Bench::new(ClientConfig::default());
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    expect(b.sent(), &["C6 00 20 01 14 00 00 00"]);
+    b.server("A4 00 20 02 7F 00 00 00");
+    expect(b.sent(), &[wrong]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::InvalidCommand, false);
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    expect(b.sent(), &["A4 00 20 01 7F 00 00 00"]);
+    b.server("C6 00 20 02 14 00 00 00");
+    expect(b.sent(), &[wrong]);
+    assert_aborted(b.outcome(), DOMAIN, AbortCode::InvalidCommand, false);
+}
+
+#[test]
+fn data_lengths_and_the_streams_of_a_write_sink() {
+    struct Five;
+    impl DownloadSource for Five {
+        fn len(&self) -> u64 {
+            5
+        }
+        fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+            Ok(0)
+        }
+    }
+    struct Nothing;
+    impl DownloadSource for Nothing {
+        fn len(&self) -> u64 {
+            0
+        }
+        fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+            Ok(0)
+        }
+    }
+    assert!(!Five.is_empty());
+    assert!(Nothing.is_empty());
+    let five = DownloadData::Stream(Box::new(Five));
+    assert!(!five.is_empty());
+    assert_eq!(format!("{five:?}"), "Stream(5 bytes)");
+    assert!(DownloadData::from(Vec::new()).is_empty());
+    let bytes = DownloadData::from(vec![1, 2]);
+    assert!(!bytes.is_empty());
+    assert_eq!(format!("{bytes:?}"), "Bytes([1, 2])");
+
+    // A write sink writes each received piece and flushes once, at the end.
+    #[derive(Default)]
+    struct Log {
+        data: Vec<u8>,
+        flushes: usize,
+    }
+    struct Shared(Arc<Mutex<Log>>);
+    impl io::Write for Shared {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            self.0.lock().unwrap().data.extend_from_slice(buf);
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> io::Result<()> {
+            self.0.lock().unwrap().flushes += 1;
+            Ok(())
+        }
+    }
+    let log = Arc::new(Mutex::new(Log::default()));
+    let mut b = Bench::segmented();
+    let sink: Box<dyn UploadSink + Send> = Box::new(WriteSink(Shared(Arc::clone(&log))));
+    b.client.start_upload_to(b.now, DOMAIN, sink).unwrap();
+    expect(b.sent(), &["40 00 20 01 00 00 00 00"]);
+    b.server("41 00 20 01 09 00 00 00");
+    b.sent();
+    b.server("00 31 32 33 34 35 36 37");
+    b.sent();
+    assert_eq!(log.lock().unwrap().data, b"1234567");
+    assert_eq!(log.lock().unwrap().flushes, 0);
+    b.server("1B 38 39 00 00 00 00 00");
+    assert!(matches!(b.outcome(), ClientEvent::UploadedToSink { .. }));
+    assert_eq!(log.lock().unwrap().data, b"123456789");
+    assert_eq!(log.lock().unwrap().flushes, 1);
+}
+
+#[test]
+fn the_configuration_is_read_and_changed_between_transfers() {
+    let config = ClientConfig {
+        timeout: Duration::from_millis(250),
+        block: false,
+        block_size: 9,
+        ..ClientConfig::default()
+    };
+    let mut b = Bench::new(config);
+    assert_eq!(b.client.config().timeout, Duration::from_millis(250));
+    assert!(!b.client.config().block);
+    assert_eq!(b.client.config().block_size, 9);
+    let shown = format!("{:?}", b.client);
+    assert!(
+        shown.starts_with("SdoClient { config: ClientConfig { timeout: 250ms, block: false,"),
+        "{shown}"
+    );
+    assert!(
+        shown.ends_with("busy: false, response_due: None, .. }"),
+        "{shown}"
+    );
+    // Segmented, as configured.
+    b.client.start_download(b.now, DOMAIN, twenty()).unwrap();
+    expect(b.sent(), &["21 00 20 01 14 00 00 00"]);
+    let shown = format!("{:?}", b.client);
+    assert!(shown.contains("busy: true, response_due: Some("), "{shown}");
+    assert!(b.client.abort(AbortCode::General));
+    b.sent();
+    b.events();
+    // Block transfer and a block size of 5 from the next transfer on.
+    b.client.config_mut().block = true;
+    b.client.config_mut().block_size = 5;
+    assert!(b.client.config().block);
+    b.client.start_upload(b.now, DOMAIN).unwrap();
+    expect(b.sent(), &["A4 00 20 01 05 00 00 00"]);
+}
+
 // ---- Fall-back -------------------------------------------------------------------------------
 
 #[test]
@@ -1080,6 +1262,20 @@ fn downloads_beyond_4_gib_are_refused() {
     ));
     assert!(!b.client.is_busy());
     assert!(b.sent().is_empty());
+
+    // 4 GiB − 1 is the most an initiate's size field holds: taken.
+    struct Largest;
+    impl DownloadSource for Largest {
+        fn len(&self) -> u64 {
+            u64::from(u32::MAX)
+        }
+        fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+            Ok(0)
+        }
+    }
+    let source: Box<dyn DownloadSource + Send> = Box::new(Largest);
+    b.client.start_download(b.now, DOMAIN, source).unwrap();
+    expect(b.sent(), &["C6 00 20 01 FF FF FF FF"]);
 }
 
 // ---- Streaming -------------------------------------------------------------------------------

@@ -243,6 +243,22 @@ fn a_wrong_length_is_a_value_error() {
 }
 
 #[test]
+fn a_short_answer_is_a_value_error() {
+    let mut s = Script::new()
+        .line("40 00 21 00 00 00 00 00", &["4B 00 21 00 E8 03 00 00"])
+        .session();
+    match s.read_u32(Address::new(0x2100, 0)) {
+        Err(SessionError::Value(ValueError::TooShort {
+            data_type: DataType::Unsigned32,
+            expected: 4,
+            got: 2,
+        })) => {}
+        other => panic!("{other:?}"),
+    }
+    played(&s);
+}
+
+#[test]
 fn read_and_write_values() {
     let mux = Address::new(0x2100, 7);
     let mut s = Script::new()
@@ -283,6 +299,13 @@ fn strings() {
         .session();
     assert_eq!(s.read_string(name).unwrap(), "X67");
     s.write_string(name, "hello world").unwrap();
+    played(&s);
+
+    // Bytes that are no UTF-8 are Latin-1: B0 is the degree sign.
+    let mut s = Script::new()
+        .line("A4 08 10 00 7F 00 00 00", &["4B 08 10 00 B0 43 00 00"])
+        .session();
+    assert_eq!(s.read_string(name).unwrap(), "\u{B0}C");
     played(&s);
 }
 
@@ -474,6 +497,44 @@ fn download_from_a_reader_with_progress() {
         [(889, Some(2000)), (1778, Some(2000)), (2000, Some(2000))]
     );
     played(&s);
+}
+
+/// A reader that logs the size of every read asked of it and is interrupted at its second read.
+struct Logged<'a> {
+    data: &'a [u8],
+    asked: Vec<usize>,
+}
+
+impl Read for Logged<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        self.asked.push(buf.len());
+        if self.asked.len() == 2 {
+            return Err(io::ErrorKind::Interrupted.into());
+        }
+        let n = buf.len().min(self.data.len());
+        buf[..n].copy_from_slice(&self.data[..n]);
+        self.data = &self.data[n..];
+        Ok(n)
+    }
+}
+
+#[test]
+fn download_from_reads_the_length_given_and_one_sub_block_ahead() {
+    let data: Vec<u8> = (0..1500u32).map(|i| (i * 7 % 251) as u8).collect();
+    let mut s = block_download_script("00 20 01", &data[..1000]).session();
+    let mut reader = Logged {
+        data: &data,
+        asked: Vec::new(),
+    };
+    s.download_from(DOMAIN, &mut reader, 1000, |_, _| {})
+        .unwrap();
+    played(&s);
+    // Exactly 1000 bytes were taken from the reader; the rest is left to its owner.
+    assert_eq!(reader.data, &data[1000..]);
+    // Before the transfer starts, one sub-block of 889 bytes is read ahead (reads of at most 256
+    // bytes, the interrupted one asked again), no more; then the 111 left.
+    assert_eq!(reader.asked[..5], [256, 256, 256, 256, 121]);
+    assert_eq!(reader.asked[5..], [111]);
 }
 
 #[test]

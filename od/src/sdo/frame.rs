@@ -450,9 +450,10 @@ fn emit_block_ack(cs: u8, ackseq: u8, blksize: u8) -> Frame {
     f
 }
 
-fn emit_segment(cs: u8, toggle: bool, data: &SegmentData, last: bool) -> Frame {
+/// A download segment request or an upload segment response: both have command specifier 0.
+fn emit_segment(toggle: bool, data: &SegmentData, last: bool) -> Frame {
     let mut f = [0u8; 8];
-    f[0] = (cs << 5) | ((toggle as u8) << 4) | (((7 - data.len()) as u8) << 1) | last as u8;
+    f[0] = ((toggle as u8) << 4) | (((7 - data.len()) as u8) << 1) | last as u8;
     f[1..1 + data.len()].copy_from_slice(data.as_slice());
     f
 }
@@ -518,7 +519,7 @@ impl ClientFrame {
                 return emit_sized(1, mux, size)
             }
             ClientFrame::DownloadSegment { toggle, data, last } => {
-                return emit_segment(0, toggle, &data, last)
+                return emit_segment(toggle, &data, last)
             }
             ClientFrame::InitiateUpload { mux } => {
                 f[0] = 0x40;
@@ -614,7 +615,7 @@ impl ServerFrame {
             }
             ServerFrame::InitiateUploadSegmented { mux, size } => return emit_sized(2, mux, size),
             ServerFrame::UploadSegment { toggle, data, last } => {
-                return emit_segment(0, toggle, &data, last)
+                return emit_segment(toggle, &data, last)
             }
             ServerFrame::Abort { mux, code } => return abort_frame(mux, code),
             ServerFrame::InitiateBlockDownload { mux, crc, blksize } => {
@@ -692,6 +693,42 @@ mod tests {
     fn server(bytes: Frame, frame: ServerFrame) {
         assert_eq!(ServerFrame::parse(&bytes), Ok(frame), "{bytes:02X?}");
         assert_eq!(frame.emit(), bytes, "{frame:?}");
+    }
+
+    #[test]
+    fn segment_data_compares_and_shows_its_bytes_only() {
+        let three = SegmentData::new(&[1, 2, 3]);
+        assert_eq!(three.len(), 3);
+        assert!(!three.is_empty());
+        assert!(SegmentData::new(&[]).is_empty());
+        assert_eq!(SegmentData::new(&[]).len(), 0);
+        // Eight bytes given: seven taken.
+        assert_eq!(SegmentData::new(&[9; 8]).as_slice(), [9; 7]);
+        assert_eq!(three, SegmentData::new(&[1, 2, 3]));
+        assert_ne!(three, SegmentData::new(&[1, 2, 4]));
+        assert_ne!(three, SegmentData::new(&[1, 2]));
+        assert_eq!(format!("{three:?}"), "[01, 02, 03]");
+        assert_eq!(format!("{:?}", SegmentData::new(&[0xAB])), "[AB]");
+    }
+
+    #[test]
+    fn expedited_data_compares_bytes_and_size_indication() {
+        let two = ExpeditedData::new(&[0xE8, 0x03]);
+        assert_eq!(two, ExpeditedData::new(&[0xE8, 0x03]));
+        assert_ne!(two, ExpeditedData::new(&[0xE8, 0x04]));
+        // The same four bytes, with and without the size indicated.
+        let parsed = ServerFrame::parse(&[0x42, 0x17, 0x10, 0x00, 0, 0, 0, 0]).unwrap();
+        let ServerFrame::InitiateUploadExpedited { data: no_size, .. } = parsed else {
+            panic!("{parsed:?}");
+        };
+        assert!(!no_size.size_known());
+        assert_eq!(no_size.as_slice(), [0, 0, 0, 0]);
+        assert_ne!(no_size, ExpeditedData::new(&[0, 0, 0, 0]));
+        assert_eq!(format!("{two:?}"), "[E8, 03]");
+        assert_eq!(
+            format!("{no_size:?}"),
+            "[00, 00, 00, 00] (size not indicated)"
+        );
     }
 
     #[test]

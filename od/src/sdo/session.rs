@@ -297,19 +297,19 @@ impl<T: SdoTransport> SdoSession<T> {
     ) -> Result<[u8; N], SessionError<T::Error>> {
         let bytes = self.upload(mux, Some(N))?;
         let got = bytes.len();
+        // Only a length other than N gets here.
         bytes.try_into().map_err(|_| {
-            let e = if got < N {
-                ValueError::TooShort {
+            let e = match got.cmp(&N) {
+                std::cmp::Ordering::Less => ValueError::TooShort {
                     data_type,
                     expected: N,
                     got,
-                }
-            } else {
-                ValueError::TooLong {
+                },
+                _ => ValueError::TooLong {
                     data_type,
                     expected: N,
                     got,
-                }
+                },
             };
             SessionError::Value(e)
         })
@@ -427,14 +427,10 @@ impl DownloadSource for PipeSource {
     }
 
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        // The session keeps the pipe filled with what the client reads in one call, so it is never
+        // empty here before the end.
         let mut queue = lock(&self.shared);
         let n = buf.len().min(queue.len());
-        if n == 0 && !buf.is_empty() {
-            return Err(io::Error::new(
-                io::ErrorKind::WouldBlock,
-                "the download pipe is empty",
-            ));
-        }
         for (b, x) in buf.iter_mut().zip(queue.drain(..n)) {
             *b = x;
         }

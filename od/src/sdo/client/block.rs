@@ -153,12 +153,13 @@ impl BlockDownload {
     /// segments, numbered from 1.
     fn send_sub_block(&mut self, out: &mut Out) -> Result<(), Failure> {
         out.clear_block();
+        // Topped up to a whole sub-block; a buffer already that long (the block size shrank) reads
+        // nothing.
         let want = self.blksize as usize * 7;
-        if self.buf.len() < want {
-            let start = self.buf.len();
-            self.source.read_into(&mut self.buf, want - start)?;
-            crc_update(&mut self.crc, &self.buf[start..]);
-        }
+        let start = self.buf.len();
+        self.source
+            .read_into(&mut self.buf, want.saturating_sub(start))?;
+        crc_update(&mut self.crc, &self.buf[start..]);
         let count = self.buf.len().div_ceil(7).clamp(1, self.blksize as usize);
         let exhausted = self.source.remaining() == 0;
         self.last_seq = None;

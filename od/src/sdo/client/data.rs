@@ -221,7 +221,8 @@ impl Source {
                                 ),
                             ));
                         }
-                        Ok(k) => filled += k.min(start + n - filled),
+                        // A source that claims more than it was given room for is taken at its room.
+                        Ok(k) => filled = (filled + k).min(start + n),
                         Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
                         Err(e) => {
                             out.truncate(start);

@@ -83,7 +83,7 @@ impl BlockDownload {
                 let ackseq = self.next_seq - 1;
                 self.ack(ackseq)
             } else {
-                Reply::none().then(Transfer::BlockDownload(self))
+                Reply::default().then(Transfer::BlockDownload(self))
             });
         }
         if seg.last {
@@ -98,7 +98,7 @@ impl BlockDownload {
             self.ack(seg.seqno)
         } else {
             self.next_seq += 1;
-            Reply::none().then(Transfer::BlockDownload(self))
+            Reply::default().then(Transfer::BlockDownload(self))
         })
     }
 

@@ -101,7 +101,7 @@ impl BlockUpload {
         match (self.phase, frame) {
             (Phase::Initiated, ClientFrame::StartBlockUpload) => {
                 self.start_sub_block();
-                Ok(Reply::none().then(Transfer::BlockUpload(self)))
+                Ok(Reply::default().then(Transfer::BlockUpload(self)))
             }
             (Phase::Sending, ClientFrame::BlockUploadAck { ackseq, blksize }) => {
                 if ackseq > self.count {
@@ -115,7 +115,7 @@ impl BlockUpload {
                 self.blksize = blksize;
                 if self.first < self.segments() {
                     self.start_sub_block();
-                    return Ok(Reply::none().then(Transfer::BlockUpload(self)));
+                    return Ok(Reply::default().then(Transfer::BlockUpload(self)));
                 }
                 self.phase = Phase::Ending;
                 let unused = (self.segments() * SEGMENT_DATA - self.data.len()) as u8;
@@ -124,7 +124,7 @@ impl BlockUpload {
                     .then(Transfer::BlockUpload(self)))
             }
             (Phase::Ending, ClientFrame::EndBlockUpload) => {
-                Ok(Reply::none().finish(ServerEvent::Uploaded { mux: self.mux }))
+                Ok(Reply::default().finish(ServerEvent::Uploaded { mux: self.mux }))
             }
             _ => Err(AbortCode::InvalidCommand),
         }

@@ -124,11 +124,6 @@ struct Reply {
 }
 
 impl Reply {
-    /// Sends nothing.
-    fn none() -> Reply {
-        Reply::default()
-    }
-
     /// Sends `frame`.
     fn send(frame: ServerFrame) -> Reply {
         Reply {
