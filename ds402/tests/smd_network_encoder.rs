@@ -267,4 +267,34 @@ fn smd_r1_021_022_r5_022_dc_sync() {
         let moving = s0 & stat0::STOPPED == 0;
         assert_eq!(moving, k == 3, "after {} µs", 200 * k);
     }
+
+    // The 520 µs come off the motion's time: a move of exactly 2.000 s (20,282 steps at Velocity
+    // 20,141 with Acceleration = Deceleration = 20, 1.000 s up and 1.000 s down) has run 1.99948 s
+    // after 2,000 updates of 1 ms from SYNC0 and ends in update 2,001; started without DC_Sync it
+    // ends in update 2,000.
+    for dc_sync in [false, true] {
+        let mut r = Rig::ready_with(0, 20_141, 20, 20);
+        if dc_sync {
+            r.ix.write_config(2, 0x0043);
+        }
+        r.out.position = 20_282;
+        r.command(cmd0::RELATIVE_MOVE);
+        if dc_sync {
+            assert_eq!(r.pos(), 0);
+            r.ix.sync0_event();
+            r.cycle();
+        }
+        for update in 2..=1999 {
+            r.cycle();
+            assert_eq!(r.s0() & stat0::STOPPED, 0, "update {update}");
+        }
+        r.cycle();
+        let stopped = r.s0() & stat0::STOPPED != 0;
+        assert_eq!(stopped, !dc_sync, "update 2000, DC_Sync {dc_sync}");
+        if dc_sync {
+            r.cycle();
+            assert_ne!(r.s0() & stat0::STOPPED, 0, "update 2001");
+        }
+        assert_eq!(r.pos(), 20_282);
+    }
 }

@@ -21,16 +21,16 @@ pub struct AssembledSegment {
 }
 
 impl AssembledSegment {
-    fn params(&self, cmd1: u16) -> Outputs {
+    /// The segment's move parameters. The current of an assembled move is the configured one
+    /// (SMD-R6-045: a segment's Motor_Current word is reserved), set when the run starts.
+    fn params(&self) -> Outputs {
         Outputs {
-            cmd0: 0,
-            cmd1: cmd1 & !cmd1::MOTOR_CURRENT,
             position: self.position,
             velocity: self.velocity,
             acceleration: self.acceleration,
             deceleration: self.deceleration,
-            motor_current: 0,
             jerk: self.jerk,
+            ..Outputs::default()
         }
     }
 }
@@ -141,7 +141,7 @@ impl Indexer {
                 ends: Vec::new(),
             });
             let target = self.position + i64::from(first.position);
-            self.run_to(target, first.params(out.cmd1));
+            self.run_to(target, first.params());
             if self.segment.is_none() {
                 self.dwell_segment_done();
             }
@@ -163,7 +163,7 @@ impl Indexer {
             })
             .collect();
         let first = segments[0];
-        let params = first.params(out.cmd1);
+        let params = first.params();
         self.assembled = Some(AssembledRun {
             segments,
             idx: 0,
@@ -192,7 +192,7 @@ impl Indexer {
         while run.idx < n - 1 && covered >= run.ends[run.idx] {
             run.idx += 1;
             let g = run.segments[run.idx];
-            seg.params = g.params(seg.params.cmd1);
+            seg.params = g.params();
             if let Curve::Jog(j) = &mut seg.curve {
                 if j.ramp.is_some() {
                     j.ramp = None;
@@ -247,7 +247,7 @@ impl Indexer {
         run.idx += 1;
         let g = run.segments[run.idx];
         let target = self.position + i64::from(g.position);
-        self.run_to(target, g.params(self.prev.cmd1));
+        self.run_to(target, g.params());
         if self.segment.is_none() {
             self.dwell_segment_done();
         }

@@ -2,7 +2,7 @@
 //! CMD_word1, the mutually exclusive command bits, the parameter checks of a command block, the
 //! dispatch of each CMD_word0 command, Reset Errors and the two presets.
 
-use super::{cmd0, cmd1, EncoderKind, Indexer, NetworkState, Outputs};
+use super::{cmd0, cmd1, EncoderKind, Indexer, NetworkState, Outputs, SyncWait};
 
 /// Target / offset range of Absolute and Relative moves (SMD-R6-034).
 pub const POSITION_RANGE: std::ops::RangeInclusive<i32> = -8_388_608..=8_388_607;
@@ -117,7 +117,7 @@ impl Indexer {
             && self.segment.is_some()
             && self.config.cfg1 & crate::smd::config::CFG1_DC_SYNC != 0
         {
-            self.sync_wait = Some(f64::INFINITY);
+            self.sync_wait = Some(SyncWait::ForSync0);
         }
         self.apply(outcome);
     }

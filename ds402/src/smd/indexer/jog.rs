@@ -1,6 +1,8 @@
 //! Jog moves (Reference 2, "Jog Moves"): the open-ended curve, its speed changes while it runs,
 //! Invalid_Jog_Change and the stop when its bit falls.
 
+use std::time::Duration;
+
 use super::{
     cmd0, limit_towards, Curve, Indexer, InputFunction, Outcome, Outputs, Phase, Purpose, Segment,
 };
@@ -122,7 +124,7 @@ impl Indexer {
             dir,
             base: 0.0,
             curve: Curve::Jog(Jog::starting(vs, to, &params)),
-            t: 0.0,
+            elapsed: Duration::ZERO,
             purpose,
             target: self.position,
             params,

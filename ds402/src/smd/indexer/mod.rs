@@ -106,6 +106,15 @@ use motion::{limit_towards, Curve, Held, Purpose, Segment};
 pub use network::{NetworkState, SYNC0_START_DELAY};
 pub use words::{cmd0, cmd1, stat0, stat1, Inputs, Outputs, HEARTBEAT_HALF_PERIOD};
 
+/// Where a new move stands with DC_Sync on (SMD-R1-022).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SyncWait {
+    /// The next SYNC0 event is still to come.
+    ForSync0,
+    /// SYNC0 came: the motion starts once this much more time has passed.
+    Delay(Duration),
+}
+
 /// The unit: configuration, command processing, inputs, motion, status.
 #[derive(Debug, Clone)]
 pub struct Indexer {
@@ -163,8 +172,8 @@ pub struct Indexer {
     /// The last cycle's length, seconds (a Blend looks one cycle ahead to brake in time).
     last_dt: f64,
     network: NetworkState,
-    /// DC_Sync: the new move waits for SYNC0 (infinite) or starts in this many seconds.
-    sync_wait: Option<f64>,
+    /// DC_Sync: the new move waits for SYNC0, then for its start delay.
+    sync_wait: Option<SyncWait>,
     /// CMD_word0 bit 15 (Mode_Select) is 1: configuration mode, nothing processed.
     mode_flag: bool,
     /// Time in Command Mode, which the heartbeat follows.

@@ -4,7 +4,8 @@
 use std::time::Duration;
 
 use super::{
-    cmd0, Indexer, InputFunction, Jog, MoveParams, Outcome, Outputs, Phase, Profile, POSITION_RANGE,
+    cmd0, Indexer, InputFunction, Jog, MoveParams, Outcome, Outputs, Phase, Profile, SyncWait,
+    POSITION_RANGE,
 };
 
 /// What a running motion segment is for.
@@ -73,8 +74,9 @@ pub(super) struct Segment {
     /// Steps from `origin` already covered when the curve began (a stop that starts mid-move).
     pub(super) base: f64,
     pub(super) curve: Curve,
-    /// Seconds since the curve began.
-    pub(super) t: f64,
+    /// Time since the curve began, exact (whole nanoseconds), so a phase that ends on a cycle ends
+    /// on that cycle.
+    pub(super) elapsed: Duration,
     pub(super) purpose: Purpose,
     /// Where a move ends (for a held move: where the resumed move goes).
     pub(super) target: i64,
@@ -92,20 +94,25 @@ impl Segment {
         }
     }
 
-    fn finished(&self) -> bool {
-        self.t >= self.duration()
+    /// Seconds since the curve began.
+    fn t(&self) -> f64 {
+        self.elapsed.as_secs_f64()
     }
 
-    fn advance(&mut self, dt: f64) {
-        self.t += dt;
+    fn finished(&self) -> bool {
+        self.t() >= self.duration()
+    }
+
+    fn advance(&mut self, dt: Duration) {
+        self.elapsed += dt;
         if let Curve::Jog(j) = &mut self.curve {
-            j.advance(dt);
+            j.advance(dt.as_secs_f64());
         }
     }
 
     /// Steps from `origin` covered now.
     pub(super) fn covered(&self) -> f64 {
-        let t = self.t.min(self.duration());
+        let t = self.t().min(self.duration());
         self.base
             + match &self.curve {
                 Curve::Profile(p) => p.position_at(t),
@@ -129,9 +136,10 @@ impl Segment {
 
     /// The present speed (steps/s, ≥ 0).
     pub(super) fn speed(&self) -> f64 {
+        let t = self.t();
         match &self.curve {
-            Curve::Profile(p) => p.speed_at(self.t),
-            Curve::Ramp(r) => r.speed_rising(r.time - self.t),
+            Curve::Profile(p) => p.speed_at(t),
+            Curve::Ramp(r) => r.speed_rising(r.time - t),
             Curve::Jog(j) => j.speed_now(),
             Curve::RunOut {
                 speed,
@@ -139,29 +147,34 @@ impl Segment {
                 ramp,
                 ..
             } => {
-                if self.t <= *cruise {
+                if t <= *cruise {
                     *speed
                 } else {
-                    ramp.speed_rising(ramp.time - (self.t - cruise).min(ramp.time))
+                    ramp.speed_rising(ramp.time - (t - cruise).min(ramp.time))
                 }
             }
         }
     }
 
-    /// (accelerating, decelerating) now.
+    /// (accelerating, decelerating) now: the phase at the instant the cycle ends, each phase holding
+    /// from its start up to, not including, its end. A move whose acceleration takes exactly n
+    /// cycles shows Accelerating in n − 1 updates (the n-th ends at full speed), its deceleration in
+    /// all of its own, and Stopped in the update it ends (the model's pick: the manual does not say
+    /// which side of a boundary a status bit takes). A segment is gone once its time is up, so none
+    /// is asked past its end.
     pub(super) fn phase(&self) -> (bool, bool) {
+        let t = self.t();
         match &self.curve {
             Curve::Profile(p) => {
                 let ta = p.accel.time;
-                let tc = ta + p.cruise_time;
-                (self.t < ta, self.t >= tc && self.t < p.total_time())
+                (t < ta, t >= ta + p.cruise_time)
             }
-            Curve::Ramp(r) => (false, self.t < r.time),
+            Curve::Ramp(_) => (false, true),
             Curve::Jog(j) => match j.ramp {
                 Some((_, up, _)) => (up, !up),
                 None => (false, false),
             },
-            Curve::RunOut { cruise, end, .. } => (false, self.t > *cruise && self.t < *end),
+            Curve::RunOut { cruise, .. } => (false, t >= *cruise),
         }
     }
 }
@@ -259,7 +272,7 @@ impl Indexer {
             dir: distance.signum(),
             base: 0.0,
             curve: Curve::Profile(profile),
-            t: 0.0,
+            elapsed: Duration::ZERO,
             purpose: Purpose::Move,
             target,
             params: out,
@@ -287,7 +300,7 @@ impl Indexer {
         self.segment = Some(Segment {
             base: seg.covered(),
             curve: Curve::Ramp(ramp),
-            t: 0.0,
+            elapsed: Duration::ZERO,
             purpose,
             ..seg
         });
@@ -383,26 +396,27 @@ impl Indexer {
         let Some(mut seg) = self.segment else {
             return;
         };
-        let mut dt = dt.as_secs_f64();
-        // DC_Sync: the motion starts 520 µs after SYNC0 (SMD-R1-022).
-        if let Some(wait) = self.sync_wait {
-            if dt <= wait {
-                self.sync_wait = Some(wait - dt);
-                return;
+        let mut dt = dt;
+        // DC_Sync: the motion starts 520 µs after SYNC0 (SMD-R1-022); until SYNC0 it waits.
+        match self.sync_wait {
+            Some(SyncWait::ForSync0) => return,
+            Some(SyncWait::Delay(wait)) => {
+                if dt <= wait {
+                    self.sync_wait = Some(SyncWait::Delay(wait - dt));
+                    return;
+                }
+                dt -= wait;
+                self.sync_wait = None;
             }
-            dt -= wait;
-            self.sync_wait = None;
+            None => {}
         }
         seg.advance(dt);
         let before = self.position;
         let end = seg.finished();
-        // A move ends exactly on its target (SMD-R2-052, SMD-R2-053).
+        // A move ends exactly on its target (SMD-R2-052, SMD-R2-053); on the way its curve never
+        // covers more than its distance.
         self.position = match seg.purpose {
             Purpose::Move if end => seg.target,
-            Purpose::Move => {
-                let total = (seg.target - seg.origin).unsigned_abs() as f64;
-                seg.origin + seg.dir * (seg.covered().min(total).round() as i64)
-            }
             _ => seg.origin + seg.dir * (seg.covered().round() as i64),
         };
         // The encoder follows the shaft, not the command (SMD-R1-012, SMD-R6-046).

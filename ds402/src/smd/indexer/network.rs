@@ -3,7 +3,7 @@
 
 use std::time::Duration;
 
-use super::Indexer;
+use super::{Indexer, SyncWait};
 
 /// The EtherCAT state machine's state, as far as the unit's behaviour depends on it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -44,8 +44,8 @@ impl Indexer {
     /// A SYNC0 event of the Distributed Clock at the start of the next cycle: with DC_Sync, a move
     /// waiting for it starts 520 µs later (SMD-R1-022).
     pub fn sync0_event(&mut self) {
-        if self.sync_wait == Some(f64::INFINITY) {
-            self.sync_wait = Some(SYNC0_START_DELAY.as_secs_f64());
+        if self.sync_wait == Some(SyncWait::ForSync0) {
+            self.sync_wait = Some(SyncWait::Delay(SYNC0_START_DELAY));
         }
     }
 

@@ -2,6 +2,8 @@
 //! runs out exactly the Stopping Distance after a stop condition past the Minimum Registration Move
 //! Distance.
 
+use std::time::Duration;
+
 use super::{cmd0, cmd1, Curve, Indexer, Outcome, Outputs, Purpose, Segment};
 
 impl Indexer {
@@ -60,7 +62,7 @@ impl Indexer {
                 ramp,
                 end,
             },
-            t: 0.0,
+            elapsed: Duration::ZERO,
             purpose: Purpose::Move,
             target: here + seg.dir * stopping,
             ..seg
