@@ -33,20 +33,8 @@ struct Seen {
 /// Runs a Relative move of `length` with Velocity `v`, Acceleration `a`, Deceleration `d` (× 1000
 /// steps/s²) and Jerk `j`, and measures it.
 fn relative(length: i32, v: u32, a: u16, d: u16, j: u16) -> Seen {
-    let mut r = Rig::ready_with(0, v, a, d);
-    r.out.jerk = j;
-    r.out.position = length;
-    r.command(cmd0::RELATIVE_MOVE);
-    let mut cycles = vec![(r.last.status0, r.pos())];
+    let cycles = trace(length, v, a, d, j);
     let mut before = 0;
-    for _ in 0..100_000 {
-        let i = r.cycle();
-        cycles.push((i.status0, i.motor_position));
-        if i.status0 & stat0::STOPPED != 0 {
-            break;
-        }
-    }
-    assert_eq!(r.pos(), length, "the move ends on target");
     let mut seen = Seen {
         accel_ms: 0,
         cruise_ms: 0,
@@ -84,6 +72,25 @@ fn relative(length: i32, v: u32, a: u16, d: u16, j: u16) -> Seen {
     }
     seen.mid_accel = accel_gains[accel_gains.len() / 2];
     seen
+}
+
+/// The same move as (STATUS_word0, Motor_Position) of every update from the command's on, the last
+/// one the first with Stopped.
+fn trace(length: i32, v: u32, a: u16, d: u16, j: u16) -> Vec<(u16, i32)> {
+    let mut r = Rig::ready_with(0, v, a, d);
+    r.out.jerk = j;
+    r.out.position = length;
+    r.command(cmd0::RELATIVE_MOVE);
+    let mut cycles = vec![(r.last.status0, r.pos())];
+    for _ in 0..100_000 {
+        let i = r.cycle();
+        cycles.push((i.status0, i.motor_position));
+        if i.status0 & stat0::STOPPED != 0 {
+            break;
+        }
+    }
+    assert_eq!(r.pos(), length, "the move ends on target");
+    cycles
 }
 
 /// Asserts that a duration measured in 1 ms cycles is `expected` seconds, to within 2 ms.
@@ -208,4 +215,84 @@ fn smd_r3_012_to_022_s_curves() {
             s.mid_accel
         );
     }
+}
+
+/// SMD-R3-023: in a trapezoidal S-curve a Jerk below 400/t shortens the constant-acceleration part,
+/// one above lengthens it. 15,000 steps/s² over Δv = 30,000 (t = 2.0 s linear, 400/t = 200): by the
+/// R3 equations j = J·a/100, t1 = a/j = 100/J s, S1 = j·t1²/2, t2 = (Δv/2 − S1)/a, T = 2(t1 + t2),
+/// plateau 2·t2:
+/// - J 120: t1 0.8333 s, S1 6,250, t2 0.5833 s, T 2.8333 s, plateau 1.1667 s (41.2 %);
+/// - J 150: t1 0.6667 s, S1 5,000, t2 0.6667 s, T 2.6667 s, plateau 1.3333 s (50.0 %);
+/// - J 200: t1 0.5 s, S1 3,750, t2 0.75 s, T 2.5 s, plateau 1.5 s (60.0 %).
+///
+/// Measured on the unit from Motor_Position alone: the speed over ±20 ms at t1 is V_S + j·t1²/2 (the
+/// jerk phase's gain), at T − t1 it is V_S + Δv − j·t1²/2, and between the two it rises at exactly
+/// 15,000 steps/s², so the plateau is T − 2·t1 of the Accelerating time T counted from STATUS_word0.
+#[test]
+fn smd_r3_023_plateau_share_rises_with_jerk() {
+    let mut shares = Vec::new();
+    for (jerk, t1, t_a, share) in [
+        (120, 0.83333, 2.83333, 0.41176),
+        (150, 0.66667, 2.66667, 0.5),
+        (200, 0.5, 2.5, 0.6),
+    ] {
+        let cycles = trace(200_000, 30_141, 15, 15, jerk);
+        // Update n (from 1, the command's) is at n ms of motion.
+        let accel_ms = cycles
+            .iter()
+            .filter(|(s, _)| s & stat0::ACCELERATING != 0)
+            .count();
+        assert_ms(accel_ms, t_a, "T_A");
+        let pos = |ms: f64| f64::from(cycles[ms.round() as usize - 1].1);
+        let speed = |t: f64| (pos(t * 1000.0 + 20.0) - pos(t * 1000.0 - 20.0)) / 0.040;
+        let j = f64::from(jerk) * 15_000.0 / 100.0;
+        let gained = j * t1 * t1 / 2.0;
+        let (at_t1, at_end) = (speed(t1), speed(t_a - t1));
+        // ±0.5 step at each end of a 40 ms window: ±25 steps/s; the window's own curvature at
+        // the plateau's edges adds j·(0.02 s)²/6 ≈ 2 steps/s at most.
+        assert!(
+            (at_t1 - (VS + gained)).abs() < 30.0,
+            "J {jerk}: {at_t1} at t1"
+        );
+        assert!(
+            (at_end - (VS + 30_000.0 - gained)).abs() < 30.0,
+            "J {jerk}: {at_end} at T - t1"
+        );
+        let plateau = t_a - 2.0 * t1;
+        let rate = (at_end - at_t1) / plateau;
+        assert!((rate - 15_000.0).abs() < 60.0, "J {jerk}: {rate} steps/s²");
+        assert!((plateau / t_a - share).abs() < 1e-4, "J {jerk}");
+        // The measured share: plateau over the Accelerating time the status word showed.
+        shares.push(plateau / (accel_ms as f64 / 1000.0));
+    }
+    assert!(shares[0] < shares[1] && shares[1] < shares[2], "{shares:?}");
+}
+
+/// SMD-R3-025 (gap pick): an S-curve move too short to reach its Velocity peaks at the V_M whose two
+/// phases cover the length. 100,000 steps, V_S 141, Velocity 100,000, Acceleration 20, Deceleration
+/// 25, J 50: j = 10,000 and 12,500 steps/s³, both phases triangular (Δv below a²/j = 40,000 and
+/// 50,000), each covering (V_S + Δv/2)·2√(Δv/j). Solved here by bisection: Δv = 30,129.0, V_M =
+/// 30,270.0 steps/s, T_A = 3.4715 s, T_D = 3.1050 s, T_P = 6.5766 s.
+#[test]
+fn smd_r3_025_short_s_curve_move() {
+    let (ja, jd) = (10_000.0_f64, 12_500.0_f64);
+    let covered = |dv: f64| (VS + dv / 2.0) * 2.0 * ((dv / ja).sqrt() + (dv / jd).sqrt());
+    let (mut lo, mut hi) = (0.0, 100_000.0);
+    for _ in 0..100 {
+        let mid = (lo + hi) / 2.0;
+        if covered(mid) < 100_000.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    assert!((lo - 30_129.0).abs() < 0.1, "{lo}");
+    let (t_a, t_d) = (2.0 * (lo / ja).sqrt(), 2.0 * (lo / jd).sqrt());
+    let s = relative(100_000, 100_000, 20, 25, 50);
+    assert_eq!(s.order, "AD", "{s:?}");
+    assert_ms(s.accel_ms, t_a, "T_A");
+    assert_ms(s.decel_ms, t_d, "T_D");
+    assert_ms(s.moving_ms, t_a + t_d, "T_P");
+    // V_M = 30.27 steps/ms: whole-step gains of 30 or 31 at the top.
+    assert!((30..=31).contains(&s.peak), "{s:?}");
 }
