@@ -4,8 +4,8 @@
 
 use ds402::cia402::{Action, Inputs, StateMachine, CW_FAULT_RESET, SW_WARNING};
 use ds402::x67::errors::{
-    ErrorCode, ErrorRegister, Kind, Temperature, CW_CURRENT_ERROR_DETECTION, CW_STALL_DETECTION,
-    CW_WARNING_RESET,
+    DcBus, ErrorCode, ErrorRegister, Kind, Temperature, CW_CURRENT_ERROR_DETECTION,
+    CW_STALL_DETECTION, CW_WARNING_RESET,
 };
 
 /// A register with current-error and stall detection both on.
@@ -522,4 +522,37 @@ proptest::proptest! {
             proptest::prop_assert!(!r.is_present(ErrorCode::Stall) || cw & (1 << 15) != 0);
         }
     }
+}
+
+/// X67-18.11.4.3-12: the DC bus on its own. 0.5 J into 200 µF on a 46 V supply: √(46² + 2·0.5/200e-6)
+/// = √(2116 + 5000) = 84.356 V; a second 0.5 J on top: √(84.356² + 5000) = √12116 = 110.073 V. After
+/// τ = 0.2304 s the rise above the supply is 1/e of what it was; the bus at the supply voltage stays.
+#[test]
+fn x67_18_11_4_3_12_dc_bus_rise_and_decay() {
+    let mut bus = DcBus::default();
+    assert_eq!(bus.volts(46.0), 46.0);
+    bus.discharge(1.0);
+    assert_eq!(bus.volts(46.0), 46.0);
+    bus.regenerate(46.0, 0.5);
+    assert!(
+        (bus.volts(46.0) - 7116f64.sqrt()).abs() < 1e-9,
+        "{}",
+        bus.volts(46.0)
+    );
+    bus.regenerate(46.0, 0.5);
+    assert!(
+        (bus.volts(46.0) - 110.073).abs() < 1e-3,
+        "{}",
+        bus.volts(46.0)
+    );
+    assert!((bus.volts(46.0) - 12116f64.sqrt()).abs() < 1e-9);
+    // The rise rides on the supply: 1 V less supply, 1 V less bus.
+    assert!((bus.volts(45.0) - (12116f64.sqrt() - 1.0)).abs() < 1e-9);
+    bus.discharge(0.2304);
+    let rise = (12116f64.sqrt() - 46.0) / std::f64::consts::E;
+    assert!(
+        (bus.volts(46.0) - (46.0 + rise)).abs() < 1e-9,
+        "{}",
+        bus.volts(46.0)
+    );
 }

@@ -1412,6 +1412,67 @@ fn x67_18_11_1_17_06_overflow_only_without_limits() {
     }
 }
 
+/// X67-18.11.1.17-06 with X67-18.11.1.17-02/-03: the counter that wrapped is the one the limits hold. Past
+/// 2 147 483 647 going positive (the run of the test above, then 60 more braking: −2 147 483 529), limits
+/// [−2^31, −2^31 + 500] contain the axis, and a positive speed takes it to −2^31 + 500 and no further; the
+/// mirror image going negative past −2^31 (to 2 147 483 528) with limits [2^31 − 1 − 500, 2^31 − 1] ends
+/// at 2 147 483 147; and an axis that stops exactly on −2^31 stays there with limits [−2^31, −2^31 + 500]
+/// until sent positive.
+#[test]
+fn x67_18_11_1_17_06_limits_hold_the_wrapped_counter() {
+    // (start, speed of the run, where it stops, limits, speed then, where that ends)
+    let (min, max) = (i64::from(i32::MIN), i64::from(i32::MAX));
+    let cases = [
+        (
+            i32::MAX - 1000,
+            40,
+            i32::MIN + 119,
+            (min, min + 500),
+            40,
+            min + 500,
+        ),
+        (
+            i32::MIN + 1000,
+            -40,
+            i32::MAX - 119,
+            (max - 500, max),
+            -40,
+            max - 500,
+        ),
+        (
+            i32::MIN + 1120,
+            -40,
+            i32::MIN,
+            (min, min + 500),
+            40,
+            min + 500,
+        ),
+    ];
+    for (start, speed, stop, (low, high), then, end) in cases {
+        let mut m = enabled(0, 0, 10, 10);
+        m.set_mode(0, modes::SET_POSITION);
+        m.set_abs_pos(0, start);
+        m.step();
+        m.set_mode(0, modes::SPEED);
+        m.set_abs_pos(0, speed);
+        m.run(28);
+        m.set_abs_pos(0, 0);
+        m.run(4);
+        assert_eq!(m.act_val(0), stop, "from {start}");
+        limits(&mut m, 0, low, high);
+        // Inside the limits, or on the lower one: nothing moves.
+        for _ in 0..5 {
+            let (inc, _) = cycle(&mut m, 0);
+            assert_eq!(inc, 0, "from {start}");
+            assert_eq!(m.act_val(0), stop, "from {start}");
+        }
+        m.set_abs_pos(0, then);
+        m.run(60);
+        assert_eq!(i64::from(m.act_val(0)), end, "from {start}");
+        assert!(bit(&m, 0, SW_INTERNAL_LIMIT), "from {start}");
+    }
+}
+
 /// X67-18.11.1.17-06 (pick: the move distance is the wrapping difference), X67-18.11.1.17-02/-03: without
 /// limits a target just past the wrap is reached forward through the overflow (1100 microsteps); with limits
 /// [−2^31, 2^31 − 1] the same target lies inside them and is approached the long way, without overflow.

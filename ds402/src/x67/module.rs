@@ -449,18 +449,11 @@ impl Module {
                     AxisReg::AbsPos => a.set_abs_pos(value as i32),
                     AxisReg::Control => a.set_control(value as u16),
                     AxisReg::Mode => a.set_mode(value as i8),
-                    AxisReg::HoldingCurrent => {
-                        let (n, m) = (c.nominal_current, c.maximum_current);
-                        let _ = a.set_currents(value as u8, n, m);
-                    }
-                    AxisReg::NominalCurrent => {
-                        let (h, m) = (c.holding_current, c.maximum_current);
-                        let _ = a.set_currents(h, value as u8, m);
-                    }
-                    AxisReg::MaximumCurrent => {
-                        let (h, n) = (c.holding_current, c.nominal_current);
-                        let _ = a.set_currents(h, n, value as u8);
-                    }
+                    // Held to 0…167 % above (X67-18.11.1.1-01 pick: a higher value is refused and
+                    // changes nothing).
+                    AxisReg::HoldingCurrent => c.holding_current = value as u8,
+                    AxisReg::NominalCurrent => c.nominal_current = value as u8,
+                    AxisReg::MaximumCurrent => c.maximum_current = value as u8,
                     AxisReg::StallDetectConfig => c.stall_detect_config = value as u8,
                     AxisReg::MaxSpeedPos => c.max_speed_pos = value as u16,
                     AxisReg::MaxAcc => c.max_acc = value as u16,
@@ -685,25 +678,17 @@ impl Module {
         }
 
         // Edges of the cycle: the harness's first, then the cams'.
+        // Each cam's edges are in the order of its rotor's path. Edges of different inputs act on
+        // separate things (a limit switch, the reference, the R input's mode trigger), so their order
+        // within the cycle changes nothing.
         let mut edges = std::mem::take(&mut self.pending);
-        let mut cam_edges = Vec::new();
         for (k, src) in self.sources.iter().enumerate() {
             if let InputSource::Cam(cam) = src {
                 let (r0, r1) = rotor_paths[cam.axis.min(1)];
-                cam_edges.extend(cam.edges(k, r0, r1));
+                edges.extend(cam.edges(k, r0, r1));
                 self.levels[k] = cam.active(r1);
             }
         }
-        cam_edges.sort_by(|a, b| {
-            if a.at.before(b.at) {
-                std::cmp::Ordering::Less
-            } else if b.at.before(a.at) {
-                std::cmp::Ordering::Greater
-            } else {
-                std::cmp::Ordering::Equal
-            }
-        });
-        edges.extend(cam_edges);
         ctx.edges = edges;
         for (n, axis) in self.axes.iter_mut().enumerate() {
             ctx.limit_inputs = self.limit_inputs[n];

@@ -78,11 +78,6 @@ impl Frac {
         let den = self.den.max(1);
         a + ((i128::from(b - a) * i128::from(self.num)) / i128::from(den)) as i64
     }
-
-    /// Orders two points (`self < other`).
-    pub fn before(self, other: Frac) -> bool {
-        i128::from(self.num) * i128::from(other.den) < i128::from(other.num) * i128::from(self.den)
-    }
 }
 
 /// A change of a digital input during a cycle.
@@ -281,11 +276,6 @@ impl Axis {
         }
     }
 
-    /// The axis index (0 = axis 1).
-    pub const fn index(&self) -> usize {
-        self.index
-    }
-
     // ----- cyclic outputs (written by the master, taken over at the next cycle) -----
 
     /// Writes AbsPos0n.
@@ -417,27 +407,6 @@ impl Axis {
         self.last.current.map_or(0, |c| c.amps_milli)
     }
 
-    /// Writes the current registers through the current model; a value above 167 % is refused and changes
-    /// nothing (X67-18.11.1.1-01 pick).
-    pub(crate) fn set_currents(
-        &mut self,
-        holding: u8,
-        nominal: u8,
-        maximum: u8,
-    ) -> Result<(), current::ConfigError> {
-        let cfg = current::Config {
-            holding,
-            nominal,
-            maximum,
-            ..*self.current.config()
-        };
-        cfg.validate()?;
-        self.config.holding_current = holding;
-        self.config.nominal_current = nominal;
-        self.config.maximum_current = maximum;
-        Ok(())
-    }
-
     // ----- the cycle -----
 
     /// A target register value in the ramp's frame. Without software limits the counter may wrap, so the
@@ -500,10 +469,9 @@ impl Axis {
         // The internal counter is 32 bits wide and wraps around (X67-18.11.1.17-06); keep the ramp's frame
         // within the DINT range.
         let pos = self.ramp.position();
-        if pos > i64::from(i32::MAX) {
-            self.ramp.shift(-(1i64 << 32));
-        } else if pos < i64::from(i32::MIN) {
-            self.ramp.shift(1i64 << 32);
+        let wrapped = i64::from(pos as i32);
+        if wrapped != pos {
+            self.ramp.shift(wrapped - pos);
         }
         state
     }
