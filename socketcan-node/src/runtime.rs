@@ -82,7 +82,13 @@ pub fn run<A: Application>(
 ) -> Result<RunStats, BusError> {
     let mut stats = RunStats::default();
     let now = Instant::now();
+    // The nodes' clock for TIME: the wall clock, as milliseconds since 1984-01-01.
+    let wall = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as u64);
     for s in stations.iter_mut() {
+        s.node
+            .set_clock(now, wall.saturating_sub(crate::node::time::UNIX_TO_1984_MS));
         s.node.start(now);
     }
     let nodes = stations;
@@ -226,5 +232,13 @@ fn log_event(node: u8, e: &NodeEvent) {
         NodeEvent::HeartbeatLost(p) => tracing::warn!(node, "heartbeat of node {p} missed"),
         NodeEvent::HeartbeatResumed(p) => tracing::info!(node, "heartbeat of node {p} back"),
         NodeEvent::Sdo(ev) => tracing::debug!(node, "SDO {ev:?}"),
+        NodeEvent::NodeId(id) => tracing::info!(node, "LSS: node-ID {id} in use"),
+        NodeEvent::Time(t) => tracing::debug!(node, "TIME: day {} ms {}", t.days, t.ms),
+        NodeEvent::BitTiming(index) => {
+            tracing::info!(
+                node,
+                "LSS: bit timing {index} activated (a virtual bus keeps its rate)"
+            )
+        }
     }
 }

@@ -4,7 +4,7 @@
 use std::time::{Duration, Instant};
 
 use crate::node::storage::{MemoryStorage, ParameterStorage};
-use crate::node::{Node, NodeConfig, NodeError};
+use crate::node::{Application, Node, NodeConfig, NodeError};
 use crate::x67::{self, BusController, X67Error};
 use crate::CanFrame;
 
@@ -20,10 +20,10 @@ pub enum SimError {
     Node(#[from] NodeError),
 }
 
-/// An X67 node on a simulated clock.
-pub struct SimNode {
+/// A node on a simulated clock (by default the X67 bus controller).
+pub struct SimNode<A: Application = BusController> {
     /// The node.
-    pub node: Node<BusController>,
+    pub node: Node<A>,
     /// Simulated now.
     pub now: Instant,
     /// Time zero.
@@ -34,7 +34,7 @@ pub struct SimNode {
     pub storage: Box<dyn ParameterStorage>,
 }
 
-impl SimNode {
+impl SimNode<BusController> {
     /// Node `node_id` with `modules` modules and in-memory storage, booted at time zero.
     pub fn new(node_id: u8, modules: usize) -> Result<SimNode, SimError> {
         Self::with(
@@ -42,21 +42,6 @@ impl SimNode {
             modules,
             Box::new(MemoryStorage::default()),
         )
-    }
-
-    /// A second node in this one's state, at the same simulated time, with its parameters in memory:
-    /// a copy of the set this one's storage holds (a fuzz target or a test builds one node and forks
-    /// it for each case).
-    pub fn fork(&mut self) -> SimNode {
-        SimNode {
-            node: self.node.clone(),
-            now: self.now,
-            t0: self.t0,
-            sent: self.sent.clone(),
-            storage: Box::new(MemoryStorage {
-                data: self.storage.load().ok().flatten(),
-            }),
-        }
     }
 
     /// A node with the given configuration and storage, booted at time zero.
@@ -78,7 +63,32 @@ impl SimNode {
         let t0 = Instant::now();
         let dict = x67::dictionary(modules)?;
         let app = BusController::new(&dict, modules, x2x, t0)?;
-        let mut node = Node::new(config, dict, app, t0)?;
+        let node = Node::new(config, dict, app, t0)?;
+        Ok(SimNode::boot(node, t0, storage))
+    }
+}
+
+impl<A: Application + Clone> SimNode<A> {
+    /// A second node in this one's state, at the same simulated time, with its parameters in memory:
+    /// a copy of the set this one's storage holds (a fuzz target or a test builds one node and forks
+    /// it for each case).
+    pub fn fork(&mut self) -> SimNode<A> {
+        SimNode {
+            node: self.node.clone(),
+            now: self.now,
+            t0: self.t0,
+            sent: self.sent.clone(),
+            storage: Box::new(MemoryStorage {
+                data: self.storage.load().ok().flatten(),
+                lss: self.storage.load_lss().ok().flatten(),
+            }),
+        }
+    }
+}
+
+impl<A: Application> SimNode<A> {
+    /// `node`, built at `t0`, booted at once with the set `storage` holds.
+    pub fn boot(mut node: Node<A>, t0: Instant, storage: Box<dyn ParameterStorage>) -> SimNode<A> {
         let mut storage = storage;
         // A set that cannot be read is as none (the runtime logs it).
         node.set_stored(storage.load().ok().flatten());
@@ -91,7 +101,7 @@ impl SimNode {
             storage,
         };
         sim.collect();
-        Ok(sim)
+        sim
     }
 
     /// Simulated time since zero.

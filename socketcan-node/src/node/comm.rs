@@ -76,7 +76,7 @@ impl<A: Application> Core<A> {
                 self.events.push_back(NodeEvent::Restored);
                 return Ok(true);
             }
-            0x1005 | 0x1014 => {
+            0x1005 | 0x1012 | 0x1014 => {
                 let id = (value & 0x7FF) as u16;
                 if value & COB_EXTENDED != 0 || (index == 0x1014 && pdo::restricted_id(id)) {
                     return Err(AbortCode::InvalidValue);
@@ -156,6 +156,10 @@ impl<A: Application> Core<A> {
         match index {
             0x1005 | 0x1006 => {
                 self.sync_at = self.sync_period().map(|p| now + p);
+                self.reload_listen();
+            }
+            0x1012 => {
+                self.reload_time(now);
                 self.reload_listen();
             }
             0x1016 => self.reload_consumer(),

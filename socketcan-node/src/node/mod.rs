@@ -47,15 +47,18 @@
 
 mod comm;
 mod emcy;
+pub mod lss;
 mod nmt;
 pub mod pdo;
 mod pdo_runtime;
 pub mod storage;
+pub mod time;
 
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 pub use emcy::{error_register, AppError, EmcyCode, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR};
+use lss::{LssAction, LssSlave, LSS_REQUEST, LSS_RESPONSE, UNCONFIGURED};
 use nmt::Consumer;
 use od::dict::Dictionary;
 use od::hook::DeviceHook;
@@ -63,6 +66,7 @@ use od::sdo::server::{SdoServer, ServerConfig, ServerEvent};
 use pdo::{PdoConfig, COB_NO_RTR};
 use pdo_runtime::TxState;
 use storage::StorageRequest;
+use time::{Clock, TimeOfDay};
 
 /// "save" as a little-endian UNSIGNED32 (0x1010).
 pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
@@ -80,6 +84,12 @@ pub trait Application: DeviceHook {
     fn errors(&self, out: &mut Vec<AppError>);
     /// Back to power-on (NMT reset node), with time starting at `now`.
     fn reset(&mut self, now: Instant);
+    /// A SYNC at `now` in Operational, after the synchronous RPDOs received before it were applied
+    /// and before the synchronous TPDOs are sampled (CiA 301 §7.2.2.2): the instant a cyclic
+    /// synchronous drive takes its targets. By default nothing.
+    fn sync(&mut self, now: Instant) {
+        let _ = now;
+    }
 }
 
 /// The NMT state (CiA 301 §7.3.2.2).
@@ -93,6 +103,16 @@ pub enum NmtState {
     Operational,
     /// NMT and heartbeat only.
     Stopped,
+}
+
+/// LSS (CiA 305) of a node: served when [`NodeConfig::lss`] is set.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LssConfig {
+    /// The bit-timing table index the node starts with (CiA 301 table; 4 = 125 kbit/s).
+    pub bit_timing: u8,
+    /// The edge keeps a stored LSS configuration ([`StorageRequest::SaveLss`]); without it store
+    /// configuration answers "not supported".
+    pub can_store: bool,
 }
 
 impl NmtState {
@@ -116,6 +136,11 @@ pub struct NodeConfig {
     pub sdo: ServerConfig,
     /// A default for 0x1017 other than the dictionary's (ms), e.g. from `--heartbeat-ms`.
     pub heartbeat_ms: Option<u16>,
+    /// LSS slave services (CiA 305); with them the node-ID may be 0xFF, unconfigured: the node then
+    /// waits in Initialising, silent but for LSS, until a master gives it a node-ID.
+    pub lss: Option<LssConfig>,
+    /// How often a TIME producer (0x1012 bit 30) sends the time of day.
+    pub time_period: Duration,
 }
 
 impl NodeConfig {
@@ -125,6 +150,8 @@ impl NodeConfig {
             node_id,
             sdo: ServerConfig::default(),
             heartbeat_ms: None,
+            lss: None,
+            time_period: Duration::from_secs(1),
         }
     }
 }
@@ -133,7 +160,7 @@ impl NodeConfig {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[non_exhaustive]
 pub enum NodeError {
-    /// The node-ID is outside 1–127.
+    /// The node-ID is outside 1–127 (or 0xFF, unconfigured, with LSS).
     #[error("node-ID {0} is outside 1 to 127")]
     NodeId(u8),
 }
@@ -160,6 +187,13 @@ pub enum NodeEvent {
     HeartbeatResumed(u8),
     /// An SDO transfer ended.
     Sdo(ServerEvent),
+    /// LSS gave the node a node-ID it now uses (after NMT reset communication, or at once when it
+    /// had none).
+    NodeId(u8),
+    /// LSS asked to switch the bit timing (table index) after a delay; the virtual bus keeps its rate.
+    BitTiming(u8),
+    /// A TIME frame set the node's clock.
+    Time(TimeOfDay),
 }
 
 /// The node minus its SDO server, so the server can borrow it as its object store.
@@ -198,12 +232,19 @@ struct Core<A: Application> {
     sync_cob: u16,
     /// Changes whenever `listen` may have changed.
     generation: u64,
+    /// The node answers LSS requests.
+    serves_lss: bool,
+    // TIME (`time`): the clock, the producer's next send and period.
+    clock: Option<Clock>,
+    time_at: Option<Instant>,
+    time_period: Duration,
 }
 
 /// A CiA 301 node; see the [module documentation](self).
 #[derive(Clone)]
 pub struct Node<A: Application> {
     sdo: SdoServer,
+    lss: Option<LssSlave>,
     core: Core<A>,
 }
 
@@ -216,7 +257,8 @@ impl<A: Application> Node<A> {
         app: A,
         now: Instant,
     ) -> Result<Node<A>, NodeError> {
-        if !(1..=127).contains(&config.node_id) {
+        let unconfigured = config.lss.is_some() && config.node_id == UNCONFIGURED;
+        if !(1..=127).contains(&config.node_id) && !unconfigured {
             return Err(NodeError::NodeId(config.node_id));
         }
         if let Some(ms) = config.heartbeat_ms {
@@ -227,8 +269,19 @@ impl<A: Application> Node<A> {
             }
         }
         dict.reset(config.node_id);
+        let lss = config.lss.map(|l| {
+            let identity = |sub| {
+                dict.entry(0x1018, sub)
+                    .ok()
+                    .and_then(|e| e.value.get(..4))
+                    .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            };
+            let address = [identity(1), identity(2), identity(3), identity(4)];
+            LssSlave::new(address, config.node_id, l.bit_timing, l.can_store)
+        });
         Ok(Node {
             sdo: SdoServer::new(config.sdo),
+            lss,
             core: Core {
                 id: config.node_id,
                 state: NmtState::Initialising,
@@ -256,6 +309,10 @@ impl<A: Application> Node<A> {
                 listen_rtr: Vec::new(),
                 sync_cob: 0x80,
                 generation: 0,
+                serves_lss: config.lss.is_some(),
+                clock: None,
+                time_at: None,
+                time_period: config.time_period,
             },
         })
     }
@@ -267,14 +324,41 @@ impl<A: Application> Node<A> {
     }
 
     /// Boots the node at `now`: loads the stored parameters, sends the boot-up message and enters
-    /// Pre-operational.
+    /// Pre-operational. A node without a node-ID (0xFF, with LSS) stays silent in Initialising until
+    /// LSS gives it one.
     pub fn start(&mut self, now: Instant) {
+        self.core.now = now;
+        if self.core.id == UNCONFIGURED {
+            self.core.reload_listen();
+            return;
+        }
         self.core.reset(now, true);
     }
 
-    /// The node-ID.
+    /// The node-ID (0xFF: none yet, with LSS).
     pub fn node_id(&self) -> u8 {
         self.core.id
+    }
+
+    /// The LSS slave, when the node serves LSS.
+    pub fn lss(&self) -> Option<&LssSlave> {
+        self.lss.as_ref()
+    }
+
+    /// Sets the node's clock: at `now` it is `ms_since_1984` milliseconds after 1984-01-01 00:00 (the
+    /// edge's wall clock; [`time::UNIX_TO_1984_MS`] converts from Unix time). A TIME producer sends
+    /// from now on.
+    pub fn set_clock(&mut self, now: Instant, ms_since_1984: u64) {
+        self.core.clock = Some(Clock {
+            at: now,
+            ms: ms_since_1984,
+        });
+        self.core.reload_time(now);
+    }
+
+    /// The node's time of day at `now`, once its clock was set (by the edge or a TIME frame).
+    pub fn time_of_day(&self, now: Instant) -> Option<TimeOfDay> {
+        self.core.clock.map(|c| c.time_at(now))
     }
 
     /// The NMT state.
@@ -320,18 +404,30 @@ impl<A: Application> Node<A> {
         let Some(cob) = frame.cob_id() else {
             return;
         };
-        let core = &mut self.core;
+        if cob == LSS_REQUEST {
+            if !frame.is_rtr() {
+                self.lss_request(now, frame.data());
+            }
+            return;
+        }
         if cob == 0x000 {
             if frame.len() == 2 && !frame.is_rtr() {
                 let d = frame.data();
-                // A reset starts the SDO server again too (CiA 301 §7.3.2.2.1): a transfer in
-                // progress ends without an abort, its timer with it.
-                if (d[1] == 0 || d[1] == core.id) && core.nmt(now, d[0]) {
-                    self.sdo = SdoServer::new(*self.sdo.config());
+                let core = &self.core;
+                if (d[1] == 0 || d[1] == core.id) && core.state != NmtState::Initialising {
+                    if matches!(d[0], 0x81 | 0x82) && !self.take_lss_node_id() {
+                        return;
+                    }
+                    // A reset starts the SDO server again too (CiA 301 §7.3.2.2.1): a transfer in
+                    // progress ends without an abort, its timer with it.
+                    if self.core.nmt(now, d[0]) {
+                        self.sdo = SdoServer::new(*self.sdo.config());
+                    }
                 }
             }
             return;
         }
+        let core = &mut self.core;
         if core.state == NmtState::Initialising {
             return;
         }
@@ -359,8 +455,79 @@ impl<A: Application> Node<A> {
             }
             return;
         }
+        if core.time_consumed() == Some(cob) {
+            core.time_received(now, frame.data());
+            return;
+        }
         if core.state == NmtState::Operational {
             core.rpdo(now, cob, frame.data());
+        }
+    }
+
+    /// At an NMT reset: the node-ID LSS configured becomes the node's (CiA 305 §8.3.1). False when
+    /// that leaves the node without one (0xFF): it then waits in Initialising for LSS, silent.
+    fn take_lss_node_id(&mut self) -> bool {
+        let Some(lss) = self.lss.as_mut() else {
+            return true;
+        };
+        lss.activate();
+        let id = lss.active_node_id();
+        if id == self.core.id {
+            return true;
+        }
+        self.set_node_id(id);
+        if id == UNCONFIGURED {
+            self.core.state = NmtState::Initialising;
+            self.core
+                .events
+                .push_back(NodeEvent::State(NmtState::Initialising));
+            self.core.tx.clear();
+            self.core.heartbeat_at = None;
+            self.core.sync_at = None;
+            self.sdo = SdoServer::new(*self.sdo.config());
+            return false;
+        }
+        true
+    }
+
+    /// The node's node-ID becomes `id`: the defaults that follow the node-ID follow it.
+    fn set_node_id(&mut self, id: u8) {
+        let core = &mut self.core;
+        core.id = id;
+        core.pristine.reset(id);
+        core.events.push_back(NodeEvent::NodeId(id));
+        core.reload_listen();
+    }
+
+    /// An LSS request: the answer, and a node-ID or a store to carry out.
+    fn lss_request(&mut self, now: Instant, data: &[u8]) {
+        let Some(lss) = self.lss.as_mut() else {
+            return;
+        };
+        let (answer, action) = lss.handle(data);
+        if let Some(a) = answer {
+            self.core.tx.push_back((LSS_RESPONSE, a, 8));
+        }
+        match action {
+            LssAction::None => {}
+            LssAction::ApplyNodeId(id) => {
+                // The node had no node-ID: it takes this one with a reset communication now, boot-up
+                // included (CiA 305 §8.3.1).
+                lss.activate();
+                self.set_node_id(id);
+                self.core.reset(now, false);
+                self.sdo = SdoServer::new(*self.sdo.config());
+            }
+            LssAction::Store {
+                node_id,
+                bit_timing,
+            } => self.core.storage_out.push_back(StorageRequest::SaveLss {
+                node_id,
+                bit_timing,
+            }),
+            LssAction::ActivateBitTiming { bit_timing, .. } => {
+                self.core.events.push_back(NodeEvent::BitTiming(bit_timing));
+            }
         }
     }
 
@@ -402,6 +569,7 @@ impl<A: Application> Node<A> {
         take(c.sync_at);
         take(c.emcy_timeout());
         take(c.tpdo_timeout());
+        take(c.time_at);
         t
     }
 
@@ -444,9 +612,21 @@ impl<A: Application> Core<A> {
 
     /// The COB-IDs the node acts on, after a change of the SYNC COB-ID, the consumer or the PDOs.
     fn reload_listen(&mut self) {
+        self.generation += 1;
+        if self.id == UNCONFIGURED {
+            self.listen = vec![LSS_REQUEST];
+            self.listen_rtr.clear();
+            return;
+        }
         let mut l = vec![0x000, 0x600 + u16::from(self.id)];
+        if self.serves_lss {
+            l.push(LSS_REQUEST);
+        }
         self.sync_cob = (self.u32_at(0x1005, 0).unwrap_or(0x80) & 0x7FF) as u16;
         l.push(self.sync_cob);
+        if let Some(cob) = self.time_consumed() {
+            l.push(cob);
+        }
         if self.consumer.time > Duration::ZERO {
             l.push(0x700 + u16::from(self.consumer.node));
         }
@@ -465,7 +645,6 @@ impl<A: Application> Core<A> {
             .filter(|c| c.valid() && c.cob_raw & COB_NO_RTR == 0)
             .map(PdoConfig::cob_id)
             .collect();
-        self.generation += 1;
     }
 
     /// Every timer due at `now`, in this order: the application (then its errors and event-driven
@@ -496,6 +675,7 @@ impl<A: Application> Core<A> {
         if self.state == NmtState::Operational {
             self.timed_tpdos(now);
         }
+        self.time_timer(now);
         self.flush_emcy(now);
     }
 }

@@ -99,6 +99,8 @@ impl<A: Application> Core<A> {
         self.set_state(now, NmtState::PreOperational);
         self.heartbeat_at = self.heartbeat_period().map(|p| now + p);
         self.sync_at = self.sync_period().map(|p| now + p);
+        self.reload_time(now);
+        self.reload_listen();
         self.now = now;
     }
 

@@ -172,6 +172,7 @@ impl<A: Application> Core<A> {
                 self.apply_rpdo(n, &data[..len]);
             }
         }
+        self.app.sync(now);
         for n in 0..self.tpdos.len() {
             let cfg = &self.tpdos[n];
             if !cfg.valid() {

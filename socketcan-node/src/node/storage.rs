@@ -26,6 +26,23 @@ pub enum StorageRequest {
     Save(Vec<u8>),
     /// Forget the stored set (0x1011 "load"): the defaults apply at the next reset.
     Clear,
+    /// Keep the LSS configuration (CiA 305 store configuration): the node-ID (0xFF: none) and the
+    /// bit-timing table index the node starts with next time.
+    SaveLss {
+        /// The node-ID.
+        node_id: u8,
+        /// The bit-timing table index.
+        bit_timing: u8,
+    },
+}
+
+/// An LSS configuration kept by the edge (CiA 305 store configuration).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LssStored {
+    /// The node-ID (0xFF: none).
+    pub node_id: u8,
+    /// The bit-timing table index.
+    pub bit_timing: u8,
 }
 
 impl StorageRequest {
@@ -34,6 +51,13 @@ impl StorageRequest {
         match self {
             StorageRequest::Save(set) => storage.save(set),
             StorageRequest::Clear => storage.clear(),
+            StorageRequest::SaveLss {
+                node_id,
+                bit_timing,
+            } => storage.save_lss(LssStored {
+                node_id: *node_id,
+                bit_timing: *bit_timing,
+            }),
         }
     }
 }
@@ -46,6 +70,18 @@ pub trait ParameterStorage: Send {
     fn save(&mut self, data: &[u8]) -> io::Result<()>;
     /// Forgets the stored set (the defaults apply at the next reset).
     fn clear(&mut self) -> io::Result<()>;
+    /// The stored LSS configuration, or `None` when there is none.
+    fn load_lss(&mut self) -> io::Result<Option<LssStored>> {
+        Ok(None)
+    }
+    /// Keeps an LSS configuration, all or nothing.
+    fn save_lss(&mut self, lss: LssStored) -> io::Result<()> {
+        let _ = lss;
+        Err(io::Error::new(
+            io::ErrorKind::Unsupported,
+            "this storage keeps no LSS configuration",
+        ))
+    }
 }
 
 /// Parameters kept in memory only (the default without `--storage`, and for tests).
@@ -53,6 +89,8 @@ pub trait ParameterStorage: Send {
 pub struct MemoryStorage {
     /// The stored set.
     pub data: Option<Vec<u8>>,
+    /// The stored LSS configuration.
+    pub lss: Option<LssStored>,
 }
 
 impl ParameterStorage for MemoryStorage {
@@ -67,6 +105,15 @@ impl ParameterStorage for MemoryStorage {
 
     fn clear(&mut self) -> io::Result<()> {
         self.data = None;
+        Ok(())
+    }
+
+    fn load_lss(&mut self) -> io::Result<Option<LssStored>> {
+        Ok(self.lss)
+    }
+
+    fn save_lss(&mut self, lss: LssStored) -> io::Result<()> {
+        self.lss = Some(lss);
         Ok(())
     }
 }
@@ -99,18 +146,29 @@ impl FileStorage {
         fs::File::open(self.dir())?.sync_all()
     }
 
-    /// The name of this file's temporary copies, beside it: `.NAME.tmp-…`.
-    fn temp_prefix(&self) -> String {
-        let name = self
-            .path
-            .file_name()
-            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        format!(".{name}.tmp-")
+    /// The file of the LSS configuration, beside the parameters: `PATH.lss`, in the same format
+    /// (entry 0000:01 the node-ID, 0000:02 the bit-timing index).
+    pub fn lss_path(&self) -> PathBuf {
+        let mut p = self.path.clone().into_os_string();
+        p.push(".lss");
+        p.into()
+    }
+
+    /// Replaces `path` (in this file's directory) with `data`: a temporary copy beside it, synced,
+    /// renamed over it, the directory synced.
+    fn replace(&self, path: &Path, data: &[u8]) -> io::Result<()> {
+        let mut tmp = tempfile::Builder::new()
+            .prefix(&temp_prefix(path))
+            .tempfile_in(self.dir())?;
+        tmp.write_all(data)?;
+        tmp.as_file().sync_all()?;
+        tmp.persist(path).map_err(|e| e.error)?;
+        self.sync_dir()
     }
 
     /// Removes the temporary copies a process killed during a save left beside the file.
     fn remove_stale_copies(&self) {
-        let prefix = self.temp_prefix();
+        let prefix = temp_prefix(&self.path);
         let Ok(entries) = fs::read_dir(self.dir()) else {
             return;
         };
@@ -142,13 +200,7 @@ impl ParameterStorage for FileStorage {
     }
 
     fn save(&mut self, data: &[u8]) -> io::Result<()> {
-        let mut tmp = tempfile::Builder::new()
-            .prefix(&self.temp_prefix())
-            .tempfile_in(self.dir())?;
-        tmp.write_all(data)?;
-        tmp.as_file().sync_all()?;
-        tmp.persist(&self.path).map_err(|e| e.error)?;
-        self.sync_dir()
+        self.replace(&self.path, data)
     }
 
     fn clear(&mut self) -> io::Result<()> {
@@ -158,6 +210,43 @@ impl ParameterStorage for FileStorage {
             Err(e) => Err(e),
         }
     }
+
+    /// The LSS configuration of `PATH.lss`; a file that is not a complete one is refused.
+    fn load_lss(&mut self) -> io::Result<Option<LssStored>> {
+        let Some(bytes) = read_bounded(&self.lss_path())? else {
+            return Ok(None);
+        };
+        let bad = |why: String| io::Error::new(io::ErrorKind::InvalidData, why);
+        let entries = decode(&bytes).map_err(|e| bad(e.to_string()))?;
+        let byte = |sub: u8| {
+            entries
+                .iter()
+                .find(|(i, s, v)| (*i, *s) == (0, sub) && v.len() == 1)
+                .map(|(_, _, v)| v[0])
+        };
+        match (byte(1), byte(2)) {
+            (Some(node_id), Some(bit_timing)) => Ok(Some(LssStored {
+                node_id,
+                bit_timing,
+            })),
+            _ => Err(bad(
+                "not an LSS configuration (0000:01 and 0000:02 missing)".into(),
+            )),
+        }
+    }
+
+    fn save_lss(&mut self, lss: LssStored) -> io::Result<()> {
+        let set = encode(&[(0, 1, vec![lss.node_id]), (0, 2, vec![lss.bit_timing])]);
+        self.replace(&self.lss_path(), &set)
+    }
+}
+
+/// The name of a file's temporary copies, beside it: `.NAME.tmp-…`.
+fn temp_prefix(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    format!(".{name}.tmp-")
 }
 
 /// Why a stored parameter set was refused.
