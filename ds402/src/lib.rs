@@ -7,6 +7,7 @@
 #![deny(missing_docs)]
 
 pub mod cia402;
+pub mod drive;
 pub mod smd;
 pub mod x67;
 

@@ -1,0 +1,216 @@
+//! The cyclic synchronous modes of the generic drive at a 1 ms SYNC: the target of each SYNC
+//! (0x607A + 0x60B0, 0x60FF + 0x60B1, 0x6071 + 0x60B2) is taken at `sync(now)` and reached one
+//! interpolation period later (0x60C2 when present, else the time between the last two SYNCs);
+//! status bit 12 shows the drive following; a following error beyond 0x6065 for 0x6066 ms faults
+//! with 0x8611 in csp.
+
+mod drive_rig;
+
+use std::f64::consts::TAU;
+
+use drive_rig::*;
+use ds402::drive::{DriveConfig, MotorConfig, MotorKind};
+
+const ENABLED: u16 = 0x0237;
+const FOLLOWING: u16 = 0x1000;
+const WARNING: u16 = 0x0080;
+
+#[test]
+fn csp_follows_a_ramp_one_sync_behind() {
+    let mut r = Rig::with(&[]);
+    r.enable(8);
+    assert_eq!(r.read(0x6061, 0), 8);
+    assert_eq!(r.sw(), ENABLED | FOLLOWING);
+    // The master sends x(n) = 10 · (n − 1) before the SYNC at n ms (n ≥ 2): 10 000 counts/s. The
+    // demand at the SYNC at n ms is the target of the one before, 10 · (n − 2).
+    for n in 2..=201i64 {
+        r.set(0x607A, 0, 10 * (n - 1));
+        r.sync_at(n as u64);
+        assert_eq!(r.demand(), 10 * (n - 2).max(0), "SYNC at {n} ms");
+    }
+    assert_eq!(r.pos(), 1990);
+    assert_eq!(r.read(0x606C, 0), 10_000);
+    assert_eq!(r.read(0x60F4, 0), 0);
+    assert_eq!(r.sw(), ENABLED | FOLLOWING);
+    // No more SYNCs: the last target (2000) is held. The demand stops within one tick, so the
+    // rotor runs 5 counts past it ((10 000 + 0) / 2 counts/s for 1 ms) and the servo brings it back.
+    r.at(203);
+    assert_eq!((r.demand(), r.pos()), (2000, 2005));
+    r.at(400);
+    assert_eq!((r.demand(), r.pos(), r.read(0x606C, 0)), (2000, 2000, 0));
+}
+
+#[test]
+fn csp_position_offset_is_added() {
+    let mut r = Rig::with(&[(0x60B0, 0, 100)]);
+    r.enable(8);
+    r.set(0x607A, 0, 50);
+    r.sync_at(2);
+    r.sync_at(3);
+    assert_eq!(r.demand(), 150);
+}
+
+#[test]
+fn csp_interpolates_over_the_measured_sync_period_without_0x60c2() {
+    // SYNC every 2 ms: the target of the SYNC at 6 ms is half-way at 7 ms, there at 8 ms.
+    let mut r = Rig::new(dictionary_with(&[], &[0x60C2]), DriveConfig::default());
+    r.enable(8);
+    r.sync_at(2);
+    r.sync_at(4);
+    r.set(0x607A, 0, 100);
+    r.sync_at(6);
+    r.at(7);
+    assert_eq!(r.demand(), 50);
+    r.at(8);
+    assert_eq!(r.demand(), 100);
+    // With 0x60C2 = 1 ms the same SYNCs reach the target at 7 ms.
+    let mut r = Rig::with(&[]);
+    r.enable(8);
+    r.sync_at(2);
+    r.sync_at(4);
+    r.set(0x607A, 0, 100);
+    r.sync_at(6);
+    r.at(7);
+    assert_eq!(r.demand(), 100);
+}
+
+#[test]
+fn csp_software_limits_clamp_and_set_bit_11() {
+    let mut r = Rig::with(&[(0x607D, 1, -100), (0x607D, 2, 100)]);
+    r.enable(8);
+    r.set(0x607A, 0, 500);
+    r.sync_at(2);
+    assert_eq!(r.sw(), ENABLED | FOLLOWING | 0x0800);
+    r.sync_at(3);
+    assert_eq!(r.demand(), 100);
+    r.set(0x607A, 0, 50);
+    r.sync_at(4);
+    assert_eq!(r.sw(), ENABLED | FOLLOWING);
+}
+
+#[test]
+fn csp_following_error_faults_with_8611() {
+    // No torque: the rotor stays at 0, the following error is the demand 10 · (n − 2) at n ms.
+    // Beyond 0x6065 = 100 from 13 ms (110); for 0x6066 = 3 ms: the fault at 16 ms.
+    let mut r = Rig::with(&[(0x6065, 0, 100), (0x6066, 0, 3)]);
+    r.enable(8);
+    r.set(0x6072, 0, 0);
+    for n in 2..=12i64 {
+        r.set(0x607A, 0, 10 * (n - 1));
+        r.sync_at(n as u64);
+    }
+    assert_eq!(r.read(0x60F4, 0), 100);
+    assert_eq!(r.sw(), ENABLED | FOLLOWING);
+    for n in 13..=15i64 {
+        r.set(0x607A, 0, 10 * (n - 1));
+        r.sync_at(n as u64);
+        assert_eq!(r.sw(), ENABLED | FOLLOWING | WARNING, "{n} ms");
+    }
+    r.set(0x607A, 0, 150);
+    r.sync_at(16);
+    // Fault reaction active (0x605E = 2, braking) with bit 13 (following error), error code 0x8611.
+    assert_eq!(r.sw(), 0x223F);
+    assert_eq!(r.read(0x603F, 0), 0x8611);
+    // The demand brakes from 10 000 counts/s at 0x6085 = 100 000: 100 ms.
+    r.at(115);
+    assert_eq!(r.sw(), 0x223F);
+    r.at(116);
+    assert_eq!(r.sw(), 0x2228);
+    // Fault reset clears it.
+    r.cw(FAULT_RESET);
+    assert_eq!(r.sw(), 0x0260);
+    assert_eq!(r.read(0x603F, 0), 0);
+}
+
+#[test]
+fn csv_follows_the_target_velocity() {
+    // 0x60FF = 4000 before the SYNC at 2 ms: the velocity demand rises to 4000 over 1 ms (2
+    // counts), then 4 counts each ms.
+    let mut r = Rig::with(&[]);
+    r.enable(9);
+    r.set(0x60FF, 0, 4000);
+    for n in 2..=103u64 {
+        r.sync_at(n);
+    }
+    assert_eq!(r.demand(), 2 + 4 * 100);
+    assert_eq!(r.pos(), 402);
+    assert_eq!(r.read(0x606C, 0), 4000);
+    assert_eq!(r.sw(), ENABLED | FOLLOWING);
+    // The velocity offset 0x60B1 adds to the target.
+    r.set(0x60B1, 0, 1000);
+    r.sync_at(104);
+    r.sync_at(105);
+    assert_eq!(r.read(0x606C, 0), 5000);
+}
+
+#[test]
+fn cst_applies_the_target_torque() {
+    // 0x6071 = 100 ‰ of 1 N·m on 1e-4 kg·m² without friction: 1000 rad/s², i.e. 1000 · 10 000 / 2π
+    // counts/s². Taken at the SYNC at 2 ms, applied from then: after 10 ms, v = a · 0.01 and
+    // x = a · 0.01² / 2.
+    let config = DriveConfig {
+        motor: MotorConfig {
+            friction: 0.0,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[]), config);
+    r.enable(10);
+    r.set(0x6071, 0, 100);
+    r.sync_at(2);
+    r.at(12);
+    let a = 1000.0 * 10_000.0 / TAU;
+    assert_eq!(r.read(0x606C, 0), (a * 0.01).round() as i64); // 15 915
+    assert_eq!(r.pos(), (a * 0.0001 / 2.0).round() as i64); // 80
+    assert_eq!(r.read(0x6077, 0), 100);
+    assert_eq!(r.sw(), ENABLED | FOLLOWING);
+    // Beyond 0x6072 (3000 ‰) the torque is limited.
+    r.set(0x6071, 0, 5000);
+    r.sync_at(13);
+    r.at(14);
+    assert_eq!(r.read(0x6077, 0), 3000);
+    // The torque offset 0x60B2 adds to the target.
+    r.set(0x6071, 0, -300);
+    r.set(0x60B2, 0, 100);
+    r.sync_at(15);
+    r.at(16);
+    assert_eq!(r.read(0x6077, 0), -200);
+}
+
+#[test]
+fn halt_in_csp_stops_and_the_drive_does_not_follow() {
+    let mut r = Rig::with(&[]);
+    r.enable(8);
+    for n in 2..=101i64 {
+        r.set(0x607A, 0, 10 * (n - 1));
+        r.sync_at(n as u64);
+    }
+    r.cw(ENABLE | HALT);
+    assert_eq!(r.sw(), ENABLED);
+    // From 10 000 counts/s at 0x6084 = 10 000: 1 s.
+    for n in 102..=1101i64 {
+        r.set(0x607A, 0, 10 * (n - 1));
+        r.sync_at(n as u64);
+    }
+    assert_eq!(r.read(0x606C, 0), 0);
+    assert_eq!(r.sw(), ENABLED | 0x0400);
+}
+
+#[test]
+fn cst_is_refused_on_a_stepper() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            kind: MotorKind::Stepper,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[]), config);
+    r.at(1);
+    assert_eq!(r.write(0x6060, 0, 10), Err(od::AbortCode::InvalidValue));
+    assert_eq!(r.read(0x6060, 0), 0);
+    assert_eq!(r.read(0x6061, 0), 0);
+    assert_eq!(r.write(0x6060, 0, 8), Ok(()));
+    assert_eq!(r.read(0x6061, 0), 8);
+}

@@ -1,0 +1,171 @@
+//! The motor behind the generic drive: a stepper follows the demand exactly within its pull-out
+//! torque and loses whole full steps beyond it (0x6064 shows them with an encoder, not without);
+//! a servo with a load follows a profile without error and holds against the load.
+//!
+//! Stepper numbers: 1e-4 kg·m², no friction, 10 000 counts/rev, 200 full steps (50 counts each).
+//! A pull-out torque of 2π · 1.001e-3 N·m accelerates the rotor at most at
+//! a_r = 1.001e-3 · 2π / (1e-4 · 2π / 10 000) = 100 100 counts/s².
+
+mod drive_rig;
+
+use std::f64::consts::TAU;
+
+use drive_rig::*;
+use ds402::drive::{DriveConfig, MotorConfig, MotorKind};
+
+const ENABLED: u16 = 0x0237;
+const TR: u16 = 0x0400;
+
+fn stepper(encoder: bool) -> DriveConfig {
+    DriveConfig {
+        motor: MotorConfig {
+            kind: MotorKind::Stepper,
+            pull_out_torque: TAU * 1.001e-3,
+            friction: 0.0,
+            encoder,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    }
+}
+
+/// pp to 10 000 at 20 000 counts/s with `acc` up and 50 000 counts/s² down, from 1 ms.
+fn stepper_move(acc: i64, encoder: bool) -> Rig {
+    let dict = dictionary(&[(0x6081, 0, 20_000), (0x6083, 0, acc), (0x6084, 0, 50_000)]);
+    let mut r = Rig::new(dict, stepper(encoder));
+    r.enable(1);
+    r.set(0x607A, 0, 10_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.cw(ENABLE);
+    r
+}
+
+#[test]
+fn a_stepper_within_its_pull_out_torque_follows_exactly() {
+    // 50 000 counts/s² needs half the pull-out torque. Ramp 0.4 s (4000 counts), cruise 2000
+    // counts (0.1 s), ramp 0.4 s: at 10 000 at 901 ms.
+    let mut r = stepper_move(50_000, true);
+    r.at(201);
+    assert_eq!((r.demand(), r.pos()), (1000, 1000));
+    r.at(401);
+    assert_eq!((r.demand(), r.pos()), (4000, 4000));
+    assert_eq!(r.read(0x60F4, 0), 0);
+    r.at(901);
+    assert_eq!((r.demand(), r.pos()), (10_000, 10_000));
+    assert_eq!(r.sw(), ENABLED | TR);
+}
+
+/// What the test works out for 200 000 counts/s² up: the rotor slips from the first tick, gaining
+/// a_r · 1 ms of speed each tick, while the demand reaches 20 000 counts/s in 0.1 s and cruises.
+/// It locks again at the first tick k (after the start) at which it can reach the demand's speed
+/// within the tick, 20 000 − a_r · (k − 1) ms ≤ a_r · 1 ms, behind the demand by the whole full
+/// steps nearest to the distance lost.
+fn lost_counts() -> i64 {
+    let a_r = 1.001e-3 * TAU / (1e-4 * TAU / 10_000.0);
+    let dt = 0.001;
+    let v = 20_000.0;
+    let k = (v / (a_r * dt)).ceil(); // 200
+    let before = (k - 1.0) * dt;
+    let rotor = 0.5 * a_r * before * before + 0.5 * (a_r * before + v) * dt;
+    // The demand: 0.1 s of ramp (1000 counts), then 20 000 counts/s.
+    let demand = 1000.0 + v * (k * dt - 0.1);
+    let step = 10_000.0 / 200.0;
+    (((demand - rotor) / step).round() * step) as i64
+}
+
+#[test]
+fn a_stepper_beyond_its_pull_out_torque_loses_whole_steps() {
+    let lost = lost_counts();
+    assert_eq!(lost, 1000); // 20 full steps
+                            // 200 000 counts/s² up: ramp 0.1 s (1000 counts), ramp down 0.4 s (4000), cruise 5000 counts
+                            // (0.25 s): the demand is at 10 000 at 751 ms.
+    let mut r = stepper_move(200_000, true);
+    // While it slips the motor gives its pull-out torque (6.29 ‰ of 1 N·m) and the rotor gains
+    // a_r where the demand gains 200 000 counts/s²: 50 ms in, ½ · a_r · 0.05² = 125.1 counts
+    // against 250.
+    r.at(51);
+    assert_eq!(r.read(0x6077, 0), 6);
+    let a_r = 1.001e-3 * TAU / (1e-4 * TAU / 10_000.0);
+    let rotor = (0.5 * a_r * 0.05 * 0.05).round() as i64;
+    assert_eq!((r.demand(), r.pos()), (250, rotor));
+    assert_eq!(r.read(0x60F4, 0), 250 - rotor);
+    r.at(751);
+    assert_eq!(r.demand(), 10_000);
+    assert_eq!(r.pos(), 10_000 - lost);
+    assert_eq!(r.read(0x60F4, 0), lost);
+    assert_eq!(lost % 50, 0);
+    r.at(2000);
+    assert_eq!(r.pos(), 9000);
+}
+
+#[test]
+fn an_open_loop_stepper_counts_commanded_steps() {
+    let mut r = stepper_move(200_000, false);
+    r.at(2000);
+    assert_eq!(r.pos(), 10_000);
+    assert_eq!(r.read(0x60F4, 0), 0);
+    // The rotor itself has lost the steps.
+    assert_eq!(
+        r.drive.rotor_position().round() as i64,
+        10_000 - lost_counts()
+    );
+}
+
+#[test]
+fn a_stepper_with_too_much_load_cannot_hold() {
+    // 0.01 N·m of load against 6.29e-3 N·m of pull-out torque: the rotor slips backwards at
+    // (6.29e-3 − 0.01) N·m over the inertia from the enable at 1 ms.
+    let mut config = stepper(true);
+    config.motor.load_torque = 0.01;
+    let mut r = Rig::new(dictionary(&[]), config);
+    r.enable(1);
+    r.at(101);
+    let a = (TAU * 1.001e-3 - 0.01) / (1e-4 * TAU / 10_000.0);
+    assert_eq!(r.pos(), (0.5 * a * 0.1 * 0.1).round() as i64); // −2954
+    assert_eq!(r.read(0x60F4, 0), -r.pos());
+}
+
+#[test]
+fn a_servo_follows_and_holds_against_a_load() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            load_torque: 0.5,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[]), config);
+    r.enable(1);
+    // Holding: 500 ‰ of the rated torque against the load, no drift.
+    r.at(500);
+    assert_eq!(r.pos(), 0);
+    assert_eq!(r.read(0x6077, 0), 500);
+    r.set(0x607A, 0, 2000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    // Started at 500 ms: 1 s in, 50 + 900 counts.
+    r.at(1500);
+    assert_eq!((r.demand(), r.pos(), r.read(0x60F4, 0)), (950, 950, 0));
+    r.at(2600);
+    assert_eq!(r.pos(), 2000);
+    assert_eq!(r.sw(), ENABLED | 0x1000 | TR);
+}
+
+#[test]
+fn the_torque_limit_makes_a_servo_fall_behind() {
+    // 0x6072 = 1 ‰ of 1 N·m: at most 0.001 / (1e-4 · 2π / 10 000) = 15 915 counts/s² from rest,
+    // so 20 ms into a ramp of 100 000 counts/s² (demand: 5 counts of ramp, then 10 at 1000
+    // counts/s) the rotor is at most ½ · 15 915 · 0.02² = 3.2 counts along, at full torque. It
+    // catches up on the cruise, which needs only the friction torque.
+    let mut r = Rig::with(&[(0x6072, 0, 1), (0x6083, 0, 100_000)]);
+    r.enable(1);
+    r.set(0x607A, 0, 100_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(21);
+    assert_eq!(r.demand(), 15);
+    assert_eq!(r.read(0x6077, 0), 1);
+    let pos = r.pos();
+    assert!(pos <= 3, "position {pos}");
+    assert_eq!(r.read(0x60F4, 0), 15 - pos);
+    r.at(1001);
+    assert_eq!((r.demand(), r.pos(), r.read(0x60F4, 0)), (995, 995, 0));
+}

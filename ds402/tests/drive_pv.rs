@@ -1,0 +1,127 @@
+//! Profile velocity mode of the generic drive: the ramps of 0x6083/0x6084 to 0x60FF, target
+//! reached (|0x606C − target| ≤ 0x606D held for 0x606E ms), status bit 12 "speed" (0 once |0x606C|
+//! > 0x606F has held for 0x6070 ms), halt and the velocity limit.
+
+mod drive_rig;
+
+use drive_rig::*;
+
+const ENABLED: u16 = 0x0237;
+const TR: u16 = 0x0400;
+const SPEED_ZERO: u16 = 0x1000;
+
+/// pv in Operation enabled at 1 ms with a velocity window of 0 held for 20 ms; 0x60FF = 1000 at
+/// 1 ms: 10 000 counts/s² up, 100 ms to 1000 counts/s (50 counts).
+fn running(changes: &[(u16, u8, i64)]) -> Rig {
+    let mut all = vec![(0x606D, 0, 0), (0x606E, 0, 20)];
+    all.extend_from_slice(changes);
+    let mut r = Rig::with(&all);
+    r.enable(3);
+    r.set(0x60FF, 0, 1000);
+    assert_eq!(r.sw(), ENABLED | SPEED_ZERO);
+    r
+}
+
+#[test]
+fn ramp_target_reached_and_speed_bit() {
+    let mut r = running(&[]);
+    // 10 counts/s at 2 ms is not above the threshold of 10; 20 at 3 ms is.
+    r.at(2);
+    assert_eq!(r.read(0x606C, 0), 10);
+    assert_eq!(r.sw(), ENABLED | SPEED_ZERO);
+    r.at(3);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(101);
+    assert_eq!((r.read(0x606C, 0), r.pos()), (1000, 50));
+    assert_eq!(r.sw(), ENABLED);
+    // On target from 101 ms, for 20 ms.
+    r.at(120);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(121);
+    assert_eq!(r.sw(), ENABLED | TR);
+    r.at(1101);
+    assert_eq!(r.pos(), 1050);
+    assert_eq!(r.read(0x606B, 0), 1000);
+}
+
+#[test]
+fn a_new_target_through_zero() {
+    let mut r = running(&[]);
+    r.at(1101);
+    assert_eq!(r.sw(), ENABLED | TR);
+    // −500: 0x6084 down to 0 in 100 ms (50 counts), then 0x6083 up to −500 in 50 ms.
+    r.set(0x60FF, 0, -500);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(1201);
+    assert_eq!((r.read(0x606C, 0), r.pos()), (0, 1100));
+    assert_eq!(r.sw(), ENABLED | SPEED_ZERO);
+    r.at(1251);
+    assert_eq!(r.read(0x606C, 0), -500);
+    r.at(1270);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(1271);
+    assert_eq!(r.sw(), ENABLED | TR);
+}
+
+#[test]
+fn halt_brakes_to_zero_and_target_reached_means_standing() {
+    let mut r = running(&[]);
+    r.at(301);
+    r.cw(ENABLE | HALT);
+    assert_eq!(r.sw(), ENABLED);
+    // 0x605D = 1: 0x6084, 100 ms.
+    r.at(400);
+    assert_eq!(r.read(0x606C, 0), 10);
+    assert_eq!(r.sw(), ENABLED | SPEED_ZERO);
+    r.at(401);
+    assert_eq!(r.read(0x606C, 0), 0);
+    r.at(420);
+    assert_eq!(r.sw(), ENABLED | SPEED_ZERO);
+    r.at(421);
+    assert_eq!(r.sw(), ENABLED | SPEED_ZERO | TR);
+    // Released: back to 1000.
+    r.cw(ENABLE);
+    r.at(521);
+    assert_eq!(r.read(0x606C, 0), 1000);
+}
+
+#[test]
+fn the_target_velocity_is_limited() {
+    // 0x607F = 2000: a target of 5000 runs at 2000 (200 ms of ramp).
+    let mut r = running(&[(0x607F, 0, 2000)]);
+    r.set(0x60FF, 0, 5000);
+    r.at(201);
+    assert_eq!(r.read(0x606C, 0), 2000);
+    r.at(1000);
+    assert_eq!(r.read(0x606C, 0), 2000);
+    assert_eq!(r.sw(), ENABLED | TR);
+}
+
+#[test]
+fn the_speed_bit_waits_for_the_threshold_time() {
+    // 0x6070 = 30 ms: above 10 counts/s from 3 ms, bit 12 drops at 33 ms.
+    let mut r = running(&[(0x6070, 0, 30)]);
+    r.at(32);
+    assert_eq!(r.sw(), ENABLED | SPEED_ZERO);
+    r.at(33);
+    assert_eq!(r.sw(), ENABLED);
+}
+
+#[test]
+fn enabling_in_pv_runs_to_the_target_already_set() {
+    let mut r = Rig::with(&[(0x60FF, 0, -1000)]);
+    r.enable(3);
+    r.at(101);
+    assert_eq!((r.read(0x606C, 0), r.pos()), (-1000, -50));
+}
+
+#[test]
+fn the_same_target_written_every_cycle_changes_nothing() {
+    // An RPDO with 0x60FF every millisecond: target reached as when it is written once.
+    let mut r = running(&[]);
+    for ms in 2..=121u64 {
+        r.set(0x60FF, 0, 1000);
+        r.at(ms);
+    }
+    assert_eq!(r.sw(), ENABLED | TR);
+}
