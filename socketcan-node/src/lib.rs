@@ -2,11 +2,15 @@
 //!
 //! - [`frame`]: classic CAN frames ([`CanFrame`], an `embedded_can::Frame`);
 //! - [`transport`]: the [`CanBus`] trait and its back ends (SocketCAN, socketcand, in-process);
-//! - [`node`]: the CiA 301 node as a sans-IO state machine over a dictionary and an application.
+//! - [`node`]: the CiA 301 node as a sans-IO state machine over a dictionary and an application;
+//! - [`generic`]: any CANopen description as a node, with a CiA 402 drive behind its drive axes
+//!   (`canopen-node`, [`canopen_cli`]); [`x67`] and [`cli`]: the X67 node (`x67-node`).
 #![deny(missing_docs)]
 
+pub mod canopen_cli;
 pub mod cli;
 pub mod frame;
+pub mod generic;
 pub mod node;
 pub mod runtime;
 pub mod sim;

@@ -67,7 +67,8 @@ impl<A: Application> Core<A> {
         }
     }
 
-    /// The earliest event timer or inhibit expiry with a transmission owed (Operational only).
+    /// The earliest event timer, or transmission owed by an event-driven TPDO (at once, or when its
+    /// inhibit time ends) (Operational only).
     pub(super) fn tpdo_timeout(&self) -> Option<Instant> {
         if self.state != NmtState::Operational {
             return None;
@@ -76,7 +77,13 @@ impl<A: Application> Core<A> {
             .iter()
             .zip(&self.tpdo_state)
             .filter(|(cfg, _)| cfg.valid())
-            .flat_map(|(_, st)| [st.event_at, st.inhibit_until.filter(|_| st.pending)])
+            .flat_map(|(cfg, st)| {
+                let owed = st.pending && cfg.transmission >= 254;
+                [
+                    st.event_at,
+                    owed.then(|| st.inhibit_until.unwrap_or(self.now)),
+                ]
+            })
             .flatten()
             .min()
     }
