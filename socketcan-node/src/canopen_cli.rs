@@ -238,7 +238,7 @@ pub fn load(args: &Args) -> Result<Vec<Loaded>, CliError> {
                 _ if configured => UNCONFIGURED,
                 _ => {
                     return Err(refuse(format!(
-                        "a {format} gives no node-ID: add @ID (e.g. {}@5) or --node-id",
+                        "the {format} gives no node-ID: add @ID (e.g. {}@5) or --node-id",
                         spec.path.display()
                     )))
                 }

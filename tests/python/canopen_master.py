@@ -64,15 +64,19 @@ def has(node, index):
 
 
 def put(node, index, value):
-    """Writes a drive object: by SDO, unless a cyclically sent RPDO maps it (that RPDO would write
-    over it every cycle): then into that RPDO, which carries it with its next cycle. (An
-    event-driven RPDO that maps it is not used: python-canopen would send that RPDO's own copy of
-    any control word mapped beside it.)"""
-    pointer = node.rpdo_pointers.get(index)
-    if pointer is not None and pointer.pdo_parent.is_periodic:
-        pointer.raw = value
-    else:
+    """Writes a drive object: by SDO, unless RPDOs sent cyclically map it (they would write over it
+    every cycle): then into each of them, which carry it with their next cycle. (An event-driven RPDO
+    that maps it is not used: python-canopen would send that RPDO's own copy of any control word
+    mapped beside it.)"""
+    cyclic = [v for pdo in node.rpdo.values() if pdo.enabled and pdo.is_periodic
+              for v in pdo if v.index == index]
+    if not cyclic:
         node.sdo[index].raw = value
+        return
+    for v in cyclic:
+        v.raw = value
+    # Taken at a SYNC after the RPDO's next cycle: go on once the drive has it.
+    wait_for(f"0x{index:04X} = {value} through its RPDO", lambda: node.sdo[index].raw == value, 2)
 
 
 def drive402(args):
@@ -157,10 +161,12 @@ def drive402(args):
         node.state = "OPERATION ENABLED"
         node.controlword = 0x000F
         put(node, 0x60FF, 5000)
-        wait_for("velocity reached (status bit 10)", lambda: node.sdo[0x6041].raw & 0x0400, 5)
+        wait_for("velocity reached (status bit 10)",
+                 lambda: node.sdo[0x6041].raw & 0x0400 and abs(node.sdo[0x606C].raw - 5000) <= 100, 5)
         near("velocity actual (0x606C)", node.sdo[0x606C].raw, 5000, 100)
         put(node, 0x60FF, 0)
-        wait_for("standstill (status bit 12, speed 0)", lambda: node.sdo[0x6041].raw & 0x1000, 5)
+        wait_for("standstill (status bit 12, speed 0)",
+                 lambda: node.sdo[0x6041].raw & 0x1000 and abs(node.sdo[0x606C].raw) <= 100, 5)
 
     if supported & 0x80:
         node.op_mode = "CYCLIC SYNCHRONOUS POSITION"

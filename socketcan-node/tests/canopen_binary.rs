@@ -1,0 +1,276 @@
+//! The `canopen-node` binary as a user runs it, over the socketcand protocol on 127.0.0.1, with
+//! python-canopen as the master: `BaseNode402` drives the CiA 402 drive of this project's example
+//! description and of real drive descriptions of five vendors, its LSS master finds an unconfigured
+//! node by Fastscan and gives it a node-ID that a restart keeps, and a `RemoteNode` moves a DOMAIN by
+//! block transfer.
+
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command};
+use std::time::{Duration, Instant};
+
+use socketcan_node::transport::{BusEvent, CanBus, SocketcandClient};
+use socketcan_node::CanFrame;
+
+const NODE: &str = env!("CARGO_BIN_EXE_canopen-node");
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// A file of the shared corpus of real descriptions (beside the checkout).
+fn corpus(name: &str) -> PathBuf {
+    let p = root().join("../shared/corpus/eds").join(name);
+    assert!(
+        p.is_file(),
+        "{} is missing: the corpus lies beside the checkout",
+        p.display()
+    );
+    p
+}
+
+fn free_port() -> u16 {
+    TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+/// The node process; killed when dropped.
+struct NodeProcess {
+    child: Child,
+    port: u16,
+}
+
+impl Drop for NodeProcess {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn start(args: &[&str]) -> NodeProcess {
+    let port = free_port();
+    let (child, line) = testkit::start_until_first_line(
+        Command::new(NODE)
+            .arg("--bus")
+            .arg(format!("socketcand-listen:127.0.0.1:{port}"))
+            .args(args),
+    );
+    assert!(line.starts_with("canopen-node: node "), "{line}");
+    NodeProcess { child, port }
+}
+
+/// Runs `tests/python/canopen_master.py` with `args` against `node`; asserts it passed and returns
+/// what it printed.
+fn master(node: &NodeProcess, args: &[&str]) -> String {
+    let out = Command::new("python3")
+        .arg(root().join("tests/python/canopen_master.py"))
+        .args(args)
+        .arg("--socketcand")
+        .arg(format!("127.0.0.1:{}", node.port))
+        .output()
+        .expect("python3 runs (scripts/setup-test-deps installs python-canopen)");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    println!("{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "python-canopen master failed");
+    assert_eq!(text.lines().last(), Some("PASS"), "{text}");
+    text
+}
+
+/// BaseNode402 on the example drive: every step of the scenario, with the supported modes of its
+/// 0x6502 (0x3A5: pp, pv, hm, csp, csv, cst).
+#[test]
+fn base_node_402_drives_the_example_drive() {
+    let eds = root().join("examples/drive.eds");
+    let eds = eds.to_str().unwrap();
+    let node = start(&["--od", &format!("{eds}@5")]);
+    let text = master(&node, &["drive402", "--eds", eds, "--node-id", "5"]);
+    for step in [
+        "ok   supported drive modes 0x000003A5",
+        "ok   state: 'OPERATION ENABLED'",
+        "ok   homing(): True",
+        "ok   op_mode: 'PROFILED POSITION'",
+        "ok   set-point acknowledged (status bit 12)",
+        "ok   target reached (status bit 10)",
+        "ok   op_mode: 'PROFILED VELOCITY'",
+        "ok   velocity reached (status bit 10)",
+        "ok   op_mode: 'CYCLIC SYNCHRONOUS POSITION'",
+        "ok   csp: the position follows to the last target",
+        "ok   state: 'SWITCH ON DISABLED'",
+    ] {
+        assert!(text.lines().any(|l| l == step), "{step}: {text}");
+    }
+}
+
+/// The same scenario on five real drive descriptions of different vendors (Schunk, an integrated
+/// stepper ISD860, Pilz PRBT as a DCF, the ros2_canopen CiA 402 slave, and python-canopen's e35):
+/// each runs what its 0x6502 supports, with its own PDO layout.
+#[test]
+fn base_node_402_drives_real_descriptions_of_five_vendors() {
+    // (file, 0x6502, homing mode among them)
+    for (file, modes, homing) in [
+        ("rosc-Schunk.eds", "0x00000063", true),
+        ("rosc-ISD860.eds", "0x00000065", true),
+        ("ros2c-prbt_0_1.dcf", "0x00000043", false),
+        ("ros2c-cia402_slave.eds", "0x000000A5", true),
+        ("pycanopen-e35.eds", "0x000303EF", true),
+    ] {
+        let eds = corpus(file);
+        let eds = eds.to_str().unwrap();
+        let node = start(&["--od", &format!("{eds}@7")]);
+        let text = master(&node, &["drive402", "--eds", eds, "--node-id", "7"]);
+        let want = format!("ok   supported drive modes {modes}");
+        assert!(text.lines().any(|l| l == want), "{file}: {text}");
+        assert_eq!(
+            text.lines().any(|l| l == "ok   homing(): True"),
+            homing,
+            "{file}: {text}"
+        );
+        assert!(
+            text.lines()
+                .any(|l| l == "ok   target reached (status bit 10)"),
+            "{file}: {text}"
+        );
+    }
+}
+
+/// The first frame on `cob` within 5 s.
+fn wait_for(bus: &mut dyn CanBus, cob: u16) -> CanFrame {
+    let end = Instant::now() + Duration::from_secs(5);
+    while Instant::now() < end {
+        if let Some(BusEvent::Frame { frame, .. }) = bus.recv(Duration::from_millis(100)).unwrap() {
+            if frame.cob_id() == Some(cob) {
+                return frame;
+            }
+        }
+    }
+    panic!("no frame on {cob:03X} within 5 s");
+}
+
+/// python-canopen's LSS master: Fastscan among two unconfigured nodes finds the lower LSS address
+/// (the second I/O device, whose serial number counts up to 2, before the drive with product code
+/// 0x402), gives it node-ID 20 and stores it; the node boots as node 20 at once. Restarted with the
+/// same storage, the process brings it up as node 20 again.
+#[test]
+fn lss_master_finds_configures_and_stores_a_node_id() {
+    let dir = tempfile::tempdir().unwrap();
+    let storage = dir.path().to_str().unwrap();
+    let io = root().join("examples/io-device.eds");
+    let io = io.to_str().unwrap();
+    let drive = root().join("examples/drive.eds");
+    let drive = drive.to_str().unwrap();
+    let args = [
+        "--storage",
+        storage,
+        "--od",
+        &format!("{io}@6"),
+        "--od",
+        &format!("{io}@lss"),
+        "--od",
+        &format!("{drive}@lss"),
+    ];
+    let node = start(&args);
+    let text = master(&node, &["lss", "--eds", io, "--assign", "20"]);
+    assert!(
+        text.lines().any(|l| l == "ok   serial number 0x00000002"),
+        "{text}"
+    );
+    drop(node);
+    // The second node's LSS configuration: node-ID 0x14, bit timing 4 (125 kbit/s).
+    let kept = std::fs::read_to_string(dir.path().join("node2.params.lss")).unwrap();
+    assert!(kept.contains("\n0000:01 14\n0000:02 04\n"), "{kept}");
+    let port = free_port();
+    let mut bus_spec = vec![format!("socketcand-listen:127.0.0.1:{port}")];
+    bus_spec.extend(args.iter().map(|s| s.to_string()));
+    let mut child = Command::new(NODE)
+        .arg("--bus")
+        .args(&bus_spec)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut out = std::io::BufReader::new(child.stdout.take().unwrap());
+    let mut text = String::new();
+    for _ in 0..3 {
+        std::io::BufRead::read_line(&mut out, &mut text).unwrap();
+    }
+    let restarted = NodeProcess { child, port };
+    assert!(
+        text.contains("canopen-node: node 20 from "),
+        "the stored node-ID at power-on: {text}"
+    );
+    let mut bus = SocketcandClient::connect("127.0.0.1", restarted.port, "can0").unwrap();
+    bus.send(&CanFrame::new(0x614, &[0x40, 0x14, 0x10, 0, 0, 0, 0, 0]).unwrap())
+        .unwrap();
+    // EMCY COB-ID 0x80 + 20.
+    assert_eq!(
+        wait_for(&mut bus, 0x594).data8(),
+        [0x43, 0x14, 0x10, 0, 0x94, 0, 0, 0]
+    );
+}
+
+/// A RemoteNode moves 3000 bytes into the I/O device's DOMAIN by block download and reads them back
+/// by block and by segmented upload.
+#[test]
+fn remote_node_block_transfers() {
+    let io = root().join("examples/io-device.eds");
+    let io = io.to_str().unwrap();
+    let node = start(&["--od", &format!("{io}@9")]);
+    master(&node, &["block", "--eds", io, "--node-id", "9"]);
+}
+
+#[test]
+fn bad_arguments_exit_2_with_one_line() {
+    let io = root().join("examples/io-device.eds");
+    let io = io.to_str().unwrap();
+    let esi = root().join("fixtures/smd/SMD23K-B_SMD24K.esi.xml");
+    let cases: Vec<(Vec<String>, String)> = vec![
+        (
+            vec!["--od".into(), io.into()],
+            format!(
+                "canopen-node: {io}: the EDS gives no node-ID: add @ID (e.g. {io}@5) or --node-id"
+            ),
+        ),
+        (
+            vec![
+                "--od".into(),
+                format!("{io}@5"),
+                "--od".into(),
+                format!("{io}@5"),
+            ],
+            "canopen-node: node-ID 5 is given to two nodes".into(),
+        ),
+        (
+            vec!["--od".into(), format!("{}@5", esi.display())],
+            format!(
+                "canopen-node: {}: an ESI describes an EtherCAT device; run it with ethercat-node",
+                esi.display()
+            ),
+        ),
+        (
+            vec!["--od".into(), "/nonexistent/x.eds@5".into()],
+            "canopen-node: /nonexistent/x.eds: ".into(),
+        ),
+    ];
+    for (args, says) in cases {
+        let out = Command::new(NODE)
+            .args(["--bus", "socketcand-listen:127.0.0.1:0"])
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with(&says), "{args:?}: {err}");
+    }
+    // clap refuses a node-ID out of range.
+    let out = Command::new(NODE)
+        .args(["--od", &format!("{io}@128")])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("node-ID 128 is outside 1 to 127 (or lss for none)"));
+}
