@@ -698,7 +698,7 @@ impl Module {
         self.check_ratings(cycle);
     }
 
-    /// The current-rating monitors of X67-3-03 and X67-3-04.
+    /// The current-rating monitors of each axis (X67-3-03) and of the module (X67-3-04).
     fn check_ratings(&mut self, cycle: Cycle) {
         let t = u64::from(cycle.millis());
         let mut sum = 0;
@@ -728,6 +728,12 @@ impl Module {
                 r.recovery_ms = r.recovery_ms.saturating_add(t);
             }
         }
+        self.check_module_rating(sum);
+    }
+
+    /// The module's rating of 8 A for both axes together (X67-3-04): one diagnostic at the start of each
+    /// period above it. `sum` is the phase-current amplitudes of both axes in mA.
+    fn check_module_rating(&mut self, sum: u32) {
         if sum > 8_000 {
             if !self.module_over {
                 self.diagnostics.push(Diagnostic::ModuleOverCurrent {

@@ -111,9 +111,11 @@ pub fn identification_us(
     }
     let r = params.resistance_ohm;
     let l = params.inductance_mh / 1000.0;
-    if open || !(r > 0.0 && l > 0.0 && supply_volts > 0.0) || i_nom * r >= supply_volts {
+    if open || !(r > 0.0 && l > 0.0 && supply_volts > 0.0) {
         return Some(IDENT_OVERFLOW);
     }
+    // The current rises toward V/R: when that is not above the nominal current, the nominal current is
+    // never reached and the time to it is not finite (the logarithm of 0 or less), an overflow below.
     let t = |i: f64| -(l / r) * (1.0 - i * r / supply_volts).ln();
     let per_amp_us = (t(i_nom) - t(i_nom / 3.0)) / (i_nom * 2.0 / 3.0) * 1e6;
     if !(per_amp_us.is_finite() && per_amp_us <= IDENT_MAX_US) {

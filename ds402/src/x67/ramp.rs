@@ -288,17 +288,15 @@ impl Ramp {
         self.is_standstill()
     }
 
-    /// Moves the whole frame of reference by `delta` microsteps: the output and set-point positions and a
-    /// position target shift together, so no motion results and a move in progress goes on unchanged
-    /// (set actual position, set home position, 32-bit wrap-around of the counter).
+    /// Moves the axis's positions by `delta` microsteps: the output and set-point positions and a position
+    /// target shift together, so no motion results and a move in progress goes on unchanged (set actual
+    /// position, set home position, 32-bit wrap-around of the counter). The bounds stay where they are:
+    /// they are positions of the counter (the software limits), which setting the counter does not move.
     pub fn shift(&mut self, delta: i64) {
         self.position += delta;
         self.sp_pos += delta;
         if let Target::Position(t) = self.target {
             self.target = Target::Position(t + delta);
-        }
-        if let Some((lo, hi)) = self.bounds {
-            self.bounds = Some((lo + delta, hi + delta));
         }
     }
 
@@ -314,10 +312,11 @@ impl Ramp {
         self.reset_fifo();
     }
 
-    /// Sets the inclusive position bounds the set-point never leaves (software limits), or removes them. With
-    /// bounds the set-point brakes with MaxDec0n so that it stops no later than at a bound; when it could no
-    /// longer stop in time (bounds set while moving fast toward them) it stops abruptly at the bound, so the
-    /// bound is never crossed. A position already outside the bounds may only move back toward them.
+    /// Sets the inclusive position bounds `(lo, hi)`, `lo ≤ hi`, the set-point never leaves (software
+    /// limits), or removes them. With bounds the set-point brakes with MaxDec0n so that it stops no later
+    /// than at a bound; when it could no longer stop in time (bounds set while moving fast toward them) it
+    /// stops abruptly at the bound, so the bound is never crossed. A position already outside the bounds
+    /// may only move back toward them.
     pub fn set_bounds(&mut self, bounds: Option<(i64, i64)>) {
         self.bounds = bounds;
     }
@@ -397,8 +396,8 @@ impl Ramp {
         (self.config.rev_loop != 0).then(|| {
             let p = t + i64::from(self.config.rev_loop);
             match self.bounds {
-                Some((lo, hi)) if lo <= hi => p.clamp(lo, hi),
-                _ => p,
+                Some((lo, hi)) => p.max(lo).min(hi),
+                None => p,
             }
         })
     }
@@ -418,13 +417,14 @@ impl Ramp {
         }
     }
 
-    /// Shortest distance covered after a cycle at speed `w ≥ 0` while braking to 0: Σ max(0, w − k·dec).
+    /// Shortest distance covered after a cycle at speed `w ≥ 0` while braking to 0: Σ max(0, w − k·dec),
+    /// the sum of the m = ⌊w / dec⌋ positive terms (when dec divides w, the m-th term is 0).
     fn brake_distance(&self, w: i64) -> i64 {
         let dec = self.dec_step();
         if w <= dec {
             return 0;
         }
-        let m = (w - 1) / dec;
+        let m = w / dec;
         m * w - dec * m * (m + 1) / 2
     }
 
@@ -436,7 +436,8 @@ impl Ramp {
         if dir == 0 {
             return 0;
         }
-        let (d, u) = (dist * dir, v * dir);
+        // The distance to go and the speed along `dir` (±1).
+        let (d, u) = (dist.abs(), v * dir);
         let dec = self.dec_step();
         if u < 0 {
             // Moving away from the goal: brake first.

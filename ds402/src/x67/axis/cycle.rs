@@ -41,12 +41,11 @@ impl Axis {
         }
         if self.cur_mode != prev_mode {
             // A set-point of one mode is not carried into another: after a mode change the position modes
-            // wait for their own set-point (the relative base of X67-18.11.3.3.2-09 is kept).
+            // wait for their own set-point (the relative base of X67-18.11.3.3.2-09 is kept). A homing run
+            // needs nothing here: every mode change in Operation enable is `entered`, which starts a new run
+            // when the new mode homes, and the run is read only while a homing mode is selected.
             self.active_target = None;
             self.queued = None;
-            if !is_homing(self.cur_mode) {
-                self.homing = None;
-            }
         }
         self.was_enabled = enabled;
         self.set_pulse = false;

@@ -174,7 +174,6 @@ pub struct Axis {
     /// Energy regenerated into the DC bus this cycle, in J, for the module to take (X67-18.11.4.3-12).
     regenerated_joules: f64,
     ident_left: Option<u32>,
-    ident_done: bool,
     motor_identification: u16,
     /// The ABR counter (16 bit, X67-3-09).
     pub(crate) abr: i16,
@@ -241,7 +240,6 @@ impl Axis {
             powered: false,
             regenerated_joules: 0.0,
             ident_left: None,
-            ident_done: false,
             // 0 until a measurement succeeds (X67-18.11.3.7-02).
             motor_identification: 0,
             abr: 0,

@@ -110,7 +110,6 @@ impl Axis {
                 Action::ClearErrors => self.errors.fault_reset(),
             }
         }
-        self.ident_done |= identification_done;
     }
 
     /// Motor identification on ↑ control bit 11 (X67-18.11.3.2-05, X67-18.11.3.7-04): at standstill, motor
