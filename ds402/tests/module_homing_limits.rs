@@ -170,6 +170,63 @@ fn x67_18_11_3_3_10_01_positive_and_negative_homing() {
     assert_eq!(refs(&m, 1), (0, 0));
 }
 
+/// X67-18.11.3.3.10-01, X67-18.11.3.3.10-06: switched from −127 straight to −128 after the positive run has
+/// ended, the axis starts a new run, in the negative direction: a run starts whenever a homing mode is
+/// selected in Operation enable (the model's pick for the start of a run). Each run stores the counter of
+/// its own DI3 edge (RefConfig01 default −125, rising): 220 going up, 180 going down.
+#[test]
+fn x67_18_11_3_3_10_01_switch_between_homing_modes_starts_a_new_run() {
+    let mut m = homing_axis(0, 40, 10, 10);
+    m.set_mode(0, modes::HOMING_POSITIVE);
+    assert_eq!(incs(&mut m, 0, 7), [10, 20, 30, 40, 40, 40, 40]);
+    assert_eq!(m.act_val(0), 220);
+    // DI3 rises between two cycles: the reference is the counter at the next cycle's start, and the braking
+    // with MaxDec01 = 10 starts in the cycle after.
+    m.set_input(3, true);
+    assert_eq!(
+        incs_bits(&mut m, 0, 6, SW_TARGET_REACHED),
+        [
+            (40, false),
+            (30, false),
+            (20, false),
+            (10, false),
+            (0, true),
+            (0, true)
+        ]
+    );
+    assert_eq!(refs(&m, 0), (220, 0));
+    assert_eq!(m.act_val(0), 320);
+    m.set_input(3, false);
+    assert_eq!(incs_bits(&mut m, 0, 1, SW_TARGET_REACHED), [(0, true)]);
+
+    m.set_mode(0, modes::HOMING_NEGATIVE);
+    assert_eq!(
+        incs_bits(&mut m, 0, 5, SW_TARGET_REACHED),
+        [
+            (-10, false),
+            (-20, false),
+            (-30, false),
+            (-40, false),
+            (-40, false)
+        ]
+    );
+    assert_eq!(m.act_val(0), 180);
+    assert_eq!(refs(&m, 0), (220, 0), "not yet referenced again");
+    m.set_input(3, true);
+    assert_eq!(
+        incs_bits(&mut m, 0, 5, SW_TARGET_REACHED),
+        [
+            (-40, false),
+            (-30, false),
+            (-20, false),
+            (-10, false),
+            (0, true)
+        ]
+    );
+    assert_eq!(refs(&m, 0), (180, 0));
+    assert_eq!(m.act_val(0), 80);
+}
+
 /// X67-18.11.3.3.10-02: switching to homing while the axis runs brakes it with MaxDec0n to standstill first;
 /// the homing run starts from speed 0, even when it goes in the direction the axis was already running.
 #[test]
@@ -411,6 +468,30 @@ fn x67_18_11_3_3_10_08_homing_on_stall_abrupt_stop() {
     assert!(m.axis(0).observation().ramp.standstill);
     assert_eq!(incs(&mut m, 0, 3), [0, 0, 0]);
     assert_eq!(refs(&m, 0), (220, 8));
+}
+
+/// X67-18.11.3.3.10-08, X67-18.11.1.11-03: in homing on stall the stall is the only referencing condition,
+/// and the R input plays no part: with DI3 high at the start the run does not first travel off it (that is
+/// case 2 of the input conditions, X67-18.11.3.3.10-07) but goes straight in the homing direction, DI3
+/// edges on the way change nothing, and the stall ends the run as without them.
+#[test]
+fn x67_18_11_3_3_10_08_stall_homing_ignores_the_r_input() {
+    let mut m = stall_homing(40);
+    m.set_input(3, true);
+    m.step();
+    m.set_mode(0, modes::HOMING_POSITIVE);
+    assert_eq!(incs(&mut m, 0, 4), [10, 20, 30, 40]);
+    m.set_input(3, false);
+    assert_eq!(incs(&mut m, 0, 1), [40]);
+    m.set_input(3, true);
+    assert_eq!(incs(&mut m, 0, 2), [40, 40]);
+    assert_eq!(m.act_val(0), 220);
+    assert_eq!(refs(&m, 0), (0, 0));
+    m.axis_mut(0).motor.load = Load::Value(2);
+    let (inc, sw) = cycle(&mut m, 0);
+    assert_eq!(inc, 0, "stopped within one cycle");
+    assert_eq!(refs(&m, 0), (220, 8));
+    assert!(sw & SW_TARGET_REACHED != 0);
 }
 
 /// X67-18.11.3.3.10-09: a stall ends the homing run only while it can be detected: control bit 15 = 0, a stall
@@ -1032,6 +1113,39 @@ fn x67_18_11_1_16_04_warning_and_braking_without_state_change() {
     assert_eq!(m.error_code(0), 0xFF21);
 }
 
+/// X67-18.11.1.16-04: a limit switch holding the axis in speed mode: bit 10 is 0 while the axis brakes
+/// (40, 35, …, 5) and 1 once it stands, and stays 1 while the switch holds it, although the set-point speed
+/// 40 is not reached (the model's pick: while a limit holds the axis bit 10 shows standstill).
+#[test]
+fn x67_18_11_1_16_04_bit_10_while_a_switch_holds_the_axis() {
+    let mut m = running(0b1100, 40);
+    m.set_input(2, true);
+    let expected: Vec<(i32, bool)> = [40, 35, 30, 25, 20, 15, 10, 5]
+        .into_iter()
+        .map(|v| (v, false))
+        .chain([(0, true); 5])
+        .collect();
+    assert_eq!(incs_bits(&mut m, 0, 13, SW_TARGET_REACHED), expected);
+    assert_eq!(m.error_code(0), 0xFF21);
+}
+
+/// Which inputs are an axis's limit switches is the harness's choice (module documentation):
+/// `set_limit_inputs(axis 1, DI5, DI6)` makes DI6 the positive switch of axis 1 (0xFF21 and braking) and
+/// leaves DI2, its default, without effect; inputs outside 1…6 are held to DI1/DI6.
+#[test]
+fn x67_18_11_1_16_02_limit_switch_inputs_chosen_by_the_harness() {
+    let mut m = running(0b1100, 40);
+    m.set_limit_inputs(0, 5, 6);
+    assert_eq!(drive(&mut m, 2, &[true]), [(40, 0)], "DI2 is no switch now");
+    assert_eq!(drive(&mut m, 6, &[true]), [(40, 0xFF21)]);
+    assert_eq!(incs(&mut m, 0, 8), [35, 30, 25, 20, 15, 10, 5, 0]);
+
+    let mut m = running(0b1100, 40);
+    m.set_limit_inputs(0, 0, 9);
+    assert_eq!(drive(&mut m, 5, &[true]), [(40, 0)]);
+    assert_eq!(drive(&mut m, 6, &[true]), [(40, 0xFF21)]);
+}
+
 /// X67-18.11.1.16-05: the acknowledgement (↑ bit 12) restores normal operation in both directions while the
 /// switch stays active; the switch triggers again only on its next active edge.
 #[test]
@@ -1371,6 +1485,136 @@ fn x67_18_11_1_17_04_min_above_max() {
     assert_eq!(incs_bits(&mut m, 0, 1, SW_INTERNAL_LIMIT), [(10, false)]);
     m.run(20);
     assert_eq!(m.act_val(0), 75);
+}
+
+/// X67-18.11.1.17-02: at a limit the axis brakes as late as possible, at each cycle the largest speed from
+/// which MaxDec0n still stops it on the limit. Mode 2 at 40 (MaxAcc01 10, MaxDec01 5) toward Max = 1010:
+/// 10, 20, 30 and 40 up to 860, where 40 no longer fits (40 + 35 + 30 + … + 5 = 180 > 150 left) but 36 does
+/// (36 + 31 + 26 + 21 + 16 + 11 + 6 + 1 = 148, 37 would need 156); then 31 (+ 81 = 112 of 114), 26 (+ 55 = 81
+/// of 83), 21 (+ 34 = 55 of 57), 16 (+ 18 = 34 of 36), 11 (+ 7 = 18 of 20), 7 (+ 2 = 9 of 9) and 2 land on
+/// 1010. Bit 11 is 1 from the first cycle the limit holds the set-point back.
+#[test]
+fn x67_18_11_1_17_02_braking_as_late_as_possible_at_a_limit() {
+    let approach = cat(&[
+        &[10, 20, 30],
+        &rep(40, 20),
+        &[36, 31, 26, 21, 16, 11, 7, 2, 0, 0],
+    ]);
+    let held: Vec<bool> = (0..approach.len()).map(|k| k >= 23).collect();
+    let mut m = enabled(0, 0, 10, 5);
+    limits(&mut m, 0, -1000, 1010);
+    m.set_mode(0, modes::SPEED);
+    m.set_abs_pos(0, 40);
+    let run = incs_bits(&mut m, 0, approach.len(), SW_INTERNAL_LIMIT);
+    assert_eq!(run.iter().map(|r| r.0).collect::<Vec<_>>(), approach);
+    assert_eq!(run.iter().map(|r| r.1).collect::<Vec<_>>(), held);
+    assert_eq!(m.act_val(0), 1010);
+}
+
+/// X67-18.11.1.17-02: limits written while the axis runs toward them too fast to stop in time still hold. The
+/// axis brakes with MaxDec01 while that still stops it inside and, in the cycle it would cross the limit,
+/// stops on it at once (the model's pick: the seed does not say how the module stops there). Mode 2 at 100
+/// (MaxDec01 10) at 1050, then Max = 1250: 200 to go, where braking from 100 needs 450. The largest speed
+/// that could still stop in 200 is 58, so the axis brakes as hard as it may: 90 (110 left), 80 (30 left),
+/// then 30 instead of 70, and stands on 1250 with bit 11 = 1.
+#[test]
+fn x67_18_11_1_17_02_limits_written_too_late_still_hold() {
+    let mut m = enabled(0, 0, 10, 10);
+    m.set_mode(0, modes::SPEED);
+    m.set_abs_pos(0, 100);
+    assert_eq!(
+        incs(&mut m, 0, 15),
+        cat(&[&[10, 20, 30, 40, 50, 60, 70, 80, 90], &rep(100, 6)])
+    );
+    assert_eq!(m.act_val(0), 1050);
+    limits(&mut m, 0, -10_000, 1250);
+    assert_eq!(
+        incs_bits(&mut m, 0, 5, SW_INTERNAL_LIMIT),
+        [(90, true), (80, true), (30, true), (0, true), (0, true)]
+    );
+    assert_eq!(m.act_val(0), 1250);
+}
+
+/// X67-18.11.1.6-02 with X67-18.11.1.17-02: the reversing-loop point is kept inside the software limits (the
+/// model's pick). RevLoop01 = 500 and Max = 10 200: a move 0 → 10 000 overshoots only to 10 200 (10, …, 100,
+/// 92 cycles at 100, 90, …, 10), stands there two cycles (the cycle in which it stops and the one in which
+/// the ramp sees it stopped, the model's pick for how long the loop stops) and comes back 200 (10, 20, 30,
+/// 40, 40, 30, 20, 10); bit 11 stays 0 and bit 10 is 1 only on the arrival.
+#[test]
+fn x67_18_11_1_6_02_loop_point_inside_the_limits() {
+    let mut m = enabled(0, 100, 10, 10);
+    set(&mut m, 0, AxisReg::RevLoop, 500);
+    limits(&mut m, 0, -1000, 10_200);
+    m.set_mode(0, modes::POSITION);
+    m.set_abs_pos(0, 10_000);
+    let up: Vec<i32> = (1..=10).map(|k| 10 * k).collect();
+    let down: Vec<i32> = (1..=9).rev().map(|k| 10 * k).collect();
+    let expected = cat(&[
+        &up,
+        &rep(100, 92),
+        &down,
+        &[0, 0],
+        &[-10, -20, -30, -40, -40, -30, -20, -10, 0],
+    ]);
+    let mut seen = Vec::new();
+    for _ in 0..expected.len() {
+        let (inc, sw) = cycle(&mut m, 0);
+        assert_eq!(sw & SW_INTERNAL_LIMIT, 0, "cycle {}", seen.len());
+        seen.push((inc, sw & SW_TARGET_REACHED != 0));
+    }
+    assert_eq!(seen.iter().map(|c| c.0).collect::<Vec<_>>(), expected);
+    let mut reached = vec![false; expected.len() - 1];
+    reached.push(true);
+    assert_eq!(seen.iter().map(|c| c.1).collect::<Vec<_>>(), reached);
+    assert_eq!(m.act_val(0), 10_000);
+}
+
+/// X67-18.11.1.17-01, X67-18.11.1.17-04: Min = Max (not 0) is a valid range of one position, not Min > Max:
+/// the axis at 0 is sent to it (10, …, 100, 90, …, 10) and arrives with bit 11 = 0 in every cycle; a target
+/// one microstep beside it is outside and sets bit 11 without motion.
+#[test]
+fn x67_18_11_1_17_04_min_equal_to_max_is_valid() {
+    let mut m = enabled(0, 100, 10, 10);
+    limits(&mut m, 0, 1000, 1000);
+    m.set_mode(0, modes::POSITION);
+    m.set_abs_pos(0, 1000);
+    let expected: Vec<(i32, bool)> = (1..=10)
+        .chain((1..=9).rev())
+        .map(|k| (10 * k, false))
+        .chain([(0, false)])
+        .collect();
+    assert_eq!(incs_bits(&mut m, 0, 20, SW_INTERNAL_LIMIT), expected);
+    assert!(bit(&m, 0, SW_TARGET_REACHED));
+    assert_eq!(m.act_val(0), 1000);
+    for target in [1001, 999] {
+        m.set_abs_pos(0, target);
+        assert_eq!(
+            incs_bits(&mut m, 0, 3, SW_INTERNAL_LIMIT),
+            [(0, true); 3],
+            "target {target}"
+        );
+    }
+}
+
+/// X67-18.11.1.17-04 in speed mode: Min > Max holds the axis at standstill with bit 11 = 1, and bit 10 shows
+/// the standstill (the model's pick: while a limit holds the axis bit 10 is 1 at standstill), not the
+/// set-point speed of 40 that is never reached.
+#[test]
+fn x67_18_11_1_17_04_min_above_max_in_speed_mode() {
+    let mut m = enabled(0, 0, 10, 10);
+    limits(&mut m, 0, 100, 50);
+    m.set_mode(0, modes::SPEED);
+    m.set_abs_pos(0, 40);
+    for k in 0..5 {
+        let (inc, sw) = cycle(&mut m, 0);
+        assert_eq!(inc, 0, "cycle {k}");
+        assert_eq!(
+            sw & (SW_TARGET_REACHED | SW_INTERNAL_LIMIT),
+            SW_TARGET_REACHED | SW_INTERNAL_LIMIT,
+            "cycle {k}"
+        );
+    }
+    assert_eq!(m.act_val(0), 0);
 }
 
 /// X67-18.11.1.17-06: without limits the 32-bit counter wraps from 2 147 483 647 to −2 147 483 648; with
