@@ -226,6 +226,67 @@ fn x67_18_11_3_3_01_mode_register_values_read_back() {
     }
 }
 
+/// X67-18.11.3.3-01: the modes are the numbers of the seed's table, written as those numbers. The library's
+/// names are these numbers, and each number starts its own function from standstill at 0 (MaxSpeed 100,
+/// MaxAcc = MaxDec = 10): −120 sets home (500 becomes the actual position, reference 0 before) and −122 the
+/// position (777), both without motion; −121 moves to AbsPos01 = 1000 without bit 10 (no trigger yet);
+/// −123 waits for DI3 and then moves to 1000; −124 with DI3 low goes to FixedPos01b = −1000, and so does
+/// −126; an unlisted number would do nothing (X67-18.11.3.3-05).
+#[test]
+fn x67_18_11_3_3_01_mode_numbers_of_the_table() {
+    assert_eq!(
+        [
+            modes::NONE,
+            modes::POSITION,
+            modes::SPEED,
+            modes::SET_HOME,
+            modes::REMAINING_DISTANCE,
+            modes::SET_POSITION,
+            modes::MOVE_ON_INPUT,
+            modes::TWO_POSITION,
+            modes::FIXED_A,
+            modes::FIXED_B,
+            modes::HOMING_POSITIVE,
+            modes::HOMING_NEGATIVE,
+        ],
+        [0, 1, 2, -120, -121, -122, -123, -124, -125, -126, -127, -128]
+    );
+
+    for (mode, abs_pos, expected) in [(-120i8, 500, 500), (-122, 777, 777)] {
+        let mut m = standard();
+        m.set_abs_pos(A1, abs_pos);
+        m.set_mode(A1, mode);
+        m.step();
+        assert_eq!(m.act_val(A1), expected, "mode {mode}");
+        assert_eq!(m.axis(A1).motor.rotor(), 0, "mode {mode}: no motion");
+    }
+
+    let mut m = standard();
+    m.set_abs_pos(A1, 1000);
+    m.set_mode(A1, -121);
+    let t = trace(&mut m, A1, 25);
+    assert_eq!(incs(&t), cat(&[&profile(0, 1), &[0; 5]]));
+    assert!(t.iter().all(|c| !c.reached()));
+
+    let mut m = standard();
+    m.set_abs_pos(A1, 1000);
+    m.set_mode(A1, -123);
+    assert!(trace(&mut m, A1, 3).iter().all(|c| c.inc == 0));
+    m.pulse_input(DI3);
+    let t = until_reached(&mut m, A1, 100);
+    assert_eq!(incs(&t), after_edge(profile(0, 1)));
+
+    for mode in [-124i8, -126] {
+        let mut m = standard();
+        write(&mut m, "FixedPos0na", A1, 1000);
+        write(&mut m, "FixedPos0nb", A1, -1000);
+        m.set_mode(A1, mode);
+        let t = until_reached(&mut m, A1, 100);
+        assert_eq!(incs(&t), profile(0, -1), "mode {mode}");
+        assert_eq!(m.act_val(A1), -1000, "mode {mode}");
+    }
+}
+
 /// X67-18.11.3.3-02: mode 0 executes no motion function; switched to 0 during a move, the axis brakes with
 /// MaxDec01 to standstill, bit 10 = 0 while it brakes and 1 at standstill (pick).
 #[test]
@@ -1493,6 +1554,40 @@ fn x67_18_11_1_6_02_reversing_loop_overshoots_and_returns() {
     assert_eq!(m.act_val(A1), 10_000);
 }
 
+/// X67-18.11.1.6-02, X67-18.11.1.6-03 (pick (a)): the final approach runs against the sign of RevLoop01 also
+/// when the axis passes the target onto the wrong side. RevLoop01 = 500; running at −100 toward −100 000,
+/// at −1050 the target becomes −1150, 100 ahead, where braking from 100 takes 450 (X67-18.11.3.3-04: re-planned
+/// from the present speed): −90 to −1140, −80 past the target to −1220, on down to −1500; then the loop
+/// up to −1150 + 500 = −650 (850: 10, …, 90, then 84, 74, 64, 54, 44, 35, 25, 15, 5, each the largest speed
+/// that still stops on −650), two cycles at rest there (as in `x67_18_11_1_6_02_loop_point_inside_the_limits`)
+/// and down 500 onto the target (10, …, 70, then 61, 51, 41, 31, 22, 12, 2); bit 10 only on the arrival.
+#[test]
+fn x67_18_11_1_6_02_target_passed_on_the_wrong_side_loops_again() {
+    let mut m = standard();
+    write(&mut m, "RevLoop0n", A1, 500);
+    m.set_abs_pos(A1, -100_000);
+    let t = trace(&mut m, A1, 15);
+    assert_eq!(incs(&t), cat(&[&seq(-10, -100, -10), &[-100; 5]]));
+    assert_eq!(m.act_val(A1), -1050);
+    m.set_abs_pos(A1, -1150);
+    let t = until_reached(&mut m, A1, 200);
+    let expected = cat(&[
+        &seq(-90, -10, 10),
+        &[0],
+        &seq(10, 90, 10),
+        &[84, 74, 64, 54, 44, 35, 25, 15, 5],
+        &[0, 0],
+        &seq(-10, -70, -10),
+        &[-61, -51, -41, -31, -22, -12, -2],
+        &[0],
+    ]);
+    assert_eq!(incs(&t), expected);
+    assert_eq!(positions(&t)[9], -1500);
+    assert_eq!(positions(&t)[27], -650);
+    assert_eq!(bit10(&t), moving_then_reached(expected.len()));
+    assert_eq!(m.act_val(A1), -1150);
+}
+
 /// X67-18.11.1.6-03: the sign of RevLoop01 sets the direction in which the loop runs, pick (a): +500 overshoots
 /// moves in the positive direction (0 → 10 000 reaches 10 500) and goes straight in the negative direction
 /// (20 000 → 10 000); −500 the other way round. The final approach always runs against the sign.
@@ -1765,6 +1860,34 @@ fn x67_18_11_3_5_04_bit_12_mode_specific() {
     }
 }
 
+/// X67-18.11.3.5-04, X67-18.11.3.3.2-11 (pick): bit 12 is Set-point acknowledge only in the modes with the
+/// handshake, mode 1 and −121 before its trigger; in any other mode, and in −121 once triggered, it is 0,
+/// even while bit 4 is still high and the value was taken.
+#[test]
+fn x67_18_11_3_5_04_bit_12_only_in_the_handshake_modes() {
+    let mut m = standard_ext();
+    assert!(handshake(&mut m, 1000, 0).ack());
+    m.set_abs_pos(A1, 0);
+    m.set_mode(A1, modes::SPEED);
+    for k in 0..3 {
+        let c = cycle(&mut m, A1);
+        assert_eq!(c.sw & SW_SETPOINT_ACK, 0, "mode 2, cycle {k}");
+    }
+
+    let mut m = standard_ext();
+    m.set_mode(A1, modes::REMAINING_DISTANCE);
+    m.step();
+    assert!(handshake(&mut m, 1000, 0).ack());
+    let t = trace(&mut m, A1, 30);
+    assert!(t.iter().all(|c| c.ack()), "−121 before its trigger");
+    assert_eq!(m.act_val(A1), 1000);
+    m.pulse_input(DI3);
+    for k in 0..3 {
+        let c = cycle(&mut m, A1);
+        assert_eq!(c.sw & SW_SETPOINT_ACK, 0, "−121 triggered, cycle {k}");
+    }
+}
+
 /// X67-18.11.4.2-11: in modes 1, −123, −124, −125 and −126 bit 10 is 0 from the start of a move and 1 once the
 /// target is reached.
 #[test]
@@ -1814,6 +1937,22 @@ fn x67_18_11_4_2_12_bit_10_in_speed_mode() {
         bit10(&t),
         [false, false, false, false, false, true, true, true]
     );
+}
+
+/// X67-18.11.4.2-12 with X67-18.11.1.14-01: with the jerk filter, bit 10 in speed mode waits for the speed the
+/// axis runs at, not for the ramp's unfiltered set-point (the model's pick). JoltTime01 = 4, set-point 40,
+/// MaxAcc01 10: the set-point runs 10, 20, 30, 40, 40, …; the axis moves by the mean of the last four with the
+/// remainder carried: 10/4 = 2 (2 left), 32/4 = 8, 60/4 = 15, 100/4 = 25, 130/4 = 32 (2 left), 152/4 = 38,
+/// 160/4 = 40: bit 10 is 1 from that cycle, not from the fourth, where the set-point reached 40.
+#[test]
+fn x67_18_11_4_2_12_bit_10_follows_the_filtered_speed() {
+    let mut m = standard();
+    write(&mut m, "JoltTime0n", A1, 4);
+    m.set_mode(A1, modes::SPEED);
+    m.set_abs_pos(A1, 40);
+    let t = trace(&mut m, A1, 8);
+    assert_eq!(incs(&t), [2, 8, 15, 25, 32, 38, 40, 40]);
+    assert_eq!(bit10(&t), cat_bools(&[false; 6], &[true; 2]));
 }
 
 /// X67-18.11.4.2-14: in mode −122 bit 10 drops to 0 for one cycle and returns to 1 once the position is set;
