@@ -13,7 +13,7 @@ use ds402::cia402::{self, State, SW_WARNING};
 use ds402::x67::axis::{modes, CW_MOTOR_ID, CW_SWAP_COUNTERS, SW_TARGET_REACHED};
 use ds402::x67::current::Level;
 use ds402::x67::errors::{CW_CURRENT_ERROR_DETECTION, CW_STALL_DETECTION, CW_WARNING_RESET};
-use ds402::x67::module::{Diagnostic, Module};
+use ds402::x67::module::{Cam, Diagnostic, Module};
 use ds402::x67::motor::{self, Load, MotorParams};
 use ds402::x67::registers::{Access, AxisReg, ModuleReg, RegType, Register, RegisterError};
 use x67_rig::{
@@ -2075,6 +2075,16 @@ fn x67_18_11_1_10_02_smaller_threshold_wider_off_range() {
     assert!(one.len() > fourteen.len());
 }
 
+/// X67-18.11.1.10-01, X67-18.11.1.10-02 (the model's pick for the simulated decay mode, which no register
+/// shows): above StallDetectMinSpeed01 (0 here) a threshold t of 1…14 keeps mixed decay on below 64·t
+/// microsteps/cycle and off from there on: over the speeds 1…1000, threshold 1 has it off from 64, threshold
+/// 14 from 896.
+#[test]
+fn x67_18_11_1_10_02_threshold_speeds() {
+    assert_eq!(decay_off_speeds(1), (64..=1000).collect::<Vec<i32>>());
+    assert_eq!(decay_off_speeds(14), (896..=1000).collect::<Vec<i32>>());
+}
+
 /// X67-18.11.1.10-04: with StallDetectConfig01 bit 7 the load value shows in SW bits 13–15 (bit 13 LSB),
 /// without it those bits are 0.
 #[test]
@@ -2326,6 +2336,40 @@ fn x67_18_11_3_7_03_valid_range_and_overflow() {
     assert_eq!(named(&m, "Motoridentification01"), 65_534);
     let slow = first_identification(100, 24.0, |p| p.inductance_mh = 1000.0);
     assert_eq!(slow, 65_534);
+}
+
+/// X67-18.11.3.7-03, X67-18.11.3.7-01: the simulated measurement overflows (65534) when the nominal current is
+/// never reached: the winding's current rises toward V/R, which with 1.5 Ω at 4.5 V is exactly the nominal
+/// 3 A and at 4.0 V below it; at 5.0 V it is reached, in (2 ms)·ln(1/(1 − 0.3·i)) for i A, so from 1 A to
+/// 3 A in 2 ms·(ln 10 − ln(1/0.7)) = 3.8918 ms, 1946 µs per ampere. A winding without inductance or
+/// resistance, an open one, and no or a negative supply give 65534 as well.
+#[test]
+fn x67_18_11_3_7_03_overflow_when_the_nominal_current_is_not_reached() {
+    let p = MotorParams::default();
+    assert_eq!(motor::identification_us(&p, false, 5.0, 3000), Some(1946));
+    for volts in [4.5, 4.0, 0.0, -24.0] {
+        assert_eq!(
+            motor::identification_us(&p, false, volts, 3000),
+            Some(motor::IDENT_OVERFLOW),
+            "{volts} V"
+        );
+    }
+    assert_eq!(
+        motor::identification_us(&p, true, 24.0, 3000),
+        Some(motor::IDENT_OVERFLOW)
+    );
+    for (mh, ohm) in [(0.0, 1.5), (3.0, 0.0), (3.0, -1.5), (-3.0, 1.5)] {
+        let p = MotorParams {
+            inductance_mh: mh,
+            resistance_ohm: ohm,
+            ..MotorParams::default()
+        };
+        assert_eq!(
+            motor::identification_us(&p, false, 24.0, 3000),
+            Some(motor::IDENT_OVERFLOW),
+            "{mh} mH, {ohm} Ω"
+        );
+    }
 }
 
 /// X67-18.11.3.7-04: ↑ CW bit 11 measures only at standstill in a half-step position (internal counter ≡ 0
@@ -2751,6 +2795,73 @@ fn x67_3_04_module_current_rating() {
     }
 }
 
+/// X67-3-03: exactly 3 A is not above the rating: holding current 100 % (3.00 A) for 3 s writes no
+/// diagnostic.
+#[test]
+fn x67_3_03_three_amperes_are_within_the_rating() {
+    let mut m = Module::new();
+    set_currents(&mut m, 0, 100, 0, 0);
+    switch_on(&mut m, 0);
+    m.take_diagnostics();
+    for _ in 0..120 {
+        m.step();
+        assert_eq!(milliamps(&m, 0), 3000);
+    }
+    assert_eq!(m.take_diagnostics(), []);
+}
+
+/// X67-3-04: the module diagnostic is written once, in the first cycle of a period above 8 A, and again
+/// only for a new period: both axes holding at 3.00 A (6 A), then axis 2 at 5.01 A (8.01 A) for 10 cycles,
+/// back to 3.00 A for one, and at 5.01 A again. That second period is also above 3 A again 25 ms after the
+/// first (X67-3-03).
+#[test]
+fn x67_3_04_module_diagnostic_once_per_period() {
+    let mut m = Module::new();
+    for axis in 0..2 {
+        set_currents(&mut m, axis, 100, 0, 0);
+        switch_on(&mut m, axis);
+    }
+    m.step();
+    assert_eq!(milliamps(&m, 0) + milliamps(&m, 1), 6000);
+    assert_eq!(m.take_diagnostics(), []);
+
+    set(&mut m, 1, AxisReg::HoldingCurrent, 167);
+    m.step();
+    let first = m.time_ms();
+    assert_eq!(milliamps(&m, 0) + milliamps(&m, 1), 8010);
+    assert_eq!(
+        m.take_diagnostics(),
+        [Diagnostic::ModuleOverCurrent {
+            milliamps: 8010,
+            at_ms: first
+        }]
+    );
+    for _ in 0..10 {
+        m.step();
+        assert_eq!(m.take_diagnostics(), [], "the same period");
+    }
+
+    set(&mut m, 1, AxisReg::HoldingCurrent, 100);
+    m.step();
+    assert_eq!(m.take_diagnostics(), []);
+    set(&mut m, 1, AxisReg::HoldingCurrent, 167);
+    m.step();
+    let again = m.time_ms();
+    assert_eq!(
+        m.take_diagnostics(),
+        [
+            Diagnostic::AxisRecoveryTooShort {
+                axis: 1,
+                at_ms: again
+            },
+            Diagnostic::ModuleOverCurrent {
+                milliamps: 8010,
+                at_ms: again
+            }
+        ]
+    );
+}
+
 // ===== 3 / 8.2 / 18.11.3.6 Inputs, encoders, counters =====
 
 /// X67-3-05: 256 microsteps of the internal counter turn the rotor by one full step, 1 microstep by 1/256.
@@ -2787,6 +2898,61 @@ fn x67_3_06_six_digital_inputs() {
         m.step();
         assert_eq!(m.input_status(), 0);
     }
+}
+
+/// X67-3-06: there are six inputs, DI1…DI6; the harness's calls for an input number outside 1…6 change
+/// nothing (no input, no edge, no panic).
+#[test]
+fn x67_3_06_no_seventh_input() {
+    let mut m = Module::new();
+    m.step();
+    for input in [0, 7, 8] {
+        m.set_input(input, true);
+        m.pulse_input(input);
+        m.attach_cam(
+            input,
+            Cam {
+                axis: 0,
+                from: -10,
+                to: 10,
+            },
+        );
+        m.step();
+        assert_eq!(m.input_status(), 0, "input {input}");
+    }
+}
+
+/// X67-3-07 with the module's input harness: a cam attached to an input sets its level at once, and the
+/// module sees that change as an edge at the next cycle. Mode −123 standing at 0 with AbsPos01 = 1000: a cam
+/// over rotor positions −10…10 attached to DI3 shows in InputStatus before any cycle, and its rising edge
+/// takes the target (that cycle), the move starts in the cycle after; a cam that does not cover the rotor
+/// leaves the input low.
+#[test]
+fn x67_3_07_attached_cam_sets_the_level_at_once() {
+    let mut m = Module::new();
+    operation_enable(&mut m, 0, 100, 10, 10);
+    m.set_mode(0, modes::MOVE_ON_INPUT);
+    m.set_abs_pos(0, 1000);
+    assert_eq!(increments(&mut m, 0, 3), [0, 0, 0]);
+    m.attach_cam(
+        4,
+        Cam {
+            axis: 0,
+            from: 100,
+            to: 200,
+        },
+    );
+    assert_eq!(m.input_status(), 0);
+    m.attach_cam(
+        3,
+        Cam {
+            axis: 0,
+            from: -10,
+            to: 10,
+        },
+    );
+    assert_eq!(m.input_status(), 0b0100);
+    assert_eq!(increments(&mut m, 0, 4), [0, 10, 20, 30]);
 }
 
 /// X67-3-08: ABR counter 1 (DI1–DI3) belongs to axis 1 and counter 2 (DI4–DI6) to axis 2: hand quadrature
@@ -2961,6 +3127,15 @@ fn x67_18_11_3_6_01_input_status() {
     m.run(20);
     assert_eq!(named(&m, "AbsPos01ActValAcyclic"), 3);
     assert_eq!(m.input_status() & 0x03, 0x02);
+    // The other two phases: count 4 (103 microsteps) has A and B low, count 1 (26 microsteps) A high only.
+    m.set_abs_pos(0, 103);
+    m.run(20);
+    assert_eq!(named(&m, "AbsPos01ActValAcyclic"), 4);
+    assert_eq!(m.input_status() & 0x03, 0x00);
+    m.set_abs_pos(0, 26);
+    m.run(20);
+    assert_eq!(named(&m, "AbsPos01ActValAcyclic"), 1);
+    assert_eq!(m.input_status() & 0x03, 0x01);
     // DI4 is axis 2's negative limit switch (active high).
     m.set_input(4, true);
     m.step();
@@ -3381,6 +3556,36 @@ fn x67_18_5_03_access() {
             .filter(|r| r.info().access == Access::ReadAcyclic)
             .count(),
         21
+    );
+}
+
+/// X67-18.5-03: a register the master cannot write answers `ReadOnly` (SDO abort 0x06010002) whatever the
+/// value, also one outside its type's range, which a writable register would refuse as too high or too low;
+/// the refusal names the register by its seed name.
+#[test]
+fn x67_18_5_03_read_only_before_the_range() {
+    let mut m = Module::new();
+    m.step();
+    for (reg, value) in [
+        (Register::Axis(0, AxisReg::ActVal), 1i64 << 40),
+        (Register::Axis(1, AxisReg::Status), -1),
+        (Register::Module(ModuleReg::InputStatus), 300),
+        (Register::Axis(0, AxisReg::ErrorCode), 70_000),
+    ] {
+        let err = m.write(reg, value).unwrap_err();
+        assert_eq!(err, RegisterError::ReadOnly(reg), "{reg} = {value}");
+        assert_eq!(err.abort_code(), 0x0601_0002);
+    }
+    let act_val = Register::Axis(0, AxisReg::ActVal);
+    assert_eq!(act_val.to_string(), "AbsPos01ActVal");
+    assert_eq!(
+        RegisterError::ReadOnly(act_val).to_string(),
+        "AbsPos01ActVal is read-only"
+    );
+    let max_acc = Register::Axis(1, AxisReg::MaxAcc);
+    assert_eq!(
+        m.write(max_acc, 70_000).unwrap_err().to_string(),
+        "70000 is above the range of MaxAcc02 (at most 65535)"
     );
 }
 
