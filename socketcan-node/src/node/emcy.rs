@@ -96,7 +96,11 @@ impl EmcyCode {
             0x2 => 1 << 1,
             0x3 => 1 << 2,
             0x4 => 1 << 3,
-            0x8 => 1 << 4,
+            // 0x81xx communication, 0x82xx protocol: the communication error bit; the other
+            // monitoring codes (0x83xx–0x8Fxx: torque, speed, position, sync controllers) are the
+            // device profile's (CiA 402: 0x8611 following error).
+            0x8 if matches!((self.0 >> 8) & 0xF, 1 | 2) => 1 << 4,
+            0x8 => 1 << 5,
             0x6 => 1 << 5,
             0xF => 1 << 7,
             _ => 0,
@@ -302,6 +306,8 @@ mod tests {
         assert_eq!(error_register(&[e(0x3000)]), 0x05);
         assert_eq!(error_register(&[e(0x4200)]), 0x09);
         assert_eq!(error_register(&[e(0x8130)]), 0x11);
+        assert_eq!(error_register(&[e(0x8210)]), 0x11);
+        assert_eq!(error_register(&[e(0x8611)]), 0x21);
         assert_eq!(error_register(&[e(0xFF20), e(0x3000)]), 0x85);
         assert_eq!(error_register(&[]), 0x00);
         assert_eq!(
