@@ -77,9 +77,15 @@ pub fn next_on(bus: &mut dyn CanBus, cob: u16, within: Duration) -> Option<(CanF
 /// The `x67-node` binary `bin` on vcan0 as node `id`, returned once its boot-up message is on the bus
 /// (the VM of the vcan tests emulates its CPU, so the start takes a variable time).
 pub fn spawn_on_vcan(bin: &Path, id: u8) -> Child {
+    spawn_args_on_vcan(bin, &["--node-id", &id.to_string()], id)
+}
+
+/// Starts `bin` on vcan0 with `args` and waits for the boot-up message of node `id` (30 s at most).
+pub fn spawn_args_on_vcan(bin: &Path, args: &[&str], id: u8) -> Child {
     let mut bus = SocketCanBus::open("vcan0").expect("vcan0 is up (tests/vcan/run brings it up)");
     let mut node = Command::new(bin)
-        .args(["--bus", "socketcan:vcan0", "--node-id", &id.to_string()])
+        .args(["--bus", "socketcan:vcan0"])
+        .args(args)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
@@ -87,7 +93,10 @@ pub fn spawn_on_vcan(bin: &Path, id: u8) -> Child {
     let boot = next_on(&mut bus, 0x700 + u16::from(id), Duration::from_secs(30));
     if boot.as_ref().map(|(frame, _)| frame.data()) != Some(&[0u8][..]) {
         node.kill().unwrap();
-        panic!("x67-node {id} sent no boot-up message within 30 s: {boot:?}");
+        panic!(
+            "{} {id} sent no boot-up message within 30 s: {boot:?}",
+            bin.display()
+        );
     }
     node
 }

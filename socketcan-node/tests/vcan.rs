@@ -5,7 +5,8 @@
 //!   sender; error frames reported, not fatal);
 //! - the node's runtime on vcan0: SDO, NMT, heartbeat;
 //! - `candump` of the `x67-node` binary's boot-up message and heartbeat;
-//! - python-canopen as the master over vcan0 (the same script as over socketcand);
+//! - python-canopen as the master over vcan0 (the same script as over socketcand), of the X67 node
+//!   and of `canopen-node`: BaseNode402 on the example drive, the LSS master's Fastscan;
 //! - 100,000 random frames on vcan0 leave the node answering and its heartbeat on time.
 
 use std::io::{BufRead, BufReader};
@@ -14,12 +15,13 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use socketcan_node::node::NodeConfig;
-use socketcan_node::test_util::{next_on, spawn_on_vcan, RunningNode};
+use socketcan_node::test_util::{next_on, spawn_args_on_vcan, spawn_on_vcan, RunningNode};
 use socketcan_node::transport::{BusEvent, CanBus, SocketCanBus};
 use socketcan_node::CanFrame;
 
 const IFACE: &str = "vcan0";
 const NODE: &str = env!("CARGO_BIN_EXE_x67-node");
+const CANOPEN_NODE: &str = env!("CARGO_BIN_EXE_canopen-node");
 
 fn f(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::new(id, data).unwrap()
@@ -273,12 +275,66 @@ fn python_canopen_master_over_vcan() {
     assert!(text.lines().any(|l| l == "PASS"), "{text}");
 }
 
+/// `tests/python/canopen_master.py` over vcan0; asserts it passed.
+fn canopen_master(args: &[&str]) {
+    let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let out = Command::new(&python)
+        .arg(format!("{root}/tests/python/canopen_master.py"))
+        .args(args)
+        .args(["--socketcan", IFACE])
+        .output()
+        .expect("the host's python3 with python-canopen");
+    let text = String::from_utf8_lossy(&out.stdout);
+    println!("{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "python-canopen master failed");
+    assert_eq!(text.lines().last(), Some("PASS"), "{text}");
+}
+
+/// BaseNode402 on `canopen-node`'s example drive over vcan0: state machine, homing, profile
+/// position, profile velocity, cyclic synchronous position.
+#[test]
+fn base_node_402_over_vcan() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let eds = format!("{root}/examples/drive.eds");
+    let mut node = spawn_args_on_vcan(Path::new(CANOPEN_NODE), &["--od", &format!("{eds}@5")], 5);
+    canopen_master(&["drive402", "--eds", &eds, "--node-id", "5"]);
+    node.kill().unwrap();
+    node.wait().unwrap();
+}
+
+/// The LSS master over vcan0: Fastscan finds the node without node-ID, gives it 21, stores it; the
+/// node boots as 21.
+#[test]
+fn lss_fastscan_over_vcan() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let io = format!("{root}/examples/io-device.eds");
+    let dir = tempfile::tempdir().unwrap();
+    // Node 4 is configured (its boot-up says the process runs); the second waits for LSS.
+    let mut node = spawn_args_on_vcan(
+        Path::new(CANOPEN_NODE),
+        &[
+            "--storage",
+            dir.path().to_str().unwrap(),
+            "--od",
+            &format!("{io}@4"),
+            "--od",
+            &format!("{io}@lss"),
+        ],
+        4,
+    );
+    canopen_master(&["lss", "--eds", &io, "--assign", "21"]);
+    node.kill().unwrap();
+    node.wait().unwrap();
+}
+
 #[test]
 fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
     let mut master = open();
     let mut flooder = open();
     let _node = start_node(3, 50);
-    next_on(&mut master, 0x703, Duration::from_secs(2)).expect("boot-up");
+    // Building the node (its dictionary from the fixture) is slow in a debug build under emulation.
+    next_on(&mut master, 0x703, Duration::from_secs(30)).expect("boot-up");
     let flood = std::thread::spawn(move || {
         let mut seed = 0x1234_5678_9ABC_DEF1u64;
         let mut sent = 0u32;
