@@ -604,6 +604,64 @@ fn cfg0_example_0x2411() {
     );
 }
 
+/// SMD-R5-001: object `8010` holds CFG_Word_0 at sub-index 01, CFG_Word_1 at 02 and the five
+/// parameters at 03 … 07 (Table R5.1: Starting_Speed, Motor_Resolution, Encoder_Resolution,
+/// Idle_current_reduction, Motor_Current).
+#[test]
+fn smd_r5_001_sub_indices_of_8010() {
+    assert_eq!(Word::Cfg0.sub_index(), 0x01);
+    assert_eq!(Word::Cfg1.sub_index(), 0x02);
+    assert_eq!(
+        Parameter::ALL.map(|p| (p.name(), p.sub_index())),
+        [
+            ("Starting_Speed", 0x03),
+            ("Motor_Resolution", 0x04),
+            ("Encoder_Resolution", 0x05),
+            ("Idle_current_reduction", 0x06),
+            ("Motor_Current", 0x07),
+        ]
+    );
+}
+
+/// SMD-R5-001: the seven values of `8010` printed one per line with their sub-index, the words in hex
+/// and Motor_Current (×0.1 Arms, Table R5.1) also in amperes: the fixture defaults (10 = 1.0 Arms)
+/// and the highest valid values (34 = 3.4 Arms), and 5 = 0.5 Arms.
+#[test]
+fn smd_r5_001_configuration_printed() {
+    assert_eq!(
+        Configuration::default().to_string(),
+        "8010:01 CFG_Word_0 = 0x0000\n\
+         8010:02 CFG_Word_1 = 0x0003\n\
+         8010:03 Starting_Speed = 141 steps/s\n\
+         8010:04 Motor_Resolution = 2000 steps per turn\n\
+         8010:05 Encoder_Resolution = 2048 counts per turn\n\
+         8010:06 Idle_current_reduction = 50 %\n\
+         8010:07 Motor_Current = 10 (1.0 Arms)"
+    );
+    let high = Configuration {
+        cfg0: 0x2411,
+        cfg1: 0x0043,
+        starting_speed: 1_999_999,
+        motor_resolution: 32_767,
+        encoder_resolution: 4096,
+        idle_current_reduction: 100,
+        motor_current: 34,
+    };
+    assert_eq!(
+        high.to_string(),
+        "8010:01 CFG_Word_0 = 0x2411\n\
+         8010:02 CFG_Word_1 = 0x0043\n\
+         8010:03 Starting_Speed = 1999999 steps/s\n\
+         8010:04 Motor_Resolution = 32767 steps per turn\n\
+         8010:05 Encoder_Resolution = 4096 counts per turn\n\
+         8010:06 Idle_current_reduction = 100 %\n\
+         8010:07 Motor_Current = 34 (3.4 Arms)"
+    );
+    assert!(with(|c| c.motor_current = 5)
+        .to_string()
+        .ends_with("\n8010:07 Motor_Current = 5 (0.5 Arms)"));
+}
+
 /// decode_words lists the violations of both words, CFG_Word_0's first, and prints them.
 #[test]
 fn decode_words_reports_both_words() {

@@ -72,11 +72,11 @@ pub const CFG0_RESERVED_MASK: u16 = 0x13C0;
 pub const IGNORED_BIT_15: u16 = 0x8000;
 
 /// CFG_Word_1 bit 0: IN1_Active_Level.
-pub const CFG1_IN1_ACTIVE_LEVEL: u16 = 1 << 0;
+pub const CFG1_IN1_ACTIVE_LEVEL: u16 = 0x0001;
 /// CFG_Word_1 bit 1: IN2_Active_Level.
-pub const CFG1_IN2_ACTIVE_LEVEL: u16 = 1 << 1;
+pub const CFG1_IN2_ACTIVE_LEVEL: u16 = 0x0002;
 /// CFG_Word_1 bit 6: DC_Sync.
-pub const CFG1_DC_SYNC: u16 = 1 << 6;
+pub const CFG1_DC_SYNC: u16 = 0x0040;
 /// CFG_Word_1 reserved bits that must be 0: bits 14–7 and 5–2.
 pub const CFG1_RESERVED_MASK: u16 = 0x7FBC;
 /// The valid values of CFG_Word_1 (R5 "Range of Values for Configuration Word 1"), bit 15 masked off.
