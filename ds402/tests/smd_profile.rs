@@ -286,6 +286,89 @@ fn smd_r3_025_short_s_curve_move() {
     close(p.position_at(p.total_time()), 100_000.0, 1e-3);
 }
 
+/// SMD-R3-025 (gap pick) with numbers worked by hand: V_S = 100, V_P = 2,100, Acceleration =
+/// Deceleration = 1 (a = 1,000 steps/s²), Jerk 100 (j = 100·1,000/100 = 1,000 steps/s³), 2,400 steps.
+/// At V_P each phase would be a trapezoidal S-curve of 3,300 steps (t₁ = a/j = 1 s, S₁ = 500,
+/// t₂ = (1,000 − 500)/1,000 = 0.5 s, 3 s × 2,200/2), 6,600 for both: too long. At V_M = 1,100, Δv =
+/// 1,000 = a²/j, so each phase is a triangular S-curve of 2√(Δv/j) = 2 s covering 2 s × (100 +
+/// 1,100)/2 = 1,200 steps, 2,400 for both: the peak is exactly 1,100 steps/s and the move takes 4 s.
+#[test]
+fn smd_r3_025_short_s_curve_peak_worked_by_hand() {
+    let p = Profile::plan(MoveParams {
+        start_speed: 100.0,
+        speed: 2_100.0,
+        accel: 1,
+        decel: 1,
+        jerk: 100,
+        distance: 2_400.0,
+    })
+    .unwrap();
+    assert_eq!(p.threshold, 6_600.0);
+    assert_eq!(p.shape, MoveShape::Triangular);
+    close(p.peak_speed, 1_100.0, 1e-9);
+    assert_eq!(p.accel.shape, PhaseShape::TriangularS);
+    close(p.accel.time, 2.0, 1e-9);
+    close(p.accel.distance, 1_200.0, 1e-6);
+    close(p.decel.distance, 1_200.0, 1e-6);
+    close(p.total_time(), 4.0, 1e-9);
+}
+
+/// SMD-R5-003: the starting speed is at least 1 step/s; a profile from a starting speed of 0 or
+/// below is refused and says so (a programmed speed at or above it does not make it valid).
+#[test]
+fn smd_r5_003_profile_refuses_a_starting_speed_not_above_0() {
+    for (start, text) in [
+        (0.0, "starting speed 0 steps/s is not above 0"),
+        (-1.0, "starting speed -1 steps/s is not above 0"),
+    ] {
+        let got = Profile::plan(MoveParams {
+            start_speed: start,
+            speed: 1_000.0,
+            ..r3_2(10_000.0)
+        });
+        assert_eq!(got, Err(ProfileError::StartSpeed(start)));
+        assert_eq!(got.unwrap_err().to_string(), text);
+    }
+    // The lowest valid starting speed plans.
+    let p = Profile::plan(MoveParams {
+        start_speed: 1.0,
+        speed: 1_000.0,
+        ..r3_2(10_000.0)
+    })
+    .unwrap();
+    assert_eq!(p.shape, MoveShape::Trapezoidal);
+}
+
+/// The chart of `smd profile --plot`: n + 1 samples (time, speed) at k·T/n. Worked by hand: V_S =
+/// 1,000, V_P = 3,000, Acceleration = Deceleration = 1 (1,000 steps/s²): each phase 2 s and
+/// 2 × 4,000/2 = 4,000 steps; 14,000 steps leave 6,000 at 3,000 steps/s, 2 s; T = 6 s. Four
+/// intervals: t = 0, 1.5, 3, 4.5, 6 s at 1,000, 2,500, 3,000, 2,500, 1,000 steps/s. A count of 0
+/// gives one interval (start and end).
+#[test]
+fn speed_samples_of_a_worked_trapezoid() {
+    let p = Profile::plan(MoveParams {
+        start_speed: 1_000.0,
+        speed: 3_000.0,
+        accel: 1,
+        decel: 1,
+        jerk: 0,
+        distance: 14_000.0,
+    })
+    .unwrap();
+    assert_eq!(p.total_time(), 6.0);
+    assert_eq!(
+        p.speed_samples(4),
+        vec![
+            (0.0, 1_000.0),
+            (1.5, 2_500.0),
+            (3.0, 3_000.0),
+            (4.5, 2_500.0),
+            (6.0, 1_000.0),
+        ]
+    );
+    assert_eq!(p.speed_samples(0), vec![(0.0, 1_000.0), (6.0, 1_000.0)]);
+}
+
 #[test]
 fn refused_parameters_name_the_fault() {
     let bad = |m: MoveParams| Profile::plan(m).unwrap_err().to_string();

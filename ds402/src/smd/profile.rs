@@ -41,7 +41,10 @@ pub enum ProfileError {
     /// Jerk above 5000.
     #[error("jerk {0} is outside 0 to 5000")]
     Jerk(u16),
-    /// The programmed speed is below the starting speed, or a speed is not positive.
+    /// The starting speed is not above 0 (Starting_Speed is 1 … 1,999,999 steps/s, SMD-R5-003).
+    #[error("starting speed {0} steps/s is not above 0")]
+    StartSpeed(f64),
+    /// The programmed speed is below the starting speed.
     #[error("programmed speed {speed} steps/s is below the starting speed {start} steps/s")]
     Speed {
         /// The starting speed.
@@ -248,6 +251,26 @@ pub fn jerk_for_third_constant(t: f64) -> f64 {
     300.0 / t
 }
 
+/// The peak V_M of an S-curve move from `vs` too short to reach `vp`: the speed whose acceleration
+/// (`a`) and deceleration (`d`) phases with the Jerk word `jerk` add up to `length` steps. The manual
+/// gives no formula (catalogue gap SMD-R3-025); the phase distances grow with the peak, so it is
+/// found by bisection until the bracket's ends are neighbouring numbers, after which a halving
+/// changes nothing. From a bracket of up to 3,000,000 steps/s above a starting speed of at least 1
+/// that takes about 75 halvings; 200 leave room.
+fn s_curve_peak(vs: f64, vp: f64, a: f64, d: f64, jerk: u16, length: f64) -> f64 {
+    let dist = |v: f64| Phase::new(vs, v, a, jerk).distance + Phase::new(vs, v, d, jerk).distance;
+    let (mut lo, mut hi) = (vs, vp);
+    for _ in 0..200 {
+        let mid = (lo + hi) / 2.0;
+        if dist(mid) > length {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    (lo + hi) / 2.0
+}
+
 /// Trapezoidal or triangular.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MoveShape {
@@ -298,7 +321,10 @@ impl Profile {
         if p.jerk > MAX_JERK {
             return Err(ProfileError::Jerk(p.jerk));
         }
-        if p.start_speed < 0.0 || p.speed < p.start_speed {
+        if p.start_speed <= 0.0 {
+            return Err(ProfileError::StartSpeed(p.start_speed));
+        }
+        if p.speed < p.start_speed {
             return Err(ProfileError::Speed {
                 start: p.start_speed,
                 speed: p.speed,
@@ -319,7 +345,8 @@ impl Profile {
                 peak_speed: p.speed,
                 accel: up,
                 cruise_distance: cruise,
-                cruise_time: if p.speed > 0.0 { cruise / p.speed } else { 0.0 },
+                // The programmed speed is at least the starting speed, which is above 0.
+                cruise_time: cruise / p.speed,
                 decel: down,
                 threshold,
             });
@@ -332,23 +359,7 @@ impl Profile {
                 .sqrt()
                 .min(p.speed)
         } else {
-            // The phase distances grow with the peak: bisect (catalogue gap SMD-R3-025).
-            let dist = |v: f64| {
-                Phase::new(vs, v, a, p.jerk).distance + Phase::new(vs, v, d, p.jerk).distance
-            };
-            let (mut lo, mut hi) = (vs, p.speed);
-            for _ in 0..200 {
-                let mid = (lo + hi) / 2.0;
-                if dist(mid) > length {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-                if hi - lo <= 1e-9 * hi.max(1.0) {
-                    break;
-                }
-            }
-            (lo + hi) / 2.0
+            s_curve_peak(vs, p.speed, a, d, p.jerk, length)
         };
         Ok(Profile {
             params: p,
