@@ -71,7 +71,8 @@ pub(super) struct Segment {
     pub(super) origin: i64,
     /// +1 clockwise, −1 counter-clockwise.
     pub(super) dir: i64,
-    /// Steps from `origin` already covered when the curve began (a stop that starts mid-move).
+    /// Steps from `origin` already covered when the curve began (a stop or a registration run-out
+    /// that starts mid-move).
     pub(super) base: f64,
     pub(super) curve: Curve,
     /// Time since the curve began, exact (whole nanoseconds), so a phase that ends on a cycle ends

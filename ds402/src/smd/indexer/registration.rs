@@ -52,10 +52,11 @@ impl Indexer {
             let tau = (v - (v * v - 2.0 * d * sd).max(0.0).sqrt()) / d;
             (0.0, tau)
         };
-        let here = seg.origin + seg.dir * (seg.covered().round() as i64);
+        // The run-out goes on from the jog's origin, past the whole steps the jog covered.
+        let covered = seg.covered().round();
+        let here = seg.origin + seg.dir * (covered as i64);
         self.segment = Some(Segment {
-            origin: here,
-            base: 0.0,
+            base: covered,
             curve: Curve::RunOut {
                 speed: v,
                 cruise,
