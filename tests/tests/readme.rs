@@ -114,6 +114,7 @@ fn binaries() -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     for (package, bin, features) in [
         ("socketcan-node", "x67-node", &[][..]),
+        ("socketcan-node", "canopen-node", &[]),
         ("sdo-tool", "sdo-tool", &[]),
         ("esi-gen", "esi-gen", &[]),
         ("ethercat-slave", "smd-ethercat", &[]),
