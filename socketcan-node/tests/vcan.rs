@@ -303,6 +303,17 @@ fn base_node_402_over_vcan() {
     node.wait().unwrap();
 }
 
+/// A RemoteNode's block download and upload of 3,000 bytes over vcan0.
+#[test]
+fn block_transfers_over_vcan() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let io = format!("{root}/examples/io-device.eds");
+    let mut node = spawn_args_on_vcan(Path::new(CANOPEN_NODE), &["--od", &format!("{io}@8")], 8);
+    canopen_master(&["block", "--eds", &io, "--node-id", "8"]);
+    node.kill().unwrap();
+    node.wait().unwrap();
+}
+
 /// The LSS master over vcan0: Fastscan finds the node without node-ID, gives it 21, stores it; the
 /// node boots as 21.
 #[test]
