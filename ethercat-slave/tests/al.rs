@@ -162,3 +162,79 @@ fn al_status_codes_are_the_tables_numbers() {
         assert_eq!(AlState::from_bits(bits), None, "{bits}");
     }
 }
+
+/// ETG.1000.6 §6.4.1.4, the Pre-Op → Safe-Op checks in their order: the application's verdict on its
+/// PDO mapping first (0x0025 even with the SyncManagers wrong too), then SM2 (0x001D), SM3
+/// (0x001E), then SYNC0 activated on a device without it (0x0030); each refusal leaves Pre-Op with
+/// the error flag.
+#[test]
+fn safe_op_checks_the_mapping_then_the_sync_managers_then_sync0() {
+    let mut c = smd_chain();
+    sm(&mut c, 0, 0x1000, 128, 0x26);
+    sm(&mut c, 1, 0x1080, 128, 0x22);
+    assert_eq!(request(&mut c, 0x02).0, AlState::PreOp);
+    c.slaves[0].al.mapping_refused = Some(AlStatusCode::InvalidOutputMapping);
+    c.slaves[0].al.no_sync0 = true;
+    // SM2 and SM3 still unset, SYNC0 on: the mapping is named first.
+    write(&mut c, 0x09A0, &1_000_000u32.to_le_bytes());
+    write(&mut c, 0x0981, &[0x03]);
+    assert_eq!(
+        request(&mut c, 0x04),
+        (AlState::PreOp, true, AlStatusCode::InvalidOutputMapping)
+    );
+    assert_eq!(AlStatusCode::InvalidOutputMapping.code(), 0x0025);
+    assert_eq!(AlStatusCode::InvalidInputMapping.code(), 0x0024);
+    assert_eq!(AlStatusCode::InvalidDcSync.code(), 0x0030);
+    request(&mut c, 0x12);
+    c.slaves[0].al.mapping_refused = None;
+    assert_eq!(
+        request(&mut c, 0x04),
+        (AlState::PreOp, true, AlStatusCode::InvalidOutputs)
+    );
+    request(&mut c, 0x12);
+    sm(&mut c, 2, 0x1100, 20, 0x64);
+    assert_eq!(
+        request(&mut c, 0x04),
+        (AlState::PreOp, true, AlStatusCode::InvalidInputs)
+    );
+    request(&mut c, 0x12);
+    sm(&mut c, 3, 0x1400, 20, 0x20);
+    assert_eq!(
+        request(&mut c, 0x04),
+        (AlState::PreOp, true, AlStatusCode::InvalidDcSync)
+    );
+    request(&mut c, 0x12);
+    write(&mut c, 0x0981, &[0x00]);
+    assert_eq!(
+        request(&mut c, 0x04),
+        (AlState::SafeOp, false, AlStatusCode::NoError)
+    );
+}
+
+/// A SyncManager is checked by its number among the ESI's `Sm` elements: a device whose process
+/// data SyncManagers are SM0 and SM1 (no mailbox) reaches Safe-Op with those set, whatever SM2 and
+/// SM3 hold.
+#[test]
+fn sync_managers_are_checked_by_their_esi_number() {
+    let mut desc = common::smd();
+    let ec = desc.ethercat.as_mut().unwrap();
+    ec.sync_managers.retain(|s| s.kind == "Outputs" || s.kind == "Inputs");
+    let mut c = Chain::new(1);
+    c.slaves[0].al = AlConfig::from_description(&desc);
+    let rules = c.slaves[0].al.clone();
+    assert_eq!(rules.mailbox, None);
+    assert_eq!(rules.outputs.map(|r| (r.sm, r.start)), Some((0, 0x1100)));
+    assert_eq!(rules.inputs.map(|r| (r.sm, r.start)), Some((1, 0x1400)));
+    assert_eq!(request(&mut c, 0x02).0, AlState::PreOp);
+    assert_eq!(
+        request(&mut c, 0x04),
+        (AlState::PreOp, true, AlStatusCode::InvalidOutputs)
+    );
+    request(&mut c, 0x12);
+    sm(&mut c, 0, 0x1100, 20, 0x64);
+    sm(&mut c, 1, 0x1400, 20, 0x20);
+    assert_eq!(
+        request(&mut c, 0x04),
+        (AlState::SafeOp, false, AlStatusCode::NoError)
+    );
+}

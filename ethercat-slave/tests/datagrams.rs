@@ -232,12 +232,18 @@ fn an_output_buffer_write_sets_the_write_event() {
             vec![0x00, 0x11, 4, 0, 0x64, 0, 0x01, 0],
         )],
     );
+    assert_eq!(c.slaves[0].outputs_received(), 0);
     for k in 0..2 {
         let r = run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x1100, vec![k; 4])]);
         assert_eq!(r[0].wkc, 1);
         let s = run(&mut c, &[Datagram::new(cmd::APRD, 0, 0x0815, vec![0])]);
         assert_eq!(s[0].data[0] & 0x01, 0x01, "write {k}");
+        // Each completed image counts once.
+        assert_eq!(c.slaves[0].outputs_received(), u64::from(k) + 1);
     }
+    // A write that stops short of the last byte is no new image.
+    run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x1100, vec![9; 3])]);
+    assert_eq!(c.slaves[0].outputs_received(), 2);
 }
 
 /// The system time difference at a chain time that does not move (every frame at one instant): slave

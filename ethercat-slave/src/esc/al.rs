@@ -3,10 +3,11 @@
 //! SyncManager settings of the device description.
 //!
 //! Init → Pre-Op needs SM0/SM1 (the mailbox) configured as the ESI says (start address, a length
-//! within MinSize…MaxSize, the control byte, enabled); Pre-Op → Safe-Op needs SM2/SM3 (process data)
-//! at their start addresses with the process-data length, enabled, and — when the device limits it —
-//! an activated SYNC0 to run at an accepted cycle time (0x0036). Op is reached from Safe-Op; any
-//! state may go back down. A refused request sets the error indicator (AL status bit 4) and the status
+//! within MinSize…MaxSize, the control byte, enabled); Pre-Op → Safe-Op (ETG.1000.6 §6.4.1.4) needs a
+//! valid PDO configuration (the application's verdict: 0x0025 or 0x0024 when its mapping is invalid),
+//! SM2/SM3 (process data) at their start addresses with the process-data length, enabled (0x001D,
+//! 0x001E), no SYNC0 on a device without it (0x0030) and — when the device limits it — an activated
+//! SYNC0 at an accepted cycle time (0x0036). Op is reached from Safe-Op; any state may go back down. A refused request sets the error indicator (AL status bit 4) and the status
 //! code, and the state stays; further requests are refused until the master acknowledges the error
 //! (AL control bit 4).
 
@@ -258,6 +259,8 @@ pub enum Transition {
 /// One SyncManager setting a transition checks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SmRule {
+    /// The SyncManager's number (its place among the ESI's `Sm` elements).
+    pub sm: usize,
     /// Physical start address.
     pub start: u16,
     /// Smallest and largest length.
@@ -278,6 +281,13 @@ pub struct AlConfig {
     /// The SYNC0 cycle times (ns) the device accepts when SYNC0 is activated; checked at
     /// Pre-Op → Safe-Op (AL status code 0x0036).
     pub sync0_cycle: Option<(u32, u32)>,
+    /// The device has no SYNC0 (no `Dc/OpMode` assigns it): an activated SYNC0 is refused at
+    /// Pre-Op → Safe-Op with 0x0030 (invalid DC SYNC configuration).
+    pub no_sync0: bool,
+    /// The application's verdict on its present PDO configuration: when set, Pre-Op → Safe-Op is
+    /// refused with this code (0x0025 invalid output mapping, 0x0024 invalid input mapping) before
+    /// the SyncManagers are looked at.
+    pub mapping_refused: Option<AlStatusCode>,
 }
 
 impl AlConfig {
@@ -287,13 +297,18 @@ impl AlConfig {
             return AlConfig::default();
         };
         let rule = |kind: &str| {
-            ec.sync_managers.iter().find(|s| s.kind == kind).map(|s| {
-                let d = s.default_size.unwrap_or(0);
-                SmRule {
-                    start: s.start_address,
-                    len: (s.min_size.unwrap_or(d), s.max_size.unwrap_or(d)),
-                    control: s.control_byte,
-                }
+            let at = ec
+                .sync_managers
+                .iter()
+                .position(|s| s.kind == kind)
+                .filter(|&at| at < super::sm::SYNC_MANAGERS)?;
+            let s = &ec.sync_managers[at];
+            let d = s.default_size.unwrap_or(0);
+            Some(SmRule {
+                sm: at,
+                start: s.start_address,
+                len: (s.min_size.unwrap_or(d), s.max_size.unwrap_or(d)),
+                control: s.control_byte,
             })
         };
         AlConfig {
@@ -301,6 +316,8 @@ impl AlConfig {
             outputs: rule("Outputs"),
             inputs: rule("Inputs"),
             sync0_cycle: None,
+            no_sync0: false,
+            mapping_refused: None,
         }
     }
 }
@@ -335,7 +352,8 @@ pub fn transition(esc: &Esc, control: u16) -> Transition {
         (Boot, _) => refuse(AlStatusCode::BootstrapNotSupported),
         (PreOp, Init) => match &config.mailbox {
             Some([out, inn])
-                if !(out.accepts(esc.sync_manager(0)) && inn.accepts(esc.sync_manager(1))) =>
+                if !(out.accepts(esc.sync_manager(out.sm))
+                    && inn.accepts(esc.sync_manager(inn.sm))) =>
             {
                 refuse(AlStatusCode::InvalidMailbox)
             }
@@ -343,16 +361,20 @@ pub fn transition(esc: &Esc, control: u16) -> Transition {
         },
         (PreOp, PreOp | SafeOp | Op) => Transition::To(PreOp),
         (SafeOp, PreOp) => {
-            if config
+            if let Some(code) = config.mapping_refused {
+                refuse(code)
+            } else if config
                 .outputs
-                .is_some_and(|r| !r.accepts(esc.sync_manager(2)))
+                .is_some_and(|r| !r.accepts(esc.sync_manager(r.sm)))
             {
                 refuse(AlStatusCode::InvalidOutputs)
             } else if config
                 .inputs
-                .is_some_and(|r| !r.accepts(esc.sync_manager(3)))
+                .is_some_and(|r| !r.accepts(esc.sync_manager(r.sm)))
             {
                 refuse(AlStatusCode::InvalidInputs)
+            } else if config.no_sync0 && esc.sync0_cycle().is_some() {
+                refuse(AlStatusCode::InvalidDcSync)
             } else if config.sync0_cycle.is_some_and(|(lo, hi)| {
                 // SYNC0 off is accepted; on, its cycle time must be in the range (SMD-T3-003).
                 esc.sync0_cycle().is_some_and(|c| !(lo..=hi).contains(&c))

@@ -87,6 +87,8 @@ pub struct Esc {
     /// watched (the SyncManager watchdog runs from it).
     watchdog_from: u64,
     watchdog_expired: bool,
+    /// Output images the master completed since power-on (SM2 write events).
+    outputs_received: u64,
     /// The Distributed Clock.
     pub(crate) clock: dc::Clock,
 }
@@ -125,6 +127,7 @@ impl Esc {
             last_mailbox: None,
             watchdog_from: 0,
             watchdog_expired: false,
+            outputs_received: 0,
             clock: dc::Clock::default(),
         };
         // ESC information (0x0000–0x0009): type, revision, build, FMMUs, SyncManagers, process RAM in
@@ -165,9 +168,16 @@ impl Esc {
 
     /// A new output image: the SyncManager watchdog starts again.
     pub(crate) fn outputs_arrived(&mut self) {
+        self.outputs_received = self.outputs_received.wrapping_add(1);
         self.watchdog_from = self.clock.now;
         self.watchdog_expired = false;
         self.store(WATCHDOG_STATUS_PD, &[1, 0]);
+    }
+
+    /// How many output images the master has completed (writes that reached the last byte of a
+    /// buffered SyncManager it writes) since power-on: a new count is a new output image.
+    pub fn outputs_received(&self) -> u64 {
+        self.outputs_received
     }
 
     /// The process-data watchdog time: (divider + 2) × 40 ns × 0x0420; zero when disabled.
