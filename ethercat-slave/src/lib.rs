@@ -8,7 +8,8 @@
 //! In it: the register commands, FMMU logical addressing (LRD/LWR/LRW, byte-granular), the EEPROM
 //! interface reading an SII image (`od::sii`), the AL state machine with its SyncManager checks
 //! ([`esc::al`]), SyncManager mailboxes and buffers and the watchdog ([`esc::sm`]), Distributed Clocks
-//! ([`esc::dc`]); [`smd`] puts the SMD model and its CoE server behind each ESC; [`raw`] and [`runtime`]
+//! ([`esc::dc`]); [`unit`] is a chain of ESCs with a device model and its CoE server behind each;
+//! [`smd`] puts the SMD model behind each ESC; [`raw`] and [`runtime`]
 //! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line; [`master`]
 //! is the master's side the tests and benchmarks use.
 #![deny(missing_docs)]
@@ -20,3 +21,4 @@ pub mod master;
 pub mod raw;
 pub mod runtime;
 pub mod smd;
+pub mod unit;

@@ -1,12 +1,14 @@
-//! The emulator on an interface: a chain of virtual SMD units answering every EtherCAT frame that
-//! arrives, as a real chain would, and running their process-data cycle when the chain asks
-//! ([`SmdChain::poll_timeout`]). This is the edge: the socket, the clock and the carrier live here.
+//! The emulator on an interface: a chain of units ([`UnitChain`]: virtual SMD units, or any ESI's
+//! devices) answering every EtherCAT frame that arrives, as a real chain would, and running their
+//! process-data cycle when the chain asks ([`UnitChain::poll_timeout`]). This is the edge: the socket, the clock and the carrier live here.
 //!
 //! A frame is processed by every unit in turn and sent back on the same interface with the source
 //! address's locally-administered bit set (as the first ESC's port 0 does), so the master can tell its
 //! frames from the answers. A frame that does not parse (not EtherCAT, truncated, bad lengths) is
 //! dropped and counted; the chain is untouched. The link's carrier is watched: when it goes down the
 //! units in Op drop to Safe-Op (SMD-R1-036).
+//!
+//! [`run`] is `smd-ethercat`'s; [`serve`] runs any chain on an open socket.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -16,6 +18,7 @@ use crate::smd::binding::Device;
 
 use crate::raw::{RawError, RawSocket};
 use crate::smd::{SmdChain, SmdSlaveError};
+use crate::unit::{Model, UnitChain};
 
 /// What to run.
 #[derive(Debug, Clone)]
@@ -76,7 +79,7 @@ pub fn run(
     ready: impl FnOnce(),
 ) -> Result<Stats, RuntimeError> {
     let socket = RawSocket::open(&options.interface)?;
-    let mut chain = SmdChain::new(options.device, options.units, options.cycle, Instant::now())?;
+    let chain = SmdChain::new(options.device, options.units, options.cycle, Instant::now())?;
     ready();
     tracing::info!(
         interface = options.interface,
@@ -84,14 +87,26 @@ pub fn run(
         device = options.device.order_code(),
         "virtual SMD units on line"
     );
+    serve(&socket, &options.interface, options.busy_poll, chain, stop)
+}
+
+/// Answers the frames arriving on `socket` (on `interface`) with `chain` until `stop` is set, running
+/// the chain's timers in between; `busy_poll` as [`Options::busy_poll`].
+pub fn serve<M: Model>(
+    socket: &RawSocket,
+    interface: &str,
+    busy_poll: Duration,
+    mut chain: UnitChain<M>,
+    stop: &Arc<AtomicBool>,
+) -> Result<Stats, RuntimeError> {
     let io = |source| RuntimeError::Io {
-        iface: options.interface.clone(),
+        iface: interface.to_string(),
         source,
     };
     let mut stats = Stats::default();
     let mut buf = vec![0u8; 9_216];
     let mut next_carrier = Instant::now();
-    let mut link = carrier(&options.interface).unwrap_or(true);
+    let mut link = carrier(interface).unwrap_or(true);
     while !stop.load(Ordering::Relaxed) {
         let now = Instant::now();
         let wait = chain
@@ -101,7 +116,7 @@ pub fn run(
             })
             .min(Duration::from_millis(50));
         if socket.wait(wait).map_err(io)? {
-            let mut spin_until = Instant::now() + options.busy_poll;
+            let mut spin_until = Instant::now() + busy_poll;
             loop {
                 let Some(n) = socket.recv(&mut buf).map_err(io)? else {
                     if Instant::now() < spin_until && !stop.load(Ordering::Relaxed) {
@@ -111,7 +126,7 @@ pub fn run(
                     break;
                 };
                 let at = Instant::now();
-                spin_until = at + options.busy_poll;
+                spin_until = at + busy_poll;
                 let frame = &mut buf[..n];
                 match chain.handle_frame(at, frame) {
                     Ok(()) => {
@@ -134,9 +149,9 @@ pub fn run(
         }
         if now >= next_carrier {
             next_carrier = now + Duration::from_millis(100);
-            if let Some(up) = carrier(&options.interface) {
+            if let Some(up) = carrier(interface) {
                 if link && !up {
-                    tracing::warn!(interface = options.interface, "link lost");
+                    tracing::warn!(interface, "link lost");
                     chain.link_lost(now);
                 }
                 link = up;
