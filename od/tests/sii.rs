@@ -143,3 +143,23 @@ fn smd_image_from_the_esi() {
     assert_eq!(img.string(rx[11]), "CMD_word0");
     assert!(img.category(category::DC).is_some());
 }
+
+/// The SyncM byte of each PDO (ETG.2010, PDO category byte 3): the SMD's PDOs name their `Sm` (2 for
+/// the RxPDO, 3 for the TxPDO); a PDO the ESI assigns to no SyncManager carries 0xFF, so that a
+/// master mapping from the SII (SOEM's `ecx_siiPDO` counts a PDO whose byte names a SyncManager)
+/// leaves it out.
+#[test]
+fn a_pdo_without_a_default_sync_manager_is_written_with_0xff() {
+    let mut d = smd();
+    let sii_sm = |d: &od::DeviceDescription, kind: u16| {
+        let img = sii::parse(&sii::write(d, 1).unwrap()).unwrap();
+        img.category(kind).unwrap()[3]
+    };
+    assert_eq!(sii_sm(&d, category::RXPDO), 2);
+    assert_eq!(sii_sm(&d, category::TXPDO), 3);
+    let ec = d.ethercat.as_mut().unwrap();
+    ec.rx_pdos[0].sm = None;
+    ec.tx_pdos[0].sm = None;
+    assert_eq!(sii_sm(&d, category::RXPDO), 0xFF);
+    assert_eq!(sii_sm(&d, category::TXPDO), 0xFF);
+}

@@ -145,7 +145,10 @@ fn pdo_data(pdos: &[Pdo], strings: &mut Strings) -> Vec<u8> {
         entries.truncate(255);
         push16(&mut d, p.index);
         d.push(entries.len() as u8);
-        d.push(p.sm.unwrap_or(0));
+        // ETG.2010 (SII PDO category): the SyncManager the PDO is assigned to by default, 0xFF for
+        // none (masters that map from the SII, SOEM among them, take a PDO whose number is a
+        // SyncManager as assigned to it).
+        d.push(p.sm.unwrap_or(0xFF));
         d.push(0); // DC synchronisation
         d.push(strings.index(&p.name));
         push16(
