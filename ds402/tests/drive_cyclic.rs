@@ -40,6 +40,50 @@ fn csp_follows_a_ramp_one_sync_behind() {
     assert_eq!((r.demand(), r.pos(), r.read(0x606C, 0)), (2000, 2000, 0));
 }
 
+/// SYNCs half-way between two control ticks (an EtherCAT SYNC0 on its own time grid): each new
+/// segment starts where the demand is at the SYNC itself. The master sends x(n) = 10 · (n − 1)
+/// before the SYNC at n + 0.5 ms; that segment runs from x(n − 1) at n + 0.5 ms to x(n) at
+/// n + 1.5 ms, so the demand at the tick n + 1 ms is half-way, 10n − 15, and its velocity is
+/// 10 counts per 1 ms period, 10,000 counts/s, the ramp's own (not more: a segment that started
+/// from the demand of the tick before the SYNC would run 15 counts in a period).
+#[test]
+fn csp_syncs_between_ticks_follow_the_ramp_at_its_speed() {
+    let mut r = Rig::with(&[]);
+    r.enable(8);
+    for n in 2..=201i64 {
+        r.set(0x607A, 0, 10 * (n - 1));
+        r.sync_at_us(1000 * n as u64 + 500);
+        if n >= 3 {
+            r.at(n as u64 + 1);
+            assert_eq!(r.demand(), 10 * n - 15, "tick at {} ms", n + 1);
+        }
+    }
+    assert_eq!(r.read(0x606B, 0), 10_000, "velocity demand");
+    assert_eq!(r.read(0x606C, 0), 10_000, "velocity actual");
+    assert_eq!(r.read(0x60F4, 0), 0);
+    // The last target, 2000, is reached one period after its SYNC (201.5 ms), and held.
+    r.at(300);
+    assert_eq!((r.demand(), r.pos(), r.read(0x606C, 0)), (2000, 2000, 0));
+}
+
+/// csv with SYNCs between ticks: the velocity ramps from where it is at the SYNC.
+#[test]
+fn csv_syncs_between_ticks_ramp_from_the_velocity_at_the_sync() {
+    let mut r = Rig::with(&[]);
+    r.enable(9);
+    r.set(0x60FF, 0, 1000);
+    r.sync_at_us(2500);
+    r.sync_at_us(3500);
+    r.set(0x60FF, 0, 2000);
+    // At 4.5 ms the first ramp (0 → 1000 over 2.5…3.5 ms, then the same 1000 from 3.5 ms) is at 1000;
+    // the second runs 1000 → 2000 over 4.5…5.5 ms: at the tick at 5 ms half-way.
+    r.sync_at_us(4500);
+    r.at(5);
+    assert_eq!(r.read(0x606B, 0), 1500);
+    r.at(6);
+    assert_eq!(r.read(0x606B, 0), 2000);
+}
+
 #[test]
 fn csp_position_offset_is_added() {
     let mut r = Rig::with(&[(0x60B0, 0, 100)]);

@@ -775,23 +775,18 @@ impl Drive {
         self.inputs_prev = self.digital_inputs();
     }
 
-    /// The demand at the present tick, from `before` (the demand at the previous one).
-    fn eval_demand(&self, before: Demand) -> Demand {
-        let dt = self.dt();
+    /// The demand of the cyclic synchronous segment in progress at `now`, an instant at or after
+    /// the last tick processed (a SYNC between two ticks); the last tick's demand otherwise.
+    fn demand_at(&self, now: Instant) -> Demand {
         match &self.motion {
-            Motion::Plan { profile, origin } => {
-                let (p, v) = profile.eval(self.since(*origin));
-                Demand { p, v }
-            }
             Motion::Position {
                 from,
                 to,
                 at,
                 period,
             } => {
-                let t = self.instant(self.ticks).saturating_duration_since(*at);
                 let period_ns = period.as_nanos().max(1) as f64;
-                let frac = t.as_nanos() as f64 / period_ns;
+                let frac = now.saturating_duration_since(*at).as_nanos() as f64 / period_ns;
                 if frac <= 1.0 {
                     Demand {
                         p: from + (to - from) * frac,
@@ -801,6 +796,33 @@ impl Drive {
                     Demand { p: *to, v: 0.0 }
                 }
             }
+            Motion::Velocity {
+                from,
+                to,
+                at,
+                period,
+            } => {
+                let frac = (now.saturating_duration_since(*at).as_nanos() as f64
+                    / period.as_nanos().max(1) as f64)
+                    .min(1.0);
+                Demand {
+                    p: self.demand.p,
+                    v: from + (to - from) * frac,
+                }
+            }
+            _ => self.demand,
+        }
+    }
+
+    /// The demand at the present tick, from `before` (the demand at the previous one).
+    fn eval_demand(&self, before: Demand) -> Demand {
+        let dt = self.dt();
+        match &self.motion {
+            Motion::Plan { profile, origin } => {
+                let (p, v) = profile.eval(self.since(*origin));
+                Demand { p, v }
+            }
+            Motion::Position { .. } => self.demand_at(self.instant(self.ticks)),
             Motion::Velocity {
                 from,
                 to,

@@ -444,8 +444,10 @@ impl Drive {
                     self.params.get(P::TargetPosition) + self.params.get(P::PositionOffset);
                 let (user, clamped) = self.clamp_to_limits(wanted);
                 self.cyclic.clamped = clamped;
+                // The new segment starts where the demand is at the SYNC itself, which need not
+                // fall on a control tick (an EtherCAT SYNC0 keeps its own time grid).
                 self.motion = Motion::Position {
-                    from: self.demand.p,
+                    from: self.demand_at(now).p,
                     to: (user - self.shift) as f64,
                     at: now,
                     period,
@@ -456,7 +458,7 @@ impl Drive {
                     as f64;
                 let limit = self.velocity_limit();
                 self.motion = Motion::Velocity {
-                    from: self.demand.v,
+                    from: self.demand_at(now).v,
                     to: v.clamp(-limit, limit),
                     at: now,
                     period,

@@ -190,8 +190,13 @@ impl Rig {
     /// Runs the drive to `ms` milliseconds after it was made, as a node does: at each instant
     /// `poll_timeout` names up to then, then at `ms` itself.
     pub fn at(&mut self, ms: u64) {
-        let until = self.t0 + Duration::from_millis(ms);
-        assert!(until >= self.now, "time runs forwards: {ms} ms");
+        self.at_us(1000 * ms);
+    }
+
+    /// Runs the drive to `us` microseconds after it was made (see [`Rig::at`]).
+    pub fn at_us(&mut self, us: u64) {
+        let until = self.t0 + Duration::from_micros(us);
+        assert!(until >= self.now, "time runs forwards: {us} µs");
         while let Some(t) = self.drive.poll_timeout() {
             if t > until {
                 break;
@@ -210,7 +215,12 @@ impl Rig {
 
     /// A SYNC at `ms`.
     pub fn sync_at(&mut self, ms: u64) {
-        self.at(ms);
+        self.sync_at_us(1000 * ms);
+    }
+
+    /// A SYNC at `us` microseconds, between two ticks or on one.
+    pub fn sync_at_us(&mut self, us: u64) {
+        self.at_us(us);
         self.drive.sync(self.now);
     }
 
