@@ -21,11 +21,12 @@ pub struct AssembledSegment {
 }
 
 impl AssembledSegment {
-    /// The segment's move parameters. The current of an assembled move is the configured one
-    /// (SMD-R6-045: a segment's Motor_Current word is reserved), set when the run starts.
+    /// The segment's speed, ramps and Jerk. Its Position is not among them: a Dwell segment's
+    /// target and a Blend's segment ends are worked out from it apart. The current of an assembled
+    /// move is the configured one (SMD-R6-045: a segment's Motor_Current word is reserved), set when
+    /// the run starts.
     fn params(&self) -> Outputs {
         Outputs {
-            position: self.position,
             velocity: self.velocity,
             acceleration: self.acceleration,
             deceleration: self.deceleration,
