@@ -118,6 +118,31 @@ fn csp_interpolates_over_the_measured_sync_period_without_0x60c2() {
     assert_eq!(r.demand(), 100);
 }
 
+/// The network's SYNC cycle wins over 0x60C2 (an ESI may give 1 s there, as Ingenia's does: 1 ×
+/// 10⁰ s): with a 1 ms cycle set, the target of the SYNC at 2 ms is reached at 3 ms; without it,
+/// 0x60C2's second.
+#[test]
+fn csp_interpolates_over_the_networks_sync_cycle_where_it_gives_one() {
+    let mut r = Rig::with(&[(0x60C2, 1, 1), (0x60C2, 2, 0)]);
+    r.enable(8);
+    r.drive
+        .set_sync_cycle(Some(std::time::Duration::from_millis(1)));
+    r.set(0x607A, 0, 100);
+    r.sync_at(2);
+    r.at(3);
+    assert_eq!(r.demand(), 100);
+    r.drive.set_sync_cycle(None);
+    r.set(0x607A, 0, 1100);
+    r.sync_at(4);
+    r.at(5);
+    assert_eq!(r.demand(), 101, "1 count of 1,000 in the first ms of 1 s");
+    // A cycle of 0 is none.
+    r.drive.set_sync_cycle(Some(std::time::Duration::ZERO));
+    r.sync_at(6);
+    r.at(7);
+    assert_eq!(r.demand(), 103);
+}
+
 #[test]
 fn csp_software_limits_clamp_and_set_bit_11() {
     let mut r = Rig::with(&[(0x607D, 1, -100), (0x607D, 2, 100)]);

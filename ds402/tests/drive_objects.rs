@@ -273,6 +273,22 @@ fn modes_of_operation() {
     // Without 0x6502 but with 0x60C2: the cyclic modes too.
     let r = Rig::new(dictionary_with(&[], &[0x6502]), DriveConfig::default());
     assert_eq!(r.drive.supported_modes(), 0x03A5);
+    // Without 0x6502 and 0x60C2, on a network whose SYNC has a clock of its own (EtherCAT's
+    // SYNC0): the cyclic modes from their targets, pp, pv, hm as before: 0x03A5.
+    let r = Rig::new(
+        dictionary_with(&[], &[0x6502, 0x60C2]),
+        DriveConfig {
+            sync_clock: true,
+            ..DriveConfig::default()
+        },
+    );
+    assert_eq!(r.drive.supported_modes(), 0x03A5);
+    // 0x6502 without a value (0: an ESI object without DefaultData, as Elmo's): as without it.
+    let r = Rig::new(
+        dictionary_with(&[(0x6502, 0, 0)], &[0x60C2]),
+        DriveConfig::default(),
+    );
+    assert_eq!(r.drive.supported_modes(), 0x0025);
 }
 
 #[test]

@@ -92,8 +92,9 @@
 //!   13 stays set in Fault reaction active and Fault until Fault reset. 0x6065
 //!   = 0xFFFFFFFF switches the monitor off, and so does 0 (an EDS entry without a default value).
 //! - Running into an active limit switch outside homing faults with 0x8612 (reference limit).
-//! - Cyclic modes: the target of each SYNC is reached one interpolation period later (0x60C2 when
-//!   present, else the time between the last two SYNCs); bit 12 is 1 while following; bit 10 is 1
+//! - Cyclic modes: the target of each SYNC is reached one interpolation period later (the network's
+//!   SYNC cycle where it gives one, [`Drive::set_sync_cycle`]; else 0x60C2 when present, else the
+//!   time between the last two SYNCs); bit 12 is 1 while following; bit 10 is 1
 //!   only when standing after a halt.
 //! - Stepper: 0x6064 counts the rotor (an encoder is assumed, [`MotorConfig::encoder`]); without
 //!   encoder it counts commanded steps.
@@ -102,9 +103,10 @@
 //!   at standstill; "current limit" and "voltage limit" (0x605A, 0x605D, 0x605E) both brake at the
 //!   deceleration the torque limit 0x6072 allows.
 //! - Modes: 0x6060 takes the modes 0x6502 declares that this drive implements (vl, tq and ip are
-//!   refused even when declared); without 0x6502, the modes whose objects the dictionary has. A
-//!   mode change takes effect at once (0x6061 follows); a set-point or homing start is taken only
-//!   in Operation enabled.
+//!   refused even when declared); without 0x6502 (or with 0x6502 = 0, an entry without a value),
+//!   the modes whose objects the dictionary has (a cyclic mode needs 0x60C2 as well, unless the
+//!   network's SYNC has a clock of its own, [`DriveConfig::sync_clock`]). A mode change takes effect at once (0x6061
+//!   follows); a set-point or homing start is taken only in Operation enabled.
 //! - Parameters: an acceleration, deceleration or homing speed of 0 in the dictionary (an EDS entry
 //!   without a default) is taken as this drive's default; a write of 0 is refused (0x06090032).
 //!   0x608F is written only with the power stage off (0x08000022).
@@ -215,6 +217,11 @@ pub struct DriveConfig {
     pub motor: MotorConfig,
     /// The machine around it.
     pub sim: SimConfig,
+    /// The network's SYNC runs on a clock of its own (EtherCAT's SYNC0; not CANopen's SYNC
+    /// messages): the cyclic synchronous modes need no interpolation period 0x60C2 to run, so a
+    /// dictionary without 0x6502 supports them where it has their target (0x607A csp, 0x60FF csv,
+    /// 0x6071 cst). Default false.
+    pub sync_clock: bool,
 }
 
 impl Default for DriveConfig {
@@ -223,6 +230,7 @@ impl Default for DriveConfig {
             tick: Duration::from_millis(1),
             motor: MotorConfig::default(),
             sim: SimConfig::default(),
+            sync_clock: false,
         }
     }
 }
@@ -297,6 +305,8 @@ pub struct Drive {
     forced: [Option<bool>; 32],
     /// 0x60FD at the previous tick.
     inputs_prev: u32,
+    /// The SYNC cycle the network runs, when it gives one ([`Drive::set_sync_cycle`]).
+    sync_cycle: Option<Duration>,
 }
 
 impl Drive {
@@ -324,7 +334,8 @@ impl Drive {
                 (index, ty)
             })
             .collect();
-        let mut supported = objects::declared_modes(dict, base) & IMPLEMENTED_MODES;
+        let mut supported =
+            objects::declared_modes(dict, base, config.sync_clock) & IMPLEMENTED_MODES;
         if config.motor.kind == MotorKind::Stepper {
             supported &= !(1 << 9);
         }
@@ -361,6 +372,7 @@ impl Drive {
             homing: homing::Homing::default(),
             forced: [None; 32],
             inputs_prev: 0,
+            sync_cycle: None,
         };
         drive.power_up(now);
         Some(drive)
@@ -452,6 +464,14 @@ impl Drive {
         } else {
             None
         }
+    }
+
+    /// The cycle of the SYNC events as the network runs them, when it runs them on a clock of its
+    /// own (EtherCAT: the SYNC0 cycle of the Distributed Clock); `None` when it does not. While set,
+    /// the cyclic synchronous modes interpolate each target over it instead of 0x60C2 or the
+    /// measured time between two SYNCs: the set-points come at that cycle, whatever 0x60C2 says.
+    pub fn set_sync_cycle(&mut self, cycle: Option<Duration>) {
+        self.sync_cycle = cycle.filter(|c| !c.is_zero());
     }
 
     /// Raises a fault with error code `code` at `now` (a simulated device fault: over-temperature

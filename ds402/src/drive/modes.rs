@@ -429,7 +429,8 @@ impl Drive {
             .map(|l| now.saturating_duration_since(l))
             .filter(|d| !d.is_zero());
         let period = self
-            .interpolation_period()
+            .sync_cycle
+            .or_else(|| self.interpolation_period())
             .or(measured)
             .or(self.cyclic.period)
             .unwrap_or(Duration::from_nanos(self.tick_ns));

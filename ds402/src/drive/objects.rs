@@ -376,11 +376,19 @@ pub(crate) const fn at(base: u16, index: u16) -> u16 {
 
 /// The 0x6502 bits a dictionary declares for the axis at `base`: its 0x6502, or where it has none,
 /// the modes whose objects it has (pp: 0x607A and 0x6081; pv: 0x60FF and 0x6083; hm: 0x6098; csp:
-/// 0x607A and 0x60C2; csv: 0x60FF and 0x60C2; cst: 0x6071 and 0x60C2).
-pub(crate) fn declared_modes(dict: &Dictionary, base: u16) -> u32 {
+/// 0x607A and 0x60C2; csv: 0x60FF and 0x60C2; cst: 0x6071 and 0x60C2; with `sync_clock` the
+/// cyclic ones without 0x60C2).
+pub(crate) fn declared_modes(dict: &Dictionary, base: u16, sync_clock: bool) -> u32 {
     let has = |index: u16| dict.object(at(base, index)).is_some();
     if let Ok(entry) = dict.entry(at(base, 0x6502), 0) {
-        if let Some(v) = entry.current().and_then(|v| v.as_i128()) {
+        // An entry without a value (an ESI object without `DefaultData`, an EDS entry without a
+        // default: 0) declares nothing: the objects the dictionary has tell the modes, as without
+        // 0x6502.
+        if let Some(v) = entry
+            .current()
+            .and_then(|v| v.as_i128())
+            .filter(|v| *v != 0)
+        {
             return v as u32;
         }
     }
@@ -393,9 +401,11 @@ pub(crate) fn declared_modes(dict: &Dictionary, base: u16) -> u32 {
     add(1, has(0x607A) && has(0x6081));
     add(3, has(0x60FF) && has(0x6083));
     add(6, has(0x6098));
-    add(8, has(0x607A) && has(0x60C2));
-    add(9, has(0x60FF) && has(0x60C2));
-    add(10, has(0x6071) && has(0x60C2));
+    // The cyclic modes take their period from 0x60C2, or from the network's SYNC clock.
+    let period = has(0x60C2) || sync_clock;
+    add(8, has(0x607A) && period);
+    add(9, has(0x60FF) && period);
+    add(10, has(0x6071) && period);
     bits
 }
 
