@@ -9,15 +9,19 @@
 //! interface reading an SII image (`od::sii`), the AL state machine with its SyncManager checks
 //! ([`esc::al`]), SyncManager mailboxes and buffers and the watchdog ([`esc::sm`]), Distributed Clocks
 //! ([`esc::dc`]); [`unit`] is a chain of ESCs with a device model and its CoE server behind each;
-//! [`smd`] puts the SMD model behind each ESC; [`raw`] and [`runtime`]
-//! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line; [`master`]
+//! [`smd`] puts the SMD model behind each ESC; [`generic`] any ESI's device, with a CiA 402 drive
+//! behind each drive axis; [`raw`] and [`runtime`]
+//! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line, [`node_cli`]
+//! the `ethercat-node` one; [`master`]
 //! is the master's side the tests and benchmarks use.
 #![deny(missing_docs)]
 
 pub mod cli;
 pub mod esc;
 pub mod frame;
+pub mod generic;
 pub mod master;
+pub mod node_cli;
 pub mod raw;
 pub mod runtime;
 pub mod smd;

@@ -16,8 +16,9 @@ use crate::esc::{cmd, Command};
 use crate::frame::FrameError;
 use crate::frame::{emit, parse, Datagram};
 use crate::raw::RawSocket;
-use crate::smd::binding::Device;
+use crate::smd::binding::{Device, SmdUnit};
 use crate::smd::{SmdChain, SmdSlaveError};
+use crate::unit::{Model, UnitChain};
 
 /// Output bytes (0x7000:01–08) and input bytes (0x6000:01–07) of one unit, as its manual's Reference 6
 /// lays them out: the master's own layout, independent of the slave's image built from the ESI.
@@ -134,26 +135,33 @@ pub trait Wire {
 }
 
 /// A chain in process on a simulated clock, as its host would run it: a frame takes no time, and
-/// [`SimChain::cycle`] moves the clock on and calls [`SmdChain::handle_timeout`] then. The units'
+/// [`SimChain::cycle`] moves the clock on and calls [`UnitChain::handle_timeout`] then. The units'
 /// cycle is 1 µs, so every [`SimChain::cycle`] of 1 µs or more runs one process-data cycle over the
-/// time since the last.
+/// time since the last. Of SMD units unless told otherwise.
 #[derive(Clone)]
-pub struct SimChain {
+pub struct SimChain<M = SmdUnit> {
     /// The chain.
-    pub chain: SmdChain,
+    pub chain: UnitChain<M>,
     /// The simulated present.
     pub now: Instant,
 }
 
-impl SimChain {
+impl SimChain<SmdUnit> {
     /// `n` units of `device`, powered on now.
     pub fn new(device: Device, n: usize) -> Result<SimChain, SmdSlaveError> {
         let now = Instant::now();
         let chain = SmdChain::new(device, n, Duration::from_micros(1), now)?;
         Ok(SimChain { chain, now })
     }
+}
 
-    /// A frame at the present time ([`SmdChain::handle_frame`]).
+impl<M: Model> SimChain<M> {
+    /// `chain`, made at `now` with a process-data cycle of 1 µs, on the simulated clock from `now`.
+    pub fn with_chain(chain: UnitChain<M>, now: Instant) -> SimChain<M> {
+        SimChain { chain, now }
+    }
+
+    /// A frame at the present time ([`UnitChain::handle_frame`]).
     pub fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
         self.chain.handle_frame(self.now, frame)
     }
@@ -163,28 +171,28 @@ impl SimChain {
         self.now += dt;
     }
 
-    /// Moves the clock on by `dt` and runs what is due then ([`SmdChain::handle_timeout`]).
+    /// Moves the clock on by `dt` and runs what is due then ([`UnitChain::handle_timeout`]).
     pub fn cycle(&mut self, dt: Duration) {
         self.now += dt;
         self.chain.handle_timeout(self.now);
     }
 }
 
-impl std::ops::Deref for SimChain {
-    type Target = SmdChain;
+impl<M> std::ops::Deref for SimChain<M> {
+    type Target = UnitChain<M>;
 
-    fn deref(&self) -> &SmdChain {
+    fn deref(&self) -> &UnitChain<M> {
         &self.chain
     }
 }
 
-impl std::ops::DerefMut for SimChain {
-    fn deref_mut(&mut self) -> &mut SmdChain {
+impl<M> std::ops::DerefMut for SimChain<M> {
+    fn deref_mut(&mut self) -> &mut UnitChain<M> {
         &mut self.chain
     }
 }
 
-impl Wire for SimChain {
+impl<M: Model> Wire for SimChain<M> {
     fn exchange(&mut self, frame: &mut Vec<u8>) -> bool {
         self.process(frame).is_ok()
     }
@@ -425,6 +433,179 @@ pub fn lrw(w: &mut impl Wire, outputs: &[Outputs]) -> Result<(u16, Vec<Inputs>),
             let mut b = [0u8; PROCESS_DATA_LEN];
             b.copy_from_slice(&r.data[at..at + PROCESS_DATA_LEN]);
             decode_inputs(&b)
+        })
+        .collect();
+    Ok((r.wkc, inputs))
+}
+
+/// One SyncManager as a master sets it: start address, length, control byte.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SmSetting {
+    /// Physical start address.
+    pub start: u16,
+    /// Length in bytes.
+    pub len: u16,
+    /// Control byte.
+    pub control: u8,
+}
+
+/// How a master sets up one unit of any device: its SyncManagers by number (the ESI's `Sm` elements,
+/// the process-data ones with the lengths of the unit's process images), with the outputs FMMU on
+/// the outputs SyncManager and the inputs FMMU on the inputs one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Layout {
+    /// The SyncManagers by number; `None` for one left disabled.
+    pub sms: Vec<Option<SmSetting>>,
+    /// The numbers of the outputs and inputs SyncManagers.
+    pub outputs: Option<usize>,
+    /// The inputs SyncManager.
+    pub inputs: Option<usize>,
+}
+
+impl Layout {
+    /// The layout of `template`'s units with their power-on process images.
+    pub fn of(template: &crate::generic::Template) -> Layout {
+        let (o, i) = template.images();
+        Layout::with_lengths(template, o.len() as u16, i.len() as u16)
+    }
+
+    /// The layout of `template`'s units with process images of `outputs` and `inputs` bytes.
+    pub fn with_lengths(template: &crate::generic::Template, outputs: u16, inputs: u16) -> Layout {
+        let ec = template.description().ethercat.clone().unwrap_or_default();
+        let mut layout = Layout {
+            sms: Vec::new(),
+            outputs: None,
+            inputs: None,
+        };
+        for (n, sm) in ec.sync_managers.iter().enumerate() {
+            let len = match sm.kind.as_str() {
+                "Outputs" => {
+                    layout.outputs = Some(n);
+                    outputs
+                }
+                "Inputs" => {
+                    layout.inputs = Some(n);
+                    inputs
+                }
+                _ => sm.default_size.unwrap_or(128),
+            };
+            layout.sms.push((len > 0).then_some(SmSetting {
+                start: sm.start_address,
+                len,
+                control: sm.control_byte,
+            }));
+        }
+        layout
+    }
+
+    /// The output and input lengths.
+    pub fn lengths(&self) -> (usize, usize) {
+        let len = |n: Option<usize>| {
+            n.and_then(|n| self.sms.get(n).copied().flatten())
+                .map_or(0, |s| usize::from(s.len))
+        };
+        (len(self.outputs), len(self.inputs))
+    }
+
+    /// The mailbox SyncManagers (SM0, SM1), when the unit has them.
+    pub fn mailbox(&self) -> Option<(SmSetting, SmSetting)> {
+        match (self.sms.first(), self.sms.get(1)) {
+            (Some(Some(a)), Some(Some(b))) if a.control & 0x03 == 0x02 => Some((*a, *b)),
+            _ => None,
+        }
+    }
+}
+
+/// Where unit `k`'s outputs and inputs are in the logical image of `layouts`: every unit's outputs
+/// one after the other from 0, then every unit's inputs.
+pub fn logical(layouts: &[Layout], k: usize) -> (u32, u32) {
+    let outputs: usize = layouts.iter().map(|l| l.lengths().0).sum();
+    let before = |f: fn(&Layout) -> usize| layouts[..k].iter().map(f).sum::<usize>() as u32;
+    (
+        before(|l| l.lengths().0),
+        outputs as u32 + before(|l| l.lengths().1),
+    )
+}
+
+/// Station addresses, every unit's SyncManagers as its layout says, and its FMMUs (see
+/// [`logical`]).
+pub fn configure_layouts(w: &mut impl Wire, layouts: &[Layout]) -> Result<(), MasterError> {
+    for k in 0..layouts.len() {
+        let adp = 0u16.wrapping_sub(k as u16);
+        let d = Datagram::new(cmd::APWR, adp, 0x0010, station(k).to_le_bytes().to_vec());
+        expect(w, d, 1)?;
+    }
+    for (k, layout) in layouts.iter().enumerate() {
+        for (n, sm) in layout.sms.iter().enumerate() {
+            let Some(sm) = sm else { continue };
+            let mut r = sm.start.to_le_bytes().to_vec();
+            r.extend_from_slice(&sm.len.to_le_bytes());
+            r.extend_from_slice(&[sm.control, 0, 1, 0]);
+            fpwr(w, k, 0x0800 + 8 * n as u16, r)?;
+        }
+        let (out_at, in_at) = logical(layouts, k);
+        let (out_len, in_len) = layout.lengths();
+        let fmmus = [
+            (layout.outputs, out_at, out_len, 2u8),
+            (layout.inputs, in_at, in_len, 1),
+        ];
+        for (f, (sm, at, len, rw)) in fmmus.into_iter().enumerate() {
+            let Some(sm) = sm.and_then(|n| layout.sms[n]).filter(|_| len > 0) else {
+                continue;
+            };
+            let mut r = at.to_le_bytes().to_vec();
+            r.extend_from_slice(&(len as u16).to_le_bytes());
+            r.extend_from_slice(&[0, 7]);
+            r.extend_from_slice(&sm.start.to_le_bytes());
+            r.extend_from_slice(&[0, rw, 1, 0, 0, 0]);
+            fpwr(w, k, 0x0600 + 16 * f as u16, r)?;
+        }
+    }
+    Ok(())
+}
+
+/// The working counter an LRW of `layouts` comes back with when every unit is in Op: per unit 1
+/// for its inputs read and 2 for its outputs written (ETG.1000.4 §5.4.3).
+pub fn lrw_wkc(layouts: &[Layout]) -> u16 {
+    layouts
+        .iter()
+        .map(|l| {
+            let (o, i) = l.lengths();
+            2 * u16::from(o > 0) + u16::from(i > 0)
+        })
+        .sum()
+}
+
+/// One LRW of every unit's outputs (each as long as its layout says) and inputs, then a 1 ms
+/// cycle where the wire runs one: the working counter and each unit's inputs.
+pub fn lrw_layouts(
+    w: &mut impl Wire,
+    layouts: &[Layout],
+    outputs: &[Vec<u8>],
+) -> Result<(u16, Vec<Vec<u8>>), MasterError> {
+    let total: usize = layouts.iter().map(|l| l.lengths().0 + l.lengths().1).sum();
+    let mut data = vec![0u8; total];
+    for (k, (layout, out)) in layouts.iter().zip(outputs).enumerate() {
+        let (at, _) = logical(layouts, k);
+        let n = layout.lengths().0.min(out.len());
+        data[at as usize..at as usize + n].copy_from_slice(&out[..n]);
+    }
+    let r = one(
+        w,
+        Datagram {
+            cmd: cmd::LRW,
+            index: 0,
+            address: 0,
+            data,
+            wkc: 0,
+        },
+    )?;
+    w.pass(Duration::from_millis(1));
+    let inputs = (0..layouts.len())
+        .map(|k| {
+            let (_, at) = logical(layouts, k);
+            let n = layouts[k].lengths().1;
+            r.data[at as usize..at as usize + n].to_vec()
         })
         .collect();
     Ok((r.wkc, inputs))

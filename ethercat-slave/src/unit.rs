@@ -75,6 +75,13 @@ pub trait Model: Objects + Clone {
     /// A synchronisation event at `at` (the model has run up to `at`; a new output image is already
     /// in its entries).
     fn sync(&mut self, at: Instant, event: SyncEvent);
+
+    /// The SYNC0 cycle the unit runs with from Safe-Op on (the master set it in Pre-Op), or `None`
+    /// without SYNC0; told when the unit enters Safe-Op from Pre-Op, and `None` when it goes back
+    /// to Pre-Op or Init.
+    fn set_sync0_cycle(&mut self, cycle: Option<Duration>) {
+        let _ = cycle;
+    }
 }
 
 /// One unit behind its ESC: the model, its CoE server and its process data.
@@ -161,8 +168,8 @@ impl<M: Model> Unit<M> {
         }
     }
 
-    /// Tells the model and the CoE server the AL state.
-    fn sync_state(&mut self, al: AlState, now: Instant) {
+    /// Tells the model and the CoE server the AL state (`sync0`: the SYNC0 cycle in ns, when on).
+    fn sync_state(&mut self, al: AlState, now: Instant, sync0: Option<u32>) {
         let from = self.state;
         if al == from {
             return;
@@ -182,6 +189,11 @@ impl<M: Model> Unit<M> {
                 self.output_image = outputs;
                 self.input_image = inputs;
             }
+            self.model
+                .set_sync0_cycle(sync0.map(|ns| Duration::from_nanos(u64::from(ns))));
+        }
+        if matches!(al, AlState::PreOp | AlState::Init) {
+            self.model.set_sync0_cycle(None);
         }
         self.model.set_al_state(from, al, now);
         let mapped: Vec<Address> = if matches!(al, AlState::Op | AlState::SafeOp) {
@@ -309,7 +321,7 @@ impl<M: Model> UnitChain<M> {
         let now = self.now;
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
             let (al, _) = esc.al_state();
-            unit.sync_state(al, now);
+            unit.sync_state(al, now, esc.sync0_cycle());
             unit.send_pending(esc);
             // One request at a time (ETG.1000.6 §5.5): the next is taken only once the answers
             // before it are in SM1 or read, so a master that never reads SM1 finds SM0 full.
@@ -350,7 +362,7 @@ impl<M: Model> UnitChain<M> {
                 unit.drop_to_safe_op(esc, now);
             }
             let (al, _) = esc.al_state();
-            unit.sync_state(al, now);
+            unit.sync_state(al, now, esc.sync0_cycle());
             let sync0_on = esc.sync0_cycle().is_some();
             // The last SYNC0 event since the last cycle, at its own instant (never before it).
             let sync0 = esc.sync0_passed().map(|at| {
@@ -399,7 +411,7 @@ impl<M: Model> UnitChain<M> {
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
             if esc.al_state().0 == AlState::Op {
                 unit.drop_to_safe_op(esc, now);
-                unit.sync_state(AlState::SafeOp, now);
+                unit.sync_state(AlState::SafeOp, now, esc.sync0_cycle());
             }
         }
     }

@@ -218,7 +218,8 @@ fn safe_op_checks_the_mapping_then_the_sync_managers_then_sync0() {
 fn sync_managers_are_checked_by_their_esi_number() {
     let mut desc = common::smd();
     let ec = desc.ethercat.as_mut().unwrap();
-    ec.sync_managers.retain(|s| s.kind == "Outputs" || s.kind == "Inputs");
+    ec.sync_managers
+        .retain(|s| s.kind == "Outputs" || s.kind == "Inputs");
     let mut c = Chain::new(1);
     c.slaves[0].al = AlConfig::from_description(&desc);
     let rules = c.slaves[0].al.clone();

@@ -1,6 +1,7 @@
 //! A veth pair for a master and the EtherCAT emulator: the master's end stays in this namespace, the other end is
-//! moved into a network namespace of its own where `smd-ethercat` runs on it. Created by
-//! [`Link::up`], removed when the [`Link`] is dropped. Needs root (CAP_NET_ADMIN, CAP_NET_RAW); without
+//! moved into a network namespace of its own where the emulator runs on it (`smd-ethercat`, or
+//! `ethercat-node`). Created by [`Link::up`] or [`Link::node`], removed when the [`Link`] is
+//! dropped. Needs root (CAP_NET_ADMIN, CAP_NET_RAW); without
 //! it the test fails and says so.
 
 use std::io::{BufRead, BufReader};
@@ -22,7 +23,7 @@ pub struct Link {
     child: Option<Child>,
     /// What the emulator wrote on stderr, once stopped.
     log: PathBuf,
-    /// The `smd-ethercat` binary.
+    /// The emulator's binary.
     emulator: PathBuf,
 }
 
@@ -43,6 +44,23 @@ impl Link {
     /// A fresh veth pair and namespace, and `smd-ethercat` with `args` (e.g. `["--units", "2"]`) on the
     /// far end, on line.
     pub fn up(args: &[&str]) -> Link {
+        Link::with(
+            crate::cargo_binary("ethercat-slave", "smd-ethercat", &[]),
+            args,
+        )
+    }
+
+    /// A fresh veth pair and namespace, and `ethercat-node` with `args` (e.g. `["--esi",
+    /// "examples/drive.esi.xml@2"]`, paths from the workspace root) on the far end, on line.
+    pub fn node(args: &[&str]) -> Link {
+        Link::with(
+            crate::cargo_binary("ethercat-slave", "ethercat-node", &[]),
+            args,
+        )
+    }
+
+    /// A fresh veth pair and namespace, and the emulator `binary` with `args` on the far end, on line.
+    pub fn with(binary: PathBuf, args: &[&str]) -> Link {
         let n = NEXT.fetch_add(1, Ordering::Relaxed);
         let id = format!("{}x{n}", std::process::id() % 1_000_000);
         let (ns, master, slave) = (format!("ecat-{id}"), format!("ecm{id}"), format!("ecs{id}"));
@@ -52,8 +70,8 @@ impl Link {
             master: master.clone(),
             slave: slave.clone(),
             child: None,
-            log: std::env::temp_dir().join(format!("smd-ethercat-{id}.log")),
-            emulator: crate::cargo_binary("ethercat-slave", "smd-ethercat", &[]),
+            log: std::env::temp_dir().join(format!("ecat-emulator-{id}.log")),
+            emulator: binary,
         };
         ip(&[
             "link", "add", &master, "type", "veth", "peer", "name", &slave, "netns", &ns,
@@ -72,18 +90,28 @@ impl Link {
             .arg(&self.emulator)
             .arg(&self.slave)
             .args(args)
+            .current_dir(crate::root())
             .stdout(Stdio::piped())
             .stderr(log)
             .spawn()
-            .expect("start smd-ethercat");
+            .expect("start the emulator");
         let mut line = String::new();
         let mut out = BufReader::new(child.stdout.take().expect("stdout"));
-        out.read_line(&mut line).expect("smd-ethercat's first line");
+        out.read_line(&mut line).expect("the emulator's first line");
         assert!(
             line.contains("Ctrl-C stops"),
-            "smd-ethercat did not come on line: {line:?}; {}",
+            "{} did not come on line: {line:?}; {}",
+            self.emulator.display(),
             std::fs::read_to_string(&self.log).unwrap_or_default()
         );
+        // What the emulator prints after its first line goes to a thread that reads it, so that
+        // it never waits on a full pipe.
+        std::thread::spawn(move || {
+            let mut sink = String::new();
+            while out.read_line(&mut sink).is_ok_and(|n| n > 0) {
+                sink.clear();
+            }
+        });
         self.child = Some(child);
         // The carrier of a fresh veth takes a moment.
         let deadline = Instant::now() + Duration::from_secs(5);
@@ -122,10 +150,10 @@ impl Link {
 }
 
 /// `(answered, dropped)` from the emulator's last line in `log` (what [`Link::stop`] returns),
-/// `smd-ethercat: N frames answered, M dropped`.
+/// `smd-ethercat: N frames answered, M dropped` (or `ethercat-node: …`).
 pub fn frame_counts(log: &str) -> Option<(u64, u64)> {
     let line = log.lines().rev().find(|l| l.contains("frames answered"))?;
-    let rest = line.split("smd-ethercat: ").nth(1)?;
+    let rest = line.rsplit(": ").next()?;
     let mut words = rest.split_whitespace();
     let answered = words.next()?.parse().ok()?;
     let dropped = words.nth(2)?.parse().ok()?;

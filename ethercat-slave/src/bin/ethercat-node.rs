@@ -1,0 +1,24 @@
+//! `ethercat-node`: any ESI's devices as emulated EtherCAT slaves, with a CiA 402 drive behind the
+//! drive axes. See `ethercat-node --help`.
+
+use tracing_subscriber::EnvFilter;
+
+fn main() {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new("info")),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    let config = ethercat_slave::node_cli::parse(std::env::args_os()).unwrap_or_else(|e| e.exit());
+    match ethercat_slave::node_cli::run(&config, None) {
+        Ok(stats) => eprintln!(
+            "ethercat-node: {} frames answered, {} dropped",
+            stats.answered, stats.dropped
+        ),
+        Err(e) => {
+            eprintln!("ethercat-node: {e}");
+            std::process::exit(2);
+        }
+    }
+}

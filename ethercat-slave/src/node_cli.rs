@@ -1,0 +1,331 @@
+//! The `ethercat-node` command line: any ESI's devices as a chain of emulated EtherCAT slaves, with a
+//! CiA 402 drive behind every drive axis ([`crate::generic`]). `main` only parses ([`parse`]) and
+//! calls [`run`].
+
+use std::ffi::OsString;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use clap::{CommandFactory, FromArgMatches, Parser, ValueEnum};
+use ds402::drive::{DriveConfig, MotorKind};
+use od::load::Format;
+
+use crate::generic::{self, parse_number, Template, TemplateError};
+use crate::raw::RawSocket;
+use crate::runtime::{self, RuntimeError, Stats};
+
+/// The most units a chain may have.
+pub const MAX_UNITS: usize = 128;
+
+/// Emulated EtherCAT slaves from ESI files: each unit's SII, dictionary, CoE server (SDO, Complete
+/// Access, SDO Information), SyncManagers, AL checks, Distributed Clocks and PDOs (fixed, or
+/// assignable through 0x1C12/0x1C13 and 0x1600+/0x1A00+ as the ESI allows) come from its ESI, and
+/// behind every CiA 402 axis (0x6040/0x6041 at 0x6000 + 0x800 per axis) runs a drive: its state
+/// machine, pp, pv, homing, csp/csv/cst on SYNC0, the following error and a motor model. A device
+/// without drive axes is its dictionary: the process data writes and reads its entries.
+///
+/// --esi FILE@N puts N units of FILE's device in the chain; give --esi once per device kind, in
+/// chain order. A --device (type name, name or product code) and a --modules list belong to the
+/// --esi before them. Serial numbers (SII and 0x1018:04) are the chain positions, 1 for the first.
+///
+/// Needs CAP_NET_RAW (root). A veth pair gives a master and the units a link on one machine:
+///
+///   ip link add ecat0 type veth peer name ecat1 && ip link set ecat0 up && ip link set ecat1 up
+///
+///   ethercat-node ecat1 --esi examples/drive.esi.xml --units 2   (and the master on ecat0)
+#[derive(Debug, Clone, Parser)]
+#[command(name = "ethercat-node", version, verbatim_doc_comment)]
+pub struct Args {
+    /// The network interface the master's frames arrive on.
+    #[arg(value_name = "INTERFACE")]
+    pub interface: String,
+
+    /// An ESI file, FILE or FILE@N for N units of its device (1 to 128). Give it once per kind of
+    /// device; the chain is the units in that order.
+    #[arg(long = "esi", value_name = "FILE[@N]", required = true)]
+    pub esis: Vec<String>,
+
+    /// The device of a file that holds several: its type name, name, or product code (0x…, #x… or
+    /// decimal); the newest revision is taken. Belongs to the --esi before it.
+    #[arg(long = "device", value_name = "NAME|CODE")]
+    pub devices: Vec<String>,
+
+    /// The modules in the slots of a modular device (ETG.2001), one for each slot from the first,
+    /// separated by commas: a module ident (0x10b00100) or type name, or `none` for an empty slot.
+    /// Without it each slot holds its default module. Belongs to the --esi before it.
+    #[arg(long = "modules", value_name = "LIST")]
+    pub modules: Vec<String>,
+
+    /// Units of each --esi given without @N.
+    #[arg(long, short = 'n', value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=128))]
+    pub units: u16,
+
+    /// The motor behind each drive: a servo (position controller, torque limit) or an open-loop
+    /// stepper that loses steps beyond its pull-out torque.
+    #[arg(long, value_enum, default_value_t = MotorArg::Servo)]
+    pub motor: MotorArg,
+
+    /// The units' process-data cycle in µs (how often the drives' inputs refresh and SYNC0 events
+    /// are taken), 250 to 10000.
+    #[arg(long, value_name = "US", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(250..=10_000))]
+    pub cycle_us: u64,
+
+    /// After answering a frame, keep polling the interface for this many µs before sleeping (0 to
+    /// 1000).
+    #[arg(long, value_name = "US", default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=1000))]
+    pub busy_poll_us: u64,
+}
+
+/// The motor of the drives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum MotorArg {
+    /// A servo motor with a position controller.
+    Servo,
+    /// An open-loop stepper motor.
+    Stepper,
+}
+
+/// One --esi with what belongs to it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct EsiSpec {
+    /// The file.
+    pub path: PathBuf,
+    /// Units of it, when given as FILE@N.
+    pub units: Option<usize>,
+    /// The --device after it.
+    pub device: Option<String>,
+    /// The --modules after it.
+    pub modules: Option<Vec<String>>,
+}
+
+/// The command line, parsed: the arguments and each --esi with its --device and --modules.
+#[derive(Debug, Clone)]
+pub struct Config {
+    /// The arguments.
+    pub args: Args,
+    /// The --esi options in order.
+    pub specs: Vec<EsiSpec>,
+}
+
+/// Splits `FILE@N` (N a number of units); a path whose last `@` is not followed by a number is the
+/// path.
+pub fn split_count(text: &str) -> Result<(PathBuf, Option<usize>), String> {
+    if let Some((path, n)) = text.rsplit_once('@') {
+        if !n.is_empty() && n.chars().all(|c| c.is_ascii_digit()) {
+            let count: usize = n
+                .parse()
+                .ok()
+                .filter(|c| (1..=MAX_UNITS).contains(c))
+                .ok_or_else(|| {
+                    format!("{text}: @{n} is not a number of units from 1 to {MAX_UNITS}")
+                })?;
+            return Ok((PathBuf::from(path), Some(count)));
+        }
+    }
+    Ok((PathBuf::from(text), None))
+}
+
+/// Parses the command line `argv` (the program's name first): the arguments, and each --device and
+/// --modules given to the --esi before it (to the first one when they come before every --esi).
+pub fn parse<I, T>(argv: I) -> Result<Config, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let mut command = Args::command();
+    let matches = command.try_get_matches_from_mut(argv)?;
+    let args = Args::from_arg_matches(&matches)?;
+    let invalid = |message: String| {
+        command
+            .clone()
+            .error(clap::error::ErrorKind::ValueValidation, message)
+    };
+    let esi_at: Vec<usize> = matches
+        .indices_of("esis")
+        .map_or(Vec::new(), Iterator::collect);
+    let owner = |at: usize| esi_at.iter().rposition(|&e| e < at).unwrap_or(0);
+    let mut specs = Vec::with_capacity(args.esis.len());
+    for text in &args.esis {
+        let (path, units) = split_count(text).map_err(|m| invalid(format!("--esi {m}")))?;
+        specs.push(EsiSpec {
+            path,
+            units,
+            device: None,
+            modules: None,
+        });
+    }
+    let given =
+        |id: &str| -> Vec<usize> { matches.indices_of(id).map_or(Vec::new(), Iterator::collect) };
+    for (value, at) in args.devices.iter().zip(given("devices")) {
+        let spec = &mut specs[owner(at)];
+        if spec.device.is_some() {
+            return Err(invalid(format!(
+                "two --device for --esi {}: give each --esi its own",
+                spec.path.display()
+            )));
+        }
+        spec.device = Some(value.clone());
+    }
+    for (value, at) in args.modules.iter().zip(given("modules")) {
+        let spec = &mut specs[owner(at)];
+        if spec.modules.is_some() {
+            return Err(invalid(format!(
+                "two --modules for --esi {}: list every slot's module in one",
+                spec.path.display()
+            )));
+        }
+        spec.modules = Some(value.split(',').map(|m| m.trim().to_string()).collect());
+    }
+    let total: usize = specs
+        .iter()
+        .map(|s| s.units.unwrap_or(usize::from(args.units)))
+        .sum();
+    if total > MAX_UNITS {
+        return Err(invalid(format!(
+            "{total} units in all; a chain has at most {MAX_UNITS}"
+        )));
+    }
+    Ok(Config { args, specs })
+}
+
+/// Why `ethercat-node` stopped with an error.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CliError {
+    /// An ESI file that does not load or read (the reader's message names the file).
+    #[error("{0}")]
+    Load(String),
+    /// An ESI device that cannot be emulated.
+    #[error("{path}: {why}")]
+    Esi {
+        /// The file.
+        path: String,
+        /// Why.
+        why: String,
+    },
+    /// The emulator.
+    #[error(transparent)]
+    Runtime(#[from] RuntimeError),
+    /// Ctrl-C could not be hooked.
+    #[error("cannot handle Ctrl-C: {0}")]
+    Signal(#[from] ctrlc::Error),
+}
+
+/// Reads the device of `spec` and makes it ready with its modules.
+pub fn load(spec: &EsiSpec) -> Result<Template, CliError> {
+    let refuse = |why: String| CliError::Esi {
+        path: spec.path.display().to_string(),
+        why,
+    };
+    let limit = od::load::limit_from(
+        od::load::MAX_FILE_BYTES,
+        std::env::var_os(od::load::LIMIT_VARIABLE).as_deref(),
+    )
+    .map_err(|e| CliError::Load(e.to_string()))?;
+    let bytes =
+        od::load::read_limited(&spec.path, limit).map_err(|e| CliError::Load(e.to_string()))?;
+    match Format::detect(&spec.path, &bytes) {
+        Some(Format::Esi) => {}
+        Some(other) => {
+            return Err(refuse(format!(
+                "an {other} describes a CANopen device; run it with canopen-node"
+            )))
+        }
+        None => return Err(refuse("not an ESI (EtherCATInfo) file".into())),
+    }
+    let select = spec.device.as_deref().map(|d| match parse_number(d) {
+        Some(code) => od::esi::Select::ProductCode(code),
+        None => od::esi::Select::Name(d.to_string()),
+    });
+    let name = spec.path.display().to_string();
+    let desc =
+        od::esi::read(&bytes, &name, select.as_ref()).map_err(|e| CliError::Load(e.to_string()))?;
+    Template::new(desc, spec.modules.as_deref()).map_err(|e: TemplateError| refuse(e.to_string()))
+}
+
+/// What a template's units carry: `2 × EVE-XCR-E (outputs 11 bytes, inputs 11 bytes, 1 drive axis)`.
+pub fn describe(template: &Template, n: usize) -> String {
+    let (o, i) = template.images();
+    let axes = template.axes().len();
+    let modules = if template.modules().is_empty() {
+        String::new()
+    } else {
+        let list: Vec<String> = template
+            .modules()
+            .iter()
+            .map(|(slot, ident)| format!("slot {}: {ident:#010x}", slot + 1))
+            .collect();
+        format!(", modules {}", list.join(", "))
+    };
+    format!(
+        "{n} × {} (outputs {} bytes, inputs {} bytes, {axes} drive axis/axes{modules})",
+        template.name(),
+        o.len(),
+        i.len()
+    )
+}
+
+/// Runs until Ctrl-C (or `stop`, when given, is set); prints what runs on stdout once on line, its
+/// first line ending in "Ctrl-C stops".
+pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError> {
+    let args = &config.args;
+    let templates: Vec<(Template, usize)> = config
+        .specs
+        .iter()
+        .map(|s| Ok((load(s)?, s.units.unwrap_or(usize::from(args.units)))))
+        .collect::<Result<_, CliError>>()?;
+    let stop = match stop {
+        Some(s) => s,
+        None => {
+            let s = Arc::new(AtomicBool::new(false));
+            let hook = s.clone();
+            ctrlc::set_handler(move || hook.store(true, Ordering::Relaxed))?;
+            s
+        }
+    };
+    let drive = DriveConfig {
+        motor: ds402::drive::MotorConfig {
+            kind: match args.motor {
+                MotorArg::Servo => MotorKind::Servo,
+                MotorArg::Stepper => MotorKind::Stepper,
+            },
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let socket = RawSocket::open(&args.interface).map_err(RuntimeError::from)?;
+    let list: Vec<(&Template, usize)> = templates.iter().map(|(t, n)| (t, *n)).collect();
+    let chain = generic::chain(
+        &list,
+        &drive,
+        Duration::from_micros(args.cycle_us),
+        Instant::now(),
+    )
+    .map_err(|e| CliError::Esi {
+        path: "chain".into(),
+        why: e.to_string(),
+    })?;
+    let total = chain.len();
+    println!(
+        "ethercat-node: {total} unit(s) on {} (serial numbers 1…{total}); Ctrl-C stops",
+        args.interface
+    );
+    for (t, n) in &templates {
+        println!("  {}", describe(t, *n));
+    }
+    tracing::info!(
+        interface = args.interface,
+        units = total,
+        "emulated units on line"
+    );
+    let stats = runtime::serve(
+        &socket,
+        &args.interface,
+        Duration::from_micros(args.busy_poll_us),
+        chain,
+        &stop,
+    )?;
+    Ok(stats)
+}
