@@ -11,8 +11,8 @@
 //!   ([`pdo`]), the AL checks of its `Sm` and `Dc` elements, its mailbox size and CoE abilities,
 //!   and its SII image (in an EEPROM of `Eeprom/ByteSize`, or of the next power of two that holds
 //!   the image where that is too small).
-//! - [`GenericUnit`] is one unit of a template ([`Template::unit`]): its own dictionary (serial
-//!   number in 0x1018:04), drives and EtherCAT rules; [`chain`] puts units of several templates in
+//! - [`GenericUnit`] is one unit of a template ([`Template::unit`]): its own dictionary (0x1018:01–03
+//!   the ESI's identity as in the SII, the serial number in 0x1018:04), drives and EtherCAT rules; [`chain`] puts units of several templates in
 //!   one [`NodeChain`].
 //!
 //! What a unit adds to the dictionary's own checks of an SDO download (ETG.1000.6 §5.6.2, the rules
@@ -179,6 +179,11 @@ impl Template {
         set_module_lists(&mut desc.dictionary, &list);
         add_sm_types(&mut desc.dictionary, &ec);
         add_sim_records(&mut desc.dictionary);
+        // The identity object holds what the SII does (an ESI may give 0x1018 no values).
+        let id = &desc.identity;
+        for (sub, v) in [(1u8, id.vendor_id), (2, id.product_code), (3, id.revision)] {
+            let _ = desc.dictionary.store(0x1018, sub, &v.to_le_bytes());
+        }
         pdos.images(&desc.dictionary)
             .map_err(|code| TemplateError::Pdos {
                 device: device.clone(),
