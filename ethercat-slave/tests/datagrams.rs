@@ -570,6 +570,54 @@ fn fmmus_and_logical_commands_keep_their_directions() {
     );
 }
 
+/// A logical datagram's address is its whole 32-bit address field (ETG.1000.4 §5.4), not the low
+/// half: FMMU 0 maps logical 0x0001_0000 … 0x0001_0003 onto physical 0x1200 … 0x1203, which hold
+/// 0x31 … 0x34.
+/// - LRD at 0x0001_0000 reads the four (WKC 1); LRD at 0x0000_0000 finds no FMMU (WKC 0, the frame's
+///   0xEE left as they were);
+/// - LRD of 4 bytes at 0x0001_0002 starts inside the FMMU: its first two bytes are physical 0x1202 and
+///   0x1203 (0x33, 0x34), the last two lie past the FMMU (0xEE);
+/// - LRD of 4 bytes at 0x0000_FFFE (ADO 0x0000, ADP 0xFFFE) ends inside it: 0xEE, 0xEE, then physical
+///   0x1200 and 0x1201 (0x31, 0x32).
+///
+/// An FMMU whose activate register (byte 12, ETG.1000.4 Table 57) is 0 maps nothing, though its other
+/// registers are set: FMMU 1 for logical 0x300 onto 0x1300 (holding 0x77), read, not activated: LRD
+/// at 0x300 gives WKC 0 and the frame's bytes.
+#[test]
+fn the_logical_address_is_32_bits_and_an_fmmu_maps_only_when_activated() {
+    let mut c = Chain::new(1);
+    fmmu(&mut c, 0, 0, 0x0001_0000, 4, 0x1200, 0x01);
+    c.slaves[0].store(0x1200, &[0x31, 0x32, 0x33, 0x34]);
+    assert_eq!(
+        logical(&mut c, cmd::LRD, 0x0001_0000, vec![0xEE; 4]),
+        (1, vec![0x31, 0x32, 0x33, 0x34])
+    );
+    assert_eq!(
+        logical(&mut c, cmd::LRD, 0x0000_0000, vec![0xEE; 4]),
+        (0, vec![0xEE; 4])
+    );
+    assert_eq!(
+        logical(&mut c, cmd::LRD, 0x0001_0002, vec![0xEE; 4]),
+        (1, vec![0x33, 0x34, 0xEE, 0xEE])
+    );
+    assert_eq!(
+        logical(&mut c, cmd::LRD, 0x0000_FFFE, vec![0xEE; 4]),
+        (1, vec![0xEE, 0xEE, 0x31, 0x32])
+    );
+    // FMMU 1: logical 0x300, 4 bytes, start bit 0, end bit 7, physical 0x1300 bit 0, read, not
+    // activated.
+    let inactive = vec![
+        0x00, 0x03, 0, 0, 4, 0, 0, 7, 0x00, 0x13, 0, 0x01, 0, 0, 0, 0,
+    ];
+    let r = run(&mut c, &[Datagram::new(cmd::APWR, 0, 0x0610, inactive)]);
+    assert_eq!(r[0].wkc, 1);
+    c.slaves[0].store(0x1300, &[0x77; 4]);
+    assert_eq!(
+        logical(&mut c, cmd::LRD, 0x300, vec![0xEE; 4]),
+        (0, vec![0xEE; 4])
+    );
+}
+
 /// Reads 8 bytes of the SII at `word` as a master does: address, read command, data register.
 fn eeprom_read(c: &mut Chain, word: u32) -> Vec<u8> {
     run(

@@ -542,8 +542,14 @@ impl Chain {
         for esc in self.slaves.iter_mut() {
             for d in &dgs {
                 let command = Command(frame[d.start]);
-                let adp = u16::from_le_bytes([frame[d.start + 2], frame[d.start + 3]]);
-                let ado = u16::from_le_bytes([frame[d.start + 4], frame[d.start + 5]]);
+                // ADP and ADO, or in their place one 32-bit logical address (ETG.1000.4 §5.4).
+                let address = u32::from_le_bytes([
+                    frame[d.start + 2],
+                    frame[d.start + 3],
+                    frame[d.start + 4],
+                    frame[d.start + 5],
+                ]);
+                let (adp, ado) = (address as u16, (address >> 16) as u16);
                 let (access, addressed, auto, or) = match command {
                     cmd::APRD => (Some(Access::Read), adp == 0, true, false),
                     cmd::APWR => (Some(Access::Write), adp == 0, true, false),
@@ -562,9 +568,7 @@ impl Chain {
                     cmd::BWR => (Some(Access::Write), true, true, false),
                     cmd::BRW => (Some(Access::ReadWrite), true, true, true),
                     cmd::LRD | cmd::LWR | cmd::LRW => {
-                        // The 32-bit logical address takes the place of ADP and ADO.
-                        let addr = u32::from(adp) | (u32::from(ado) << 16);
-                        let inc = esc.logical(command, addr, &mut frame[d.data()..d.wkc()]);
+                        let inc = esc.logical(command, address, &mut frame[d.data()..d.wkc()]);
                         add_wkc(frame, d, inc);
                         (None, false, false, false)
                     }
