@@ -291,6 +291,71 @@ fn a_32_bit_system_time_write_compares_the_low_half() {
     assert_eq!(d[0].data, 0xFFFF_FFFFu32.to_le_bytes());
 }
 
+/// A 32-bit system time write compares the low halves also when the local time has a high half
+/// (ETG.1000.4 §9.2): 5 s after power-on slave 0's local clock is 5,000,000,000 + 1,000,000,007 =
+/// 6,000,000,007 ns = 0x1_65A0_BC07, low half 1,705,032,711. The low half + 1,000 written gives
+/// "local smaller by 1,000" (0x8000_03E8), the low half − 300 "larger by 300"; compared with the
+/// high half they would differ by about 2^32 (held at 0x7FFF_FFFF).
+#[test]
+fn a_32_bit_system_time_write_ignores_the_local_high_half() {
+    let t0 = Instant::now();
+    let mut c = Chain::new(1);
+    c.start(t0);
+    let t = t0 + std::time::Duration::from_secs(5);
+    let mut at = |dgs: &[Datagram]| {
+        let mut f = emit(dgs, SRC);
+        c.handle_frame(t, &mut f).unwrap();
+        parse(&f).unwrap()
+    };
+    let low: u32 = 1_705_032_711;
+    for (written, difference) in [(low + 1_000, 0x8000_03E8u32), (low - 300, 300)] {
+        let r = at(&[Datagram::new(
+            cmd::APWR,
+            0,
+            0x0910,
+            written.to_le_bytes().to_vec(),
+        )]);
+        assert_eq!(r[0].wkc, 1);
+        let d = at(&[Datagram::new(cmd::APRD, 0, 0x092C, vec![0; 4])]);
+        assert_eq!(d[0].data, difference.to_le_bytes(), "{written} written");
+    }
+}
+
+/// SYNC0 status (0x098E bit 0, ETG.1000.4 §9.3) is set by an event and cleared by the master's read
+/// of it: SYNC0 every 1 ms from 1 ms after power-on (slave 0's local clock starts at
+/// 1,000,000,007 ns); at 1.5 ms the event at 1 ms has passed. A read of the start time beside it
+/// (0x0990, the next event: 1,002,000,007) leaves it: the status reads 0x01, and the next read of it
+/// 0x00.
+#[test]
+fn sync0_status_is_cleared_by_reading_it() {
+    let t0 = Instant::now();
+    let mut c = Chain::new(1);
+    c.start(t0);
+    let base: u64 = 1_000_000_007;
+    let t = t0 + std::time::Duration::from_micros(1_500);
+    let mut at = |c: &mut Chain, d: Datagram| {
+        let mut f = emit(&[d], SRC);
+        c.handle_frame(t, &mut f).unwrap();
+        parse(&f).unwrap().remove(0)
+    };
+    for (ado, data) in [
+        (0x09A0, 1_000_000u32.to_le_bytes().to_vec()),
+        (0x0990, (base + 1_000_000).to_le_bytes().to_vec()),
+        (0x0981, vec![0x03]),
+    ] {
+        assert_eq!(at(&mut c, Datagram::new(cmd::APWR, 0, ado, data)).wkc, 1);
+    }
+    assert_eq!(c.slaves[0].sync0_passed(), Some(base + 1_000_000));
+    let status = |c: &mut Chain| {
+        let d = at(c, Datagram::new(cmd::APRD, 0, 0x098E, vec![0]));
+        (d.wkc, d.data)
+    };
+    let next = at(&mut c, Datagram::new(cmd::APRD, 0, 0x0990, vec![0; 8]));
+    assert_eq!(next.data, (base + 2_000_000).to_le_bytes());
+    assert_eq!(status(&mut c), (1, vec![0x01]), "an event passed");
+    assert_eq!(status(&mut c), (1, vec![0x00]), "cleared by the read");
+}
+
 /// A frame built by hand: the Ethernet header, an EtherCAT header announcing `body` bytes, then
 /// `datagram` (as many bytes of it as given), no padding.
 fn raw_frame(body: u16, datagram: &[u8]) -> Vec<u8> {
