@@ -808,6 +808,159 @@ fn sync_manager_status_and_pdi_bytes_are_the_escs() {
     assert_eq!(r[0].data, [0x00, 0x11, 0x04, 0x00, 0x64, 0x00, 0x01, 0x00]);
 }
 
+/// APWR of `data` at `ado` of the one slave: the working counter.
+fn apwr(c: &mut Chain, ado: u16, data: Vec<u8>) -> u16 {
+    run(c, &[Datagram::new(cmd::APWR, 0, ado, data)])[0].wkc
+}
+
+/// APRD of `len` bytes at `ado` of the one slave (zeros sent): the working counter and the data.
+fn aprd(c: &mut Chain, ado: u16, len: usize) -> (u16, Vec<u8>) {
+    let r = run(c, &[Datagram::new(cmd::APRD, 0, ado, vec![0; len])]);
+    (r[0].wkc, r[0].data.clone())
+}
+
+/// One slave with the two mailboxes a master configures (ETG.1000.4 §6.7.2): SM0 at 0x1000 and SM1
+/// at 0x1080, 16 bytes each, mailbox mode, written by the master (control 0x26) and read by it
+/// (0x22), activated.
+fn mailboxes() -> Chain {
+    let mut c = Chain::new(1);
+    assert_eq!(
+        apwr(&mut c, 0x0800, vec![0x00, 0x10, 16, 0, 0x26, 0, 0x01, 0]),
+        1
+    );
+    assert_eq!(
+        apwr(&mut c, 0x0808, vec![0x80, 0x10, 16, 0, 0x22, 0, 0x01, 0]),
+        1
+    );
+    c
+}
+
+/// The status byte of each mailbox SyncManager (ETG.1000.4 §6.7.2: bit 0 write event, bit 1 read
+/// event, bit 3 mailbox full) after the master's accesses, in two exchanges one after the other: SM0
+/// (0x0805) reads 0x09, written and full, after each request the master writes whole; SM1 (0x080D)
+/// 0x02, read and empty, after each answer it reads whole. In between the application takes the
+/// request and puts the answer.
+#[test]
+fn mailbox_status_bytes_through_two_exchanges() {
+    let mut c = mailboxes();
+    for k in 1..=2u8 {
+        assert_eq!(apwr(&mut c, 0x1000, vec![k; 16]), 1);
+        assert_eq!(aprd(&mut c, 0x0805, 1), (1, vec![0x09]), "request {k}");
+        assert_eq!(c.slaves[0].take_mailbox(), Some(vec![k; 16]));
+        assert!(c.slaves[0].put_mailbox(&[0xA0 + k; 16]));
+        assert_eq!(aprd(&mut c, 0x1080, 16), (1, vec![0xA0 + k; 16]));
+        assert_eq!(aprd(&mut c, 0x080D, 1), (1, vec![0x02]), "answer {k}");
+    }
+}
+
+/// The application's mailbox fits SM1 or is refused (the master reads SM1's whole length, ETG.1000.4
+/// §6.7): with SM1 of 16 bytes, 17 bytes are refused and SM1 stays empty (status 0x00, the master's
+/// read refused: WKC 0); 16 bytes are taken whole; 5 bytes are padded with 11 zeros.
+#[test]
+fn a_mailbox_longer_than_sm1_is_refused() {
+    let mut c = mailboxes();
+    assert!(!c.slaves[0].put_mailbox(&[0x55; 17]));
+    assert_eq!(aprd(&mut c, 0x080D, 1), (1, vec![0x00]));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (0, vec![0; 16]));
+    let whole: Vec<u8> = (1..=16).collect();
+    assert!(c.slaves[0].put_mailbox(&whole));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (1, whole));
+    assert!(c.slaves[0].put_mailbox(&[7; 5]));
+    assert_eq!(
+        aprd(&mut c, 0x1080, 16),
+        (1, vec![7, 7, 7, 7, 7, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0])
+    );
+}
+
+/// The application's mailbox goes only into an activated SyncManager (activate bit 0, ETG.1000.4
+/// §6.7.2): with SM1 configured but its activate byte 0x00, the put is refused and SM1's status and
+/// memory stay as they were (0x00; the master reads the memory, which nothing guards now, as 16
+/// zeros with WKC 1). Once the master activates SM1 the same put is taken and read.
+#[test]
+fn no_mailbox_goes_into_a_sync_manager_not_activated() {
+    let mut c = mailboxes();
+    assert_eq!(apwr(&mut c, 0x080E, vec![0x00]), 1);
+    assert!(!c.slaves[0].put_mailbox(&[0x42; 16]));
+    assert_eq!(aprd(&mut c, 0x080D, 1), (1, vec![0x00]));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (1, vec![0; 16]));
+    assert_eq!(apwr(&mut c, 0x080E, vec![0x01]), 1);
+    assert!(c.slaves[0].put_mailbox(&[0x42; 16]));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (1, vec![0x42; 16]));
+}
+
+/// The mailbox repeat (ETG.1000.4 §6.7.2): the master toggles SM1's repeat request (activate bit 1,
+/// 0x080E); the slave puts its last answer into SM1 again and sets the acknowledgement (PDI control
+/// bit 1, 0x080F) to the request. Read as the two bytes 0x080E/0x080F:
+/// - answer A read, SM1 empty (a second read refused); request 1: 0x03, 0x02 and A read once more;
+/// - the activate byte written again as it is (0x03): no new request, still 0x03, 0x02, and SM1 stays
+///   empty;
+/// - request 0: 0x01, 0x00 and A read a third time;
+/// - answer B put and not read, request 1 while SM1 is full: 0x03, 0x02 and SM1 still full with B;
+/// - the repeat request of SM0, the mailbox the master writes, puts nothing into it: SM0 takes the
+///   master's next request (WKC 1) and the application gets it.
+#[test]
+fn a_repeat_request_puts_the_last_answer_back_and_is_acknowledged() {
+    let mut c = mailboxes();
+    let a: Vec<u8> = (0xA0..0xB0).collect();
+    assert!(c.slaves[0].put_mailbox(&a));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (1, a.clone()));
+    assert_eq!(aprd(&mut c, 0x1080, 16).0, 0, "read: empty");
+    let request = |c: &mut Chain, activate: u8| {
+        assert_eq!(apwr(c, 0x080E, vec![activate]), 1);
+        aprd(c, 0x080E, 2)
+    };
+    assert_eq!(request(&mut c, 0x03), (1, vec![0x03, 0x02]));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (1, a.clone()), "A again");
+    assert_eq!(request(&mut c, 0x03), (1, vec![0x03, 0x02]), "unchanged");
+    assert_eq!(aprd(&mut c, 0x1080, 16).0, 0, "nothing repeated");
+    assert_eq!(request(&mut c, 0x01), (1, vec![0x01, 0x00]));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (1, a), "A a third time");
+    assert!(c.slaves[0].put_mailbox(&[0xB5; 16]));
+    assert_eq!(request(&mut c, 0x03), (1, vec![0x03, 0x02]));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (1, vec![0xB5; 16]), "B, full");
+    assert_eq!(apwr(&mut c, 0x0806, vec![0x03]), 1);
+    assert_eq!(apwr(&mut c, 0x1000, vec![1; 16]), 1, "SM0 empty");
+    assert_eq!(c.slaves[0].take_mailbox(), Some(vec![1; 16]));
+}
+
+/// A master's write of a SyncManager's registers that leaves its configuration as it was (start,
+/// length, control, activate bit 0) keeps the ESC's status byte, whatever byte 5 the master writes
+/// (ETG.1000.4 §6.7.2: status is the ESC's), and the mailbox: SM0 full with a request (0x09) written
+/// again with its configuration and status 0x00 reads back with status 0x09, refuses the next
+/// request (WKC 0), and the application gets the first.
+#[test]
+fn writing_a_sync_manager_again_as_it_is_keeps_its_mailbox() {
+    let mut c = mailboxes();
+    assert_eq!(apwr(&mut c, 0x1000, vec![3; 16]), 1);
+    let same = vec![0x00, 0x10, 16, 0, 0x26, 0x00, 0x01, 0x00];
+    assert_eq!(apwr(&mut c, 0x0800, same), 1);
+    assert_eq!(
+        aprd(&mut c, 0x0800, 8),
+        (1, vec![0x00, 0x10, 16, 0, 0x26, 0x09, 0x01, 0x00])
+    );
+    assert_eq!(apwr(&mut c, 0x1000, vec![4; 16]), 0, "still full");
+    assert_eq!(c.slaves[0].take_mailbox(), Some(vec![3; 16]));
+}
+
+/// A SyncManager covers [start, start + length) (ETG.1000.4 §6.7); of length 0 it covers no byte and
+/// guards nothing: SM2 activated at 0x1100 with length 0, buffered and read by the master (control
+/// 0x00, which refuses the master's writes to what it covers), lets a 4-byte write across 0x1100
+/// (0x10FE … 0x1101) through: WKC 1, the bytes in memory. With length 4 it guards 0x1100 … 0x1103
+/// and the same write is refused: WKC 0, memory as it was.
+#[test]
+fn a_sync_manager_of_length_zero_guards_nothing() {
+    let mut c = Chain::new(1);
+    assert_eq!(
+        apwr(&mut c, 0x0810, vec![0x00, 0x11, 0, 0, 0x00, 0, 0x01, 0]),
+        1
+    );
+    assert_eq!(apwr(&mut c, 0x10FE, vec![1, 2, 3, 4]), 1);
+    assert_eq!(c.slaves[0].load(0x10FE, 4), [1, 2, 3, 4]);
+    assert_eq!(apwr(&mut c, 0x0812, vec![4, 0]), 1);
+    assert_eq!(apwr(&mut c, 0x10FE, vec![5, 6, 7, 8]), 0);
+    assert_eq!(c.slaves[0].load(0x10FE, 4), [1, 2, 3, 4]);
+}
+
 /// An EEPROM write (command 0x02 with write enable, ETG.1000.4 §6.4) of the image's last word takes
 /// it; one word past the end is refused with the error bit 0x2000 and changes nothing.
 #[test]

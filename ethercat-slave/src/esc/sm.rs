@@ -163,8 +163,9 @@ impl Esc {
             let at = SM_BASE + b as u16;
             let now: [u8; 8] = self.bytes_at(at);
             // Status (5) and PDI control (7) are read-only for the master.
-            self.store(at + 5, &[before[b + 5]]);
-            self.store(at + 7, &[before[b + 7]]);
+            let (status, pdi) = (before[b + 5], before[b + 7]);
+            self.store(at + 5, &[status]);
+            self.store(at + 7, &[pdi]);
             let config_changed =
                 now[0..5] != before[b..b + 5] || (now[6] ^ before[b + 6]) & 0x01 != 0;
             if config_changed {
@@ -172,18 +173,17 @@ impl Esc {
                 continue;
             }
             let repeat = now[6] & 0x02 != 0;
-            let acked = before[b + 7] & 0x02 != 0;
+            let acked = pdi & 0x02 != 0;
             if repeat != acked {
                 let sm = self.sync_manager(n);
                 if sm.is_mailbox() && !sm.master_writes() {
                     if let Some(last) = self.last_mailbox.clone() {
                         self.store(sm.start, &last);
-                        let status = self.sm_status(n);
                         self.set_sm_status(n, status | MAILBOX_FULL);
                     }
                 }
-                let pdi = (before[b + 7] & !0x02) | if repeat { 0x02 } else { 0 };
-                self.store(at + 7, &[pdi]);
+                // The acknowledgement (bit 1) differs from the request: it toggles to match it.
+                self.store(at + 7, &[pdi ^ 0x02]);
             }
         }
     }
