@@ -519,12 +519,23 @@ impl Layout {
 /// Where unit `k`'s outputs and inputs are in the logical image of `layouts`: every unit's outputs
 /// one after the other from 0, then every unit's inputs.
 pub fn logical(layouts: &[Layout], k: usize) -> (u32, u32) {
+    offsets(layouts)[k]
+}
+
+/// Where every unit's outputs and inputs are in the logical image of `layouts` (see [`logical`]).
+pub fn offsets(layouts: &[Layout]) -> Vec<(u32, u32)> {
     let outputs: usize = layouts.iter().map(|l| l.lengths().0).sum();
-    let before = |f: fn(&Layout) -> usize| layouts[..k].iter().map(f).sum::<usize>() as u32;
-    (
-        before(|l| l.lengths().0),
-        outputs as u32 + before(|l| l.lengths().1),
-    )
+    let (mut o, mut i) = (0usize, outputs);
+    layouts
+        .iter()
+        .map(|l| {
+            let at = (o as u32, i as u32);
+            let (lo, li) = l.lengths();
+            o += lo;
+            i += li;
+            at
+        })
+        .collect()
 }
 
 /// Station addresses, every unit's SyncManagers as its layout says, and its FMMUs (see
@@ -535,6 +546,7 @@ pub fn configure_layouts(w: &mut impl Wire, layouts: &[Layout]) -> Result<(), Ma
         let d = Datagram::new(cmd::APWR, adp, 0x0010, station(k).to_le_bytes().to_vec());
         expect(w, d, 1)?;
     }
+    let at = offsets(layouts);
     for (k, layout) in layouts.iter().enumerate() {
         for (n, sm) in layout.sms.iter().enumerate() {
             let Some(sm) = sm else { continue };
@@ -543,7 +555,7 @@ pub fn configure_layouts(w: &mut impl Wire, layouts: &[Layout]) -> Result<(), Ma
             r.extend_from_slice(&[sm.control, 0, 1, 0]);
             fpwr(w, k, 0x0800 + 8 * n as u16, r)?;
         }
-        let (out_at, in_at) = logical(layouts, k);
+        let (out_at, in_at) = at[k];
         let (out_len, in_len) = layout.lengths();
         let fmmus = [
             (layout.outputs, out_at, out_len, 2u8),
@@ -585,8 +597,9 @@ pub fn lrw_layouts(
 ) -> Result<(u16, Vec<Vec<u8>>), MasterError> {
     let total: usize = layouts.iter().map(|l| l.lengths().0 + l.lengths().1).sum();
     let mut data = vec![0u8; total];
+    let offsets = offsets(layouts);
     for (k, (layout, out)) in layouts.iter().zip(outputs).enumerate() {
-        let (at, _) = logical(layouts, k);
+        let (at, _) = offsets[k];
         let n = layout.lengths().0.min(out.len());
         data[at as usize..at as usize + n].copy_from_slice(&out[..n]);
     }
@@ -603,7 +616,7 @@ pub fn lrw_layouts(
     w.pass(Duration::from_millis(1));
     let inputs = (0..layouts.len())
         .map(|k| {
-            let (_, at) = logical(layouts, k);
+            let (_, at) = offsets[k];
             let n = layouts[k].lengths().1;
             r.data[at as usize..at as usize + n].to_vec()
         })

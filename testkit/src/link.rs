@@ -141,6 +141,12 @@ impl Link {
         std::fs::read_to_string(&self.log).unwrap_or_default()
     }
 
+    /// The emulator's process id (`ip netns exec` execs it: the child is the emulator itself), while
+    /// it runs.
+    pub fn pid(&self) -> Option<u32> {
+        self.child.as_ref().map(Child::id)
+    }
+
     /// Whether the emulator is still running.
     pub fn running(&mut self) -> bool {
         self.child
