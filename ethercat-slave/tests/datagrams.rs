@@ -333,7 +333,7 @@ fn sync0_status_is_cleared_by_reading_it() {
     c.start(t0);
     let base: u64 = 1_000_000_007;
     let t = t0 + std::time::Duration::from_micros(1_500);
-    let mut at = |c: &mut Chain, d: Datagram| {
+    let at = |c: &mut Chain, d: Datagram| {
         let mut f = emit(&[d], SRC);
         c.handle_frame(t, &mut f).unwrap();
         parse(&f).unwrap().remove(0)
