@@ -41,7 +41,7 @@ use od::coe::server::CoeServer;
 use od::hook::{Objects, ProcessImage};
 use od::sdo::frame::Address;
 
-use crate::esc::al::{AlState, AlStatusCode};
+use crate::esc::al::{AlState, AlStatusCode, SmRule};
 use crate::esc::{Chain, Esc};
 use crate::frame::FrameError;
 
@@ -95,20 +95,28 @@ pub struct Unit<M> {
     pending: VecDeque<Vec<u8>>,
     /// The AL state the model and the server were last told.
     state: AlState,
-    /// SM2 / SM3 start addresses from the ESI.
-    outputs_at: u16,
-    inputs_at: u16,
+    /// SM2 / SM3 start addresses from the ESI (none for a device without that SyncManager).
+    outputs_at: Option<u16>,
+    inputs_at: Option<u16>,
     /// The layouts of SM2 and SM3 in force since the unit entered Safe-Op.
     output_image: ProcessImage,
     input_image: ProcessImage,
     /// The ESC's output-image count last taken into the model.
     outputs_taken: u64,
+    /// The process-data SyncManager checks of the ESI (outputs, inputs), before the lengths of
+    /// the unit's images are put in.
+    sm_rules: (Option<SmRule>, Option<SmRule>),
 }
 
 impl<M: Model> Unit<M> {
     /// `model` with `coe` serving its dictionary, its process data at `outputs_at` (SM2) and
-    /// `inputs_at` (SM3), in Init.
-    pub fn new(model: M, coe: CoeServer, outputs_at: u16, inputs_at: u16) -> Unit<M> {
+    /// `inputs_at` (SM3) where it has those SyncManagers, in Init.
+    pub fn new(
+        model: M,
+        coe: CoeServer,
+        outputs_at: Option<u16>,
+        inputs_at: Option<u16>,
+    ) -> Unit<M> {
         Unit {
             model,
             coe_at_start: coe.clone(),
@@ -120,6 +128,7 @@ impl<M: Model> Unit<M> {
             output_image: ProcessImage::default(),
             input_image: ProcessImage::default(),
             outputs_taken: 0,
+            sm_rules: (None, None),
         }
     }
 
@@ -151,18 +160,21 @@ impl<M: Model> Unit<M> {
     }
 
     /// Reads the PDO configuration again: the SyncManager lengths Pre-Op → Safe-Op checks, or the
-    /// code it refuses with (ETG.1000.6 §6.4.1.4).
+    /// code it refuses with (ETG.1000.6 §6.4.1.4). A process-data SyncManager of an empty image is
+    /// not checked (a master leaves it disabled).
     fn configure_al(&self, esc: &mut Esc) {
         match self.model.process_images() {
             Ok((outputs, inputs)) => {
                 esc.al.mapping_refused = None;
-                let len = |image: &ProcessImage| u16::try_from(image.len()).unwrap_or(u16::MAX);
-                if let Some(rule) = esc.al.outputs.as_mut() {
-                    rule.len = (len(&outputs), len(&outputs));
-                }
-                if let Some(rule) = esc.al.inputs.as_mut() {
-                    rule.len = (len(&inputs), len(&inputs));
-                }
+                let with_len = |rule: Option<SmRule>, image: &ProcessImage| {
+                    let len = u16::try_from(image.len()).unwrap_or(u16::MAX);
+                    rule.filter(|_| len > 0).map(|r| SmRule {
+                        len: (len, len),
+                        ..r
+                    })
+                };
+                esc.al.outputs = with_len(self.sm_rules.0, &outputs);
+                esc.al.inputs = with_len(self.sm_rules.1, &inputs);
             }
             Err(code) => esc.al.mapping_refused = Some(code),
         }
@@ -236,7 +248,8 @@ impl<M: Model> UnitChain<M> {
         let mut chain = Chain::new(0);
         chain.start(now);
         let mut list = Vec::with_capacity(units.len());
-        for (mut esc, unit) in units {
+        for (mut esc, mut unit) in units {
+            unit.sm_rules = (esc.al.outputs, esc.al.inputs);
             unit.configure_al(&mut esc);
             chain.push(esc);
             list.push(unit);
@@ -370,12 +383,14 @@ impl<M: Model> UnitChain<M> {
                 now - ago.min(dt)
             });
             let mut fresh = false;
-            if al == AlState::Op && esc.outputs_received() != unit.outputs_taken {
+            let new_image = esc.outputs_received() != unit.outputs_taken;
+            if let Some(at) = unit.outputs_at.filter(|_| al == AlState::Op && new_image) {
                 unit.outputs_taken = esc.outputs_received();
                 let n = unit.output_image.len();
                 self.image.resize(self.image.len().max(n), 0);
                 let outputs = &mut self.image[..n];
-                esc.load_into(unit.outputs_at, outputs);
+                esc.load_into(at, outputs);
+                esc.release_outputs(at);
                 let (dict, hook) = unit.model.split();
                 unit.output_image.unpack(outputs, dict, hook);
                 fresh = true;
@@ -392,13 +407,16 @@ impl<M: Model> UnitChain<M> {
                 None => {}
             }
             unit.model.advance(now);
-            if matches!(al, AlState::Op | AlState::SafeOp) {
+            let inputs_at = unit
+                .inputs_at
+                .filter(|_| matches!(al, AlState::Op | AlState::SafeOp));
+            if let Some(at) = inputs_at {
                 let n = unit.input_image.len();
                 self.image.resize(self.image.len().max(n), 0);
                 let inputs = &mut self.image[..n];
                 let (dict, hook) = unit.model.split();
                 unit.input_image.pack(dict, hook, inputs);
-                esc.store(unit.inputs_at, inputs);
+                esc.put_inputs(at, inputs);
             }
         }
     }

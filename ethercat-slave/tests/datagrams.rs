@@ -1071,3 +1071,58 @@ fn commands_by_number_and_name() {
     assert_eq!(Command(15).name(), None);
     assert_eq!(Command(0x2A).to_string(), "command 0x2A");
 }
+
+/// Process data through SyncManagers in mailbox mode (one buffer, ETG.1000.4 §6.7.2), as an ESI's
+/// `Inputs` with control byte 0x22 asks, beside the two mailboxes: SM3 at 0x1100, 4 bytes, read by
+/// the master (0x22); SM2 at 0x1180, 2 bytes, written by it (0x26).
+/// - Inputs: the application's first put fills SM3 (status 0x08) and is read once (WKC 1, then
+///   status 0x02 and a second read refused: WKC 0); a put while full changes nothing; the next put
+///   after the read is read.
+/// - Outputs: the master's write fills SM2 (status 0x09) and is a new output image; a second write
+///   before the application took the first is refused (WKC 0, memory unchanged); once released, the
+///   next write is taken and counts as the second image.
+/// - Neither is the mailbox: a put_mailbox still goes to SM1 and take_mailbox reads SM0 only;
+///   inputs put at SM1's address do not fill it, and releasing outputs at SM0's does not empty it.
+#[test]
+fn process_data_through_sync_managers_in_mailbox_mode() {
+    let mut c = mailboxes();
+    assert_eq!(
+        apwr(&mut c, 0x0818, vec![0x00, 0x11, 4, 0, 0x22, 0, 0x01, 0]),
+        1
+    );
+    assert_eq!(
+        apwr(&mut c, 0x0810, vec![0x80, 0x11, 2, 0, 0x26, 0, 0x01, 0]),
+        1
+    );
+    assert!(c.slaves[0].put_inputs(0x1100, &[1, 2, 3, 4]));
+    assert_eq!(aprd(&mut c, 0x081D, 1), (1, vec![0x08]));
+    assert!(!c.slaves[0].put_inputs(0x1100, &[9, 9, 9, 9]));
+    assert_eq!(aprd(&mut c, 0x1100, 4), (1, vec![1, 2, 3, 4]));
+    assert_eq!(aprd(&mut c, 0x081D, 1), (1, vec![0x02]));
+    assert_eq!(aprd(&mut c, 0x1100, 4), (0, vec![0; 4]));
+    assert!(c.slaves[0].put_inputs(0x1100, &[5, 6, 7, 8]));
+    assert_eq!(aprd(&mut c, 0x1100, 4), (1, vec![5, 6, 7, 8]));
+
+    let images = c.slaves[0].outputs_received();
+    assert_eq!(apwr(&mut c, 0x1180, vec![0xA1, 0xA2]), 1);
+    assert_eq!(aprd(&mut c, 0x0815, 1), (1, vec![0x09]));
+    assert_eq!(c.slaves[0].outputs_received(), images + 1);
+    assert_eq!(apwr(&mut c, 0x1180, vec![0xB1, 0xB2]), 0);
+    assert_eq!(c.slaves[0].load(0x1180, 2), [0xA1, 0xA2]);
+    assert_eq!(c.slaves[0].outputs_received(), images + 1);
+    c.slaves[0].release_outputs(0x1180);
+    assert_eq!(aprd(&mut c, 0x0815, 1), (1, vec![0x01]));
+    assert_eq!(apwr(&mut c, 0x1180, vec![0xB1, 0xB2]), 1);
+    assert_eq!(c.slaves[0].load(0x1180, 2), [0xB1, 0xB2]);
+    assert_eq!(c.slaves[0].outputs_received(), images + 2);
+
+    assert_eq!(c.slaves[0].take_mailbox(), None);
+    assert!(c.slaves[0].put_mailbox(&[0x42; 16]));
+    assert_eq!(aprd(&mut c, 0x1080, 16), (1, vec![0x42; 16]));
+    assert!(c.slaves[0].put_inputs(0x1080, &[0x43; 16]));
+    assert_eq!(aprd(&mut c, 0x080D, 1), (1, vec![0x02]));
+    assert_eq!(apwr(&mut c, 0x1000, vec![0x44; 16]), 1);
+    assert_eq!(c.slaves[0].outputs_received(), images + 2);
+    c.slaves[0].release_outputs(0x1000);
+    assert_eq!(c.slaves[0].take_mailbox(), Some(vec![0x44; 16]));
+}

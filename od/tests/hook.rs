@@ -200,6 +200,17 @@ fn an_image_from_an_assignment_packs_bits_without_gaps() {
     assert_eq!(out, [0x5A, 0xA5, 0b10]);
 }
 
+/// An assignment entry 0 among the counted ones assigns nothing: the count 2 with the entries
+/// 0x1A00 and 0 gives 0x1A00's image alone.
+#[test]
+fn an_assignment_entry_0_assigns_nothing() {
+    let mut d = dict();
+    let one = ProcessImage::from_mapping(&d, 0x1A00).unwrap();
+    assert_eq!(one.bits(), 16);
+    d.store(0x1C13, 2, &[0, 0]).unwrap();
+    assert_eq!(ProcessImage::from_assignment(&d, 0x1C13), Ok(one));
+}
+
 #[test]
 fn a_mapping_that_is_not_there_is_named() {
     let mut d = dict();

@@ -118,6 +118,7 @@ fn binaries() -> PathBuf {
         ("sdo-tool", "sdo-tool", &[]),
         ("esi-gen", "esi-gen", &[]),
         ("ethercat-slave", "smd-ethercat", &[]),
+        ("ethercat-slave", "ethercat-node", &[]),
         ("ds402", "smd", &["cli"]),
     ] {
         let path = testkit::cargo_binary(package, bin, features);
@@ -195,6 +196,8 @@ fn every_command_line_of_the_readme_works_when_pasted() {
     // What an interrupted earlier run of the EtherCAT block may have left.
     let _ = Command::new("ip").args(["netns", "del", "ecat"]).output();
     let _ = Command::new("ip").args(["link", "del", "ecat0"]).output();
+    let _ = Command::new("ip").args(["netns", "del", "ecatn"]).output();
+    let _ = Command::new("ip").args(["link", "del", "ecn0"]).output();
     let _main = MainJob::start(&bin);
     let mut ran = 0;
     let mut failures = Vec::new();

@@ -8,6 +8,10 @@
 //!   reaches its last byte empties it; writes are refused. A refused access changes nothing and does
 //!   not count in the working counter. The repeat request (activate bit 1, toggled by the master) puts
 //!   the last mailbox back and is acknowledged in PDI control bit 1.
+//!   A process-data SyncManager in mailbox mode (an ESI's one-buffer `Inputs` with control byte
+//!   0x22) works the same: the application's inputs fill it only while the master has read the last
+//!   ones ([`Esc::put_inputs`]), a master's outputs count as a new output image and stay until the
+//!   application has taken them ([`Esc::release_outputs`]).
 //! - **Buffered mode** (control bits 0–1 = 00): the emulator processes each frame whole, so the master
 //!   always sees one consistent buffer. A write that reaches the last byte of a master-written buffer
 //!   (SM2) is a new output image: status bit 0, and the SyncManager watchdog restarts. The master
@@ -145,6 +149,9 @@ impl Esc {
             if sm.is_mailbox() {
                 if write {
                     self.set_sm_status(n, status | MAILBOX_FULL | WRITE_EVENT);
+                    if self.mailbox_sms().0 != Some(n) {
+                        self.outputs_arrived();
+                    }
                 } else {
                     self.set_sm_status(n, (status & !(MAILBOX_FULL | WRITE_EVENT)) | 0x02);
                 }
@@ -236,5 +243,50 @@ impl Esc {
         self.last_mailbox = Some(image);
         self.set_sm_status(n, status | MAILBOX_FULL);
         true
+    }
+
+    /// The process-data SyncManager in mailbox mode starting at `at` in that direction: enabled,
+    /// and not the mailbox of the mailbox protocols.
+    fn one_buffer_at(&self, at: u16, master_writes: bool) -> Option<usize> {
+        let (write_mailbox, read_mailbox) = self.mailbox_sms();
+        let mailbox = if master_writes {
+            write_mailbox
+        } else {
+            read_mailbox
+        };
+        (0..SYNC_MANAGERS).find(|&n| {
+            let sm = self.sync_manager(n);
+            sm.enabled
+                && sm.is_mailbox()
+                && sm.master_writes() == master_writes
+                && sm.start == at
+                && Some(n) != mailbox
+        })
+    }
+
+    /// The application writes its inputs at `at`. Through a SyncManager in mailbox mode (one
+    /// buffer, ETG.1000.4 §6.7.2) only while the master has read the last ones, and the write fills
+    /// it; false while it is still full (nothing changes). Elsewhere as [`store`](Esc::store).
+    pub fn put_inputs(&mut self, at: u16, bytes: &[u8]) -> bool {
+        if let Some(n) = self.one_buffer_at(at, false) {
+            let status = self.sm_status(n);
+            if status & MAILBOX_FULL != 0 {
+                return false;
+            }
+            self.store(at, bytes);
+            self.set_sm_status(n, status | MAILBOX_FULL);
+        } else {
+            self.store(at, bytes);
+        }
+        true
+    }
+
+    /// The application has taken the outputs at `at`: a SyncManager in mailbox mode there is empty
+    /// again, for the master's next write.
+    pub fn release_outputs(&mut self, at: u16) {
+        if let Some(n) = self.one_buffer_at(at, true) {
+            let status = self.sm_status(n);
+            self.set_sm_status(n, status & !MAILBOX_FULL);
+        }
     }
 }

@@ -150,8 +150,8 @@ pub struct Template {
     al: AlConfig,
     mailbox_in: usize,
     segmented: bool,
-    outputs_at: u16,
-    inputs_at: u16,
+    outputs_at: Option<u16>,
+    inputs_at: Option<u16>,
     modules: Vec<(usize, u32)>,
 }
 
@@ -196,6 +196,12 @@ impl Template {
             ec.eeprom.get_or_insert_with(Default::default).byte_size =
                 need.next_power_of_two().min(1 << 20) as u32;
         }
+        // An image the SII cannot hold otherwise (more strings than an index byte names) is
+        // refused here, before any unit.
+        od::sii::write(&desc, 0).map_err(|source| TemplateError::Sii {
+            device: device.clone(),
+            source,
+        })?;
         let mut al = AlConfig::from_description(&desc);
         // ETG.1000.6 §6.4.1.4: SYNC0 on a device whose ESI assigns it in no DC mode is refused.
         al.no_sync0 = !ec
@@ -226,8 +232,8 @@ impl Template {
             al,
             mailbox_in,
             segmented,
-            outputs_at: sm("Outputs").map_or(0, |s| s.start_address),
-            inputs_at: sm("Inputs").map_or(0, |s| s.start_address),
+            outputs_at: sm("Outputs").map(|s| s.start_address),
+            inputs_at: sm("Inputs").map(|s| s.start_address),
             modules: placed.iter().map(|(s, m)| (*s, m.ident)).collect(),
             desc,
         })

@@ -301,9 +301,11 @@ impl Pdos {
         if dict.object(assign).is_none() {
             return Some(ProcessImage::default());
         }
-        let assigned: Vec<u16> = (1..=uint(dict, assign, 0)?)
+        let mut assigned: Vec<u16> = (1..=uint(dict, assign, 0)?)
             .map(|sub| uint(dict, assign, sub as u8).map(|v| v as u16))
             .collect::<Option<_>>()?;
+        // An entry 0 assigns nothing (ProcessImage::from_assignment skips it).
+        assigned.retain(|&i| i != 0);
         if assigned.iter().any(|&i| !is_mapping(i, tx)) {
             return None;
         }

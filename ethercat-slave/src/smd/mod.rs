@@ -111,7 +111,10 @@ impl UnitChain<SmdUnit> {
             model.set_serial_number(k as u32 + 1);
             model.indexer_mut().start(now);
             let coe = CoeServer::new(ServerConfig::default(), usize::from(mailbox_in));
-            units.push((esc, Unit::new(model, coe, outputs_at, inputs_at)));
+            units.push((
+                esc,
+                Unit::new(model, coe, Some(outputs_at), Some(inputs_at)),
+            ));
         }
         Ok(UnitChain::from_units(units, cycle, now))
     }

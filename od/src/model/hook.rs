@@ -263,12 +263,16 @@ impl ProcessImage {
     }
 
     /// The image of a SyncManager from its PDO assignment object (`0x1C12` outputs, `0x1C13` inputs,
-    /// ETG.1000.6 §5.6.7.4): the assigned mapping objects one after the other.
+    /// ETG.1000.6 §5.6.7.4): the assigned mapping objects one after the other. An entry 0 among the
+    /// counted ones assigns nothing (SOES counts all its entries and leaves the unused ones 0; masters
+    /// skip them, as SOEM's `ecx_readPDOassign` does).
     pub fn from_assignment(dict: &Dictionary, assignment: u16) -> Result<ProcessImage, ImageError> {
         let mut image = ProcessImage::default();
         for sub in 1..=u8_at(dict, assignment, 0)? {
             let mapping = uint_at(dict, assignment, sub)? as u16;
-            image.push_mapping(dict, mapping)?;
+            if mapping != 0 {
+                image.push_mapping(dict, mapping)?;
+            }
         }
         Ok(image)
     }
