@@ -267,7 +267,13 @@ fn main() {
     }
     for (k, i) in inputs.iter().enumerate() {
         let pos = i32::from_le_bytes(i[2..6].try_into().unwrap());
-        assert_eq!(pos, cycles * (k as i32 + 1), "unit {k} at its target");
+        let sw = u16::from_le_bytes([i[0], i[1]]);
+        let al = ok(master::al(&mut w, k));
+        assert_eq!(
+            pos,
+            cycles * (k as i32 + 1),
+            "unit {k} at its target (statusword {sw:#06x}, AL status {al:04x?})"
+        );
     }
     drop(link);
     println!(

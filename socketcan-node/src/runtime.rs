@@ -94,10 +94,23 @@ pub fn run<A: Application>(
     let nodes = stations;
     let mut outgoing: Vec<(usize, CanFrame)> = Vec::new();
     let mut interest = Interest::default();
-    flush(nodes, bus, &mut outgoing, &mut interest, &mut stats)?;
+    // Each node's next deadline, worked out again only for the nodes an input reached: a node's
+    // state changes only through its inputs, so the others' deadlines stand. With 127 nodes this
+    // keeps a frame's cost to the nodes it concerns.
+    let mut touched = Touched::all(nodes.len());
+    let mut due: Vec<Option<Instant>> = vec![None; nodes.len()];
+    flush(
+        nodes,
+        bus,
+        &mut outgoing,
+        &mut interest,
+        &mut touched,
+        &mut stats,
+    )?;
+    touched.settle(nodes, &mut due);
     while !stop.load(Ordering::Relaxed) {
         let now = Instant::now();
-        let next = nodes.iter().filter_map(|s| s.node.poll_timeout()).min();
+        let next = due.iter().flatten().min();
         let wait = next.map_or(MAX_WAIT, |t| t.saturating_duration_since(now).min(MAX_WAIT));
         match bus.recv(wait)? {
             Some(BusEvent::Frame { frame, .. }) => {
@@ -106,6 +119,7 @@ pub fn run<A: Application>(
                 interest.refresh(nodes);
                 for &n in interest.takers(&frame) {
                     nodes[n].node.handle_frame(at, &frame);
+                    touched.add(n);
                 }
             }
             Some(BusEvent::Error(text)) => {
@@ -115,20 +129,61 @@ pub fn run<A: Application>(
             None => {}
         }
         let now = Instant::now();
-        for s in nodes.iter_mut() {
-            if s.node.poll_timeout().is_some_and(|t| t <= now) {
-                s.node.handle_timeout(now);
+        for (k, d) in due.iter().enumerate() {
+            if d.is_some_and(|t| t <= now) {
+                nodes[k].node.handle_timeout(now);
+                touched.add(k);
             }
         }
-        flush(nodes, bus, &mut outgoing, &mut interest, &mut stats)?;
+        flush(
+            nodes,
+            bus,
+            &mut outgoing,
+            &mut interest,
+            &mut touched,
+            &mut stats,
+        )?;
+        touched.settle(nodes, &mut due);
     }
     Ok(stats)
+}
+
+/// The nodes an input reached since their deadlines were last worked out.
+struct Touched {
+    list: Vec<usize>,
+    marked: Vec<bool>,
+}
+
+impl Touched {
+    /// Every one of `n` nodes.
+    fn all(n: usize) -> Touched {
+        Touched {
+            list: (0..n).collect(),
+            marked: vec![true; n],
+        }
+    }
+
+    fn add(&mut self, k: usize) {
+        if !self.marked[k] {
+            self.marked[k] = true;
+            self.list.push(k);
+        }
+    }
+
+    /// Works out the deadlines of the nodes touched; none is touched any more.
+    fn settle<A: Application>(&mut self, nodes: &[Station<A>], due: &mut [Option<Instant>]) {
+        for k in self.list.drain(..) {
+            due[k] = nodes[k].node.poll_timeout();
+            self.marked[k] = false;
+        }
+    }
 }
 
 /// Which nodes take which COB-IDs, rebuilt when a node's configuration changes.
 #[derive(Default)]
 struct Interest {
-    generation: Option<u64>,
+    /// Each node's listen generation the tables were built from.
+    generations: Vec<u64>,
     data: Vec<Vec<usize>>,
     rtr: Vec<Vec<usize>>,
     extended: Vec<usize>,
@@ -136,13 +191,15 @@ struct Interest {
 
 impl Interest {
     fn refresh<A: Application>(&mut self, nodes: &[Station<A>]) {
-        let g = nodes.iter().fold(0u64, |g, s| {
-            g.wrapping_mul(31).wrapping_add(s.node.listen_generation())
-        });
-        if self.generation == Some(g) {
+        let same = self.generations.len() == nodes.len()
+            && nodes
+                .iter()
+                .zip(&self.generations)
+                .all(|(s, g)| s.node.listen_generation() == *g);
+        if same {
             return;
         }
-        self.generation = Some(g);
+        self.generations = nodes.iter().map(|s| s.node.listen_generation()).collect();
         self.data = vec![Vec::new(); 0x800];
         self.rtr = vec![Vec::new(); 0x800];
         for (k, s) in nodes.iter().enumerate() {
@@ -171,11 +228,16 @@ fn flush<A: Application>(
     bus: &mut dyn CanBus,
     outgoing: &mut Vec<(usize, CanFrame)>,
     interest: &mut Interest,
+    touched: &mut Touched,
     stats: &mut RunStats,
 ) -> Result<(), BusError> {
+    // The nodes with outputs to take: those an input reached (a node's outputs come only from its
+    // inputs), then those the frames of the last pass reached.
+    let mut poll = touched.list.clone();
     loop {
         outgoing.clear();
-        for (n, s) in nodes.iter_mut().enumerate() {
+        for &n in &poll {
+            let s = &mut nodes[n];
             while let Some(e) = s.node.poll_event() {
                 log_event(s.node.node_id(), &e);
             }
@@ -196,13 +258,18 @@ fn flush<A: Application>(
         }
         let at = Instant::now();
         interest.refresh(nodes);
-        for (from, f) in outgoing.iter() {
+        poll.clear();
+        for (sender, f) in outgoing.iter() {
             for &n in interest.takers(f) {
-                if n != *from {
+                if n != *sender {
                     nodes[n].node.handle_frame(at, f);
+                    touched.add(n);
+                    poll.push(n);
                 }
             }
         }
+        poll.sort_unstable();
+        poll.dedup();
     }
 }
 
