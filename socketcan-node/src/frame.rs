@@ -200,4 +200,49 @@ mod tests {
         assert_eq!(f.dlc(), 4);
         assert!(!f.is_remote_frame());
     }
+
+    /// The largest identifiers of each format are frames: 0x7FF (11 bits) and 0x1FFF_FFFF (29 bits,
+    /// CAN 2.0B).
+    #[test]
+    fn largest_identifiers() {
+        let s = CanFrame::new(0x7FF, &[]).unwrap();
+        assert_eq!((s.raw_id(), s.is_extended()), (0x7FF, false));
+        let e = CanFrame::new_extended(0x1FFF_FFFF, &[]).unwrap();
+        assert_eq!((e.raw_id(), e.is_extended()), (0x1FFF_FFFF, true));
+        assert_eq!(e.to_string(), "1FFFFFFF#");
+    }
+
+    /// The accessors read back what the frame was made of; `{:?}` shows `candump` notation too.
+    #[test]
+    fn accessors_and_debug() {
+        let f = CanFrame::new(0x181, &[1, 2, 3]).unwrap();
+        assert_eq!(f.raw_id(), 0x181);
+        assert!(!f.is_extended());
+        assert!(!f.is_rtr());
+        assert_eq!(f.len(), 3);
+        assert!(!f.is_empty());
+        assert!(CanFrame::new(0x080, &[]).unwrap().is_empty());
+        assert_eq!(format!("{f:?}"), "181#010203");
+    }
+
+    /// Through `embedded_can::Frame`: format, remote flag, DLC and data as made, for both formats.
+    #[test]
+    fn embedded_can_view() {
+        use embedded_can::Frame as F;
+        let data =
+            <CanFrame as F>::new(StandardId::new(0x605).unwrap(), &[0x40, 0x18, 0x10, 1]).unwrap();
+        assert!(!F::is_extended(&data));
+        assert_eq!(F::data(&data), &[0x40, 0x18, 0x10, 1]);
+        let ext = ExtendedId::new(0x1234_5678).unwrap();
+        let e = <CanFrame as F>::new(ext, &[0xAB, 0xCD]).unwrap();
+        assert!(F::is_extended(&e));
+        assert_eq!(F::id(&e), Id::Extended(ext));
+        assert_eq!(F::data(&e), &[0xAB, 0xCD]);
+        let r = <CanFrame as F>::new_remote(StandardId::new(0x705).unwrap(), 1).unwrap();
+        assert!(F::is_remote_frame(&r));
+        assert!(!F::is_extended(&r));
+        assert_eq!(F::dlc(&r), 1);
+        assert_eq!(F::data(&r), &[] as &[u8]);
+        assert_eq!(r.to_string(), "705#R1");
+    }
 }
