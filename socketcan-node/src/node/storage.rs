@@ -372,6 +372,51 @@ mod tests {
         assert_eq!(decode(&flipped), Err(ParamFileError::Crc));
     }
 
+    /// `body` with its CRC line, as a complete set.
+    fn signed(body: &str) -> Vec<u8> {
+        format!("{body}crc32 {:08X}\n", crc32(body.as_bytes())).into_bytes()
+    }
+
+    /// A set whose CRC is right but with a line that is not `IIII:SS HEX` is refused by that line's
+    /// number (the format line is line 1): an odd number of digits, a digit that is not hexadecimal,
+    /// a sign.
+    #[test]
+    fn a_bad_line_is_named_by_its_number() {
+        let bad = |line: usize, text: &str| ParamFileError::Line {
+            line,
+            text: text.into(),
+        };
+        assert_eq!(
+            decode(&signed("x67-node parameters 1\n1017:00 E80\n")),
+            Err(bad(2, "1017:00 E80"))
+        );
+        assert_eq!(
+            decode(&signed(
+                "x67-node parameters 1\n1017:00 E803\n2114:00 10Z7\n"
+            )),
+            Err(bad(3, "2114:00 10Z7"))
+        );
+        assert_eq!(
+            decode(&signed("x67-node parameters 1\n1017:00 E803\n1016:01 +1\n")),
+            Err(bad(3, "1016:01 +1"))
+        );
+        assert_eq!(
+            decode(&signed("x67-node parameters 1\n1017:00 E803\n")),
+            Ok(vec![(0x1017, 0, vec![0xE8, 0x03])])
+        );
+    }
+
+    /// A file named without a folder lives in the working directory: that is the folder its
+    /// temporary copies go to and the one synced.
+    #[test]
+    fn the_folder_of_a_bare_file_name_is_the_working_directory() {
+        assert_eq!(FileStorage::new("node5.params").dir(), PathBuf::from("."));
+        assert_eq!(
+            FileStorage::new("/var/lib/node/node5.params").dir(),
+            PathBuf::from("/var/lib/node")
+        );
+    }
+
     #[test]
     fn file_storage_replaces_and_clears() {
         let dir = tempfile::tempdir().unwrap();
