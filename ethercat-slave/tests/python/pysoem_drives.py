@@ -178,11 +178,14 @@ class Bus:
         for _ in range(n):
             self.cycle()
 
-    def until(self, pred, timeout, what):
+    def until(self, pred, timeout, what, hold=1):
+        """Cycles until pred() holds in `hold` cycles in a row."""
         end = time.monotonic() + timeout
+        held = 0
         while time.monotonic() < end:
             self.cycle()
-            if pred():
+            held = held + 1 if pred() else 0
+            if held >= hold:
                 return
         raise Fail(f"timed out after {timeout} s waiting for {what}")
 
@@ -271,6 +274,10 @@ def main():
             # SYNC0 on the drives; a device that is no drive runs without it.
             if numbers:
                 slave.dc_sync(True, args.sync0_ns)
+        for slave in m.slaves:
+            # The SyncManager watchdog at 1 s (the ESI's 100 ms by default): this master is a script
+            # on a machine that may be busy with other jobs, and may pause longer than a PLC.
+            slave.set_watchdog("processdata", 1000)
         m.state = SAFEOP
         m.write_state()
         end = time.monotonic() + 2
@@ -322,8 +329,11 @@ def main():
                 if error is not None:
                     worst = max(worst, abs(error))
         moved = time.monotonic()
+        # At rest: every axis at its target for 100 cycles in a row (a servo that came in late, on a
+        # loaded machine, may pass its target by a count before it settles).
         bus.until(lambda: all(a.position() == t for a, t in zip(axes, targets)), 5.0,
-                  "every axis at its target: " + ", ".join(f"{a.name()} {a.position()}/{t}" for a, t in zip(axes, targets)))
+                  "every axis at its target: " + ", ".join(f"{a.name()} {a.position()}/{t}" for a, t in zip(axes, targets)),
+                  hold=100)
         settle = time.monotonic() - moved
         for axis, target in zip(axes, targets):
             eq(axis.position(), target, f"{axis.name()}: 0x6064 in the process data")
