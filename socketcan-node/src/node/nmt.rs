@@ -20,14 +20,14 @@ pub(super) struct Consumer {
 }
 
 impl<A: Application> Core<A> {
-    pub(super) fn set_state(&mut self, now: Instant, state: NmtState) {
+    pub(super) fn set_state(&mut self, state: NmtState) {
         if self.state == state {
             return;
         }
         self.state = state;
         self.events.push_back(NodeEvent::State(state));
         if state == NmtState::Operational {
-            self.start_pdos(now);
+            self.start_pdos();
         }
     }
 
@@ -37,9 +37,9 @@ impl<A: Application> Core<A> {
             return false;
         }
         match cs {
-            0x01 => self.set_state(now, NmtState::Operational),
-            0x02 => self.set_state(now, NmtState::Stopped),
-            0x80 => self.set_state(now, NmtState::PreOperational),
+            0x01 => self.set_state(NmtState::Operational),
+            0x02 => self.set_state(NmtState::Stopped),
+            0x80 => self.set_state(NmtState::PreOperational),
             0x81 => self.reset(now, true),
             0x82 => self.reset(now, false),
             _ => {}
@@ -96,7 +96,7 @@ impl<A: Application> Core<A> {
         self.reload_consumer();
         // Boot-up, then Pre-operational (CiA 301 §7.3.2.2.1).
         self.tx.push_back((0x700 + u16::from(self.id), [0; 8], 1));
-        self.set_state(now, NmtState::PreOperational);
+        self.set_state(NmtState::PreOperational);
         self.heartbeat_at = self.heartbeat_period().map(|p| now + p);
         self.sync_at = self.sync_period().map(|p| now + p);
         self.reload_time(now);
@@ -169,7 +169,7 @@ impl<A: Application> Core<A> {
                     info: [self.consumer.node, 0, 0, 0, 0],
                 });
                 if self.state == NmtState::Operational {
-                    self.set_state(now, NmtState::PreOperational);
+                    self.set_state(NmtState::PreOperational);
                 }
             }
         }

@@ -52,15 +52,14 @@ impl<A: Application> Core<A> {
         }
     }
 
-    /// Entering Operational at `now`: every TPDO starts afresh (254/255 send once, event timers run),
-    /// RPDOs pending a SYNC are dropped.
-    pub(super) fn start_pdos(&mut self, now: Instant) {
+    /// Entering Operational: every TPDO starts afresh (254/255 send once, and their event timers run
+    /// from that transmission), RPDOs pending a SYNC are dropped.
+    pub(super) fn start_pdos(&mut self) {
         for (cfg, st) in self.tpdos.iter().zip(self.tpdo_state.iter_mut()) {
             st.last = None;
             st.sync_count = 0;
             st.pending = matches!(cfg.transmission, 254 | 255);
-            st.event_at = (cfg.event_timer > 0)
-                .then(|| now + Duration::from_millis(u64::from(cfg.event_timer)));
+            st.event_at = None;
         }
         for p in &mut self.rpdo_pending {
             *p = None;
@@ -68,7 +67,8 @@ impl<A: Application> Core<A> {
     }
 
     /// The earliest event timer, or transmission owed by an event-driven TPDO (at once, or when its
-    /// inhibit time ends) (Operational only).
+    /// inhibit time ends) (Operational only). Only event-driven TPDOs (254/255) have timers: the event
+    /// timer of a synchronous one does nothing (CiA 301 §7.5.2.35).
     pub(super) fn tpdo_timeout(&self) -> Option<Instant> {
         if self.state != NmtState::Operational {
             return None;
@@ -76,12 +76,11 @@ impl<A: Application> Core<A> {
         self.tpdos
             .iter()
             .zip(&self.tpdo_state)
-            .filter(|(cfg, _)| cfg.valid())
-            .flat_map(|(cfg, st)| {
-                let owed = st.pending && cfg.transmission >= 254;
+            .filter(|(cfg, _)| cfg.valid() && cfg.transmission >= 254)
+            .flat_map(|(_, st)| {
                 [
                     st.event_at,
-                    owed.then(|| st.inhibit_until.unwrap_or(self.now)),
+                    st.pending.then(|| st.inhibit_until.unwrap_or(self.now)),
                 ]
             })
             .flatten()
