@@ -59,7 +59,6 @@ impl EmcyCode {
     pub const fn class(self) -> &'static str {
         match self.0 >> 8 {
             0x00 => "error reset or no error",
-            0x10 => "generic error",
             0x21 => "current, device input side",
             0x22 => "current inside the device",
             0x23 => "current, device output side",
@@ -243,6 +242,7 @@ impl<A: Application> Core<A> {
         self.history.clear();
         self.emcy_queue.clear();
         self.emcy_after = None;
+        self.sync_error_objects();
     }
 
     /// Writes the error register 0x1001 and the history 0x1003 into the dictionary.
