@@ -177,12 +177,15 @@ impl Application for GenericApp {
         }
     }
 
+    /// The drives at power-on; the simulation records are back to their defaults, so no input stays
+    /// forced.
     fn reset(&mut self, now: Instant) {
-        for d in &mut self.drives {
-            d.reset(now);
-        }
-        for f in &mut self.forced {
+        for (d, f) in self.drives.iter_mut().zip(&mut self.forced) {
+            for bit in 0..32 {
+                d.set_input(bit, None);
+            }
             *f = (0, 0);
+            d.reset(now);
         }
     }
 
@@ -225,12 +228,8 @@ pub fn add_sim_records(dict: &mut Dictionary) -> Vec<u16> {
         )
         .with_sub(0, count);
         for (sub, name, data_type) in SIM_ENTRIES {
-            let zero = match data_type {
-                DataType::Integer32 => Value::Int(0),
-                _ => Value::Uint(0),
-            };
             let entry = SubObject::new(name, data_type, AccessType::Rw)
-                .with_default(zero)
+                .with_default(Value::zero(data_type))
                 .with_pdo(PdoMapping::Rpdo);
             object = object.with_sub(sub, entry);
         }
