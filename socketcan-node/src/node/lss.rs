@@ -325,7 +325,8 @@ impl LssSlave {
             self.fastscan_pos = 0;
             return true;
         }
-        if bit_checked > 31 || sub > 3 || next > 3 || sub != self.fastscan_pos {
+        // The position is 0–3 (only ever set from a `next` checked here), so `sub` is too after this.
+        if bit_checked > 31 || next > 3 || sub != self.fastscan_pos {
             return false;
         }
         let mask = u32::MAX << bit_checked;
