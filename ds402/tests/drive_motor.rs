@@ -169,3 +169,22 @@ fn the_torque_limit_makes_a_servo_fall_behind() {
     r.at(1001);
     assert_eq!((r.demand(), r.pos(), r.read(0x60F4, 0)), (995, 995, 0));
 }
+
+/// 0x6077 torque actual is per mille of the rated torque 0x6076 (CiA 402-2, objects 0x6076 and
+/// 0x6077): holding against a load of 0.25 N·m with 0x6076 = 500 mN·m reads 500 ‰.
+#[test]
+fn the_torque_actual_is_per_mille_of_the_rated_torque() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            load_torque: 0.25,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[(0x6076, 0, 500)]), config);
+    r.enable(1);
+    r.at(500);
+    assert_eq!(r.pos(), 0);
+    assert_eq!(r.read(0x6077, 0), 500);
+    assert_eq!(r.read(0x6074, 0), 500);
+}

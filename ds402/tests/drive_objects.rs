@@ -21,6 +21,8 @@ fn axes_of_a_dictionary() {
     add_axis(&mut dict, 1, &[], &[]);
     assert_eq!(Drive::axes(&dict), vec![0, 1]);
     let now = Instant::now();
+    let drive = Drive::from_dictionary(&dict, 0, DriveConfig::default(), now).unwrap();
+    assert_eq!(drive.axis(), 0);
     assert!(Drive::from_dictionary(&dict, 1, DriveConfig::default(), now).is_some());
     assert!(Drive::from_dictionary(&dict, 2, DriveConfig::default(), now).is_none());
     assert!(Drive::from_dictionary(&dict, 9, DriveConfig::default(), now).is_none());
@@ -390,6 +392,7 @@ fn rpdo_delivery_goes_through_the_drive() {
     }
     assert_eq!(r.drive.status_word(), ENABLED | 0x0400);
     assert_eq!(r.read(0x6040, 0), 0x0F);
+    assert_eq!(r.drive.control_word(), 0x0F);
     // A value the drive refuses is dropped: neither the drive nor the dictionary takes it.
     deliver(&mut r.dict, &mut r.drive, Address::new(0x6060, 0), &[7]);
     assert_eq!(r.read(0x6060, 0), 1);
@@ -450,4 +453,60 @@ fn writes_to_an_idle_drive_without_the_time_start_at_the_next_now() {
     assert_eq!(r.drive.status_word() & 0x0400, 0);
     r.at(7100);
     assert_eq!((r.drive.status_word(), r.drive.position()), (0x1637, 2000));
+}
+
+/// The encoder resolution 0x608F is increments per motor revolutions (CiA 402-2, object 0x608F):
+/// 8000 increments per 2 revolutions are 4000 counts/rev, so 0x6080 = 6 rpm limits the speed to
+/// 400 counts/s.
+#[test]
+fn the_encoder_resolution_is_increments_per_motor_revolutions() {
+    let mut r = Rig::with(&[(0x608F, 1, 8000), (0x608F, 2, 2), (0x6080, 0, 6)]);
+    r.enable(1);
+    r.set(0x607A, 0, 100_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.wait(500);
+    assert_eq!(r.read(0x606C, 0), 400);
+}
+
+/// A stepper drive offers no cyclic synchronous torque mode (10): 0x6502 declares 0x3A5, the drive
+/// supports 0x1A5, and 0x6060 refuses 10 as it refuses the modes it does not implement (vl, 2).
+#[test]
+fn a_stepper_supports_the_declared_modes_but_cyclic_torque() {
+    let config = DriveConfig {
+        motor: ds402::drive::MotorConfig {
+            kind: ds402::drive::MotorKind::Stepper,
+            ..Default::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[]), config);
+    assert_eq!(r.drive.supported_modes(), 0x01A5);
+    r.at(1);
+    assert_eq!(r.write(0x6060, 0, 10), Err(AbortCode::InvalidValue));
+    assert_eq!(r.write(0x6060, 0, 2), Err(AbortCode::InvalidValue));
+    assert_eq!(r.write(0x6060, 0, 3), Ok(()));
+    assert_eq!((r.read(0x6061, 0), r.drive.mode()), (3, 3));
+}
+
+/// The drive keeps the configuration it was made with, and the simulated machine can be changed
+/// while it runs: a positive limit switch moved onto the axis shows in 0x60FD bit 1 (CiA 402-2,
+/// object 0x60FD).
+#[test]
+fn the_configuration_and_the_machine_at_run_time() {
+    let config = DriveConfig {
+        tick: std::time::Duration::from_micros(500),
+        sim: ds402::drive::SimConfig {
+            home_switch: Some(5000),
+            ..Default::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[]), config.clone());
+    assert_eq!(r.drive.config(), &config);
+    r.at(1);
+    assert_eq!(r.read(0x60FD, 0), 0);
+    r.drive.sim_mut().positive_limit = Some(0);
+    r.at(2);
+    assert_eq!(r.read(0x60FD, 0), 0b010);
+    assert_eq!(r.drive.config().sim.positive_limit, Some(0));
 }

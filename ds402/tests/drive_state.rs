@@ -157,6 +157,7 @@ fn transitions_13_14_15() {
     r.drive.raise_fault(now, 0x4310);
     assert_eq!(r.sw(), FAULT_REACTION_BRAKING);
     assert_eq!(r.read(0x603F, 0), 0x4310);
+    assert_eq!(r.drive.error_code(), 0x4310);
     r.at(2);
     assert_eq!(r.sw(), FAULT);
     assert_eq!(r.read(0x603F, 0), 0x4310);
@@ -251,6 +252,24 @@ fn quick_stop_options_3_and_4_brake_at_the_torque_limit() {
         assert_eq!(r.sw(), SWITCH_ON_DISABLED, "option {option}");
         assert_eq!(r.pos(), (250.0 + dist).round() as i64, "option {option}");
     }
+}
+
+/// The torque limit is 0x6072 per mille of the rated torque 0x6076 (CiA 402-2, objects 0x6072 and
+/// 0x6076): 4 ‰ of 2 N·m is the same 0.008 N·m as 8 ‰ of 1 N·m, and quick stop option 3 brakes
+/// alike.
+#[test]
+fn the_torque_limit_is_per_mille_of_the_rated_torque() {
+    let (ms, dist) = torque_limit_stop();
+    let mut r = cruising(
+        &[(0x605A, 0, 3), (0x6072, 0, 4), (0x6076, 0, 2000)],
+        DriveConfig::default(),
+    );
+    r.cw(QUICK_STOP);
+    r.at(300 + ms);
+    assert_eq!(r.sw(), QUICK_STOP_ACTIVE);
+    r.at(301 + ms);
+    assert_eq!(r.sw(), SWITCH_ON_DISABLED);
+    assert_eq!(r.pos(), (250.0 + dist).round() as i64); // 250 + 3.9
 }
 
 #[test]
