@@ -247,6 +247,51 @@ fn cst_applies_the_target_torque() {
     assert_eq!(r.read(0x6077, 0), -200);
 }
 
+/// cst: 0x6071 is per mille of the rated torque 0x6076 (CiA 402-2, cyclic synchronous torque
+/// mode): 50 ‰ of 2 N·m is the same 0.1 N·m as 100 ‰ of 1 N·m above. Nothing commands a position,
+/// so the position demand 0x6062 reads the rotor's position and the following error is 0.
+#[test]
+fn cst_target_torque_is_per_mille_of_the_rated_torque() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            friction: 0.0,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[(0x6076, 0, 2000)]), config);
+    r.enable(10);
+    r.set(0x6071, 0, 50);
+    r.sync_at(2);
+    r.at(12);
+    let a = 1000.0 * 10_000.0 / TAU;
+    assert_eq!(r.read(0x6077, 0), 50);
+    assert_eq!(r.read(0x606C, 0), (a * 0.01).round() as i64); // 15 915
+    assert_eq!(r.pos(), (a * 0.0001 / 2.0).round() as i64); // 80
+    assert_eq!(r.demand(), 80);
+    assert_eq!(r.read(0x606B, 0), 15_915);
+    assert_eq!(r.read(0x60F4, 0), 0);
+}
+
+/// csv with a SYNC in the middle of a ramp: the new ramp starts from the velocity demand at the
+/// SYNC itself. 0 → 1000 counts/s over 1.5…2.5 ms; the SYNC at 2.2 ms finds 700 and ramps to 2000
+/// over 2.2…3.2 ms: at the tick at 3 ms 700 + 1300 · 0.8 = 1740.
+#[test]
+fn csv_a_sync_within_a_ramp_starts_from_the_velocity_there() {
+    let mut r = Rig::with(&[]);
+    r.enable(9);
+    r.set(0x60FF, 0, 1000);
+    r.sync_at_us(1500);
+    r.at(2);
+    assert_eq!(r.read(0x606B, 0), 500);
+    r.set(0x60FF, 0, 2000);
+    r.sync_at_us(2200);
+    r.at(3);
+    assert_eq!(r.read(0x606B, 0), 1740);
+    r.at(4);
+    assert_eq!(r.read(0x606B, 0), 2000);
+}
+
 #[test]
 fn halt_in_csp_stops_and_the_drive_does_not_follow() {
     let mut r = Rig::with(&[]);
