@@ -721,21 +721,13 @@ impl Drive {
         }
     }
 
-    /// Moves every tick stamp `delta` ticks later (the clock jumps to a lagging write).
+    /// Moves the plan's origin `delta` ticks later (the clock jumps to a lagging write). The other
+    /// tick stamps (the position and velocity windows, the following error) need no move: they
+    /// count only in Operation enabled and Quick stop active, an idle drive is in neither, and
+    /// entering Operation enabled starts them afresh.
     fn rebase(&mut self, delta: u64) {
         if let Motion::Plan { origin, .. } = &mut self.motion {
             *origin += delta;
-        }
-        for stamp in [
-            &mut self.pp.window_since,
-            &mut self.pv.window_since,
-            &mut self.pv.over_since,
-            &mut self.follow.since,
-        ]
-        .into_iter()
-        .flatten()
-        {
-            *stamp += delta;
         }
     }
 
@@ -755,8 +747,8 @@ impl Drive {
         let cmd = if !self.powered() {
             motor::Cmd::Off
         } else {
+            // Powered, the motion is never `Free`: entering a powered state starts one.
             match &self.motion {
-                Motion::Free => motor::Cmd::Off,
                 Motion::Torque { permille } => motor::Cmd::Torque {
                     tau: permille / 1000.0 * self.rated_torque(),
                     t_max,
@@ -778,7 +770,7 @@ impl Drive {
             }
         };
         self.motor.step(dt, cmd);
-        if matches!(self.motion, Motion::Free | Motion::Torque { .. }) || !self.powered() {
+        if !self.powered() || matches!(self.motion, Motion::Torque { .. }) {
             // Nothing drives the demand: it follows the rotor.
             self.demand = Demand {
                 p: self.motor.pos,
