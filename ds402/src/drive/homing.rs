@@ -111,11 +111,9 @@ fn plan(method: i64, levels: [bool; 3]) -> Option<(Vec<Step>, Vec<u8>)> {
         6 => (4, -1),
         7..=10 => (base, 1),
         11..=14 => (base - 4, -1),
+        // Also every method outside 1–14 and 17–30: its base is below 1 or above 14.
         _ => return None,
     };
-    if !(1..=30).contains(&method) || (15..=16).contains(&method) {
-        return None;
-    }
     let seek = |dir: i8, sig: u8, level: bool| Step::Seek {
         dir,
         sig,
