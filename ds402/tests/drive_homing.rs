@@ -84,11 +84,18 @@ type Machine = fn() -> SimConfig;
 
 /// Homing with `method` on `sim`, started at 1 ms in Operation enabled.
 fn start(method: i64, sim: SimConfig) -> Rig {
+    start_with(method, sim, &[])
+}
+
+/// As [`start`], with `changes` to the dictionary besides.
+fn start_with(method: i64, sim: SimConfig, changes: &[(u16, u8, i64)]) -> Rig {
     let config = DriveConfig {
         sim,
         ..DriveConfig::default()
     };
-    let mut r = Rig::new(dictionary(&[(0x6098, 0, method), (0x607C, 0, 100)]), config);
+    let mut dict = vec![(0x6098, 0, method), (0x607C, 0, 100)];
+    dict.extend_from_slice(changes);
+    let mut r = Rig::new(dictionary(&dict), config);
     r.enable(6);
     assert_eq!(r.sw() & STATUS_MASK, NOT_STARTED);
     assert_eq!(r.drive.homing_status(), HomingStatus::NotStarted);
@@ -331,4 +338,180 @@ fn leaving_operation_enabled_interrupts_homing() {
     r.at(1001);
     r.cw(QUICK_STOP);
     assert_eq!(r.drive.homing_status(), HomingStatus::Interrupted);
+}
+
+/// Halt during the return to the home position (CiA 402-2, halt bit 8): the axis brakes on the
+/// halt option code's ramp (0x605D = 1: 0x609A in homing) and stays where it stops.
+#[test]
+fn halt_stops_the_return_to_the_home_position() {
+    // Method 34: the index pulse at 2500 is found at 5.012 s after the start, the demand at
+    // 2499.75 and 500 counts/s; the return brakes at 20 000 counts/s². 1 ms later the demand is at
+    // 2499.75 + 0.5 − 0.01 = 2500.24 and 480 counts/s; halted there it stops 480² / 40 000 = 5.76
+    // counts on, 24 ms later: at 2506, which reads 106.
+    let mut r = start(34, step_switch());
+    r.at(5013);
+    assert_eq!(r.sw(), ENABLED | ATTAINED);
+    r.at(5014);
+    assert_eq!(r.sw(), ENABLED | ATTAINED);
+    r.cw(ENABLE | NEW_SETPOINT | HALT);
+    r.at(5037);
+    assert_eq!(r.read(0x606B, 0), 20);
+    r.at(5038);
+    assert_eq!((r.read(0x606B, 0), r.demand()), (0, 106));
+    r.at(5200);
+    assert_eq!((r.demand(), r.pos()), (106, 106));
+    // Homing attained, standing still under halt (bit 10).
+    assert_eq!(r.sw(), ENABLED | COMPLETED);
+}
+
+/// Method 19 on a forced home switch (0x60FD bit 2): active at 501 ms (at 900, as in the test
+/// above), then the search for its falling edge runs back at 500 counts/s (100 ms to a stop at
+/// 1000, 25 ms to −500 counts/s at 993.75) until the input falls at 1001 ms: at 993.75 − 187.5 =
+/// 806.25, count 806, the home position.
+#[test]
+fn a_forced_home_switch_gives_the_falling_edge_where_it_was_seen() {
+    let mut r = Rig::new(
+        dictionary(&[(0x6098, 0, 19), (0x607C, 0, 100)]),
+        DriveConfig::default(),
+    );
+    r.drive.set_input(2, Some(false));
+    r.enable(6);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(500);
+    r.drive.set_input(2, Some(true));
+    r.at(501);
+    assert_eq!(r.sw(), ENABLED | IN_PROGRESS);
+    r.at(1000);
+    assert_eq!(r.read(0x606B, 0), -500);
+    r.drive.set_input(2, Some(false));
+    r.at(1001);
+    assert_eq!(r.read(0x60FD, 0), 0);
+    assert_eq!(r.sw(), ENABLED | ATTAINED);
+    assert_eq!(r.pos(), 100);
+    r.at(3000);
+    assert_eq!(r.sw(), ENABLED | COMPLETED);
+    assert_eq!(r.drive.rotor_position().round() as i64, 806);
+    assert_eq!(r.pos(), 100);
+}
+
+/// Method 37 where the axis stands away from 0: the present position is home at once, 0x6064
+/// reads the home offset there (CiA 402-2, homing method 37).
+#[test]
+fn method_37_homes_at_once_where_the_axis_stands() {
+    let mut r = Rig::new(
+        dictionary(&[(0x6098, 0, 37), (0x607C, 0, 100)]),
+        DriveConfig::default(),
+    );
+    r.enable(1);
+    r.set(0x607A, 0, 2000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.cw(ENABLE);
+    r.at(3000);
+    assert_eq!(r.pos(), 2000);
+    r.set(0x6060, 0, 6);
+    assert_eq!(r.sw(), ENABLED | NOT_STARTED);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(r.sw(), ENABLED | COMPLETED);
+    assert_eq!((r.pos(), r.demand()), (100, 100));
+}
+
+/// After the first switch edge the search runs at 0x6099:02 (CiA 402-2, homing speeds). Method 3:
+/// the home switch at 5000 is met at 2000 counts/s at 2.55 s after the start; the axis reverses
+/// (100 ms to a stop at 5100, 25 ms to −500 counts/s at 5093.75) and runs back at 500 counts/s:
+/// 324 ms later, at 3000 ms, at 4931.75.
+#[test]
+fn the_search_for_zero_runs_at_the_second_homing_speed() {
+    let mut r = start(3, step_switch());
+    r.at(1000);
+    assert_eq!(r.read(0x606B, 0), 2000);
+    r.at(3000);
+    assert_eq!(r.read(0x606B, 0), -500);
+    assert_eq!(r.read(0x606C, 0), -500);
+    assert_eq!(r.pos(), 4932);
+    assert_eq!(r.sw(), ENABLED | IN_PROGRESS);
+}
+
+/// The search for the index pulse ends in a homing error when it runs into the limit switch of
+/// its direction. Method 33 towards the pulse at −7500 meets the negative limit switch at −1000:
+/// 6.25 counts of ramp, then 500 counts/s: −999.75 at 2.012 s after the start; 25 ms of braking
+/// at 0x609A, 6.25 counts.
+#[test]
+fn the_index_search_into_a_limit_switch_is_a_homing_error() {
+    let sim = SimConfig {
+        negative_limit: Some(-1000),
+        ..step_switch()
+    };
+    let mut r = start(33, sim);
+    r.at(2012);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | IN_PROGRESS, -999));
+    r.at(2013);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | LIMIT | ERROR_MOVING, -1000));
+    r.at(2037);
+    assert_eq!(r.sw(), ENABLED | LIMIT | ERROR_MOVING);
+    r.at(2038);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | LIMIT | ERROR_STANDING, -1006));
+}
+
+/// A search may not leave the software position limits 0x607D (CiA 402-2), which are on when min
+/// < max. Method 34 with 0x607D = −1000…1000: 0x6064 reads 1001 at 2.014 s after the start
+/// (1000.75), a homing error braking 6.25 counts.
+#[test]
+fn a_search_beyond_the_software_limits_is_a_homing_error() {
+    let limits = [(0x607D, 1, -1000), (0x607D, 2, 1000)];
+    let mut r = start_with(34, step_switch(), &limits);
+    r.at(2014);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | IN_PROGRESS, 1000));
+    r.at(2015);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | ERROR_MOVING, 1001));
+    r.at(2039);
+    assert_eq!(r.sw(), ENABLED | ERROR_MOVING);
+    r.at(2040);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | ERROR_STANDING, 1007));
+    // min = max: no limits, the search runs to the pulse at 2500.
+    let off = [(0x607D, 1, 500), (0x607D, 2, 500)];
+    let mut r = start_with(34, step_switch(), &off);
+    r.at(5012);
+    assert_eq!(r.sw(), ENABLED | IN_PROGRESS);
+    r.at(5013);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | ATTAINED, 100));
+}
+
+/// An index pulse on the switch edge itself is the home position, taken once the axis moves past
+/// it. Method 3 with the pulses at 4999 + n · 10 000: the edge at 4999 going back at 500 counts/s
+/// (5093.75 at 2.675 s after the start, as above) is met at 2.864 s (4999.25); the axis reads 4999
+/// there and 1 ms later (4998.75), and 4998 at 2.866 s.
+#[test]
+fn an_index_pulse_on_the_switch_edge_going_back() {
+    let sim = SimConfig {
+        index_offset: 4999,
+        ..step_switch()
+    };
+    let mut r = start(3, sim);
+    r.at(2865);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | IN_PROGRESS, 4999));
+    r.at(2866);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | IN_PROGRESS, 4999));
+    r.at(2867);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | ATTAINED, 99));
+    r.at(4000);
+    assert_eq!(r.sw(), ENABLED | COMPLETED);
+    assert_eq!(r.drive.rotor_position().round() as i64, 4999);
+}
+
+/// As above going on: method 4 with the pulses at 5000 + n · 10 000 meets the edge at 5000 at
+/// 2000 counts/s at 2.55 s after the start; 1 ms later the axis is at 5002 and past the pulse.
+#[test]
+fn an_index_pulse_on_the_switch_edge_going_on() {
+    let sim = SimConfig {
+        index_offset: 5000,
+        ..step_switch()
+    };
+    let mut r = start(4, sim);
+    r.at(2551);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | IN_PROGRESS, 5000));
+    r.at(2552);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | ATTAINED, 102));
+    r.at(4000);
+    assert_eq!(r.sw(), ENABLED | COMPLETED);
+    assert_eq!(r.drive.rotor_position().round() as i64, 5000);
 }
