@@ -35,7 +35,7 @@ fn main() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/drive.eds");
     let (_, mut devices) = od::load::load(&path).expect("examples/drive.eds");
     let mut dict = devices.remove(0).dictionary;
-    generic::add_sim_records(&mut dict);
+    generic::add_sim_records(&mut dict, &DriveConfig::default().sim);
     // Cyclic synchronous position from power-on.
     if let Some(e) = dict.object_mut(0x6060).and_then(|o| o.subs.get_mut(&0)) {
         e.default = Some(od::object::DefaultValue::plain(od::Value::Int(8)));

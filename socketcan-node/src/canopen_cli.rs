@@ -247,7 +247,7 @@ pub fn load(args: &Args) -> Result<Vec<Loaded>, CliError> {
         if configured {
             generic::power_on_values(&mut description);
         }
-        generic::add_sim_records(&mut description.dictionary);
+        generic::add_sim_records(&mut description.dictionary, &drive_config(args).sim);
         unique_serial(&mut description, &mut seen);
         out.push(Loaded {
             description,

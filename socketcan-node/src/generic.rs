@@ -12,7 +12,7 @@
 
 use std::time::Instant;
 
-use ds402::drive::{Drive, DriveConfig};
+use ds402::drive::{Drive, DriveConfig, SimConfig};
 use od::abort::AbortCode;
 use od::device::DeviceDescription;
 use od::dict::{Address, Dictionary};
@@ -43,6 +43,8 @@ pub struct GenericApp {
     sims: Vec<Option<u16>>,
     /// The forced 0x60FD bits and their levels, per drive (sub-indices 1 and 2).
     forced: Vec<(u32, u32)>,
+    /// The simulated machine each drive was made with, which reset node returns to.
+    power_on_sim: Vec<SimConfig>,
 }
 
 impl GenericApp {
@@ -63,10 +65,12 @@ impl GenericApp {
             })
             .collect();
         let forced = vec![(0, 0); drives.len()];
+        let power_on_sim = drives.iter().map(|d| d.config().sim.clone()).collect();
         GenericApp {
             drives,
             sims,
             forced,
+            power_on_sim,
         }
     }
 
@@ -178,13 +182,15 @@ impl Application for GenericApp {
     }
 
     /// The drives at power-on; the simulation records are back to their defaults, so no input stays
-    /// forced.
+    /// forced and the switches are where the drives were made with them.
     fn reset(&mut self, now: Instant) {
-        for (d, f) in self.drives.iter_mut().zip(&mut self.forced) {
+        let power_on = self.power_on_sim.iter();
+        for ((d, f), sim) in self.drives.iter_mut().zip(&mut self.forced).zip(power_on) {
             for bit in 0..32 {
                 d.set_input(bit, None);
             }
             *f = (0, 0);
+            *d.sim_mut() = sim.clone();
             d.reset(now);
         }
     }
@@ -208,7 +214,7 @@ fn is_sim_record(o: &Object) -> bool {
 /// Adds a simulation record at `0x5FF0 + axis` for every drive axis of `dict` whose index is free:
 /// sub 1 the 0x60FD bits forced, sub 2 their levels, subs 3–5 the positions of the negative and
 /// positive limit switches and the home switch (counts). Returns the indices added.
-pub fn add_sim_records(dict: &mut Dictionary) -> Vec<u16> {
+pub fn add_sim_records(dict: &mut Dictionary, sim: &SimConfig) -> Vec<u16> {
     let mut added = Vec::new();
     for axis in Drive::axes(dict) {
         let index = SIM_BASE + u16::from(axis);
@@ -227,9 +233,19 @@ pub fn add_sim_records(dict: &mut Dictionary) -> Vec<u16> {
             ObjectKind::Record,
         )
         .with_sub(0, count);
+        // Subs 3–5 start at the switch positions the drives are given (0 where there is none).
+        let position = |sub: u8| match sub {
+            3 => sim.negative_limit,
+            4 => sim.positive_limit,
+            5 => sim.home_switch,
+            _ => None,
+        };
         for (sub, name, data_type) in SIM_ENTRIES {
+            let default = position(sub).map_or(Value::zero(data_type), |x| {
+                Value::Int(x.clamp(i64::from(i32::MIN), i64::from(i32::MAX)))
+            });
             let entry = SubObject::new(name, data_type, AccessType::Rw)
-                .with_default(Value::zero(data_type))
+                .with_default(default)
                 .with_pdo(PdoMapping::Rpdo);
             object = object.with_sub(sub, entry);
         }

@@ -31,7 +31,7 @@ fn f(id: u16, data: &[u8]) -> CanFrame {
 
 /// A node of `desc` (simulation records added) with node-ID `id`, booted at time zero.
 fn node(mut desc: DeviceDescription, id: u8) -> SimNode<GenericApp> {
-    generic::add_sim_records(&mut desc.dictionary);
+    generic::add_sim_records(&mut desc.dictionary, &DriveConfig::default().sim);
     let t0 = Instant::now();
     let app = GenericApp::new(&desc.dictionary, &DriveConfig::default(), t0);
     let node = Node::new(NodeConfig::new(id), desc.dictionary, app, t0).unwrap();

@@ -543,7 +543,7 @@ fn file_storage_clear_reports_what_it_cannot_remove() {
 
 /// A node of `desc` (simulation records added) with node-ID 5, booted at time zero.
 fn drive_node(mut desc: DeviceDescription) -> SimNode<GenericApp> {
-    generic::add_sim_records(&mut desc.dictionary);
+    generic::add_sim_records(&mut desc.dictionary, &DriveConfig::default().sim);
     let t0 = Instant::now();
     let app = GenericApp::new(&desc.dictionary, &DriveConfig::default(), t0);
     let node = Node::new(NodeConfig::new(ID), desc.dictionary, app, t0).unwrap();
@@ -609,6 +609,43 @@ fn reset_node_resets_the_drive() {
     n.advance_ms(10);
     assert_eq!(n.sdo_read(0x6041, 0).unwrap()[0] & 0x4F, 0x40);
     assert_eq!(inputs(&mut n), 0);
+}
+
+/// The switch positions the drives are made with (`--negative-limit` and the others) are the
+/// simulation record's subs 3–5 from power-on, and NMT reset node returns both the record and the
+/// drive to them: with the negative limit at 100 (active at the rotor's 0) and the home switch at
+/// 500, the record reads 100, 0, 500 and 0x60FD bit 0; a master moves the negative limit to −100
+/// (inactive) and the home switch to −50 (active: bit 2); after reset node the record reads 100, 0,
+/// 500 again and 0x60FD is bit 0 alone again.
+#[test]
+fn switch_positions_of_the_configuration_are_the_records_and_survive_reset_node() {
+    let mut config = DriveConfig::default();
+    config.sim.negative_limit = Some(100);
+    config.sim.home_switch = Some(500);
+    let mut desc = load("drive.eds");
+    generic::add_sim_records(&mut desc.dictionary, &config.sim);
+    let t0 = Instant::now();
+    let app = GenericApp::new(&desc.dictionary, &config, t0);
+    let node = Node::new(NodeConfig::new(ID), desc.dictionary, app, t0).unwrap();
+    let mut n = SimNode::boot(node, t0, Box::new(MemoryStorage::default()));
+    let record = |n: &mut SimNode<GenericApp>| -> Vec<i32> {
+        (3..=5)
+            .map(|sub| {
+                let v = n.sdo_read(SIM_BASE, sub).unwrap();
+                i32::from_le_bytes([v[0], v[1], v[2], v[3]])
+            })
+            .collect()
+    };
+    assert_eq!(record(&mut n), [100, 0, 500]);
+    assert_eq!(inputs(&mut n), 0b001);
+    n.sdo_write(SIM_BASE, 3, &(-100i32).to_le_bytes()).unwrap();
+    n.sdo_write(SIM_BASE, 5, &(-50i32).to_le_bytes()).unwrap();
+    assert_eq!(record(&mut n), [-100, 0, -50]);
+    assert_eq!(inputs(&mut n), 0b100);
+    n.nmt(0x81, ID);
+    n.advance_ms(10);
+    assert_eq!(record(&mut n), [100, 0, 500]);
+    assert_eq!(inputs(&mut n), 0b001);
 }
 
 /// A fault raised from outside on a drive in Operation enabled is an EMCY with its code, the error

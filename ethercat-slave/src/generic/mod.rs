@@ -178,7 +178,7 @@ impl Template {
         pdos.complete(&mut desc.dictionary);
         set_module_lists(&mut desc.dictionary, &list);
         add_sm_types(&mut desc.dictionary, &ec);
-        add_sim_records(&mut desc.dictionary);
+        add_sim_records(&mut desc.dictionary, &ds402::drive::SimConfig::default());
         // The identity object holds what the SII does (an ESI may give 0x1018 no values).
         let id = &desc.identity;
         for (sub, v) in [(1u8, id.vendor_id), (2, id.product_code), (3, id.revision)] {
