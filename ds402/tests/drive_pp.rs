@@ -330,3 +330,48 @@ fn a_new_set_point_outside_operation_enabled_is_not_taken() {
     assert_eq!(r.pos(), 0);
     assert_eq!(r.sw(), ENABLED | TR);
 }
+
+/// Bit 4 held at 1 over several writes (an RPDO repeats the control word every cycle) is one
+/// set-point: the acknowledge (bit 12) stays until bit 4 falls (CiA 402-2, set-point handshake).
+#[test]
+fn bit_4_held_keeps_the_acknowledge() {
+    let mut r = Rig::with(&[]);
+    r.enable(1);
+    r.set(0x607A, 0, 2000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(10);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(r.sw(), ENABLED | ACK);
+    r.at(20);
+    r.cw(ENABLE);
+    assert_eq!(r.sw(), ENABLED);
+    r.cw(ENABLE);
+    assert_eq!(r.sw(), ENABLED);
+}
+
+/// A set-point waiting in the buffer is dropped when the mode's activity ends (here a quick stop,
+/// 0x605A = 6); bit 4 being back at 0, the acknowledge (bit 12) goes with it, so the master can
+/// hand over its next set-point (CiA 402-2, set-point handshake).
+#[test]
+fn a_dropped_set_point_releases_the_acknowledge() {
+    let mut r = moving_to(&[(0x605A, 0, 6)], 2000);
+    r.at(501);
+    r.set(0x607A, 0, 3000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.cw(ENABLE);
+    assert_eq!(r.sw(), ENABLED | ACK);
+    // Quick stop at 0x6085 = 100 000 counts/s² from 1000 counts/s: 10 ms, 5 counts.
+    r.cw(QUICK_STOP);
+    assert_eq!(r.sw(), 0x0217);
+    r.at(511);
+    assert_eq!((r.sw(), r.pos()), (0x0217 | TR, 455));
+    // 16: Operation enabled again, standing, no set-point and no acknowledge.
+    r.cw(ENABLE);
+    assert_eq!(r.sw(), ENABLED | TR);
+    r.at(1000);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | TR, 455));
+    // The next set-point is taken as the first.
+    r.set(0x607A, 0, 555);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(r.sw(), ENABLED | ACK);
+}

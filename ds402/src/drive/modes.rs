@@ -193,12 +193,16 @@ impl Drive {
     }
 
     /// Leaving the mode's activity (quick stop, fault, power off, mode change): homing is
-    /// interrupted, a pp set-point dropped.
+    /// interrupted, a pp set-point dropped. A buffered set-point held the acknowledge after bit 4
+    /// went back to 0; dropped, it releases it.
     pub(crate) fn mode_interrupted(&mut self) {
         self.homing_interrupted();
         self.pp.target = None;
         self.pp.buffer = None;
         self.pp.clamped = false;
+        if self.control & CW_NEW_SETPOINT == 0 {
+            self.pp.ack = false;
+        }
     }
 
     /// Brakes at `dec` if moving, else holds.
