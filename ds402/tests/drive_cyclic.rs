@@ -292,6 +292,34 @@ fn csv_a_sync_within_a_ramp_starts_from_the_velocity_there() {
     assert_eq!(r.read(0x606B, 0), 2000);
 }
 
+/// cst from the enable: the target torque already set acts at once, without waiting for a SYNC;
+/// halt brakes on 0x605D, and its release gives the target torque back at once (CiA 402-2, cyclic
+/// synchronous torque mode). The numbers of the test above: after 10 ms v = a · 0.01.
+#[test]
+fn cst_acts_from_the_enable_and_again_at_the_release_of_halt() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            friction: 0.0,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[(0x6071, 0, 100)]), config);
+    r.enable(10);
+    r.at(11);
+    let a = 1000.0 * 10_000.0 / TAU;
+    assert_eq!(r.read(0x6077, 0), 100);
+    assert_eq!(r.read(0x606C, 0), (a * 0.01).round() as i64); // 15 915
+    assert_eq!(r.pos(), (a * 0.0001 / 2.0).round() as i64); // 80
+    r.cw(ENABLE | HALT);
+    r.at(20);
+    assert_eq!(r.sw(), ENABLED);
+    r.cw(ENABLE);
+    assert_eq!(r.sw(), ENABLED | FOLLOWING);
+    r.at(21);
+    assert_eq!(r.read(0x6077, 0), 100);
+}
+
 #[test]
 fn halt_in_csp_stops_and_the_drive_does_not_follow() {
     let mut r = Rig::with(&[]);

@@ -515,3 +515,34 @@ fn an_index_pulse_on_the_switch_edge_going_on() {
     assert_eq!(r.sw(), ENABLED | COMPLETED);
     assert_eq!(r.drive.rotor_position().round() as i64, 5000);
 }
+
+/// The start command repeated (an RPDO carries the control word every cycle) is no new start and
+/// no interruption: bit 4 stays 1 (CiA 402-2, homing operation start).
+#[test]
+fn bit_4_held_over_several_writes_keeps_homing() {
+    let mut r = start(34, step_switch());
+    r.at(1001);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(r.sw(), ENABLED | IN_PROGRESS);
+    r.at(5012);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | IN_PROGRESS, 2499));
+    r.at(5013);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | ATTAINED, 100));
+}
+
+/// After homing, profile positions are in the homed reference (CiA 402-2, home offset 0x607C):
+/// method 35 at raw 0 with 0x607C = 100 makes the axis read 100 there, so the target 1100 lies
+/// 1000 counts on (1.1 s at the rig's profile).
+#[test]
+fn profile_positions_after_homing_are_in_the_homed_reference() {
+    let mut r = start(35, step_switch());
+    assert_eq!(r.sw(), ENABLED | COMPLETED);
+    r.set(0x6060, 0, 1);
+    r.cw(ENABLE);
+    r.set(0x607A, 0, 1100);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(1101);
+    assert_eq!((r.pos(), r.demand()), (1100, 1100));
+    assert_eq!(r.drive.rotor_position().round() as i64, 1000);
+    assert_eq!(r.sw(), ENABLED | 0x1400);
+}

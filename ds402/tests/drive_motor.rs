@@ -188,3 +188,20 @@ fn the_torque_actual_is_per_mille_of_the_rated_torque() {
     assert_eq!(r.read(0x6077, 0), 500);
     assert_eq!(r.read(0x6074, 0), 500);
 }
+
+/// A relative move with 0x60F2 = 2 counts from the position actual value (CiA 402-2, positioning
+/// option code): after the stepper lost 1000 counts, 0x6064 reads 9000 where the demand is 10 000,
+/// so +500 is the target 9500, which the demand moves to.
+#[test]
+fn relative_to_the_actual_position_of_a_stepper_that_lost_steps() {
+    let mut r = stepper_move(200_000, true);
+    r.at(2000);
+    assert_eq!((r.demand(), r.pos()), (10_000, 9000));
+    r.set(0x6083, 0, 50_000);
+    r.set(0x60F2, 0, 2);
+    r.set(0x607A, 0, 500);
+    r.cw(ENABLE | NEW_SETPOINT | RELATIVE);
+    r.at(3000);
+    assert_eq!((r.demand(), r.pos()), (9500, 8500));
+    assert_eq!(r.sw(), ENABLED | 0x1000 | TR);
+}

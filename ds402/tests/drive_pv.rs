@@ -125,3 +125,38 @@ fn the_same_target_written_every_cycle_changes_nothing() {
     }
     assert_eq!(r.sw(), ENABLED | TR);
 }
+
+/// A change of 0x6060 in Operation enabled starts the new mode at once (CiA 402-2, modes of
+/// operation): pv ramps from the write to 0x60FF; a mode without motion of its own (csp without
+/// SYNCs) stops on the slow-down ramp 0x6084, homing on 0x609A.
+#[test]
+fn a_mode_change_starts_the_mode_at_once() {
+    let mut r = Rig::with(&[(0x60FF, 0, 1000)]);
+    r.enable(1);
+    r.at(10);
+    r.set(0x6060, 0, 3);
+    // 10 000 counts/s² from 10 ms: 500 counts/s at 60 ms, 1000 (50 counts) at 110 ms.
+    r.at(60);
+    assert_eq!(r.read(0x606B, 0), 500);
+    r.at(110);
+    assert_eq!((r.read(0x606B, 0), r.demand()), (1000, 50));
+    // csp at 200 ms (at 140): 0x6084 = 10 000 counts/s², 100 ms, 50 counts.
+    r.at(200);
+    r.set(0x6060, 0, 8);
+    r.at(250);
+    assert_eq!(r.read(0x606B, 0), 500);
+    r.at(300);
+    assert_eq!((r.read(0x606B, 0), r.demand()), (0, 190));
+    // pv again from 300 ms (50 counts of ramp, 240 at 400 ms, 340 at 500 ms), then homing:
+    // 0x609A = 20 000 counts/s², 50 ms, 25 counts.
+    r.set(0x6060, 0, 3);
+    r.at(500);
+    assert_eq!((r.read(0x606B, 0), r.demand()), (1000, 340));
+    r.set(0x6060, 0, 6);
+    r.at(525);
+    assert_eq!(r.read(0x606B, 0), 500);
+    r.at(550);
+    assert_eq!((r.read(0x606B, 0), r.demand()), (0, 365));
+    r.at(600);
+    assert_eq!((r.read(0x606C, 0), r.pos()), (0, 365));
+}

@@ -507,3 +507,26 @@ fn a_config_with_a_finer_tick() {
     r.at(1);
     assert_eq!(r.sw(), SWITCH_ON_DISABLED);
 }
+
+/// In Quick stop active (0x605A = 6: stay there) the axis stands: neither a change of 0x6060 nor
+/// halt and its release starts a motion; transition 16 (Enable operation) starts the mode in
+/// effect, pv up to 0x60FF (CiA 402-2, state machine, transition 16).
+#[test]
+fn quick_stop_active_starts_no_motion_until_transition_16() {
+    let mut r = Rig::with(&[(0x605A, 0, 6), (0x60FF, 0, 1000)]);
+    r.enable(1);
+    r.cw(QUICK_STOP);
+    r.at(2);
+    assert_eq!(r.sw(), QUICK_STOP_ACTIVE | TR);
+    r.set(0x6060, 0, 3);
+    assert_eq!(r.read(0x6061, 0), 3);
+    r.cw(QUICK_STOP | HALT);
+    r.cw(QUICK_STOP);
+    r.at(102);
+    assert_eq!((r.read(0x606C, 0), r.pos()), (0, 0));
+    assert_eq!(r.sw(), QUICK_STOP_ACTIVE | TR);
+    // 16 at 102 ms: 100 ms of ramp, 50 counts.
+    r.cw(ENABLE);
+    r.at(202);
+    assert_eq!((r.read(0x606C, 0), r.pos()), (1000, 50));
+}
