@@ -116,6 +116,17 @@ fn csp_interpolates_over_the_measured_sync_period_without_0x60c2() {
     r.sync_at(6);
     r.at(7);
     assert_eq!(r.demand(), 100);
+    // 0x60C2 with a period of 0 (an EDS entry without a value) gives none: the measured period.
+    let mut r = Rig::with(&[(0x60C2, 1, 0)]);
+    r.enable(8);
+    r.sync_at(2);
+    r.sync_at(4);
+    r.set(0x607A, 0, 100);
+    r.sync_at(6);
+    r.at(7);
+    assert_eq!(r.demand(), 50);
+    r.at(8);
+    assert_eq!(r.demand(), 100);
 }
 
 /// The network's SYNC cycle wins over 0x60C2 (an ESI may give 1 s there, as Ingenia's does: 1 ×
@@ -318,6 +329,91 @@ fn cst_acts_from_the_enable_and_again_at_the_release_of_halt() {
     assert_eq!(r.sw(), ENABLED | FOLLOWING);
     r.at(21);
     assert_eq!(r.read(0x6077, 0), 100);
+}
+
+/// In Quick stop active (0x605A = 6: stay there) csp takes no targets at the SYNCs; after
+/// transition 16 it follows again from the next SYNC (CiA 402-2, cyclic synchronous position mode).
+#[test]
+fn csp_takes_no_targets_in_quick_stop_active() {
+    let mut r = Rig::with(&[(0x605A, 0, 6)]);
+    r.enable(8);
+    r.cw(QUICK_STOP);
+    r.at(2);
+    assert_eq!(r.sw(), 0x0617);
+    r.set(0x607A, 0, 1000);
+    r.sync_at(3);
+    r.sync_at(4);
+    r.at(10);
+    assert_eq!((r.demand(), r.pos(), r.sw()), (0, 0, 0x0617));
+    r.cw(ENABLE);
+    r.sync_at(11);
+    r.at(12);
+    assert_eq!(r.demand(), 1000);
+}
+
+/// The offsets feed forward in csp (0x60B1 velocity, 0x60B2 torque) and csv (0x60B2) (CiA 402-2,
+/// cyclic synchronous modes). 0x60B1 = 500 counts/s on an axis holding its position: the position
+/// loop (gain a fifth of 0.25 / tick: 50 /s) stands 500 / 50 = 10 counts ahead. 0x60B2 = 100 ‰
+/// of 0x6076 = 2 N·m: at the first tick after the write the drive gives exactly that torque.
+#[test]
+fn csp_and_csv_feed_the_offsets_forward() {
+    let mut r = Rig::with(&[(0x6076, 0, 2000)]);
+    r.enable(8);
+    r.set(0x60B2, 0, 100);
+    r.at(2);
+    assert_eq!(r.read(0x6077, 0), 100);
+    let mut r = Rig::with(&[(0x6076, 0, 2000)]);
+    r.enable(9);
+    r.set(0x60B2, 0, 100);
+    r.at(2);
+    assert_eq!(r.read(0x6077, 0), 100);
+    let mut r = Rig::with(&[]);
+    r.enable(8);
+    r.set(0x60B1, 0, 500);
+    r.at(2000);
+    assert_eq!((r.demand(), r.pos(), r.read(0x60F4, 0)), (0, 10, -10));
+}
+
+/// cst and the limit switches (CiA 402-2, 0x60FD): 1 ‰ of 1 N·m without friction accelerates
+/// at a = 0.001 / (1e-4 · 2π / 10 000) = 15 915 counts/s² from the enable at 1 ms, at ½ · a · t²:
+/// 997.2 after 354 ms, 1002.9 after 355 ms, into the positive limit switch at 1000: fault 0x8612.
+/// An axis creeping below 1 count/s counts as standing: on an active switch it is no fault.
+#[test]
+fn cst_into_a_limit_switch_is_a_fault_creeping_on_one_is_not() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            friction: 0.0,
+            ..MotorConfig::default()
+        },
+        sim: ds402::drive::SimConfig {
+            positive_limit: Some(1000),
+            ..Default::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[(0x6071, 0, 1)]), config);
+    r.enable(10);
+    r.at(355);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | FOLLOWING, 997));
+    r.at(356);
+    assert_eq!((r.sw(), r.read(0x603F, 0)), (0x023F, 0x8612));
+    // 10 ‰ for one tick (the SYNCs at 2 and 3 ms), then 0: the friction (1e-3 N·m·s/rad on 1e-4
+    // kg·m²) takes 1 % of the speed each tick, from 159 counts/s to 0.007 in 1 s.
+    let mut r = Rig::with(&[]);
+    r.enable(10);
+    r.set(0x6071, 0, 10);
+    r.sync_at(2);
+    r.set(0x6071, 0, 0);
+    r.sync_at(3);
+    r.at(1003);
+    let here = r.pos();
+    r.drive.sim_mut().positive_limit = Some(here);
+    r.at(1010);
+    assert_eq!(r.read(0x60FD, 0), 0b010);
+    assert_eq!(
+        (r.sw(), r.read(0x603F, 0)),
+        (ENABLED | FOLLOWING | 0x0800, 0)
+    );
 }
 
 #[test]

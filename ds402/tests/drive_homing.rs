@@ -546,3 +546,18 @@ fn profile_positions_after_homing_are_in_the_homed_reference() {
     assert_eq!(r.drive.rotor_position().round() as i64, 1000);
     assert_eq!(r.sw(), ENABLED | 0x1400);
 }
+
+/// csp targets after homing are in the homed reference too: 105 is 5 counts from where method 35
+/// made the axis read 100 (CiA 402-2, cyclic synchronous position mode).
+#[test]
+fn cyclic_positions_after_homing_are_in_the_homed_reference() {
+    let mut r = start(35, step_switch());
+    r.set(0x6060, 0, 8);
+    r.set(0x607A, 0, 105);
+    r.sync_at(2);
+    r.at(3);
+    assert_eq!(r.demand(), 105);
+    r.at(200);
+    assert_eq!((r.demand(), r.pos()), (105, 105));
+    assert_eq!(r.drive.rotor_position().round() as i64, 5);
+}

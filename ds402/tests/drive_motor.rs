@@ -205,3 +205,15 @@ fn relative_to_the_actual_position_of_a_stepper_that_lost_steps() {
     assert_eq!((r.demand(), r.pos()), (9500, 8500));
     assert_eq!(r.sw(), ENABLED | 0x1000 | TR);
 }
+
+/// Target reached waits for 0x6064 within the position window 0x6067 of the target (CiA 402-2,
+/// profile position mode): after its lost steps the stepper stands at 9000, 1000 counts short of
+/// 10 000, outside a window of 100.
+#[test]
+fn a_stepper_that_lost_steps_is_outside_the_position_window() {
+    let mut r = stepper_move(200_000, true);
+    r.set(0x6067, 0, 100);
+    r.at(2000);
+    assert_eq!((r.demand(), r.pos()), (10_000, 9000));
+    assert_eq!(r.sw(), ENABLED);
+}

@@ -301,6 +301,21 @@ fn following_error_warning_then_bit_13() {
     assert_eq!(r.sw(), ENABLED | TR);
 }
 
+/// 0x6065 = 0 (an EDS entry without a value) switches the following error monitor off, as
+/// 0xFFFFFFFF does: the numbers of the test above give no warning and no bit 13.
+#[test]
+fn a_following_error_window_of_0_is_off() {
+    let mut r = Rig::with(&[(0x6065, 0, 0), (0x6066, 0, 5)]);
+    r.enable(1);
+    r.set(0x6072, 0, 0);
+    r.set(0x607A, 0, 2000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.cw(ENABLE);
+    // ½ · 10 000 · 0.051² = 13.0.
+    r.at(52);
+    assert_eq!((r.sw(), r.read(0x60F4, 0)), (ENABLED, 13));
+}
+
 #[test]
 fn profile_velocity_is_limited_by_0x607f_and_0x6080() {
     // 0x6081 = 5000 but 0x607F = 2000: 0 → 10 000 ramps 0.2 s (200 counts), cruise 4.8 s at 2000.

@@ -160,3 +160,14 @@ fn a_mode_change_starts_the_mode_at_once() {
     r.at(600);
     assert_eq!((r.read(0x606C, 0), r.pos()), (0, 365));
 }
+
+/// The following error is monitored in pp and csp only (CiA 402-2, position control function): in
+/// pv an axis that cannot follow (no torque, 0x6072 = 0) shows no warning. The demand ramps at
+/// 10 000 counts/s² from 1 ms: 13 counts at 52 ms, beyond the window of 10.
+#[test]
+fn the_following_error_is_not_monitored_in_pv() {
+    let mut r = running(&[(0x6065, 0, 10), (0x6066, 0, 100)]);
+    r.set(0x6072, 0, 0);
+    r.at(52);
+    assert_eq!((r.sw(), r.read(0x60F4, 0)), (ENABLED | SPEED_ZERO, 13));
+}

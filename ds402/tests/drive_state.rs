@@ -467,6 +467,47 @@ fn running_into_a_limit_switch_is_a_fault() {
     assert_eq!(r.sw(), ENABLED | 0x1000);
 }
 
+/// Standing on active limit switches is no fault (bit 11 shows them), nor is moving out of one;
+/// running into the negative limit switch is, as into the positive one above: at −1000 at 1051 ms
+/// (CiA 402-2, 0x60FD; error code 0x8612).
+#[test]
+fn standing_on_a_limit_switch_is_no_fault_running_into_the_negative_one_is() {
+    let on_both = DriveConfig {
+        sim: ds402::drive::SimConfig {
+            negative_limit: Some(0),
+            positive_limit: Some(0),
+            ..Default::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[]), on_both);
+    r.enable(1);
+    r.at(100);
+    assert_eq!(r.read(0x60FD, 0), 0b011);
+    assert_eq!((r.sw(), r.read(0x603F, 0)), (ENABLED | TR | 0x0800, 0));
+    let config = DriveConfig {
+        sim: ds402::drive::SimConfig {
+            negative_limit: Some(-1000),
+            positive_limit: Some(0),
+            ..Default::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[]), config);
+    r.enable(1);
+    r.set(0x607A, 0, -100_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.cw(ENABLE);
+    r.at(1050);
+    assert_eq!((r.sw(), r.read(0x60FD, 0), r.pos()), (ENABLED, 0, -999));
+    r.at(1051);
+    assert_eq!(r.read(0x60FD, 0), 0b001);
+    assert_eq!(
+        (r.sw(), r.read(0x603F, 0)),
+        (FAULT_REACTION_BRAKING, 0x8612)
+    );
+}
+
 #[test]
 fn nmt_reset_brings_back_the_power_on_values() {
     let mut r = Rig::with(&[]);
