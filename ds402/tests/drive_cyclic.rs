@@ -208,6 +208,9 @@ fn csv_follows_the_target_velocity() {
     // counts), then 4 counts each ms.
     let mut r = Rig::with(&[]);
     r.enable(9);
+    // Standing before the first SYNC: following (bit 12), not "target reached", which in the
+    // cyclic modes is standing after a halt.
+    assert_eq!(r.sw(), ENABLED | FOLLOWING);
     r.set(0x60FF, 0, 4000);
     for n in 2..=103u64 {
         r.sync_at(n);

@@ -561,3 +561,118 @@ fn cyclic_positions_after_homing_are_in_the_homed_reference() {
     assert_eq!((r.demand(), r.pos()), (105, 105));
     assert_eq!(r.drive.rotor_position().round() as i64, 5);
 }
+
+/// A home cam narrower than one tick's travel is still seen, entering and leaving within the same
+/// tick (CiA 402-2, homing methods 7–14; the drive latches the edges exactly). Method 8 with the
+/// cam at 5002 only, searching for switch at 5000 counts/s and for zero at 10 000 counts/s: the
+/// search meets the cam at 1127 ms (5000 → 5005), brakes to a stop at 5630 (250 ms) and comes
+/// back accelerating at 20 000 counts/s²: 5005 at 1627 ms, 4999.99 at 1628 ms, past the cam's both
+/// edges; then forwards again through the cam (its left edge) to the index pulse at 12 500.
+#[test]
+fn a_cam_narrower_than_a_tick_is_seen() {
+    let sim = SimConfig {
+        home_switch: Some(5002),
+        home_switch_end: Some(5003),
+        ..cam_right()
+    };
+    let speeds = [(0x6099, 1, 5000), (0x6099, 2, 10_000)];
+    let mut r = start_with(8, sim, &speeds);
+    r.at(1627);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | IN_PROGRESS, 5005));
+    r.at(1628);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | IN_PROGRESS, 5000));
+    // The left edge found, the search turns forwards (the demand's speed falls towards it).
+    r.at(1629);
+    assert_eq!(r.read(0x606B, 0), -5000);
+    r.at(60_000);
+    assert_eq!(r.sw(), ENABLED | COMPLETED);
+    assert_eq!(r.drive.rotor_position().round() as i64, 12_500);
+    assert_eq!(r.pos(), 100);
+}
+
+/// A limit switch counts for a search once the axis moves towards it, not at the turning point
+/// of a reversal. Method 3 on a machine whose negative limit switch is active up to 6000: the home
+/// switch is met at 2551 ms (5000, at 2000 counts/s), the axis turns at 5100 at 2651 ms (speed 0
+/// exactly) and moves towards the active switch from the next tick: a homing error then, braking
+/// 1 ms from 20 counts/s.
+#[test]
+fn a_limit_switch_counts_once_the_search_moves_towards_it() {
+    let sim = SimConfig {
+        negative_limit: Some(6000),
+        ..step_switch()
+    };
+    let mut r = start(3, sim);
+    r.at(2651);
+    assert_eq!(
+        (r.sw(), r.read(0x606B, 0)),
+        (ENABLED | LIMIT | IN_PROGRESS, 0)
+    );
+    r.at(2652);
+    assert_eq!(r.sw(), ENABLED | LIMIT | ERROR_MOVING);
+    r.at(2653);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | LIMIT | ERROR_STANDING, 5100));
+}
+
+/// The same for the search of the index pulse: with a forced home switch (method 3) the falling
+/// edge may come while the axis still runs the other way. Active at 501 ms (at 900), inactive at
+/// 551 ms (at 975, braking at 1000 counts/s): the search for the pulse at −7500 turns at 1000 at
+/// 601 ms and moves into the negative limit switch (active up to 5000) from the next tick.
+#[test]
+fn a_limit_switch_counts_once_the_index_search_moves_towards_it() {
+    let config = DriveConfig {
+        sim: SimConfig {
+            negative_limit: Some(5000),
+            index_offset: 2500,
+            ..SimConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(dictionary(&[(0x6098, 0, 3), (0x607C, 0, 100)]), config);
+    r.drive.set_input(2, Some(false));
+    r.enable(6);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(500);
+    r.drive.set_input(2, Some(true));
+    r.at(550);
+    r.drive.set_input(2, Some(false));
+    r.at(551);
+    assert_eq!((r.read(0x606B, 0), r.pos()), (1000, 975));
+    r.at(601);
+    assert_eq!(
+        (r.sw(), r.read(0x606B, 0)),
+        (ENABLED | LIMIT | IN_PROGRESS, 0)
+    );
+    r.at(602);
+    assert_eq!(r.sw(), ENABLED | LIMIT | ERROR_MOVING);
+    r.at(603);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | LIMIT | ERROR_STANDING, 1000));
+}
+
+/// Method 37 with the demand a whole count from the actual position: the home is where the axis
+/// is (0x6064 = 0x607C), and the demand, 1 count off, returns to it: attained, not yet completed.
+/// A load of 0.01 N·m against a torque limit of 1 ‰ (0.001 N·m), without friction, pulls the
+/// holding axis back at 0.009 / (1e-4 · 2π / 10 000) = 143 239 counts/s²: −0.645 (count −1) 3 ms
+/// after the enable at 1 ms, where the demand is still 0.
+#[test]
+fn method_37_with_the_demand_a_count_away_returns_to_the_axis() {
+    let config = DriveConfig {
+        motor: ds402::drive::MotorConfig {
+            load_torque: 0.01,
+            friction: 0.0,
+            ..Default::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = Rig::new(
+        dictionary(&[(0x6098, 0, 37), (0x607C, 0, 100), (0x6072, 0, 1)]),
+        config,
+    );
+    r.enable(6);
+    r.at(4);
+    assert_eq!((r.pos(), r.demand()), (-1, 0));
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(
+        (r.sw(), r.pos(), r.demand()),
+        (ENABLED | ATTAINED, 100, 101)
+    );
+}
