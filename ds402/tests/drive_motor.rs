@@ -217,3 +217,32 @@ fn a_stepper_that_lost_steps_is_outside_the_position_window() {
     assert_eq!((r.demand(), r.pos()), (10_000, 9000));
     assert_eq!(r.sw(), ENABLED);
 }
+
+/// Enabled again after losing steps, a stepper locks where its rotor stands (CiA 402-2,
+/// transition 4 takes the actual position as the demand): with an encoder 0x6064 and 0x6062 both
+/// read 9000 and stay there; without one 0x6064 goes on counting the commanded 10 000, the rotor
+/// stays 1000 counts behind, and a move of +1000 takes both 1000 counts on.
+#[test]
+fn a_stepper_enabled_again_locks_where_its_rotor_stands() {
+    let mut r = stepper_move(200_000, true);
+    r.at(2000);
+    r.cw(DISABLE_VOLTAGE);
+    r.cw(SHUTDOWN);
+    r.cw(ENABLE);
+    r.at(2100);
+    assert_eq!((r.demand(), r.pos()), (9000, 9000));
+    let mut r = stepper_move(200_000, false);
+    r.at(2000);
+    r.cw(DISABLE_VOLTAGE);
+    r.cw(SHUTDOWN);
+    r.cw(ENABLE);
+    r.at(2100);
+    assert_eq!((r.demand(), r.pos()), (10_000, 10_000));
+    assert_eq!(r.drive.rotor_position().round() as i64, 9000);
+    r.set(0x6083, 0, 50_000);
+    r.set(0x607A, 0, 11_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(3000);
+    assert_eq!((r.demand(), r.pos()), (11_000, 11_000));
+    assert_eq!(r.drive.rotor_position().round() as i64, 10_000);
+}

@@ -272,6 +272,41 @@ fn the_torque_limit_is_per_mille_of_the_rated_torque() {
     assert_eq!(r.pos(), (250.0 + dist).round() as i64); // 250 + 3.9
 }
 
+/// The current-limit ramp (0x605A = 3) brakes with the torque the load leaves (CiA 402-2, quick
+/// stop option code): 10 ‰ of 1 N·m less a load of 0.002 N·m is the 0.008 N·m of the test above.
+/// Where the load takes it all the ramp is the whole torque limit: moving at −1000 counts/s
+/// against a load of 0.01 N·m with 0x6072 = 10 ‰, the stop is planned at 0.01 / (1e-4 · 2π /
+/// 10 000) = 159 155 counts/s², 6.3 ms, and Switch on disabled follows at the tick after.
+#[test]
+fn the_current_limit_ramp_leaves_the_load_its_torque() {
+    let (ms, dist) = torque_limit_stop();
+    let load = |torque: f64| DriveConfig {
+        motor: MotorConfig {
+            load_torque: torque,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = cruising(&[(0x605A, 0, 3), (0x6072, 0, 10)], load(0.002));
+    r.cw(QUICK_STOP);
+    r.at(300 + ms);
+    assert_eq!(r.sw(), QUICK_STOP_ACTIVE);
+    r.at(301 + ms);
+    assert_eq!(r.sw(), SWITCH_ON_DISABLED);
+    assert_eq!(r.pos(), (250.0 + dist).round() as i64); // 250 + 3.9
+    let mut r = Rig::new(dictionary(&[(0x605A, 0, 3), (0x6072, 0, 10)]), load(0.01));
+    r.enable(1);
+    r.set(0x607A, 0, -100_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(301);
+    assert_eq!((r.pos(), r.read(0x606C, 0)), (-250, -1000));
+    r.cw(QUICK_STOP);
+    r.at(307);
+    assert_eq!(r.sw(), QUICK_STOP_ACTIVE);
+    r.at(308);
+    assert_eq!(r.sw(), SWITCH_ON_DISABLED);
+}
+
 #[test]
 fn quick_stop_options_5_to_8_stay_in_quick_stop_active() {
     let (ms, dist) = torque_limit_stop();
@@ -485,6 +520,9 @@ fn standing_on_a_limit_switch_is_no_fault_running_into_the_negative_one_is() {
     r.at(100);
     assert_eq!(r.read(0x60FD, 0), 0b011);
     assert_eq!((r.sw(), r.read(0x603F, 0)), (ENABLED | TR | 0x0800, 0));
+    // Bit 11 shows in Quick stop active too.
+    r.cw(QUICK_STOP);
+    assert_eq!(r.sw(), QUICK_STOP_ACTIVE | TR | 0x0800);
     let config = DriveConfig {
         sim: ds402::drive::SimConfig {
             negative_limit: Some(-1000),
