@@ -355,6 +355,23 @@ fn quick_stop_option_0_disables_at_once_and_the_motor_coasts() {
     assert_eq!(r.drive.poll_timeout(), None);
 }
 
+/// Without friction the rotor coasts on at its speed (CiA 402-2, Disable voltage: the drive
+/// function is off, the motor rotates freely): 1000 counts/s from 250 at 301 ms, 350 at 401 ms.
+#[test]
+fn without_friction_the_motor_coasts_on() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            friction: 0.0,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = cruising(&[(0x605A, 0, 0)], config);
+    r.cw(QUICK_STOP);
+    r.at(401);
+    assert_eq!((r.read(0x606C, 0), r.pos()), (1000, 350));
+}
+
 #[test]
 fn shutdown_option_codes() {
     // 0: Ready to switch on at once, coasting.
