@@ -348,7 +348,17 @@ fn quick_stop_option_0_disables_at_once_and_the_motor_coasts() {
     let decay = (-0.1f64).exp();
     assert_eq!(r.read(0x606C, 0), (1000.0 * decay).round() as i64); // 905
     assert_eq!(r.pos(), (250.0 + 100.0 * (1.0 - decay)).round() as i64); // 260
-                                                                         // Below 1 count/s the rotor stands (ln 1000 · 0.1 s ≈ 0.69 s): then the drive is idle.
+                                                                         // Below 1 count/s the rotor stands: 1000 · e^(−k/100) < 1 from the 691st tick after 301 ms
+                                                                         // (ln 1000 · 0.1 s ≈ 0.69 s), at 992 ms; from then on the drive is idle.
+    r.at(991);
+    assert_eq!(r.read(0x606C, 0), 1);
+    assert_eq!(
+        r.drive.poll_timeout(),
+        Some(r.t0 + Duration::from_millis(992))
+    );
+    r.at(992);
+    assert_eq!(r.read(0x606C, 0), 0);
+    assert_eq!(r.drive.poll_timeout(), None);
     r.at(1301);
     assert_eq!(r.read(0x606C, 0), 0);
     assert_eq!(r.pos(), 350);
