@@ -246,3 +246,18 @@ fn a_stepper_enabled_again_locks_where_its_rotor_stands() {
     assert_eq!((r.demand(), r.pos()), (11_000, 11_000));
     assert_eq!(r.drive.rotor_position().round() as i64, 10_000);
 }
+
+/// A servo holds its position against a torque it does not expect: the torque offset 0x60B2 fed
+/// forward in csp (100 ‰ of 1 N·m) with nothing to push against is taken back by the velocity
+/// loop's integral action, and the axis stands at its demand with no torque left (CiA 402-2,
+/// cyclic synchronous position mode, 0x60B2). Without it the position loop alone would leave
+/// 0.1 N·m / (kv · kp) = 0.1 / (1e-4 · 2π / 10 000 · 250 · 50) ≈ 127 counts of error.
+#[test]
+fn a_servo_takes_back_an_unexpected_torque() {
+    let mut r = Rig::with(&[]);
+    r.enable(8);
+    r.set(0x60B2, 0, 100);
+    r.at(2001);
+    assert_eq!((r.demand(), r.pos(), r.read(0x60F4, 0)), (0, 0, 0));
+    assert_eq!(r.read(0x6077, 0), 0);
+}
