@@ -136,7 +136,9 @@ fn a_servo_follows_and_holds_against_a_load() {
     };
     let mut r = Rig::new(dictionary(&[]), config);
     r.enable(1);
-    // Holding: 500 ‰ of the rated torque against the load, no drift.
+    // Holding: 500 ‰ of the rated torque against the load from the first tick, no drift.
+    r.at(2);
+    assert_eq!((r.pos(), r.read(0x6077, 0)), (0, 500));
     r.at(500);
     assert_eq!(r.pos(), 0);
     assert_eq!(r.read(0x6077, 0), 500);
