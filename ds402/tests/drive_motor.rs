@@ -263,3 +263,24 @@ fn a_servo_takes_back_an_unexpected_torque() {
     assert_eq!((r.demand(), r.pos(), r.read(0x60F4, 0)), (0, 0, 0));
     assert_eq!(r.read(0x6077, 0), 0);
 }
+
+/// A stepper cruising gives the torque its friction takes: 1e-3 N·m·s/rad at 10 000 counts/s
+/// (2π rad/s) is 2π · 1e-3 N·m, 6 ‰ of 1 N·m in 0x6077 (CiA 402-2, torque actual value).
+#[test]
+fn a_cruising_stepper_gives_its_friction_torque() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            kind: MotorKind::Stepper,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let dict = dictionary(&[(0x6081, 0, 10_000), (0x6083, 0, 100_000)]);
+    let mut r = Rig::new(dict, config);
+    r.enable(1);
+    r.set(0x607A, 0, 100_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(500);
+    assert_eq!(r.read(0x606C, 0), 10_000);
+    assert_eq!(r.read(0x6077, 0), 6);
+}
