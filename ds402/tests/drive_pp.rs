@@ -390,3 +390,23 @@ fn a_dropped_set_point_releases_the_acknowledge() {
     r.cw(ENABLE | NEW_SETPOINT);
     assert_eq!(r.sw(), ENABLED | ACK);
 }
+
+/// Bit 4 going back to 0 ends the set-point handshake in any state: dropped to 0 during a quick
+/// stop (0x605A = 6), it leaves no acknowledge behind when operation is enabled again.
+#[test]
+fn bit_4_falling_in_quick_stop_active_releases_the_acknowledge() {
+    let mut r = Rig::with(&[(0x605A, 0, 6)]);
+    r.enable(1);
+    r.set(0x607A, 0, 2000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(r.sw(), ENABLED | ACK);
+    // At 101 ms at the end of the ramp (50 counts, 1000 counts/s): a quick stop with bit 4 still
+    // held, 10 ms and 5 counts at 0x6085.
+    r.at(101);
+    r.cw(QUICK_STOP | NEW_SETPOINT);
+    r.at(111);
+    assert_eq!((r.sw(), r.pos()), (0x0617, 55));
+    r.cw(QUICK_STOP);
+    r.cw(ENABLE);
+    assert_eq!(r.sw(), ENABLED | TR);
+}

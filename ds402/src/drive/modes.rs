@@ -128,14 +128,18 @@ impl Drive {
         let cmd = crate::cia402::Command::decode(cw, previous, self.state);
         self.apply_command(cmd);
         self.update_halt();
+        let rose = cw & CW_NEW_SETPOINT != 0 && previous & CW_NEW_SETPOINT == 0;
+        let fell = cw & CW_NEW_SETPOINT == 0 && previous & CW_NEW_SETPOINT != 0;
+        // Bit 4 back to 0 ends the set-point handshake in any state and mode, unless a set-point
+        // still waits in the buffer.
+        if fell && self.pp.buffer.is_none() {
+            self.pp.ack = false;
+        }
         if self.state != State::OperationEnabled || self.braking.is_some() {
             return;
         }
-        let rose = cw & CW_NEW_SETPOINT != 0 && previous & CW_NEW_SETPOINT == 0;
-        let fell = cw & CW_NEW_SETPOINT == 0 && previous & CW_NEW_SETPOINT != 0;
         match self.mode {
             PP if rose => self.pp_new_setpoint(cw),
-            PP if fell && self.pp.buffer.is_none() => self.pp.ack = false,
             HM if rose => self.homing_start(),
             HM if fell => self.homing_interrupt(),
             _ => {}
