@@ -410,3 +410,23 @@ fn bit_4_falling_in_quick_stop_active_releases_the_acknowledge() {
     r.cw(ENABLE);
     assert_eq!(r.sw(), ENABLED | TR);
 }
+
+/// The same when the power goes off with bit 4 held (Disable voltage 0x0010) and bit 4 falls
+/// once before the master enables again with bit 4 set (0x0016, 0x001F, no rising edge): no
+/// acknowledge and no new set-point.
+#[test]
+fn bit_4_falling_after_disable_voltage_releases_the_acknowledge() {
+    let mut r = Rig::with(&[]);
+    r.enable(1);
+    r.set(0x607A, 0, 2000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(r.sw(), ENABLED | ACK);
+    r.cw(DISABLE_VOLTAGE | NEW_SETPOINT);
+    assert_eq!(r.sw(), 0x0260);
+    r.cw(DISABLE_VOLTAGE);
+    r.cw(SHUTDOWN | NEW_SETPOINT);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(r.sw(), ENABLED | TR);
+    r.at(100);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | TR, 0));
+}
