@@ -61,14 +61,19 @@ fn a_stepper_within_its_pull_out_torque_follows_exactly() {
 /// within the tick, 20 000 − a_r · (k − 1) ms ≤ a_r · 1 ms, behind the demand by the whole full
 /// steps nearest to the distance lost.
 fn lost_counts() -> i64 {
+    lost_counts_at(20_000.0)
+}
+
+/// As [`lost_counts`] for a cruise at `v` counts/s (reached at 200 000 counts/s²).
+fn lost_counts_at(v: f64) -> i64 {
     let a_r = 1.001e-3 * TAU / (1e-4 * TAU / 10_000.0);
     let dt = 0.001;
-    let v = 20_000.0;
-    let k = (v / (a_r * dt)).ceil(); // 200
+    let k = (v / (a_r * dt)).ceil(); // 200 at 20 000 counts/s
     let before = (k - 1.0) * dt;
     let rotor = 0.5 * a_r * before * before + 0.5 * (a_r * before + v) * dt;
-    // The demand: 0.1 s of ramp (1000 counts), then 20 000 counts/s.
-    let demand = 1000.0 + v * (k * dt - 0.1);
+    // The demand: v / 200 000 s of ramp (1000 counts at 20 000 counts/s), then v.
+    let ramp = v / 200_000.0;
+    let demand = 0.5 * v * ramp + v * (k * dt - ramp);
     let step = 10_000.0 / 200.0;
     (((demand - rotor) / step).round() * step) as i64
 }
@@ -283,4 +288,23 @@ fn a_cruising_stepper_gives_its_friction_torque() {
     r.at(500);
     assert_eq!(r.read(0x606C, 0), 10_000);
     assert_eq!(r.read(0x6077, 0), 6);
+}
+
+/// The steps lost are the whole full steps nearest to the distance the rotor fell behind when it
+/// catches the demand's speed again, its position then taken at the mean of its and the demand's
+/// speed over that tick: at 24 000 counts/s 28.74 steps (29, 1450 counts), at 27 000 counts/s
+/// 36.38 steps (36, 1800 counts).
+#[test]
+fn the_steps_lost_are_the_nearest_whole_steps() {
+    for (v, lost) in [(24_000, 1450), (27_000, 1800)] {
+        assert_eq!(lost_counts_at(v as f64), lost, "{v} counts/s");
+        let dict = dictionary(&[(0x6081, 0, v), (0x6083, 0, 200_000), (0x6084, 0, 50_000)]);
+        let mut r = Rig::new(dict, stepper(true));
+        r.enable(1);
+        r.set(0x607A, 0, 200_000);
+        r.cw(ENABLE | NEW_SETPOINT);
+        r.at(1001);
+        assert_eq!(r.read(0x606C, 0), v, "{v} counts/s");
+        assert_eq!(r.read(0x60F4, 0), lost, "{v} counts/s");
+    }
 }
