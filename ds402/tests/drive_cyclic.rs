@@ -129,6 +129,45 @@ fn csp_interpolates_over_the_measured_sync_period_without_0x60c2() {
     assert_eq!(r.demand(), 100);
 }
 
+/// 0x60C2 without its sub-index 2 (interpolation time index): the drive takes −3, milliseconds
+/// (CiA 402-2, object 0x60C2). 0x60C2:01 = 2: the target of the SYNC at 3 ms is reached at 5 ms,
+/// half-way at 4 ms, though the SYNC before came 1 ms earlier.
+#[test]
+fn csp_interpolation_time_index_defaults_to_milliseconds() {
+    use od::{AccessType, DataType, Object, ObjectKind, SubObject, Value};
+    let mut dict = dictionary_with(&[], &[0x60C2]);
+    dict.insert(
+        Object::structured(0x60C2, "Interpolation time period", ObjectKind::Record)
+            .with_sub(
+                0,
+                SubObject::new(
+                    "Highest sub-index supported",
+                    DataType::Unsigned8,
+                    AccessType::Const,
+                )
+                .with_default(Value::Uint(1)),
+            )
+            .with_sub(
+                1,
+                SubObject::new(
+                    "Interpolation time period value",
+                    DataType::Unsigned8,
+                    AccessType::Rw,
+                )
+                .with_default(Value::Uint(2)),
+            ),
+    );
+    let mut r = Rig::new(dict, DriveConfig::default());
+    r.enable(8);
+    r.sync_at(2);
+    r.set(0x607A, 0, 100);
+    r.sync_at(3);
+    r.at(4);
+    assert_eq!(r.demand(), 50);
+    r.at(5);
+    assert_eq!(r.demand(), 100);
+}
+
 /// The network's SYNC cycle wins over 0x60C2 (an ESI may give 1 s there, as Ingenia's does: 1 ×
 /// 10⁰ s): with a 1 ms cycle set, the target of the SYNC at 2 ms is reached at 3 ms; without it,
 /// 0x60C2's second.
