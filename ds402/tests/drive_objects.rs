@@ -275,6 +275,12 @@ fn modes_of_operation() {
     // Without 0x6502 but with 0x60C2: the cyclic modes too.
     let r = Rig::new(dictionary_with(&[], &[0x6502]), DriveConfig::default());
     assert_eq!(r.drive.supported_modes(), 0x03A5);
+    // pp needs its profile velocity 0x6081 besides the target 0x607A (csp the target alone).
+    let r = Rig::new(
+        dictionary_with(&[], &[0x6502, 0x6081]),
+        DriveConfig::default(),
+    );
+    assert_eq!(r.drive.supported_modes(), 0x03A4);
     // Without 0x6502 and 0x60C2, on a network whose SYNC has a clock of its own (EtherCAT's
     // SYNC0): the cyclic modes from their targets, pp, pv, hm as before: 0x03A5.
     let r = Rig::new(
@@ -509,4 +515,50 @@ fn the_configuration_and_the_machine_at_run_time() {
     r.at(2);
     assert_eq!(r.read(0x60FD, 0), 0b010);
     assert_eq!(r.drive.config().sim.positive_limit, Some(0));
+}
+
+/// Objects the dictionary lacks take the motor's configuration: 0x6072 its peak torque, 0x6076 its
+/// rated torque, 0x608F its counts per revolution (CiA 402-2, objects 0x6072, 0x6076, 0x608F).
+#[test]
+fn missing_motor_objects_take_the_motor_configuration() {
+    use ds402::drive::MotorConfig;
+    let motor = |m: MotorConfig| DriveConfig {
+        motor: m,
+        ..DriveConfig::default()
+    };
+    // Peak torque 8 ‰: a ramp of 1 000 000 counts/s² (62.8 ‰ of 1 N·m) gets 8 ‰.
+    let config = motor(MotorConfig {
+        peak_torque_permille: 8,
+        ..MotorConfig::default()
+    });
+    let mut r = Rig::new(
+        dictionary_with(&[(0x6083, 0, 1_000_000)], &[0x6072]),
+        config,
+    );
+    r.enable(1);
+    r.set(0x607A, 0, 100_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(2);
+    assert_eq!(r.read(0x6077, 0), 8);
+    // Rated torque 2 N·m: holding against 0.5 N·m of load is 250 ‰.
+    let config = motor(MotorConfig {
+        rated_torque: 2.0,
+        load_torque: 0.5,
+        ..MotorConfig::default()
+    });
+    let mut r = Rig::new(dictionary_with(&[], &[0x6076]), config);
+    r.enable(1);
+    r.at(100);
+    assert_eq!((r.pos(), r.read(0x6077, 0)), (0, 250));
+    // 4000 counts/rev: 0x6080 = 6 rpm is 400 counts/s.
+    let config = motor(MotorConfig {
+        counts_per_rev: 4000,
+        ..MotorConfig::default()
+    });
+    let mut r = Rig::new(dictionary_with(&[(0x6080, 0, 6)], &[0x608F]), config);
+    r.enable(1);
+    r.set(0x607A, 0, 100_000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.wait(500);
+    assert_eq!(r.read(0x606C, 0), 400);
 }
