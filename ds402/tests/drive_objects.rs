@@ -333,6 +333,48 @@ fn refused_values_and_their_abort_codes() {
     }
 }
 
+/// The values at the edges of what the drive accepts are taken (CiA 402-2: option codes
+/// 0x605A 0…8, 0x605B and 0x605C 0…1, 0x605D 1…4, 0x605E 0…4; motion profile type 0; the homing
+/// methods the drive runs; a ramp or speed of 1).
+#[test]
+fn values_at_the_edges_are_accepted() {
+    let cases: &[(u16, u8, i64)] = &[
+        (0x605A, 0, 0),
+        (0x605A, 0, 8),
+        (0x605B, 0, 0),
+        (0x605B, 0, 1),
+        (0x605C, 0, 0),
+        (0x605C, 0, 1),
+        (0x605D, 0, 1),
+        (0x605D, 0, 4),
+        (0x605E, 0, 0),
+        (0x605E, 0, 4),
+        (0x6086, 0, 0),
+        (0x6098, 0, 0),
+        (0x6098, 0, 14),
+        (0x6098, 0, 17),
+        (0x6098, 0, 37),
+        (0x6083, 0, 1),
+        (0x6084, 0, 1),
+        (0x6085, 0, 1),
+        (0x6099, 1, 1),
+        (0x6099, 2, 1),
+        (0x609A, 0, 1),
+        (0x6076, 0, 1),
+        (0x608F, 1, 1),
+    ];
+    for &(index, sub, value) in cases {
+        let mut r = Rig::with(&[]);
+        r.at(1);
+        assert_eq!(
+            r.write(index, sub, value),
+            Ok(()),
+            "0x{index:04X}:{sub} = {value}"
+        );
+        assert_eq!(r.read(index, sub), value, "0x{index:04X}:{sub}");
+    }
+}
+
 #[test]
 fn a_refused_option_code_leaves_the_drive_as_it_was() {
     let mut r = Rig::with(&[]);
