@@ -430,3 +430,25 @@ fn bit_4_falling_after_disable_voltage_releases_the_acknowledge() {
     r.at(100);
     assert_eq!((r.sw(), r.pos()), (ENABLED | TR, 0));
 }
+
+/// With a profile velocity of 0 (0x6081: an EDS entry without a default) no move is possible:
+/// the axis stands and the target is not reached (CiA 402-2, statusword bit 10). A set-point with
+/// 0x6081 = 1000 at 500 ms then starts at once (the one before is no move in progress): 1000
+/// counts in 1.1 s.
+#[test]
+fn a_profile_velocity_of_0_reaches_no_target() {
+    let mut r = Rig::with(&[(0x6081, 0, 0)]);
+    r.enable(1);
+    r.set(0x607A, 0, 1000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.cw(ENABLE);
+    r.at(500);
+    assert_eq!((r.sw(), r.pos()), (ENABLED, 0));
+    r.set(0x6081, 0, 1000);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.cw(ENABLE);
+    r.at(1599);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(1600);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | TR, 1000));
+}

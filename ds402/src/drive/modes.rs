@@ -359,7 +359,8 @@ impl Drive {
         }
         match self.pp.target {
             None => self.standstill(),
-            Some(_) if !self.plan_done() => false,
+            // A profile ends at its target, unless no move was possible (a profile velocity of 0).
+            Some(t) if !self.plan_done() || self.demand.p != t => false,
             Some(_) => {
                 self.params.unsigned(P::PositionWindow) == u64::from(u32::MAX)
                     || self.pp.window_since.is_some_and(|s| {
