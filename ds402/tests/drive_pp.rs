@@ -452,3 +452,64 @@ fn a_profile_velocity_of_0_reaches_no_target() {
     r.at(1600);
     assert_eq!((r.sw(), r.pos()), (ENABLED | TR, 1000));
 }
+
+/// A new target behind the axis (change set immediately): the axis brakes at 0x6084 and comes
+/// back accelerating at 0x6083 (CiA 402-2, profile position mode). With 20 000 counts/s² up and
+/// 10 000 down: at 501 the axis is at 25 + 450 = 475; the target becomes 100: it stops 50 counts
+/// on, at 525 at 601, and is back at 525 − 25 − 50 = 450 at 701; at 100 after 25 + 350 + 50
+/// counts (50 + 350 + 100 ms), at 1101.
+#[test]
+fn change_set_immediately_behind_the_axis_brakes_on_the_deceleration() {
+    let mut r = moving_to(&[(0x6083, 0, 20_000)], 2000);
+    r.at(501);
+    assert_eq!(r.pos(), 475);
+    r.set(0x607A, 0, 100);
+    r.cw(ENABLE | NEW_SETPOINT | IMMEDIATE);
+    r.cw(ENABLE | IMMEDIATE);
+    r.at(601);
+    assert_eq!((r.demand(), r.read(0x606B, 0)), (525, 0));
+    r.at(701);
+    assert_eq!((r.demand(), r.read(0x606B, 0)), (450, -1000));
+    r.at(1100);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(1101);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | TR, 100));
+}
+
+/// A new target ahead but closer than the stopping distance: the axis stops beyond it and comes
+/// back (CiA 402-2, profile position mode). At 301 at 250 and 1000 counts/s, target 260: 50 counts
+/// to a stop at 300 at 401, then 40 counts back in 2 · √(40 / 10 000) s = 126.5 ms.
+#[test]
+fn change_set_immediately_short_of_the_stopping_distance_overshoots_and_returns() {
+    let mut r = moving_to(&[], 2000);
+    r.at(301);
+    assert_eq!(r.pos(), 250);
+    r.set(0x607A, 0, 260);
+    r.cw(ENABLE | NEW_SETPOINT | IMMEDIATE);
+    r.cw(ENABLE | IMMEDIATE);
+    r.at(401);
+    assert_eq!((r.demand(), r.read(0x606B, 0)), (300, 0));
+    r.at(527);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(528);
+    assert_eq!((r.sw(), r.demand(), r.pos()), (ENABLED | TR, 260, 260));
+}
+
+/// A set-point with a profile velocity of 0 while moving: no move is possible, the axis brakes at
+/// 0x6084 and stands short of the target, which is not reached. At 301 at 250 and 1000 counts/s:
+/// 50 counts, at 300 at 401.
+#[test]
+fn a_set_point_with_a_profile_velocity_of_0_brakes_the_axis() {
+    let mut r = moving_to(&[], 2000);
+    r.at(301);
+    r.set(0x6081, 0, 0);
+    r.set(0x607A, 0, 5000);
+    r.cw(ENABLE | NEW_SETPOINT | IMMEDIATE);
+    r.cw(ENABLE | IMMEDIATE);
+    r.at(351);
+    assert_eq!(r.read(0x606B, 0), 500);
+    r.at(401);
+    assert_eq!((r.demand(), r.read(0x606B, 0)), (300, 0));
+    r.at(1000);
+    assert_eq!((r.sw(), r.pos()), (ENABLED, 300));
+}
