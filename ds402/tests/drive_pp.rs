@@ -513,3 +513,74 @@ fn a_set_point_with_a_profile_velocity_of_0_brakes_the_axis() {
     r.at(1000);
     assert_eq!((r.sw(), r.pos()), (ENABLED, 300));
 }
+
+/// A new target just beyond the stopping distance: the axis cruises on and ramps down to it (CiA
+/// 402-2, profile position mode). At 301 at 250 and 1000 counts/s, target 310: 10 counts of
+/// cruise (10 ms) and the 100 ms ramp of 50 counts, at 310 at 411.
+#[test]
+fn change_set_immediately_beyond_the_stopping_distance_cruises_into_the_ramp() {
+    let mut r = moving_to(&[], 2000);
+    r.at(301);
+    r.set(0x607A, 0, 310);
+    r.cw(ENABLE | NEW_SETPOINT | IMMEDIATE);
+    r.cw(ENABLE | IMMEDIATE);
+    r.at(311);
+    assert_eq!((r.demand(), r.read(0x606B, 0)), (260, 1000));
+    r.at(410);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(411);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | TR, 310));
+}
+
+/// The profile velocity raised during a move (change set immediately): from 1000 counts/s with
+/// 300 counts to go, the axis speeds up to √((2 · a · d · 300 + d · 1000²) / (a + d)) = √3.5e6 =
+/// 1870.8 counts/s (125 counts in 87.1 ms) and ramps down from there (175 counts in 187.1 ms): at
+/// 550 at 301 + 274.2 ms.
+#[test]
+fn a_profile_velocity_raised_during_a_move() {
+    let mut r = moving_to(&[], 2000);
+    r.at(301);
+    r.set(0x6081, 0, 2000);
+    r.set(0x607A, 0, 550);
+    r.cw(ENABLE | NEW_SETPOINT | IMMEDIATE);
+    r.cw(ENABLE | IMMEDIATE);
+    r.at(351);
+    assert_eq!(r.read(0x606B, 0), 1500);
+    r.at(575);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(576);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | TR, 550));
+}
+
+/// The profile velocity lowered during a move (change set immediately): the axis slows down to it
+/// at 0x6084 (CiA 402-2, profile position mode): from 1000 to 500 counts/s in 50 ms.
+#[test]
+fn a_profile_velocity_lowered_during_a_move() {
+    let mut r = moving_to(&[], 2000);
+    r.at(301);
+    r.set(0x6081, 0, 500);
+    r.cw(ENABLE | NEW_SETPOINT | IMMEDIATE);
+    r.cw(ENABLE | IMMEDIATE);
+    r.at(326);
+    assert_eq!(r.read(0x606B, 0), 750);
+    r.at(351);
+    assert_eq!(r.read(0x606B, 0), 500);
+    r.at(1000);
+    assert_eq!(r.read(0x606B, 0), 500);
+}
+
+/// A short move at a low acceleration is a triangle (CiA 402-2, profile position mode): 1 count
+/// at 1 count/s² up and 1000 down peaks at √(2 · 1 · 1000 · 1 / 1001) = 1.4135 counts/s, after
+/// 1.4135 s, and ends 1.4 ms later, at 1 + 1414.9 ms.
+#[test]
+fn a_short_move_at_a_low_acceleration() {
+    let mut r = Rig::with(&[(0x6083, 0, 1), (0x6084, 0, 1000)]);
+    r.enable(1);
+    r.set(0x607A, 0, 1);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.cw(ENABLE);
+    r.at(1415);
+    assert_eq!(r.sw(), ENABLED);
+    r.at(1416);
+    assert_eq!((r.sw(), r.demand()), (ENABLED | TR, 1));
+}
