@@ -52,10 +52,9 @@ pub(crate) enum Ramp {
     SlowDown,
     /// The quick-stop ramp: 0x6085.
     QuickStop,
-    /// The torque (current) limit.
-    CurrentLimit,
-    /// The voltage limit, taken as the torque limit too.
-    VoltageLimit,
+    /// The current limit and the voltage limit (the latter taken as the current limit too): the
+    /// deceleration the torque limit allows.
+    TorqueLimit,
 }
 
 impl Ramp {
@@ -64,8 +63,7 @@ impl Ramp {
         match (option - 1).rem_euclid(4) {
             0 => Ramp::SlowDown,
             1 => Ramp::QuickStop,
-            2 => Ramp::CurrentLimit,
-            _ => Ramp::VoltageLimit,
+            _ => Ramp::TorqueLimit,
         }
     }
 }
@@ -272,7 +270,7 @@ impl Drive {
             }
             Ramp::SlowDown => self.profile_decel(),
             Ramp::QuickStop => self.params.positive(P::QuickStopDeceleration),
-            Ramp::CurrentLimit | Ramp::VoltageLimit => self.motor.limit_decel(self.torque_limit()),
+            Ramp::TorqueLimit => self.motor.limit_decel(self.torque_limit()),
         }
     }
 
