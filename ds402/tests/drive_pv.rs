@@ -171,3 +171,35 @@ fn the_following_error_is_not_monitored_in_pv() {
     r.at(52);
     assert_eq!((r.sw(), r.read(0x60F4, 0)), (ENABLED | SPEED_ZERO, 13));
 }
+
+/// pv ramps speed up at 0x6083 and slow down at 0x6084, and a change of direction slows down to 0
+/// first (CiA 402-2, profile velocity mode). With 20 000 counts/s² up and 10 000 down: 0 → 1000
+/// counts/s in 50 ms, 1000 → 2000 in 50 ms, 2000 → 1000 in 100 ms, 1000 → −1000 in 100 ms to 0
+/// and 50 ms on.
+#[test]
+fn speeding_up_at_the_acceleration_slowing_down_at_the_deceleration() {
+    let mut r = running(&[(0x6083, 0, 20_000)]);
+    r.at(26);
+    assert_eq!(r.read(0x606B, 0), 500);
+    r.at(51);
+    assert_eq!(r.read(0x606B, 0), 1000);
+    r.set(0x60FF, 0, 2000);
+    r.at(76);
+    assert_eq!(r.read(0x606B, 0), 1500);
+    r.at(101);
+    assert_eq!(r.read(0x606B, 0), 2000);
+    r.set(0x60FF, 0, 1000);
+    r.at(151);
+    assert_eq!(r.read(0x606B, 0), 1500);
+    r.at(201);
+    assert_eq!(r.read(0x606B, 0), 1000);
+    r.set(0x60FF, 0, -1000);
+    r.at(251);
+    assert_eq!(r.read(0x606B, 0), 500);
+    r.at(301);
+    assert_eq!(r.read(0x606B, 0), 0);
+    r.at(326);
+    assert_eq!(r.read(0x606B, 0), -500);
+    r.at(351);
+    assert_eq!(r.read(0x606B, 0), -1000);
+}
