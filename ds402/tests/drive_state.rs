@@ -573,6 +573,31 @@ fn standing_on_a_limit_switch_is_no_fault_running_into_the_negative_one_is() {
     );
 }
 
+/// A command the state does not take is kept as a level and acts at the first tick where it
+/// applies (CiA 402-2, device control): Shutdown written while the quick stop (0x605A = 2) brakes
+/// is Shutdown from Switch on disabled, taken at the tick after the stop ends, even on a stepper,
+/// which stands exactly at that instant. Stepper from 250 at 1000 counts/s: 0x6085 = 100 000,
+/// 10 ms.
+#[test]
+fn a_command_written_during_a_quick_stop_acts_when_it_ends() {
+    let config = DriveConfig {
+        motor: MotorConfig {
+            kind: ds402::drive::MotorKind::Stepper,
+            ..MotorConfig::default()
+        },
+        ..DriveConfig::default()
+    };
+    let mut r = cruising(&[], config);
+    r.cw(QUICK_STOP);
+    r.at(305);
+    r.cw(SHUTDOWN);
+    assert_eq!(r.sw(), QUICK_STOP_ACTIVE);
+    r.at(311);
+    assert_eq!((r.sw(), r.pos()), (SWITCH_ON_DISABLED, 255));
+    r.at(312);
+    assert_eq!(r.sw(), READY);
+}
+
 #[test]
 fn nmt_reset_brings_back_the_power_on_values() {
     let mut r = Rig::with(&[]);
