@@ -157,14 +157,14 @@ impl Drive {
         let Some(cmd) = cmd else {
             return;
         };
+        // Each arm names its state and command: Not ready to switch on and Fault reaction active
+        // take none, Fault reset acts in Fault only.
         match (self.state, cmd) {
-            (NotReadyToSwitchOn | FaultReactionActive, _) => {}
             // 15: Fault reset clears the error.
             (Fault, FaultReset) => {
                 self.error_code = 0;
                 self.state = SwitchOnDisabled;
             }
-            (_, FaultReset) => {}
             // 2
             (SwitchOnDisabled, Shutdown) => self.state = ReadyToSwitchOn,
             // 3
