@@ -598,6 +598,22 @@ fn a_command_written_during_a_quick_stop_acts_when_it_ends() {
     assert_eq!(r.sw(), READY);
 }
 
+/// Disable voltage during a move drops the set-point (CiA 402-2, transition 9): enabled again
+/// the axis stands where the coast left it and does not resume the old move; "target reached"
+/// (bit 10, standing without a set-point).
+#[test]
+fn disable_voltage_drops_the_set_point() {
+    let mut r = cruising(&[], DriveConfig::default());
+    r.cw(DISABLE_VOLTAGE);
+    r.at(2000);
+    let here = r.pos();
+    r.cw(SHUTDOWN);
+    r.cw(ENABLE);
+    assert_eq!(r.sw(), ENABLED | TR);
+    r.at(3000);
+    assert_eq!((r.sw(), r.pos(), r.demand()), (ENABLED | TR, here, here));
+}
+
 #[test]
 fn nmt_reset_brings_back_the_power_on_values() {
     let mut r = Rig::with(&[]);
