@@ -676,3 +676,26 @@ fn method_37_with_the_demand_a_count_away_returns_to_the_axis() {
         (ENABLED | ATTAINED, 100, 101)
     );
 }
+
+/// Methods 33 and 34 starting on an index pulse: the home is the next pulse in the search
+/// direction, a revolution away, not the one under the axis (CiA 402-2, homing methods 33 and 34:
+/// the search moves to find a pulse). Pulses at n · 10 000.
+#[test]
+fn methods_33_and_34_on_a_pulse_home_on_the_next_one() {
+    for (method, home) in [(33, -10_000), (34, 10_000)] {
+        let sim = SimConfig {
+            index_offset: 0,
+            ..step_switch()
+        };
+        let mut r = start(method, sim);
+        assert_eq!(r.sw(), ENABLED | IN_PROGRESS, "method {method}");
+        r.at(30_000);
+        assert_eq!(r.sw(), ENABLED | COMPLETED, "method {method}");
+        assert_eq!(
+            r.drive.rotor_position().round() as i64,
+            home,
+            "method {method}"
+        );
+        assert_eq!(r.pos(), 100, "method {method}");
+    }
+}
