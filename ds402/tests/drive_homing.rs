@@ -341,7 +341,9 @@ fn leaving_operation_enabled_interrupts_homing() {
 }
 
 /// Halt during the return to the home position (CiA 402-2, halt bit 8): the axis brakes on the
-/// halt option code's ramp (0x605D = 1: 0x609A in homing) and stays where it stops.
+/// halt option code's ramp (0x605D = 1: 0x609A in homing) and stays where it stops. Homing is
+/// attained (the position reads the home offset at the home point), not completed: the axis does
+/// not stand there (status 0x1000, "homing attained, target not reached").
 #[test]
 fn halt_stops_the_return_to_the_home_position() {
     // Method 34: the index pulse at 2500 is found at 5.012 s after the start, the demand at
@@ -360,8 +362,36 @@ fn halt_stops_the_return_to_the_home_position() {
     assert_eq!((r.read(0x606B, 0), r.demand()), (0, 106));
     r.at(5200);
     assert_eq!((r.demand(), r.pos()), (106, 106));
-    // Homing attained, standing still under halt (bit 10).
-    assert_eq!(r.sw(), ENABLED | COMPLETED);
+    assert_eq!(r.sw(), ENABLED | ATTAINED);
+    assert_eq!(r.drive.homing_status(), HomingStatus::Attained);
+    // Released, the axis stays; a new start homes again and completes at the home position.
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(5300);
+    assert_eq!(r.sw(), ENABLED | ATTAINED);
+    r.cw(ENABLE);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!(r.sw(), ENABLED | IN_PROGRESS);
+    r.at(30_000);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | COMPLETED, 100));
+    assert_eq!(r.drive.rotor_position().round() as i64, 12_500);
+}
+
+/// A quick stop during the return to the home position (0x605A = 6: stay in Quick stop active):
+/// enabled again (transition 16) the axis stands short of the home position, homing attained,
+/// not completed (CiA 402-2, homing mode status). The numbers of the test above: at 5014 ms at
+/// 2500.24 and 480 counts/s; 0x6085 = 100 000 counts/s² stops it 1.15 counts on, at 2501.4.
+#[test]
+fn a_quick_stop_during_the_return_leaves_homing_attained() {
+    let mut r = start_with(34, step_switch(), &[(0x605A, 0, 6)]);
+    r.at(5014);
+    assert_eq!(r.sw(), ENABLED | ATTAINED);
+    r.cw(QUICK_STOP | NEW_SETPOINT);
+    r.at(5100);
+    r.cw(ENABLE | NEW_SETPOINT);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | ATTAINED, 101));
+    r.at(5200);
+    assert_eq!((r.sw(), r.pos()), (ENABLED | ATTAINED, 101));
+    assert_eq!(r.drive.homing_status(), HomingStatus::Attained);
 }
 
 /// Method 19 on a forced home switch (0x60FD bit 2): active at 501 ms (at 900, as in the test

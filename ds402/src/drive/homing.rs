@@ -35,6 +35,8 @@
 //! interrupted (at standstill), 0x0000 in progress, 0x1000 attained, 0x1400 completed, 0x2000 error
 //! while braking, 0x2400 error at standstill. Halt (bit 8) and bit 4 going to 0 interrupt a homing
 //! in progress (braking on the halt option code's ramp); a new rising edge of bit 4 starts over.
+//! During the return to the home position they (and a quick stop) stop the axis short of it:
+//! homing stays attained, 0x1000, and completes only where the axis stands at the home position.
 
 use std::collections::VecDeque;
 
@@ -54,7 +56,8 @@ pub enum HomingStatus {
     /// Halted, bit 4 cleared, or left (quick stop, fault, power off, mode change) before the home
     /// position was found.
     Interrupted,
-    /// The home position is found; the axis returns to it.
+    /// The home position is found; the axis returns to it, or stands where halt, bit 4 going to
+    /// 0 or a quick stop stopped the return short of it.
     Attained,
     /// The axis stands at the home position.
     Completed,
@@ -86,6 +89,8 @@ pub(crate) struct Homing {
     fast: bool,
     /// Reversed on a limit switch already.
     reversed: bool,
+    /// The home position found, raw counts: homing completes when the axis stands there.
+    home: f64,
 }
 
 /// The limit switch on side `dir`.
@@ -214,6 +219,7 @@ impl Drive {
             steps: VecDeque::new(),
             fast: true,
             reversed: false,
+            home: 0.0,
         };
         let method = self.params.get(P::HomingMethod);
         let count = self.motor.count();
@@ -281,6 +287,7 @@ impl Drive {
         self.shift = self.params.get(P::HomeOffset) - x;
         self.homing.steps.clear();
         let target = x as f64;
+        self.homing.home = target;
         if self.demand.v == 0.0 && (self.demand.p - target).abs() < 1.0 {
             self.demand.p = target;
             self.motion = Motion::Hold;
@@ -348,7 +355,8 @@ impl Drive {
     pub(crate) fn homing_tick(&mut self, before: i64, count: i64) {
         match self.homing.status {
             HomingStatus::InProgress => self.homing_scan(before, count),
-            HomingStatus::Attained if self.plan_done() => {
+            // A return stopped short (halt, quick stop) leaves homing attained.
+            HomingStatus::Attained if self.plan_done() && self.demand.p == self.homing.home => {
                 self.homing.status = HomingStatus::Completed;
             }
             _ => {}
