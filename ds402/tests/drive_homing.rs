@@ -729,3 +729,25 @@ fn methods_33_and_34_on_a_pulse_home_on_the_next_one() {
         assert_eq!(r.pos(), 100, "method {method}");
     }
 }
+
+/// Homing's status moves on in homing mode only (CiA 402-2, modes of operation): left for pp
+/// during the return, homing stays attained even where a pp move brings the axis to the home
+/// position (0x6064 = 0x607C = 100); back in homing mode, standing there, it completes at the next
+/// tick.
+#[test]
+fn homing_completes_in_homing_mode_only() {
+    let mut r = start(34, step_switch());
+    r.at(5014);
+    assert_eq!(r.sw(), ENABLED | ATTAINED);
+    r.set(0x6060, 0, 1);
+    r.set(0x607A, 0, 100);
+    r.cw(ENABLE);
+    r.cw(ENABLE | NEW_SETPOINT);
+    r.at(6000);
+    assert_eq!((r.pos(), r.demand()), (100, 100));
+    assert_eq!(r.drive.homing_status(), HomingStatus::Attained);
+    r.set(0x6060, 0, 6);
+    assert_eq!(r.sw(), ENABLED | ATTAINED);
+    r.at(6001);
+    assert_eq!(r.sw(), ENABLED | COMPLETED);
+}
