@@ -239,3 +239,39 @@ fn sync_managers_are_checked_by_their_esi_number() {
         (AlState::SafeOp, false, AlStatusCode::NoError)
     );
 }
+
+/// The ESC has 8 SyncManagers (0–7): an ESI `Sm` element beyond the eighth is none of them, so the
+/// transitions check nothing for it. With the `Outputs` element the 8th (SM7) it is checked as SM7;
+/// as the 9th there is no outputs rule.
+#[test]
+fn an_sm_element_beyond_the_eighth_is_not_checked() {
+    use od::device::{DeviceDescription, EthercatInfo, SyncManager};
+    let with_outputs_at = |n: usize| {
+        let mut sms: Vec<SyncManager> = (0..n)
+            .map(|k| SyncManager {
+                kind: format!("Other{k}"),
+                start_address: 0x1000 + 0x100 * k as u16,
+                ..SyncManager::default()
+            })
+            .collect();
+        sms.push(SyncManager {
+            kind: "Outputs".into(),
+            start_address: 0x1F00,
+            control_byte: 0x64,
+            ..SyncManager::default()
+        });
+        let desc = DeviceDescription {
+            ethercat: Some(EthercatInfo {
+                sync_managers: sms,
+                ..EthercatInfo::default()
+            }),
+            ..DeviceDescription::default()
+        };
+        AlConfig::from_description(&desc).outputs
+    };
+    assert_eq!(
+        with_outputs_at(7).map(|r| (r.sm, r.start, r.control)),
+        Some((7, 0x1F00, 0x64))
+    );
+    assert_eq!(with_outputs_at(8), None);
+}
