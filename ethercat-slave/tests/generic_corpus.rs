@@ -241,6 +241,13 @@ fn modules_in_slots_as_given() {
     assert_eq!(read(&mut c, &layout, 0, 0x1610, 1), 0x687A_0020);
     assert_eq!(read(&mut c, &layout, 0, 0x1A10, 2), 0x6841_0110);
     assert_eq!(read(&mut c, &layout, 0, 0x1C13, 2), 0x1A10);
+    // The module's own objects, moved by the slot's index increment 0x800 (ETG.5001): slot 1's
+    // target position 0x607A is 0x687A, its statusword 0x6041 (which the module maps as sub 1, so
+    // a record with one entry) is 0x6841; Safe-Op maps them.
+    assert_eq!(read(&mut c, &layout, 0, 0x687A, 0), 0);
+    assert_eq!(read(&mut c, &layout, 0, 0x6841, 0), 1);
+    request(&mut c, 0x04);
+    assert_eq!(al(&mut c, 0), (0x04, 0));
 
     let refuse = |path: &std::path::Path, modules: &[&str]| {
         let spec = ethercat_slave::node_cli::EsiSpec {

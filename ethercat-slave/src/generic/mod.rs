@@ -254,11 +254,6 @@ impl Template {
         &self.modules
     }
 
-    /// The PDOs.
-    pub fn pdos(&self) -> &Pdos {
-        &self.pdos
-    }
-
     /// The process images at power-on (outputs, inputs).
     pub fn images(&self) -> (ProcessImage, ProcessImage) {
         self.pdos.images(&self.desc.dictionary).unwrap_or_default()
