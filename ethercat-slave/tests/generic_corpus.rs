@@ -318,3 +318,102 @@ fn write_restrictions_are_kept_by_state() {
     // Not restricted: 0x6066 is written in Safe-Op.
     assert_eq!(download(&mut c, &layout, 0, 0x6066, 0, &[20, 0]), Ok(()));
 }
+
+/// ETG.2000 `WriteRestrictions="SafeOp_Op"` (the example drive's 0x6067 restricted so for the
+/// test): refused in Pre-Op with 0x08000022, taken in Safe-Op and in Op.
+#[test]
+fn write_restrictions_name_safe_op_and_op() {
+    let bytes = std::fs::read(root().join("examples/drive.esi.xml")).unwrap();
+    let mut desc = od::esi::read(&bytes, "drive", None).unwrap();
+    desc.dictionary
+        .object_mut(0x6067)
+        .unwrap()
+        .subs
+        .get_mut(&0)
+        .unwrap()
+        .access
+        .write_states = od::object::EcatStates::parse("SafeOp_Op");
+    let t = Template::new(desc, None).unwrap();
+    let layout = Layout::of(&t);
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, std::slice::from_ref(&layout));
+    request(&mut c, 0x02);
+    assert_eq!(
+        download(&mut c, &layout, 0, 0x6067, 0, &10u32.to_le_bytes()),
+        Err(0x0800_0022)
+    );
+    request(&mut c, 0x04);
+    assert_eq!(al(&mut c, 0), (0x04, 0));
+    assert_eq!(
+        download(&mut c, &layout, 0, 0x6067, 0, &20u32.to_le_bytes()),
+        Ok(())
+    );
+    lrw(&mut c, std::slice::from_ref(&layout), &[vec![0; 7]]);
+    request(&mut c, 0x08);
+    assert_eq!(al(&mut c, 0), (0x08, 0));
+    assert_eq!(
+        download(&mut c, &layout, 0, 0x6067, 0, &30u32.to_le_bytes()),
+        Ok(())
+    );
+    assert_eq!(read(&mut c, &layout, 0, 0x6067, 0), 30);
+}
+
+/// ETG.1000.6 §5.6.7.4, 0x1C00 (SyncManager communication types, UNSIGNED8: 1 mailbox out, 2
+/// mailbox in, 3 process data outputs, 4 process data inputs, 0 unused) where the ESI's dictionary
+/// has none, one entry per `Sm` element: the Ingenia EVE-XCR-E (MBoxOut, MBoxIn, Outputs, Inputs)
+/// 4 entries 1, 2, 3, 4; the Pollen Orbita3d, which has an RxPDO assignment only (its TxPDOs at
+/// 0x1700 and 0x1800 are no TxPDO mapping objects), MBoxOut, MBoxIn and two `Sm` named
+/// `OrbitaIn`/`OrbitaOut`, none of the four kinds: 1, 2, 0, 0.
+#[test]
+fn sync_manager_types_where_the_esi_gives_none() {
+    for (t, types) in [
+        (ingenia(), [1u8, 2, 3, 4]),
+        (template(&corpus("pollen-Orbita3d.xml"), None), [1, 2, 0, 0]),
+    ] {
+        let layout = Layout::of(&t);
+        let mut c = chain(&[(&t, 1)]);
+        configure(&mut c, std::slice::from_ref(&layout));
+        request(&mut c, 0x02);
+        let name = t.name();
+        assert_eq!(upload(&mut c, &layout, 0, 0x1C00, 0), Ok(vec![4]), "{name}");
+        for (sub, ty) in (1u8..).zip(types) {
+            assert_eq!(
+                upload(&mut c, &layout, 0, 0x1C00, sub),
+                Ok(vec![ty]),
+                "{name} 0x1C00:{sub:02X}"
+            );
+        }
+    }
+}
+
+/// ETG.5001 module ident lists where the dictionary has them: the Inovance GL20-RTU-ECT32 coupler
+/// (32 slots "Terminals") with slot 1 empty, GL20-0808ETN (0x10F41060) in slot 2 and GL20-3200END
+/// (0x10F41011) in slot 3: 0xF030 (configured) and 0xF050 (detected) each count 3 slots, 0 for the
+/// empty one, then the two idents.
+#[test]
+fn module_lists_name_each_slot_s_module() {
+    let t = template_with(
+        &corpus("lcec-INOVANCE_GL20_RTU_ECT32.xml"),
+        None,
+        Some(&["none", "0x10f41060", "0x10f41011"]),
+    );
+    let layout = Layout::of(&t);
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, std::slice::from_ref(&layout));
+    request(&mut c, 0x02);
+    for index in [0xF030, 0xF050] {
+        assert_eq!(read(&mut c, &layout, 0, index, 0), 3, "{index:04X}:00");
+        assert_eq!(read(&mut c, &layout, 0, index, 1), 0, "{index:04X}:01");
+        assert_eq!(
+            read(&mut c, &layout, 0, index, 2),
+            0x10F4_1060,
+            "{index:04X}:02"
+        );
+        assert_eq!(
+            read(&mut c, &layout, 0, index, 3),
+            0x10F4_1011,
+            "{index:04X}:03"
+        );
+        assert_eq!(read(&mut c, &layout, 0, index, 4), 0, "{index:04X}:04");
+    }
+}
