@@ -664,6 +664,19 @@ fn a_drive_fault_from_outside_is_an_emcy() {
     assert_eq!(sent, [f(0x85, &[0x10, 0x43, 0x09, 1, 0, 0, 0, 0])]);
 }
 
+/// A fault raised from outside on an idle drive (Switch on disabled, power stage off) is an EMCY at
+/// the next millisecond as well: 0x4310 with the error register 0x09 and the axis 1.
+#[test]
+fn a_drive_fault_on_an_idle_drive_is_an_emcy() {
+    let mut n = drive_node(load("drive.eds"));
+    n.advance_ms(10);
+    assert_eq!(n.sdo_read(0x6041, 0).unwrap()[0] & 0x4F, 0x40);
+    let now = n.now;
+    n.node.app_mut().drives_mut()[0].raise_fault(now, 0x4310);
+    let sent = n.advance_ms(1);
+    assert_eq!(sent, [f(0x85, &[0x10, 0x43, 0x09, 1, 0, 0, 0, 0])]);
+}
+
 /// The application owns the drive's objects and its simulation record, and checks a write as the
 /// drive does before any is made (CiA 402: 0x6060 takes only supported modes, 0x06090030; process
 /// values are read-only, 0x06010002).

@@ -478,6 +478,8 @@ impl Drive {
     /// 0x4310, over-voltage 0x3210, …): transition 13 and the fault reaction of 0x605E.
     pub fn raise_fault(&mut self, now: Instant, code: u16) {
         self.advance(now);
+        // An idle drive asks for its next tick too, so that whoever runs it sees the fault then.
+        self.note_input();
         self.fault(code);
     }
 
