@@ -417,3 +417,53 @@ fn module_lists_name_each_slot_s_module() {
         assert_eq!(read(&mut c, &layout, 0, index, 4), 0, "{index:04X}:04");
     }
 }
+
+/// Leaving Op ends the connection axis by axis, each as its own abort connection option code says
+/// (CiA 402-2: axis A 0x6007, axis B 0x6807, 0x800 on): the Copley XE2, whose ESI gives both no
+/// default (2, disable voltage, where never written), with 0x6807 = 1 (a fault with error code
+/// 0x8100): after Op → Safe-Op axis A is Switch on disabled (0x6041 & 0x4F = 0x40), axis B Fault
+/// (0x6841 & 0x4F = 0x08) with 0x683F = 0x8100.
+#[test]
+fn copley_axes_end_the_connection_each_as_its_option_code_says() {
+    let t = copley();
+    let layout = Layout::of(&t);
+    let layouts = [layout.clone()];
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, &layouts);
+    request(&mut c, 0x02);
+    assert_eq!(
+        download(&mut c, &layout, 0, 0x6807, 0, &1i16.to_le_bytes()),
+        Ok(())
+    );
+    request(&mut c, 0x04);
+    // Outputs: each slot's 0x6040 + 0x800·slot at bytes 0 and 12 (of 12 each); inputs: each slot's
+    // statusword at bytes 0 and 16 (of 16 each).
+    let mut outputs = vec![vec![0u8; 24]];
+    lrw(&mut c, &layouts, &outputs);
+    request(&mut c, 0x08);
+    assert_eq!(al(&mut c, 0), (0x08, 0));
+    let mut inputs = Vec::new();
+    for cw in [0x0006u16, 0x0007, 0x000F] {
+        outputs[0][0..2].copy_from_slice(&cw.to_le_bytes());
+        outputs[0][12..14].copy_from_slice(&cw.to_le_bytes());
+        for _ in 0..3 {
+            inputs = lrw(&mut c, &layouts, &outputs).1;
+        }
+    }
+    let status = |b: &[u8], at: usize| u16::from_le_bytes([b[at], b[at + 1]]);
+    assert_eq!(
+        status(&inputs[0], 0) & 0x6F,
+        0x27,
+        "axis A Operation enabled"
+    );
+    assert_eq!(
+        status(&inputs[0], 16) & 0x6F,
+        0x27,
+        "axis B Operation enabled"
+    );
+    request(&mut c, 0x04);
+    c.cycle(Duration::from_millis(50));
+    assert_eq!(read(&mut c, &layout, 0, 0x6041, 0) & 0x4F, 0x40, "axis A");
+    assert_eq!(read(&mut c, &layout, 0, 0x6841, 0) & 0x4F, 0x08, "axis B");
+    assert_eq!(read(&mut c, &layout, 0, 0x683F, 0) & 0xFFFF, 0x8100);
+}
