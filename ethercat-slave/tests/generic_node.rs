@@ -443,7 +443,12 @@ fn an_io_device_is_its_dictionary() {
     let outputs = vec![vec![0b1010_0101, 0x34, 0x12]];
     request(&mut c, 0x04);
     assert_eq!(al(&mut c, 0), (0x04, 0));
+    // Safe-Op: the outputs stay in their safe state (ETG.1000.6 §6.4.1: the outputs are taken in
+    // Op only), 0x7000:01 and 0x7010:01 at their ESI defaults 0.
     lrw(&mut c, &layouts, &outputs);
+    c.cycle(Duration::from_millis(1));
+    assert_eq!(read(&mut c, &layout, 0, 0x7000, 1), 0);
+    assert_eq!(read(&mut c, &layout, 0, 0x7010, 1), 0);
     request(&mut c, 0x08);
     assert_eq!(al(&mut c, 0), (0x08, 0));
     lrw(&mut c, &layouts, &outputs);
@@ -468,4 +473,126 @@ fn an_io_device_is_its_dictionary() {
     let (wkc, inputs) = lrw(&mut c, &layouts, &outputs);
     assert_eq!(wkc, 3);
     assert_eq!(inputs[0], [0b1000_0100, 0xFB, 0xFF]);
+}
+
+/// What the host running the chain sees of a unit and does to it, as the master sees it: a chain
+/// of none is empty; the example drive's unit has one drive (axis 0), process images of 7 and 15
+/// bytes from Safe-Op on, its dictionary holds what an SDO download wrote (0x6067 = 1234), its
+/// statusword as the process data carries it; a fault raised on its drive (over-temperature
+/// 0x4310) the master reads as Fault (0x6041 & 0x4F = 0x08) with 0x603F = 0x4310.
+#[test]
+fn the_host_sees_and_acts_on_a_unit() {
+    let t = drive();
+    let empty = chain(&[(&t, 0)]);
+    assert!(empty.chain.is_empty());
+    assert_eq!(empty.chain.len(), 0);
+    let layouts = [Layout::of(&t)];
+    let layout = &layouts[0];
+    let mut c = chain(&[(&t, 1)]);
+    assert!(!c.chain.is_empty());
+    let outputs = vec![drive_out(0, 0, 8)];
+    to_op(&mut c, &layouts, &[], &outputs);
+    let (o, i) = c.chain.slot(0).unwrap().images();
+    assert_eq!((o.len(), i.len()), (7, 15));
+    assert_eq!(
+        download(&mut c, layout, 0, 0x6067, 0, &1234u32.to_le_bytes()),
+        Ok(())
+    );
+    let (_, inputs) = lrw(&mut c, &layouts, &outputs);
+    let unit = c.chain.unit(0).unwrap();
+    assert_eq!(unit.dict().read(0x6067, 0).unwrap(), 1234u32.to_le_bytes());
+    assert_eq!(unit.drives().len(), 1);
+    assert_eq!(unit.drives()[0].axis(), 0);
+    assert_eq!(
+        unit.value(od::dict::Address::new(0x6041, 0)),
+        inputs[0][0..2]
+    );
+    let now = c.now;
+    c.chain.unit_mut(0).unwrap().drives_mut()[0].raise_fault(now, 0x4310);
+    c.cycle(Duration::from_millis(10));
+    assert_eq!(read(&mut c, layout, 0, 0x6041, 0) & 0x4F, 0x08);
+    assert_eq!(read(&mut c, layout, 0, 0x603F, 0), 0x4310);
+}
+
+/// ETG.1000.6 §5.5: a request the master writes while SM1 still holds the answer before is taken,
+/// and its answer waits for SM1: the example drive's uploads of 0x1018:01 (vendor 0xABC) and
+/// 0x1018:02 (product 0x402) written one after the other are answered in order, each once SM1
+/// is read (expedited, 4 bytes: command 0x43); so are 0x1018:01 and 0x1018:03 (revision
+/// 0x00010001) with a Pre-Op → Safe-Op request between (only Init ends the mailbox's work).
+#[test]
+fn an_answer_waits_for_sm1() {
+    let t = drive();
+    let layouts = [Layout::of(&t)];
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, &layouts);
+    request(&mut c, 0x02);
+    let (out, inn) = layouts[0].mailbox().unwrap();
+    let ask = |c: &mut ethercat_slave::master::SimChain<_>, sub: u8| {
+        let mut m = coe_request(next_counter(0), &[0x40, 0x18, 0x10, sub, 0, 0, 0, 0]);
+        m.resize(usize::from(out.len), 0);
+        fpwr(c, 0, out.start, m);
+        c.cycle(Duration::from_millis(1));
+    };
+    let answer = |c: &mut ethercat_slave::master::SimChain<_>| {
+        assert_eq!(fprd(c, 0, 0x080D, 1).0[0] & 0x08, 0x08, "SM1 full");
+        let (m, wkc) = fprd(c, 0, inn.start, usize::from(inn.len));
+        assert_eq!(wkc, 1);
+        c.cycle(Duration::from_millis(1));
+        coe_answer(&m).unwrap()
+    };
+    let expect = |sub: u8, v: u32| {
+        let mut b = vec![0x43, 0x18, 0x10, sub];
+        b.extend_from_slice(&v.to_le_bytes());
+        b
+    };
+    ask(&mut c, 1);
+    ask(&mut c, 2);
+    assert_eq!(answer(&mut c), expect(1, 0xABC));
+    assert_eq!(answer(&mut c), expect(2, 0x402));
+    ask(&mut c, 1);
+    ask(&mut c, 3);
+    request(&mut c, 0x04);
+    assert_eq!(al(&mut c, 0), (0x04, 0));
+    assert_eq!(answer(&mut c), expect(1, 0xABC));
+    assert_eq!(answer(&mut c), expect(3, 0x0001_0001));
+}
+
+/// The link lost: a unit in Op drops to Safe-Op with the error indication and AL status code
+/// 0x001B (as on a SyncManager watchdog expiry) and its drive ends the connection (0x6007 = 2:
+/// Switch on disabled, 0x6041 & 0x4F = 0x40); a unit in Safe-Op stays there without an error.
+#[test]
+fn a_lost_link_drops_the_units_in_op() {
+    let t = drive();
+    let layouts = [Layout::of(&t), Layout::of(&t)];
+    let layout = &layouts[0];
+    let mut c = chain(&[(&t, 2)]);
+    let mut outputs = vec![drive_out(0, 0, 8); 2];
+    to_op(&mut c, &layouts, &[], &outputs);
+    enable(&mut c, &layouts, &mut outputs, 0, 0);
+    request_one(&mut c, 1, 0x04);
+    assert_eq!(al(&mut c, 1), (0x04, 0));
+    let now = c.now;
+    c.chain.link_lost(now);
+    assert_eq!(al(&mut c, 0), (0x14, 0x001B));
+    assert_eq!(al(&mut c, 1), (0x04, 0));
+    c.cycle(Duration::from_millis(10));
+    assert_eq!(read(&mut c, layout, 0, 0x6041, 0) & 0x4F, 0x40);
+}
+
+/// ETG.1020 0x1C32:02 (cycle time, ns) shows the SYNC0 cycle from Safe-Op on: one set in Pre-Op
+/// (2 ms) with which the unit goes back to Init, never having run with it, leaves the ESI's
+/// 1,000,000 ns.
+#[test]
+fn a_sync0_cycle_never_run_leaves_the_cycle_time() {
+    let t = drive();
+    let layouts = [Layout::of(&t)];
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, &layouts);
+    request(&mut c, 0x02);
+    node::sync0(&mut c, 0, 2_000_000, 500_000);
+    request(&mut c, 0x01);
+    assert_eq!(al(&mut c, 0), (0x01, 0));
+    request(&mut c, 0x02);
+    assert_eq!(al(&mut c, 0), (0x02, 0));
+    assert_eq!(read(&mut c, &layouts[0], 0, 0x1C32, 2), 1_000_000);
 }

@@ -131,7 +131,7 @@ thread_local! {
 
 /// The next mailbox counter of unit `k`, 1…7 (as a master keeps one per slave: a slave takes a
 /// request with its last request's counter for a repeat).
-fn next_counter(k: usize) -> u8 {
+pub fn next_counter(k: usize) -> u8 {
     COUNTERS.with(|c| {
         let mut c = c.borrow_mut();
         let n = c.entry(k).or_insert(0);
@@ -166,7 +166,7 @@ pub fn mailbox(
 
 /// A CoE SDO request mailbox: header (length, address 0, channel 0, type 3 = CoE, `counter`), CoE
 /// header (service 2, SDO request), the SDO bytes.
-fn coe_request(counter: u8, sdo: &[u8]) -> Vec<u8> {
+pub fn coe_request(counter: u8, sdo: &[u8]) -> Vec<u8> {
     let mut m = ((2 + sdo.len()) as u16).to_le_bytes().to_vec();
     m.extend_from_slice(&[0, 0, 0, 0x03 | (counter << 4)]);
     m.extend_from_slice(&[0x00, 0x20]);
@@ -175,7 +175,7 @@ fn coe_request(counter: u8, sdo: &[u8]) -> Vec<u8> {
 }
 
 /// The SDO bytes of a CoE response, or the abort code of an abort.
-fn coe_answer(m: &[u8]) -> Result<Vec<u8>, u32> {
+pub fn coe_answer(m: &[u8]) -> Result<Vec<u8>, u32> {
     let len = usize::from(u16::from_le_bytes([m[0], m[1]]));
     assert_eq!(m[5] & 0x0F, 0x03, "a CoE mailbox");
     let sdo = m[8..6 + len].to_vec();
