@@ -460,7 +460,8 @@ fn sdos_and_reads_without_a_description() {
 /// With --od, a bit-coded entry is shown with the names of its set bits as its description lists
 /// them (the ESI's STATUS_word0 and STATUS_word1 comments, Reference 6 Figures R6.4 and R6.5), in
 /// text and in JSON: after power-up STATUS_word0 is 0x4408 (SMD-T2-002) and in Pre-Op STATUS_word1
-/// has PreOp_SafeOp (SMD-R6-072).
+/// has PreOp_SafeOp (SMD-R6-072), and Heartbeat_Bit (bit 11) in every other half second since the
+/// unit started (SMD-R6-067): each read is checked with the heartbeat bit it shows.
 #[test]
 fn status_words_are_shown_with_their_bit_names() {
     let link = Link::up(&["--units", "1"]);
@@ -472,11 +473,18 @@ fn status_words_are_shown_with_their_bit_names() {
     let whole = ok(&link, &["--od", &od, "read", "1", "0x6000"]);
     let lines: Vec<&str> = whole.lines().collect();
     assert_eq!(
-        lines[1..3],
+        lines[1],
+        "0x6000:01  STATUS_word0 = 17416  [Stopped Position_Invalid Module_OK]"
+    );
+    // STATUS_word1: PreOp_SafeOp (32), with the heartbeat (2048) half of the time.
+    assert!(
         [
-            "0x6000:01  STATUS_word0 = 17416  [Stopped Position_Invalid Module_OK]",
             "0x6000:02  STATUS_word1 = 32  [PreOp_SafeOp]",
+            "0x6000:02  STATUS_word1 = 2080  [PreOp_SafeOp Heartbeat_Bit]",
         ]
+        .contains(&lines[2]),
+        "{}",
+        lines[2]
     );
     // A position has no named bits.
     assert_eq!(lines[3], "0x6000:03  Motor_Position = 0");
@@ -485,8 +493,15 @@ fn status_words_are_shown_with_their_bit_names() {
         &["--json", "--od", &od, "read", "1", "STATUS_word1"],
     ))
     .unwrap();
-    assert_eq!(v["value"], 32);
-    assert_eq!(v["bits"], serde_json::json!(["PreOp_SafeOp"]));
+    if v["value"] == 32 {
+        assert_eq!(v["bits"], serde_json::json!(["PreOp_SafeOp"]));
+    } else {
+        assert_eq!(v["value"], 2080);
+        assert_eq!(
+            v["bits"],
+            serde_json::json!(["PreOp_SafeOp", "Heartbeat_Bit"])
+        );
+    }
     assert!(v.get("unit").is_none(), "{v}");
     // Without --od the description's names are not known.
     assert_eq!(ok(&link, &["read", "1", "0x6000:01", "x16"]), "0x4408\n");
