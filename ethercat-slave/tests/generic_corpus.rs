@@ -467,3 +467,101 @@ fn copley_axes_end_the_connection_each_as_its_option_code_says() {
     assert_eq!(read(&mut c, &layout, 0, 0x6841, 0) & 0x4F, 0x08, "axis B");
     assert_eq!(read(&mut c, &layout, 0, 0x683F, 0) & 0xFFFF, 0x8100);
 }
+
+/// ETG.1000.6 §5.6.7.4: the PDO configuration objects have the standard types, whatever the ESI
+/// writes, and masters read them with those sizes: the Elmo drive's ESI gives its SyncManager types
+/// as UINT (0x1C00:01–04 read as one byte each: 1, 2, 3, 4) and 0x1606's fifth and sixth entries as
+/// INT and UINT (read as UNSIGNED32: 0x60B20010, 0x60400010, from its RxPdo 0x1606: 0x607A, 0x60FE:01,
+/// 0x60FF, 0x60B1 of 32 bits, 0x60B2 and 0x6040 of 16); the example drive with its 0x1C12:01 given
+/// as UDINT reads it as UNSIGNED16 0x1600.
+#[test]
+fn pdo_configuration_objects_have_the_standard_types() {
+    let t = elmo();
+    let layout = Layout::of(&t);
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, std::slice::from_ref(&layout));
+    request(&mut c, 0x02);
+    for sub in 1..=4u8 {
+        assert_eq!(upload(&mut c, &layout, 0, 0x1C00, sub), Ok(vec![sub]));
+    }
+    assert_eq!(
+        upload(&mut c, &layout, 0, 0x1606, 5),
+        Ok(0x60B2_0010u32.to_le_bytes().to_vec())
+    );
+    assert_eq!(
+        upload(&mut c, &layout, 0, 0x1606, 6),
+        Ok(0x6040_0010u32.to_le_bytes().to_vec())
+    );
+
+    let bytes = std::fs::read(root().join("examples/drive.esi.xml")).unwrap();
+    let mut desc = od::esi::read(&bytes, "drive", None).unwrap();
+    let entry = desc
+        .dictionary
+        .object_mut(0x1C12)
+        .unwrap()
+        .subs
+        .get_mut(&1)
+        .unwrap();
+    entry.data_type = od::types::DataType::Unsigned32;
+    entry.bit_size = od::types::DataType::Unsigned32.bit_size();
+    entry.value = 0x1600u32.to_le_bytes().to_vec();
+    let t = Template::new(desc, None).unwrap();
+    let layout = Layout::of(&t);
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, std::slice::from_ref(&layout));
+    request(&mut c, 0x02);
+    assert_eq!(upload(&mut c, &layout, 0, 0x1C12, 1), Ok(vec![0x00, 0x16]));
+}
+
+/// The PDO assignment at power-on: where the ESI's dictionary gives it, it stands over the PDOs'
+/// `Sm` attributes (ETG.2000): the Beckhoff AX2000-B110 assigns 0x1701 (0x6062 of 32 bits, 0x6040
+/// of 16: 6 bytes) and 0x1B01 (0x6064, 0x6041: 6 bytes) by its 0x1C12 and 0x1C13, not 0x1702 and
+/// 0x1B03 of the `Sm` attributes. An assignment object the dictionary lacks is added for a direction
+/// with PDOs only: the Pollen Orbita3d, whose only TxPDO-mapping-like PDOs sit at 0x1700 and 0x1800,
+/// has 0x1C12 (one PDO, 0x1600 by its `Sm="2"`) and no 0x1C13 (0x06020000).
+#[test]
+fn power_on_assignments_as_the_esi_gives_them() {
+    let bytes = std::fs::read(corpus("dls-Beckhoff_AX2xxx.xml")).unwrap();
+    let desc = od::esi::read(&bytes, "ax2000", None).unwrap();
+    let t = Template::new(desc, None).unwrap();
+    let layout = Layout::of(&t);
+    assert_eq!(layout.lengths(), (6, 6));
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, std::slice::from_ref(&layout));
+    request(&mut c, 0x02);
+    assert_eq!(read(&mut c, &layout, 0, 0x1C12, 0), 1);
+    assert_eq!(read(&mut c, &layout, 0, 0x1C12, 1), 0x1701);
+    assert_eq!(read(&mut c, &layout, 0, 0x1C13, 0), 1);
+    assert_eq!(read(&mut c, &layout, 0, 0x1C13, 1), 0x1B01);
+
+    let t = template(&corpus("pollen-Orbita3d.xml"), None);
+    let layout = Layout::of(&t);
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, std::slice::from_ref(&layout));
+    request(&mut c, 0x02);
+    assert_eq!(read(&mut c, &layout, 0, 0x1C12, 0), 1);
+    assert_eq!(read(&mut c, &layout, 0, 0x1C12, 1), 0x1600);
+    assert_eq!(upload(&mut c, &layout, 0, 0x1C13, 0), Err(0x0602_0000));
+}
+
+/// ETG.1000.6 §5.6.7.4: the mapping of a `Fixed` PDO is not changed, even where the dictionary
+/// makes it writable and the device allows `PdoConfig`: the Elmo drive's first revision (0x00000001)
+/// refuses 0x1600:00 in Pre-Op with 0x06010002.
+#[test]
+fn a_fixed_pdo_s_writable_mapping_is_refused() {
+    let bytes = std::fs::read(corpus("elmo-ECAT_00010420_V11.xml")).unwrap();
+    let desc = od::esi::read_all(&bytes, "elmo")
+        .unwrap()
+        .into_iter()
+        .find(|d| d.identity.product_code == 0x0003_0924 && d.identity.revision == 1)
+        .unwrap();
+    let t = Template::new(desc, None).unwrap();
+    let layout = Layout::of(&t);
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, std::slice::from_ref(&layout));
+    request(&mut c, 0x02);
+    assert_eq!(
+        download(&mut c, &layout, 0, 0x1600, 0, &[0]),
+        Err(0x0601_0002)
+    );
+}

@@ -271,6 +271,8 @@ fn the_pdo_configuration_refuses_what_the_esi_does_not_allow() {
     // A TxPDO in the RxPDO assignment, a PDO the drive does not have: invalid value.
     assert_eq!(dl(&mut c, 0x1C12, 1, &[0x00, 0x1A]), Err(0x0609_0030));
     assert_eq!(dl(&mut c, 0x1C12, 1, &[0x04, 0x16]), Err(0x0609_0030));
+    // An entry 0 assigns nothing and is taken.
+    assert_eq!(dl(&mut c, 0x1C12, 1, &[0x00, 0x00]), Ok(()));
     // More PDOs than the object has entries (2).
     assert_eq!(dl(&mut c, 0x1C12, 0, &[3]), Err(0x0609_0031));
     // A fixed PDO's mapping is read-only.
