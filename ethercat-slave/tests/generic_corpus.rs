@@ -518,7 +518,8 @@ fn pdo_configuration_objects_have_the_standard_types() {
 /// of 16: 6 bytes) and 0x1B01 (0x6064, 0x6041: 6 bytes) by its 0x1C12 and 0x1C13, not 0x1702 and
 /// 0x1B03 of the `Sm` attributes. An assignment object the dictionary lacks is added for a direction
 /// with PDOs only: the Pollen Orbita3d, whose only TxPDO-mapping-like PDOs sit at 0x1700 and 0x1800,
-/// has 0x1C12 (one PDO, 0x1600 by its `Sm="2"`) and no 0x1C13 (0x06020000).
+/// has 0x1C12 ("Sync Manager 2 PDO Assignment": one PDO, 0x1600 by its `Sm="2"`) and no 0x1C13
+/// (0x06020000).
 #[test]
 fn power_on_assignments_as_the_esi_gives_them() {
     let bytes = std::fs::read(corpus("dls-Beckhoff_AX2xxx.xml")).unwrap();
@@ -542,6 +543,10 @@ fn power_on_assignments_as_the_esi_gives_them() {
     assert_eq!(read(&mut c, &layout, 0, 0x1C12, 0), 1);
     assert_eq!(read(&mut c, &layout, 0, 0x1C12, 1), 0x1600);
     assert_eq!(upload(&mut c, &layout, 0, 0x1C13, 0), Err(0x0602_0000));
+    assert_eq!(
+        t.description().dictionary.object(0x1C12).unwrap().name,
+        "Sync Manager 2 PDO Assignment"
+    );
 }
 
 /// ETG.1000.6 §5.6.7.4: the mapping of a `Fixed` PDO is not changed, even where the dictionary

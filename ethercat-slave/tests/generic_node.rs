@@ -279,6 +279,31 @@ fn the_pdo_configuration_refuses_what_the_esi_does_not_allow() {
     assert_eq!(dl(&mut c, 0x1600, 0, &[0]), Err(0x0601_0002));
     // The configurable 0x1603: entries by the rules of a mapping.
     assert_eq!(dl(&mut c, 0x1603, 0, &[0]), Ok(()));
+    // CiA 301 dummy entries of their types' sizes are taken (0x0001 BOOLEAN 1 bit, 0x0002
+    // INTEGER8 and 0x0005 UNSIGNED8 8, 0x0003 INTEGER16 and 0x0006 UNSIGNED16 16, 0x0004 INTEGER32
+    // and 0x0007 UNSIGNED32 32); another size, or a sub-index other than 0, is not mappable.
+    for raw in [
+        0x0001_0001u32,
+        0x0002_0008,
+        0x0005_0008,
+        0x0003_0010,
+        0x0006_0010,
+        0x0004_0020,
+        0x0007_0020,
+    ] {
+        assert_eq!(
+            dl(&mut c, 0x1603, 1, &raw.to_le_bytes()),
+            Ok(()),
+            "{raw:#010x}"
+        );
+    }
+    for raw in [0x0006_0008u32, 0x0001_0008, 0x0007_0120] {
+        assert_eq!(
+            dl(&mut c, 0x1603, 1, &raw.to_le_bytes()),
+            Err(0x0604_0041),
+            "{raw:#010x}"
+        );
+    }
     assert_eq!(
         dl(&mut c, 0x1603, 1, &0x6041_0010u32.to_le_bytes()),
         Err(0x0604_0041),
