@@ -623,3 +623,52 @@ fn a_sync0_cycle_never_run_leaves_the_cycle_time() {
     assert_eq!(al(&mut c, 0), (0x02, 0));
     assert_eq!(read(&mut c, &layouts[0], 0, 0x1C32, 2), 1_000_000);
 }
+
+/// Without SYNC0 the drive's SYNC is a new output image (SyncManager-synchronous operation, the SM2
+/// event), and a process-data cycle without one is none: the example drive in csp with the RxPDO
+/// 0x1602 (controlword, target torque, mode: 5 bytes), so that 0x607A is written by SDO in Op,
+/// stands at 0 through 20 cycles without a frame after 0x607A = 1,000, and is at 1,000 once output
+/// images come again.
+#[test]
+fn without_sync0_a_cycle_without_new_outputs_is_no_sync() {
+    let t = drive();
+    let mut c = chain(&[(&t, 1)]);
+    configure(&mut c, &[Layout::of(&t)]);
+    request(&mut c, 0x02);
+    let layout = Layout::of(&t);
+    for (sub, v) in [(0u8, vec![0]), (1, vec![0x02, 0x16]), (0, vec![1])] {
+        assert_eq!(download(&mut c, &layout, 0, 0x1C12, sub, &v), Ok(()));
+    }
+    let layouts = [Layout::with_lengths(&t, 5, 15)];
+    let layout = &layouts[0];
+    configure(&mut c, &layouts);
+    let out = |cw: u16| {
+        let mut b = cw.to_le_bytes().to_vec();
+        b.extend_from_slice(&[0, 0, 8]);
+        vec![b]
+    };
+    request(&mut c, 0x04);
+    lrw(&mut c, &layouts, &out(0));
+    request(&mut c, 0x08);
+    assert_eq!(al(&mut c, 0), (0x08, 0));
+    let mut inputs = Vec::new();
+    for cw in [0x0006u16, 0x0007, 0x000F] {
+        for _ in 0..3 {
+            inputs = lrw(&mut c, &layouts, &out(cw)).1;
+        }
+    }
+    assert_eq!(drive_in(&inputs[0]).0 & 0x6F, 0x27, "Operation enabled");
+    assert_eq!(read(&mut c, layout, 0, 0x6064, 0), 0);
+    assert_eq!(
+        download(&mut c, layout, 0, 0x607A, 0, &1000i32.to_le_bytes()),
+        Ok(())
+    );
+    for _ in 0..20 {
+        c.cycle(Duration::from_millis(1));
+    }
+    assert_eq!(read(&mut c, layout, 0, 0x6064, 0), 0);
+    for _ in 0..3000 {
+        lrw(&mut c, &layouts, &out(0x000F));
+    }
+    assert_eq!(read(&mut c, layout, 0, 0x6064, 0), 1000);
+}
