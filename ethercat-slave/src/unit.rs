@@ -79,9 +79,7 @@ pub trait Model: Objects + Clone {
     /// The SYNC0 cycle the unit runs with from Safe-Op on (the master set it in Pre-Op), or `None`
     /// without SYNC0; told when the unit enters Safe-Op from Pre-Op, and `None` when it goes back
     /// to Pre-Op or Init.
-    fn set_sync0_cycle(&mut self, cycle: Option<Duration>) {
-        let _ = cycle;
-    }
+    fn set_sync0_cycle(&mut self, _cycle: Option<Duration>) {}
 }
 
 /// One unit behind its ESC: the model, its CoE server and its process data.
