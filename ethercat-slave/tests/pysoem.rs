@@ -6,8 +6,7 @@
 //! Needs root (a network namespace, a veth pair, raw sockets) and pysoem (`pip install pysoem`):
 //! without either the tests fail and say why; they are never skipped.
 
-use std::io::Read;
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 use testkit::link;
@@ -27,37 +26,18 @@ fn run_master(extra: &[&str]) -> String {
         link.stop()
     );
     let started = Instant::now();
-    let mut child = Command::new("python3")
-        .arg(script())
-        .arg(&link.master)
-        .arg(units.to_string())
-        .args(extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap_or_else(|e| panic!("cannot start {}: {e}", script()));
-    let drain = |mut pipe: Box<dyn Read + Send>| {
-        std::thread::spawn(move || {
-            let mut s = String::new();
-            let _ = pipe.read_to_string(&mut s);
-            s
-        })
-    };
-    let stdout = drain(Box::new(child.stdout.take().expect("stdout")));
-    let stderr = drain(Box::new(child.stderr.take().expect("stderr")));
-    let deadline = started + Duration::from_secs(25);
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("wait for the pysoem master") {
-            break Some(status);
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let (stdout, stderr) = (stdout.join().unwrap(), stderr.join().unwrap());
+    let testkit::Finished {
+        status,
+        stdout,
+        stderr,
+    } = testkit::run_for_at_most(
+        Command::new("python3")
+            .arg(script())
+            .arg(&link.master)
+            .arg(units.to_string())
+            .args(extra),
+        Duration::from_secs(25),
+    );
     let alive = link.running();
     let log = link.stop();
     let report = format!(

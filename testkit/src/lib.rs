@@ -100,3 +100,51 @@ pub fn start_until_first_line(command: &mut Command) -> (Child, String) {
     child.stdout = Some(out.into_inner());
     (child, line)
 }
+
+/// What [`run_for_at_most`] saw: the exit status (`None` when the process ran over its time and was
+/// killed) and everything it wrote.
+pub struct Finished {
+    /// The exit status, or `None` when it was killed at its deadline.
+    pub status: Option<std::process::ExitStatus>,
+    /// Its standard output.
+    pub stdout: String,
+    /// Its standard error.
+    pub stderr: String,
+}
+
+/// Runs `command` with its output captured (read as it comes, so it never waits on a full pipe),
+/// for at most `limit`; killed then.
+pub fn run_for_at_most(command: &mut Command, limit: std::time::Duration) -> Finished {
+    use std::io::Read;
+    let started = std::time::Instant::now();
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {command:?}: {e}"));
+    let drain = |mut pipe: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut s = String::new();
+            let _ = pipe.read_to_string(&mut s);
+            s
+        })
+    };
+    let stdout = drain(Box::new(child.stdout.take().expect("stdout")));
+    let stderr = drain(Box::new(child.stderr.take().expect("stderr")));
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait for the child") {
+            break Some(status);
+        }
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    Finished {
+        status,
+        stdout: stdout.join().unwrap(),
+        stderr: stderr.join().unwrap(),
+    }
+}
