@@ -274,3 +274,43 @@ fn bad_arguments_exit_2_with_one_line() {
     assert!(String::from_utf8_lossy(&out.stderr)
         .contains("node-ID 128 is outside 1 to 127 (or lss for none)"));
 }
+
+/// CPU time (user + system) a process has used so far, from /proc/PID/stat (fields 14 and 15, in
+/// clock ticks of 1/100 s on Linux).
+fn cpu_seconds(pid: u32) -> f64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    // The command name (field 2) is in parentheses and may hold spaces: count from after it.
+    let rest = &stat[stat.rfind(')').unwrap() + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: u64 = fields[11].parse::<u64>().unwrap() + fields[12].parse::<u64>().unwrap();
+    ticks as f64 / 100.0
+}
+
+/// A drive waiting for LSS to give it a node-ID (`FILE@lss`) sleeps until a frame comes: over two
+/// idle seconds it uses a few milliseconds of CPU, as the same drive with a node-ID does (a deadline
+/// it reported but never ran kept the process in a busy loop, a whole core).
+#[test]
+fn an_idle_node_without_a_node_id_uses_no_cpu() {
+    let drive = root().join("examples/drive.eds");
+    let drive = drive.to_str().unwrap();
+    let node = start(&[
+        "--od",
+        &format!("{drive}@lss"),
+        "--od",
+        &format!("{drive}@5"),
+    ]);
+    // The start-up is behind us once the process has printed its first line; measure from here.
+    let before = cpu_seconds(node.child.id());
+    let wall = Instant::now();
+    std::thread::sleep(Duration::from_secs(2));
+    let used = cpu_seconds(node.child.id()) - before;
+    let share = used / wall.elapsed().as_secs_f64();
+    // Two idle nodes (one drive's 1 ms control cycle is all that runs) take well under a tenth of a
+    // core; a busy loop takes all a core it is given, and even on a machine busy with other work,
+    // more than that.
+    assert!(
+        share < 0.10,
+        "{used:.2} s of CPU in 2 s idle ({:.0} %)",
+        share * 100.0
+    );
+}

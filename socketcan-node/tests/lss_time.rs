@@ -66,7 +66,7 @@ fn f(id: u16, data: &[u8]) -> CanFrame {
 }
 
 /// An LSS request; returns what the node sent.
-fn lss(n: &mut SimNode<Plain>, data: [u8; 8]) -> Vec<CanFrame> {
+fn lss<A: Application>(n: &mut SimNode<A>, data: [u8; 8]) -> Vec<CanFrame> {
     n.send(f(0x7E5, &data))
 }
 
@@ -100,6 +100,84 @@ fn an_unconfigured_node_is_silent_but_for_lss() {
         lss(&mut n, [0x4C, 0, 0, 0, 0, 0, 0, 0]),
         answer([0x50, 0, 0, 0, 0, 0, 0, 0])
     );
+}
+
+/// A device with a timer of its own every 10 ms (a drive's control cycle), counting its ticks.
+#[derive(Clone)]
+struct Ticking {
+    next: Instant,
+    ticks: u32,
+}
+
+impl DeviceHook for Ticking {
+    fn owns(&self, _: u16) -> bool {
+        false
+    }
+    fn read(&self, _: Address, _: &mut [u8; 8]) -> Option<usize> {
+        None
+    }
+    fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
+        Ok(())
+    }
+}
+
+impl Application for Ticking {
+    fn handle_timeout(&mut self, now: Instant) {
+        while self.next <= now {
+            self.next += Duration::from_millis(10);
+            self.ticks += 1;
+        }
+    }
+    fn poll_timeout(&self) -> Option<Instant> {
+        Some(self.next)
+    }
+    fn errors(&self, _: &mut Vec<AppError>) {}
+    fn reset(&mut self, _: Instant) {}
+}
+
+/// A node without a node-ID waits for LSS and runs no timer, so it asks its edge for none: a
+/// deadline it reported but never moved on (the device's own, here every 10 ms) kept a runtime
+/// calling it in a busy loop, a whole core for an idle node.
+#[test]
+fn an_unconfigured_node_asks_for_no_timer() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/io-device.eds");
+    let (_, mut devices) = od::load::load(&path).unwrap();
+    let dict = devices.remove(0).dictionary;
+    let config = NodeConfig {
+        lss: Some(LssConfig {
+            bit_timing: 4,
+            can_store: false,
+        }),
+        ..NodeConfig::new(0xFF)
+    };
+    let t0 = Instant::now();
+    let app = Ticking {
+        next: t0 + Duration::from_millis(10),
+        ticks: 0,
+    };
+    let node = Node::new(config, dict, app, t0).unwrap();
+    let mut n = SimNode::boot(node, t0, Box::new(MemoryStorage::default()));
+    assert_eq!(n.node.state(), NmtState::Initialising);
+    assert_eq!(n.node.poll_timeout(), None);
+    n.stall(Duration::from_millis(35));
+    assert_eq!(n.node.poll_timeout(), None);
+    assert!(n.sent.is_empty(), "{:?}", n.sent);
+    // Given node-ID 9 (switch state global, configure node-ID, back to waiting): boot-up, and the
+    // device's timer runs again from the next call on.
+    assert!(lss(&mut n, [0x04, 1, 0, 0, 0, 0, 0, 0]).is_empty());
+    assert_eq!(
+        lss(&mut n, [0x11, 9, 0, 0, 0, 0, 0, 0]),
+        answer([0x11, 0, 0, 0, 0, 0, 0, 0])
+    );
+    assert_eq!(
+        lss(&mut n, [0x04, 0, 0, 0, 0, 0, 0, 0]),
+        vec![f(0x709, &[0])]
+    );
+    assert_eq!(n.node.state(), NmtState::PreOperational);
+    let due = n.node.poll_timeout().expect("the device's timer");
+    assert!(due > n.now, "{due:?} is not after {:?}", n.now);
+    n.advance_ms(100);
+    assert!(n.node.app().ticks >= 10, "{} ticks", n.node.app().ticks);
 }
 
 #[test]

@@ -556,6 +556,11 @@ impl<A: Application> Node<A> {
     #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         let c = &self.core;
+        // A node waiting in Initialising for LSS to give it a node-ID runs no timer (see `poll`):
+        // it asks for none, so that an edge sleeps until the next frame.
+        if c.state == NmtState::Initialising {
+            return None;
+        }
         let mut t: Option<Instant> = None;
         let mut take = |d: Option<Instant>| {
             if let Some(d) = d {
