@@ -686,6 +686,65 @@ fn timeout_during_block_transfers() {
     assert_eq!(b.drain(), hs(&["80 00 20 00 00 00 04 05"]));
 }
 
+/// A block download whose client went away after the initiate: every later frame is read as a
+/// segment (`40` as sequence number 64), out of order. Such frames take nothing, so they do not
+/// restart the transfer timer: one second after the initiate the transfer ends with 0x05040000 and
+/// the request that comes then is served. (Each one restarting the timer locked the server out for
+/// as long as a master kept polling faster than the timeout.)
+#[test]
+fn out_of_order_segments_do_not_hold_a_block_download_open() {
+    let mut b = Bench::new();
+    let start = b.now + Duration::from_millis(1);
+    exchange!(b, "C2 17 10 00 02 00 00 00" => ["A4 17 10 00 7F 00 00 00"]);
+    assert_eq!(b.now, start);
+    // An upload request of 0x1018:01 every 300 ms: ignored at 0.3, 0.6 and 0.9 s.
+    for k in 1..=3u64 {
+        b.now = start + Duration::from_millis(300 * k) - Duration::from_millis(1);
+        exchange!(b, "40 18 10 01 00 00 00 00" => []);
+        assert_eq!(
+            b.server.poll_timeout(),
+            Some(start + Duration::from_secs(1)),
+            "after the request at {} ms",
+            300 * k
+        );
+    }
+    // At 1.2 s: the block download has timed out (abort 0x05040000 for 0x1017), and the request is
+    // answered (vendor-ID 0x00000123).
+    b.now = start + Duration::from_millis(1199);
+    exchange!(b, "40 18 10 01 00 00 00 00" => ["80 17 10 00 00 00 04 05", "43 18 10 01 23 01 00 00"]);
+    assert!(!b.server.is_busy());
+    assert_eq!(b.value(0x1017, 0), [0, 0]);
+}
+
+/// The end of a sub-block out of order is acknowledged (the last segment in order, here none), but
+/// like any segment out of order it does not restart the timer; segments taken in order do.
+#[test]
+fn only_segments_in_order_restart_the_block_download_timer() {
+    let mut b = Bench::with(ServerConfig {
+        block_size: 2,
+        ..ServerConfig::default()
+    });
+    let start = b.now + Duration::from_millis(1);
+    exchange!(b, "C6 00 20 00 14 00 00 00" => ["A4 00 20 00 02 00 00 00"]);
+    b.now = start + Duration::from_millis(499);
+    exchange!(b, "02 48 49 4A 4B 4C 4D 4E" => ["A2 00 02 00 00 00 00 00"]);
+    assert_eq!(
+        b.server.poll_timeout(),
+        Some(start + Duration::from_secs(1))
+    );
+    b.now = start + Duration::from_millis(899);
+    exchange!(b, SEG1 => []);
+    let taken = start + Duration::from_millis(900);
+    assert_eq!(
+        b.server.poll_timeout(),
+        Some(taken + Duration::from_secs(1))
+    );
+    b.server.handle_timeout(taken + Duration::from_millis(999));
+    assert_eq!(b.drain(), Vec::<Frame>::new());
+    b.server.handle_timeout(taken + Duration::from_secs(1));
+    assert_eq!(b.drain(), hs(&["80 00 20 00 00 00 04 05"]));
+}
+
 #[test]
 fn invalid_block_size() {
     let mut b = bench_with_name();

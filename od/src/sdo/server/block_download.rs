@@ -78,13 +78,16 @@ impl BlockDownload {
             return Err(AbortCode::InvalidSequence);
         }
         let ends_sub_block = seg.last || seg.seqno == self.blksize;
+        // Out of order: nothing taken, so the transfer timer runs on (CiA 301 §7.2.4.3.12: the server
+        // ignores it and the rest of the sub-block).
         if seg.seqno != self.next_seq {
             return Ok(if ends_sub_block {
                 let ackseq = self.next_seq - 1;
                 self.ack(ackseq)
             } else {
                 Reply::default().then(Transfer::BlockDownload(self))
-            });
+            }
+            .stalled());
         }
         if seg.last {
             self.last = Some(seg.data);

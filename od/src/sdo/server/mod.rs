@@ -121,6 +121,9 @@ struct Reply {
     next: Option<Transfer>,
     /// The event of a finished transfer.
     event: Option<ServerEvent>,
+    /// True when the frame moved the transfer on nothing (a block segment out of order): the
+    /// transfer timer keeps running from the last frame that did.
+    stalled: bool,
 }
 
 impl Reply {
@@ -135,6 +138,12 @@ impl Reply {
     /// The transfer goes on as `next`.
     fn then(mut self, next: Transfer) -> Reply {
         self.next = Some(next);
+        self
+    }
+
+    /// The frame moved the transfer on nothing: the transfer timer is not restarted.
+    fn stalled(mut self) -> Reply {
+        self.stalled = true;
         self
     }
 
@@ -193,7 +202,9 @@ type Step = Result<Reply, AbortCode>;
 /// - **Block download**: a segment out of order (a lost or repeated one) makes the server ignore the rest
 ///   of the sub-block; at the sub-block's last segment (sequence number = block size, or c = 1) it
 ///   acknowledges the last segment received in order, and the client resumes after it with sequence
-///   number 1. Sequence number 0 (other than the abort byte 0x80) or above the block size is 0x05040003.
+///   number 1. A segment out of order does not restart the transfer timer (nor does the
+///   acknowledgement it may bring): only a segment taken in order does, so that a client that gave
+///   the transfer up and polls with other requests is served again once the timeout has passed. Sequence number 0 (other than the abort byte 0x80) or above the block size is 0x05040003.
 ///   When the last segment of a sub-block is lost, no acknowledgement can be sent and the transfer ends
 ///   by timeout.
 /// - **Block upload**: an acknowledgement of more segments than the sub-block had is 0x05040003; a block
@@ -385,11 +396,15 @@ impl SdoServer {
                 if let Some(e) = reply.event {
                     self.push_event(e);
                 }
-                // An instant the clock cannot hold is a deadline never reached.
-                self.deadline = reply
-                    .next
-                    .as_ref()
-                    .and_then(|_| now.checked_add(self.config.timeout));
+                // An instant the clock cannot hold is a deadline never reached. Only a frame that
+                // moves the transfer on restarts the timer: frames that a block download takes as
+                // segments out of order (another client's requests, say) leave it running, so that
+                // the transfer ends by timeout and the next request is served.
+                if reply.next.is_none() {
+                    self.deadline = None;
+                } else if !(reply.stalled && self.deadline.is_some()) {
+                    self.deadline = now.checked_add(self.config.timeout);
+                }
                 self.transfer = reply.next;
             }
             Err(code) => {
