@@ -4,17 +4,26 @@
 //! frames a node sends go to the bus and to the other nodes of the same process (they are on the same
 //! bus), each node's timers run when [`Node::poll_timeout`] says, and the parameter sets a node saves
 //! go to its [`Station`]'s storage. It returns when `stop` is set or the bus fails.
+//!
+//! The storage is written on a thread of its own ([`Writer`]), in the order the nodes asked, so that
+//! a slow disk (a write and its fsync may take a good part of a second) delays only the answer that
+//! confirms the save, never a heartbeat, a PDO or another node's answer.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crate::node::storage::{MemoryStorage, ParameterStorage};
+use crate::node::storage::{MemoryStorage, ParameterStorage, StorageRequest};
 use crate::node::{Application, Node, NodeEvent};
 use crate::transport::{BusError, BusEvent, CanBus};
 use crate::CanFrame;
 
 /// Longest wait for a frame, so that `stop` is seen promptly.
 const MAX_WAIT: Duration = Duration::from_millis(50);
+/// Longest wait for a frame while the storage is being written, so that the answer a finished write
+/// releases goes out promptly.
+const STORAGE_WAIT: Duration = Duration::from_millis(1);
 
 /// Counters of a run, for logs and benchmarks.
 #[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
@@ -63,13 +72,85 @@ impl<A: Application> Station<A> {
     pub fn in_memory(node: Node<A>) -> Station<A> {
         Station::new(node, Box::new(MemoryStorage::default()))
     }
+}
 
-    /// Carries out what the node asked of its storage.
-    fn persist(&mut self) {
-        while let Some(request) = self.node.poll_storage() {
-            if let Err(e) = request.apply(self.storage.as_mut()) {
-                tracing::error!(node = self.node.node_id(), "parameter storage failed: {e}");
+/// The thread that writes the stations' storage, one request after the other in the order they came.
+struct Writer {
+    requests: Option<mpsc::Sender<(usize, StorageRequest)>>,
+    done: mpsc::Receiver<(usize, std::io::Result<()>)>,
+    thread: Option<JoinHandle<Vec<Box<dyn ParameterStorage>>>>,
+    /// Requests handed over whose outcome has not come back.
+    waiting: usize,
+}
+
+impl Writer {
+    /// Takes the stations' storage to a new thread (each station keeps an empty one meanwhile).
+    fn start<A: Application>(stations: &mut [Station<A>]) -> Writer {
+        let mut storages: Vec<Box<dyn ParameterStorage>> = stations
+            .iter_mut()
+            .map(|s| std::mem::replace(&mut s.storage, Box::new(MemoryStorage::default())))
+            .collect();
+        let (requests, inbox) = mpsc::channel::<(usize, StorageRequest)>();
+        let (outbox, done) = mpsc::channel();
+        let thread = std::thread::Builder::new()
+            .name("storage".into())
+            .spawn(move || {
+                for (k, request) in inbox {
+                    let result = request.apply(storages[k].as_mut());
+                    if outbox.send((k, result)).is_err() {
+                        break;
+                    }
+                }
+                storages
+            })
+            .expect("a thread for the parameter storage");
+        Writer {
+            requests: Some(requests),
+            done,
+            thread: Some(thread),
+            waiting: 0,
+        }
+    }
+
+    /// Hands over what station `k`'s node asked of its storage.
+    fn take<A: Application>(&mut self, k: usize, station: &mut Station<A>) {
+        while let Some(request) = station.node.poll_storage() {
+            if let Some(requests) = &self.requests {
+                if requests.send((k, request)).is_ok() {
+                    self.waiting += 1;
+                    continue;
+                }
             }
+            // The thread is gone: the request fails, and the node answers so.
+            station.node.storage_done(false);
+        }
+    }
+
+    /// Reports the writes finished since the last call to their nodes.
+    fn collect<A: Application>(&mut self, stations: &mut [Station<A>], touched: &mut Touched) {
+        while let Ok((k, result)) = self.done.try_recv() {
+            self.waiting -= 1;
+            let station = &mut stations[k];
+            if let Err(e) = &result {
+                tracing::error!(
+                    node = station.node.node_id(),
+                    "parameter storage failed: {e}"
+                );
+            }
+            station.node.storage_done(result.is_ok());
+            touched.add(k);
+        }
+    }
+
+    /// Waits for the writes still queued, then gives each station its storage back.
+    fn finish<A: Application>(mut self, stations: &mut [Station<A>]) {
+        drop(self.requests.take());
+        let Some(storages) = self.thread.take().and_then(|t| t.join().ok()) else {
+            tracing::error!("the parameter storage thread failed");
+            return;
+        };
+        for (s, storage) in stations.iter_mut().zip(storages) {
+            s.storage = storage;
         }
     }
 }
@@ -80,7 +161,6 @@ pub fn run<A: Application>(
     bus: &mut dyn CanBus,
     stop: &AtomicBool,
 ) -> Result<RunStats, BusError> {
-    let mut stats = RunStats::default();
     let now = Instant::now();
     // The nodes' clock for TIME: the wall clock, as milliseconds since 1984-01-01.
     let wall = std::time::SystemTime::now()
@@ -91,7 +171,20 @@ pub fn run<A: Application>(
             .set_clock(now, wall.saturating_sub(crate::node::time::UNIX_TO_1984_MS));
         s.node.start(now);
     }
-    let nodes = stations;
+    let mut writer = Writer::start(stations);
+    let result = serve(stations, bus, stop, &mut writer);
+    writer.finish(stations);
+    result
+}
+
+/// The loop of [`run`], with the storage on `writer`'s thread.
+fn serve<A: Application>(
+    nodes: &mut [Station<A>],
+    bus: &mut dyn CanBus,
+    stop: &AtomicBool,
+    writer: &mut Writer,
+) -> Result<RunStats, BusError> {
+    let mut stats = RunStats::default();
     let mut outgoing: Vec<(usize, CanFrame)> = Vec::new();
     let mut interest = Interest::default();
     // Each node's next deadline, worked out again only for the nodes an input reached: a node's
@@ -102,6 +195,7 @@ pub fn run<A: Application>(
     flush(
         nodes,
         bus,
+        writer,
         &mut outgoing,
         &mut interest,
         &mut touched,
@@ -111,7 +205,12 @@ pub fn run<A: Application>(
     while !stop.load(Ordering::Relaxed) {
         let now = Instant::now();
         let next = due.iter().flatten().min();
-        let wait = next.map_or(MAX_WAIT, |t| t.saturating_duration_since(now).min(MAX_WAIT));
+        let longest = if writer.waiting > 0 {
+            STORAGE_WAIT
+        } else {
+            MAX_WAIT
+        };
+        let wait = next.map_or(longest, |t| t.saturating_duration_since(now).min(longest));
         match bus.recv(wait)? {
             Some(BusEvent::Frame { frame, .. }) => {
                 stats.received += 1;
@@ -128,6 +227,7 @@ pub fn run<A: Application>(
             }
             None => {}
         }
+        writer.collect(nodes, &mut touched);
         let now = Instant::now();
         for (k, d) in due.iter().enumerate() {
             if d.is_some_and(|t| t <= now) {
@@ -138,6 +238,7 @@ pub fn run<A: Application>(
         flush(
             nodes,
             bus,
+            writer,
             &mut outgoing,
             &mut interest,
             &mut touched,
@@ -226,6 +327,7 @@ impl Interest {
 fn flush<A: Application>(
     nodes: &mut [Station<A>],
     bus: &mut dyn CanBus,
+    writer: &mut Writer,
     outgoing: &mut Vec<(usize, CanFrame)>,
     interest: &mut Interest,
     touched: &mut Touched,
@@ -241,7 +343,7 @@ fn flush<A: Application>(
             while let Some(e) = s.node.poll_event() {
                 log_event(s.node.node_id(), &e);
             }
-            s.persist();
+            writer.take(n, s);
             while let Some(f) = s.node.poll_transmit() {
                 outgoing.push((n, f));
             }

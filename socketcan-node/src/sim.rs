@@ -110,13 +110,13 @@ impl<A: Application> SimNode<A> {
     }
 
     fn collect(&mut self) {
+        // The storage first: the answers that wait for it go out with the rest.
+        while let Some(request) = self.node.poll_storage() {
+            let result = request.apply(self.storage.as_mut());
+            self.node.storage_done(result.is_ok());
+        }
         while let Some(f) = self.node.poll_transmit() {
             self.sent.push((self.now - self.t0, f));
-        }
-        while let Some(request) = self.node.poll_storage() {
-            if let Err(e) = request.apply(self.storage.as_mut()) {
-                panic!("the simulated node's storage failed: {e}");
-            }
         }
     }
 

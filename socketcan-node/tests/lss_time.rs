@@ -265,6 +265,41 @@ fn configuration_by_switch_state_global() {
     assert!(lss(&mut n, [0x4C, 0, 0, 0, 0, 0, 0, 0]).is_empty());
 }
 
+/// A store configuration the edge's storage cannot keep (here a storage for parameter sets only) is
+/// answered with error 2, "storage media access error" (CiA 305 §8.3.6), once the edge reports it.
+#[test]
+fn store_on_a_storage_that_fails_is_a_media_access_error() {
+    struct SetsOnly;
+    impl socketcan_node::node::storage::ParameterStorage for SetsOnly {
+        fn load(&mut self) -> std::io::Result<Option<Vec<u8>>> {
+            Ok(None)
+        }
+        fn save(&mut self, _: &[u8]) -> std::io::Result<()> {
+            Ok(())
+        }
+        fn clear(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/io-device.eds");
+    let (_, mut devices) = od::load::load(&path).unwrap();
+    let config = NodeConfig {
+        lss: Some(LssConfig {
+            bit_timing: 4,
+            can_store: true,
+        }),
+        ..NodeConfig::new(3)
+    };
+    let t0 = Instant::now();
+    let node = Node::new(config, devices.remove(0).dictionary, Plain, t0).unwrap();
+    let mut n = SimNode::boot(node, t0, Box::new(SetsOnly));
+    assert!(lss(&mut n, [0x04, 1, 0, 0, 0, 0, 0, 0]).is_empty());
+    assert_eq!(
+        lss(&mut n, [0x17, 0, 0, 0, 0, 0, 0, 0]),
+        answer([0x17, 2, 0, 0, 0, 0, 0, 0])
+    );
+}
+
 #[test]
 fn store_without_storage_is_not_supported() {
     let mut n = io_device(0xFF, false);

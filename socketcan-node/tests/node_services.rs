@@ -464,9 +464,55 @@ fn store_and_restore_parameters() {
     assert_eq!(m.node.app().modules()[0].read_named("MaxSpeed01pos"), 0);
 }
 
-/// CiA 301 §7.5.2.13/§7.5.2.14 on a sans-IO node: "save" and "load" are answered at once and become
-/// requests to the edge's storage; the node itself writes nothing, and a set handed to a new node
-/// before it starts is loaded at its boot.
+/// A storage that fails every write (a full or read-only disk), holding `kept` as its set.
+struct FailingStorage {
+    kept: Option<Vec<u8>>,
+}
+
+impl ParameterStorage for FailingStorage {
+    fn load(&mut self) -> std::io::Result<Option<Vec<u8>>> {
+        Ok(self.kept.clone())
+    }
+    fn save(&mut self, _: &[u8]) -> std::io::Result<()> {
+        Err(std::io::Error::other("no space left on device"))
+    }
+    fn clear(&mut self) -> std::io::Result<()> {
+        Err(std::io::Error::other("read-only file system"))
+    }
+}
+
+/// A save or restore the storage cannot carry out is answered with abort 0x08000020 (CiA 301: data
+/// cannot be transferred or stored), and changes nothing: the next reset loads what the storage
+/// holds, as before the request.
+#[test]
+fn a_save_the_storage_refuses_is_answered_with_an_abort() {
+    // What the storage holds: heartbeat 1000 ms.
+    let mut saved = SimNode::new(ID, 1).unwrap();
+    saved.sdo_write(0x1017, 0, &[0xE8, 0x03]).unwrap();
+    saved.sdo_write(0x1010, 1, b"save").unwrap();
+    let kept = saved.storage.load().unwrap();
+    assert!(kept.is_some());
+    let storage = Box::new(FailingStorage { kept });
+    let mut n = SimNode::with(NodeConfig::new(ID), 1, storage).unwrap();
+    assert_eq!(n.sdo_read(0x1017, 0), Ok(vec![0xE8, 0x03]));
+    n.sdo_write(0x1017, 0, &[0xD0, 0x07]).unwrap();
+    assert_eq!(
+        n.send(f(0x605, &[0x23, 0x10, 0x10, 0x01, b's', b'a', b'v', b'e'])),
+        vec![f(0x585, &[0x80, 0x10, 0x10, 0x01, 0x20, 0x00, 0x00, 0x08])]
+    );
+    assert_eq!(
+        n.send(f(0x605, &[0x23, 0x11, 0x10, 0x01, b'l', b'o', b'a', b'd'])),
+        vec![f(0x585, &[0x80, 0x11, 0x10, 0x01, 0x20, 0x00, 0x00, 0x08])]
+    );
+    // Reset node: the stored 1000 ms, neither the 2000 ms of the failed save nor the defaults of the
+    // failed restore.
+    n.nmt(0x81, ID);
+    assert_eq!(n.sdo_read(0x1017, 0), Ok(vec![0xE8, 0x03]));
+}
+
+/// CiA 301 §7.5.2.13/§7.5.2.14 on a sans-IO node: "save" and "load" become requests to the edge's
+/// storage, answered once the edge reports them done (the answer confirms the save); the node
+/// itself writes nothing, and a set handed to a new node before it starts is loaded at its boot.
 #[test]
 fn save_and_restore_are_requests_to_the_edge() {
     let t0 = std::time::Instant::now();
@@ -495,18 +541,32 @@ fn save_and_restore_are_requests_to_the_edge() {
         "a plain write asks nothing of the storage"
     );
     let sent = exchange(&mut node, [0x23, 0x10, 0x10, 0x01, b's', b'a', b'v', b'e']);
-    assert_eq!(sent, vec![f(0x585, &[0x60, 0x10, 0x10, 0x01, 0, 0, 0, 0])]);
+    assert_eq!(sent, vec![], "no answer before the edge has saved");
     let Some(StorageRequest::Save(set)) = node.poll_storage() else {
         panic!("a save request");
     };
+    // Meanwhile the node's other services go on: a heartbeat of 1000 ms leaves at t0 + 1 s.
+    node.handle_timeout(t0 + std::time::Duration::from_secs(1));
+    assert_eq!(node.poll_transmit(), Some(f(0x705, &[0x7F])));
+    assert_eq!(node.poll_transmit(), None);
+    node.storage_done(true);
+    assert_eq!(
+        node.poll_transmit(),
+        Some(f(0x585, &[0x60, 0x10, 0x10, 0x01, 0, 0, 0, 0]))
+    );
     let text = String::from_utf8(set.clone()).unwrap();
     assert!(text.starts_with("x67-node parameters 1\n"), "{text}");
     assert!(text.contains("1017:00 E803\n"), "{text}");
     assert_eq!(node.poll_storage(), None, "one request per save");
     // "load" to 0x1011:01: forget the set.
     let sent = exchange(&mut node, [0x23, 0x11, 0x10, 0x01, b'l', b'o', b'a', b'd']);
-    assert_eq!(sent, vec![f(0x585, &[0x60, 0x11, 0x10, 0x01, 0, 0, 0, 0])]);
+    assert_eq!(sent, vec![]);
     assert_eq!(node.poll_storage(), Some(StorageRequest::Clear));
+    node.storage_done(true);
+    assert_eq!(
+        node.poll_transmit(),
+        Some(f(0x585, &[0x60, 0x11, 0x10, 0x01, 0, 0, 0, 0]))
+    );
     // A new node given the saved set boots with its heartbeat of 1000 ms.
     let lines = text.lines().count();
     let mut next = build();

@@ -60,10 +60,11 @@ impl<A: Application> Core<A> {
                 if value != SAVE_SIGNATURE {
                     return Err(AbortCode::CannotStore);
                 }
-                // Taken at once; the edge writes the set (CiA 301 §7.5.2.13 leaves when to it).
+                // The edge writes the set; the answer waits until it has (CiA 301 §7.5.2.13: the
+                // answer confirms the save).
                 let set = storage::encode(&self.parameter_set());
-                self.stored = Some(set.clone());
-                self.storage_out.push_back(StorageRequest::Save(set));
+                self.request_storage(StorageRequest::Save(set.clone()));
+                self.stored = Some(set);
                 self.events.push_back(NodeEvent::Saved);
                 return Ok(true);
             }
@@ -71,8 +72,8 @@ impl<A: Application> Core<A> {
                 if value != LOAD_SIGNATURE {
                     return Err(AbortCode::CannotStore);
                 }
+                self.request_storage(StorageRequest::Clear);
                 self.stored = None;
-                self.storage_out.push_back(StorageRequest::Clear);
                 self.events.push_back(NodeEvent::Restored);
                 return Ok(true);
             }

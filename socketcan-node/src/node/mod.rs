@@ -5,7 +5,12 @@
 //! [`Node::handle_timeout`] at [`Node::poll_timeout`], and hands back the frames to send
 //! ([`Node::poll_transmit`]). No sockets, threads, files or clocks inside: the runtime at the edge owns
 //! those. "Save" (0x1010) and "restore" (0x1011) become requests the edge carries out on its storage
-//! ([`Node::poll_storage`]); the edge hands the node the set it loaded ([`Node::set_stored`]).
+//! ([`Node::poll_storage`]); the edge hands the node the set it loaded ([`Node::set_stored`]) and
+//! reports each request's outcome ([`Node::storage_done`]). Until it has, the answer that asked for
+//! the request (the SDO download response to 0x1010/0x1011, the LSS store configuration response) and
+//! the SDO and LSS answers after it wait, so that an answer says the set is kept; a failed request is
+//! answered with SDO abort 0x08000020 or LSS error 2 (storage media access error) instead. The other
+//! services (heartbeat, PDOs, EMCY, …) go on meanwhile: the edge may write on a thread of its own.
 //!
 //! # Methods and polling order
 //!
@@ -14,7 +19,8 @@
 //! 2. For every frame received: [`Node::handle_frame`] with the time it arrived.
 //! 3. When [`Node::poll_timeout`] has passed: [`Node::handle_timeout`].
 //! 4. After each of those calls, drain [`Node::poll_transmit`] (frames in the order to send),
-//!    [`Node::poll_storage`] (parameter sets to write or forget) and [`Node::poll_event`].
+//!    [`Node::poll_storage`] (parameter sets to write or forget; report each with
+//!    [`Node::storage_done`] when carried out) and [`Node::poll_event`].
 //! 5. Wait for a frame or for the next [`Node::poll_timeout`], whichever comes first.
 //!
 //! The device behind the node is an [`Application`]: it owns the manufacturer objects it declares, takes
@@ -208,6 +214,11 @@ struct Core<A: Application> {
     /// The parameter set as the edge's storage holds it (loaded at each reset).
     stored: Option<Vec<u8>>,
     storage_out: VecDeque<StorageRequest>,
+    /// The requests made whose outcome the edge has not reported yet, oldest first, each with the
+    /// stored set as it was before it (put back when it fails).
+    storage_waiting: VecDeque<Waiting>,
+    /// SDO and LSS answers held while a storage request waits for its outcome.
+    held: VecDeque<(u16, [u8; 8], u8)>,
     tx: VecDeque<(u16, [u8; 8], u8)>,
     events: VecDeque<NodeEvent>,
     // The PDO engine (`pdo_runtime`).
@@ -290,6 +301,8 @@ impl<A: Application> Node<A> {
                 app,
                 stored: None,
                 storage_out: VecDeque::new(),
+                storage_waiting: VecDeque::new(),
+                held: VecDeque::new(),
                 tx: VecDeque::new(),
                 events: VecDeque::new(),
                 rpdos: Vec::new(),
@@ -505,8 +518,19 @@ impl<A: Application> Node<A> {
             return;
         };
         let (answer, action) = lss.handle(data);
+        // The store goes to the edge first, so that its answer waits for the outcome.
+        if let LssAction::Store {
+            node_id,
+            bit_timing,
+        } = action
+        {
+            self.core.request_storage(StorageRequest::SaveLss {
+                node_id,
+                bit_timing,
+            });
+        }
         if let Some(a) = answer {
-            self.core.tx.push_back((LSS_RESPONSE, a, 8));
+            self.core.answer(LSS_RESPONSE, a);
         }
         match action {
             LssAction::None => {}
@@ -518,13 +542,7 @@ impl<A: Application> Node<A> {
                 self.core.reset(now, false);
                 self.sdo = SdoServer::new(*self.sdo.config());
             }
-            LssAction::Store {
-                node_id,
-                bit_timing,
-            } => self.core.storage_out.push_back(StorageRequest::SaveLss {
-                node_id,
-                bit_timing,
-            }),
+            LssAction::Store { .. } => {}
             LssAction::ActivateBitTiming { bit_timing, .. } => {
                 self.core.events.push_back(NodeEvent::BitTiming(bit_timing));
             }
@@ -534,7 +552,7 @@ impl<A: Application> Node<A> {
     fn flush_sdo(&mut self) {
         let id = u16::from(self.core.id);
         while let Some(f) = self.sdo.poll_transmit() {
-            self.core.tx.push_back((0x580 + id, f, 8));
+            self.core.answer(0x580 + id, f);
         }
         while let Some(e) = self.sdo.poll_event() {
             self.core.events.push_back(NodeEvent::Sdo(e));
@@ -597,9 +615,93 @@ impl<A: Application> Node<A> {
     pub fn poll_storage(&mut self) -> Option<StorageRequest> {
         self.core.storage_out.pop_front()
     }
+
+    /// The edge carried out the oldest storage request it was handed: `ok` when the set is kept (or
+    /// forgotten) as asked. The answers held for it go out ([`poll_transmit`](Node::poll_transmit));
+    /// when it failed, its answer says so (SDO abort 0x08000020 "data cannot be stored", LSS store
+    /// configuration error 2 "storage media access error", CiA 305 §8.3.6) and the node's idea of
+    /// the stored set is as before the request. An outcome without a request waiting is ignored.
+    pub fn storage_done(&mut self, ok: bool) {
+        let core = &mut self.core;
+        let Some(waiting) = core.storage_waiting.pop_front() else {
+            return;
+        };
+        if !ok {
+            if let Some(before) = waiting.stored_before {
+                core.stored = before;
+            }
+            let sdo = 0x580 + u16::from(core.id);
+            let failed = core.held.iter_mut().find(|(cob, d, _)| match waiting.kind {
+                WaitingKind::Parameters => {
+                    *cob == sdo && d[0] == 0x60 && d[2] == 0x10 && matches!(d[1], 0x10 | 0x11)
+                }
+                WaitingKind::Lss => *cob == LSS_RESPONSE && d[0] == 0x17,
+            });
+            if let Some((_, d, _)) = failed {
+                match waiting.kind {
+                    WaitingKind::Parameters => {
+                        d[0] = 0x80;
+                        d[4..].copy_from_slice(
+                            &u32::from(od::abort::AbortCode::CannotStore).to_le_bytes(),
+                        );
+                    }
+                    WaitingKind::Lss => d[1] = 2,
+                }
+            }
+        }
+        if core.storage_waiting.is_empty() {
+            core.tx.extend(core.held.drain(..));
+        }
+    }
+}
+
+/// Answers held at most while storage requests wait; the oldest goes when more come (a client keeps
+/// one SDO request open at a time, so only a misbehaving one gets there).
+const HELD_CAPACITY: usize = 16;
+
+/// A storage request whose outcome the edge has not reported yet.
+#[derive(Debug, Clone)]
+struct Waiting {
+    kind: WaitingKind,
+    /// The stored set before a save or a restore (`None` for an LSS store).
+    stored_before: Option<Option<Vec<u8>>>,
+}
+
+/// Which answer a storage request holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum WaitingKind {
+    /// 0x1010 or 0x1011 by SDO.
+    Parameters,
+    /// LSS store configuration.
+    Lss,
 }
 
 impl<A: Application> Core<A> {
+    /// Hands `request` to the edge; the answers from now on wait for its outcome.
+    fn request_storage(&mut self, request: StorageRequest) {
+        let (kind, stored_before) = match request {
+            StorageRequest::SaveLss { .. } => (WaitingKind::Lss, None),
+            _ => (WaitingKind::Parameters, Some(self.stored.clone())),
+        };
+        self.storage_waiting.push_back(Waiting {
+            kind,
+            stored_before,
+        });
+        self.storage_out.push_back(request);
+    }
+
+    /// Sends an SDO or LSS answer, or holds it while a storage request waits for its outcome.
+    fn answer(&mut self, cob: u16, data: [u8; 8]) {
+        if self.storage_waiting.is_empty() {
+            self.tx.push_back((cob, data, 8));
+        } else {
+            if self.held.len() == HELD_CAPACITY {
+                self.held.pop_front();
+            }
+            self.held.push_back((cob, data, 8));
+        }
+    }
+
     fn u32_at(&self, index: u16, sub: u8) -> Option<u32> {
         let v = &self.dict.entry(index, sub).ok()?.value;
         let mut b = [0u8; 4];
