@@ -36,6 +36,47 @@ fn smd_r6_072_073_commands_only_in_op() {
     assert_eq!(r.pos(), 1_000);
 }
 
+/// SMD-R6-073 (gap pick: the first output data in Op is the edge reference): CMD_word0 0 in
+/// Safe-Op, then the Relative bit already 1 in the first data after entering Op is no edge, nor
+/// after exchanges without new output data (`cycle_held`) before it; 0 then 0x0002 moves exactly
+/// 1,000 steps.
+#[test]
+fn smd_r6_073_the_first_op_data_is_the_edge_reference() {
+    let mut r = rig();
+    r.ix.set_network_state(NetworkState::SafeOp);
+    r.out.position = 1_000;
+    r.command(0);
+    r.ix.set_network_state(NetworkState::Op);
+    for _ in 0..3 {
+        let i = r.ix.cycle_held(MS);
+        // Position_Invalid since Op was left (SMD-R6-056).
+        assert_eq!(i.status0, 0x4408, "Module_OK, Position_Invalid, Stopped");
+    }
+    r.out.cmd0 = 0x0002;
+    for _ in 0..300 {
+        r.cycle();
+        assert_eq!(r.pos(), 0);
+        assert_eq!(r.s0(), 0x4408);
+    }
+    // Exchanges without new data keep the last: no edge either.
+    for _ in 0..3 {
+        assert_eq!(r.ix.cycle_held(MS).motor_position, 0);
+    }
+    r.command(0);
+    r.command(0x0002);
+    // Velocity 5,000 with 20,000 steps/s² ramps: 1,000 steps peak at √(141² + 20,000,000) = 4,474
+    // steps/s after 216.7 ms, and take 433 ms.
+    for _ in 0..600 {
+        r.cycle();
+    }
+    assert_eq!(r.pos(), 1_000);
+    assert_eq!(
+        r.s0(),
+        0x4488,
+        "Module_OK, Position_Invalid, Move_Complete, Stopped"
+    );
+}
+
 /// SMD-R6-056: leaving Op and coming back makes the position invalid; a move running then stops at
 /// once without Move_Complete.
 #[test]

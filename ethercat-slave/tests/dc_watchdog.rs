@@ -301,6 +301,8 @@ fn smd_r1_036_link_loss_leaves_safe_op_until_requested() {
         cmd1: 0x8000,
         ..Outputs::default()
     };
+    // The first image in Op is the edge reference (SMD-R6-073): 0 first, then the preset's edge.
+    lrw(&mut c, &[Outputs::default(), Outputs::default()]);
     lrw(&mut c, &[preset, preset]);
     lrw(&mut c, &[Outputs::default(), Outputs::default()]);
     let (_, inputs) = lrw(&mut c, &[Outputs::default(), Outputs::default()]);

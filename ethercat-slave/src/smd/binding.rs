@@ -383,6 +383,9 @@ fn check_entry(dict: &Dictionary, e: &Entry) -> Result<(), Mismatch> {
 pub struct SmdModel {
     indexer: Indexer,
     outputs: Outputs,
+    /// `outputs` were written (by process data) since the last exchange: new output data for the
+    /// indexer (the first in Op is its edge reference, SMD-R6-073).
+    fresh: bool,
 }
 
 /// A little-endian value of up to 8 bytes.
@@ -434,6 +437,7 @@ impl DeviceHook for SmdModel {
         let v = le(data);
         match at.index {
             OUTPUTS_INDEX => {
+                self.fresh = true;
                 let o = &mut self.outputs;
                 match at.sub {
                     1 => o.cmd0 = v as u16,
@@ -510,6 +514,8 @@ impl SmdUnit {
             model: SmdModel {
                 indexer: Indexer::new(kind, config),
                 outputs,
+                // The master has sent nothing yet.
+                fresh: false,
             },
         })
     }
@@ -600,6 +606,7 @@ impl SmdUnit {
     /// What a process-data frame of the master does: sets the output image `0x7000:01–08`.
     pub fn write_outputs(&mut self, outputs: &Outputs) {
         self.model.outputs = *outputs;
+        self.model.fresh = true;
     }
 
     /// The output image `0x7000:01–08` as the unit reads it.
@@ -624,16 +631,25 @@ impl SmdUnit {
         image.pack(&self.dict, &self.model, out);
     }
 
-    /// One process-data exchange at `now`: the output image to [`Indexer::exchange`], and the inputs
-    /// it answers.
+    /// One process-data exchange at `now`: the output image to [`Indexer::exchange`] when it was
+    /// written since the last exchange, else [`Indexer::exchange_held`] (no new output data: after
+    /// entering Op the first image written is the edge reference, SMD-R6-073); the inputs it answers.
     pub fn exchange(&mut self, now: Instant) -> Inputs {
-        self.model.indexer.exchange(now, self.model.outputs)
+        if std::mem::take(&mut self.model.fresh) {
+            self.model.indexer.exchange(now, self.model.outputs)
+        } else {
+            self.model.indexer.exchange_held(now)
+        }
     }
 
-    /// One process-data exchange of `dt`, without a clock: the output image to [`Indexer::cycle`],
-    /// and the inputs it answers.
+    /// One process-data exchange of `dt`, without a clock: as [`SmdUnit::exchange`], with
+    /// [`Indexer::cycle`] or [`Indexer::cycle_held`]; the inputs it answers.
     pub fn cycle(&mut self, dt: Duration) -> Inputs {
-        self.model.indexer.cycle(self.model.outputs, dt)
+        if std::mem::take(&mut self.model.fresh) {
+            self.model.indexer.cycle(self.model.outputs, dt)
+        } else {
+            self.model.indexer.cycle_held(dt)
+        }
     }
 }
 

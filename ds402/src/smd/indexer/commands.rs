@@ -41,7 +41,7 @@ const MOVE_BITS: u16 = cmd0::ABSOLUTE_MOVE
 impl Indexer {
     /// Acts on new output data (the edges against the previous data).
     pub(super) fn take(&mut self, out: Outputs) {
-        let prev = std::mem::replace(&mut self.prev, out);
+        let mut prev = std::mem::replace(&mut self.prev, out);
         // Command_Acknowledge falls when the host clears the acknowledged bit (SMD-R6-064).
         if let Some(bit) = self.acknowledged {
             if out.cmd0 & bit == 0 {
@@ -50,6 +50,11 @@ impl Indexer {
         }
         if self.network != NetworkState::Op {
             return; // SMD-R6-073: no commands outside Op.
+        }
+        if std::mem::take(&mut self.edge_reference_pending) {
+            // SMD-R6-073 gap pick: the first output data in Op is the edge reference; a bit already
+            // 1 in it is no edge, whatever was seen before Op.
+            prev = out;
         }
         // CMD_word0 bit 15, SMD-R6-010 gap pick: Mode_Select = 1 processes no commands and stops
         // the heartbeat.

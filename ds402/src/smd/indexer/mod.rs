@@ -65,8 +65,10 @@
 //!   Deceleration (linear) so as to reach V_S exactly at the end. in.Jerk reports the first segment's.
 //! - Indexed commands are checked when they are triggered, not when they are latched.
 //! - The model starts in Op (as after the master's start-up); [`Indexer::set_network_state`] moves it.
-//!   Leaving Op stops a move at once and makes the position invalid (SMD-R6-056 gap); the output data
-//!   seen outside Op is the edge reference for the first Op data (SMD-R6-073 gap).
+//!   Leaving Op stops a move at once and makes the position invalid (SMD-R6-056 gap); the first
+//!   output data after entering Op is its own edge reference: a bit already 1 in it is no edge
+//!   (SMD-R6-073 gap). [`Indexer::exchange_held`] is an exchange without new output data (none came
+//!   from the master), which takes no edge and no reference.
 //!
 //! # Methods and polling order
 //!
@@ -172,6 +174,9 @@ pub struct Indexer {
     /// The last cycle's length, seconds (a Blend looks one cycle ahead to brake in time).
     last_dt: f64,
     network: NetworkState,
+    /// Op was entered and no output data has come since: the first that comes is the edge
+    /// reference (SMD-R6-073).
+    edge_reference_pending: bool,
     /// DC_Sync: the new move waits for SYNC0, then for its start delay.
     sync_wait: Option<SyncWait>,
     /// CMD_word0 bit 15 (Mode_Select) is 1: configuration mode, nothing processed.
@@ -236,6 +241,7 @@ impl Indexer {
             pending_index: None,
             last_dt: 0.001,
             network: NetworkState::Op,
+            edge_reference_pending: false,
             sync_wait: None,
             mode_flag: false,
             heartbeat_time: Duration::ZERO,
@@ -314,21 +320,49 @@ impl Indexer {
     /// the motion since the previous exchange (none before the first, without [`Indexer::start`]),
     /// returns the inputs.
     pub fn exchange(&mut self, now: Instant, out: Outputs) -> Inputs {
+        let dt = self.since_last_exchange(now);
+        self.run(Some(out), dt)
+    }
+
+    /// One process-data exchange at `now` without new output data (the master's did not come): the
+    /// last output data stays in force, no edge is taken from it, and after entering Op the first
+    /// output data still to come is the edge reference (SMD-R6-073).
+    pub fn exchange_held(&mut self, now: Instant) -> Inputs {
+        let dt = self.since_last_exchange(now);
+        self.run(None, dt)
+    }
+
+    /// The time since the last exchange (none before the first, without [`Indexer::start`]); now is
+    /// the last.
+    fn since_last_exchange(&mut self, now: Instant) -> Duration {
         let dt = self
             .last_exchange
             .map_or(Duration::ZERO, |t| now.saturating_duration_since(t));
         self.last_exchange = Some(self.last_exchange.map_or(now, |t| t.max(now)));
-        self.cycle(out, dt)
+        dt
     }
 
     /// One process-data exchange: takes `out`, acts on the inputs and on the commands, runs `dt` of
     /// motion, returns the inputs.
     pub fn cycle(&mut self, out: Outputs, dt: Duration) -> Inputs {
+        self.run(Some(out), dt)
+    }
+
+    /// [`Indexer::cycle`] without new output data (see [`Indexer::exchange_held`]).
+    pub fn cycle_held(&mut self, dt: Duration) -> Inputs {
+        self.run(None, dt)
+    }
+
+    /// One exchange of `dt`, with new output data `out` or none.
+    fn run(&mut self, out: Option<Outputs>, dt: Duration) -> Inputs {
         let was_moving = self.segment.is_some();
         self.check_driver();
         self.sense_inputs();
-        self.take(out);
-        self.follow_jog(out);
+        if let Some(out) = out {
+            self.take(out);
+        }
+        // A jog follows the output data in force: the new, or the last.
+        self.follow_jog(self.prev);
         self.advance(dt);
         if was_moving && self.segment.is_none() {
             self.stopped_since = self.time;

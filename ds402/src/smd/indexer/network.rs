@@ -23,13 +23,19 @@ pub enum NetworkState {
 pub const SYNC0_START_DELAY: Duration = Duration::from_micros(520);
 
 impl Indexer {
-    /// The EtherCAT state changes (SMD-R6-056, SMD-R6-072, SMD-R6-073).
+    /// The EtherCAT state changes (SMD-R6-056, SMD-R6-072, SMD-R6-073): leaving Op stops a move and
+    /// makes the position invalid; on entering Op the first output data to come is the edge
+    /// reference, a command bit already 1 in it is no edge.
     pub fn set_network_state(&mut self, state: NetworkState) {
         if self.network == NetworkState::Op && state != NetworkState::Op {
             if self.busy() {
                 self.stop_now();
             }
             self.position_invalid = true;
+        }
+        if self.network != NetworkState::Op && state == NetworkState::Op {
+            // SMD-R6-073: the first output data in Op is the edge reference.
+            self.edge_reference_pending = true;
         }
         self.network = state;
     }
