@@ -711,25 +711,38 @@ fn hex(bytes: &[u8]) -> String {
         .join(" ")
 }
 
-/// A `candump -L` line: `(SECONDS.MICROS) IFACE ID#DATA`, with the time in seconds.
+/// A `candump -L` line: `(SECONDS.MICROS) IFACE ID#DATA`, with the time in seconds. Anything else
+/// (a time that is no finite number, an identifier or data that is not hex digits, CAN FD) is none.
 pub fn candump_line(line: &str) -> Option<(f64, CanFrame)> {
     let (ts, rest) = line.trim().strip_prefix('(')?.split_once(") ")?;
-    let t: f64 = ts.parse().ok()?;
+    let t: f64 = ts.parse().ok().filter(|t: &f64| t.is_finite())?;
     let (_, frame) = rest.trim().split_once(' ')?;
     let (id, data) = frame.split_once('#')?;
+    let hex_digits = |x: &str| !x.is_empty() && x.bytes().all(|b| b.is_ascii_hexdigit());
+    if !hex_digits(id) {
+        return None;
+    }
     let extended = id.len() > 3;
     let raw = u32::from_str_radix(id, 16).ok()?;
     if let Some(len) = data.strip_prefix('R') {
-        let len = if len.is_empty() { 0 } else { len.parse().ok()? };
+        let len = match len {
+            "" => 0,
+            _ if len.bytes().all(|b| b.is_ascii_digit()) => len.parse().ok()?,
+            _ => return None,
+        };
         return Some((t, CanFrame::new_remote_frame(raw, extended, len)?));
     }
-    // Classic CAN only: CAN FD's `##` fails as hex below.
-    if data.len() % 2 != 0 || data.len() > 16 {
+    // Classic CAN only: CAN FD's `##` is no hex digit.
+    if data.len() % 2 != 0 || data.len() > 16 || !data.bytes().all(|b| b.is_ascii_hexdigit()) {
         return None;
     }
-    let bytes: Vec<u8> = (0..data.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(&data[i..i + 2], 16).ok())
+    let bytes: Vec<u8> = data
+        .as_bytes()
+        .chunks(2)
+        .map(|pair| {
+            let digit = |b: u8| (b as char).to_digit(16).map(|d| d as u8);
+            Some((digit(pair[0])? << 4) | digit(pair[1])?)
+        })
         .collect::<Option<_>>()?;
     let frame = if extended {
         CanFrame::new_extended(raw, &bytes)?
@@ -916,6 +929,31 @@ mod tests {
         assert_eq!(
             candump(at, "can0", &f(0x181, &[1, 2])),
             "(1700000000.250001) can0 181#0102"
+        );
+    }
+
+    /// What is no `candump -L` frame, whatever its bytes, is none: hex digits cut in the middle of
+    /// a character, a sign before an identifier or a data byte, a time that is no finite number.
+    #[test]
+    fn odd_text_is_no_frame() {
+        for bad in [
+            "(1.0) can0 123#a\u{e9}1",
+            "(1.0) can0 123#\u{e9}\u{e9}",
+            "(1.0) can0 1\u{e9}#01",
+            "(1.0) can0 \u{e9}#01",
+            "(1.0) can0 +12#01",
+            "(1.0) can0 123#+1",
+            "(1.0) can0 #01",
+            "(1.0) can0 123#R+1",
+            "(nan) can0 123#01",
+            "(inf) can0 123#01",
+            "(-inf) can0 123#01",
+        ] {
+            assert_eq!(candump_line(bad), None, "{bad:?}");
+        }
+        assert_eq!(
+            candump_line("(1.0) can0 123#aBcD").unwrap().1,
+            f(0x123, &[0xAB, 0xCD])
         );
     }
 
