@@ -162,6 +162,12 @@ pub enum Cmd {
     /// Names every frame of a candump log (`candump -L`, or `watch --log`; `-` reads standard
     /// input): NMT, boot-up and heartbeats, SYNC, EMCY, SDO transfers reassembled with their values,
     /// and with --od and NODE the node's PDOs field by field.
+    ///
+    /// The log is read line by line: a line of more than 4096 bytes is no frame and is skipped
+    /// unread, with a warning naming its number. At the end, each SDO transfer still open gets a
+    /// line "left open" (node, entry, kind, the bytes so far, the time of its last frame; with
+    /// --json an event with "open"). The exit code stays 0 with transfers left open: a capture
+    /// stopped at any moment may end in the middle of one, and the lines say so.
     Decode {
         /// The log.
         log: PathBuf,
@@ -441,18 +447,18 @@ fn sdos(
     Ok(())
 }
 
-/// The longest line `decode` reads; a longer one is skipped.
-const MAX_LOG_LINE: u64 = 4096;
-
-/// `decode`: every frame of a candump log, named, with its time since the log's first frame.
+/// `decode`: every frame of a candump log, named, with its time since the log's first frame, read
+/// line by line in bounded memory; at the end, the SDO transfers left open.
 fn decode(
     path: &std::path::Path,
-    mut w: crate::watch::Watcher,
+    w: crate::watch::Watcher,
     json: bool,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    use std::io::{BufRead, Read};
-    let input: Box<dyn Read> = if path.as_os_str() == "-" {
+    use crate::watch::{Decoded, LogDecoder, MAX_LOG_LINE};
+    use std::io::Read;
+    let stdin = path.as_os_str() == "-";
+    let input: Box<dyn Read> = if stdin {
         Box::new(std::io::stdin())
     } else {
         let kind = std::fs::metadata(path)
@@ -465,48 +471,42 @@ fn decode(
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?,
         )
     };
-    let mut reader = std::io::BufReader::new(input);
-    let mut first = None;
-    let mut line = Vec::new();
-    let mut skipped = 0usize;
-    loop {
-        line.clear();
-        let n = (&mut reader)
-            .take(MAX_LOG_LINE)
-            .read_until(b'\n', &mut line)
-            .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?;
-        if n == 0 {
-            break;
-        }
-        if line.last() != Some(&b'\n') && n as u64 == MAX_LOG_LINE {
-            // A line longer than any log line: the rest of it is skipped.
-            let mut sink = Vec::new();
-            let _ = reader.read_until(b'\n', &mut sink);
-            skipped += 1;
-            continue;
-        }
-        let text = String::from_utf8_lossy(&line);
-        let Some((t, frame)) = crate::watch::candump_line(&text) else {
-            if !text.trim().is_empty() {
-                skipped += 1;
-            }
-            continue;
-        };
-        let t0 = *first.get_or_insert(t);
-        let t = t - t0;
-        for named in w.at(t, &frame) {
-            emit(
+    let name = if stdin {
+        "standard input".to_string()
+    } else {
+        path.display().to_string()
+    };
+    let mut log = LogDecoder::new(std::io::BufReader::new(input), w);
+    while let Some(event) = log
+        .next_event()
+        .map_err(|e| ToolError::Usage(format!("{name}: {e}")))?
+    {
+        match event {
+            Decoded::Line { t, text } => emit(
                 out,
                 json,
-                format!("{t:>10.6}  {named}"),
-                serde_json::json!({"t": t, "event": named}),
-            )?;
+                format!("{t:>10.6}  {text}"),
+                serde_json::json!({"t": t, "event": text}),
+            )?,
+            Decoded::Open { t, transfer: o } => emit(
+                out,
+                json,
+                format!("{t:>10.6}  {o}"),
+                serde_json::json!({"t": t, "event": o.to_string(), "open": {
+                    "node": o.node, "object": o.address.to_string(), "kind": o.kind,
+                    "bytes": o.bytes, "size": o.size, "last": o.last,
+                }}),
+            )?,
+            Decoded::TooLong { line } => eprintln!(
+                "sdo-tool: {name}: line {line} is longer than {MAX_LOG_LINE} bytes, no candump -L \
+                 frame: skipped"
+            ),
         }
     }
-    if skipped > 0 {
+    if let (n @ 1.., Some(first)) = log.not_frames() {
         eprintln!(
-            "sdo-tool: {skipped} line(s) of {} are no candump -L frames: skipped",
-            path.display()
+            "sdo-tool: {name}: {n} line(s) are no candump -L frames (the first: line {first}): \
+             skipped"
         );
     }
     Ok(())

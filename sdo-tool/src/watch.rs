@@ -7,7 +7,8 @@
 //! as it is when raw frames are asked for. candump's COB-ID filters and a choice of kinds narrow
 //! what is looked at and shown.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
+use std::io::BufRead;
 
 use od::dict::Dictionary;
 use od::types::DataType;
@@ -159,6 +160,91 @@ struct Transfer {
     data: Vec<u8>,
     /// A block transfer's progress.
     sub_block: SubBlock,
+    /// The size the initiate announced, when it did.
+    size: Option<u32>,
+    /// The server answered the initiate of an upload (segmented from then on).
+    answered: bool,
+    /// The time of the transfer's last frame.
+    last: f64,
+}
+
+impl Transfer {
+    /// A transfer begun by the client's initiate `d` at `now`; its size when the initiate's `s` bit
+    /// (bit 0 for a download, bit 1 for a block download) says bytes 4–7 hold it.
+    fn begun(mux: Address, upload: bool, block: bool, d: &[u8], now: f64) -> Transfer {
+        let s_bit = if block { 0x02 } else { 0x01 };
+        let size =
+            (!upload && d[0] & s_bit != 0).then(|| u32::from_le_bytes([d[4], d[5], d[6], d[7]]));
+        Transfer {
+            mux,
+            upload,
+            block,
+            data: Vec::new(),
+            sub_block: SubBlock::default(),
+            size,
+            answered: false,
+            last: now,
+        }
+    }
+
+    /// What kind of transfer it is, in words.
+    fn kind(&self) -> &'static str {
+        match (self.block, self.upload, self.answered) {
+            (true, true, _) => "block upload",
+            (true, false, _) => "block download",
+            (false, true, true) => "segmented upload",
+            // The server has not said yet whether the value comes in the answer or in segments.
+            (false, true, false) => "upload",
+            (false, false, _) => "segmented download",
+        }
+    }
+
+    /// Whether a frame with command specifier `cs` from the client (`request`) or the server is one
+    /// of this segmented transfer's, beyond the initiates and segments taken elsewhere: the
+    /// client's upload segment requests and the server's download segment answers.
+    fn paces(&self, request: bool, cs: u8) -> bool {
+        if self.upload {
+            request && cs == 3
+        } else {
+            !request && cs == 1
+        }
+    }
+}
+
+/// An SDO transfer still going on: what [`Watcher::open_transfers`] reports at the end.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OpenTransfer {
+    /// The node.
+    pub node: u8,
+    /// The entry transferred.
+    pub address: Address,
+    /// `index:sub (name)`, with the description's name where it has one.
+    pub named: String,
+    /// `segmented upload`, `segmented download`, `block upload`, `block download`, or `upload` when
+    /// the server has not answered the initiate.
+    pub kind: &'static str,
+    /// The data bytes taken so far (of a block transfer, those acknowledged).
+    pub bytes: usize,
+    /// The size the initiate announced, when it did.
+    pub size: Option<u32>,
+    /// The time of its last frame, in the watcher's seconds.
+    pub last: f64,
+}
+
+impl std::fmt::Display for OpenTransfer {
+    /// `node 3: SDO segmented upload of 0x1008:00 (Manufacturer device name) left open: 7 of 24
+    /// bytes so far, its last frame at 0.313000`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "node {}: SDO {} of {} left open: {}",
+            self.node, self.kind, self.named, self.bytes
+        )?;
+        if let Some(size) = self.size {
+            write!(f, " of {size}")?;
+        }
+        write!(f, " bytes so far, its last frame at {:.6}", self.last)
+    }
 }
 
 /// What an observer of a block transfer keeps (CiA 301 §7.2.4.3.9–16): the data side's segments of
@@ -187,6 +273,8 @@ pub struct Watcher {
     filters: Vec<CobFilter>,
     /// The kinds shown (every kind when empty).
     only: Vec<Kind>,
+    /// The time of the frame being looked at ([`Watcher::at`]'s).
+    now: f64,
 }
 
 impl Watcher {
@@ -241,6 +329,7 @@ impl Watcher {
             beats: HashMap::new(),
             filters: Vec::new(),
             only: Vec::new(),
+            now: 0.0,
         }
     }
 
@@ -286,6 +375,7 @@ impl Watcher {
     /// The lines for `frame` received at `t` (seconds): first the heartbeats found missing by then
     /// ([`Watcher::missed`]), then the frame's own.
     pub fn at(&mut self, t: f64, frame: &CanFrame) -> Vec<String> {
+        self.now = t;
         let mut lines = self.missed(t);
         if !self.takes(frame) {
             return lines;
@@ -383,10 +473,19 @@ impl Watcher {
         let mut aborted = cs == 4;
         if self.transfers.get(&id).is_some_and(|t| t.block) {
             let mut t = self.transfers.remove(&id).expect("looked up");
+            t.last = self.now;
             let b = &mut t.sub_block;
             if request != t.upload {
                 aborted = d[0] == 0x80 && !b.all_in;
                 if !aborted {
+                    // The server's initiate answer of an upload (0xC0 with s and sc bits), before
+                    // any segment: the size when it gives one.
+                    if t.upload && !t.answered && b.pending.is_empty() && d[0] & 0xE1 == 0xC0 {
+                        t.answered = true;
+                        if d[0] & 0x02 != 0 {
+                            t.size = Some(u32::from_le_bytes([d[4], d[5], d[6], d[7]]));
+                        }
+                    }
                     if !b.all_in {
                         // A segment. The server's initiate answer of an upload, before the
                         // client's start, comes here too; its sequence number (0x40 to 0x46) is
@@ -453,61 +552,30 @@ impl Watcher {
                     self.value(mux, data)
                 )),
                 None => {
-                    self.transfers.insert(
-                        id,
-                        Transfer {
-                            mux,
-                            upload: false,
-                            block: false,
-                            data: Vec::new(),
-                            sub_block: SubBlock::default(),
-                        },
-                    );
+                    let t = Transfer::begun(mux, false, false, d, self.now);
+                    self.transfers.insert(id, t);
                     None
                 }
             },
             (true, 2, _) => {
-                self.transfers.insert(
-                    id,
-                    Transfer {
-                        mux,
-                        upload: true,
-                        block: false,
-                        data: Vec::new(),
-                        sub_block: SubBlock::default(),
-                    },
-                );
+                let t = Transfer::begun(mux, true, false, d, self.now);
+                self.transfers.insert(id, t);
                 None
             }
             // Block download (0xC0–0xC7 with bit 0 clear) or upload (0xA0, 0xA4) begun by the client.
             (true, 6, _) if d[0] & 0x01 == 0 => {
-                self.transfers.insert(
-                    id,
-                    Transfer {
-                        mux,
-                        upload: false,
-                        block: true,
-                        data: Vec::new(),
-                        sub_block: SubBlock::default(),
-                    },
-                );
+                let t = Transfer::begun(mux, false, true, d, self.now);
+                self.transfers.insert(id, t);
                 None
             }
             (true, 5, _) if d[0] & 0x03 == 0 => {
-                self.transfers.insert(
-                    id,
-                    Transfer {
-                        mux,
-                        upload: true,
-                        block: true,
-                        data: Vec::new(),
-                        sub_block: SubBlock::default(),
-                    },
-                );
+                let t = Transfer::begun(mux, true, true, d, self.now);
+                self.transfers.insert(id, t);
                 None
             }
             // Download segment: data after byte 0, 7 − n of them, c = last.
             (true, 0, Some(mut t)) if !t.upload && !t.block => {
+                t.last = self.now;
                 let (data, last) = segment(d);
                 t.data.extend_from_slice(data);
                 if !last {
@@ -530,20 +598,31 @@ impl Watcher {
                     self.value(mux, data)
                 )),
                 None => {
-                    if let Some(t) = t {
+                    if let Some(mut t) = t {
+                        // The answer to the upload going on: segments follow, the size when `s`
+                        // says bytes 4–7 hold it.
+                        if t.upload && !t.block {
+                            t.answered = true;
+                            t.last = self.now;
+                            if d[0] & 0x01 != 0 {
+                                t.size = Some(u32::from_le_bytes([d[4], d[5], d[6], d[7]]));
+                            }
+                        }
                         self.transfers.insert(id, t);
                     }
                     None
                 }
             },
             // Initiate download response: the end of an expedited download; a segmented one goes on.
-            (false, 3, Some(t)) if !t.upload && !t.block => {
+            (false, 3, Some(mut t)) if !t.upload && !t.block => {
+                t.last = self.now;
                 self.transfers.insert(id, t);
                 None
             }
             (false, 3, _) => Some(format!("{who} written {}", self.named(mux))),
             // Upload segment: data after byte 0, 7 − n of them, c = last.
             (false, 0, Some(mut t)) if t.upload && !t.block => {
+                t.last = self.now;
                 let (data, last) = segment(d);
                 t.data.extend_from_slice(data);
                 if !last {
@@ -558,12 +637,38 @@ impl Watcher {
                 ))
             }
             (_, _, t) => {
-                if let Some(t) = t {
+                if let Some(mut t) = t {
+                    if t.paces(request, cs) {
+                        t.last = self.now;
+                    }
                     self.transfers.insert(id, t);
                 }
                 None
             }
         }
+    }
+
+    /// The SDO transfers still going on, by node (none when SDO lines are not shown): what a log
+    /// that ends, or a watch that stops, leaves open.
+    pub fn open_transfers(&self) -> Vec<OpenTransfer> {
+        if !self.shows(Kind::Sdo) {
+            return Vec::new();
+        }
+        let mut open: Vec<OpenTransfer> = self
+            .transfers
+            .iter()
+            .map(|(&node, t)| OpenTransfer {
+                node,
+                address: t.mux,
+                named: self.named(t.mux),
+                kind: t.kind(),
+                bytes: t.data.len(),
+                size: t.size,
+                last: t.last,
+            })
+            .collect();
+        open.sort_by_key(|o| o.node);
+        open
     }
 
     fn wanted(&self, id: u8) -> bool {
@@ -750,6 +855,189 @@ pub fn candump_line(line: &str) -> Option<(f64, CanFrame)> {
         CanFrame::new(u16::try_from(raw).ok()?, &bytes)?
     };
     Some((t, frame))
+}
+
+/// The longest line of a log [`LogLines`] hands on, in bytes (a `candump -L` line of a classic
+/// frame is under 60); a longer one is skipped without being kept.
+pub const MAX_LOG_LINE: usize = 4096;
+
+/// A line of a log as [`LogLines`] reads it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LogLine<'a> {
+    /// The line's bytes, without its line end.
+    Text(&'a [u8]),
+    /// A line longer than the limit: its bytes were read past, not kept.
+    TooLong,
+}
+
+/// The lines of a log read in bounded memory: a line is kept only up to a limit; the rest of a
+/// longer one is read and dropped as it comes, whatever its length, so that no line is ever held
+/// whole.
+pub struct LogLines<R> {
+    input: R,
+    line: Vec<u8>,
+    max: usize,
+    number: u64,
+}
+
+impl<R: BufRead> LogLines<R> {
+    /// The lines of `input`, each kept up to `max` bytes.
+    pub fn new(input: R, max: usize) -> LogLines<R> {
+        LogLines {
+            input,
+            line: Vec::new(),
+            max,
+            number: 0,
+        }
+    }
+
+    /// The next line with its number (from 1); `None` at the end of the input. The last line may
+    /// have no line end.
+    pub fn next_line(&mut self) -> std::io::Result<Option<(u64, LogLine<'_>)>> {
+        self.line.clear();
+        let mut too_long = false;
+        let mut any = false;
+        loop {
+            let buf = match self.input.fill_buf() {
+                Ok(b) => b,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            };
+            if buf.is_empty() {
+                if !any {
+                    return Ok(None);
+                }
+                break;
+            }
+            any = true;
+            let (part, used, end) = match buf.iter().position(|&b| b == b'\n') {
+                Some(i) => (&buf[..i], i + 1, true),
+                None => (buf, buf.len(), false),
+            };
+            if !too_long {
+                if self.line.len() + part.len() <= self.max {
+                    self.line.extend_from_slice(part);
+                } else {
+                    too_long = true;
+                    self.line.clear();
+                }
+            }
+            self.input.consume(used);
+            if end {
+                break;
+            }
+        }
+        self.number += 1;
+        let line = if too_long {
+            LogLine::TooLong
+        } else {
+            LogLine::Text(&self.line)
+        };
+        Ok(Some((self.number, line)))
+    }
+}
+
+/// What [`LogDecoder`] makes of a log, one at a time.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Decoded {
+    /// A line about the bus at `t`, in seconds since the log's first frame.
+    Line {
+        /// Seconds since the log's first frame.
+        t: f64,
+        /// What the watcher says.
+        text: String,
+    },
+    /// At the end of the log: an SDO transfer still going on (`t`: the log's last frame).
+    Open {
+        /// The log's last frame, in seconds since its first.
+        t: f64,
+        /// The transfer.
+        transfer: OpenTransfer,
+    },
+    /// Line `line` (from 1) is longer than [`MAX_LOG_LINE`]: no frame, skipped unread.
+    TooLong {
+        /// The line's number, from 1.
+        line: u64,
+    },
+}
+
+/// `sdo-tool decode`: a `candump -L` log read line by line in bounded memory through a
+/// [`Watcher`], pulled one [`Decoded`] at a time; at the end, the transfers left open.
+pub struct LogDecoder<R> {
+    lines: LogLines<R>,
+    watcher: Watcher,
+    /// The first frame's time, the last frame's (since the first).
+    first: Option<f64>,
+    last: f64,
+    queue: VecDeque<Decoded>,
+    ended: bool,
+    not_frames: u64,
+    first_not_frame: Option<u64>,
+}
+
+impl<R: BufRead> LogDecoder<R> {
+    /// Decodes `input` with `watcher`.
+    pub fn new(input: R, watcher: Watcher) -> LogDecoder<R> {
+        LogDecoder {
+            lines: LogLines::new(input, MAX_LOG_LINE),
+            watcher,
+            first: None,
+            last: 0.0,
+            queue: VecDeque::new(),
+            ended: false,
+            not_frames: 0,
+            first_not_frame: None,
+        }
+    }
+
+    /// The next thing decoded; `None` once the log and its open transfers are all told.
+    pub fn next_event(&mut self) -> std::io::Result<Option<Decoded>> {
+        loop {
+            if let Some(d) = self.queue.pop_front() {
+                return Ok(Some(d));
+            }
+            if self.ended {
+                return Ok(None);
+            }
+            let Some((number, line)) = self.lines.next_line()? else {
+                self.ended = true;
+                let t = self.last;
+                self.queue.extend(
+                    self.watcher
+                        .open_transfers()
+                        .into_iter()
+                        .map(|transfer| Decoded::Open { t, transfer }),
+                );
+                continue;
+            };
+            let bytes = match line {
+                LogLine::Text(bytes) => bytes,
+                LogLine::TooLong => {
+                    self.queue.push_back(Decoded::TooLong { line: number });
+                    continue;
+                }
+            };
+            let text = String::from_utf8_lossy(bytes);
+            let Some((t, frame)) = candump_line(&text) else {
+                if !text.trim().is_empty() {
+                    self.not_frames += 1;
+                    self.first_not_frame.get_or_insert(number);
+                }
+                continue;
+            };
+            let t = t - *self.first.get_or_insert(t);
+            self.last = t;
+            let lines = self.watcher.at(t, &frame);
+            self.queue
+                .extend(lines.into_iter().map(|text| Decoded::Line { t, text }));
+        }
+    }
+
+    /// The lines of at most [`MAX_LOG_LINE`] bytes that were no frame (blank lines aside): how
+    /// many, and the first one's number.
+    pub fn not_frames(&self) -> (u64, Option<u64>) {
+        (self.not_frames, self.first_not_frame)
+    }
 }
 
 /// `frame` as a `candump -L` line received at `at` on `iface`.
@@ -955,6 +1243,37 @@ mod tests {
             candump_line("(1.0) can0 123#aBcD").unwrap().1,
             f(0x123, &[0xAB, 0xCD])
         );
+    }
+
+    /// Lines read through a 3-byte buffer, at most 5 bytes kept: one of exactly 5, one of 6 (too
+    /// long, not kept), an empty one, one ending in CR LF (the CR is the line's), and a last line
+    /// without a line end, too long; then the end. A short last line without its end is a line.
+    #[test]
+    fn log_lines_are_kept_up_to_the_limit() {
+        let input: &[u8] = b"abc\n12345\n123456\n\nxy\r\n0123456789abcdef";
+        let mut lines = LogLines::new(std::io::BufReader::with_capacity(3, input), 5);
+        let mut got = Vec::new();
+        while let Some((n, line)) = lines.next_line().unwrap() {
+            got.push((n, format!("{line:?}")));
+        }
+        let text = |b: &[u8]| format!("{:?}", LogLine::Text(b));
+        let too_long = format!("{:?}", LogLine::TooLong);
+        assert_eq!(
+            got,
+            [
+                (1, text(b"abc")),
+                (2, text(b"12345")),
+                (3, too_long.clone()),
+                (4, text(b"")),
+                (5, text(b"xy\r")),
+                (6, too_long),
+            ]
+        );
+        let mut lines = LogLines::new(&b"a\nb"[..], 5);
+        assert_eq!(lines.next_line().unwrap(), Some((1, LogLine::Text(b"a"))));
+        assert_eq!(lines.next_line().unwrap(), Some((2, LogLine::Text(b"b"))));
+        assert_eq!(lines.next_line().unwrap(), None);
+        assert_eq!(LogLines::new(&b""[..], 5).next_line().unwrap(), None);
     }
 
     /// Expedited transfers by their `e`, `s` and `n` bits: 4 bytes without the size, 3 with n = 1, 2
