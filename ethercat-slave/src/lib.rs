@@ -8,7 +8,7 @@
 //! In it: the register commands, FMMU logical addressing (LRD/LWR/LRW, byte-granular), the EEPROM
 //! interface reading an SII image (`od::sii`), the AL state machine with its SyncManager checks
 //! ([`esc::al`]), SyncManager mailboxes and buffers and the watchdog ([`esc::sm`]), Distributed Clocks
-//! ([`esc::dc`]); [`unit`] is a chain of ESCs with a device model and its CoE server behind each;
+//! ([`esc::dc`]); [`unit`](mod@unit) is a chain of ESCs with a device model and its CoE server behind each;
 //! [`smd`] puts the SMD model behind each ESC; [`generic`] any ESI's device, with a CiA 402 drive
 //! behind each drive axis; [`raw`] and [`runtime`]
 //! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line, [`node_cli`]

@@ -5,7 +5,7 @@
 //! bus), each node's timers run when [`Node::poll_timeout`] says, and the parameter sets a node saves
 //! go to its [`Station`]'s storage. It returns when `stop` is set or the bus fails.
 //!
-//! The storage is written on a thread of its own ([`Writer`]), in the order the nodes asked, so that
+//! The storage is written on a thread of its own (`Writer`), in the order the nodes asked, so that
 //! a slow disk (a write and its fsync may take a good part of a second) delays only the answer that
 //! confirms the save, never a heartbeat, a PDO or another node's answer.
 
