@@ -561,7 +561,10 @@ pub fn configure_layouts(w: &mut impl Wire, layouts: &[Layout]) -> Result<(), Ma
             (layout.outputs, out_at, out_len, 2u8),
             (layout.inputs, in_at, in_len, 1),
         ];
-        for (f, (sm, at, len, rw)) in fmmus.into_iter().enumerate() {
+        // FMMUs from 0 in the order they are used, as SOEM takes them: a unit with inputs only
+        // (and one FMMU) maps them with FMMU 0.
+        let mut f = 0;
+        for (sm, at, len, rw) in fmmus {
             let Some(sm) = sm.and_then(|n| layout.sms[n]).filter(|_| len > 0) else {
                 continue;
             };
@@ -570,7 +573,8 @@ pub fn configure_layouts(w: &mut impl Wire, layouts: &[Layout]) -> Result<(), Ma
             r.extend_from_slice(&[0, 7]);
             r.extend_from_slice(&sm.start.to_le_bytes());
             r.extend_from_slice(&[0, rw, 1, 0, 0, 0]);
-            fpwr(w, k, 0x0600 + 16 * f as u16, r)?;
+            fpwr(w, k, 0x0600 + 16 * f, r)?;
+            f += 1;
         }
     }
     Ok(())
