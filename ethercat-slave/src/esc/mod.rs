@@ -6,6 +6,16 @@
 //! for the write (3 when both); a broadcast adds per slave; ARMW/FRMW add 1 at the slave that reads and
 //! 1 at each slave that writes. Auto-increment addressing: each slave takes the datagram when its ADP
 //! is 0 and increments ADP as the frame passes.
+//!
+//! FMMUs and SyncManagers: an ESC has the ones its device has (ETG.2000: one per `Device/Fmmu` and
+//! `Device/Sm` element of the ESI, [`Esc::for_device`]), at most 16 FMMUs and 8 SyncManagers, and
+//! says how many in its ESC information (0x0004 FMMUs, 0x0005 SyncManagers; ETG.1000.4 §6.1). The
+//! register blocks past them (0x0600 + 16·n for FMMU n, up to 0x06FF; 0x0800 + 8·n for SyncManager
+//! n, up to 0x087F) are reserved (ESC datasheet section II §1, table 1: not writable, their read
+//! data meaningless): a master's write there is not taken and a read gives 0, and the datagram
+//! counts in the working counter as any register access of the addressed ESC does (section I §2.4:
+//! the ESC is addressed and the register area is not guarded by a SyncManager). An FMMU that does
+//! not exist maps nothing; a SyncManager that does not exist guards nothing.
 
 pub mod al;
 pub mod dc;
@@ -13,6 +23,8 @@ pub mod sm;
 
 pub use crate::frame::{cmd, Command};
 use crate::frame::{datagrams, DatagramAt, FrameError};
+use od::device::EthercatInfo;
+use od::DeviceDescription;
 
 /// ESC memory size.
 pub const MEMORY: usize = 0x1_0000;
@@ -23,7 +35,8 @@ pub const STATION_ALIAS: u16 = 0x0012;
 
 /// First FMMU register block (16 bytes each, ETG.1000.4 Table 57).
 pub const FMMU_BASE: u16 = 0x0600;
-/// FMMUs an ESC has here.
+/// FMMU register blocks the register map has (0x0600–0x06FF), all of them FMMUs this ESC offers: the
+/// most a device's ESC has, and the FMMUs of an ESC made without a device ([`Esc::new`]).
 pub const FMMUS: usize = 16;
 /// EEPROM (SII) control/status register.
 pub const EEPROM_CONTROL: u16 = 0x0502;
@@ -91,6 +104,10 @@ pub struct Esc {
     outputs_received: u64,
     /// The Distributed Clock.
     pub(crate) clock: dc::Clock,
+    /// The FMMUs the ESC has (0x0004): FMMU 0 up to this one, not included.
+    fmmus: usize,
+    /// The SyncManagers the ESC has (0x0005).
+    sync_managers: usize,
 }
 
 impl Default for Esc {
@@ -117,9 +134,51 @@ enum Access {
     ReadMultipleWrite,
 }
 
+/// The FMMUs and SyncManagers of a device's ESC, from its ESI (ETG.2000): one FMMU per `Fmmu`
+/// element and one SyncManager per `Sm` element, at most what this ESC offers ([`FMMUS`] and
+/// [`sm::SYNC_MANAGERS`]). An ESI without `Fmmu` elements gets the FMMUs its SyncManagers need: one
+/// per `Sm` that is not the mailbox's `MBoxOut` or `MBoxIn` (a master maps each process-data
+/// SyncManager with an FMMU of its own).
+pub fn device_counts(ec: &EthercatInfo) -> (usize, usize) {
+    let fmmus = if ec.fmmus.is_empty() {
+        ec.sync_managers
+            .iter()
+            .filter(|s| s.kind != "MBoxOut" && s.kind != "MBoxIn")
+            .count()
+    } else {
+        ec.fmmus.len()
+    };
+    (
+        fmmus.min(FMMUS),
+        ec.sync_managers.len().min(sm::SYNC_MANAGERS),
+    )
+}
+
 impl Esc {
-    /// An ESC with zeroed memory (station address 0).
+    /// An ESC with zeroed memory (station address 0) and all the FMMUs and SyncManagers it offers,
+    /// [`FMMUS`] and [`sm::SYNC_MANAGERS`]: the ESC of no device in particular.
     pub fn new() -> Esc {
+        Esc::with_counts(FMMUS, sm::SYNC_MANAGERS)
+    }
+
+    /// The ESC of `desc`'s device: the FMMUs and SyncManagers of its ESI ([`device_counts`]); an
+    /// [`Esc::new`] for a description without an EtherCAT part.
+    pub fn for_device(desc: &DeviceDescription) -> Esc {
+        match &desc.ethercat {
+            Some(ec) => {
+                let (fmmus, sync_managers) = device_counts(ec);
+                Esc::with_counts(fmmus, sync_managers)
+            }
+            None => Esc::new(),
+        }
+    }
+
+    /// An ESC with zeroed memory (station address 0), `fmmus` FMMUs and `sync_managers`
+    /// SyncManagers (at most [`FMMUS`] and [`sm::SYNC_MANAGERS`]), as its ESC information 0x0004
+    /// and 0x0005 say.
+    pub fn with_counts(fmmus: usize, sync_managers: usize) -> Esc {
+        let fmmus = fmmus.min(FMMUS);
+        let sync_managers = sync_managers.min(sm::SYNC_MANAGERS);
         let mut esc = Esc {
             mem: vec![0; MEMORY],
             sii: Vec::new(),
@@ -129,11 +188,14 @@ impl Esc {
             watchdog_expired: false,
             outputs_received: 0,
             clock: dc::Clock::default(),
+            fmmus,
+            sync_managers,
         };
-        // ESC information (0x0000–0x0009): type, revision, build, FMMUs, SyncManagers, process RAM in
-        // KiB, ports 0 and 1 MII, features: byte-oriented FMMUs, DC with 64-bit system time.
+        // ESC information (0x0000–0x0009, ETG.1000.4 §6.1): type, revision, build, FMMUs,
+        // SyncManagers, process RAM in KiB, ports 0 and 1 MII, features: byte-oriented FMMUs, DC
+        // with 64-bit system time.
         esc.store(0x0000, &[0x11, 0x00, 0x02, 0x00]);
-        esc.store(0x0004, &[FMMUS as u8, sm::SYNC_MANAGERS as u8, 60, 0x0F]);
+        esc.store(0x0004, &[fmmus as u8, sync_managers as u8, 60, 0x0F]);
         esc.store(0x0008, &0x000Du16.to_le_bytes());
         esc.store(al::AL_STATUS, &[al::AlState::Init.bits(), 0]);
         // Watchdog divider 2498 (100 µs units), PDI and process-data watchdog 1000 (100 ms), status:
@@ -144,6 +206,31 @@ impl Esc {
         esc.store(WATCHDOG_STATUS_PD, &[1, 0]);
         esc.set_position(0, 1);
         esc
+    }
+
+    /// The FMMUs the ESC has (ESC information 0x0004).
+    pub fn fmmu_count(&self) -> usize {
+        self.fmmus
+    }
+
+    /// The SyncManagers the ESC has (ESC information 0x0005).
+    pub fn sync_manager_count(&self) -> usize {
+        self.sync_managers
+    }
+
+    /// The reserved register blocks of the FMMUs and SyncManagers the ESC does not have, as
+    /// (start, length).
+    fn reserved(&self) -> [(u16, usize); 2] {
+        [
+            (
+                FMMU_BASE + 16 * self.fmmus as u16,
+                16 * (FMMUS - self.fmmus),
+            ),
+            (
+                sm::SM_BASE + 8 * self.sync_managers as u16,
+                8 * (sm::MAX_SYNC_MANAGERS - self.sync_managers),
+            ),
+        ]
     }
 
     /// Where the slave is in a chain of `n`: the DL status (ports 0 and 1 open with communication
@@ -191,7 +278,7 @@ impl Esc {
     /// output image for the watchdog time on a SyncManager with the watchdog enabled). Status 0x0440
     /// bit 0 is 0 while it stays expired; 0x0442 counts expiries.
     pub(crate) fn check_watchdog(&mut self) -> bool {
-        let guarded = (0..sm::SYNC_MANAGERS).any(|n| {
+        let guarded = (0..self.sync_managers).any(|n| {
             let sm = self.sync_manager(n);
             sm.enabled && !sm.is_mailbox() && sm.master_writes() && sm.watchdog()
         });
@@ -282,8 +369,9 @@ impl Esc {
 
     fn write_from(&mut self, ado: u16, data: &[u8]) {
         let len = data.len();
-        let sm_before = touches(ado, len, sm::SM_BASE, 8 * sm::SYNC_MANAGERS)
-            .then(|| self.load(sm::SM_BASE, 8 * sm::SYNC_MANAGERS));
+        let sm_bytes = 8 * self.sync_managers;
+        let sm_before =
+            touches(ado, len, sm::SM_BASE, sm_bytes).then(|| self.load(sm::SM_BASE, sm_bytes));
         let time_before: [u8; 8] = self.bytes_at(dc::SYSTEM_TIME);
         let kept: Vec<(u16, Vec<u8>)> = READ_ONLY
             .iter()
@@ -293,6 +381,13 @@ impl Esc {
         self.store(ado, data);
         for (r, bytes) in kept {
             self.store(r, &bytes);
+        }
+        // The blocks of FMMUs and SyncManagers the ESC does not have take nothing: they stay 0.
+        for (r, n) in self.reserved() {
+            if touches(ado, len, r, n) {
+                let r = usize::from(r);
+                self.mem[r..r + n].fill(0);
+            }
         }
         if let Some(before) = sm_before {
             self.sm_registers_written(&before);
@@ -358,9 +453,9 @@ impl Esc {
             || (self.mem[0x0103] & 0x01 != 0 && adp == self.read_u16(STATION_ALIAS))
     }
 
-    /// FMMU `n` as configured in its registers, when active.
+    /// FMMU `n` as configured in its registers, when the ESC has it and it is active.
     pub fn fmmu(&self, n: usize) -> Option<Fmmu> {
-        if n >= FMMUS {
+        if n >= self.fmmus {
             return None;
         }
         let r: [u8; 16] = self.bytes_at(FMMU_BASE + 16 * n as u16);
@@ -386,7 +481,7 @@ impl Esc {
             _ => (true, true),
         };
         let (mut read, mut wrote) = (false, false);
-        for n in 0..FMMUS {
+        for n in 0..self.fmmus {
             let Some(f) = self.fmmu(n) else { continue };
             let start = u64::from(f.logical).max(u64::from(addr));
             let end =
@@ -683,6 +778,46 @@ mod tests {
             esc.set_time(ns);
             assert_eq!(esc.sync0_passed(), passed, "at {ns} ns");
         }
+    }
+
+    /// The counts of ESI `Fmmu` and `Sm` elements (ETG.2000) as [`device_counts`] takes them: the
+    /// `Fmmu` elements as they are (also fewer than the process-data SyncManagers: one `Outputs`
+    /// FMMU over two `Outputs` SyncManagers gives 1); without any, one per SyncManager that is not
+    /// a mailbox's (none for a mailbox-only device, 2 beside MBoxOut and MBoxIn); at most 16 FMMUs
+    /// and 8 SyncManagers; and the ESC information 0x0004/0x0005 of [`Esc::with_counts`] says so.
+    #[test]
+    fn device_counts_follow_the_esi() {
+        use od::device::SyncManager;
+        let info = |fmmus: &[&str], sms: &[&str]| EthercatInfo {
+            fmmus: fmmus.iter().map(|f| f.to_string()).collect(),
+            sync_managers: sms
+                .iter()
+                .map(|k| SyncManager {
+                    kind: k.to_string(),
+                    ..SyncManager::default()
+                })
+                .collect(),
+            ..EthercatInfo::default()
+        };
+        let mbx = ["MBoxOut", "MBoxIn", "Outputs", "Inputs"];
+        assert_eq!(
+            device_counts(&info(&["Outputs", "Inputs", "MBoxState"], &mbx)),
+            (3, 4)
+        );
+        assert_eq!(
+            device_counts(&info(&["Outputs"], &["Outputs", "Outputs"])),
+            (1, 2)
+        );
+        assert_eq!(device_counts(&info(&[], &mbx)), (2, 4));
+        assert_eq!(device_counts(&info(&[], &["MBoxOut", "MBoxIn"])), (0, 2));
+        assert_eq!(device_counts(&info(&[], &[])), (0, 0));
+        assert_eq!(
+            device_counts(&info(&["Inputs"; 17], &["Inputs"; 9])),
+            (16, 8)
+        );
+        assert_eq!(Esc::with_counts(3, 4).load(0x0004, 2), [0x03, 0x04]);
+        assert_eq!(Esc::with_counts(17, 9).load(0x0004, 2), [0x10, 0x08]);
+        assert_eq!(Esc::new().load(0x0004, 2), [0x10, 0x08]);
     }
 
     /// The application's store at the end of the memory keeps what fits and leaves the rest out; the

@@ -22,8 +22,12 @@
 
 use super::Esc;
 
-/// SyncManager register blocks the ESC has.
+/// SyncManagers this ESC offers: the most a device's ESC has, and the SyncManagers of an ESC made
+/// without a device ([`Esc::new`]).
 pub const SYNC_MANAGERS: usize = 8;
+/// SyncManager register blocks the register map has (0x0800–0x087F); those past the ESC's
+/// SyncManagers are reserved.
+pub const MAX_SYNC_MANAGERS: usize = 16;
 /// First SyncManager register block.
 pub const SM_BASE: u16 = 0x0800;
 /// Where process memory starts.
@@ -87,7 +91,8 @@ pub(crate) struct Gate {
 }
 
 impl Esc {
-    /// SyncManager `n` as configured.
+    /// SyncManager `n` as configured; one the ESC does not have reads as zeros: disabled, guarding
+    /// nothing.
     pub fn sync_manager(&self, n: usize) -> SyncManager {
         let r: [u8; 8] = self.bytes_at(SM_BASE + 8 * n as u16);
         SyncManager {
@@ -115,7 +120,7 @@ impl Esc {
             // Registers: SyncManagers guard process memory only.
             return Some(gate);
         }
-        for n in 0..SYNC_MANAGERS {
+        for n in 0..self.sync_manager_count() {
             let sm = self.sync_manager(n);
             if !sm.overlaps(at, len) {
                 continue;
@@ -140,7 +145,7 @@ impl Esc {
 
     /// After an access the gate let through: mailboxes filled or emptied, write events.
     pub(crate) fn sm_after(&mut self, gate: Gate, write: bool) {
-        for n in 0..SYNC_MANAGERS {
+        for n in 0..self.sync_manager_count() {
             if gate.completes & (1 << n) == 0 {
                 continue;
             }
@@ -165,7 +170,7 @@ impl Esc {
     /// A master's write to SyncManager registers: the slave's bytes (status, PDI control) are kept,
     /// a changed or disabled SyncManager's mailbox is emptied, a toggled repeat request repeats.
     pub(crate) fn sm_registers_written(&mut self, before: &[u8]) {
-        for n in 0..SYNC_MANAGERS {
+        for n in 0..self.sync_manager_count() {
             let b = 8 * n;
             let at = SM_BASE + b as u16;
             let now: [u8; 8] = self.bytes_at(at);
@@ -198,7 +203,7 @@ impl Esc {
     /// The first SyncManager in mailbox mode the master writes (SM0), and the one it reads (SM1).
     fn mailbox_sms(&self) -> (Option<usize>, Option<usize>) {
         let mut out = (None, None);
-        for n in 0..SYNC_MANAGERS {
+        for n in 0..self.sync_manager_count() {
             let sm = self.sync_manager(n);
             if !sm.enabled || !sm.is_mailbox() {
                 continue;
@@ -254,7 +259,7 @@ impl Esc {
         } else {
             read_mailbox
         };
-        (0..SYNC_MANAGERS).find(|&n| {
+        (0..self.sync_manager_count()).find(|&n| {
             let sm = self.sync_manager(n);
             sm.enabled
                 && sm.is_mailbox()

@@ -272,7 +272,8 @@ impl Template {
         config: &DriveConfig,
         now: Instant,
     ) -> Result<(Esc, Unit<GenericUnit>), TemplateError> {
-        let mut esc = Esc::new();
+        // The ESC has the FMMUs and SyncManagers of the ESI (ETG.2000 `Fmmu`, `Sm`).
+        let mut esc = Esc::for_device(&self.desc);
         esc.sii = od::sii::write(&self.desc, serial).map_err(|source| TemplateError::Sii {
             device: self.name(),
             source,

@@ -96,7 +96,8 @@ impl UnitChain<SmdUnit> {
             .unwrap_or(128);
         let mut units = Vec::new();
         for k in 0..n {
-            let mut esc = Esc::new();
+            // The fixture ESI's FMMUs and SyncManagers (3 and 4).
+            let mut esc = Esc::for_device(&desc);
             esc.sii = od::sii::write(&desc, k as u32 + 1)?;
             esc.load_sii_configuration();
             esc.al = AlConfig::from_description(&desc);
