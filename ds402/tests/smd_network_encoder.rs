@@ -219,40 +219,64 @@ fn smd_r6_012_013_encoder_offset_in_flash() {
     );
 }
 
-/// SMD-R1-017, SMD-R6-066: Abs_Enc_Err after an unpowered rotation above 160,000 °/s², or a battery
-/// fault; never on an incremental unit.
+/// SMD-R1-017, SMD-R6-066: Abs_Enc_Err (STATUS_word1 bit 12, 0x1000) after an unpowered rotation
+/// above 160,000 °/s², or a battery fault; never on an incremental unit.
 #[test]
 fn smd_r1_017_r6_066_abs_encoder_error() {
     let mut abs = unit(EncoderKind::Absolute);
     abs.power_cycle_turned(100, 160_000.0);
-    assert_eq!(
-        abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
-        0
-    );
+    assert_eq!(abs.cycle(Outputs::default(), MS).status1 & 0x1000, 0);
     abs.power_cycle_turned(100, 160_001.0);
-    assert_ne!(
-        abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
-        0
-    );
+    assert_eq!(abs.cycle(Outputs::default(), MS).status1 & 0x1000, 0x1000);
+    // The over-acceleration is gone at the next power-up.
     abs.power_cycle();
+    assert_eq!(abs.cycle(Outputs::default(), MS).status1 & 0x1000, 0);
     abs.set_abs_encoder_fault(true);
-    assert_ne!(
-        abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
-        0
-    );
-    abs.set_abs_encoder_fault(false);
-    assert_eq!(
-        abs.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
-        0,
-        "the fault gone"
-    );
+    assert_eq!(abs.cycle(Outputs::default(), MS).status1 & 0x1000, 0x1000);
     let mut inc = unit(EncoderKind::Incremental);
     inc.set_abs_encoder_fault(true);
+    assert_eq!(inc.cycle(Outputs::default(), MS).status1 & 0x1000, 0);
     inc.power_cycle_turned(0, 1e9);
+    assert_eq!(inc.cycle(Outputs::default(), MS).status1 & 0x1000, 0);
+}
+
+/// SMD-R6-066 (R6 STATUS_word1 bit 12, p.80: "If this bit is set, cycle power to the unit. If the
+/// bit remains set, contact AMCI"): Abs_Enc_Err stays set in every update after its battery fault
+/// is gone, and through Reset Errors; a power cycle clears it once the fault is gone, and sets it
+/// again at power-up while the fault is still there.
+#[test]
+fn smd_r6_066_abs_enc_err_stays_until_a_power_cycle() {
+    let mut abs = unit(EncoderKind::Absolute);
+    abs.set_abs_encoder_fault(true);
+    // STATUS_word1 = Abs_Enc_Err 0x1000 alone (the heartbeat's first 500 ms, driver disabled).
+    assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
+    abs.set_abs_encoder_fault(false);
+    for _ in 0..300 {
+        assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
+    }
+    let reset = Outputs {
+        cmd0: 0x0400,
+        ..Outputs::default()
+    };
     assert_eq!(
-        inc.cycle(Outputs::default(), MS).status1 & stat1::ABS_ENC_ERR,
-        0
+        abs.cycle(reset, MS).status1,
+        0x3000,
+        "Reset Errors: Command_Acknowledge, Abs_Enc_Err kept"
     );
+    assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
+    // The battery is faulty again, and still at the power cycle: set at power-up.
+    abs.set_abs_encoder_fault(true);
+    abs.power_cycle();
+    for _ in 0..300 {
+        assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
+    }
+    // Mended while powered: the bit stays until the next power cycle, which clears it.
+    abs.set_abs_encoder_fault(false);
+    assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
+    abs.power_cycle();
+    for _ in 0..300 {
+        assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0);
+    }
 }
 
 /// SMD-R4-005: Preset Position leaves Encoder_Position alone and Preset Encoder Motor_Position.

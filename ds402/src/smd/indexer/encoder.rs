@@ -57,9 +57,14 @@ impl Indexer {
         }
     }
 
-    /// A battery or encoder fault of an absolute-encoder unit (Abs_Enc_Err, SMD-R6-066);
-    /// re-evaluated at power-up in the real unit, set or cleared here at once.
+    /// A battery or encoder fault of an absolute-encoder unit is present (`true`) or gone
+    /// (`false`). Present, it sets Abs_Enc_Err at once; the bit then stays set until power is
+    /// cycled, and a fault still present at power-up sets it again (SMD-R6-066: R6 STATUS_word1
+    /// bit 12, "cycle power to the unit. If the bit remains set, contact AMCI").
     pub fn set_abs_encoder_fault(&mut self, fault: bool) {
-        self.abs_encoder_error = fault && self.kind == EncoderKind::Absolute;
+        self.abs_encoder_fault = fault && self.kind == EncoderKind::Absolute;
+        if self.abs_encoder_fault {
+            self.abs_encoder_error = true;
+        }
     }
 }

@@ -31,7 +31,8 @@
 //! The EtherCAT state as the unit sees it (PreOp_SafeOp, commands only in Op, the position invalid
 //! after leaving Op, the SyncManager watchdog), Mode_Select (Mode_Flag, no commands, no heartbeat),
 //! the absolute encoder (its count kept through a power cycle, the offset of Preset Encoder kept only
-//! when saved to flash, Abs_Enc_Err) against the incremental one (zero at every power-up).
+//! when saved to flash, Abs_Enc_Err kept until a power cycle) against the incremental one (zero at
+//! every power-up).
 //! DC_Sync (CFG_Word_1 bit 6): a move waits for the next SYNC0 event and starts 520 µs after it.
 //!
 //! Choices where the manual is silent (catalogue picks unless said otherwise):
@@ -55,7 +56,11 @@
 //! - Over-temperature: the fault clears itself at or below 90 °C (hysteresis of the model,
 //!   SMD-R6-071 gap). A driver fault (over-temperature or STO) during motion ends it like an
 //!   Immediate Stop (SMD-R1-004 gap); while a driver fault is present, moves are refused with
-//!   Command_Error.
+//!   Command_Error. Drive_Is_Enabled stays 1 through an over-temperature fault and only an STO
+//!   fault (besides Enable_Driver 0 or a configuration error) clears it (SMD-R6-062 pick, against
+//!   CMD_word1 bit 15's "an Overtemperature Fault … will prevent the motor enable").
+//! - Abs_Enc_Err: once set it stays until power is cycled, whatever its cause does meanwhile; at
+//!   power-up it is set again while a battery or encoder fault is still present (SMD-R6-066).
 //! - Idle current: the motor current drops to `8010:06` % of the last move's current 1.5 s after the
 //!   motor stops (any stop) and returns as soon as it moves; a new percentage applies from the end of
 //!   the first move after it was written (SMD-R5-008).
@@ -185,7 +190,12 @@ pub struct Indexer {
     heartbeat_time: Duration,
     /// The encoder offset saved to flash (absolute units, SMD-R6-012).
     flash_encoder_offset: i64,
+    /// Abs_Enc_Err (STATUS_word1 bit 12): set by its condition, kept until power is cycled
+    /// (SMD-R6-066).
     abs_encoder_error: bool,
+    /// A battery or encoder fault of the absolute encoder is present (it stays through a power
+    /// cycle).
+    abs_encoder_fault: bool,
     move_complete: bool,
     position_invalid: bool,
     input_error: bool,
@@ -247,6 +257,7 @@ impl Indexer {
             heartbeat_time: Duration::ZERO,
             flash_encoder_offset: 0,
             abs_encoder_error: false,
+            abs_encoder_fault: false,
             move_complete: false,
             position_invalid: true,
             input_error: false,
@@ -396,7 +407,10 @@ impl Indexer {
             self.encoder_steps = old.encoder_steps;
             self.encoder_extra = old.encoder_extra + counts;
             self.encoder_base = old.flash_encoder_offset;
-            self.abs_encoder_error = peak_accel > ABS_ENCODER_MAX_ACCEL;
+            // SMD-R6-066: Abs_Enc_Err is evaluated again at power-up: set by the over-acceleration
+            // (SMD-R1-017) or by a battery or encoder fault still present, clear otherwise.
+            self.abs_encoder_fault = old.abs_encoder_fault;
+            self.abs_encoder_error = peak_accel > ABS_ENCODER_MAX_ACCEL || old.abs_encoder_fault;
         }
         self.stall_reference();
     }
