@@ -316,6 +316,62 @@ fn smd_r2_058_059_jog_speed_changes() {
     assert!((241..=245).contains(&n), "{n} ms stopping");
 }
 
+/// SMD-R2-059, SMD-R2-058: a new Velocity written in ONE update together with a new Acceleration and
+/// Deceleration ramps with the new values, and the new Deceleration rules the final stop; the old
+/// ramps would miss every position and status word below. Worked by hand (Jerk 0, linear ramps;
+/// starting speed 141 steps/s; the rig's 1 ms updates; a change's own update runs its first
+/// millisecond):
+///
+/// - Jog CW (0x0080) at Velocity 1,141 with Acceleration 1 (1,000 steps/s²): 1.000 s of ramp
+///   (641 steps), then 1,141 steps/s; 1,499 ms in: 641 + 0.499 · 1,141 = 1,210.359 steps.
+/// - Update 1,500: Velocity 5,141, Acceleration 4, Deceleration 5. Up at 4,000 steps/s²: 1.000 s,
+///   x(t) = 1,141 t + 2,000 t². 500 ms in: 1,210.359 + 570.5 + 500 = 2,280.859 (the old 1,000
+///   steps/s²: 1,905.859); 900 ms: 3,857.259; 1,100 ms, at 5,141 steps/s: 4,865.459; update 3,000:
+///   4,351.359 + 0.501 · 5,141 = 6,927.000.
+/// - Update 3,001: Velocity 2,141, Acceleration 3, Deceleration 8. Down at 8,000 steps/s²:
+///   0.375 s (the old 5,000 steps/s²: 0.600 s), x(t) = 5,141 t − 4,000 t²: 100 ms in 7,401.1;
+///   374 ms in 8,290.23, still decelerating; 376 ms in, at 2,141 steps/s; update 3,900: 8,292.375 +
+///   0.525 · 2,141 = 9,416.4.
+/// - Update 3,901: the Jog bit to 0. The stop from 2,141 to 141 steps/s at 8,000 steps/s² takes
+///   0.250 s and 285.25 steps: 120 ms in 9,416.4 + 256.92 − 57.6 = 9,615.72; it ends in update
+///   4,150 at 9,701.65, Move_Complete (0x4088).
+#[test]
+fn smd_r2_059_speed_and_ramps_changed_in_one_update() {
+    let mut r = Rig::ready_with(0, 1_141, 1, 1);
+    // Moving_CW 0x0001, Accelerating 0x0020, Decelerating 0x0040, Module_OK 0x4000.
+    let at = |r: &mut Rig, update: u32, now: &mut u32| {
+        assert!(update > *now);
+        for _ in *now..update {
+            r.cycle();
+        }
+        *now = update;
+        (r.pos(), r.s0())
+    };
+    r.command(0x0080);
+    let mut now = 1;
+    assert_eq!(at(&mut r, 1_499, &mut now), (1_210, 0x4001));
+    r.out.velocity = 5_141;
+    r.out.acceleration = 4;
+    r.out.deceleration = 5;
+    assert_eq!(at(&mut r, 1_999, &mut now), (2_281, 0x4021));
+    assert_eq!(at(&mut r, 2_399, &mut now), (3_857, 0x4021));
+    assert_eq!(at(&mut r, 2_599, &mut now), (4_865, 0x4001));
+    assert_eq!(at(&mut r, 3_000, &mut now), (6_927, 0x4001));
+    r.out.velocity = 2_141;
+    r.out.acceleration = 3;
+    r.out.deceleration = 8;
+    assert_eq!(at(&mut r, 3_100, &mut now), (7_401, 0x4041));
+    assert_eq!(at(&mut r, 3_374, &mut now), (8_290, 0x4041));
+    assert_eq!(at(&mut r, 3_376, &mut now), (8_295, 0x4001));
+    assert_eq!(at(&mut r, 3_900, &mut now), (9_416, 0x4001));
+    assert_eq!(r.ix.speed(), 2_141.0);
+    r.out.cmd0 = 0;
+    assert_eq!(at(&mut r, 4_020, &mut now), (9_616, 0x4041));
+    assert_eq!(at(&mut r, 4_149, &mut now), (9_702, 0x4041));
+    assert_eq!(at(&mut r, 4_150, &mut now), (9_702, 0x4088));
+    assert_eq!(r.s1() & 0x0200, 0, "no Invalid_Jog_Change");
+}
+
 /// SMD-R2-060, SMD-R6-069, SMD-R6-020: a Velocity below the starting speed (or an Acceleration of 0)
 /// written during a jog is refused: Invalid_Jog_Change, the jog keeps its speed, no Command_Error;
 /// valid data clears the bit; Reset Errors does not.
