@@ -57,6 +57,9 @@ fn heartbeats_keep_their_period_while_a_slow_disk_saves() {
     let stop = Arc::new(AtomicBool::new(false));
     let stop_node = Arc::clone(&stop);
     let runner = std::thread::spawn(move || {
+        // The node's thread scheduled first on a busy machine, as a node with a processor of its
+        // own (the storage thread it starts inherits this).
+        testkit::favour_this_thread();
         let mut stations = vec![Station::new(node, Box::new(storage))];
         runtime::run(&mut stations, &mut node_end, &stop_node).unwrap();
     });

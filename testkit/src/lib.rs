@@ -5,6 +5,8 @@
 //! - [`sibling_binary`]: a binary already built beside the running test (in the VM of the vcan
 //!   tests, where the runner builds first);
 //! - [`start_until_first_line`]: a server started and given the time to say where it listens;
+//! - [`favour`] and [`favour_this_thread`]: a simulated device's process or thread given a larger
+//!   share of a busy machine, as a real device has its own processor;
 //! - [`link`]: a veth pair with `smd-ethercat` running on its far end, in a network namespace of its
 //!   own.
 #![deny(missing_docs)]
@@ -16,6 +18,46 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::{Mutex, OnceLock};
+
+/// Gives process (or thread) `id` the nice value -10, so that on a machine busy with other jobs it
+/// is scheduled first when it wakes: a real device answers from a processor of its own, and the
+/// bounds the standards set on its timing (a heartbeat's period, a slave's answer within a master's
+/// frame timeout) hold only when the simulated one is not queued behind a build. Without the
+/// privilege to do so it stays as it is.
+pub fn favour(id: u32) {
+    // A nice value belongs to one thread on Linux: every thread the process has now, and those it
+    // starts later from them, which inherit it.
+    let mut ids: Vec<String> = std::fs::read_dir(format!("/proc/{id}/task"))
+        .map(|d| {
+            d.flatten()
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    if ids.is_empty() {
+        ids.push(id.to_string());
+    }
+    let _ = Command::new("renice")
+        .args(["-n", "-10", "-p"])
+        .args(&ids)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status();
+}
+
+/// [`favour`] for the calling thread (Linux gives each thread a nice value of its own).
+pub fn favour_this_thread() {
+    let tid = std::fs::read_link("/proc/thread-self")
+        .ok()
+        .and_then(|p| p.file_name()?.to_str()?.parse::<u32>().ok());
+    if let Some(tid) = tid {
+        let _ = Command::new("renice")
+            .args(["-n", "-10", "-p", &tid.to_string()])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status();
+    }
+}
 
 /// The workspace root.
 pub fn root() -> &'static Path {

@@ -115,11 +115,7 @@ impl Link {
         // A real slave answers in hardware within microseconds; masters time a frame out after a
         // few milliseconds (SOEM: 2 ms). On a machine busy with other jobs the emulator gets a
         // larger share of the CPU, so that its answers keep within that.
-        let _ = Command::new("renice")
-            .args(["-n", "-10", "-p", &child.id().to_string()])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .status();
+        crate::favour(child.id());
         self.child = Some(child);
         // The carrier of a fresh veth takes a moment.
         let deadline = Instant::now() + Duration::from_secs(5);
