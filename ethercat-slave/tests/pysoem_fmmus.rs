@@ -1,0 +1,67 @@
+//! A real EtherCAT master against a unit whose FMMUs 3…15 hold garbage: SOEM, through pysoem, runs
+//! `tests/python/pysoem_fmmus.py` on the master's end of a veth pair while `ethercat-node` runs the
+//! example I/O device (three ESI `Fmmu` elements, four `Sm`) on the other (see `testkit::link`).
+//! The script reads ESC information 0x0004/0x0005 (03 04, ETG.1000.4 §6.1), writes FMMUs 3…15 by
+//! FPWR with a read-write mapping of the unit's inputs onto its outputs SyncManager (ETG.1000.4
+//! Table 57) and reads them back as zeros (reserved registers: the ESC has three FMMUs), then starts
+//! again with a fresh master, which zeroes FMMUs 0–2 only: the unit goes to Op, every working counter
+//! is 3, SM2's buffer and the unit's 0x7000/0x7010 hold the master's outputs, and the FMMU registers
+//! read FMMU 0 and 1 as SOEM set them and 224 zero bytes. The script checks every value it sees and
+//! exits non-zero on the first mismatch; its output and the emulator's log are shown when it does.
+//!
+//! Needs root (a network namespace, a veth pair, raw sockets) and pysoem (`pip install pysoem`):
+//! without either the test fails and says why; it is never skipped.
+
+use std::process::Command;
+use std::time::Duration;
+
+use testkit::link;
+
+#[path = "common/pysoem.rs"]
+#[allow(dead_code)]
+mod pysoem_master;
+use pysoem_master::preflight;
+
+#[test]
+fn pysoem_restarts_a_unit_with_garbage_in_fmmus_3_to_15_to_op() {
+    preflight();
+    let script = format!(
+        "{}/tests/python/pysoem_fmmus.py",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mut link = link::Link::node(&["--esi", "examples/io-device.esi.xml"]);
+    assert!(
+        link.running(),
+        "ethercat-node stopped at once: {}",
+        link.stop()
+    );
+    let testkit::Finished {
+        status,
+        stdout,
+        stderr,
+    } = testkit::run_for_at_most(
+        Command::new("python3").arg(script).arg(&link.master),
+        Duration::from_secs(60),
+    );
+    let alive = link.running();
+    let log = link.stop();
+    let report = format!(
+        "--- pysoem_fmmus.py stdout:\n{stdout}--- stderr:\n{stderr}--- emulator log:\n{log}"
+    );
+    let status = status.unwrap_or_else(|| panic!("the pysoem master ran over 60 s\n{report}"));
+    assert!(
+        status.success(),
+        "the pysoem master failed ({status})\n{report}"
+    );
+    assert!(alive, "ethercat-node had stopped by the end\n{report}");
+    let (answered, dropped) =
+        link::frame_counts(&log).unwrap_or_else(|| panic!("no frame counts in the log\n{report}"));
+    assert!(answered > 0, "no frames answered\n{report}");
+    assert_eq!(dropped, 0, "SOEM's frames are all well-formed\n{report}");
+    let summary = stdout.lines().last().unwrap_or_default();
+    assert!(
+        summary.contains("to Op after a restart"),
+        "{summary}\n{report}"
+    );
+    println!("{summary}");
+}
