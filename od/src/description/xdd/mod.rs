@@ -20,7 +20,11 @@
 //!   (English preferred), the type as a child element (`<UINT/>`) or `dataTypeIDRef`, `defaultValue`,
 //!   `actualValue`, `allowedValues/range/minValue|maxValue`, and CANopenNode's
 //!   `property name="CO_stringLengthMin"` (the byte capacity of a VISIBLE_STRING or OCTET_STRING).
-//!   `dataTypeList`: `array`, `struct`, `enum`, `derived` (name, element or base type).
+//!   `dataTypeList`: `array`, `struct`, `enum`, `derived` (name, element or base type). The types are
+//!   checked, never expanded: an array's `subrange` (its elements are an ARRAY's sub-indices) and a
+//!   struct's `varDeclaration`s (a RECORD's entries) must fit sub-indices 0x00–0xFE, and the
+//!   `dataTypeIDRef`s between types must name a type and never lead back to the type they are in.
+//!   An object's `subNumber` may not exceed the 256 sub-indices.
 //! - `ApplicationLayers/CANopenObjectList`: `CANopenObject` and `CANopenSubObject` with `index`, `subIndex`,
 //!   `name`, `objectType`, `dataType` (4 hex digits), `accessType`, `defaultValue` (also `$NODEID+0x180`,
 //!   CiA 306 §4.6.2), `lowLimit`, `highLimit`, `actualValue`, `PDOmapping` (`no` → none, `RPDO`, `TPDO`,
@@ -50,8 +54,9 @@
 //! The two profile bodies may come in either order: the reader streams the file once, keeps small
 //! per-object and per-parameter records, and resolves the references at the end. Element names are matched
 //! without their namespace prefix (CANopenEditor writes `q1:parameter`). Unknown elements and attributes are
-//! skipped; a wrong value of a known one, a dangling `uniqueIDRef` and a duplicate index, sub-index or
-//! `uniqueID` are errors naming the file, line and column.
+//! skipped; a wrong value of a known one, a dangling `uniqueIDRef`, a type made of itself, an array or a
+//! struct of more entries than there are sub-indices, and a duplicate index, sub-index or `uniqueID` are
+//! errors naming the file, line and column.
 //!
 //! A parameter's `description` (else its `label` when that differs from the entry's name) is the description
 //! of the object or sub-object that refers to it; an object whose value is inline (a VAR) gets it as the

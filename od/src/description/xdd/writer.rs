@@ -461,13 +461,24 @@ fn write_type(w: &mut XmlWriter, o: &Object) {
     let id = type_id(o.index);
     if o.kind == ObjectKind::Array {
         w.start("array", &[("name", name), ("uniqueID", &id)]);
-        let upper = o.max_sub().max(1).to_string();
+        // The elements are the sub-indices up to 0xFE: an entry at 0xFF describes the object's
+        // structure and is none.
+        let upper = o
+            .subs
+            .keys()
+            .copied()
+            .filter(|&s| s < 0xFF)
+            .max()
+            .unwrap_or(0)
+            .max(1)
+            .to_string();
         w.empty("subrange", &[("lowerLimit", "1"), ("upperLimit", &upper)]);
         w.empty(type_element(element_type(o)), &[]);
         w.end();
     } else {
         w.start("struct", &[("name", name), ("uniqueID", &id)]);
-        for (&s, sub) in &o.subs {
+        // The members are the entries up to 0xFE, as for an array.
+        for (&s, sub) in o.subs.range(..0xFF) {
             w.start(
                 "varDeclaration",
                 &[("name", &sub.name), ("uniqueID", &format!("{id}_{s:02X}"))],
@@ -841,6 +852,39 @@ mod tests {
             text.contains("<CANopenSubObject subIndex=\"00\" name=\"Value\""),
             "{text}"
         );
+        let mut back = super::super::read(text.as_bytes(), "t.xdd").unwrap();
+        back.file_info = d.file_info.clone();
+        back.can = None;
+        assert_eq!(back, d);
+    }
+
+    /// An ARRAY and a RECORD with every sub-index, 0xFF's structure entry too: the array's
+    /// elements go to 0xFE (`upperLimit="254"`), the struct has the 255 members up to 0xFE; the
+    /// file reads back as it was, with the 256 sub-objects of each.
+    #[test]
+    fn objects_with_every_sub_index_are_written_as_a_reader_takes_them() {
+        let mut d = DeviceDescription::default();
+        for (index, kind, name) in [
+            (0x2000, ObjectKind::Array, "ALL"),
+            (0x2001, ObjectKind::Record, "REC"),
+        ] {
+            let mut o = Object::structured(index, "All", kind);
+            for s in 0..=0xFFu8 {
+                o.subs.insert(
+                    s,
+                    SubObject::new(format!("e{s}"), DataType::Unsigned8, AccessType::Ro),
+                );
+            }
+            o.type_name = Some(name.into());
+            d.dictionary.insert(o);
+        }
+        let text = write(&d);
+        assert!(
+            text.contains("<subrange lowerLimit=\"1\" upperLimit=\"254\"/>"),
+            "{text}"
+        );
+        assert!(text.contains("uniqueID=\"UID_DT_2001_FE\""), "{text}");
+        assert!(!text.contains("uniqueID=\"UID_DT_2001_FF\""), "{text}");
         let mut back = super::super::read(text.as_bytes(), "t.xdd").unwrap();
         back.file_info = d.file_info.clone();
         back.can = None;

@@ -16,6 +16,7 @@ use crate::value::Value;
 impl<'a> Scan<'a> {
     /// Resolves the references and builds the description.
     pub(super) fn finish(mut self) -> Result<(DeviceDescription, Vec<Finding>), ParseError> {
+        self.check_data_types()?;
         let node_id = self
             .commissioning
             .as_ref()
@@ -78,6 +79,97 @@ impl<'a> Scan<'a> {
         desc.commissioning = self.commissioning.take();
         desc.dictionary = dictionary;
         Ok((desc, self.doc.take_findings()))
+    }
+
+    /// The `dataTypeIDRef`s between the types of the `dataTypeList`: each names a type, and none
+    /// leads back to the type it is in (a type made of itself has no size). A depth-first walk
+    /// without recursion, in file order, each type and reference looked at once.
+    fn check_data_types(&self) -> Result<(), ParseError> {
+        let mut types: Vec<(&str, &DtRec)> = self
+            .data_types
+            .iter()
+            .map(|(id, dt)| (id.as_ref(), dt))
+            .collect();
+        types.sort_by_key(|(_, dt)| dt.offset);
+        let number: std::collections::HashMap<&str, usize> = types
+            .iter()
+            .enumerate()
+            .map(|(k, (id, _))| (*id, k))
+            .collect();
+        let mut edges: Vec<Vec<(usize, usize)>> = Vec::with_capacity(types.len());
+        for (_, dt) in &types {
+            let mut to = Vec::with_capacity(dt.refs.len());
+            for (r, at) in &dt.refs {
+                let Some(&k) = number.get(r.as_str()) else {
+                    return Err(self.err(
+                        *at,
+                        format!("dataTypeIDRef `{r}` names no type of the dataTypeList"),
+                    ));
+                };
+                to.push((k, *at));
+            }
+            edges.push(to);
+        }
+        #[derive(Clone, Copy, PartialEq)]
+        enum Seen {
+            Not,
+            OnPath,
+            Done,
+        }
+        let mut seen = vec![Seen::Not; types.len()];
+        // The path walked: each type with the number of its references looked at; the last one
+        // looked at is the way to the next type on the path.
+        let mut path: Vec<(usize, usize)> = Vec::new();
+        for root in 0..types.len() {
+            if seen[root] != Seen::Not {
+                continue;
+            }
+            seen[root] = Seen::OnPath;
+            path.push((root, 0));
+            while let Some(top) = path.last_mut() {
+                let (v, next) = *top;
+                let Some(&(w, _)) = edges[v].get(next) else {
+                    seen[v] = Seen::Done;
+                    path.pop();
+                    continue;
+                };
+                top.1 += 1;
+                match seen[w] {
+                    Seen::Not => {
+                        seen[w] = Seen::OnPath;
+                        path.push((w, 0));
+                    }
+                    Seen::Done => {}
+                    Seen::OnPath => {
+                        let from = path.iter().position(|(t, _)| *t == w).expect("on the path");
+                        let (start, taken) = path[from];
+                        let at = edges[start][taken - 1].1;
+                        // A long way round is named by its first four types and its last.
+                        let way = &path[from + 1..];
+                        let name = |(t, _): &(usize, usize)| format!("`{}`", types[*t].0);
+                        let mut through: Vec<String> = way.iter().take(4).map(name).collect();
+                        if way.len() > 5 {
+                            through.push(format!("… ({} more)", way.len() - 5));
+                        }
+                        through.extend(
+                            way.iter()
+                                .skip(4.max(way.len().saturating_sub(1)))
+                                .map(name),
+                        );
+                        let what = format!("data type {}", types[w].1.label(types[w].0));
+                        return Err(self.err(
+                            at,
+                            if through.is_empty() {
+                                format!("{what} refers to itself")
+                            } else {
+                                format!("{what} refers to itself through {}", through.join(" → "))
+                            },
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// How an entry whose `dataType` is no CiA 301 basic type is read: the POWERLINK types (EPSG DS

@@ -7,7 +7,7 @@ use std::borrow::Cow;
 use super::{
     parse_access_type, parse_baud, parse_parameter_access, parse_pdo, parse_type_element, Attr,
     Ctx, DtKind, DtRec, EntryAttrs, FileAttrs, ObjRec, ParamRec, Scan, SubRec, TextKind, TypeRef,
-    STRING_LENGTH_PROPERTY,
+    MOST_SUB_INDICES, STRING_LENGTH_PROPERTY,
 };
 use crate::device::Commissioning;
 use crate::error::ParseError;
@@ -152,15 +152,55 @@ impl<'a> Scan<'a> {
         })?;
         // A type without a uniqueID cannot be referred to; its content is not needed.
         self.data_type = id.map(|id| {
+            let offset = id.offset;
             (
                 id,
                 DtRec {
                     name,
                     kind,
                     base: None,
+                    offset,
+                    refs: Vec::new(),
+                    members: 0,
                 },
             )
         });
+        Ok(())
+    }
+
+    /// An array's `subrange`: its elements are an ARRAY's sub-indices, `lowerLimit` to
+    /// `upperLimit` (CANopenEditor counts sub-index 0 among them, CiA 311's examples start at 1);
+    /// beyond 0x00–0xFE no device holds them.
+    pub(super) fn read_subrange(
+        &mut self,
+        e: &Element<'a>,
+        offset: usize,
+    ) -> Result<(), ParseError> {
+        let mut low = None;
+        let mut high = None;
+        self.attrs(e, offset, |s, key, v| {
+            match key {
+                b"lowerLimit" => low = Some((s.number::<i128>(&v, "lowerLimit", "1")?, v.offset)),
+                b"upperLimit" => high = Some((s.number::<i128>(&v, "upperLimit", "8")?, v.offset)),
+                _ => {}
+            }
+            Ok(())
+        })?;
+        let (Some((id, dt)), Some((low, low_at)), Some((high, high_at))) =
+            (&self.data_type, low, high)
+        else {
+            return Ok(());
+        };
+        if low <= high && (low < 0 || high >= MOST_SUB_INDICES) {
+            return Err(self.err(
+                if low < 0 { low_at } else { high_at },
+                format!(
+                    "{} has elements {low} to {high} (subrange): no ARRAY holds them, CiA 301 \
+                     sub-indices go to 0xFE",
+                    dt.what(&id.text)
+                ),
+            ));
+        }
         Ok(())
     }
 
@@ -328,6 +368,7 @@ impl<'a> Scan<'a> {
         let mut index = None;
         let mut name: Cow<'a, str> = Cow::Borrowed("");
         let mut kind = None;
+        let mut sub_number = None;
         self.attrs(e, offset, |s, key, v| {
             let Some(v) = s.entry_attr(&mut attrs, key, v)? else {
                 return Ok(());
@@ -336,6 +377,7 @@ impl<'a> Scan<'a> {
                 b"index" => index = Some(s.hex(&v, "an index", 4, "1A00", "index")?),
                 b"name" => name = v.text,
                 b"objectType" => kind = Some(s.object_kind(&v)?),
+                b"subNumber" => sub_number = xml::parse_number(&v.text).map(|n| (n, v.offset)),
                 _ => {}
             }
             Ok(())
@@ -348,6 +390,18 @@ impl<'a> Scan<'a> {
                 format!("expected an objectType attribute in <CANopenObject> 0x{index:04X}"),
             )
         })?;
+        // The number of sub-objects: at most one for each sub-index, 0x00 to 0xFF (the entry at
+        // 0xFF, which describes the object's structure, included). A subNumber that is no number
+        // is not read.
+        if let Some((n, at)) = sub_number.filter(|(n, _)| !(0..=0x100).contains(n)) {
+            return Err(self.err(
+                at,
+                format!(
+                    "object 0x{index:04X} declares {n} sub-objects (subNumber): no object holds \
+                     them, sub-indices go to 0xFF"
+                ),
+            ));
+        }
         self.object = Some(ObjRec {
             offset,
             index,

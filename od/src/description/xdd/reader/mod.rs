@@ -104,6 +104,8 @@ enum Ctx {
     ApplicationProcess,
     DataTypeList,
     DataTypeDef,
+    /// A `varDeclaration` of a `struct`: a member, whose type may be a `dataTypeIDRef`.
+    MemberDecl,
     ParameterList,
     Parameter,
     ParameterText(TextKind),
@@ -213,7 +215,39 @@ struct DtRec {
     kind: DtKind,
     /// The element type of an array, the base type of an enum or derived type.
     base: Option<XddType>,
+    /// Where its `uniqueID` is: the place of its findings, and the order of the types.
+    offset: usize,
+    /// The types it is made of by `dataTypeIDRef` (an array's element type, a derived type's
+    /// base, a struct's members' types): the `uniqueIDRef` and where it is.
+    refs: Vec<(String, usize)>,
+    /// A struct's members (`varDeclaration`s).
+    members: usize,
 }
+
+impl DtRec {
+    /// `array `UID_ARR_1003` (Errors)`: its kind, `uniqueID` and name.
+    fn what(&self, id: &str) -> String {
+        let kind = match self.kind {
+            DtKind::Array => "array",
+            DtKind::Struct => "struct",
+            DtKind::Simple => "data type",
+        };
+        format!("{kind} {}", self.label(id))
+    }
+
+    /// `` `UID_ARR_1003` (Errors) ``: its `uniqueID` and name.
+    fn label(&self, id: &str) -> String {
+        if self.name.is_empty() {
+            format!("`{id}`")
+        } else {
+            format!("`{id}` ({})", self.name)
+        }
+    }
+}
+
+/// The most sub-indices an ARRAY or RECORD holds: 0x00 to 0xFE (CiA 301 §7.4.3; 0xFF is
+/// reserved).
+const MOST_SUB_INDICES: i128 = 0xFF;
 
 /// The value attributes of a `CANopenObject` or `CANopenSubObject`.
 #[derive(Debug, Clone, Default)]

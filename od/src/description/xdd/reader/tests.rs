@@ -393,3 +393,188 @@ fn unknown_elements_and_attributes_are_skipped() {
     let d = read(text.as_bytes(), "t.xdd").unwrap();
     assert_eq!(d.dictionary.len(), 1);
 }
+
+/// An XDD whose `dataTypeList` holds `types`, from line 6 (the list's own tag is on line 5), and
+/// whose object list holds `objects`, from line 12 + the lines of `types`.
+fn with_types(types: &str, objects: &str) -> String {
+    wrap(
+        objects,
+        &format!(
+            "<ApplicationProcess><dataTypeList>\n{types}\n</dataTypeList></ApplicationProcess>"
+        ),
+    )
+}
+
+/// A struct whose member is of the struct's own type: the error is at the `uniqueIDRef`'s value
+/// (line 7, after the 67 characters before it).
+#[test]
+fn a_type_made_of_itself_is_an_error() {
+    let e = err_of(&with_types(
+        "<struct uniqueID=\"A\" name=\"Alpha\">\n\
+         <varDeclaration uniqueID=\"A1\" name=\"x\"><dataTypeIDRef uniqueIDRef=\"A\"/></varDeclaration>\n\
+         </struct>",
+        "",
+    ));
+    assert_eq!(e.message, "data type `A` (Alpha) refers to itself");
+    assert_eq!((e.position.line, e.position.column), (7, 68), "{e}");
+}
+
+/// Array A of B, struct B with a member of C, derived C of A: the way round is named from the
+/// first type of the file on it, at its reference to the next (line 7, column 103); D, which only
+/// leads into the circle, is not named. Types that share a part (E and F both of G, H of E and F)
+/// are no circle.
+#[test]
+fn a_circle_of_types_is_named_with_the_way_round() {
+    let circle = "<derived uniqueID=\"D\" name=\"Delta\"><dataTypeIDRef uniqueIDRef=\"A\"/></derived>\n\
+         <array uniqueID=\"A\" name=\"Alpha\"><subrange lowerLimit=\"1\" upperLimit=\"4\"/><dataTypeIDRef uniqueIDRef=\"B\"/></array>\n\
+         <struct uniqueID=\"B\" name=\"Beta\"><varDeclaration uniqueID=\"B1\" name=\"b\"><UINT/></varDeclaration><varDeclaration uniqueID=\"B2\" name=\"c\"><dataTypeIDRef uniqueIDRef=\"C\"/></varDeclaration></struct>\n\
+         <derived uniqueID=\"C\" name=\"Gamma\"><dataTypeIDRef uniqueIDRef=\"A\"/></derived>";
+    let e = err_of(&with_types(circle, ""));
+    assert_eq!(
+        e.message,
+        "data type `A` (Alpha) refers to itself through `B` → `C`"
+    );
+    assert_eq!((e.position.line, e.position.column), (7, 103), "{e}");
+
+    let shared = "<struct uniqueID=\"H\" name=\"\"><varDeclaration uniqueID=\"H1\" name=\"e\"><dataTypeIDRef uniqueIDRef=\"E\"/></varDeclaration><varDeclaration uniqueID=\"H2\" name=\"f\"><dataTypeIDRef uniqueIDRef=\"F\"/></varDeclaration></struct>\n\
+         <derived uniqueID=\"E\" name=\"\"><dataTypeIDRef uniqueIDRef=\"G\"/></derived>\n\
+         <array uniqueID=\"F\" name=\"\"><subrange lowerLimit=\"1\" upperLimit=\"2\"/><dataTypeIDRef uniqueIDRef=\"G\"/></array>\n\
+         <derived uniqueID=\"G\" name=\"\"><UINT/></derived>";
+    read(with_types(shared, "").as_bytes(), "t.xdd").unwrap();
+
+    // A reference inside a type to no type.
+    let e = err_of(&with_types(
+        "<derived uniqueID=\"E\" name=\"\"><dataTypeIDRef uniqueIDRef=\"nope\"/></derived>",
+        "",
+    ));
+    assert_eq!(
+        e.message,
+        "dataTypeIDRef `nope` names no type of the dataTypeList"
+    );
+    assert_eq!((e.position.line, e.position.column), (6, 59), "{e}");
+}
+
+/// 20,000 types each of the next: read without a call per type on the stack. With the last of
+/// the first, the circle is named by its first four types after T0 and its last.
+#[test]
+fn a_long_chain_of_types_reads_and_its_circle_is_named_short() {
+    let chain = |last: &str| {
+        let mut t = String::new();
+        for k in 0..20_000 {
+            let next = if k == 19_999 {
+                last.to_string()
+            } else {
+                format!("<dataTypeIDRef uniqueIDRef=\"T{}\"/>", k + 1)
+            };
+            t.push_str(&format!(
+                "<derived uniqueID=\"T{k}\" name=\"\">{next}</derived>\n"
+            ));
+        }
+        with_types(&t, "")
+    };
+    read(chain("<UINT/>").as_bytes(), "t.xdd").unwrap();
+    let e = err_of(&chain("<dataTypeIDRef uniqueIDRef=\"T0\"/>"));
+    assert_eq!(
+        e.message,
+        "data type `T0` refers to itself through `T1` → `T2` → `T3` → `T4` → … (19994 more) → `T19999`"
+    );
+    assert_eq!((e.position.line, e.position.column), (6, 60), "{e}");
+}
+
+/// An array's subrange is an ARRAY's sub-indices: 0 to 254 (CANopenEditor's, sub-index 0 among
+/// them) and 1 to 254 read; 1 to 2^32−1, 0 to 255 and −1 to 3 are errors at the limit out of
+/// 0x00–0xFE; a limit that is no number is named. Nothing is made per element: 2^32−1 of them
+/// are refused at once.
+#[test]
+fn an_array_no_device_holds_is_an_error() {
+    let array = |low: &str, high: &str| {
+        format!(
+            "<array uniqueID=\"BIG\" name=\"Big\"><subrange lowerLimit=\"{low}\" upperLimit=\"{high}\"/><UDINT/></array>"
+        )
+    };
+    read(
+        with_types(
+            &format!(
+                "{}\n{}",
+                array("0", "254"),
+                array("1", "254").replace("BIG", "B2")
+            ),
+            "",
+        )
+        .as_bytes(),
+        "t.xdd",
+    )
+    .unwrap();
+    let e = err_of(&with_types(&array("1", "4294967295"), ""));
+    assert_eq!(
+        e.message,
+        "array `BIG` (Big) has elements 1 to 4294967295 (subrange): no ARRAY holds them, CiA 301 \
+         sub-indices go to 0xFE"
+    );
+    // `<array uniqueID="BIG" name="Big"><subrange lowerLimit="1" upperLimit="`: 70 characters.
+    assert_eq!((e.position.line, e.position.column), (6, 71), "{e}");
+    let e = err_of(&with_types(&array("0", "255"), ""));
+    assert!(
+        e.message
+            .starts_with("array `BIG` (Big) has elements 0 to 255 "),
+        "{e}"
+    );
+    let e = err_of(&with_types(&array("-1", "3"), ""));
+    assert!(
+        e.message
+            .starts_with("array `BIG` (Big) has elements -1 to 3 "),
+        "{e}"
+    );
+    assert_eq!((e.position.line, e.position.column), (6, 56), "{e}");
+    let e = err_of(&with_types(&array("1", "lots"), ""));
+    assert_eq!(
+        e.message,
+        "expected a number like 8 in upperLimit, found `lots`"
+    );
+}
+
+/// A struct of 255 members (sub-indices 0x00–0xFE) reads; one of 256 is an error at its
+/// `uniqueID`. An object's subNumber of 256 (every sub-index, 0xFF's structure entry too) reads,
+/// of 257 or 2^32−1 is an error at its value.
+#[test]
+fn a_record_or_object_of_more_sub_indices_than_there_are_is_an_error() {
+    let members = |n: usize| {
+        let mut t = String::from("<struct uniqueID=\"S\" name=\"Many\">");
+        for k in 0..n {
+            t.push_str(&format!(
+                "<varDeclaration uniqueID=\"S{k}\" name=\"m\"><USINT/></varDeclaration>"
+            ));
+        }
+        t + "</struct>"
+    };
+    read(with_types(&members(255), "").as_bytes(), "t.xdd").unwrap();
+    let e = err_of(&with_types(&members(256), ""));
+    assert_eq!(
+        e.message,
+        "struct `S` (Many) has 256 members: no RECORD holds them, CiA 301 sub-indices go to 0xFE"
+    );
+    assert_eq!((e.position.line, e.position.column), (6, 19), "{e}");
+
+    let object = |n: &str| {
+        wrap(
+            &format!(
+                "<CANopenObject index=\"2000\" name=\"A\" objectType=\"8\" subNumber=\"{n}\">\n\
+                 <CANopenSubObject subIndex=\"00\" name=\"n\" objectType=\"7\" dataType=\"0005\" accessType=\"ro\"/>\n\
+                 </CANopenObject>"
+            ),
+            "",
+        )
+    };
+    read(object("256").as_bytes(), "t.xdd").unwrap();
+    for n in ["257", "4294967295"] {
+        let e = err_of(&object(n));
+        assert_eq!(
+            e.message,
+            format!(
+                "object 0x2000 declares {n} sub-objects (subNumber): no object holds them, \
+                 sub-indices go to 0xFF"
+            )
+        );
+        assert_eq!((e.position.line, e.position.column), (12, 64), "{e}");
+    }
+}

@@ -3,6 +3,7 @@
 
 use super::{
     local, parse_baud, parse_type_element, show, Attr, Ctx, DtKind, IdField, Scan, TextKind,
+    MOST_SUB_INDICES,
 };
 use crate::error::ParseError;
 use crate::xml;
@@ -202,6 +203,23 @@ impl<'a> Scan<'a> {
                 self.open_data_type(e, offset, kind)?;
                 Ctx::DataTypeDef
             }
+            (Ctx::DataTypeDef, b"subrange") => {
+                self.read_subrange(e, offset)?;
+                Ctx::Skip
+            }
+            (Ctx::DataTypeDef | Ctx::MemberDecl, b"dataTypeIDRef") => {
+                let r = self.required_attr(e, offset, b"uniqueIDRef")?;
+                if let Some((_, dt)) = &mut self.data_type {
+                    dt.refs.push((r.text.into_owned(), r.offset));
+                }
+                Ctx::Skip
+            }
+            (Ctx::DataTypeDef, b"varDeclaration") => {
+                if let Some((_, dt)) = &mut self.data_type {
+                    dt.members += 1;
+                }
+                Ctx::MemberDecl
+            }
             (Ctx::DataTypeDef, type_name) => {
                 if let (Some(t), Some((_, dt))) =
                     (parse_type_element(type_name), &mut self.data_type)
@@ -370,6 +388,17 @@ impl<'a> Scan<'a> {
             }
             Ctx::DataTypeDef => {
                 if let Some((id, dt)) = self.data_type.take() {
+                    if dt.kind == DtKind::Struct && dt.members as i128 > MOST_SUB_INDICES {
+                        return Err(self.err(
+                            id.offset,
+                            format!(
+                                "{} has {} members: no RECORD holds them, CiA 301 sub-indices go \
+                                 to 0xFE",
+                                dt.what(&id.text),
+                                dt.members
+                            ),
+                        ));
+                    }
                     if self.data_types.contains_key(id.text.as_ref()) {
                         return Err(self.err(
                             id.offset,
