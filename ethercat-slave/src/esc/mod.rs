@@ -384,10 +384,8 @@ impl Esc {
         }
         // The blocks of FMMUs and SyncManagers the ESC does not have take nothing: they stay 0.
         for (r, n) in self.reserved() {
-            if touches(ado, len, r, n) {
-                let r = usize::from(r);
-                self.mem[r..r + n].fill(0);
-            }
+            let r = usize::from(r);
+            self.mem[r..r + n].fill(0);
         }
         if let Some(before) = sm_before {
             self.sm_registers_written(&before);
@@ -815,9 +813,21 @@ mod tests {
             device_counts(&info(&["Inputs"; 17], &["Inputs"; 9])),
             (16, 8)
         );
-        assert_eq!(Esc::with_counts(3, 4).load(0x0004, 2), [0x03, 0x04]);
-        assert_eq!(Esc::with_counts(17, 9).load(0x0004, 2), [0x10, 0x08]);
+        let esc = Esc::with_counts(3, 4);
+        assert_eq!(esc.load(0x0004, 2), [0x03, 0x04]);
+        assert_eq!((esc.fmmu_count(), esc.sync_manager_count()), (3, 4));
+        let esc = Esc::with_counts(17, 9);
+        assert_eq!(esc.load(0x0004, 2), [0x10, 0x08]);
+        assert_eq!((esc.fmmu_count(), esc.sync_manager_count()), (16, 8));
         assert_eq!(Esc::new().load(0x0004, 2), [0x10, 0x08]);
+        // A description's ESC; one without an EtherCAT part is an ESC of no device.
+        let mut desc = DeviceDescription {
+            ethercat: Some(info(&["Inputs"], &["Inputs"])),
+            ..DeviceDescription::default()
+        };
+        assert_eq!(Esc::for_device(&desc).load(0x0004, 2), [0x01, 0x01]);
+        desc.ethercat = None;
+        assert_eq!(Esc::for_device(&desc).load(0x0004, 2), [0x10, 0x08]);
     }
 
     /// The application's store at the end of the memory keeps what fits and leaves the rest out; the
