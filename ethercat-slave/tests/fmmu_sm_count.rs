@@ -1,11 +1,11 @@
 //! A unit's ESC has the FMMUs and SyncManagers its ESI gives (ETG.2000: the `Device/Fmmu` and
-//! `Device/Sm` elements), no more: ESC information 0x0004 (FMMUs) and 0x0005 (SyncManagers) say
-//! how many (ETG.1000.4 §6.1, ESC datasheet section II table 1), and the register blocks of the
-//! FMMUs (0x0600 + 16·n, ETG.1000.4 Table 57) and SyncManagers (0x0800 + 8·n, ETG.1000.4 §6.7) past
-//! those counts are reserved: a write there is not taken, a read gives 0, and the datagram counts in
-//! the working counter as any register access of the addressed ESC does (section I §2.4: the ESC is
-//! addressed and the register area is not guarded by a SyncManager). An FMMU that does not exist maps
-//! nothing: the process data goes through the existing ones only.
+//! `Device/Sm` elements), no more: ESC information 0x0004 (FMMUs) and 0x0005 (SyncManagers) say how
+//! many (ETG.1000.4 DL information; ESC datasheet section II table 1), and the register blocks of
+//! the FMMUs (0x0600 + 16·n, ETG.1000.4 Table 57) and SyncManagers (0x0800 + 8·n, ETG.1000.4 §6.7)
+//! past those counts are reserved: a write there is not taken, a read gives 0, and the datagram
+//! counts in the working counter as any register access of the addressed ESC does (section I §2.4:
+//! the ESC is addressed and the register area is not guarded by a SyncManager). An FMMU that does
+//! not exist maps nothing: the process data goes through the existing ones only.
 //!
 //! Every exchange is a frame through the chain, in process on the simulated clock.
 
@@ -53,7 +53,7 @@ fn logical(
     (r.data, r.wkc)
 }
 
-/// The ESC information 0x0000–0x0009 (ETG.1000.4 §6.1) of a unit of each device, read by APRD
+/// The ESC information 0x0000–0x0009 (ETG.1000.4 DL information) of a unit of each device, read by APRD
 /// (one unit, position 0: WKC 1): type 0x11, revision 0, build 0x0002, FMMUs, SyncManagers, 60 KiB
 /// of process RAM, ports 0 and 1 MII (0x0F), features 0x000D. Bytes 4 and 5 are the counts of the
 /// ESI's `Fmmu` and `Sm` elements:

@@ -9,13 +9,14 @@
 //!
 //! FMMUs and SyncManagers: an ESC has the ones its device has (ETG.2000: one per `Device/Fmmu` and
 //! `Device/Sm` element of the ESI, [`Esc::for_device`]), at most 16 FMMUs and 8 SyncManagers, and
-//! says how many in its ESC information (0x0004 FMMUs, 0x0005 SyncManagers; ETG.1000.4 §6.1). The
-//! register blocks past them (0x0600 + 16·n for FMMU n, up to 0x06FF; 0x0800 + 8·n for SyncManager
-//! n, up to 0x087F) are reserved (ESC datasheet section II §1, table 1: not writable, their read
-//! data meaningless): a master's write there is not taken and a read gives 0, and the datagram
-//! counts in the working counter as any register access of the addressed ESC does (section I §2.4:
-//! the ESC is addressed and the register area is not guarded by a SyncManager). An FMMU that does
-//! not exist maps nothing; a SyncManager that does not exist guards nothing.
+//! says how many in its ESC information (ETG.1000.4 DL information; ESC datasheet section II:
+//! 0x0004 FMMUs supported, 0x0005 SyncManagers supported). The register blocks past them (0x0600 +
+//! 16·n for FMMU n, up to 0x06FF; 0x0800 + 8·n for SyncManager n, up to 0x087F) are reserved (ESC
+//! datasheet section II §1, table 1: not writable, their read data meaningless): a master's write
+//! there is not taken and a read gives 0, and the datagram counts in the working counter as any
+//! register access of the addressed ESC does (section I §2.4: the ESC is addressed and the register
+//! area is not guarded by a SyncManager). An FMMU that does not exist maps nothing; a SyncManager
+//! that does not exist guards nothing.
 
 pub mod al;
 pub mod dc;
@@ -191,7 +192,7 @@ impl Esc {
             fmmus,
             sync_managers,
         };
-        // ESC information (0x0000–0x0009, ETG.1000.4 §6.1): type, revision, build, FMMUs,
+        // ESC information (0x0000–0x0009, ETG.1000.4 DL information): type, revision, build, FMMUs,
         // SyncManagers, process RAM in KiB, ports 0 and 1 MII, features: byte-oriented FMMUs, DC
         // with 64-bit system time.
         esc.store(0x0000, &[0x11, 0x00, 0x02, 0x00]);

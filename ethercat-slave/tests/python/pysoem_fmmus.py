@@ -6,7 +6,8 @@ master that starts again brings the unit to Op.
     pysoem_fmmus.py IFACE
 
   - a first master: config_init finds the unit (io-device, vendor 0xABC, product 0x191); the ESC
-    information 0x0004/0x0005 read by FPRD is 03 04, the ESI's counts (ETG.1000.4 §6.1);
+    information 0x0004/0x0005 read by FPRD is 03 04, the ESI's counts (FMMUs and SyncManagers supported,
+    ESC datasheet section II);
   - that master writes FMMUs 3..15 by FPWR (WKC 1 each: the ESC is addressed) with a mapping of
     logical 3..5 (where SOEM puts this unit's inputs) onto 0x1100..0x1102 (the outputs
     SyncManager), read and write, activated (ETG.1000.4 Table 57); FMMUs 3..15 read back as 208 zero
