@@ -340,22 +340,29 @@ fn flush<A: Application>(
         outgoing.clear();
         for &n in &poll {
             let s = &mut nodes[n];
-            while let Some(e) = s.node.poll_event() {
-                log_event(s.node.node_id(), &e);
-            }
             writer.take(n, s);
             while let Some(f) = s.node.poll_transmit() {
                 outgoing.push((n, f));
             }
         }
-        if outgoing.is_empty() {
-            return Ok(());
-        }
-        for (_, f) in outgoing.iter() {
+        // The frames first, then the log: a frame's time is part of the protocol (the first
+        // heartbeat is due one period after the boot-up message the node timed it from), a log
+        // line's is not, and writing one may take long.
+        for (n, f) in outgoing.iter() {
             bus.send(f)?;
             stats.sent += 1;
+            let node = &mut nodes[*n].node;
+            if f.cob_id() == Some(0x700 + u16::from(node.node_id())) && f.data() == [0] {
+                node.boot_up_sent(Instant::now());
+            }
         }
-        if nodes.len() == 1 {
+        for &n in &poll {
+            let s = &mut nodes[n];
+            while let Some(e) = s.node.poll_event() {
+                log_event(s.node.node_id(), &e);
+            }
+        }
+        if outgoing.is_empty() || nodes.len() == 1 {
             return Ok(());
         }
         let at = Instant::now();

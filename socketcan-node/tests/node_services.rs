@@ -59,6 +59,50 @@ fn nmt_states_and_heartbeat_bytes() {
     assert_eq!(n.node.state(), NmtState::PreOperational);
 }
 
+/// The first heartbeat comes one producer time after the boot-up message: when the edge reports
+/// that the boot-up left 40 ms after the reset began (the reset's own work on a slow machine), the
+/// beats run from then, not from the reset.
+#[test]
+fn the_first_heartbeat_follows_the_boot_up_message_by_one_period() {
+    let t0 = std::time::Instant::now();
+    let config = NodeConfig {
+        heartbeat_ms: Some(100),
+        ..NodeConfig::new(ID)
+    };
+    let dict = x67::dictionary(1).unwrap();
+    let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, t0).unwrap();
+    let mut node = Node::new(config, dict, app, t0).unwrap();
+    // The frames on 0x705 (boot-up, heartbeats) the node sends when run up to `ms` after t0.
+    let mut run_to = |node: &mut Node<BusController>, ms: u64| {
+        let end = t0 + Duration::from_millis(ms);
+        while let Some(t) = node.poll_timeout().filter(|t| *t <= end) {
+            node.handle_timeout(t);
+        }
+        node.handle_timeout(end);
+        std::iter::from_fn(|| node.poll_transmit())
+            .filter(|f| f.cob_id() == Some(0x705))
+            .collect::<Vec<_>>()
+    };
+    node.start(t0);
+    assert_eq!(node.poll_transmit(), Some(f(0x705, &[0x00])));
+    node.boot_up_sent(t0 + Duration::from_millis(40));
+    assert_eq!(run_to(&mut node, 139), vec![]);
+    assert_eq!(run_to(&mut node, 140), vec![f(0x705, &[0x7F])]);
+    // Only the first report after a boot counts.
+    node.boot_up_sent(t0 + Duration::from_millis(200));
+    assert_eq!(run_to(&mut node, 239), vec![]);
+    assert_eq!(run_to(&mut node, 240), vec![f(0x705, &[0x7F])]);
+    // A reset starts again: reset communication at 300 ms, its boot-up reported at 310 ms.
+    node.handle_frame(t0 + Duration::from_millis(300), &f(0x000, &[0x82, ID]));
+    let boot: Vec<CanFrame> = std::iter::from_fn(|| node.poll_transmit())
+        .filter(|f| f.cob_id() == Some(0x705))
+        .collect();
+    assert_eq!(boot, vec![f(0x705, &[0x00])]);
+    node.boot_up_sent(t0 + Duration::from_millis(310));
+    assert_eq!(run_to(&mut node, 409), vec![]);
+    assert_eq!(run_to(&mut node, 410), vec![f(0x705, &[0x7F])]);
+}
+
 #[test]
 fn heartbeat_period_is_exact() {
     let mut n = node();

@@ -230,6 +230,8 @@ struct Core<A: Application> {
     heartbeat_at: Option<Instant>,
     consumer: Consumer,
     sync_at: Option<Instant>,
+    /// The `now` of the last boot whose boot-up message the edge has not reported sent.
+    booted_at: Option<Instant>,
     // The EMCY producer (`emcy`).
     active: Vec<AppError>,
     history: Vec<u32>,
@@ -312,6 +314,7 @@ impl<A: Application> Node<A> {
                 heartbeat_at: None,
                 consumer: Consumer::default(),
                 sync_at: None,
+                booted_at: None,
                 active: Vec::new(),
                 history: Vec::new(),
                 emcy_queue: VecDeque::new(),
@@ -594,6 +597,15 @@ impl<A: Application> Node<A> {
         take(c.tpdo_timeout());
         take(c.time_at);
         t
+    }
+
+    /// The edge sent the node's boot-up message at `at` (an edge whose sends take no time, as a
+    /// simulated one, need not call this). The timers the boot started run from `at`: a boot-up
+    /// message that left after the reset's own work (loading the dictionary and the stored set takes
+    /// a while on a slow machine) is still followed by the first heartbeat one producer time later.
+    /// Only the first call after a boot counts.
+    pub fn boot_up_sent(&mut self, at: Instant) {
+        self.core.boot_up_sent(at);
     }
 
     /// The next frame to send.

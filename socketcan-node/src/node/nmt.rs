@@ -102,6 +102,24 @@ impl<A: Application> Core<A> {
         self.reload_time(now);
         self.reload_listen();
         self.now = now;
+        self.booted_at = Some(now);
+    }
+
+    /// The boot-up message left at `at`: the timers the boot started (heartbeat producer, SYNC and
+    /// TIME producers) run from then, so that the first heartbeat comes one producer time after the
+    /// boot-up message (CiA 301, heartbeat protocol), however long the reset's own work kept the frame.
+    pub(super) fn boot_up_sent(&mut self, at: Instant) {
+        let Some(booted) = self.booted_at.take() else {
+            return;
+        };
+        let Some(late) = at.checked_duration_since(booted).filter(|d| !d.is_zero()) else {
+            return;
+        };
+        for timer in [&mut self.heartbeat_at, &mut self.sync_at, &mut self.time_at] {
+            if let Some(t) = timer.as_mut() {
+                *t += late;
+            }
+        }
     }
 
     /// The producer heartbeat time 0x1017; `None` when it is 0 (no heartbeat).
