@@ -73,7 +73,7 @@ fn the_first_heartbeat_follows_the_boot_up_message_by_one_period() {
     let app = BusController::new(&dict, 1, x67::DEFAULT_X2X_CYCLE, t0).unwrap();
     let mut node = Node::new(config, dict, app, t0).unwrap();
     // The frames on 0x705 (boot-up, heartbeats) the node sends when run up to `ms` after t0.
-    let mut run_to = |node: &mut Node<BusController>, ms: u64| {
+    let run_to = |node: &mut Node<BusController>, ms: u64| {
         let end = t0 + Duration::from_millis(ms);
         while let Some(t) = node.poll_timeout().filter(|t| *t <= end) {
             node.handle_timeout(t);
