@@ -635,3 +635,63 @@ fn process_data_entries_read_by_sdo_in_their_sizes() {
         assert_eq!(u2.sdo_read(0x6000, sub).unwrap(), bytes, "0x6000:{sub:02X}");
     }
 }
+
+/// Each device is shown by its order code, the ESI's `Type` text: "SMD23K-B" and "SMD24K".
+#[test]
+fn each_device_shows_as_its_order_code() {
+    assert_eq!(Device::Smd23kB.to_string(), "SMD23K-B");
+    assert_eq!(Device::Smd24k.to_string(), "SMD24K");
+}
+
+/// A frame's output process data (laid out by the RxPDO assignment 0x1C12, SMD-R6-001: CMD_word0,
+/// CMD_word1, Position, Velocity, Acceleration, Deceleration, Motor_Current, Jerk, little-endian at
+/// bytes 0, 2, 4, 8, 12, 14, 16, 18) becomes the output image 0x7000:01–08, and its first cycle acts
+/// on it: Preset Position (0x0200) to −2 with the driver enabled (0x8000).
+#[test]
+fn output_process_data_sets_the_output_image() {
+    let mut u = unit(Device::Smd23kB);
+    let image = ds402::od::hook::ProcessImage::from_assignment(u.dict(), 0x1C12).unwrap();
+    assert_eq!(image.len(), 20);
+    let bytes = [
+        0x00, 0x02, 0x00, 0x80, 0xFE, 0xFF, 0xFF, 0xFF, 0x10, 0x27, 0x00, 0x00, 0x64, 0x00, 0x65,
+        0x00, 0x07, 0x00, 0x08, 0x00,
+    ];
+    u.receive_process_data(&image, &bytes);
+    assert_eq!(
+        u.outputs(),
+        Outputs {
+            cmd0: 0x0200,
+            cmd1: 0x8000,
+            position: -2,
+            velocity: 10_000,
+            acceleration: 100,
+            deceleration: 101,
+            motor_current: 7,
+            jerk: 8,
+        }
+    );
+    let i = u.cycle(MS);
+    assert_eq!((i.motor_position, i.status0), (-2, 0x4008));
+}
+
+/// A CoE mailbox served on the unit answers with the server's events: a download of 12 to
+/// Motor_Current 0x8010:07 (expedited, 2 bytes: command 0x2B) is one `Downloaded` of 0x8010:07, and
+/// the value is in the dictionary and the model.
+#[test]
+fn a_mailbox_answers_with_the_servers_events() {
+    use ds402::od::coe::server::CoeServer;
+    use ds402::od::sdo::server::{ServerConfig, ServerEvent};
+    let mut u = unit(Device::Smd23kB);
+    let mut server = CoeServer::new(ServerConfig::default(), 128);
+    let mut mailbox = vec![10, 0, 0, 0, 0, 0x13, 0x00, 0x20];
+    mailbox.extend_from_slice(&[0x2B, 0x10, 0x80, 0x07, 12, 0, 0, 0]);
+    let events = u.handle_mailbox(&mut server, std::time::Instant::now(), &mailbox);
+    assert_eq!(
+        events,
+        [ServerEvent::Downloaded {
+            mux: ds402::od::sdo::frame::Address::new(0x8010, 7)
+        }]
+    );
+    assert_eq!(u.sdo_read(0x8010, 7).unwrap(), [12, 0]);
+    assert_eq!(u.indexer().config().motor_current, 12);
+}

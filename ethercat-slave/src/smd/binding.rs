@@ -18,7 +18,9 @@
 //!   laid out as the PDO mapping of the description says ([`ProcessImage`]); [`SmdUnit::write_outputs`]
 //!   sets the output image directly. The outputs are `ro` for SDO access, so [`SmdUnit::sdo_write`] to
 //!   `0x7000` is refused with [`OdError::ReadOnly`];
-//! - [`SmdUnit::cycle`] is one process-data exchange: [`Outputs`] → [`Indexer::cycle`] → [`Inputs`].
+//! - [`SmdUnit::cycle`] is one process-data exchange: [`Outputs`] → [`Indexer::cycle`] → [`Inputs`];
+//!   an exchange with no output image written since the last is [`Indexer::cycle_held`], so the
+//!   first image the master writes in Op is the indexer's edge reference (SMD-R6-073).
 //!
 //! Every address the model uses is one entry of [`TABLE`], with the name, data type, access and PDO
 //! mapping the model expects. [`check`] proves them against a dictionary, [`SmdUnit::new`] refuses a
