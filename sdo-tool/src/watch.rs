@@ -380,17 +380,17 @@ impl Watcher {
         if !self.takes(frame) {
             return lines;
         }
-        if let Some(c @ 0x701..=0x77F) = frame.cob_id() {
-            if frame.len() == 1 {
-                let id = (c & 0x7F) as u8;
-                let boot = frame.data()[0] == 0;
-                // A period is between two heartbeats: not from a boot-up message to the first.
-                let period = match self.beats.get(&id) {
-                    Some((last, _, _, false)) if !boot => Some(t - *last).filter(|p| *p > 0.0),
-                    _ => None,
-                };
-                self.beats.insert(id, (t, period, false, boot));
-            }
+        // A heartbeat has one data byte; a remote frame on its identifier has none, whatever its
+        // length.
+        if let (Some(c @ 0x701..=0x77F), [state]) = (frame.cob_id(), frame.data()) {
+            let id = (c & 0x7F) as u8;
+            let boot = *state == 0;
+            // A period is between two heartbeats: not from a boot-up message to the first.
+            let period = match self.beats.get(&id) {
+                Some((last, _, _, false)) if !boot => Some(t - *last).filter(|p| *p > 0.0),
+                _ => None,
+            };
+            self.beats.insert(id, (t, period, false, boot));
         }
         lines.extend(self.taken_line(frame));
         lines
@@ -1243,6 +1243,19 @@ mod tests {
             candump_line("(1.0) can0 123#aBcD").unwrap().1,
             f(0x123, &[0xAB, 0xCD])
         );
+    }
+
+    /// A remote frame of length 1 on a heartbeat's identifier is no heartbeat (it has no data
+    /// byte): nothing without --raw, itself with it, and no period is taken from it.
+    #[test]
+    fn a_remote_frame_on_a_heartbeat_identifier_is_no_heartbeat() {
+        let rtr = CanFrame::new_remote_frame(0x703, false, 1).unwrap();
+        let mut w = Watcher::new(None, None);
+        assert!(w.at(0.0, &rtr).is_empty());
+        assert!(w.at(0.1, &rtr).is_empty());
+        assert!(w.missed(5.0).is_empty());
+        let mut w = Watcher::new(None, None).with_raw(true);
+        assert_eq!(w.at(0.0, &rtr), ["703#R1"]);
     }
 
     /// Lines read through a 3-byte buffer, at most 5 bytes kept: one of exactly 5, one of 6 (too
