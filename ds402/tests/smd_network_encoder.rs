@@ -77,6 +77,45 @@ fn smd_r6_073_the_first_op_data_is_the_edge_reference() {
     );
 }
 
+/// SMD-R6-073: Op told again while in Op is no entry into Op: the next data's 0→1 edge is a command
+/// as always (Relative 0x0002 of 1,000 steps runs).
+#[test]
+fn smd_r6_073_op_again_in_op_takes_no_new_reference() {
+    let mut r = rig();
+    r.out.position = 1_000;
+    r.command(0);
+    r.ix.set_network_state(NetworkState::Op);
+    let i = r.command(0x0002);
+    assert_eq!(i.status0, 0x4021, "Accelerating, Moving_CW");
+    for _ in 0..600 {
+        r.cycle();
+    }
+    assert_eq!((r.pos(), r.s0()), (1_000, 0x4088));
+}
+
+/// SMD-R6-073: an exchange on the host's clock without new output data (`exchange_held`) runs the
+/// motion for the time since the last exchange with the last data in force: a Relative move of
+/// 1,000 steps (Velocity 5,000, 20,000 steps/s² ramps: 141 t + 10,000 t² steps t s in) started
+/// at 1 ms runs 100 ms more in one held exchange, to 141 · 0.101 + 10,000 · 0.101² = 116.251.
+#[test]
+fn smd_r6_073_an_exchange_without_new_data_runs_the_motion() {
+    let t0 = std::time::Instant::now();
+    let ms = std::time::Duration::from_millis;
+    let mut r = rig();
+    r.ix.start(t0);
+    r.out.position = 1_000;
+    r.out.cmd0 = 0x0002;
+    let i = r.ix.exchange(t0 + ms(1), r.out);
+    assert_eq!((i.motor_position, i.status0), (0, 0x4021));
+    let i = r.ix.exchange_held(t0 + ms(101));
+    assert_eq!((i.motor_position, i.status0), (116, 0x4021));
+    assert_eq!(
+        r.ix.time(),
+        ms(104),
+        "the rig's three 1 ms updates, then 1 ms and 100 ms"
+    );
+}
+
 /// SMD-R6-056: leaving Op and coming back makes the position invalid; a move running then stops at
 /// once without Move_Complete.
 #[test]
