@@ -14,8 +14,9 @@ fn peak_rss_kib(pid: u32) -> u64 {
     line.split_whitespace().nth(1).unwrap().parse().unwrap()
 }
 
-/// A log of node 1 with a 64 MiB line (a frame whose data never ends) in the middle, through a
-/// pipe: the frames before and after it are named, the line is one warning naming its number, and
+/// A log of node 1 with a 64 MiB line (a frame whose data never ends) in the middle, and a line
+/// that is no frame after it, through a pipe: the frames before and after them are named, the long
+/// line is one warning naming its number, the other line is counted by its number, and
 /// the tool never holds it. It keeps at most 4096 bytes of a line and its 8 KiB read buffer, so the
 /// whole process, code and libraries included, stays far under a quarter of the line, 16 MiB; the
 /// peak is read while the tool still waits for the rest of its input, after it has read all of the
@@ -44,7 +45,8 @@ fn a_huge_line_is_skipped_in_bounded_memory() {
     }
     input
         .write_all(
-            b"\n(10.300000) can0 581#6017100000000000\n\
+            b"\nnot a frame\n\
+              (10.300000) can0 581#6017100000000000\n\
               (10.400000) can0 601#4008100000000000\n\
               (10.401000) can0 581#4108100018000000\n\
               (10.402000) can0 601#6000000000000000\n\
@@ -71,7 +73,8 @@ fn a_huge_line_is_skipped_in_bounded_memory() {
     );
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "sdo-tool: standard input: line 3 is longer than 4096 bytes, no candump -L frame: skipped\n"
+        "sdo-tool: standard input: line 3 is longer than 4096 bytes, no candump -L frame: skipped\n\
+         sdo-tool: standard input: 1 line(s) are no candump -L frames (the first: line 4): skipped\n"
     );
 }
 
