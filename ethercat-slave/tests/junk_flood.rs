@@ -13,6 +13,7 @@ use ethercat_slave::raw::RawSocket;
 use testkit::link;
 
 #[path = "common/pysoem.rs"]
+#[allow(dead_code)]
 mod pysoem_master;
 use pysoem_master::{preflight, script};
 

@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 use testkit::link;
 
 #[path = "common/pysoem.rs"]
+#[allow(dead_code)]
 mod pysoem_master;
 use pysoem_master::{preflight, script};
 

@@ -13,56 +13,22 @@
 //! Needs root (a network namespace, a veth pair, raw sockets) and pysoem (`pip install pysoem`):
 //! without either the test fails and says why; it is never skipped.
 
-use std::process::Command;
-use std::time::Duration;
-
-use testkit::link;
-
 #[path = "common/pysoem.rs"]
 #[allow(dead_code)]
 mod pysoem_master;
-use pysoem_master::preflight;
 
 #[test]
 fn pysoem_restarts_a_unit_with_garbage_in_fmmus_3_to_15_to_op() {
-    preflight();
     let script = format!(
         "{}/tests/python/pysoem_fmmus.py",
         env!("CARGO_MANIFEST_DIR")
     );
-    let mut link = link::Link::node(&["--esi", "examples/io-device.esi.xml"]);
-    assert!(
-        link.running(),
-        "ethercat-node stopped at once: {}",
-        link.stop()
-    );
-    let testkit::Finished {
-        status,
-        stdout,
-        stderr,
-    } = testkit::run_for_at_most(
-        Command::new("python3").arg(script).arg(&link.master),
-        Duration::from_secs(60),
-    );
-    let alive = link.running();
-    let log = link.stop();
-    let report = format!(
-        "--- pysoem_fmmus.py stdout:\n{stdout}--- stderr:\n{stderr}--- emulator log:\n{log}"
-    );
-    let status = status.unwrap_or_else(|| panic!("the pysoem master ran over 60 s\n{report}"));
-    assert!(
-        status.success(),
-        "the pysoem master failed ({status})\n{report}"
-    );
-    assert!(alive, "ethercat-node had stopped by the end\n{report}");
-    let (answered, dropped) =
-        link::frame_counts(&log).unwrap_or_else(|| panic!("no frame counts in the log\n{report}"));
-    assert!(answered > 0, "no frames answered\n{report}");
-    assert_eq!(dropped, 0, "SOEM's frames are all well-formed\n{report}");
+    let (stdout, _) =
+        pysoem_master::run_against_node(&["--esi", "examples/io-device.esi.xml"], &script, &[]);
     let summary = stdout.lines().last().unwrap_or_default();
     assert!(
         summary.contains("to Op after a restart"),
-        "{summary}\n{report}"
+        "{summary}\n{stdout}"
     );
     println!("{summary}");
 }

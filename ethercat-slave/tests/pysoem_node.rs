@@ -10,15 +10,11 @@
 //! corpus: without any of them the tests fail and say why; they are never skipped.
 
 use std::path::PathBuf;
-use std::process::Command;
-use std::time::{Duration, Instant};
-
-use testkit::link;
+use std::time::Instant;
 
 #[path = "common/pysoem.rs"]
 #[allow(dead_code)]
 mod pysoem_master;
-use pysoem_master::preflight;
 
 fn script() -> String {
     format!(
@@ -42,45 +38,13 @@ fn corpus(name: &str) -> String {
 /// `ethercat-node` with `node_args` on a fresh link, the script with `units` (its UNIT arguments)
 /// and `extra`; the script's summary line.
 fn run(node_args: &[&str], units: &[&str], extra: &[&str]) -> String {
-    preflight();
-    let mut link = link::Link::node(node_args);
-    assert!(
-        link.running(),
-        "ethercat-node stopped at once: {}",
-        link.stop()
-    );
     let started = Instant::now();
-    let testkit::Finished {
-        status,
-        stdout,
-        stderr,
-    } = testkit::run_for_at_most(
-        Command::new("python3")
-            .arg(script())
-            .arg(&link.master)
-            .args(units)
-            .args(extra),
-        Duration::from_secs(60),
-    );
-    let alive = link.running();
-    let log = link.stop();
-    let report = format!(
-        "--- pysoem_drives.py stdout:\n{stdout}--- stderr:\n{stderr}--- emulator log:\n{log}"
-    );
-    let status = status.unwrap_or_else(|| panic!("the pysoem master ran over 60 s\n{report}"));
-    assert!(
-        status.success(),
-        "the pysoem master failed ({status})\n{report}"
-    );
-    assert!(alive, "ethercat-node had stopped by the end\n{report}");
-    let (answered, dropped) =
-        link::frame_counts(&log).unwrap_or_else(|| panic!("no frame counts in the log\n{report}"));
-    assert!(answered > 0, "no frames answered\n{report}");
-    assert_eq!(dropped, 0, "SOEM's frames are all well-formed\n{report}");
+    let args: Vec<&str> = units.iter().chain(extra).copied().collect();
+    let (stdout, answered) = pysoem_master::run_against_node(node_args, &script(), &args);
     let summary = stdout
         .lines()
         .last()
-        .unwrap_or_else(|| panic!("no summary line\n{report}"))
+        .unwrap_or_else(|| panic!("no summary line\n{stdout}"))
         .to_string();
     println!(
         "{summary} [{:.2} s, {answered} frames answered]",

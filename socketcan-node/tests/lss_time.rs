@@ -18,17 +18,24 @@ use socketcan_node::{CanFrame, NmtState, Node, NodeConfig};
 #[derive(Clone)]
 struct Plain;
 
-impl DeviceHook for Plain {
-    fn owns(&self, _: u16) -> bool {
-        false
-    }
-    fn read(&self, _: Address, _: &mut [u8; 8]) -> Option<usize> {
-        None
-    }
-    fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
-        Ok(())
-    }
+/// A device hook that owns no object: the dictionary is the whole device.
+macro_rules! owns_no_object {
+    ($device:ty) => {
+        impl DeviceHook for $device {
+            fn owns(&self, _: u16) -> bool {
+                false
+            }
+            fn read(&self, _: Address, _: &mut [u8; 8]) -> Option<usize> {
+                None
+            }
+            fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
+                Ok(())
+            }
+        }
+    };
 }
+
+owns_no_object!(Plain);
 
 impl Application for Plain {
     fn handle_timeout(&mut self, _: Instant) {}
@@ -109,17 +116,7 @@ struct Ticking {
     ticks: u32,
 }
 
-impl DeviceHook for Ticking {
-    fn owns(&self, _: u16) -> bool {
-        false
-    }
-    fn read(&self, _: Address, _: &mut [u8; 8]) -> Option<usize> {
-        None
-    }
-    fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
-        Ok(())
-    }
-}
+owns_no_object!(Ticking);
 
 impl Application for Ticking {
     fn handle_timeout(&mut self, now: Instant) {
