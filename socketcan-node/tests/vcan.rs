@@ -375,6 +375,7 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
         sent
     });
     let mut answers = 0;
+    let mut requests = 0;
     let mut beats = Vec::new();
     let start = Instant::now();
     let mut next_sdo = start;
@@ -383,7 +384,10 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
             master
                 .send(&f(0x603, &[0x40, 0x18, 0x10, 0, 0, 0, 0, 0]))
                 .unwrap();
-            next_sdo += Duration::from_millis(20);
+            requests += 1;
+            // Every 20 ms; a master thread that fell behind (a slow machine) does not catch up in
+            // a burst.
+            next_sdo = (next_sdo + Duration::from_millis(20)).max(Instant::now());
         }
         if let Some(BusEvent::Frame { frame, .. }) = master.recv(Duration::from_millis(2)).unwrap()
         {
@@ -403,10 +407,20 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
     }
     assert_eq!(flood.join().unwrap(), 100_000);
     let secs = start.elapsed().as_secs_f64();
+    // Most requests are answered during the flood (a frame the kernel's queue drops under it is lost
+    // as on a real controller's full FIFO), and every one after it.
     assert!(
-        f64::from(answers) >= secs * 50.0 * 0.8,
-        "{answers} SDO answers in {secs:.1} s"
+        answers * 10 >= requests * 8,
+        "{answers} SDO answers to {requests} requests in {secs:.1} s"
     );
+    for k in 0..5 {
+        master
+            .send(&f(0x603, &[0x40, 0x18, 0x10, 0, 0, 0, 0, 0]))
+            .unwrap();
+        let (answer, _) = next_on(&mut master, 0x583, Duration::from_secs(2))
+            .unwrap_or_else(|| panic!("request {k} after the flood not answered within 2 s"));
+        assert_eq!(answer.data(), &[0x4F, 0x18, 0x10, 0, 4, 0, 0, 0]);
+    }
     for w in beats.windows(2) {
         let gap = w[1] - w[0];
         assert!(gap < Duration::from_millis(250), "heartbeat gap {gap:?}");
