@@ -6,7 +6,6 @@
 //! Needs root (a network namespace, a veth pair, raw sockets) and pysoem (`pip install pysoem`):
 //! without either the tests fail and say why; they are never skipped.
 
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 use testkit::link;
@@ -14,51 +13,26 @@ use testkit::link;
 #[path = "common/pysoem.rs"]
 #[allow(dead_code)]
 mod pysoem_master;
-use pysoem_master::{preflight, script};
+use pysoem_master::script;
 
 /// Runs the script with `extra` arguments against two units on a fresh link; its summary line.
 fn run_master(extra: &[&str]) -> String {
-    preflight();
-    let units = 2;
-    let mut link = link::Link::up(&["--units", &units.to_string()]);
-    assert!(
-        link.running(),
-        "smd-ethercat stopped at once: {}",
-        link.stop()
-    );
+    let units = 2.to_string();
     let started = Instant::now();
-    let testkit::Finished {
-        status,
-        stdout,
-        stderr,
-    } = testkit::run_for_at_most(
-        Command::new("python3")
-            .arg(script())
-            .arg(&link.master)
-            .arg(units.to_string())
-            .args(extra),
+    let args: Vec<&str> = std::iter::once(units.as_str())
+        .chain(extra.iter().copied())
+        .collect();
+    let (stdout, answered) = pysoem_master::run_on(
+        || link::Link::up(&["--units", &units]),
+        "smd-ethercat",
+        &script(),
+        &args,
         Duration::from_secs(25),
     );
-    let alive = link.running();
-    let log = link.stop();
-    let report = format!(
-        "--- pysoem_master.py {} stdout:\n{stdout}--- stderr:\n{stderr}--- emulator log:\n{log}",
-        extra.join(" ")
-    );
-    let status = status.unwrap_or_else(|| panic!("the pysoem master ran over 25 s\n{report}"));
-    assert!(
-        status.success(),
-        "the pysoem master failed ({status})\n{report}"
-    );
-    assert!(alive, "smd-ethercat had stopped by the end\n{report}");
-    let (answered, dropped) =
-        link::frame_counts(&log).unwrap_or_else(|| panic!("no frame counts in the log\n{report}"));
-    assert!(answered > 0, "no frames answered\n{report}");
-    assert_eq!(dropped, 0, "SOEM's frames are all well-formed\n{report}");
     let summary = stdout
         .lines()
         .last()
-        .unwrap_or_else(|| panic!("no summary line\n{report}"))
+        .unwrap_or_else(|| panic!("no summary line\n{stdout}"))
         .to_string();
     println!(
         "{summary} [{:.2} s, {answered} frames answered]",

@@ -23,8 +23,13 @@ fn pysoem_restarts_a_unit_with_garbage_in_fmmus_3_to_15_to_op() {
         "{}/tests/python/pysoem_fmmus.py",
         env!("CARGO_MANIFEST_DIR")
     );
-    let (stdout, _) =
-        pysoem_master::run_against_node(&["--esi", "examples/io-device.esi.xml"], &script, &[]);
+    let (stdout, _) = pysoem_master::run_on(
+        || testkit::link::Link::node(&["--esi", "examples/io-device.esi.xml"]),
+        "ethercat-node",
+        &script,
+        &[],
+        std::time::Duration::from_secs(60),
+    );
     let summary = stdout.lines().last().unwrap_or_default();
     assert!(
         summary.contains("to Op after a restart"),

@@ -40,7 +40,13 @@ fn corpus(name: &str) -> String {
 fn run(node_args: &[&str], units: &[&str], extra: &[&str]) -> String {
     let started = Instant::now();
     let args: Vec<&str> = units.iter().chain(extra).copied().collect();
-    let (stdout, answered) = pysoem_master::run_against_node(node_args, &script(), &args);
+    let (stdout, answered) = pysoem_master::run_on(
+        || testkit::link::Link::node(node_args),
+        "ethercat-node",
+        &script(),
+        &args,
+        std::time::Duration::from_secs(60),
+    );
     let summary = stdout
         .lines()
         .last()

@@ -29,18 +29,23 @@ pub fn preflight() {
     );
 }
 
-/// `ethercat-node` with `node_args` on a fresh veth link and the pysoem `script` with `args` on its
-/// master's end, for 60 s at most: the script's standard output, once it has exited 0 with the
-/// emulator still running, every frame answered and none dropped as malformed (what it and the
-/// emulator's log said otherwise in the failure); the number of frames answered beside it.
-pub fn run_against_node(node_args: &[&str], script: &str, args: &[&str]) -> (String, u64) {
-    use std::time::Duration;
-    use testkit::link;
+/// The pysoem `script` with `args` on the master's end of the link `start` sets up (after the
+/// check that root and pysoem are there), with its emulator (`emulator`, by name) on the far end,
+/// for `limit` at most: the script's standard output, once it has
+/// exited 0 with the emulator still running, every frame answered and none dropped as malformed (what
+/// it and the emulator's log said otherwise in the failure); the number of frames answered beside it.
+pub fn run_on(
+    start: impl FnOnce() -> testkit::link::Link,
+    emulator: &str,
+    script: &str,
+    args: &[&str],
+    limit: std::time::Duration,
+) -> (String, u64) {
     preflight();
-    let mut link = link::Link::node(node_args);
+    let mut link = start();
     assert!(
         link.running(),
-        "ethercat-node stopped at once: {}",
+        "{emulator} stopped at once: {}",
         link.stop()
     );
     let testkit::Finished {
@@ -52,23 +57,26 @@ pub fn run_against_node(node_args: &[&str], script: &str, args: &[&str]) -> (Str
             .arg(script)
             .arg(&link.master)
             .args(args),
-        Duration::from_secs(60),
+        limit,
     );
     let alive = link.running();
     let log = link.stop();
     let name = std::path::Path::new(script)
         .file_name()
         .map_or_else(|| script.to_string(), |n| n.to_string_lossy().into_owned());
-    let report =
-        format!("--- {name} stdout:\n{stdout}--- stderr:\n{stderr}--- emulator log:\n{log}");
-    let status = status.unwrap_or_else(|| panic!("the pysoem master ran over 60 s\n{report}"));
+    let report = format!(
+        "--- {name} {} stdout:\n{stdout}--- stderr:\n{stderr}--- emulator log:\n{log}",
+        args.join(" ")
+    );
+    let status = status
+        .unwrap_or_else(|| panic!("the pysoem master ran over {} s\n{report}", limit.as_secs()));
     assert!(
         status.success(),
         "the pysoem master failed ({status})\n{report}"
     );
-    assert!(alive, "ethercat-node had stopped by the end\n{report}");
-    let (answered, dropped) =
-        link::frame_counts(&log).unwrap_or_else(|| panic!("no frame counts in the log\n{report}"));
+    assert!(alive, "{emulator} had stopped by the end\n{report}");
+    let (answered, dropped) = testkit::link::frame_counts(&log)
+        .unwrap_or_else(|| panic!("no frame counts in the log\n{report}"));
     assert!(answered > 0, "no frames answered\n{report}");
     assert_eq!(dropped, 0, "SOEM's frames are all well-formed\n{report}");
     (stdout, answered)
