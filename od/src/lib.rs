@@ -7,6 +7,8 @@
 //!   range checks whose refusals map onto SDO [`AbortCode`]s ([`abort`]).
 //! - [`hook`]: the one way a device model sits behind its dictionary ([`hook::DeviceHook`]), and the
 //!   process image of a PDO or SyncManager decoded from its mapping objects.
+//! - [`event`]: what a device says about its own entries (a value filled in at start, …), as a line
+//!   of text or a JSON object.
 //!
 //! **The descriptions.**
 //! - [`device`]: a [`DeviceDescription`] (identity, dictionary, format-specific parts).
@@ -14,7 +16,8 @@
 //!   two XML readers walk the file with one cursor ([`xml`]); [`load`] reads a file of any of them,
 //!   [`error`] and [`report`] say what was wrong or lost and where.
 //! - [`sii`] (the EtherCAT SII image), [`doc`] (a Markdown reference), [`diff`] (two descriptions
-//!   compared), [`validate`] (a description's own consistency).
+//!   compared), [`validate`] (a description's own consistency), [`fill`] (the CiA 301 identity and
+//!   names a device reports where its description gives none).
 //!
 //! **SDO.** [`sdo`]: the CiA 301 SDO frames, server and client (sans-IO), and a blocking session.
 //!
@@ -27,6 +30,7 @@ pub mod model {
     pub mod abort;
     pub mod bits;
     pub mod dict;
+    pub mod event;
     pub mod hook;
     pub mod object;
     pub mod types;
@@ -42,6 +46,7 @@ pub mod description {
     pub mod eds;
     pub mod error;
     pub mod esi;
+    pub mod fill;
     pub mod load;
     pub mod report;
     pub mod sii;
@@ -53,8 +58,10 @@ pub mod description {
 pub mod coe;
 pub mod sdo;
 
-pub use description::{device, diff, doc, eds, error, esi, load, report, sii, validate, xdd, xml};
-pub use model::{abort, bits, dict, hook, object, types, units, value};
+pub use description::{
+    device, diff, doc, eds, error, esi, fill, load, report, sii, validate, xdd, xml,
+};
+pub use model::{abort, bits, dict, event, hook, object, types, units, value};
 
 pub use abort::AbortCode;
 pub use device::DeviceDescription;

@@ -197,6 +197,7 @@ fn reads_a_small_hand_written_eds() {
             revision: 0x0001_0002,
             product_name: "Widget".into(),
             order_code: "W-1".into(),
+            ..Default::default()
         }
     );
     assert_eq!(
@@ -349,6 +350,7 @@ fn golden_description() -> DeviceDescription {
             revision: 1,
             product_name: "Widget".into(),
             order_code: "W-1".into(),
+            ..Default::default()
         },
         file_info: FileInfo {
             file_name: "golden.eds".into(),
@@ -1197,6 +1199,7 @@ mod random {
                         revision,
                         product_name,
                         order_code,
+                        ..Default::default()
                     }
                 },
             );

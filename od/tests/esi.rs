@@ -211,6 +211,7 @@ fn hand_written_file_reads_into_exact_objects() {
             revision: 2,
             product_name: "Example drive".into(),
             order_code: "EX-1".into(),
+            ..Default::default()
         }
     );
     assert_eq!(d.file_info.file_version, "7");
@@ -547,6 +548,7 @@ fn writer_output_is_byte_exact() {
             revision: 2,
             product_name: "Example drive".into(),
             order_code: "EX-1".into(),
+            ..Default::default()
         },
         ethercat: Some(EthercatInfo {
             group_type: "Drives".into(),
@@ -686,6 +688,7 @@ fn canopen_description() -> DeviceDescription {
             revision: 2,
             product_name: "Example CANopen drive".into(),
             order_code: String::new(),
+            ..Default::default()
         },
         can: Some(od::device::CanInfo::default()),
         dictionary: dict,
@@ -1554,6 +1557,7 @@ fn random_descriptions(seed: u64, count: usize, objects: usize) -> Vec<DeviceDes
                     revision: r.next() as u32,
                     product_name: r.text(20, false),
                     order_code: r.text(12, false),
+                    ..Default::default()
                 },
                 ethercat: Some(random_ethercat(&mut r)),
                 dictionary,

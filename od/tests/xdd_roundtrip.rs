@@ -241,6 +241,7 @@ fn description() -> impl Strategy<Value = DeviceDescription> {
                         revision,
                         product_name,
                         order_code,
+                        ..Default::default()
                     },
                     file_info,
                     // A description without CAN parts is written with the defaults.

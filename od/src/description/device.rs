@@ -24,6 +24,12 @@ pub struct Identity {
     pub product_name: String,
     /// The type name of the device (ESI `Device/Type` text, EDS `OrderCode`).
     pub order_code: String,
+    /// The hardware version (XDD `version versionType="HW"`); empty where the description gives
+    /// none (EDS and ESI have no such key).
+    pub hardware_version: String,
+    /// The software version (XDD `version versionType="SW"`, else `"FW"`); empty where the
+    /// description gives none.
+    pub software_version: String,
 }
 
 /// Version and authorship of a description file (EDS `[FileInfo]`, XDD `ProfileHeader` and `fileName`…).

@@ -401,6 +401,39 @@ impl SubObject {
         }
     }
 
+    /// Whether the description gives the entry a value: a default, or a current value set
+    /// explicitly (a DCF `ParameterValue`). An entry without one holds zero (or an empty string) only
+    /// for want of a value.
+    pub fn has_value(&self) -> bool {
+        self.default.is_some() || self.value_set
+    }
+
+    /// Makes `value` the entry's default and its current value, so that a reset (NMT reset node,
+    /// restore defaults) keeps it. Refused (`false`, nothing changed) when it is no value of the
+    /// entry's type, is longer than the entry holds or lies outside its limits.
+    pub fn set_default(&mut self, value: Value) -> bool {
+        let Ok(bytes) = value.encode(self.data_type) else {
+            return false;
+        };
+        if self.capacity().is_some_and(|cap| bytes.len() > cap) {
+            return false;
+        }
+        let outside = |limit: &Option<Value>, wrong: std::cmp::Ordering| {
+            limit
+                .as_ref()
+                .is_some_and(|l| crate::dict::compare(&value, l) == Some(wrong))
+        };
+        if outside(&self.low, std::cmp::Ordering::Less)
+            || outside(&self.high, std::cmp::Ordering::Greater)
+        {
+            return false;
+        }
+        self.value = bytes;
+        self.default = Some(DefaultValue::plain(value));
+        self.value_plus_node_id = false;
+        true
+    }
+
     /// The current value, decoded.
     pub fn current(&self) -> Option<Value> {
         Value::decode(self.data_type, &self.value).ok()

@@ -56,6 +56,8 @@ fn identity(cx: &mut Cx<'_>, a: &Identity, b: &Identity) {
         revision,
         product_name,
         order_code,
+        hardware_version,
+        software_version,
     } = a;
     cx.field("vendor ID", vendor_id, &b.vendor_id, hex8);
     cx.text("vendor name", vendor_name, &b.vendor_name);
@@ -63,6 +65,8 @@ fn identity(cx: &mut Cx<'_>, a: &Identity, b: &Identity) {
     cx.field("revision", revision, &b.revision, hex8);
     cx.text("product name", product_name, &b.product_name);
     cx.text("order code", order_code, &b.order_code);
+    cx.text("hardware version", hardware_version, &b.hardware_version);
+    cx.text("software version", software_version, &b.software_version);
 }
 
 fn file_info(cx: &mut Cx<'_>, a: &FileInfo, b: &FileInfo) {

@@ -396,6 +396,7 @@ fn device() -> DeviceDescription {
             revision: 0x0010_0000,
             product_name: "EL1008 8Ch. Dig. Input".into(),
             order_code: "EL1008".into(),
+            ..Default::default()
         },
         file_info: FileInfo {
             file_name: "el1008.eds".into(),
@@ -492,6 +493,7 @@ fn identity_and_file_info_are_compared() {
             revision: 5,
             product_name: "P".into(),
             order_code: "O".into(),
+            ..Default::default()
         };
         b.file_info = FileInfo {
             file_name: "f".into(),

@@ -305,6 +305,12 @@ fn device_identity(w: &mut XmlWriter, desc: &DeviceDescription) {
     if !id.order_code.is_empty() {
         w.text("orderNumber", &[], &id.order_code);
     }
+    // CiA 311: the versions follow the order number.
+    for (kind, text) in [("HW", &id.hardware_version), ("SW", &id.software_version)] {
+        if !text.is_empty() {
+            w.text("version", &[("versionType", kind)], text);
+        }
+    }
     w.end();
 }
 

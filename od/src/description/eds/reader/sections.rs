@@ -149,6 +149,9 @@ impl<'i, 'a> Builder<'i, 'a> {
             revision: self.number(section, revision, U32, 0)?,
             product_name: text(product_name),
             order_code: text(order_code),
+            // An EDS has no key for them (CiA 306 `[DeviceInfo]`).
+            hardware_version: String::new(),
+            software_version: String::new(),
         };
 
         const RATES: [u32; 8] = [10, 20, 50, 125, 250, 500, 800, 1000];

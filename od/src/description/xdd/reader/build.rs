@@ -63,6 +63,9 @@ impl<'a> Scan<'a> {
         desc.identity.vendor_name = self.vendor_name.take().unwrap_or_default();
         desc.identity.product_name = self.product_name.take().unwrap_or_default();
         desc.identity.order_code = self.order_number.take().unwrap_or_default();
+        let [hardware, software, firmware] = std::mem::take(&mut self.versions);
+        desc.identity.hardware_version = hardware.unwrap_or_default();
+        desc.identity.software_version = software.or(firmware).unwrap_or_default();
         desc.identity.vendor_id = self.vendor_id.or_else(|| default_u32(1)).unwrap_or(0);
         desc.identity.product_code = self.product_id.or_else(|| default_u32(2)).unwrap_or(0);
         desc.identity.revision = default_u32(3).unwrap_or(0);

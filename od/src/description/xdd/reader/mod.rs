@@ -130,6 +130,16 @@ enum IdField {
     ProductName,
     ProductId,
     OrderNumber,
+    /// `version` with its `versionType`.
+    Version(VersionType),
+}
+
+/// The `versionType` of a `DeviceIdentity/version` (CiA 311).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum VersionType {
+    Hardware,
+    Software,
+    Firmware,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -317,6 +327,8 @@ struct Scan<'a> {
     product_name: Option<String>,
     product_id: Option<u32>,
     order_number: Option<String>,
+    /// The `version` elements: hardware, software, firmware (the first of each type).
+    versions: [Option<String>; 3],
     product_text: LangText,
     params: HashMap<Cow<'a, str>, ParamRec<'a>>,
     param: Option<(Attr<'a>, ParamRec<'a>)>,
@@ -392,6 +404,7 @@ impl<'a> Scan<'a> {
             product_name: None,
             product_id: None,
             order_number: None,
+            versions: [None, None, None],
             product_text: LangText::default(),
             params: HashMap::new(),
             param: None,

@@ -578,3 +578,40 @@ fn a_record_or_object_of_more_sub_indices_than_there_are_is_an_error() {
         assert_eq!((e.position.line, e.position.column), (12, 64), "{e}");
     }
 }
+
+/// `DeviceIdentity/version`: the first of each type, HW as the hardware version, SW (else FW) as
+/// the software version; the writer writes them back after the order number.
+#[test]
+fn versions_of_the_device_identity() {
+    let identity = |versions: &str| {
+        let text = wrap(
+            "",
+            &format!(
+                "<DeviceIdentity><productName>P</productName><orderNumber>X-1</orderNumber>{versions}</DeviceIdentity>"
+            ),
+        );
+        read(text.as_bytes(), "t.xdd").unwrap().identity
+    };
+    let id = identity(
+        r#"<version versionType="FW">fw 2</version><version versionType="HW"> B </version><version versionType="SW">1.4</version><version versionType="SW">9</version>"#,
+    );
+    assert_eq!(id.hardware_version, "B");
+    assert_eq!(id.software_version, "1.4");
+    let id = identity(r#"<version versionType="FW">fw 2</version><version>untyped</version>"#);
+    assert_eq!(id.hardware_version, "");
+    assert_eq!(id.software_version, "fw 2");
+
+    let mut desc = crate::device::DeviceDescription::default();
+    desc.identity.order_code = "X-1".into();
+    desc.identity.hardware_version = "B".into();
+    desc.identity.software_version = "1.4".into();
+    let written = crate::xdd::write(&desc);
+    assert!(
+        written.contains(
+            "<orderNumber>X-1</orderNumber>\n        <version versionType=\"HW\">B</version>\n        <version versionType=\"SW\">1.4</version>\n"
+        ),
+        "{written}"
+    );
+    let back = read(written.as_bytes(), "w.xdd").unwrap();
+    assert_eq!(back.identity, desc.identity);
+}

@@ -3,7 +3,7 @@
 
 use super::{
     local, parse_baud, parse_type_element, show, Attr, Ctx, DtKind, IdField, Scan, TextKind,
-    MOST_SUB_INDICES,
+    VersionType, MOST_SUB_INDICES,
 };
 use crate::error::ParseError;
 use crate::xml;
@@ -175,16 +175,28 @@ impl<'a> Scan<'a> {
                 b"orderNumber" => Ctx::IdentityField(IdField::OrderNumber),
                 b"productText" => Ctx::ProductText,
                 b"version" => {
+                    let mut kind = None;
                     self.attrs(e, offset, |s, key, v| {
-                        if key == b"versionType" && !matches!(v.text.trim(), "SW" | "FW" | "HW") {
-                            return Err(s.err(
-                                v.offset,
-                                format!("expected versionType SW, FW or HW, found `{}`", v.text),
-                            ));
+                        if key == b"versionType" {
+                            kind = Some(match v.text.trim() {
+                                "HW" => VersionType::Hardware,
+                                "SW" => VersionType::Software,
+                                "FW" => VersionType::Firmware,
+                                _ => {
+                                    return Err(s.err(
+                                        v.offset,
+                                        format!(
+                                            "expected versionType SW, FW or HW, found `{}`",
+                                            v.text
+                                        ),
+                                    ))
+                                }
+                            });
                         }
                         Ok(())
                     })?;
-                    Ctx::Skip
+                    // CiA 311 requires the type; a version without one says nothing usable.
+                    kind.map_or(Ctx::Skip, |k| Ctx::IdentityField(IdField::Version(k)))
                 }
                 _ => Ctx::Skip,
             },
@@ -335,6 +347,12 @@ impl<'a> Scan<'a> {
                 let text = std::mem::take(&mut self.text);
                 match field {
                     IdField::VendorName => self.vendor_name = Some(text),
+                    IdField::Version(kind) => {
+                        let slot = &mut self.versions[kind as usize];
+                        if slot.is_none() {
+                            *slot = Some(text.trim().to_string());
+                        }
+                    }
                     IdField::ProductName => self.product_name = Some(text),
                     IdField::OrderNumber => {
                         if self.order_number.is_none() {

@@ -1,0 +1,395 @@
+//! The CiA 301 values a device of a description reports where the description gives none: its
+//! identity (0x1018:01–03) and its names (0x1008–0x100A). Vendor files often leave these objects
+//! without a value, and a device running such a file as it stands would report 0 (or an empty
+//! name) where the real device reports what the file says elsewhere: masters that check the
+//! identity (python-canopen's readers, `sdo-tool`'s check of `--od`) then see another device.
+//!
+//! [`identity_and_names`] fills them in (sans-IO: a description in, the events of what it changed
+//! out) and says what it did and why, one [`Event`] per entry. The values become the entries'
+//! defaults ([`SubObject::set_default`]), so that a reset keeps them. Picks:
+//!
+//! - **A description's own value always wins.** An entry gets a value only where it has none
+//!   ([`SubObject::has_value`]); an object that is absent stays absent, except 0x1018, which CiA
+//!   301 makes mandatory: it is added with sub-indices 0–4 (the serial number is a DCF's
+//!   `LSS_SerialNumber`, else 0). An entry the description has without the sub-index stays
+//!   without it.
+//! - **Identity**: vendor-ID, product code and revision number of the description's identity
+//!   (EDS `[DeviceInfo]` `VendorNumber`, `ProductNumber`, `RevisionNumber`; XDD `DeviceIdentity`;
+//!   ESI `Vendor/Id`, `Type@ProductCode`, `Type@RevisionNo`); a number the identity gives as 0
+//!   fills nothing (the entry holds 0 already).
+//! - **EtherCAT**: the ESI's identity is also the SII's, and a master compares the two (ETG.1000.6:
+//!   0x1018 holds the identity of the SII). Where an ESI's 0x1018 object gives another number than
+//!   its own `Type` (Ingenia's EVE-XCR-E gives product code 0x32 there, 0x02C31001 in its `Type`),
+//!   the identity replaces it, and says so ([`EventKind::Adjusted`]).
+//! - **Names** (VISIBLE_STRING entries only; a name longer than the entry holds is left out):
+//!   0x1008 manufacturer device name: the product name (EDS `ProductName`, XDD `productName`), for
+//!   an ESI its `Type` text (the type name a master shows), else its `Name`; 0x1009 hardware
+//!   version: XDD `version versionType="HW"`; 0x100A software version: XDD `"SW"` (else `"FW"`),
+//!   for an ESI its revision number as `0x` and eight hex digits (the number EtherCAT devices
+//!   carry their firmware revision in).
+
+use crate::device::DeviceDescription;
+use crate::dict::{Address, Dictionary};
+use crate::event::{Event, EventKind};
+use crate::object::{AccessType, Object, ObjectKind, SubObject};
+use crate::types::DataType;
+use crate::value::Value;
+
+/// The identity entries: sub-index and name.
+const IDENTITY: [(u8, &str); 4] = [
+    (1, "vendor-ID"),
+    (2, "product code"),
+    (3, "revision number"),
+    (4, "serial number"),
+];
+
+/// Fills 0x1018:01–03 and 0x1008–0x100A of `desc` from its identity where it gives them no value;
+/// what it changed, one event per entry. See the [module documentation](self).
+pub fn identity_and_names(desc: &mut DeviceDescription) -> Vec<Event> {
+    let mut events = Vec::new();
+    identity(desc, &mut events);
+    names(desc, &mut events);
+    events
+}
+
+/// 0x1018:01–03 (and the object itself where the description has none).
+fn identity(desc: &mut DeviceDescription, events: &mut Vec<Event>) {
+    let id = &desc.identity;
+    let numbers = [id.vendor_id, id.product_code, id.revision];
+    let esi = desc.ethercat.is_some();
+    let serial = desc
+        .commissioning
+        .as_ref()
+        .map_or(0, |c| c.lss_serial_number);
+    let dict = &mut desc.dictionary;
+    if dict.object(0x1018).is_none() {
+        add_identity(dict, numbers, serial, events);
+        return;
+    }
+    for ((sub, name), number) in IDENTITY.into_iter().zip(numbers) {
+        let Some(entry) = dict
+            .object_mut(0x1018)
+            .and_then(|o| o.subs.get_mut(&sub))
+            .filter(|e| e.data_type == DataType::Unsigned32)
+        else {
+            continue;
+        };
+        let (kind, reason) = if !entry.has_value() {
+            if number == 0 {
+                continue;
+            }
+            (
+                EventKind::Filled,
+                format!("the description gives no value: its identity's {name}"),
+            )
+        } else {
+            let given = entry.current().and_then(|v| v.as_i128());
+            if !esi || given == Some(i128::from(number)) {
+                continue;
+            }
+            (
+                EventKind::Adjusted,
+                format!(
+                    "the ESI's object gives 0x{:08X}, its Type 0x{number:08X}, which the SII carries \
+                     and a master compares with 0x1018",
+                    given.unwrap_or(0)
+                ),
+            )
+        };
+        if entry.set_default(Value::Uint(u64::from(number))) {
+            events.push(number_event(
+                kind,
+                Address::new(0x1018, sub),
+                name,
+                number,
+                reason,
+            ));
+        }
+    }
+}
+
+/// Adds 0x1018 (CiA 301 §7.5.2.20: a RECORD of UNSIGNED32, read-only) with `numbers` and `serial`.
+fn add_identity(dict: &mut Dictionary, numbers: [u32; 3], serial: u32, events: &mut Vec<Event>) {
+    let count = SubObject::new(
+        "Highest sub-index supported",
+        DataType::Unsigned8,
+        AccessType::Ro,
+    )
+    .with_default(Value::Uint(4));
+    let mut object =
+        Object::structured(0x1018, "Identity object", ObjectKind::Record).with_sub(0, count);
+    let names = [
+        "Vendor-ID",
+        "Product code",
+        "Revision number",
+        "Serial number",
+    ];
+    for (((sub, name), title), number) in IDENTITY
+        .into_iter()
+        .zip(names)
+        .zip(numbers.into_iter().chain([serial]))
+    {
+        let entry = SubObject::new(title, DataType::Unsigned32, AccessType::Ro)
+            .with_default(Value::Uint(u64::from(number)));
+        object = object.with_sub(sub, entry);
+        let source = match (sub, number) {
+            (4, 0) => "no serial number given".to_string(),
+            (4, _) => "the DCF's LSS_SerialNumber".to_string(),
+            (_, 0) => format!("its identity gives no {name} either"),
+            _ => format!("its identity's {name}"),
+        };
+        events.push(number_event(
+            EventKind::Filled,
+            Address::new(0x1018, sub),
+            name,
+            number,
+            format!("the description has no 0x1018, which CiA 301 makes mandatory: {source}"),
+        ));
+    }
+    dict.insert(object);
+}
+
+fn number_event(kind: EventKind, at: Address, name: &str, number: u32, reason: String) -> Event {
+    Event {
+        kind,
+        address: at,
+        name: name.to_string(),
+        value: Value::Uint(u64::from(number)),
+        shown: format!("0x{number:08X}"),
+        unit: None,
+        reason,
+    }
+}
+
+/// 0x1008–0x100A where they exist as VISIBLE_STRINGs without a value.
+fn names(desc: &mut DeviceDescription, events: &mut Vec<Event>) {
+    let id = &desc.identity;
+    let esi = desc.ethercat.is_some();
+    let device_name = if esi && !id.order_code.trim().is_empty() {
+        (id.order_code.trim().to_string(), "its Type")
+    } else {
+        (id.product_name.trim().to_string(), "its product name")
+    };
+    let software = if esi {
+        (format!("0x{:08X}", id.revision), "its revision number")
+    } else {
+        (
+            id.software_version.trim().to_string(),
+            "its software version",
+        )
+    };
+    let hardware = (
+        id.hardware_version.trim().to_string(),
+        "its hardware version",
+    );
+    for (index, name, (text, source)) in [
+        (0x1008u16, "manufacturer device name", device_name),
+        (0x1009, "manufacturer hardware version", hardware),
+        (0x100A, "manufacturer software version", software),
+    ] {
+        if text.is_empty() {
+            continue;
+        }
+        let Some(entry) = desc
+            .dictionary
+            .object_mut(index)
+            .and_then(|o| o.subs.get_mut(&0))
+            .filter(|e| e.data_type == DataType::VisibleString && !e.has_value())
+        else {
+            continue;
+        };
+        if entry.set_default(Value::String(text.clone())) {
+            events.push(Event {
+                kind: EventKind::Filled,
+                address: Address::new(index, 0),
+                name: name.to_string(),
+                value: Value::String(text.clone()),
+                shown: format!("\"{text}\""),
+                unit: None,
+                reason: format!("the description gives no value: {source}"),
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::device::{Commissioning, EthercatInfo};
+    use crate::object::DefaultValue;
+
+    fn u32_entry(name: &str, default: Option<u32>) -> SubObject {
+        let mut e = SubObject::new(name, DataType::Unsigned32, AccessType::Ro);
+        if let Some(v) = default {
+            e = e.with_default(Value::Uint(u64::from(v)));
+        }
+        e
+    }
+
+    fn with_identity(subs: [Option<u32>; 3]) -> DeviceDescription {
+        let mut desc = DeviceDescription::default();
+        desc.identity.vendor_id = 0x26C;
+        desc.identity.product_code = 0x46;
+        desc.identity.revision = 0x08A5_0000;
+        let mut o = Object::structured(0x1018, "Identity", ObjectKind::Record).with_sub(
+            0,
+            SubObject::new("n", DataType::Unsigned8, AccessType::Ro).with_default(Value::Uint(3)),
+        );
+        for (k, v) in subs.into_iter().enumerate() {
+            o = o.with_sub(k as u8 + 1, u32_entry("x", v));
+        }
+        desc.dictionary.insert(o);
+        desc
+    }
+
+    fn value(desc: &DeviceDescription, index: u16, sub: u8) -> Value {
+        desc.dictionary.read_value(index, sub).unwrap()
+    }
+
+    #[test]
+    fn identity_entries_without_a_value_take_the_identity() {
+        let mut desc = with_identity([None, Some(7), None]);
+        let events = identity_and_names(&mut desc);
+        let lines: Vec<String> = events.iter().map(Event::line).collect();
+        assert_eq!(
+            lines,
+            [
+                "0x1018:01 vendor-ID = 0x0000026C (the description gives no value: its identity's vendor-ID)",
+                "0x1018:03 revision number = 0x08A50000 (the description gives no value: its identity's revision number)",
+            ]
+        );
+        assert_eq!(value(&desc, 0x1018, 1), Value::Uint(0x26C));
+        // The description's own value wins.
+        assert_eq!(value(&desc, 0x1018, 2), Value::Uint(7));
+        assert_eq!(value(&desc, 0x1018, 3), Value::Uint(0x08A5_0000));
+        // A default: a reset keeps it.
+        desc.dictionary.reset(5);
+        assert_eq!(value(&desc, 0x1018, 1), Value::Uint(0x26C));
+        // Once filled, nothing more to fill.
+        assert!(identity_and_names(&mut desc).is_empty());
+    }
+
+    #[test]
+    fn an_identity_number_of_0_fills_nothing() {
+        let mut desc = with_identity([None, None, None]);
+        desc.identity.product_code = 0;
+        let events = identity_and_names(&mut desc);
+        assert_eq!(events.len(), 2);
+        assert!(!desc.dictionary.entry(0x1018, 2).unwrap().has_value());
+    }
+
+    #[test]
+    fn an_absent_identity_object_is_added_with_its_five_entries() {
+        let mut desc = DeviceDescription::default();
+        desc.identity.vendor_id = 0x555;
+        desc.commissioning = Some(Commissioning {
+            lss_serial_number: 0x1234,
+            ..Commissioning::default()
+        });
+        let events = identity_and_names(&mut desc);
+        let lines: Vec<String> = events.iter().map(Event::line).collect();
+        let why = "the description has no 0x1018, which CiA 301 makes mandatory";
+        assert_eq!(
+            lines,
+            [
+                format!("0x1018:01 vendor-ID = 0x00000555 ({why}: its identity's vendor-ID)"),
+                format!("0x1018:02 product code = 0x00000000 ({why}: its identity gives no product code either)"),
+                format!("0x1018:03 revision number = 0x00000000 ({why}: its identity gives no revision number either)"),
+                format!("0x1018:04 serial number = 0x00001234 ({why}: the DCF's LSS_SerialNumber)"),
+            ]
+        );
+        let o = desc.dictionary.object(0x1018).unwrap();
+        assert_eq!(o.kind, ObjectKind::Record);
+        assert_eq!(value(&desc, 0x1018, 0), Value::Uint(4));
+        assert_eq!(value(&desc, 0x1018, 1), Value::Uint(0x555));
+        assert_eq!(value(&desc, 0x1018, 4), Value::Uint(0x1234));
+        assert_eq!(o.sub(1).unwrap().access.kind, AccessType::Ro);
+    }
+
+    #[test]
+    fn an_esi_identity_replaces_an_object_value_that_differs_from_it() {
+        let mut desc = with_identity([Some(0x26C), Some(0x32), None]);
+        desc.ethercat = Some(EthercatInfo::default());
+        let events = identity_and_names(&mut desc);
+        assert_eq!(events[0].kind, EventKind::Adjusted);
+        assert_eq!(
+            events[0].line(),
+            "0x1018:02 product code = 0x00000046 (the ESI's object gives 0x00000032, its Type \
+             0x00000046, which the SII carries and a master compares with 0x1018)"
+        );
+        assert_eq!(events[1].kind, EventKind::Filled);
+        assert_eq!(events.len(), 2);
+        assert_eq!(value(&desc, 0x1018, 2), Value::Uint(0x46));
+        // A CANopen description's own value stands.
+        let mut desc = with_identity([Some(0x26C), Some(0x32), Some(1)]);
+        assert!(identity_and_names(&mut desc).is_empty());
+        assert_eq!(value(&desc, 0x1018, 2), Value::Uint(0x32));
+    }
+
+    fn string_var(index: u16, default: Option<&str>) -> Object {
+        let mut e = SubObject::new("n", DataType::VisibleString, AccessType::Const);
+        if let Some(d) = default {
+            e = e.with_default(Value::String(d.into()));
+        }
+        Object::var(index, e)
+    }
+
+    #[test]
+    fn names_where_the_objects_exist_without_a_value() {
+        let mut desc = DeviceDescription::default();
+        desc.identity.product_name = "PD4-EB59CD".into();
+        desc.identity.hardware_version = "1.2".into();
+        desc.identity.software_version = "FIR-v2213".into();
+        desc.dictionary.insert(string_var(0x1008, None));
+        desc.dictionary.insert(string_var(0x1009, Some("rev B")));
+        desc.dictionary.insert(string_var(0x100A, None));
+        let lines: Vec<String> = names_only(&mut desc);
+        assert_eq!(
+            lines,
+            [
+                "0x1008 manufacturer device name = \"PD4-EB59CD\" (the description gives no value: its product name)",
+                "0x100A manufacturer software version = \"FIR-v2213\" (the description gives no value: its software version)",
+            ]
+        );
+        assert_eq!(value(&desc, 0x1009, 0), Value::String("rev B".into()));
+        assert_eq!(
+            desc.dictionary.entry(0x1008, 0).unwrap().default,
+            Some(DefaultValue::plain(Value::String("PD4-EB59CD".into())))
+        );
+        // An absent object stays absent; a name the entry cannot hold is left out.
+        let mut desc = DeviceDescription::default();
+        desc.identity.product_name = "long name".into();
+        desc.identity.hardware_version = "1".into();
+        let mut short = string_var(0x1008, None);
+        short.subs.get_mut(&0).unwrap().bit_size = Some(16);
+        desc.dictionary.insert(short);
+        assert!(names_only(&mut desc).is_empty());
+        assert!(desc.dictionary.object(0x1009).is_none());
+    }
+
+    fn names_only(desc: &mut DeviceDescription) -> Vec<String> {
+        let mut events = Vec::new();
+        names(desc, &mut events);
+        events.iter().map(Event::line).collect()
+    }
+
+    #[test]
+    fn an_esi_names_its_type_and_its_revision() {
+        let mut desc = DeviceDescription {
+            ethercat: Some(EthercatInfo::default()),
+            ..DeviceDescription::default()
+        };
+        desc.identity.product_name = "EVE-XCR-E CANopen drive".into();
+        desc.identity.order_code = "EVE-XCR-E".into();
+        desc.identity.revision = 327_700;
+        desc.dictionary.insert(string_var(0x1008, None));
+        desc.dictionary.insert(string_var(0x100A, None));
+        assert_eq!(
+            names_only(&mut desc),
+            [
+                "0x1008 manufacturer device name = \"EVE-XCR-E\" (the description gives no value: its Type)",
+                "0x100A manufacturer software version = \"0x00050014\" (the description gives no value: its revision number)",
+            ]
+        );
+    }
+}
