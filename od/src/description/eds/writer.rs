@@ -75,6 +75,14 @@ impl IniWriter {
     fn key(&mut self, key: &str, value: &str) {
         self.out.push_str(key);
         self.out.push('=');
+        self.out.push_str(&without_comment_start(one_line(value)));
+        self.out.push_str("\r\n");
+    }
+
+    /// A `[Comments]` line: free text, written whole (readers keep its `;`).
+    fn comment_line(&mut self, key: &str, value: &str) {
+        self.out.push_str(key);
+        self.out.push('=');
         self.out.push_str(&one_line(value));
         self.out.push_str("\r\n");
     }
@@ -88,6 +96,33 @@ fn one_line(text: &str) -> Cow<'_, str> {
     } else {
         Cow::Borrowed(trimmed)
     }
+}
+
+/// `text` without the blanks before a `;`, which would make the rest an inline comment for a reader
+/// (this one, python-canopen's): `a ; b` is written `a; b`, never cut to `a`.
+fn without_comment_start(mut out: Cow<'_, str>) -> Cow<'_, str> {
+    while let Some(at) = comment_start(&out) {
+        let kept = out[..at].trim_end_matches(is_blank).len();
+        out.to_mut().replace_range(kept..at, "");
+    }
+    out
+}
+
+/// Where a `;` after white space is in `text` (where a reader's inline comment would start).
+fn comment_start(text: &str) -> Option<usize> {
+    let mut after_space = false;
+    for (at, c) in text.char_indices() {
+        if c == ';' && after_space {
+            return Some(at);
+        }
+        after_space = is_blank(c);
+    }
+    None
+}
+
+/// White space as python-canopen's reader (Python's `str.isspace`) takes it.
+fn is_blank(c: char) -> bool {
+    c.is_whitespace() || ('\u{1c}'..='\u{1f}').contains(&c)
 }
 
 fn flag(b: bool) -> &'static str {
@@ -187,7 +222,7 @@ fn comments(w: &mut IniWriter, lines: &[String]) {
     w.section("Comments");
     w.key("Lines", &lines.len().to_string());
     for (n, line) in lines.iter().enumerate() {
-        w.key(&format!("Line{}", n + 1), line);
+        w.comment_line(&format!("Line{}", n + 1), line);
     }
 }
 

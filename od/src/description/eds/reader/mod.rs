@@ -48,10 +48,33 @@ fn is_comment(line: &str) -> bool {
     line.starts_with(';') || line.starts_with('#')
 }
 
+/// The text after a key's `=` without its inline comment: from the first `;` that follows white
+/// space (`DefaultValue=0x3ED ; prevent homing`, a tab before the `;` as well) to the end of the
+/// line, as python-canopen reads EDS files (configparser with `inline_comment_prefixes=(';',)`:
+/// such a prefix counts only after white space, Python's `str.isspace`). A `;` right after the
+/// value (`1005;c`) or right after the `=` starts no comment: it is part of the value, which is
+/// then no number (python-canopen drops it, and so does this reader, with a warning). Every key is
+/// read so, as configparser reads them all: names and strings lose such a comment too; only the
+/// lines of `[Comments]`, free text, are kept whole.
+fn without_comment(value: &str) -> &str {
+    let mut after_space = false;
+    for (at, c) in value.char_indices() {
+        if c == ';' && after_space {
+            return &value[..at];
+        }
+        // Python's white space: Rust's, and the separators U+001C–U+001F.
+        after_space = c.is_whitespace() || ('\u{1c}'..='\u{1f}').contains(&c);
+    }
+    value
+}
+
 /// `key=value`, both trimmed, as slices of the text.
 struct Entry<'a> {
     key: &'a str,
+    /// The value without its inline comment ([`without_comment`]).
     value: &'a str,
+    /// The whole text after the `=`: a `[Comments]` line is free text, a `;` in it no comment.
+    whole: &'a str,
 }
 
 /// `[name]` and the range of its entries in [`Ini::entries`].
@@ -118,7 +141,8 @@ impl<'a> Ini<'a> {
                 ));
             };
             let key = line[..eq].trim_ascii();
-            let value = line[eq + 1..].trim_ascii();
+            let whole = line[eq + 1..].trim_ascii();
+            let value = without_comment(&line[eq + 1..]).trim_ascii();
             if key.is_empty() {
                 return Err(ini.error(line, "expected a key before `=`"));
             }
@@ -129,7 +153,7 @@ impl<'a> Ini<'a> {
                 ));
             };
             section.entries.end += 1;
-            ini.entries.push(Entry { key, value });
+            ini.entries.push(Entry { key, value, whole });
         }
         Ok(ini)
     }
@@ -604,6 +628,26 @@ mod tests {
             );
         }
         assert_eq!(ini.position(&text[12..]), Position { line: 2, column: 7 });
+    }
+
+    #[test]
+    fn inline_comments_follow_white_space() {
+        assert_eq!(without_comment("0x3ED ; prevent homing"), "0x3ED ");
+        assert_eq!(without_comment("0x3ED\t; tab"), "0x3ED\t");
+        assert_eq!(without_comment("$NODEID+0x180 ; c"), "$NODEID+0x180 ");
+        assert_eq!(without_comment("1005;c"), "1005;c");
+        assert_eq!(without_comment(";c"), ";c");
+        assert_eq!(without_comment(" ; all comment"), " ");
+        assert_eq!(without_comment("a;b ;c ; d"), "a;b ");
+        assert_eq!(without_comment("µ\u{1f};x"), "µ\u{1f}");
+        assert_eq!(without_comment("\u{a0};x"), "\u{a0}");
+        let ini = Ini::scan("[A]\nk=0x10 ; c\nl=2;3\nm=\t;only\n", "t").unwrap();
+        let values: Vec<&str> = ini.entries.iter().map(|e| e.value).collect();
+        assert_eq!(values, ["0x10", "2;3", ""]);
+        assert_eq!(
+            ini.position(ini.entries[0].value),
+            Position { line: 2, column: 3 }
+        );
     }
 
     #[test]

@@ -345,10 +345,16 @@ impl<'i, 'a> Builder<'i, 'a> {
             return None;
         }
         let drop = |why: &str| {
+            // `1005;c`: a `;` starts a comment only after white space (as python-canopen reads it).
+            let hint = if text.contains(';') {
+                " (a `;` starts a comment only after a blank)"
+            } else {
+                ""
+            };
             self.warn(
                 text,
                 format!(
-                    "{}= in [{}]: {why}; {}",
+                    "{}= in [{}]: {why}{hint}; {}",
                     entry.key,
                     section.name,
                     dropped(entry.key)

@@ -251,9 +251,10 @@ impl<'i, 'a> Builder<'i, 'a> {
         let numbered = self.numbered(section, "Line")?;
         (1..=count)
             .map(|n| {
+                // Free text: a `;` in a comment line is part of it.
                 numbered
                     .get(&n)
-                    .map(|e| e.value.to_string())
+                    .map(|e| e.whole.to_string())
                     .ok_or_else(|| {
                         self.missing(
                             section,
