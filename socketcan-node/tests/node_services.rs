@@ -399,15 +399,21 @@ fn pdo_mapping_procedure_and_its_aborts() {
     assert_eq!(n.sdo_write(0x1A01, 0, &[0]), Err(0x0800_0022));
 }
 
+/// CiA 301: transmission types 241–251 are reserved; 252 and 253 (remote request only) are TPDO
+/// types, refused for an RPDO.
 #[test]
-fn transmission_types_241_to_253_are_refused() {
+fn reserved_transmission_types_are_refused() {
     let mut n = node();
-    for t in [241u8, 252, 253] {
+    for t in [241u8, 245, 251] {
         assert_eq!(n.sdo_write(0x1800, 2, &[t]), Err(0x0609_0030), "type {t}");
         assert_eq!(n.sdo_write(0x1400, 2, &[t]), Err(0x0609_0030), "type {t}");
     }
-    for t in [0u8, 1, 240, 254, 255] {
-        n.sdo_write(0x1800, 2, &[t]).unwrap();
+    for t in [252u8, 253] {
+        assert_eq!(n.sdo_write(0x1400, 2, &[t]), Err(0x0609_0030), "type {t}");
+    }
+    for t in [0u8, 1, 240, 252, 253, 254, 255] {
+        assert_eq!(n.sdo_write(0x1800, 2, &[t]), Ok(()), "type {t}");
+        assert_eq!(n.sdo_read(0x1800, 2), Ok(vec![t]), "type {t}");
     }
 }
 

@@ -614,6 +614,38 @@ fn a_remote_frame_asks_for_a_tpdo_unless_bit_30_forbids_it() {
     assert!(n.send(rtr(0x385)).is_empty());
 }
 
+/// CiA 301 §7.2.2.2, types 252 and 253: sent on a remote frame only, never on a SYNC or a change;
+/// type 252 answers with the data sampled at the last SYNC (the current data before the first), 253
+/// with the data of the moment.
+#[test]
+fn remote_request_only_tpdos_answer_with_the_sampled_or_the_current_data() {
+    let rtr = |id: u16| CanFrame::new_remote_frame(u32::from(id), false, 0).unwrap();
+    let mut n = node();
+    assert_eq!(n.sdo_write(0x1800, 2, &[252]), Ok(()));
+    // TPDO 2 is sent on SYNC only as the description has it: invalid here, to keep the SYNCs quiet.
+    assert_eq!(
+        n.sdo_write(0x1801, 1, &0x8000_0285u32.to_le_bytes()),
+        Ok(())
+    );
+    assert!(n.nmt(0x01, ID).is_empty());
+    assert!(inputs(&mut n, [3, 4]).is_empty());
+    // Before any SYNC: the current data.
+    assert_eq!(n.send(rtr(0x185)), vec![f(0x185, &[3, 4])]);
+    assert!(sync(&mut n).is_empty());
+    assert!(inputs(&mut n, [5, 6]).is_empty());
+    assert!(n.advance_ms(100).is_empty());
+    // What the SYNC sampled, [3, 4], not the moment's [5, 6].
+    assert_eq!(n.send(rtr(0x185)), vec![f(0x185, &[3, 4])]);
+    assert!(sync(&mut n).is_empty());
+    assert_eq!(n.send(rtr(0x185)), vec![f(0x185, &[5, 6])]);
+    // Type 253: the moment's data, nothing on a SYNC or a change.
+    assert_eq!(n.sdo_write(0x1800, 2, &[253]), Ok(()));
+    assert!(inputs(&mut n, [7, 8]).is_empty());
+    assert!(sync(&mut n).is_empty());
+    assert!(inputs(&mut n, [9, 10]).is_empty());
+    assert_eq!(n.send(rtr(0x185)), vec![f(0x185, &[9, 10])]);
+}
+
 /// Within one instant the node works in the order its timers are documented: the device's report
 /// first, its changed TPDO on the wire before the heartbeat due at the same instant.
 #[test]

@@ -112,8 +112,10 @@ impl<A: Application> Core<A> {
                 }
             }
             2 => {
+                // CiA 301 §7.5.2.35/§7.5.2.37: 241–251 are reserved; 252 and 253 (remote request
+                // only) exist for TPDOs, not RPDOs.
                 let t = value as u8;
-                if (241..=253).contains(&t) {
+                if (241..=251).contains(&t) || (index < TPDO_COMM && (252..=253).contains(&t)) {
                     return Err(AbortCode::InvalidValue);
                 }
             }

@@ -1,6 +1,7 @@
 //! The PDO engine of the node (CiA 301 §7.2.2): RPDOs applied on receipt or at the next SYNC, TPDOs sent
 //! on SYNC, on a change of their data, on a remote frame and by their event timer, each within its
-//! inhibit time. The configurations come from the dictionary ([`PdoConfig::read`]).
+//! inhibit time. Types 252 and 253 are sent on a remote frame only: 252 with the data sampled at the
+//! last SYNC, 253 with the data of the moment. The configurations come from the dictionary ([`PdoConfig::read`]).
 
 use std::time::{Duration, Instant};
 
@@ -20,6 +21,8 @@ pub(super) struct TxState {
     pending: bool,
     inhibit_until: Option<Instant>,
     event_at: Option<Instant>,
+    /// Type 252: the data sampled at the last SYNC, which a remote frame asks for.
+    sampled: Option<([u8; 8], usize)>,
 }
 
 impl<A: Application> Core<A> {
@@ -60,6 +63,7 @@ impl<A: Application> Core<A> {
             st.sync_count = 0;
             st.pending = matches!(cfg.transmission, 254 | 255);
             st.event_at = None;
+            st.sampled = None;
         }
         for p in &mut self.rpdo_pending {
             *p = None;
@@ -201,6 +205,10 @@ impl<A: Application> Core<A> {
                         false
                     }
                 }
+                252 => {
+                    self.tpdo_state[n].sampled = Some(self.tpdo_data(n));
+                    false
+                }
                 _ => false,
             };
             if due {
@@ -210,7 +218,9 @@ impl<A: Application> Core<A> {
         }
     }
 
-    /// A remote frame for a TPDO (COB-ID bit 30 clear): its current data.
+    /// A remote frame for a TPDO (COB-ID bit 30 clear): its current data; for type 252 (synchronous,
+    /// remote request only) the data sampled at the last SYNC (CiA 301 §7.2.2.2), the current data
+    /// before the first.
     pub(super) fn rtr(&mut self, now: Instant, cob: u16) {
         if self.state != NmtState::Operational {
             return;
@@ -220,7 +230,10 @@ impl<A: Application> Core<A> {
             .iter()
             .position(|c| c.valid() && c.cob_raw & COB_NO_RTR == 0 && c.cob_id() == cob)
         {
-            let (data, len) = self.tpdo_data(n);
+            let (data, len) = match self.tpdo_state[n].sampled {
+                Some(sampled) if self.tpdos[n].transmission == 252 => sampled,
+                _ => self.tpdo_data(n),
+            };
             self.send_tpdo(now, n, data, len);
         }
     }
