@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """python-canopen's BaseNode402 as a user drives a CiA 402 node it has only the description of.
 
-    accept402_canopen.py --eds FILE --node-id N --socketcand HOST:PORT [--cycle-ms MS]
+    accept402_canopen.py --eds FILE --node-id N (--socketcand HOST:PORT | --socketcan IFACE)
+                         [--cycle-ms MS]
 
 The master takes the node as it comes: it reads the node's PDO configuration by SDO
 (`setup_402_state_machine`) and changes nothing in it. Where a PDO of the drive is synchronous
@@ -18,6 +19,8 @@ The scenario, each mode only where the node's 0x6502 lists it:
   homing      where 0x6098 exists: method 35 (the current position is home), node.homing() (the
               handshake by SDO where the status word's TPDO is sent on change only, see homing());
               the position is then the home offset 0x607C
+  rtr         on SocketCAN (socketcand carries no remote frames): every enabled TPDO that is not
+              sent on every n-th SYNC and allows RTR answers a remote frame with its data
   pp          node.op_mode = "PROFILED POSITION", a move of +2,000 counts by the set-point handshake
               (profile velocity 10,000 counts/s where 0x6081 exists; accelerations as the node has
               them); at target reached 0x6064 is exactly the target
@@ -92,8 +95,11 @@ class Master:
     def __init__(self, args):
         self.args = args
         self.network = canopen.Network()
-        host, port = args.socketcand.rsplit(":", 1)
-        self.network.connect(interface="socketcand", host=host, port=int(port), channel="can0")
+        if args.socketcan:
+            self.network.connect(interface="socketcan", channel=args.socketcan)
+        else:
+            host, port = args.socketcand.rsplit(":", 1)
+            self.network.connect(interface="socketcand", host=host, port=int(port), channel="can0")
         self.node = BaseNode402(args.node_id, args.eds)
         self.network.add_node(self.node)
         self.node.sdo.RESPONSE_TIMEOUT = 2.0
@@ -122,9 +128,14 @@ class Master:
             for other in pdo:
                 if other.index == 0x6040 and control is not None and other is not control:
                     other.raw = control.raw
-        for pdo in {id(p): p for p, _ in mapped}.values():
+        pdos = {id(p): p for p, _ in mapped}.values()
+        for pdo in pdos:
             if not pdo.is_periodic:
                 pdo.transmit()
+        if any(pdo.is_periodic for pdo in pdos):
+            # Taken at a SYNC after the RPDO's next cycle: go on once the drive has it.
+            wait_for(f"0x{index:04X} = {value} through a synchronous RPDO",
+                     lambda: self.node.sdo[index].raw == value, 2)
 
     def synchronous_pdos(self):
         return [pdo for pdo in list(self.node.tpdo.values()) + list(self.node.rpdo.values())
@@ -174,6 +185,7 @@ class Master:
         node.nmt.state = "OPERATIONAL"
         time.sleep(0.1)
 
+        self.remote_requests()
         node.state = "SWITCH ON DISABLED"
         check("state", node.state, "SWITCH ON DISABLED")
         node.state = "OPERATION ENABLED"
@@ -202,6 +214,27 @@ class Master:
         emcy = [e for e in self.emcy if e[:2] != b"\x00\x00"]
         check("EMCY during the run", [e.hex() for e in emcy], [])
 
+    def remote_requests(self):
+        """Every enabled TPDO that allows RTR answers a remote frame with its data (CiA 301)."""
+        if not self.args.socketcan:
+            skip("remote frames", "socketcand carries no remote frames")
+            return
+        for pdo in self.node.tpdo.values():
+            if not pdo.enabled or not pdo.rtr_allowed:
+                continue
+            if pdo.trans_type is not None and 1 <= pdo.trans_type <= 240:
+                continue  # sent on SYNC anyway
+            got = []
+            listener = lambda can_id, data, ts: got.append(bytes(data))
+            self.network.subscribe(pdo.cob_id, listener)
+            time.sleep(0.05)
+            before = len(got)
+            pdo.remote_request()
+            wait_for(f"TPDO 0x{pdo.cob_id:03X} answers a remote frame",
+                     lambda: len(got) > before, 1)
+            check(f"TPDO 0x{pdo.cob_id:03X} length", len(got[-1]), pdo.length // 8)
+            self.network.unsubscribe(pdo.cob_id, listener)
+
     def mode(self):
         """The mode of operation: node.op_mode, or 0x6061 by SDO where the TPDO that maps it is sent
         on change only (see event_only)."""
@@ -215,22 +248,37 @@ class Master:
 
     def event_only(self, index):
         """Whether the TPDO BaseNode402 reads `index` from is sent only on a change (event-driven
-        without an event timer). BaseNode402 takes a TPDO it has received twice for a periodic one
+        without an event timer, or acyclic synchronous). BaseNode402 takes a TPDO it has received twice for a periodic one
         and then waits 0.2 s for the next before it answers node.op_mode or checks the status
         word; a drive that sends on change only sends none while nothing changes."""
         pointer = self.node.tpdo_pointers.get(index)
         if pointer is None:
             return False
         pdo = pointer.pdo_parent
-        return pdo.trans_type is not None and pdo.trans_type >= 254 and not pdo.event_timer
+        if pdo.trans_type is None:
+            return False
+        return pdo.trans_type == 0 or (pdo.trans_type >= 254 and not pdo.event_timer)
+
+    def synchronous_control(self):
+        """Whether BaseNode402's control word goes in a synchronous RPDO (taken at a SYNC)."""
+        pointer = self.node.rpdo_pointers.get(0x6040)
+        if pointer is None:
+            return False
+        pdo = pointer.pdo_parent
+        return pdo.trans_type is not None and pdo.trans_type <= 240
 
     def homing(self):
-        """BaseNode402.homing(); where the status word comes only on a change, the CiA 402 homing
-        handshake with the status word read by SDO instead: BaseNode402 takes a TPDO it has received
-        twice for a periodic one and, after the start and at every check, waits 0.2 s for the next,
-        which a drive sending on change only never sends once homing is attained."""
+        """BaseNode402.homing(), or the CiA 402 homing handshake with the status word read by SDO
+        where homing() cannot tell the answer to its start:
+        - the status word comes only on a change: homing() takes a TPDO it has received twice for
+          a periodic one and, after the start and at every check, waits 0.2 s for the next, which a
+          drive sending on change only never sends once homing is attained;
+        - the control word goes in a synchronous RPDO: homing() takes the second status word after
+          its start for the answer, and with the RPDO sent on its own cycle and taken at a SYNC, the
+          start may reach the drive after that status word was sampled, which then says "not
+          started" (0x0400) and homing() reads INTERRUPTED."""
         node = self.node
-        if not self.event_only_status():
+        if not self.event_only_status() and not self.synchronous_control():
             check("homing() with method 35", node.homing(timeout=10), True)
             return
         node.op_mode = "HOMING"
@@ -337,7 +385,9 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--eds", required=True)
     ap.add_argument("--node-id", type=int, required=True)
-    ap.add_argument("--socketcand", required=True)
+    bus = ap.add_mutually_exclusive_group(required=True)
+    bus.add_argument("--socketcand", help="HOST:PORT of a socketcand server")
+    bus.add_argument("--socketcan", help="a SocketCAN interface (vcan0)")
     ap.add_argument("--cycle-ms", type=int, default=10)
     args = ap.parse_args()
     if os.environ.get("CANOPEN_LOG"):
