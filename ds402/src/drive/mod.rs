@@ -66,7 +66,10 @@
 //! - `homing`: homing mode, methods 1–14, 17–30, 33, 34, 35 and 37;
 //! - `motor`: the servo and stepper models; `profile`: the trapezoidal profiles;
 //! - `switches`: the simulated limit and home switches and index pulses;
-//! - `objects`: the owned objects, the parameters' rules and the [`od::hook::DeviceHook`].
+//! - `objects`: the owned objects, the parameters' rules and the [`od::hook::DeviceHook`];
+//! - `factory`: what a drive reports where its description gives no value, and the factory
+//!   settings it takes where the description's value would stop it ([`fill`], which a node calls
+//!   on the dictionary before it makes its drives).
 //!
 //! # Picks where CiA 402 leaves room
 //!
@@ -109,6 +112,8 @@
 //!   follows); a set-point or homing start is taken only in Operation enabled.
 //! - Parameters: an acceleration, deceleration or homing speed of 0 in the dictionary (an EDS entry
 //!   without a default) is taken as this drive's default; a write of 0 is refused (0x06090032).
+//!   [`fill`] gives such entries (and every other value the drive's rules would refuse written
+//!   back) the value the drive runs with, so that what the drive reports, it takes back.
 //!   0x608F is written only with the power stage off (0x08000022).
 //! - Faults: the drive raises 0x8611 and 0x8612 itself, [`Drive::raise_fault`] injects others;
 //!   their causes latch, so Fault reset always leaves Fault.
@@ -119,6 +124,7 @@ use od::dict::Dictionary;
 
 use crate::cia402::State;
 
+mod factory;
 mod homing;
 mod modes;
 mod motor;
@@ -127,6 +133,7 @@ mod profile;
 mod state;
 mod switches;
 
+pub use factory::{device_type, fill, PROFILE_402, SEVERAL_DEVICES, TYPE_SERVO, TYPE_STEPPER};
 pub use homing::HomingStatus;
 pub use objects::IMPLEMENTED_MODES;
 pub use state::{

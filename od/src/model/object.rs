@@ -409,7 +409,7 @@ impl SubObject {
     }
 
     /// Makes `value` the entry's default and its current value, so that a reset (NMT reset node,
-    /// restore defaults) keeps it. Refused (`false`, nothing changed) when it is no value of the
+    /// restore defaults) keeps it; the value is no longer one set explicitly. Refused (`false`, nothing changed) when it is no value of the
     /// entry's type, is longer than the entry holds or lies outside its limits.
     pub fn set_default(&mut self, value: Value) -> bool {
         let Ok(bytes) = value.encode(self.data_type) else {
@@ -430,6 +430,7 @@ impl SubObject {
         }
         self.value = bytes;
         self.default = Some(DefaultValue::plain(value));
+        self.value_set = false;
         self.value_plus_node_id = false;
         true
     }
