@@ -136,7 +136,7 @@ const FACTORY: [Factory; 17] = [
         index: 0x608F,
         sub: 2,
         name: "motor revolutions",
-        unit: "revolutions",
+        unit: "rev",
         zero: "gives no position",
         value: |_| 1,
     },
@@ -369,31 +369,24 @@ fn device_types(dict: &mut Dictionary, axes: &[u8], motor: MotorKind, events: &m
         what.to_string()
     };
     let at = Address::new(0x1000, 0);
-    match given(dict, at) {
+    let why = match given(dict, at) {
         None if dict.object(0x1000).is_none() => {
             let entry = SubObject::new("Device type", DataType::Unsigned32, AccessType::Ro)
                 .with_default(Value::Uint(u64::from(value)));
             dict.insert(Object::var(0x1000, entry));
-            events.push(hex_event(
-                EventKind::Filled,
-                at,
-                "device type",
-                value,
-                format!("the description has no 0x1000, which CiA 301 makes mandatory: {about}"),
-            ));
+            Some("the description has no 0x1000, which CiA 301 makes mandatory")
         }
-        Some(None) => {
-            if set(dict, at, i64::from(value)) {
-                events.push(hex_event(
-                    EventKind::Filled,
-                    at,
-                    "device type",
-                    value,
-                    format!("the description gives no value: {about}"),
-                ));
-            }
-        }
-        _ => {}
+        Some(None) => set(dict, at, i64::from(value)).then_some("the description gives no value"),
+        _ => None,
+    };
+    if let Some(why) = why {
+        events.push(hex_event(
+            EventKind::Filled,
+            at,
+            "device type",
+            value,
+            format!("{why}: {about}"),
+        ));
     }
     if axes.len() < 2 {
         return;
