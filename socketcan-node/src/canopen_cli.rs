@@ -1,6 +1,11 @@
 //! The `canopen-node` command line: any CANopen description (EDS, DCF, XDD, XDC) as a live node, several
 //! on one bus, with a CiA 402 drive behind each drive axis of a description. `main` only parses and calls
 //! [`run`].
+//!
+//! Never silent: every value a node reports that its description does not give ([`generic::complete`])
+//! is one line on standard output at start, after the node's own line (`canopen-node: node 5: 0x6502
+//! supported drive modes = 0x000000A5 (…)`), or one JSON object with `--json`; `--explain` prints
+//! only these and opens no bus.
 
 use std::collections::HashMap;
 use std::io::Write as _;
@@ -13,6 +18,7 @@ use std::time::{Duration, Instant};
 use clap::{Parser, ValueEnum};
 use ds402::drive::{DriveConfig, MotorKind};
 use od::device::DeviceDescription;
+use od::event::{Event, Origin};
 use od::load::Format;
 
 use crate::cli::connect_hint;
@@ -89,6 +95,19 @@ pub struct Args {
     /// FILE.xdd.
     #[arg(long, value_name = "FILE")]
     pub write_description: Option<PathBuf>,
+
+    /// Prints what each node reports that its description does not give, one line per entry, and
+    /// exits without opening a bus: a value the description leaves out (identity, names, device
+    /// type, supported drive modes), or a factory setting in place of a value its drive could not
+    /// run with (a limit or ramp of 0, a code it refuses). A node prints the same lines at start.
+    #[arg(long, conflicts_with = "write_description")]
+    pub explain: bool,
+
+    /// Those lines (at start, and with --explain) as JSON objects, one per line: {"event":
+    /// "filled" or "adjusted", "node", "index", "sub", "name", "value", "unit" (where it has one),
+    /// "reason"}.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// The motor of the drives.
@@ -195,12 +214,15 @@ pub enum CliError {
 
 /// A description loaded for a node, with the node-ID it runs as.
 pub struct Loaded {
-    /// The description, its DCF values made power-on values and the simulation records added.
+    /// The description, its DCF values made power-on values, completed ([`generic::complete`]) and
+    /// the simulation records added.
     pub description: DeviceDescription,
     /// The node-ID (0xFF: none, LSS).
     pub node_id: u8,
     /// The file.
     pub path: PathBuf,
+    /// What the description was given that it does not say itself, in index order.
+    pub events: Vec<Event>,
 }
 
 /// Loads every --od of `args`: the description, the node-ID each runs as, serial numbers made unique
@@ -247,12 +269,14 @@ pub fn load(args: &Args) -> Result<Vec<Loaded>, CliError> {
         if configured {
             generic::power_on_values(&mut description);
         }
+        let events = generic::complete(&mut description, &drive_config(args));
         generic::add_sim_records(&mut description.dictionary, &drive_config(args).sim);
         unique_serial(&mut description, &mut seen);
         out.push(Loaded {
             description,
             node_id,
             path: spec.path.clone(),
+            events,
         });
     }
     let mut ids: Vec<u8> = out
@@ -319,9 +343,34 @@ pub fn drive_config(args: &Args) -> DriveConfig {
     config
 }
 
+/// The lines that say what node `node_id`'s description (`path`) was given ([`Loaded::events`]):
+/// `canopen-node: node 5: 0x6502 supported drive modes = 0x000000A5 (…)`, or with `json` one JSON
+/// object each ([`Event::json`]).
+pub fn event_lines(node_id: u8, path: &Path, events: &[Event], json: bool) -> Vec<String> {
+    let id = (node_id != UNCONFIGURED).then_some(node_id);
+    let label = match id {
+        Some(id) => format!("node {id}"),
+        None => format!("node without node-ID ({})", path.display()),
+    };
+    events
+        .iter()
+        .map(|e| {
+            if json {
+                e.json(Origin::Node(id))
+            } else {
+                format!("canopen-node: {label}: {}", e.line())
+            }
+        })
+        .collect()
+}
+
 /// The nodes `args` describe with their storage, ready to start.
 pub fn build(args: &Args) -> Result<Vec<Station<GenericApp>>, CliError> {
-    let loaded = load(args)?;
+    build_from(args, load(args)?)
+}
+
+/// The nodes of `loaded` (as [`load`] made them from `args`) with their storage, ready to start.
+pub fn build_from(args: &Args, loaded: Vec<Loaded>) -> Result<Vec<Station<GenericApp>>, CliError> {
     if let Some(dir) = &args.storage {
         if !dir.is_dir() {
             return Err(CliError::Storage {
@@ -397,7 +446,21 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         let _ = writeln!(std::io::stdout(), "{said}");
         return Ok(RunStats::default());
     }
-    let mut stations = build(args)?;
+    let loaded = load(args)?;
+    if args.explain {
+        let mut out = std::io::stdout();
+        for l in &loaded {
+            for line in event_lines(l.node_id, &l.path, &l.events, args.json) {
+                let _ = writeln!(out, "{line}");
+            }
+        }
+        return Ok(RunStats::default());
+    }
+    let said: Vec<Vec<String>> = loaded
+        .iter()
+        .map(|l| event_lines(l.node_id, &l.path, &l.events, args.json))
+        .collect();
+    let mut stations = build_from(args, loaded)?;
     let (mut spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
         Some(spec) => (spec.clone(), transport::open(spec)?),
         None => transport::open_default()?,
@@ -415,7 +478,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         }
     };
     let mut out = std::io::stdout();
-    for (s, spec) in stations.iter().zip(&args.ods) {
+    for ((s, spec), lines) in stations.iter().zip(&args.ods).zip(&said) {
         let id = s.node.node_id();
         let drives = s.node.app().drives().len();
         let _ = writeln!(
@@ -433,6 +496,9 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
                 n => format!(", {n} CiA 402 drive axes"),
             }
         );
+        for line in lines {
+            let _ = writeln!(out, "{line}");
+        }
     }
     let _ = writeln!(out, "canopen-node: {}", connect_hint(&spec));
     tracing::info!(bus = %bus.describe(), nodes = stations.len(), "started");

@@ -9,6 +9,11 @@
 //!   positions, settable by SDO or RPDO like the X67 node's simulation inputs and not saved by 0x1010.
 //! - A drive's fault is an EMCY with its 0x603F error code; the manufacturer bytes carry the axis
 //!   (1-based).
+//! - Before any of this, [`complete`] gives the description what a real device of it reports
+//!   where the description gives no value (the identity and names of CiA 301, [`od::fill`]; the
+//!   device type, supported modes and factory settings of a drive, [`ds402::drive::fill`]) and says
+//!   what it gave, one [`Event`] per entry. The CANopen node and the EtherCAT unit both start from
+//!   it.
 
 use std::time::Instant;
 
@@ -16,6 +21,7 @@ use ds402::drive::{Drive, DriveConfig, SimConfig};
 use od::abort::AbortCode;
 use od::device::DeviceDescription;
 use od::dict::{Address, Dictionary};
+use od::event::Event;
 use od::hook::DeviceHook;
 use od::object::{AccessType, Object, ObjectKind, PdoMapping, SubObject};
 use od::types::DataType;
@@ -253,6 +259,17 @@ pub fn add_sim_records(dict: &mut Dictionary, sim: &SimConfig) -> Vec<u16> {
         added.push(index);
     }
     added
+}
+
+/// Gives `desc` the values a real device of it reports where the description gives none, and the
+/// factory settings its drives (made with `config`) run with where its values would stop them (see
+/// [`od::fill::identity_and_names`] and [`ds402::drive::fill`]): each becomes the entry's default.
+/// What changed, one event per entry, in index order.
+pub fn complete(desc: &mut DeviceDescription, config: &DriveConfig) -> Vec<Event> {
+    let mut events = od::fill::identity_and_names(desc);
+    events.extend(ds402::drive::fill(&mut desc.dictionary, config));
+    events.sort_by_key(|e| e.address);
+    events
 }
 
 /// Makes the current values of a DCF (its `ParameterValue`s, which the reader keeps as the entries'
