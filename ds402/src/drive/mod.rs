@@ -63,6 +63,8 @@
 //! - `state`: the state machine with its option codes, faults and the status word's state bits;
 //! - `modes`: the modes of operation (pp, pv, csp, csv, cst), halt, target reached, following
 //!   error, software limits;
+//! - `limits`: the demand of csp and csv within the drive's limits, and the line the drive logs
+//!   when a limit holds it back ([`Limited`], [`Drive::poll_limit`]);
 //! - `homing`: homing mode, methods 1–14, 17–30, 33, 34, 35 and 37;
 //! - `motor`: the servo and stepper models; `profile`: the trapezoidal profiles;
 //! - `switches`: the simulated limit and home switches and index pulses;
@@ -98,7 +100,11 @@
 //! - Cyclic modes: the target of each SYNC is reached one interpolation period later (the network's
 //!   SYNC cycle where it gives one, [`Drive::set_sync_cycle`]; else 0x60C2 when present, else the
 //!   time between the last two SYNCs); bit 12 is 1 while following; bit 10 is 1
-//!   only when standing after a halt.
+//!   only when standing after a halt. A step of the set-points beyond the drive's limits (0x607F,
+//!   0x6080, 0x60C5, 0x60C6, and the acceleration the motor's torque gives) is not followed: the
+//!   demand runs after the set-points within them and lands on them exactly, and the drive logs
+//!   which limit held it back (see `limits`), as it does for a clamped target and for the faults
+//!   it raises.
 //! - Stepper: 0x6064 counts the rotor (an encoder is assumed, [`MotorConfig::encoder`]); without
 //!   encoder it counts commanded steps.
 //! - Power off: the rotor coasts on viscous friction; the load torque does not move it.
@@ -126,6 +132,7 @@ use crate::cia402::State;
 
 mod factory;
 mod homing;
+mod limits;
 mod modes;
 mod motor;
 mod objects;
@@ -135,6 +142,7 @@ mod switches;
 
 pub use factory::{device_type, fill, PROFILE_402, SEVERAL_DEVICES, TYPE_SERVO, TYPE_STEPPER};
 pub use homing::HomingStatus;
+pub use limits::Limited;
 pub use objects::IMPLEMENTED_MODES;
 pub use state::{
     ERROR_FOLLOWING, ERROR_REFERENCE_LIMIT, SW_INTERNAL_LIMIT, SW_OMS12, SW_OMS13, SW_QUICK_STOP,
@@ -314,6 +322,10 @@ pub struct Drive {
     inputs_prev: u32,
     /// The SYNC cycle the network runs, when it gives one ([`Drive::set_sync_cycle`]).
     sync_cycle: Option<Duration>,
+    /// The kinds of limit logged since the mode started (`limits::Kind` bits).
+    reported: u32,
+    /// The limits logged, for [`Drive::poll_limit`].
+    limits: std::collections::VecDeque<Limited>,
 }
 
 impl Drive {
@@ -380,6 +392,8 @@ impl Drive {
             forced: [None; 32],
             inputs_prev: 0,
             sync_cycle: None,
+            reported: 0,
+            limits: std::collections::VecDeque::new(),
         };
         drive.power_up(now);
         Some(drive)
@@ -548,7 +562,7 @@ impl Drive {
 
     /// 0x6062 position demand (also 0x60FC).
     pub fn position_demand(&self) -> i64 {
-        self.demand.p.round() as i64 + self.shift
+        self.set_point().p.round() as i64 + self.shift
     }
 
     /// 0x60F4 following error actual: position demand − position actual.
@@ -563,7 +577,7 @@ impl Drive {
 
     /// 0x606B velocity demand, counts/s.
     pub fn velocity_demand(&self) -> i64 {
-        self.demand.v.round() as i64
+        self.set_point().v.round() as i64
     }
 
     /// 0x6077 torque actual, per mille of the rated torque (0x6074 reads the same).
@@ -750,6 +764,7 @@ impl Drive {
         self.apply_level();
         self.update_halt();
         let before = self.demand;
+        self.cyclic.reference = None;
         let count_before = self.motor.count();
         let dt = self.dt();
         let t_max = self.torque_limit();
@@ -764,6 +779,7 @@ impl Drive {
                 },
                 _ => {
                     let next = self.eval_demand(before);
+                    let next = self.limit_demand(before, next);
                     let (v_extra, t_extra) = self.feed_forward();
                     self.demand = next;
                     motor::Cmd::Follow {
@@ -779,6 +795,7 @@ impl Drive {
             }
         };
         self.motor.step(dt, cmd);
+        self.report_excess();
         if !self.powered() || matches!(self.motion, Motion::Torque { .. }) {
             // Nothing drives the demand: it follows the rotor.
             self.demand = Demand {

@@ -21,6 +21,7 @@ use std::time::{Duration, Instant};
 
 use crate::cia402::State;
 
+use super::limits::{int, Kind};
 use super::objects::P;
 use super::state::{
     Ramp, ERROR_FOLLOWING, ERROR_REFERENCE_LIMIT, SW_INTERNAL_LIMIT, SW_OMS12, SW_OMS13, SW_REMOTE,
@@ -83,6 +84,10 @@ pub(crate) struct Cyclic {
     pub period: Option<Duration>,
     /// The last csp target was clamped by the software limits.
     pub clamped: bool,
+    /// The demand runs after the set-points within the drive's limits (it does not follow them).
+    pub limited: bool,
+    /// While it does, what the set-points ask for at the last tick (0x6062 and 0x606B read it).
+    pub reference: Option<super::Demand>,
 }
 
 /// The following error monitor.
@@ -168,6 +173,8 @@ impl Drive {
         self.pv = ProfileVelocity::default();
         self.follow = Following::default();
         self.cyclic.clamped = false;
+        self.cyclic.limited = false;
+        self.reported = 0;
         match self.mode {
             PV => self.pv_plan(),
             CST => {
@@ -454,6 +461,26 @@ impl Drive {
                     self.params.get(P::TargetPosition) + self.params.get(P::PositionOffset);
                 let (user, clamped) = self.clamp_to_limits(wanted);
                 self.cyclic.clamped = clamped;
+                if clamped {
+                    let sub = if user < wanted { 2 } else { 1 };
+                    let side = if sub == 2 { "beyond" } else { "below" };
+                    let text = format!(
+                        "csp target {} ({} + {}) {side} {} = {}: held there",
+                        int(wanted as f64),
+                        self.name(0x607A, 0),
+                        self.name(0x60B0, 0),
+                        self.name(0x607D, sub),
+                        int(user as f64)
+                    );
+                    let object = Some(self.own(0x607D, sub));
+                    self.report(
+                        Kind::PositionLimit,
+                        object,
+                        wanted as f64,
+                        user as f64,
+                        text,
+                    );
+                }
                 // The new segment starts where the demand is at the SYNC itself, which need not
                 // fall on a control tick (an EtherCAT SYNC0 keeps its own time grid).
                 self.motion = Motion::Position {
@@ -466,7 +493,16 @@ impl Drive {
             CSV => {
                 let v = (self.params.get(P::TargetVelocity) + self.params.get(P::VelocityOffset))
                     as f64;
-                let limit = self.velocity_limit();
+                let (limit, name, object) = self.velocity_bound();
+                if v.abs() > limit {
+                    let text = format!(
+                        "csv target {} counts/s ({} + {}) above {name}: held there",
+                        int(v),
+                        self.name(0x60FF, 0),
+                        self.name(0x60B1, 0)
+                    );
+                    self.report(Kind::CsvVelocity, Some(object), v.abs(), limit, text);
+                }
                 self.motion = Motion::Velocity {
                     from: self.demand_at(now).v,
                     to: v.clamp(-limit, limit),
@@ -475,9 +511,21 @@ impl Drive {
                 };
             }
             CST => {
-                self.motion = Motion::Torque {
-                    permille: self.cst_target(),
-                };
+                let permille = self.cst_target();
+                let max = self.params.get(P::MaxTorque).max(0) as f64;
+                if permille.abs() > max {
+                    let text = format!(
+                        "cst target {} ‰ ({} + {}) above {} = {} ‰: held there",
+                        int(permille),
+                        self.name(0x6071, 0),
+                        self.name(0x60B2, 0),
+                        self.name(0x6072, 0),
+                        int(max)
+                    );
+                    let object = Some(self.own(0x6072, 0));
+                    self.report(Kind::CstTorque, object, permille.abs(), max, text);
+                }
+                self.motion = Motion::Torque { permille };
             }
             _ => {}
         }
@@ -518,6 +566,19 @@ impl Drive {
             let neg = inputs & 1 << switches::NEGATIVE_LIMIT != 0;
             let pos = inputs & 1 << switches::POSITIVE_LIMIT != 0;
             if (neg && v < 0.0) || (pos && v > 0.0) {
+                let (side, bit) = if v < 0.0 {
+                    ("negative", switches::NEGATIVE_LIMIT)
+                } else {
+                    ("positive", switches::POSITIVE_LIMIT)
+                };
+                let text = format!(
+                    "moving at {} counts/s into the {side} limit switch ({} bit {bit}): fault \
+                     {ERROR_REFERENCE_LIMIT:#06X}",
+                    int(v),
+                    self.name(0x60FD, 0)
+                );
+                let object = Some(self.own(0x60FD, 0));
+                self.report(Kind::LimitSwitch, object, v, 0.0, text);
                 self.fault(ERROR_REFERENCE_LIMIT);
                 return;
             }
@@ -543,6 +604,25 @@ impl Drive {
             if self.held_for(since, self.params.unsigned(P::FollowingTimeout)) {
                 self.follow.exceeded = true;
                 if self.mode == CSP {
+                    let error = self.following_error();
+                    let timeout = self.params.unsigned(P::FollowingTimeout);
+                    let text = format!(
+                        "following error {} counts beyond {} = {} counts for {} = {} ms: fault \
+                         {ERROR_FOLLOWING:#06X}",
+                        int(error as f64),
+                        self.name(0x6065, 0),
+                        int(window as f64),
+                        self.name(0x6066, 0),
+                        int(timeout as f64)
+                    );
+                    let object = Some(self.own(0x6065, 0));
+                    self.report(
+                        Kind::FollowingError,
+                        object,
+                        error as f64,
+                        window as f64,
+                        text,
+                    );
                     self.fault(ERROR_FOLLOWING);
                 }
             }

@@ -66,6 +66,9 @@ pub(crate) struct Motor {
     pub vel: f64,
     /// Motor torque of the last tick, N·m.
     pub torque: f64,
+    /// The torque the last tick asked for beyond what the motor gives (servo: its torque limit;
+    /// stepper: its pull-out torque), and that limit, N·m; `None` when it was within.
+    pub excess: Option<(f64, f64)>,
     integ: f64,
     locked: bool,
     lag: f64,
@@ -85,6 +88,7 @@ impl Motor {
             pos: 0.0,
             vel: 0.0,
             torque: 0.0,
+            excess: None,
             integ: 0.0,
             locked: true,
             lag: 0.0,
@@ -104,6 +108,16 @@ impl Motor {
     /// N·m per count/s² of acceleration.
     fn jc(&self) -> f64 {
         self.inertia * self.k()
+    }
+
+    /// N·m per count/s² of acceleration of the rotor and its load.
+    pub fn accel_torque(&self) -> f64 {
+        self.jc()
+    }
+
+    /// The viscous friction at `v` counts/s, N·m.
+    pub fn friction_torque(&self, v: f64) -> f64 {
+        self.friction * self.k() * v
     }
 
     /// Counts per full step (stepper).
@@ -134,6 +148,7 @@ impl Motor {
 
     /// Advances the rotor by `dt` seconds.
     pub fn step(&mut self, dt: f64, cmd: Cmd) {
+        self.excess = None;
         match cmd {
             Cmd::Off => self.coast(dt),
             Cmd::Torque { tau, t_max } => {
@@ -209,6 +224,8 @@ impl Motor {
         let limited = tau.clamp(-t_max, t_max);
         if limited == tau {
             self.integ += ki * e_v * dt;
+        } else {
+            self.excess = Some((tau.abs(), t_max));
         }
         self.apply(limited, dt);
     }
@@ -229,6 +246,7 @@ impl Motor {
             self.torque = needed;
         } else {
             self.locked = false;
+            self.excess = Some((needed.abs(), self.pull_out));
             self.apply(self.pull_out.copysign(needed), dt);
         }
     }

@@ -483,6 +483,29 @@ impl Drive {
         self.supported & (1 << (mode - 1)) != 0
     }
 
+    /// A mode of operation written without a check (the process data) and refused: the line that
+    /// says why.
+    fn report_refused_mode(&mut self, data: &[u8]) {
+        let Some(&mode) = data.first() else {
+            return;
+        };
+        let mode = i64::from(mode as i8);
+        let text = format!(
+            "{} = {mode} refused: the modes the drive runs are {:#010X} (bit mode − 1, as in {})",
+            self.name(0x6060, 0),
+            self.supported,
+            self.name(0x6502, 0)
+        );
+        let object = Some(self.own(0x6502, 0));
+        self.report(
+            super::limits::Kind::Mode,
+            object,
+            mode as f64,
+            f64::from(self.supported),
+            text,
+        );
+    }
+
     /// Decodes `data` for parameter `def` (in the dictionary's type) and checks it.
     fn decode_param(&self, def: &Def, data: &[u8]) -> Result<i64, AbortCode> {
         let ty = self.params.types[def.p as usize];
@@ -554,7 +577,15 @@ impl DeviceHook for Drive {
         let Some(def) = Drive::param_at(index, at.sub) else {
             return Ok(());
         };
-        let value = self.decode_param(def, data)?;
+        let value = match self.decode_param(def, data) {
+            Ok(value) => value,
+            Err(code) => {
+                if def.p == P::Mode {
+                    self.report_refused_mode(data);
+                }
+                return Err(code);
+            }
+        };
         self.note_input();
         self.set_param(def.p, value);
         Ok(())
