@@ -23,11 +23,13 @@ The scenario, each mode only where the node's 0x6502 lists it:
               sent on every n-th SYNC and allows RTR answers a remote frame with its data
   pp          node.op_mode = "PROFILED POSITION", a move of +2,000 counts by the set-point handshake
               (profile velocity 10,000 counts/s where 0x6081 exists; accelerations as the node has
-              them); at target reached 0x6064 is exactly the target
-  pv          a run at 2,000 counts/s until velocity reached (0x606C within the velocity window
-              0x606D of it), then target velocity 0 until standstill
-  csp         100 set-points of +20 counts, one per SYNC, then 1 s standing: 0x6064 exactly the
-              last one
+              them; shorter and slower where the drive's 0x607F, 0x6083, 0x6084 would make it last
+              over 2 s); at target reached 0x6064 is exactly the target
+  pv          a run at 2,000 counts/s (less where 0x607F or 0x6083 are lower) until velocity
+              reached (0x606C within the velocity window 0x606D of it), then target velocity 0 until
+              standstill
+  csp         100 set-points of +20 counts (less where 0x607F is lower), one per SYNC, then 1 s
+              standing: 0x6064 exactly the last one
   end         quick stop, SWITCH ON DISABLED, and no EMCY other than "error reset" during the run
 One line per step (`ok`, `SKIP` with why); the first difference ends the run with `FAIL what: …`
 and exit status 1. The last line is PASS.
@@ -108,6 +110,7 @@ class Master:
                                lambda can_id, data, ts: self.emcy.append(bytes(data)))
         self.cycle = args.cycle_ms / 1000.0
         self.sync_running = False
+        self.last_target = 0
 
     def has(self, index):
         return index in self.node.object_dictionary
@@ -120,6 +123,8 @@ class Master:
         if not mapped:
             self.node.sdo[index].raw = value
             return
+        if index == 0x607A:
+            self.last_target = value
         control = self.node.rpdo_pointers.get(0x6040)
         for pdo, v in mapped:
             v.raw = value
@@ -156,7 +161,21 @@ class Master:
         return self.node.sdo[0x6041].raw
 
     def position(self):
+        """0x6064, or the last target where the description has no 0x6064 (the master cannot read
+        where the drive is)."""
+        if not self.has(0x6064):
+            return self.last_target
         return self.node.sdo[0x6064].raw
+
+    def check_position(self, what, want):
+        if not self.has(0x6064):
+            skip(what, "the description has no 0x6064")
+            return
+        check(what, self.position(), want)
+
+    def writable(self, index):
+        access = getattr(self.node.object_dictionary[index], "access_type", "rw")
+        return access in ("rw", "wo", "rww", "rwr")
 
     def run(self):
         node = self.node
@@ -176,10 +195,15 @@ class Master:
 
         node.nmt.state = "PRE-OPERATIONAL"
         node.setup_402_state_machine()
-        supported = node.sdo[0x6502].raw if self.has(0x6502) else 0
-        ok(f"supported drive modes 0x6502 = 0x{supported:08X}")
-        if supported == 0:
-            fail("0x6502 lists no mode: BaseNode402 can set none")
+        if self.has(0x6502):
+            supported = node.sdo[0x6502].raw
+            ok(f"supported drive modes 0x6502 = 0x{supported:08X}")
+            if supported == 0:
+                fail("0x6502 lists no mode: BaseNode402 can set none")
+        else:
+            # BaseNode402's op_mode needs 0x6502: a user sets 0x6060 and sees what the drive takes.
+            skip("BaseNode402.op_mode", "the description has no 0x6502: 0x6060 written directly")
+            supported = self.probe_modes()
         if self.synchronous_pdos():
             self.start_sync()
         node.nmt.state = "OPERATIONAL"
@@ -196,13 +220,18 @@ class Master:
         check("state", node.state, "OPERATION ENABLED")
 
         if supported & 0x20:
-            if self.has(0x6098):
-                self.put(0x6098, 35)
+            method = node.sdo[0x6098].raw if self.has(0x6098) else None
+            if method is None:
+                skip("homing", "the description has no 0x6098")
+            elif not self.writable(0x6098) and method not in (35, 37):
+                skip("homing", f"0x6098 is {method}, which the description does not let a master "
+                     "change, and the machine has no switches")
+            else:
+                if self.writable(0x6098):
+                    self.put(0x6098, 35)
                 self.homing()
                 offset = node.sdo[0x607C].raw if self.has(0x607C) else 0
-                check("position after homing on the current position", self.position(), offset)
-            else:
-                skip("homing", "the description has no 0x6098")
+                self.check_position("position after homing on the current position", offset)
         if supported & 0x01:
             self.pp()
         if supported & 0x04:
@@ -238,7 +267,7 @@ class Master:
     def mode(self):
         """The mode of operation: node.op_mode, or 0x6061 by SDO where the TPDO that maps it is sent
         on change only (see event_only)."""
-        if self.event_only(0x6061):
+        if self.event_only(0x6061) or not self.has(0x6502):
             from canopen.profiles.p402 import OperationMode
             return OperationMode.CODE2NAME[self.node.sdo[0x6061].raw]
         return self.node.op_mode
@@ -278,10 +307,10 @@ class Master:
           start may reach the drive after that status word was sampled, which then says "not
           started" (0x0400) and homing() reads INTERRUPTED."""
         node = self.node
-        if not self.event_only_status() and not self.synchronous_control():
+        if self.has(0x6502) and not self.event_only_status() and not self.synchronous_control():
             check("homing() with method 35", node.homing(timeout=10), True)
             return
-        node.op_mode = "HOMING"
+        self.set_mode("HOMING")
         check("op_mode", self.mode(), "HOMING")
         node.state = "OPERATION ENABLED"
         node.controlword = 0x000F
@@ -316,21 +345,68 @@ class Master:
         from canopen.profiles.p402 import State402
         return State402.SW_MASK.items()
 
+    MODES = {"PROFILED POSITION": (1, 0x01), "PROFILED VELOCITY": (3, 0x04), "HOMING": (6, 0x20),
+             "CYCLIC SYNCHRONOUS POSITION": (8, 0x80)}
+
+    def probe_modes(self):
+        """The modes the drive takes by 0x6060 (read back in 0x6061), as 0x6502 bits."""
+        from canopen.sdo.exceptions import SdoAbortedError
+        bits = 0
+        if not self.has(0x6060):
+            skip("modes of operation", "the description has no 0x6060: a master can choose none")
+            return 0
+        for name, (code, bit) in self.MODES.items():
+            try:
+                self.node.sdo[0x6060].raw = code
+            except SdoAbortedError as e:
+                skip(name, f"the drive refuses 0x6060 = {code} ({e})")
+                continue
+            if self.node.sdo[0x6061].raw == code:
+                ok(f"the drive takes 0x6060 = {code} ({name})")
+                bits |= bit
+        return bits
+
+    def set_mode(self, mode):
+        """node.op_mode = mode, or without 0x6502 in the description, 0x6060 written as put()
+        writes and 0x6061 read by SDO."""
+        if self.has(0x6502):
+            self.node.op_mode = mode
+            return
+        code = self.MODES[mode][0]
+        self.put(0x6060, code)
+        wait_for(f"0x6061 = {code}", lambda: self.node.sdo[0x6061].raw == code, 2)
+
     def enter(self, mode):
         node = self.node
-        node.op_mode = mode
+        self.set_mode(mode)
         check("op_mode", self.mode(), mode)
         # An RPDO that carries 0x6060 may carry a control word too: the drive may have left
         # OPERATION ENABLED on the way, as BaseNode402's homing() also assumes.
         node.state = "OPERATION ENABLED"
         node.controlword = 0x000F
 
+    def read(self, index):
+        return self.node.sdo[index].raw if self.has(index) else None
+
+    def speed_limit(self):
+        """The drive's max profile velocity 0x607F (counts/s), None without one."""
+        return self.read(0x607F) or None
+
     def pp(self):
+        """A move the drive's own limits let end within 2 s (as a user sizes a first move): +2,000
+        counts at 10,000 counts/s, or less where 0x607F, 0x6083 or 0x6084 are lower."""
         node = self.node
         self.enter("PROFILED POSITION")
+        v = 10000
         if self.has(0x6081):
-            self.put(0x6081, 10000)
-        target = self.position() + 2000
+            self.put(0x6081, v)
+        v = min(v, self.speed_limit() or v)
+        a = min(x for x in (self.read(0x6083), self.read(0x6084), 10 ** 9) if x)
+        # Accelerating for at most 0.5 s and cruising for at most 1 s: d = v·t_cruise + v²/a.
+        v = min(v, a // 2) or 1
+        distance = max(1, min(2000, v + v * v // a))
+        ok(f"pp: a move of {distance} counts at up to {v} counts/s, {a} counts/s²")
+        target = self.position() + distance
         self.put(0x607A, target)
         time.sleep(2 * self.cycle)
         node.controlword = 0x001F  # new set-point (bit 4)
@@ -338,23 +414,26 @@ class Master:
                  lambda: self.statusword() & 0x1000, 2)
         node.controlword = 0x000F
         wait_for("target reached (status bit 10)",
-                 lambda: self.statusword() & 0x1400 == 0x0400, 10)
-        check("pp: position actual 0x6064 at target reached", self.position(), target)
+                 lambda: self.statusword() & 0x1400 == 0x0400, 5)
+        self.check_position("pp: position actual 0x6064 at target reached", target)
 
     def pv(self):
         self.enter("PROFILED VELOCITY")
         window = self.node.sdo[0x606D].raw if self.has(0x606D) else 0
-        self.put(0x60FF, 2000)
-        wait_for("pv: velocity reached (status bit 10)",
-                 lambda: self.statusword() & 0x0400, 10)
+        # 2,000 counts/s, or what the drive reaches in 0.5 s where 0x607F or 0x6083 are lower.
+        a = self.read(0x6083) or 10 ** 9
+        target = max(1, min(2000, self.speed_limit() or 2000, a // 2))
+        self.put(0x60FF, target)
+        wait_for(f"pv: velocity {target} counts/s reached (status bit 10)",
+                 lambda: self.statusword() & 0x0400, 5)
         v = self.node.sdo[0x606C].raw
-        if abs(v - 2000) > window:
-            fail(f"pv: velocity actual 0x606C = {v}, not within 0x606D = {window} of 2000")
+        if abs(v - target) > window:
+            fail(f"pv: velocity actual 0x606C = {v}, not within 0x606D = {window} of {target}")
         ok(f"pv: velocity actual 0x606C = {v} (window {window})")
         self.put(0x60FF, 0)
         wait_for("pv: standstill (status bit 10 with target 0)",
                  lambda: self.statusword() & 0x0400 and abs(self.node.sdo[0x606C].raw) <= window,
-                 10)
+                 5)
 
     def csp(self):
         self.start_sync()
@@ -362,14 +441,17 @@ class Master:
         start = self.position()
         self.put(0x607A, start)
         time.sleep(3 * self.cycle)
+        # Steps of 20 counts a cycle (2,000 counts/s), or less where 0x607F is lower.
+        step = max(1, min(20, int((self.speed_limit() or 2000) * self.cycle / 2)))
+        ok(f"csp: 100 set-points of +{step} counts, one every {self.args.cycle_ms} ms")
         for k in range(1, 101):
-            self.put(0x607A, start + 20 * k)
+            self.put(0x607A, start + step * k)
             time.sleep(self.cycle)
         time.sleep(1.0)
         sw = self.statusword()
         check("csp: statusword state after the ramp (& 0x6F)", sw & 0x6F, 0x27)
-        check("csp: position actual 0x6064 standing at the last set-point",
-              self.position(), start + 2000)
+        self.check_position("csp: position actual 0x6064 standing at the last set-point",
+                            start + 100 * step)
 
     def close(self):
         try:
