@@ -263,10 +263,13 @@ pub fn add_sim_records(dict: &mut Dictionary, sim: &SimConfig) -> Vec<u16> {
 
 /// Gives `desc` the values a real device of it reports where the description gives none, and the
 /// factory settings its drives (made with `config`) run with where its values would stop them (see
-/// [`od::fill::identity_and_names`] and [`ds402::drive::fill`]): each becomes the entry's default.
+/// [`od::fill::identity_and_names`], [`od::fill::pdo_cob_ids`], [`od::fill::pdo_mappings`] and
+/// [`ds402::drive::fill`]): each becomes the entry's default.
 /// What changed, one event per entry, in index order.
 pub fn complete(desc: &mut DeviceDescription, config: &DriveConfig) -> Vec<Event> {
     let mut events = od::fill::identity_and_names(desc);
+    events.extend(od::fill::pdo_cob_ids(desc));
+    events.extend(od::fill::pdo_mappings(desc));
     events.extend(ds402::drive::fill(&mut desc.dictionary, config));
     events.sort_by_key(|e| e.address);
     events

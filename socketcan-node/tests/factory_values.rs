@@ -38,10 +38,13 @@ fn free_port() -> u16 {
         .port()
 }
 
-/// What Schunk's EDS (no 0x1000 value, no 0x6073, 0x6075, 0x6081, 0x6083 values) is given as node 5.
-const SCHUNK: [&str; 5] = [
+/// What Schunk's EDS (no 0x1000 value, read-only 0x606B and 0x606C mapped into RPDO 2, no 0x6073,
+/// 0x6075, 0x6081, 0x6083 values) is given as node 5.
+const SCHUNK: [&str; 6] = [
     "canopen-node: node 5: 0x1000 device type = 0x00020192 (the description gives no value: a CiA \
      402 servo drive)",
+    "canopen-node: node 5: 0x1601 number of mapped objects of RPDO 2 = 0 (the description maps \
+     0x606B0020 (read-only), 0x606C0020 (read-only) into RPDO 2, which no RPDO takes: left out)",
     "canopen-node: node 5: 0x6073 max current = 3000 ‰ of the rated current (the description gives \
      no value (0), which would leave the motor no current: a factory default)",
     "canopen-node: node 5: 0x6075 motor rated current = 3000 mA (the description gives no value \
@@ -104,7 +107,7 @@ fn json_gives_the_same_events_as_objects() {
     let (out, ok) = run(&["--explain", "--json", "--od", &format!("{cog}@6")]);
     assert!(ok);
     let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(lines.len(), 12, "{out}");
+    assert_eq!(lines.len(), 13, "{out}");
     assert_eq!(
         lines[0],
         r#"{"event":"filled","node":6,"index":"0x1008","sub":0,"name":"manufacturer device name","value":"cog","reason":"the description gives no value: its product name"}"#
@@ -115,10 +118,14 @@ fn json_gives_the_same_events_as_objects() {
     );
     assert_eq!(
         lines[2],
+        r#"{"event":"adjusted","node":6,"index":"0x1806","sub":1,"name":"COB-ID of TPDO 7","value":2147483648,"reason":"the description gives 0x00000000, a valid PDO on CAN-ID 0x000, which CiA 301 keeps from PDOs: not valid"}"#
+    );
+    assert_eq!(
+        lines[3],
         r#"{"event":"adjusted","node":6,"index":"0x6072","sub":0,"name":"max torque","value":3000,"unit":"‰ of the rated torque","reason":"the description gives 0, which would leave the motor no torque: a factory default"}"#
     );
     assert_eq!(
-        lines[11],
+        lines[12],
         r#"{"event":"filled","node":6,"index":"0x6502","sub":0,"name":"supported drive modes","value":37,"reason":"the description gives no value: the modes this drive runs whose objects it has"}"#
     );
 }
@@ -190,7 +197,7 @@ fn upload(bus: &mut dyn CanBus, node: u8, index: u16, sub: u8) -> [u8; 8] {
 }
 
 /// Schunk's EDS (0x1000 without a value) as node 5 and python-canopen's cog.eds (0x6502 and
-/// 0x1018:01 without values, 0x6072 = 0) as node 6: the startup lines after each node's own line;
+/// 0x1018:01 without values, 0x6072 = 0, TPDO 7 valid on CAN-ID 0x000) as node 6: the startup lines after each node's own line;
 /// over SDO, the exact bytes: 0x1000 = 0x00020192, 0x6502 = 0x25 (pp, pv, hm), 0x1018:01 =
 /// 0x0621, 0x6072 = 3000; the same after NMT reset node and after restore defaults (0x1011:01
 /// "load") and a reset, the values being the entries' defaults.
@@ -204,14 +211,14 @@ fn a_node_reports_the_values_over_sdo_and_keeps_them_through_resets() {
         s[0],
         format!("canopen-node: node 5 from {schunk}, a CiA 402 drive")
     );
-    assert_eq!(s[1..6], SCHUNK.map(String::from));
-    assert_eq!(
-        s[6],
-        format!("canopen-node: node 6 from {cog}, a CiA 402 drive")
-    );
-    assert_eq!(s.len(), 6 + 1 + 12 + 1, "{s:#?}");
+    assert_eq!(s[1..7], SCHUNK.map(String::from));
     assert_eq!(
         s[7],
+        format!("canopen-node: node 6 from {cog}, a CiA 402 drive")
+    );
+    assert_eq!(s.len(), 7 + 1 + 13 + 1, "{s:#?}");
+    assert_eq!(
+        s[8],
         "canopen-node: node 6: 0x1008 manufacturer device name = \"cog\" (the description gives no \
          value: its product name)"
     );
@@ -234,6 +241,11 @@ fn a_node_reports_the_values_over_sdo_and_keeps_them_through_resets() {
         assert_eq!(
             upload(bus, 6, 0x6072, 0),
             [0x4B, 0x72, 0x60, 0x00, 0xB8, 0x0B, 0x00, 0x00]
+        );
+        // TPDO 7 not valid: nothing of it on 0x000.
+        assert_eq!(
+            upload(bus, 6, 0x1806, 1),
+            [0x43, 0x06, 0x18, 0x01, 0x00, 0x00, 0x00, 0x80]
         );
     };
     check(&mut bus);

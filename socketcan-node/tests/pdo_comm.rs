@@ -659,3 +659,24 @@ fn a_changed_tpdo_goes_out_before_a_heartbeat_due_at_the_same_instant() {
     app.due = Some(at);
     assert_eq!(n.advance_ms(10), vec![f(0x185, &[1, 0]), f(0x705, &[0x05])]);
 }
+
+/// A value the node reports is taken back written as read, whatever the rules say, since it changes
+/// nothing (`sdo-tool dump`, then `apply`): a mapping entry and the count of a valid PDO (which the
+/// procedure would refuse, 0x06040043), a valid TPDO's inhibit time, its COB-ID, the EMCY COB-ID;
+/// another value is refused as before.
+#[test]
+fn a_value_the_node_holds_is_taken_back_unchanged() {
+    let mut n = node();
+    // TPDO 1 valid on 0x185, mapping 0x6000:01 and 0x6000:02 (8 bits each).
+    assert_eq!(u32w(&mut n, 0x1A00, 1, 0x6000_0108), Ok(()));
+    assert_eq!(n.sdo_write(0x1A00, 0, &[2]), Ok(()));
+    assert_eq!(u32w(&mut n, 0x1A00, 1, 0x6000_0208), Err(0x0604_0043));
+    assert_eq!(n.sdo_write(0x1A00, 0, &[1]), Err(0x0604_0043));
+    assert_eq!(n.sdo_write(0x1800, 3, &[0, 0]), Ok(()));
+    assert_eq!(n.sdo_write(0x1800, 3, &[100, 0]), Err(0x0609_0030));
+    assert_eq!(u32w(&mut n, 0x1800, 1, 0x0000_0185), Ok(()));
+    assert_eq!(u32w(&mut n, 0x1800, 1, 0x0000_0186), Err(0x0609_0030));
+    assert_eq!(u32w(&mut n, 0x1014, 0, 0x0000_0085), Ok(()));
+    assert_eq!(n.sdo_read(0x1A00, 1), Ok(vec![0x08, 0x01, 0x00, 0x60]));
+    assert_eq!(n.sdo_read(0x1800, 3), Ok(vec![0, 0]));
+}

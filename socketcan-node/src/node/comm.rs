@@ -40,8 +40,16 @@ impl<A: Application> Core<A> {
     }
 
     /// Special rules of the communication objects, checked before a download is stored. `Ok(true)`: the
-    /// download is complete without storing the value (commands).
+    /// download is complete without storing the value (commands). A COB-ID (SYNC, TIME, EMCY, PDO),
+    /// PDO parameter or mapping entry written as the entry holds it is taken whatever the rules say
+    /// (it changes nothing): a value the node reports, it takes back (`sdo-tool dump`, then `apply`;
+    /// the mapping of a PDO whose COB-ID cannot be written, so that the PDO cannot be made invalid).
     fn check_download(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<bool, AbortCode> {
+        let unchanged = matches!(index, 0x1005 | 0x1012 | 0x1014 | RPDO_COMM..=0x15FF | TPDO_COMM..=0x19FF | 0x1600..=0x17FF | 0x1A00..=0x1BFF)
+            && self.dict.entry(index, sub).is_ok_and(|e| e.value == data);
+        if unchanged {
+            return Ok(false);
+        }
         let value = {
             let mut b = [0u8; 4];
             let n = data.len().min(4);

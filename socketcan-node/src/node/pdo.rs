@@ -135,9 +135,10 @@ impl PdoConfig {
     }
 }
 
-/// CiA 301 §7.3.5 restricted CAN-IDs: no PDO, SYNC or EMCY may use them.
+/// CiA 301 §7.3.5 restricted CAN-IDs: no PDO, SYNC or EMCY may use them
+/// ([`od::fill::restricted_can_id`]).
 pub const fn restricted_id(id: u16) -> bool {
-    matches!(id, 0x000 | 0x001..=0x07F | 0x101..=0x180 | 0x581..=0x5FF | 0x601..=0x67F | 0x6E0..=0x6FF | 0x701..=0x77F | 0x780..=0x7FF)
+    od::fill::restricted_can_id(id)
 }
 
 /// Checks one mapping entry written in step 3 of the procedure: the object exists (0x06020000), may be
