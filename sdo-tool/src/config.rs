@@ -15,7 +15,9 @@
 //!
 //! **Apply** ([`plan`]) writes what the DCF sets in index order, but each PDO with the CiA 301
 //! §7.5.2.35–38 procedure: its COB-ID invalid (bit 31 set), its other communication parameters, the
-//! mapping's count 0, the mapping entries, the count, then the COB-ID as the DCF gives it. CoE PDO
+//! mapping's count 0, the mapping entries, the count, then the COB-ID as the DCF gives it. A PDO
+//! whose COB-ID the DCF gives read-only cannot be made invalid, so its mapping cannot change: its
+//! entries and count go as they are (a node takes them when they are what it has). CoE PDO
 //! assignments (0x1C10–0x1C2F, ETG.1020) go the same way: count 0, the entries, the count. Command
 //! objects a DCF sets (one made elsewhere) are left out and said so.
 
@@ -192,7 +194,12 @@ pub fn plan(dict: &Dictionary) -> (Vec<Write>, Vec<(Address, Skip)>) {
         }
         match index {
             0x1400..=0x15FF | 0x1800..=0x19FF => {
-                pdo(&values, index, &mut writes);
+                // A COB-ID the file gives read-only: the PDO cannot be made invalid, so its mapping
+                // cannot change (CiA 301 §7.5.2.36): written as it is, without the count 0.
+                let fixed = dict
+                    .entry(index, 1)
+                    .is_ok_and(|e| !e.access.kind.writable());
+                pdo(&values, index, fixed, &mut writes);
                 done.insert(index);
                 done.insert(index + 0x200);
             }
@@ -223,8 +230,9 @@ pub fn plan(dict: &Dictionary) -> (Vec<Write>, Vec<(Address, Skip)>) {
     (writes, skipped)
 }
 
-/// One PDO: the communication object `comm` and its mapping `comm + 0x200`, by CiA 301's procedure.
-fn pdo(values: &BTreeMap<Address, Vec<u8>>, comm: u16, writes: &mut Vec<Write>) {
+/// One PDO: the communication object `comm` and its mapping `comm + 0x200`, by CiA 301's procedure;
+/// with a `fixed` COB-ID (read-only), the mapping's entries and count as they are.
+fn pdo(values: &BTreeMap<Address, Vec<u8>>, comm: u16, fixed: bool, writes: &mut Vec<Write>) {
     let cob = values.get(&Address::new(comm, 1));
     if let Some(cob) = cob.filter(|b| b.len() == 4) {
         let mut invalid = cob.clone();
@@ -242,7 +250,20 @@ fn pdo(values: &BTreeMap<Address, Vec<u8>>, comm: u16, writes: &mut Vec<Write>) 
             step: None,
         });
     }
-    counted(values, comm + 0x200, writes);
+    if fixed {
+        let map = comm + 0x200;
+        let count = values.get(&Address::new(map, 0));
+        let n = count.and_then(|c| c.first().copied()).unwrap_or(0xFF);
+        let entries = values.range(Address::new(map, 1)..=Address::new(map, n.max(1)));
+        let count = values.range(Address::new(map, 0)..=Address::new(map, 0));
+        writes.extend(entries.chain(count).map(|(a, b)| Write {
+            addr: *a,
+            bytes: b.clone(),
+            step: None,
+        }));
+    } else {
+        counted(values, comm + 0x200, writes);
+    }
     if let Some(cob) = cob {
         writes.push(Write {
             addr: Address::new(comm, 1),
@@ -390,6 +411,34 @@ mod tests {
                 )
             ]
         );
+    }
+
+    /// A PDO whose COB-ID the file gives read-only (SOMANET's EDS: `ro`, `$NODEID+0x40000180`)
+    /// cannot be made invalid: its other parameters, then its mapping's entries up to the count and
+    /// the count as they are, no count 0.
+    #[test]
+    fn a_pdo_with_a_read_only_cob_id_keeps_its_mapping_as_it_is() {
+        let mut d = dcf();
+        d.object_mut(0x1800)
+            .and_then(|o| o.subs.get_mut(&1))
+            .unwrap()
+            .access = AccessType::Ro.into();
+        let (writes, skipped) = plan(&d);
+        let got: Vec<(u16, u8, Vec<u8>, bool)> = writes
+            .iter()
+            .filter(|w| (0x1800..=0x1BFF).contains(&w.addr.index))
+            .map(|w| (w.addr.index, w.addr.sub, w.bytes.clone(), w.step.is_some()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (0x1800, 2, vec![1], false),
+                (0x1A00, 1, vec![0x10, 0x00, 0x41, 0x60], false),
+                (0x1A00, 2, vec![0x20, 0x00, 0x64, 0x60], false),
+                (0x1A00, 0, vec![2], false),
+            ]
+        );
+        assert!(skipped.contains(&(Address::new(0x1800, 1), Skip::NotWritable)));
     }
 
     /// A mapping whose communication object the file does not set goes alone, by its count.

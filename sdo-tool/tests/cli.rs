@@ -818,7 +818,8 @@ fn apply_in_operational_says_to_configure_in_pre_operational() {
 
 /// `apply` of a DCF made elsewhere: a command object it sets is left out, an object the node does not
 /// have is skipped with a warning (0x06020000), a mapping entry of a valid RPDO the node refuses
-/// (0x06040043, the DCF sets no COB-ID to make it invalid) is reported and the rest goes on (exit 1);
+/// (0x06040043, the DCF sets no COB-ID to make it invalid; another entry than the one it holds,
+/// which it would take back unchanged) is reported and the rest goes on (exit 1);
 /// `--stop-on-error` stops at that refusal instead.
 #[test]
 fn apply_skips_and_reports_refusals_and_goes_on() {
@@ -837,7 +838,7 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
     for (index, sub, bytes) in [
         (0x1010u16, 1u8, 0x6576_6173u32.to_le_bytes().to_vec()),
         (0x1017, 0, 1_000u16.to_le_bytes().to_vec()),
-        (0x1600, 1, 0x2100_0020u32.to_le_bytes().to_vec()),
+        (0x1600, 1, 0x2101_0010u32.to_le_bytes().to_vec()),
         (0x2110, 0, vec![20]),
         (0x2FFF, 0, vec![7]),
     ] {
@@ -864,7 +865,7 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
     assert_eq!(e.map(|e| e.exit_code()), Some(1));
     assert!(
         out.contains(
-            "REFUSED 0x1600:01 = 553648160: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason); nothing after it written"
+            "REFUSED 0x1600:01 = 553713680: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason); nothing after it written"
         ),
         "{out}"
     );
@@ -882,7 +883,7 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
         [
             "skipped 0x1010:01 = 1702257011: store parameters: a command",
             "wrote 0x1017:00 = 1000",
-            "REFUSED 0x1600:01 = 553648160: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason)",
+            "REFUSED 0x1600:01 = 553713680: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason)",
             "wrote 0x2110:00 = 20",
             "skipped 0x2FFF:00 = 7: the node refuses it: 0x06020000 (Object does not exist in the object dictionary)",
             "2 entries written, 2 skipped, 1 refused",
