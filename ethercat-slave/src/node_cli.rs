@@ -1,6 +1,11 @@
 //! The `ethercat-node` command line: any ESI's devices as a chain of emulated EtherCAT slaves, with a
 //! CiA 402 drive behind every drive axis ([`crate::generic`]). `main` only parses ([`parse`]) and
 //! calls [`run`].
+//!
+//! Never silent: every value a kind of device reports that its ESI does not give
+//! ([`Template::events`]) is one line on standard output at start, after the line of its units
+//! (`ethercat-node: EVE-XCR-E: 0x1018:02 product code = 0x02C31001 (…)`), or one JSON object with
+//! `--json`; `--explain` prints only these and opens no interface.
 
 use std::ffi::OsString;
 use std::path::PathBuf;
@@ -10,6 +15,7 @@ use std::time::{Duration, Instant};
 
 use clap::{CommandFactory, FromArgMatches, Parser, ValueEnum};
 use ds402::drive::{DriveConfig, MotorKind};
+use od::event::Origin;
 use od::load::Format;
 
 use crate::generic::{self, parse_number, Template, TemplateError};
@@ -38,9 +44,9 @@ pub const MAX_UNITS: usize = 128;
 #[derive(Debug, Clone, Parser)]
 #[command(name = "ethercat-node", version, verbatim_doc_comment)]
 pub struct Args {
-    /// The network interface the master's frames arrive on.
-    #[arg(value_name = "INTERFACE")]
-    pub interface: String,
+    /// The network interface the master's frames arrive on (not with --explain).
+    #[arg(value_name = "INTERFACE", required_unless_present = "explain")]
+    pub interface: Option<String>,
 
     /// An ESI file, FILE or FILE@N for N units of its device (1 to 128). Give it once per kind of
     /// device; the chain is the units in that order.
@@ -76,6 +82,20 @@ pub struct Args {
     /// 1000).
     #[arg(long, value_name = "US", default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=1000))]
     pub busy_poll_us: u64,
+
+    /// Prints what each kind of device reports that its ESI does not give, one line per entry, and
+    /// exits without opening an interface: a value the ESI leaves out (0x1018 the identity of its
+    /// SII, names, device type, supported drive modes), or a factory setting in place of a value its
+    /// drive could not run with (a limit or ramp of 0, a code it refuses). The units print the same
+    /// lines at start.
+    #[arg(long)]
+    pub explain: bool,
+
+    /// Those lines (at start, and with --explain) as JSON objects, one per line: {"event": "filled"
+    /// or "adjusted", "device", "index", "sub", "name", "value", "unit" (where it has one),
+    /// "reason"}.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// The motor of the drives.
@@ -211,10 +231,18 @@ pub enum CliError {
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
     Signal(#[from] ctrlc::Error),
+    /// No interface to run on.
+    #[error("an INTERFACE is needed (only --explain runs without one)")]
+    NoInterface,
 }
 
-/// Reads the device of `spec` and makes it ready with its modules.
+/// Reads the device of `spec` and makes it ready with its modules, its drives servos.
 pub fn load(spec: &EsiSpec) -> Result<Template, CliError> {
+    load_for(spec, &DriveConfig::default())
+}
+
+/// [`load`] for drives made as `drive` says.
+pub fn load_for(spec: &EsiSpec, drive: &DriveConfig) -> Result<Template, CliError> {
     let refuse = |why: String| CliError::Esi {
         path: spec.path.display().to_string(),
         why,
@@ -242,7 +270,40 @@ pub fn load(spec: &EsiSpec) -> Result<Template, CliError> {
     let name = spec.path.display().to_string();
     let desc =
         od::esi::read(&bytes, &name, select.as_ref()).map_err(|e| CliError::Load(e.to_string()))?;
-    Template::new(desc, spec.modules.as_deref()).map_err(|e: TemplateError| refuse(e.to_string()))
+    Template::for_drives(desc, spec.modules.as_deref(), drive)
+        .map_err(|e: TemplateError| refuse(e.to_string()))
+}
+
+/// The drives' configuration `args` give.
+pub fn drive_config(args: &Args) -> DriveConfig {
+    DriveConfig {
+        motor: ds402::drive::MotorConfig {
+            kind: match args.motor {
+                MotorArg::Servo => MotorKind::Servo,
+                MotorArg::Stepper => MotorKind::Stepper,
+            },
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// The lines that say what `template`'s ESI was given ([`Template::events`]): `ethercat-node:
+/// EVE-XCR-E: 0x6502 supported drive modes = 0x000003A5 (…)`, or with `json` one JSON object each
+/// ([`od::event::Event::json`]).
+pub fn event_lines(template: &Template, json: bool) -> Vec<String> {
+    let name = template.name();
+    template
+        .events()
+        .iter()
+        .map(|e| {
+            if json {
+                e.json(Origin::Device(&name))
+            } else {
+                format!("ethercat-node: {name}: {}", e.line())
+            }
+        })
+        .collect()
 }
 
 /// What a template's units carry: `2 × EVE-XCR-E (outputs 11 bytes, inputs 11 bytes, 1 drive axis)`.
@@ -271,11 +332,26 @@ pub fn describe(template: &Template, n: usize) -> String {
 /// first line ending in "Ctrl-C stops".
 pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError> {
     let args = &config.args;
+    let drive = drive_config(args);
     let templates: Vec<(Template, usize)> = config
         .specs
         .iter()
-        .map(|s| Ok((load(s)?, s.units.unwrap_or(usize::from(args.units)))))
+        .map(|s| {
+            Ok((
+                load_for(s, &drive)?,
+                s.units.unwrap_or(usize::from(args.units)),
+            ))
+        })
         .collect::<Result<_, CliError>>()?;
+    if args.explain {
+        for (t, _) in &templates {
+            for line in event_lines(t, args.json) {
+                println!("{line}");
+            }
+        }
+        return Ok(Stats::default());
+    }
+    let interface = args.interface.as_deref().ok_or(CliError::NoInterface)?;
     let stop = match stop {
         Some(s) => s,
         None => {
@@ -285,17 +361,7 @@ pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliE
             s
         }
     };
-    let drive = DriveConfig {
-        motor: ds402::drive::MotorConfig {
-            kind: match args.motor {
-                MotorArg::Servo => MotorKind::Servo,
-                MotorArg::Stepper => MotorKind::Stepper,
-            },
-            ..Default::default()
-        },
-        ..Default::default()
-    };
-    let socket = RawSocket::open(&args.interface).map_err(RuntimeError::from)?;
+    let socket = RawSocket::open(interface).map_err(RuntimeError::from)?;
     let list: Vec<(&Template, usize)> = templates.iter().map(|(t, n)| (t, *n)).collect();
     let chain = generic::chain(
         &list,
@@ -309,20 +375,18 @@ pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliE
     })?;
     let total = chain.len();
     println!(
-        "ethercat-node: {total} unit(s) on {} (serial numbers 1…{total}); Ctrl-C stops",
-        args.interface
+        "ethercat-node: {total} unit(s) on {interface} (serial numbers 1…{total}); Ctrl-C stops"
     );
     for (t, n) in &templates {
         println!("  {}", describe(t, *n));
+        for line in event_lines(t, args.json) {
+            println!("{line}");
+        }
     }
-    tracing::info!(
-        interface = args.interface,
-        units = total,
-        "emulated units on line"
-    );
+    tracing::info!(interface, units = total, "emulated units on line");
     let stats = runtime::serve(
         &socket,
-        &args.interface,
+        interface,
         Duration::from_micros(args.busy_poll_us),
         chain,
         &stop,

@@ -11,9 +11,15 @@
 //!   ([`pdo`]), the AL checks of its `Sm` and `Dc` elements, its mailbox size and CoE abilities,
 //!   and its SII image (in an EEPROM of `Eeprom/ByteSize`, or of the next power of two that holds
 //!   the image where that is too small).
-//! - [`GenericUnit`] is one unit of a template ([`Template::unit`]): its own dictionary (0x1018:01–03
-//!   the ESI's identity as in the SII, the serial number in 0x1018:04), drives and EtherCAT rules; [`chain`] puts units of several templates in
-//!   one [`NodeChain`].
+//! - Before its units, a template's dictionary gets what a real device of the ESI reports where the
+//!   ESI gives no value ([`socketcan_node::generic::complete`], as the CANopen node does): 0x1018:01–03
+//!   the ESI's identity, as the SII has it (a value of the ESI's object that contradicts it gives
+//!   way to it, since a master compares the two; said as an adjustment), the names 0x1008 and
+//!   0x100A from its `Type` and revision, a drive's device type, supported modes and factory
+//!   settings; each change one event ([`Template::events`]).
+//! - [`GenericUnit`] is one unit of a template ([`Template::unit`]): its own dictionary (the
+//!   serial number in 0x1018:04), drives and EtherCAT rules; [`chain`] puts units of several
+//!   templates in one [`NodeChain`].
 //!
 //! What a unit adds to the dictionary's own checks of an SDO download (ETG.1000.6 §5.6.2, the rules
 //! of a CoE slave; the codes are the CiA 301 abort codes):
@@ -44,11 +50,12 @@ use od::abort::AbortCode;
 use od::coe::server::CoeServer;
 use od::device::{DeviceDescription, EthercatInfo, Module};
 use od::dict::{Address, Dictionary};
+use od::event::Event;
 use od::hook::{self, DeviceHook, Objects, ProcessImage};
 use od::object::{EcatStates, Object, ObjectKind};
 use od::sdo::server::ServerConfig;
 use od::types::DataType;
-use socketcan_node::generic::{add_sim_records, GenericApp};
+use socketcan_node::generic::{add_sim_records, complete, GenericApp};
 use socketcan_node::node::Application;
 
 use crate::esc::al::{AlConfig, AlState, AlStatusCode};
@@ -153,15 +160,27 @@ pub struct Template {
     outputs_at: Option<u16>,
     inputs_at: Option<u16>,
     modules: Vec<(usize, u32)>,
+    events: Vec<Event>,
 }
 
 impl Template {
     /// `desc` (an ESI device) with `modules` in its slots, one for each slot from the first: a
     /// module ident (`0x10b00100`, `#x10b00100` or decimal) or type name, or `none` for an empty
-    /// slot; `None` puts each slot's default module in it (ETG.2001 `ModuleIdent@Default`).
+    /// slot; `None` puts each slot's default module in it (ETG.2001 `ModuleIdent@Default`). Its
+    /// drives are servos ([`Template::for_drives`] for others).
     pub fn new(
+        desc: DeviceDescription,
+        modules: Option<&[String]>,
+    ) -> Result<Template, TemplateError> {
+        Template::for_drives(desc, modules, &DriveConfig::default())
+    }
+
+    /// [`Template::new`] for drives made as `config` says (its motor: the device type and the modes
+    /// the device reports). The units should be made with the same motor ([`Template::unit`]).
+    pub fn for_drives(
         mut desc: DeviceDescription,
         modules: Option<&[String]>,
+        config: &DriveConfig,
     ) -> Result<Template, TemplateError> {
         let device = device_name(&desc);
         let ec = desc
@@ -178,12 +197,15 @@ impl Template {
         pdos.complete(&mut desc.dictionary);
         set_module_lists(&mut desc.dictionary, &list);
         add_sm_types(&mut desc.dictionary, &ec);
+        // What a real device of the ESI reports where the ESI gives no value (0x1018 the SII's
+        // identity, the names, a drive's device type, modes and factory settings), for drives that
+        // take SYNC0 as their SYNC, as the units' do.
+        let drives = DriveConfig {
+            sync_clock: true,
+            ..config.clone()
+        };
+        let events = complete(&mut desc, &drives);
         add_sim_records(&mut desc.dictionary, &ds402::drive::SimConfig::default());
-        // The identity object holds what the SII does (an ESI may give 0x1018 no values).
-        let id = &desc.identity;
-        for (sub, v) in [(1u8, id.vendor_id), (2, id.product_code), (3, id.revision)] {
-            let _ = desc.dictionary.store(0x1018, sub, &v.to_le_bytes());
-        }
         pdos.images(&desc.dictionary)
             .map_err(|code| TemplateError::Pdos {
                 device: device.clone(),
@@ -236,7 +258,13 @@ impl Template {
             inputs_at: sm("Inputs").map(|s| s.start_address),
             modules: placed.iter().map(|(s, m)| (*s, m.ident)).collect(),
             desc,
+            events,
         })
+    }
+
+    /// What the ESI was given that it does not say itself ([`complete`]), in index order.
+    pub fn events(&self) -> &[Event] {
+        &self.events
     }
 
     /// The description (its dictionary as the units start with it).
