@@ -34,6 +34,12 @@
 //!   `DefaultValue`s and `ParameterValue`s: the offset is kept with
 //!   [`DefaultValue::plus_node_id`](crate::object::DefaultValue::plus_node_id) and
 //!   [`SubObject::value_plus_node_id`](crate::object::SubObject::value_plus_node_id).
+//! - Inline comments: a value ends before a `;` that follows white space (`DefaultValue=0x3ED ;
+//!   prevent homing` is 1005, a tab before the `;` as well), for every key, as python-canopen's
+//!   configparser reads them; a `;` right after the value (`1005;c`) is part of it, which is then no
+//!   number and is dropped with a warning, as python-canopen drops it. `[Comments]` lines are free
+//!   text and kept whole. The comment is not kept in the description; the writer never writes a text
+//!   that a reader would cut (it drops the blanks before a `;` in one: `a ; b` is written `a; b`).
 //! - `AccessType=R` and `AccessType=W` (no CiA 306 access types, but python-canopen reads them) are `ro`
 //!   and `wo`, with a warning. A REAL32 or REAL64 value in hexadecimal is its IEEE 754 bits, as Lely
 //!   writes them (`0x40490FDB` is π).
