@@ -1,54 +1,6 @@
 //! What a drive of a description reports where the description gives no value, and the factory
-//! settings it takes where the description's value would stop it: [`fill`], sans-IO (a dictionary
-//! and the drives' configuration in, the dictionary changed and one [`Event`] per entry out). A node
-//! calls it before it makes its drives, so that they, the SDO server and a reset all see the same
-//! values: each becomes the entry's default ([`SubObject::set_default`]).
-//!
-//! Only a dictionary with drive axes ([`Drive::axes`]) is touched. A description's own value always
-//! wins, except where the drive could not run with it (a limit of 0, a code it refuses); of the
-//! objects the description lacks, only 0x1000 (mandatory in CiA 301) is added.
-//!
-//! **Reported values** (where the entry exists without a value):
-//!
-//! - 0x1000 device type (CiA 301 §7.5.2.1, CiA 402-2 object 1000h): the profile number 402
-//!   (0x0192) in bits 0–15; bits 16–23 the type, 0x02 for a servo drive and 0x04 for a stepper motor
-//!   (as Nanotec's stepper and servo controllers, TI's EtherCAT stack and the UC42 of the corpus
-//!   report them: `0x00020192`, `0x00040192`); a device of several axes reports 0xFFFF in bits
-//!   16–31 (CiA 301: several logical devices, each describing itself at 0x67FF + 0x800 · axis,
-//!   which get the single axis's type where the description has them without a value).
-//! - 0x6502 supported drive modes, per axis: the modes this drive runs that the description's
-//!   objects allow, the set 0x6060 accepts ([`Drive::supported_modes`]), also where the description
-//!   gives 0 (no mode at all; the drive reads 0 as no value).
-//!
-//! **Factory settings**, where the value is 0 or below (or absent: 0), which would stop the drive
-//! (positions in counts, velocities in counts/s, accelerations in counts/s², as the drive counts):
-//!
-//! | object | value | why this one |
-//! |---|---|---|
-//! | 0x6072 max torque | [`MotorConfig::peak_torque_permille`], 3000 ‰ | the peak torque of the simulated motor |
-//! | 0x6073 max current | 3000 ‰ | peak current follows peak torque |
-//! | 0x6075 motor rated current | 3000 mA | a 1 N·m servo with a torque constant of ⅓ N·m/A |
-//! | 0x6076 motor rated torque | [`MotorConfig::rated_torque`], 1000 mN·m | the simulated motor's |
-//! | 0x6080 max motor speed | 3000 rpm | a common servo motor's maximum |
-//! | 0x607F max profile velocity | 0x6080 × counts per revolution / 60 | the motor's maximum in counts/s (500,000 at 10,000 counts/rev) |
-//! | 0x6081 profile velocity | 10,000 counts/s, at most 0x607F | the drive's default: 1 rev/s at 10,000 counts/rev |
-//! | 0x6083, 0x6084 profile acceleration, deceleration | 100,000 counts/s² | the drive's default: 10 rev/s² |
-//! | 0x6085 quick stop deceleration | 1,000,000 counts/s² | the drive's default: 100 rev/s², a stop from full speed in 0.5 s |
-//! | 0x608F:01, :02 encoder increments, motor revolutions | [`MotorConfig::counts_per_rev`], 1 | the simulated encoder |
-//! | 0x6099:01, :02 homing speeds | 5,000 and 1,000 counts/s | the drive's defaults |
-//! | 0x609A homing acceleration | 100,000 counts/s² | the drive's default |
-//! | 0x60C5, 0x60C6 max acceleration, deceleration | 4,294,967,295 (the type's largest) | no limit beyond the profile's, as many drives ship |
-//!
-//! A value is held to the entry's type and limits; one that cannot be made positive so is left.
-//!
-//! **Values the drive would refuse written back.** A value a device reports must be accepted when a
-//! master writes it back (`sdo-tool dump`, then `apply`, of an untouched drive). The drive's own
-//! rules refuse 0 for the ramps and speeds above (hence the factory settings), option codes outside
-//! their ranges (0x605A 0–8, 0x605B and 0x605C 0–1, 0x605D 1–4, 0x605E 0–4; a 0x605D without a value
-//! is 0), a mode it does not run in 0x6060 (Pilz's PRBT DCF gives 7, interpolated position), a
-//! motion profile type other than 0 (0x6086) and a homing method it does not run (0x6098): such a
-//! value is replaced by the drive's default (0 for 0x6060: the drive starts with no mode, as it did
-//! with the refused one), and said.
+//! settings it takes where the description's value would stop it: [`fill`] (its documentation has
+//! the picks and the table of factory values).
 
 use od::dict::{Address, Dictionary};
 use od::event::{Event, EventKind};
@@ -295,8 +247,57 @@ const RULED: [(u16, &str, &str); 8] = [
     ),
 ];
 
-/// Fills and adjusts the entries of `dict`'s drive axes that its drives, made with `config`, report
-/// and run with; one event per entry changed. See the [module documentation](self).
+/// Gives the entries of `dict`'s drive axes what a drive of the description, made with `config`,
+/// reports where the description gives no value, and the factory settings it runs with where the
+/// description's value would stop it; one event per entry changed. Sans-IO: a node calls it on
+/// the dictionary before it makes its drives, so that they, the SDO server and a reset all see the
+/// same values: each becomes the entry's default ([`SubObject::set_default`]).
+///
+/// Only a dictionary with drive axes ([`Drive::axes`]) is touched. A description's own value always
+/// wins, except where the drive could not run with it (a limit of 0, a code it refuses); of the
+/// objects the description lacks, only 0x1000 (mandatory in CiA 301) is added.
+///
+/// **Reported values** (where the entry exists without a value):
+///
+/// - 0x1000 device type (CiA 301 §7.5.2.1, CiA 402-2 object 1000h): the profile number 402
+///   (0x0192) in bits 0–15; bits 16–23 the type, 0x02 for a servo drive and 0x04 for a stepper motor
+///   (as Nanotec's stepper and servo controllers, TI's EtherCAT stack and the UC42 of the corpus
+///   report them: `0x00020192`, `0x00040192`); a device of several axes reports 0xFFFF in bits
+///   16–31 (CiA 301: several logical devices, each describing itself at 0x67FF + 0x800 · axis,
+///   which get the single axis's type where the description has them without a value).
+/// - 0x6502 supported drive modes, per axis: the modes this drive runs that the description's
+///   objects allow, the set 0x6060 accepts ([`Drive::supported_modes`]), also where the description
+///   gives 0 (no mode at all; the drive reads 0 as no value).
+///
+/// **Factory settings**, where the value is 0 or below (or absent: 0), which would stop the drive
+/// (positions in counts, velocities in counts/s, accelerations in counts/s², as the drive counts):
+///
+/// | object | value | why this one |
+/// |---|---|---|
+/// | 0x6072 max torque | [`MotorConfig::peak_torque_permille`], 3000 ‰ | the peak torque of the simulated motor |
+/// | 0x6073 max current | 3000 ‰ | peak current follows peak torque |
+/// | 0x6075 motor rated current | 3000 mA | a 1 N·m servo with a torque constant of ⅓ N·m/A |
+/// | 0x6076 motor rated torque | [`MotorConfig::rated_torque`], 1000 mN·m | the simulated motor's |
+/// | 0x6080 max motor speed | 3000 rpm | a common servo motor's maximum |
+/// | 0x607F max profile velocity | 0x6080 × counts per revolution / 60 | the motor's maximum in counts/s (500,000 at 10,000 counts/rev) |
+/// | 0x6081 profile velocity | 10,000 counts/s, at most 0x607F | the drive's default: 1 rev/s at 10,000 counts/rev |
+/// | 0x6083, 0x6084 profile acceleration, deceleration | 100,000 counts/s² | the drive's default: 10 rev/s² |
+/// | 0x6085 quick stop deceleration | 1,000,000 counts/s² | the drive's default: 100 rev/s², a stop from full speed in 0.5 s |
+/// | 0x608F:01, :02 encoder increments, motor revolutions | [`MotorConfig::counts_per_rev`], 1 | the simulated encoder |
+/// | 0x6099:01, :02 homing speeds | 5,000 and 1,000 counts/s | the drive's defaults |
+/// | 0x609A homing acceleration | 100,000 counts/s² | the drive's default |
+/// | 0x60C5, 0x60C6 max acceleration, deceleration | 4,294,967,295 (the type's largest) | no limit beyond the profile's, as many drives ship |
+///
+/// A value is held to the entry's type and limits; one that cannot be made positive so is left.
+///
+/// **Values the drive would refuse written back.** A value a device reports must be accepted when a
+/// master writes it back (`sdo-tool dump`, then `apply`, of an untouched drive). The drive's own
+/// rules refuse 0 for the ramps and speeds above (hence the factory settings), option codes outside
+/// their ranges (0x605A 0–8, 0x605B and 0x605C 0–1, 0x605D 1–4, 0x605E 0–4; a 0x605D without a value
+/// is 0), a mode it does not run in 0x6060 (Pilz's PRBT DCF gives 7, interpolated position), a
+/// motion profile type other than 0 (0x6086) and a homing method it does not run (0x6098): such a
+/// value is replaced by the drive's default (0 for 0x6060: the drive starts with no mode, as it did
+/// with the refused one), and said.
 pub fn fill(dict: &mut Dictionary, config: &DriveConfig) -> Vec<Event> {
     let axes = Drive::axes(dict);
     let mut events = Vec::new();
