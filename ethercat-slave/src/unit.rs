@@ -15,7 +15,8 @@
 //!   transfer timers and every unit's process-data cycle over the time since the last one: the
 //!   SyncManager watchdog (its expiry in Op: Safe-Op with AL status code 0x001B, ETG.1000.4 §6.3),
 //!   in Op a new output image of SM2 unpacked into the model's entries, the synchronisation event
-//!   (the last SYNC0 since the last cycle at its own instant, ETG.1000.4 §9.3; without SYNC0 the SM2
+//!   (the last SYNC0 since the last cycle at its own instant, ETG.1000.4 §9.3; without SYNC0, and
+//!   with SYNC0 activated but before its first pulse at the start time the master set, the SM2
 //!   event of a new output image), the model run up to now, and in Safe-Op and Op the input entries
 //!   packed into SM3. Both images are laid out as the unit's PDO assignment (0x1C12, 0x1C13) and
 //!   mapping say at the moment the unit entered Safe-Op (ETG.1000.6 §5.6.7.4: the assignment is
@@ -50,7 +51,8 @@ use crate::frame::FrameError;
 pub enum SyncEvent {
     /// The SYNC0 event of the Distributed Clock (ETG.1000.4 §9.3), at its own instant.
     Sync0,
-    /// A new output image in SM2 while SYNC0 is off (SyncManager-synchronous operation).
+    /// A new output image in SM2 while SYNC0 gives no pulses (off, or activated but before its start
+    /// time): SyncManager-synchronous operation.
     Outputs,
 }
 
@@ -401,7 +403,11 @@ impl<M: Model> UnitChain<M> {
                     }
                     unit.model.sync(at, SyncEvent::Sync0);
                 }
-                None if fresh && !sync0_on => unit.model.sync(now, SyncEvent::Outputs),
+                // SYNC0 activated but not started yet (a master sets its start time some way ahead:
+                // SOEM 100 ms) drives nothing: until its first pulse the outputs do.
+                None if fresh && !(sync0_on && esc.sync0_running()) => {
+                    unit.model.sync(now, SyncEvent::Outputs)
+                }
                 None => {}
             }
             unit.model.advance(now);

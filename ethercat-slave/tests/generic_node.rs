@@ -208,6 +208,46 @@ fn without_sync0_each_output_image_is_the_sync() {
     assert_eq!((pos, vel, ferr), (500, 0, 0));
 }
 
+/// SYNC0 activated with its start time 100 ms ahead (as SOEM sets it): until its first pulse each
+/// new output image is the drive's SYNC, so a csp ramp started before it is followed from its
+/// first set-point (two behind, as without SYNC0), not taken in one step when the first pulse
+/// comes; after it the ramp goes on on SYNC0, and ends exactly at its last set-point.
+#[test]
+fn before_sync0_s_first_pulse_the_outputs_drive_the_set_points() {
+    let t = drive();
+    let layouts = [Layout::of(&t)];
+    let mut c = chain(&[(&t, 1)]);
+    let out = |cw: u16, target: i32| drive_out(cw, target, 8);
+    configure(&mut c, &layouts);
+    assert_eq!(request(&mut c, 0x02), 1);
+    node::sync0(&mut c, 0, 1_000_000, 100_000_000);
+    assert_eq!(request(&mut c, 0x04), 1);
+    lrw(&mut c, &layouts, &[out(0, 0)]);
+    assert_eq!(request(&mut c, 0x08), 1);
+    assert_eq!(al(&mut c, 0), (0x08, 0), "Op");
+    for cw in [0x0006u16, 0x0007, 0x000F] {
+        for _ in 0..3 {
+            lrw(&mut c, &layouts, &[out(cw, 0)]);
+        }
+    }
+    for p in 1..=60 {
+        let (_, inputs) = lrw(&mut c, &layouts, &[out(0x000F, p)]);
+        let pos = drive_in(&inputs[0]).1;
+        if p >= 3 {
+            assert_eq!(p - pos, 2, "set-point {p} (before SYNC0's first pulse)");
+        }
+    }
+    for p in 61..=200 {
+        lrw(&mut c, &layouts, &[out(0x000F, p)]);
+    }
+    for _ in 0..200 {
+        lrw(&mut c, &layouts, &[out(0x000F, 200)]);
+    }
+    let (_, inputs) = lrw(&mut c, &layouts, &[out(0x000F, 200)]);
+    let (_, pos, vel, ferr, _) = drive_in(&inputs[0]);
+    assert_eq!((pos, vel, ferr), (200, 0, 0));
+}
+
 /// ETG.1000.6 §5.6.7.4: the PDO assignment is changed in Pre-Op and takes effect at Safe-Op. The
 /// example drive's 0x1C12 from 0x1600 (7 bytes) to 0x1602 (controlword, target torque, mode: 2 +
 /// 2 + 1 = 5 bytes): SM2 set for the old 7 bytes is refused (0x001D), for 5 accepted; in Op the

@@ -53,6 +53,8 @@ pub(crate) struct Clock {
     pub now: u64,
     /// The next SYNC0 event in system time, while SYNC0 runs.
     pub next_sync0: Option<u64>,
+    /// SYNC0 has given its first pulse since it was activated.
+    pub sync0_started: bool,
 }
 
 impl Esc {
@@ -128,6 +130,7 @@ impl Esc {
         if touches(at, len, SYNC_ACTIVATION, 1) {
             let [act] = self.bytes_at(SYNC_ACTIVATION);
             self.clock.next_sync0 = (act & 0x03 == 0x03).then(|| self.u64_at(START_TIME));
+            self.clock.sync0_started = false;
         }
     }
 
@@ -156,6 +159,14 @@ impl Esc {
             last
         };
         self.store(SYNC0_STATUS, &[1]);
+        self.clock.sync0_started = true;
         Some(last)
+    }
+
+    /// Whether SYNC0 is activated and has given its first pulse ([`Esc::sync0_passed`] reported
+    /// one): between the activation and the start time the master set (SOEM's some 100 ms later),
+    /// it is activated but gives none.
+    pub fn sync0_running(&self) -> bool {
+        self.sync0_cycle().is_some() && self.clock.sync0_started
     }
 }
