@@ -3,7 +3,11 @@
 //! and 0x6041 the dictionary has (CiA 402-2: axis *a* at 0x6000 + 0x800·*a*) a CiA 402 drive
 //! ([`ds402::drive::Drive`], the same application the CANopen node runs:
 //! `socketcan_node::generic::GenericApp`, with its simulation record at 0x5FF0 + axis). A device
-//! without drive axes is the dictionary alone: its process data writes and reads its entries.
+//! without CiA 402 axes but with drive channels of ETG.5001 MDP 742 (the servo and stepper
+//! terminals' "DRV" objects at 0x6010/0x7010 + 0x100·channel) has the same drive behind each
+//! channel, reached through a mapping from the channel's objects to the drive's ([`mdp`]; channel
+//! *n* is drive axis *n*, its simulation record at 0x5FF0 + *n*). A device without drive axes is
+//! the dictionary alone: its process data writes and reads its entries.
 //!
 //! - [`Template`] is one ESI device made ready once ([`Template::new`]): the modules in its slots
 //!   (ETG.2001 `Slots`/`Modules`, given or the slots' defaults) with their PDOs and objects moved by
@@ -32,7 +36,8 @@
 //!
 //! - their targets and control words through the process data in Op; a synchronisation event
 //!   ([`Drive::sync`](ds402::drive::Drive::sync): the cyclic synchronous modes take their targets) at
-//!   each SYNC0 event, or, without SYNC0, at each new output image; with SYNC0 the drives
+//!   each SYNC0 event, or at each new output image without SYNC0 and before SYNC0's first pulse
+//!   (its start time, which a master sets some way ahead: SOEM 100 ms); with SYNC0 the drives
 //!   interpolate each target over the SYNC0 cycle (whatever 0x60C2 says: the set-points come at
 //!   that cycle), which 0x1C32:02 and 0x1C33:02 then show;
 //! - leaving Op (the master's request, the SyncManager watchdog, a lost link) is the end of the
@@ -40,6 +45,7 @@
 //!   has none): 0 nothing, 1 a fault with error code 0x8100 (communication), 2 disable voltage, 3
 //!   quick stop.
 
+pub mod mdp;
 pub mod pdo;
 
 use std::sync::Arc;
@@ -62,6 +68,7 @@ use crate::esc::al::{AlConfig, AlState, AlStatusCode};
 use crate::esc::Esc;
 use crate::unit::{Model, SyncEvent, Unit, UnitChain};
 
+use mdp::Channels;
 use pdo::Pdos;
 
 /// The mailbox size taken where the ESI gives none.
@@ -160,6 +167,8 @@ pub struct Template {
     outputs_at: Option<u16>,
     inputs_at: Option<u16>,
     modules: Vec<(usize, u32)>,
+    /// The MDP 742 drive channels, on a device without CiA 402 axes.
+    channels: Option<Arc<Channels>>,
     events: Vec<Event>,
 }
 
@@ -206,6 +215,17 @@ impl Template {
         };
         let events = complete(&mut desc, &drives);
         add_sim_records(&mut desc.dictionary, &ds402::drive::SimConfig::default());
+        let channels = Channels::of(&desc.dictionary);
+        if let Some(c) = &channels {
+            // The channels' drives have their simulation records too, where the index is free.
+            let drives = channel_drives(c, &desc.dictionary);
+            for &n in c.channels() {
+                let index = socketcan_node::generic::SIM_BASE + u16::from(n);
+                if let (Some(o), None) = (drives.object(index), desc.dictionary.object(index)) {
+                    desc.dictionary.insert(o.clone());
+                }
+            }
+        }
         pdos.images(&desc.dictionary)
             .map_err(|code| TemplateError::Pdos {
                 device: device.clone(),
@@ -257,6 +277,7 @@ impl Template {
             outputs_at: sm("Outputs").map(|s| s.start_address),
             inputs_at: sm("Inputs").map(|s| s.start_address),
             modules: placed.iter().map(|(s, m)| (*s, m.ident)).collect(),
+            channels: channels.map(Arc::new),
             desc,
             events,
         })
@@ -287,9 +308,22 @@ impl Template {
         self.pdos.images(&self.desc.dictionary).unwrap_or_default()
     }
 
-    /// The drive axes of the device.
+    /// The drive axes of the device: its CiA 402 axes, or its MDP 742 channels.
     pub fn axes(&self) -> Vec<u8> {
-        ds402::drive::Drive::axes(&self.desc.dictionary)
+        match &self.channels {
+            Some(c) => c.channels().to_vec(),
+            None => ds402::drive::Drive::axes(&self.desc.dictionary),
+        }
+    }
+
+    /// The MDP 742 drive channels, on a device that has them (and no CiA 402 axis).
+    pub fn channels(&self) -> Option<&Channels> {
+        self.channels.as_deref()
+    }
+
+    /// The PDOs of the device and of the modules in its slots, and what a master may change of them.
+    pub fn pdos(&self) -> &Pdos {
+        &self.pdos
     }
 
     /// A unit of this device with serial number `serial` (SII and 0x1018:04), its drives running
@@ -317,20 +351,32 @@ impl Template {
             sync_clock: true,
             ..config.clone()
         };
-        let app = GenericApp::new(&dict, &config, now);
+        let app = match &self.channels {
+            Some(c) => GenericApp::new(&channel_drives(c, &dict), &config, now),
+            None => GenericApp::new(&dict, &config, now),
+        };
         let model = GenericUnit {
             dict,
             hook: UnitHook {
                 app,
+                channels: self.channels.clone(),
                 pdos: self.pdos.clone(),
                 meta: self.meta.clone(),
                 state: AlState::Init,
+                span: tracing::info_span!("unit", serial),
             },
         };
         let coe = CoeServer::new(ServerConfig::default(), self.mailbox_in)
             .with_segmented_transfer(self.segmented);
         Ok((esc, Unit::new(model, coe, self.outputs_at, self.inputs_at)))
     }
+}
+
+/// The CiA 402 dictionary of the drives behind `channels` of `dict`, with their simulation records.
+fn channel_drives(channels: &Channels, dict: &Dictionary) -> Dictionary {
+    let mut drives = channels.dictionary(dict);
+    add_sim_records(&mut drives, &ds402::drive::SimConfig::default());
+    drives
 }
 
 /// A chain of `units` (each a template and how many units of it, in chain order), serial numbers
@@ -531,12 +577,24 @@ fn set_module_lists(dict: &mut Dictionary, modules: &[(usize, &Module)]) {
 #[derive(Clone)]
 struct UnitHook {
     app: GenericApp,
+    /// The MDP 742 channels the drives are behind (the drives' own objects are then in a
+    /// dictionary of their own).
+    channels: Option<Arc<Channels>>,
     pdos: Arc<Pdos>,
     meta: Arc<Dictionary>,
     state: AlState,
+    /// What the unit's drives log is said of it (`unit{serial=3}: axis 0: …`).
+    span: tracing::Span,
 }
 
 impl UnitHook {
+    /// Whether `index` is the simulation record of a drive behind an MDP 742 channel (the same
+    /// index in both dictionaries).
+    fn channel_sim(&self, index: u16) -> bool {
+        let base = socketcan_node::generic::SIM_BASE;
+        (base..base + u16::from(mdp::MAX_CHANNELS)).contains(&index) && self.app.owns(index)
+    }
+
     fn ecat_state(&self) -> Option<EcatStates> {
         match self.state {
             AlState::PreOp => Some(EcatStates::PREOP),
@@ -554,6 +612,21 @@ impl DeviceHook for UnitHook {
     }
 
     fn read(&self, at: Address, out: &mut [u8; 8]) -> Option<usize> {
+        if let Some(c) = &self.channels {
+            if let Some(drive) = c.drive_address(at) {
+                let mut buf = [0u8; 8];
+                let n = self.app.read(drive, &mut buf)?;
+                let value = c.from_drive(at, &buf[..n])?;
+                let n = value.len().min(8);
+                out[..n].copy_from_slice(&value[..n]);
+                return Some(n);
+            }
+            return if self.channel_sim(at.index) {
+                self.app.read(at, out)
+            } else {
+                None
+            };
+        }
         if self.app.owns(at.index) {
             self.app.read(at, out)
         } else {
@@ -572,6 +645,13 @@ impl DeviceHook for UnitHook {
         }
         self.pdos
             .check(&self.meta, at, data, self.state == AlState::PreOp)?;
+        if let Some(c) = &self.channels {
+            return match c.to_drive(at, data) {
+                Some((drive, value)) => self.app.check(drive, &value),
+                None if self.channel_sim(at.index) => self.app.check(at, data),
+                None => Ok(()),
+            };
+        }
         if self.app.owns(at.index) {
             self.app.check(at, data)
         } else {
@@ -580,6 +660,14 @@ impl DeviceHook for UnitHook {
     }
 
     fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+        let _unit = self.span.clone().entered();
+        if let Some(c) = &self.channels {
+            return match c.to_drive(at, data) {
+                Some((drive, value)) => self.app.write(drive, &value),
+                None if self.channel_sim(at.index) => self.app.write(at, data),
+                None => Ok(()),
+            };
+        }
         if self.app.owns(at.index) {
             self.app.write(at, data)
         } else {
@@ -661,12 +749,12 @@ impl GenericUnit {
                 _ => Some(0x0000),
             };
             if let Some(cw) = control {
-                hook::deliver(
-                    &mut self.dict,
-                    &mut self.hook,
-                    Address::new(base + 0x0040, 0),
-                    &cw.to_le_bytes(),
-                );
+                // A channel's controlword is the channel's entry (the dictionary keeps it too).
+                let at = match self.hook.channels {
+                    Some(_) => Channels::controlword(axis),
+                    None => Address::new(base + 0x0040, 0),
+                };
+                hook::deliver(&mut self.dict, &mut self.hook, at, &cw.to_le_bytes());
             }
         }
     }
@@ -689,10 +777,12 @@ impl Model for GenericUnit {
     }
 
     fn advance(&mut self, now: Instant) {
+        let _unit = self.hook.span.clone().entered();
         Application::handle_timeout(&mut self.hook.app, now);
     }
 
     fn sync(&mut self, at: Instant, _event: SyncEvent) {
+        let _unit = self.hook.span.clone().entered();
         Application::sync(&mut self.hook.app, at);
     }
 
