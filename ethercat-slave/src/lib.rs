@@ -12,7 +12,8 @@
 //! [`smd`] puts the SMD model behind each ESC; [`generic`] any ESI's device, with a CiA 402 drive
 //! behind each drive axis; [`raw`] and [`runtime`]
 //! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line, [`node_cli`]
-//! the `ethercat-node` one; [`master`]
+//! the `ethercat-node` one ([`node_list`] its `--list` of a file's devices and their drive axes);
+//! [`master`]
 //! is the master's side the tests and benchmarks use.
 #![deny(missing_docs)]
 
@@ -22,6 +23,7 @@ pub mod frame;
 pub mod generic;
 pub mod master;
 pub mod node_cli;
+pub mod node_list;
 pub mod raw;
 pub mod runtime;
 pub mod smd;

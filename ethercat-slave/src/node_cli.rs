@@ -28,9 +28,12 @@ pub const MAX_UNITS: usize = 128;
 /// Emulated EtherCAT slaves from ESI files: each unit's SII, dictionary, CoE server (SDO, Complete
 /// Access, SDO Information), SyncManagers, AL checks, Distributed Clocks and PDOs (fixed, or
 /// assignable through 0x1C12/0x1C13 and 0x1600+/0x1A00+ as the ESI allows) come from its ESI, and
-/// behind every CiA 402 axis (0x6040/0x6041 at 0x6000 + 0x800 per axis) runs a drive: its state
-/// machine, pp, pv, homing, csp/csv/cst on SYNC0, the following error and a motor model. A device
-/// without drive axes is its dictionary: the process data writes and reads its entries.
+/// behind every CiA 402 axis (0x6040/0x6041 at 0x6000 + 0x800 per axis), and every drive channel of
+/// ETG.5001 MDP 742 (servo and stepper terminals: controlword 0x7010:01, statusword 0x6010:01, each
+/// channel 0x100 further), runs a drive: its state machine, pp, pv, homing, csp/csv/cst on SYNC0, the
+/// following error and a motor model; it logs each limit that holds it back. A device without
+/// drive axes is its dictionary: the process data writes and reads its entries. --list shows a
+/// file's devices and their axes.
 ///
 /// --esi FILE@N puts N units of FILE's device in the chain; give --esi once per device kind, in
 /// chain order. A --device (type name, name or product code) and a --modules list belong to the
@@ -45,7 +48,7 @@ pub const MAX_UNITS: usize = 128;
 #[command(name = "ethercat-node", version, verbatim_doc_comment)]
 pub struct Args {
     /// The network interface the master's frames arrive on (not with --explain).
-    #[arg(value_name = "INTERFACE", required_unless_present = "explain")]
+    #[arg(value_name = "INTERFACE", required_unless_present_any = ["explain", "list"])]
     pub interface: Option<String>,
 
     /// An ESI file, FILE or FILE@N for N units of its device (1 to 128). Give it once per kind of
@@ -96,6 +99,13 @@ pub struct Args {
     /// "reason"}.
     #[arg(long)]
     pub json: bool,
+
+    /// Prints every device of each --esi file, one tab-separated row each, and exits without
+    /// opening an interface: its name, how --device chooses it, its identity, its drive axes (0+1
+    /// CiA 402 axes, m0+m1 MDP 742 channels), whether its ESI claims csp in 0x6502, the PDOs a
+    /// master assigns to move them in csp, and what stands in the way.
+    #[arg(long)]
+    pub list: bool,
 }
 
 /// The motor of the drives.
@@ -332,6 +342,15 @@ pub fn describe(template: &Template, n: usize) -> String {
 /// first line ending in "Ctrl-C stops".
 pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError> {
     let args = &config.args;
+    if args.list {
+        println!("{}", crate::node_list::HEADER);
+        for spec in &config.specs {
+            for device in crate::node_list::list(&spec.path)? {
+                println!("{}", device.row());
+            }
+        }
+        return Ok(Stats::default());
+    }
     let drive = drive_config(args);
     let templates: Vec<(Template, usize)> = config
         .specs

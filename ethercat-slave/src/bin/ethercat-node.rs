@@ -12,7 +12,7 @@ fn main() {
         .init();
     let config = ethercat_slave::node_cli::parse(std::env::args_os()).unwrap_or_else(|e| e.exit());
     match ethercat_slave::node_cli::run(&config, None) {
-        Ok(_) if config.args.explain => {}
+        Ok(_) if config.args.explain || config.args.list => {}
         Ok(stats) => eprintln!(
             "ethercat-node: {} frames answered, {} dropped",
             stats.answered, stats.dropped

@@ -284,6 +284,75 @@ impl Pdos {
         }
     }
 
+    /// The PDOs (mapping object indices) a master assigns, as a configuration tool does from the
+    /// ESI, so that the process data carries `entries` of the direction (`tx`: inputs): `Ok(None)`
+    /// when the assignment in `dict` already does; else the fewest PDOs that map them, as `dict`
+    /// maps them, none excluding another (ETG.2000 `Exclude`), each taking the most entries still
+    /// missing (the lower index of equals), in index order. `Err` says why there are none: an entry
+    /// no PDO maps, or an assignment the master may not change (`CoE@PdoAssign`).
+    pub fn assignment_for(
+        &self,
+        dict: &Dictionary,
+        tx: bool,
+        entries: &[Address],
+    ) -> Result<Option<Vec<u16>>, String> {
+        let assign = if tx { TX_ASSIGN } else { RX_ASSIGN };
+        let mapped = |pdo: u16| -> Vec<Address> {
+            (1..=uint(dict, pdo, 0).unwrap_or(0).min(255))
+                .filter_map(|sub| uint(dict, pdo, sub as u8))
+                .map(|v| Address::new((v >> 16) as u16, (v >> 8) as u8))
+                .collect()
+        };
+        let assigned: Vec<u16> = (1..=uint(dict, assign, 0).unwrap_or(0).min(255))
+            .filter_map(|sub| uint(dict, assign, sub as u8).map(|v| v as u16))
+            .filter(|&i| i != 0)
+            .collect();
+        let present: Vec<Address> = assigned.iter().flat_map(|&p| mapped(p)).collect();
+        if entries.iter().all(|e| present.contains(e)) {
+            return Ok(None);
+        }
+        let direction = if tx { "TxPDO" } else { "RxPDO" };
+        if !self.assign {
+            return Err(format!(
+                "the {direction}s do not map {} and the ESI lets no master change their assignment",
+                list(entries.iter().filter(|e| !present.contains(e)))
+            ));
+        }
+        let candidates: Vec<(u16, Vec<Address>)> = self
+            .defs
+            .iter()
+            .filter(|d| d.tx == tx)
+            .map(|d| (d.index, mapped(d.index)))
+            .collect();
+        let mut chosen: Vec<u16> = Vec::new();
+        let mut missing: Vec<Address> = entries.to_vec();
+        while !missing.is_empty() {
+            let excluded = |index: u16| {
+                chosen.iter().any(|&c| {
+                    self.def(c).is_some_and(|d| d.exclude.contains(&index))
+                        || self.def(index).is_some_and(|d| d.exclude.contains(&c))
+                })
+            };
+            let best = candidates
+                .iter()
+                .filter(|(i, _)| !chosen.contains(i) && !excluded(*i))
+                .map(|(i, m)| (*i, missing.iter().filter(|e| m.contains(e)).count()))
+                .filter(|(_, n)| *n > 0)
+                .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)));
+            let Some((index, _)) = best else {
+                return Err(format!(
+                    "no {direction} the ESI lets a master assign maps {}",
+                    list(missing.iter())
+                ));
+            };
+            chosen.push(index);
+            let m = mapped(index);
+            missing.retain(|e| !m.contains(e));
+        }
+        chosen.sort_unstable();
+        Ok(Some(chosen))
+    }
+
     /// The process images of the assignment in `dict`, or the AL status code Pre-Op → Safe-Op is
     /// refused with.
     pub fn images(&self, dict: &Dictionary) -> Result<(ProcessImage, ProcessImage), AlStatusCode> {
@@ -323,6 +392,14 @@ impl Pdos {
         }
         Some(image)
     }
+}
+
+/// Entries as a message lists them: `0x607A:00, 0x6064:00`.
+fn list<'a>(entries: impl Iterator<Item = &'a Address>) -> String {
+    entries
+        .map(|e| format!("{:#06X}:{:02X}", e.index, e.sub))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// A value of up to 8 little-endian bytes.
