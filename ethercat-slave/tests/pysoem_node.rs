@@ -149,3 +149,123 @@ fn pysoem_runs_modular_devices_with_their_module_lists() {
     assert!(summary.contains("1 axes enabled"), "{summary}");
     assert!(summary.contains("52 bytes of process data"), "{summary}");
 }
+
+/// The case a real master failed on: each vendor's drive alone, a csp ramp of only 100 set-points
+/// to +10,000 (100 counts a cycle from rest: more than these motors can follow at once), then
+/// exactly one second standing at the last set-point: every axis stands exactly at +10,000 (and
+/// Copley's axis B, the second axis, at −20,000).
+#[test]
+fn pysoem_ramps_100_set_points_and_every_axis_stands_exactly_at_its_target() {
+    let cases = [
+        (
+            corpus("elmo-ECAT_00010420_V11.xml"),
+            Some("0x00030924"),
+            "Elmo Drive,0x9a,0x30924,0",
+            "Elmo Drive axis 0: +0 → +10000",
+        ),
+        (
+            corpus("ingenia-eve-xcr-e.xml"),
+            None,
+            "EVE-XCR-E,0x29c,0x2c31001,0",
+            "EVE-XCR-E axis 0: +0 → +10000",
+        ),
+        (
+            corpus("copley-XE2_4.60.xml"),
+            None,
+            "XE2,0xab,0x10b0,0+1",
+            "XE2 axis 0: +0 → +10000; XE2 axis 1: +0 → -20000",
+        ),
+        (
+            corpus("somanet-CiA402-single.xml"),
+            None,
+            "CiA402 Motor Control Device,0x22d2,0x201,0",
+            "CiA402 Motor Control Device axis 0: +0 → +10000",
+        ),
+        (
+            "examples/drive.esi.xml".to_string(),
+            None,
+            "drive,0xabc,0x402,0",
+            "drive axis 0: +0 → +10000",
+        ),
+    ];
+    for (esi, device, unit, moved) in cases {
+        let mut node = vec!["--esi", esi.as_str()];
+        if let Some(d) = device {
+            node.extend(["--device", d]);
+        }
+        let summary = run(
+            &node,
+            &[unit],
+            &[
+                "--move",
+                "10000",
+                "--steps",
+                "100",
+                "--stand-cycles",
+                "1000",
+            ],
+        );
+        assert!(summary.contains(moved), "{summary}");
+    }
+}
+
+/// A servo terminal whose drive profile is ETG.5001 MDP 742 (the test ESI after the EL7211's
+/// layout): SOEM assigns the PDOs a configuration tool takes from the ESI for csp (0x1C12 = 0x1600
+/// controlword, 0x1606 target position; 0x1C13 as at power-on: position, statusword, velocity),
+/// sets mode 8 in 0x7010:03 by SDO, enables the channel by its controlword 0x7010:01 (the
+/// statusword 0x6010:01 checked at each step), and ramps it in 100 set-points to +10,000: after one
+/// second standing 0x6000:11 is exactly 10,000. 2 + 4 outputs and 4 + 2 + 4 inputs: 16 bytes.
+#[test]
+fn pysoem_moves_an_mdp742_servo_terminal_to_its_exact_target() {
+    let summary = run(
+        &["--esi", "ethercat-slave/tests/esi/mdp742-servo-1ch.xml"],
+        &["EL7211-0010,0x2,0x1c2b3052,m0"],
+        &[
+            "--assign",
+            "0:0x1600,0x1606:=",
+            "--move",
+            "10000",
+            "--steps",
+            "100",
+            "--stand-cycles",
+            "1000",
+        ],
+    );
+    assert!(summary.contains("1 axes enabled"), "{summary}");
+    assert!(
+        summary.contains("EL7211-0010 channel m0: +0 → +10000"),
+        "{summary}"
+    );
+    assert!(summary.contains("16 bytes of process data"), "{summary}");
+}
+
+/// A two-channel stepper terminal (the test ESI after the EL7062's layout, channel 2 at 0x7110,
+/// 0x6110, 0x6100) with stepper motors: both channels in csp from power-on, ramped in 100
+/// set-points to +10,000 and −20,000, and after one second standing exactly there. 2 × (2 + 4)
+/// outputs and 2 × (4 + 2 + 4) inputs: 32 bytes.
+#[test]
+fn pysoem_moves_both_channels_of_an_mdp742_stepper_terminal() {
+    let summary = run(
+        &[
+            "--esi",
+            "ethercat-slave/tests/esi/mdp742-stepper-2ch.xml",
+            "--motor",
+            "stepper",
+        ],
+        &["EL7062,0x2,0x1b963052,m0+m1"],
+        &[
+            "--move",
+            "10000",
+            "--steps",
+            "100",
+            "--stand-cycles",
+            "1000",
+        ],
+    );
+    assert!(summary.contains("2 axes enabled"), "{summary}");
+    assert!(
+        summary.contains("EL7062 channel m0: +0 → +10000; EL7062 channel m1: +0 → -20000"),
+        "{summary}"
+    );
+    assert!(summary.contains("32 bytes of process data"), "{summary}");
+}

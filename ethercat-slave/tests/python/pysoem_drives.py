@@ -3,14 +3,22 @@
 (and other devices) from their ESIs, to Op with Distributed Clocks, each drive axis enabled through
 the CiA 402 state machine and moved in cyclic synchronous position mode.
 
-    pysoem_drives.py IFACE UNIT... [--move COUNTS] [--sync0-ns NS] [--configure-pdos POS]
+    pysoem_drives.py IFACE UNIT... [--move COUNTS] [--steps N] [--stand-cycles N] [--sync0-ns NS]
+                     [--configure-pdos POS] [--assign POS:RX:TX] [--modes] [--csp-claimed]
 
 IFACE is the master's interface. Each UNIT describes the unit at that position of the chain as
 NAME,VENDOR,PRODUCT,AXES (e.g. "Elmo Drive,0x9a,0x30924,0"): what the master must find there, and
-the CiA 402 axes it drives, their numbers joined by + ("0+1" for axes A and B of a two-axis drive,
-"-" for a device that is no drive). --configure-pdos POS (repeatable)
-makes the master configure that unit's PDOs itself in Pre-Op (RxPDO 0x1603 and TxPDO 0x1A01 of the
-example drive, written by SDO as a configuration tool does) instead of taking the power-on ones.
+the drive axes it drives, joined by +: CiA 402 axes by number ("0+1" for axes A and B of a
+two-axis drive: objects at 0x6000 + 0x800 per axis), MDP 742 channels by m and number ("m0+m1": a
+servo or stepper terminal's DRV objects, controlword 0x7n10:01, target position 0x7n10:05, mode
+0x7n10:03, statusword 0x6n10:01, position 0x6n00:11 for channel n + 1), "-" for a device that is no
+drive. --configure-pdos POS (repeatable) makes the master configure that unit's PDOs itself in
+Pre-Op (RxPDO 0x1603 and TxPDO 0x1A01 of the example drive, written by SDO as a configuration tool
+does) instead of taking the power-on ones; --assign POS:RX:TX (repeatable) assigns that unit the
+PDOs RX (0x1C12) and TX (0x1C13), each a list of mapping objects joined by "," or "=" to keep the
+power-on assignment (what a configuration tool takes from the ESI to carry what csp needs).
+--modes checks each CiA 402 axis's 0x6502 (supported drive modes) by SDO: not 0; --csp-claimed
+also requires bit 7 (csp) there.
 
 What the script does, as a master that has only the devices (no ESI):
   - config_init: the units' identities from the SII (name, vendor, product code) and 0x1018:01/02,
@@ -28,8 +36,10 @@ What the script does, as a master that has only the devices (no ESI):
     controlword, the statusword checked at each step (Ready to switch on, Switched on, Operation
     enabled), the target position set to the actual one first;
   - a csp move of each axis from its position by its own distance (the k-th axis overall moves
-    (k + 1) × COUNTS, every other one backwards) along a straight ramp of 1,000 set-points, one per
-    cycle, then 0x6064 read back from the process data and by SDO: exactly the target;
+    (k + 1) × COUNTS, every other one backwards) along a straight ramp of N set-points (--steps,
+    1,000 by default), one per cycle, then 0x6064 read back from the process data and by SDO:
+    exactly the target, once every axis has held it for 100 cycles in a row (within 5 s), or with
+    --stand-cycles N after exactly N cycles standing at the last set-point;
   - during the move every statusword shows Operation enabled without a following error (bit 13),
     the worst 0x60F4 of the axes that map it is reported; at rest 0x60F4 by SDO is 0;
   - every unit in (Op, 0) at the end, then Init.
@@ -78,6 +88,15 @@ class Entry:
         self.length = length
 
 
+def assign(slave, index, pdos):
+    """The PDO assignment `index` (0x1C12 or 0x1C13) set to `pdos` by SDO in Pre-Op: ETG.1000.6's
+    procedure (count 0, entries, count)."""
+    slave.sdo_write(index, 0, b"\x00")
+    for k, pdo in enumerate(pdos, start=1):
+        slave.sdo_write(index, k, pdo.to_bytes(2, "little"))
+    slave.sdo_write(index, 0, bytes([len(pdos)]))
+
+
 def layout(slave, assign):
     """The mapped entries of an assignment object read by SDO: {(index, sub): Entry}, and the bits."""
     out, bit = {}, 0
@@ -93,22 +112,38 @@ def layout(slave, assign):
 
 
 class Axis:
-    """One CiA 402 axis of a unit: where its objects are, in the process data or by SDO."""
+    """One drive axis of a unit: where its objects are (a CiA 402 axis's, or an MDP 742 channel's),
+    in the process data or by SDO."""
 
     def __init__(self, unit, slave, axis, outputs, inputs):
-        self.unit, self.slave, self.axis = unit, slave, axis
-        self.base = 0x6000 + 0x800 * axis
-        self.cw = outputs.get((self.base + 0x40, 0))
-        self.target = outputs.get((self.base + 0x7A, 0))
-        self.sw = inputs.get((self.base + 0x41, 0))
-        self.pos = inputs.get((self.base + 0x64, 0))
-        self.mode = outputs.get((self.base + 0x60, 0))
-        self.ferr = inputs.get((self.base + 0xF4, 0))
+        self.unit, self.slave = unit, slave
+        self.mdp = axis.startswith("m")
+        self.axis = int(axis.lstrip("m"))
+        if self.mdp:
+            off = 0x100 * self.axis
+            self.at = {"cw": (0x7010 + off, 1), "target": (0x7010 + off, 5), "mode": (0x7010 + off, 3),
+                       "sw": (0x6010 + off, 1), "pos": (0x6000 + off, 0x11), "display": (0x6010 + off, 3),
+                       "ferr": (0x6010 + off, 6), "modes": None}
+        else:
+            base = 0x6000 + 0x800 * self.axis
+            self.at = {"cw": (base + 0x40, 0), "target": (base + 0x7A, 0), "mode": (base + 0x60, 0),
+                       "sw": (base + 0x41, 0), "pos": (base + 0x64, 0), "display": (base + 0x61, 0),
+                       "ferr": (base + 0xF4, 0), "modes": (base + 0x502, 0)}
+        self.cw = outputs.get(self.at["cw"])
+        self.target = outputs.get(self.at["target"])
+        self.sw = inputs.get(self.at["sw"])
+        self.pos = inputs.get(self.at["pos"])
+        self.mode = outputs.get(self.at["mode"])
+        self.ferr = inputs.get(self.at["ferr"])
         if self.target is None:
-            raise Fail(f"{self.name()}: 0x{self.base + 0x7A:04X} is not in the RxPDOs; csp needs it")
+            raise Fail(f"{self.name()}: {obj(self.at['target'])} is not in the RxPDOs; csp needs it")
 
     def name(self):
-        return f"unit {self.unit} ({self.slave.name}) axis {self.axis}"
+        kind = "channel" if self.mdp else "axis"
+        return f"unit {self.unit} ({self.slave.name}) {kind} {'m' if self.mdp else ''}{self.axis}"
+
+    def read(self, what):
+        return self.slave.sdo_read(*self.at[what])
 
     def write_out(self, entry, value):
         out = bytearray(self.slave.output)
@@ -117,7 +152,7 @@ class Axis:
 
     def controlword(self, value):
         if self.cw is None:
-            self.slave.sdo_write(self.base + 0x40, 0, value.to_bytes(2, "little"))
+            self.slave.sdo_write(*self.at["cw"], value.to_bytes(2, "little"))
         else:
             self.write_out(self.cw, value)
 
@@ -126,7 +161,7 @@ class Axis:
 
     def statusword(self):
         if self.sw is None:
-            return u(self.slave.sdo_read(self.base + 0x41, 0))
+            return u(self.read("sw"))
         b = bytes(self.slave.input)
         return u(b[self.sw.offset:self.sw.offset + 2])
 
@@ -139,7 +174,7 @@ class Axis:
 
     def position(self):
         if self.pos is None:
-            return s(self.slave.sdo_read(self.base + 0x64, 0))
+            return s(self.read("pos"))
         b = bytes(self.slave.input)
         return s(b[self.pos.offset:self.pos.offset + self.pos.length])
 
@@ -196,6 +231,11 @@ SWITCHED_ON = (0x006F, 0x0023)
 ENABLED = (0x006F, 0x0027)
 
 
+def obj(at):
+    index, sub = at
+    return f"0x{index:04X}" if sub == 0 else f"0x{index:04X}:{sub:02X}"
+
+
 def in_state(sw, state):
     return sw & state[0] == state[1]
 
@@ -221,9 +261,17 @@ def main():
     ap.add_argument("iface")
     ap.add_argument("units", nargs="+", metavar="NAME,VENDOR,PRODUCT,AXES")
     ap.add_argument("--move", type=int, default=1000)
+    ap.add_argument("--steps", type=int, default=1000)
+    ap.add_argument("--stand-cycles", type=int, default=None)
     ap.add_argument("--sync0-ns", type=int, default=1_000_000)
     ap.add_argument("--configure-pdos", type=int, action="append", default=[], metavar="POS")
+    ap.add_argument("--assign", action="append", default=[], metavar="POS:RX:TX")
+    ap.add_argument("--modes", action="store_true")
+    ap.add_argument("--csp-claimed", action="store_true")
     args = ap.parse_args()
+    if args.steps < 1:
+        print("cannot run: --steps must be 1 or more", file=sys.stderr)
+        return 2
     try:
         import pysoem
     except ImportError as e:
@@ -235,7 +283,7 @@ def main():
     expected = []
     for text in args.units:
         name, vendor, product, axes = text.rsplit(",", 3)
-        numbers = [] if axes == "-" else [int(a) for a in axes.split("+")]
+        numbers = [] if axes == "-" else axes.split("+")
         expected.append((name, int(vendor, 0), int(product, 0), numbers))
     n = len(expected)
     m = pysoem.Master()
@@ -245,26 +293,44 @@ def main():
         eq(m.config_init(), n, "units config_init found")
         for k, (slave, (name, vendor, product, _)) in enumerate(zip(m.slaves, expected)):
             unit = f"unit {k}"
-            eq(slave.name, name, f"{unit}: name (SII)")
+            # SOEM keeps the first 40 characters of the SII name (EC_MAXNAME).
+            eq(slave.name, name[:40], f"{unit}: name (SII)")
             eq((slave.man, slave.id), (vendor, product), f"{unit}: vendor and product code (SII)")
             eq(u(slave.sdo_read(0x1018, 1)), vendor, f"{unit}: 0x1018:01")
             eq(u(slave.sdo_read(0x1018, 2)), product, f"{unit}: 0x1018:02")
-            eq(u(slave.sdo_read(0x1018, 4)), k + 1, f"{unit}: 0x1018:04 serial number")
+            # 0x1018:04 where the identity object has it (an ESI may give it three entries).
+            if u(slave.sdo_read(0x1018, 0)) >= 4:
+                eq(u(slave.sdo_read(0x1018, 4)), k + 1, f"{unit}: 0x1018:04 serial number")
             eq(u(slave.eeprom_read(0x0E)), k + 1, f"{unit}: SII serial number")
         m.read_state()
         eq([x.state for x in m.slaves], [PREOP] * n, "every unit in Pre-Op after config_init")
         for k in args.configure_pdos:
             configure_pdos(m.slaves[k])
+        for text in args.assign:
+            pos, rx, tx = text.split(":")
+            for index, pdos in ((0x1C12, rx), (0x1C13, tx)):
+                if pdos != "=":
+                    assign(m.slaves[int(pos)], index, [int(p, 0) for p in pdos.split(",")])
         axes = []
         for k, (slave, (_, _, _, numbers)) in enumerate(zip(m.slaves, expected)):
             outputs, _ = layout(slave, 0x1C12)
             inputs, _ = layout(slave, 0x1C13)
             for a in numbers:
                 axis = Axis(k, slave, a, outputs, inputs)
+                if args.modes and axis.at["modes"] is not None:
+                    where = f"{axis.name()}: {obj(axis.at['modes'])} supported drive modes"
+                    try:
+                        modes = u(axis.read("modes"))
+                    except pysoem.SdoError as e:
+                        raise Fail(f"{where}: SDO upload aborted with 0x{e.abort_code:08X} ({e.desc})")
+                    if modes == 0:
+                        raise Fail(f"{where} is 0")
+                    if args.csp_claimed and not modes & 1 << 7:
+                        raise Fail(f"{where} 0x{modes:08X} lacks csp (bit 7), which the ESI claims")
                 if axis.mode is None:
                     # Not in the RxPDOs: csp by SDO (where it is mapped, by the process data).
-                    slave.sdo_write(axis.base + 0x60, 0, bytes([CSP]))
-                    eq(s(slave.sdo_read(axis.base + 0x60, 0)), CSP, f"{axis.name()}: 0x6060 read back")
+                    slave.sdo_write(*axis.at["mode"], bytes([CSP]))
+                    eq(s(axis.read("mode")), CSP, f"{axis.name()}: {obj(axis.at['mode'])} read back")
                 axes.append(axis)
         m.manual_state_change = True
         size = m.config_map()
@@ -313,8 +379,8 @@ def main():
         for k, start in enumerate(starts):
             distance = (k + 1) * args.move * (-1) ** k
             targets.append(start + distance)
-        # One second of set-points: axis k moves at (k + 1) × COUNTS counts/s.
-        steps = 1000
+        # STEPS set-points, one per cycle: axis k moves (k + 1) × COUNTS.
+        steps = args.steps
         worst = 0
         for i in range(1, steps + 1):
             for axis, start, target in zip(axes, starts, targets):
@@ -329,21 +395,28 @@ def main():
                 if error is not None:
                     worst = max(worst, abs(error))
         moved = time.monotonic()
-        # At rest: every axis at its target for 100 cycles in a row (a servo that came in late, on a
-        # loaded machine, may pass its target by a count before it settles).
-        bus.until(lambda: all(a.position() == t for a, t in zip(axes, targets)), 5.0,
-                  "every axis at its target: " + ", ".join(f"{a.name()} {a.position()}/{t}" for a, t in zip(axes, targets)),
-                  hold=100)
+        if args.stand_cycles is not None:
+            # Standing at the last set-point for exactly that many cycles, then exactly there.
+            bus.run(args.stand_cycles)
+            for axis, target in zip(axes, targets):
+                eq(axis.position(), target,
+                   f"{axis.name()}: 0x6064 {args.stand_cycles} cycles after the last set-point")
+        else:
+            # At rest: every axis at its target for 100 cycles in a row (a servo that came in late,
+            # on a loaded machine, may pass its target by a count before it settles).
+            bus.until(lambda: all(a.position() == t for a, t in zip(axes, targets)), 5.0,
+                      "every axis at its target: " + ", ".join(f"{a.name()} {a.position()}/{t}" for a, t in zip(axes, targets)),
+                      hold=100)
         settle = time.monotonic() - moved
         for axis, target in zip(axes, targets):
-            eq(axis.position(), target, f"{axis.name()}: 0x6064 in the process data")
-            eq(s(axis.slave.sdo_read(axis.base + 0x64, 0)), target, f"{axis.name()}: 0x6064 by SDO")
-            eq(s(axis.slave.sdo_read(axis.base + 0x61, 0)), CSP, f"{axis.name()}: 0x6061 by SDO")
+            eq(axis.position(), target, f"{axis.name()}: position actual in the process data")
+            eq(s(axis.read("pos")), target, f"{axis.name()}: {obj(axis.at['pos'])} by SDO")
+            eq(s(axis.read("display")), CSP, f"{axis.name()}: {obj(axis.at['display'])} by SDO")
             try:
-                error = s(axis.slave.sdo_read(axis.base + 0xF4, 0))
+                error = s(axis.read("ferr"))
             except pysoem.SdoError:
                 error = 0
-            eq(error, 0, f"{axis.name()}: 0x60F4 following error at rest")
+            eq(error, 0, f"{axis.name()}: {obj(axis.at['ferr'])} following error at rest")
             check = axis.statusword()
             if not in_state(check, ENABLED):
                 raise Fail(f"{axis.name()}: statusword 0x{check:04X} after the move, not Operation enabled")
@@ -362,7 +435,8 @@ def main():
         return 1
     finally:
         m.close()
-    moves = "; ".join(f"{a.slave.name} axis {a.axis}: {p:+d} → {t:+d}" for a, p, t in zip(axes, starts, targets))
+    moves = "; ".join(f"{a.slave.name} {'channel m' if a.mdp else 'axis '}{a.axis}: {p:+d} → {t:+d}"
+                      for a, p, t in zip(axes, starts, targets))
     print(f"pysoem: {n} units to Op with SYNC0 {args.sync0_ns} ns, {len(axes)} axes enabled, "
           f"csp moves at their targets {settle:.2f} s after the last set-point ({moves}), "
           f"following error at most {worst}; "
