@@ -56,3 +56,26 @@ fn every_pdo_layout_passes_base_node_402() {
     );
     assert!(ok);
 }
+
+/// Every CiA 402 description of the corpus beside the checkout passes, or runs no drive because its
+/// 0x6040/0x6041 are something else (a RECORD, an INTEGER16 "process data"): no row fails.
+#[test]
+fn every_corpus_drive_passes_base_node_402() {
+    let corpus = root().join("../shared/corpus");
+    assert!(
+        corpus.is_dir(),
+        "{} is missing: the corpus lies beside the checkout",
+        corpus.display()
+    );
+    let (table, ok) = runner(&corpus, &[]);
+    let rows: Vec<&str> = table.lines().filter(|l| l.starts_with("| eds/")).collect();
+    assert!(rows.len() >= 16, "{table}");
+    for row in &rows {
+        let result = row.split(" | ").nth(1).unwrap_or("");
+        assert!(
+            result == "pass" || result == "no drive",
+            "{row}\n(the whole table: {table})"
+        );
+    }
+    assert!(ok, "{table}");
+}
