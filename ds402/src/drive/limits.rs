@@ -50,8 +50,12 @@ const KEPT: usize = 32;
 /// Share of the torque the demand may ask for acceleration; the rest is the controller's.
 const MARGIN: f64 = 0.9;
 
-/// A limit that held the drive back, a fault it raised, or a value it refused: see the [module
-/// documentation](self).
+/// A limit that held the drive back, a fault it raised, or a value it refused, as the drive logs it
+/// (through `tracing`, target `ds402::drive`, level WARN, the moment it first happens: once per kind
+/// until the mode starts again) and keeps it for [`Drive::poll_limit`]. In csp and csv a step of the
+/// set-points beyond the drive's limits (0x607F, 0x6080, 0x60C5, 0x60C6, and the acceleration 90 %
+/// of the motor's torque gives) is not followed: the demand runs after the set-points within them
+/// and lands on them exactly.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Limited {
     /// The axis (0..8).
