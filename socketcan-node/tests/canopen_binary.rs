@@ -314,3 +314,76 @@ fn an_idle_node_without_a_node_id_uses_no_cpu() {
         share * 100.0
     );
 }
+
+/// A write the drive refuses is answered with the abort code CiA 402 gives it and said on the node's
+/// log in one line naming the axis, the object, the value and the rule: 0x6083 profile acceleration
+/// = 0 is 0x06090032 (value too low), 0x6060 = 7 (interpolated position, which the example drive does
+/// not run) 0x06090030, and neither changes the value.
+#[test]
+fn a_refused_write_is_explained_on_the_log() {
+    let port = free_port();
+    let log = tempfile::NamedTempFile::new().unwrap();
+    let mut child = Command::new(NODE)
+        .arg("--bus")
+        .arg(format!("socketcand-listen:127.0.0.1:{port}"))
+        .arg("--od")
+        .arg(format!("{}@5", root().join("examples/drive.eds").display()))
+        .env("NO_COLOR", "1")
+        .stdout(std::process::Stdio::null())
+        .stderr(log.reopen().unwrap())
+        .spawn()
+        .unwrap();
+    let end = Instant::now() + Duration::from_secs(20);
+    let mut bus = loop {
+        match SocketcandClient::connect("127.0.0.1", port, "can0") {
+            Ok(bus) => break bus,
+            Err(_) if Instant::now() < end => std::thread::sleep(Duration::from_millis(50)),
+            Err(e) => panic!("canopen-node does not listen: {e}"),
+        }
+    };
+    let sdo = |bus: &mut SocketcandClient, data: [u8; 8]| {
+        bus.send(&CanFrame::new(0x605, &data).unwrap()).unwrap();
+        wait_for(bus, 0x585).data8()
+    };
+    // Download 0x6083:00 = 0 (4 bytes): abort 0x06090032.
+    assert_eq!(
+        sdo(&mut bus, [0x23, 0x83, 0x60, 0, 0, 0, 0, 0]),
+        [0x80, 0x83, 0x60, 0, 0x32, 0x00, 0x09, 0x06]
+    );
+    // Download 0x6060:00 = 7 (1 byte): abort 0x06090030.
+    assert_eq!(
+        sdo(&mut bus, [0x2F, 0x60, 0x60, 0, 7, 0, 0, 0]),
+        [0x80, 0x60, 0x60, 0, 0x30, 0x00, 0x09, 0x06]
+    );
+    // Neither changed anything: 0x6083 is still the description's 100,000 (0x000186A0), 0x6060 0.
+    assert_eq!(
+        sdo(&mut bus, [0x40, 0x83, 0x60, 0, 0, 0, 0, 0]),
+        [0x43, 0x83, 0x60, 0, 0xA0, 0x86, 0x01, 0x00]
+    );
+    assert_eq!(
+        sdo(&mut bus, [0x40, 0x60, 0x60, 0, 0, 0, 0, 0]),
+        [0x4F, 0x60, 0x60, 0, 0, 0, 0, 0]
+    );
+    let _ = child.kill();
+    let _ = child.wait();
+    let text = std::fs::read_to_string(log.path()).unwrap();
+    let lines: Vec<&str> = text
+        .lines()
+        .filter(|l| l.contains("refused with"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    assert!(
+        lines[0].contains(
+            "axis 0: 0x6083 = 0 refused with 0x06090032 (Value of parameter written too low \
+             (download only)): it must be above 0: a ramp or speed of 0 would never end"
+        ),
+        "{text}"
+    );
+    assert!(
+        lines[1].contains(
+            "axis 0: 0x6060 = 7 refused with 0x06090030 (Invalid value for parameter (download \
+             only)): the modes this drive runs are 0x000003A5 (bit mode − 1, as in 0x6502)"
+        ),
+        "{text}"
+    );
+}

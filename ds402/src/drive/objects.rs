@@ -506,6 +506,47 @@ impl Drive {
         );
     }
 
+    /// Says on the log why a write of `data` to `def` was refused with `code`: the axis, the
+    /// object, the value, the abort code and the rule, in one line (target `ds402::drive`, WARN).
+    fn log_refusal(&self, def: &Def, data: &[u8], code: AbortCode) {
+        let ty = self.params.types[def.p as usize];
+        let Some(value) = Value::decode(ty, data).ok().and_then(|v| v.as_i128()) else {
+            return;
+        };
+        let object = self.name(def.index, def.sub);
+        let rule = match def.rule {
+            Rule::Range(lo, hi) => format!("this drive takes {lo} to {hi}"),
+            Rule::OneOf(_) if def.p == P::HomingMethod => {
+                "a homing method this drive does not run".to_string()
+            }
+            Rule::OneOf(values) => format!("this drive takes only {values:?}"),
+            Rule::Positive => {
+                "it must be above 0: a ramp or speed of 0 would never end".to_string()
+            }
+            Rule::PositiveWhileOff if self.powered() => {
+                "it is written only while the power stage is off".to_string()
+            }
+            Rule::PositiveWhileOff => "it must be above 0".to_string(),
+            Rule::Mode => format!(
+                "the modes this drive runs are {:#010X} (bit mode − 1, as in {})",
+                self.supported,
+                self.name(0x6502, 0)
+            ),
+            Rule::Any => return,
+        };
+        tracing::warn!(
+            target: "ds402::drive",
+            axis = self.axis,
+            index = %object,
+            value = value as f64,
+            code = %format_args!("{:#010X}", code.code()),
+            "axis {}: {object} = {value} refused with {:#010X} ({}): {rule}",
+            self.axis,
+            code.code(),
+            code.description()
+        );
+    }
+
     /// Decodes `data` for parameter `def` (in the dictionary's type) and checks it.
     fn decode_param(&self, def: &Def, data: &[u8]) -> Result<i64, AbortCode> {
         let ty = self.params.types[def.p as usize];
@@ -559,7 +600,10 @@ impl DeviceHook for Drive {
             return Err(AbortCode::ReadOnly);
         }
         match Drive::param_at(index, at.sub) {
-            Some(def) => self.decode_param(def, data).map(|_| ()),
+            Some(def) => self
+                .decode_param(def, data)
+                .map(|_| ())
+                .inspect_err(|code| self.log_refusal(def, data, *code)),
             None => Ok(()),
         }
     }
