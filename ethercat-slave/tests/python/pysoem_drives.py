@@ -88,22 +88,46 @@ class Entry:
         self.length = length
 
 
+def sdo_read(slave, index, sub):
+    """An SDO upload; one whose mailbox exchange timed out (SOEM's WkcError: the slave's mailbox not
+    free within SOEM's time-out, as on a machine busy with other jobs) is tried again, 3 times in
+    all. A refusal (an abort) is never tried again."""
+    return _retried(lambda: slave.sdo_read(index, sub))
+
+
+def sdo_write(slave, index, sub, data):
+    """An SDO download, tried again as sdo_read is."""
+    return _retried(lambda: slave.sdo_write(index, sub, data))
+
+
+def _retried(call):
+    import pysoem
+
+    for attempt in range(3):
+        try:
+            return call()
+        except pysoem.WkcError:
+            if attempt == 2:
+                raise
+            time.sleep(0.05)
+
+
 def assign(slave, index, pdos):
     """The PDO assignment `index` (0x1C12 or 0x1C13) set to `pdos` by SDO in Pre-Op: ETG.1000.6's
     procedure (count 0, entries, count)."""
-    slave.sdo_write(index, 0, b"\x00")
+    sdo_write(slave, index, 0, b"\x00")
     for k, pdo in enumerate(pdos, start=1):
-        slave.sdo_write(index, k, pdo.to_bytes(2, "little"))
-    slave.sdo_write(index, 0, bytes([len(pdos)]))
+        sdo_write(slave, index, k, pdo.to_bytes(2, "little"))
+    sdo_write(slave, index, 0, bytes([len(pdos)]))
 
 
 def layout(slave, assign):
     """The mapped entries of an assignment object read by SDO: {(index, sub): Entry}, and the bits."""
     out, bit = {}, 0
-    for k in range(1, u(slave.sdo_read(assign, 0)) + 1):
-        pdo = u(slave.sdo_read(assign, k))
-        for e in range(1, u(slave.sdo_read(pdo, 0)) + 1):
-            raw = u(slave.sdo_read(pdo, e))
+    for k in range(1, u(sdo_read(slave, assign, 0)) + 1):
+        pdo = u(sdo_read(slave, assign, k))
+        for e in range(1, u(sdo_read(slave, pdo, 0)) + 1):
+            raw = u(sdo_read(slave, pdo, e))
             index, sub, bits = raw >> 16, (raw >> 8) & 0xFF, raw & 0xFF
             if bit % 8 == 0 and bits % 8 == 0:
                 out[(index, sub)] = Entry(bit // 8, bits // 8)
@@ -143,7 +167,7 @@ class Axis:
         return f"unit {self.unit} ({self.slave.name}) {kind} {'m' if self.mdp else ''}{self.axis}"
 
     def read(self, what):
-        return self.slave.sdo_read(*self.at[what])
+        return sdo_read(self.slave, *self.at[what])
 
     def write_out(self, entry, value):
         out = bytearray(self.slave.output)
@@ -152,7 +176,7 @@ class Axis:
 
     def controlword(self, value):
         if self.cw is None:
-            self.slave.sdo_write(*self.at["cw"], value.to_bytes(2, "little"))
+            sdo_write(self.slave, *self.at["cw"], value.to_bytes(2, "little"))
         else:
             self.write_out(self.cw, value)
 
@@ -244,16 +268,16 @@ def configure_pdos(slave):
     """The example drive's RxPDO 0x1603 (controlword, target position, profile velocity, mode) and
     TxPDO 0x1A01 remapped to statusword, position actual, mode display, then assigned, by SDO in
     Pre-Op: the procedure of ETG.1000.6 (count 0, entries, count)."""
-    slave.sdo_write(0x1C12, 0, b"\x00")
-    slave.sdo_write(0x1C12, 1, (0x1603).to_bytes(2, "little"))
-    slave.sdo_write(0x1C12, 0, b"\x01")
-    slave.sdo_write(0x1A01, 0, b"\x00")
+    sdo_write(slave, 0x1C12, 0, b"\x00")
+    sdo_write(slave, 0x1C12, 1, (0x1603).to_bytes(2, "little"))
+    sdo_write(slave, 0x1C12, 0, b"\x01")
+    sdo_write(slave, 0x1A01, 0, b"\x00")
     for k, raw in enumerate((0x60410010, 0x60640020, 0x60610008), start=1):
-        slave.sdo_write(0x1A01, k, raw.to_bytes(4, "little"))
-    slave.sdo_write(0x1A01, 0, b"\x03")
-    slave.sdo_write(0x1C13, 0, b"\x00")
-    slave.sdo_write(0x1C13, 1, (0x1A01).to_bytes(2, "little"))
-    slave.sdo_write(0x1C13, 0, b"\x01")
+        sdo_write(slave, 0x1A01, k, raw.to_bytes(4, "little"))
+    sdo_write(slave, 0x1A01, 0, b"\x03")
+    sdo_write(slave, 0x1C13, 0, b"\x00")
+    sdo_write(slave, 0x1C13, 1, (0x1A01).to_bytes(2, "little"))
+    sdo_write(slave, 0x1C13, 0, b"\x01")
 
 
 def main():
@@ -296,11 +320,11 @@ def main():
             # SOEM keeps the first 40 characters of the SII name (EC_MAXNAME).
             eq(slave.name, name[:40], f"{unit}: name (SII)")
             eq((slave.man, slave.id), (vendor, product), f"{unit}: vendor and product code (SII)")
-            eq(u(slave.sdo_read(0x1018, 1)), vendor, f"{unit}: 0x1018:01")
-            eq(u(slave.sdo_read(0x1018, 2)), product, f"{unit}: 0x1018:02")
+            eq(u(sdo_read(slave, 0x1018, 1)), vendor, f"{unit}: 0x1018:01")
+            eq(u(sdo_read(slave, 0x1018, 2)), product, f"{unit}: 0x1018:02")
             # 0x1018:04 where the identity object has it (an ESI may give it three entries).
-            if u(slave.sdo_read(0x1018, 0)) >= 4:
-                eq(u(slave.sdo_read(0x1018, 4)), k + 1, f"{unit}: 0x1018:04 serial number")
+            if u(sdo_read(slave, 0x1018, 0)) >= 4:
+                eq(u(sdo_read(slave, 0x1018, 4)), k + 1, f"{unit}: 0x1018:04 serial number")
             eq(u(slave.eeprom_read(0x0E)), k + 1, f"{unit}: SII serial number")
         m.read_state()
         eq([x.state for x in m.slaves], [PREOP] * n, "every unit in Pre-Op after config_init")
@@ -329,7 +353,7 @@ def main():
                         raise Fail(f"{where} 0x{modes:08X} lacks csp (bit 7), which the ESI claims")
                 if axis.mode is None:
                     # Not in the RxPDOs: csp by SDO (where it is mapped, by the process data).
-                    slave.sdo_write(*axis.at["mode"], bytes([CSP]))
+                    sdo_write(slave, *axis.at["mode"], bytes([CSP]))
                     eq(s(axis.read("mode")), CSP, f"{axis.name()}: {obj(axis.at['mode'])} read back")
                 axes.append(axis)
         m.manual_state_change = True
