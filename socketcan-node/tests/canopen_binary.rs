@@ -321,9 +321,55 @@ fn an_idle_node_without_a_node_id_uses_no_cpu() {
 /// not run) 0x06090030, and neither changes the value.
 #[test]
 fn a_refused_write_is_explained_on_the_log() {
+    let text = refuse_two_writes(&[]);
+    let lines: Vec<&str> = text
+        .lines()
+        .filter(|l| l.contains("refused with"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    assert!(
+        lines[0].contains(
+            "axis 0: 0x6083 = 0 refused with 0x06090032 (Value of parameter written too low \
+             (download only)): it must be above 0: a ramp or speed of 0 would never end"
+        ),
+        "{text}"
+    );
+    assert!(
+        lines[1].contains(
+            "axis 0: 0x6060 = 7 refused with 0x06090030 (Invalid value for parameter (download \
+             only)): the modes this drive runs are 0x000003A5 (bit mode − 1, as in 0x6502)"
+        ),
+        "{text}"
+    );
+}
+
+/// With --json the log is JSON lines: the refusal's line is an object with its fields.
+#[test]
+fn with_json_a_refusal_is_a_json_object_on_the_log() {
+    let text = refuse_two_writes(&["--json"]);
+    let lines: Vec<&str> = text
+        .lines()
+        .filter(|l| l.contains("refused with"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{text}");
+    let want = [
+        r#""message":"axis 0: 0x6083 = 0 refused with 0x06090032 (Value of parameter written too low (download only)): it must be above 0: a ramp or speed of 0 would never end","axis":0,"index":"0x6083","value":0.0,"code":"0x06090032","target":"ds402::drive"}"#,
+        r#""message":"axis 0: 0x6060 = 7 refused with 0x06090030 (Invalid value for parameter (download only)): the modes this drive runs are 0x000003A5 (bit mode − 1, as in 0x6502)","axis":0,"index":"0x6060","value":7.0,"code":"0x06090030","target":"ds402::drive"}"#,
+    ];
+    for (line, want) in lines.iter().zip(want) {
+        assert!(line.starts_with(r#"{"timestamp":""#), "{line}");
+        assert!(line.contains(r#","level":"WARN","#), "{line}");
+        assert!(line.ends_with(want), "{line}");
+    }
+}
+
+/// canopen-node with the example drive and `extra` arguments; two writes the drive refuses, each
+/// answered with its abort code and changing nothing; what the node logged.
+fn refuse_two_writes(extra: &[&str]) -> String {
     let port = free_port();
     let log = tempfile::NamedTempFile::new().unwrap();
     let mut child = Command::new(NODE)
+        .args(extra)
         .arg("--bus")
         .arg(format!("socketcand-listen:127.0.0.1:{port}"))
         .arg("--od")
@@ -366,24 +412,5 @@ fn a_refused_write_is_explained_on_the_log() {
     );
     let _ = child.kill();
     let _ = child.wait();
-    let text = std::fs::read_to_string(log.path()).unwrap();
-    let lines: Vec<&str> = text
-        .lines()
-        .filter(|l| l.contains("refused with"))
-        .collect();
-    assert_eq!(lines.len(), 2, "{text}");
-    assert!(
-        lines[0].contains(
-            "axis 0: 0x6083 = 0 refused with 0x06090032 (Value of parameter written too low \
-             (download only)): it must be above 0: a ramp or speed of 0 would never end"
-        ),
-        "{text}"
-    );
-    assert!(
-        lines[1].contains(
-            "axis 0: 0x6060 = 7 refused with 0x06090030 (Invalid value for parameter (download \
-             only)): the modes this drive runs are 0x000003A5 (bit mode − 1, as in 0x6502)"
-        ),
-        "{text}"
-    );
+    std::fs::read_to_string(log.path()).unwrap()
 }
