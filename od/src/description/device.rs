@@ -27,9 +27,12 @@ pub struct Identity {
     /// The hardware version (XDD `version versionType="HW"`); empty where the description gives
     /// none (EDS and ESI have no such key).
     pub hardware_version: String,
-    /// The software version (XDD `version versionType="SW"`, else `"FW"`); empty where the
-    /// description gives none.
+    /// The software version (XDD `version versionType="SW"`); empty where the description gives
+    /// none.
     pub software_version: String,
+    /// The firmware version (XDD `version versionType="FW"`); empty where the description gives
+    /// none.
+    pub firmware_version: String,
 }
 
 /// Version and authorship of a description file (EDS `[FileInfo]`, XDD `ProfileHeader` and `fileName`…).

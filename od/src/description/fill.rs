@@ -438,10 +438,10 @@ fn names(desc: &mut DeviceDescription, events: &mut Vec<Event>) {
     let software = if esi {
         (format!("0x{:08X}", id.revision), "its revision number")
     } else {
-        (
-            id.software_version.trim().to_string(),
-            "its software version",
-        )
+        match (id.software_version.trim(), id.firmware_version.trim()) {
+            ("", firmware) => (firmware.to_string(), "its firmware version"),
+            (software, _) => (software.to_string(), "its software version"),
+        }
     };
     let hardware = (
         id.hardware_version.trim().to_string(),
@@ -751,6 +751,18 @@ mod tests {
         let mut events = Vec::new();
         names(desc, &mut events);
         events.iter().map(Event::line).collect()
+    }
+
+    #[test]
+    fn a_firmware_version_names_the_software_where_there_is_none() {
+        let mut desc = DeviceDescription::default();
+        desc.identity.firmware_version = "1.3.1.1".into();
+        desc.dictionary.insert(string_var(0x100A, None));
+        assert_eq!(
+            names_only(&mut desc),
+            ["0x100A manufacturer software version = \"1.3.1.1\" (the description gives no value: \
+              its firmware version)"]
+        );
     }
 
     #[test]

@@ -58,6 +58,7 @@ fn identity(cx: &mut Cx<'_>, a: &Identity, b: &Identity) {
         order_code,
         hardware_version,
         software_version,
+        firmware_version,
     } = a;
     cx.field("vendor ID", vendor_id, &b.vendor_id, hex8);
     cx.text("vendor name", vendor_name, &b.vendor_name);
@@ -67,6 +68,7 @@ fn identity(cx: &mut Cx<'_>, a: &Identity, b: &Identity) {
     cx.text("order code", order_code, &b.order_code);
     cx.text("hardware version", hardware_version, &b.hardware_version);
     cx.text("software version", software_version, &b.software_version);
+    cx.text("firmware version", firmware_version, &b.firmware_version);
 }
 
 fn file_info(cx: &mut Cx<'_>, a: &FileInfo, b: &FileInfo) {

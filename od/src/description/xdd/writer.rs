@@ -306,7 +306,11 @@ fn device_identity(w: &mut XmlWriter, desc: &DeviceDescription) {
         w.text("orderNumber", &[], &id.order_code);
     }
     // CiA 311: the versions follow the order number.
-    for (kind, text) in [("HW", &id.hardware_version), ("SW", &id.software_version)] {
+    for (kind, text) in [
+        ("HW", &id.hardware_version),
+        ("SW", &id.software_version),
+        ("FW", &id.firmware_version),
+    ] {
         if !text.is_empty() {
             w.text("version", &[("versionType", kind)], text);
         }

@@ -152,6 +152,7 @@ impl<'i, 'a> Builder<'i, 'a> {
             // An EDS has no key for them (CiA 306 `[DeviceInfo]`).
             hardware_version: String::new(),
             software_version: String::new(),
+            firmware_version: String::new(),
         };
 
         const RATES: [u32; 8] = [10, 20, 50, 125, 250, 500, 800, 1000];

@@ -65,7 +65,8 @@ impl<'a> Scan<'a> {
         desc.identity.order_code = self.order_number.take().unwrap_or_default();
         let [hardware, software, firmware] = std::mem::take(&mut self.versions);
         desc.identity.hardware_version = hardware.unwrap_or_default();
-        desc.identity.software_version = software.or(firmware).unwrap_or_default();
+        desc.identity.software_version = software.unwrap_or_default();
+        desc.identity.firmware_version = firmware.unwrap_or_default();
         desc.identity.vendor_id = self.vendor_id.or_else(|| default_u32(1)).unwrap_or(0);
         desc.identity.product_code = self.product_id.or_else(|| default_u32(2)).unwrap_or(0);
         desc.identity.revision = default_u32(3).unwrap_or(0);

@@ -579,8 +579,8 @@ fn a_record_or_object_of_more_sub_indices_than_there_are_is_an_error() {
     }
 }
 
-/// `DeviceIdentity/version`: the first of each type, HW as the hardware version, SW (else FW) as
-/// the software version; the writer writes them back after the order number.
+/// `DeviceIdentity/version`: the first of each type, HW, SW and FW; the writer writes them back
+/// after the order number.
 #[test]
 fn versions_of_the_device_identity() {
     let identity = |versions: &str| {
@@ -597,18 +597,21 @@ fn versions_of_the_device_identity() {
     );
     assert_eq!(id.hardware_version, "B");
     assert_eq!(id.software_version, "1.4");
+    assert_eq!(id.firmware_version, "fw 2");
     let id = identity(r#"<version versionType="FW">fw 2</version><version>untyped</version>"#);
     assert_eq!(id.hardware_version, "");
-    assert_eq!(id.software_version, "fw 2");
+    assert_eq!(id.software_version, "");
+    assert_eq!(id.firmware_version, "fw 2");
 
     let mut desc = crate::device::DeviceDescription::default();
     desc.identity.order_code = "X-1".into();
     desc.identity.hardware_version = "B".into();
     desc.identity.software_version = "1.4".into();
+    desc.identity.firmware_version = "fw 2".into();
     let written = crate::xdd::write(&desc);
     assert!(
         written.contains(
-            "<orderNumber>X-1</orderNumber>\n        <version versionType=\"HW\">B</version>\n        <version versionType=\"SW\">1.4</version>\n"
+            "<orderNumber>X-1</orderNumber>\n        <version versionType=\"HW\">B</version>\n        <version versionType=\"SW\">1.4</version>\n        <version versionType=\"FW\">fw 2</version>\n"
         ),
         "{written}"
     );
