@@ -432,3 +432,106 @@ fn write_back(node: &mut dyn ObjectStore, entries: &[Address], file: &str, kind:
         );
     }
 }
+
+/// Speeds and ramps are filled in revolutions at the encoder's resolution: with 1 count per
+/// revolution (python-canopen's cog.eds) the profile velocity is 1 count/s, the ramps 10 counts/s²
+/// and the quick stop 100 counts/s², not the 10,000-count figures that would ask such a motor for
+/// 10,000 rev/s². Absent from the description, the drive takes the same: a pv stop from 5 counts/s
+/// takes 0.5 s of its 10 counts/s² deceleration.
+#[test]
+fn speeds_and_ramps_follow_the_encoder_resolution() {
+    use DataType::{Integer32 as I32, Integer8 as I8, Unsigned32 as U32, Unsigned8 as U8};
+    let mut dict = Dictionary::new();
+    axis(
+        &mut dict,
+        0x6000,
+        &[
+            (0x6060, I8, Some(3)),
+            (0x6064, I32, None),
+            (0x606C, I32, None),
+            (0x6081, U32, None),
+            (0x6083, U32, Some(0)),
+            (0x6085, U32, None),
+            (0x60FF, I32, Some(0)),
+        ],
+    );
+    let encoder = Object::structured(0x608F, "Position encoder resolution", od::ObjectKind::Array)
+        .with_sub(
+            0,
+            SubObject::new("n", U8, AccessType::Ro).with_default(Value::Uint(2)),
+        )
+        .with_sub(
+            1,
+            SubObject::new("inc", U32, AccessType::Rw).with_default(Value::Uint(1)),
+        )
+        .with_sub(
+            2,
+            SubObject::new("rev", U32, AccessType::Rw).with_default(Value::Uint(1)),
+        );
+    dict.insert(encoder);
+    let events = fill(&mut dict, &DriveConfig::default());
+    let filled: Vec<(u16, i64)> = events
+        .iter()
+        .filter(|e| matches!(e.address.index, 0x6081 | 0x6083 | 0x6085))
+        .map(|e| (e.address.index, e.value.as_i128().unwrap() as i64))
+        .collect();
+    assert_eq!(filled, [(0x6081, 1), (0x6083, 10), (0x6085, 100)]);
+    assert_eq!(u32_at(&dict, 0x6083, 0), 10);
+
+    // Without 0x6084: the drive's own deceleration is 10 counts/s² too (0x6083 given as 10).
+    let mut dict = Dictionary::new();
+    axis(
+        &mut dict,
+        0x6000,
+        &[
+            (0x6060, I8, Some(3)),
+            (0x606C, I32, None),
+            (0x6083, U32, Some(10)),
+            (0x60FF, I32, Some(0)),
+        ],
+    );
+    dict.insert(
+        Object::structured(0x608F, "Position encoder resolution", od::ObjectKind::Array)
+            .with_sub(
+                0,
+                SubObject::new("n", U8, AccessType::Ro).with_default(Value::Uint(2)),
+            )
+            .with_sub(
+                1,
+                SubObject::new("inc", U32, AccessType::Rw).with_default(Value::Uint(1)),
+            )
+            .with_sub(
+                2,
+                SubObject::new("rev", U32, AccessType::Rw).with_default(Value::Uint(1)),
+            ),
+    );
+    let t0 = Instant::now();
+    let ms = |n: u64| t0 + std::time::Duration::from_millis(n);
+    let mut drive = Drive::from_dictionary(&dict, 0, DriveConfig::default(), t0).unwrap();
+    drive.handle_timeout(ms(1));
+    {
+        let mut node = Bound::new(&mut dict, &mut drive);
+        node.download(Address::new(0x6060, 0), &[3]).unwrap();
+        for cw in [0x06u16, 0x07, 0x0F] {
+            node.download(Address::new(0x6040, 0), &cw.to_le_bytes())
+                .unwrap();
+        }
+        node.download(Address::new(0x60FF, 0), &5i32.to_le_bytes())
+            .unwrap();
+    }
+    // The drive's clock kept current, one call a tick (as a node does while it runs).
+    let run_to = |drive: &mut Drive, from: u64, to: u64| {
+        for t in from..=to {
+            drive.handle_timeout(ms(t));
+        }
+    };
+    run_to(&mut drive, 2, 1001);
+    assert_eq!(drive.velocity_demand(), 5);
+    Bound::new(&mut dict, &mut drive)
+        .download(Address::new(0x60FF, 0), &0i32.to_le_bytes())
+        .unwrap();
+    run_to(&mut drive, 1002, 1201);
+    assert_eq!(drive.velocity_demand(), 3, "5 − 10 counts/s² × 0.2 s");
+    run_to(&mut drive, 1202, 1601);
+    assert_eq!(drive.velocity_demand(), 0);
+}

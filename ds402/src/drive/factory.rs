@@ -146,7 +146,10 @@ const FACTORY: [Factory; 17] = [
         name: "profile velocity",
         unit: "counts/s",
         zero: "would stop every profile position move",
-        value: |c| c.max_profile.map_or(10_000, |max| max.min(10_000)),
+        value: |c| {
+            let own = objects::default_at(objects::P::ProfileVelocity, c.cpr);
+            c.max_profile.map_or(own, |max| max.min(own))
+        },
     },
     Factory {
         index: 0x6083,
@@ -154,7 +157,7 @@ const FACTORY: [Factory; 17] = [
         name: "profile acceleration",
         unit: "counts/s²",
         zero: "would stop every move",
-        value: |_| 100_000,
+        value: |c| objects::default_at(objects::P::ProfileAcceleration, c.cpr),
     },
     Factory {
         index: 0x6084,
@@ -162,7 +165,7 @@ const FACTORY: [Factory; 17] = [
         name: "profile deceleration",
         unit: "counts/s²",
         zero: "would stop every move",
-        value: |_| 100_000,
+        value: |c| objects::default_at(objects::P::ProfileDeceleration, c.cpr),
     },
     Factory {
         index: 0x6085,
@@ -170,7 +173,7 @@ const FACTORY: [Factory; 17] = [
         name: "quick stop deceleration",
         unit: "counts/s²",
         zero: "would never end a quick stop",
-        value: |_| 1_000_000,
+        value: |c| objects::default_at(objects::P::QuickStopDeceleration, c.cpr),
     },
     Factory {
         index: 0x6099,
@@ -178,7 +181,7 @@ const FACTORY: [Factory; 17] = [
         name: "homing speed during search for switch",
         unit: "counts/s",
         zero: "would never find home",
-        value: |_| 5_000,
+        value: |c| objects::default_at(objects::P::HomingSpeedSwitch, c.cpr),
     },
     Factory {
         index: 0x6099,
@@ -186,7 +189,7 @@ const FACTORY: [Factory; 17] = [
         name: "homing speed during search for zero",
         unit: "counts/s",
         zero: "would never find home",
-        value: |_| 1_000,
+        value: |c| objects::default_at(objects::P::HomingSpeedZero, c.cpr),
     },
     Factory {
         index: 0x609A,
@@ -194,7 +197,7 @@ const FACTORY: [Factory; 17] = [
         name: "homing acceleration",
         unit: "counts/s²",
         zero: "would never find home",
-        value: |_| 100_000,
+        value: |c| objects::default_at(objects::P::HomingAcceleration, c.cpr),
     },
     Factory {
         index: 0x60C5,
@@ -280,12 +283,16 @@ const RULED: [(u16, &str, &str); 8] = [
 /// | 0x6076 motor rated torque | [`MotorConfig::rated_torque`], 1000 mN·m | the simulated motor's |
 /// | 0x6080 max motor speed | 3000 rpm | a common servo motor's maximum |
 /// | 0x607F max profile velocity | 0x6080 × counts per revolution / 60 | the motor's maximum in counts/s (500,000 at 10,000 counts/rev) |
-/// | 0x6081 profile velocity | 10,000 counts/s, at most 0x607F | the drive's default: 1 rev/s at 10,000 counts/rev |
-/// | 0x6083, 0x6084 profile acceleration, deceleration | 100,000 counts/s² | the drive's default: 10 rev/s² |
-/// | 0x6085 quick stop deceleration | 1,000,000 counts/s² | the drive's default: 100 rev/s², a stop from full speed in 0.5 s |
+/// | 0x6081 profile velocity | 1 rev/s (10,000 counts/s at 10,000 counts/rev), at most 0x607F | the drive's default |
+/// | 0x6083, 0x6084 profile acceleration, deceleration | 10 rev/s² (100,000 counts/s²) | the drive's default |
+/// | 0x6085 quick stop deceleration | 100 rev/s² (1,000,000 counts/s²) | the drive's default: a stop from full speed in 0.5 s |
 /// | 0x608F:01, :02 encoder increments, motor revolutions | [`MotorConfig::counts_per_rev`], 1 | the simulated encoder |
-/// | 0x6099:01, :02 homing speeds | 5,000 and 1,000 counts/s | the drive's defaults |
-/// | 0x609A homing acceleration | 100,000 counts/s² | the drive's default |
+/// | 0x6099:01, :02 homing speeds | 0.5 and 0.1 rev/s (5,000 and 1,000 counts/s) | the drive's defaults |
+/// | 0x609A homing acceleration | 10 rev/s² (100,000 counts/s²) | the drive's default |
+///
+/// Speeds and ramps are given in revolutions, at the encoder's counts per revolution (0x608F:01 /
+/// 0x608F:02, once filled; the figures in brackets at 10,000 counts/rev), at least 1: a coarse
+/// encoder (python-canopen's cog.eds gives 1 count per revolution) moves as fast as a fine one.
 /// | 0x60C5, 0x60C6 max acceleration, deceleration | 4,294,967,295 (the type's largest) | no limit beyond the profile's, as many drives ship |
 ///
 /// A value is held to the entry's type and limits; one that cannot be made positive so is left.

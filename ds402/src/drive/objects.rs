@@ -293,6 +293,30 @@ pub(crate) struct Params {
     values: [i64; DEFS.len()],
     present: [bool; DEFS.len()],
     types: [DataType; DEFS.len()],
+    /// Counts per revolution (0x608F:01 / 0x608F:02, at least 1), which scales the defaults of the
+    /// speeds and ramps ([`default_at`]).
+    cpr: i64,
+}
+
+/// The counts per revolution the [`DEFS`] defaults of speeds and ramps are given at.
+pub(crate) const DEFAULTS_CPR: i64 = 10_000;
+
+/// The default of `p` for an encoder of `cpr` counts per revolution: a speed or ramp is given in
+/// revolutions (1 rev/s profile velocity, 10 rev/s² profile ramps, 100 rev/s² quick stop, homing at
+/// 0.5 and 0.1 rev/s with 10 rev/s²; [`DEFS`] has them at [`DEFAULTS_CPR`]), so that a motor of any
+/// resolution moves as fast; at least 1. Every other default is [`DEFS`]'s.
+pub(crate) fn default_at(p: P, cpr: i64) -> i64 {
+    let d = DEFS[p as usize].default;
+    match p {
+        P::ProfileVelocity
+        | P::ProfileAcceleration
+        | P::ProfileDeceleration
+        | P::QuickStopDeceleration
+        | P::HomingSpeedSwitch
+        | P::HomingSpeedZero
+        | P::HomingAcceleration => (d.saturating_mul(cpr.max(1)) / DEFAULTS_CPR).max(1),
+        _ => d,
+    }
 }
 
 impl Params {
@@ -332,10 +356,22 @@ impl Params {
                 }
             }
         }
+        let cpr = (values[P::EncoderIncrements as usize]
+            / values[P::MotorRevolutions as usize].max(1))
+        .max(1);
+        for (i, d) in DEFS.iter().enumerate() {
+            if !present[i] {
+                values[i] = match d.p {
+                    P::MaxTorque | P::RatedTorque | P::EncoderIncrements => values[i],
+                    p => default_at(p, cpr),
+                };
+            }
+        }
         Params {
             values,
             present,
             types,
+            cpr,
         }
     }
 
@@ -353,13 +389,14 @@ impl Params {
         self.values[p as usize] = v;
     }
 
-    /// A rate or speed (> 0): the value, or the default where it is not positive.
+    /// A rate or speed (> 0): the value, or the default at the encoder's resolution where it is
+    /// not positive.
     pub fn positive(&self, p: P) -> f64 {
         let v = self.get(p);
         if v > 0 {
             v as f64
         } else {
-            DEFS[p as usize].default as f64
+            default_at(p, self.cpr) as f64
         }
     }
 
