@@ -289,11 +289,11 @@ const RULED: [(u16, &str, &str); 8] = [
 /// | 0x608F:01, :02 encoder increments, motor revolutions | [`MotorConfig::counts_per_rev`], 1 | the simulated encoder |
 /// | 0x6099:01, :02 homing speeds | 0.5 and 0.1 rev/s (5,000 and 1,000 counts/s) | the drive's defaults |
 /// | 0x609A homing acceleration | 10 rev/s² (100,000 counts/s²) | the drive's default |
+/// | 0x60C5, 0x60C6 max acceleration, deceleration | 4,294,967,295 (the type's largest) | no limit beyond the profile's, as many drives ship |
 ///
 /// Speeds and ramps are given in revolutions, at the encoder's counts per revolution (0x608F:01 /
 /// 0x608F:02, once filled; the figures in brackets at 10,000 counts/rev), at least 1: a coarse
 /// encoder (python-canopen's cog.eds gives 1 count per revolution) moves as fast as a fine one.
-/// | 0x60C5, 0x60C6 max acceleration, deceleration | 4,294,967,295 (the type's largest) | no limit beyond the profile's, as many drives ship |
 ///
 /// A value is held to the entry's type and limits; one that cannot be made positive so is left.
 ///
