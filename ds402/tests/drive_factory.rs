@@ -4,7 +4,6 @@
 //! on every CiA 402 EDS and DCF of the corpus beside the checkout: each value the drive reports is
 //! accepted when written back.
 
-use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use ds402::drive::{fill, Drive, DriveConfig, MotorKind};
@@ -344,37 +343,14 @@ fn refused_values_become_the_drive_s_defaults() {
     assert_eq!(int_at(&dict, 0x6098), 35);
 }
 
-fn corpus() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/corpus")
-}
-
-/// The CiA 402 descriptions (EDS and DCF, the files with 0x6040) of the corpus.
-const DRIVES: [&str; 16] = [
-    "coeditor-demo_drive.eds",
-    "heigvd-example.eds",
-    "kac-example.eds",
-    "kac-faulhaber-3150.51-V-EK-2.eds",
-    "kac-faulhaber-3150.55-D-EK-2.eds",
-    "kac-faulhaber-3150.67-B-EK-2.eds",
-    "pycanopen-cog.eds",
-    "pycanopen-e35.eds",
-    "pycanopen-receiver.eds",
-    "ros2c-cia402_slave.eds",
-    "ros2c-prbt_0_1.dcf",
-    "rosc-ISD860.eds",
-    "rosc-Schunk.eds",
-    "rosc-Schunk_0_63.dcf",
-    "somanet-SOMANET_CIA402.eds",
-    "uc42-UC42_.eds",
-];
-
 /// Every corpus drive, filled for a servo and for a stepper: every writable entry of its drive's
 /// axis, read as the drive reports it, is accepted when written back; the drive accepts every mode
 /// its 0x6502 reports that it runs.
 #[test]
 fn every_corpus_drive_takes_back_what_it_reports() {
-    for file in DRIVES {
-        let path = corpus().join("eds").join(file);
+    for path in testkit::corpus_drive_descriptions() {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let file = name.as_str();
         let (_, mut devices) = od::load::load(&path).unwrap_or_else(|e| {
             panic!(
                 "{}: {e} (the corpus lies beside the checkout)",

@@ -6,40 +6,8 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command};
-
-/// The CiA 402 descriptions of the corpus: every EDS and DCF with object 0x6040.
-const DRIVES: [&str; 16] = [
-    "coeditor-demo_drive.eds",
-    "heigvd-example.eds",
-    "kac-example.eds",
-    "kac-faulhaber-3150.51-V-EK-2.eds",
-    "kac-faulhaber-3150.55-D-EK-2.eds",
-    "kac-faulhaber-3150.67-B-EK-2.eds",
-    "pycanopen-cog.eds",
-    "pycanopen-e35.eds",
-    "pycanopen-receiver.eds",
-    "ros2c-cia402_slave.eds",
-    "ros2c-prbt_0_1.dcf",
-    "rosc-ISD860.eds",
-    "rosc-Schunk.eds",
-    "rosc-Schunk_0_63.dcf",
-    "somanet-SOMANET_CIA402.eds",
-    "uc42-UC42_.eds",
-];
-
-fn corpus(name: &str) -> PathBuf {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/corpus/eds")
-        .join(name);
-    assert!(
-        p.is_file(),
-        "{} is missing: the corpus lies beside the checkout",
-        p.display()
-    );
-    p
-}
 
 /// `canopen-node` running `file` as node 5 on a socketcand server of its own; killed when dropped.
 struct Node {
@@ -78,8 +46,8 @@ impl Drop for Node {
 #[test]
 fn dump_then_apply_of_every_corpus_drive_refuses_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    for file in DRIVES {
-        let eds = corpus(file);
+    for eds in testkit::corpus_drive_descriptions() {
+        let file = eds.file_name().unwrap().to_string_lossy().into_owned();
         let node = Node::start(&eds);
         let dcf = dir.path().join(format!("{file}.dcf"));
         let eds_arg = eds.display().to_string();

@@ -190,3 +190,55 @@ pub fn run_for_at_most(command: &mut Command, limit: std::time::Duration) -> Fin
         stderr: stderr.join().unwrap(),
     }
 }
+
+/// The shared corpus of real vendor files beside the checkout (`../shared/corpus`); panics, saying
+/// so, when it is missing (the tests that read it are never skipped).
+pub fn corpus() -> PathBuf {
+    let dir = root().join("../shared/corpus");
+    assert!(
+        dir.is_dir(),
+        "{} is missing: the corpus lies beside the checkout",
+        dir.display()
+    );
+    dir
+}
+
+/// Every CANopen description of the corpus (EDS, DCF, XDD, XDC, XPD, in any sub-folder) whose
+/// text has object 0x6040 (an EDS `[6040]` section, an XDD `index="6040"`), sorted: the drive
+/// descriptions a test runs, found rather than listed, so that a file added to the corpus is tried
+/// too.
+pub fn corpus_drive_descriptions() -> Vec<PathBuf> {
+    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                walk(&path, out);
+                continue;
+            }
+            let ext = path
+                .extension()
+                .map(|e| e.to_string_lossy().to_ascii_lowercase())
+                .unwrap_or_default();
+            let Ok(bytes) = std::fs::read(&path) else {
+                continue;
+            };
+            let text = String::from_utf8_lossy(&bytes).to_ascii_lowercase();
+            let drive = match ext.as_str() {
+                "eds" | "dcf" => text.contains("[6040]"),
+                "xdd" | "xdc" | "xpd" => text.contains("index=\"6040\""),
+                _ => false,
+            };
+            if drive {
+                out.push(path);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    walk(&corpus(), &mut out);
+    out.sort();
+    assert!(!out.is_empty(), "no CiA 402 description in the corpus");
+    out
+}
