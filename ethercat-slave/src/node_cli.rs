@@ -96,7 +96,9 @@ pub struct Args {
 
     /// Those lines (at start, and with --explain) as JSON objects, one per line: {"event": "filled"
     /// or "adjusted", "device", "index", "sub", "name", "value", "unit" (where it has one),
-    /// "reason"}.
+    /// "reason"}; and the log on standard error as JSON objects, one per line ("timestamp",
+    /// "level", "message", "target", and the line's fields: a drive's limits, refusals and faults
+    /// have "axis", "index", "value" and "limit" or "code").
     #[arg(long)]
     pub json: bool,
 
