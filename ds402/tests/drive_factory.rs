@@ -454,7 +454,8 @@ fn speeds_and_ramps_follow_the_encoder_resolution() {
     assert_eq!(filled, [(0x6081, 1), (0x6083, 10), (0x6085, 100)]);
     assert_eq!(u32_at(&dict, 0x6083, 0), 10);
 
-    // Without 0x6084: the drive's own deceleration is 10 counts/s² too (0x6083 given as 10).
+    // Without 0x6084: the drive's own deceleration is 10 counts/s² too (0x6083 given as 10), the
+    // resolution given as 2 counts per 2 revolutions.
     let mut dict = Dictionary::new();
     axis(
         &mut dict,
@@ -474,11 +475,11 @@ fn speeds_and_ramps_follow_the_encoder_resolution() {
             )
             .with_sub(
                 1,
-                SubObject::new("inc", U32, AccessType::Rw).with_default(Value::Uint(1)),
+                SubObject::new("inc", U32, AccessType::Rw).with_default(Value::Uint(2)),
             )
             .with_sub(
                 2,
-                SubObject::new("rev", U32, AccessType::Rw).with_default(Value::Uint(1)),
+                SubObject::new("rev", U32, AccessType::Rw).with_default(Value::Uint(2)),
             ),
     );
     let t0 = Instant::now();
@@ -510,4 +511,125 @@ fn speeds_and_ramps_follow_the_encoder_resolution() {
     assert_eq!(drive.velocity_demand(), 3, "5 − 10 counts/s² × 0.2 s");
     run_to(&mut drive, 1202, 1601);
     assert_eq!(drive.velocity_demand(), 0);
+}
+
+/// Why the drive refuses a write, in the words of its log line, for each kind of rule: a range, a
+/// homing method, a profile type, a ramp of 0, the encoder resolution while powered and of 0, a mode
+/// it does not run; a value it takes has no refusal.
+#[test]
+fn each_refusal_says_its_rule() {
+    use DataType::{Integer16 as I16, Integer8 as I8, Unsigned32 as U32, Unsigned8 as U8};
+    let mut dict = Dictionary::new();
+    axis(
+        &mut dict,
+        0x6000,
+        &[
+            (0x605A, I16, Some(2)),
+            (0x6060, I8, Some(1)),
+            (0x607A, DataType::Integer32, Some(0)),
+            (0x6081, U32, Some(1000)),
+            (0x6083, U32, Some(1000)),
+            (0x6086, I16, Some(0)),
+            (0x6098, I8, Some(35)),
+            (0x6502, U32, Some(0x21)),
+        ],
+    );
+    dict.insert(
+        Object::structured(0x608F, "Position encoder resolution", od::ObjectKind::Array)
+            .with_sub(
+                0,
+                SubObject::new("n", U8, AccessType::Ro).with_default(Value::Uint(2)),
+            )
+            .with_sub(
+                1,
+                SubObject::new("inc", U32, AccessType::Rw).with_default(Value::Uint(4000)),
+            )
+            .with_sub(
+                2,
+                SubObject::new("rev", U32, AccessType::Rw).with_default(Value::Uint(1)),
+            ),
+    );
+    let t0 = Instant::now();
+    let mut drive = Drive::from_dictionary(&dict, 0, DriveConfig::default(), t0).unwrap();
+    drive.handle_timeout(t0 + std::time::Duration::from_millis(1));
+    let why = |drive: &Drive, index: u16, sub: u8, data: &[u8]| {
+        drive
+            .refusal(Address::new(index, sub), data)
+            .map(|(code, line)| (code.code(), line))
+    };
+    assert_eq!(
+        why(&drive, 0x605A, 0, &9i16.to_le_bytes()),
+        Some((
+            0x0609_0031,
+            "axis 0: 0x605A = 9 refused with 0x06090031 (Value of parameter written too high \
+             (download only)): this drive takes 0 to 8"
+                .into()
+        ))
+    );
+    assert_eq!(
+        why(&drive, 0x6098, 0, &[15]),
+        Some((
+            0x0609_0030,
+            "axis 0: 0x6098 = 15 refused with 0x06090030 (Invalid value for parameter (download \
+             only)): a homing method this drive does not run"
+                .into()
+        ))
+    );
+    assert_eq!(
+        why(&drive, 0x6086, 0, &1i16.to_le_bytes()),
+        Some((
+            0x0609_0030,
+            "axis 0: 0x6086 = 1 refused with 0x06090030 (Invalid value for parameter (download \
+             only)): this drive takes only [0]"
+                .into()
+        ))
+    );
+    assert_eq!(
+        why(&drive, 0x6083, 0, &0u32.to_le_bytes()),
+        Some((
+            0x0609_0032,
+            "axis 0: 0x6083 = 0 refused with 0x06090032 (Value of parameter written too low \
+             (download only)): it must be above 0: a ramp or speed of 0 would never end"
+                .into()
+        ))
+    );
+    assert_eq!(
+        why(&drive, 0x608F, 1, &0u32.to_le_bytes()),
+        Some((
+            0x0609_0032,
+            "axis 0: 0x608F:01 = 0 refused with 0x06090032 (Value of parameter written too low \
+             (download only)): it must be above 0"
+                .into()
+        ))
+    );
+    assert_eq!(
+        why(&drive, 0x6060, 0, &[3]),
+        Some((
+            0x0609_0030,
+            "axis 0: 0x6060 = 3 refused with 0x06090030 (Invalid value for parameter (download \
+             only)): the modes this drive runs are 0x00000021 (bit mode − 1, as in 0x6502)"
+                .into()
+        ))
+    );
+    assert_eq!(why(&drive, 0x6083, 0, &500u32.to_le_bytes()), None);
+    assert_eq!(why(&drive, 0x6098, 0, &[37]), None);
+    assert_eq!(why(&drive, 0x607A, 0, &5i32.to_le_bytes()), None);
+    // Powered, the encoder resolution takes no value at all.
+    {
+        let mut node = Bound::new(&mut dict, &mut drive);
+        for cw in [0x06u16, 0x07, 0x0F] {
+            node.download(Address::new(0x6040, 0), &cw.to_le_bytes())
+                .unwrap();
+        }
+    }
+    assert_eq!(
+        why(&drive, 0x608F, 1, &8000u32.to_le_bytes()),
+        Some((
+            0x0800_0022,
+            "axis 0: 0x608F:01 = 8000 refused with 0x08000022 (Data cannot be transferred or stored \
+             to the application because of the present device state): it is written only while the \
+             power stage is off"
+                .into()
+        ))
+    );
 }

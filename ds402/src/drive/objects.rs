@@ -543,13 +543,22 @@ impl Drive {
         );
     }
 
-    /// Says on the log why a write of `data` to `def` was refused with `code`: the axis, the
-    /// object, the value, the abort code and the rule, in one line (target `ds402::drive`, WARN).
-    fn log_refusal(&self, def: &Def, data: &[u8], code: AbortCode) {
+    /// Why a write of `data` to this axis's entry `at` is refused, as the drive's log says it: the
+    /// abort code and the line (`axis 0: 0x6083 = 0 refused with 0x06090032 (…): it must be above
+    /// 0: a ramp or speed of 0 would never end`); `None` where the drive's rules take it (the
+    /// dictionary's own checks, its type and limits, come on top).
+    pub fn refusal(&self, at: Address, data: &[u8]) -> Option<(AbortCode, String)> {
+        let index = self.standard_index(at.index)?;
+        let def = Drive::param_at(index, at.sub)?;
+        let code = self.decode_param(def, data).err()?;
+        self.refusal_line(def, data, code).map(|line| (code, line))
+    }
+
+    /// The line that says why a write of `data` to `def` was refused with `code`: the axis, the
+    /// object, the value, the abort code and the rule.
+    fn refusal_line(&self, def: &Def, data: &[u8], code: AbortCode) -> Option<String> {
         let ty = self.params.types[def.p as usize];
-        let Some(value) = Value::decode(ty, data).ok().and_then(|v| v.as_i128()) else {
-            return;
-        };
+        let value = Value::decode(ty, data).ok().and_then(|v| v.as_i128())?;
         let object = self.name(def.index, def.sub);
         let rule = match def.rule {
             Rule::Range(lo, hi) => format!("this drive takes {lo} to {hi}"),
@@ -569,18 +578,33 @@ impl Drive {
                 self.supported,
                 self.name(0x6502, 0)
             ),
-            Rule::Any => return,
+            Rule::Any => return None,
         };
-        tracing::warn!(
-            target: "ds402::drive",
-            axis = self.axis,
-            index = %object,
-            value = value as f64,
-            code = %format_args!("{:#010X}", code.code()),
+        Some(format!(
             "axis {}: {object} = {value} refused with {:#010X} ({}): {rule}",
             self.axis,
             code.code(),
             code.description()
+        ))
+    }
+
+    /// Says on the log why a write of `data` to `def` was refused with `code`, in one line
+    /// ([`Drive::refusal`]; target `ds402::drive`, WARN, with the fields axis, index, value, code).
+    fn log_refusal(&self, def: &Def, data: &[u8], code: AbortCode) {
+        let Some(line) = self.refusal_line(def, data, code) else {
+            return;
+        };
+        let value = Value::decode(self.params.types[def.p as usize], data)
+            .ok()
+            .and_then(|v| v.as_i128())
+            .unwrap_or(0);
+        tracing::warn!(
+            target: "ds402::drive",
+            axis = self.axis,
+            index = %self.name(def.index, def.sub),
+            value = value as f64,
+            code = %format_args!("{:#010X}", code.code()),
+            "{line}"
         );
     }
 
