@@ -510,6 +510,29 @@ impl<'i, 'a> Builder<'i, 'a> {
         }
     }
 
+    /// `ObjFlags` (CiA 306 §4.6.3: bit 0 refuse write on download, bit 1 refuse read on scan): a
+    /// 32-bit number. One that is none (`ObjFlags=NV`, as some vendor tools write it) is read as no
+    /// flags with a warning at the value, as python-canopen and CANopenEditor load such a file.
+    fn object_flags(&self, section: &Section<'a>, entry: Option<&Entry<'a>>) -> u32 {
+        let Some(e) = entry.filter(|e| !e.value.is_empty()) else {
+            return 0;
+        };
+        match parse_integer(e.value).and_then(|v| u32::try_from(v).ok()) {
+            Some(flags) => flags,
+            None => {
+                self.warn(
+                    e.value,
+                    format!(
+                        "ObjFlags= in [{}]: `{}` is no 32-bit number; read as no flags",
+                        section.name,
+                        shown(e.value)
+                    ),
+                );
+                0
+            }
+        }
+    }
+
     /// `0`/`1` (or `false`/`true`); `default` when absent or empty.
     fn flag(
         &self,

@@ -32,7 +32,7 @@ impl<'i, 'a> Builder<'i, 'a> {
             "a number of sub-indices, 0 to 255",
             0,
         )?;
-        self.number::<u32>(main, fields[OBJ_FLAGS], "object flags, a 32-bit number", 0)?;
+        self.object_flags(main, fields[OBJ_FLAGS]);
         let mut object = Object::structured(index, name, kind);
         if !kind.has_subs() {
             if let Some(sub) = sections.subs.values().next().and_then(|&i| self.section(i)) {

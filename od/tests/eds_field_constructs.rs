@@ -1,0 +1,67 @@
+//! Constructs real tools write that CiA 306 does not foresee, each read with a warning at its
+//! position where the file can still be used, as python-canopen or CANopenEditor load it; each in a
+//! small file of its own.
+
+use od::report::Severity;
+use od::DeviceDescription;
+
+/// An EDS of one object, 0x2000 UNSIGNED32 = 7, whose section ends with `extra`.
+fn eds(extra: &str) -> String {
+    format!(
+        "[FileInfo]\r
+FileName=constructs.eds\r
+EDSVersion=4.0\r
+[DeviceInfo]\r
+VendorNumber=0x26C\r
+[MandatoryObjects]\r
+SupportedObjects=0\r
+[ManufacturerObjects]\r
+SupportedObjects=1\r
+1=0x2000\r
+[2000]\r
+ParameterName=Setting\r
+ObjectType=0x7\r
+DataType=0x0007\r
+AccessType=rw\r
+DefaultValue=7\r
+PDOMapping=0\r
+{extra}"
+    )
+}
+
+/// The description and the warnings, each as `line:column: message`.
+fn read(text: &str) -> (DeviceDescription, Vec<String>) {
+    let reading = od::eds::read_file(text.as_bytes(), "constructs.eds").unwrap_or_else(|e| {
+        panic!("refused: {e}");
+    });
+    let warnings = reading
+        .findings
+        .iter()
+        .filter(|f| f.severity == Severity::Warning)
+        .map(|f| {
+            let p = f.position.expect("a reader warning has a position");
+            format!("{}:{}: {}", p.line, p.column, f.message)
+        })
+        .collect();
+    (reading.devices.into_iter().next().unwrap(), warnings)
+}
+
+/// `ObjFlags=NV` (no number, as some vendor tools write it) reads as no flags with a warning at the
+/// value (line 18, column 10); the object and its value stand. An empty `ObjFlags=` and a number
+/// read without one.
+#[test]
+fn object_flags_that_are_no_number_read_as_none_with_a_warning() {
+    let (desc, warnings) = read(&eds("ObjFlags=NV\r\n"));
+    assert_eq!(
+        warnings,
+        ["18:10: ObjFlags= in [2000]: `NV` is no 32-bit number; read as no flags"]
+    );
+    assert_eq!(
+        desc.dictionary.read_value(0x2000, 0).unwrap(),
+        od::Value::Uint(7)
+    );
+    for flags in ["ObjFlags=\r\n", "ObjFlags=0x1\r\n", "ObjFlags=3\r\n"] {
+        let (_, warnings) = read(&eds(flags));
+        assert!(warnings.is_empty(), "{flags}: {warnings:?}");
+    }
+}
