@@ -65,3 +65,64 @@ fn object_flags_that_are_no_number_read_as_none_with_a_warning() {
         assert!(warnings.is_empty(), "{flags}: {warnings:?}");
     }
 }
+
+/// An XDD of one RECORD 0x2001 whose sub-indices are written `sub` (two of them).
+fn xdd(sub0: &str, sub1: &str) -> String {
+    format!(
+        r#"<?xml version="1.0" encoding="UTF-8"?>
+<ISO15745ProfileContainer xmlns="http://www.canopen.org/xml/1.0" xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance">
+<ISO15745Profile>
+<ProfileBody xsi:type="ProfileBody_Device_CANopen" fileName="t.xdd">
+</ProfileBody>
+</ISO15745Profile>
+<ISO15745Profile>
+<ProfileBody xsi:type="ProfileBody_CommunicationNetwork_CANopen" fileName="t.xdd">
+<ApplicationLayers>
+<CANopenObjectList>
+<CANopenObject index="2001" name="Record" objectType="9" subNumber="2">
+<CANopenSubObject subIndex="{sub0}" name="Highest sub-index supported" objectType="7" dataType="0005" accessType="ro" defaultValue="1"/>
+<CANopenSubObject subIndex="{sub1}" name="Value" objectType="7" dataType="0007" accessType="rw" defaultValue="9"/>
+</CANopenObject>
+</CANopenObjectList>
+</ApplicationLayers>
+</ProfileBody>
+</ISO15745Profile>
+</ISO15745ProfileContainer>
+"#
+    )
+}
+
+/// XDD sub-indices of four digits (`subIndex="0001"`, as CANopenEditor wrote them) are read as the
+/// two-digit ones with a warning at each value (lines 12 and 13, column 29); a sub-index whose extra
+/// digits are not leading zeros stays an error.
+#[test]
+fn xdd_sub_indices_of_four_digits_read_with_a_warning() {
+    let reading = od::xdd::read_file(xdd("0000", "0001").as_bytes(), "t.xdd").unwrap();
+    let warnings: Vec<String> = reading
+        .findings
+        .iter()
+        .filter(|f| f.severity == Severity::Warning)
+        .map(|f| {
+            let p = f.position.expect("a reader warning has a position");
+            format!("{}:{}: {}", p.line, p.column, f.message)
+        })
+        .collect();
+    assert_eq!(
+        warnings,
+        [
+            "12:29: subIndex `0000` has 4 digits where CiA 311 gives 2; read as 00",
+            "13:29: subIndex `0001` has 4 digits where CiA 311 gives 2; read as 01",
+        ]
+    );
+    let desc = reading.devices.into_iter().next().unwrap();
+    assert_eq!(
+        desc.dictionary.read_value(0x2001, 1).unwrap(),
+        od::Value::Uint(9)
+    );
+    let e = od::xdd::read_file(xdd("00", "0101").as_bytes(), "t.xdd").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("expected a sub-index of 2 hex digits like 01 in subIndex, found `0101`"),
+        "{e}"
+    );
+}

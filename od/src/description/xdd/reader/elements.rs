@@ -45,7 +45,8 @@ impl<'a> Scan<'a> {
     }
 
     /// A number of at most `digits` hexadecimal digits, with or without `0x` (`noun`, `like` and `what`
-    /// for the message).
+    /// for the message). More digits whose extra ones lead and are zeros (`subIndex="0000"`, as
+    /// CANopenEditor wrote sub-indices) give the same number, with a warning at the value.
     fn hex<T: TryFrom<u16>>(
         &self,
         v: &Attr<'_>,
@@ -59,6 +60,21 @@ impl<'a> Scan<'a> {
             .strip_prefix("0x")
             .or_else(|| t.strip_prefix("0X"))
             .unwrap_or(t);
+        let t = match t.len().checked_sub(digits) {
+            Some(extra) if extra > 0 && t.as_bytes()[..extra].iter().all(|&b| b == b'0') => {
+                self.warn(
+                    v.offset,
+                    format!(
+                        "{what} `{}` has {} digits where CiA 311 gives {digits}; read as {}",
+                        v.text,
+                        t.len(),
+                        &t[extra..]
+                    ),
+                );
+                &t[extra..]
+            }
+            _ => t,
+        };
         (!t.is_empty() && t.len() <= digits)
             .then(|| u16::from_str_radix(t, 16).ok())
             .flatten()
