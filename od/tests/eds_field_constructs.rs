@@ -126,3 +126,41 @@ fn xdd_sub_indices_of_four_digits_read_with_a_warning() {
         "{e}"
     );
 }
+
+/// An XDC's `nodeID="0"` (a node not yet configured) reads as no node-ID with a warning at the
+/// value, as does 255; 128 stays an error.
+#[test]
+fn an_xdc_node_id_of_0_is_none_with_a_warning() {
+    let with = |id: &str| {
+        xdd("00", "01").replace(
+            "<ProfileBody xsi:type=\"ProfileBody_CommunicationNetwork_CANopen\" fileName=\"t.xdd\">",
+            &format!(
+                "<ProfileBody xsi:type=\"ProfileBody_CommunicationNetwork_CANopen\" fileName=\"t.xdd\">\n\
+                 <NetworkManagement><deviceCommissioning nodeID=\"{id}\"/></NetworkManagement>"
+            ),
+        )
+    };
+    for id in ["0", "255"] {
+        let reading = od::xdd::read_file(with(id).as_bytes(), "t.xdc").unwrap();
+        let warnings: Vec<String> = reading
+            .findings
+            .iter()
+            .filter(|f| f.severity == Severity::Warning)
+            .map(|f| f.message.clone())
+            .collect();
+        assert_eq!(
+            warnings,
+            [format!(
+                "nodeID `{id}` is no node-ID (1 to 127); read as none, a node LSS configures"
+            )]
+        );
+        let desc = reading.devices.into_iter().next().unwrap();
+        assert_eq!(desc.node_id(), None, "nodeID {id}");
+    }
+    let e = od::xdd::read_file(with("128").as_bytes(), "t.xdc").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("expected a nodeID of 1 to 127, found `128`"),
+        "{e}"
+    );
+}

@@ -548,6 +548,19 @@ impl<'a> Scan<'a> {
                 b"nodeID" | b"NodeID" => {
                     has_node_id = true;
                     let id: u8 = s.number(&v, "nodeID", "5")?;
+                    // 0 (as tools write a node not yet configured) and 255 (CiA 305's "not
+                    // configured") give the node no node-ID: one LSS configures.
+                    if id == 0 || id == 255 {
+                        s.warn(
+                            v.offset,
+                            format!(
+                                "nodeID `{}` is no node-ID (1 to 127); read as none, a node LSS \
+                                 configures",
+                                v.text
+                            ),
+                        );
+                        return Ok(());
+                    }
                     if !(1..=127).contains(&id) {
                         return Err(s.err(
                             v.offset,
