@@ -529,7 +529,24 @@ fn decode_data(
             fitted = bytes.to_vec();
             fitted.resize(size, 0);
             bytes = &fitted;
-        } else if bytes.len() > size && bytes.iter().skip(size).all(|&b| b == 0) {
+        } else if bytes.len() > size
+            && size > 0
+            && (what == "DefaultData" || bytes.iter().skip(size).all(|&b| b == 0))
+        {
+            // Data longer than its type: zeros beyond are no value; a default with more (TwinCAT
+            // loads it) is its first bytes, little-endian the value's own, and said. A limit with
+            // more stays refused (and is dropped).
+            if bytes.iter().skip(size).any(|&b| b != 0) {
+                ctx.warn(
+                    at,
+                    format!(
+                        "object #x{index:04X}: <{what}> has {} bytes for a {} of {size}; the first \
+                         {size} read",
+                        bytes.len(),
+                        t.esi_base_name()
+                    ),
+                );
+            }
             fitted = bytes.to_vec();
             fitted.truncate(size);
             bytes = &fitted;

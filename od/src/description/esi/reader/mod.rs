@@ -79,8 +79,9 @@ impl Ctx<'_> {
         self.doc.warn_about(offset, address, message);
     }
 
-    /// A number as [`xml::parse_number`] reads it; a hexadecimal number with both prefixes (`#x0x6041`,
-    /// as some generators write) is read without the second, with a warning.
+    /// A number as [`xml::parse_number`] reads it; a hexadecimal number with both prefixes
+    /// (`#x0x6041`) or its x doubled (`#xx00DEFED`), as some generators write, is read without the
+    /// second, with a warning.
     fn parse_number(&self, text: &str, offset: usize, what: &str) -> Option<i128> {
         if let Some(v) = xml::parse_number(text) {
             return Some(v);
@@ -90,18 +91,22 @@ impl Ctx<'_> {
             Some(rest) => ("-", rest),
             None => ("", t.strip_prefix('+').unwrap_or(t)),
         };
-        let digits = ["#x", "#X"]
-            .iter()
-            .find_map(|p| body.strip_prefix(p))
-            .and_then(|r| ["0x", "0X"].iter().find_map(|p| r.strip_prefix(p)))?;
+        let after = ["#x", "#X"].iter().find_map(|p| body.strip_prefix(p))?;
+        // `#x0x6041` (two prefixes) or `#xx00DEFED` (the x doubled).
+        let (digits, how) = match ["0x", "0X"].iter().find_map(|p| after.strip_prefix(p)) {
+            Some(d) => (d, "has two hexadecimal prefixes"),
+            None => (
+                after
+                    .strip_prefix('x')
+                    .or_else(|| after.strip_prefix('X'))?,
+                "has its hexadecimal prefix's x doubled",
+            ),
+        };
         let single = format!("{sign}#x{digits}");
         let v = xml::parse_number(&single)?;
         self.warn(
             offset,
-            format!(
-                "`{}` in {what} has two hexadecimal prefixes; read as {single}",
-                clip(t)
-            ),
+            format!("`{}` in {what} {how}; read as {single}", clip(t)),
         );
         Some(v)
     }

@@ -1,6 +1,6 @@
-//! Constructs real tools write that CiA 306 does not foresee, each read with a warning at its
-//! position where the file can still be used, as python-canopen or CANopenEditor load it; each in a
-//! small file of its own.
+//! Constructs real tools write that the standards (CiA 306, CiA 311, ETG.2000) do not foresee, each
+//! read with a warning at its position where the file can still be used, as python-canopen,
+//! CANopenEditor or TwinCAT load it; each in a small file of its own.
 
 use od::report::Severity;
 use od::DeviceDescription;
@@ -163,4 +163,67 @@ fn an_xdc_node_id_of_0_is_none_with_a_warning() {
             .contains("expected a nodeID of 1 to 127, found `128`"),
         "{e}"
     );
+}
+
+/// `examples/io-device.esi.xml` with `from` replaced by `to` (once): its warnings and its first
+/// device.
+fn esi_with(from: &str, to: &str) -> (Vec<String>, DeviceDescription) {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/io-device.esi.xml");
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(text.contains(from), "{from}");
+    let text = text.replacen(from, to, 1);
+    let reading = od::esi::read_file(text.as_bytes(), "io.xml").unwrap_or_else(|e| {
+        panic!("refused: {e}");
+    });
+    let warnings = reading
+        .findings
+        .iter()
+        .filter(|f| f.severity == Severity::Warning)
+        .map(|f| {
+            let p = f.position.expect("a reader warning has a position");
+            format!("{}:{}: {}", p.line, p.column, f.message)
+        })
+        .collect();
+    (warnings, reading.devices.into_iter().next().unwrap())
+}
+
+/// A revision number with its hexadecimal prefix's x doubled (`#xx00010001`) reads as `#x00010001`
+/// with a warning at the value.
+#[test]
+fn an_esi_number_with_a_doubled_x_reads_with_a_warning() {
+    let (warnings, desc) = esi_with(
+        r##"RevisionNo="#x00010001""##,
+        r##"RevisionNo="#xx00010001""##,
+    );
+    assert_eq!(
+        warnings,
+        [
+            "18:40: `#xx00010001` in the RevisionNo attribute has its hexadecimal prefix's x \
+          doubled; read as #x00010001"
+        ]
+    );
+    assert_eq!(desc.identity.revision, 0x0001_0001);
+}
+
+/// `<DefaultData>` longer than its type: the first bytes, with a warning at the value where the rest
+/// is not zeros (0x1000 UDINT given 5 bytes: 0x000F0191); zeros beyond are read without one.
+#[test]
+fn esi_default_data_longer_than_its_type_reads_its_first_bytes() {
+    let (warnings, desc) = esi_with(
+        "<DefaultData>91010F00</DefaultData>",
+        "<DefaultData>91010F0007</DefaultData>",
+    );
+    assert_eq!(
+        warnings,
+        ["703:32: object #x1000: <DefaultData> has 5 bytes for a UDINT of 4; the first 4 read"]
+    );
+    assert_eq!(
+        desc.dictionary.read_value(0x1000, 0).unwrap(),
+        od::Value::Uint(0x000F_0191)
+    );
+    let (warnings, _) = esi_with(
+        "<DefaultData>91010F00</DefaultData>",
+        "<DefaultData>91010F000000</DefaultData>",
+    );
+    assert!(warnings.is_empty(), "{warnings:?}");
 }
