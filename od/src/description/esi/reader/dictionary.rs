@@ -530,7 +530,6 @@ fn decode_data(
             fitted.resize(size, 0);
             bytes = &fitted;
         } else if bytes.len() > size
-            && size > 0
             && (what == "DefaultData" || bytes.iter().skip(size).all(|&b| b == 0))
         {
             // Data longer than its type: zeros beyond are no value; a default with more (TwinCAT
