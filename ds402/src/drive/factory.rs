@@ -388,7 +388,7 @@ fn device_types(dict: &mut Dictionary, axes: &[u8], motor: MotorKind, events: &m
         _ => None,
     };
     if let Some(why) = why {
-        events.push(hex_event(
+        events.push(Event::hex(
             EventKind::Filled,
             at,
             "device type",
@@ -402,7 +402,7 @@ fn device_types(dict: &mut Dictionary, axes: &[u8], motor: MotorKind, events: &m
     for &axis in axes {
         let at = Address::new(0x67FF + 0x800 * u16::from(axis), 0);
         if given(dict, at) == Some(None) && set(dict, at, i64::from(axis_type(motor))) {
-            events.push(hex_event(
+            events.push(Event::hex(
                 EventKind::Filled,
                 at,
                 &format!("device type of axis {}", axis + 1),
@@ -410,18 +410,6 @@ fn device_types(dict: &mut Dictionary, axes: &[u8], motor: MotorKind, events: &m
                 format!("the description gives no value: {what}"),
             ));
         }
-    }
-}
-
-fn hex_event(kind: EventKind, at: Address, name: &str, value: u32, reason: String) -> Event {
-    Event {
-        kind,
-        address: at,
-        name: name.to_string(),
-        value: Value::Uint(u64::from(value)),
-        shown: format!("0x{value:08X}"),
-        unit: None,
-        reason,
     }
 }
 
@@ -466,7 +454,7 @@ fn supported_modes(
     if bits == 0 || !set(dict, at, i64::from(bits)) {
         return;
     }
-    events.push(hex_event(
+    events.push(Event::hex(
         kind,
         at,
         &format!("supported drive modes{suffix}"),

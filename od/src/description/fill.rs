@@ -101,7 +101,7 @@ pub fn pdo_cob_ids(desc: &mut DeviceDescription) -> Vec<Event> {
             ("TPDO", index - 0x1800 + 1)
         };
         if entry.set_default(Value::Uint(u64::from(invalid))) {
-            events.push(number_event(
+            events.push(Event::hex(
                 EventKind::Adjusted,
                 Address::new(index, 1),
                 &format!("COB-ID of {kind} {n}"),
@@ -208,7 +208,7 @@ pub fn pdo_mappings(desc: &mut DeviceDescription) -> Vec<Event> {
                 .and_then(|o| o.subs.get_mut(&s))
             {
                 if e.set_default(Value::Uint(u64::from(value))) {
-                    events.push(number_event(
+                    events.push(Event::hex(
                         EventKind::Adjusted,
                         Address::new(map, s),
                         &format!("mapped object {s} of {kind} {n}"),
@@ -227,7 +227,7 @@ pub fn pdo_mappings(desc: &mut DeviceDescription) -> Vec<Event> {
             if e.set_default(Value::Uint(u64::from(number))) {
                 events.push(Event {
                     shown: number.to_string(),
-                    ..number_event(
+                    ..Event::hex(
                         EventKind::Adjusted,
                         Address::new(map, 0),
                         &format!("number of mapped objects of {kind} {n}"),
@@ -362,7 +362,7 @@ fn identity(desc: &mut DeviceDescription, events: &mut Vec<Event>) {
             )
         };
         if entry.set_default(Value::Uint(u64::from(number))) {
-            events.push(number_event(
+            events.push(Event::hex(
                 kind,
                 Address::new(0x1018, sub),
                 name,
@@ -403,7 +403,7 @@ fn add_identity(dict: &mut Dictionary, numbers: [u32; 3], serial: u32, events: &
             (_, 0) => format!("its identity gives no {name} either"),
             _ => format!("its identity's {name}"),
         };
-        events.push(number_event(
+        events.push(Event::hex(
             EventKind::Filled,
             Address::new(0x1018, sub),
             name,
@@ -412,18 +412,6 @@ fn add_identity(dict: &mut Dictionary, numbers: [u32; 3], serial: u32, events: &
         ));
     }
     dict.insert(object);
-}
-
-fn number_event(kind: EventKind, at: Address, name: &str, number: u32, reason: String) -> Event {
-    Event {
-        kind,
-        address: at,
-        name: name.to_string(),
-        value: Value::Uint(u64::from(number)),
-        shown: format!("0x{number:08X}"),
-        unit: None,
-        reason,
-    }
 }
 
 /// 0x1008–0x100A where they exist as VISIBLE_STRINGs without a value.

@@ -76,6 +76,20 @@ pub struct Event {
 }
 
 impl Event {
+    /// An event of a 32-bit number shown as hex (`0x000000A5`), without a unit: an identity entry,
+    /// a device type, a COB-ID, supported modes.
+    pub fn hex(kind: EventKind, address: Address, name: &str, value: u32, reason: String) -> Event {
+        Event {
+            kind,
+            address,
+            name: name.to_string(),
+            value: Value::Uint(u64::from(value)),
+            shown: format!("0x{value:08X}"),
+            unit: None,
+            reason,
+        }
+    }
+
     /// The entry's address as the line shows it: `0x6502`, or `0x1018:01` for a sub-index other
     /// than 0.
     pub fn at(&self) -> String {
