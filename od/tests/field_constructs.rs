@@ -29,12 +29,9 @@ PDOMapping=0\r
     )
 }
 
-/// The description and the warnings, each as `line:column: message`.
-fn read(text: &str) -> (DeviceDescription, Vec<String>) {
-    let reading = od::eds::read_file(text.as_bytes(), "constructs.eds").unwrap_or_else(|e| {
-        panic!("refused: {e}");
-    });
-    let warnings = reading
+/// The warnings of a reading, each as `line:column: message`.
+fn warnings(reading: &od::report::Reading) -> Vec<String> {
+    reading
         .findings
         .iter()
         .filter(|f| f.severity == Severity::Warning)
@@ -42,7 +39,15 @@ fn read(text: &str) -> (DeviceDescription, Vec<String>) {
             let p = f.position.expect("a reader warning has a position");
             format!("{}:{}: {}", p.line, p.column, f.message)
         })
-        .collect();
+        .collect()
+}
+
+/// The description and the warnings, each as `line:column: message`.
+fn read(text: &str) -> (DeviceDescription, Vec<String>) {
+    let reading = od::eds::read_file(text.as_bytes(), "constructs.eds").unwrap_or_else(|e| {
+        panic!("refused: {e}");
+    });
+    let warnings = warnings(&reading);
     (reading.devices.into_iter().next().unwrap(), warnings)
 }
 
@@ -98,15 +103,7 @@ fn xdd(sub0: &str, sub1: &str) -> String {
 #[test]
 fn xdd_sub_indices_of_four_digits_read_with_a_warning() {
     let reading = od::xdd::read_file(xdd("0000", "0001").as_bytes(), "t.xdd").unwrap();
-    let warnings: Vec<String> = reading
-        .findings
-        .iter()
-        .filter(|f| f.severity == Severity::Warning)
-        .map(|f| {
-            let p = f.position.expect("a reader warning has a position");
-            format!("{}:{}: {}", p.line, p.column, f.message)
-        })
-        .collect();
+    let warnings = warnings(&reading);
     assert_eq!(
         warnings,
         [
@@ -175,15 +172,7 @@ fn esi_with(from: &str, to: &str) -> (Vec<String>, DeviceDescription) {
     let reading = od::esi::read_file(text.as_bytes(), "io.xml").unwrap_or_else(|e| {
         panic!("refused: {e}");
     });
-    let warnings = reading
-        .findings
-        .iter()
-        .filter(|f| f.severity == Severity::Warning)
-        .map(|f| {
-            let p = f.position.expect("a reader warning has a position");
-            format!("{}:{}: {}", p.line, p.column, f.message)
-        })
-        .collect();
+    let warnings = warnings(&reading);
     (warnings, reading.devices.into_iter().next().unwrap())
 }
 
