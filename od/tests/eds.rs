@@ -1065,6 +1065,7 @@ mod random {
     //! Random descriptions restricted to what an EDS or a DCF carries, through write → read.
 
     use super::*;
+    use od::object::ObjFlags;
     use od::types::STANDARD_TYPES;
     use proptest::prelude::*;
     use proptest::sample::subsequence;
@@ -1163,22 +1164,33 @@ mod random {
             ObjectKind::Record,
             ObjectKind::DefStruct,
         ]);
-        (kinds, name()).prop_flat_map(move |(kind, object_name)| {
+        // `ObjFlags` of the object's section, and of each sub-index section (a VAR has one section,
+        // the object's).
+        let flags = || proptest::option::of(any::<u32>().prop_map(ObjFlags::from_bits));
+        (kinds, name(), flags()).prop_flat_map(move |(kind, object_name, object_flags)| {
             if kind.has_subs() {
-                proptest::collection::btree_map(any::<u8>(), sub_object(name().boxed()), 0..5)
+                let entry = (sub_object(name().boxed()), flags()).prop_map(|(mut sub, f)| {
+                    sub.flags = f;
+                    sub
+                });
+                proptest::collection::btree_map(any::<u8>(), entry, 0..5)
                     .prop_map(move |subs| {
                         let mut o = Object::structured(index, object_name.clone(), kind);
                         o.subs = subs;
+                        o.flags = object_flags;
                         o
                     })
                     .boxed()
             } else if kind == ObjectKind::Null {
-                Just(Object::structured(index, object_name, kind)).boxed()
+                let mut o = Object::structured(index, object_name, kind);
+                o.flags = object_flags;
+                Just(o).boxed()
             } else {
                 sub_object(Just(object_name).boxed())
                     .prop_map(move |sub| {
                         let mut o = Object::var(index, sub);
                         o.kind = kind;
+                        o.flags = object_flags;
                         o
                     })
                     .boxed()

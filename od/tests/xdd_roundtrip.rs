@@ -4,7 +4,9 @@
 mod support;
 
 use od::device::{CanInfo, Commissioning, FileInfo, Identity};
-use od::object::{Access, AccessType, DefaultValue, Object, ObjectKind, PdoMapping, SubObject};
+use od::object::{
+    Access, AccessType, DefaultValue, ObjFlags, Object, ObjectKind, PdoMapping, SubObject,
+};
 use od::types::STANDARD_TYPES;
 use od::{DataType, DeviceDescription, Dictionary, Value};
 use proptest::collection::btree_map;
@@ -37,16 +39,17 @@ fn entry_of(t: DataType) -> impl Strategy<Value = SubObject> {
         (text(), support::random::access(), pdo(), option::of(text())),
         (option::of(value(t)), any::<bool>()),
         (option::of(value(t)), option::of(value(t))),
-        (option::of(0u32..40), option::of(value(t))),
+        (option::of(0u32..40), option::of(value(t)), flags()),
     )
         .prop_map(
             move |(
                 (name, access, pdo, description),
                 (default, plus),
                 (low, high),
-                (cap, actual),
+                (cap, actual, flags),
             )| {
                 let mut s = SubObject::new(name, t, Access::new(access));
+                s.flags = flags;
                 s.pdo = pdo;
                 s.description = description;
                 s.default = default.map(|value| {
@@ -82,6 +85,11 @@ fn entry_of(t: DataType) -> impl Strategy<Value = SubObject> {
         )
 }
 
+/// CiA 306 `ObjFlags` (`objFlags`), or none.
+fn flags() -> impl Strategy<Value = Option<ObjFlags>> {
+    option::of(any::<u32>().prop_map(ObjFlags::from_bits))
+}
+
 fn any_entry() -> impl Strategy<Value = SubObject> {
     select(STANDARD_TYPES.to_vec()).prop_flat_map(entry_of)
 }
@@ -93,10 +101,12 @@ fn object() -> impl Strategy<Value = Object> {
         any_entry(),
         option::weighted(0.2, text()),
         option::weighted(0.2, option::of(text())),
+        flags(),
     )
-        .prop_map(|(sub, name, description)| {
+        .prop_map(|(sub, name, description, flags)| {
             let entry_description = sub.description.clone();
             let mut o = Object::var(0, sub);
+            o.flags = flags;
             o.description = description.unwrap_or(entry_description);
             if let Some(name) = name {
                 o.name = name;
@@ -109,9 +119,11 @@ fn object() -> impl Strategy<Value = Object> {
         option::of(text()),
         option::of(text()),
         btree_map(any::<u8>(), any_entry(), 0..5),
+        flags(),
     )
-        .prop_map(|(kind, name, type_name, description, subs)| {
+        .prop_map(|(kind, name, type_name, description, subs, flags)| {
             let mut o = Object::structured(0, name, kind);
+            o.flags = flags;
             o.type_name = type_name;
             o.description = description;
             o.subs = subs;

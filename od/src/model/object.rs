@@ -263,6 +263,69 @@ impl PdoMapping {
     }
 }
 
+/// The flags of CiA 306 §4.6.3 `ObjFlags` (UNSIGNED32; CiA 311 `objFlags`, hexBinary): what a configuration
+/// tool leaves out for an object or an entry. Bit 0 "refuse write on download": the tool does not write it
+/// when it downloads a configuration; bit 1 "refuse read on scan": the tool does not read it when it scans
+/// (dumps) a device. Bits 2–31 are reserved; they are kept as read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ObjFlags(u32);
+
+impl ObjFlags {
+    /// No flag.
+    pub const NONE: ObjFlags = ObjFlags(0);
+    /// Bit 0: a tool does not write the entry when it downloads a configuration.
+    pub const REFUSE_WRITE_ON_DOWNLOAD: ObjFlags = ObjFlags(1);
+    /// Bit 1: a tool does not read the entry when it scans a device.
+    pub const REFUSE_READ_ON_SCAN: ObjFlags = ObjFlags(2);
+
+    /// The flags of the number a file gives.
+    pub const fn from_bits(bits: u32) -> ObjFlags {
+        ObjFlags(bits)
+    }
+
+    /// The number a file gives.
+    pub const fn bits(self) -> u32 {
+        self.0
+    }
+
+    /// The union of two sets.
+    pub const fn union(self, other: ObjFlags) -> ObjFlags {
+        ObjFlags(self.0 | other.0)
+    }
+
+    /// True when every flag of `other` is set.
+    pub const fn contains(self, other: ObjFlags) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// True when no flag is set.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+}
+
+impl fmt::Display for ObjFlags {
+    /// `0x3 (refuse write on download, refuse read on scan)`; `0x0` for none.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "0x{:X}", self.0)?;
+        let names: Vec<&str> = [
+            (
+                ObjFlags::REFUSE_WRITE_ON_DOWNLOAD,
+                "refuse write on download",
+            ),
+            (ObjFlags::REFUSE_READ_ON_SCAN, "refuse read on scan"),
+        ]
+        .iter()
+        .filter(|(flag, _)| self.contains(*flag))
+        .map(|(_, name)| *name)
+        .collect();
+        if !names.is_empty() {
+            write!(f, " ({})", names.join(", "))?;
+        }
+        Ok(())
+    }
+}
+
 /// A default value as description files write it: a value, or a value plus the node-ID (CiA 306 §4.6.2
 /// `$NODEID+0x180`).
 #[derive(Debug, Clone, PartialEq)]
@@ -331,6 +394,11 @@ pub struct SubObject {
     /// the description's node-ID (0 when it has none), and writers write it relative again. Storing a
     /// value clears it.
     pub value_plus_node_id: bool,
+    /// `ObjFlags` of the entry's own sub-index section (EDS `[xxxxsubN]`, XDD `CANopenSubObject`);
+    /// `None` when it gives none. The entry takes nothing from its object here: the flags of the
+    /// object's section stay on the [`Object`] (for a VAR or DOMAIN, whose one section is the
+    /// object's, there), and what a tool honours is [`Object::flags_of`], both together.
+    pub flags: Option<ObjFlags>,
 }
 
 impl SubObject {
@@ -355,6 +423,7 @@ impl SubObject {
             value,
             value_set: false,
             value_plus_node_id: false,
+            flags: None,
         }
     }
 
@@ -492,6 +561,10 @@ pub struct Object {
     pub type_name: Option<String>,
     /// Sub-objects by sub-index. A VAR or DOMAIN object has its value at sub-index 0.
     pub subs: std::collections::BTreeMap<u8, SubObject>,
+    /// `ObjFlags` of the object's section (EDS `[xxxx]`, XDD `CANopenObject`), for a VAR or DOMAIN
+    /// the flags of its one entry; `None` when the file gives none (CiA 306: no flags), kept apart
+    /// from an explicit 0 so that a writer writes back only the flags a file had.
+    pub flags: Option<ObjFlags>,
 }
 
 impl Object {
@@ -512,6 +585,7 @@ impl Object {
             kind,
             type_name: None,
             subs,
+            flags: None,
         }
     }
 
@@ -524,6 +598,7 @@ impl Object {
             kind,
             type_name: None,
             subs: std::collections::BTreeMap::new(),
+            flags: None,
         }
     }
 
@@ -536,6 +611,18 @@ impl Object {
     /// The sub-object at `sub`.
     pub fn sub(&self, sub: u8) -> Option<&SubObject> {
         self.subs.get(&sub)
+    }
+
+    /// The `ObjFlags` a tool honours for the entry at `sub`: the object's and the entry's own
+    /// together. CiA 306 §4.6.3 gives `ObjFlags` to an object's section and to a sub-index's and does
+    /// not say whether the object's reach its sub-indices; vendor files flag a whole RECORD in the
+    /// object's section alone (a drive's calibration data, `ObjFlags=0x3`, its sub-indices without
+    /// any), and a tool that leaves an object out leaves out its parts, so they do.
+    pub fn flags_of(&self, sub: u8) -> ObjFlags {
+        let own = self.subs.get(&sub).and_then(|s| s.flags);
+        self.flags
+            .unwrap_or_default()
+            .union(own.unwrap_or_default())
     }
 
     /// The highest sub-index present.

@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 use super::context::{bytes_text, or_none, Cx};
 use super::{Change, Shown, Step};
 use crate::dict::Dictionary;
-use crate::object::{Object, SubObject};
+use crate::object::{ObjFlags, Object, SubObject};
 use crate::types::DataType;
 use crate::value::Value;
 
@@ -30,6 +30,7 @@ fn object(cx: &mut Cx<'_>, a: &Object, b: &Object) {
         kind,
         type_name,
         subs,
+        flags,
     } = a;
     let index = *index;
     let text = |v: &Option<String>| match v {
@@ -41,6 +42,7 @@ fn object(cx: &mut Cx<'_>, a: &Object, b: &Object) {
         cx.field("description", description, &b.description, text);
         cx.plain("object code", kind, &b.kind);
         cx.field("type name", type_name, &b.type_name, text);
+        cx.field("ObjFlags", flags, &b.flags, obj_flags);
     });
     let all: BTreeSet<u8> = subs.keys().chain(b.subs.keys()).copied().collect();
     for s in all {
@@ -69,6 +71,7 @@ fn sub_object(cx: &mut Cx<'_>, a: &SubObject, b: &SubObject) {
         value,
         value_set,
         value_plus_node_id,
+        flags,
     } = a;
     cx.field("unit", unit, &b.unit, |u| {
         Shown::Plain(u.map_or_else(|| "none".into(), crate::units::unit_text))
@@ -151,6 +154,13 @@ fn sub_object(cx: &mut Cx<'_>, a: &SubObject, b: &SubObject) {
         &b.value_plus_node_id,
         yes_no,
     );
+    cx.field("ObjFlags", flags, &b.flags, obj_flags);
+}
+
+/// CiA 306 `ObjFlags` as a difference shows them: `0x2 (refuse read on scan)`, `none` where the file
+/// gives none.
+fn obj_flags(flags: &Option<ObjFlags>) -> Shown {
+    Shown::Plain(flags.map_or_else(|| "none".into(), |f| f.to_string()))
 }
 
 /// A value as the model holds it, reals by their bits.

@@ -45,6 +45,11 @@
 //!   writes them (`0x40490FDB` is π).
 //! - `PDOMapping=1` becomes a direction from the access type: `ro`, `const`, `rwr` → TPDO; `wo`, `rww` →
 //!   RPDO; `rw` → both.
+//! - `ObjFlags` (§4.6.3: bit 0 refuse write on download, bit 1 refuse read on scan) of an object's section
+//!   → [`Object::flags`](crate::object::Object::flags) (a VAR's too: its one section is the object's), of
+//!   a sub-index section → [`SubObject::flags`](crate::object::SubObject::flags); an object's flags are not
+//!   copied into its sub-indices (a tool takes both: [`Object::flags_of`](crate::object::Object::flags_of)).
+//!   Absent, empty or no number (`ObjFlags=NV`, read with a warning): none.
 //! - A DCF (§5) is an EDS with `[DeviceComissioning]` (`NodeID`, `NodeName`, `Baudrate`, `NetNumber`,
 //!   `NetworkName`, `CANopenManager`, `LSS_SerialNumber`; the correctly spelled `[DeviceCommissioning]` is
 //!   accepted too) and `ParameterValue`s: it sets
@@ -119,7 +124,9 @@
 //! (0x2000–0x5FFF), then the object sections in index order, every ARRAY and RECORD with one section per
 //! sub-index (never compact: a compact array's `[xxxxName]` and `[xxxxValue]` entries become the names and
 //! `ParameterValue`s of its sub-index sections; an object with all 256 sub-indices says `SubNumber=0xFF`,
-//! the largest value the key holds). A `ParameterValue` is written for every entry whose current value was
+//! the largest value the key holds). `ObjFlags=0x…` is written where the description has flags, an
+//! explicit `0` too, and nowhere else, so a file without `ObjFlags` gains none; a VAR whose entry has
+//! flags of its own (an XDD can say so) gets them in its one section with the object's. A `ParameterValue` is written for every entry whose current value was
 //! set explicitly (`value_set`: python-canopen's `e35.eds` has them in an EDS) or differs from its
 //! default for the node-ID; a value given relative to the node-ID is written `$NODEID+offset` again. Lines
 //! end in CR LF, as CiA 306 files usually do and as Windows tools expect; keys come in a fixed order and

@@ -4,7 +4,7 @@ use std::borrow::Cow;
 use std::fmt::Write as _;
 
 use crate::device::{CanInfo, Commissioning, DeviceDescription};
-use crate::object::{AccessType, DefaultValue, Object, PdoMapping, SubObject};
+use crate::object::{AccessType, DefaultValue, ObjFlags, Object, PdoMapping, SubObject};
 use crate::types::DataType;
 use crate::value::Value;
 
@@ -243,14 +243,29 @@ fn object_sections(w: &mut IniWriter, object: &Object, node_id: u8) {
         // it) says 0xFF, and readers take the sections that are there.
         let sub_number = object.subs.len().min(0xFF);
         w.key("SubNumber", &format!("0x{sub_number:X}"));
+        obj_flags(w, object.flags);
         for (&sub_index, sub) in &object.subs {
             w.section(&format!("{:04X}sub{sub_index:X}", object.index));
             w.key("ParameterName", &sub.name);
             w.key("ObjectType", "0x7");
-            entry_keys(w, sub, node_id);
+            entry_keys(w, sub, sub.flags, node_id);
         }
     } else if let Some(sub) = object.subs.get(&0) {
-        entry_keys(w, sub, node_id);
+        // One section for the object and its entry: the flags of both.
+        let flags = match (object.flags, sub.flags) {
+            (None, None) => None,
+            (a, b) => Some(a.unwrap_or_default().union(b.unwrap_or_default())),
+        };
+        entry_keys(w, sub, flags, node_id);
+    } else {
+        obj_flags(w, object.flags);
+    }
+}
+
+/// `ObjFlags=` where the description has flags (CiA 306 §4.6.3), and only there.
+fn obj_flags(w: &mut IniWriter, flags: Option<ObjFlags>) {
+    if let Some(flags) = flags {
+        w.key("ObjFlags", &format!("0x{:X}", flags.bits()));
     }
 }
 
@@ -299,7 +314,7 @@ fn eds_access(sub: &SubObject) -> AccessType {
     }
 }
 
-fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: u8) {
+fn entry_keys(w: &mut IniWriter, sub: &SubObject, flags: Option<ObjFlags>, node_id: u8) {
     let data_type = eds_type(sub.data_type);
     w.key("DataType", &format!("0x{:04X}", data_type.index()));
     w.key("AccessType", eds_access(sub).as_str());
@@ -313,6 +328,7 @@ fn entry_keys(w: &mut IniWriter, sub: &SubObject, node_id: u8) {
     if let Some(high) = &sub.high {
         w.key("HighLimit", &value_text(high, data_type));
     }
+    obj_flags(w, flags);
     if let Some(current) = parameter_value(sub, node_id) {
         w.key("ParameterValue", &default_text(&current, data_type));
     }

@@ -31,8 +31,10 @@
 //!   `default`/`optional` → both) and `uniqueIDRef`. What the object says wins over the same information in
 //!   the referenced parameter, except that a parameter's `readWriteInput`/`readWriteOutput` refines an
 //!   `accessType` of `rw` into `rwr`/`rww` (the schema's `accessType` has `ro`, `wo`, `rw`, `const` only;
-//!   `rwr` and `rww` written there are accepted too). `subNumber`, `denotation` and `objFlags` are accepted and
-//!   not kept.
+//!   `rwr` and `rww` written there are accepted too). `objFlags` (hexBinary, CiA 306 §4.6.3 `ObjFlags`) of a
+//!   `CANopenObject` → [`Object::flags`](crate::object::Object::flags), of a `CANopenSubObject` →
+//!   [`SubObject::flags`](crate::object::SubObject::flags); one that is no hexadecimal number of 32 bits
+//!   reads as none with a warning. `subNumber` and `denotation` are accepted and not kept.
 //! - `dummyUsage/dummy entry="Dummy0005=1"`, `TransportLayers/PhysicalLayer/baudRate/supportedBaudRate`
 //!   (`"250 Kbps"`), `NetworkManagement/CANopenGeneralFeatures` (`granularity`, `nrOfRxPDO`, `nrOfTxPDO`,
 //!   `bootUpSlave`, `layerSettingServiceSlave`, `groupMessaging`, `dynamicChannels`; absent booleans are
@@ -69,7 +71,9 @@
 //!
 //! Both profile bodies, `DeviceIdentity`, a `DeviceFunction` naming the product (the schema requires one), and
 //! every entry with its attributes inline. A VAR, DOMAIN or DEFTYPE whose sub-index 0 has the object's name
-//! and description is one `CANopenObject`; any other object has `CANopenSubObject`s. A `parameterList` holds a
+//! and description and no `objFlags` of its own is one `CANopenObject`; any other object has
+//! `CANopenSubObject`s. `objFlags` is written where the description has flags (4 hexadecimal digits, 8 for
+//! flags beyond 16 bits), on the element they belong to, and nowhere else. A `parameterList` holds a
 //! parameter, referenced by `uniqueIDRef` (`UID_OBJ_1018`, `UID_SUB_101801`), for each object or entry with a
 //! description, a structure type name, a string capacity, or access `rwr`/`rww` (written as `rw` refined by the
 //! parameter); a `dataTypeList` holds the named structure types. The output is byte-stable.

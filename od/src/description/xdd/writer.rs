@@ -2,7 +2,7 @@
 //! only for what the object list cannot say (descriptions, structure type names, string capacities).
 
 use crate::device::{CanInfo, Commissioning, DeviceDescription, FileInfo};
-use crate::object::{AccessType, Object, ObjectKind, SubObject};
+use crate::object::{AccessType, ObjFlags, Object, ObjectKind, SubObject};
 use crate::types::DataType;
 use crate::value::Value;
 use crate::xml::XmlWriter;
@@ -343,10 +343,21 @@ fn inline_value(object: &Object) -> bool {
     !object.kind.has_subs()
         && object.kind != ObjectKind::Null
         && object.subs.len() == 1
-        && object
-            .subs
-            .get(&0)
-            .is_some_and(|s| s.name == object.name && s.description == object.description)
+        && object.subs.get(&0).is_some_and(|s| {
+            s.name == object.name && s.description == object.description && s.flags.is_none()
+        })
+}
+
+/// The `objFlags` attribute (hexBinary: 4 digits, 8 for flags beyond 16 bits), where there are flags.
+fn obj_flags(attrs: &mut Vec<(&'static str, String)>, flags: Option<ObjFlags>) {
+    if let Some(flags) = flags.map(ObjFlags::bits) {
+        let text = if flags > 0xFFFF {
+            format!("{flags:08X}")
+        } else {
+            format!("{flags:04X}")
+        };
+        attrs.push(("objFlags", text));
+    }
 }
 
 fn object_id(index: u16) -> String {
@@ -603,6 +614,7 @@ fn write_object(w: &mut XmlWriter, o: &Object) {
     } else if !o.subs.is_empty() && o.subs.len() <= 255 {
         attrs.push(("subNumber", o.subs.len().to_string()));
     }
+    obj_flags(&mut attrs, o.flags);
     if object_has_parameter(o) {
         attrs.push(("uniqueIDRef", object_id(o.index)));
     }
@@ -619,6 +631,7 @@ fn write_object(w: &mut XmlWriter, o: &Object) {
             ("objectType", "7".to_string()),
         ];
         attrs.extend(value_attributes(sub));
+        obj_flags(&mut attrs, sub.flags);
         if sub_has_parameter(sub) {
             attrs.push(("uniqueIDRef", sub_id(o.index, s)));
         }

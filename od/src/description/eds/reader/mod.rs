@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 
 use crate::error::{LineIndex, ParseError, Position};
-use crate::object::ObjectKind;
+use crate::object::{ObjFlags, ObjectKind};
 use crate::report::{Finding, Reading, SourceMap};
 use crate::value::{parse_integer, Value};
 
@@ -513,12 +513,11 @@ impl<'i, 'a> Builder<'i, 'a> {
     /// `ObjFlags` (CiA 306 §4.6.3: bit 0 refuse write on download, bit 1 refuse read on scan): a
     /// 32-bit number. One that is none (`ObjFlags=NV`, as some vendor tools write it) is read as no
     /// flags with a warning at the value, as python-canopen and CANopenEditor load such a file.
-    fn object_flags(&self, section: &Section<'a>, entry: Option<&Entry<'a>>) -> u32 {
-        let Some(e) = entry.filter(|e| !e.value.is_empty()) else {
-            return 0;
-        };
+    /// `None` when the section gives none (no key, an empty value, or no number).
+    fn object_flags(&self, section: &Section<'a>, entry: Option<&Entry<'a>>) -> Option<ObjFlags> {
+        let e = entry.filter(|e| !e.value.is_empty())?;
         match parse_integer(e.value).and_then(|v| u32::try_from(v).ok()) {
-            Some(flags) => flags,
+            Some(flags) => Some(ObjFlags::from_bits(flags)),
             None => {
                 self.warn(
                     e.value,
@@ -528,7 +527,7 @@ impl<'i, 'a> Builder<'i, 'a> {
                         shown(e.value)
                     ),
                 );
-                0
+                None
             }
         }
     }

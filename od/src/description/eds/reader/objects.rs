@@ -32,8 +32,8 @@ impl<'i, 'a> Builder<'i, 'a> {
             "a number of sub-indices, 0 to 255",
             0,
         )?;
-        self.object_flags(main, fields[OBJ_FLAGS]);
         let mut object = Object::structured(index, name, kind);
+        object.flags = self.object_flags(main, fields[OBJ_FLAGS]);
         if !kind.has_subs() {
             if let Some(sub) = sections.subs.values().next().and_then(|&i| self.section(i)) {
                 return Err(self.ini.error(
@@ -109,7 +109,9 @@ impl<'i, 'a> Builder<'i, 'a> {
             let sub_name = sub_fields[OBJ_NAME]
                 .ok_or_else(|| self.missing(section, "ParameterName", "the entry's name"))?
                 .value;
-            let sub = self.sub_object(section, &sub_fields, sub_name.to_string(), node_id, None)?;
+            let mut sub =
+                self.sub_object(section, &sub_fields, sub_name.to_string(), node_id, None)?;
+            sub.flags = self.object_flags(section, sub_fields[OBJ_FLAGS]);
             object.subs.insert(sub_index, sub);
         }
         Ok(object)

@@ -236,6 +236,7 @@ impl<'a> Scan<'a> {
         let param = self.param(&o.attrs.unique_id_ref)?;
         let mut object = Object::structured(o.index, o.name.as_ref(), o.kind);
         object.description = param.and_then(|p| p.description(&o.name));
+        object.flags = o.attrs.flags;
         // The element type that subs without a type of their own take (an array's element type).
         let mut element_type = None;
         if let Some(TypeRef::Ref(r)) = param.and_then(|p| p.ty.as_ref()) {
@@ -262,6 +263,7 @@ impl<'a> Scan<'a> {
                     o, s.sub, &s.name, &s.attrs, sub_param, fallback, s.offset, node_id,
                 )?;
                 entry.description = sub_param.and_then(|p| p.description(&s.name));
+                entry.flags = s.attrs.flags;
                 if object.subs.insert(s.sub, entry).is_some() {
                     return Err(self.err(
                         s.offset,

@@ -11,7 +11,7 @@ use super::{
 };
 use crate::device::Commissioning;
 use crate::error::ParseError;
-use crate::object::ObjectKind;
+use crate::object::{ObjFlags, ObjectKind};
 use crate::xml;
 use crate::xml::cursor::Element;
 
@@ -359,9 +359,34 @@ impl<'a> Scan<'a> {
             b"highLimit" => attrs.high = Some(v),
             b"actualValue" => attrs.actual = Some(v),
             b"uniqueIDRef" => attrs.unique_id_ref = Some(v),
+            b"objFlags" => attrs.flags = self.obj_flags(&v),
             _ => return Ok(Some(v)),
         }
         Ok(None)
+    }
+
+    /// `objFlags` (CiA 311, hexBinary: CiA 306 §4.6.3 `ObjFlags`, bit 0 refuse write on download, bit 1
+    /// refuse read on scan): up to 8 hexadecimal digits (a `0x` before them is taken too). Other text
+    /// is read as no flags with a warning at the value, as the EDS reader reads `ObjFlags=NV`.
+    fn obj_flags(&self, v: &Attr<'_>) -> Option<ObjFlags> {
+        let t = v.text.trim();
+        let digits = t
+            .strip_prefix("0x")
+            .or_else(|| t.strip_prefix("0X"))
+            .unwrap_or(t);
+        let bits = (!digits.is_empty() && digits.len() <= 8)
+            .then(|| u32::from_str_radix(digits, 16).ok())
+            .flatten();
+        if bits.is_none() {
+            self.warn(
+                v.offset,
+                format!(
+                    "objFlags `{}` is no hexBinary number of 32 bits; read as no flags",
+                    v.text
+                ),
+            );
+        }
+        bits.map(ObjFlags::from_bits)
     }
 
     fn object_kind(&self, v: &Attr<'_>) -> Result<ObjectKind, ParseError> {

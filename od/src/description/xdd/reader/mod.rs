@@ -14,7 +14,7 @@ use super::{
 };
 use crate::device::{CanInfo, Commissioning, DeviceDescription};
 use crate::error::{ParseError, Position};
-use crate::object::{AccessType, ObjectKind, PdoMapping};
+use crate::object::{AccessType, ObjFlags, ObjectKind, PdoMapping};
 use crate::report::{Reading, SourceMap};
 use crate::types::DataType;
 use crate::xml;
@@ -270,6 +270,7 @@ struct EntryAttrs<'a> {
     high: Option<Attr<'a>>,
     actual: Option<Attr<'a>>,
     unique_id_ref: Option<Attr<'a>>,
+    flags: Option<ObjFlags>,
 }
 
 #[derive(Debug, Clone)]
