@@ -76,6 +76,13 @@ pub struct Convert {
     /// Device options.
     #[command(flatten)]
     pub device: DeviceArgs,
+    /// Ready the output as a new file: an EDS or DCF gets what CiA 306 asks of one (its format
+    /// version, CAN capabilities, a description from the product name), a DCF the current value of
+    /// every configurable entry. A conversion to another format does this anyway; a file written in
+    /// its own format (or an EDS as a DCF, or back) otherwise keeps every part of the input as it
+    /// was, including what the model does not hold, and gets only the changes asked for.
+    #[arg(long)]
+    pub normalise: bool,
 }
 
 /// Choosing a device and overriding identity values.
@@ -391,7 +398,11 @@ pub fn error_json(e: &Error) -> serde_json::Value {
 }
 
 fn write_out(out: &mut dyn Write, text: &str) -> Result<(), Error> {
-    out.write_all(text.as_bytes()).map_err(|source| Error::Io {
+    write_bytes(out, text.as_bytes())
+}
+
+fn write_bytes(out: &mut dyn Write, bytes: &[u8]) -> Result<(), Error> {
+    out.write_all(bytes).map_err(|source| Error::Io {
         path: PathBuf::from("-"),
         source,
     })
@@ -422,11 +433,11 @@ impl Target {
         }
     }
 
-    /// Readies a description for this target: an EDS or DCF gets what CiA 306 asks of a new file (its
-    /// format version, CAN capabilities); a DCF its node-ID and bit rate when given, and every
-    /// configurable value.
-    fn prepare(self, dev: &mut DeviceDescription) {
-        if let Target::Eds | Target::Dcf { .. } = self {
+    /// Readies a description for this target. A new file (`fresh`): an EDS or DCF gets what CiA 306
+    /// asks of one (its format version, CAN capabilities), a DCF every configurable value. Any DCF
+    /// gets its node-ID and bit rate when given.
+    fn prepare(self, dev: &mut DeviceDescription, fresh: bool) {
+        if let (Target::Eds | Target::Dcf { .. }, true) = (self, fresh) {
             od::eds::complete_new_file(dev);
         }
         if let Target::Dcf { node_id, baud_rate } = self {
@@ -435,11 +446,15 @@ impl Target {
             if let Some(n) = node_id {
                 dev.set_node_id(Some(n));
             }
-            // Every configurable value goes into the DCF, so that applying it writes them all.
-            dev.configure_writable();
-            let c = dev.commissioning.get_or_insert_with(Commissioning::default);
+            if fresh {
+                // Every configurable value goes into the DCF, so that applying it writes them all.
+                dev.configure_writable();
+                dev.commissioning.get_or_insert_with(Commissioning::default);
+            }
             if let Some(b) = baud_rate {
-                c.baud_rate = b;
+                dev.commissioning
+                    .get_or_insert_with(Commissioning::default)
+                    .baud_rate = b;
             }
         }
     }
@@ -466,7 +481,12 @@ fn convert(
     if json && to_stdout {
         return Err(Error::JsonNeedsOutput);
     }
-    let (_, mut devices) = load_selected(&c.input, c.device.device.as_deref())?;
+    let original = od::load::read_limited(&c.input, od::load::MAX_FILE_BYTES)?;
+    let (input_format, as_read) = od::load::load(&c.input)?;
+    let mut devices = match c.device.device.as_deref() {
+        None => as_read.clone(),
+        Some(wanted) => vec![select::select(&c.input, as_read.clone(), wanted)?],
+    };
     if devices.is_empty() {
         return Err(Error::NoDevice(c.input.clone()));
     }
@@ -484,16 +504,43 @@ fn convert(
         .and_then(|p| p.file_name())
         .and_then(|n| n.to_str())
         .filter(|_| target != Target::Esi);
+    // A file written in its own format is a new one only when asked; an EDS made a DCF is one.
+    let carried = target
+        .format()
+        .filter(|f| family(*f) == family(input_format));
+    let fresh = c.normalise || target.format() != Some(input_format);
     for dev in &mut devices {
         if let Some(name) = name {
-            stamp_file_info(dev, name);
+            if fresh {
+                stamp_file_info(dev, name);
+            } else if !dev.file_info.file_name.is_empty() {
+                // A rewrite names the file it is, where the input named itself.
+                dev.file_info.file_name = name.to_string();
+            }
         }
-        target.prepare(dev);
+        target.prepare(dev, fresh);
     }
-    let text = target.write(&devices);
+    let plain = target.write(&devices);
+    let (text, fallback) = match carried {
+        Some(format) => {
+            let base = Target::of(input_format).write(&as_read);
+            carry(&original, input_format, format, &base, &plain, &devices)
+        }
+        None => (plain.into_bytes(), None),
+    };
+    if let Some(why) = &fallback {
+        let note = format!(
+            "esi-gen: {}: the parts the model does not hold could not be kept ({why}); written from the model\n",
+            c.input.display()
+        );
+        err.write_all(note.as_bytes()).map_err(|source| Error::Io {
+            path: PathBuf::from("-"),
+            source,
+        })?;
+    }
     match &c.output {
-        None => write_out(out, &text)?,
-        Some(p) if p.as_os_str() == "-" => write_out(out, &text)?,
+        None => write_bytes(out, &text)?,
+        Some(p) if p.as_os_str() == "-" => write_bytes(out, &text)?,
         Some(p) => std::fs::write(p, &text).map_err(|source| Error::Io {
             path: p.clone(),
             source,
@@ -521,6 +568,7 @@ fn convert(
             "output": output,
             "format": format,
             "bytes": text.len(),
+            "kept_as_written": carried.is_some() && fallback.is_none(),
             "devices": devices.iter().map(summary::label).collect::<Vec<_>>(),
             "not_kept": not_kept,
         });
@@ -537,6 +585,68 @@ fn convert(
     Ok(0)
 }
 
+/// The description family a format is written by: the EDS writer writes DCFs too.
+fn family(f: Format) -> Format {
+    match f {
+        Format::Dcf => Format::Eds,
+        other => other,
+    }
+}
+
+impl Target {
+    /// The target writing `format`, as the writer renders a description read from such a file.
+    fn of(format: Format) -> Target {
+        match format {
+            Format::Esi => Target::Esi,
+            Format::Xdd => Target::Xdd,
+            Format::Eds => Target::Eds,
+            Format::Dcf => Target::Dcf {
+                node_id: None,
+                baud_rate: None,
+            },
+        }
+    }
+}
+
+/// The output of a conversion within one family: the original file with the changes that turn the
+/// writer's rendering of the description as read (`base`) into its rendering as edited (`plain`),
+/// so that what the model does not hold stays. It is taken when it reads back as the edited
+/// `devices` at least as well as `plain` does; otherwise `plain`, with the reason.
+fn carry(
+    original: &[u8],
+    input: Format,
+    format: Format,
+    base: &str,
+    plain: &str,
+    devices: &[DeviceDescription],
+) -> (Vec<u8>, Option<String>) {
+    let kept = match od::carry::rewrite(original, input, base, plain) {
+        Ok(bytes) => bytes,
+        Err(e) => return (plain.as_bytes().to_vec(), Some(e.to_string())),
+    };
+    let differences = |text: &[u8]| -> Result<Vec<String>, String> {
+        let groups = loss_groups(format, devices, text)?;
+        Ok(groups
+            .into_iter()
+            .map(|(kind, _, example)| format!("{kind}: {example}"))
+            .collect())
+    };
+    match (differences(&kept), differences(plain.as_bytes())) {
+        (Ok(k), Ok(p)) if k.iter().all(|d| p.contains(d)) => (kept, None),
+        (Ok(k), _) => {
+            let first = k.into_iter().next().unwrap_or_default();
+            (
+                plain.as_bytes().to_vec(),
+                Some(format!("it would read back otherwise: {first}")),
+            )
+        }
+        (Err(e), _) => (
+            plain.as_bytes().to_vec(),
+            Some(format!("it would not read back: {e}")),
+        ),
+    }
+}
+
 /// What a conversion of `devices` (read from `input`) to `written`, a text in `format`, did not keep:
 /// the differences of what reads back, grouped by the kind of part and field, each group with its count
 /// and its first place; empty when everything came through.
@@ -544,7 +654,7 @@ pub fn losses(
     input: &Path,
     format: Format,
     devices: &[DeviceDescription],
-    written: &str,
+    written: &[u8],
 ) -> String {
     let groups = match loss_groups(format, devices, written) {
         Ok(groups) => groups,
@@ -576,10 +686,9 @@ pub fn losses(
 fn loss_groups(
     format: Format,
     devices: &[DeviceDescription],
-    written: &str,
+    written: &[u8],
 ) -> Result<Vec<(String, usize, String)>, String> {
-    let back =
-        od::load::read_bytes(written.as_bytes(), "written", format).map_err(|e| e.to_string())?;
+    let back = od::load::read_bytes(written, "written", format).map_err(|e| e.to_string())?;
     let mut groups: Vec<(String, usize, String)> = Vec::new();
     let mut count = |kind: String, example: String| match groups.iter_mut().find(|g| g.0 == kind) {
         Some(g) => g.1 += 1,
@@ -786,14 +895,14 @@ mod tests {
         written[1].identity.product_name = "Bee".into();
         let text = od::esi::write_all(&written);
         assert_eq!(
-            losses(Path::new("in.xml"), Format::Esi, &two, &text),
+            losses(Path::new("in.xml"), Format::Esi, &two, text.as_bytes()),
             "esi-gen: in.xml: written as ESI, 3 difference(s) read back (what ESI does not carry, or adds):\n\
              \x20     2 × EtherCAT added: A rev 0x00000001: + EtherCAT\n\
              \x20     1 × identity product name changed: B rev 0x00000001: ~ identity product name: \"\" -> \"Bee\"\n"
         );
         let text = od::esi::write_all(&two[..1]);
         assert_eq!(
-            losses(Path::new("in.xml"), Format::Esi, &two, &text),
+            losses(Path::new("in.xml"), Format::Esi, &two, text.as_bytes()),
             "esi-gen: in.xml: written as ESI, 2 difference(s) read back (what ESI does not carry, or adds):\n\
              \x20     1 × EtherCAT added: A rev 0x00000001: + EtherCAT\n\
              \x20     1 × device left out: B rev 0x00000001\n"
@@ -801,19 +910,19 @@ mod tests {
         let text = od::esi::write_all(&two);
         let one = [device("A", 1), device("C", 3)];
         assert!(
-            losses(Path::new("in.xml"), Format::Esi, &one, &text).ends_with(
+            losses(Path::new("in.xml"), Format::Esi, &one, text.as_bytes()).ends_with(
                 "\n      1 × device left out: C rev 0x00000001\n      1 × device added: B rev 0x00000001\n"
             )
         );
         // One device: no label.
         let text = od::esi::write_all(&two[..1]);
         assert_eq!(
-            losses(Path::new("in.xml"), Format::Esi, &two[..1], &text),
+            losses(Path::new("in.xml"), Format::Esi, &two[..1], text.as_bytes()),
             "esi-gen: in.xml: written as ESI, 1 difference(s) read back (what ESI does not carry, or adds):\n\
              \x20     1 × EtherCAT added: + EtherCAT\n"
         );
         assert_eq!(
-            losses(Path::new("in.xml"), Format::Esi, &one, "<EtherCATInfo"),
+            losses(Path::new("in.xml"), Format::Esi, &one, b"<EtherCATInfo"),
             "esi-gen: in.xml: written as ESI, it does not read back: written:1:1: malformed XML: syntax \
              error: tag not closed: `>` not found before end of input\n"
         );

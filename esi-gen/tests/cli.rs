@@ -246,20 +246,18 @@ fn dcf_configures_the_writable_entries() {
     let o = esi_gen(&["dcf", eds.to_str().unwrap(), "-o", dcf.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&dcf).unwrap();
+    // The DCF is the EDS as it was written, with what a DCF adds in the writer's layout.
     assert!(text.contains(
-        "[DeviceComissioning]\r\nNodeName=\r\nBaudrate=0\r\nNetNumber=0\r\nNetworkName=\r\nCANopenManager=0\r\n\r\n"
+        "[DeviceComissioning]\nNodeName=\nBaudrate=0\nNetNumber=0\nNetworkName=\nCANopenManager=0\n\n"
     ), "{text}");
     for section in [
-        "[1000]\r\nParameterName=Device type\r\nObjectType=0x7\r\nDataType=0x0007\r\nAccessType=ro\r\n\
-         DefaultValue=0x00000191\r\nPDOMapping=0\r\n\r\n",
-        "[1010sub1]\r\nParameterName=Save all parameters\r\nObjectType=0x7\r\nDataType=0x0007\r\n\
-         AccessType=rw\r\nDefaultValue=0x00000001\r\nPDOMapping=0\r\n\r\n",
-        "[1014]\r\nParameterName=COB-ID EMCY\r\nObjectType=0x7\r\nDataType=0x0007\r\nAccessType=rw\r\n\
-         DefaultValue=$NODEID+0x80\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x80\r\n\r\n",
-        "[1017]\r\nParameterName=Producer heartbeat time\r\nObjectType=0x7\r\nDataType=0x0006\r\n\
-         AccessType=rw\r\nPDOMapping=0\r\nParameterValue=0x0000\r\n\r\n",
-        "[1F50]\r\nParameterName=Program data\r\nObjectType=0x7\r\nDataType=0x000F\r\nAccessType=wo\r\n\
-         PDOMapping=0\r\n",
+        "[1000]\nParameterName=Device type\nDataType=0x0007\nAccessType=ro\nDefaultValue=0x191\n[1010]\n",
+        "[1010sub1]\nParameterName=Save all parameters\nDataType=0x0007\nAccessType=rw\nDefaultValue=1\n[1014]\n",
+        "[1014]\nParameterName=COB-ID EMCY\nDataType=0x0007\nAccessType=rw\nDefaultValue=$NODEID+0x80\n\
+         ParameterValue=$NODEID+0x80\n[1017]\n",
+        "[1017]\nParameterName=Producer heartbeat time\nDataType=0x0006\nAccessType=rw\n\
+         ParameterValue=0x0000\n[1F50]\n",
+        "[1F50]\nParameterName=Program data\nDataType=0x000F\nAccessType=wo\n",
     ] {
         assert!(text.contains(section), "{section}\n{text}");
     }
@@ -290,12 +288,8 @@ fn dcf_configures_the_writable_entries() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = std::fs::read_to_string(&dcf).unwrap();
-    assert!(
-        text.contains("[DeviceComissioning]\r\nNodeID=5\r\n"),
-        "{text}"
-    );
-    assert!(text
-        .contains("DefaultValue=$NODEID+0x80\r\nPDOMapping=0\r\nParameterValue=$NODEID+0x80\r\n"));
+    assert!(text.contains("[DeviceComissioning]\nNodeID=5\n"), "{text}");
+    assert!(text.contains("DefaultValue=$NODEID+0x80\nParameterValue=$NODEID+0x80\n"));
     let o = esi_gen(&["diff", eds.to_str().unwrap(), dcf.to_str().unwrap()]);
     assert_eq!(
         stdout(&o),

@@ -40,6 +40,7 @@ pub mod model {
 
 pub mod description {
     //! The descriptions: the formats' readers and writers and what is built on them.
+    pub mod carry;
     pub mod device;
     pub mod diff;
     pub mod doc;
@@ -59,7 +60,7 @@ pub mod coe;
 pub mod sdo;
 
 pub use description::{
-    device, diff, doc, eds, error, esi, fill, load, report, sii, validate, xdd, xml,
+    carry, device, diff, doc, eds, error, esi, fill, load, report, sii, validate, xdd, xml,
 };
 pub use model::{abort, bits, dict, event, hook, object, types, units, value};
 

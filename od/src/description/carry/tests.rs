@@ -1,0 +1,184 @@
+use super::*;
+
+fn eds(original: &str, base: &str, edited: &str) -> String {
+    rewrite_text(original, Format::Eds, base, edited).unwrap()
+}
+
+fn xml(original: &str, base: &str, edited: &str) -> String {
+    rewrite_text(original, Format::Esi, base, edited).unwrap()
+}
+
+#[test]
+fn an_unedited_file_comes_back_byte_for_byte() {
+    let original = b"; made by hand\r\n[FileInfo]\r\nFileName=a.eds\r\nLastEDS=x\r\n";
+    let base = "[FileInfo]\nFileName=a.eds\nDescription=\n";
+    assert_eq!(
+        rewrite(original, Format::Eds, base, base).unwrap(),
+        original
+    );
+    let latin1 = b"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?><R><N>\xB5</N></R>";
+    assert_eq!(
+        rewrite(latin1, Format::Esi, "<R/>", "<R/>").unwrap(),
+        latin1
+    );
+}
+
+#[test]
+fn an_ini_value_changes_in_place_with_its_comment_and_unknown_keys_kept() {
+    let original = "[FileInfo]\r\nFileName = a.eds ; the name\r\nLastEDS=x\r\n\r\n[1000]\r\nObjFlags=NV\r\nDefaultValue=0x191\r\n";
+    let base = "[FileInfo]\nFileName=a.eds\n\n[1000]\nDefaultValue=0x191\n";
+    let edited = "[FileInfo]\nFileName=b.eds\n\n[1000]\nDefaultValue=0x191\n";
+    assert_eq!(
+        eds(original, base, edited),
+        "[FileInfo]\r\nFileName = b.eds ; the name\r\nLastEDS=x\r\n\r\n[1000]\r\nObjFlags=NV\r\nDefaultValue=0x191\r\n"
+    );
+}
+
+#[test]
+fn ini_keys_and_sections_come_and_go_where_the_edit_puts_them() {
+    let original = "[A]\nk=1\n;note\nu=unknown\n\n[1018sub01]\nv=2\n[B]\nw=3\n";
+    let base = "[A]\nk=1\n\n[1018sub1]\nv=2\n\n[B]\nw=3\n";
+    let edited = "[A]\nk=1\nn=new\n\n[1018sub1]\nv=2\n\n[C]\nx=4\n\n[B]\n";
+    assert_eq!(
+        eds(original, base, edited),
+        "[A]\nk=1\nn=new\n;note\nu=unknown\n\n[1018sub01]\nv=2\n[C]\nx=4\n\n[B]\n"
+    );
+}
+
+#[test]
+fn an_ini_section_the_edit_removes_goes_with_its_comments() {
+    let original = "[A]\nk=1\n; about B\n[B]\n;in B\nw=3\n\n[C]\n";
+    let base = "[A]\nk=1\n\n[B]\nw=3\n\n[C]\n";
+    let edited = "[A]\nk=1\n\n[C]\n";
+    assert_eq!(eds(original, base, edited), "[A]\nk=1\n; about B\n[C]\n");
+}
+
+#[test]
+fn a_default_the_writer_adds_is_not_added_unless_edited() {
+    let original = "[1000]\nDefaultValue=1\n";
+    let base = "[1000]\nDefaultValue=1\nPDOMapping=0\n";
+    let edited = "[1000]\nDefaultValue=2\nPDOMapping=0\n";
+    assert_eq!(eds(original, base, edited), "[1000]\nDefaultValue=2\n");
+    let edited = "[1000]\nDefaultValue=1\nPDOMapping=1\n";
+    assert_eq!(
+        eds(original, base, edited),
+        "[1000]\nDefaultValue=1\nPDOMapping=1\n"
+    );
+}
+
+#[test]
+fn xml_attributes_change_in_place_come_and_go() {
+    let original = "<R>\n  <Type ProductCode='#x1' RevisionNo=\"#x2\" Vendor=\"v\" CheckRevisionNo=\"EQ\">T</Type>\n</R>";
+    let base = "<R>\n\t<Type ProductCode=\"#x1\" RevisionNo=\"#x2\" Vendor=\"v\">T</Type>\n</R>";
+    let edited = "<R>\n\t<Type ProductCode=\"#x'9\" RevisionNo=\"#x2\" Extra=\"e\">T</Type>\n</R>";
+    assert_eq!(
+        xml(original, base, edited),
+        "<R>\n  <Type ProductCode='#x&apos;9' RevisionNo=\"#x2\" CheckRevisionNo=\"EQ\" Extra=\"e\">T</Type>\n</R>"
+    );
+}
+
+#[test]
+fn xml_text_changes_in_place_and_fills_an_empty_tag() {
+    let original =
+        "<R><Name LcId=\"1033\">A &amp; B</Name><Name LcId=\"1031\">C</Name><Group/></R>";
+    let base =
+        "<R><Name LcId=\"1033\">A &amp; B</Name><Name LcId=\"1031\">C</Name><Group></Group></R>";
+    let edited = "<R><Name LcId=\"1033\">A</Name><Name LcId=\"1031\">C</Name><Group>G</Group></R>";
+    assert_eq!(
+        xml(original, base, edited),
+        "<R><Name LcId=\"1033\">A</Name><Name LcId=\"1031\">C</Name><Group>G</Group></R>"
+    );
+}
+
+#[test]
+fn xml_elements_unknown_to_the_model_stay_and_edits_around_them_land() {
+    let original = "<R>\n    <Object>\n        <Index>#x1000</Index>\n        <Flags><Category>m</Category></Flags>\n    </Object>\n    <!-- two -->\n    <Object>\n        <Index>#x2000</Index>\n    </Object>\n</R>\n";
+    let base = "<R>\n  <Object>\n    <Index>#x1000</Index>\n  </Object>\n  <Object>\n    <Index>#x2000</Index>\n  </Object>\n</R>\n";
+    let edited = "<R>\n  <Object>\n    <Index>#x1000</Index>\n  </Object>\n  <Object>\n    <Index>#x1800</Index>\n    <Name>new</Name>\n  </Object>\n</R>\n";
+    assert_eq!(
+        xml(original, base, edited),
+        "<R>\n    <Object>\n        <Index>#x1000</Index>\n        <Flags><Category>m</Category></Flags>\n    </Object>\n    <Object>\n        <Index>#x1800</Index>\n        <Name>new</Name>\n    </Object>\n    <!-- two -->\n</R>\n"
+    );
+}
+
+#[test]
+fn an_element_goes_into_an_empty_tag_indented() {
+    let original = "<R>\n\t<Sm a=\"1\"/>\n</R>";
+    let base = "<R>\n  <Sm a=\"1\"></Sm>\n</R>";
+    let edited = "<R>\n  <Sm a=\"1\">\n    <X>1</X>\n  </Sm>\n</R>";
+    assert_eq!(
+        xml(original, base, edited),
+        "<R>\n\t<Sm a=\"1\">\n\t\t<X>1</X>\n\t</Sm>\n</R>"
+    );
+}
+
+#[test]
+fn an_edit_brings_characters_the_encoding_has_not_as_references() {
+    let original = b"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<R><N>\xB5</N></R>";
+    let out = rewrite(
+        original,
+        Format::Esi,
+        "<R><N>\u{B5}</N></R>",
+        "<R><N>\u{B5}\u{3A9}</N></R>",
+    )
+    .unwrap();
+    assert_eq!(
+        out,
+        b"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<R><N>\xB5&#937;</N></R>"
+    );
+}
+
+#[test]
+fn unheld_parts_are_named_by_path() {
+    let original =
+        "<R Physics=\"YY\">\n<Object><Index>#x1000</Index><Flags/></Object>\n<!-- c -->\n</R>";
+    let base = "<R><Object><Index>#x1000</Index></Object></R>";
+    let got = unheld(original, Format::Esi, base).unwrap();
+    let paths: Vec<&str> = got.iter().map(|u| u.path.as_str()).collect();
+    assert_eq!(
+        paths,
+        ["R/@Physics", "R/Object[4096]/Flags", "R/#comment[1]"]
+    );
+    assert_eq!(got[0].text, "YY");
+    let original = "[FileInfo]\nFileName=a\nLastEDS=b\n[Comments]\nLines=1\nLine1=x\n";
+    let base = "[FileInfo]\nFileName=a\n";
+    let got = unheld(original, Format::Eds, base).unwrap();
+    let paths: Vec<&str> = got.iter().map(|u| u.path.as_str()).collect();
+    assert_eq!(paths, ["[FileInfo] LastEDS", "[Comments]"]);
+}
+
+#[test]
+fn malformed_texts_are_errors() {
+    assert!(rewrite_text("<R>", Format::Esi, "<R/>", "<R a=\"1\"/>").is_err());
+}
+
+#[test]
+fn an_edited_part_takes_the_place_of_an_unheld_one_of_its_name() {
+    // `NodeID=0xff` is no node-ID to the model, so its rendering has none; an edit that sets one
+    // changes that line rather than adding a second.
+    let original = "[DeviceComissioning]\nNodeID=0xff ; none\nBaudrate=500\n";
+    let base = "[DeviceComissioning]\nBaudrate=500\n";
+    let edited = "[DeviceComissioning]\nNodeID=5\nBaudrate=500\n";
+    assert_eq!(
+        eds(original, base, edited),
+        "[DeviceComissioning]\nNodeID=5 ; none\nBaudrate=500\n"
+    );
+}
+
+#[test]
+fn esi_sub_items_pair_by_name_and_xdd_objects_whatever_their_prefix() {
+    let original = "<I><SubItem><Name>A</Name><Info><D>1</D></Info></SubItem><SubItem><Name>C</Name><Info><D>3</D></Info></SubItem></I>";
+    let base = "<I><SubItem><Name>A</Name><Info><D>1</D></Info></SubItem><SubItem><Name>B</Name><Info/></SubItem><SubItem><Name>C</Name><Info><D>3</D></Info></SubItem></I>";
+    let edited = "<I><SubItem><Name>A</Name><Info><D>1</D></Info></SubItem><SubItem><Name>B</Name><Info><D>2</D></Info></SubItem><SubItem><Name>C</Name><Info><D>3</D></Info></SubItem></I>";
+    assert_eq!(
+        xml(original, base, edited),
+        "<I><SubItem><Name>A</Name><Info><D>1</D></Info></SubItem>\n\t<SubItem><Name>B</Name><Info><D>2</D></Info></SubItem><SubItem><Name>C</Name><Info><D>3</D></Info></SubItem></I>"
+    );
+    let original = "<ObjectList><Object index=\"1018\" x=\"k\"><SubObject subIndex=\"02\" defaultValue=\"1\"/></Object></ObjectList>";
+    let base = "<CANopenObjectList><CANopenObject index=\"1018\"><CANopenSubObject subIndex=\"02\" defaultValue=\"1\"/></CANopenObject></CANopenObjectList>";
+    let edited = "<CANopenObjectList><CANopenObject index=\"1018\"><CANopenSubObject subIndex=\"02\" defaultValue=\"9\"/></CANopenObject></CANopenObjectList>";
+    assert_eq!(
+        rewrite_text(original, Format::Xdd, base, edited).unwrap(),
+        "<ObjectList><Object index=\"1018\" x=\"k\"><SubObject subIndex=\"02\" defaultValue=\"9\"/></Object></ObjectList>"
+    );
+}
