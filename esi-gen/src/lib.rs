@@ -507,7 +507,7 @@ fn convert(
     // A file written in its own format is a new one only when asked; an EDS made a DCF is one.
     let carried = target
         .format()
-        .filter(|f| family(*f) == family(input_format));
+        .filter(|f| od::carry::same_family(*f, input_format));
     let fresh = c.normalise || target.format() != Some(input_format);
     for dev in &mut devices {
         if let Some(name) = name {
@@ -520,14 +520,14 @@ fn convert(
         }
         target.prepare(dev, fresh);
     }
-    let plain = target.write(&devices);
     let (text, fallback) = match carried {
         Some(format) => {
-            let base = Target::of(input_format).write(&as_read);
-            carry(&original, input_format, format, &base, &plain, &devices)
+            let w = od::carry::write(&original, input_format, &as_read, format, &devices);
+            (w.bytes, w.kept.err())
         }
-        None => (plain.into_bytes(), None),
+        None => (target.write(&devices).into_bytes(), None),
     };
+
     if let Some(why) = &fallback {
         let note = format!(
             "esi-gen: {}: the parts the model does not hold could not be kept ({why}); written from the model\n",
@@ -583,68 +583,6 @@ fn convert(
         })?;
     }
     Ok(0)
-}
-
-/// The description family a format is written by: the EDS writer writes DCFs too.
-fn family(f: Format) -> Format {
-    match f {
-        Format::Dcf => Format::Eds,
-        other => other,
-    }
-}
-
-impl Target {
-    /// The target writing `format`, as the writer renders a description read from such a file.
-    fn of(format: Format) -> Target {
-        match format {
-            Format::Esi => Target::Esi,
-            Format::Xdd => Target::Xdd,
-            Format::Eds => Target::Eds,
-            Format::Dcf => Target::Dcf {
-                node_id: None,
-                baud_rate: None,
-            },
-        }
-    }
-}
-
-/// The output of a conversion within one family: the original file with the changes that turn the
-/// writer's rendering of the description as read (`base`) into its rendering as edited (`plain`),
-/// so that what the model does not hold stays. It is taken when it reads back as the edited
-/// `devices` at least as well as `plain` does; otherwise `plain`, with the reason.
-fn carry(
-    original: &[u8],
-    input: Format,
-    format: Format,
-    base: &str,
-    plain: &str,
-    devices: &[DeviceDescription],
-) -> (Vec<u8>, Option<String>) {
-    let kept = match od::carry::rewrite(original, input, base, plain) {
-        Ok(bytes) => bytes,
-        Err(e) => return (plain.as_bytes().to_vec(), Some(e.to_string())),
-    };
-    let differences = |text: &[u8]| -> Result<Vec<String>, String> {
-        let groups = loss_groups(format, devices, text)?;
-        Ok(groups
-            .into_iter()
-            .map(|(kind, _, example)| format!("{kind}: {example}"))
-            .collect())
-    };
-    match (differences(&kept), differences(plain.as_bytes())) {
-        (Ok(k), Ok(p)) if k.iter().all(|d| p.contains(d)) => (kept, None),
-        (Ok(k), _) => {
-            let first = k.into_iter().next().unwrap_or_default();
-            (
-                plain.as_bytes().to_vec(),
-                Some(format!("it would read back otherwise: {first}")),
-            )
-        }
-        (Err(e), _) => (
-            plain.as_bytes().to_vec(),
-            Some(format!("it would not read back: {e}")),
-        ),
-    }
 }
 
 /// What a conversion of `devices` (read from `input`) to `written`, a text in `format`, did not keep:

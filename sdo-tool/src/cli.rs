@@ -234,6 +234,26 @@ pub enum Cmd {
     },
 }
 
+/// The DCF `dump` writes: the description file it read (`path`, when an EDS or DCF) with the values
+/// read and what a DCF adds, so that what the description holds beyond the model stays; the
+/// writer's DCF of `dumped` otherwise.
+fn dcf_bytes(
+    path: Option<&std::path::Path>,
+    as_read: od::DeviceDescription,
+    dumped: od::DeviceDescription,
+) -> Vec<u8> {
+    let original = path.and_then(|p| {
+        let bytes = od::load::read_limited(p, od::load::MAX_FILE_BYTES).ok()?;
+        Some((od::load::Format::detect(p, &bytes)?, bytes))
+    });
+    match original {
+        Some((format, bytes)) => {
+            od::carry::write(&bytes, format, &[as_read], od::load::Format::Dcf, &[dumped]).bytes
+        }
+        None => od::eds::write_dcf(&dumped).into_bytes(),
+    }
+}
+
 /// The first device of a description file.
 fn load_description(
     path: &std::path::Path,
@@ -1164,9 +1184,11 @@ fn sdo_command(
             let mut d = desc.cloned().ok_or_else(|| {
                 ToolError::Usage("dump needs the node's description: --od FILE".into())
             })?;
+            let as_read = d.clone();
             let outcome = commands.dump(*node, &mut d)?;
             od::eds::complete_new_file(&mut d);
-            std::fs::write(output, od::eds::write_dcf(&d))
+            let bytes = dcf_bytes(args.od.as_deref(), as_read, d.clone());
+            std::fs::write(output, bytes)
                 .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
             let name = |a: &Address| {
                 d.dictionary
@@ -1546,5 +1568,43 @@ mod tests {
         let mut v = serde_json::json!({});
         Meaning::of(Some(&d), Address::new(0x8000, 0), &Value::Uint(1), None).add_to(&mut v);
         assert_eq!(v, serde_json::json!({"unit": "mV"}));
+    }
+}
+
+#[cfg(test)]
+mod dump_file {
+    use super::dcf_bytes;
+
+    /// `dump` writes the description it read with the values read: its comments and the keys the
+    /// model does not hold stay, the values come in at their entries, and a DCF's commissioning
+    /// section comes in.
+    #[test]
+    fn a_dump_keeps_the_description_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let eds = dir.path().join("node.eds");
+        std::fs::write(
+            &eds,
+            "; vendor notes\n[FileInfo]\nFileName=node.eds\nLastEDS=old.eds\n\n[DeviceInfo]\nVendorNumber=0x1\n\n\
+             [1017]\nParameterName=Producer heartbeat time\nDataType=0x0006\nAccessType=rw\nDefaultValue=0\nDenotation=beat\n",
+        )
+        .unwrap();
+        let (_, devices) = od::load::load(&eds).unwrap();
+        let as_read = devices[0].clone();
+        let mut dumped = as_read.clone();
+        dumped
+            .dictionary
+            .store_parameter(0x1017, 0, &750u16.to_le_bytes())
+            .unwrap();
+        dumped.set_node_id(Some(5));
+        let text = String::from_utf8(dcf_bytes(Some(&eds), as_read, dumped)).unwrap();
+        assert!(
+            text.starts_with("; vendor notes\n[FileInfo]\nFileName=node.eds\nLastEDS=old.eds\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("[1017]\nParameterName=Producer heartbeat time\nDataType=0x0006\nAccessType=rw\nDefaultValue=0\nParameterValue=0x02EE\nDenotation=beat\n"),
+            "{text}"
+        );
+        assert!(text.contains("[DeviceComissioning]\nNodeID=5\n"), "{text}");
     }
 }

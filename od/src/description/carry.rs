@@ -22,6 +22,7 @@ mod xml;
 
 use std::borrow::Cow;
 
+use crate::device::DeviceDescription;
 use crate::load::Format;
 use tree::{align, Doc, Edits, Kind, Node};
 
@@ -48,6 +49,90 @@ pub fn rewrite(
     let source = Source::decode(original, format)?;
     let text = rewrite_text(&source.text, format, base, edited)?;
     Ok(source.encode(&text))
+}
+
+/// A description written in `target` format: the bytes, and why the original's parts could not be
+/// kept when they were not.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Written {
+    /// The file.
+    pub bytes: Vec<u8>,
+    /// `Err` with the reason when the file is the writer's rendering of the model alone.
+    pub kept: Result<(), String>,
+}
+
+/// The writer's rendering of `devices` in `format` (an ESI holds them all; the other formats the
+/// first).
+pub fn render(format: Format, devices: &[DeviceDescription]) -> String {
+    match (format, devices.first()) {
+        (Format::Esi, _) => crate::esi::write_all(devices),
+        (_, None) => String::new(),
+        (Format::Xdd, Some(d)) => crate::xdd::write(d),
+        (Format::Eds, Some(d)) => crate::eds::write_eds(d),
+        (Format::Dcf, Some(d)) => crate::eds::write_dcf(d),
+    }
+}
+
+/// Whether the writer of one format writes the other too (the EDS writer writes DCFs).
+pub fn same_family(a: Format, b: Format) -> bool {
+    let family = |f| match f {
+        Format::Dcf => Format::Eds,
+        other => other,
+    };
+    family(a) == family(b)
+}
+
+/// `edited` written in `target`, keeping what of `original` (a file in `input` whose model is
+/// `as_read`) the model does not hold when both formats are of one family: [`rewrite`] with the
+/// renderings of `as_read` (in `input`) and of `edited` (in `target`). That file is taken when it
+/// reads back as `edited` at least as well as the writer's rendering does — every difference of the
+/// one is a difference of the other —, else the rendering, with the reason.
+pub fn write(
+    original: &[u8],
+    input: Format,
+    as_read: &[DeviceDescription],
+    target: Format,
+    edited: &[DeviceDescription],
+) -> Written {
+    let plain = render(target, edited);
+    let fallback = |why: String| Written {
+        bytes: plain.as_bytes().to_vec(),
+        kept: Err(why),
+    };
+    if !same_family(input, target) {
+        return fallback(format!("{input} is no {target}"));
+    }
+    let base = render(input, as_read);
+    let bytes = match rewrite(original, input, &base, &plain) {
+        Ok(bytes) => bytes,
+        Err(e) => return fallback(e.to_string()),
+    };
+    let differences = |text: &[u8]| -> Result<Vec<String>, String> {
+        let back = crate::load::read_bytes(text, "written", target).map_err(|e| e.to_string())?;
+        let mut out = Vec::new();
+        for pairing in crate::diff::pair_devices(edited, &back) {
+            match pairing {
+                crate::diff::Pairing::Both(i, j) => out.extend(
+                    crate::diff::diff_devices(&edited[i], &back[j])
+                        .iter()
+                        .map(|d| format!("{i}: {d}")),
+                ),
+                other => out.push(format!("{other:?}")),
+            }
+        }
+        Ok(out)
+    };
+    match (differences(&bytes), differences(plain.as_bytes())) {
+        (Ok(k), Ok(p)) if k.iter().all(|d| p.contains(d)) => Written {
+            bytes,
+            kept: Ok(()),
+        },
+        (Ok(k), _) => fallback(format!(
+            "it would read back otherwise: {}",
+            k.into_iter().next().unwrap_or_default()
+        )),
+        (Err(e), _) => fallback(format!("it would not read back: {e}")),
+    }
 }
 
 /// [`rewrite`] on decoded text.
