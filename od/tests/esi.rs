@@ -1378,6 +1378,7 @@ fn random_ethercat(r: &mut Rng) -> EthercatInfo {
         },
         slots: random_slots(r),
         modules: Default::default(),
+        root: Default::default(),
     }
 }
 

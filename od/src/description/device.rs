@@ -169,6 +169,49 @@ pub struct EthercatInfo {
     pub slots: Option<Slots>,
     /// The modules of the file (`Descriptions/Modules/Module`), shared by every device of the file.
     pub modules: Arc<[Module]>,
+    /// The root element of the file the description is a part of, which an ESI writer writes it back
+    /// in: a device of an `EtherCATInfo`, or a module of a module catalogue (`EtherCATModule`).
+    pub root: EsiRoot,
+}
+
+/// The kind of ESI file a description is a part of (ETG.2000: the root element).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub enum EsiRoot {
+    /// `EtherCATInfo`: the description is a `Device` of a file of devices.
+    #[default]
+    EtherCatInfo,
+    /// `EtherCATModule` (ETG.2000 module description): the description is a `Module` of a module
+    /// catalogue, a file of modules without devices. Its type name, name, PDOs, mailbox and dictionary
+    /// are the description's; what a module has beyond them is here.
+    EtherCatModule(CatalogueModule),
+}
+
+impl EsiRoot {
+    /// The root element's name: `EtherCATInfo` or `EtherCATModule`.
+    pub fn element(&self) -> &'static str {
+        match self {
+            EsiRoot::EtherCatInfo => "EtherCATInfo",
+            EsiRoot::EtherCatModule(_) => "EtherCATModule",
+        }
+    }
+}
+
+/// What a module of a module catalogue has beyond the parts of a description (ETG.2001 `ModuleType`;
+/// the same fields as a [`Module`] of an `EtherCATInfo`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct CatalogueModule {
+    /// `Type@ModuleIdent`: what the device reports for it (0xF050).
+    pub ident: u32,
+    /// `Type@ModuleClass`.
+    pub class: String,
+    /// `Type@ModulePdoGroup`.
+    pub pdo_group: Option<u32>,
+    /// `Profile/ProfileNo`.
+    pub profile_no: Option<u32>,
+    /// `Profile/AddInfo`.
+    pub add_info: Option<u32>,
+    /// `DcOpModeName`: the device's `Dc/OpMode` the module needs.
+    pub dc_op_mode_name: String,
 }
 
 /// The slots of a modular device (`Device/Slots`, ETG.2001): how many modules it takes, which, and how

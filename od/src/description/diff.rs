@@ -1,7 +1,7 @@
 //! Differences between two device descriptions: every part of the model — identity, file information,
-//! CAN capabilities, commissioning, the EtherCAT parts (group type, FMMUs, sync managers, PDOs, mailbox,
-//! DC op modes, EEPROM), the dictionary and the comments — and, between two files of several devices,
-//! which devices pair with which.
+//! CAN capabilities, commissioning, the EtherCAT parts (the file's root element, group type, FMMUs, sync
+//! managers, PDOs, mailbox, DC op modes, EEPROM, slots, modules), the dictionary and the comments — and,
+//! between two files of several devices, which devices pair with which.
 //!
 //! A [`Difference`] is a place in the description (a path of [`Step`]s) and a [`Change`] there: a part
 //! only one side has, or a field whose values differ, each value shown as text ([`Shown`]). Everything is

@@ -1,13 +1,14 @@
 //! Consistency checks of a device description beyond what a reader checks: structure of ARRAY/RECORD
 //! objects (CiA 301 §7.4.3), defaults against types and limits, PDO mapping entries against the
-//! dictionary (CiA 301 §7.5.2.36, ETG.1000.6 §5.6.7.4.7), and the mandatory objects.
+//! dictionary (CiA 301 §7.5.2.36, ETG.1000.6 §5.6.7.4.7), and the mandatory objects (of a device: a
+//! module of an ESI module catalogue has none of its own).
 //!
 //! Each finding is ranked as [`crate::report`] says: everything here describes a file that masters and
 //! configuration tools still load (an entry mapped with fewer bits than its type, a default outside its
 //! limits, a missing mandatory object), so it is a warning; only a default that is no value of its type,
 //! which no reader produces, is an error.
 
-use crate::device::DeviceDescription;
+use crate::device::{DeviceDescription, EsiRoot};
 use crate::dict::{compare, Address, Dictionary};
 use crate::object::ObjectKind;
 use crate::report::SourceMap;
@@ -64,9 +65,11 @@ impl Checker<'_> {
         // An EtherCAT device without CoE has no object dictionary to speak of; one whose ESI gives no
         // communication objects (no dictionary, or one of the application objects only) leaves the
         // dictionary to SDO Information, which masters read online.
+        // A module of a module catalogue is a part of a device, whose dictionary has them.
         let coe = desc.ethercat.as_ref().map_or(true, |e| {
             e.mailbox.as_ref().is_some_and(|m| m.coe.is_some())
                 && d.objects().any(|o| (0x1000..=0x1FFF).contains(&o.index))
+                && e.root == EsiRoot::EtherCatInfo
         });
         for (index, what) in [(0x1000u16, "device type"), (0x1018, "identity")] {
             if coe && d.object(index).is_none() {
@@ -395,6 +398,33 @@ mod tests {
                 "warning: object 0x1000 (device type) is mandatory and missing",
                 "warning: object 0x1018 (identity) is mandatory and missing",
                 "warning: 0x2000:00: default value outside the limits: 0x2000:00: 50 is above the high limit 10",
+            ]
+        );
+    }
+
+    /// A module of a module catalogue (its mapping objects are in 0x1000–0x1FFF, its mailbox speaks
+    /// CoE) lacks 0x1000 and 0x1018 without a finding: they are the device's; as a device it lacks them.
+    #[test]
+    fn a_module_of_a_catalogue_has_no_mandatory_objects() {
+        use crate::device::{CatalogueModule, EthercatInfo, Mailbox};
+        let mut desc = DeviceDescription::default();
+        desc.dictionary.insert(mapping(0x1A00, &[]));
+        desc.ethercat = Some(EthercatInfo {
+            mailbox: Some(Mailbox {
+                coe: Some(Default::default()),
+                ..Mailbox::default()
+            }),
+            root: EsiRoot::EtherCatModule(CatalogueModule::default()),
+            ..EthercatInfo::default()
+        });
+        assert_eq!(validate(&desc), vec![]);
+        desc.ethercat.as_mut().unwrap().root = EsiRoot::EtherCatInfo;
+        let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
+        assert_eq!(
+            text,
+            vec![
+                "warning: object 0x1000 (device type) is mandatory and missing",
+                "warning: object 0x1018 (identity) is mandatory and missing",
             ]
         );
     }

@@ -1,12 +1,14 @@
-//! The EtherCAT parts: group type, FMMUs, sync managers, PDOs, mailbox with its start-up commands, DC
-//! op modes, EEPROM, slots and modules.
+//! The EtherCAT parts: the root element of the file (and what a module catalogue's module has beyond
+//! a device's parts), group type, FMMUs, sync managers, PDOs, mailbox with its start-up commands, DC op
+//! modes, EEPROM, slots and modules.
 
-use super::context::{bytes_text, hex2, hex4, joined, or_none, Cx, Key, List};
+use super::context::{bytes_text, hex2, hex4, hex8, joined, or_none, Cx, Key, List};
 use super::dictionary::dictionary;
 use super::{Shown, Step};
 use crate::device::{
-    CoeFlags, Eeprom, EthercatInfo, InitCmd, Mailbox, Module, ModulePdoGroup, OpMode, Pdo,
-    PdoEntry, PdoRef, Slot, SlotDepend, SlotModuleClass, SlotModuleIdent, Slots, SyncManager,
+    CatalogueModule, CoeFlags, Eeprom, EsiRoot, EthercatInfo, InitCmd, Mailbox, Module,
+    ModulePdoGroup, OpMode, Pdo, PdoEntry, PdoRef, Slot, SlotDepend, SlotModuleClass,
+    SlotModuleIdent, Slots, SyncManager,
 };
 
 /// The EtherCAT parts. A new list of parts is one more `cx.list` here with a compare function of its
@@ -23,7 +25,16 @@ pub(super) fn ethercat(cx: &mut Cx<'_>, a: &EthercatInfo, b: &EthercatInfo) {
         eeprom: rom,
         slots: slotted,
         modules: mods,
+        root,
     } = a;
+    cx.field("root element", root.element(), b.root.element(), |e| {
+        Shown::Plain(e.to_string())
+    });
+    if let (EsiRoot::EtherCatModule(x), EsiRoot::EtherCatModule(y)) = (root, &b.root) {
+        cx.within(Step::Part("catalogue module"), |cx| {
+            catalogue_module(cx, x, y)
+        });
+    }
     cx.text("group type", group_type, &b.group_type);
     cx.field("FMMUs", fmmus, &b.fmmus, |v| joined(v, String::clone));
     cx.list(
@@ -282,6 +293,24 @@ fn module(cx: &mut Cx<'_>, a: &Module, b: &Module) {
     cx.field("profile number", profile_no, &b.profile_no, number);
     cx.field("add info", add_info, &b.add_info, number);
     dictionary(cx, dict, &b.dictionary);
+    cx.text("DC op mode name", dc_op_mode_name, &b.dc_op_mode_name);
+}
+
+/// What a module of a module catalogue has beyond the description's parts.
+fn catalogue_module(cx: &mut Cx<'_>, a: &CatalogueModule, b: &CatalogueModule) {
+    let CatalogueModule {
+        ident,
+        class,
+        pdo_group,
+        profile_no,
+        add_info,
+        dc_op_mode_name,
+    } = a;
+    cx.field("module ident", ident, &b.ident, hex8);
+    cx.text("class", class, &b.class);
+    cx.field("PDO group", pdo_group, &b.pdo_group, number);
+    cx.field("profile number", profile_no, &b.profile_no, number);
+    cx.field("add info", add_info, &b.add_info, number);
     cx.text("DC op mode name", dc_op_mode_name, &b.dc_op_mode_name);
 }
 

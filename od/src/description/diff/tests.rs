@@ -459,6 +459,7 @@ fn device() -> DeviceDescription {
             }),
             slots: None,
             modules: Default::default(),
+            root: EsiRoot::EtherCatInfo,
         }),
         dictionary: base(),
         comments: vec!["first".into(), "second".into()],
@@ -1173,6 +1174,41 @@ fn slots_modules_and_start_up_commands_are_compared() {
             "~ Module 0x00000007 profile number: none -> 5001",
             "~ Module 0x00000007 DC op mode name: \"\" -> \"DC\"",
             "~ 0x1018:01 value relative to the node-ID: no -> yes",
+        ]
+    );
+}
+
+#[test]
+fn a_module_of_a_catalogue_differs_from_a_device_and_by_its_module_parts() {
+    let module = CatalogueModule {
+        ident: 0x0009_1F84,
+        class: "Di".into(),
+        pdo_group: Some(1),
+        profile_no: Some(5001),
+        add_info: Some(0),
+        dc_op_mode_name: String::new(),
+    };
+    let text = device_diff(|b| ecat(b).root = EsiRoot::EtherCatModule(module.clone()));
+    assert_eq!(text, vec!["~ root element: EtherCATInfo -> EtherCATModule"]);
+    let mut a = device();
+    ecat(&mut a).root = EsiRoot::EtherCatModule(module.clone());
+    let mut b = a.clone();
+    ecat(&mut b).root = EsiRoot::EtherCatModule(CatalogueModule {
+        ident: 0x0009_1F85,
+        class: "Do".into(),
+        pdo_group: None,
+        profile_no: Some(5001),
+        add_info: None,
+        dc_op_mode_name: "DC".into(),
+    });
+    assert_eq!(
+        lines(&diff_devices(&a, &b)),
+        vec![
+            "~ catalogue module module ident: 0x00091F84 -> 0x00091F85",
+            "~ catalogue module class: \"Di\" -> \"Do\"",
+            "~ catalogue module PDO group: 1 -> none",
+            "~ catalogue module add info: 0 -> none",
+            "~ catalogue module DC op mode name: \"\" -> \"DC\"",
         ]
     );
 }

@@ -9,9 +9,13 @@
 //! - `Descriptions/Devices/Device`: `Type` (`@ProductCode`, `@RevisionNo`, text = order code), `Name`
 //!   (`LcId` 1033 preferred, else the first), `GroupType`, `Profile/Dictionary`, `Fmmu`, `Sm`, `RxPdo`/`TxPdo`,
 //!   `Mailbox` (with the `InitCmd`s of `CoE`), `Dc/OpMode`, `Slots` and `Eeprom` (ETG.2000 `DeviceType`). An
-//!   `EtherCATModule` file (ETG.2000 module description, root `EtherCATModule`) has no devices; each of its
+//!   `EtherCATModule` file (ETG.2000 module description, a module catalogue) has no devices; each of its
 //!   `Modules/Module` is read as a description of its own, with product code and revision 0 (a module has
-//!   only a `ModuleIdent`).
+//!   only a `ModuleIdent`), that knows it is a catalogue's module:
+//!   [`EthercatInfo::root`](crate::device::EthercatInfo::root) is
+//!   [`EsiRoot::EtherCatModule`](crate::device::EsiRoot::EtherCatModule) with what the module has beyond
+//!   a device's parts (`Type@ModuleIdent`, `@ModuleClass`, `@ModulePdoGroup`, `Profile/ProfileNo`,
+//!   `AddInfo`, `DcOpModeName`).
 //! - Modular devices (ETG.2001): `Device/Slots` (`MaxSlotCount`, `MaxSlotGroupCount`, the PDO and index
 //!   increments, `DownloadModuleIdentList`, `IdentifyModuleBy`; each `Slot` with `Name`, `SlotGroup`,
 //!   `MinInstances`, `MaxInstances`, its own increments, `TreeView`, and the `ModuleIdent`s (with
@@ -90,7 +94,13 @@
 //!
 //! # What is written
 //!
-//! A complete `EtherCATInfo` file: `Vendor`, one `Group` per distinct `GroupType`, one `Device` per
+//! Descriptions that are all modules of a module catalogue are written as one: `EtherCATModule` with the
+//! `Vendor` of the first and `Modules` with a `Module` per description, its elements in the order of
+//! ETG.2001 `ModuleType` (`Type` with its attributes, `Name`, `RxPdo`s, `TxPdo`s, `Mailbox`, `Profile`
+//! with `ProfileNo`, `AddInfo` and `Dictionary`, `DcOpModeName`) as for a module of an `EtherCATInfo`;
+//! a device's parts such a description may carry (sync managers, slots, …) have no place there and are
+//! left out. Any other set of descriptions, a catalogue's modules among devices too, is written as
+//! a complete `EtherCATInfo` file: `Vendor`, one `Group` per distinct `GroupType`, one `Device` per
 //! description, and `Modules` with each distinct module of the descriptions once (reading the file back
 //! gives every device all of them: descriptions from different files, written together, share their
 //! modules). `DataTypes` come from the dictionary: one `DataType` per basic type used, and per RECORD or
@@ -150,7 +160,8 @@ pub enum Select {
     ProductCode(u32),
 }
 
-/// Reads every device of an ESI file (`EtherCATInfo`), or every module of an `EtherCATModule` file.
+/// Reads every device of an ESI file (`EtherCATInfo`), or every module of an `EtherCATModule` file (a
+/// module catalogue, which each module's description records).
 ///
 /// `source_name` names the file in errors. The vendor's `Id` and `Name` go into each identity.
 pub fn read_all(bytes: &[u8], source_name: &str) -> Result<Vec<DeviceDescription>, ParseError> {
@@ -293,8 +304,9 @@ pub fn write(desc: &DeviceDescription) -> String {
     writer::write_all(std::slice::from_ref(desc))
 }
 
-/// Writes several descriptions as one ESI file with one `Device` each; the vendor (and file version) is
-/// taken from the first.
+/// Writes several descriptions as one ESI file with one `Device` each, or, when they are all modules of
+/// a module catalogue, as an `EtherCATModule` file with one `Module` each; the vendor (and file
+/// version) is taken from the first.
 pub fn write_all(descs: &[DeviceDescription]) -> String {
     writer::write_all(descs)
 }

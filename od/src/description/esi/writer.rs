@@ -1,12 +1,13 @@
-//! The ESI writer: one `EtherCATInfo` document from descriptions, through [`XmlWriter`] so the output is
+//! The ESI writer: one `EtherCATInfo` document from descriptions (an `EtherCATModule` one from the
+//! modules of a module catalogue), through [`XmlWriter`] so the output is
 //! byte-stable (fixed element order, objects and types in index order, no dates).
 
 use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 
 use crate::device::{
-    CoeFlags, DeviceDescription, EthercatInfo, InitCmd, Mailbox, Module, Pdo, PdoEntry, SlotDepend,
-    Slots, SyncManager,
+    CatalogueModule, CoeFlags, DeviceDescription, EsiRoot, EthercatInfo, InitCmd, Mailbox, Module,
+    Pdo, PdoEntry, SlotDepend, Slots, SyncManager,
 };
 use crate::dict::Dictionary;
 use crate::object::{Access, AccessType, Object, ObjectKind, PdoMapping, SubObject};
@@ -19,16 +20,32 @@ mapping objects 0x1600-0x17FF/0x1A00-0x1BFF and their default mapping, the four 
 FMMUs and a CoE mailbox.";
 
 pub(super) fn write_all(descs: &[DeviceDescription]) -> String {
-    let mut w = XmlWriter::new();
+    let catalogue: Option<Vec<(&DeviceDescription, &EthercatInfo, &CatalogueModule)>> = descs
+        .iter()
+        .map(|d| match &d.ethercat {
+            Some(e) => match &e.root {
+                EsiRoot::EtherCatModule(m) => Some((d, e, m)),
+                EsiRoot::EtherCatInfo => None,
+            },
+            None => None,
+        })
+        .collect();
+    match catalogue {
+        Some(modules) if !modules.is_empty() => write_catalogue(&modules),
+        _ => write_info(descs),
+    }
+}
+
+/// The root element and the `Vendor` of the first description.
+fn start_file(w: &mut XmlWriter, root: &str, schema: &str, first: Option<&DeviceDescription>) {
     w.start(
-        "EtherCATInfo",
+        root,
         &[
             ("xmlns:xsi", "http://www.w3.org/2001/XMLSchema-instance"),
-            ("xsi:noNamespaceSchemaLocation", "EtherCATInfo.xsd"),
+            ("xsi:noNamespaceSchemaLocation", schema),
             ("Version", "1.11"),
         ],
     );
-    let first = descs.first();
     let vendor_id = first.map_or(0, |d| d.identity.vendor_id);
     let vendor_name = first.map_or("", |d| d.identity.vendor_name.as_str());
     let file_version = first.map_or("", |d| d.file_info.file_version.as_str());
@@ -40,6 +57,46 @@ pub(super) fn write_all(descs: &[DeviceDescription]) -> String {
     w.text("Id", &[], &hex32(vendor_id));
     w.text("Name", &[("LcId", "1033")], vendor_name);
     w.end();
+}
+
+/// A module catalogue (ETG.2000 module description): `EtherCATModule` with the vendor and one
+/// `Modules/Module` per description, in the parts a module has.
+fn write_catalogue(modules: &[(&DeviceDescription, &EthercatInfo, &CatalogueModule)]) -> String {
+    let mut w = XmlWriter::new();
+    start_file(
+        &mut w,
+        "EtherCATModule",
+        "EtherCATModule.xsd",
+        modules.first().map(|m| m.0),
+    );
+    w.start("Modules", &[]);
+    for (desc, ecat, m) in modules {
+        let parts = ModuleParts {
+            ident: m.ident,
+            class: &m.class,
+            pdo_group: m.pdo_group,
+            type_name: &desc.identity.order_code,
+            name: &desc.identity.product_name,
+            rx_pdos: &ecat.rx_pdos,
+            tx_pdos: &ecat.tx_pdos,
+            mailbox: ecat.mailbox.as_ref(),
+            profile_no: m.profile_no,
+            add_info: m.add_info,
+            dictionary: &desc.dictionary,
+            dc_op_mode_name: &m.dc_op_mode_name,
+        };
+        write_module(&mut w, &parts, node_id(desc));
+    }
+    w.end();
+    w.finish()
+}
+
+/// An `EtherCATInfo` file: one `Device` per description (a module of a catalogue among devices is
+/// written as a device), then the modules of the devices.
+fn write_info(descs: &[DeviceDescription]) -> String {
+    let mut w = XmlWriter::new();
+    let first = descs.first();
+    start_file(&mut w, "EtherCATInfo", "EtherCATInfo.xsd", first);
     w.start("Descriptions", &[]);
     let ecats: Vec<Cow<EthercatInfo>> = descs
         .iter()
@@ -90,7 +147,7 @@ pub(super) fn write_all(descs: &[DeviceDescription]) -> String {
         let node = first.map_or(0, node_id);
         w.start("Modules", &[]);
         for m in modules {
-            write_module(&mut w, m, node);
+            write_module(&mut w, &ModuleParts::of(m), node);
         }
         w.end();
     }
@@ -98,26 +155,62 @@ pub(super) fn write_all(descs: &[DeviceDescription]) -> String {
     w.finish()
 }
 
-fn write_module(w: &mut XmlWriter, m: &Module, node: u8) {
+/// The parts of a `Module` element (ETG.2001 `ModuleType`), from a [`Module`] of an `EtherCATInfo` or
+/// from a description of a module catalogue.
+struct ModuleParts<'a> {
+    ident: u32,
+    class: &'a str,
+    pdo_group: Option<u32>,
+    type_name: &'a str,
+    name: &'a str,
+    rx_pdos: &'a [Pdo],
+    tx_pdos: &'a [Pdo],
+    mailbox: Option<&'a Mailbox>,
+    profile_no: Option<u32>,
+    add_info: Option<u32>,
+    dictionary: &'a Dictionary,
+    dc_op_mode_name: &'a str,
+}
+
+impl<'a> ModuleParts<'a> {
+    fn of(m: &'a Module) -> ModuleParts<'a> {
+        ModuleParts {
+            ident: m.ident,
+            class: &m.class,
+            pdo_group: m.pdo_group,
+            type_name: &m.type_name,
+            name: &m.name,
+            rx_pdos: &m.rx_pdos,
+            tx_pdos: &m.tx_pdos,
+            mailbox: m.mailbox.as_ref(),
+            profile_no: m.profile_no,
+            add_info: m.add_info,
+            dictionary: &m.dictionary,
+            dc_op_mode_name: &m.dc_op_mode_name,
+        }
+    }
+}
+
+fn write_module(w: &mut XmlWriter, m: &ModuleParts, node: u8) {
     w.start("Module", &[]);
     let ident = hex32(m.ident);
     let group = m.pdo_group.map(|g| g.to_string());
     let mut attrs: Vec<(&str, &str)> = vec![("ModuleIdent", &ident)];
     if !m.class.is_empty() {
-        attrs.push(("ModuleClass", &m.class));
+        attrs.push(("ModuleClass", m.class));
     }
     if let Some(g) = &group {
         attrs.push(("ModulePdoGroup", g));
     }
-    w.text("Type", &attrs, &m.type_name);
-    w.text("Name", &[("LcId", "1033")], &m.name);
-    for p in &m.rx_pdos {
+    w.text("Type", &attrs, m.type_name);
+    w.text("Name", &[("LcId", "1033")], m.name);
+    for p in m.rx_pdos {
         write_pdo(w, "RxPdo", p);
     }
-    for p in &m.tx_pdos {
+    for p in m.tx_pdos {
         write_pdo(w, "TxPdo", p);
     }
-    if let Some(mb) = &m.mailbox {
+    if let Some(mb) = m.mailbox {
         write_mailbox(w, mb);
     }
     w.start("Profile", &[]);
@@ -127,10 +220,10 @@ fn write_module(w: &mut XmlWriter, m: &Module, node: u8) {
     if let Some(n) = m.add_info {
         w.text("AddInfo", &[], &n.to_string());
     }
-    write_dictionary(w, &m.dictionary, node);
+    write_dictionary(w, m.dictionary, node);
     w.end();
     if !m.dc_op_mode_name.is_empty() {
-        w.text("DcOpModeName", &[], &m.dc_op_mode_name);
+        w.text("DcOpModeName", &[], m.dc_op_mode_name);
     }
     w.end();
 }
@@ -1084,5 +1177,6 @@ fn derive_ethercat(desc: &DeviceDescription) -> EthercatInfo {
         eeprom: None,
         slots: None,
         modules: Default::default(),
+        root: EsiRoot::EtherCatInfo,
     }
 }

@@ -40,11 +40,18 @@ impl Parser<'_> {
                         }
                     }
                 }
-                [Tag::EtherCATInfo, Tag::Descriptions, Tag::Devices, Tag::Device]
-                | [Tag::EtherCATModule, Tag::Modules, Tag::Module] => {
+                [Tag::EtherCATInfo, Tag::Descriptions, Tag::Devices, Tag::Device] => {
                     self.device_depth = Some(stack.len() - 1);
                     self.device = Some(RawDevice {
                         offset,
+                        ..RawDevice::default()
+                    });
+                }
+                [Tag::EtherCATModule, Tag::Modules, Tag::Module] => {
+                    self.device_depth = Some(stack.len() - 1);
+                    self.device = Some(RawDevice {
+                        offset,
+                        in_catalogue: true,
                         ..RawDevice::default()
                     });
                 }
@@ -490,7 +497,9 @@ impl Parser<'_> {
             [Tag::GroupType] => dev.group_type = text.to_string(),
             [Tag::DcOpModeName] => dev.dc_op_mode_name = text.to_string(),
             // Kept for modules; a device's profile number is not kept.
-            [Tag::Profile, f @ (Tag::ProfileNo | Tag::AddInfo)] if dev.is_module => {
+            [Tag::Profile, f @ (Tag::ProfileNo | Tag::AddInfo)]
+                if dev.is_module || dev.in_catalogue =>
+            {
                 let what = format!("<Profile>/<{}>", f.name());
                 let n = match ctx.number(text, at, &what) {
                     Ok(n) => Some(n),

@@ -285,6 +285,8 @@ struct RawDevice {
     ecat: EthercatInfo,
     /// A `Descriptions/Modules/Module` (a module of the file's modular devices), not a device.
     is_module: bool,
+    /// A `Modules/Module` of a module catalogue (root `EtherCATModule`): a description of its own.
+    in_catalogue: bool,
     /// `Type@ModuleIdent`, `@ModuleClass`, `@ModulePdoGroup` of a module.
     module_ident: u32,
     module_class: String,

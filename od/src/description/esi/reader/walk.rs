@@ -4,7 +4,7 @@
 
 use super::dictionary::build_device;
 use super::{Parser, Tag};
-use crate::device::Module;
+use crate::device::{CatalogueModule, EsiRoot, Module};
 use crate::error::ParseError;
 use crate::xml::cursor::{normalize_line_ends, Cursor, Element, Node};
 
@@ -142,7 +142,17 @@ impl<'a> Parser<'a> {
         self.stack.pop();
         if self.device_depth == Some(self.stack.len()) {
             self.device_depth = None;
-            if let Some(raw) = self.device.take() {
+            if let Some(mut raw) = self.device.take() {
+                if raw.in_catalogue {
+                    raw.ecat.root = EsiRoot::EtherCatModule(CatalogueModule {
+                        ident: raw.module_ident,
+                        class: raw.module_class.clone(),
+                        pdo_group: raw.module_pdo_group,
+                        profile_no: raw.profile_no,
+                        add_info: raw.add_info,
+                        dc_op_mode_name: raw.dc_op_mode_name.clone(),
+                    });
+                }
                 let module = raw.is_module.then(|| {
                     (
                         raw.module_ident,
