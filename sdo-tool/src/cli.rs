@@ -107,7 +107,8 @@ pub enum Cmd {
     },
     /// Read the node's parameters (the writable entries of the --od description, without command
     /// objects, cyclic outputs and DOMAINs) into a DCF; the write-only ones, which cannot be read
-    /// back, are named.
+    /// back, are named, and so are the entries the description flags "refuse read on scan"
+    /// (ObjFlags bit 1), which are not read.
     Dump {
         /// Node-ID, 1–127 (with --ethercat: the slave's position, 1 = first).
         node: u8,
@@ -117,7 +118,8 @@ pub enum Cmd {
     },
     /// Write the values a DCF sets (ParameterValue) to the node in CiA 301 order (each PDO made
     /// invalid, its mapping count 0, the entries, the count, the PDO as the file gives it), reading
-    /// each back. An entry the node refuses as such (read-only, missing) is skipped with a warning,
+    /// each back. An entry the DCF flags "refuse write on download" (ObjFlags bit 0) is not written,
+    /// and said so. An entry the node refuses as such (read-only, missing) is skipped with a warning,
     /// another refusal is counted and the rest goes on. Exit 1 when a write was refused, 4 when a
     /// value reads back differently.
     Apply {
@@ -770,6 +772,8 @@ fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result
             let limits = crate::limits_text(e);
             let addr = Address::new(o.index, sub);
             let unit = e.unit.map(od::units::unit_text);
+            // What dump and apply leave out for the description's ObjFlags (CiA 306 §4.6.3).
+            let flags = Some(o.flags_of(sub)).filter(|f| !f.is_empty());
             if json {
                 rows.push(serde_json::json!({
                     "address": addr.to_string(),
@@ -779,6 +783,7 @@ fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result
                     "default": default,
                     "limits": limits,
                     "unit": unit,
+                    "obj_flags": flags.map(|f| f.bits()),
                 }));
             } else {
                 let mut line = format!(
@@ -794,6 +799,9 @@ fn list(desc: &od::DeviceDescription, json: bool, out: &mut dyn Write) -> Result
                 }
                 if let Some(u) = unit {
                     line.push_str(&format!("  unit {u}"));
+                }
+                if let Some(f) = flags {
+                    line.push_str(&format!("  ObjFlags {f}"));
                 }
                 writeln!(out, "{line}").map_err(io)?;
             }
@@ -1207,6 +1215,12 @@ fn sdo_command(
                 .filter(|(_, why)| *why == crate::config::Skip::WriteOnly)
                 .map(|(a, _)| name(a))
                 .collect();
+            let not_scanned: Vec<String> = outcome
+                .skipped
+                .iter()
+                .filter(|(_, why)| *why == crate::config::Skip::RefuseReadOnScan)
+                .map(|(a, why)| format!("skipped {}: {why}", name(a)))
+                .collect();
             let mut counts: std::collections::BTreeMap<&str, usize> = Default::default();
             for (_, why) in &outcome.skipped {
                 let kind = match why {
@@ -1215,6 +1229,8 @@ fn sdo_command(
                     crate::config::Skip::CyclicOutput(_) => "cyclic outputs",
                     crate::config::Skip::Domain => "DOMAINs",
                     crate::config::Skip::WriteOnly => "write-only",
+                    crate::config::Skip::RefuseReadOnScan
+                    | crate::config::Skip::RefuseWriteOnDownload => "refused by ObjFlags",
                 };
                 *counts.entry(kind).or_default() += 1;
             }
@@ -1229,6 +1245,10 @@ fn sdo_command(
                     write_only.len(),
                     write_only.join(", ")
                 ));
+            }
+            for l in &not_scanned {
+                text.push_str(l);
+                text.push('\n');
             }
             let left_out: Vec<String> = counts.iter().map(|(k, n)| format!("{n} {k}")).collect();
             text.push_str(&format!(
@@ -1250,6 +1270,7 @@ fn sdo_command(
                     "file": output.display().to_string(),
                     "not_read": not_read,
                     "write_only": write_only,
+                    "not_scanned": not_scanned,
                     "left_out": counts,
                 }),
             )?;

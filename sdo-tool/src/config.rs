@@ -11,7 +11,10 @@
 //!   node's mapping is read, or as the description gives it where the mapping is not writable;
 //! - DOMAINs (a program, a file: `upload` moves them);
 //! - write-only entries, which cannot be read back: they are named, so the user knows the DCF lacks
-//!   them.
+//!   them;
+//! - entries the description flags "refuse read on scan" (CiA 306 §4.6.3 `ObjFlags` bit 1, XDD
+//!   `objFlags`): not read at all, and named. The flags of an object's section cover each of its
+//!   sub-indices ([`od::object::Object::flags_of`]).
 //!
 //! **Apply** ([`plan`]) writes what the DCF sets in index order, but each PDO with the CiA 301
 //! §7.5.2.35–38 procedure: its COB-ID invalid (bit 31 set), its other communication parameters, the
@@ -19,13 +22,15 @@
 //! whose COB-ID the DCF gives read-only cannot be made invalid, so its mapping cannot change: its
 //! entries and count go as they are (a node takes them when they are what it has). CoE PDO
 //! assignments (0x1C10–0x1C2F, ETG.1020) go the same way: count 0, the entries, the count. Command
-//! objects a DCF sets (one made elsewhere) are left out and said so.
+//! objects a DCF sets (one made elsewhere) are left out and said so, and so are the entries it flags
+//! "refuse write on download" (`ObjFlags` bit 0; a PDO whose COB-ID is so flagged cannot be made
+//! invalid either, and its mapping goes as it is).
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use od::abort::AbortCode;
 use od::dict::{Address, Dictionary};
-use od::object::{AccessType, SubObject};
+use od::object::{AccessType, ObjFlags, SubObject};
 use od::types::DataType;
 use od::value::Value;
 
@@ -59,6 +64,12 @@ pub enum Skip {
     Domain,
     /// Write-only: cannot be read back, so a dump cannot capture it.
     WriteOnly,
+    /// The description flags it "refuse read on scan" (CiA 306 §4.6.3 `ObjFlags` bit 1): a dump
+    /// does not read it.
+    RefuseReadOnScan,
+    /// The description flags it "refuse write on download" (CiA 306 §4.6.3 `ObjFlags` bit 0):
+    /// `apply` does not write it.
+    RefuseWriteOnDownload,
 }
 
 impl std::fmt::Display for Skip {
@@ -70,6 +81,8 @@ impl std::fmt::Display for Skip {
             Skip::CyclicOutput(Some(m)) => write!(f, "a cyclic output (mapped by 0x{m:04X})"),
             Skip::Domain => write!(f, "a DOMAIN (upload moves it)"),
             Skip::WriteOnly => write!(f, "write-only: cannot be read back, not in the file"),
+            Skip::RefuseReadOnScan => write!(f, "ObjFlags bit 1: refuse read on scan"),
+            Skip::RefuseWriteOnDownload => write!(f, "ObjFlags bit 0: refuse write on download"),
         }
     }
 }
@@ -91,13 +104,19 @@ fn not_a_parameter(addr: Address, entry: &SubObject) -> Option<Skip> {
 }
 
 /// The entries of `dict` a dump reads, in index order, and the ones it leaves out with the reason
-/// (mapped outputs are found only once the mapping is read: [`mapped_outputs`]).
+/// (mapped outputs are found only once the mapping is read: [`mapped_outputs`]). An entry flagged
+/// "refuse read on scan" is left out for that, whatever else it is: the description says not to
+/// read it.
 pub fn dump_entries(dict: &Dictionary) -> (Vec<Address>, Vec<(Address, Skip)>) {
     let mut read = Vec::new();
     let mut skipped = Vec::new();
     for o in dict.objects() {
         for (&sub, e) in &o.subs {
             let addr = Address::new(o.index, sub);
+            if o.flags_of(sub).contains(ObjFlags::REFUSE_READ_ON_SCAN) {
+                skipped.push((addr, Skip::RefuseReadOnScan));
+                continue;
+            }
             match not_a_parameter(addr, e) {
                 None => read.push(addr),
                 Some(why) => skipped.push((addr, why)),
@@ -166,7 +185,16 @@ pub struct Write {
     pub step: Option<&'static str>,
 }
 
-/// The writes that apply `dict`'s set values, in order, and what it sets that is not written.
+/// True when the description flags the entry at `addr` "refuse write on download".
+fn refuses_write(dict: &Dictionary, addr: Address) -> bool {
+    dict.object(addr.index).is_some_and(|o| {
+        o.flags_of(addr.sub)
+            .contains(ObjFlags::REFUSE_WRITE_ON_DOWNLOAD)
+    })
+}
+
+/// The writes that apply `dict`'s set values, in order, and what it sets that is not written (an
+/// entry flagged "refuse write on download" for that, whatever else it is).
 pub fn plan(dict: &Dictionary) -> (Vec<Write>, Vec<(Address, Skip)>) {
     let mut values: BTreeMap<Address, Vec<u8>> = BTreeMap::new();
     let mut skipped = Vec::new();
@@ -176,7 +204,9 @@ pub fn plan(dict: &Dictionary) -> (Vec<Write>, Vec<(Address, Skip)>) {
                 continue;
             }
             let addr = Address::new(o.index, sub);
-            if let Some(what) = command_object(o.index) {
+            if refuses_write(dict, addr) {
+                skipped.push((addr, Skip::RefuseWriteOnDownload));
+            } else if let Some(what) = command_object(o.index) {
                 skipped.push((addr, Skip::Command(what)));
             } else if !e.access.kind.writable() {
                 skipped.push((addr, Skip::NotWritable));
@@ -194,11 +224,13 @@ pub fn plan(dict: &Dictionary) -> (Vec<Write>, Vec<(Address, Skip)>) {
         }
         match index {
             0x1400..=0x15FF | 0x1800..=0x19FF => {
-                // A COB-ID the file gives read-only: the PDO cannot be made invalid, so its mapping
-                // cannot change (CiA 301 §7.5.2.36): written as it is, without the count 0.
+                // A COB-ID the file gives read-only, or flags "refuse write on download": the PDO
+                // cannot be made invalid, so its mapping cannot change (CiA 301 §7.5.2.36): written
+                // as it is, without the count 0.
                 let fixed = dict
                     .entry(index, 1)
-                    .is_ok_and(|e| !e.access.kind.writable());
+                    .is_ok_and(|e| !e.access.kind.writable())
+                    || refuses_write(dict, Address::new(index, 1));
                 pdo(&values, index, fixed, &mut writes);
                 done.insert(index);
                 done.insert(index + 0x200);
@@ -496,6 +528,134 @@ mod tests {
                 (Address::new(0x2300, 1), 0x1601)
             ]
         );
+    }
+
+    /// Flags `sub` of `index` (`None`: the object's section) of `d` with `bits`.
+    fn flag(d: &mut Dictionary, index: u16, sub: Option<u8>, bits: u32) {
+        let o = d.object_mut(index).unwrap();
+        let flags = Some(ObjFlags::from_bits(bits));
+        match sub {
+            None => o.flags = flags,
+            Some(s) => o.subs.get_mut(&s).unwrap().flags = flags,
+        }
+    }
+
+    /// "Refuse read on scan" (bit 1) leaves an entry out of a dump, before any other reason (0x1001
+    /// is read-only too); bit 0 alone does not. An object's flags cover its entries: 0x1A00 flagged
+    /// in its own section, none of its entries is read.
+    #[test]
+    fn a_dump_reads_no_entry_flagged_refuse_read_on_scan() {
+        let mut d = dcf();
+        flag(&mut d, 0x1017, None, 0x1);
+        flag(&mut d, 0x1001, None, 0x2);
+        flag(&mut d, 0x1800, Some(2), 0x3);
+        flag(&mut d, 0x1800, Some(1), 0x0);
+        flag(&mut d, 0x1A00, None, 0x6);
+        let (read, skipped) = dump_entries(&d);
+        let a = Address::new;
+        assert_eq!(
+            read,
+            [a(0x1017, 0), a(0x1800, 1), a(0x1C13, 0), a(0x1C13, 1)]
+        );
+        let refused: Vec<Address> = skipped
+            .iter()
+            .filter(|(_, why)| *why == Skip::RefuseReadOnScan)
+            .map(|(addr, _)| *addr)
+            .collect();
+        assert_eq!(
+            refused,
+            [
+                a(0x1001, 0),
+                a(0x1800, 2),
+                a(0x1A00, 0),
+                a(0x1A00, 1),
+                a(0x1A00, 2),
+                a(0x1A00, 3)
+            ]
+        );
+        assert_eq!(
+            Skip::RefuseReadOnScan.to_string(),
+            "ObjFlags bit 1: refuse read on scan"
+        );
+    }
+
+    /// "Refuse write on download" (bit 0) leaves a set entry out of `apply`, before any other reason
+    /// (0x1010:01 is a command too); bit 1 alone does not. 0x1C13 flagged in its own section: none of
+    /// its entries is written.
+    #[test]
+    fn apply_writes_no_entry_flagged_refuse_write_on_download() {
+        let mut d = dcf();
+        flag(&mut d, 0x1017, None, 0x2);
+        flag(&mut d, 0x1010, Some(1), 0x1);
+        flag(&mut d, 0x1800, Some(2), 0x3);
+        flag(&mut d, 0x1C13, None, 0x1);
+        let (writes, skipped) = plan(&d);
+        let got: Vec<(u16, u8)> = writes.iter().map(|w| (w.addr.index, w.addr.sub)).collect();
+        assert_eq!(
+            got,
+            [
+                (0x1017, 0),
+                (0x1800, 1),
+                (0x1A00, 0),
+                (0x1A00, 1),
+                (0x1A00, 2),
+                (0x1A00, 0),
+                (0x1800, 1),
+            ]
+        );
+        let a = Address::new;
+        assert_eq!(
+            skipped,
+            [
+                (a(0x1001, 0), Skip::NotWritable),
+                (a(0x1010, 1), Skip::RefuseWriteOnDownload),
+                (a(0x1800, 2), Skip::RefuseWriteOnDownload),
+                (a(0x1C13, 0), Skip::RefuseWriteOnDownload),
+                (a(0x1C13, 1), Skip::RefuseWriteOnDownload),
+            ]
+        );
+        assert_eq!(
+            Skip::RefuseWriteOnDownload.to_string(),
+            "ObjFlags bit 0: refuse write on download"
+        );
+    }
+
+    /// A PDO whose COB-ID is flagged "refuse write on download" cannot be made invalid: its mapping
+    /// goes as it is, as with a read-only COB-ID. A PDO whose whole communication object is flagged
+    /// is not written at all, and its mapping goes alone, by its count, as that of a PDO the file
+    /// does not set.
+    #[test]
+    fn a_pdo_whose_cob_id_refuses_writes_keeps_its_mapping_as_it_is() {
+        for (sub, expected) in [
+            (
+                Some(1),
+                vec![
+                    (0x1800, 2, false),
+                    (0x1A00, 1, false),
+                    (0x1A00, 2, false),
+                    (0x1A00, 0, false),
+                ],
+            ),
+            (
+                None,
+                vec![
+                    (0x1A00, 0, true),
+                    (0x1A00, 1, false),
+                    (0x1A00, 2, false),
+                    (0x1A00, 0, false),
+                ],
+            ),
+        ] {
+            let mut d = dcf();
+            flag(&mut d, 0x1800, sub, 0x1);
+            let (writes, _) = plan(&d);
+            let got: Vec<(u16, u8, bool)> = writes
+                .iter()
+                .filter(|w| (0x1800..=0x1BFF).contains(&w.addr.index))
+                .map(|w| (w.addr.index, w.addr.sub, w.step.is_some()))
+                .collect();
+            assert_eq!(got, expected, "{sub:?}");
+        }
     }
 
     /// Only a refusal of the entry as such is "by design".

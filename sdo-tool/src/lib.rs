@@ -337,8 +337,9 @@ pub enum ApplyStep {
         /// Why.
         error: String,
     },
-    /// Not written: the file sets a command object or an entry the description makes read-only, or
-    /// the node refuses the entry as such (its access, its existence), a warning.
+    /// Not written: the file sets a command object, an entry the description makes read-only or one
+    /// it flags "refuse write on download" (CiA 306 `ObjFlags` bit 0), or the node refuses the entry
+    /// as such (its access, its existence), a warning.
     Skipped {
         /// The entry.
         addr: Address,
@@ -716,7 +717,8 @@ impl<'a> SdoCommands<'a> {
     }
 
     /// `dump`: the node's parameters (see [`config`]) read from `node` into `desc`'s dictionary,
-    /// marked as set so that a DCF carries them; the entries left out, with the reason.
+    /// marked as set so that a DCF carries them; the entries left out, with the reason. An entry
+    /// `desc` flags "refuse read on scan" (CiA 306 `ObjFlags` bit 1) is not read at all.
     pub fn dump(
         &mut self,
         node: u8,
@@ -759,7 +761,8 @@ impl<'a> SdoCommands<'a> {
     }
 
     /// `apply`: writes the values the DCF sets, in the order of [`config::plan`] (each PDO by the
-    /// CiA 301 procedure), reading each value back. A refusal of the entry itself (read-only,
+    /// CiA 301 procedure; not the entries it flags "refuse write on download", CiA 306 `ObjFlags`
+    /// bit 0), reading each value back. A refusal of the entry itself (read-only,
     /// missing) is skipped with a warning; another refusal is counted and the rest goes on, unless
     /// `stop_on_error`, which stops there with the abort. `dry_run` writes nothing.
     pub fn apply(

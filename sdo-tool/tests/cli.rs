@@ -560,6 +560,160 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
     assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), "300\n");
 }
 
+/// The SDO requests to node 5 that `tap` saw since it was last asked, one `upload`/`download
+/// INDEX:SUB` each (the initiating frame of each transfer; expedited and segmented alike).
+fn sdo_requests(tap: &mut socketcan_node::transport::Endpoint) -> Vec<String> {
+    let mut requests = Vec::new();
+    while let Some(f) = tap.try_recv() {
+        let d = f.data();
+        if f.raw_id() != 0x600 + u32::from(ID) || d.len() < 4 {
+            continue;
+        }
+        // CiA 301 §7.2.4.3: the client command specifier, bits 7–5 of the first byte; segments
+        // (0, 3) carry no multiplexer.
+        let what = match d[0] >> 5 {
+            1 => "download",
+            2 => "upload",
+            5 if d[0] & 0x03 == 0 => "block upload",
+            6 if d[0] & 0x01 == 0 => "block download",
+            _ => continue,
+        };
+        requests.push(format!(
+            "{what} 0x{:04X}:{:02X}",
+            u16::from_le_bytes([d[1], d[2]]),
+            d[3]
+        ));
+    }
+    requests
+}
+
+/// CiA 306 `ObjFlags` honoured end to end, with `fixtures/objflags/ObjFlags.eds` (entries of the X67
+/// node's dictionary): `dump` reads no entry flagged "refuse read on scan" (bit 1: 0x1006, 0x1015, and
+/// 0x1016 flagged in its object's section alone) and names each; the DCF it writes keeps the flags;
+/// `apply` of that DCF, every entry set, writes no entry flagged "refuse write on download" (bit 0:
+/// 0x1005, 0x1015, 0x1016) and says so, in its dry run too. The bus shows exactly the SDO requests
+/// that leaves.
+#[test]
+fn dump_and_apply_leave_out_what_obj_flags_refuse() {
+    let n = Running::start();
+    let mut tap = n.bus.endpoint();
+    let eds = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures/objflags/ObjFlags.eds")
+        .display()
+        .to_string();
+    let dir = tempfile::tempdir().unwrap();
+    let dcf = dir.path().join("node5.dcf");
+
+    let out = n.tool(&["--od", &eds, "list"]).unwrap();
+    let flagged: Vec<&str> = out.lines().filter(|l| l.contains("ObjFlags")).collect();
+    assert_eq!(
+        flagged,
+        [
+            "0x1005:00  COB-ID SYNC  UNSIGNED32  rw  default 128  ObjFlags 0x1 (refuse write on download)",
+            "0x1006:00  Communication cycle period  UNSIGNED32  rw  default 0  ObjFlags 0x2 (refuse read on scan)",
+            "0x1015:00  Inhibit time EMCY  UNSIGNED16  rw  default 0  ObjFlags 0x3 (refuse write on download, refuse read on scan)",
+            "0x1016:00  Consumer heartbeat time.Highest sub-index supported  UNSIGNED8  ro  default 1  ObjFlags 0x3 (refuse write on download, refuse read on scan)",
+            "0x1016:01  Consumer heartbeat time.Consumer heartbeat time  UNSIGNED32  rw  default 0  ObjFlags 0x3 (refuse write on download, refuse read on scan)",
+        ]
+    );
+    sdo_requests(&mut tap);
+
+    let out = n
+        .tool(&["--od", &eds, "dump", "5", "-o", dcf.to_str().unwrap()])
+        .unwrap();
+    assert_eq!(
+        out.lines().collect::<Vec<_>>(),
+        [
+            "skipped 0x1006:00 (Communication cycle period): ObjFlags bit 1: refuse read on scan",
+            "skipped 0x1015:00 (Inhibit time EMCY): ObjFlags bit 1: refuse read on scan",
+            "skipped 0x1016:00 (Highest sub-index supported): ObjFlags bit 1: refuse read on scan",
+            "skipped 0x1016:01 (Consumer heartbeat time): ObjFlags bit 1: refuse read on scan",
+            &format!(
+                "2 entries written to {}; left out: 5 not writable, 4 refused by ObjFlags",
+                dcf.display()
+            ),
+        ]
+    );
+    // The identity check of --od (0x1018:01, :02), then the two entries read.
+    assert_eq!(
+        sdo_requests(&mut tap),
+        [
+            "block upload 0x1018:01",
+            "block upload 0x1018:02",
+            "block upload 0x1005:00",
+            "block upload 0x1017:00",
+        ]
+    );
+    let text = std::fs::read_to_string(&dcf).unwrap();
+    let flags: Vec<&str> = text.lines().filter(|l| l.starts_with("ObjFlags")).collect();
+    assert_eq!(
+        flags,
+        [
+            "ObjFlags=0x1",
+            "ObjFlags=0x2",
+            "ObjFlags=0x3",
+            "ObjFlags=0x3"
+        ]
+    );
+
+    // Every entry set, then applied: only 0x1006 and 0x1017 go to the node.
+    let (_, mut devices) = od::load::load(&dcf).unwrap();
+    for (index, sub, bytes) in [
+        (0x1005u16, 0u8, 0x81u32.to_le_bytes().to_vec()),
+        (0x1006, 0, 250u32.to_le_bytes().to_vec()),
+        (0x1015, 0, 10u16.to_le_bytes().to_vec()),
+        (0x1016, 1, 0x0005_0064u32.to_le_bytes().to_vec()),
+        (0x1017, 0, 500u16.to_le_bytes().to_vec()),
+    ] {
+        devices[0]
+            .dictionary
+            .store_parameter(index, sub, &bytes)
+            .unwrap();
+    }
+    std::fs::write(&dcf, od::eds::write_dcf(&devices[0])).unwrap();
+    let skipped = [
+        "skipped 0x1005:00 = 129: ObjFlags bit 0: refuse write on download",
+        "skipped 0x1015:00 = 10: ObjFlags bit 0: refuse write on download",
+        "skipped 0x1016:01 = 327780: ObjFlags bit 0: refuse write on download",
+    ];
+    let out = n
+        .tool(&["apply", "5", dcf.to_str().unwrap(), "--dry-run"])
+        .unwrap();
+    let mut expected = skipped.to_vec();
+    expected.extend([
+        "would write 0x1006:00 = 250",
+        "would write 0x1017:00 = 500",
+        "2 entries to write, 3 skipped, 0 refused",
+    ]);
+    assert_eq!(out.lines().collect::<Vec<_>>(), expected);
+    assert_eq!(sdo_requests(&mut tap), Vec::<String>::new(), "dry run");
+
+    let out = n.tool(&["apply", "5", dcf.to_str().unwrap()]).unwrap();
+    let mut expected = skipped.to_vec();
+    expected.extend([
+        "wrote 0x1006:00 = 250",
+        "wrote 0x1017:00 = 500",
+        "2 entries written, 3 skipped, 0 refused",
+    ]);
+    assert_eq!(out.lines().collect::<Vec<_>>(), expected);
+    // Each write read back.
+    assert_eq!(
+        sdo_requests(&mut tap),
+        [
+            "download 0x1006:00",
+            "block upload 0x1006:00",
+            "download 0x1017:00",
+            "block upload 0x1017:00",
+        ]
+    );
+    assert_eq!(
+        n.tool(&["read", "5", "0x1005:00", "x32"]).unwrap(),
+        "0x00000080\n"
+    );
+    assert_eq!(n.tool(&["read", "5", "0x1015:00", "u16"]).unwrap(), "0\n");
+    assert_eq!(n.tool(&["read", "5", "0x1016:01", "u32"]).unwrap(), "0\n");
+}
+
 /// `list --od FILE`: every entry of the description, one line each, the names `read` and `write`
 /// take; without --od a usage error; with --json one document. A name that is not there is refused
 /// with the names close to it.
