@@ -211,13 +211,102 @@ pub fn run(args: &DiffArgs, out: &mut dyn Write) -> Outcome {
     let a = load(&args.a)?;
     let b = load(&args.b)?;
     let comparison = Comparison::of(&a, &b);
-    let text = if args.json {
+    let mut text = if args.json {
         comparison.json()
     } else {
         comparison.text()
     };
+    let mut equal = comparison.is_equal();
+    if args.all {
+        let parts = file_parts(&args.a, &args.b)?;
+        equal &= parts.is_empty();
+        for p in &parts {
+            text.push_str(&if args.json { p.json() } else { p.text() });
+        }
+    }
     write_out(out, &text)?;
-    Ok(if comparison.is_equal() { 0 } else { 1 })
+    Ok(if equal { 0 } else { 1 })
+}
+
+/// A difference in the parts of two files the model does not hold.
+#[derive(Debug, PartialEq, Eq)]
+pub enum FilePart {
+    /// A part only the first file has.
+    OnlyInA(od::carry::Unheld),
+    /// A part only the second file has.
+    OnlyInB(od::carry::Unheld),
+    /// A part both have, with its text in each.
+    Changed(String, String, String),
+}
+
+impl FilePart {
+    fn text(&self) -> String {
+        match self {
+            FilePart::OnlyInA(u) => format!("- file {}\n", u.path),
+            FilePart::OnlyInB(u) => format!("+ file {}\n", u.path),
+            FilePart::Changed(path, a, b) => {
+                format!(
+                    "~ file {path}: {} -> {}\n",
+                    crate::clip(a, 60),
+                    crate::clip(b, 60)
+                )
+            }
+        }
+    }
+
+    fn json(&self) -> String {
+        let v = match self {
+            FilePart::OnlyInA(u) => {
+                serde_json::json!({"change": "only_in_a", "file_part": u.path, "a": u.text})
+            }
+            FilePart::OnlyInB(u) => {
+                serde_json::json!({"change": "only_in_b", "file_part": u.path, "b": u.text})
+            }
+            FilePart::Changed(path, a, b) => {
+                serde_json::json!({"change": "changed", "file_part": path, "a": a, "b": b})
+            }
+        };
+        format!("{v}\n")
+    }
+}
+
+/// The differences of the parts of files `a` and `b` that their models do not hold, by path; none
+/// when the files are of different families.
+pub fn file_parts(a: &std::path::Path, b: &std::path::Path) -> Result<Vec<FilePart>, Error> {
+    let unheld = |path: &std::path::Path| -> Result<Option<(od::load::Format, Vec<od::carry::Unheld>)>, Error> {
+        let bytes = od::load::read_limited(path, od::load::MAX_FILE_BYTES)?;
+        let (format, devices) = od::load::load(path)?;
+        Ok(od::carry::unheld_in_file(&bytes, format, &devices)
+            .ok()
+            .map(|u| (format, u)))
+    };
+    let (Some((fa, ua)), Some((fb, ub))) = (unheld(a)?, unheld(b)?) else {
+        return Ok(Vec::new());
+    };
+    if !od::carry::same_family(fa, fb) {
+        return Ok(Vec::new());
+    }
+    let in_a: std::collections::HashSet<&str> = ua.iter().map(|x| x.path.as_str()).collect();
+    let in_b: std::collections::HashMap<&str, &od::carry::Unheld> =
+        ub.iter().map(|y| (y.path.as_str(), y)).collect();
+    let mut out = Vec::new();
+    for x in &ua {
+        match in_b.get(x.path.as_str()) {
+            None => out.push(FilePart::OnlyInA(x.clone())),
+            Some(y) if y.text != x.text => out.push(FilePart::Changed(
+                x.path.clone(),
+                x.text.clone(),
+                y.text.clone(),
+            )),
+            Some(_) => {}
+        }
+    }
+    for y in &ub {
+        if !in_a.contains(y.path.as_str()) {
+            out.push(FilePart::OnlyInB(y.clone()));
+        }
+    }
+    Ok(out)
 }
 
 #[cfg(test)]

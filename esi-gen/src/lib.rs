@@ -206,6 +206,12 @@ pub struct DiffArgs {
     /// is refused with the list of them.
     #[arg(long, value_name = "NAME|PRODUCT-CODE[@REVISION]")]
     pub device: Option<String>,
+    /// Also compare the parts of the files the model does not hold (vendor elements, attributes and
+    /// keys, comments), when both files are of one family (ESI, XDD, or EDS and DCF): each is a line
+    /// `- file PATH` (only in the first), `+ file PATH` (only in the second) or `~ file PATH: A -> B`,
+    /// after the model's differences. They are the files' whole, whatever --device picks.
+    #[arg(long)]
+    pub all: bool,
     /// `--json` (a global flag): one JSON object per line for each difference instead of text.
     #[arg(skip)]
     pub json: bool,
@@ -684,7 +690,7 @@ fn loss_kind(d: &od::diff::Difference) -> String {
     format!("{} {tail}", parts.join(" "))
 }
 
-fn clip(text: &str, max: usize) -> String {
+pub(crate) fn clip(text: &str, max: usize) -> String {
     match text.char_indices().nth(max) {
         Some((i, _)) => format!("{}…", &text[..i]),
         None => text.to_string(),

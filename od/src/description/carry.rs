@@ -182,6 +182,17 @@ pub fn unheld(original: &str, format: Format, base: &str) -> Result<Vec<Unheld>,
     Ok(out)
 }
 
+/// What of the file `bytes` (in `format`, read as `devices`) its model does not hold: [`unheld`]
+/// with the writer's rendering of `devices`.
+pub fn unheld_in_file(
+    bytes: &[u8],
+    format: Format,
+    devices: &[DeviceDescription],
+) -> Result<Vec<Unheld>, CarryError> {
+    let source = Source::decode(bytes, format)?;
+    unheld(&source.text, format, &render(format, devices))
+}
+
 fn unheld_in(o: &Doc<'_>, on: &Node, wn: &Node, path: &str, out: &mut Vec<Unheld>) {
     if let (Some(oe), Some(we)) = (on.element(), wn.element()) {
         for a in &oe.attrs {
@@ -210,7 +221,10 @@ fn unheld_in(o: &Doc<'_>, on: &Node, wn: &Node, path: &str, out: &mut Vec<Unheld
             Some(j) => unheld_in(o, c, &wn.children[j], &child_path, out),
             None => out.push(Unheld {
                 path: child_path,
-                text: o.raw(c).trim_end().to_string(),
+                text: match &c.kind {
+                    Kind::Entry { value } => o.text[value.clone()].to_string(),
+                    _ => o.raw(c).trim_end().to_string(),
+                },
             }),
         }
     }

@@ -145,6 +145,8 @@ fn unheld_parts_are_named_by_path() {
     let got = unheld(original, Format::Eds, base).unwrap();
     let paths: Vec<&str> = got.iter().map(|u| u.path.as_str()).collect();
     assert_eq!(paths, ["[FileInfo] LastEDS", "[Comments]"]);
+    assert_eq!(got[0].text, "b");
+    assert_eq!(got[1].text, "[Comments]\nLines=1\nLine1=x");
 }
 
 #[test]
