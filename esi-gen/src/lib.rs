@@ -552,8 +552,14 @@ fn convert(
             source,
         })?,
     }
+    // What of the input file its model does not hold goes unless the output is the input kept.
+    let unheld = if carried.is_some() && fallback.is_none() {
+        Vec::new()
+    } else {
+        od::carry::unheld_in_file(&original, input_format, &as_read).unwrap_or_default()
+    };
     if json {
-        let (format, not_kept) = match target.format() {
+        let (format, mut not_kept) = match target.format() {
             Some(format) => (
                 format.to_string(),
                 match loss_groups(format, &devices, &text) {
@@ -568,6 +574,11 @@ fn convert(
             ),
             None => ("Markdown".to_string(), serde_json::Value::Null),
         };
+        if let (Some(first), Some(list)) = (unheld.first(), not_kept.as_array_mut()) {
+            list.push(serde_json::json!({
+                "kind": UNHELD, "count": unheld.len(), "example": first.path,
+            }));
+        }
         let output = c.output.as_deref().map(|p| p.display().to_string());
         let value = serde_json::json!({
             "input": c.input.display().to_string(),
@@ -582,7 +593,17 @@ fn convert(
         return Ok(0);
     }
     if let Some(format) = target.format() {
-        let note = losses(&c.input, format, &devices, &text);
+        let mut note = losses(&c.input, format, &devices, &text);
+        if let Some(first) = unheld.first() {
+            if note.is_empty() {
+                note = format!("esi-gen: {}: written as {format}:\n", c.input.display());
+            }
+            let n = unheld.len();
+            note.push_str(&format!(
+                "  {n:>5} × {UNHELD}: {}\n",
+                clip(&first.path, 100)
+            ));
+        }
         err.write_all(note.as_bytes()).map_err(|source| Error::Io {
             path: PathBuf::from("-"),
             source,
@@ -590,6 +611,10 @@ fn convert(
     }
     Ok(0)
 }
+
+/// The kind of loss of a part of the input file its model does not hold (a vendor element, key or
+/// comment), which only a rewrite in the input's own format keeps.
+const UNHELD: &str = "part of the file the model does not hold left out";
 
 /// What a conversion of `devices` (read from `input`) to `written`, a text in `format`, did not keep:
 /// the differences of what reads back, grouped by the kind of part and field, each group with its count

@@ -286,3 +286,46 @@ fn the_file_level_check_finds_nothing_lost() {
         "{text}"
     );
 }
+
+/// A conversion to another format cannot keep what the model does not hold, and says how much: the
+/// EDS's comment lines (2), `LastEDS`, `CompactPDO`, `Denotation` and the vendor's section.
+#[test]
+fn another_format_names_the_file_parts_it_leaves_out() {
+    let out = tmp("kp200.xdd");
+    let o = esi_gen(&[
+        "xdd",
+        kept("vendor-parts.eds").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.ends_with("      6 × part of the file the model does not hold left out: #comment[1]\n"),
+        "{err}"
+    );
+    let o = esi_gen(&[
+        "--json",
+        "xdd",
+        kept("vendor-parts.eds").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["kept_as_written"], false);
+    let last = v["not_kept"].as_array().unwrap().last().unwrap().clone();
+    assert_eq!(
+        last,
+        serde_json::json!({"kind": "part of the file the model does not hold left out", "count": 6, "example": "#comment[1]"})
+    );
+    let o = esi_gen(&[
+        "--json",
+        "eds",
+        kept("vendor-parts.eds").to_str().unwrap(),
+        "-o",
+        out.with_extension("eds").to_str().unwrap(),
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["kept_as_written"], true);
+    assert_eq!(v["not_kept"], serde_json::json!([]));
+}
