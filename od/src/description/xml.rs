@@ -1,10 +1,12 @@
 //! Shared pieces of the XML readers and writers (ESI, XDD): decoding the file's character encoding,
-//! numbers as ESI and XDD write them, an escaping writer with stable indentation, and the
-//! `cursor` both readers walk a document with.
+//! numbers as ESI and XDD write them, an escaping writer with stable indentation, the `cursor` both
+//! readers walk a document with, and the one way both collect an element's text (`text`: character
+//! data, references and CDATA sections).
 
 use std::borrow::Cow;
 
 pub(crate) mod cursor;
+pub(crate) mod text;
 
 use crate::error::ParseError;
 

@@ -14,6 +14,7 @@ use crate::report::{Reading, SourceMap};
 use crate::value::parse_hex_bytes;
 use crate::xml;
 use crate::xml::cursor::Document;
+use crate::xml::text::ElementText;
 
 mod dictionary;
 mod elements;
@@ -314,8 +315,8 @@ struct Parser<'a> {
     stack: Vec<Tag>,
     /// Index in `stack` of the current `Device` (or module) element.
     device_depth: Option<usize>,
-    text: String,
-    text_offset: Option<usize>,
+    /// The text of the innermost element.
+    text: ElementText,
     lcid: Option<u32>,
     restrictions: (Option<EcatStates>, Option<EcatStates>),
     vendor_id: u32,
@@ -341,8 +342,7 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         ctx,
         stack: Vec::new(),
         device_depth: None,
-        text: String::new(),
-        text_offset: None,
+        text: ElementText::default(),
         lcid: None,
         restrictions: (None, None),
         vendor_id: 0,

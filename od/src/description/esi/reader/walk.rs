@@ -6,7 +6,7 @@ use super::dictionary::build_device;
 use super::{Parser, Tag};
 use crate::device::{CatalogueModule, EsiRoot, Module};
 use crate::error::ParseError;
-use crate::xml::cursor::{normalize_line_ends, Cursor, Element, Node};
+use crate::xml::cursor::{Cursor, Element, Node};
 
 impl<'a> Parser<'a> {
     pub(super) fn run(&mut self) -> Result<(), ParseError> {
@@ -23,24 +23,13 @@ impl<'a> Parser<'a> {
                 }
                 Node::End { offset } => self.end(offset)?,
                 // White space before an element's text is layout: skip it without decoding.
-                Node::Text(t, _) if self.text_offset.is_none() && t.is_blank() => {}
-                Node::Text(t, offset) if self.collecting() => self.push_text(&t.content(), offset),
-                Node::CData(t, offset) if self.collecting() => {
-                    self.push_text(&normalize_line_ends(t), offset)
+                Node::Text(t, _) if self.text.is_blank() && t.is_blank() => {}
+                node @ (Node::Text(..) | Node::CData(..) | Node::Ref(..)) => {
+                    if self.collecting() {
+                        self.text.take(self.ctx.doc, &node)?;
+                    }
                 }
-                Node::Ref(r, offset) if self.collecting() => match r.resolve() {
-                    Ok(Some(c)) => {
-                        let mut buf = [0u8; 4];
-                        self.push_text(c.encode_utf8(&mut buf), offset);
-                    }
-                    Ok(None) | Err(_) => {
-                        return Err(self
-                            .ctx
-                            .err(offset, format!("unknown entity `&{};`", r.name())))
-                    }
-                },
                 Node::Eof => break,
-                _ => {}
             }
         }
         if let Some(open) = self.stack.last() {
@@ -76,17 +65,6 @@ impl<'a> Parser<'a> {
         matches!(self.stack.last(), Some(t) if *t != Tag::Other)
     }
 
-    fn push_text(&mut self, s: &str, offset: usize) {
-        if self.text_offset.is_none() {
-            if s.trim().is_empty() {
-                return;
-            }
-            let lead = s.len() - s.trim_start().len();
-            self.text_offset = Some(offset + lead);
-        }
-        self.text.push_str(s);
-    }
-
     /// Each attribute's local name, value, and the offset of its name in the source.
     pub(super) fn attrs(&self, e: &Element) -> Result<Vec<(Vec<u8>, String, usize)>, ParseError> {
         let mut out = Vec::new();
@@ -112,7 +90,6 @@ impl<'a> Parser<'a> {
         let tag = Tag::of(e.local_name());
         self.stack.push(tag);
         self.text.clear();
-        self.text_offset = None;
         if tag == Tag::Other {
             return Ok(());
         }
@@ -131,14 +108,13 @@ impl<'a> Parser<'a> {
         } else {
             let stack = std::mem::take(&mut self.stack);
             let text = std::mem::take(&mut self.text);
-            let at = self.text_offset.unwrap_or(offset);
-            let r = self.on_end(&stack, tag, text.trim(), at);
+            let at = text.offset().unwrap_or(offset);
+            let r = self.on_end(&stack, tag, text.text().trim(), at);
             self.stack = stack;
             self.text = text;
-            self.text.clear();
             r
         };
-        self.text_offset = None;
+        self.text.clear();
         self.stack.pop();
         if self.device_depth == Some(self.stack.len()) {
             self.device_depth = None;

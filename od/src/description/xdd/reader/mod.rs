@@ -19,6 +19,7 @@ use crate::report::{Reading, SourceMap};
 use crate::types::DataType;
 use crate::xml;
 use crate::xml::cursor::Document;
+use crate::xml::text::ElementText;
 
 mod build;
 mod elements;
@@ -310,7 +311,8 @@ struct Scan<'a> {
     doc: &'a Document<'a>,
     stack: Vec<Ctx>,
     seen_root: bool,
-    text: String,
+    /// The text of the element being read, where it is kept.
+    text: ElementText,
     text_lang_en: bool,
     /// File attributes of the device profile body and of the communication network body.
     device_file: Option<FileAttrs>,
@@ -392,7 +394,7 @@ impl<'a> Scan<'a> {
             doc,
             stack: vec![Ctx::Document],
             seen_root: false,
-            text: String::new(),
+            text: ElementText::default(),
             text_lang_en: false,
             device_file: None,
             network_file: None,

@@ -25,34 +25,9 @@ impl<'a> Scan<'a> {
                     }
                     self.close(ctx, offset)?;
                 }
-                Node::Text(t, _) => {
+                node @ (Node::Text(..) | Node::CData(..) | Node::Ref(..)) => {
                     if self.collecting() {
-                        self.text.push_str(&t.content());
-                    }
-                }
-                Node::CData(t, _) => {
-                    if self.collecting() {
-                        self.text.push_str(&t);
-                    }
-                }
-                Node::Ref(r, before) => {
-                    if self.collecting() {
-                        let c = match r.resolve() {
-                            Ok(Some(c)) => c,
-                            Ok(None) => {
-                                return Err(self.err(
-                                    before,
-                                    format!(
-                                        "unknown entity `&{};` (expected &lt; &gt; &amp; &apos; &quot; or a character reference)",
-                                        r.name()
-                                    ),
-                                ))
-                            }
-                            Err(e) => {
-                                return Err(self.err(before, format!("bad character reference: {e}")))
-                            }
-                        };
-                        self.text.push(c);
+                        self.text.take(self.doc, &node)?;
                     }
                 }
                 Node::Eof => break,
@@ -344,7 +319,7 @@ impl<'a> Scan<'a> {
     fn close(&mut self, ctx: Ctx, offset: usize) -> Result<(), ParseError> {
         match ctx {
             Ctx::IdentityField(field) => {
-                let text = std::mem::take(&mut self.text);
+                let text = self.text.take_text();
                 match field {
                     IdField::VendorName => self.vendor_name = Some(text),
                     IdField::Version(kind) => {
@@ -391,11 +366,11 @@ impl<'a> Scan<'a> {
                 }
             }
             Ctx::ProductTextDescription => {
-                let text = std::mem::take(&mut self.text);
+                let text = self.text.take_text();
                 self.product_text.offer(text, self.text_lang_en);
             }
             Ctx::ParameterText(kind) => {
-                let text = std::mem::take(&mut self.text);
+                let text = self.text.take_text();
                 let english = self.text_lang_en;
                 if let Some((_, p)) = &mut self.param {
                     match kind {
