@@ -93,6 +93,7 @@ pub(crate) fn align(a: &[Node], b: &[Node]) -> Vec<Option<usize>> {
 }
 
 /// A text and its tree.
+#[derive(Debug)]
 pub(crate) struct Doc<'a> {
     pub text: &'a str,
     pub root: Node,

@@ -7,7 +7,11 @@ use quick_xml::Reader;
 
 use super::tree::{number_key, Attr, Doc, Element, Kind, Node};
 
-/// The tree of `text`, or why it is no well-formed XML.
+/// The deepest nesting of elements carried (real descriptions nest about 15 deep); the tree's walks
+/// recurse, so a deeper file is written from the model instead.
+const MAX_DEPTH: usize = 256;
+
+/// The tree of `text`, or why it is no well-formed XML or nests deeper than [`MAX_DEPTH`].
 pub(crate) fn parse(text: &str) -> Result<Doc<'_>, String> {
     let mut reader = Reader::from_str(text);
     reader.config_mut().check_end_names = true;
@@ -32,6 +36,11 @@ pub(crate) fn parse(text: &str) -> Result<Doc<'_>, String> {
                     finish(&mut node, text);
                     push(&mut stack, node);
                 } else {
+                    if stack.len() > MAX_DEPTH {
+                        return Err(format!(
+                            "elements nested deeper than {MAX_DEPTH} at byte {before}"
+                        ));
+                    }
                     if let Kind::Element(e) = &mut node.kind {
                         e.content = Some(after..after);
                     }
@@ -247,6 +256,17 @@ mod tests {
         let o = &d.root.children[0].children[0];
         assert_eq!((o.name.as_str(), o.key.as_str()), ("Object", "6656"));
         assert_eq!(o.children[0].key, "1");
+    }
+
+    #[test]
+    fn nesting_is_bounded() {
+        let deep = |n: usize| format!("{}{}", "<a>".repeat(n), "</a>".repeat(n));
+        assert!(parse(&deep(256)).is_ok());
+        assert_eq!(
+            parse(&deep(257)).unwrap_err(),
+            "elements nested deeper than 256 at byte 768"
+        );
+        assert!(parse(&deep(100_000)).is_err());
     }
 
     #[test]
