@@ -125,7 +125,8 @@ fn xdd_sub_indices_of_four_digits_read_with_a_warning() {
 }
 
 /// An XDC's `nodeID="0"` (a node not yet configured) reads as no node-ID with a warning at the
-/// value, as does 255; 128 stays an error.
+/// value, as do 255 and an empty `nodeID=""` (python-canopen's XDD import reads it as none); 128
+/// stays an error.
 #[test]
 fn an_xdc_node_id_of_0_is_none_with_a_warning() {
     let with = |id: &str| {
@@ -137,7 +138,7 @@ fn an_xdc_node_id_of_0_is_none_with_a_warning() {
             ),
         )
     };
-    for id in ["0", "255"] {
+    for id in ["0", "255", "", " "] {
         let reading = od::xdd::read_file(with(id).as_bytes(), "t.xdc").unwrap();
         let warnings: Vec<String> = reading
             .findings
@@ -145,10 +146,15 @@ fn an_xdc_node_id_of_0_is_none_with_a_warning() {
             .filter(|f| f.severity == Severity::Warning)
             .map(|f| f.message.clone())
             .collect();
+        let given = if id.trim().is_empty() {
+            "nodeID is empty, which".to_string()
+        } else {
+            format!("nodeID `{id}`")
+        };
         assert_eq!(
             warnings,
             [format!(
-                "nodeID `{id}` is no node-ID (1 to 127); read as none, a node LSS configures"
+                "{given} is no node-ID (1 to 127); read as none, a node LSS configures"
             )]
         );
         let desc = reading.devices.into_iter().next().unwrap();
@@ -215,4 +221,64 @@ fn esi_default_data_longer_than_its_type_reads_its_first_bytes() {
         "<DefaultData>91010F000000</DefaultData>",
     );
     assert!(warnings.is_empty(), "{warnings:?}");
+}
+
+/// An XDD value that is no value of its entry's type (`defaultValue="0x100000000"` for an
+/// UNSIGNED32, `highLimit="none"`) is dropped with a warning at the value, as the EDS reader drops
+/// `DefaultValue=300` of an UNSIGNED8 and python-canopen leaves out what it cannot read; the entry
+/// and its other values stand.
+#[test]
+fn xdd_values_that_are_no_value_of_their_type_are_dropped_with_a_warning() {
+    let text = xdd("00", "01").replace(
+        r#"dataType="0007" accessType="rw" defaultValue="9"/>"#,
+        r#"dataType="0007" accessType="rw" defaultValue="0x100000000" lowLimit="1" highLimit="none"/>"#,
+    );
+    let reading = od::xdd::read_file(text.as_bytes(), "t.xdd").unwrap_or_else(|e| {
+        panic!("refused: {e}");
+    });
+    assert_eq!(
+        warnings(&reading),
+        [
+            "13:107: expected a UNSIGNED32 value in defaultValue of 0x2001:01, found `0x100000000`: \
+             0x100000000 does not fit in UNSIGNED32, 0 to 4294967295; the default is dropped",
+            "13:144: expected a UNSIGNED32 value in highLimit of 0x2001:01, found `none`: `none` is \
+             not a UNSIGNED32 value: expected an integer; the limit is dropped",
+        ]
+    );
+    let desc = reading.devices.into_iter().next().unwrap();
+    let entry = desc.dictionary.entry(0x2001, 1).unwrap();
+    assert_eq!(entry.default, None);
+    assert_eq!(
+        (entry.low.clone(), entry.high.clone()),
+        (Some(od::Value::Uint(1)), None)
+    );
+    assert_eq!(
+        desc.dictionary.read_value(0x2001, 0).unwrap(),
+        od::Value::Uint(1)
+    );
+}
+
+/// An ESI default that is no value of its type, a number beyond it (`<DefaultValue>#x1000F0191`
+/// for a UDINT) or no bytes at all (`<DefaultData></DefaultData>`), is dropped with a warning at
+/// the value, as its limits are and as the EDS and XDD readers drop theirs.
+#[test]
+fn esi_defaults_that_are_no_value_of_their_type_are_dropped_with_a_warning() {
+    for (given, warning) in [
+        (
+            "<DefaultValue>#x1000F0191</DefaultValue>",
+            "703:33: object #x1000: expected a UDINT value 0..4294967295 in <DefaultValue>, found \
+             `#x1000F0191`; the default is dropped",
+        ),
+        (
+            "<DefaultData></DefaultData>",
+            "703:32: object #x1000: <DefaultData> is not a UDINT: UNSIGNED32 takes 4 bytes, got 0; \
+             the default is dropped",
+        ),
+    ] {
+        let (warnings, desc) = esi_with("<DefaultData>91010F00</DefaultData>", given);
+        assert_eq!(warnings, [warning], "{given}");
+        let entry = desc.dictionary.entry(0x1000, 0).unwrap();
+        assert_eq!(entry.default, None, "{given}");
+        assert_eq!(desc.identity.product_code, 0x191);
+    }
 }

@@ -51,8 +51,10 @@
 //! and `high`. Real files give fixed-size values in fewer bytes than the type (`00` for a UINT), with zero
 //! bytes beyond it, or with an odd number of digits (`2`); these read as the number they spell (missing
 //! high bytes are zero). A limit that is no value of the type (vendors copy limits between objects,
-//! `-4294967295` for a DINT) is dropped with a warning; a default that does not fit the type is an
-//! error. A string type shorter than its default (`STRING(0)` with a default, as SOES writes) takes the
+//! `-4294967295` for a DINT) is dropped with a warning, and so is a default that is no value of its
+//! type (`<DefaultValue>300</DefaultValue>` for a USINT, an empty `<DefaultData>` for a UDINT), as
+//! the EDS and XDD readers drop theirs; a `DefaultData` longer than its type reads as its first bytes,
+//! with a warning where the rest is not zeros. A string type shorter than its default (`STRING(0)` with a default, as SOES writes) takes the
 //! default's size, with a warning. Numbers are HexDecValues (`#x1A00`, `0x1A00` or decimal); one with
 //! both hexadecimal prefixes (`#x0x6041`) is read as the hexadecimal number, with a warning.
 //!

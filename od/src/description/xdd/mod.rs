@@ -41,7 +41,12 @@
 //!   false, as the schema says) and `CANopenMasterFeatures@bootUpMaster` → [`CanInfo`], present whenever the
 //!   file has a communication network profile; `deviceCommissioning` (`nodeID`, also CANopenEditor's
 //!   `NodeID`, `nodeName`, `actualBaudRate`, `networkNumber`, `networkName`, `CANopenManager`) →
-//!   [`Commissioning`]. `$NODEID` defaults are resolved with its node-ID (0 without one).
+//!   [`Commissioning`]. `$NODEID` defaults are resolved with its node-ID (0 without one). A `nodeID` of
+//!   0, 255 or an empty one is no node-ID: read as none (a node LSS configures), with a warning.
+//! - A `defaultValue`, `lowLimit`, `highLimit` or `actualValue` (of an object or of its parameter) that
+//!   is no value of the entry's type (`0x100000000` for an UNSIGNED32, `none`, a `$NODEID` default that
+//!   does not fit for node-ID 127) is dropped with a warning at the value, as the EDS reader and
+//!   python-canopen drop one; the entry and its other values stand.
 //!
 //! - A `dataType` that is no CiA 301 basic type is read with a warning: as DOMAIN (a complex or
 //!   profile type, as EDS readers take them), or, in a POWERLINK file, the POWERLINK MAC_ADDRESS
@@ -56,7 +61,7 @@
 //! The two profile bodies may come in either order: the reader streams the file once, keeps small
 //! per-object and per-parameter records, and resolves the references at the end. Element names are matched
 //! without their namespace prefix (CANopenEditor writes `q1:parameter`). Unknown elements and attributes are
-//! skipped; a wrong value of a known one, a dangling `uniqueIDRef`, a type made of itself, an array or a
+//! skipped; any other wrong value of a known one, a dangling `uniqueIDRef`, a type made of itself, an array or a
 //! struct of more entries than there are sub-indices, and a duplicate index, sub-index or `uniqueID` are
 //! errors naming the file, line and column.
 //!

@@ -186,7 +186,7 @@ fn build_object(
         sub.bit_size = bit_size;
         sub.pdo = o.flags.and_then(|f| f.pdo).unwrap_or_default();
         sub.description = comment.clone();
-        apply_info(ctx, &mut sub, &o.info, index)?;
+        apply_info(ctx, &mut sub, &o.info, index);
         let mut object = Object::var(index, sub);
         object.description = comment.clone();
         Ok(object)
@@ -275,7 +275,7 @@ fn build_object(
                 sub.pdo = pdo;
                 sub.description = f.comment.map(str::to_string);
                 if let Some((_, info, at)) = info {
-                    apply_info(ctx, &mut sub, info, index)?;
+                    apply_info(ctx, &mut sub, info, index);
                     source.set_entry(index, f.sub, ctx.pos(*at));
                 }
                 object.subs.insert(f.sub, sub);
@@ -436,21 +436,34 @@ fn flatten<'t>(
 }
 
 /// Sets default, limits and current value of `sub` from an `Info` element.
-fn apply_info(ctx: Ctx, sub: &mut SubObject, info: &RawInfo, index: u16) -> Result<(), ParseError> {
+fn apply_info(ctx: Ctx, sub: &mut SubObject, info: &RawInfo, index: u16) {
     let t = sub.data_type;
-    let default = if let Some((bytes, at)) = &info.default_data {
-        Some(decode_data(ctx, t, bytes, *at, index, "DefaultData")?)
+    let read = if let Some((bytes, at)) = &info.default_data {
+        Some((decode_data(ctx, t, bytes, *at, index, "DefaultData"), *at))
     } else if let Some(v) = &info.default_value {
-        Some(value_text(ctx, t, v, index, "DefaultValue")?)
-    } else if let Some(s) = &info.default_string {
-        Some(match t {
-            DataType::VisibleString => Value::String(s.text.clone()),
-            DataType::UnicodeString => Value::Unicode(s.text.encode_utf16().collect()),
-            DataType::OctetString | DataType::Domain => Value::Bytes(s.text.as_bytes().to_vec()),
-            _ => value_text(ctx, t, s, index, "DefaultString")?,
-        })
+        Some((value_text(ctx, t, v, index, "DefaultValue"), v.offset))
     } else {
-        None
+        info.default_string.as_ref().map(|s| {
+            let value = match t {
+                DataType::VisibleString => Ok(Value::String(s.text.clone())),
+                DataType::UnicodeString => Ok(Value::Unicode(s.text.encode_utf16().collect())),
+                DataType::OctetString | DataType::Domain => {
+                    Ok(Value::Bytes(s.text.as_bytes().to_vec()))
+                }
+                _ => value_text(ctx, t, s, index, "DefaultString"),
+            };
+            (value, s.offset)
+        })
+    };
+    // A default that is no value of the type (a number beyond it, no bytes for a number) leaves the
+    // entry without a default, as python-canopen and the EDS and XDD readers take theirs: dropped.
+    let default = match read {
+        Some((Ok(v), _)) => Some(v),
+        Some((Err(e), at)) => {
+            ctx.warn(at, format!("{}; the default is dropped", e.message));
+            None
+        }
+        None => None,
     };
     // A limit that is no value of the type (vendors copy limits between objects of different types)
     // limits nothing a master could write: it is dropped.
@@ -508,7 +521,6 @@ fn apply_info(ctx: Ctx, sub: &mut SubObject, info: &RawInfo, index: u16) -> Resu
         }
         sub.default = Some(DefaultValue::plain(v));
     }
-    Ok(())
 }
 
 /// A value from little-endian hexBinary bytes. Real files give fixed-size values in fewer bytes (`00` for

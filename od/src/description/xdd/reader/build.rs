@@ -369,15 +369,18 @@ impl<'a> Scan<'a> {
         entry.pdo = attrs.pdo;
 
         if let Some(d) = default {
-            entry.default = self.parse_default(data_type, d, &at)?;
+            let read = self.parse_default(data_type, d, &at);
+            entry.default = self.or_dropped(d, read, "the default is dropped");
         }
         let low = attrs.low.as_ref().or(param.and_then(|p| p.low.as_ref()));
         let high = attrs.high.as_ref().or(param.and_then(|p| p.high.as_ref()));
         if let Some(l) = low {
-            entry.low = self.parse_value(data_type, l, "lowLimit", &at)?;
+            let read = self.parse_value(data_type, l, "lowLimit", &at);
+            entry.low = self.or_dropped(l, read, "the limit is dropped");
         }
         if let Some(h) = high {
-            entry.high = self.parse_value(data_type, h, "highLimit", &at)?;
+            let read = self.parse_value(data_type, h, "highLimit", &at);
+            entry.high = self.or_dropped(h, read, "the limit is dropped");
         }
         if has_string_capacity(data_type) {
             if let Some(cap) = param.and_then(|p| p.capacity) {
@@ -399,14 +402,40 @@ impl<'a> Scan<'a> {
             .as_ref()
             .or(param.and_then(|p| p.actual.as_ref()));
         if let Some(a) = actual {
-            if let Some(v) = self.parse_value(data_type, a, "actualValue", &at)? {
-                entry.value = v.encode(data_type).map_err(|e| {
-                    self.err(a.offset, format!("actualValue of {at} does not fit: {e}"))
-                })?;
+            let read = self
+                .parse_value(data_type, a, "actualValue", &at)
+                .and_then(|v| {
+                    v.map(|v| {
+                        v.encode(data_type).map_err(|e| {
+                            self.err(a.offset, format!("actualValue of {at} does not fit: {e}"))
+                        })
+                    })
+                    .transpose()
+                });
+            if let Some(bytes) = self.or_dropped(a, read, "the value is dropped") {
+                entry.value = bytes;
                 entry.value_set = true;
             }
         }
         Ok(entry)
+    }
+
+    /// The value `read` from `v`, or none where `v` is no value of the entry's type: the file is
+    /// still usable without it, so it is left out (`dropped` says what) with a warning at the
+    /// value, as the EDS reader and python-canopen leave out theirs.
+    fn or_dropped<T>(
+        &self,
+        v: &Attr<'_>,
+        read: Result<Option<T>, ParseError>,
+        dropped: &str,
+    ) -> Option<T> {
+        match read {
+            Ok(value) => value,
+            Err(e) => {
+                self.warn(v.offset, format!("{}; {dropped}", e.message));
+                None
+            }
+        }
     }
 
     fn parse_value(

@@ -572,20 +572,29 @@ impl<'a> Scan<'a> {
                 // CANopenEditor writes `NodeID`.
                 b"nodeID" | b"NodeID" => {
                     has_node_id = true;
-                    let id: u8 = s.number(&v, "nodeID", "5")?;
-                    // 0 (as tools write a node not yet configured) and 255 (CiA 305's "not
-                    // configured") give the node no node-ID: one LSS configures.
-                    if id == 0 || id == 255 {
+                    // 0 (as tools write a node not yet configured), 255 (CiA 305's "not
+                    // configured") and an empty value (python-canopen reads it as none) give the
+                    // node no node-ID: one LSS configures.
+                    let id: Option<u8> = if v.text.trim().is_empty() {
+                        None
+                    } else {
+                        Some(s.number(&v, "nodeID", "5")?)
+                    };
+                    let Some(id) = id.filter(|id| *id != 0 && *id != 255) else {
+                        let given = if id.is_none() {
+                            "nodeID is empty, which".to_string()
+                        } else {
+                            format!("nodeID `{}`", v.text)
+                        };
                         s.warn(
                             v.offset,
                             format!(
-                                "nodeID `{}` is no node-ID (1 to 127); read as none, a node LSS \
-                                 configures",
-                                v.text
+                                "{given} is no node-ID (1 to 127); read as none, a node LSS \
+                                 configures"
                             ),
                         );
                         return Ok(());
-                    }
+                    };
                     if !(1..=127).contains(&id) {
                         return Err(s.err(
                             v.offset,

@@ -29,14 +29,26 @@ fn err_of(text: &str) -> ParseError {
     read(text.as_bytes(), "t.xdd").unwrap_err()
 }
 
+/// A `$NODEID` default must fit for node 127; one that does not is dropped with a warning.
 #[test]
 fn node_id_defaults_must_fit_for_node_127() {
     let text = wrap(
         r#"<CANopenObject index="1014" name="COB-ID EMCY" objectType="7" dataType="0007" accessType="rw" defaultValue="$NODEID+0xFFFFFFFF" PDOmapping="no"/>"#,
         "",
     );
-    let e = err_of(&text);
-    assert!(e.message.contains("does not fit with node-ID 127"), "{e}");
+    let reading = read_file(text.as_bytes(), "t.xdd").unwrap();
+    let messages: Vec<&str> = reading
+        .findings
+        .iter()
+        .map(|f| f.message.as_str())
+        .collect();
+    assert_eq!(
+        messages,
+        ["defaultValue of 0x1014:00 (UNSIGNED32): `$NODEID+0xFFFFFFFF` does not fit with node-ID \
+          127; the default is dropped"]
+    );
+    let d = &reading.devices[0];
+    assert_eq!(d.dictionary.entry(0x1014, 0).unwrap().default, None);
 }
 
 #[test]
@@ -276,12 +288,17 @@ fn errors_name_line_and_column() {
         r#"<CANopenObject index="1000" name="A" objectType="7" dataType="0007" defaultValue="zz"/>"#,
         "",
     );
-    let e = err_of(&text);
-    assert_eq!(e.source_name, "t.xdd");
-    assert_eq!((e.position.line, e.position.column), (12, 83), "{e}");
+    // A default that is no value of its type is no error: it is dropped, with a warning there.
+    let reading = read_file(text.as_bytes(), "t.xdd").unwrap();
+    let w = &reading.findings[0];
+    let at = w.position.expect("a position");
+    assert_eq!((at.line, at.column), (12, 83), "{}", w.message);
     assert!(
-        e.message.contains("UNSIGNED32") && e.message.contains("`zz`"),
-        "{e}"
+        w.message.contains("UNSIGNED32")
+            && w.message.contains("`zz`")
+            && w.message.ends_with("; the default is dropped"),
+        "{}",
+        w.message
     );
 
     let e = err_of(&wrap(
