@@ -184,3 +184,60 @@ fn esi_sub_items_pair_by_name_and_xdd_objects_whatever_their_prefix() {
         "<ObjectList><Object index=\"1018\" x=\"k\"><SubObject subIndex=\"02\" defaultValue=\"9\"/></Object></ObjectList>"
     );
 }
+
+#[test]
+fn families() {
+    assert!(same_family(Format::Eds, Format::Dcf));
+    assert!(same_family(Format::Dcf, Format::Eds));
+    assert!(same_family(Format::Esi, Format::Esi));
+    assert!(!same_family(Format::Esi, Format::Xdd));
+    assert!(!same_family(Format::Eds, Format::Xdd));
+    assert!(!same_family(Format::Dcf, Format::Esi));
+}
+
+fn read(text: &str, format: Format) -> Vec<DeviceDescription> {
+    crate::load::read_bytes(text.as_bytes(), "test", format).unwrap()
+}
+
+const EDS: &str = "; notes\n[DeviceInfo]\nVendorNumber=0x1\nProductName=P\n\n[1017]\nParameterName=Producer heartbeat time\nDataType=0x0006\nAccessType=rw\nDefaultValue=0\nDenotation=beat\n";
+
+#[test]
+fn render_is_each_formats_writer() {
+    let d = read(EDS, Format::Eds);
+    assert_eq!(render(Format::Eds, &d), crate::eds::write_eds(&d[0]));
+    assert_eq!(render(Format::Dcf, &d), crate::eds::write_dcf(&d[0]));
+    assert_eq!(render(Format::Xdd, &d), crate::xdd::write(&d[0]));
+    assert_eq!(render(Format::Esi, &d), crate::esi::write_all(&d));
+    assert_eq!(render(Format::Eds, &[]), "");
+}
+
+#[test]
+fn write_keeps_the_file_and_makes_the_edit() {
+    let as_read = read(EDS, Format::Eds);
+    let mut edited = as_read.clone();
+    edited[0].identity.product_name = "Q".into();
+    let w = write(EDS.as_bytes(), Format::Eds, &as_read, Format::Eds, &edited);
+    assert_eq!(w.kept, Ok(()));
+    assert_eq!(
+        String::from_utf8(w.bytes).unwrap(),
+        EDS.replace("ProductName=P", "ProductName=Q")
+    );
+    // Another family: the writer's rendering, and why.
+    let w = write(EDS.as_bytes(), Format::Eds, &as_read, Format::Xdd, &edited);
+    assert_eq!(w.kept, Err("EDS is no XDD".to_string()));
+    assert_eq!(w.bytes, crate::xdd::write(&edited[0]).into_bytes());
+}
+
+#[test]
+fn write_falls_back_when_the_kept_file_would_read_back_otherwise() {
+    // An original the reader refuses (a section twice) against a model of its first section: kept,
+    // the file would not read back, so the writer's rendering is written.
+    let original = "[DeviceInfo]\nVendorNumber=0x1\nProductName=P\n[DeviceInfo]\nProductName=P\n";
+    let as_read = read("[DeviceInfo]\nVendorNumber=0x1\nProductName=P\n", Format::Eds);
+    let mut edited = as_read.clone();
+    edited[0].identity.product_name = "Q".into();
+    let w = write(original.as_bytes(), Format::Eds, &as_read, Format::Eds, &edited);
+    let why = w.kept.unwrap_err();
+    assert!(why.starts_with("it would not read back: written:4:2: section [DeviceInfo] appears a second time"), "{why}");
+    assert_eq!(w.bytes, crate::eds::write_eds(&edited[0]).into_bytes());
+}

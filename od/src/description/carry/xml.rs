@@ -210,10 +210,15 @@ fn finish(node: &mut Node, text: &str) {
         .or_else(|| attr("lang"))
     {
         id.to_string()
+    } else if node.name == "Name" {
+        // An ESI name without a language is in English (ETG.2000's default LcId).
+        "1033".to_string()
     } else if let Some(t) = child("Type") {
         t.to_string()
-    } else if let Some(n) = child("Name").filter(|_| node.name == "SubItem") {
-        // The sub-items of an ESI object's Info are told apart by their names.
+    } else if let Some(n) =
+        child("Name").filter(|_| matches!(node.name.as_str(), "SubItem" | "DataType"))
+    {
+        // An ESI data type is known by its name, the sub-items of an object's Info by theirs.
         n.to_string()
     } else {
         String::new()
@@ -256,6 +261,28 @@ mod tests {
         let o = &d.root.children[0].children[0];
         assert_eq!((o.name.as_str(), o.key.as_str()), ("Object", "6656"));
         assert_eq!(o.children[0].key, "1");
+    }
+
+    #[test]
+    fn esi_names_data_types_and_sub_items_by_their_names() {
+        let text = "<D><Name>N</Name><Name LcId=\"1031\">M</Name><DataType><Name>DT1018</Name><SubItem><SubIdx>1</SubIdx><Name>a</Name></SubItem></DataType><SubItem><Name>b</Name></SubItem><Sm/></D>";
+        let d = parse(text).unwrap();
+        let keys: Vec<(&str, &str)> = d.root.children[0]
+            .children
+            .iter()
+            .map(|c| (c.name.as_str(), c.key.as_str()))
+            .collect();
+        assert_eq!(
+            keys,
+            [
+                ("Name", "1033"),
+                ("Name", "1031"),
+                ("DataType", "DT1018"),
+                ("SubItem", "b"),
+                ("Sm", "")
+            ]
+        );
+        assert_eq!(d.root.children[0].children[2].children[1].key, "1");
     }
 
     #[test]
