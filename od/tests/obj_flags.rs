@@ -250,7 +250,7 @@ fn xdd_reads_obj_flags_of_objects_and_sub_objects() {
         (Some(2), vec![(0, None), (1, Some(3))])
     );
 
-    for bad in ["", "zz", "123456789", "-1"] {
+    for bad in ["", "zz", "123456789", "000000001", "-1", "+1"] {
         let reading = read_xdd(&xdd(&format!(r#"objFlags="{bad}""#), "", ""));
         let messages: Vec<&str> = reading
             .findings
@@ -273,6 +273,14 @@ fn xdd_reads_obj_flags_of_objects_and_sub_objects() {
 /// keep them apart. EDS → XDD → EDS keeps them.
 #[test]
 fn xdd_writes_them_back_on_their_element() {
+    // 4 digits up to 0xFFFF, 8 beyond.
+    for (bits, text) in [(0xFFFF, "FFFF"), (0x1_0000, "00010000")] {
+        let desc = read(&eds(&format!("ObjFlags=0x{bits:X}"), "", ""));
+        assert!(
+            od::xdd::write(&desc).contains(&format!(r#"objFlags="{text}""#)),
+            "{text}"
+        );
+    }
     let mut desc = read(&eds("ObjFlags=0x1", "ObjFlags=0x10002", "ObjFlags=0"));
     desc.file_info.creation_date = "2024-05-31".into();
     let text = od::xdd::write(&desc);
@@ -346,6 +354,11 @@ fn flags_show_their_meaning() {
     assert!(ObjFlags::from_bits(3).contains(ObjFlags::REFUSE_WRITE_ON_DOWNLOAD));
     assert!(!ObjFlags::from_bits(2).contains(ObjFlags::REFUSE_WRITE_ON_DOWNLOAD));
     assert!(!ObjFlags::from_bits(2).is_empty());
+    assert_eq!(
+        ObjFlags::from_bits(3).union(ObjFlags::REFUSE_WRITE_ON_DOWNLOAD),
+        ObjFlags::from_bits(3),
+        "a set and one of its flags"
+    );
     assert_eq!(ObjFlags::from_bits(0x80).bits(), 0x80);
 }
 

@@ -374,7 +374,7 @@ impl<'a> Scan<'a> {
             .strip_prefix("0x")
             .or_else(|| t.strip_prefix("0X"))
             .unwrap_or(t);
-        let bits = (!digits.is_empty() && digits.len() <= 8)
+        let bits = (digits.len() <= 8 && digits.bytes().all(|b| b.is_ascii_hexdigit()))
             .then(|| u32::from_str_radix(digits, 16).ok())
             .flatten();
         if bits.is_none() {
