@@ -233,11 +233,25 @@ fn write_falls_back_when_the_kept_file_would_read_back_otherwise() {
     // An original the reader refuses (a section twice) against a model of its first section: kept,
     // the file would not read back, so the writer's rendering is written.
     let original = "[DeviceInfo]\nVendorNumber=0x1\nProductName=P\n[DeviceInfo]\nProductName=P\n";
-    let as_read = read("[DeviceInfo]\nVendorNumber=0x1\nProductName=P\n", Format::Eds);
+    let as_read = read(
+        "[DeviceInfo]\nVendorNumber=0x1\nProductName=P\n",
+        Format::Eds,
+    );
     let mut edited = as_read.clone();
     edited[0].identity.product_name = "Q".into();
-    let w = write(original.as_bytes(), Format::Eds, &as_read, Format::Eds, &edited);
+    let w = write(
+        original.as_bytes(),
+        Format::Eds,
+        &as_read,
+        Format::Eds,
+        &edited,
+    );
     let why = w.kept.unwrap_err();
-    assert!(why.starts_with("it would not read back: written:4:2: section [DeviceInfo] appears a second time"), "{why}");
+    assert!(
+        why.starts_with(
+            "it would not read back: written:4:2: section [DeviceInfo] appears a second time"
+        ),
+        "{why}"
+    );
     assert_eq!(w.bytes, crate::eds::write_eds(&edited[0]).into_bytes());
 }

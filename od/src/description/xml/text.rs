@@ -41,14 +41,16 @@ impl ElementText {
             Node::Ref(r, offset) => {
                 let c = match r.resolve() {
                     Ok(Some(c)) => c,
-                    Ok(None) => return Err(doc.error(
-                        *offset,
-                        format!(
+                    Ok(None) => {
+                        return Err(doc.error(
+                            *offset,
+                            format!(
                             "unknown entity `&{};` (expected &lt; &gt; &amp; &apos; &quot; or a \
                                  character reference)",
                             r.name()
                         ),
-                    )),
+                        ))
+                    }
                     Err(e) => {
                         return Err(doc.error(*offset, format!("bad character reference: {e}")))
                     }
