@@ -255,3 +255,99 @@ fn write_falls_back_when_the_kept_file_would_read_back_otherwise() {
     );
     assert_eq!(w.bytes, crate::eds::write_eds(&edited[0]).into_bytes());
 }
+
+#[test]
+fn unheld_attributes_are_those_the_rendering_lacks_by_name() {
+    let got = unheld("<R a=\"1\" Physics=\"YY\"/>", Format::Esi, "<R a=\"2\"/>").unwrap();
+    assert_eq!(
+        got,
+        [Unheld {
+            path: "R/@Physics".into(),
+            text: "YY".into()
+        }]
+    );
+}
+
+#[test]
+fn unheld_paths_name_repeats_and_prefixes() {
+    let original = "<q:R xmlns:q=\"u\"><S/><S x=\"1\"/><Object><Index>#x10</Index></Object><Object><Index>#x10</Index><E/></Object></q:R>";
+    let base =
+        "<R><S/><S/><Object><Index>#x10</Index></Object><Object><Index>#x10</Index></Object></R>";
+    let got = unheld(original, Format::Esi, base).unwrap();
+    let paths: Vec<&str> = got.iter().map(|u| u.path.as_str()).collect();
+    assert_eq!(paths, ["q:R/@q", "q:R/S[2]/@x", "q:R/Object[16][2]/E"]);
+}
+
+#[test]
+fn unheld_in_a_file_decodes_it_and_renders_its_model() {
+    let file = b"; n\n[DeviceInfo]\nVendorNumber=0x1\nCompactPDO=0x1\n";
+    let devices = read(std::str::from_utf8(file).unwrap(), Format::Eds);
+    let got = unheld_in_file(file, Format::Eds, &devices).unwrap();
+    let paths: Vec<&str> = got.iter().map(|u| u.path.as_str()).collect();
+    assert_eq!(paths, ["#comment[1]", "[DeviceInfo] CompactPDO"]);
+}
+
+#[test]
+fn an_unchanged_attribute_keeps_its_spelling_beside_a_changed_one() {
+    assert_eq!(
+        xml(
+            "<T ProductCode=\"#x1\" RevisionNo=\"#x2\">n</T>",
+            "<T ProductCode=\"#x00000001\" RevisionNo=\"#x00000002\">n</T>",
+            "<T ProductCode=\"#x00000001\" RevisionNo=\"#x00000003\">n</T>",
+        ),
+        "<T ProductCode=\"#x1\" RevisionNo=\"#x00000003\">n</T>"
+    );
+}
+
+#[test]
+fn a_text_edit_replaces_mixed_content_whole() {
+    assert_eq!(
+        xml(
+            "<R>\n  <Desc>x<b>y</b></Desc>\n</R>",
+            "<R>\n\t<Desc>xy</Desc>\n</R>",
+            "<R>\n\t<Desc>z</Desc>\n</R>",
+        ),
+        "<R>\n  <Desc>z</Desc>\n</R>"
+    );
+}
+
+#[test]
+fn an_empty_tag_stays_empty_when_nothing_goes_into_it() {
+    assert_eq!(
+        xml(
+            "<R><Sm/></R>",
+            "<R><Sm><X>1</X></Sm></R>",
+            "<R><Sm a=\"2\"><X>1</X></Sm></R>",
+        ),
+        "<R><Sm a=\"2\"/></R>"
+    );
+}
+
+#[test]
+fn ini_additions_start_on_a_line_of_their_own() {
+    assert_eq!(
+        eds("[A]\nk=1", "[A]\nk=1\n", "[A]\nk=1\nn=2\n"),
+        "[A]\nk=1\nn=2\n"
+    );
+    assert_eq!(eds("", "", "[A]\nk=1\n"), "[A]\nk=1\n");
+}
+
+#[test]
+fn removals_take_their_line_when_they_stand_alone() {
+    let base = "<R><A/><B/></R>";
+    let edited = "<R><A/></R>";
+    assert_eq!(xml("<R><A/> <B/></R>", base, edited), "<R><A/> </R>");
+    assert_eq!(
+        xml("<R>\n<A/>\n<B/>\n</R>", base, edited),
+        "<R>\n<A/>\n</R>"
+    );
+    assert_eq!(
+        xml("<R>\r\n\t<A/>\r\n\t<B/>\r\n</R>", base, edited),
+        "<R>\r\n\t<A/>\r\n</R>"
+    );
+    assert_eq!(xml("<R><A/>x<B/></R>", base, edited), "<R><A/>x</R>");
+    assert_eq!(
+        eds("[A]\nk=1\n  n=2\n", "[A]\nk=1\nn=2\n", "[A]\nk=1\n"),
+        "[A]\nk=1\n"
+    );
+}
