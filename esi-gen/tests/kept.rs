@@ -69,52 +69,48 @@ fn an_unedited_file_comes_back_byte_for_byte() {
     }
 }
 
-#[test]
-fn an_esi_edit_changes_the_one_attribute() {
-    let out = tmp("kp100.xml");
-    let o = esi_gen(&[
-        "esi",
-        kept("vendor-parts.xml").to_str().unwrap(),
-        "--revision",
-        "0x00020000",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
+/// Rewrites `name` with `sub` and the edit `args` to the file `out`, which must be the input with each
+/// of `changes` made (as text, so that a failure shows the lines).
+fn assert_edit(sub: &str, name: &str, args: &[&str], out: &str, changes: &[(&[u8], &[u8])]) {
+    let out = tmp(out);
+    let input = kept(name);
+    let mut all = vec![sub, input.to_str().unwrap()];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["-o", out.to_str().unwrap()]);
+    let o = esi_gen(&all);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(
-        read(&out),
-        edited(
-            &read(&kept("vendor-parts.xml")),
-            &[(
-                b"RevisionNo=\"#x00010000\" CheckRevisionNo",
-                b"RevisionNo=\"#x00020000\" CheckRevisionNo"
-            )]
-        )
+        String::from_utf8_lossy(&read(&out)),
+        String::from_utf8_lossy(&edited(&read(&input), changes)),
+        "{name}"
+    );
+}
+
+#[test]
+fn an_esi_edit_changes_the_one_attribute() {
+    assert_edit(
+        "esi",
+        "vendor-parts.xml",
+        &["--revision", "0x00020000"],
+        "kp100.xml",
+        &[(
+            b"RevisionNo=\"#x00010000\" CheckRevisionNo",
+            b"RevisionNo=\"#x00020000\" CheckRevisionNo",
+        )],
     );
 }
 
 #[test]
 fn an_eds_edit_changes_its_keys_in_place() {
-    let out = tmp("kp200.eds");
-    let o = esi_gen(&[
+    assert_edit(
         "eds",
-        kept("vendor-parts.eds").to_str().unwrap(),
-        "--revision",
-        "0x20000",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(
-        String::from_utf8(read(&out)).unwrap(),
-        String::from_utf8(edited(
-            &read(&kept("vendor-parts.eds")),
-            &[
-                (b"FileName=vendor-parts.eds", b"FileName=kp200.eds"),
-                (b"RevisionNumber=0x10000", b"RevisionNumber=0x00020000"),
-            ]
-        ))
-        .unwrap()
+        "vendor-parts.eds",
+        &["--revision", "0x20000"],
+        "kp200.eds",
+        &[
+            (b"FileName=vendor-parts.eds", b"FileName=kp200.eds"),
+            (b"RevisionNumber=0x10000", b"RevisionNumber=0x00020000"),
+        ],
     );
 }
 
@@ -122,55 +118,33 @@ fn an_eds_edit_changes_its_keys_in_place() {
 /// the entries it did not configure, no new section.
 #[test]
 fn a_dcf_for_another_node_changes_only_its_node_id() {
-    let out = tmp("axis2.dcf");
-    let o = esi_gen(&[
+    assert_edit(
         "dcf",
-        kept("configured.dcf").to_str().unwrap(),
-        "--node-id",
-        "5",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(
-        String::from_utf8(read(&out)).unwrap(),
-        String::from_utf8(edited(
-            &read(&kept("configured.dcf")),
-            &[
-                (b"FileName=configured.dcf", b"FileName=axis2.dcf"),
-                (b"NodeID=0x10", b"NodeID=5"),
-            ]
-        ))
-        .unwrap()
+        "configured.dcf",
+        &["--node-id", "5"],
+        "axis2.dcf",
+        &[
+            (b"FileName=configured.dcf", b"FileName=axis2.dcf"),
+            (b"NodeID=0x10", b"NodeID=5"),
+        ],
     );
 }
 
 #[test]
 fn an_xdd_edit_changes_its_attributes_and_elements_in_place() {
-    let out = tmp("kp300.xdd");
-    let o = esi_gen(&[
+    assert_edit(
         "xdd",
-        kept("vendor-parts.xdd").to_str().unwrap(),
-        "--product-code",
-        "0x301",
-        "-o",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(
-        String::from_utf8(read(&out)).unwrap(),
-        String::from_utf8(edited(
-            &read(&kept("vendor-parts.xdd")),
-            &[
-                (b"fileName=\"vendor-parts.xdd\"", b"fileName=\"kp300.xdd\""),
-                (
-                    b"<productID>0x00000300</productID>",
-                    b"<productID>0x00000301</productID>"
-                ),
-                (b"fileName=\"vendor-parts.xdd\"", b"fileName=\"kp300.xdd\""),
-            ]
-        ))
-        .unwrap()
+        "vendor-parts.xdd",
+        &["--product-code", "0x301"],
+        "kp300.xdd",
+        &[
+            (b"fileName=\"vendor-parts.xdd\"", b"fileName=\"kp300.xdd\""),
+            (
+                b"<productID>0x00000300</productID>",
+                b"<productID>0x00000301</productID>",
+            ),
+            (b"fileName=\"vendor-parts.xdd\"", b"fileName=\"kp300.xdd\""),
+        ],
     );
 }
 
