@@ -351,3 +351,27 @@ fn removals_take_their_line_when_they_stand_alone() {
         "[A]\nk=1\n"
     );
 }
+
+#[test]
+fn write_falls_back_when_the_kept_file_would_read_back_as_another_model() {
+    // The model given is not the original's (its 0x1017 default is 0, the file's 5): kept, the
+    // file would read back with 5, which the writer's rendering does not.
+    let as_read = read(EDS, Format::Eds);
+    let original = EDS.replace("DefaultValue=0", "DefaultValue=5");
+    let mut edited = as_read.clone();
+    edited[0].identity.product_name = "Q".into();
+    let w = write(
+        original.as_bytes(),
+        Format::Eds,
+        &as_read,
+        Format::Eds,
+        &edited,
+    );
+    let why = w.kept.unwrap_err();
+    assert!(
+        why.starts_with("it would read back otherwise: 0: "),
+        "{why}"
+    );
+    assert!(why.contains("0x1017"), "{why}");
+    assert_eq!(w.bytes, crate::eds::write_eds(&edited[0]).into_bytes());
+}
