@@ -532,7 +532,10 @@ impl Merge<'_, '_> {
                         out.push_str(indent);
                         // Each further level of the edited text's indentation is one of the
                         // original's.
-                        while let Some(r) = rest.strip_prefix(self.w1_unit.as_str()) {
+                        while let Some(r) = rest
+                            .strip_prefix(self.w1_unit.as_str())
+                            .filter(|_| !self.w1_unit.is_empty())
+                        {
                             out.push_str(&self.unit);
                             rest = r;
                         }
