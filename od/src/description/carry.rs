@@ -317,7 +317,7 @@ impl Merge<'_, '_> {
     }
 
     /// An element's own changes: its attributes, and its text when it holds no element. True when
-    /// it was replaced whole (nothing is left to do inside).
+    /// the renderings hold no element in it (its text is done; nothing is left to do inside).
     fn element(&mut self, o: &Node, b: &Node, e: &Node) -> bool {
         let (oe, be, ee) = (
             o.element().expect("an element"),
@@ -365,11 +365,8 @@ impl Merge<'_, '_> {
             };
             let (bt, et) = (text(self.w0, b), text(self.w1, e));
             if bt != et {
-                if !o.is_leaf() {
-                    let whole = self.reindented(e, o.span.start);
-                    self.edits.replace(o.span.clone(), whole);
-                    return true;
-                }
+                // The content goes whole, elements the original had in it (mixed content) too;
+                // the start tag stays, with what the model does not hold in it.
                 match &oe.content {
                     Some(r) => self.edits.replace(r.clone(), et),
                     None => {

@@ -300,14 +300,14 @@ fn an_unchanged_attribute_keeps_its_spelling_beside_a_changed_one() {
 }
 
 #[test]
-fn a_text_edit_replaces_mixed_content_whole() {
+fn a_text_edit_replaces_mixed_content_whole_and_keeps_the_start_tag() {
     assert_eq!(
         xml(
-            "<R>\n  <Desc>x<b>y</b></Desc>\n</R>",
+            "<R>\n  <Desc k=\"v\">x<b>y</b></Desc>\n</R>",
             "<R>\n\t<Desc>xy</Desc>\n</R>",
             "<R>\n\t<Desc>z</Desc>\n</R>",
         ),
-        "<R>\n  <Desc>z</Desc>\n</R>"
+        "<R>\n  <Desc k=\"v\">z</Desc>\n</R>"
     );
 }
 
