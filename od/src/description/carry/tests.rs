@@ -350,6 +350,11 @@ fn removals_take_their_line_when_they_stand_alone() {
         eds("[A]\nk=1\n  n=2\n", "[A]\nk=1\nn=2\n", "[A]\nk=1\n"),
         "[A]\nk=1\n"
     );
+    // The file's first part.
+    assert_eq!(
+        eds("[B]\nw=3\n[C]\n", "[B]\nw=3\n\n[C]\n", "[C]\n"),
+        "[C]\n"
+    );
 }
 
 #[test]
