@@ -380,3 +380,46 @@ fn write_falls_back_when_the_kept_file_would_read_back_as_another_model() {
     assert!(why.contains("0x1017"), "{why}");
     assert_eq!(w.bytes, crate::eds::write_eds(&edited[0]).into_bytes());
 }
+
+#[test]
+fn line_ends_follow_the_original() {
+    assert_eq!(eol("a\nb", "\r\n"), "a\r\nb");
+    assert_eq!(eol("a\r\nb", "\r\n"), "a\r\nb");
+    assert_eq!(eol("ab", "\r\n"), "ab");
+    assert_eq!(eol("a\r\nb", "\n"), "a\nb");
+    assert_eq!(eol("a\nb", "\n"), "a\nb");
+}
+
+#[test]
+fn utf16_files_stay_utf16_in_their_byte_order() {
+    let utf16 = |text: &str, big_endian: bool| -> Vec<u8> {
+        let mut out = if big_endian {
+            vec![0xFE, 0xFF]
+        } else {
+            vec![0xFF, 0xFE]
+        };
+        for u in text.encode_utf16() {
+            out.extend_from_slice(&if big_endian {
+                u.to_be_bytes()
+            } else {
+                u.to_le_bytes()
+            });
+        }
+        out
+    };
+    for big_endian in [false, true] {
+        let original = utf16("<R><N>a</N><X/></R>", big_endian);
+        let out = rewrite(
+            &original,
+            Format::Esi,
+            "<R><N>a</N></R>",
+            "<R><N>\u{3A9}</N></R>",
+        )
+        .unwrap();
+        assert_eq!(
+            out,
+            utf16("<R><N>\u{3A9}</N><X/></R>", big_endian),
+            "{big_endian}"
+        );
+    }
+}
