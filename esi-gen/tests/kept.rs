@@ -213,6 +213,26 @@ fn diff_all_sees_what_the_model_does_not_hold() {
          ~ file [DeviceInfo] CompactPDO: 0x3 -> 0x1\n\
          + file [VendorExtra]\n"
     );
+    let o = esi_gen(&[
+        "--json",
+        "diff",
+        "--all",
+        a.to_str().unwrap(),
+        other.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(
+        lines,
+        [
+            serde_json::json!({"change": "only_in_a", "file_part": "[FileInfo] LastEDS", "a": "vendor-parts-1.eds"}),
+            serde_json::json!({"change": "changed", "file_part": "[DeviceInfo] CompactPDO", "a": "0x3", "b": "0x1"}),
+            serde_json::json!({"change": "only_in_b", "file_part": "[VendorExtra]", "b": "[VendorExtra]\nKey=1"}),
+        ]
+    );
     let o = esi_gen(&["diff", "--all", a.to_str().unwrap(), a.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(0));
 
