@@ -6,8 +6,9 @@
 //!   sending the next frame when the answer is back (one frame in flight, as a master's cycle does),
 //!   and with 8 frames in flight (what the emulator can take). Needs root.
 //!
-//! `cargo bench -p ethercat-slave --bench frames [-- SECONDS]` (default 3 s per figure; without
-//! `--bench`, as under `cargo test`, a short run).
+//! `cargo bench -p ethercat-slave --bench frames [-- SECONDS] [in-process|veth]` (default 3 s per
+//! figure; without `--bench`, as under `cargo test`, a short run; `in-process` or `veth` runs only
+//! those figures).
 
 use testkit::link;
 
@@ -157,13 +158,20 @@ fn main() {
         .skip(1)
         .find_map(|a| a.parse().ok())
         .unwrap_or(if bench { 3.0 } else { 0.3 });
-    for n in [1usize, 16] {
+    let only = |what: &str| {
+        let filters = ["in-process", "veth"];
+        let given: Vec<String> = std::env::args()
+            .filter(|a| filters.contains(&a.as_str()))
+            .collect();
+        given.is_empty() || given.iter().any(|a| a == what)
+    };
+    for n in [1usize, 16].into_iter().filter(|_| only("in-process")) {
         println!(
             "{n:>2} units, in process:                {:>9.0} frames/s",
             in_process(n, secs)
         );
     }
-    for n in [1usize, 16] {
+    for n in [1usize, 16].into_iter().filter(|_| only("veth")) {
         for (window, spin) in [(1usize, 0u32), (1, 200), (8, 0)] {
             println!(
                 "{n:>2} units, veth, {window} frame(s) in flight, --busy-poll-us {spin:>3}: {:>9.0} frames/s",
