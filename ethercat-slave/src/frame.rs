@@ -128,6 +128,15 @@ impl DatagramAt {
 
 /// The datagrams of an EtherCAT frame, checked for their lengths.
 pub fn datagrams(frame: &[u8]) -> Result<Vec<DatagramAt>, FrameError> {
+    let mut out = Vec::new();
+    datagrams_into(frame, &mut out)?;
+    Ok(out)
+}
+
+/// [`datagrams`] into `out` (emptied first), so that a caller that keeps `out` allocates nothing
+/// per frame; on an error `out` holds no meaning.
+pub fn datagrams_into(frame: &[u8], out: &mut Vec<DatagramAt>) -> Result<(), FrameError> {
+    out.clear();
     let len = frame.len();
     if len < ETH_HEADER + 2 {
         return Err(FrameError::Truncated {
@@ -152,7 +161,6 @@ pub fn datagrams(frame: &[u8]) -> Result<Vec<DatagramAt>, FrameError> {
         });
     }
     let end = ETH_HEADER + 2 + body;
-    let mut out = Vec::new();
     let mut at = ETH_HEADER + 2;
     loop {
         if at + DATAGRAM_HEADER > end {
@@ -178,7 +186,7 @@ pub fn datagrams(frame: &[u8]) -> Result<Vec<DatagramAt>, FrameError> {
             break;
         }
     }
-    Ok(out)
+    Ok(())
 }
 
 /// One datagram to build a frame from (what a master sends).

@@ -293,7 +293,8 @@ impl<M: Model> UnitChain<M> {
     /// Processes a frame that arrived at `now` as it passes the chain, then tells the models their
     /// AL states and serves the mailboxes the frame completed.
     pub fn handle_frame(&mut self, now: Instant, frame: &mut [u8]) -> Result<(), FrameError> {
-        self.set_now(now);
+        // The chain's time moves on with the frame (Chain::handle_frame), as set_now moves it.
+        self.now = self.now.max(now);
         self.chain.handle_frame(self.now, frame)?;
         self.serve_mailboxes();
         Ok(())
@@ -334,11 +335,15 @@ impl<M: Model> UnitChain<M> {
         let now = self.now;
         for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
             let (al, _) = esc.al_state();
-            unit.sync_state(al, now, esc.sync0_cycle());
-            unit.send_pending(esc);
+            if al != unit.state {
+                unit.sync_state(al, now, esc.sync0_cycle());
+            }
+            if !unit.pending.is_empty() {
+                unit.send_pending(esc);
+            }
             // One request at a time (ETG.1000.6 §5.5): the next is taken only once the answers
             // before it are in SM1 or read, so a master that never reads SM1 finds SM0 full.
-            if unit.pending.is_empty() {
+            if unit.pending.is_empty() && esc.mailbox_written() {
                 if let Some(mailbox) = esc.take_mailbox() {
                     unit.coe.handle_mailbox(now, &mailbox, &mut unit.model);
                     while unit.coe.poll_event().is_some() {}

@@ -23,7 +23,7 @@ pub mod dc;
 pub mod sm;
 
 pub use crate::frame::{cmd, Command};
-use crate::frame::{datagrams, DatagramAt, FrameError};
+use crate::frame::{datagrams_into, DatagramAt, FrameError};
 use od::device::EthercatInfo;
 use od::DeviceDescription;
 
@@ -109,6 +109,42 @@ pub struct Esc {
     fmmus: usize,
     /// The SyncManagers the ESC has (0x0005).
     sync_managers: usize,
+    /// The FMMUs and SyncManagers as their registers configure them, decoded again whenever a
+    /// write reaches those registers ([`Maps`]).
+    maps: Maps,
+}
+
+/// The FMMU and SyncManager registers of an ESC decoded: what every process-data and mailbox
+/// access looks up, read from here instead of from the register bytes each time. Memory stays
+/// the truth: every write to memory that reaches the registers of the ESC's FMMUs or
+/// SyncManagers decodes them again ([`Esc::mem_written`]), except the SyncManager status bytes,
+/// which are no part of a SyncManager's configuration. The reserved blocks past them are none of
+/// these.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct Maps {
+    /// FMMU `n` when the ESC has it and it is active ([`Esc::fmmu`]).
+    fmmus: [Option<Fmmu>; FMMUS],
+    /// The FMMUs that are `Some` in `fmmus`, bit `n` for FMMU `n`.
+    active: u16,
+    /// SyncManager `n` of those the ESC has ([`Esc::sync_manager`]); the rest unused.
+    sync_managers: [sm::SyncManager; sm::SYNC_MANAGERS],
+    /// The mailbox SyncManagers: the one the master writes (SM0) and the one it reads (SM1).
+    mailboxes: (Option<usize>, Option<usize>),
+    /// For FMMU `n`, how the SyncManagers take a read (`[n][0]`) and a write (`[n][1]`) of its
+    /// whole physical range: what a logical datagram over all of the FMMU's logical range does.
+    plans: [[sm::Plan; 2]; FMMUS],
+}
+
+impl Default for Maps {
+    fn default() -> Self {
+        Maps {
+            fmmus: [None; FMMUS],
+            active: 0,
+            sync_managers: [sm::SyncManager::default(); sm::SYNC_MANAGERS],
+            mailboxes: (None, None),
+            plans: [[sm::Plan::AtAccess; 2]; FMMUS],
+        }
+    }
 }
 
 impl Default for Esc {
@@ -191,7 +227,9 @@ impl Esc {
             clock: dc::Clock::default(),
             fmmus,
             sync_managers,
+            maps: Maps::default(),
         };
+        esc.decode_maps();
         // ESC information (0x0000–0x0009, ETG.1000.4 DL information): type, revision, build, FMMUs,
         // SyncManagers, process RAM in KiB, ports 0 and 1 MII, features: byte-oriented FMMUs, DC
         // with 64-bit system time.
@@ -255,11 +293,14 @@ impl Esc {
     }
 
     /// A new output image: the SyncManager watchdog starts again.
+    #[inline]
     pub(crate) fn outputs_arrived(&mut self) {
         self.outputs_received = self.outputs_received.wrapping_add(1);
         self.watchdog_from = self.clock.now;
         self.watchdog_expired = false;
-        self.store(WATCHDOG_STATUS_PD, &[1, 0]);
+        // (No FMMU or SyncManager register: a plain write.)
+        let at = usize::from(WATCHDOG_STATUS_PD);
+        self.mem[at..at + 2].copy_from_slice(&[1, 0]);
     }
 
     /// How many output images the master has completed (writes that reached the last byte of a
@@ -315,6 +356,7 @@ impl Esc {
     }
 
     /// The AL state (AL status bits 0–3) and whether the error indicator is set.
+    #[inline]
     pub fn al_state(&self) -> (al::AlState, bool) {
         let s = self.read_u16(al::AL_STATUS);
         // Only the ESC writes AL status (the master cannot), always with a state of the table.
@@ -328,15 +370,48 @@ impl Esc {
     }
 
     /// A 16-bit register.
+    #[inline]
     pub fn read_u16(&self, at: u16) -> u16 {
         u16::from_le_bytes(self.bytes_at(at))
     }
 
     /// Sets memory from the slave's side (the application); bytes past the end are left out.
     pub fn store(&mut self, at: u16, bytes: &[u8]) {
-        let at = usize::from(at);
-        let n = bytes.len().min(MEMORY - at);
-        self.mem[at..at + n].copy_from_slice(&bytes[..n]);
+        let start = usize::from(at);
+        let n = bytes.len().min(MEMORY - start);
+        self.mem[start..start + n].copy_from_slice(&bytes[..n]);
+        self.mem_written(at, n);
+    }
+
+    /// After a write of `len` bytes of memory at `at`: the FMMUs and SyncManagers are decoded
+    /// again when it reached their registers.
+    fn mem_written(&mut self, at: u16, len: usize) {
+        if touches(at, len, FMMU_BASE, 16 * self.fmmus)
+            || touches(at, len, sm::SM_BASE, 8 * self.sync_managers)
+        {
+            self.decode_maps();
+        }
+    }
+
+    /// Decodes the FMMU and SyncManager registers into [`Maps`].
+    fn decode_maps(&mut self) {
+        self.maps.active = 0;
+        for n in 0..FMMUS {
+            self.maps.fmmus[n] = self.decode_fmmu(n);
+            if self.maps.fmmus[n].is_some() {
+                self.maps.active |= 1 << n;
+            }
+        }
+        for n in 0..self.sync_managers {
+            self.maps.sync_managers[n] = self.decode_sync_manager(n);
+        }
+        self.maps.mailboxes = self.find_mailbox_sms();
+        for n in 0..FMMUS {
+            self.maps.plans[n] = match self.maps.fmmus[n] {
+                Some(f) => [false, true].map(|write| self.plan(f.physical, f.len, write)),
+                None => [sm::Plan::AtAccess; 2],
+            };
+        }
     }
 
     /// Memory as the master sees it.
@@ -348,22 +423,37 @@ impl Esc {
 
     /// As many bytes of memory from `at` as `out` holds, as [`load`](Esc::load) reads them.
     pub fn load_into(&self, at: u16, out: &mut [u8]) {
-        for (k, b) in out.iter_mut().enumerate() {
-            *b = self.mem[(usize::from(at) + k) % MEMORY];
+        let start = usize::from(at);
+        match self.mem.get(start..start + out.len()) {
+            Some(bytes) => out.copy_from_slice(bytes),
+            // Past the end of memory the read wraps round to address 0.
+            None => {
+                for (k, b) in out.iter_mut().enumerate() {
+                    *b = self.mem[(start + k) % MEMORY];
+                }
+            }
         }
     }
 
     /// `N` bytes of memory from `at`, as [`load`](Esc::load) reads them.
+    #[inline]
     pub fn bytes_at<const N: usize>(&self, at: u16) -> [u8; N] {
-        std::array::from_fn(|k| self.mem[(usize::from(at) + k) % MEMORY])
+        let start = usize::from(at);
+        match self.mem.get(start..start + N) {
+            Some(bytes) => bytes.try_into().expect("N bytes"),
+            None => std::array::from_fn(|k| self.mem[(start + k) % MEMORY]),
+        }
     }
 
     /// Reads into `data` (ORed for broadcasts, as an ESC ORs a broadcast read).
     fn read_into(&mut self, ado: u16, data: &mut [u8], or: bool) {
         self.dc_before_read(ado, data.len());
-        for (k, d) in data.iter_mut().enumerate() {
-            let m = self.mem[(usize::from(ado) + k) % MEMORY];
-            *d = if or { *d | m } else { m };
+        if or {
+            for (k, d) in data.iter_mut().enumerate() {
+                *d |= self.mem[(usize::from(ado) + k) % MEMORY];
+            }
+        } else {
+            self.load_into(ado, data);
         }
         self.dc_after_read(ado, data.len());
     }
@@ -384,6 +474,7 @@ impl Esc {
             self.store(r, &bytes);
         }
         // The blocks of FMMUs and SyncManagers the ESC does not have take nothing: they stay 0.
+        // (They are none of the FMMUs and SyncManagers [`Maps`] holds.)
         for (r, n) in self.reserved() {
             let r = usize::from(r);
             self.mem[r..r + n].fill(0);
@@ -457,6 +548,14 @@ impl Esc {
         if n >= self.fmmus {
             return None;
         }
+        self.maps.fmmus[n]
+    }
+
+    /// FMMU `n` decoded from its registers, as [`Esc::fmmu`] gives it.
+    fn decode_fmmu(&self, n: usize) -> Option<Fmmu> {
+        if n >= self.fmmus {
+            return None;
+        }
         let r: [u8; 16] = self.bytes_at(FMMU_BASE + 16 * n as u16);
         if r[12] & 0x01 == 0 {
             return None;
@@ -480,31 +579,53 @@ impl Esc {
             _ => (true, true),
         };
         let (mut read, mut wrote) = (false, false);
-        for n in 0..self.fmmus {
-            let Some(f) = self.fmmu(n) else { continue };
-            let start = u64::from(f.logical).max(u64::from(addr));
-            let end =
-                (u64::from(f.logical) + u64::from(f.len)).min(u64::from(addr) + data.len() as u64);
+        let addr = u64::from(addr);
+        let data_end = addr + data.len() as u64;
+        // The active FMMUs in their order, each as its registers are when its turn comes (a
+        // write through one may have reached the registers of the next).
+        let mut n = 0;
+        loop {
+            let rest = self.maps.active.checked_shr(n as u32).unwrap_or(0);
+            if rest == 0 {
+                break;
+            }
+            n += rest.trailing_zeros() as usize;
+            let Some(f) = self.maps.fmmus[n] else { break };
+            let this = n;
+            n += 1;
+            let logical = u64::from(f.logical);
+            let start = logical.max(addr);
+            let end = (logical + u64::from(f.len)).min(data_end);
             if start >= end {
                 continue;
             }
-            let k = (start - u64::from(addr)) as usize;
+            let k = (start - addr) as usize;
             let len = (end - start) as usize;
-            let phys = (u64::from(f.physical) + (start - u64::from(f.logical))) as usize;
+            let phys = usize::from(f.physical) + (start - logical) as usize;
             if phys + len > MEMORY {
                 continue;
             }
             let at = phys as u16;
+            // The SyncManagers' verdict on an access over the FMMU's whole range was worked out
+            // with the registers; it stands while no mailbox's state decides it. (Read when used:
+            // the write may have reached the registers.)
+            let whole = len == usize::from(f.len);
+            let gate = |esc: &Esc, write: bool| match esc.maps.plans[this][usize::from(write)] {
+                sm::Plan::Open(gate) if whole => Some(gate),
+                sm::Plan::Refused if whole => None,
+                _ => esc.sm_gate(at, len, write),
+            };
             // The frame's outputs are written before the slave's inputs are read into it.
             if want_write && f.write {
-                if let Some(gate) = self.sm_gate(at, len, true) {
+                if let Some(gate) = gate(self, true) {
                     self.mem[phys..phys + len].copy_from_slice(&data[k..k + len]);
+                    self.mem_written(at, len);
                     self.sm_after(gate, true);
                     wrote = true;
                 }
             }
             if want_read && f.read {
-                if let Some(gate) = self.sm_gate(at, len, false) {
+                if let Some(gate) = gate(self, false) {
                     data[k..k + len].copy_from_slice(&self.mem[phys..phys + len]);
                     self.sm_after(gate, false);
                     read = true;
@@ -574,6 +695,8 @@ pub struct Chain {
     pub slaves: Vec<Esc>,
     /// The chain's time zero.
     epoch: Option<std::time::Instant>,
+    /// Where the datagrams of the frame being processed lie, kept from frame to frame.
+    datagrams: Vec<DatagramAt>,
 }
 
 impl Chain {
@@ -582,6 +705,7 @@ impl Chain {
         let mut chain = Chain {
             slaves: (0..n).map(|_| Esc::new()).collect(),
             epoch: None,
+            datagrams: Vec::new(),
         };
         chain.link();
         chain
@@ -632,17 +756,15 @@ impl Chain {
     }
 
     fn process(&mut self, frame: &mut [u8]) -> Result<(), FrameError> {
-        let dgs = datagrams(frame)?;
+        datagrams_into(frame, &mut self.datagrams)?;
         for esc in self.slaves.iter_mut() {
-            for d in &dgs {
-                let command = Command(frame[d.start]);
+            for d in &self.datagrams {
+                let header: [u8; 6] = frame[d.start..d.start + 6]
+                    .try_into()
+                    .expect("a datagram header is 10 bytes");
+                let command = Command(header[0]);
                 // ADP and ADO, or in their place one 32-bit logical address (ETG.1000.4 §5.4).
-                let address = u32::from_le_bytes([
-                    frame[d.start + 2],
-                    frame[d.start + 3],
-                    frame[d.start + 4],
-                    frame[d.start + 5],
-                ]);
+                let address = u32::from_le_bytes([header[2], header[3], header[4], header[5]]);
                 let (adp, ado) = (address as u16, (address >> 16) as u16);
                 let (access, addressed, auto, or) = match command {
                     cmd::APRD => (Some(Access::Read), adp == 0, true, false),
@@ -838,5 +960,120 @@ mod tests {
         let mut esc = Esc::new();
         esc.store(0xFFFF, &[0xA5, 0x5A]);
         assert_eq!(esc.load(0xFFFF, 2), [0xA5, 0x11]);
+    }
+
+    /// The decoded FMMUs and SyncManagers ([`Maps`]) are what the registers say after every
+    /// write, whichever way it comes: register datagrams of every kind over the FMMU and
+    /// SyncManager blocks and beside them, logical writes through an FMMU that maps those
+    /// registers, the application's stores, mailboxes filled and emptied. Random writes on a chain
+    /// of an ESC with 3 FMMUs and 4 SyncManagers and one with all of them; after each, the maps
+    /// equal those decoded afresh.
+    #[test]
+    fn decoded_fmmus_and_sync_managers_follow_every_write() {
+        use crate::frame::{emit, Datagram};
+        let mut chain = Chain::new(0);
+        chain.push(Esc::with_counts(3, 4));
+        chain.push(Esc::new());
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = move |below: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % below
+        };
+        let check = |chain: &Chain, step: usize| {
+            for (k, esc) in chain.slaves.iter().enumerate() {
+                let mut fresh = esc.clone();
+                fresh.decode_maps();
+                assert_eq!(fresh.maps, esc.maps, "slave {k} after step {step}");
+            }
+        };
+        // FMMU 0 of each maps logical 0x100.. onto the SyncManager registers, FMMU 1 onto the FMMU
+        // registers, FMMU 2 onto process memory under a mailbox SyncManager, all read and write;
+        // set again every 100 steps.
+        let arm = |chain: &mut Chain| {
+            for k in 0..2u16 {
+                let adp = 0u16.wrapping_sub(k);
+                for (n, physical) in [(0u16, 0x0800u16), (1, 0x0600), (2, 0x1000)] {
+                    let mut r = (0x100u32 + 0x100 * u32::from(n)).to_le_bytes().to_vec();
+                    r.extend_from_slice(&0x80u16.to_le_bytes());
+                    r.extend_from_slice(&[0, 7]);
+                    r.extend_from_slice(&physical.to_le_bytes());
+                    r.extend_from_slice(&[0, 3, 1, 0, 0, 0]);
+                    let d = Datagram::new(cmd::APWR, adp, 0x0600 + 16 * n, r);
+                    let mut f = emit(&[d], [2; 6]);
+                    chain.process(&mut f).unwrap();
+                }
+            }
+        };
+        check(&chain, 0);
+        let commands = [
+            cmd::APWR,
+            cmd::APRW,
+            cmd::FPWR,
+            cmd::BWR,
+            cmd::BRW,
+            cmd::ARMW,
+            cmd::FRMW,
+            cmd::LWR,
+            cmd::LRW,
+            cmd::LRD,
+        ];
+        for step in 1..3000 {
+            if step % 100 == 1 {
+                arm(&mut chain);
+            }
+            if next(10) == 0 {
+                // The application's store, or a mailbox put or taken.
+                let k = next(2) as usize;
+                let esc = &mut chain.slaves[k];
+                match next(3) {
+                    0 => {
+                        let at = 0x05F0 + next(0x2A0) as u16;
+                        let bytes: Vec<u8> = (0..1 + next(12)).map(|_| next(256) as u8).collect();
+                        esc.store(at, &bytes);
+                    }
+                    1 => {
+                        esc.put_mailbox(&[next(256) as u8; 4]);
+                    }
+                    _ => {
+                        esc.take_mailbox();
+                    }
+                }
+                check(&chain, step);
+                continue;
+            }
+            // Logical and register datagrams about as often.
+            let command = match next(2) {
+                0 => commands[7 + next(3) as usize],
+                _ => commands[next(7) as usize],
+            };
+            let len = 1 + next(40) as usize;
+            let data: Vec<u8> = (0..len).map(|_| next(256) as u8).collect();
+            let d = if matches!(command, cmd::LWR | cmd::LRW | cmd::LRD) {
+                Datagram {
+                    cmd: command,
+                    index: 0,
+                    address: 0xF0 + 0x100 * next(3) as u32 + next(0x90) as u32,
+                    data,
+                    wkc: 0,
+                }
+            } else {
+                let adp = match command {
+                    cmd::FPWR | cmd::FRMW => 0,
+                    _ => 0u16.wrapping_sub(next(2) as u16),
+                };
+                // Active, enabled and in mailbox mode more often than at random.
+                let mut data = data;
+                if next(2) == 0 && len > 6 {
+                    data[6] |= 1;
+                    data[4] = [0x26, 0x22, 0x64, 0x20][next(4) as usize];
+                }
+                Datagram::new(command, adp, 0x05F0 + next(0x2A0) as u16, data)
+            };
+            let mut f = emit(&[d], [2; 6]);
+            chain.process(&mut f).unwrap();
+            check(&chain, step);
+        }
     }
 }

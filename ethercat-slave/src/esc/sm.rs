@@ -38,7 +38,7 @@ pub const MAILBOX_FULL: u8 = 0x08;
 pub const WRITE_EVENT: u8 = 0x01;
 
 /// A SyncManager as its registers configure it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SyncManager {
     /// Physical start address.
     pub start: u16,
@@ -84,16 +84,39 @@ impl SyncManager {
 }
 
 /// What an access does to the SyncManagers it touches, worked out before the access.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Gate {
     /// SyncManagers whose last byte the access reaches.
     completes: u8,
+    /// Those SyncManagers are all in buffered mode, and the access is to process memory only
+    /// (it changes no SyncManager's configuration).
+    buffered: bool,
+}
+
+/// How the SyncManagers take an access, worked out from their configuration ([`Esc::plan`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Plan {
+    /// Taken, with this gate, whatever the SyncManagers' state.
+    Open(Gate),
+    /// Refused whatever their state.
+    Refused,
+    /// A mailbox's state decides: [`Esc::sm_gate`] at the access.
+    AtAccess,
 }
 
 impl Esc {
     /// SyncManager `n` as configured; one the ESC does not have reads as zeros: disabled, guarding
     /// nothing.
     pub fn sync_manager(&self, n: usize) -> SyncManager {
+        if n < self.sync_managers {
+            self.maps.sync_managers[n]
+        } else {
+            self.decode_sync_manager(n)
+        }
+    }
+
+    /// SyncManager `n` decoded from its registers, as [`Esc::sync_manager`] gives it.
+    pub(super) fn decode_sync_manager(&self, n: usize) -> SyncManager {
         let r: [u8; 8] = self.bytes_at(SM_BASE + 8 * n as u16);
         SyncManager {
             start: u16::from_le_bytes([r[0], r[1]]),
@@ -104,12 +127,16 @@ impl Esc {
     }
 
     /// The status byte of SyncManager `n`.
+    #[inline]
     pub fn sm_status(&self, n: usize) -> u8 {
         self.mem[usize::from(SM_BASE) + 8 * n + 5]
     }
 
+    /// Sets the status byte of SyncManager `n` (no part of its configuration: the decoded
+    /// SyncManagers stay as they are).
+    #[inline]
     fn set_sm_status(&mut self, n: usize, status: u8) {
-        self.store(SM_BASE + 8 * n as u16 + 5, &[status]);
+        self.mem[usize::from(SM_BASE) + 8 * n + 5] = status;
     }
 
     /// Whether the master may make this access; `None` refuses it (nothing changes, no working
@@ -143,12 +170,71 @@ impl Esc {
         Some(gate)
     }
 
-    /// After an access the gate let through: mailboxes filled or emptied, write events.
-    pub(crate) fn sm_after(&mut self, gate: Gate, write: bool) {
-        for n in 0..self.sync_manager_count() {
-            if gate.completes & (1 << n) == 0 {
+    /// What [`Esc::sm_gate`] says of an access, as far as the SyncManagers' configuration decides
+    /// it: the SyncManagers in buffered mode decide by their configuration alone, one in mailbox
+    /// mode may decide by whether its mailbox is full.
+    pub(super) fn plan(&self, at: u16, len: u16, write: bool) -> Plan {
+        let len = usize::from(len);
+        if usize::from(at) + len > super::MEMORY {
+            return Plan::AtAccess;
+        }
+        let mut at_access = false;
+        // (Registers only: no SyncManager guards them, `sm_gate` lets the access through.)
+        let guarded = usize::from(at) + len > PROCESS_RAM;
+        for n in (0..self.sync_manager_count()).filter(|_| guarded) {
+            let sm = self.sync_manager(n);
+            if !sm.overlaps(at, len) {
                 continue;
             }
+            match (sm.is_mailbox(), sm.master_writes(), write) {
+                (true, true, true) | (true, false, false) => at_access = true,
+                (true, _, _) | (false, false, true) => return Plan::Refused,
+                (false, _, _) => {}
+            }
+        }
+        if at_access {
+            Plan::AtAccess
+        } else {
+            match self.sm_gate(at, len, write) {
+                // A read that reaches the last byte of a buffered SyncManager changes nothing
+                // ([`Esc::sm_after`]).
+                Some(_) if !write => Plan::Open(Gate::default()),
+                Some(gate) => Plan::Open(Gate {
+                    buffered: usize::from(at) >= PROCESS_RAM,
+                    ..gate
+                }),
+                None => Plan::Refused,
+            }
+        }
+    }
+
+    /// After an access the gate let through: mailboxes filled or emptied, write events.
+    #[inline]
+    pub(crate) fn sm_after(&mut self, gate: Gate, write: bool) {
+        if gate.completes == 0 {
+            return;
+        }
+        if !gate.buffered {
+            self.sm_completed(gate, write);
+        } else if write {
+            // What `sm_completed` does for a buffered SyncManager the master wrote.
+            let mut completes = gate.completes;
+            while completes != 0 {
+                let n = completes.trailing_zeros() as usize;
+                completes &= completes - 1;
+                let status = self.sm_status(n);
+                self.set_sm_status(n, status | WRITE_EVENT);
+                self.outputs_arrived();
+            }
+        }
+    }
+
+    /// [`Esc::sm_after`] for the SyncManagers whose last byte the access reached.
+    fn sm_completed(&mut self, gate: Gate, write: bool) {
+        let mut completes = gate.completes;
+        while completes != 0 {
+            let n = completes.trailing_zeros() as usize;
+            completes &= completes - 1;
             let sm = self.sync_manager(n);
             let status = self.sm_status(n);
             if sm.is_mailbox() {
@@ -201,7 +287,13 @@ impl Esc {
     }
 
     /// The first SyncManager in mailbox mode the master writes (SM0), and the one it reads (SM1).
+    #[inline]
     fn mailbox_sms(&self) -> (Option<usize>, Option<usize>) {
+        self.maps.mailboxes
+    }
+
+    /// [`Esc::mailbox_sms`] found among the SyncManagers.
+    pub(super) fn find_mailbox_sms(&self) -> (Option<usize>, Option<usize>) {
         let mut out = (None, None);
         for n in 0..self.sync_manager_count() {
             let sm = self.sync_manager(n);
@@ -217,13 +309,21 @@ impl Esc {
         out
     }
 
+    /// Whether the master has filled the mailbox it writes ([`Esc::take_mailbox`] takes it).
+    #[inline]
+    pub(crate) fn mailbox_written(&self) -> bool {
+        self.mailbox_sms()
+            .0
+            .is_some_and(|n| self.sm_status(n) & MAILBOX_FULL != 0)
+    }
+
     /// The application takes the mailbox the master wrote, when there is one; it is empty again.
     pub fn take_mailbox(&mut self) -> Option<Vec<u8>> {
-        let n = self.mailbox_sms().0?;
-        let status = self.sm_status(n);
-        if status & MAILBOX_FULL == 0 {
+        if !self.mailbox_written() {
             return None;
         }
+        let n = self.mailbox_sms().0?;
+        let status = self.sm_status(n);
         let sm = self.sync_manager(n);
         let bytes = self.load(sm.start, usize::from(sm.len));
         self.set_sm_status(n, status & !MAILBOX_FULL);
