@@ -379,7 +379,14 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
     let mut beats = Vec::new();
     let start = Instant::now();
     let mut next_sdo = start;
+    // The longest the master's own loop (a receive of at most 2 ms each turn) went unscheduled: a
+    // heartbeat is timed when the master reads it, so a gap the machine put into the master's run
+    // is no gap of the node's.
+    let mut stalled = Duration::ZERO;
+    let mut turn = Instant::now();
     while !flood.is_finished() || start.elapsed() < Duration::from_secs(2) {
+        stalled = stalled.max(turn.elapsed().saturating_sub(Duration::from_millis(2)));
+        turn = Instant::now();
         if Instant::now() >= next_sdo {
             master
                 .send(&f(0x603, &[0x40, 0x18, 0x10, 0, 0, 0, 0, 0]))
@@ -424,7 +431,10 @@ fn a_flood_of_random_frames_on_vcan_leaves_the_node_answering() {
     }
     for w in beats.windows(2) {
         let gap = w[1] - w[0];
-        assert!(gap < Duration::from_millis(250), "heartbeat gap {gap:?}");
+        assert!(
+            gap < Duration::from_millis(250) + stalled,
+            "heartbeat gap {gap:?} (the master itself stalled at most {stalled:?})"
+        );
     }
     assert!(
         beats.len() as f64 >= secs * 20.0 * 0.8,

@@ -193,11 +193,14 @@ fn script(cmds: &[Cmd]) -> String {
 fn every_command_line_of_the_readme_works_when_pasted() {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
     let bin = binaries();
-    // What an interrupted earlier run of the EtherCAT block may have left.
-    let _ = Command::new("ip").args(["netns", "del", "ecat"]).output();
-    let _ = Command::new("ip").args(["link", "del", "ecat0"]).output();
-    let _ = Command::new("ip").args(["netns", "del", "ecatn"]).output();
-    let _ = Command::new("ip").args(["link", "del", "ecn0"]).output();
+    // What an interrupted earlier run of a block may have left: every namespace and link the
+    // README's blocks add, by the names they give.
+    for line in readme.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if let ["ip", kind @ ("netns" | "link"), "add", name, ..] = words[..] {
+            let _ = Command::new("ip").args([kind, "del", name]).output();
+        }
+    }
     let _main = MainJob::start(&bin);
     let mut ran = 0;
     let mut failures = Vec::new();
