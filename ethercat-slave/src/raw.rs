@@ -1,5 +1,7 @@
 //! An AF_PACKET raw socket bound to one interface for EtherType 0x88A4 (Linux): what the emulator
-//! receives EtherCAT frames on and sends them back on.
+//! receives EtherCAT frames on and sends them back on, one at a time ([`RawSocket::recv`],
+//! [`RawSocket::send`]) or several frames in one system call ([`RawSocket::recv_batch`],
+//! [`RawSocket::send_batch`]: recvmmsg(2) and sendmmsg(2) over a [`Batch`]).
 
 use std::ffi::CString;
 use std::io;
@@ -130,6 +132,20 @@ impl RawSocket {
                 break;
             }
         }
+        // The frames this host sends are not handed back to the socket (Linux 4.20): the
+        // receiver skips them anyway (PACKET_OUTGOING), and each would cost a receive.
+        let ignore: libc::c_int = 1;
+        // SAFETY: an int option of the size passed. Where the kernel does not know it, the
+        // receiver skips this host's frames as before.
+        unsafe {
+            libc::setsockopt(
+                fd.as_raw_fd(),
+                libc::SOL_PACKET,
+                libc::PACKET_IGNORE_OUTGOING,
+                &ignore as *const libc::c_int as *const libc::c_void,
+                std::mem::size_of::<libc::c_int>() as u32,
+            )
+        };
         Ok(RawSocket {
             fd,
             iface: iface.into(),
@@ -210,6 +226,116 @@ impl RawSocket {
         }
     }
 
+    /// Receives the frames waiting on the socket (not those this host sent), as many as `batch`
+    /// holds, in one system call where they were all waiting (recvmmsg(2)); `batch` then holds
+    /// them in the order they arrived (a longer one than its buffer cut to it). 0 when none is
+    /// waiting.
+    pub fn recv_batch(&self, batch: &mut Batch) -> io::Result<usize> {
+        batch.count = 0;
+        loop {
+            let want = batch.bufs.len() - batch.count;
+            if want == 0 {
+                return Ok(batch.count);
+            }
+            // SAFETY: plain data; all-zero is a valid value of each.
+            let mut addrs: [libc::sockaddr_ll; Batch::MAX] = unsafe { std::mem::zeroed() };
+            let mut iovs: [libc::iovec; Batch::MAX] = unsafe { std::mem::zeroed() };
+            let mut hdrs: [libc::mmsghdr; Batch::MAX] = unsafe { std::mem::zeroed() };
+            for k in 0..want {
+                let buf = &mut batch.bufs[batch.count + k];
+                iovs[k].iov_base = buf.as_mut_ptr() as *mut libc::c_void;
+                iovs[k].iov_len = buf.len();
+                hdrs[k].msg_hdr.msg_name = &mut addrs[k] as *mut libc::sockaddr_ll as *mut _;
+                hdrs[k].msg_hdr.msg_namelen = std::mem::size_of::<libc::sockaddr_ll>() as u32;
+                hdrs[k].msg_hdr.msg_iov = &mut iovs[k];
+                hdrs[k].msg_hdr.msg_iovlen = 1;
+            }
+            // SAFETY: `want` headers, each over one buffer of `batch` and one address, valid for
+            // the lengths given; no timeout.
+            let n = unsafe {
+                libc::recvmmsg(
+                    self.fd.as_raw_fd(),
+                    hdrs.as_mut_ptr(),
+                    want as libc::c_uint,
+                    libc::MSG_TRUNC | libc::MSG_DONTWAIT,
+                    std::ptr::null_mut(),
+                )
+            };
+            if n < 0 {
+                let e = io::Error::last_os_error();
+                return match e.kind() {
+                    io::ErrorKind::WouldBlock => Ok(batch.count),
+                    io::ErrorKind::Interrupted => continue,
+                    _ if batch.count > 0 => Ok(batch.count),
+                    _ => Err(e),
+                };
+            }
+            let n = n as usize;
+            let mut kept = 0;
+            for k in 0..n {
+                if addrs[k].sll_pkttype == libc::PACKET_OUTGOING {
+                    continue;
+                }
+                let at = batch.count + kept;
+                batch.bufs.swap(at, batch.count + k);
+                // MSG_TRUNC gives each frame's real length: see `recv`.
+                batch.lens[at] = (hdrs[k].msg_len as usize).min(batch.bufs[at].len());
+                kept += 1;
+            }
+            batch.count += kept;
+            if n < want || kept == n {
+                return Ok(batch.count);
+            }
+            // Frames of this host's were among them: try for as many again.
+        }
+    }
+
+    /// Sends the frames of `batch` that are to be sent ([`Batch::skip`]), in order, in as few
+    /// system calls as the kernel takes them (sendmmsg(2)). A frame the kernel refuses is left
+    /// out and the others are sent; the first refusal is the error.
+    pub fn send_batch(&self, batch: &Batch) -> io::Result<()> {
+        // SAFETY: plain data; all-zero is a valid value of each.
+        let mut iovs: [libc::iovec; Batch::MAX] = unsafe { std::mem::zeroed() };
+        let mut hdrs: [libc::mmsghdr; Batch::MAX] = unsafe { std::mem::zeroed() };
+        let mut n = 0;
+        for k in (0..batch.count).filter(|&k| batch.lens[k] > 0) {
+            // The kernel only reads the frames (sendmmsg's iovecs are shared with recvmmsg's).
+            iovs[n].iov_base = batch.bufs[k].as_ptr() as *mut libc::c_void;
+            iovs[n].iov_len = batch.lens[k];
+            n += 1;
+        }
+        for (hdr, iov) in hdrs.iter_mut().zip(iovs.iter_mut()).take(n) {
+            hdr.msg_hdr.msg_iov = iov;
+            hdr.msg_hdr.msg_iovlen = 1;
+        }
+        let mut sent = 0;
+        let mut first_error = None;
+        while sent < n {
+            // SAFETY: `n - sent` headers from `sent`, each over one frame of `batch`, valid for
+            // its length; the socket is bound, so no address.
+            let r = unsafe {
+                libc::sendmmsg(
+                    self.fd.as_raw_fd(),
+                    hdrs[sent..].as_mut_ptr(),
+                    (n - sent) as libc::c_uint,
+                    0,
+                )
+            };
+            if r < 0 {
+                let e = io::Error::last_os_error();
+                if e.kind() == io::ErrorKind::Interrupted {
+                    continue;
+                }
+                // The frame at `sent` is refused: left out.
+                first_error.get_or_insert(e);
+                sent += 1;
+            } else {
+                sent += r as usize;
+            }
+        }
+        first_error.map_or(Ok(()), Err)
+    }
+
     /// Sends one frame.
     pub fn send(&self, frame: &[u8]) -> io::Result<()> {
         // SAFETY: `frame` is valid for its length.
@@ -225,5 +351,115 @@ impl RawSocket {
             return Err(io::Error::last_os_error());
         }
         Ok(())
+    }
+}
+
+/// Frames received or to be sent together, each in a buffer of its own: what
+/// [`RawSocket::recv_batch`] fills and [`RawSocket::send_batch`] sends. A frame is changed in
+/// place ([`Batch::frame_mut`]), so that an answer goes back in the buffer its frame came in.
+#[derive(Debug, Clone)]
+pub struct Batch {
+    bufs: Vec<Vec<u8>>,
+    /// The length of each frame held; 0 for one not to be sent.
+    lens: Vec<usize>,
+    /// Frames held.
+    count: usize,
+}
+
+impl Batch {
+    /// The most frames a batch holds.
+    pub const MAX: usize = 64;
+
+    /// A batch of up to `frames` frames (1 to [`Batch::MAX`]) of up to `size` bytes each.
+    pub fn new(frames: usize, size: usize) -> Batch {
+        let frames = frames.clamp(1, Batch::MAX);
+        Batch {
+            bufs: vec![vec![0; size]; frames],
+            lens: vec![0; frames],
+            count: 0,
+        }
+    }
+
+    /// Frames held.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// True when it holds none.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// True when it holds as many as it can.
+    pub fn is_full(&self) -> bool {
+        self.count == self.bufs.len()
+    }
+
+    /// Frame `k` (0 = first); empty once skipped.
+    pub fn frame(&self, k: usize) -> &[u8] {
+        &self.bufs[k][..self.lens[k]]
+    }
+
+    /// Frame `k`, to change in place.
+    pub fn frame_mut(&mut self, k: usize) -> &mut [u8] {
+        let len = self.lens[k];
+        &mut self.bufs[k][..len]
+    }
+
+    /// Leaves frame `k` out of what [`RawSocket::send_batch`] sends.
+    pub fn skip(&mut self, k: usize) {
+        self.lens[k] = 0;
+    }
+
+    /// Holds no frame.
+    pub fn clear(&mut self) {
+        self.count = 0;
+    }
+
+    /// Adds a copy of `frame` (cut to the buffer's size) to send; false when full.
+    pub fn push(&mut self, frame: &[u8]) -> bool {
+        if self.is_full() {
+            return false;
+        }
+        let buf = &mut self.bufs[self.count];
+        let n = frame.len().min(buf.len());
+        buf[..n].copy_from_slice(&frame[..n]);
+        self.lens[self.count] = n;
+        self.count += 1;
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A batch holds 1 to [`Batch::MAX`] frames, each a copy cut to its buffer's size, changed
+    /// in place; a skipped frame is empty (nothing to send), and a cleared batch holds none.
+    #[test]
+    fn a_batch_holds_its_frames_in_order() {
+        let mut b = Batch::new(0, 4);
+        assert!(b.is_empty() && !b.is_full());
+        assert!(b.push(&[1, 2, 3, 4, 5]));
+        assert_eq!((b.len(), b.frame(0)), (1, &[1u8, 2, 3, 4][..]));
+        assert!(b.is_full() && !b.is_empty());
+        assert!(!b.push(&[9]), "one frame at least, and no more than asked");
+        b.frame_mut(0)[0] = 7;
+        assert_eq!(b.frame(0), [7, 2, 3, 4]);
+        b.skip(0);
+        assert_eq!((b.len(), b.frame(0)), (1, &[][..]));
+        b.clear();
+        assert!(b.is_empty());
+
+        let mut b = Batch::new(Batch::MAX + 1, 2);
+        for k in 0..Batch::MAX {
+            assert!(b.push(&[k as u8]), "frame {k}");
+        }
+        assert!(!b.push(&[0]), "at most Batch::MAX");
+        assert_eq!(b.len(), Batch::MAX);
+        assert_eq!(
+            (b.frame(0), b.frame(Batch::MAX - 1)),
+            (&[0u8][..], &[63u8][..])
+        );
     }
 }

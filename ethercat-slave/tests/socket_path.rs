@@ -493,3 +493,85 @@ fn the_raw_socket_has_a_large_receive_buffer() {
     let socket = RawSocket::open("lo").expect("a raw socket on lo (root)");
     assert_eq!(socket.receive_buffer().unwrap(), 2 * RECEIVE_BUFFER);
 }
+
+/// A burst as a master with many frames in flight sends it: 300 frames handed to the kernel 64
+/// at a time (`RawSocket::send_batch`, sendmmsg), every third one malformed (cut inside its
+/// working counter), the answers taken as they come (`RawSocket::recv_batch`, recvmmsg). The
+/// emulator takes such a burst in batches: every valid frame is answered, once, in the order sent
+/// — each APRW of unit 0's user RAM (0x0F80) writes its own number and reads the one before it —
+/// and every malformed one is dropped and counted, wherever it fell in a batch.
+#[test]
+fn a_burst_of_frames_is_answered_in_order_and_the_malformed_dropped() {
+    use ethercat_slave::raw::Batch;
+    root();
+    const N: usize = 2;
+    const FRAMES: u32 = 300;
+    let mut link = link::Link::up(&["--units", "2"]);
+    let mut m = Master::open(&link);
+    assert_eq!(m.brd_al_status(N), 0x01, "both units in Init");
+    let frame = |k: u32| {
+        emit(
+            &[Datagram::new(
+                cmd::APRW,
+                0,
+                0x0F80,
+                k.to_le_bytes().to_vec(),
+            )],
+            SRC,
+        )
+    };
+    // Unit 0's user RAM starts from 0: the first valid frame reads 0.
+    m.one(Datagram::new(cmd::APWR, 0, 0x0F80, vec![0; 4]));
+    let mut out = Batch::new(64, 64);
+    let mut valid = Vec::new();
+    for k in 1..=FRAMES {
+        let mut f = frame(k);
+        if k % 3 == 0 {
+            f.truncate(14 + 2 + 10 + 4 + 1);
+            m.malformed += 1;
+        } else {
+            valid.push(k);
+            m.valid += 1;
+        }
+        assert!(out.push(&f));
+        if out.is_full() || k == FRAMES {
+            m.sock.send_batch(&out).expect("sendmmsg");
+            out.clear();
+        }
+    }
+    let mut answers = Batch::new(Batch::MAX, 2048);
+    let mut seen = Vec::new();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while seen.len() < valid.len() && Instant::now() < deadline {
+        if !m.sock.wait(Duration::from_millis(50)).expect("poll") {
+            continue;
+        }
+        for j in 0..m.sock.recv_batch(&mut answers).expect("recvmmsg") {
+            let f = answers.frame(j);
+            if f[7..12] != SRC[1..] || f[6] != SRC[0] | 0x02 {
+                continue;
+            }
+            let d = parse(f).expect("an answer parses");
+            assert_eq!(d[0].wkc, 3, "APRW at position 0: read and written");
+            let wrote = u32::from_le_bytes(d[0].data[..4].try_into().unwrap());
+            seen.push(wrote);
+        }
+    }
+    // Each valid frame read the number the valid frame before it wrote (0 for the first).
+    let expected: Vec<u32> = std::iter::once(0)
+        .chain(valid.iter().copied())
+        .take(valid.len())
+        .collect();
+    assert_eq!(
+        seen, expected,
+        "the answers, in order, each reading the write before it"
+    );
+    assert_eq!(m.drain(Duration::from_millis(50)), 0, "no answer more");
+    assert!(link.running(), "smd-ethercat stopped");
+    let log = link.stop();
+    assert_eq!(
+        frame_counts(&log),
+        (m.valid, m.malformed),
+        "the emulator's (answered, dropped) against the frames sent\n{log}"
+    );
+}
