@@ -1126,3 +1126,44 @@ fn process_data_through_sync_managers_in_mailbox_mode() {
     c.slaves[0].release_outputs(0x1000);
     assert_eq!(c.slaves[0].take_mailbox(), Some(vec![0x44; 16]));
 }
+
+/// A logical write over part of an FMMU's range is gated as that part alone (ETG.1000.4 §6.7): one
+/// that stops short of the last byte of the buffered output SyncManager under the FMMU is no new
+/// output image, one that reaches it is, and so is a write of the whole range. Where an FMMU's
+/// range runs on into a buffer the master only reads (SM3), a write of the whole range is refused
+/// (working counter 0, nothing written) and a write of the part before that buffer is taken.
+#[test]
+fn a_logical_write_over_part_of_an_fmmu_is_gated_as_that_part() {
+    let mut c = Chain::new(1);
+    let sm = |c: &mut Chain, n: u16, start: u16, control: u8| {
+        let mut r = start.to_le_bytes().to_vec();
+        r.extend_from_slice(&[4, 0, control, 0, 0x01, 0]);
+        run(c, &[Datagram::new(cmd::APWR, 0, 0x0800 + 8 * n, r)]);
+    };
+    sm(&mut c, 2, 0x1100, 0x64);
+    sm(&mut c, 3, 0x1200, 0x20);
+    fmmu(&mut c, 0, 0, 0x100, 4, 0x1100, 0x02);
+    fmmu(&mut c, 0, 1, 0x200, 8, 0x11FC, 0x03);
+    let images = |c: &Chain| c.slaves[0].outputs_received();
+    assert_eq!(logical(&mut c, cmd::LWR, 0x100, vec![1; 3]).0, 1);
+    assert_eq!(images(&c), 0, "short of SM2's last byte: no new image");
+    assert_eq!(c.slaves[0].load(0x0815, 1), [0], "no write event");
+    assert_eq!(logical(&mut c, cmd::LWR, 0x101, vec![2; 3]).0, 1);
+    assert_eq!(images(&c), 1, "up to SM2's last byte: a new image");
+    assert_eq!(logical(&mut c, cmd::LWR, 0x100, vec![3; 4]).0, 1);
+    assert_eq!(images(&c), 2, "the whole range: a new image");
+    assert_eq!(c.slaves[0].load(0x1100, 4), [3; 4]);
+
+    assert_eq!(
+        logical(&mut c, cmd::LWR, 0x200, vec![4; 8]).0,
+        0,
+        "into SM3: refused"
+    );
+    assert_eq!(c.slaves[0].load(0x11FC, 8), [0; 8]);
+    assert_eq!(
+        logical(&mut c, cmd::LWR, 0x200, vec![5; 4]).0,
+        1,
+        "before SM3: taken"
+    );
+    assert_eq!(c.slaves[0].load(0x11FC, 8), [5, 5, 5, 5, 0, 0, 0, 0]);
+}

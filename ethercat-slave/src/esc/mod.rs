@@ -124,8 +124,6 @@ pub struct Esc {
 struct Maps {
     /// FMMU `n` when the ESC has it and it is active ([`Esc::fmmu`]).
     fmmus: [Option<Fmmu>; FMMUS],
-    /// The FMMUs that are `Some` in `fmmus`, bit `n` for FMMU `n`.
-    active: u16,
     /// SyncManager `n` of those the ESC has ([`Esc::sync_manager`]); the rest unused.
     sync_managers: [sm::SyncManager; sm::SYNC_MANAGERS],
     /// The mailbox SyncManagers: the one the master writes (SM0) and the one it reads (SM1).
@@ -139,7 +137,6 @@ impl Default for Maps {
     fn default() -> Self {
         Maps {
             fmmus: [None; FMMUS],
-            active: 0,
             sync_managers: [sm::SyncManager::default(); sm::SYNC_MANAGERS],
             mailboxes: (None, None),
             plans: [[sm::Plan::AtAccess; 2]; FMMUS],
@@ -395,12 +392,8 @@ impl Esc {
 
     /// Decodes the FMMU and SyncManager registers into [`Maps`].
     fn decode_maps(&mut self) {
-        self.maps.active = 0;
         for n in 0..FMMUS {
             self.maps.fmmus[n] = self.decode_fmmu(n);
-            if self.maps.fmmus[n].is_some() {
-                self.maps.active |= 1 << n;
-            }
         }
         for n in 0..self.sync_managers {
             self.maps.sync_managers[n] = self.decode_sync_manager(n);
@@ -583,16 +576,10 @@ impl Esc {
         let data_end = addr + data.len() as u64;
         // The active FMMUs in their order, each as its registers are when its turn comes (a
         // write through one may have reached the registers of the next).
-        let mut n = 0;
-        loop {
-            let rest = self.maps.active.checked_shr(n as u32).unwrap_or(0);
-            if rest == 0 {
-                break;
-            }
-            n += rest.trailing_zeros() as usize;
-            let Some(f) = self.maps.fmmus[n] else { break };
-            let this = n;
-            n += 1;
+        for n in 0..self.fmmus {
+            let Some(f) = self.maps.fmmus[n] else {
+                continue;
+            };
             let logical = u64::from(f.logical);
             let start = logical.max(addr);
             let end = (logical + u64::from(f.len)).min(data_end);
@@ -610,7 +597,7 @@ impl Esc {
             // with the registers; it stands while no mailbox's state decides it. (Read when used:
             // the write may have reached the registers.)
             let whole = len == usize::from(f.len);
-            let gate = |esc: &Esc, write: bool| match esc.maps.plans[this][usize::from(write)] {
+            let gate = |esc: &Esc, write: bool| match esc.maps.plans[n][usize::from(write)] {
                 sm::Plan::Open(gate) if whole => Some(gate),
                 sm::Plan::Refused if whole => None,
                 _ => esc.sm_gate(at, len, write),
@@ -954,12 +941,14 @@ mod tests {
     }
 
     /// The application's store at the end of the memory keeps what fits and leaves the rest out; the
-    /// master's read wraps round to address 0, the ESC type 0x11.
+    /// master's read wraps round to address 0, the ESC type 0x11, and so do register reads.
     #[test]
     fn a_store_past_the_end_of_memory_keeps_what_fits() {
         let mut esc = Esc::new();
         esc.store(0xFFFF, &[0xA5, 0x5A]);
         assert_eq!(esc.load(0xFFFF, 2), [0xA5, 0x11]);
+        assert_eq!(esc.bytes_at(0xFFFE), [0x00, 0xA5, 0x11, 0x00]);
+        assert_eq!(esc.read_u16(0xFFFF), 0x11A5);
     }
 
     /// The decoded FMMUs and SyncManagers ([`Maps`]) are what the registers say after every
@@ -986,6 +975,15 @@ mod tests {
                 let mut fresh = esc.clone();
                 fresh.decode_maps();
                 assert_eq!(fresh.maps, esc.maps, "slave {k} after step {step}");
+                // What the ESC tells of them: its own as decoded, the reserved blocks as their
+                // bytes are (the application may have stored into them).
+                for n in 0..=FMMUS {
+                    assert_eq!(esc.fmmu(n), esc.decode_fmmu(n), "FMMU {n}");
+                }
+                for n in 0..sm::MAX_SYNC_MANAGERS {
+                    let decoded = esc.decode_sync_manager(n);
+                    assert_eq!(esc.sync_manager(n), decoded, "SyncManager {n}");
+                }
             }
         };
         // FMMU 0 of each maps logical 0x100.. onto the SyncManager registers, FMMU 1 onto the FMMU

@@ -171,40 +171,26 @@ impl Esc {
     }
 
     /// What [`Esc::sm_gate`] says of an access, as far as the SyncManagers' configuration decides
-    /// it: the SyncManagers in buffered mode decide by their configuration alone, one in mailbox
-    /// mode may decide by whether its mailbox is full.
+    /// it: SyncManagers in buffered mode decide by their configuration alone, one in mailbox mode
+    /// may decide by whether its mailbox is full.
     pub(super) fn plan(&self, at: u16, len: u16, write: bool) -> Plan {
         let len = usize::from(len);
-        if usize::from(at) + len > super::MEMORY {
+        let mailbox = (0..self.sync_manager_count()).any(|n| {
+            let sm = self.sync_manager(n);
+            sm.is_mailbox() && sm.overlaps(at, len)
+        });
+        if mailbox {
             return Plan::AtAccess;
         }
-        let mut at_access = false;
-        // (Registers only: no SyncManager guards them, `sm_gate` lets the access through.)
-        let guarded = usize::from(at) + len > PROCESS_RAM;
-        for n in (0..self.sync_manager_count()).filter(|_| guarded) {
-            let sm = self.sync_manager(n);
-            if !sm.overlaps(at, len) {
-                continue;
-            }
-            match (sm.is_mailbox(), sm.master_writes(), write) {
-                (true, true, true) | (true, false, false) => at_access = true,
-                (true, _, _) | (false, false, true) => return Plan::Refused,
-                (false, _, _) => {}
-            }
-        }
-        if at_access {
-            Plan::AtAccess
-        } else {
-            match self.sm_gate(at, len, write) {
-                // A read that reaches the last byte of a buffered SyncManager changes nothing
-                // ([`Esc::sm_after`]).
-                Some(_) if !write => Plan::Open(Gate::default()),
-                Some(gate) => Plan::Open(Gate {
-                    buffered: usize::from(at) >= PROCESS_RAM,
-                    ..gate
-                }),
-                None => Plan::Refused,
-            }
+        match self.sm_gate(at, len, write) {
+            // A read that reaches the last byte of a buffered SyncManager changes nothing
+            // ([`Esc::sm_after`]).
+            Some(_) if !write => Plan::Open(Gate::default()),
+            Some(gate) => Plan::Open(Gate {
+                buffered: usize::from(at) >= PROCESS_RAM,
+                ..gate
+            }),
+            None => Plan::Refused,
         }
     }
 
@@ -218,23 +204,22 @@ impl Esc {
             self.sm_completed(gate, write);
         } else if write {
             // What `sm_completed` does for a buffered SyncManager the master wrote.
-            let mut completes = gate.completes;
-            while completes != 0 {
-                let n = completes.trailing_zeros() as usize;
-                completes &= completes - 1;
-                let status = self.sm_status(n);
-                self.set_sm_status(n, status | WRITE_EVENT);
-                self.outputs_arrived();
+            for n in 0..self.sync_manager_count() {
+                if gate.completes & (1 << n) != 0 {
+                    let status = self.sm_status(n);
+                    self.set_sm_status(n, status | WRITE_EVENT);
+                    self.outputs_arrived();
+                }
             }
         }
     }
 
     /// [`Esc::sm_after`] for the SyncManagers whose last byte the access reached.
     fn sm_completed(&mut self, gate: Gate, write: bool) {
-        let mut completes = gate.completes;
-        while completes != 0 {
-            let n = completes.trailing_zeros() as usize;
-            completes &= completes - 1;
+        for n in 0..self.sync_manager_count() {
+            if gate.completes & (1 << n) == 0 {
+                continue;
+            }
             let sm = self.sync_manager(n);
             let status = self.sm_status(n);
             if sm.is_mailbox() {
