@@ -227,67 +227,56 @@ impl RawSocket {
     }
 
     /// Receives the frames waiting on the socket (not those this host sent), as many as `batch`
-    /// holds, in one system call where they were all waiting (recvmmsg(2)); `batch` then holds
-    /// them in the order they arrived (a longer one than its buffer cut to it). 0 when none is
-    /// waiting.
+    /// holds, in one system call (recvmmsg(2)); `batch` then holds them in the order they arrived
+    /// (a longer one than its buffer cut to it). 0 when none is waiting.
     pub fn recv_batch(&self, batch: &mut Batch) -> io::Result<usize> {
         batch.count = 0;
-        loop {
-            let want = batch.bufs.len() - batch.count;
-            if want == 0 {
-                return Ok(batch.count);
-            }
-            // SAFETY: plain data; all-zero is a valid value of each.
-            let mut addrs: [libc::sockaddr_ll; Batch::MAX] = unsafe { std::mem::zeroed() };
-            let mut iovs: [libc::iovec; Batch::MAX] = unsafe { std::mem::zeroed() };
-            let mut hdrs: [libc::mmsghdr; Batch::MAX] = unsafe { std::mem::zeroed() };
-            for k in 0..want {
-                let buf = &mut batch.bufs[batch.count + k];
-                iovs[k].iov_base = buf.as_mut_ptr() as *mut libc::c_void;
-                iovs[k].iov_len = buf.len();
-                hdrs[k].msg_hdr.msg_name = &mut addrs[k] as *mut libc::sockaddr_ll as *mut _;
-                hdrs[k].msg_hdr.msg_namelen = std::mem::size_of::<libc::sockaddr_ll>() as u32;
-                hdrs[k].msg_hdr.msg_iov = &mut iovs[k];
-                hdrs[k].msg_hdr.msg_iovlen = 1;
-            }
-            // SAFETY: `want` headers, each over one buffer of `batch` and one address, valid for
-            // the lengths given; no timeout.
-            let n = unsafe {
-                libc::recvmmsg(
-                    self.fd.as_raw_fd(),
-                    hdrs.as_mut_ptr(),
-                    want as libc::c_uint,
-                    libc::MSG_TRUNC | libc::MSG_DONTWAIT,
-                    std::ptr::null_mut(),
-                )
-            };
-            if n < 0 {
-                let e = io::Error::last_os_error();
-                return match e.kind() {
-                    io::ErrorKind::WouldBlock => Ok(batch.count),
-                    io::ErrorKind::Interrupted => continue,
-                    _ if batch.count > 0 => Ok(batch.count),
-                    _ => Err(e),
-                };
-            }
-            let n = n as usize;
-            let mut kept = 0;
-            for k in 0..n {
-                if addrs[k].sll_pkttype == libc::PACKET_OUTGOING {
-                    continue;
-                }
-                let at = batch.count + kept;
-                batch.bufs.swap(at, batch.count + k);
-                // MSG_TRUNC gives each frame's real length: see `recv`.
-                batch.lens[at] = (hdrs[k].msg_len as usize).min(batch.bufs[at].len());
-                kept += 1;
-            }
-            batch.count += kept;
-            if n < want || kept == n {
-                return Ok(batch.count);
-            }
-            // Frames of this host's were among them: try for as many again.
+        let want = batch.bufs.len();
+        // SAFETY: plain data; all-zero is a valid value of each.
+        let mut addrs: [libc::sockaddr_ll; Batch::MAX] = unsafe { std::mem::zeroed() };
+        let mut iovs: [libc::iovec; Batch::MAX] = unsafe { std::mem::zeroed() };
+        let mut hdrs: [libc::mmsghdr; Batch::MAX] = unsafe { std::mem::zeroed() };
+        for (k, buf) in batch.bufs.iter_mut().enumerate() {
+            iovs[k].iov_base = buf.as_mut_ptr() as *mut libc::c_void;
+            iovs[k].iov_len = buf.len();
+            hdrs[k].msg_hdr.msg_name = &mut addrs[k] as *mut libc::sockaddr_ll as *mut _;
+            hdrs[k].msg_hdr.msg_namelen = std::mem::size_of::<libc::sockaddr_ll>() as u32;
+            hdrs[k].msg_hdr.msg_iov = &mut iovs[k];
+            hdrs[k].msg_hdr.msg_iovlen = 1;
         }
+        // SAFETY: `want` headers, each over one buffer of `batch` and one address, valid for the
+        // lengths given; no timeout. (The socket does not block; a frame longer than its buffer
+        // is cut to it, as `recv` cuts it.)
+        let n = unsafe {
+            libc::recvmmsg(
+                self.fd.as_raw_fd(),
+                hdrs.as_mut_ptr(),
+                want as libc::c_uint,
+                0,
+                std::ptr::null_mut(),
+            )
+        };
+        let Ok(n) = usize::try_from(n) else {
+            let e = io::Error::last_os_error();
+            return if e.kind() == io::ErrorKind::WouldBlock {
+                Ok(0)
+            } else {
+                Err(e)
+            };
+        };
+        for k in 0..n {
+            // This host's own frames, where the kernel hands them back (before Linux 4.20): left
+            // out, the others moved up. (0 when they were all this host's: the caller waits for
+            // the socket again, and finds the frames still waiting.)
+            if addrs[k].sll_pkttype == libc::PACKET_OUTGOING {
+                continue;
+            }
+            let at = batch.count;
+            batch.bufs.swap(at, k);
+            batch.lens[at] = hdrs[k].msg_len as usize;
+            batch.count += 1;
+        }
+        Ok(batch.count)
     }
 
     /// Sends the frames of `batch` that are to be sent ([`Batch::skip`]), in order, in as few
@@ -311,26 +300,25 @@ impl RawSocket {
         let mut sent = 0;
         let mut first_error = None;
         while sent < n {
-            // SAFETY: `n - sent` headers from `sent`, each over one frame of `batch`, valid for
-            // its length; the socket is bound, so no address.
+            let rest = &mut hdrs[sent..n];
+            // SAFETY: headers over frames of `batch`, each valid for its length; the socket is
+            // bound, so no address.
             let r = unsafe {
                 libc::sendmmsg(
                     self.fd.as_raw_fd(),
-                    hdrs[sent..].as_mut_ptr(),
-                    (n - sent) as libc::c_uint,
+                    rest.as_mut_ptr(),
+                    rest.len() as libc::c_uint,
                     0,
                 )
             };
-            if r < 0 {
-                let e = io::Error::last_os_error();
-                if e.kind() == io::ErrorKind::Interrupted {
-                    continue;
+            match usize::try_from(r) {
+                Ok(r) => sent += r,
+                // The frame at `sent` is refused (longer than the link takes, no room left):
+                // left out, and the rest sent.
+                Err(_) => {
+                    first_error.get_or_insert(io::Error::last_os_error());
+                    sent += 1;
                 }
-                // The frame at `sent` is refused: left out.
-                first_error.get_or_insert(e);
-                sent += 1;
-            } else {
-                sent += r as usize;
             }
         }
         first_error.map_or(Ok(()), Err)
