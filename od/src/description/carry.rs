@@ -625,7 +625,9 @@ impl Source {
                         Encoding::Utf16 { big_endian: false }
                     }
                     Some(_) => Encoding::Utf8 { bom: true },
-                    None => match declared(bytes) {
+                    None => match crate::xml::declared_encoding(bytes)
+                        .and_then(|l| encoding_rs::Encoding::for_label(l.as_bytes()))
+                    {
                         Some(e) if e != encoding_rs::UTF_8 => Encoding::Other(e),
                         _ => Encoding::Utf8 { bom: false },
                     },
@@ -672,18 +674,6 @@ impl Source {
             Encoding::Other(e) => e.encode(text).0.into_owned(),
         }
     }
-}
-
-/// The encoding an XML declaration names, if it names one encoding_rs knows.
-fn declared(bytes: &[u8]) -> Option<&'static encoding_rs::Encoding> {
-    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(200)]).into_owned();
-    let decl = head.strip_prefix("<?xml")?;
-    let decl = &decl[..decl.find("?>")?];
-    let rest = &decl[decl.find("encoding")? + "encoding".len()..];
-    let rest = rest.trim_start().strip_prefix('=')?.trim_start();
-    let quote = rest.chars().next()?;
-    let label = rest[1..].split(quote).next()?;
-    encoding_rs::Encoding::for_label(label.trim().as_bytes())
 }
 
 #[cfg(test)]

@@ -71,7 +71,7 @@ pub fn decode<'a>(bytes: &'a [u8], source_name: &str) -> Result<Cow<'a, str>, Pa
 }
 
 /// The `encoding` pseudo-attribute of the XML declaration, if any.
-fn declared_encoding(bytes: &[u8]) -> Option<String> {
+pub(crate) fn declared_encoding(bytes: &[u8]) -> Option<String> {
     let head = &bytes[..bytes.len().min(200)];
     let head = String::from_utf8_lossy(head);
     let decl = head.strip_prefix("<?xml")?;

@@ -59,8 +59,8 @@ pub(crate) fn parse(text: &str) -> Doc<'_> {
             continue;
         };
         let key = line[..eq].trim_ascii().to_ascii_lowercase();
-        let after = &line[eq + 1..];
-        let value_text = value_part(after);
+        let after = line[eq + 1..].trim_end_matches(['\r', '\n']);
+        let value_text = crate::eds::without_comment(after);
         let value_start = span.start + eq + 1 + (after.len() - after.trim_ascii_start().len());
         let value_start = value_start.min(span.start + eq + 1 + value_text.len());
         let value_len = value_text.trim_ascii().len();
@@ -105,18 +105,6 @@ fn section_name(name: &str) -> String {
         }
     }
     lower
-}
-
-/// The text after `=` up to an inline comment (a `;` after white space, as the EDS reader takes it).
-fn value_part(after: &str) -> &str {
-    let mut after_space = false;
-    for (at, c) in after.char_indices() {
-        if c == ';' && after_space {
-            return &after[..at];
-        }
-        after_space = c.is_whitespace();
-    }
-    after.trim_end_matches(['\r', '\n'])
 }
 
 #[cfg(test)]

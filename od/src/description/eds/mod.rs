@@ -166,6 +166,8 @@
 //! `EDSVersion`, as Lely's) without `EDSVersion`; a new file gets both from [`complete_new_file`].
 
 mod reader;
+
+pub(crate) use reader::without_comment;
 mod writer;
 
 use crate::device::{CanInfo, DeviceDescription};

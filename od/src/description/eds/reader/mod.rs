@@ -56,7 +56,7 @@ fn is_comment(line: &str) -> bool {
 /// then no number (python-canopen drops it, and so does this reader, with a warning). Every key is
 /// read so, as configparser reads them all: names and strings lose such a comment too; only the
 /// lines of `[Comments]`, free text, are kept whole.
-fn without_comment(value: &str) -> &str {
+pub(crate) fn without_comment(value: &str) -> &str {
     let mut after_space = false;
     for (at, c) in value.char_indices() {
         if c == ';' && after_space {
