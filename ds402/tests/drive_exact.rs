@@ -355,6 +355,7 @@ fn a_mode_refused_from_the_process_data_says_why() {
             &mut r.drive,
             od::Address::new(0x6060, 0),
             &[10],
+            r.now,
         );
     }
     assert_eq!(r.read(0x6061, 0), 0);
@@ -377,7 +378,7 @@ fn the_lines_name_the_axis_and_its_own_objects() {
         ds402::drive::Drive::from_dictionary(&dict, 1, DriveConfig::default(), t0).unwrap();
     let ms = |n: u64| t0 + std::time::Duration::from_millis(n);
     drive.handle_timeout(ms(1));
-    let mut bound = od::hook::Bound::new(&mut dict, &mut drive);
+    let mut bound = od::hook::Bound::new(&mut dict, &mut drive, ms(1));
     use od::sdo::store::ObjectStore;
     bound.download(od::Address::new(0x6860, 0), &[8]).unwrap();
     for cw in [0x06u16, 0x07, 0x0F] {

@@ -116,7 +116,7 @@ fn a_servo_description_without_values() {
     let drive_config = DriveConfig::default();
     let mut drive = Drive::from_dictionary(&dict, 0, drive_config, Instant::now()).unwrap();
     assert_eq!(drive.supported_modes(), 0x21);
-    let mut node = Bound::new(&mut dict, &mut drive);
+    let mut node = Bound::new(&mut dict, &mut drive, Instant::now());
     for index in [
         0x605Du16, 0x6072, 0x6076, 0x607F, 0x6081, 0x6083, 0x6084, 0x6098,
     ] {
@@ -386,7 +386,7 @@ fn every_corpus_drive_takes_back_what_it_reports() {
                 .collect();
             match drive {
                 Some(mut drive) => write_back(
-                    &mut Bound::new(&mut dict, &mut drive),
+                    &mut Bound::new(&mut dict, &mut drive, Instant::now()),
                     &writable,
                     file,
                     kind,
@@ -487,7 +487,7 @@ fn speeds_and_ramps_follow_the_encoder_resolution() {
     let mut drive = Drive::from_dictionary(&dict, 0, DriveConfig::default(), t0).unwrap();
     drive.handle_timeout(ms(1));
     {
-        let mut node = Bound::new(&mut dict, &mut drive);
+        let mut node = Bound::new(&mut dict, &mut drive, ms(1));
         node.download(Address::new(0x6060, 0), &[3]).unwrap();
         for cw in [0x06u16, 0x07, 0x0F] {
             node.download(Address::new(0x6040, 0), &cw.to_le_bytes())
@@ -504,7 +504,7 @@ fn speeds_and_ramps_follow_the_encoder_resolution() {
     };
     run_to(&mut drive, 2, 1001);
     assert_eq!(drive.velocity_demand(), 5);
-    Bound::new(&mut dict, &mut drive)
+    Bound::new(&mut dict, &mut drive, ms(1001))
         .download(Address::new(0x60FF, 0), &0i32.to_le_bytes())
         .unwrap();
     run_to(&mut drive, 1002, 1201);
@@ -616,7 +616,7 @@ fn each_refusal_says_its_rule() {
     assert_eq!(why(&drive, 0x607A, 0, &5i32.to_le_bytes()), None);
     // Powered, the encoder resolution takes no value at all.
     {
-        let mut node = Bound::new(&mut dict, &mut drive);
+        let mut node = Bound::new(&mut dict, &mut drive, Instant::now());
         for cw in [0x06u16, 0x07, 0x0F] {
             node.download(Address::new(0x6040, 0), &cw.to_le_bytes())
                 .unwrap();

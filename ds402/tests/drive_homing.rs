@@ -317,12 +317,12 @@ fn a_forced_home_switch_gives_the_edge_where_it_was_seen() {
         dictionary(&[(0x6098, 0, 20), (0x607C, 0, 100)]),
         DriveConfig::default(),
     );
-    r.drive.set_input(2, Some(false));
+    r.drive.set_input(r.now, 2, Some(false));
     r.enable(6);
     r.cw(ENABLE | NEW_SETPOINT);
     r.at(500);
     assert_eq!(r.read(0x60FD, 0), 0);
-    r.drive.set_input(2, Some(true));
+    r.drive.set_input(r.now, 2, Some(true));
     r.at(501);
     assert_eq!(r.read(0x60FD, 0), 0b100);
     assert_eq!(r.sw(), ENABLED | ATTAINED);
@@ -404,16 +404,16 @@ fn a_forced_home_switch_gives_the_falling_edge_where_it_was_seen() {
         dictionary(&[(0x6098, 0, 19), (0x607C, 0, 100)]),
         DriveConfig::default(),
     );
-    r.drive.set_input(2, Some(false));
+    r.drive.set_input(r.now, 2, Some(false));
     r.enable(6);
     r.cw(ENABLE | NEW_SETPOINT);
     r.at(500);
-    r.drive.set_input(2, Some(true));
+    r.drive.set_input(r.now, 2, Some(true));
     r.at(501);
     assert_eq!(r.sw(), ENABLED | IN_PROGRESS);
     r.at(1000);
     assert_eq!(r.read(0x606B, 0), -500);
-    r.drive.set_input(2, Some(false));
+    r.drive.set_input(r.now, 2, Some(false));
     r.at(1001);
     assert_eq!(r.read(0x60FD, 0), 0);
     assert_eq!(r.sw(), ENABLED | ATTAINED);
@@ -658,13 +658,13 @@ fn a_limit_switch_counts_once_the_index_search_moves_towards_it() {
         ..DriveConfig::default()
     };
     let mut r = Rig::new(dictionary(&[(0x6098, 0, 3), (0x607C, 0, 100)]), config);
-    r.drive.set_input(2, Some(false));
+    r.drive.set_input(r.now, 2, Some(false));
     r.enable(6);
     r.cw(ENABLE | NEW_SETPOINT);
     r.at(500);
-    r.drive.set_input(2, Some(true));
+    r.drive.set_input(r.now, 2, Some(true));
     r.at(550);
-    r.drive.set_input(2, Some(false));
+    r.drive.set_input(r.now, 2, Some(false));
     r.at(551);
     assert_eq!((r.read(0x606B, 0), r.pos()), (1000, 975));
     r.at(601);

@@ -47,7 +47,11 @@ fn a_second_axis_owns_its_own_objects() {
     assert!(!drive.owns(0x6D02)); // 0x6502 of axis 1: the dictionary's
     assert!(!drive.owns(0x1000));
     drive.handle_timeout(t0 + std::time::Duration::from_millis(1));
-    let mut bound = Bound::new(&mut dict, &mut drive);
+    let mut bound = Bound::new(
+        &mut dict,
+        &mut drive,
+        t0 + std::time::Duration::from_millis(1),
+    );
     bound.download(Address::new(0x6860, 0), &[1]).unwrap();
     for cw in [SHUTDOWN, SWITCH_ON, ENABLE] {
         bound
@@ -69,7 +73,7 @@ fn process_values_are_read_in_the_entrys_type() {
     r.set(0x607A, 0, -1000);
     r.cw(ENABLE | NEW_SETPOINT);
     r.at(2000);
-    let mut bound = Bound::new(&mut r.dict, &mut r.drive);
+    let mut bound = Bound::new(&mut r.dict, &mut r.drive, r.now);
     assert_eq!(
         bound.upload(Address::new(0x6064, 0)),
         Ok((-1000i32).to_le_bytes().to_vec())
@@ -210,7 +214,11 @@ AccessType=rw
     assert_eq!(drive.supported_modes(), 0x0001);
     drive.handle_timeout(t0 + std::time::Duration::from_millis(1));
     {
-        let mut bound = Bound::new(&mut dict, &mut drive);
+        let mut bound = Bound::new(
+            &mut dict,
+            &mut drive,
+            t0 + std::time::Duration::from_millis(1),
+        );
         assert_eq!(
             bound.download(Address::new(0x6060, 0), &[3]),
             Err(AbortCode::InvalidValue)
@@ -416,7 +424,8 @@ fn process_values_cannot_be_written() {
         Err(AbortCode::ReadOnly)
     );
     assert_eq!(
-        r.drive.write(Address::new(0x6041, 0), &5u16.to_le_bytes()),
+        r.drive
+            .write(Address::new(0x6041, 0), &5u16.to_le_bytes(), r.now),
         Err(AbortCode::ReadOnly)
     );
     // A wrong length is the dictionary's refusal.
@@ -436,13 +445,20 @@ fn rpdo_delivery_goes_through_the_drive() {
             &mut r.drive,
             Address::new(0x6040, 0),
             &cw.to_le_bytes(),
+            r.now,
         );
     }
     assert_eq!(r.drive.status_word(), ENABLED | 0x0400);
     assert_eq!(r.read(0x6040, 0), 0x0F);
     assert_eq!(r.drive.control_word(), 0x0F);
     // A value the drive refuses is dropped: neither the drive nor the dictionary takes it.
-    deliver(&mut r.dict, &mut r.drive, Address::new(0x6060, 0), &[7]);
+    deliver(
+        &mut r.dict,
+        &mut r.drive,
+        Address::new(0x6060, 0),
+        &[7],
+        r.now,
+    );
     assert_eq!(r.read(0x6060, 0), 1);
     assert_eq!(r.drive.mode(), 1);
 }
@@ -475,28 +491,29 @@ fn an_idle_drive_asks_for_no_time() {
 }
 
 #[test]
-fn writes_to_an_idle_drive_without_the_time_start_at_the_next_now() {
-    // A node that lets the idle drive's clock stand at 1 ms and delivers an enable and a set-point
-    // at 5 s without telling it the time first: the move starts at the next `now`, 5 s.
+fn a_write_to_an_idle_drive_is_made_at_its_own_instant() {
+    // A node that lets the idle drive's clock stand at 1 ms (it asks for no tick) and delivers an
+    // enable and a set-point at 5 s: each write carries 5 s, the drive runs up to it first, and the
+    // move starts at 5 s.
     let mut r = Rig::with(&[(0x6060, 0, 1)]);
     r.at(1);
     assert_eq!(r.drive.poll_timeout(), None);
+    let t = r.t0 + std::time::Duration::from_millis(5000);
+    r.now = t;
     for cw in [SHUTDOWN, SWITCH_ON, ENABLE] {
         r.cw(cw);
     }
     r.set(0x607A, 0, 2000);
     r.cw(ENABLE | NEW_SETPOINT);
-    // Due at once: the drive's clock is behind.
+    assert_eq!(r.drive.now(), t);
+    // The next tick is the one after the writes.
     assert_eq!(
         r.drive.poll_timeout(),
-        Some(r.t0 + std::time::Duration::from_millis(2))
+        Some(r.t0 + std::time::Duration::from_millis(5001))
     );
-    let t = r.t0 + std::time::Duration::from_millis(5000);
-    r.drive.handle_timeout(t);
     assert_eq!(r.drive.position(), 0);
     assert_eq!(r.drive.status_word(), 0x1237);
     // 2.1 s later the move has ended.
-    r.now = t;
     r.at(7099);
     assert_eq!(r.drive.status_word() & 0x0400, 0);
     r.at(7100);

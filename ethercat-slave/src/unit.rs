@@ -39,7 +39,7 @@ use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
 use od::coe::server::CoeServer;
-use od::hook::{Objects, ProcessImage};
+use od::hook::{Device, Objects, ProcessImage};
 use od::sdo::frame::Address;
 
 use crate::esc::al::{AlState, AlStatusCode, SmRule};
@@ -56,9 +56,16 @@ pub enum SyncEvent {
     Outputs,
 }
 
-/// A device behind its dictionary, as a unit of a [`UnitChain`] runs it. The dictionary and the
-/// device hook come from [`Objects`]; the CoE server serves them as they are.
+/// A device behind its dictionary, as a unit of a [`UnitChain`] runs it: the project's one device
+/// lifecycle ([`Device`], which the CANopen node runs too) with what EtherCAT adds (the process
+/// images, the AL state, the SyncManager watchdog, the SYNC0 cycle). The dictionary and the device
+/// hook come from [`Objects`]; the CoE server serves them as they are.
 pub trait Model: Objects + Clone {
+    /// The device: the unit runs it up to each cycle ([`Device::handle_timeout`]), up to the
+    /// instant of an output image before it delivers the image, and synchronises it
+    /// ([`Model::sync`]).
+    fn device(&mut self) -> &mut dyn Device;
+
     /// The process images of the present PDO assignment and mapping, outputs (SM2) and inputs
     /// (SM3); or the AL status code with which Pre-Op → Safe-Op is refused while they are invalid
     /// (0x0025 invalid output mapping, 0x0024 invalid input mapping).
@@ -71,12 +78,12 @@ pub trait Model: Objects + Clone {
     /// lost) at `now`; the unit drops to Safe-Op right after.
     fn outputs_lost(&mut self, now: Instant);
 
-    /// Runs the model up to `now`.
-    fn advance(&mut self, now: Instant);
-
-    /// A synchronisation event at `at` (the model has run up to `at`; a new output image is already
-    /// in its entries).
-    fn sync(&mut self, at: Instant, event: SyncEvent);
+    /// A synchronisation event at `at` (the device has run up to `at`; a new output image is
+    /// already in its entries): by default the device's [`Device::sync`], whatever the event.
+    fn sync(&mut self, at: Instant, event: SyncEvent) {
+        let _ = event;
+        self.device().sync(at);
+    }
 
     /// The SYNC0 cycle the unit runs with from Safe-Op on (the master set it in Pre-Op), or `None`
     /// without SYNC0; told when the unit enters Safe-Op from Pre-Op, and `None` when it goes back
@@ -140,6 +147,16 @@ impl<M: Model> Unit<M> {
     /// The process images in force (outputs, inputs).
     pub fn images(&self) -> (&ProcessImage, &ProcessImage) {
         (&self.output_image, &self.input_image)
+    }
+
+    /// Runs the device up to `at` before a write made at `at` reaches it: the timeout it asked for
+    /// before `at`, if any (what falls due at `at` itself runs after the write, as a device that
+    /// latches its outputs and then runs its cycle).
+    fn run_device_before(&mut self, at: Instant) {
+        let device = self.model.device();
+        if device.poll_timeout().is_some_and(|t| t < at) {
+            device.handle_timeout(at);
+        }
     }
 
     /// Puts the waiting answers into SM1 while it takes them.
@@ -387,6 +404,10 @@ impl<M: Model> UnitChain<M> {
                 let ago = Duration::from_nanos(esc.system_time().saturating_sub(at));
                 now - ago.min(dt)
             });
+            // The output image is taken at the SYNC0 event, else at the cycle: the device runs up
+            // to that instant first (what was due before it), takes the image there, is
+            // synchronised, and runs on to `now`.
+            let take_at = sync0.unwrap_or(now);
             let mut fresh = false;
             let new_image = esc.outputs_received() != unit.outputs_taken;
             if let Some(at) = unit.outputs_at.filter(|_| al == AlState::Op && new_image) {
@@ -396,15 +417,16 @@ impl<M: Model> UnitChain<M> {
                 let outputs = &mut self.image[..n];
                 esc.load_into(at, outputs);
                 esc.release_outputs(at);
+                unit.run_device_before(take_at);
                 let (dict, hook) = unit.model.split();
-                unit.output_image.unpack(outputs, dict, hook);
+                unit.output_image.unpack(outputs, dict, hook, take_at);
                 fresh = true;
             }
             match sync0 {
-                // The model runs up to the SYNC0 event, takes it, and runs on from it.
+                // The device runs up to the SYNC0 event, takes it, and runs on from it.
                 Some(at) => {
                     if at > last {
-                        unit.model.advance(at);
+                        unit.model.device().handle_timeout(at);
                     }
                     unit.model.sync(at, SyncEvent::Sync0);
                 }
@@ -415,7 +437,7 @@ impl<M: Model> UnitChain<M> {
                 }
                 None => {}
             }
-            unit.model.advance(now);
+            unit.model.device().handle_timeout(now);
             let inputs_at = unit
                 .inputs_at
                 .filter(|_| matches!(al, AlState::Op | AlState::SafeOp));

@@ -269,11 +269,18 @@ fn garbage_in_fmmus_3_to_15_does_not_stop_a_restart_to_op() {
     assert_eq!(al(&mut c, 0), (0x02, 0));
     request(&mut c, 0x04);
     assert_eq!(al(&mut c, 0), (0x04, 0));
+    let now = c.now;
     let unit = c.chain.unit_mut(0).unwrap();
-    unit.set(od::dict::Address::new(0x6000, 3), &[1]).unwrap();
-    unit.set(od::dict::Address::new(0x6000, 8), &[1]).unwrap();
-    unit.set(od::dict::Address::new(0x6010, 1), &(-5i16).to_le_bytes())
+    unit.set(now, od::dict::Address::new(0x6000, 3), &[1])
         .unwrap();
+    unit.set(now, od::dict::Address::new(0x6000, 8), &[1])
+        .unwrap();
+    unit.set(
+        now,
+        od::dict::Address::new(0x6010, 1),
+        &(-5i16).to_le_bytes(),
+    )
+    .unwrap();
     let outputs = [vec![0xA5, 0x34, 0x12]];
     lrw(&mut c, &layouts, &outputs);
     request(&mut c, 0x08);

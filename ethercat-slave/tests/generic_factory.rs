@@ -212,7 +212,7 @@ fn every_corpus_drive_unit_takes_back_what_it_reports() {
                 })
                 .collect();
             let (dict, hook) = od::hook::Objects::split(unit);
-            let mut node = Bound::new(dict, hook);
+            let mut node = Bound::new(dict, hook, std::time::Instant::now());
             for at in entries {
                 let Ok(bytes) = node.upload(at) else {
                     continue;

@@ -528,13 +528,20 @@ fn an_io_device_is_its_dictionary() {
         download(&mut c, &layout, 0, 0x7010, 1, &[0, 0]),
         Err(0x0601_0006)
     );
+    let now = c.now;
     let unit = c.chain.unit_mut(0).unwrap();
-    unit.set(od::dict::Address::new(0x6000, 3), &[1]).unwrap();
-    unit.set(od::dict::Address::new(0x6000, 8), &[1]).unwrap();
-    unit.set(od::dict::Address::new(0x6010, 1), &(-5i16).to_le_bytes())
+    unit.set(now, od::dict::Address::new(0x6000, 3), &[1])
         .unwrap();
+    unit.set(now, od::dict::Address::new(0x6000, 8), &[1])
+        .unwrap();
+    unit.set(
+        now,
+        od::dict::Address::new(0x6010, 1),
+        &(-5i16).to_le_bytes(),
+    )
+    .unwrap();
     assert!(unit
-        .set(od::dict::Address::new(0x6010, 1), &[1, 2, 3])
+        .set(now, od::dict::Address::new(0x6010, 1), &[1, 2, 3])
         .is_err());
     lrw(&mut c, &layouts, &outputs);
     let (wkc, inputs) = lrw(&mut c, &layouts, &outputs);

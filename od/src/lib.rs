@@ -30,6 +30,7 @@ pub mod model {
     pub mod abort;
     pub mod bits;
     pub mod dict;
+    pub mod emcy;
     pub mod event;
     pub mod hook;
     pub mod object;
@@ -62,7 +63,7 @@ pub mod sdo;
 pub use description::{
     carry, device, diff, doc, eds, error, esi, fill, load, report, sii, validate, xdd, xml,
 };
-pub use model::{abort, bits, dict, event, hook, object, types, units, value};
+pub use model::{abort, bits, dict, emcy, event, hook, object, types, units, value};
 
 pub use abort::AbortCode;
 pub use device::DeviceDescription;

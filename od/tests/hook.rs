@@ -1,7 +1,7 @@
 //! The device hook: a model behind its dictionary for SDO, CoE (complete access) and process data,
 //! and process images decoded from the mapping objects.
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use od::coe::server::CoeServer;
 use od::hook::{Bound, DeviceHook, ImageEntry, ImageError, ProcessImage};
@@ -18,6 +18,8 @@ struct Model {
     inputs: [u16; 2],
     outputs: [u8; 3],
     writes: Vec<(Address, Vec<u8>)>,
+    /// The instant each accepted write carried.
+    times: Vec<Instant>,
 }
 
 impl DeviceHook for Model {
@@ -46,8 +48,9 @@ impl DeviceHook for Model {
         Ok(())
     }
 
-    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+    fn write(&mut self, at: Address, data: &[u8], now: Instant) -> Result<(), AbortCode> {
         self.check(at, data)?;
+        self.times.push(now);
         if at.index == 0x7000 {
             self.outputs[usize::from(at.sub) - 1] = data[0];
         }
@@ -138,7 +141,8 @@ fn sdo_upload_answers_the_model_and_download_reaches_it() {
         inputs: [0x1234, 0xBEEF],
         ..Model::default()
     };
-    let mut b = Bound::new(&mut d, &mut m);
+    let t = Instant::now();
+    let mut b = Bound::new(&mut d, &mut m, t);
     assert_eq!(b.upload(Address::new(0x6000, 2)), Ok(vec![0xEF, 0xBE]));
     // Read-only for SDO: refused by the dictionary before the model sees it.
     assert_eq!(
@@ -158,6 +162,8 @@ fn sdo_upload_answers_the_model_and_download_reaches_it() {
     assert_eq!(d.read(0x7000, 1).unwrap(), &[0x42]);
     assert_eq!(d.read(0x7000, 2).unwrap(), &[0]);
     assert_eq!(m.outputs, [0x42, 0, 0]);
+    // The one accepted write reached the model with the request's instant.
+    assert_eq!(m.times, vec![t]);
     assert_eq!(m.writes, vec![(Address::new(0x7000, 1), vec![0x42])]);
 }
 
@@ -248,16 +254,20 @@ fn unpack_delivers_mapped_entries_and_skips_padding() {
     assert!(image.entries()[1].is_padding());
     let mut m = Model::default();
     // 0x7000:01 = 0x11 (bits 0–7), padding bits 8–11, 0x7000:02 = 0x3C (bits 12–19).
-    image.unpack(&[0x11, 0xCF, 0x03], &mut d, &mut m);
+    let t1 = Instant::now();
+    let (t2, t3) = (t1 + Duration::from_secs(1), t1 + Duration::from_secs(2));
+    image.unpack(&[0x11, 0xCF, 0x03], &mut d, &mut m, t1);
     assert_eq!(m.outputs, [0x11, 0x3C, 0]);
     assert_eq!(d.read(0x7000, 2).unwrap(), &[0x3C]);
     // A value the model refuses is dropped, in the dictionary too.
-    image.unpack(&[0x12, 0xF0, 0x0F], &mut d, &mut m);
+    image.unpack(&[0x12, 0xF0, 0x0F], &mut d, &mut m, t2);
     assert_eq!(m.outputs, [0x12, 0x3C, 0]);
     assert_eq!(d.read(0x7000, 2).unwrap(), &[0x3C]);
     // A short image delivers the entries it holds whole.
-    image.unpack(&[0x13], &mut d, &mut m);
+    image.unpack(&[0x13], &mut d, &mut m, t3);
     assert_eq!(m.outputs, [0x13, 0x3C, 0]);
+    // Each accepted entry with the instant of its image (0x7000:02 = 0xFF at t2 refused).
+    assert_eq!(m.times, vec![t1, t1, t2, t3]);
 }
 
 /// A CoE mailbox: header (length, address 0, channel 0, priority 0, type 3 CoE, `counter`), CoE
@@ -284,7 +294,7 @@ fn complete_access_goes_through_the_model() {
     server.handle_mailbox(
         now,
         &coe(1, &[0x50, 0x00, 0x60, 0x00, 0, 0, 0, 0]),
-        &mut Bound::new(&mut d, &mut m),
+        &mut Bound::new(&mut d, &mut m, now),
     );
     let answer = server.poll_transmit().unwrap();
     // Sub-index 0 as 16 bits and two UNSIGNED16 are 6 bytes, more than an expedited response holds:
@@ -299,7 +309,7 @@ fn complete_access_goes_through_the_model() {
     server.handle_mailbox(
         now,
         &coe(2, &[0x37, 0x00, 0x70, 0x01, 0x07, 0xFF, 0x00, 0x00]),
-        &mut Bound::new(&mut d, &mut m),
+        &mut Bound::new(&mut d, &mut m, now),
     );
     let answer = server.poll_transmit().unwrap();
     assert_eq!(
@@ -309,10 +319,11 @@ fn complete_access_goes_through_the_model() {
     assert_eq!(m.writes, vec![]);
     assert_eq!(d.read(0x7000, 1).unwrap(), &[0]);
     // Accepted: every entry reaches the model in sub-index order, and the dictionary.
+    let later = now + Duration::from_millis(5);
     server.handle_mailbox(
-        now,
+        later,
         &coe(3, &[0x37, 0x00, 0x70, 0x01, 0x07, 0x08, 0x09, 0x00]),
-        &mut Bound::new(&mut d, &mut m),
+        &mut Bound::new(&mut d, &mut m, now),
     );
     let answer = server.poll_transmit().unwrap();
     assert_eq!(&answer[8..], &[0x70, 0x00, 0x70, 0x01, 0, 0, 0, 0]);
@@ -326,4 +337,6 @@ fn complete_access_goes_through_the_model() {
     );
     assert_eq!(m.outputs, [7, 8, 9]);
     assert_eq!(d.read(0x7000, 3).unwrap(), &[9]);
+    // Each with the instant the mailbox arrived, the server's, not the borrowed objects'.
+    assert_eq!(m.times, vec![later; 3]);
 }

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use ds402::drive::DriveConfig;
-use socketcan_node::generic::{self, GenericApp};
+use ds402::generic::{self, GenericApp};
 use socketcan_node::node::{Node, NodeConfig};
 use socketcan_node::runtime::{self, Station};
 use socketcan_node::transport::{BusEvent, CanBus, InProcessBus};

@@ -22,12 +22,12 @@ use od::event::{Event, Origin};
 use od::load::Format;
 
 use crate::cli::connect_hint;
-use crate::generic::{self, GenericApp};
 use crate::node::lss::UNCONFIGURED;
 use crate::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
 use crate::node::{LssConfig, Node, NodeConfig, NodeError};
 use crate::runtime::{self, RunStats, Station};
 use crate::transport::{self, BusError, BusSpec, CanBus};
+use ds402::generic::{self, GenericApp};
 
 /// Virtual CANopen nodes from device descriptions: the dictionary of each description (EDS, DCF, XDD,
 /// XDC) with its defaults, limits, access and PDO configuration, NMT, heartbeat, SYNC, PDOs, EMCY,

@@ -10,7 +10,6 @@
 pub mod canopen_cli;
 pub mod cli;
 pub mod frame;
-pub mod generic;
 pub mod node;
 pub mod runtime;
 pub mod sim;
@@ -20,6 +19,6 @@ pub mod transport;
 pub mod x67;
 
 pub use frame::CanFrame;
-pub use node::{Application, NmtState, Node, NodeConfig, NodeEvent};
+pub use node::{Device, NmtState, Node, NodeConfig, NodeEvent};
 pub use od;
 pub use transport::{BusEvent, BusSpec, CanBus};

@@ -15,7 +15,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::node::storage::{MemoryStorage, ParameterStorage, StorageRequest};
-use crate::node::{Application, Node, NodeEvent};
+use crate::node::{Device, Node, NodeEvent};
 use crate::transport::{BusError, BusEvent, CanBus};
 use crate::CanFrame;
 
@@ -37,14 +37,14 @@ pub struct RunStats {
 }
 
 /// A node with the storage its parameter sets (0x1010, 0x1011) go to.
-pub struct Station<A: Application> {
+pub struct Station<A: Device> {
     /// The node.
     pub node: Node<A>,
     /// Where its parameters are kept.
     pub storage: Box<dyn ParameterStorage>,
 }
 
-impl<A: Application> Station<A> {
+impl<A: Device> Station<A> {
     /// `node` with `storage`; the node gets the set the storage holds (a set that cannot be read is
     /// logged and the node starts with its defaults).
     pub fn new(node: Node<A>, storage: Box<dyn ParameterStorage>) -> Station<A> {
@@ -85,7 +85,7 @@ struct Writer {
 
 impl Writer {
     /// Takes the stations' storage to a new thread (each station keeps an empty one meanwhile).
-    fn start<A: Application>(stations: &mut [Station<A>]) -> Writer {
+    fn start<A: Device>(stations: &mut [Station<A>]) -> Writer {
         let mut storages: Vec<Box<dyn ParameterStorage>> = stations
             .iter_mut()
             .map(|s| std::mem::replace(&mut s.storage, Box::new(MemoryStorage::default())))
@@ -113,7 +113,7 @@ impl Writer {
     }
 
     /// Hands over what station `k`'s node asked of its storage.
-    fn take<A: Application>(&mut self, k: usize, station: &mut Station<A>) {
+    fn take<A: Device>(&mut self, k: usize, station: &mut Station<A>) {
         while let Some(request) = station.node.poll_storage() {
             if let Some(requests) = &self.requests {
                 if requests.send((k, request)).is_ok() {
@@ -127,7 +127,7 @@ impl Writer {
     }
 
     /// Reports the writes finished since the last call to their nodes.
-    fn collect<A: Application>(&mut self, stations: &mut [Station<A>], touched: &mut Touched) {
+    fn collect<A: Device>(&mut self, stations: &mut [Station<A>], touched: &mut Touched) {
         while let Ok((k, result)) = self.done.try_recv() {
             self.waiting -= 1;
             let station = &mut stations[k];
@@ -143,7 +143,7 @@ impl Writer {
     }
 
     /// Waits for the writes still queued, then gives each station its storage back.
-    fn finish<A: Application>(mut self, stations: &mut [Station<A>]) {
+    fn finish<A: Device>(mut self, stations: &mut [Station<A>]) {
         drop(self.requests.take());
         let Some(storages) = self.thread.take().and_then(|t| t.join().ok()) else {
             tracing::error!("the parameter storage thread failed");
@@ -156,7 +156,7 @@ impl Writer {
 }
 
 /// Runs `stations` on `bus` until `stop` is set. Every node is started first (boot-up messages).
-pub fn run<A: Application>(
+pub fn run<A: Device>(
     stations: &mut [Station<A>],
     bus: &mut dyn CanBus,
     stop: &AtomicBool,
@@ -178,7 +178,7 @@ pub fn run<A: Application>(
 }
 
 /// The loop of [`run`], with the storage on `writer`'s thread.
-fn serve<A: Application>(
+fn serve<A: Device>(
     nodes: &mut [Station<A>],
     bus: &mut dyn CanBus,
     stop: &AtomicBool,
@@ -272,7 +272,7 @@ impl Touched {
     }
 
     /// Works out the deadlines of the nodes touched; none is touched any more.
-    fn settle<A: Application>(&mut self, nodes: &[Station<A>], due: &mut [Option<Instant>]) {
+    fn settle<A: Device>(&mut self, nodes: &[Station<A>], due: &mut [Option<Instant>]) {
         for k in self.list.drain(..) {
             due[k] = nodes[k].node.poll_timeout();
             self.marked[k] = false;
@@ -291,7 +291,7 @@ struct Interest {
 }
 
 impl Interest {
-    fn refresh<A: Application>(&mut self, nodes: &[Station<A>]) {
+    fn refresh<A: Device>(&mut self, nodes: &[Station<A>]) {
         let same = self.generations.len() == nodes.len()
             && nodes
                 .iter()
@@ -324,7 +324,7 @@ impl Interest {
 }
 
 /// Sends what the nodes have to send; a frame of one node also reaches the others in this process.
-fn flush<A: Application>(
+fn flush<A: Device>(
     nodes: &mut [Station<A>],
     bus: &mut dyn CanBus,
     writer: &mut Writer,

@@ -4,7 +4,7 @@
 use std::time::{Duration, Instant};
 
 use crate::node::storage::{MemoryStorage, ParameterStorage};
-use crate::node::{Application, Node, NodeConfig, NodeError};
+use crate::node::{Device, Node, NodeConfig, NodeError};
 use crate::x67::{self, BusController, X67Error};
 use crate::CanFrame;
 
@@ -21,7 +21,7 @@ pub enum SimError {
 }
 
 /// A node on a simulated clock (by default the X67 bus controller).
-pub struct SimNode<A: Application = BusController> {
+pub struct SimNode<A: Device = BusController> {
     /// The node.
     pub node: Node<A>,
     /// Simulated now.
@@ -68,7 +68,7 @@ impl SimNode<BusController> {
     }
 }
 
-impl<A: Application + Clone> SimNode<A> {
+impl<A: Device + Clone> SimNode<A> {
     /// A second node in this one's state, at the same simulated time, with its parameters in memory:
     /// a copy of the set this one's storage holds (a fuzz target or a test builds one node and forks
     /// it for each case).
@@ -86,7 +86,7 @@ impl<A: Application + Clone> SimNode<A> {
     }
 }
 
-impl<A: Application> SimNode<A> {
+impl<A: Device> SimNode<A> {
     /// `node`, built at `t0`, booted at once with the set `storage` holds.
     pub fn boot(mut node: Node<A>, t0: Instant, storage: Box<dyn ParameterStorage>) -> SimNode<A> {
         let mut storage = storage;

@@ -30,7 +30,7 @@ use od::types::DataType;
 use od::value::Value;
 
 use crate::node::pdo::{MapEntry, COB_INVALID, MAP_OFFSET, RPDO_COMM, TPDO_COMM};
-use crate::node::{AppError, Application, EmcyCode};
+use crate::node::{Device, DeviceError, EmcyCode};
 
 /// The fixture the node's dictionary comes from.
 pub const FIXTURE_XDD: &str = include_str!("../../fixtures/x67/X67SM2436.xdd");
@@ -222,7 +222,7 @@ enum Slot {
     Sim(usize),
 }
 
-/// The bus controller and its modules: the node's [`Application`].
+/// The bus controller and its modules: the node's [`Device`].
 #[derive(Clone)]
 pub struct BusController {
     modules: Vec<Module>,
@@ -344,7 +344,9 @@ impl DeviceHook for BusController {
         }
     }
 
-    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+    /// The modules take a write at the X2X cycle the node has run them up to (`now` is past
+    /// their last cycle and before the next).
+    fn write(&mut self, at: Address, data: &[u8], _now: Instant) -> Result<(), AbortCode> {
         let (index, sub) = (at.index, at.sub);
         match self.slots.get(&index).copied() {
             Some(Slot::Register(m, reg)) if sub == 0 => {
@@ -376,7 +378,7 @@ impl DeviceHook for BusController {
     }
 }
 
-impl Application for BusController {
+impl Device for BusController {
     fn handle_timeout(&mut self, now: Instant) {
         for module in &mut self.modules {
             module.handle_timeout(now);
@@ -391,12 +393,12 @@ impl Application for BusController {
         Some(self.x2x_next)
     }
 
-    fn errors(&self, out: &mut Vec<AppError>) {
+    fn errors(&self, out: &mut Vec<DeviceError>) {
         for (m, module) in self.modules.iter().enumerate() {
             for a in 0..2 {
                 let code = EmcyCode(module.error_code(a));
                 if code != EmcyCode::NO_ERROR {
-                    out.push(AppError {
+                    out.push(DeviceError {
                         code,
                         info: [m as u8 + 1, a as u8 + 1, 0, 0, 0],
                     });

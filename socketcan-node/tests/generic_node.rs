@@ -7,9 +7,9 @@ use std::time::{Duration, Instant};
 
 use clap::Parser;
 use ds402::drive::DriveConfig;
+use ds402::generic::{self, GenericApp, SIM_BASE};
 use od::device::DeviceDescription;
 use socketcan_node::canopen_cli::{self, Args};
-use socketcan_node::generic::{self, GenericApp, SIM_BASE};
 use socketcan_node::node::storage::MemoryStorage;
 use socketcan_node::sim::SimNode;
 use socketcan_node::{CanFrame, NmtState, Node, NodeConfig};

@@ -10,7 +10,7 @@ use od::hook::DeviceHook;
 use socketcan_node::node::lss::{LssSlave, LssState};
 use socketcan_node::node::storage::{LssStored, MemoryStorage};
 use socketcan_node::node::time::TimeOfDay;
-use socketcan_node::node::{AppError, Application, LssConfig, NodeEvent};
+use socketcan_node::node::{Device, DeviceError, LssConfig, NodeEvent};
 use socketcan_node::sim::SimNode;
 use socketcan_node::{CanFrame, NmtState, Node, NodeConfig};
 
@@ -28,7 +28,7 @@ macro_rules! owns_no_object {
             fn read(&self, _: Address, _: &mut [u8; 8]) -> Option<usize> {
                 None
             }
-            fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
+            fn write(&mut self, _: Address, _: &[u8], _: Instant) -> Result<(), AbortCode> {
                 Ok(())
             }
         }
@@ -37,12 +37,12 @@ macro_rules! owns_no_object {
 
 owns_no_object!(Plain);
 
-impl Application for Plain {
+impl Device for Plain {
     fn handle_timeout(&mut self, _: Instant) {}
     fn poll_timeout(&self) -> Option<Instant> {
         None
     }
-    fn errors(&self, _: &mut Vec<AppError>) {}
+    fn errors(&self, _: &mut Vec<DeviceError>) {}
     fn reset(&mut self, _: Instant) {}
 }
 
@@ -73,7 +73,7 @@ fn f(id: u16, data: &[u8]) -> CanFrame {
 }
 
 /// An LSS request; returns what the node sent.
-fn lss<A: Application>(n: &mut SimNode<A>, data: [u8; 8]) -> Vec<CanFrame> {
+fn lss<A: Device>(n: &mut SimNode<A>, data: [u8; 8]) -> Vec<CanFrame> {
     n.send(f(0x7E5, &data))
 }
 
@@ -118,7 +118,7 @@ struct Ticking {
 
 owns_no_object!(Ticking);
 
-impl Application for Ticking {
+impl Device for Ticking {
     fn handle_timeout(&mut self, now: Instant) {
         while self.next <= now {
             self.next += Duration::from_millis(10);
@@ -128,7 +128,7 @@ impl Application for Ticking {
     fn poll_timeout(&self) -> Option<Instant> {
         Some(self.next)
     }
-    fn errors(&self, _: &mut Vec<AppError>) {}
+    fn errors(&self, _: &mut Vec<DeviceError>) {}
     fn reset(&mut self, _: Instant) {}
 }
 

@@ -6,18 +6,18 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use ds402::drive::DriveConfig;
+use ds402::generic::{self, GenericApp, SIM_BASE};
 use od::abort::AbortCode;
 use od::device::DeviceDescription;
 use od::dict::{Address, Dictionary};
 use od::hook::DeviceHook;
 use od::object::{AccessType, Object, ObjectKind, SubObject};
 use od::types::DataType;
-use socketcan_node::generic::{self, GenericApp, SIM_BASE};
 use socketcan_node::node::lss::{LssAction, LssSlave, LssState};
 use socketcan_node::node::storage::{
     self, FileStorage, LssStored, MemoryStorage, ParameterStorage, StorageRequest,
 };
-use socketcan_node::node::{error_register, AppError, Application, EmcyCode, LssConfig};
+use socketcan_node::node::{error_register, Device, DeviceError, EmcyCode, LssConfig};
 use socketcan_node::sim::SimNode;
 use socketcan_node::{CanFrame, Node, NodeConfig};
 
@@ -26,7 +26,7 @@ const ID: u8 = 5;
 /// A device whose errors the test sets: the node sees a change at the device's next tick.
 #[derive(Clone, Default)]
 struct Faults {
-    errors: Vec<AppError>,
+    errors: Vec<DeviceError>,
     due: Option<Instant>,
 }
 
@@ -37,19 +37,19 @@ impl DeviceHook for Faults {
     fn read(&self, _: Address, _: &mut [u8; 8]) -> Option<usize> {
         None
     }
-    fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
+    fn write(&mut self, _: Address, _: &[u8], _: Instant) -> Result<(), AbortCode> {
         Ok(())
     }
 }
 
-impl Application for Faults {
+impl Device for Faults {
     fn handle_timeout(&mut self, _: Instant) {
         self.due = None;
     }
     fn poll_timeout(&self) -> Option<Instant> {
         self.due
     }
-    fn errors(&self, out: &mut Vec<AppError>) {
+    fn errors(&self, out: &mut Vec<DeviceError>) {
         out.extend_from_slice(&self.errors);
     }
     fn reset(&mut self, _: Instant) {
@@ -93,15 +93,15 @@ fn ms(n: u64) -> Duration {
     Duration::from_millis(n)
 }
 
-fn fault(code: u16, info: u8) -> AppError {
-    AppError {
+fn fault(code: u16, info: u8) -> DeviceError {
+    DeviceError {
         code: EmcyCode(code),
         info: [info, 0, 0, 0, 0],
     }
 }
 
 /// The device reports `errors` from now on; returns what the node sent at once.
-fn report(n: &mut SimNode<Faults>, errors: &[AppError]) -> Vec<CanFrame> {
+fn report(n: &mut SimNode<Faults>, errors: &[DeviceError]) -> Vec<CanFrame> {
     let now = n.now;
     let app = n.node.app_mut();
     app.errors = errors.to_vec();
@@ -212,7 +212,7 @@ fn at_most_64_emcys_wait() {
     let mut n = node();
     n.sdo_write(0x1015, 0, &10_000u16.to_le_bytes()).unwrap();
     let start = n.elapsed();
-    let errors: Vec<AppError> = (0..70).map(|k| fault(0x1000, k)).collect();
+    let errors: Vec<DeviceError> = (0..70).map(|k| fault(0x1000, k)).collect();
     report(&mut n, &errors);
     n.advance(Duration::from_secs(100));
     let sent = emcys(&n);

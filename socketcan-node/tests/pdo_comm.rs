@@ -16,7 +16,7 @@ use od::hook::DeviceHook;
 use od::object::AccessType;
 use socketcan_node::node::pdo::{Direction, MapEntry, PdoConfig};
 use socketcan_node::node::storage::MemoryStorage;
-use socketcan_node::node::{AppError, Application};
+use socketcan_node::node::{Device, DeviceError};
 use socketcan_node::sim::SimNode;
 use socketcan_node::{CanFrame, NmtState, Node, NodeConfig};
 
@@ -41,12 +41,12 @@ impl DeviceHook for Io {
         Some(1)
     }
 
-    fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
+    fn write(&mut self, _: Address, _: &[u8], _: Instant) -> Result<(), AbortCode> {
         Ok(())
     }
 }
 
-impl Application for Io {
+impl Device for Io {
     fn handle_timeout(&mut self, _: Instant) {
         self.due = None;
     }
@@ -55,7 +55,7 @@ impl Application for Io {
         self.due
     }
 
-    fn errors(&self, _: &mut Vec<AppError>) {}
+    fn errors(&self, _: &mut Vec<DeviceError>) {}
 
     fn reset(&mut self, _: Instant) {
         self.due = None;

@@ -295,8 +295,10 @@ pub struct Drive {
     tick_ns: u64,
     grid: Instant,
     ticks: u64,
-    /// A write reached the drive while it stood idle (its clock may be behind the write).
-    lagging: bool,
+    /// An input reached the drive while it stood idle: it asks for its next tick, so that whoever
+    /// runs it (the node checking its event-driven TPDOs at the application's ticks) sees what the
+    /// input changed.
+    touched: bool,
     params: objects::Params,
     power_on: objects::Params,
     process_types: Vec<(u16, od::types::DataType)>,
@@ -369,7 +371,7 @@ impl Drive {
             tick_ns,
             grid: now,
             ticks: 0,
-            lagging: false,
+            touched: false,
             power_on: params.clone(),
             params,
             process_types,
@@ -416,7 +418,7 @@ impl Drive {
     fn power_up(&mut self, now: Instant) {
         self.grid = now;
         self.ticks = 0;
-        self.lagging = false;
+        self.touched = false;
         self.state = State::NotReadyToSwitchOn;
         self.control = 0;
         let mode = self.params.get(objects::P::Mode);
@@ -478,9 +480,9 @@ impl Drive {
     /// When the drive needs [`Drive::handle_timeout`] next: the next tick, or `None` while it
     /// stands idle with its power stage off and no write has reached it since.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        // A write that reached the idle drive is seen at the next tick, so that the node, which
+        // An input that reached the idle drive is seen at the next tick, so that the node, which
         // checks its event-driven TPDOs at the application's ticks, sends what it changed.
-        if !self.quiescent() || self.lagging {
+        if !self.quiescent() || self.touched {
             Some(self.instant(self.ticks + 1))
         } else {
             None
@@ -500,17 +502,24 @@ impl Drive {
     pub fn raise_fault(&mut self, now: Instant, code: u16) {
         self.advance(now);
         // An idle drive asks for its next tick too, so that whoever runs it sees the fault then.
-        self.note_input();
+        self.touch();
         self.fault(code);
     }
 
-    /// Forces 0x60FD bit `bit` (0..32) to `level`; `None` follows the simulated switches again (bits
-    /// 0–2; the others read 0).
-    pub fn set_input(&mut self, bit: u8, level: Option<bool>) {
-        self.note_input();
+    /// Forces 0x60FD bit `bit` (0..32) to `level` at `now` (the drive runs up to `now` first);
+    /// `None` follows the simulated switches again (bits 0–2; the others read 0).
+    pub fn set_input(&mut self, now: Instant, bit: u8, level: Option<bool>) {
+        self.advance(now);
+        self.touch();
         if let Some(slot) = self.forced.get_mut(usize::from(bit)) {
             *slot = level;
         }
+    }
+
+    /// Every forced 0x60FD bit follows the simulated switches again (as at power-on), with no
+    /// tick asked for: what a reset of the device does before [`Drive::reset`].
+    pub fn release_inputs(&mut self) {
+        self.forced.iter_mut().for_each(|slot| *slot = None);
     }
 
     /// The axis (0..8).
@@ -718,10 +727,10 @@ impl Drive {
             && self.level_is_idle()
     }
 
-    /// An input without a time arrives: if the drive stands idle, its clock may be behind it.
-    fn note_input(&mut self) {
+    /// An input arrives (the drive has run up to its instant): an idle drive asks for its next tick.
+    fn touch(&mut self) {
         if self.quiescent() {
-            self.lagging = true;
+            self.touched = true;
         }
     }
 
@@ -729,11 +738,8 @@ impl Drive {
     fn advance(&mut self, now: Instant) {
         let last = (now.saturating_duration_since(self.grid).as_nanos() / u128::from(self.tick_ns))
             .min(u128::from(u64::MAX)) as u64;
-        if std::mem::take(&mut self.lagging) && last > self.ticks + 1 {
-            // The writes since the drive went idle are taken as made at `now`.
-            let delta = last - self.ticks;
-            self.rebase(delta);
-            self.ticks = last;
+        if last > self.ticks {
+            self.touched = false;
         }
         while self.ticks < last {
             if self.quiescent() {
@@ -741,16 +747,6 @@ impl Drive {
                 break;
             }
             self.step();
-        }
-    }
-
-    /// Moves the plan's origin `delta` ticks later (the clock jumps to a lagging write). The other
-    /// tick stamps (the position and velocity windows, the following error) need no move: they
-    /// count only in Operation enabled and Quick stop active, an idle drive is in neither, and
-    /// entering Operation enabled starts them afresh.
-    fn rebase(&mut self, delta: u64) {
-        if let Motion::Plan { origin, .. } = &mut self.motion {
-            *origin += delta;
         }
     }
 

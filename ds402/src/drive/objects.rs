@@ -15,6 +15,8 @@
 //! multi-axis devices). Values travel as little-endian bytes of the entry's data type, the type the
 //! dictionary gives (the standard's type where the dictionary lacks the object).
 
+use std::time::Instant;
+
 use od::abort::AbortCode;
 use od::dict::{Address, Dictionary};
 use od::hook::DeviceHook;
@@ -670,9 +672,10 @@ impl DeviceHook for Drive {
     }
 
     /// Takes a value [`check`](DeviceHook::check) accepts (and checks it again: an RPDO is
-    /// delivered without a check) and acts on it at the drive's clock: a control word runs the
-    /// state machine and the mode's bits, 0x6060 changes the mode, a new 0x60FF re-ramps pv.
-    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+    /// delivered without a check) and acts on it at `now`, the drive run up to it first: a control
+    /// word runs the state machine and the mode's bits, 0x6060 changes the mode, a new 0x60FF
+    /// re-ramps pv.
+    fn write(&mut self, at: Address, data: &[u8], now: Instant) -> Result<(), AbortCode> {
         let Some(index) = self.standard_index(at.index) else {
             return Ok(());
         };
@@ -691,7 +694,8 @@ impl DeviceHook for Drive {
                 return Err(code);
             }
         };
-        self.note_input();
+        self.advance(now);
+        self.touch();
         self.set_param(def.p, value);
         Ok(())
     }

@@ -228,13 +228,13 @@ impl Rig {
     pub fn write(&mut self, index: u16, sub: u8, value: i64) -> Result<(), AbortCode> {
         let ty = self.dict.entry(index, sub).expect("entry exists").data_type;
         let bytes = value_of(ty, value).encode(ty).expect("value fits its type");
-        let mut bound = Bound::new(&mut self.dict, &mut self.drive);
+        let mut bound = Bound::new(&mut self.dict, &mut self.drive, self.now);
         bound.download(Address::new(index, sub), &bytes)
     }
 
     /// An SDO download of raw `bytes`.
     pub fn write_bytes(&mut self, index: u16, sub: u8, bytes: &[u8]) -> Result<(), AbortCode> {
-        let mut bound = Bound::new(&mut self.dict, &mut self.drive);
+        let mut bound = Bound::new(&mut self.dict, &mut self.drive, self.now);
         bound.download(Address::new(index, sub), bytes)
     }
 
@@ -249,7 +249,7 @@ impl Rig {
     #[track_caller]
     pub fn read(&mut self, index: u16, sub: u8) -> i64 {
         let ty = self.dict.entry(index, sub).expect("entry exists").data_type;
-        let mut bound = Bound::new(&mut self.dict, &mut self.drive);
+        let mut bound = Bound::new(&mut self.dict, &mut self.drive, self.now);
         let bytes = bound.upload(Address::new(index, sub)).expect("upload");
         Value::decode(ty, &bytes)
             .expect("value of its type")

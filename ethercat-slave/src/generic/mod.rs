@@ -1,8 +1,8 @@
 //! Any ESI's device as a unit of an emulated chain ([`crate::unit`]): its dictionary, CoE server,
 //! SyncManagers, AL checks, SII, PDOs and modules from the ESI, and behind every axis whose 0x6040
 //! and 0x6041 the dictionary has (CiA 402-2: axis *a* at 0x6000 + 0x800·*a*) a CiA 402 drive
-//! ([`ds402::drive::Drive`], the same application the CANopen node runs:
-//! `socketcan_node::generic::GenericApp`, with its simulation record at 0x5FF0 + axis). A device
+//! ([`ds402::drive::Drive`], the same device the CANopen node runs:
+//! [`ds402::generic::GenericApp`], with its simulation record at 0x5FF0 + axis). A device
 //! without CiA 402 axes but with drive channels of ETG.5001 MDP 742 (the servo and stepper
 //! terminals' "DRV" objects at 0x6010/0x7010 + 0x100·channel) has the same drive behind each
 //! channel, reached through a mapping from the channel's objects to the drive's ([`mdp`]; channel
@@ -16,7 +16,7 @@
 //!   and its SII image (in an EEPROM of `Eeprom/ByteSize`, or of the next power of two that holds
 //!   the image where that is too small).
 //! - Before its units, a template's dictionary gets what a real device of the ESI reports where the
-//!   ESI gives no value ([`socketcan_node::generic::complete`], as the CANopen node does): 0x1018:01–03
+//!   ESI gives no value ([`ds402::generic::complete`], as the CANopen node does): 0x1018:01–03
 //!   the ESI's identity, as the SII has it (a value of the ESI's object that contradicts it gives
 //!   way to it, since a master compares the two; said as an adjustment), the names 0x1008 and
 //!   0x100A from its `Type` and revision, a drive's device type, supported modes and factory
@@ -52,21 +52,20 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use ds402::drive::DriveConfig;
+use ds402::generic::{add_sim_records, complete, GenericApp};
 use od::abort::AbortCode;
 use od::coe::server::CoeServer;
 use od::device::{DeviceDescription, EthercatInfo, Module};
 use od::dict::{Address, Dictionary};
 use od::event::Event;
-use od::hook::{self, DeviceHook, Objects, ProcessImage};
+use od::hook::{self, Device, DeviceHook, Objects, ProcessImage};
 use od::object::{EcatStates, Object, ObjectKind};
 use od::sdo::server::ServerConfig;
 use od::types::DataType;
-use socketcan_node::generic::{add_sim_records, complete, GenericApp};
-use socketcan_node::node::Application;
 
 use crate::esc::al::{AlConfig, AlState, AlStatusCode};
 use crate::esc::Esc;
-use crate::unit::{Model, SyncEvent, Unit, UnitChain};
+use crate::unit::{Model, Unit, UnitChain};
 
 use mdp::Channels;
 use pdo::Pdos;
@@ -220,7 +219,7 @@ impl Template {
             // The channels' drives have their simulation records too, where the index is free.
             let drives = channel_drives(c, &desc.dictionary);
             for &n in c.channels() {
-                let index = socketcan_node::generic::SIM_BASE + u16::from(n);
+                let index = ds402::generic::SIM_BASE + u16::from(n);
                 if let (Some(o), None) = (drives.object(index), desc.dictionary.object(index)) {
                     desc.dictionary.insert(o.clone());
                 }
@@ -591,7 +590,7 @@ impl UnitHook {
     /// Whether `index` is the simulation record of a drive behind an MDP 742 channel (the same
     /// index in both dictionaries).
     fn channel_sim(&self, index: u16) -> bool {
-        let base = socketcan_node::generic::SIM_BASE;
+        let base = ds402::generic::SIM_BASE;
         (base..base + u16::from(mdp::MAX_CHANNELS)).contains(&index) && self.app.owns(index)
     }
 
@@ -659,20 +658,46 @@ impl DeviceHook for UnitHook {
         }
     }
 
-    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+    fn write(&mut self, at: Address, data: &[u8], now: Instant) -> Result<(), AbortCode> {
         let _unit = self.span.clone().entered();
         if let Some(c) = &self.channels {
             return match c.to_drive(at, data) {
-                Some((drive, value)) => self.app.write(drive, &value),
-                None if self.channel_sim(at.index) => self.app.write(at, data),
+                Some((drive, value)) => self.app.write(drive, &value, now),
+                None if self.channel_sim(at.index) => self.app.write(at, data, now),
                 None => Ok(()),
             };
         }
         if self.app.owns(at.index) {
-            self.app.write(at, data)
+            self.app.write(at, data, now)
         } else {
             Ok(())
         }
+    }
+}
+
+/// The drives of the unit ([`GenericApp`]), each call in the unit's span.
+impl Device for UnitHook {
+    fn handle_timeout(&mut self, now: Instant) {
+        let _unit = self.span.clone().entered();
+        self.app.handle_timeout(now);
+    }
+
+    fn poll_timeout(&self) -> Option<Instant> {
+        self.app.poll_timeout()
+    }
+
+    fn errors(&self, out: &mut Vec<od::emcy::DeviceError>) {
+        self.app.errors(out);
+    }
+
+    fn reset(&mut self, now: Instant) {
+        let _unit = self.span.clone().entered();
+        self.app.reset(now);
+    }
+
+    fn sync(&mut self, now: Instant) {
+        let _unit = self.span.clone().entered();
+        self.app.sync(now);
     }
 }
 
@@ -711,12 +736,17 @@ impl GenericUnit {
         hook::value(&self.dict, &self.hook, at, &mut buf).to_vec()
     }
 
-    /// What the device senses: `bytes` as the value of `at`, set from the device's side (an input
-    /// of an I/O device; the drives own their process values and take what they own as a write).
-    /// Refused as the dictionary refuses a value it cannot hold.
-    pub fn set(&mut self, at: Address, bytes: &[u8]) -> Result<(), od::dict::OdError> {
+    /// What the device senses at `now`: `bytes` as the value of `at`, set from the device's side (an
+    /// input of an I/O device; the drives own their process values and take what they own as a
+    /// write). Refused as the dictionary refuses a value it cannot hold.
+    pub fn set(
+        &mut self,
+        now: Instant,
+        at: Address,
+        bytes: &[u8],
+    ) -> Result<(), od::dict::OdError> {
         self.dict.check(at.index, at.sub, bytes)?;
-        hook::deliver(&mut self.dict, &mut self.hook, at, bytes);
+        hook::deliver(&mut self.dict, &mut self.hook, at, bytes, now);
         Ok(())
     }
 
@@ -754,7 +784,7 @@ impl GenericUnit {
                     Some(_) => Channels::controlword(axis),
                     None => Address::new(base + 0x0040, 0),
                 };
-                hook::deliver(&mut self.dict, &mut self.hook, at, &cw.to_le_bytes());
+                hook::deliver(&mut self.dict, &mut self.hook, at, &cw.to_le_bytes(), now);
             }
         }
     }
@@ -776,14 +806,8 @@ impl Model for GenericUnit {
         // Leaving Op follows (set_al_state): the connection has ended.
     }
 
-    fn advance(&mut self, now: Instant) {
-        let _unit = self.hook.span.clone().entered();
-        Application::handle_timeout(&mut self.hook.app, now);
-    }
-
-    fn sync(&mut self, at: Instant, _event: SyncEvent) {
-        let _unit = self.hook.span.clone().entered();
-        Application::sync(&mut self.hook.app, at);
+    fn device(&mut self) -> &mut dyn Device {
+        &mut self.hook
     }
 
     fn set_sync0_cycle(&mut self, cycle: Option<Duration>) {

@@ -435,7 +435,37 @@ impl DeviceHook for SmdModel {
         Some(n)
     }
 
-    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+    fn write(&mut self, at: Address, data: &[u8], _now: Instant) -> Result<(), AbortCode> {
+        self.take(at, data);
+        Ok(())
+    }
+}
+
+/// The indexer's lifecycle: a timeout is one process-data exchange (the output image to
+/// [`Indexer::exchange`] when it was written since the last exchange, else
+/// [`Indexer::exchange_held`]: after entering Op the first image written is the edge reference,
+/// SMD-R6-073); a synchronisation is the SYNC0 event (DC_Sync starts); a reset is a power cycle.
+impl od::hook::Device for SmdModel {
+    fn handle_timeout(&mut self, now: Instant) {
+        self.exchange(now);
+    }
+
+    fn poll_timeout(&self) -> Option<Instant> {
+        None
+    }
+
+    fn reset(&mut self, _now: Instant) {
+        self.indexer.power_cycle();
+    }
+
+    fn sync(&mut self, _now: Instant) {
+        self.indexer.sync0_event();
+    }
+}
+
+impl SmdModel {
+    /// What a write of `data` to `at` does (every value the dictionary accepts is taken).
+    fn take(&mut self, at: Address, data: &[u8]) {
         let v = le(data);
         match at.index {
             OUTPUTS_INDEX => {
@@ -458,7 +488,16 @@ impl DeviceHook for SmdModel {
             }
             _ => {}
         }
-        Ok(())
+    }
+
+    /// One process-data exchange at `now` (see the [`od::hook::Device`] implementation); the inputs it
+    /// answers.
+    fn exchange(&mut self, now: Instant) -> Inputs {
+        if std::mem::take(&mut self.fresh) {
+            self.indexer.exchange(now, self.outputs)
+        } else {
+            self.indexer.exchange_held(now)
+        }
     }
 }
 
@@ -538,6 +577,11 @@ impl SmdUnit {
         &self.model
     }
 
+    /// The model, to run it ([`od::hook::Device`]).
+    pub fn model_mut(&mut self) -> &mut SmdModel {
+        &mut self.model
+    }
+
     /// The indexer.
     pub fn indexer(&self) -> &Indexer {
         &self.model.indexer
@@ -588,7 +632,7 @@ impl SmdUnit {
         let at = Address::new(index, sub);
         if self.model.owns(index) {
             // The SMD's model takes every value the dictionary accepts.
-            let _ = self.model.write(at, bytes);
+            self.model.take(at, bytes);
         }
         Ok(())
     }
@@ -621,10 +665,11 @@ impl SmdUnit {
         self.model.indexer.inputs()
     }
 
-    /// The output process data of a frame, laid out as `image` (from the RxPDO assignment): each
-    /// mapped entry delivered to the model or the dictionary ([`ProcessImage::unpack`]).
-    pub fn receive_process_data(&mut self, image: &ProcessImage, data: &[u8]) {
-        image.unpack(data, &mut self.dict, &mut self.model);
+    /// The output process data of a frame received at `now`, laid out as `image` (from the RxPDO
+    /// assignment): each mapped entry delivered to the model or the dictionary
+    /// ([`ProcessImage::unpack`]).
+    pub fn receive_process_data(&mut self, now: Instant, image: &ProcessImage, data: &[u8]) {
+        image.unpack(data, &mut self.dict, &mut self.model, now);
     }
 
     /// The input process data laid out as `image` (from the TxPDO assignment), from the model and the
@@ -637,11 +682,7 @@ impl SmdUnit {
     /// written since the last exchange, else [`Indexer::exchange_held`] (no new output data: after
     /// entering Op the first image written is the edge reference, SMD-R6-073); the inputs it answers.
     pub fn exchange(&mut self, now: Instant) -> Inputs {
-        if std::mem::take(&mut self.model.fresh) {
-            self.model.indexer.exchange(now, self.model.outputs)
-        } else {
-            self.model.indexer.exchange_held(now)
-        }
+        self.model.exchange(now)
     }
 
     /// One process-data exchange of `dt`, without a clock: as [`SmdUnit::exchange`], with

@@ -147,13 +147,15 @@ impl Model for SmdUnit {
         self.indexer_mut().sm_watchdog_expired();
     }
 
-    fn advance(&mut self, now: Instant) {
-        self.exchange(now);
+    fn device(&mut self) -> &mut dyn od::hook::Device {
+        self.model_mut()
     }
 
-    fn sync(&mut self, _at: Instant, event: SyncEvent) {
+    /// SYNC0 only: the indexer runs its process-data exchange at the unit's cycle, not at a new
+    /// output image.
+    fn sync(&mut self, at: Instant, event: SyncEvent) {
         if event == SyncEvent::Sync0 {
-            self.indexer_mut().sync0_event();
+            self.device().sync(at);
         }
     }
 }

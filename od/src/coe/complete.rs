@@ -9,6 +9,8 @@
 
 use crate::abort::AbortCode;
 use crate::dict::{Address, Dictionary};
+use std::time::Instant;
+
 use crate::hook::{get_bits, put_bits, DeviceHook, NoHook};
 use crate::object::SubObject;
 
@@ -80,14 +82,26 @@ pub fn download(
     from_sub0: bool,
     data: &[u8],
 ) -> Result<(), AbortCode> {
-    download_through(d, &mut NoHook, index, from_sub0, data)
+    download_planned(d, None, index, from_sub0, data)
 }
 
-/// [`download`] with `hook` behind the dictionary: the entries it owns are checked by it too
-/// ([`DeviceHook::check`]) before anything is written, then given to it in sub-index order.
+/// [`download`] made at `now` with `hook` behind the dictionary: the entries it owns are checked by
+/// it too ([`DeviceHook::check`]) before anything is written, then given to it in sub-index order.
 pub fn download_through(
     d: &mut Dictionary,
     hook: &mut dyn DeviceHook,
+    now: Instant,
+    index: u16,
+    from_sub0: bool,
+    data: &[u8],
+) -> Result<(), AbortCode> {
+    download_planned(d, Some((hook, now)), index, from_sub0, data)
+}
+
+/// [`download_through`], or [`download`] without a model.
+fn download_planned(
+    d: &mut Dictionary,
+    mut hook: Option<(&mut dyn DeviceHook, Instant)>,
     index: u16,
     from_sub0: bool,
     data: &[u8],
@@ -129,7 +143,7 @@ pub fn download_through(
     }
     // Every entry is checked (dictionary, then model) before anything is written: a refusal
     // changes nothing.
-    let owned = hook.owns(index);
+    let owned = hook.as_ref().is_some_and(|(h, _)| h.owns(index));
     let mut plan = Vec::with_capacity(writes.len());
     for (sub, bytes) in writes {
         let entry = d.entry(index, sub).map_err(|e| e.abort_code())?;
@@ -141,14 +155,14 @@ pub fn download_through(
             return Err(AbortCode::ReadOnly);
         }
         d.check(index, sub, &bytes).map_err(|e| e.abort_code())?;
-        if owned {
-            hook.check(Address::new(index, sub), &bytes)?;
+        if let Some((h, _)) = hook.as_ref().filter(|_| owned) {
+            h.check(Address::new(index, sub), &bytes)?;
         }
         plan.push((sub, bytes));
     }
     for (sub, bytes) in plan {
-        if owned {
-            hook.write(Address::new(index, sub), &bytes)?;
+        if let Some((h, now)) = hook.as_mut().filter(|_| owned) {
+            h.write(Address::new(index, sub), &bytes, *now)?;
         }
         d.write(index, sub, &bytes).map_err(|e| e.abort_code())?;
     }

@@ -314,7 +314,7 @@ impl CoeServer {
         objects: &mut O,
     ) {
         let (dict, hook) = objects.split();
-        let d = &mut Bound::new(dict, hook);
+        let d = &mut Bound::new(dict, hook, now);
         self.handle_timeout(now);
         let Ok(header) = MailboxHeader::parse(mailbox) else {
             return;

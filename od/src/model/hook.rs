@@ -1,7 +1,10 @@
 //! The one way a device model sits behind its dictionary, on CANopen and on EtherCAT alike.
 //!
 //! A model implements [`DeviceHook`]: it names the objects it owns, answers their current values and
-//! takes the values written to them. The dictionary keeps what it always holds (name, type, access,
+//! takes the values written to them, each write with the instant it is made. A device that runs in
+//! time implements [`Device`] too (the hook plus its clock, its SYNC, its reset and its errors): the
+//! CANopen node and the EtherCAT unit drive every device through it, and run it up to the instant of
+//! a write before they deliver the write. The dictionary keeps what it always holds (name, type, access,
 //! limits, defaults) and checks every write before the model sees it; the model is the value of what
 //! it owns, so nothing is copied through the dictionary on every cycle.
 //!
@@ -14,6 +17,8 @@
 //!   model.
 //!
 //! ```
+//! use std::time::Instant;
+//!
 //! use od::hook::{Bound, DeviceHook};
 //! use od::sdo::store::ObjectStore;
 //! use od::{AbortCode, AccessType, Address, DataType, Dictionary, Object, SubObject};
@@ -29,7 +34,7 @@
 //!         out[..2].copy_from_slice(&self.0.to_le_bytes());
 //!         Some(2)
 //!     }
-//!     fn write(&mut self, _: Address, data: &[u8]) -> Result<(), AbortCode> {
+//!     fn write(&mut self, _: Address, data: &[u8], _now: Instant) -> Result<(), AbortCode> {
 //!         self.0 = u16::from_le_bytes([data[0], data[1]]);
 //!         Ok(())
 //!     }
@@ -38,14 +43,17 @@
 //! let mut dict = Dictionary::new();
 //! dict.insert(Object::var(0x2000, SubObject::new("Counter", DataType::Unsigned16, AccessType::Rw)));
 //! let mut counter = Counter(7);
-//! let mut bound = Bound::new(&mut dict, &mut counter);
+//! let mut bound = Bound::new(&mut dict, &mut counter, Instant::now());
 //! assert_eq!(bound.upload(Address::new(0x2000, 0)), Ok(vec![7, 0]));
 //! bound.download(Address::new(0x2000, 0), &[0x34, 0x12]).unwrap();
 //! assert_eq!(counter.0, 0x1234);
 //! ```
 
+use std::time::Instant;
+
 use crate::abort::AbortCode;
 use crate::dict::{Address, Dictionary};
+use crate::emcy::DeviceError;
 use crate::sdo::store::{DownloadCapacity, ObjectStore};
 
 /// A device model that owns objects of its dictionary.
@@ -70,9 +78,42 @@ pub trait DeviceHook {
         Ok(())
     }
 
-    /// Takes a value written to an entry of an owned object (by SDO, PDO or process data). A refusal
-    /// leaves the model and the dictionary as they were.
-    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode>;
+    /// Takes a value written at `now` to an entry of an owned object (by SDO, PDO or process data).
+    /// A refusal leaves the model and the dictionary as they were. The caller has run a
+    /// [`Device`] up to `now` before.
+    fn write(&mut self, at: Address, data: &[u8], now: Instant) -> Result<(), AbortCode>;
+}
+
+/// A device that runs in time behind its dictionary: the [`DeviceHook`] with its clock, its
+/// synchronisation, its reset and its errors. The one lifecycle of every device model (a CiA 402
+/// drive application, the X67 bus controller, the SMD indexer), driven alike by the CANopen node and
+/// the EtherCAT unit:
+///
+/// - [`handle_timeout`](Device::handle_timeout) whenever [`poll_timeout`](Device::poll_timeout)
+///   has passed, and before any write at a later instant ([`DeviceHook::write`] carries it);
+/// - [`sync`](Device::sync) at a SYNC (CANopen) or a SYNC0 / new output image (EtherCAT);
+/// - [`reset`](Device::reset) at power-on values again (NMT reset node; EtherCAT Init);
+/// - [`errors`](Device::errors) for what the node reports (EMCY, 0x1001, 0x1003).
+///
+/// No clock, socket or file inside: every input carries its instant.
+pub trait Device: DeviceHook {
+    /// Runs the device up to `now`.
+    fn handle_timeout(&mut self, now: Instant);
+    /// When [`handle_timeout`](Device::handle_timeout) is next due (`None`: nothing to do until
+    /// an input arrives).
+    fn poll_timeout(&self) -> Option<Instant>;
+    /// The errors active now, each with its EMCY code. By default none.
+    fn errors(&self, out: &mut Vec<DeviceError>) {
+        let _ = out;
+    }
+    /// Back to power-on (NMT reset node), with time starting at `now`.
+    fn reset(&mut self, now: Instant);
+    /// A synchronisation at `now` (the device has run up to `now`, and the process data received
+    /// before it is in its entries): the instant a cyclic synchronous drive takes its targets
+    /// (CiA 301 §7.2.2.2, ETG.1020 SYNC0). By default nothing.
+    fn sync(&mut self, now: Instant) {
+        let _ = now;
+    }
 }
 
 /// The model of a device that has none: it owns nothing, the dictionary is the device.
@@ -88,9 +129,19 @@ impl DeviceHook for NoHook {
         None
     }
 
-    fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
+    fn write(&mut self, _: Address, _: &[u8], _: Instant) -> Result<(), AbortCode> {
         Ok(())
     }
+}
+
+impl Device for NoHook {
+    fn handle_timeout(&mut self, _: Instant) {}
+
+    fn poll_timeout(&self) -> Option<Instant> {
+        None
+    }
+
+    fn reset(&mut self, _: Instant) {}
 }
 
 /// What a server serves: a dictionary and the model behind it.
@@ -106,18 +157,20 @@ impl Objects for Dictionary {
     }
 }
 
-/// A dictionary with its model, borrowed for one request.
+/// A dictionary with its model, borrowed for one request made at `now`.
 pub struct Bound<'a> {
     /// The dictionary.
     pub dict: &'a mut Dictionary,
     /// The model.
     pub hook: &'a mut dyn DeviceHook,
+    /// When the request is made: the instant its writes carry.
+    pub now: Instant,
 }
 
 impl<'a> Bound<'a> {
-    /// `dict` with `hook` behind it.
-    pub fn new(dict: &'a mut Dictionary, hook: &'a mut dyn DeviceHook) -> Bound<'a> {
-        Bound { dict, hook }
+    /// `dict` with `hook` behind it, for a request made at `now`.
+    pub fn new(dict: &'a mut Dictionary, hook: &'a mut dyn DeviceHook, now: Instant) -> Bound<'a> {
+        Bound { dict, hook, now }
     }
 }
 
@@ -143,11 +196,17 @@ pub fn value<'a>(
     dict.entry(at.index, at.sub).map_or(&[][..], |e| &e.value)
 }
 
-/// What a received RPDO or output process image does to `at`: the model takes the value of what it
-/// owns (a refusal drops it), the dictionary stores it. No access check (process data is written
-/// whatever the entry's SDO access); a value the dictionary cannot hold is dropped.
-pub fn deliver(dict: &mut Dictionary, hook: &mut dyn DeviceHook, at: Address, data: &[u8]) {
-    if hook.owns(at.index) && hook.write(at, data).is_err() {
+/// What a received RPDO or output process image does to `at` at `now`: the model takes the value of
+/// what it owns (a refusal drops it), the dictionary stores it. No access check (process data is
+/// written whatever the entry's SDO access); a value the dictionary cannot hold is dropped.
+pub fn deliver(
+    dict: &mut Dictionary,
+    hook: &mut dyn DeviceHook,
+    at: Address,
+    data: &[u8],
+    now: Instant,
+) {
+    if hook.owns(at.index) && hook.write(at, data, now).is_err() {
         return;
     }
     let _ = dict.store(at.index, at.sub, data);
@@ -181,16 +240,17 @@ pub fn check_download(
     Ok(())
 }
 
-/// Stores a download [`check_download`] accepted: the model takes it first (a refusal changes
-/// nothing), then the dictionary.
+/// Stores a download [`check_download`] accepted, made at `now`: the model takes it first (a
+/// refusal changes nothing), then the dictionary.
 pub fn store_download(
     dict: &mut Dictionary,
     hook: &mut dyn DeviceHook,
     at: Address,
     data: &[u8],
+    now: Instant,
 ) -> Result<(), AbortCode> {
     if hook.owns(at.index) {
-        hook.write(at, data)?;
+        hook.write(at, data, now)?;
     }
     dict.store(at.index, at.sub, data)
         .map_err(|e| e.abort_code())
@@ -207,7 +267,7 @@ impl ObjectStore for Bound<'_> {
 
     fn download(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
         check_download(self.dict, self.hook, at, data)?;
-        store_download(self.dict, self.hook, at, data)
+        store_download(self.dict, self.hook, at, data, self.now)
     }
 }
 
@@ -321,16 +381,22 @@ impl ProcessImage {
         }
     }
 
-    /// Unpacks `data` into the mapped entries ([`deliver`]): each entry whose bits `data` holds
-    /// whole, in order; the entries past a short `data` are left as they are.
-    pub fn unpack(&self, data: &[u8], dict: &mut Dictionary, hook: &mut dyn DeviceHook) {
+    /// Unpacks `data`, received at `now`, into the mapped entries ([`deliver`]): each entry whose
+    /// bits `data` holds whole, in order; the entries past a short `data` are left as they are.
+    pub fn unpack(
+        &self,
+        data: &[u8],
+        dict: &mut Dictionary,
+        hook: &mut dyn DeviceHook,
+        now: Instant,
+    ) {
         let have = data.len() as u64 * 8;
         for e in self.entries.iter().filter(|e| !e.is_padding()) {
             if u64::from(e.bit) + u64::from(e.bits) > have {
                 break;
             }
             let bytes = get_bits(data, e.bit, e.bits);
-            deliver(dict, hook, e.at, &bytes);
+            deliver(dict, hook, e.at, &bytes, now);
         }
     }
 }

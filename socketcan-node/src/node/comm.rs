@@ -12,9 +12,9 @@ use super::pdo::{
     self, Direction, PdoConfig, COB_EXTENDED, COB_INVALID, MAP_OFFSET, RPDO_COMM, TPDO_COMM,
 };
 use super::storage::{self, StorageRequest};
-use super::{Application, Core, NmtState, NodeEvent, LOAD_SIGNATURE, SAVE_SIGNATURE};
+use super::{Core, Device, NmtState, NodeEvent, LOAD_SIGNATURE, SAVE_SIGNATURE};
 
-impl<A: Application> Core<A> {
+impl<A: Device> Core<A> {
     /// True for the entries "save all parameters" keeps: writable, not mappable into PDOs (process
     /// data), and not the store/restore commands or the error history themselves.
     pub(super) fn storable(&self, index: u16, sub: u8) -> bool {
@@ -181,7 +181,7 @@ impl<A: Application> Core<A> {
     }
 }
 
-impl<A: Application> ObjectStore for Core<A> {
+impl<A: Device> ObjectStore for Core<A> {
     fn upload(&mut self, mux: Address) -> Result<Vec<u8>, AbortCode> {
         hook::upload(&self.dict, &self.app, mux)
     }
@@ -196,7 +196,8 @@ impl<A: Application> ObjectStore for Core<A> {
         if self.check_download(index, sub, data)? {
             return Ok(());
         }
-        hook::store_download(&mut self.dict, &mut self.app, mux, data)?;
+        self.device_up_to(self.now);
+        hook::store_download(&mut self.dict, &mut self.app, mux, data, self.now)?;
         self.after_download(index);
         Ok(())
     }

@@ -1,175 +1,24 @@
 //! The EMCY producer (CiA 301 §7.2.7): error codes, active errors, the error register 0x1001, the
 //! pre-defined error field 0x1003 and the frames to send under COB-ID 0x1014 and inhibit time 0x1015.
 
-use std::fmt;
 use std::time::{Duration, Instant};
 
 use super::pdo::COB_INVALID;
-use super::{Application, Core, NmtState};
-
-/// An EMCY error code (CiA 301 §7.2.7.3.2, Table 21 "Emergency error codes"): bytes 0–1 of an EMCY
-/// frame, little-endian. The high byte names the class of the error.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
-pub struct EmcyCode(pub u16);
-
-impl EmcyCode {
-    /// 0x0000 "error reset or no error".
-    pub const NO_ERROR: EmcyCode = EmcyCode(0x0000);
-    /// 0x2300 "current, CANopen device output side" (X67SM2436: overcurrent).
-    pub const CURRENT_OUTPUT: EmcyCode = EmcyCode(0x2300);
-    /// 0x3000 "voltage – generic error" (X67SM2436: supply voltage).
-    pub const VOLTAGE: EmcyCode = EmcyCode(0x3000);
-    /// 0x4200 "temperature, CANopen device" (X67SM2436: module temperature).
-    pub const DEVICE_TEMPERATURE: EmcyCode = EmcyCode(0x4200);
-    /// 0x8130 "life guard error or heartbeat error".
-    pub const HEARTBEAT_ERROR: EmcyCode = EmcyCode(0x8130);
-    /// 0x8210 "PDO not processed due to length error".
-    pub const PDO_LENGTH_ERROR: EmcyCode = EmcyCode(0x8210);
-
-    /// The 16-bit code.
-    pub const fn get(self) -> u16 {
-        self.0
-    }
-
-    /// The code as it travels in an EMCY frame.
-    pub const fn to_le_bytes(self) -> [u8; 2] {
-        self.0.to_le_bytes()
-    }
-
-    /// What the code means: the codes CiA 301 Table 21 names one by one (and those of the X67SM2436
-    /// model), else the class of its high byte ([`EmcyCode::class`]).
-    pub const fn meaning(self) -> &'static str {
-        match self.0 {
-            0x4200 => "temperature, device",
-            0x8110 => "CAN overrun (objects lost)",
-            0x8120 => "CAN in error passive mode",
-            0x8130 => "life guard error or heartbeat error",
-            0x8140 => "recovered from bus off",
-            0x8150 => "CAN-ID collision",
-            0x8210 => "PDO not processed due to length error",
-            0x8220 => "PDO length exceeded",
-            0x8240 => "unexpected SYNC data length",
-            0x8250 => "RPDO timeout",
-            _ => self.class(),
-        }
-    }
-
-    /// The class of the code by its high byte (CiA 301 Table 21); a high byte the table does not list
-    /// takes the generic class of its first digit.
-    pub const fn class(self) -> &'static str {
-        match self.0 >> 8 {
-            0x00 => "error reset or no error",
-            0x21 => "current, device input side",
-            0x22 => "current inside the device",
-            0x23 => "current, device output side",
-            0x31 => "mains voltage",
-            0x32 => "voltage inside the device",
-            0x33 => "output voltage",
-            0x41 => "ambient temperature",
-            0x42 => "device temperature",
-            0x61 => "internal software",
-            0x62 => "user software",
-            0x63 => "data set",
-            0x81 => "communication",
-            0x82 => "protocol error",
-            0xFF => "device specific",
-            _ => match self.0 >> 12 {
-                0x1 => "generic error",
-                0x2 => "current",
-                0x3 => "voltage",
-                0x4 => "temperature",
-                0x5 => "device hardware",
-                0x6 => "device software",
-                0x7 => "additional modules",
-                0x8 => "monitoring",
-                0x9 => "external error",
-                0xF => "additional functions",
-                _ => "no class of CiA 301",
-            },
-        }
-    }
-
-    /// The error register bit the code sets (CiA 301 Table 48), besides bit 0 (generic).
-    pub const fn register_bit(self) -> u8 {
-        match self.0 >> 12 {
-            0x2 => 1 << 1,
-            0x3 => 1 << 2,
-            0x4 => 1 << 3,
-            // 0x81xx communication, 0x82xx protocol: the communication error bit; the other
-            // monitoring codes (0x83xx–0x8Fxx: torque, speed, position, sync controllers) are the
-            // device profile's (CiA 402: 0x8611 following error).
-            0x8 if matches!((self.0 >> 8) & 0xF, 1 | 2) => 1 << 4,
-            0x8 => 1 << 5,
-            0x6 => 1 << 5,
-            0xF => 1 << 7,
-            _ => 0,
-        }
-    }
-}
-
-impl From<u16> for EmcyCode {
-    fn from(code: u16) -> EmcyCode {
-        EmcyCode(code)
-    }
-}
-
-impl From<EmcyCode> for u16 {
-    fn from(code: EmcyCode) -> u16 {
-        code.0
-    }
-}
-
-impl fmt::Display for EmcyCode {
-    /// `0x8130 (life guard error or heartbeat error)`: the number and its [`EmcyCode::meaning`].
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "0x{:04X} ({})", self.0, self.meaning())
-    }
-}
-
-/// EMCY error code "error reset or no error".
-pub const NO_ERROR: EmcyCode = EmcyCode::NO_ERROR;
-/// EMCY error code "life guard error or heartbeat error".
-pub const HEARTBEAT_ERROR: EmcyCode = EmcyCode::HEARTBEAT_ERROR;
-/// EMCY error code "PDO not processed due to length error".
-pub const PDO_LENGTH_ERROR: EmcyCode = EmcyCode::PDO_LENGTH_ERROR;
-
-/// An error the application reports: its EMCY code and the 5 manufacturer-specific bytes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct AppError {
-    /// CiA 301 / device error code.
-    pub code: EmcyCode,
-    /// Manufacturer-specific bytes 3–7 of the EMCY frame (which module and axis, for the X67 node).
-    pub info: [u8; 5],
-}
-
-/// The error register for a set of active codes: bit 0 when any error is active, plus each code's bit.
-pub fn error_register<'a>(codes: impl IntoIterator<Item = &'a AppError>) -> u8 {
-    let mut reg = 0u8;
-    for e in codes {
-        reg |= 1 | e.code.register_bit();
-    }
-    reg
-}
-
-/// An EMCY frame's 8 data bytes.
-pub fn frame_data(code: EmcyCode, register: u8, info: [u8; 5]) -> [u8; 8] {
-    let c = code.to_le_bytes();
-    [
-        c[0], c[1], register, info[0], info[1], info[2], info[3], info[4],
-    ]
-}
-
+use super::{Core, Device, NmtState};
+pub use od::emcy::{
+    error_register, frame_data, DeviceError, EmcyCode, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR,
+};
 /// Most EMCYs waiting for the inhibit time; more are dropped.
 const QUEUE_LIMIT: usize = 64;
 
-impl<A: Application> Core<A> {
+impl<A: Device> Core<A> {
     /// Compares the application's errors with the active ones and raises / clears EMCYs. The errors
     /// the node raises itself (heartbeat, PDO length) are not the application's to clear.
     pub(super) fn check_errors(&mut self) {
         let mut now_errors = std::mem::take(&mut self.scratch);
         now_errors.clear();
         self.app.errors(&mut now_errors);
-        let gone: Vec<AppError> = self
+        let gone: Vec<DeviceError> = self
             .active
             .iter()
             .filter(|e| e.code != HEARTBEAT_ERROR && e.code != PDO_LENGTH_ERROR)
@@ -188,7 +37,7 @@ impl<A: Application> Core<A> {
     }
 
     /// Makes `e` active: history 0x1003, register 0x1001 and its EMCY.
-    pub(super) fn raise_error(&mut self, e: AppError) {
+    pub(super) fn raise_error(&mut self, e: DeviceError) {
         if self.active.contains(&e) {
             return;
         }
@@ -206,7 +55,7 @@ impl<A: Application> Core<A> {
 
     /// Clears every active error with `code`.
     pub(super) fn clear_error(&mut self, code: EmcyCode) {
-        let gone: Vec<AppError> = self
+        let gone: Vec<DeviceError> = self
             .active
             .iter()
             .filter(|e| e.code == code)
@@ -217,7 +66,7 @@ impl<A: Application> Core<A> {
         }
     }
 
-    fn clear_app_error(&mut self, e: AppError) {
+    fn clear_app_error(&mut self, e: DeviceError) {
         self.active.retain(|a| *a != e);
         self.sync_error_objects();
         let reg = error_register(&self.active);
@@ -298,7 +147,7 @@ mod tests {
 
     #[test]
     fn register_bits_follow_the_code_classes() {
-        let e = |code| AppError {
+        let e = |code| DeviceError {
             code: EmcyCode(code),
             info: [0; 5],
         };

@@ -23,9 +23,10 @@
 //!    [`Node::storage_done`] when carried out) and [`Node::poll_event`].
 //! 5. Wait for a frame or for the next [`Node::poll_timeout`], whichever comes first.
 //!
-//! The device behind the node is an [`Application`]: it owns the manufacturer objects it declares, takes
-//! what the master writes to them (by SDO or RPDO), answers reads (SDO uploads and TPDOs), advances its
-//! own time and reports its errors, which the node turns into EMCY messages.
+//! The device behind the node is a [`Device`] (`od::hook::Device`, the one device lifecycle the EtherCAT
+//! unit runs too): it owns the manufacturer objects it declares, takes what the master writes to them (by
+//! SDO or RPDO, each write with its instant, the device run up to it first), answers reads (SDO uploads
+//! and TPDOs), advances its own time and reports its errors, which the node turns into EMCY messages.
 //!
 //! Choices where CiA 301 leaves room (each is documented at its place):
 //! - SDO frames with a DLC other than 8 are ignored; SDO is served in Pre-operational and Operational.
@@ -63,11 +64,12 @@ pub mod time;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-pub use emcy::{error_register, AppError, EmcyCode, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR};
+pub use emcy::{
+    error_register, DeviceError, EmcyCode, HEARTBEAT_ERROR, NO_ERROR, PDO_LENGTH_ERROR,
+};
 use lss::{LssAction, LssSlave, LSS_REQUEST, LSS_RESPONSE, UNCONFIGURED};
 use nmt::Consumer;
 use od::dict::Dictionary;
-use od::hook::DeviceHook;
 use od::sdo::server::{SdoServer, ServerConfig, ServerEvent};
 use pdo::{PdoConfig, COB_NO_RTR};
 use pdo_runtime::TxState;
@@ -79,24 +81,12 @@ pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
 /// "load" as a little-endian UNSIGNED32 (0x1011).
 pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;
 
-/// The device behind the node: the model that owns its manufacturer objects ([`DeviceHook`], the
-/// project's one device hook), with its own time and its errors.
-pub trait Application: DeviceHook {
-    /// Runs the application up to `now`.
-    fn handle_timeout(&mut self, now: Instant);
-    /// When [`handle_timeout`](Application::handle_timeout) is next due.
-    fn poll_timeout(&self) -> Option<Instant>;
-    /// The errors active now.
-    fn errors(&self, out: &mut Vec<AppError>);
-    /// Back to power-on (NMT reset node), with time starting at `now`.
-    fn reset(&mut self, now: Instant);
-    /// A SYNC at `now` in Operational, after the synchronous RPDOs received before it were applied
-    /// and before the synchronous TPDOs are sampled (CiA 301 §7.2.2.2): the instant a cyclic
-    /// synchronous drive takes its targets. By default nothing.
-    fn sync(&mut self, now: Instant) {
-        let _ = now;
-    }
-}
+/// The device behind the node: the project's one device lifecycle ([`od::hook::Device`]), which the
+/// EtherCAT unit runs too. The node runs it up to the instant of every frame, SYNC and timeout
+/// before it delivers a write to it. Its [`Device::sync`] comes at a SYNC in Operational, after the
+/// synchronous RPDOs received before it were applied and before the synchronous TPDOs are sampled
+/// (CiA 301 §7.2.2.2).
+pub use od::hook::Device;
 
 /// The NMT state (CiA 301 §7.3.2.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -204,7 +194,7 @@ pub enum NodeEvent {
 
 /// The node minus its SDO server, so the server can borrow it as its object store.
 #[derive(Clone)]
-struct Core<A: Application> {
+struct Core<A: Device> {
     id: u8,
     state: NmtState,
     dict: Dictionary,
@@ -233,12 +223,15 @@ struct Core<A: Application> {
     /// The `now` of the last boot whose boot-up message the edge has not reported sent.
     booted_at: Option<Instant>,
     // The EMCY producer (`emcy`).
-    active: Vec<AppError>,
+    active: Vec<DeviceError>,
     history: Vec<u32>,
     emcy_queue: VecDeque<[u8; 8]>,
     emcy_after: Option<Instant>,
-    scratch: Vec<AppError>,
+    scratch: Vec<DeviceError>,
     now: Instant,
+    /// The device ran a due timeout before a write ([`Core::device_up_to`]) whose errors and
+    /// event-driven TPDOs the next [`Core::poll`] checks, as if it had run it.
+    device_ran: bool,
     /// The COB-IDs of data frames the node acts on, and of TPDOs a remote frame may ask for.
     listen: Vec<u16>,
     listen_rtr: Vec<u16>,
@@ -255,13 +248,13 @@ struct Core<A: Application> {
 
 /// A CiA 301 node; see the [module documentation](self).
 #[derive(Clone)]
-pub struct Node<A: Application> {
+pub struct Node<A: Device> {
     sdo: SdoServer,
     lss: Option<LssSlave>,
     core: Core<A>,
 }
 
-impl<A: Application> Node<A> {
+impl<A: Device> Node<A> {
     /// A node in Initialising at `now` over `dict` (the device's dictionary with its defaults) and
     /// `app`, with no stored parameters. [`start`](Node::start) boots it.
     pub fn new(
@@ -321,6 +314,7 @@ impl<A: Application> Node<A> {
                 emcy_after: None,
                 scratch: Vec::new(),
                 now,
+                device_ran: false,
                 listen: Vec::new(),
                 listen_rtr: Vec::new(),
                 sync_cob: 0x80,
@@ -398,7 +392,7 @@ impl<A: Application> Node<A> {
     }
 
     /// The errors active now (as last seen by [`handle_timeout`](Node::handle_timeout)).
-    pub fn active_errors(&self) -> &[AppError] {
+    pub fn active_errors(&self) -> &[DeviceError] {
         &self.core.active
     }
 
@@ -688,7 +682,7 @@ enum WaitingKind {
     Lss,
 }
 
-impl<A: Application> Core<A> {
+impl<A: Device> Core<A> {
     /// Hands `request` to the edge; the answers from now on wait for its outcome.
     fn request_storage(&mut self, request: StorageRequest) {
         let (kind, stored_before) = match request {
@@ -766,6 +760,17 @@ impl<A: Application> Core<A> {
             .collect();
     }
 
+    /// Runs the device up to `now` before a write made at `now` reaches it (an SDO download, an
+    /// RPDO, a SYNC's synchronous RPDOs): the timeout it asked for before `now`, if any (what falls
+    /// due at `now` itself runs after the write, as the node's own timers do). Its errors and
+    /// event-driven TPDOs are checked at the next [`Core::poll`], where they were.
+    fn device_up_to(&mut self, now: Instant) {
+        if self.app.poll_timeout().is_some_and(|t| t < now) {
+            self.app.handle_timeout(now);
+            self.device_ran = true;
+        }
+    }
+
     /// Every timer due at `now`, in this order: the application (then its errors and event-driven
     /// TPDOs), heartbeat producer and consumer, SYNC producer, TPDO inhibit and event timers, EMCY
     /// inhibit.
@@ -773,8 +778,11 @@ impl<A: Application> Core<A> {
         if self.state == NmtState::Initialising {
             return;
         }
-        if self.app.poll_timeout().is_some_and(|t| t <= now) {
+        let due = self.app.poll_timeout().is_some_and(|t| t <= now);
+        if due {
             self.app.handle_timeout(now);
+        }
+        if std::mem::take(&mut self.device_ran) || due {
             self.check_errors();
             if self.state == NmtState::Operational {
                 self.event_tpdos(now);

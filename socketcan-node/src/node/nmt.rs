@@ -5,8 +5,8 @@ use std::time::{Duration, Instant};
 
 use od::dict::Address;
 
-use super::emcy::{AppError, HEARTBEAT_ERROR};
-use super::{storage, Application, Core, NmtState, NodeEvent};
+use super::emcy::{DeviceError, HEARTBEAT_ERROR};
+use super::{storage, Core, Device, NmtState, NodeEvent};
 
 /// Heartbeat consumer of 0x1016:01.
 #[derive(Debug, Clone, Copy, Default)]
@@ -19,7 +19,7 @@ pub(super) struct Consumer {
     lost: bool,
 }
 
-impl<A: Application> Core<A> {
+impl<A: Device> Core<A> {
     pub(super) fn set_state(&mut self, state: NmtState) {
         if self.state == state {
             return;
@@ -80,7 +80,12 @@ impl<A: Application> Core<A> {
             if self.dict.check(index, sub, &value).is_err() {
                 continue;
             }
-            if self.app.owns(index) && self.app.write(Address::new(index, sub), &value).is_err() {
+            if self.app.owns(index)
+                && self
+                    .app
+                    .write(Address::new(index, sub), &value, now)
+                    .is_err()
+            {
                 continue;
             }
             if self.dict.store(index, sub, &value).is_ok() {
@@ -182,7 +187,7 @@ impl<A: Application> Core<A> {
                 self.consumer.lost = true;
                 self.events
                     .push_back(NodeEvent::HeartbeatLost(self.consumer.node));
-                self.raise_error(AppError {
+                self.raise_error(DeviceError {
                     code: HEARTBEAT_ERROR,
                     info: [self.consumer.node, 0, 0, 0, 0],
                 });

@@ -10,7 +10,7 @@ use od::hook;
 
 use super::emcy::{error_register, frame_data, PDO_LENGTH_ERROR};
 use super::pdo::{PdoConfig, COB_NO_RTR, RPDO_COMM, TPDO_COMM};
-use super::{Application, Core, NmtState};
+use super::{Core, Device, NmtState};
 
 /// Runtime state of one TPDO.
 #[derive(Debug, Clone, Default)]
@@ -25,7 +25,7 @@ pub(super) struct TxState {
     sampled: Option<([u8; 8], usize)>,
 }
 
-impl<A: Application> Core<A> {
+impl<A: Device> Core<A> {
     /// Reads every PDO's configuration from the dictionary again (RPDOs pending a SYNC are dropped).
     pub(super) fn reload_pdos(&mut self) {
         let read = |base: u16, dict: &Dictionary| -> Vec<PdoConfig> {
@@ -179,7 +179,7 @@ impl<A: Application> Core<A> {
         }
         for n in 0..self.rpdos.len() {
             if let Some((data, len)) = self.rpdo_pending[n].take() {
-                self.apply_rpdo(n, &data[..len]);
+                self.apply_rpdo(n, &data[..len], now);
             }
         }
         self.app.sync(now);
@@ -240,7 +240,7 @@ impl<A: Application> Core<A> {
 
     /// A data frame that may be an RPDO: applied now (254/255) or at the next SYNC (0–240); one shorter
     /// than its mapping raises EMCY 0x8210 and is dropped.
-    pub(super) fn rpdo(&mut self, _now: Instant, cob: u16, data: &[u8]) {
+    pub(super) fn rpdo(&mut self, now: Instant, cob: u16, data: &[u8]) {
         let Some(n) = self
             .rpdos
             .iter()
@@ -263,12 +263,14 @@ impl<A: Application> Core<A> {
             buf[..data.len()].copy_from_slice(data);
             self.rpdo_pending[n] = Some((buf, data.len()));
         } else {
-            self.apply_rpdo(n, data);
+            self.apply_rpdo(n, data, now);
         }
     }
 
-    /// Hands the mapped bytes of RPDO `n` to the application and the dictionary (dummies skipped).
-    fn apply_rpdo(&mut self, n: usize, data: &[u8]) {
+    /// Hands the mapped bytes of RPDO `n`, taking effect at `now`, to the device (run up to `now`
+    /// first) and the dictionary (dummies skipped).
+    fn apply_rpdo(&mut self, n: usize, data: &[u8], now: Instant) {
+        self.device_up_to(now);
         let mut at = 0usize;
         for k in 0..self.rpdos[n].map.len() {
             let e = self.rpdos[n].map[k];
@@ -286,6 +288,7 @@ impl<A: Application> Core<A> {
                 &mut self.app,
                 Address::new(e.index, e.sub),
                 bytes,
+                now,
             );
         }
     }

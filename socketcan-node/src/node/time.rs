@@ -13,7 +13,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::{Application, Core, NmtState, NodeEvent};
+use super::{Core, Device, NmtState, NodeEvent};
 
 /// 0x1012 bit 31: the node consumes TIME.
 pub const TIME_CONSUMER: u32 = 1 << 31;
@@ -84,7 +84,7 @@ impl Clock {
     }
 }
 
-impl<A: Application> Core<A> {
+impl<A: Device> Core<A> {
     /// 0x1012, or 0 when the dictionary has none.
     pub(super) fn time_cob(&self) -> u32 {
         self.u32_at(0x1012, 0).unwrap_or(0)

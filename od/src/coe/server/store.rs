@@ -126,7 +126,7 @@ impl ObjectStore for CoeStore<'_, '_> {
         self.check_download(mux)?;
         let o = &mut *self.objects;
         if self.complete {
-            complete::download_through(o.dict, o.hook, mux.index, mux.sub == 0, data)
+            complete::download_through(o.dict, o.hook, o.now, mux.index, mux.sub == 0, data)
         } else {
             o.download(mux, data)
         }
@@ -213,7 +213,7 @@ mod tests {
         let mut d = dict();
         let none = HashSet::new();
         let mut hook = crate::hook::NoHook;
-        let mut bound = Bound::new(&mut d, &mut hook);
+        let mut bound = Bound::new(&mut d, &mut hook, std::time::Instant::now());
         let mut store = CoeStore::new(&mut bound, &none, false);
         assert_eq!(
             store.download_capacity(Address::new(0x1600, 2)),
@@ -238,7 +238,7 @@ mod tests {
         d.write(0x1600, 0, &[0]).unwrap();
         let mapped: HashSet<_> = [Address::new(0x1600, 1)].into();
         let mut hook = crate::hook::NoHook;
-        let mut bound = Bound::new(&mut d, &mut hook);
+        let mut bound = Bound::new(&mut d, &mut hook, std::time::Instant::now());
         let store = CoeStore::new(&mut bound, &mapped, false);
         assert_eq!(
             store.download_capacity(Address::new(0x1600, 1)),
@@ -260,7 +260,7 @@ mod tests {
         let mut d = dict();
         let none = HashSet::new();
         let mut hook = crate::hook::NoHook;
-        let mut bound = Bound::new(&mut d, &mut hook);
+        let mut bound = Bound::new(&mut d, &mut hook, std::time::Instant::now());
         let store = CoeStore::new(&mut bound, &none, true);
         // Sub-index 0 as 16 bits and two UNSIGNED32.
         assert_eq!(

@@ -1,5 +1,5 @@
 //! Any CANopen description as a live node: the dictionary of an EDS, DCF, XDD or XDC with its defaults,
-//! limits, access and PDO configuration, and a CiA 402 drive ([`ds402::drive::Drive`]) behind each axis
+//! limits, access and PDO configuration, and a CiA 402 drive ([`crate::drive::Drive`]) behind each axis
 //! whose objects the description has (CiA 402-2: 0x6040 and 0x6041 at 0x6000 + 0x800·axis).
 //!
 //! - A DCF's (or XDC's) `ParameterValue`s are the node's power-on values: they become the defaults the
@@ -11,23 +11,25 @@
 //!   (1-based).
 //! - Before any of this, [`complete`] gives the description what a real device of it reports
 //!   where the description gives no value (the identity and names of CiA 301, [`od::fill`]; the
-//!   device type, supported modes and factory settings of a drive, [`ds402::drive::fill`]) and says
+//!   device type, supported modes and factory settings of a drive, [`crate::drive::fill`]) and says
 //!   what it gave, one [`Event`] per entry. The CANopen node and the EtherCAT unit both start from
 //!   it.
+//!
+//! [`GenericApp`] is the drives as one [`Device`]: the CANopen node (`canopen-node`) and the
+//! EtherCAT unit (`ethercat-node`) run it alike.
 
 use std::time::Instant;
 
-use ds402::drive::{Drive, DriveConfig, SimConfig};
+use crate::drive::{Drive, DriveConfig, SimConfig};
 use od::abort::AbortCode;
 use od::device::DeviceDescription;
 use od::dict::{Address, Dictionary};
+use od::emcy::{DeviceError, EmcyCode};
 use od::event::Event;
-use od::hook::DeviceHook;
+use od::hook::{Device, DeviceHook};
 use od::object::{AccessType, Object, ObjectKind, PdoMapping, SubObject};
 use od::types::DataType;
 use od::value::Value;
-
-use crate::node::{AppError, Application, EmcyCode};
 
 /// First index of the drives' simulation records: axis `a` at `SIM_BASE + a`.
 pub const SIM_BASE: u16 = 0x5FF0;
@@ -102,7 +104,7 @@ impl GenericApp {
     }
 
     /// Applies a simulation record's entry to its drive.
-    fn sim_write(&mut self, k: usize, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+    fn sim_write(&mut self, k: usize, sub: u8, data: &[u8], now: Instant) -> Result<(), AbortCode> {
         let value = {
             let mut b = [0u8; 4];
             let n = data.len().min(4);
@@ -121,7 +123,7 @@ impl GenericApp {
                 self.forced[k] = (mask, levels);
                 for bit in 0..32u8 {
                     let forced = mask & (1 << bit) != 0;
-                    drive.set_input(bit, forced.then_some(levels & (1 << bit) != 0));
+                    drive.set_input(now, bit, forced.then_some(levels & (1 << bit) != 0));
                 }
             }
             3 => drive.sim_mut().negative_limit = Some(i64::from(value as i32)),
@@ -153,16 +155,16 @@ impl DeviceHook for GenericApp {
         }
     }
 
-    fn write(&mut self, at: Address, data: &[u8]) -> Result<(), AbortCode> {
+    fn write(&mut self, at: Address, data: &[u8], now: Instant) -> Result<(), AbortCode> {
         match self.owner(at.index) {
-            Some((k, false)) => self.drives[k].write(at, data),
-            Some((k, true)) => self.sim_write(k, at.sub, data),
+            Some((k, false)) => self.drives[k].write(at, data, now),
+            Some((k, true)) => self.sim_write(k, at.sub, data, now),
             None => Ok(()),
         }
     }
 }
 
-impl Application for GenericApp {
+impl Device for GenericApp {
     fn handle_timeout(&mut self, now: Instant) {
         for d in &mut self.drives {
             if d.poll_timeout().is_some_and(|t| t <= now) {
@@ -175,11 +177,11 @@ impl Application for GenericApp {
         self.drives.iter().filter_map(Drive::poll_timeout).min()
     }
 
-    fn errors(&self, out: &mut Vec<AppError>) {
+    fn errors(&self, out: &mut Vec<DeviceError>) {
         for d in &self.drives {
             let code = d.error_code();
             if code != 0 {
-                out.push(AppError {
+                out.push(DeviceError {
                     code: EmcyCode(code),
                     info: [d.axis() + 1, 0, 0, 0, 0],
                 });
@@ -192,9 +194,7 @@ impl Application for GenericApp {
     fn reset(&mut self, now: Instant) {
         let power_on = self.power_on_sim.iter();
         for ((d, f), sim) in self.drives.iter_mut().zip(&mut self.forced).zip(power_on) {
-            for bit in 0..32 {
-                d.set_input(bit, None);
-            }
+            d.release_inputs();
             *f = (0, 0);
             *d.sim_mut() = sim.clone();
             d.reset(now);
@@ -264,13 +264,13 @@ pub fn add_sim_records(dict: &mut Dictionary, sim: &SimConfig) -> Vec<u16> {
 /// Gives `desc` the values a real device of it reports where the description gives none, and the
 /// factory settings its drives (made with `config`) run with where its values would stop them (see
 /// [`od::fill::identity_and_names`], [`od::fill::pdo_cob_ids`], [`od::fill::pdo_mappings`] and
-/// [`ds402::drive::fill`]): each becomes the entry's default.
+/// [`crate::drive::fill`]): each becomes the entry's default.
 /// What changed, one event per entry, in index order.
 pub fn complete(desc: &mut DeviceDescription, config: &DriveConfig) -> Vec<Event> {
     let mut events = od::fill::identity_and_names(desc);
     events.extend(od::fill::pdo_cob_ids(desc));
     events.extend(od::fill::pdo_mappings(desc));
-    events.extend(ds402::drive::fill(&mut desc.dictionary, config));
+    events.extend(crate::drive::fill(&mut desc.dictionary, config));
     events.sort_by_key(|e| e.address);
     events
 }
