@@ -121,7 +121,9 @@ fn in_state(state: State) -> StateMachine {
     sm
 }
 
-/// X67-18.11.4.3-01, -02, -03, -06, -07, -09; X67-18.11.4.2-01 … -05, -09: the standard power-up sequence
+/// X67-18.11.4.3-01, X67-18.11.4.3-02, X67-18.11.4.3-03, X67-18.11.4.3-06, X67-18.11.4.3-07,
+/// X67-18.11.4.3-09; X67-18.11.4.2-01, X67-18.11.4.2-02, X67-18.11.4.2-03, X67-18.11.4.2-04,
+/// X67-18.11.4.2-05, X67-18.11.4.2-09: the standard power-up sequence
 /// 0x06 → 0x07 (with the identification) → 0x0F, status word cycle by cycle.
 #[test]
 fn power_up_sequence_with_identification() {
@@ -412,7 +414,9 @@ fn disable_voltage_in_quick_stop_active() {
     );
 }
 
-/// X67-18.11.4.2-01 … -08, X67-18.11.3.5-01, -02: the exact state bits, bit 8 = 0 and Remote = 1 in every
+/// X67-18.11.4.2-01, X67-18.11.4.2-02, X67-18.11.4.2-03, X67-18.11.4.2-04, X67-18.11.4.2-05,
+/// X67-18.11.4.2-06, X67-18.11.4.2-07, X67-18.11.4.2-08, X67-18.11.3.5-01, X67-18.11.3.5-02: the
+/// exact state bits, bit 8 = 0 and Remote = 1 in every
 /// state, and the catalogue's masks.
 #[test]
 fn status_word_table() {
@@ -524,7 +528,8 @@ fn operation_enabled_disable_voltage() {
     );
 }
 
-/// X67-18.11.4.3-13, -14: Quick stop brakes, stays in Quick stop active while moving and goes to Switch on
+/// X67-18.11.4.3-13, X67-18.11.4.3-14: Quick stop brakes, stays in Quick stop active while moving
+/// and goes to Switch on
 /// disabled by itself at standstill, with the voltage off.
 #[test]
 fn quick_stop_to_standstill() {
@@ -576,7 +581,8 @@ fn quick_stop_back_to_operation_enabled() {
     );
 }
 
-/// X67-18.11.4.3-16, -18, X67-18.11.4.2-07, -08: an Error moves every state to Fault reaction active, switches
+/// X67-18.11.4.3-16, X67-18.11.4.3-18, X67-18.11.4.2-07, X67-18.11.4.2-08: an Error moves every
+/// state to Fault reaction active, switches
 /// the voltage off and reaches Fault in the same cycle; no control word reaches Fault.
 #[test]
 fn error_passes_through_fault_reaction_active() {
@@ -630,7 +636,8 @@ fn error_passes_through_fault_reaction_active() {
     }
 }
 
-/// X67-18.11.4.3-19, -20: Fault reset leaves Fault only when no error remains, and clears errors and warnings.
+/// X67-18.11.4.3-19, X67-18.11.4.3-20: Fault reset leaves Fault only when no error remains, and
+/// clears errors and warnings.
 #[test]
 fn fault_reset() {
     let mut sm = in_state(State::OperationEnabled);
@@ -668,7 +675,8 @@ fn motion_only_in_operation_enabled() {
     }
 }
 
-/// Disable voltage (0x00) from every state (X67-18.11.4.1-03, -13; X67-18.11.4.3-04, -05, -12, -02).
+/// Disable voltage (0x00) from every state (X67-18.11.4.1-03, X67-18.11.4.1-13; X67-18.11.4.3-04,
+/// X67-18.11.4.3-05, X67-18.11.4.3-12, X67-18.11.4.3-02).
 #[test]
 fn disable_voltage_from_every_state() {
     let cases = [

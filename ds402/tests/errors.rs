@@ -25,7 +25,9 @@ fn x67_18_11_3_13_01_zero_when_nothing_pending() {
     assert_eq!(r.highest(), None);
 }
 
-/// X67-18.11.3.13-02 … -09: every code, its value, type and rank as in the seed's table.
+/// X67-18.11.3.13-02, X67-18.11.3.13-03, X67-18.11.3.13-04, X67-18.11.3.13-05, X67-18.11.3.13-06,
+/// X67-18.11.3.13-07, X67-18.11.3.13-08, X67-18.11.3.13-09: every code, its value, type and rank as
+/// in the seed's table.
 #[test]
 fn x67_18_11_3_13_02_to_09_table() {
     let table = [
@@ -53,7 +55,9 @@ fn x67_18_11_3_13_02_to_09_table() {
     assert_eq!(ErrorCode::OpenCircuit.detection_bit(), None);
 }
 
-/// X67-18.11.3.13-02 … -09: each code alone is shown as it is, with the right status flag.
+/// X67-18.11.3.13-02, X67-18.11.3.13-03, X67-18.11.3.13-04, X67-18.11.3.13-05, X67-18.11.3.13-06,
+/// X67-18.11.3.13-07, X67-18.11.3.13-08, X67-18.11.3.13-09: each code alone is shown as it is, with
+/// the right status flag.
 #[test]
 fn x67_18_11_3_13_02_to_09_each_code_alone() {
     for code in ErrorCode::ALL {
@@ -490,7 +494,8 @@ fn op() -> impl proptest::strategy::Strategy<Value = Op> {
 }
 
 proptest::proptest! {
-    /// X67-18.11.3.13-10/-11, X67-18.6.3.1-05: after any sequence, the register shows the highest-priority
+    /// X67-18.11.3.13-10, X67-18.11.3.13-11, X67-18.6.3.1-05: after any sequence, the register
+    /// shows the highest-priority
     /// latched code (0 when none), every present condition is latched, `has_error` is "an Error condition is
     /// present", `has_warning` is "a warning is latched", and 0xFF00/0xFF01 are present only with their bit.
     #[test]

@@ -451,7 +451,8 @@ fn check_limits(c: &Config, prev: (i64, i64), now: (i64, i64), vmax: i64) {
 }
 
 proptest! {
-    /// X67-18.11.1.3-01, X67-18.11.1.4-01, X67-18.11.1.5-01, X67-18.11.1.6-02/-03, X67-18.11.1.14-01: every
+    /// X67-18.11.1.3-01, X67-18.11.1.4-01, X67-18.11.1.5-01, X67-18.11.1.6-02, X67-18.11.1.6-03,
+    /// X67-18.11.1.14-01: every
     /// absolute target is reached exactly, within the speed, acceleration and deceleration limits, and with a
     /// reversing loop the final approach runs against the sign of RevLoop.
     #[test]

@@ -14,7 +14,8 @@ fn rig(cfg0: u16) -> Rig {
 
 use smd_rig::Seg;
 
-/// SMD-R2-083 … SMD-R2-088, SMD-R6-016, SMD-R6-060: Program_Assembled sets In_Assembled_Mode and
+/// SMD-R2-083, SMD-R2-084, SMD-R2-085, SMD-R2-086, SMD-R2-087, SMD-R2-088, SMD-R6-016, SMD-R6-060:
+/// Program_Assembled sets In_Assembled_Mode and
 /// Waiting_For_Assembled_Segment; each Read_Assembled_Data edge takes a segment and clears Waiting,
 /// which returns when the bit falls; Program_Assembled falling ends programming.
 #[test]
@@ -747,7 +748,8 @@ fn smd_r2_093_096_indexed_cancel_and_new_parameters() {
 }
 
 /// SMD-R2-091: with no Start Indexed input an indexed command never starts (no error).
-/// SMD-R2-098 … SMD-R2-100: Hold, Immediate Stop and Reset Errors act at once with CMD_word1 bit 8.
+/// SMD-R2-098, SMD-R2-099, SMD-R2-100: Hold, Immediate Stop and Reset Errors act at once with
+/// CMD_word1 bit 8.
 #[test]
 fn smd_r2_091_098_099_100_immediate_commands() {
     let mut r = rig(0);

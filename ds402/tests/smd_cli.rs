@@ -184,7 +184,8 @@ fn config_encode_names_the_broken_rules() {
     assert!(err.contains("unknown input function \"sideways\""), "{err}");
 }
 
-/// `smd config decode` names the settings both ways and the broken rules (SMD-R5-012, -017, -025).
+/// `smd config decode` names the settings both ways and the broken rules (SMD-R5-012, SMD-R5-017,
+/// SMD-R5-025).
 #[test]
 fn config_decode_names_settings_and_violations() {
     let (code, out, _) = smd(&["config", "decode", "0x2411", "3"]);

@@ -33,7 +33,8 @@ fn configuration_error(kind: EncoderKind, writes: &[(u8, u32)]) -> bool {
 /// A case: its name, the encoder kind, the downloads (sub-index, value), Configuration_Error after them.
 type Case = (&'static str, EncoderKind, &'static [(u8, u32)], bool);
 
-/// SMD-R5-003 … SMD-R5-006, SMD-R5-009, SMD-R5-010, SMD-R5-013, SMD-R5-015, SMD-R5-021, SMD-R5-026:
+/// SMD-R5-003, SMD-R5-004, SMD-R5-005, SMD-R5-006, SMD-R5-009, SMD-R5-010, SMD-R5-013, SMD-R5-015,
+/// SMD-R5-021, SMD-R5-026:
 /// each value at and beyond its bounds, downloaded to the unit, and Configuration_Error as the manual's
 /// tables give it: Starting_Speed 1 … 1,999,999; Motor_Resolution 200 … 32,767; Encoder_Resolution
 /// 1,024, 2,048 or 4,096 with the incremental encoder and 2,048 with the absolute one (checked with

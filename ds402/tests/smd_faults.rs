@@ -132,7 +132,8 @@ fn smd_r1_020_r6_071_074_over_temperature() {
     assert!(r.ix.actual_current() > 0.0);
 }
 
-/// SMD-R1-002 … SMD-R1-006, SMD-R6-022: removing either STO input faults the driver at once
+/// SMD-R1-002, SMD-R1-003, SMD-R1-004, SMD-R1-005, SMD-R1-006, SMD-R6-022: removing either STO
+/// input faults the driver at once
 /// (Drive_Is_Enabled 0, the move coasts to a stop with Position_Invalid); powering it again does not
 /// clear the fault; Reset Errors does, only with both inputs powered, and with Enable_Driver still 1
 /// current returns without a new edge.

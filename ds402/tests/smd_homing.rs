@@ -177,7 +177,8 @@ fn home_at_5000(p: i64) -> (bool, bool) {
     ((5_000..=5_200).contains(&p), false)
 }
 
-/// SMD-R4-009, SMD-R4-011 … SMD-R4-015, SMD-R4-001 … SMD-R4-003, SMD-R4-010: the Home-input-only
+/// SMD-R4-009, SMD-R4-011, SMD-R4-012, SMD-R4-013, SMD-R4-014, SMD-R4-015, SMD-R4-001, SMD-R4-002,
+/// SMD-R4-003, SMD-R4-010: the Home-input-only
 /// profile of Figure R4.1 with Velocity 5,000 steps/s, Acceleration 40 and Deceleration 20 (×1000
 /// steps/s²), worked out by hand: accelerate CW from V_S = 141 to 5,000 (121.5 ms, 312 steps), run at 5
 /// steps/ms until Home goes active at 5,000; decelerate over 243 ms and (5,000² − 141²) / 40,000 = 624.5
@@ -274,7 +275,8 @@ fn home_at_minus_5000(p: i64) -> (bool, bool) {
     ((-5_200..=-5_000).contains(&p), false)
 }
 
-/// SMD-R4-009, SMD-R4-011 … SMD-R4-015: Find Home CCW is the mirror image of Find Home CW: search CCW,
+/// SMD-R4-009, SMD-R4-011, SMD-R4-012, SMD-R4-013, SMD-R4-014, SMD-R4-015: Find Home CCW is the
+/// mirror image of Find Home CW: search CCW,
 /// brake past the edge at −5,000, 2 s, back off CW past it, 2 s, return CCW at V_S, home at 0.
 #[test]
 fn smd_r4_009_find_home_ccw_is_the_mirror_image() {
@@ -387,7 +389,8 @@ fn proximity_run(sensors: Sensors, ms: usize) -> Vec<Inputs> {
     trace
 }
 
-/// SMD-R4-017 … SMD-R4-020: with Use_Backplane_Proximity the first flag at 5,000 is passed at 5
+/// SMD-R4-017, SMD-R4-018, SMD-R4-019, SMD-R4-020: with Use_Backplane_Proximity the first flag at
+/// 5,000 is passed at 5
 /// steps/ms; the proximity edge at 15,000 starts the deceleration towards V_S (624.5 steps), the motor
 /// carries on at V_S and stops at once on the next Home edge at 17,000 — no reversal, no pauses, no
 /// deceleration at the end — though the bit went back to 0.

@@ -653,7 +653,8 @@ fn smd_r2_033_new_move_cancels_the_held_one() {
     assert_eq!(r.s0() & stat0::STOPPED, stat0::STOPPED);
 }
 
-/// SMD-R6-034 … SMD-R6-038, SMD-R2-051: out-of-range parameters are Command_Errors with no motion and
+/// SMD-R6-034, SMD-R6-035, SMD-R6-036, SMD-R6-037, SMD-R6-038, SMD-R2-051: out-of-range parameters
+/// are Command_Errors with no motion and
 /// no Move_Complete; the limits themselves are accepted.
 #[test]
 fn smd_r6_034_to_038_parameter_ranges() {

@@ -103,7 +103,8 @@ fn assert_ms(measured: usize, expected: f64, what: &str) {
     );
 }
 
-/// SMD-R3-001 … SMD-R3-004, SMD-R3-007, SMD-R3-010: the manual's example (Acceleration 20,
+/// SMD-R3-001, SMD-R3-002, SMD-R3-003, SMD-R3-004, SMD-R3-007, SMD-R3-010: the manual's example
+/// (Acceleration 20,
 /// Deceleration 25, V_S 141, Velocity 100,000) as a 600,000-step Relative move: T_A = 99,859 / 20,000
 /// = 4.99295 s, T_D = 99,859 / 25,000 = 3.99436 s, D_A = (100,000² − 141²) / 40,000 = 249,999.5 steps,
 /// D_D = 199,999.6, a cruise of 600,000 − 449,999.1 = 150,000.9 steps at 100 steps/ms (1.50001 s),
@@ -171,7 +172,9 @@ fn s_curve_seconds(dv: f64, a: f64, jerk: f64) -> f64 {
     }
 }
 
-/// SMD-R3-012 … SMD-R3-022: S-curve phases on the unit, each against the manual's figures:
+/// SMD-R3-012, SMD-R3-013, SMD-R3-014, SMD-R3-015, SMD-R3-016, SMD-R3-017, SMD-R3-018, SMD-R3-019,
+/// SMD-R3-020, SMD-R3-021, SMD-R3-022: S-curve phases on the unit, each against the manual's
+/// figures:
 /// - Example 1 (R3-017): Δv 30,000, Acceleration 58, J 20: triangular, 3.216 s;
 /// - Example 2 (R3-018): J 400: trapezoidal, 0.7672 s;
 /// - R3-013: Acceleration 20, Deceleration 40, J 100, Δv 10,000: 1.4142 s up, 1.000 s down;

@@ -212,7 +212,8 @@ fn smd_r6_041_042_registration_parameters() {
     );
 }
 
-/// SMD-R6-041 … SMD-R6-043, SMD-R6-040: the MRMD is (Jerk << 16) | Motor_Current and may be up to
+/// SMD-R6-041, SMD-R6-042, SMD-R6-043, SMD-R6-040: the MRMD is (Jerk << 16) | Motor_Current and may
+/// be up to
 /// 8,388,607: 0x7F_FFFF starts the move, 0x80_0000 is a Command_Error with Move_Complete and no
 /// motion. The MRMD's low half in the Motor_Current word is no current, even with CMD_word1 bit 1:
 /// in.Motor_Current stays 8010:07's 10 while the move runs.

@@ -766,9 +766,7 @@ const MODULAR: &str = r##"<?xml version="1.0"?>
 
 #[test]
 fn slots_and_modules_of_a_modular_device() {
-    use od::device::{
-        InitCmd, ModulePdoGroup, Slot, SlotDepend, SlotModuleClass, SlotModuleIdent, Slots,
-    };
+    use od::device::{InitCmd, ModulePdoGroup, Slot, SlotModuleClass, SlotModuleIdent, Slots};
     let reading = read(MODULAR);
     assert_eq!(reading.devices.len(), 2, "modules are not devices");
     // The first module's PDO maps 0x607A, which its dictionary lacks.
@@ -848,6 +846,13 @@ fn slots_and_modules_of_a_modular_device() {
             ..InitCmd::default()
         }]
     );
+}
+
+#[test]
+fn modules_of_a_modular_device_with_their_parts() {
+    use od::device::{InitCmd, SlotDepend};
+    let reading = read(MODULAR);
+    let first = reading.devices[0].ethercat.as_ref().unwrap();
     let modules = &first.modules;
     assert_eq!(modules.len(), 2);
     let m = &modules[0];

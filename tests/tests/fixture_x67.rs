@@ -101,7 +101,9 @@ const CYCLIC: &[(&str, &str, DataType, bool)] = &[
     ("X67-18.5-26", "InputStatus", USINT, false),
 ];
 
-/// X67-18.5-03, X67-18.5-04 and X67-18.5-05 … X67-18.5-19: every configuration register exists with its
+/// X67-18.5-03, X67-18.5-04 and X67-18.5-05, X67-18.5-06, X67-18.5-07, X67-18.5-08, X67-18.5-09,
+/// X67-18.5-10, X67-18.5-11, X67-18.5-12, X67-18.5-13, X67-18.5-14, X67-18.5-15, X67-18.5-16,
+/// X67-18.5-17, X67-18.5-18, X67-18.5-19: every configuration register exists with its
 /// type, is write-only, and an SDO read of it aborts with 0x06010001.
 #[test]
 fn x67_18_5_05_to_19_configuration_registers() {
@@ -124,7 +126,8 @@ fn x67_18_5_05_to_19_configuration_registers() {
     );
 }
 
-/// X67-18.5-03, X67-18.5-20, X67-18.5-27 … X67-18.5-32: read-acyclic registers are read-only; an SDO write
+/// X67-18.5-03, X67-18.5-20, X67-18.5-27, X67-18.5-28, X67-18.5-29, X67-18.5-30, X67-18.5-31,
+/// X67-18.5-32: read-acyclic registers are read-only; an SDO write
 /// aborts with 0x06010002.
 #[test]
 fn x67_18_5_20_to_32_acyclic_read_registers() {
@@ -143,7 +146,8 @@ fn x67_18_5_20_to_32_acyclic_read_registers() {
     }
 }
 
-/// X67-18.5-02, X67-18.5-21 … X67-18.5-26: the cyclic registers, RPDO-mappable outputs and TPDO-mappable
+/// X67-18.5-02, X67-18.5-21, X67-18.5-22, X67-18.5-23, X67-18.5-24, X67-18.5-25, X67-18.5-26: the
+/// cyclic registers, RPDO-mappable outputs and TPDO-mappable
 /// inputs; no other register is mappable.
 #[test]
 fn x67_18_5_02_21_to_26_cyclic_registers() {
@@ -231,7 +235,8 @@ fn owned(v: &[(&str, u32, u32)]) -> Vec<(String, u32, u32)> {
     v.iter().map(|(n, o, b)| (n.to_string(), *o, *b)).collect()
 }
 
-/// X67-18.5.2-01 … X67-18.5.2-04: two 8-byte CAN objects per direction; object 1 carries axis 1 and
+/// X67-18.5.2-01, X67-18.5.2-02, X67-18.5.2-03, X67-18.5.2-04: two 8-byte CAN objects per
+/// direction; object 1 carries axis 1 and
 /// InputStatus, object 2 axis 2 at byte = offset − 8; unused bytes are padding.
 #[test]
 fn x67_18_5_2_01_to_04_can_object_layout() {

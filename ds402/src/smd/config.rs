@@ -531,7 +531,8 @@ pub enum Violation {
         /// The bit number, 0 … 14.
         bit: u8,
     },
-    /// Item 2: a parameter outside its valid values (SMD-R5-003 … SMD-R5-007).
+    /// Item 2: a parameter outside its valid values (SMD-R5-003, SMD-R5-004, SMD-R5-005,
+    /// SMD-R5-006, SMD-R5-007).
     OutOfRange {
         /// The parameter.
         parameter: Parameter,

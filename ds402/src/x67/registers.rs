@@ -154,165 +154,201 @@ impl AxisReg {
     ];
 
     /// Names and register numbers of axis 1 and of axis 2, type and access.
-    const fn row(self) -> (&'static str, &'static str, u16, u16, RegType, Access) {
-        use Access::*;
-        use RegType::*;
-        match self {
-            AxisReg::AbsPos => ("AbsPos01", "AbsPos02", 0, 8, Dint, CyclicOut),
-            AxisReg::Control => ("MpGenControl01", "MpGenControl02", 4, 12, Uint, CyclicOut),
-            AxisReg::Mode => ("MpGenMode01", "MpGenMode02", 6, 14, Sint, CyclicOut),
-            AxisReg::ActVal => ("AbsPos01ActVal", "AbsPos02ActVal", 0, 8, Dint, CyclicIn),
-            AxisReg::Status => ("MpGenStatus01", "MpGenStatus02", 4, 12, Uint, CyclicIn),
-            AxisReg::HoldingCurrent => {
-                ("ConfigOutput03a", "ConfigOutput06a", 48, 112, Usint, Config)
-            }
-            AxisReg::NominalCurrent => {
-                ("ConfigOutput04a", "ConfigOutput07a", 49, 113, Usint, Config)
-            }
-            AxisReg::MaximumCurrent => {
-                ("ConfigOutput05a", "ConfigOutput08a", 50, 114, Usint, Config)
-            }
-            AxisReg::StallDetectConfig => (
-                "StallDetectConfig01",
-                "StallDetectConfig02",
-                51,
-                115,
-                Usint,
-                Config,
-            ),
-            AxisReg::MaxSpeedPos => ("MaxSpeed01pos", "MaxSpeed02pos", 52, 116, Uint, Config),
-            AxisReg::MaxAcc => ("MaxAcc01", "MaxAcc02", 54, 118, Uint, Config),
-            AxisReg::MaxDec => ("MaxDec01", "MaxDec02", 56, 120, Uint, Config),
-            AxisReg::RevLoop => ("RevLoop01", "RevLoop02", 58, 122, Int, Config),
-            AxisReg::FixedPosA => ("FixedPos01a", "FixedPos02a", 60, 124, Dint, Config),
-            AxisReg::FixedPosB => ("FixedPos01b", "FixedPos02b", 64, 128, Dint, Config),
-            AxisReg::RefSpeed => ("RefSpeed01", "RefSpeed02", 68, 132, Uint, Config),
-            AxisReg::RefConfig => ("RefConfig01", "RefConfig02", 70, 134, Sint, Config),
-            AxisReg::FullStepThreshold => (
-                "FullStepThreshold01",
-                "FullStepThreshold02",
-                72,
-                136,
-                Uint,
-                Config,
-            ),
-            AxisReg::StallRecognitionDelay => (
-                "StallRecognitionDelay01",
-                "StallRecognitionDelay02",
-                74,
-                138,
-                Usint,
-                Config,
-            ),
-            AxisReg::JoltTime => ("JoltTime01", "JoltTime02", 75, 139, Usint, Config),
-            AxisReg::StallDetectMinSpeed => (
-                "StallDetectMinSpeed01",
-                "StallDetectMinSpeed02",
-                78,
-                142,
-                Uint,
-                Config,
-            ),
-            AxisReg::LimitSwitchConfig => (
-                "LimitSwitchConfig01",
-                "LimitSwitchConfig02",
-                306,
-                308,
-                Usint,
-                Config,
-            ),
-            AxisReg::PositionLimitMin => (
-                "PositionLimitMin01",
-                "PositionLimitMin02",
-                380,
-                388,
-                Dint,
-                Config,
-            ),
-            AxisReg::PositionLimitMax => (
-                "PositionLimitMax01",
-                "PositionLimitMax02",
-                384,
-                392,
-                Dint,
-                Config,
-            ),
-            AxisReg::HoldingCurrentRead => (
-                "ConfigOutput03aRead",
-                "ConfigOutput06aRead",
-                48,
-                112,
-                Usint,
-                ReadAcyclic,
-            ),
-            AxisReg::NominalCurrentRead => (
-                "ConfigOutput04aRead",
-                "ConfigOutput07aRead",
-                49,
-                113,
-                Usint,
-                ReadAcyclic,
-            ),
-            AxisReg::MaximumCurrentRead => (
-                "ConfigOutput05aRead",
-                "ConfigOutput08aRead",
-                50,
-                114,
-                Usint,
-                ReadAcyclic,
-            ),
-            AxisReg::ControlReadback => (
-                "ControlReadback01",
-                "ControlReadback02",
-                80,
-                144,
-                Uint,
-                ReadAcyclic,
-            ),
-            AxisReg::ModeReadback => (
-                "ModeReadback01",
-                "ModeReadback02",
-                82,
-                146,
-                Sint,
-                ReadAcyclic,
-            ),
-            AxisReg::MotorIdentification => (
-                "Motoridentification01",
-                "Motoridentification02",
-                84,
-                148,
-                Uint,
-                ReadAcyclic,
-            ),
-            AxisReg::RefPosCyclicCounter => (
-                "RefPos01CyclicCounter",
-                "RefPos02CyclicCounter",
-                86,
-                150,
-                Dint,
-                ReadAcyclic,
-            ),
-            AxisReg::ActValAcyclic => (
-                "AbsPos01ActValAcyclic",
-                "AbsPos02ActValAcyclic",
-                90,
-                154,
-                Dint,
-                ReadAcyclic,
-            ),
-            AxisReg::RefPosAcyclicCounter => (
-                "RefPos01AcyclicCounter",
-                "RefPos02AcyclicCounter",
-                94,
-                158,
-                Dint,
-                ReadAcyclic,
-            ),
-            AxisReg::ErrorCode => ("ErrorCode01", "ErrorCode02", 98, 162, Uint, ReadAcyclic),
-        }
+    const fn row(self) -> Row {
+        ROWS[self as usize]
     }
 }
+
+/// One row of the 18.5 table: the names and register numbers of axis 1 and of axis 2, type and access.
+type Row = (&'static str, &'static str, u16, u16, RegType, Access);
+
+/// The rows of the per-axis registers, in the order of [`AxisReg`]'s variants (and of [`AxisReg::ALL`]).
+const ROWS: [Row; 34] = {
+    use Access::*;
+    use RegType::*;
+    [
+        // AbsPos
+        ("AbsPos01", "AbsPos02", 0, 8, Dint, CyclicOut),
+        // Control
+        ("MpGenControl01", "MpGenControl02", 4, 12, Uint, CyclicOut),
+        // Mode
+        ("MpGenMode01", "MpGenMode02", 6, 14, Sint, CyclicOut),
+        // ActVal
+        ("AbsPos01ActVal", "AbsPos02ActVal", 0, 8, Dint, CyclicIn),
+        // Status
+        ("MpGenStatus01", "MpGenStatus02", 4, 12, Uint, CyclicIn),
+        // HoldingCurrent
+        ("ConfigOutput03a", "ConfigOutput06a", 48, 112, Usint, Config),
+        // NominalCurrent
+        ("ConfigOutput04a", "ConfigOutput07a", 49, 113, Usint, Config),
+        // MaximumCurrent
+        ("ConfigOutput05a", "ConfigOutput08a", 50, 114, Usint, Config),
+        // StallDetectConfig
+        (
+            "StallDetectConfig01",
+            "StallDetectConfig02",
+            51,
+            115,
+            Usint,
+            Config,
+        ),
+        // MaxSpeedPos
+        ("MaxSpeed01pos", "MaxSpeed02pos", 52, 116, Uint, Config),
+        // MaxAcc
+        ("MaxAcc01", "MaxAcc02", 54, 118, Uint, Config),
+        // MaxDec
+        ("MaxDec01", "MaxDec02", 56, 120, Uint, Config),
+        // RevLoop
+        ("RevLoop01", "RevLoop02", 58, 122, Int, Config),
+        // FixedPosA
+        ("FixedPos01a", "FixedPos02a", 60, 124, Dint, Config),
+        // FixedPosB
+        ("FixedPos01b", "FixedPos02b", 64, 128, Dint, Config),
+        // RefSpeed
+        ("RefSpeed01", "RefSpeed02", 68, 132, Uint, Config),
+        // RefConfig
+        ("RefConfig01", "RefConfig02", 70, 134, Sint, Config),
+        // FullStepThreshold
+        (
+            "FullStepThreshold01",
+            "FullStepThreshold02",
+            72,
+            136,
+            Uint,
+            Config,
+        ),
+        // StallRecognitionDelay
+        (
+            "StallRecognitionDelay01",
+            "StallRecognitionDelay02",
+            74,
+            138,
+            Usint,
+            Config,
+        ),
+        // JoltTime
+        ("JoltTime01", "JoltTime02", 75, 139, Usint, Config),
+        // StallDetectMinSpeed
+        (
+            "StallDetectMinSpeed01",
+            "StallDetectMinSpeed02",
+            78,
+            142,
+            Uint,
+            Config,
+        ),
+        // LimitSwitchConfig
+        (
+            "LimitSwitchConfig01",
+            "LimitSwitchConfig02",
+            306,
+            308,
+            Usint,
+            Config,
+        ),
+        // PositionLimitMin
+        (
+            "PositionLimitMin01",
+            "PositionLimitMin02",
+            380,
+            388,
+            Dint,
+            Config,
+        ),
+        // PositionLimitMax
+        (
+            "PositionLimitMax01",
+            "PositionLimitMax02",
+            384,
+            392,
+            Dint,
+            Config,
+        ),
+        // HoldingCurrentRead
+        (
+            "ConfigOutput03aRead",
+            "ConfigOutput06aRead",
+            48,
+            112,
+            Usint,
+            ReadAcyclic,
+        ),
+        // NominalCurrentRead
+        (
+            "ConfigOutput04aRead",
+            "ConfigOutput07aRead",
+            49,
+            113,
+            Usint,
+            ReadAcyclic,
+        ),
+        // MaximumCurrentRead
+        (
+            "ConfigOutput05aRead",
+            "ConfigOutput08aRead",
+            50,
+            114,
+            Usint,
+            ReadAcyclic,
+        ),
+        // ControlReadback
+        (
+            "ControlReadback01",
+            "ControlReadback02",
+            80,
+            144,
+            Uint,
+            ReadAcyclic,
+        ),
+        // ModeReadback
+        (
+            "ModeReadback01",
+            "ModeReadback02",
+            82,
+            146,
+            Sint,
+            ReadAcyclic,
+        ),
+        // MotorIdentification
+        (
+            "Motoridentification01",
+            "Motoridentification02",
+            84,
+            148,
+            Uint,
+            ReadAcyclic,
+        ),
+        // RefPosCyclicCounter
+        (
+            "RefPos01CyclicCounter",
+            "RefPos02CyclicCounter",
+            86,
+            150,
+            Dint,
+            ReadAcyclic,
+        ),
+        // ActValAcyclic
+        (
+            "AbsPos01ActValAcyclic",
+            "AbsPos02ActValAcyclic",
+            90,
+            154,
+            Dint,
+            ReadAcyclic,
+        ),
+        // RefPosAcyclicCounter
+        (
+            "RefPos01AcyclicCounter",
+            "RefPos02AcyclicCounter",
+            94,
+            158,
+            Dint,
+            ReadAcyclic,
+        ),
+        // ErrorCode
+        ("ErrorCode01", "ErrorCode02", 98, 162, Uint, ReadAcyclic),
+    ]
+};
 
 /// A register of the module that is not per axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -4,7 +4,8 @@
 //!
 //! The commands and control-word bits come from the library ([`ds402::cia402::control`], the `CW_…` constants
 //! of [`ds402::x67::axis`] and [`ds402::x67::errors`]); the state patterns are the expected values of the seed's
-//! table (X67-18.11.4.2-01 … -08) and stay spelled out here.
+//! table (X67-18.11.4.2-01, X67-18.11.4.2-02, X67-18.11.4.2-03, X67-18.11.4.2-04, X67-18.11.4.2-05,
+//! X67-18.11.4.2-06, X67-18.11.4.2-07, X67-18.11.4.2-08) and stay spelled out here.
 #![allow(dead_code)]
 
 use ds402::cia402::control::{ENABLE_OPERATION, QUICK_STOP_BIT, SHUTDOWN, SWITCH_ON};
@@ -35,10 +36,12 @@ pub const FAULT_REACTION_ACTIVE: u16 = 0x020F;
 /// Fault (X67-18.11.4.2-08).
 pub const FAULT: u16 = 0x0208;
 
-/// The status-word bits that fix the state where bit 5 is defined (X67-18.11.4.2-03…06).
+/// The status-word bits that fix the state where bit 5 is defined (X67-18.11.4.2-03,
+/// X67-18.11.4.2-04, X67-18.11.4.2-05, X67-18.11.4.2-06).
 pub const STATE_MASK: u16 = 0x037F;
 /// The status-word bits that fix the state where bit 5 is `x`: Not ready to switch on, Switch on disabled,
-/// Fault reaction active and Fault (X67-18.11.4.2-01/-02/-07/-08).
+/// Fault reaction active and Fault (X67-18.11.4.2-01, X67-18.11.4.2-02, X67-18.11.4.2-07,
+/// X67-18.11.4.2-08).
 pub const DISABLED_MASK: u16 = 0x035F;
 
 /// The mask of a state pattern: bit 5 is `x` in Not ready to switch on, Switch on disabled, Fault reaction

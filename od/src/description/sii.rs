@@ -10,7 +10,7 @@
 //! a type word, a length word (in words) and the data: Strings (10), General (30), FMMU (40), SyncM
 //! (41), TxPDO (50), RxPDO (51), DC (60), End (0xFFFF).
 
-use crate::device::{DeviceDescription, Pdo, PdoEntry};
+use crate::device::{DeviceDescription, EthercatInfo, Pdo, PdoEntry};
 use crate::types::DataType;
 
 /// Category types (ETG.1000.6 Table 19).
@@ -175,6 +175,49 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
         .eeprom
         .as_ref()
         .map_or(2048, |e| e.byte_size.max(128) as usize);
+    let mut img = header(desc, ec, serial, size);
+
+    let mut strings = Strings::default();
+    // The order code is string 1: masters that show one string per slave (SOEM) show the first.
+    let order = strings.index(&desc.identity.order_code);
+    let group = strings.index(&ec.group_type);
+    let name = strings.index(&desc.identity.product_name);
+    let txpdo = pdo_data(&ec.tx_pdos, &mut strings);
+    let rxpdo = pdo_data(&ec.rx_pdos, &mut strings);
+    let op_names: Vec<u8> = ec.op_modes.iter().map(|m| strings.index(&m.name)).collect();
+
+    let general = general_data(ec, group, order, name);
+    let fmmu = fmmu_data(ec);
+    let syncm = syncm_data(ec);
+    let dc = dc_data(ec, &op_names);
+    let table = strings_data(&strings)?;
+    category(&mut img, category::STRINGS, table);
+    category(&mut img, category::GENERAL, general);
+    category(&mut img, category::FMMU, fmmu);
+    category(&mut img, category::SYNCM, syncm);
+    if !txpdo.is_empty() {
+        category(&mut img, category::TXPDO, txpdo);
+    }
+    if !rxpdo.is_empty() {
+        category(&mut img, category::RXPDO, rxpdo);
+    }
+    if !dc.is_empty() {
+        category(&mut img, category::DC, dc);
+    }
+    push16(&mut img, category::END);
+    if img.len() > size {
+        return Err(SiiError::TooLarge {
+            need: img.len(),
+            have: size,
+        });
+    }
+    img.resize(size, 0xFF);
+    Ok(img)
+}
+
+/// Words 0–0x3F of the image: the ESC configuration and its CRC, the identity with `serial`, the
+/// mailboxes, the mailbox protocols and the EEPROM size (`size` bytes).
+fn header(desc: &DeviceDescription, ec: &EthercatInfo, serial: u32, size: usize) -> Vec<u8> {
     let mut img = Vec::with_capacity(size);
     // Words 0–6: the ESC configuration, then its CRC.
     let mut config = ec
@@ -235,16 +278,11 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
     img.resize(0x7C, 0);
     push16(&mut img, ((size * 8 / 1024).max(1) - 1) as u16);
     push16(&mut img, 1);
+    img
+}
 
-    let mut strings = Strings::default();
-    // The order code is string 1: masters that show one string per slave (SOEM) show the first.
-    let order = strings.index(&desc.identity.order_code);
-    let group = strings.index(&ec.group_type);
-    let name = strings.index(&desc.identity.product_name);
-    let txpdo = pdo_data(&ec.tx_pdos, &mut strings);
-    let rxpdo = pdo_data(&ec.rx_pdos, &mut strings);
-    let op_names: Vec<u8> = ec.op_modes.iter().map(|m| strings.index(&m.name)).collect();
-
+/// The General category, with the string indices of the group, the order code and the name.
+fn general_data(ec: &EthercatInfo, group: u8, order: u8, name: u8) -> Vec<u8> {
     let mut general = vec![group, 0, order, name, 0];
     let coe = ec.mailbox.as_ref().and_then(|m| m.coe);
     general.push(coe.map_or(0, |c| {
@@ -261,9 +299,12 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
     general.extend_from_slice(&[group, 0]);
     general.extend_from_slice(&0x0011u16.to_le_bytes()); // ports 0 and 1: MII
     general.resize(32, 0);
+    general
+}
 
-    let fmmu: Vec<u8> = ec
-        .fmmus
+/// The FMMU category: one byte per FMMU.
+fn fmmu_data(ec: &EthercatInfo) -> Vec<u8> {
+    ec.fmmus
         .iter()
         .map(|f| match f.as_str() {
             "Outputs" => 1,
@@ -271,7 +312,11 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
             "MBoxState" => 3,
             _ => 0,
         })
-        .collect();
+        .collect()
+}
+
+/// The SyncM category: eight bytes per SyncManager.
+fn syncm_data(ec: &EthercatInfo) -> Vec<u8> {
     let mut syncm = Vec::new();
     for s in &ec.sync_managers {
         push16(&mut syncm, s.start_address);
@@ -288,8 +333,13 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
             _ => 0,
         });
     }
+    syncm
+}
+
+/// The DC category: one record per operation mode, with the string indices of their names.
+fn dc_data(ec: &EthercatInfo, op_names: &[u8]) -> Vec<u8> {
     let mut dc = Vec::new();
-    for (m, name) in ec.op_modes.iter().zip(&op_names) {
+    for (m, name) in ec.op_modes.iter().zip(op_names) {
         dc.extend_from_slice(&m.cycle_time_sync0.map_or(0, |(t, _)| t).to_le_bytes());
         dc.extend_from_slice(&m.shift_time_sync0.unwrap_or(0).to_le_bytes());
         dc.extend_from_slice(&0u32.to_le_bytes()); // shift time SYNC1
@@ -300,7 +350,11 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
         dc.push(0);
         dc.extend_from_slice(&[0; 4]);
     }
+    dc
+}
 
+/// The Strings category: the number of strings, then each with its length.
+fn strings_data(strings: &Strings) -> Result<Vec<u8>, SiiError> {
     let mut table = vec![strings.0.len().min(255) as u8];
     for s in &strings.0 {
         if s.len() > 255 {
@@ -312,28 +366,7 @@ pub fn write(desc: &DeviceDescription, serial: u32) -> Result<Vec<u8>, SiiError>
     if strings.0.len() > 255 {
         return Err(SiiError::Strings(format!("{} strings", strings.0.len())));
     }
-    category(&mut img, category::STRINGS, table);
-    category(&mut img, category::GENERAL, general);
-    category(&mut img, category::FMMU, fmmu);
-    category(&mut img, category::SYNCM, syncm);
-    if !txpdo.is_empty() {
-        category(&mut img, category::TXPDO, txpdo);
-    }
-    if !rxpdo.is_empty() {
-        category(&mut img, category::RXPDO, rxpdo);
-    }
-    if !dc.is_empty() {
-        category(&mut img, category::DC, dc);
-    }
-    push16(&mut img, category::END);
-    if img.len() > size {
-        return Err(SiiError::TooLarge {
-            need: img.len(),
-            have: size,
-        });
-    }
-    img.resize(size, 0xFF);
-    Ok(img)
+    Ok(table)
 }
 
 /// An SII image read back: the header values and the categories.

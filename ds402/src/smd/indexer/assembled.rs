@@ -113,7 +113,9 @@ impl Indexer {
     }
 
     /// Run Assembled Move (CMD_word0 bit 13): a Blend (CMD_word1 bit 9 = 0, direction bit 4) or a
-    /// Dwell Move (bit 9 = 1, the Jerk word is the dwell in ms), SMD-R2-068 … SMD-R2-080,
+    /// Dwell Move (bit 9 = 1, the Jerk word is the dwell in ms), SMD-R2-068, SMD-R2-069,
+    /// SMD-R2-070, SMD-R2-071, SMD-R2-072, SMD-R2-073, SMD-R2-074, SMD-R2-075, SMD-R2-076,
+    /// SMD-R2-077, SMD-R2-078, SMD-R2-079, SMD-R2-080,
     /// SMD-R6-014.
     pub(super) fn run_assembled(&mut self, out: Outputs) -> Outcome {
         let Some(segments) = self.program.clone() else {

@@ -1,8 +1,11 @@
 //! What a device's own PDOs say about its dictionary: the mapping direction of the entries they map,
 //! and the entries only a PDO describes.
 
+use std::collections::HashSet;
+
 use super::dictionary::type_of_size;
 use super::{clip, Ctx, RawDevice};
+use crate::device::PdoEntry;
 use crate::dict::{Address, Dictionary};
 use crate::object::{AccessType, Object, ObjectKind, PdoMapping, SubObject};
 use crate::report::SourceMap;
@@ -39,10 +42,10 @@ fn direction_text(p: PdoMapping) -> &'static str {
 pub(super) fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, source: &mut SourceMap) {
     let partial = raw.has_dictionary;
     // Entries and objects made here (a second PDO that maps them only adds its direction).
-    let mut made: std::collections::HashSet<(u16, u8)> = std::collections::HashSet::new();
-    let mut made_objects: std::collections::HashSet<u16> = std::collections::HashSet::new();
+    let mut made: HashSet<(u16, u8)> = HashSet::new();
+    let mut made_objects: HashSet<u16> = HashSet::new();
     // The structure type names in use, once a RECORD is made.
-    let mut type_names: Option<std::collections::HashSet<String>> = None;
+    let mut type_names: Option<HashSet<String>> = None;
     for at in &raw.pdo_entry_offsets {
         let (pdos, dir, kind) = if at.tx {
             (&raw.ecat.tx_pdos, PdoMapping::Tpdo, "TxPdo")
@@ -66,31 +69,8 @@ pub(super) fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, sourc
             .object_mut(e.index)
             .filter(|o| o.subs.contains_key(&e.sub))
         {
-            // The elements of an ARRAY share one `SubItem`, and so one `PdoMapping`.
-            let array = object.kind == ObjectKind::Array && e.sub != 0;
-            let was = object.subs.get(&e.sub).map_or(PdoMapping::None, |s| s.pdo);
-            let now = with_direction(was, dir);
-            for (&s, sub) in object.subs.iter_mut() {
-                if s == e.sub || (array && s != 0) {
-                    sub.pdo = with_direction(sub.pdo, dir);
-                }
-            }
-            if now != was && !made.contains(&(e.index, e.sub)) {
-                let flag = if was == PdoMapping::None {
-                    "is missing".to_string()
-                } else {
-                    format!("says {}", direction_text(was))
-                };
-                ctx.warn_about(
-                    at.offset,
-                    address,
-                    format!(
-                        "{} maps it, but its <PdoMapping> {flag}: read as {}",
-                        which(),
-                        direction_text(now)
-                    ),
-                );
-            }
+            let warn = !made.contains(&(e.index, e.sub));
+            mark_mappable(ctx, object, e.sub, dir, warn.then(|| (at.offset, which())));
             continue;
         }
         let exists = dict.object(e.index).map(|o| o.kind.has_subs());
@@ -98,41 +78,8 @@ pub(super) fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, sourc
             // A VAR mapped with a sub-index it does not have: validate says so.
             continue;
         }
-        let (t, bits) = match DataType::from_esi_name(&e.data_type) {
-            Some(found) => found,
-            None => {
-                let named = if e.data_type.trim().is_empty() {
-                    "no <DataType>".to_string()
-                } else {
-                    format!(
-                        "the <DataType> `{}`, which names no type",
-                        clip(&e.data_type)
-                    )
-                };
-                let Some((t, bits)) = type_of_size(e.bit_len) else {
-                    ctx.warn_about(
-                        at.offset,
-                        address,
-                        format!(
-                            "{} gives it {named} and BitLen 0: no entry is made",
-                            which()
-                        ),
-                    );
-                    continue;
-                };
-                let size = bits.or(t.bit_size()).unwrap_or(0);
-                ctx.warn_about(
-                    at.offset,
-                    address,
-                    format!(
-                        "{} gives it {named}: made {} from its BitLen {}",
-                        which(),
-                        t.esi_name(size),
-                        e.bit_len
-                    ),
-                );
-                (t, bits)
-            }
+        let Some((t, bits)) = entry_type(ctx, e, at.offset, &which) else {
+            continue;
         };
         let bit_size = if t.is_variable() {
             bits.or(Some(u32::from(e.bit_len)))
@@ -156,13 +103,7 @@ pub(super) fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, sourc
                         .chain(dict.objects().filter_map(|o| o.type_name.clone()))
                         .collect()
                 });
-                let base = format!("DT{:04X}", e.index);
-                let name = std::iter::once(base.clone())
-                    .chain((1..=256).map(|n| format!("{base}_{n}")))
-                    .find(|n| !used.contains(n))
-                    .unwrap_or(base);
-                used.insert(name.clone());
-                object.type_name = Some(name);
+                object.type_name = Some(structure_type_name(used, e.index));
                 dict.insert(object);
                 made_objects.insert(e.index);
             }
@@ -192,4 +133,100 @@ pub(super) fn apply_pdos(ctx: Ctx, dict: &mut Dictionary, raw: &RawDevice, sourc
             );
         }
     }
+}
+
+/// The sub-index `sub` of `object`, mapped by a PDO, made mappable in the direction `dir` (every element,
+/// for an ARRAY). With `warn` (where the PDO entry is and which PDO it is in), a changed mapping is warned
+/// about.
+fn mark_mappable(
+    ctx: Ctx,
+    object: &mut Object,
+    sub: u8,
+    dir: PdoMapping,
+    warn: Option<(usize, String)>,
+) {
+    // The elements of an ARRAY share one `SubItem`, and so one `PdoMapping`.
+    let array = object.kind == ObjectKind::Array && sub != 0;
+    let was = object.subs.get(&sub).map_or(PdoMapping::None, |s| s.pdo);
+    let now = with_direction(was, dir);
+    for (&s, entry) in object.subs.iter_mut() {
+        if s == sub || (array && s != 0) {
+            entry.pdo = with_direction(entry.pdo, dir);
+        }
+    }
+    let Some((offset, which)) = warn else {
+        return;
+    };
+    if now != was {
+        let flag = if was == PdoMapping::None {
+            "is missing".to_string()
+        } else {
+            format!("says {}", direction_text(was))
+        };
+        ctx.warn_about(
+            offset,
+            Address::new(object.index, sub),
+            format!(
+                "{which} maps it, but its <PdoMapping> {flag}: read as {}",
+                direction_text(now)
+            ),
+        );
+    }
+}
+
+/// The type of an entry made from the PDO entry `e` (at `offset`, in the PDO `which`): its `DataType`,
+/// else a type of its `BitLen` (with a warning); `None` (with a warning) when neither gives one.
+fn entry_type(
+    ctx: Ctx,
+    e: &PdoEntry,
+    offset: usize,
+    which: &dyn Fn() -> String,
+) -> Option<(DataType, Option<u32>)> {
+    if let Some(found) = DataType::from_esi_name(&e.data_type) {
+        return Some(found);
+    }
+    let address = Address::new(e.index, e.sub);
+    let named = if e.data_type.trim().is_empty() {
+        "no <DataType>".to_string()
+    } else {
+        format!(
+            "the <DataType> `{}`, which names no type",
+            clip(&e.data_type)
+        )
+    };
+    let Some((t, bits)) = type_of_size(e.bit_len) else {
+        ctx.warn_about(
+            offset,
+            address,
+            format!(
+                "{} gives it {named} and BitLen 0: no entry is made",
+                which()
+            ),
+        );
+        return None;
+    };
+    let size = bits.or(t.bit_size()).unwrap_or(0);
+    ctx.warn_about(
+        offset,
+        address,
+        format!(
+            "{} gives it {named}: made {} from its BitLen {}",
+            which(),
+            t.esi_name(size),
+            e.bit_len
+        ),
+    );
+    Some((t, bits))
+}
+
+/// The name the writer gives the structure type of the object `index` (`DTxxxx`, else `DTxxxx_n`), one
+/// not among `used`; it is added to them.
+fn structure_type_name(used: &mut HashSet<String>, index: u16) -> String {
+    let base = format!("DT{index:04X}");
+    let name = std::iter::once(base.clone())
+        .chain((1..=256).map(|n| format!("{base}_{n}")))
+        .find(|n| !used.contains(n))
+        .unwrap_or(base);
+    used.insert(name.clone());
+    name
 }

@@ -142,39 +142,7 @@ impl<'a> Scan<'a> {
                 Ctx::TransportLayers
             }
             (Ctx::Body, b"NetworkManagement") => Ctx::NetworkManagement,
-            (Ctx::Identity, field) => match field {
-                b"vendorName" => Ctx::IdentityField(IdField::VendorName),
-                b"vendorID" => Ctx::IdentityField(IdField::VendorId),
-                b"productName" => Ctx::IdentityField(IdField::ProductName),
-                b"productID" => Ctx::IdentityField(IdField::ProductId),
-                b"orderNumber" => Ctx::IdentityField(IdField::OrderNumber),
-                b"productText" => Ctx::ProductText,
-                b"version" => {
-                    let mut kind = None;
-                    self.attrs(e, offset, |s, key, v| {
-                        if key == b"versionType" {
-                            kind = Some(match v.text.trim() {
-                                "HW" => VersionType::Hardware,
-                                "SW" => VersionType::Software,
-                                "FW" => VersionType::Firmware,
-                                _ => {
-                                    return Err(s.err(
-                                        v.offset,
-                                        format!(
-                                            "expected versionType SW, FW or HW, found `{}`",
-                                            v.text
-                                        ),
-                                    ))
-                                }
-                            });
-                        }
-                        Ok(())
-                    })?;
-                    // CiA 311 requires the type; a version without one says nothing usable.
-                    kind.map_or(Ctx::Skip, |k| Ctx::IdentityField(IdField::Version(k)))
-                }
-                _ => Ctx::Skip,
-            },
+            (Ctx::Identity, field) => self.open_identity_field(e, offset, field)?,
             (Ctx::ProductText, b"description") => {
                 self.text_lang_en = self.english(e, offset)?;
                 Ctx::ProductTextDescription
@@ -208,13 +176,7 @@ impl<'a> Scan<'a> {
                 Ctx::MemberDecl
             }
             (Ctx::DataTypeDef, type_name) => {
-                if let (Some(t), Some((_, dt))) =
-                    (parse_type_element(type_name), &mut self.data_type)
-                {
-                    if dt.base.is_none() && dt.kind != DtKind::Struct {
-                        dt.base = Some(t);
-                    }
-                }
+                self.data_type_base(type_name);
                 Ctx::Skip
             }
             (Ctx::ParameterList, b"parameter") => {
@@ -224,17 +186,7 @@ impl<'a> Scan<'a> {
             (Ctx::Parameter, child) => self.open_parameter_child(e, offset, child)?,
             (Ctx::AllowedValues, b"range") => Ctx::Range,
             (Ctx::Range, bound @ (b"minValue" | b"maxValue")) => {
-                let value = self.required_attr(e, offset, b"value")?;
-                if let Some((_, p)) = &mut self.param {
-                    let slot = if bound == b"minValue" {
-                        &mut p.low
-                    } else {
-                        &mut p.high
-                    };
-                    if slot.is_none() {
-                        *slot = Some(value);
-                    }
-                }
+                self.read_range_bound(e, offset, bound)?;
                 Ctx::Skip
             }
             (Ctx::ApplicationLayers, b"CANopenObjectList") => Ctx::ObjectList,
@@ -266,23 +218,7 @@ impl<'a> Scan<'a> {
             (Ctx::TransportLayers, b"PhysicalLayer") => Ctx::PhysicalLayer,
             (Ctx::PhysicalLayer, b"baudRate") => Ctx::BaudRate,
             (Ctx::BaudRate, b"supportedBaudRate") => {
-                self.attrs(e, offset, |s, key, v| {
-                    if key == b"value" {
-                        let kbps = parse_baud(&v.text).ok_or_else(|| {
-                            s.err(
-                                v.offset,
-                                format!(
-                                    "expected a bit rate like \"250 Kbps\" in supportedBaudRate, found `{}`",
-                                    v.text
-                                ),
-                            )
-                        })?;
-                        if kbps != 0 {
-                            s.baud_rates.insert(kbps);
-                        }
-                    }
-                    Ok(())
-                })?;
+                self.read_supported_baud_rate(e, offset)?;
                 Ctx::Skip
             }
             (Ctx::NetworkManagement, b"CANopenGeneralFeatures") => {
@@ -292,12 +228,7 @@ impl<'a> Scan<'a> {
             }
             (Ctx::NetworkManagement, b"CANopenMasterFeatures") => {
                 self.seen_can = true;
-                self.attrs(e, offset, |s, key, v| {
-                    if key == b"bootUpMaster" {
-                        s.can.simple_boot_up_master = s.boolean(&v, "bootUpMaster")?;
-                    }
-                    Ok(())
-                })?;
+                self.read_master_features(e, offset)?;
                 Ctx::Skip
             }
             (Ctx::NetworkManagement, b"deviceCommissioning") => {
@@ -313,6 +244,114 @@ impl<'a> Scan<'a> {
             self.text.clear();
         }
         Ok(ctx)
+    }
+
+    /// A child of `DeviceIdentity`: the context of its content.
+    fn open_identity_field(
+        &mut self,
+        e: &Element<'a>,
+        offset: usize,
+        field: &[u8],
+    ) -> Result<Ctx, ParseError> {
+        Ok(match field {
+            b"vendorName" => Ctx::IdentityField(IdField::VendorName),
+            b"vendorID" => Ctx::IdentityField(IdField::VendorId),
+            b"productName" => Ctx::IdentityField(IdField::ProductName),
+            b"productID" => Ctx::IdentityField(IdField::ProductId),
+            b"orderNumber" => Ctx::IdentityField(IdField::OrderNumber),
+            b"productText" => Ctx::ProductText,
+            b"version" => {
+                let mut kind = None;
+                self.attrs(e, offset, |s, key, v| {
+                    if key == b"versionType" {
+                        kind = Some(match v.text.trim() {
+                            "HW" => VersionType::Hardware,
+                            "SW" => VersionType::Software,
+                            "FW" => VersionType::Firmware,
+                            _ => {
+                                return Err(s.err(
+                                    v.offset,
+                                    format!(
+                                        "expected versionType SW, FW or HW, found `{}`",
+                                        v.text
+                                    ),
+                                ))
+                            }
+                        });
+                    }
+                    Ok(())
+                })?;
+                // CiA 311 requires the type; a version without one says nothing usable.
+                kind.map_or(Ctx::Skip, |k| Ctx::IdentityField(IdField::Version(k)))
+            }
+            _ => Ctx::Skip,
+        })
+    }
+
+    /// A type element (`UINT`, `BOOL`, ...) in a data type's definition: its base type, unless it has one
+    /// or is a struct.
+    fn data_type_base(&mut self, type_name: &[u8]) {
+        if let (Some(t), Some((_, dt))) = (parse_type_element(type_name), &mut self.data_type) {
+            if dt.base.is_none() && dt.kind != DtKind::Struct {
+                dt.base = Some(t);
+            }
+        }
+    }
+
+    /// `minValue` or `maxValue` (`bound`) of a parameter's range: the first of each is kept.
+    fn read_range_bound(
+        &mut self,
+        e: &Element<'a>,
+        offset: usize,
+        bound: &[u8],
+    ) -> Result<(), ParseError> {
+        let value = self.required_attr(e, offset, b"value")?;
+        if let Some((_, p)) = &mut self.param {
+            let slot = if bound == b"minValue" {
+                &mut p.low
+            } else {
+                &mut p.high
+            };
+            if slot.is_none() {
+                *slot = Some(value);
+            }
+        }
+        Ok(())
+    }
+
+    /// `supportedBaudRate`: a bit rate the device supports.
+    fn read_supported_baud_rate(
+        &mut self,
+        e: &Element<'a>,
+        offset: usize,
+    ) -> Result<(), ParseError> {
+        self.attrs(e, offset, |s, key, v| {
+            if key == b"value" {
+                let kbps = parse_baud(&v.text).ok_or_else(|| {
+                    s.err(
+                        v.offset,
+                        format!(
+                            "expected a bit rate like \"250 Kbps\" in supportedBaudRate, found `{}`",
+                            v.text
+                        ),
+                    )
+                })?;
+                if kbps != 0 {
+                    s.baud_rates.insert(kbps);
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// `CANopenMasterFeatures`: whether the device is a simple boot-up master.
+    fn read_master_features(&mut self, e: &Element<'a>, offset: usize) -> Result<(), ParseError> {
+        self.attrs(e, offset, |s, key, v| {
+            if key == b"bootUpMaster" {
+                s.can.simple_boot_up_master = s.boolean(&v, "bootUpMaster")?;
+            }
+            Ok(())
+        })
     }
 
     /// Handles the end of an element whose content context was `ctx`.
