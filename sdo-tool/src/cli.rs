@@ -15,10 +15,9 @@ fn interface_name(s: &str) -> Result<String, String> {
         .map(|()| s.to_string())
         .map_err(|e| e.to_string())
 }
+use crate::link::{BusSpec, CanBus, SocketCanBus, SocketcandClient, SAVE_SIGNATURE};
 use crate::{NmtCommand, SdoCommands, Tool, ToolError};
 use od::dict::Address;
-use socketcan_node::node::SAVE_SIGNATURE;
-use socketcan_node::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandClient};
 
 /// The CANopen commissioning tool: SDO reads and writes, NMT, on SocketCAN or socketcand — and SDO
 /// reads and writes of EtherCAT slaves (CoE) with --ethercat.
@@ -35,7 +34,7 @@ use socketcan_node::transport::{self, BusSpec, CanBus, SocketCanBus, SocketcandC
 #[command(name = "sdo-tool", version)]
 pub struct Args {
     /// The bus: IFACE or socketcan:IFACE (e.g. can0, vcan0), or socketcand://HOST:PORT/CHANNEL.
-    #[arg(long, global = true, value_name = "BUS", env = socketcan_node::transport::BUS_VARIABLE)]
+    #[arg(long, global = true, value_name = "BUS", env = crate::link::BUS_VARIABLE)]
     pub bus: Option<BusSpec>,
     /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
     /// (1 = first); read, write, dump, apply, slaves, states and sdos only.
@@ -278,12 +277,12 @@ pub fn open_bus(spec: Option<&BusSpec>) -> Result<Box<dyn CanBus>, ToolError> {
         Some(BusSpec::SocketcandListen { .. }) => Err(ToolError::Usage(
             "sdo-tool joins a bus: socketcan:IFACE or socketcand://HOST:PORT/CHANNEL".into(),
         )),
-        Some(s) => Ok(transport::open(s)?),
+        Some(s) => Ok(crate::link::open_spec(s)?),
         None => match SocketCanBus::open("vcan0") {
             Ok(b) => Ok(Box::new(b)),
             Err(_) => Ok(Box::new(SocketcandClient::connect(
                 "127.0.0.1",
-                transport::SOCKETCAND_DEFAULT_PORT,
+                crate::link::SOCKETCAND_DEFAULT_PORT,
                 "can0",
             )?)),
         },
@@ -1009,7 +1008,7 @@ pub fn run(
                 let event = tool.bus.recv(wait)?;
                 let t = start.elapsed().as_secs_f64();
                 let lines = match event {
-                    Some(socketcan_node::BusEvent::Frame { frame, at }) => {
+                    Some(crate::link::BusEvent::Frame { frame, at }) => {
                         let taken = w.takes(&frame);
                         if let Some(l) = log.as_mut().filter(|_| taken) {
                             writeln!(l, "{}", crate::watch::candump(at, &iface, &frame))

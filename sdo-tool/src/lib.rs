@@ -23,6 +23,7 @@ pub mod cli;
 pub mod config;
 pub mod ethercat;
 pub mod gateway;
+pub mod link;
 pub mod watch;
 
 use od::abort::AbortCode;
@@ -33,8 +34,7 @@ use od::sdo::session::{SdoSession, SdoTransport, SessionError};
 use od::types::DataType;
 use od::value::Value;
 
-use socketcan_node::transport::{BusError, BusEvent, CanBus};
-use socketcan_node::CanFrame;
+use crate::link::{BusError, BusEvent, CanBus, CanFrame};
 
 /// A CiA 309-3 data-type mnemonic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -940,9 +940,9 @@ impl Tool {
     /// `save NODE` (0x1010:01 = "save") or `restore NODE` (0x1011:01 = "load").
     pub fn store(&mut self, node: u8, restore: bool) -> Result<(), ToolError> {
         let (object, signature) = if restore {
-            ("0x1011:01", socketcan_node::node::LOAD_SIGNATURE)
+            ("0x1011:01", crate::link::LOAD_SIGNATURE)
         } else {
-            ("0x1010:01", socketcan_node::node::SAVE_SIGNATURE)
+            ("0x1010:01", crate::link::SAVE_SIGNATURE)
         };
         self.write(node, object, Some("u32"), &signature.to_string())
     }

@@ -14,12 +14,10 @@ use od::dict::Dictionary;
 use od::types::DataType;
 use od::value::Value;
 
+use crate::link::{CanFrame, EmcyCode, PdoConfig, RPDO_COMM, TPDO_COMM};
 use crate::TypeCode;
 use od::abort::AbortCode;
 use od::dict::Address;
-use socketcan_node::node::pdo::{PdoConfig, RPDO_COMM, TPDO_COMM};
-use socketcan_node::node::EmcyCode;
-use socketcan_node::CanFrame;
 
 /// A frame filter by COB-ID, as candump takes them (IDs in hex, with or without `0x`):
 /// `ID:MASK` passes a frame whose ID matches ID in the bits of MASK, `LOW-HIGH` a range, `ID` one
