@@ -16,7 +16,7 @@ fn interface_name(s: &str) -> Result<String, String> {
         .map_err(|e| e.to_string())
 }
 use crate::link::{BusSpec, CanBus, SocketCanBus, SocketcandClient, SAVE_SIGNATURE};
-use crate::{NmtCommand, SdoCommands, Tool, ToolError};
+use crate::{NmtCommand, SdoCommands, Tool, ToolError, UsageError};
 use od::dict::Address;
 
 /// The CANopen commissioning tool: SDO reads and writes, NMT, on SocketCAN or socketcand — and SDO
@@ -258,15 +258,19 @@ fn dcf_bytes(
 /// The first device of a description file.
 fn load_description(
     path: &std::path::Path,
-    what: &str,
+    what: &'static str,
 ) -> Result<od::DeviceDescription, ToolError> {
-    let (_, mut devices) = od::load::load(path)
-        .map_err(|e| ToolError::Usage(format!("{what} {}: {e}", path.display())))?;
+    let (_, mut devices) = od::load::load(path).map_err(|error| UsageError::Description {
+        what,
+        path: path.to_path_buf(),
+        error,
+    })?;
     if devices.is_empty() {
-        return Err(ToolError::Usage(format!(
-            "{what} {}: no device in it",
-            path.display()
-        )));
+        return Err(UsageError::NoDevice {
+            what,
+            path: path.to_path_buf(),
+        }
+        .into());
     }
     Ok(devices.swap_remove(0))
 }
@@ -274,9 +278,7 @@ fn load_description(
 /// Opens the bus `spec` names, or the default one.
 pub fn open_bus(spec: Option<&BusSpec>) -> Result<Box<dyn CanBus>, ToolError> {
     match spec {
-        Some(BusSpec::SocketcandListen { .. }) => Err(ToolError::Usage(
-            "sdo-tool joins a bus: socketcan:IFACE or socketcand://HOST:PORT/CHANNEL".into(),
-        )),
+        Some(BusSpec::SocketcandListen { .. }) => Err(UsageError::ListeningBus.into()),
         Some(s) => Ok(crate::link::open_spec(s)?),
         None => match SocketCanBus::open("vcan0") {
             Ok(b) => Ok(Box::new(b)),
@@ -482,15 +484,14 @@ fn decode(
     let input: Box<dyn Read> = if stdin {
         Box::new(std::io::stdin())
     } else {
-        let kind = std::fs::metadata(path)
-            .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?;
+        let kind = std::fs::metadata(path).map_err(|e| file_error(path, e))?;
         if kind.is_dir() {
-            return Err(ToolError::Usage(format!("{}: a directory", path.display())));
+            return Err(UsageError::Directory {
+                path: path.to_path_buf(),
+            }
+            .into());
         }
-        Box::new(
-            std::fs::File::open(path)
-                .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?,
-        )
+        Box::new(std::fs::File::open(path).map_err(|e| file_error(path, e))?)
     };
     let name = if stdin {
         "standard input".to_string()
@@ -498,10 +499,10 @@ fn decode(
         path.display().to_string()
     };
     let mut log = LogDecoder::new(std::io::BufReader::new(input), w);
-    while let Some(event) = log
-        .next_event()
-        .map_err(|e| ToolError::Usage(format!("{name}: {e}")))?
-    {
+    while let Some(event) = log.next_event().map_err(|error| UsageError::Log {
+        name: name.clone(),
+        error,
+    })? {
         match event {
             Decoded::Line { t, text } => emit(
                 out,
@@ -840,17 +841,15 @@ pub fn run(
         return decode(log, w, args.json, out);
     }
     if let Cmd::List = args.command {
-        let desc = desc
-            .as_ref()
-            .ok_or_else(|| ToolError::Usage("list needs a description: --od FILE".into()))?;
+        let desc = desc.as_ref().ok_or(UsageError::ListNeedsDescription)?;
         return list(desc, args.json, out);
     }
     if let Cmd::Slaves | Cmd::States | Cmd::Sdos { .. } = args.command {
         let Some(interface) = &args.ethercat else {
-            return Err(ToolError::Usage(format!(
-                "`{}` is an EtherCAT command: give --ethercat IFACE",
-                command_name(&args.command)
-            )));
+            return Err(UsageError::EthercatOnly {
+                command: command_name(&args.command),
+            }
+            .into());
         };
         if let Cmd::Sdos { node } = args.command {
             let mut session = EthercatSession::open(interface, timeout)?;
@@ -870,11 +869,10 @@ pub fn run(
     }
     if let Some(interface) = &args.ethercat {
         if !is_sdo_command(&args.command) {
-            return Err(ToolError::Usage(format!(
-                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, \
-                 apply, slaves, states and sdos are available",
-                command_name(&args.command)
-            )));
+            return Err(UsageError::CanopenOnly {
+                command: command_name(&args.command),
+            }
+            .into());
         }
         let mut session = EthercatSession::open(interface, timeout)?;
         let mut commands = SdoCommands::new(&mut session, desc.as_ref().map(|d| &d.dictionary));
@@ -904,8 +902,7 @@ pub fn run(
         // Answered above, before any bus is opened.
         Cmd::List | Cmd::Decode { .. } | Cmd::Slaves | Cmd::States | Cmd::Sdos { .. } => {}
         Cmd::Upload { node, object, file } => {
-            let mut f = std::fs::File::create(file)
-                .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
+            let mut f = std::fs::File::create(file).map_err(|e| file_error(file, e))?;
             let bar = progress_bar(None);
             let started = std::time::Instant::now();
             let n = match tool.upload(*node, object, &mut f, |done, total| {
@@ -936,20 +933,12 @@ pub fn run(
         }
         Cmd::Download { node, object, file } => {
             // Looked at before opening: opening a FIFO waits for a writer; a device has no length.
-            let kind = std::fs::metadata(file)
-                .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
+            let kind = std::fs::metadata(file).map_err(|e| file_error(file, e))?;
             if !kind.is_file() {
-                return Err(ToolError::Usage(format!(
-                    "{}: not a regular file",
-                    file.display()
-                )));
+                return Err(UsageError::NotRegularFile { path: file.clone() }.into());
             }
-            let mut f = std::fs::File::open(file)
-                .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?;
-            let len = f
-                .metadata()
-                .map_err(|e| ToolError::Usage(format!("{}: {e}", file.display())))?
-                .len();
+            let mut f = std::fs::File::open(file).map_err(|e| file_error(file, e))?;
+            let len = f.metadata().map_err(|e| file_error(file, e))?.len();
             let bar = progress_bar(Some(len));
             let started = std::time::Instant::now();
             tool.download(*node, object, &mut f, len, |done, _| bar.set_position(done))?;
@@ -981,8 +970,7 @@ pub fn run(
             };
             let mut log = match log {
                 Some(path) => Some(std::io::BufWriter::new(
-                    std::fs::File::create(path)
-                        .map_err(|e| ToolError::Usage(format!("{}: {e}", path.display())))?,
+                    std::fs::File::create(path).map_err(|e| file_error(path, e))?,
                 )),
                 None => None,
             };
@@ -1088,18 +1076,19 @@ pub fn run(
                     crate::gateway::serve(&gw, stdin.lock(), out).map_err(io)?;
                 }
                 Some(addr) => {
-                    let listener = std::net::TcpListener::bind(addr)
-                        .map_err(|e| ToolError::Usage(format!("--listen {addr}: {e}")))?;
+                    let listener =
+                        std::net::TcpListener::bind(addr).map_err(|error| UsageError::Listen {
+                            address: *addr,
+                            error,
+                        })?;
                     gateway_connections(&listener, &gw);
                 }
             }
             return Ok(());
         }
         Cmd::Nmt { command, node } => {
-            let c = NmtCommand::parse(command).ok_or_else(|| {
-                ToolError::Usage(format!(
-                    "NMT command {command:?} is not start, stop, preop, reset or reset-comm"
-                ))
+            let c = NmtCommand::parse(command).ok_or_else(|| UsageError::NmtCommand {
+                command: command.clone(),
             })?;
             let n = if node == "all" {
                 0
@@ -1107,9 +1096,7 @@ pub fn run(
                 node.parse::<u8>()
                     .ok()
                     .filter(|n| (1..=127).contains(n))
-                    .ok_or_else(|| {
-                        ToolError::Usage(format!("node {node:?} is not 1 to 127 or all"))
-                    })?
+                    .ok_or_else(|| UsageError::NmtNodeText { text: node.clone() })?
             };
             tool.nmt(c, n)?;
             emit(out, json, "OK", serde_json::json!({"ok": true}))?;
@@ -1159,7 +1146,7 @@ fn sdo_command(
             let (ty, value) = match rest.as_slice() {
                 [v] => (None, v.as_str()),
                 [t, v] => (Some(t.as_str()), v.as_str()),
-                _ => return Err(ToolError::Usage("write NODE OBJECT [TYPE] VALUE".into())),
+                _ => return Err(UsageError::WriteArguments.into()),
             };
             // A type alone is a value left out, unless the entry is a string it could be.
             if let (None, Some(t)) = (ty, crate::TypeCode::parse(value)) {
@@ -1177,26 +1164,24 @@ fn sdo_command(
                         )
                     });
                 if !textual {
-                    return Err(ToolError::Usage(format!(
-                        "{addr}: the value is missing after the type {value} (write NODE OBJECT \
-                         [TYPE] VALUE; {} as TYPE)",
-                        t.data_type
-                    )));
+                    return Err(UsageError::ValueMissing {
+                        address: addr,
+                        text: value.to_string(),
+                        data_type: t.data_type,
+                    }
+                    .into());
                 }
             }
             commands.write(*node, object, ty, value)?;
             emit(out, json, "OK", serde_json::json!({"ok": true}))?;
         }
         Cmd::Dump { node, output } => {
-            let mut d = desc.cloned().ok_or_else(|| {
-                ToolError::Usage("dump needs the node's description: --od FILE".into())
-            })?;
+            let mut d = desc.cloned().ok_or(UsageError::DumpNeedsDescription)?;
             let as_read = d.clone();
             let outcome = commands.dump(*node, &mut d)?;
             od::eds::complete_new_file(&mut d);
             let bytes = dcf_bytes(args.od.as_deref(), as_read, d.clone());
-            std::fs::write(output, bytes)
-                .map_err(|e| ToolError::Usage(format!("{}: {e}", output.display())))?;
+            std::fs::write(output, bytes).map_err(|e| file_error(output, e))?;
             let name = |a: &Address| {
                 d.dictionary
                     .entry(a.index, a.sub)
@@ -1383,10 +1368,10 @@ fn sdo_command(
             }
         }
         other => {
-            return Err(ToolError::Usage(format!(
-                "`{}` is no SDO command",
-                command_name(other)
-            )))
+            return Err(UsageError::NotSdoCommand {
+                command: command_name(other),
+            }
+            .into())
         }
     }
     Ok(())
@@ -1466,6 +1451,14 @@ fn emit(
         writeln!(out, "{text}")
     };
     r.map_err(ToolError::Output)
+}
+
+/// A file that cannot be looked at, opened, created or written: a usage error naming it.
+fn file_error(path: &std::path::Path, error: std::io::Error) -> UsageError {
+    UsageError::File {
+        path: path.to_path_buf(),
+        error,
+    }
 }
 
 /// An error as `--json` prints it.

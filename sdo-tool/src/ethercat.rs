@@ -964,11 +964,12 @@ impl SdoAccess for EthercatSession {
         if (1..=n).contains(&usize::from(node)) {
             Ok(())
         } else {
-            Err(ToolError::Usage(format!(
-                "slave position {node} is not 1 to {n} (the chain on {} has {n} slave{})",
-                self.interface,
-                if n == 1 { "" } else { "s" }
-            )))
+            Err(crate::UsageError::SlavePosition {
+                position: node,
+                count: n,
+                interface: self.interface.clone(),
+            }
+            .into())
         }
     }
 

@@ -24,6 +24,9 @@ pub mod config;
 pub mod ethercat;
 pub mod gateway;
 pub mod link;
+pub mod usage;
+
+pub use usage::UsageError;
 pub mod watch;
 
 use od::abort::AbortCode;
@@ -181,9 +184,9 @@ pub enum ToolError {
     /// The bus failed.
     #[error(transparent)]
     Bus(#[from] BusError),
-    /// The command's words are wrong (object, type, value, node).
-    #[error("{0}")]
-    Usage(String),
+    /// The command's words are wrong (object, type, value, node, a file, an option).
+    #[error(transparent)]
+    Usage(#[from] UsageError),
     /// Anything else of the SDO layer (a client refusal, the data source or sink).
     #[error(transparent)]
     Session(SessionError<BusError>),
@@ -514,7 +517,7 @@ impl SdoAccess for CanSdo<'_> {
         if (1..=127).contains(&node) {
             Ok(())
         } else {
-            Err(ToolError::Usage(format!("node {node} is not 1 to 127")))
+            Err(UsageError::Node { node }.into())
         }
     }
 
@@ -546,12 +549,17 @@ pub fn object(od: Option<&Dictionary>, text: &str) -> Result<Address, ToolError>
         return Ok(a);
     }
     match od {
-        Some(od) => od
-            .lookup(text)
-            .map_err(|e| ToolError::Usage(format!("object {text:?}: {e}"))),
-        None => Err(ToolError::Usage(format!(
-            "object {text:?} is not INDEX:SUB (e.g. 0x1018:01); names need --od"
-        ))),
+        Some(od) => od.lookup(text).map_err(|error| {
+            UsageError::UnknownName {
+                text: text.to_string(),
+                error,
+            }
+            .into()
+        }),
+        None => Err(UsageError::NameWithoutDescription {
+            text: text.to_string(),
+        }
+        .into()),
     }
 }
 
@@ -595,22 +603,24 @@ impl<'a> SdoCommands<'a> {
     ) -> Result<TypeCode, ToolError> {
         if let Some(t) = given {
             return TypeCode::parse(t).ok_or_else(|| {
-                ToolError::Usage(format!(
-                    "type {t:?} is not a CiA 309-3 type (b, i8–i64, u8–u64, x8–x64, r32, r64, vs, os, us, d, hex)"
-                ))
+                UsageError::UnknownType {
+                    text: t.to_string(),
+                }
+                .into()
             });
         }
         let Some(od) = self.od else {
             return match self.sdo.entry_type(node, addr)? {
                 Some(t) => Ok(TypeCode::of(t)),
-                None => Err(ToolError::Usage(
-                    "give the type (e.g. u16), or a description with --od".into(),
-                )),
+                None => Err(UsageError::TypeNeeded.into()),
             };
         };
         let e = od
             .entry(addr.index, addr.sub)
-            .map_err(|e| ToolError::Usage(format!("{addr}: {e}")))?;
+            .map_err(|error| UsageError::NotInDescription {
+                address: addr,
+                error,
+            })?;
         Ok(TypeCode::of(e.data_type))
     }
 
@@ -627,13 +637,13 @@ impl<'a> SdoCommands<'a> {
             !kind.readable()
         };
         if refused {
-            return Err(ToolError::Usage(format!(
-                "{addr} ({}) is {} ({}) in the description: not {}",
-                e.name,
-                if write { "read-only" } else { "write-only" },
-                kind.as_str(),
-                if write { "written" } else { "read" }
-            )));
+            return Err(UsageError::Access {
+                address: addr,
+                name: e.name.clone(),
+                access: kind.as_str(),
+                write,
+            }
+            .into());
         }
         Ok(())
     }
@@ -657,10 +667,12 @@ impl<'a> SdoCommands<'a> {
         let v = match self.sdo.read_value(node, addr, code.data_type) {
             Ok(v) => v,
             // The bytes came; the type asked for does not fit them: the user's type is wrong.
-            Err(ToolError::Value(e) | ToolError::Session(SessionError::Value(e))) => {
-                return Err(ToolError::Usage(format!(
-                    "{addr}: {e}: the entry is of another type (read it as its own type, or as hex)"
-                )))
+            Err(ToolError::Value(error) | ToolError::Session(SessionError::Value(error))) => {
+                return Err(UsageError::OtherType {
+                    address: addr,
+                    error,
+                }
+                .into())
             }
             Err(e) => return Err(e),
         };
@@ -680,7 +692,7 @@ impl<'a> SdoCommands<'a> {
         let addr = self.object(object)?;
         let code = self.type_for(node, addr, ty)?;
         // Every refusal of the value is `ADDR: why (not sent)`.
-        let refused = |why: String| ToolError::Usage(format!("{addr}: {why} (not sent)"));
+        let refused = |why: String| UsageError::ValueRefused { address: addr, why };
         let v = code.parse_value(value).map_err(refused)?;
         let bytes = v
             .encode(code.data_type)
@@ -705,7 +717,7 @@ impl<'a> SdoCommands<'a> {
                     }
                     other => other.to_string(),
                 };
-                return Err(refused(why));
+                return Err(refused(why).into());
             }
         }
         self.sdo.write_bytes(node, addr, &bytes)
@@ -928,9 +940,7 @@ impl Tool {
     /// `nmt COMMAND NODE|all` (node 0 = all).
     pub fn nmt(&mut self, command: NmtCommand, node: u8) -> Result<(), ToolError> {
         if node > 127 {
-            return Err(ToolError::Usage(format!(
-                "node {node} is not 1 to 127 or all"
-            )));
+            return Err(UsageError::NmtNode { node }.into());
         }
         let f = CanFrame::new(0x000, &[command.cs(), node]).expect("two bytes");
         self.bus.send(&f)?;

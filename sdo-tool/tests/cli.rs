@@ -8,7 +8,7 @@ use std::process::{Command, Stdio};
 
 use clap::Parser;
 use sdo_tool::cli::{run, Args};
-use sdo_tool::ToolError;
+use sdo_tool::{ToolError, UsageError};
 use socketcan_node::node::NodeConfig;
 use socketcan_node::test_util::RunningNode;
 use socketcan_node::transport::{CanBus, InProcessBus};
@@ -39,7 +39,7 @@ impl Running {
     /// Runs `sdo-tool ARGS…` in process: the output, or the error.
     fn tool(&self, argv: &[&str]) -> Result<String, ToolError> {
         let args = Args::try_parse_from(std::iter::once("sdo-tool").chain(argv.iter().copied()))
-            .map_err(|e| ToolError::Usage(e.to_string()))?;
+            .map_err(|e| ToolError::Usage(UsageError::CommandLine(e.to_string())))?;
         let bus: Box<dyn CanBus> = Box::new(self.bus.endpoint());
         let mut out = Vec::new();
         run(&args, Some(bus), &mut out)?;
