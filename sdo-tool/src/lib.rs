@@ -20,6 +20,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub mod cli;
+pub mod cmd;
 pub mod config;
 pub mod ethercat;
 pub mod gateway;

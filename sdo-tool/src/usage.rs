@@ -197,12 +197,6 @@ pub enum UsageError {
         /// What the system said.
         error: std::io::Error,
     },
-    /// A command that is not `read`, `write`, `dump` or `apply` where one of those is run.
-    #[error("`{command}` is no SDO command")]
-    NotSdoCommand {
-        /// The command's name.
-        command: &'static str,
-    },
     /// An EtherCAT command without `--ethercat`.
     #[error("`{command}` is an EtherCAT command: give --ethercat IFACE")]
     EthercatOnly {
