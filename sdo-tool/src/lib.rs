@@ -788,12 +788,6 @@ impl<'a> SdoCommands<'a> {
     ) -> Result<ApplyOutcome, ToolError> {
         self.sdo.check_node(node)?;
         let dict = &dcf.dictionary;
-        let show = |addr: Address, bytes: &[u8]| match dict.entry(addr.index, addr.sub) {
-            Ok(e) => Value::decode(e.data_type, bytes)
-                .map(|v| TypeCode::of(e.data_type).format(&v))
-                .unwrap_or_else(|_| format!("{bytes:02X?}")),
-            Err(_) => format!("{bytes:02X?}"),
-        };
         let (writes, skipped) = config::plan(dict);
         let mut outcome = ApplyOutcome::default();
         for (addr, why) in skipped {
@@ -804,86 +798,121 @@ impl<'a> SdoCommands<'a> {
             outcome.skipped += 1;
             report(&ApplyStep::Skipped {
                 addr,
-                value: show(addr, &bytes),
+                value: shown(dict, addr, &bytes),
                 why: why.to_string(),
             });
         }
         for w in writes {
-            let value = show(w.addr, &w.bytes);
             if dry_run {
                 if w.step.is_none() {
                     outcome.written += 1;
                 }
                 report(&ApplyStep::WouldWrite {
                     addr: w.addr,
-                    value,
+                    value: shown(dict, w.addr, &w.bytes),
                     step: w.step,
                 });
                 continue;
             }
-            match self.sdo.write_bytes(node, w.addr, &w.bytes) {
-                Ok(()) => {}
-                Err(ToolError::Abort { code, .. })
-                    if config::refused_by_design(code) && !stop_on_error =>
-                {
-                    outcome.skipped += 1;
-                    report(&ApplyStep::Skipped {
-                        addr: w.addr,
-                        value,
-                        why: format!("the node refuses it: {code}"),
-                    });
-                    continue;
-                }
-                Err(err @ ToolError::Abort { .. }) => {
-                    report(&ApplyStep::Refused {
-                        addr: w.addr,
-                        value,
-                        error: err.to_string(),
-                    });
-                    if stop_on_error {
-                        return Err(err);
-                    }
-                    outcome.refused += 1;
-                    if matches!(err, ToolError::Abort { code, .. } if code.code() == 0x0800_0022) {
-                        outcome.refused_in_state += 1;
-                    }
-                    continue;
-                }
-                Err(err) => return Err(err),
-            }
-            if w.step.is_some() {
-                report(&ApplyStep::Written {
-                    addr: w.addr,
-                    value,
-                    step: w.step,
-                });
-                continue;
-            }
-            outcome.written += 1;
-            match self.read_raw(node, w.addr) {
-                Ok(b) if b == w.bytes => report(&ApplyStep::Written {
-                    addr: w.addr,
-                    value,
-                    step: None,
-                }),
-                Ok(b) => {
-                    outcome.differences += 1;
-                    report(&ApplyStep::Differs {
-                        addr: w.addr,
-                        value,
-                        read_back: show(w.addr, &b),
-                    });
-                }
-                // A write-only entry cannot be read back: written, not verified.
-                Err(ToolError::Abort { .. }) => report(&ApplyStep::Written {
-                    addr: w.addr,
-                    value,
-                    step: None,
-                }),
-                Err(err) => return Err(err),
-            }
+            self.apply_write(node, dict, &w, stop_on_error, &mut outcome, &mut report)?;
         }
         Ok(outcome)
+    }
+}
+
+impl SdoCommands<'_> {
+    /// One write of [`SdoCommands::apply`], reported and counted in `outcome`: skipped when the
+    /// node refuses the entry as such, refused (an error with `stop_on_error`), or written and read
+    /// back.
+    fn apply_write(
+        &mut self,
+        node: u8,
+        dict: &Dictionary,
+        w: &config::Write,
+        stop_on_error: bool,
+        outcome: &mut ApplyOutcome,
+        report: &mut dyn FnMut(&ApplyStep),
+    ) -> Result<(), ToolError> {
+        let value = shown(dict, w.addr, &w.bytes);
+        match self.sdo.write_bytes(node, w.addr, &w.bytes) {
+            Ok(()) => {}
+            Err(ToolError::Abort { code, .. })
+                if config::refused_by_design(code) && !stop_on_error =>
+            {
+                outcome.skipped += 1;
+                report(&ApplyStep::Skipped {
+                    addr: w.addr,
+                    value,
+                    why: format!("the node refuses it: {code}"),
+                });
+                return Ok(());
+            }
+            Err(err @ ToolError::Abort { .. }) => {
+                report(&ApplyStep::Refused {
+                    addr: w.addr,
+                    value,
+                    error: err.to_string(),
+                });
+                if stop_on_error {
+                    return Err(err);
+                }
+                outcome.refused += 1;
+                if matches!(err, ToolError::Abort { code, .. } if code.code() == 0x0800_0022) {
+                    outcome.refused_in_state += 1;
+                }
+                return Ok(());
+            }
+            Err(err) => return Err(err),
+        }
+        let step = self.read_back(node, dict, w, value, outcome)?;
+        report(&step);
+        Ok(())
+    }
+
+    /// The step of a write done: a procedure's step as it is; a value read back, equal or not (a
+    /// write-only entry, which cannot be read back, is written, not verified).
+    fn read_back(
+        &mut self,
+        node: u8,
+        dict: &Dictionary,
+        w: &config::Write,
+        value: String,
+        outcome: &mut ApplyOutcome,
+    ) -> Result<ApplyStep, ToolError> {
+        if w.step.is_none() {
+            outcome.written += 1;
+        }
+        let written = |value| ApplyStep::Written {
+            addr: w.addr,
+            value,
+            step: w.step,
+        };
+        if w.step.is_some() {
+            return Ok(written(value));
+        }
+        match self.read_raw(node, w.addr) {
+            Ok(b) if b == w.bytes => Ok(written(value)),
+            Ok(b) => {
+                outcome.differences += 1;
+                Ok(ApplyStep::Differs {
+                    addr: w.addr,
+                    value,
+                    read_back: shown(dict, w.addr, &b),
+                })
+            }
+            Err(ToolError::Abort { .. }) => Ok(written(value)),
+            Err(err) => Err(err),
+        }
+    }
+}
+
+/// `bytes` of `addr` as a value of its type in `dict`, else as bytes.
+fn shown(dict: &Dictionary, addr: Address, bytes: &[u8]) -> String {
+    match dict.entry(addr.index, addr.sub) {
+        Ok(e) => Value::decode(e.data_type, bytes)
+            .map(|v| TypeCode::of(e.data_type).format(&v))
+            .unwrap_or_else(|_| format!("{bytes:02X?}")),
+        Err(_) => format!("{bytes:02X?}"),
     }
 }
 

@@ -223,11 +223,10 @@ mod tests {
         e.to_string()
     }
 
-    /// Each mistake's message, as the user sees it (README and scripts compare them).
+    /// Each mistake's message is the one the user sees (README and scripts compare them): those
+    /// of nodes and NMT commands.
     #[test]
-    fn messages() {
-        let addr = Address::new(0x2000, 0);
-        let io = std::io::Error::other;
+    fn node_and_command_messages() {
         assert_eq!(text(Node { node: 0 }), "node 0 is not 1 to 127");
         assert_eq!(
             text(NmtNode { node: 200 }),
@@ -254,6 +253,12 @@ mod tests {
                 format!("slave position 3 is not 1 to {count} (the chain on veth0 has {slaves})")
             );
         }
+    }
+
+    /// The messages of mistakes in an object, a type or a value.
+    #[test]
+    fn object_type_and_value_messages() {
+        let addr = Address::new(0x2000, 0);
         assert_eq!(
             text(NameWithoutDescription { text: "foo".into() }),
             "object \"foo\" is not INDEX:SUB (e.g. 0x1018:01); names need --od"
@@ -299,6 +304,12 @@ mod tests {
                  VALUE; {data_type} as TYPE)"
             )
         );
+    }
+
+    /// The messages of mistakes in files, options and where commands are run.
+    #[test]
+    fn file_and_option_messages() {
+        let io = std::io::Error::other;
         assert_eq!(text(WriteArguments), "write NODE OBJECT [TYPE] VALUE");
         assert_eq!(
             text(NoDevice {
