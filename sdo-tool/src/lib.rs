@@ -14,6 +14,11 @@
 //! quotes: `"X67 node"`); `os`/`hex`/`d` take hex bytes (`01 02 0A` or `01020A`). With a dictionary the
 //! type may be left out, and a value that the dictionary refuses (type, length, limits, access) is
 //! refused before anything is sent.
+//!
+//! The command line is [`cli`] (the global options, the parser and the dispatch) and [`cmd`] (a
+//! module per command family, each with its arguments and what it does); [`UsageError`] names what
+//! is wrong in a command's words; [`watch`] puts the bus's frames into words for `watch` and
+//! `decode`; [`link`] is where the tool takes what it needs from the CAN and EtherCAT crates.
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
