@@ -284,7 +284,7 @@ const PROBE_INDEX: u8 = 0xE5;
 /// the frames of another master on the same interface neither disturb it nor are disturbed: the
 /// read-only look at a chain (`slaves`, `states`, the check before a session).
 struct Probe {
-    socket: ethercat_slave::raw::RawSocket,
+    socket: crate::link::RawSocket,
     buf: Vec<u8>,
 }
 
@@ -296,7 +296,7 @@ const BRD: u8 = 0x07;
 impl Probe {
     fn open(interface: &str) -> Option<Probe> {
         Some(Probe {
-            socket: ethercat_slave::raw::RawSocket::open(interface).ok()?,
+            socket: crate::link::RawSocket::open(interface).ok()?,
             buf: vec![0u8; 2048],
         })
     }
@@ -964,11 +964,12 @@ impl SdoAccess for EthercatSession {
         if (1..=n).contains(&usize::from(node)) {
             Ok(())
         } else {
-            Err(ToolError::Usage(format!(
-                "slave position {node} is not 1 to {n} (the chain on {} has {n} slave{})",
-                self.interface,
-                if n == 1 { "" } else { "s" }
-            )))
+            Err(crate::UsageError::SlavePosition {
+                position: node,
+                count: n,
+                interface: self.interface.clone(),
+            }
+            .into())
         }
     }
 

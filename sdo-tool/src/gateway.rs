@@ -135,33 +135,7 @@ impl Gateway {
         };
         match (cmd, args) {
             ("help", _) => HELP.to_string(),
-            ("set", ["network", n]) => match number(n) {
-                Some(1) => "OK".into(),
-                Some(_) => gateway_error(106),
-                None => gateway_error(101),
-            },
-            ("set", ["node", n]) => match number(n) {
-                Some(n @ 1..=127) => {
-                    self.node = Some(n as u8);
-                    "OK".into()
-                }
-                Some(_) => gateway_error(107),
-                None => gateway_error(101),
-            },
-            ("set", ["sdo_timeout", ms]) => match number(ms) {
-                Some(ms) if ms > 0 => {
-                    self.tool.set_timeout(Duration::from_millis(u64::from(ms)));
-                    "OK".into()
-                }
-                _ => gateway_error(101),
-            },
-            ("set", ["sdo_block", b]) => match *b {
-                "0" | "1" => {
-                    self.tool.sdo.block = *b == "1";
-                    "OK".into()
-                }
-                _ => gateway_error(101),
-            },
+            ("set", [what, value]) => self.set(what, value),
             ("r" | "read", [idx, sub, ty @ ..]) if ty.len() <= 1 => {
                 let Some(node) = node else {
                     return gateway_error(105);
@@ -193,6 +167,41 @@ impl Gateway {
             ("reset", ["comm" | "communication"]) => self.nmt(node, Some(NmtCommand::ResetComm)),
             ("r" | "read" | "w" | "write" | "set" | "reset", _) => gateway_error(101),
             _ => gateway_error(100),
+        }
+    }
+
+    /// `set WHAT VALUE`: the network (1 only), the default node, the SDO timeout in ms, block
+    /// transfers on (1) or off (0).
+    fn set(&mut self, what: &str, value: &str) -> String {
+        match what {
+            "network" => match number(value) {
+                Some(1) => "OK".into(),
+                Some(_) => gateway_error(106),
+                None => gateway_error(101),
+            },
+            "node" => match number(value) {
+                Some(n @ 1..=127) => {
+                    self.node = Some(n as u8);
+                    "OK".into()
+                }
+                Some(_) => gateway_error(107),
+                None => gateway_error(101),
+            },
+            "sdo_timeout" => match number(value) {
+                Some(ms) if ms > 0 => {
+                    self.tool.set_timeout(Duration::from_millis(u64::from(ms)));
+                    "OK".into()
+                }
+                _ => gateway_error(101),
+            },
+            "sdo_block" => match value {
+                "0" | "1" => {
+                    self.tool.sdo.block = value == "1";
+                    "OK".into()
+                }
+                _ => gateway_error(101),
+            },
+            _ => gateway_error(101),
         }
     }
 

@@ -14,15 +14,25 @@
 //! quotes: `"X67 node"`); `os`/`hex`/`d` take hex bytes (`01 02 0A` or `01020A`). With a dictionary the
 //! type may be left out, and a value that the dictionary refuses (type, length, limits, access) is
 //! refused before anything is sent.
+//!
+//! The command line is [`cli`] (the global options, the parser and the dispatch) and [`cmd`] (a
+//! module per command family, each with its arguments and what it does); [`UsageError`] names what
+//! is wrong in a command's words; [`watch`] puts the bus's frames into words for `watch` and
+//! `decode`; [`link`] is where the tool takes what it needs from the CAN and EtherCAT crates.
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub mod cli;
+pub mod cmd;
 pub mod config;
 pub mod ethercat;
 pub mod gateway;
+pub mod link;
+pub mod usage;
+
+pub use usage::UsageError;
 pub mod watch;
 
 use od::abort::AbortCode;
@@ -33,8 +43,7 @@ use od::sdo::session::{SdoSession, SdoTransport, SessionError};
 use od::types::DataType;
 use od::value::Value;
 
-use socketcan_node::transport::{BusError, BusEvent, CanBus};
-use socketcan_node::CanFrame;
+use crate::link::{BusError, BusEvent, CanBus, CanFrame};
 
 /// A CiA 309-3 data-type mnemonic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -181,9 +190,9 @@ pub enum ToolError {
     /// The bus failed.
     #[error(transparent)]
     Bus(#[from] BusError),
-    /// The command's words are wrong (object, type, value, node).
-    #[error("{0}")]
-    Usage(String),
+    /// The command's words are wrong (object, type, value, node, a file, an option).
+    #[error(transparent)]
+    Usage(#[from] UsageError),
     /// Anything else of the SDO layer (a client refusal, the data source or sink).
     #[error(transparent)]
     Session(SessionError<BusError>),
@@ -514,7 +523,7 @@ impl SdoAccess for CanSdo<'_> {
         if (1..=127).contains(&node) {
             Ok(())
         } else {
-            Err(ToolError::Usage(format!("node {node} is not 1 to 127")))
+            Err(UsageError::Node { node }.into())
         }
     }
 
@@ -546,12 +555,17 @@ pub fn object(od: Option<&Dictionary>, text: &str) -> Result<Address, ToolError>
         return Ok(a);
     }
     match od {
-        Some(od) => od
-            .lookup(text)
-            .map_err(|e| ToolError::Usage(format!("object {text:?}: {e}"))),
-        None => Err(ToolError::Usage(format!(
-            "object {text:?} is not INDEX:SUB (e.g. 0x1018:01); names need --od"
-        ))),
+        Some(od) => od.lookup(text).map_err(|error| {
+            UsageError::UnknownName {
+                text: text.to_string(),
+                error,
+            }
+            .into()
+        }),
+        None => Err(UsageError::NameWithoutDescription {
+            text: text.to_string(),
+        }
+        .into()),
     }
 }
 
@@ -595,22 +609,24 @@ impl<'a> SdoCommands<'a> {
     ) -> Result<TypeCode, ToolError> {
         if let Some(t) = given {
             return TypeCode::parse(t).ok_or_else(|| {
-                ToolError::Usage(format!(
-                    "type {t:?} is not a CiA 309-3 type (b, i8–i64, u8–u64, x8–x64, r32, r64, vs, os, us, d, hex)"
-                ))
+                UsageError::UnknownType {
+                    text: t.to_string(),
+                }
+                .into()
             });
         }
         let Some(od) = self.od else {
             return match self.sdo.entry_type(node, addr)? {
                 Some(t) => Ok(TypeCode::of(t)),
-                None => Err(ToolError::Usage(
-                    "give the type (e.g. u16), or a description with --od".into(),
-                )),
+                None => Err(UsageError::TypeNeeded.into()),
             };
         };
         let e = od
             .entry(addr.index, addr.sub)
-            .map_err(|e| ToolError::Usage(format!("{addr}: {e}")))?;
+            .map_err(|error| UsageError::NotInDescription {
+                address: addr,
+                error,
+            })?;
         Ok(TypeCode::of(e.data_type))
     }
 
@@ -627,13 +643,13 @@ impl<'a> SdoCommands<'a> {
             !kind.readable()
         };
         if refused {
-            return Err(ToolError::Usage(format!(
-                "{addr} ({}) is {} ({}) in the description: not {}",
-                e.name,
-                if write { "read-only" } else { "write-only" },
-                kind.as_str(),
-                if write { "written" } else { "read" }
-            )));
+            return Err(UsageError::Access {
+                address: addr,
+                name: e.name.clone(),
+                access: kind.as_str(),
+                write,
+            }
+            .into());
         }
         Ok(())
     }
@@ -657,10 +673,12 @@ impl<'a> SdoCommands<'a> {
         let v = match self.sdo.read_value(node, addr, code.data_type) {
             Ok(v) => v,
             // The bytes came; the type asked for does not fit them: the user's type is wrong.
-            Err(ToolError::Value(e) | ToolError::Session(SessionError::Value(e))) => {
-                return Err(ToolError::Usage(format!(
-                    "{addr}: {e}: the entry is of another type (read it as its own type, or as hex)"
-                )))
+            Err(ToolError::Value(error) | ToolError::Session(SessionError::Value(error))) => {
+                return Err(UsageError::OtherType {
+                    address: addr,
+                    error,
+                }
+                .into())
             }
             Err(e) => return Err(e),
         };
@@ -680,7 +698,7 @@ impl<'a> SdoCommands<'a> {
         let addr = self.object(object)?;
         let code = self.type_for(node, addr, ty)?;
         // Every refusal of the value is `ADDR: why (not sent)`.
-        let refused = |why: String| ToolError::Usage(format!("{addr}: {why} (not sent)"));
+        let refused = |why: String| UsageError::ValueRefused { address: addr, why };
         let v = code.parse_value(value).map_err(refused)?;
         let bytes = v
             .encode(code.data_type)
@@ -705,7 +723,7 @@ impl<'a> SdoCommands<'a> {
                     }
                     other => other.to_string(),
                 };
-                return Err(refused(why));
+                return Err(refused(why).into());
             }
         }
         self.sdo.write_bytes(node, addr, &bytes)
@@ -775,12 +793,6 @@ impl<'a> SdoCommands<'a> {
     ) -> Result<ApplyOutcome, ToolError> {
         self.sdo.check_node(node)?;
         let dict = &dcf.dictionary;
-        let show = |addr: Address, bytes: &[u8]| match dict.entry(addr.index, addr.sub) {
-            Ok(e) => Value::decode(e.data_type, bytes)
-                .map(|v| TypeCode::of(e.data_type).format(&v))
-                .unwrap_or_else(|_| format!("{bytes:02X?}")),
-            Err(_) => format!("{bytes:02X?}"),
-        };
         let (writes, skipped) = config::plan(dict);
         let mut outcome = ApplyOutcome::default();
         for (addr, why) in skipped {
@@ -791,86 +803,121 @@ impl<'a> SdoCommands<'a> {
             outcome.skipped += 1;
             report(&ApplyStep::Skipped {
                 addr,
-                value: show(addr, &bytes),
+                value: shown(dict, addr, &bytes),
                 why: why.to_string(),
             });
         }
         for w in writes {
-            let value = show(w.addr, &w.bytes);
             if dry_run {
                 if w.step.is_none() {
                     outcome.written += 1;
                 }
                 report(&ApplyStep::WouldWrite {
                     addr: w.addr,
-                    value,
+                    value: shown(dict, w.addr, &w.bytes),
                     step: w.step,
                 });
                 continue;
             }
-            match self.sdo.write_bytes(node, w.addr, &w.bytes) {
-                Ok(()) => {}
-                Err(ToolError::Abort { code, .. })
-                    if config::refused_by_design(code) && !stop_on_error =>
-                {
-                    outcome.skipped += 1;
-                    report(&ApplyStep::Skipped {
-                        addr: w.addr,
-                        value,
-                        why: format!("the node refuses it: {code}"),
-                    });
-                    continue;
-                }
-                Err(err @ ToolError::Abort { .. }) => {
-                    report(&ApplyStep::Refused {
-                        addr: w.addr,
-                        value,
-                        error: err.to_string(),
-                    });
-                    if stop_on_error {
-                        return Err(err);
-                    }
-                    outcome.refused += 1;
-                    if matches!(err, ToolError::Abort { code, .. } if code.code() == 0x0800_0022) {
-                        outcome.refused_in_state += 1;
-                    }
-                    continue;
-                }
-                Err(err) => return Err(err),
-            }
-            if w.step.is_some() {
-                report(&ApplyStep::Written {
-                    addr: w.addr,
-                    value,
-                    step: w.step,
-                });
-                continue;
-            }
-            outcome.written += 1;
-            match self.read_raw(node, w.addr) {
-                Ok(b) if b == w.bytes => report(&ApplyStep::Written {
-                    addr: w.addr,
-                    value,
-                    step: None,
-                }),
-                Ok(b) => {
-                    outcome.differences += 1;
-                    report(&ApplyStep::Differs {
-                        addr: w.addr,
-                        value,
-                        read_back: show(w.addr, &b),
-                    });
-                }
-                // A write-only entry cannot be read back: written, not verified.
-                Err(ToolError::Abort { .. }) => report(&ApplyStep::Written {
-                    addr: w.addr,
-                    value,
-                    step: None,
-                }),
-                Err(err) => return Err(err),
-            }
+            self.apply_write(node, dict, &w, stop_on_error, &mut outcome, &mut report)?;
         }
         Ok(outcome)
+    }
+}
+
+impl SdoCommands<'_> {
+    /// One write of [`SdoCommands::apply`], reported and counted in `outcome`: skipped when the
+    /// node refuses the entry as such, refused (an error with `stop_on_error`), or written and read
+    /// back.
+    fn apply_write(
+        &mut self,
+        node: u8,
+        dict: &Dictionary,
+        w: &config::Write,
+        stop_on_error: bool,
+        outcome: &mut ApplyOutcome,
+        report: &mut dyn FnMut(&ApplyStep),
+    ) -> Result<(), ToolError> {
+        let value = shown(dict, w.addr, &w.bytes);
+        match self.sdo.write_bytes(node, w.addr, &w.bytes) {
+            Ok(()) => {}
+            Err(ToolError::Abort { code, .. })
+                if config::refused_by_design(code) && !stop_on_error =>
+            {
+                outcome.skipped += 1;
+                report(&ApplyStep::Skipped {
+                    addr: w.addr,
+                    value,
+                    why: format!("the node refuses it: {code}"),
+                });
+                return Ok(());
+            }
+            Err(err @ ToolError::Abort { .. }) => {
+                report(&ApplyStep::Refused {
+                    addr: w.addr,
+                    value,
+                    error: err.to_string(),
+                });
+                if stop_on_error {
+                    return Err(err);
+                }
+                outcome.refused += 1;
+                if matches!(err, ToolError::Abort { code, .. } if code.code() == 0x0800_0022) {
+                    outcome.refused_in_state += 1;
+                }
+                return Ok(());
+            }
+            Err(err) => return Err(err),
+        }
+        let step = self.read_back(node, dict, w, value, outcome)?;
+        report(&step);
+        Ok(())
+    }
+
+    /// The step of a write done: a procedure's step as it is; a value read back, equal or not (a
+    /// write-only entry, which cannot be read back, is written, not verified).
+    fn read_back(
+        &mut self,
+        node: u8,
+        dict: &Dictionary,
+        w: &config::Write,
+        value: String,
+        outcome: &mut ApplyOutcome,
+    ) -> Result<ApplyStep, ToolError> {
+        if w.step.is_none() {
+            outcome.written += 1;
+        }
+        let written = |value| ApplyStep::Written {
+            addr: w.addr,
+            value,
+            step: w.step,
+        };
+        if w.step.is_some() {
+            return Ok(written(value));
+        }
+        match self.read_raw(node, w.addr) {
+            Ok(b) if b == w.bytes => Ok(written(value)),
+            Ok(b) => {
+                outcome.differences += 1;
+                Ok(ApplyStep::Differs {
+                    addr: w.addr,
+                    value,
+                    read_back: shown(dict, w.addr, &b),
+                })
+            }
+            Err(ToolError::Abort { .. }) => Ok(written(value)),
+            Err(err) => Err(err),
+        }
+    }
+}
+
+/// `bytes` of `addr` as a value of its type in `dict`, else as bytes.
+fn shown(dict: &Dictionary, addr: Address, bytes: &[u8]) -> String {
+    match dict.entry(addr.index, addr.sub) {
+        Ok(e) => Value::decode(e.data_type, bytes)
+            .map(|v| TypeCode::of(e.data_type).format(&v))
+            .unwrap_or_else(|_| format!("{bytes:02X?}")),
+        Err(_) => format!("{bytes:02X?}"),
     }
 }
 
@@ -928,9 +975,7 @@ impl Tool {
     /// `nmt COMMAND NODE|all` (node 0 = all).
     pub fn nmt(&mut self, command: NmtCommand, node: u8) -> Result<(), ToolError> {
         if node > 127 {
-            return Err(ToolError::Usage(format!(
-                "node {node} is not 1 to 127 or all"
-            )));
+            return Err(UsageError::NmtNode { node }.into());
         }
         let f = CanFrame::new(0x000, &[command.cs(), node]).expect("two bytes");
         self.bus.send(&f)?;
@@ -940,9 +985,9 @@ impl Tool {
     /// `save NODE` (0x1010:01 = "save") or `restore NODE` (0x1011:01 = "load").
     pub fn store(&mut self, node: u8, restore: bool) -> Result<(), ToolError> {
         let (object, signature) = if restore {
-            ("0x1011:01", socketcan_node::node::LOAD_SIGNATURE)
+            ("0x1011:01", crate::link::LOAD_SIGNATURE)
         } else {
-            ("0x1010:01", socketcan_node::node::SAVE_SIGNATURE)
+            ("0x1010:01", crate::link::SAVE_SIGNATURE)
         };
         self.write(node, object, Some("u32"), &signature.to_string())
     }

@@ -1,0 +1,82 @@
+//! The commands of `sdo-tool`, one module per family: each has its arguments (a clap struct) and
+//! what it does. [`crate::cli`] parses the command line and hands each command to its module.
+//!
+//! - [`read`], [`mod@write`], [`dump`], [`apply`]: SDO transfers, on CAN or on EtherCAT ([`sdo`]);
+//! - [`transfer`]: `upload` and `download` of a file, with a progress bar;
+//! - [`store`]: `save` and `restore`; [`nmt`]; [`scan`]; [`gateway`]: the CiA 309-3 gateway;
+//! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
+//! - [`list`]: the entries of a description; [`ethercat`]: `slaves`, `states` and `sdos`.
+
+use std::io::Write;
+use std::path::Path;
+
+use crate::{ToolError, UsageError};
+
+pub mod apply;
+pub mod decode;
+pub mod dump;
+pub mod ethercat;
+pub mod gateway;
+pub mod list;
+pub mod nmt;
+pub mod read;
+pub mod scan;
+pub mod sdo;
+pub mod store;
+pub mod transfer;
+pub mod watch;
+pub mod write;
+
+/// What every command is run with beyond its own arguments: the output's form and the description.
+#[derive(Clone, Copy)]
+pub struct Context<'a> {
+    /// `--json`: one JSON object per result.
+    pub json: bool,
+    /// The `--od` description, loaded.
+    pub desc: Option<&'a od::DeviceDescription>,
+    /// The `--od` file.
+    pub od_path: Option<&'a Path>,
+}
+
+/// Writes `text`, or with `--json` the JSON object `value`, as one line.
+pub fn emit(
+    out: &mut dyn Write,
+    json: bool,
+    text: impl std::fmt::Display,
+    value: serde_json::Value,
+) -> Result<(), ToolError> {
+    let r = if json {
+        writeln!(out, "{value}")
+    } else {
+        writeln!(out, "{text}")
+    };
+    r.map_err(ToolError::Output)
+}
+
+/// A file that cannot be looked at, opened, created or written: a usage error naming it.
+pub fn file_error(path: &Path, error: std::io::Error) -> UsageError {
+    UsageError::File {
+        path: path.to_path_buf(),
+        error,
+    }
+}
+
+/// The first device of a description file; `what` says where it was given (`--od`, `apply`).
+pub fn load_description(
+    path: &Path,
+    what: &'static str,
+) -> Result<od::DeviceDescription, ToolError> {
+    let (_, mut devices) = od::load::load(path).map_err(|error| UsageError::Description {
+        what,
+        path: path.to_path_buf(),
+        error,
+    })?;
+    if devices.is_empty() {
+        return Err(UsageError::NoDevice {
+            what,
+            path: path.to_path_buf(),
+        }
+        .into());
+    }
+    Ok(devices.swap_remove(0))
+}

@@ -1,0 +1,370 @@
+//! [`UsageError`]: what is wrong with the words of a command (exit code 2), one variant for each
+//! kind of mistake, each with the message the user sees.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+
+use od::dict::Address;
+
+/// The command's words are wrong: the node, the object, the type, the value, a file, an option, or
+/// a command where it is not available.
+#[derive(Debug, thiserror::Error)]
+pub enum UsageError {
+    /// The command line does not parse: the parser's own message.
+    #[error("{0}")]
+    CommandLine(String),
+    /// A node-ID outside 1–127.
+    #[error("node {node} is not 1 to 127")]
+    Node {
+        /// The node-ID given.
+        node: u8,
+    },
+    /// `nmt`: a node-ID outside 1–127 (0 is all nodes).
+    #[error("node {node} is not 1 to 127 or all")]
+    NmtNode {
+        /// The node-ID given.
+        node: u8,
+    },
+    /// `nmt`: a node that is neither a node-ID nor `all`.
+    #[error("node {text:?} is not 1 to 127 or all")]
+    NmtNodeText {
+        /// The node as given.
+        text: String,
+    },
+    /// `nmt`: a command that is none of start, stop, preop, reset, reset-comm.
+    #[error("NMT command {command:?} is not start, stop, preop, reset or reset-comm")]
+    NmtCommand {
+        /// The command as given.
+        command: String,
+    },
+    /// With `--ethercat`: a slave position beyond the chain.
+    #[error(
+        "slave position {position} is not 1 to {count} (the chain on {interface} has {count} slave{})",
+        if *count == 1 { "" } else { "s" }
+    )]
+    SlavePosition {
+        /// The position given.
+        position: u8,
+        /// The slaves of the chain.
+        count: usize,
+        /// The chain's network interface.
+        interface: String,
+    },
+    /// OBJECT is a name the description does not give to one entry.
+    #[error("object {text:?}: {error}")]
+    UnknownName {
+        /// OBJECT as given.
+        text: String,
+        /// What the description says of the name.
+        error: od::LookupError,
+    },
+    /// OBJECT is not `INDEX:SUB`, and names need a description.
+    #[error("object {text:?} is not INDEX:SUB (e.g. 0x1018:01); names need --od")]
+    NameWithoutDescription {
+        /// OBJECT as given.
+        text: String,
+    },
+    /// TYPE is no CiA 309-3 type.
+    #[error(
+        "type {text:?} is not a CiA 309-3 type (b, i8–i64, u8–u64, x8–x64, r32, r64, vs, os, us, d, hex)"
+    )]
+    UnknownType {
+        /// TYPE as given.
+        text: String,
+    },
+    /// No type given, no description, and the node does not describe the entry.
+    #[error("give the type (e.g. u16), or a description with --od")]
+    TypeNeeded,
+    /// The entry is not in the description.
+    #[error("{address}: {error}")]
+    NotInDescription {
+        /// The entry.
+        address: Address,
+        /// What the description says of it.
+        error: od::OdError,
+    },
+    /// The description's access refuses the transfer: a write-only entry is not read, a read-only
+    /// one not written.
+    #[error(
+        "{address} ({name}) is {} ({access}) in the description: not {}",
+        if *write { "read-only" } else { "write-only" },
+        if *write { "written" } else { "read" }
+    )]
+    Access {
+        /// The entry.
+        address: Address,
+        /// Its name.
+        name: String,
+        /// Its access in the description (`ro`, `wo`, `const`…).
+        access: &'static str,
+        /// A write was refused (else a read).
+        write: bool,
+    },
+    /// The bytes read are no value of the type asked for.
+    #[error(
+        "{address}: {error}: the entry is of another type (read it as its own type, or as hex)"
+    )]
+    OtherType {
+        /// The entry.
+        address: Address,
+        /// Why the bytes are no such value.
+        error: od::ValueError,
+    },
+    /// The value is refused before anything is sent: no value of the type, or one the description
+    /// refuses (length, limits).
+    #[error("{address}: {why} (not sent)")]
+    ValueRefused {
+        /// The entry.
+        address: Address,
+        /// Why.
+        why: String,
+    },
+    /// `write` with a type and no value after it.
+    #[error(
+        "{address}: the value is missing after the type {text} (write NODE OBJECT [TYPE] VALUE; {data_type} as TYPE)"
+    )]
+    ValueMissing {
+        /// The entry.
+        address: Address,
+        /// The type as given, in the value's place.
+        text: String,
+        /// The type it names.
+        data_type: od::DataType,
+    },
+    /// `write` without `[TYPE] VALUE`.
+    #[error("write NODE OBJECT [TYPE] VALUE")]
+    WriteArguments,
+    /// A description file (`--od`, `apply`'s DCF) that does not load.
+    #[error("{what} {}: {error}", path.display())]
+    Description {
+        /// Where it was given: `--od` or `apply`.
+        what: &'static str,
+        /// The file.
+        path: PathBuf,
+        /// Why it does not load.
+        error: od::LoadError,
+    },
+    /// A description file without a device.
+    #[error("{what} {}: no device in it", path.display())]
+    NoDevice {
+        /// Where it was given: `--od` or `apply`.
+        what: &'static str,
+        /// The file.
+        path: PathBuf,
+    },
+    /// `list` without `--od`.
+    #[error("list needs a description: --od FILE")]
+    ListNeedsDescription,
+    /// `dump` without `--od`.
+    #[error("dump needs the node's description: --od FILE")]
+    DumpNeedsDescription,
+    /// A file that cannot be looked at, opened, created or written.
+    #[error("{}: {error}", path.display())]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// A directory where a file is read.
+    #[error("{}: a directory", path.display())]
+    Directory {
+        /// The directory.
+        path: PathBuf,
+    },
+    /// `download`: a file that is no regular file (a FIFO, a device).
+    #[error("{}: not a regular file", path.display())]
+    NotRegularFile {
+        /// The file.
+        path: PathBuf,
+    },
+    /// `decode`: the log cannot be read on.
+    #[error("{name}: {error}")]
+    Log {
+        /// The log's path, or `standard input`.
+        name: String,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// `--bus` names a socketcand server to be, not a bus to join.
+    #[error("sdo-tool joins a bus: socketcan:IFACE or socketcand://HOST:PORT/CHANNEL")]
+    ListeningBus,
+    /// `gateway --listen`: the address cannot be listened on.
+    #[error("--listen {address}: {error}")]
+    Listen {
+        /// The address.
+        address: SocketAddr,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// An EtherCAT command without `--ethercat`.
+    #[error("`{command}` is an EtherCAT command: give --ethercat IFACE")]
+    EthercatOnly {
+        /// The command's name.
+        command: &'static str,
+    },
+    /// A CANopen command with `--ethercat`.
+    #[error(
+        "`{command}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, \
+         apply, slaves, states and sdos are available"
+    )]
+    CanopenOnly {
+        /// The command's name.
+        command: &'static str,
+    },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::UsageError::{self, *};
+    use od::dict::Address;
+
+    fn text(e: UsageError) -> String {
+        e.to_string()
+    }
+
+    /// Each mistake's message is the one the user sees (README and scripts compare them): those
+    /// of nodes and NMT commands.
+    #[test]
+    fn node_and_command_messages() {
+        assert_eq!(text(Node { node: 0 }), "node 0 is not 1 to 127");
+        assert_eq!(
+            text(NmtNode { node: 200 }),
+            "node 200 is not 1 to 127 or all"
+        );
+        assert_eq!(
+            text(NmtNodeText { text: "x".into() }),
+            "node \"x\" is not 1 to 127 or all"
+        );
+        assert_eq!(
+            text(NmtCommand {
+                command: "go".into()
+            }),
+            "NMT command \"go\" is not start, stop, preop, reset or reset-comm"
+        );
+        for (count, slaves) in [(1, "1 slave"), (2, "2 slaves")] {
+            let e = SlavePosition {
+                position: 3,
+                count,
+                interface: "veth0".into(),
+            };
+            assert_eq!(
+                text(e),
+                format!("slave position 3 is not 1 to {count} (the chain on veth0 has {slaves})")
+            );
+        }
+    }
+
+    /// The messages of mistakes in an object, a type or a value.
+    #[test]
+    fn object_type_and_value_messages() {
+        let addr = Address::new(0x2000, 0);
+        assert_eq!(
+            text(NameWithoutDescription { text: "foo".into() }),
+            "object \"foo\" is not INDEX:SUB (e.g. 0x1018:01); names need --od"
+        );
+        assert_eq!(
+            text(UnknownType { text: "u7".into() }),
+            "type \"u7\" is not a CiA 309-3 type (b, i8–i64, u8–u64, x8–x64, r32, r64, vs, os, us, d, hex)"
+        );
+        assert_eq!(
+            text(TypeNeeded),
+            "give the type (e.g. u16), or a description with --od"
+        );
+        let access = |write, access| Access {
+            address: addr,
+            name: "Flags".into(),
+            access,
+            write,
+        };
+        assert_eq!(
+            text(access(true, "ro")),
+            format!("{addr} (Flags) is read-only (ro) in the description: not written")
+        );
+        assert_eq!(
+            text(access(false, "wo")),
+            format!("{addr} (Flags) is write-only (wo) in the description: not read")
+        );
+        assert_eq!(
+            text(ValueRefused {
+                address: addr,
+                why: "too long".into()
+            }),
+            format!("{addr}: too long (not sent)")
+        );
+        let data_type = od::DataType::Unsigned16;
+        assert_eq!(
+            text(ValueMissing {
+                address: addr,
+                text: "u16".into(),
+                data_type
+            }),
+            format!(
+                "{addr}: the value is missing after the type u16 (write NODE OBJECT [TYPE] \
+                 VALUE; {data_type} as TYPE)"
+            )
+        );
+    }
+
+    /// The messages of mistakes in files, options and where commands are run.
+    #[test]
+    fn file_and_option_messages() {
+        let io = std::io::Error::other;
+        assert_eq!(text(WriteArguments), "write NODE OBJECT [TYPE] VALUE");
+        assert_eq!(
+            text(NoDevice {
+                what: "--od",
+                path: "a.eds".into()
+            }),
+            "--od a.eds: no device in it"
+        );
+        assert_eq!(
+            text(ListNeedsDescription),
+            "list needs a description: --od FILE"
+        );
+        assert_eq!(
+            text(DumpNeedsDescription),
+            "dump needs the node's description: --od FILE"
+        );
+        assert_eq!(
+            text(File {
+                path: "a.bin".into(),
+                error: io("gone")
+            }),
+            "a.bin: gone"
+        );
+        assert_eq!(text(Directory { path: "d".into() }), "d: a directory");
+        assert_eq!(
+            text(NotRegularFile { path: "f".into() }),
+            "f: not a regular file"
+        );
+        assert_eq!(
+            text(Log {
+                name: "standard input".into(),
+                error: io("bad")
+            }),
+            "standard input: bad"
+        );
+        assert_eq!(
+            text(ListeningBus),
+            "sdo-tool joins a bus: socketcan:IFACE or socketcand://HOST:PORT/CHANNEL"
+        );
+        assert_eq!(
+            text(Listen {
+                address: "127.0.0.1:1".parse().unwrap(),
+                error: io("busy")
+            }),
+            "--listen 127.0.0.1:1: busy"
+        );
+        assert_eq!(
+            text(EthercatOnly { command: "slaves" }),
+            "`slaves` is an EtherCAT command: give --ethercat IFACE"
+        );
+        assert_eq!(
+            text(CanopenOnly { command: "nmt" }),
+            "`nmt` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, \
+             slaves, states and sdos are available"
+        );
+        assert_eq!(text(CommandLine("bad".into())), "bad");
+    }
+}
