@@ -79,7 +79,7 @@ impl std::fmt::Display for Command {
 }
 
 /// The EtherType of EtherCAT.
-pub const ETHERTYPE: u16 = 0x88A4;
+pub use ecat_link::ETHERTYPE;
 /// Ethernet header bytes.
 pub const ETH_HEADER: usize = 14;
 /// Datagram header bytes.

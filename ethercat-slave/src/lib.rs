@@ -24,7 +24,7 @@ pub mod generic;
 pub mod master;
 pub mod node_cli;
 pub mod node_list;
-pub mod raw;
+pub use ecat_link::raw;
 pub mod runtime;
 pub mod smd;
 pub mod unit;

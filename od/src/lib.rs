@@ -58,6 +58,7 @@ pub mod description {
 }
 
 pub mod coe;
+pub mod pdo;
 pub mod sdo;
 
 pub use description::{

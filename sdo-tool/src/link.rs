@@ -1,13 +1,15 @@
-//! What the tool takes from the crates that reach the networks: the CAN side (`socketcan-node`:
-//! frames, buses, the node's constants) and the EtherCAT side (`ethercat-slave`: the raw socket).
-//! The rest of the tool names these through this module only.
+//! What the tool takes from the links and the dictionary crate: the CAN side (`can-link`: frames
+//! and buses), the EtherCAT side (`ecat-link`: the raw socket) and the CiA 301 constants and
+//! codes it decodes (`od`). The rest of the tool names these through this module only; the tool
+//! depends on no node and no emulator.
 
-pub use ethercat_slave::raw::RawSocket;
-pub use socketcan_node::node::pdo::{PdoConfig, RPDO_COMM, TPDO_COMM};
-pub use socketcan_node::node::{EmcyCode, LOAD_SIGNATURE, SAVE_SIGNATURE};
-pub use socketcan_node::transport::open as open_spec;
-pub use socketcan_node::transport::{
+pub use can_link::transport::open as open_spec;
+pub use can_link::transport::{
     BusError, BusEvent, BusSpec, CanBus, SocketCanBus, SocketcandClient, BUS_VARIABLE,
     SOCKETCAND_DEFAULT_PORT,
 };
-pub use socketcan_node::CanFrame;
+pub use can_link::CanFrame;
+pub use ecat_link::raw::RawSocket;
+pub use od::emcy::EmcyCode;
+pub use od::pdo::{PdoConfig, RPDO_COMM, TPDO_COMM};
+pub use od::sdo::{LOAD_SIGNATURE, SAVE_SIGNATURE};

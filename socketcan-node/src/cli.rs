@@ -156,6 +156,7 @@ pub fn connect_hint(spec: &BusSpec) -> String {
             "on SocketCAN {iface}; watch it with `candump {iface}`, reach it with --bus socketcan:{iface}"
         ),
         BusSpec::Socketcand { .. } => format!("joined the socketcand bus {spec}"),
+        _ => format!("on {spec}"),
     }
 }
 

@@ -212,9 +212,14 @@ fn serve<A: Device>(
         };
         let wait = next.map_or(longest, |t| t.saturating_duration_since(now).min(longest));
         match bus.recv(wait)? {
-            Some(BusEvent::Frame { frame, .. }) => {
+            Some(BusEvent::Frame {
+                frame, received, ..
+            }) => {
                 stats.received += 1;
-                let at = Instant::now();
+                // The instant the link took the frame, not when this thread woke up to it; never
+                // before the start of this wait, so the nodes' time runs forwards (a frame queued
+                // while the nodes were being served is taken as arriving then).
+                let at = received.max(now);
                 interest.refresh(nodes);
                 for &n in interest.takers(&frame) {
                     nodes[n].node.handle_frame(at, &frame);
@@ -225,7 +230,7 @@ fn serve<A: Device>(
                 stats.bus_errors += 1;
                 tracing::warn!(bus = %bus.describe(), "bus error: {text}");
             }
-            None => {}
+            Some(_) | None => {}
         }
         writer.collect(nodes, &mut touched);
         let now = Instant::now();

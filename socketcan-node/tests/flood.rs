@@ -142,7 +142,7 @@ fn heartbeat_and_sync_tpdo_keep_their_instants_under_an_sdo_and_random_frame_flo
     let window = SystemTime::now()..SystemTime::now() + Duration::from_secs(3);
     let mut next_sync = start;
     let mut take = |bus: &mut SocketcandClient, wait: Duration| {
-        if let Some(BusEvent::Frame { frame, at }) = bus.recv(wait).unwrap() {
+        if let Some(BusEvent::Frame { frame, at, .. }) = bus.recv(wait).unwrap() {
             match frame.cob_id() {
                 // Frames of the warm-up may still wait in the socket.
                 _ if !window.contains(&at) => {}

@@ -76,7 +76,8 @@ fn heartbeats_keep_their_period_while_a_slow_disk_saves() {
             Instant::now() < deadline,
             "{answers} of {SAVES} saves answered in 60 s"
         );
-        let Some(BusEvent::Frame { frame, at }) = master.recv(Duration::from_millis(50)).unwrap()
+        let Some(BusEvent::Frame { frame, at, .. }) =
+            master.recv(Duration::from_millis(50)).unwrap()
         else {
             continue;
         };

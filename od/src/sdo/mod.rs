@@ -25,3 +25,10 @@ pub use frame::{
 pub use server::{SdoServer, ServerConfig, ServerEvent};
 pub use session::{SdoSession, SdoTransport, SessionError};
 pub use store::{DownloadCapacity, ObjectStore};
+
+/// "save" as a little-endian UNSIGNED32: what a client writes to 0x1010 to store parameters
+/// (CiA 301 §7.5.2.13).
+pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
+/// "load" as a little-endian UNSIGNED32: what a client writes to 0x1011 to restore default
+/// parameters (CiA 301 §7.5.2.14).
+pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;

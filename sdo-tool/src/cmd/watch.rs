@@ -81,7 +81,7 @@ pub fn run(
         let event = tool.bus.recv(wait)?;
         let t = start.elapsed().as_secs_f64();
         let lines = match event {
-            Some(BusEvent::Frame { frame, at }) => {
+            Some(BusEvent::Frame { frame, at, .. }) => {
                 let taken = w.takes(&frame);
                 if let Some(l) = log.as_mut().filter(|_| taken) {
                     writeln!(l, "{}", crate::watch::candump(at, &iface, &frame)).map_err(io)?;

@@ -76,10 +76,7 @@ use pdo_runtime::TxState;
 use storage::StorageRequest;
 use time::{Clock, TimeOfDay};
 
-/// "save" as a little-endian UNSIGNED32 (0x1010).
-pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
-/// "load" as a little-endian UNSIGNED32 (0x1011).
-pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;
+pub use od::sdo::{LOAD_SIGNATURE, SAVE_SIGNATURE};
 
 /// The device behind the node: the project's one device lifecycle ([`od::hook::Device`]), which the
 /// EtherCAT unit runs too. The node runs it up to the instant of every frame, SYNC and timeout

@@ -10,7 +10,7 @@ mod socketcan_bus;
 pub mod socketcand;
 mod spec;
 
-use std::time::{Duration, SystemTime};
+use std::time::{Duration, Instant, SystemTime};
 
 pub use inprocess::{Endpoint, InProcessBus};
 pub use socketcan_bus::SocketCanBus;
@@ -40,8 +40,12 @@ pub enum BusEvent {
     Frame {
         /// The frame.
         frame: CanFrame,
-        /// Reception time (wall clock, as socketcand and candump report it).
+        /// Reception time (wall clock, as socketcand and candump report it; a socketcand
+        /// daemon's own clock for a frame it relayed).
         at: SystemTime,
+        /// When this host's link took the frame, on its monotonic clock: the `now` a sans-IO
+        /// node handles it at.
+        received: Instant,
     },
     /// An error frame or a controller problem the interface reported. Not fatal: the bus goes on.
     Error(String),
@@ -152,16 +156,23 @@ pub fn open_default() -> Result<(BusSpec, Box<dyn CanBus>), BusError> {
     }
 }
 
+/// A frame on a queue-backed bus, with the wall-clock and monotonic instants it was sent at.
+type Queued = (CanFrame, SystemTime, Instant);
+
 /// The next frame a queue-backed bus holds, waiting at most `timeout`; a queue whose senders are all
 /// gone is a closed bus.
 fn recv_queued(
-    rx: &std::sync::mpsc::Receiver<(CanFrame, SystemTime)>,
+    rx: &std::sync::mpsc::Receiver<Queued>,
     timeout: Duration,
     describe: impl FnOnce() -> String,
 ) -> Result<Option<BusEvent>, BusError> {
     use std::sync::mpsc::RecvTimeoutError;
     match rx.recv_timeout(timeout) {
-        Ok((frame, at)) => Ok(Some(BusEvent::Frame { frame, at })),
+        Ok((frame, at, received)) => Ok(Some(BusEvent::Frame {
+            frame,
+            at,
+            received,
+        })),
         Err(RecvTimeoutError::Timeout) => Ok(None),
         Err(RecvTimeoutError::Disconnected) => Err(BusError::Closed(describe())),
     }

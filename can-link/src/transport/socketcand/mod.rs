@@ -125,7 +125,7 @@ impl Peers {
 
 struct Shared {
     peers: Mutex<Peers>,
-    to_node: SyncSender<(CanFrame, SystemTime)>,
+    to_node: SyncSender<super::Queued>,
     stop: AtomicBool,
     next_id: AtomicU64,
     /// Frames from clients dropped because the node's queue was full.
@@ -141,7 +141,7 @@ impl Shared {
 /// A socketcand server that is the bus: the node on one side, TCP clients on the other.
 pub struct SocketcandServer {
     shared: Arc<Shared>,
-    from_clients: Receiver<(CanFrame, SystemTime)>,
+    from_clients: Receiver<super::Queued>,
     addr: SocketAddr,
     accept: Option<JoinHandle<()>>,
 }
@@ -485,7 +485,11 @@ fn handle(command: Command, id: u64, opened: &mut bool, shared: &Shared) -> Opti
             let at = SystemTime::now();
             let element: Arc<str> = Arc::from(frame_element(&frame, at));
             shared.peers().broadcast(id, &element);
-            if shared.to_node.try_send((frame, at)).is_err() {
+            if shared
+                .to_node
+                .try_send((frame, at, Instant::now()))
+                .is_err()
+            {
                 let logged = shared
                     .dropped_to_node
                     .lock()
@@ -624,7 +628,11 @@ impl SocketcandClient {
     fn drain_elements(&mut self) {
         while let Some(element) = self.splitter.next_element() {
             let event = match element.map(|e| Message::parse(&e)) {
-                Ok(Ok(Message::Frame { frame, at })) => BusEvent::Frame { frame, at },
+                Ok(Ok(Message::Frame { frame, at })) => BusEvent::Frame {
+                    frame,
+                    at,
+                    received: Instant::now(),
+                },
                 Ok(Ok(Message::Error(text))) => BusEvent::Error(format!("socketcand: {text}")),
                 Ok(Ok(_)) => continue,
                 Err(e) | Ok(Err(e)) => BusEvent::Error(format!("socketcand: {e}")),

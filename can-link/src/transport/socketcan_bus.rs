@@ -2,7 +2,7 @@
 //! frames reported as [`BusEvent::Error`] (the bus goes on).
 
 use std::io::ErrorKind;
-use std::time::{Duration, SystemTime};
+use std::time::{Duration, Instant, SystemTime};
 
 use embedded_can::Frame as _;
 use socketcan::{CanSocket, Socket, SocketOptions};
@@ -98,6 +98,7 @@ impl CanBus for SocketCanBus {
             Ok(f) => Ok(from_socketcan(&f).map(|frame| BusEvent::Frame {
                 frame,
                 at: SystemTime::now(),
+                received: Instant::now(),
             })),
             Err(e) if matches!(e.kind(), ErrorKind::TimedOut | ErrorKind::WouldBlock) => Ok(None),
             Err(e) if e.kind() == ErrorKind::Interrupted => Ok(None),

@@ -2,7 +2,7 @@
 
 use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex, PoisonError};
-use std::time::{Duration, SystemTime};
+use std::time::{Duration, Instant, SystemTime};
 
 use super::{BusError, BusEvent, CanBus};
 use crate::frame::CanFrame;
@@ -14,7 +14,7 @@ pub const QUEUE_CAPACITY: usize = 8192;
 #[derive(Default)]
 struct Shared {
     next_id: u64,
-    members: Vec<(u64, SyncSender<(CanFrame, SystemTime)>)>,
+    members: Vec<(u64, SyncSender<super::Queued>)>,
 }
 
 /// The bus. Clone it to hand it around; every clone is the same bus.
@@ -45,14 +45,14 @@ impl InProcessBus {
 
     /// Delivers `frame` to every endpoint but `from`.
     fn broadcast(&self, from: u64, frame: &CanFrame) {
-        let at = SystemTime::now();
+        let (at, sent) = (SystemTime::now(), Instant::now());
         let mut shared = self.shared.lock().unwrap_or_else(PoisonError::into_inner);
         shared.members.retain(|(id, tx)| {
             if *id == from {
                 return true;
             }
             !matches!(
-                tx.try_send((*frame, at)),
+                tx.try_send((*frame, at, sent)),
                 Err(TrySendError::Disconnected(_))
             )
         });
@@ -62,14 +62,14 @@ impl InProcessBus {
 /// One participant of an [`InProcessBus`].
 pub struct Endpoint {
     id: u64,
-    rx: Receiver<(CanFrame, SystemTime)>,
+    rx: Receiver<super::Queued>,
     bus: InProcessBus,
 }
 
 impl Endpoint {
     /// The next frame already received, without waiting.
     pub fn try_recv(&mut self) -> Option<CanFrame> {
-        self.rx.try_recv().ok().map(|(f, _)| f)
+        self.rx.try_recv().ok().map(|(f, _, _)| f)
     }
 }
 

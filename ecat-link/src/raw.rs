@@ -8,7 +8,7 @@ use std::io;
 use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 use std::time::Duration;
 
-use crate::frame::ETHERTYPE;
+use crate::ETHERTYPE;
 
 /// Why the socket could not be opened.
 #[derive(Debug, thiserror::Error)]
