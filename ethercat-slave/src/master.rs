@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use ds402::smd::indexer::{Inputs, Outputs};
 
 use crate::esc::al::AlStatusCode;
-use crate::esc::{cmd, Command};
+use crate::esc::{cmd, CommandCode};
 use crate::frame::FrameError;
 use crate::frame::{emit, parse, Datagram};
 use crate::raw::RawSocket;
@@ -293,7 +293,7 @@ pub fn one(w: &mut impl Wire, d: Datagram) -> Result<Datagram, MasterError> {
 /// A register datagram `command` to `adp`/`ado`.
 pub fn reg(
     w: &mut impl Wire,
-    command: Command,
+    command: CommandCode,
     adp: u16,
     ado: u16,
     data: Vec<u8>,

@@ -22,7 +22,7 @@ pub mod al;
 pub mod dc;
 pub mod sm;
 
-pub use crate::frame::{cmd, Command};
+pub use crate::frame::{cmd, Command, CommandCode};
 use crate::frame::{datagrams_into, DatagramAt, FrameError};
 use od::device::EthercatInfo;
 use od::DeviceDescription;
@@ -567,8 +567,8 @@ impl Esc {
     /// a read, 1 for LWR's write, 2 for LRW's write).
     fn logical(&mut self, command: Command, addr: u32, data: &mut [u8]) -> u16 {
         let (want_read, want_write) = match command {
-            cmd::LRD => (true, false),
-            cmd::LWR => (false, true),
+            Command::Lrd { .. } => (true, false),
+            Command::Lwr { .. } => (false, true),
             _ => (true, true),
         };
         let (mut read, mut wrote) = (false, false);
@@ -619,7 +619,11 @@ impl Esc {
                 }
             }
         }
-        let write_weight = if command == cmd::LRW { 2 } else { 1 };
+        let write_weight = if matches!(command, Command::Lrw { .. }) {
+            2
+        } else {
+            1
+        };
         u16::from(read) + if wrote { write_weight } else { 0 }
     }
 
@@ -746,50 +750,80 @@ impl Chain {
         datagrams_into(frame, &mut self.datagrams)?;
         for esc in self.slaves.iter_mut() {
             for d in &self.datagrams {
-                let header: [u8; 6] = frame[d.start..d.start + 6]
-                    .try_into()
-                    .expect("a datagram header is 10 bytes");
-                let command = Command(header[0]);
-                // ADP and ADO, or in their place one 32-bit logical address (ETG.1000.4 §5.4).
-                let address = u32::from_le_bytes([header[2], header[3], header[4], header[5]]);
-                let (adp, ado) = (address as u16, (address >> 16) as u16);
-                let (access, addressed, auto, or) = match command {
-                    cmd::APRD => (Some(Access::Read), adp == 0, true, false),
-                    cmd::APWR => (Some(Access::Write), adp == 0, true, false),
-                    cmd::APRW => (Some(Access::ReadWrite), adp == 0, true, false),
-                    cmd::ARMW => (Some(Access::ReadMultipleWrite), adp == 0, true, false),
-                    cmd::FPRD => (Some(Access::Read), esc.is_station(adp), false, false),
-                    cmd::FPWR => (Some(Access::Write), esc.is_station(adp), false, false),
-                    cmd::FPRW => (Some(Access::ReadWrite), esc.is_station(adp), false, false),
-                    cmd::FRMW => (
-                        Some(Access::ReadMultipleWrite),
-                        esc.is_station(adp),
+                let command = Command::from_header(&frame[d.start..d.start + 6]);
+                // A register datagram: how the slave acts, whether it is the one addressed, the
+                // position the slaves increment (auto-increment and broadcast), whether a read ORs
+                // (broadcast), the register.
+                let (access, addressed, position, or, ado) = match command {
+                    Command::Aprd { position, offset } => {
+                        (Access::Read, position == 0, Some(position), false, offset)
+                    }
+                    Command::Apwr { position, offset } => {
+                        (Access::Write, position == 0, Some(position), false, offset)
+                    }
+                    Command::Aprw { position, offset } => (
+                        Access::ReadWrite,
+                        position == 0,
+                        Some(position),
                         false,
-                        false,
+                        offset,
                     ),
-                    cmd::BRD => (Some(Access::Read), true, true, true),
-                    cmd::BWR => (Some(Access::Write), true, true, false),
-                    cmd::BRW => (Some(Access::ReadWrite), true, true, true),
-                    cmd::LRD | cmd::LWR | cmd::LRW => {
-                        let inc = esc.logical(command, address, &mut frame[d.data()..d.wkc()]);
-                        add_wkc(frame, d, inc);
-                        (None, false, false, false)
+                    Command::Armw { position, offset } => (
+                        Access::ReadMultipleWrite,
+                        position == 0,
+                        Some(position),
+                        false,
+                        offset,
+                    ),
+                    Command::Fprd { station, offset } => {
+                        (Access::Read, esc.is_station(station), None, false, offset)
                     }
-                    // NOP passes unchanged.
-                    _ => (None, false, false, false),
+                    Command::Fpwr { station, offset } => {
+                        (Access::Write, esc.is_station(station), None, false, offset)
+                    }
+                    Command::Fprw { station, offset } => (
+                        Access::ReadWrite,
+                        esc.is_station(station),
+                        None,
+                        false,
+                        offset,
+                    ),
+                    Command::Frmw { station, offset } => (
+                        Access::ReadMultipleWrite,
+                        esc.is_station(station),
+                        None,
+                        false,
+                        offset,
+                    ),
+                    Command::Brd { position, offset } => {
+                        (Access::Read, true, Some(position), true, offset)
+                    }
+                    Command::Bwr { position, offset } => {
+                        (Access::Write, true, Some(position), false, offset)
+                    }
+                    Command::Brw { position, offset } => {
+                        (Access::ReadWrite, true, Some(position), true, offset)
+                    }
+                    Command::Lrd { logical }
+                    | Command::Lwr { logical }
+                    | Command::Lrw { logical } => {
+                        let inc = esc.logical(command, logical, &mut frame[d.data()..d.wkc()]);
+                        add_wkc(frame, d, inc);
+                        continue;
+                    }
+                    // NOP, and a command no table defines, pass unchanged.
+                    Command::Nop { .. } | Command::Unknown { .. } => continue,
                 };
-                if let Some(access) = access {
-                    let multiple = access == Access::ReadMultipleWrite;
-                    if addressed || multiple {
-                        let buf = &mut frame[d.data()..d.wkc()];
-                        let inc = esc.access(access, ado, buf, or, addressed);
-                        add_wkc(frame, d, inc);
-                    }
-                    if auto {
-                        // Broadcasts increment ADP too (ETG.1000.4: "position" counts slaves).
-                        let next = adp.wrapping_add(1);
-                        frame[d.start + 2..d.start + 4].copy_from_slice(&next.to_le_bytes());
-                    }
+                let multiple = access == Access::ReadMultipleWrite;
+                if addressed || multiple {
+                    let buf = &mut frame[d.data()..d.wkc()];
+                    let inc = esc.access(access, ado, buf, or, addressed);
+                    add_wkc(frame, d, inc);
+                }
+                if let Some(position) = position {
+                    // Broadcasts increment ADP too (ETG.1000.4: "position" counts slaves).
+                    let next = position.wrapping_add(1);
+                    frame[d.start + 2..d.start + 4].copy_from_slice(&next.to_le_bytes());
                 }
             }
         }
