@@ -12,6 +12,7 @@ use std::time::{Duration, Instant};
 use ds402::smd::indexer::{Inputs, Outputs};
 
 use crate::esc::al::AlStatusCode;
+use crate::esc::registers::SmControl;
 use crate::esc::{cmd, CommandCode};
 use crate::frame::FrameError;
 use crate::frame::{emit, parse, Datagram};
@@ -510,7 +511,7 @@ impl Layout {
     /// The mailbox SyncManagers (SM0, SM1), when the unit has them.
     pub fn mailbox(&self) -> Option<(SmSetting, SmSetting)> {
         match (self.sms.first(), self.sms.get(1)) {
-            (Some(Some(a)), Some(Some(b))) if a.control & 0x03 == 0x02 => Some((*a, *b)),
+            (Some(Some(a)), Some(Some(b))) if SmControl(a.control).is_mailbox() => Some((*a, *b)),
             _ => None,
         }
     }
