@@ -93,6 +93,180 @@ fn in_process(
     Duration::from_nanos((thread_cpu_ns() - cpu0) / cycles as u64)
 }
 
+/// The master's one cycle on the link: the reference time distributed (FRMW of 0x0910) and all
+/// process data (LRW), both answers checked; the slowest answer kept.
+struct Cycle {
+    /// Bytes of the LRW: every unit's outputs and inputs.
+    total: usize,
+    /// Each unit's logical addresses of its outputs and of its inputs.
+    offsets: Vec<(u32, u32)>,
+    /// The longest a frame took to come back.
+    slowest: Duration,
+}
+
+impl Cycle {
+    fn new(layouts: &[Layout]) -> Cycle {
+        Cycle {
+            total: layouts.iter().map(|l| l.lengths().0 + l.lengths().1).sum(),
+            offsets: master::offsets(layouts),
+            slowest: Duration::ZERO,
+        }
+    }
+
+    /// One cycle with `outputs`: each unit's 15 input bytes.
+    fn run(&mut self, w: &mut SocketWire, outputs: &[Vec<u8>]) -> Vec<Vec<u8>> {
+        let mut data = vec![0u8; self.total];
+        for (k, o) in outputs.iter().enumerate() {
+            let at = self.offsets[k].0 as usize;
+            data[at..at + o.len()].copy_from_slice(o);
+        }
+        let dgs = [
+            Datagram::new(cmd::FRMW, station(0), 0x0910, vec![0; 8]),
+            Datagram {
+                cmd: cmd::LRW,
+                index: 1,
+                address: 0,
+                data,
+                wkc: 0,
+            },
+        ];
+        let mut frame = emit(&dgs, SRC);
+        let t = Instant::now();
+        assert!(w.exchange(&mut frame), "an answer to every cycle's frame");
+        self.slowest = self.slowest.max(t.elapsed());
+        let answer = parse(&frame).expect("the answer parses");
+        assert_eq!(
+            answer[0].wkc, UNITS as u16,
+            "FRMW: read at the reference, written at the others"
+        );
+        // LRW: inputs read (1) and outputs written (2) per unit, in Safe-Op as in Op (the ESC's
+        // SyncManagers take the outputs; the unit acts on them in Op only).
+        let want = 3 * UNITS as u16;
+        assert_eq!(answer[1].wkc, want, "LRW working counter");
+        (0..UNITS)
+            .map(|k| {
+                let at = self.offsets[k].1 as usize;
+                answer[1].data[at..at + 15].to_vec()
+            })
+            .collect()
+    }
+}
+
+/// The SyncManager watchdog at 1 s (0x0420 = 10,000 × 100 µs): a master that the machine's other
+/// work holds up for more than 100 ms must not end the run.
+fn slow_watchdog(w: &mut SocketWire) {
+    for k in 0..UNITS {
+        ok(master::fpwr(w, k, 0x0420, 10_000u16.to_le_bytes().to_vec()));
+    }
+}
+
+/// Distributed Clocks: unit 1 is the reference; each unit's offset makes its system time the
+/// reference's; SYNC0 every 1 ms from 20 ms on.
+fn distributed_clocks(w: &mut SocketWire) {
+    let time_of = |w: &mut SocketWire, k: usize| u64_of(&ok(master::fprd(w, k, 0x0910, 8)).0);
+    let reference = time_of(w, 0);
+    for k in 1..UNITS {
+        let local = time_of(w, k);
+        let offset = reference.wrapping_sub(local);
+        ok(master::fpwr(w, k, 0x0920, offset.to_le_bytes().to_vec()));
+    }
+    let start = time_of(w, 0) + 20_000_000;
+    for k in 0..UNITS {
+        ok(master::fpwr(
+            w,
+            k,
+            0x09A0,
+            1_000_000u32.to_le_bytes().to_vec(),
+        ));
+        ok(master::fpwr(w, k, 0x0990, start.to_le_bytes().to_vec()));
+        ok(master::fpwr(w, k, 0x0981, vec![0x03]));
+    }
+}
+
+/// Safe-Op to Op with `outputs` in every cycle, then the drives through Shutdown, Switch on and
+/// Enable operation (20 cycles each).
+fn into_op(w: &mut SocketWire, cycle: &mut Cycle, outputs: &mut [Vec<u8>]) {
+    for _ in 0..10 {
+        cycle.run(w, outputs);
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert_eq!(ok(master::request(w, 0x08)), UNITS as u16);
+    cycle.run(w, outputs);
+    for k in 0..UNITS {
+        assert_eq!(ok(master::al(w, k)), (0x08, 0), "unit {k} in Op");
+    }
+    for cw in [0x0006u16, 0x0007, 0x000F] {
+        outputs.iter_mut().for_each(|o| *o = out(cw, 0));
+        for _ in 0..20 {
+            cycle.run(w, outputs);
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+}
+
+/// What the measured run gives: its cycles, those started late, its length in seconds.
+struct Run {
+    cycles: i32,
+    late: u64,
+    elapsed: f64,
+}
+
+/// The measured run: 1 ms cycles on absolute deadlines for `secs` seconds, each drive's target
+/// rising 1 count a cycle from 0 (unit k: k + 1 counts).
+fn measured_run(w: &mut SocketWire, cycle: &mut Cycle, outputs: &mut [Vec<u8>], secs: f64) -> Run {
+    let t0 = Instant::now();
+    let mut next = t0;
+    let mut cycles = 0i32;
+    let mut late = 0u64;
+    while t0.elapsed().as_secs_f64() < secs {
+        cycles += 1;
+        for (k, o) in outputs.iter_mut().enumerate() {
+            *o = out(0x000F, cycles * (k as i32 + 1));
+        }
+        let inputs = cycle.run(w, outputs);
+        for (k, i) in inputs.iter().enumerate() {
+            let sw = u16::from_le_bytes([i[0], i[1]]);
+            assert_eq!(
+                sw & 0x206F,
+                0x0027,
+                "cycle {cycles}: unit {k} statusword {sw:#06x}"
+            );
+        }
+        next += Duration::from_millis(1);
+        let now = Instant::now();
+        if next > now {
+            std::thread::sleep(next - now);
+        } else {
+            late += 1;
+            next = now;
+        }
+    }
+    Run {
+        cycles,
+        late,
+        elapsed: t0.elapsed().as_secs_f64(),
+    }
+}
+
+/// The targets held: after 300 more cycles every drive at its target of the last cycle exactly.
+fn check_targets(w: &mut SocketWire, cycle: &mut Cycle, outputs: &[Vec<u8>], cycles: i32) {
+    let mut inputs = Vec::new();
+    for _ in 0..300 {
+        inputs = cycle.run(w, outputs);
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    for (k, i) in inputs.iter().enumerate() {
+        let pos = i32::from_le_bytes(i[2..6].try_into().unwrap());
+        let sw = u16::from_le_bytes([i[0], i[1]]);
+        let al = ok(master::al(w, k));
+        assert_eq!(
+            pos,
+            cycles * (k as i32 + 1),
+            "unit {k} at its target (statusword {sw:#06x}, AL status {al:04x?})"
+        );
+    }
+}
+
 fn main() {
     let bench = std::env::args().any(|a| a == "--bench");
     let secs: f64 = std::env::args()
@@ -122,159 +296,26 @@ fn main() {
     // A late answer (a machine shared with other work) is waited for, and its time reported.
     w.timeout = Duration::from_secs(1);
     ok(master::configure_layouts(&mut w, &layouts));
-    // The SyncManager watchdog at 1 s (0x0420 = 10,000 × 100 µs): a master that the machine's other
-    // work holds up for more than 100 ms must not end the run.
-    for k in 0..UNITS {
-        ok(master::fpwr(
-            &mut w,
-            k,
-            0x0420,
-            10_000u16.to_le_bytes().to_vec(),
-        ));
-    }
+    slow_watchdog(&mut w);
     assert_eq!(ok(master::request(&mut w, 0x02)), UNITS as u16);
-    // Distributed Clocks: unit 1 is the reference; each unit's offset makes its system time the
-    // reference's; SYNC0 every 1 ms from 20 ms on.
-    let time_of = |w: &mut SocketWire, k: usize| u64_of(&ok(master::fprd(w, k, 0x0910, 8)).0);
-    let reference = time_of(&mut w, 0);
-    for k in 1..UNITS {
-        let local = time_of(&mut w, k);
-        let offset = reference.wrapping_sub(local);
-        ok(master::fpwr(
-            &mut w,
-            k,
-            0x0920,
-            offset.to_le_bytes().to_vec(),
-        ));
-    }
-    let start = time_of(&mut w, 0) + 20_000_000;
-    for k in 0..UNITS {
-        ok(master::fpwr(
-            &mut w,
-            k,
-            0x09A0,
-            1_000_000u32.to_le_bytes().to_vec(),
-        ));
-        ok(master::fpwr(
-            &mut w,
-            k,
-            0x0990,
-            start.to_le_bytes().to_vec(),
-        ));
-        ok(master::fpwr(&mut w, k, 0x0981, vec![0x03]));
-    }
+    distributed_clocks(&mut w);
     assert_eq!(ok(master::request(&mut w, 0x04)), UNITS as u16);
     for k in 0..UNITS {
         assert_eq!(ok(master::al(&mut w, k)), (0x04, 0), "unit {k} in Safe-Op");
     }
-    // One cycle: the reference time distributed, all process data; both answers checked.
-    let total: usize = layouts.iter().map(|l| l.lengths().0 + l.lengths().1).sum();
-    let offsets = master::offsets(&layouts);
-    let logical = |k: usize| offsets[k];
-    let slowest = std::cell::Cell::new(Duration::ZERO);
-    let cycle = |w: &mut SocketWire, outputs: &[Vec<u8>]| -> Vec<Vec<u8>> {
-        let mut data = vec![0u8; total];
-        for (k, o) in outputs.iter().enumerate() {
-            let at = logical(k).0 as usize;
-            data[at..at + o.len()].copy_from_slice(o);
-        }
-        let dgs = [
-            Datagram::new(cmd::FRMW, station(0), 0x0910, vec![0; 8]),
-            Datagram {
-                cmd: cmd::LRW,
-                index: 1,
-                address: 0,
-                data,
-                wkc: 0,
-            },
-        ];
-        let mut frame = emit(&dgs, SRC);
-        let t = Instant::now();
-        assert!(w.exchange(&mut frame), "an answer to every cycle's frame");
-        slowest.set(slowest.get().max(t.elapsed()));
-        let answer = parse(&frame).expect("the answer parses");
-        assert_eq!(
-            answer[0].wkc, UNITS as u16,
-            "FRMW: read at the reference, written at the others"
-        );
-        // LRW: inputs read (1) and outputs written (2) per unit, in Safe-Op as in Op (the ESC's
-        // SyncManagers take the outputs; the unit acts on them in Op only).
-        let want = 3 * UNITS as u16;
-        assert_eq!(answer[1].wkc, want, "LRW working counter");
-        (0..UNITS)
-            .map(|k| {
-                let at = logical(k).1 as usize;
-                answer[1].data[at..at + 15].to_vec()
-            })
-            .collect()
-    };
+    let mut cycle = Cycle::new(&layouts);
     let mut outputs = vec![out(0, 0); UNITS];
-    for _ in 0..10 {
-        cycle(&mut w, &outputs);
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    assert_eq!(ok(master::request(&mut w, 0x08)), UNITS as u16);
-    cycle(&mut w, &outputs);
-    for k in 0..UNITS {
-        assert_eq!(ok(master::al(&mut w, k)), (0x08, 0), "unit {k} in Op");
-    }
-    for cw in [0x0006u16, 0x0007, 0x000F] {
-        outputs.iter_mut().for_each(|o| *o = out(cw, 0));
-        for _ in 0..20 {
-            cycle(&mut w, &outputs);
-            std::thread::sleep(Duration::from_millis(1));
-        }
-    }
-    // The measured run: 1 ms cycles on absolute deadlines, each drive's target rising 1 count a
-    // cycle from 0 (unit k: k + 1 counts).
-    slowest.set(Duration::ZERO);
+    into_op(&mut w, &mut cycle, &mut outputs);
+    cycle.slowest = Duration::ZERO;
     let cpu0 = cpu_ns(pid);
-    let t0 = Instant::now();
-    let mut next = t0;
-    let mut cycles = 0i32;
-    let mut late = 0u64;
-    while t0.elapsed().as_secs_f64() < secs {
-        cycles += 1;
-        for (k, o) in outputs.iter_mut().enumerate() {
-            *o = out(0x000F, cycles * (k as i32 + 1));
-        }
-        let inputs = cycle(&mut w, &outputs);
-        for (k, i) in inputs.iter().enumerate() {
-            let sw = u16::from_le_bytes([i[0], i[1]]);
-            assert_eq!(
-                sw & 0x206F,
-                0x0027,
-                "cycle {cycles}: unit {k} statusword {sw:#06x}"
-            );
-        }
-        next += Duration::from_millis(1);
-        let now = Instant::now();
-        if next > now {
-            std::thread::sleep(next - now);
-        } else {
-            late += 1;
-            next = now;
-        }
-    }
-    let elapsed = t0.elapsed().as_secs_f64();
+    let Run {
+        cycles,
+        late,
+        elapsed,
+    } = measured_run(&mut w, &mut cycle, &mut outputs, secs);
     let cpu = (cpu_ns(pid) - cpu0) as f64 / 1e9;
-    let slowest = slowest.get();
-    // The targets held: every drive at its target exactly.
-    let mut inputs = Vec::new();
-    for _ in 0..300 {
-        inputs = cycle(&mut w, &outputs);
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    for (k, i) in inputs.iter().enumerate() {
-        let pos = i32::from_le_bytes(i[2..6].try_into().unwrap());
-        let sw = u16::from_le_bytes([i[0], i[1]]);
-        let al = ok(master::al(&mut w, k));
-        assert_eq!(
-            pos,
-            cycles * (k as i32 + 1),
-            "unit {k} at its target (statusword {sw:#06x}, AL status {al:04x?})"
-        );
-    }
+    let slowest = cycle.slowest;
+    check_targets(&mut w, &mut cycle, &outputs, cycles);
     drop(link);
     println!(
         "{UNITS} units, DC (SYNC0 1 ms), 1 ms cycle: {cycles} cycles in {elapsed:.2} s ({late} started late), \

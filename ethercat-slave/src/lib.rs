@@ -13,14 +13,14 @@
 //! behind each drive axis; [`raw`] and [`runtime`]
 //! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line, [`node_cli`]
 //! the `ethercat-node` one ([`node_list`] its `--list` of a file's devices and their drive axes);
-//! [`master`]
-//! is the master's side the tests and benchmarks use.
+//! `master` (with the feature `test-master`) is the master's side the tests and benchmarks use.
 #![deny(missing_docs)]
 
 pub mod cli;
 pub mod esc;
 pub mod frame;
 pub mod generic;
+#[cfg(feature = "test-master")]
 pub mod master;
 pub mod node_cli;
 pub mod node_list;

@@ -12,7 +12,8 @@ use std::time::{Duration, Instant};
 use ds402::smd::indexer::{Inputs, Outputs};
 
 use crate::esc::al::AlStatusCode;
-use crate::esc::{cmd, Command};
+use crate::esc::registers::SmControl;
+use crate::esc::{cmd, CommandCode};
 use crate::frame::FrameError;
 use crate::frame::{emit, parse, Datagram};
 use crate::raw::RawSocket;
@@ -293,7 +294,7 @@ pub fn one(w: &mut impl Wire, d: Datagram) -> Result<Datagram, MasterError> {
 /// A register datagram `command` to `adp`/`ado`.
 pub fn reg(
     w: &mut impl Wire,
-    command: Command,
+    command: CommandCode,
     adp: u16,
     ado: u16,
     data: Vec<u8>,
@@ -510,7 +511,7 @@ impl Layout {
     /// The mailbox SyncManagers (SM0, SM1), when the unit has them.
     pub fn mailbox(&self) -> Option<(SmSetting, SmSetting)> {
         match (self.sms.first(), self.sms.get(1)) {
-            (Some(Some(a)), Some(Some(b))) if a.control & 0x03 == 0x02 => Some((*a, *b)),
+            (Some(Some(a)), Some(Some(b))) if SmControl(a.control).is_mailbox() => Some((*a, *b)),
             _ => None,
         }
     }

@@ -567,7 +567,7 @@ fn logical_read_write_through_fmmus() {
 /// A logical datagram of `command` at `address` over `data`: (WKC, the data after it).
 fn logical(
     c: &mut Chain,
-    command: ethercat_slave::frame::Command,
+    command: ethercat_slave::frame::CommandCode,
     address: u32,
     data: Vec<u8>,
 ) -> (u16, Vec<u8>) {
@@ -1057,19 +1057,19 @@ fn a_flood_of_random_frames_leaves_the_chain_answering() {
 /// shown as its number.
 #[test]
 fn commands_by_number_and_name() {
-    use ethercat_slave::esc::Command;
+    use ethercat_slave::esc::CommandCode;
     let names = [
         "NOP", "APRD", "APWR", "APRW", "FPRD", "FPWR", "FPRW", "BRD", "BWR", "BRW", "LRD", "LWR",
         "LRW", "ARMW", "FRMW",
     ];
-    assert_eq!(Command::ALL.len(), names.len());
-    for (n, (c, name)) in Command::ALL.iter().zip(names).enumerate() {
+    assert_eq!(CommandCode::ALL.len(), names.len());
+    for (n, (c, name)) in CommandCode::ALL.iter().zip(names).enumerate() {
         assert_eq!(c.0 as usize, n);
         assert_eq!(c.name(), Some(name));
         assert_eq!(c.to_string(), name);
     }
-    assert_eq!(Command(15).name(), None);
-    assert_eq!(Command(0x2A).to_string(), "command 0x2A");
+    assert_eq!(CommandCode(15).name(), None);
+    assert_eq!(CommandCode(0x2A).to_string(), "command 0x2A");
 }
 
 /// Process data through SyncManagers in mailbox mode (one buffer, ETG.1000.4 §6.7.2), as an ESI's

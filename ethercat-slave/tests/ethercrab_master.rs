@@ -18,7 +18,9 @@ use std::time::{Duration, Instant};
 
 use ethercrab::error::{CoeAbortCode, Error, MailboxError};
 use ethercrab::std::{ethercat_now, tx_rx_task};
-use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, RetryBehaviour, Timeouts};
+use ethercrab::{
+    MainDevice, MainDeviceConfig, PduStorage, RetryBehaviour, SubDevice, SubDeviceRef, Timeouts,
+};
 use futures_lite::{future, StreamExt};
 
 /// SubDevices a group holds at most (a power of two).
@@ -103,6 +105,86 @@ fn abort_code(e: &Error) -> Option<u32> {
     }
 }
 
+/// ethercrab's timeouts, generous for a loaded machine: a frame that comes back after its PDU
+/// timeout ends ethercrab's TX/RX task (ReceiveFrame), and the emulator is a process of its own.
+fn timeouts_for_a_loaded_machine() -> Timeouts {
+    Timeouts {
+        pdu: Duration::from_millis(1000),
+        eeprom: Duration::from_millis(1000),
+        wait_loop_delay: Duration::from_millis(1),
+        mailbox_response: Duration::from_millis(1000),
+        ..Timeouts::default()
+    }
+}
+
+/// Pre-Op: CoE through the mailbox of both units (a string upload, an expedited download read
+/// back, refused transfers with their abort codes).
+async fn coe_in_pre_op(unit1: &SubDeviceRef<'_, &SubDevice>, unit2: &SubDeviceRef<'_, &SubDevice>) {
+    let name: [u8; 8] = unit1.sdo_read(0x1008, 0).await.expect("0x1008");
+    assert_eq!(&name, b"SMD23K-B");
+    let serial: u32 = unit2.sdo_read(0x1018, 4).await.expect("0x1018:04");
+    assert_eq!(serial, 2);
+    // Starting_Speed (0x8010:03, UDINT rw, 1 to 1,999,999 steps/s): default 141.
+    let speed: u32 = unit1.sdo_read(0x8010, 3).await.expect("0x8010:03");
+    assert_eq!(speed, 141);
+    unit1.sdo_write(0x8010, 3, 500u32).await.expect("write");
+    let speed: u32 = unit1.sdo_read(0x8010, 3).await.expect("read back");
+    assert_eq!(speed, 500);
+    let other: u32 = unit2.sdo_read(0x8010, 3).await.unwrap();
+    assert_eq!(other, 141, "unit 2 untouched");
+    unit1.sdo_write(0x8010, 3, 141u32).await.expect("restore");
+    // Refused: the identity is read-only; a UINT into the UDINT is too short.
+    let e = unit1.sdo_write(0x1018, 4, 7u32).await.unwrap_err();
+    assert_eq!(abort_code(&e), Some(0x0601_0002), "{e}");
+    let e = unit1.sdo_write(0x8010, 3, 7u16).await.unwrap_err();
+    assert_eq!(abort_code(&e), Some(0x0607_0013), "{e}");
+    assert!(matches!(
+        e,
+        Error::Mailbox(MailboxError::Aborted {
+            code: CoeAbortCode::DataTooShort,
+            address: 0x8010,
+            sub_index: 3
+        })
+    ));
+    let e = unit1.sdo_read::<u32>(0x2345, 0).await.unwrap_err();
+    assert_eq!(abort_code(&e), Some(0x0602_0000), "{e}");
+}
+
+/// A second master run on the same units, as a new process would be: Init again, its mailbox
+/// counter from 1 again (the units restart their mailbox in Init).
+fn second_master_run(link: &link::Link) {
+    let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
+        Box::leak(Box::new(PduStorage::new()));
+    let (tx, rx, pdu_loop) = storage.try_split().expect("split once");
+    let maindevice = MainDevice::new(
+        pdu_loop,
+        Timeouts::default(),
+        MainDeviceConfig {
+            dc_static_sync_iterations: 0,
+            ..MainDeviceConfig::default()
+        },
+    );
+    let tx_rx = tx_rx_task(&link.master, tx, rx).expect("open the master's interface");
+    let again = async {
+        let group = maindevice
+            .init_single_group::<MAX_SUBDEVICES, MAX_PDI>(ethercat_now)
+            .await
+            .expect("init to Pre-Op again");
+        let unit2 = group.subdevice(&maindevice, 1).unwrap();
+        let serial: u32 = unit2.sdo_read(0x1018, 4).await.expect("0x1018:04");
+        assert_eq!(
+            serial, 2,
+            "the answer to this request, not the last one before"
+        );
+        let speed: u32 = unit2.sdo_read(0x8010, 3).await.expect("0x8010:03");
+        assert_eq!(speed, 141);
+    };
+    async_io::block_on(future::or(again, async {
+        let r = tx_rx.await;
+        panic!("the TX/RX task ended: {:?}", r.err());
+    }));
+}
+
 #[test]
 fn ethercrab_finds_configures_and_moves_two_units() {
     let started = Instant::now();
@@ -110,15 +192,7 @@ fn ethercrab_finds_configures_and_moves_two_units() {
     let (tx, rx, pdu_loop) = PDU_STORAGE.try_split().expect("split once");
     let maindevice = MainDevice::new(
         pdu_loop,
-        Timeouts {
-            // Generous for a loaded machine: a frame that comes back after its PDU timeout ends
-            // ethercrab's TX/RX task (ReceiveFrame), and the emulator is a process of its own.
-            pdu: Duration::from_millis(1000),
-            eeprom: Duration::from_millis(1000),
-            wait_loop_delay: Duration::from_millis(1),
-            mailbox_response: Duration::from_millis(1000),
-            ..Timeouts::default()
-        },
+        timeouts_for_a_loaded_machine(),
         MainDeviceConfig {
             dc_static_sync_iterations: 0,
             retry_behaviour: RetryBehaviour::Count(3),
@@ -150,34 +224,7 @@ fn ethercrab_finds_configures_and_moves_two_units() {
         // Pre-Op: CoE through the mailbox.
         let unit1 = group.subdevice(&maindevice, 0).unwrap();
         let unit2 = group.subdevice(&maindevice, 1).unwrap();
-        let name: [u8; 8] = unit1.sdo_read(0x1008, 0).await.expect("0x1008");
-        assert_eq!(&name, b"SMD23K-B");
-        let serial: u32 = unit2.sdo_read(0x1018, 4).await.expect("0x1018:04");
-        assert_eq!(serial, 2);
-        // Starting_Speed (0x8010:03, UDINT rw, 1 to 1,999,999 steps/s): default 141.
-        let speed: u32 = unit1.sdo_read(0x8010, 3).await.expect("0x8010:03");
-        assert_eq!(speed, 141);
-        unit1.sdo_write(0x8010, 3, 500u32).await.expect("write");
-        let speed: u32 = unit1.sdo_read(0x8010, 3).await.expect("read back");
-        assert_eq!(speed, 500);
-        let other: u32 = unit2.sdo_read(0x8010, 3).await.unwrap();
-        assert_eq!(other, 141, "unit 2 untouched");
-        unit1.sdo_write(0x8010, 3, 141u32).await.expect("restore");
-        // Refused: the identity is read-only; a UINT into the UDINT is too short.
-        let e = unit1.sdo_write(0x1018, 4, 7u32).await.unwrap_err();
-        assert_eq!(abort_code(&e), Some(0x0601_0002), "{e}");
-        let e = unit1.sdo_write(0x8010, 3, 7u16).await.unwrap_err();
-        assert_eq!(abort_code(&e), Some(0x0607_0013), "{e}");
-        assert!(matches!(
-            e,
-            Error::Mailbox(MailboxError::Aborted {
-                code: CoeAbortCode::DataTooShort,
-                address: 0x8010,
-                sub_index: 3
-            })
-        ));
-        let e = unit1.sdo_read::<u32>(0x2345, 0).await.unwrap_err();
-        assert_eq!(abort_code(&e), Some(0x0602_0000), "{e}");
+        coe_in_pre_op(&unit1, &unit2).await;
 
         // Safe-Op, then Op with the process data running.
         let group = group.into_safe_op(&maindevice).await.expect("Safe-Op");
@@ -267,38 +314,7 @@ fn ethercrab_finds_configures_and_moves_two_units() {
     };
     let (init_time, move_time) = async_io::block_on(future::or(scenario, tx_rx));
 
-    // A second master run on the same units, as a new process would be: Init again, its mailbox
-    // counter from 1 again (the units restart their mailbox in Init).
-    let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
-        Box::leak(Box::new(PduStorage::new()));
-    let (tx, rx, pdu_loop) = storage.try_split().expect("split once");
-    let maindevice = MainDevice::new(
-        pdu_loop,
-        Timeouts::default(),
-        MainDeviceConfig {
-            dc_static_sync_iterations: 0,
-            ..MainDeviceConfig::default()
-        },
-    );
-    let tx_rx = tx_rx_task(&link.master, tx, rx).expect("open the master's interface");
-    let again = async {
-        let group = maindevice
-            .init_single_group::<MAX_SUBDEVICES, MAX_PDI>(ethercat_now)
-            .await
-            .expect("init to Pre-Op again");
-        let unit2 = group.subdevice(&maindevice, 1).unwrap();
-        let serial: u32 = unit2.sdo_read(0x1018, 4).await.expect("0x1018:04");
-        assert_eq!(
-            serial, 2,
-            "the answer to this request, not the last one before"
-        );
-        let speed: u32 = unit2.sdo_read(0x8010, 3).await.expect("0x8010:03");
-        assert_eq!(speed, 141);
-    };
-    async_io::block_on(future::or(again, async {
-        let r = tx_rx.await;
-        panic!("the TX/RX task ended: {:?}", r.err());
-    }));
+    second_master_run(&link);
     eprintln!(
         "ethercrab: init to Pre-Op {init_time:?}, move {move_time:?}, all {:?}",
         started.elapsed()

@@ -16,7 +16,10 @@ use std::time::{Duration, Instant};
 
 use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::subdevice_group::DcConfiguration;
-use ethercrab::{DcSync, MainDevice, MainDeviceConfig, PduStorage, RetryBehaviour, Timeouts};
+use ethercrab::{
+    DcSync, MainDevice, MainDeviceConfig, PduStorage, RetryBehaviour, SubDevice, SubDeviceRef,
+    Timeouts,
+};
 use futures_lite::future;
 
 const MAX_SUBDEVICES: usize = 8;
@@ -55,15 +58,15 @@ fn i32_at(b: &[u8], at: usize) -> i32 {
     i32::from_le_bytes(b[at..at + 4].try_into().unwrap())
 }
 
-#[test]
-fn ethercrab_moves_three_vendors_drives_and_the_example_in_csp_with_dc() {
-    let started = Instant::now();
+/// `ethercat-node` on a fresh veth pair with the three vendors' drives (Elmo, Ingenia, Copley with
+/// two axes) and the example drive.
+fn start_link() -> link::Link {
     let (elmo, ingenia, copley) = (
         corpus("elmo-ECAT_00010420_V11.xml"),
         corpus("ingenia-eve-xcr-e.xml"),
         corpus("copley-XE2_4.60.xml"),
     );
-    let link = link::Link::node(&[
+    link::Link::node(&[
         "--esi",
         &elmo,
         "--device",
@@ -74,7 +77,11 @@ fn ethercrab_moves_three_vendors_drives_and_the_example_in_csp_with_dc() {
         &copley,
         "--esi",
         "examples/drive.esi.xml",
-    ]);
+    ])
+}
+
+/// The five drive axes of the four units.
+fn axes() -> [Axis; 5] {
     let axis =
         |unit, number, mode_by_sdo, mode_at, controlword, target, statusword, position| Axis {
             unit,
@@ -91,24 +98,69 @@ fn ethercrab_moves_three_vendors_drives_and_the_example_in_csp_with_dc() {
     // 0x6064 @2. Copley's two csp modules: 0x6040 @0, 0x607A @2 (axis B 12 bytes on); 0x6041 @0,
     // 0x6064 @2 (axis B 16 bytes on). The example drive: 0x6040 @0, 0x607A @2, 0x6060 @6; 0x6041
     // @0, 0x6064 @2.
-    let axes = [
+    [
         axis(0, 0, true, None, 8, 0, 8, 0),
         axis(1, 0, false, Some(10), 0, 2, 0, 2),
         axis(2, 0, true, None, 0, 2, 0, 2),
         axis(2, 1, true, None, 12, 14, 16, 18),
         axis(3, 0, false, Some(6), 0, 2, 0, 2),
-    ];
+    ]
+}
+
+/// ethercrab's timeouts, generous for a loaded machine, and 10 s for a state transition.
+fn timeouts() -> Timeouts {
+    Timeouts {
+        pdu: Duration::from_millis(1000),
+        eeprom: Duration::from_millis(1000),
+        wait_loop_delay: Duration::from_millis(1),
+        mailbox_response: Duration::from_millis(1000),
+        state_transition: Duration::from_secs(10),
+        ..Timeouts::default()
+    }
+}
+
+/// The units' names, vendor IDs and product codes, in the chain's order.
+const EXPECTED: [(&str, u32, u32); 4] = [
+    ("Elmo Drive", 0x9A, 0x0003_0924),
+    ("EVE-XCR-E", 0x29C, 0x02C3_1001),
+    ("XE2", 0xAB, 0x10B0),
+    ("drive", 0xABC, 0x402),
+];
+
+/// Unit `k` in Pre-Op: its name and identity as [`EXPECTED`], the mode of its axes that have no
+/// 0x6060 in their PDOs set to csp by SDO, SYNC0, and the SyncManager watchdog at 1 s.
+async fn prepare(sd: &mut SubDeviceRef<'_, &mut SubDevice>, k: usize, axes: &[Axis]) {
+    let (name, vendor, product) = EXPECTED[k];
+    assert_eq!(sd.name(), name);
+    let id = sd.identity();
+    assert_eq!(
+        (id.vendor_id, id.product_id, id.serial),
+        (vendor, product, k as u32 + 1),
+        "identity of unit {k}"
+    );
+    for a in axes.iter().filter(|a| a.unit == k && a.mode_by_sdo) {
+        let base = 0x6000 + 0x800 * a.number;
+        sd.sdo_write(base + 0x60, 0, 8i8).await.expect("0x6060");
+        let mode: i8 = sd.sdo_read(base + 0x60, 0).await.expect("0x6060 back");
+        assert_eq!(mode, 8);
+    }
+    sd.set_dc_sync(DcSync::Sync0);
+    // The SyncManager watchdog at 1 s (0x0420 in units of 100 µs at the default divider;
+    // the ESI's is 100 ms): the test's master may pause on a machine busy with other jobs.
+    sd.register_write(0x0420u16, 10_000u16)
+        .await
+        .expect("watchdog time 0x0420");
+}
+
+#[test]
+fn ethercrab_moves_three_vendors_drives_and_the_example_in_csp_with_dc() {
+    let started = Instant::now();
+    let link = start_link();
+    let axes = axes();
     let (tx, rx, pdu_loop) = PDU_STORAGE.try_split().expect("split once");
     let maindevice = MainDevice::new(
         pdu_loop,
-        Timeouts {
-            pdu: Duration::from_millis(1000),
-            eeprom: Duration::from_millis(1000),
-            wait_loop_delay: Duration::from_millis(1),
-            mailbox_response: Duration::from_millis(1000),
-            state_transition: Duration::from_secs(10),
-            ..Timeouts::default()
-        },
+        timeouts(),
         MainDeviceConfig {
             dc_static_sync_iterations: 1000,
             retry_behaviour: RetryBehaviour::Count(3),
@@ -125,34 +177,8 @@ fn ethercrab_moves_three_vendors_drives_and_the_example_in_csp_with_dc() {
             .await
             .expect("init to Pre-Op");
         assert_eq!(group.len(), 4, "four SubDevices found");
-        let expected = [
-            ("Elmo Drive", 0x9A, 0x0003_0924),
-            ("EVE-XCR-E", 0x29C, 0x02C3_1001),
-            ("XE2", 0xAB, 0x10B0),
-            ("drive", 0xABC, 0x402),
-        ];
-        for (k, (mut sd, (name, vendor, product))) in
-            group.iter_mut(&maindevice).zip(expected).enumerate()
-        {
-            assert_eq!(sd.name(), name);
-            let id = sd.identity();
-            assert_eq!(
-                (id.vendor_id, id.product_id, id.serial),
-                (vendor, product, k as u32 + 1),
-                "identity of unit {k}"
-            );
-            for a in axes.iter().filter(|a| a.unit == k && a.mode_by_sdo) {
-                let base = 0x6000 + 0x800 * a.number;
-                sd.sdo_write(base + 0x60, 0, 8i8).await.expect("0x6060");
-                let mode: i8 = sd.sdo_read(base + 0x60, 0).await.expect("0x6060 back");
-                assert_eq!(mode, 8);
-            }
-            sd.set_dc_sync(DcSync::Sync0);
-            // The SyncManager watchdog at 1 s (0x0420 in units of 100 µs at the default divider;
-            // the ESI's is 100 ms): the test's master may pause on a machine busy with other jobs.
-            sd.register_write(0x0420u16, 10_000u16)
-                .await
-                .expect("watchdog time 0x0420");
+        for (k, mut sd) in group.iter_mut(&maindevice).enumerate() {
+            prepare(&mut sd, k, &axes).await;
         }
         let group = group.into_pre_op_pdi(&maindevice).await.expect("PDI");
         let group = group

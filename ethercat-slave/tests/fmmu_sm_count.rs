@@ -15,7 +15,7 @@ mod node;
 use std::path::PathBuf;
 
 use ethercat_slave::esc::cmd;
-use ethercat_slave::frame::{Command, Datagram};
+use ethercat_slave::frame::{CommandCode, Datagram};
 use ethercat_slave::generic::GenericUnit;
 use ethercat_slave::master::{self as m, Layout, SimChain};
 use ethercat_slave::smd::binding::Device;
@@ -24,7 +24,7 @@ use node::*;
 /// One register datagram to the chain: the data it came back with and its working counter.
 fn reg<M: ethercat_slave::unit::Model>(
     c: &mut SimChain<M>,
-    command: Command,
+    command: CommandCode,
     adp: u16,
     ado: u16,
     data: Vec<u8>,
@@ -36,7 +36,7 @@ fn reg<M: ethercat_slave::unit::Model>(
 /// One logical datagram to the chain: the data it came back with and its working counter.
 fn logical(
     c: &mut SimChain<GenericUnit>,
-    command: Command,
+    command: CommandCode,
     address: u32,
     data: Vec<u8>,
 ) -> (Vec<u8>, u16) {

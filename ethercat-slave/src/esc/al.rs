@@ -13,6 +13,7 @@
 
 use od::DeviceDescription;
 
+use super::registers::AlControl;
 use super::sm::SyncManager;
 use super::Esc;
 
@@ -334,15 +335,14 @@ impl SmRule {
 
 /// The outcome of writing `control` to the AL control register of `esc` (its configuration, state
 /// and registers as they are).
-pub fn transition(esc: &Esc, control: u16) -> Transition {
+pub fn transition(esc: &Esc, control: AlControl) -> Transition {
     use AlState::{Boot, Init, Op, PreOp, SafeOp};
     let config = &esc.al;
     let (current, error) = esc.al_state();
-    let acknowledge = control & 0x10 != 0;
-    if error && !acknowledge {
+    if error && !control.acknowledge {
         return Transition::Unchanged;
     }
-    let Some(requested) = AlState::from_bits(control as u8) else {
+    let Some(requested) = control.requested() else {
         return Transition::Refused(AlStatusCode::UnknownState);
     };
     let refuse = Transition::Refused;

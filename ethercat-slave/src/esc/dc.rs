@@ -15,6 +15,7 @@
 //!   cycle time): events at start + k·cycle in system time (one event for cycle 0). While active,
 //!   0x0990 reads the next event's time; 0x098E bit 0 is set after an event until read.
 
+use super::registers::{SyncActivation, SystemTimeDifference};
 use super::{touches, Esc};
 
 /// Nanoseconds a frame takes from one slave to the next (ESC forwarding and a short cable).
@@ -118,18 +119,14 @@ impl Esc {
             } else {
                 (received, local)
             };
-            let (magnitude, smaller) = if local >= received {
-                (local - received, false)
-            } else {
-                (received - local, true)
-            };
-            let diff = (magnitude.min(0x7FFF_FFFF) as u32) | if smaller { 1 << 31 } else { 0 };
-            self.store(SYSTEM_TIME_DIFFERENCE, &diff.to_le_bytes());
+            let diff = SystemTimeDifference::between(local, received);
+            self.store(SYSTEM_TIME_DIFFERENCE, &diff.encode());
             self.store(SYSTEM_TIME, &before);
         }
         if touches(at, len, SYNC_ACTIVATION, 1) {
             let [act] = self.bytes_at(SYNC_ACTIVATION);
-            self.clock.next_sync0 = (act & 0x03 == 0x03).then(|| self.u64_at(START_TIME));
+            let running = SyncActivation::decode(act).sync0_running();
+            self.clock.next_sync0 = running.then(|| self.u64_at(START_TIME));
             self.clock.sync0_started = false;
         }
     }
@@ -137,7 +134,9 @@ impl Esc {
     /// SYNC0 cycle time while cyclic operation and SYNC0 are activated.
     pub fn sync0_cycle(&self) -> Option<u32> {
         let [act] = self.bytes_at(SYNC_ACTIVATION);
-        (act & 0x03 == 0x03).then(|| u32::from_le_bytes(self.bytes_at(SYNC0_CYCLE)))
+        SyncActivation::decode(act)
+            .sync0_running()
+            .then(|| u32::from_le_bytes(self.bytes_at(SYNC0_CYCLE)))
     }
 
     /// The SYNC0 events up to the present system time: the system time of the last one that passed

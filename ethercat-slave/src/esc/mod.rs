@@ -20,12 +20,16 @@
 
 pub mod al;
 pub mod dc;
+pub mod registers;
 pub mod sm;
 
-pub use crate::frame::{cmd, Command};
+pub use crate::frame::{cmd, Command, CommandCode};
 use crate::frame::{datagrams_into, DatagramAt, FrameError};
 use od::device::EthercatInfo;
 use od::DeviceDescription;
+use registers::{
+    AlControl, AlStatus, DlControl, DlStatus, EepromCommand, EepromControl, FmmuRegisters,
+};
 
 /// ESC memory size.
 pub const MEMORY: usize = 0x1_0000;
@@ -233,7 +237,11 @@ impl Esc {
         esc.store(0x0000, &[0x11, 0x00, 0x02, 0x00]);
         esc.store(0x0004, &[fmmus as u8, sync_managers as u8, 60, 0x0F]);
         esc.store(0x0008, &0x000Du16.to_le_bytes());
-        esc.store(al::AL_STATUS, &[al::AlState::Init.bits(), 0]);
+        let init = AlStatus {
+            state: al::AlState::Init,
+            error: false,
+        };
+        esc.store(al::AL_STATUS, &init.encode());
         // Watchdog divider 2498 (100 µs units), PDI and process-data watchdog 1000 (100 ms), status:
         // not expired.
         esc.store(WATCHDOG_DIVIDER, &2498u16.to_le_bytes());
@@ -272,11 +280,17 @@ impl Esc {
     /// Where the slave is in a chain of `n`: the DL status (ports 0 and 1 open with communication
     /// when a slave follows; ports 2 and 3 closed) and the DC propagation.
     pub fn set_position(&mut self, k: usize, n: usize) {
-        // Bits 0 (PDI operational), 4 (link on port 0), 9 (communication on port 0), 12 and 14
-        // (ports 2 and 3 closed), and for port 1: link and communication (bits 5 and 11) where a
-        // slave follows, closed (bit 10) at the end of the chain.
-        let dl: u16 = if k + 1 >= n { 0x5611 } else { 0x5A31 };
-        self.store(DL_STATUS, &dl.to_le_bytes());
+        // PDI operational, link and communication on port 0, ports 2 and 3 closed, and port 1
+        // with link and communication where a slave follows, closed at the end of the chain.
+        let follows = k + 1 < n;
+        let dl = DlStatus {
+            pdi_operational: true,
+            link: [true, follows, false, false],
+            closed: [false, !follows, true, true],
+            communication: [true, follows, false, false],
+            ..DlStatus::default()
+        };
+        self.store(DL_STATUS, &dl.encode());
         self.clock.position = k as u64;
         self.clock.return_hops = 2 * (n.saturating_sub(k + 1)) as u64;
         // Slaves power up at different instants: each local clock has its own start.
@@ -343,7 +357,7 @@ impl Esc {
 
     /// The application leaves for `state` with the error indication and `code` (e.g. a watchdog).
     pub fn al_fault(&mut self, state: al::AlState, code: al::AlStatusCode) {
-        self.store(al::AL_STATUS, &[state.bits() | 0x10, 0]);
+        self.store(al::AL_STATUS, &AlStatus { state, error: true }.encode());
         self.store(al::AL_STATUS_CODE, &code.code().to_le_bytes());
     }
 
@@ -355,10 +369,9 @@ impl Esc {
     /// The AL state (AL status bits 0–3) and whether the error indicator is set.
     #[inline]
     pub fn al_state(&self) -> (al::AlState, bool) {
-        let s = self.read_u16(al::AL_STATUS);
         // Only the ESC writes AL status (the master cannot), always with a state of the table.
-        let state = al::AlState::from_bits(s as u8).unwrap_or(al::AlState::Init);
-        (state, s & 0x10 != 0)
+        let status = AlStatus::decode(self.bytes_at(al::AL_STATUS));
+        (status.state, status.error)
     }
 
     /// The AL status code (register 0x0134).
@@ -484,39 +497,49 @@ impl Esc {
     fn after_write(&mut self, ado: u16, len: usize) {
         let touches = |reg: u16, n: usize| touches(ado, len, reg, n);
         if touches(al::AL_CONTROL, 2) {
-            let control = self.read_u16(al::AL_CONTROL);
+            let control = AlControl::decode(self.bytes_at(al::AL_CONTROL));
             let (current, _) = self.al_state();
             match al::transition(self, control) {
                 al::Transition::Unchanged => {}
                 al::Transition::To(next) => {
-                    self.store(al::AL_STATUS, &[next.bits(), 0]);
+                    let status = AlStatus {
+                        state: next,
+                        error: false,
+                    };
+                    self.store(al::AL_STATUS, &status.encode());
                     self.store(al::AL_STATUS_CODE, &[0, 0]);
                 }
                 al::Transition::Refused(code) => self.al_fault(current, code),
             }
         }
         if touches(EEPROM_CONTROL, 2) {
-            let control = self.read_u16(EEPROM_CONTROL);
+            let control = EepromControl::decode(self.bytes_at(EEPROM_CONTROL));
             let word = u32::from_le_bytes(self.bytes_at(EEPROM_ADDRESS)) as usize;
-            // Bit 6: 8 bytes are read at once; bit 0 (write enable) clears itself.
-            let mut status = 0x0040;
-            match (control >> 8) & 0x07 {
-                0x01 => {
+            // 8 bytes are read at once; write enable clears itself.
+            let mut status = EepromControl {
+                write_enable: false,
+                read_8_bytes: true,
+                command: EepromCommand::Idle,
+                command_error: false,
+            };
+            match control.command {
+                EepromCommand::Read => {
                     let bytes: Vec<u8> = (0..8)
                         .map(|k| self.sii.get(word * 2 + k).copied().unwrap_or(0xFF))
                         .collect();
                     self.store(EEPROM_DATA, &bytes);
                 }
                 // Write: one word from the data register, with write enable in the same access.
-                0x02 if control & 0x0001 != 0 && word * 2 + 2 <= self.sii.len() => {
+                EepromCommand::Write if control.write_enable && word * 2 + 2 <= self.sii.len() => {
                     let d: [u8; 2] = self.bytes_at(EEPROM_DATA);
                     self.sii[word * 2..word * 2 + 2].copy_from_slice(&d);
                 }
-                0x02 => status |= 0x2000, // write error: not enabled, or beyond the image
-                0x04 => self.load_sii_configuration(),
-                _ => {}
+                // Write error: not enabled, or beyond the image.
+                EepromCommand::Write => status.command_error = true,
+                EepromCommand::Reload => self.load_sii_configuration(),
+                EepromCommand::Idle | EepromCommand::Other(_) => {}
             }
-            self.store(EEPROM_CONTROL, &u16::to_le_bytes(status));
+            self.store(EEPROM_CONTROL, &status.encode());
         }
     }
 
@@ -533,7 +556,8 @@ impl Esc {
     /// alias when the master enabled alias addressing (DL control 0x0100 bit 24).
     fn is_station(&self, adp: u16) -> bool {
         adp == self.station_address()
-            || (self.mem[0x0103] & 0x01 != 0 && adp == self.read_u16(STATION_ALIAS))
+            || (DlControl::decode(self.bytes_at(DlControl::ADDRESS)).alias_enabled()
+                && adp == self.read_u16(STATION_ALIAS))
     }
 
     /// FMMU `n` as configured in its registers, when the ESC has it and it is active.
@@ -549,16 +573,16 @@ impl Esc {
         if n >= self.fmmus {
             return None;
         }
-        let r: [u8; 16] = self.bytes_at(FMMU_BASE + 16 * n as u16);
-        if r[12] & 0x01 == 0 {
+        let r = FmmuRegisters::decode(self.bytes_at(FMMU_BASE + 16 * n as u16));
+        if !r.active {
             return None;
         }
         Some(Fmmu {
-            logical: u32::from_le_bytes([r[0], r[1], r[2], r[3]]),
-            len: u16::from_le_bytes([r[4], r[5]]),
-            physical: u16::from_le_bytes([r[8], r[9]]),
-            read: r[11] & 0x01 != 0,
-            write: r[11] & 0x02 != 0,
+            logical: r.logical_start,
+            len: r.len,
+            physical: r.physical_start,
+            read: r.read,
+            write: r.write,
         })
     }
 
@@ -567,8 +591,8 @@ impl Esc {
     /// a read, 1 for LWR's write, 2 for LRW's write).
     fn logical(&mut self, command: Command, addr: u32, data: &mut [u8]) -> u16 {
         let (want_read, want_write) = match command {
-            cmd::LRD => (true, false),
-            cmd::LWR => (false, true),
+            Command::Lrd { .. } => (true, false),
+            Command::Lwr { .. } => (false, true),
             _ => (true, true),
         };
         let (mut read, mut wrote) = (false, false);
@@ -619,7 +643,11 @@ impl Esc {
                 }
             }
         }
-        let write_weight = if command == cmd::LRW { 2 } else { 1 };
+        let write_weight = if matches!(command, Command::Lrw { .. }) {
+            2
+        } else {
+            1
+        };
         u16::from(read) + if wrote { write_weight } else { 0 }
     }
 
@@ -746,50 +774,80 @@ impl Chain {
         datagrams_into(frame, &mut self.datagrams)?;
         for esc in self.slaves.iter_mut() {
             for d in &self.datagrams {
-                let header: [u8; 6] = frame[d.start..d.start + 6]
-                    .try_into()
-                    .expect("a datagram header is 10 bytes");
-                let command = Command(header[0]);
-                // ADP and ADO, or in their place one 32-bit logical address (ETG.1000.4 §5.4).
-                let address = u32::from_le_bytes([header[2], header[3], header[4], header[5]]);
-                let (adp, ado) = (address as u16, (address >> 16) as u16);
-                let (access, addressed, auto, or) = match command {
-                    cmd::APRD => (Some(Access::Read), adp == 0, true, false),
-                    cmd::APWR => (Some(Access::Write), adp == 0, true, false),
-                    cmd::APRW => (Some(Access::ReadWrite), adp == 0, true, false),
-                    cmd::ARMW => (Some(Access::ReadMultipleWrite), adp == 0, true, false),
-                    cmd::FPRD => (Some(Access::Read), esc.is_station(adp), false, false),
-                    cmd::FPWR => (Some(Access::Write), esc.is_station(adp), false, false),
-                    cmd::FPRW => (Some(Access::ReadWrite), esc.is_station(adp), false, false),
-                    cmd::FRMW => (
-                        Some(Access::ReadMultipleWrite),
-                        esc.is_station(adp),
+                let command = Command::from_header(&frame[d.start..d.start + 6]);
+                // A register datagram: how the slave acts, whether it is the one addressed, the
+                // position the slaves increment (auto-increment and broadcast), whether a read ORs
+                // (broadcast), the register.
+                let (access, addressed, position, or, ado) = match command {
+                    Command::Aprd { position, offset } => {
+                        (Access::Read, position == 0, Some(position), false, offset)
+                    }
+                    Command::Apwr { position, offset } => {
+                        (Access::Write, position == 0, Some(position), false, offset)
+                    }
+                    Command::Aprw { position, offset } => (
+                        Access::ReadWrite,
+                        position == 0,
+                        Some(position),
                         false,
-                        false,
+                        offset,
                     ),
-                    cmd::BRD => (Some(Access::Read), true, true, true),
-                    cmd::BWR => (Some(Access::Write), true, true, false),
-                    cmd::BRW => (Some(Access::ReadWrite), true, true, true),
-                    cmd::LRD | cmd::LWR | cmd::LRW => {
-                        let inc = esc.logical(command, address, &mut frame[d.data()..d.wkc()]);
-                        add_wkc(frame, d, inc);
-                        (None, false, false, false)
+                    Command::Armw { position, offset } => (
+                        Access::ReadMultipleWrite,
+                        position == 0,
+                        Some(position),
+                        false,
+                        offset,
+                    ),
+                    Command::Fprd { station, offset } => {
+                        (Access::Read, esc.is_station(station), None, false, offset)
                     }
-                    // NOP passes unchanged.
-                    _ => (None, false, false, false),
+                    Command::Fpwr { station, offset } => {
+                        (Access::Write, esc.is_station(station), None, false, offset)
+                    }
+                    Command::Fprw { station, offset } => (
+                        Access::ReadWrite,
+                        esc.is_station(station),
+                        None,
+                        false,
+                        offset,
+                    ),
+                    Command::Frmw { station, offset } => (
+                        Access::ReadMultipleWrite,
+                        esc.is_station(station),
+                        None,
+                        false,
+                        offset,
+                    ),
+                    Command::Brd { position, offset } => {
+                        (Access::Read, true, Some(position), true, offset)
+                    }
+                    Command::Bwr { position, offset } => {
+                        (Access::Write, true, Some(position), false, offset)
+                    }
+                    Command::Brw { position, offset } => {
+                        (Access::ReadWrite, true, Some(position), true, offset)
+                    }
+                    Command::Lrd { logical }
+                    | Command::Lwr { logical }
+                    | Command::Lrw { logical } => {
+                        let inc = esc.logical(command, logical, &mut frame[d.data()..d.wkc()]);
+                        add_wkc(frame, d, inc);
+                        continue;
+                    }
+                    // NOP, and a command no table defines, pass unchanged.
+                    Command::Nop { .. } | Command::Unknown { .. } => continue,
                 };
-                if let Some(access) = access {
-                    let multiple = access == Access::ReadMultipleWrite;
-                    if addressed || multiple {
-                        let buf = &mut frame[d.data()..d.wkc()];
-                        let inc = esc.access(access, ado, buf, or, addressed);
-                        add_wkc(frame, d, inc);
-                    }
-                    if auto {
-                        // Broadcasts increment ADP too (ETG.1000.4: "position" counts slaves).
-                        let next = adp.wrapping_add(1);
-                        frame[d.start + 2..d.start + 4].copy_from_slice(&next.to_le_bytes());
-                    }
+                let multiple = access == Access::ReadMultipleWrite;
+                if addressed || multiple {
+                    let buf = &mut frame[d.data()..d.wkc()];
+                    let inc = esc.access(access, ado, buf, or, addressed);
+                    add_wkc(frame, d, inc);
+                }
+                if let Some(position) = position {
+                    // Broadcasts increment ADP too (ETG.1000.4: "position" counts slaves).
+                    let next = position.wrapping_add(1);
+                    frame[d.start + 2..d.start + 4].copy_from_slice(&next.to_le_bytes());
                 }
             }
         }

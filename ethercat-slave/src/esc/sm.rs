@@ -20,6 +20,7 @@
 //!   empties its mailbox. The status byte and the PDI control byte are the slave's: a master's write
 //!   to them is ignored.
 
+use super::registers::{SmControl, SyncManagerRegisters};
 use super::Esc;
 
 /// SyncManagers this ESC offers: the most a device's ESC has, and the SyncManagers of an ESC made
@@ -37,6 +38,12 @@ pub const MAILBOX_FULL: u8 = 0x08;
 /// Status bit 0: the last access was a (completed) write.
 pub const WRITE_EVENT: u8 = 0x01;
 
+/// Where the status byte of SyncManager `n` is in memory.
+#[inline]
+const fn status_at(n: usize) -> usize {
+    SM_BASE as usize + SyncManagerRegisters::LEN * n + SyncManagerRegisters::STATUS as usize
+}
+
 /// A SyncManager as its registers configure it.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SyncManager {
@@ -53,17 +60,17 @@ pub struct SyncManager {
 impl SyncManager {
     /// Mailbox mode.
     pub fn is_mailbox(&self) -> bool {
-        self.control & 0x03 == 0x02
+        SmControl(self.control).is_mailbox()
     }
 
     /// Written by the master (direction 01).
     pub fn master_writes(&self) -> bool {
-        (self.control >> 2) & 0x03 == 0x01
+        SmControl(self.control).master_writes()
     }
 
     /// The SyncManager watchdog is enabled for it (control bit 6).
     pub fn watchdog(&self) -> bool {
-        self.control & 0x40 != 0
+        SmControl(self.control).watchdog()
     }
 
     fn end(&self) -> u32 {
@@ -117,26 +124,26 @@ impl Esc {
 
     /// SyncManager `n` decoded from its registers, as [`Esc::sync_manager`] gives it.
     pub(super) fn decode_sync_manager(&self, n: usize) -> SyncManager {
-        let r: [u8; 8] = self.bytes_at(SM_BASE + 8 * n as u16);
+        let r = SyncManagerRegisters::decode(self.bytes_at(SM_BASE + 8 * n as u16));
         SyncManager {
-            start: u16::from_le_bytes([r[0], r[1]]),
-            len: u16::from_le_bytes([r[2], r[3]]),
-            control: r[4],
-            enabled: r[6] & 0x01 != 0 && r[7] & 0x01 == 0,
+            start: r.start,
+            len: r.len,
+            control: r.control,
+            enabled: r.enabled(),
         }
     }
 
     /// The status byte of SyncManager `n`.
     #[inline]
     pub fn sm_status(&self, n: usize) -> u8 {
-        self.mem[usize::from(SM_BASE) + 8 * n + 5]
+        self.mem[status_at(n)]
     }
 
     /// Sets the status byte of SyncManager `n` (no part of its configuration: the decoded
     /// SyncManagers stay as they are).
     #[inline]
     fn set_sm_status(&mut self, n: usize, status: u8) {
-        self.mem[usize::from(SM_BASE) + 8 * n + 5] = status;
+        self.mem[status_at(n)] = status;
     }
 
     /// Whether the master may make this access; `None` refuses it (nothing changes, no working
@@ -241,23 +248,22 @@ impl Esc {
     /// A master's write to SyncManager registers: the slave's bytes (status, PDI control) are kept,
     /// a changed or disabled SyncManager's mailbox is emptied, a toggled repeat request repeats.
     pub(crate) fn sm_registers_written(&mut self, before: &[u8]) {
+        const LEN: usize = SyncManagerRegisters::LEN;
         for n in 0..self.sync_manager_count() {
-            let b = 8 * n;
-            let at = SM_BASE + b as u16;
-            let now: [u8; 8] = self.bytes_at(at);
-            // Status (5) and PDI control (7) are read-only for the master.
-            let (status, pdi) = (before[b + 5], before[b + 7]);
-            self.store(at + 5, &[status]);
-            self.store(at + 7, &[pdi]);
-            let config_changed =
-                now[0..5] != before[b..b + 5] || (now[6] ^ before[b + 6]) & 0x01 != 0;
-            if config_changed {
+            let at = SM_BASE + (LEN * n) as u16;
+            let now = SyncManagerRegisters::decode(self.bytes_at(at));
+            let was = &before[LEN * n..LEN * (n + 1)];
+            let was = SyncManagerRegisters::decode(was.try_into().expect("8 bytes"));
+            // Status and PDI control are read-only for the master.
+            let (status, pdi) = (was.status, was.pdi_control);
+            self.store(at + SyncManagerRegisters::STATUS, &[status]);
+            self.store(at + SyncManagerRegisters::PDI_CONTROL, &[pdi]);
+            if now.configuration() != was.configuration() {
                 self.set_sm_status(n, 0);
                 continue;
             }
-            let repeat = now[6] & 0x02 != 0;
-            let acked = pdi & 0x02 != 0;
-            if repeat != acked {
+            let acked = was.repeat_ack();
+            if now.repeat_request() != acked {
                 let sm = self.sync_manager(n);
                 if sm.is_mailbox() && !sm.master_writes() {
                     if let Some(last) = self.last_mailbox.clone() {
@@ -266,7 +272,7 @@ impl Esc {
                     }
                 }
                 // The acknowledgement (bit 1) differs from the request: it toggles to match it.
-                self.store(at + 7, &[pdi ^ 0x02]);
+                self.store(at + SyncManagerRegisters::PDI_CONTROL, &[pdi ^ 0x02]);
             }
         }
     }

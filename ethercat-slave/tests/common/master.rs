@@ -11,7 +11,7 @@ pub use coe::{coe_answer, coe_request};
 use std::time::Duration;
 
 use ds402::smd::indexer::{Inputs, Outputs};
-use ethercat_slave::esc::Command;
+use ethercat_slave::esc::CommandCode;
 use ethercat_slave::frame::Datagram;
 use ethercat_slave::master as m;
 use ethercat_slave::master::SimChain;
@@ -28,7 +28,7 @@ pub fn one(c: &mut SimChain, d: Datagram) -> Datagram {
 }
 
 /// A register datagram `command` to `adp`/`ado`.
-pub fn reg(c: &mut SimChain, command: Command, adp: u16, ado: u16, data: Vec<u8>) -> Datagram {
+pub fn reg(c: &mut SimChain, command: CommandCode, adp: u16, ado: u16, data: Vec<u8>) -> Datagram {
     ok(m::reg(c, command, adp, ado, data))
 }
 
