@@ -137,7 +137,7 @@ impl PdoConfig {
 }
 
 /// CiA 301 §7.3.5 restricted CAN-IDs: no PDO, SYNC or EMCY may use them
-/// ([`od::fill::restricted_can_id`]).
+/// ([`crate::fill::restricted_can_id`]).
 pub const fn restricted_id(id: u16) -> bool {
     crate::fill::restricted_can_id(id)
 }
