@@ -5,6 +5,10 @@ use std::path::{Path, PathBuf};
 
 use od::device::DeviceDescription;
 
+/// `ARCHITECTURE.md`: its examples run as this crate's doc tests.
+#[doc = include_str!("../ARCHITECTURE.md")]
+pub mod architecture {}
+
 /// The workspace root.
 pub fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
