@@ -11,42 +11,15 @@
 use std::cell::RefCell;
 use std::time::{Duration, Instant};
 
-use od::abort::AbortCode;
-use od::dict::Address;
-use od::hook::DeviceHook;
+use od::hook::NoHook;
 use socketcan_node::node::lss::{LSS_REQUEST, LSS_RESPONSE, UNCONFIGURED};
 use socketcan_node::node::storage::MemoryStorage;
-use socketcan_node::node::{AppError, Application, LssConfig};
+use socketcan_node::node::LssConfig;
 use socketcan_node::sim::SimNode;
 use socketcan_node::{CanFrame, Node, NodeConfig};
 
-/// A device whose dictionary is the whole device.
-#[derive(Clone)]
-struct Plain;
-
-impl DeviceHook for Plain {
-    fn owns(&self, _: u16) -> bool {
-        false
-    }
-    fn read(&self, _: Address, _: &mut [u8; 8]) -> Option<usize> {
-        None
-    }
-    fn write(&mut self, _: Address, _: &[u8]) -> Result<(), AbortCode> {
-        Ok(())
-    }
-}
-
-impl Application for Plain {
-    fn handle_timeout(&mut self, _: Instant) {}
-    fn poll_timeout(&self) -> Option<Instant> {
-        None
-    }
-    fn errors(&self, _: &mut Vec<AppError>) {}
-    fn reset(&mut self, _: Instant) {}
-}
-
 /// A node as booted: without a node-ID or as node 3 (bit 0), with LSS storage or without (bit 1).
-fn booted(variant: u8) -> SimNode<Plain> {
+fn booted(variant: u8) -> SimNode<NoHook> {
     let config = NodeConfig {
         lss: Some(LssConfig {
             bit_timing: 4,
@@ -56,22 +29,22 @@ fn booted(variant: u8) -> SimNode<Plain> {
     };
     let dict = socketcan_node::x67::dictionary(2).expect("dictionary");
     let t0 = Instant::now();
-    let node = Node::new(config, dict, Plain, t0).expect("node");
+    let node = Node::new(config, dict, NoHook, t0).expect("node");
     SimNode::boot(node, t0, Box::new(MemoryStorage::default()))
 }
 
 thread_local! {
     /// The four nodes as booted, built once; each input runs on a fork of one.
-    static BOOTED: RefCell<Vec<SimNode<Plain>>> = RefCell::new((0..4).map(booted).collect());
+    static BOOTED: RefCell<Vec<SimNode<NoHook>>> = RefCell::new((0..4).map(booted).collect());
 }
 
 /// The LSS address of `n` (its 0x1018:01–04).
-fn address(n: &SimNode<Plain>) -> [u32; 4] {
+fn address(n: &SimNode<NoHook>) -> [u32; 4] {
     n.node.lss().expect("serves LSS").address()
 }
 
 /// Checks what always holds of the node.
-fn check_node_id(n: &SimNode<Plain>) {
+fn check_node_id(n: &SimNode<NoHook>) {
     let id = n.node.node_id();
     assert!(
         id == UNCONFIGURED || (1..=127).contains(&id),
@@ -80,7 +53,7 @@ fn check_node_id(n: &SimNode<Plain>) {
     assert_eq!(id, n.node.lss().expect("serves LSS").active_node_id());
 }
 
-fn lss(n: &mut SimNode<Plain>, data: [u8; 8]) -> Vec<CanFrame> {
+fn lss(n: &mut SimNode<NoHook>, data: [u8; 8]) -> Vec<CanFrame> {
     n.send(CanFrame::new(LSS_REQUEST, &data).expect("8 bytes"))
 }
 
