@@ -8,10 +8,13 @@
 //! - [`favour`] and [`favour_this_thread`]: a simulated device's process or thread given a larger
 //!   share of a busy machine, as a real device has its own processor;
 //! - [`link`]: a veth pair with `smd-ethercat` running on its far end, in a network namespace of its
-//!   own.
+//!   own;
+//! - [`sched`]: how long the machine held threads back (their run-queue wait), which a timing test
+//!   takes off a late answer before it blames the node.
 #![deny(missing_docs)]
 
 pub mod link;
+pub mod sched;
 
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
