@@ -154,3 +154,80 @@ pub fn frame_data(code: EmcyCode, register: u8, info: [u8; 5]) -> [u8; 8] {
         c[0], c[1], register, info[0], info[1], info[2], info[3], info[4],
     ]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn register_bits_follow_the_code_classes() {
+        let e = |code| DeviceError {
+            code: EmcyCode(code),
+            info: [0; 5],
+        };
+        assert_eq!(error_register(&[e(0x2300)]), 0x03);
+        assert_eq!(error_register(&[e(0x3000)]), 0x05);
+        assert_eq!(error_register(&[e(0x4200)]), 0x09);
+        assert_eq!(error_register(&[e(0x8130)]), 0x11);
+        assert_eq!(error_register(&[e(0x8210)]), 0x11);
+        assert_eq!(error_register(&[e(0x8611)]), 0x21);
+        assert_eq!(error_register(&[e(0xFF20), e(0x3000)]), 0x85);
+        assert_eq!(error_register(&[]), 0x00);
+        assert_eq!(
+            frame_data(EmcyCode(0x4200), 0x09, [1, 2, 0, 0, 0]),
+            [0x00, 0x42, 0x09, 1, 2, 0, 0, 0]
+        );
+    }
+
+    #[test]
+    fn codes_show_their_number_and_class() {
+        let shown = |code: u16| EmcyCode(code).to_string();
+        // Codes the table names one by one.
+        assert_eq!(shown(0x0000), "0x0000 (error reset or no error)");
+        assert_eq!(shown(0x1000), "0x1000 (generic error)");
+        assert_eq!(shown(0x2300), "0x2300 (current, device output side)");
+        assert_eq!(shown(0x3000), "0x3000 (voltage)");
+        assert_eq!(shown(0x4200), "0x4200 (temperature, device)");
+        assert_eq!(
+            shown(0x8130),
+            "0x8130 (life guard error or heartbeat error)"
+        );
+        assert_eq!(
+            shown(0x8210),
+            "0x8210 (PDO not processed due to length error)"
+        );
+        for (code, meaning) in [
+            (0x8110, "CAN overrun (objects lost)"),
+            (0x8120, "CAN in error passive mode"),
+            (0x8140, "recovered from bus off"),
+            (0x8150, "CAN-ID collision"),
+            (0x8220, "PDO length exceeded"),
+            (0x8240, "unexpected SYNC data length"),
+            (0x8250, "RPDO timeout"),
+        ] {
+            assert_eq!(EmcyCode(code).meaning(), meaning, "{code:#06x}");
+        }
+        // Others: the class of the high byte.
+        assert_eq!(shown(0x4210), "0x4210 (device temperature)");
+        assert_eq!(shown(0x5000), "0x5000 (device hardware)");
+        assert_eq!(shown(0x6300), "0x6300 (data set)");
+        assert_eq!(shown(0x8131), "0x8131 (communication)");
+        assert_eq!(shown(0x8211), "0x8211 (protocol error)");
+        assert_eq!(shown(0x9000), "0x9000 (external error)");
+        assert_eq!(shown(0xF000), "0xF000 (additional functions)");
+        assert_eq!(shown(0xFF07), "0xFF07 (device specific)");
+        // A high byte the table does not list: the generic class of its first digit.
+        assert_eq!(shown(0x2400), "0x2400 (current)");
+        assert_eq!(shown(0xA000), "0xA000 (no class of CiA 301)");
+    }
+
+    #[test]
+    fn named_codes_are_the_tables_numbers() {
+        assert_eq!(NO_ERROR.get(), 0x0000);
+        assert_eq!(HEARTBEAT_ERROR.get(), 0x8130);
+        assert_eq!(PDO_LENGTH_ERROR.get(), 0x8210);
+        assert_eq!(EmcyCode::CURRENT_OUTPUT, EmcyCode::from(0x2300));
+        assert_eq!(u16::from(EmcyCode::VOLTAGE), 0x3000);
+        assert_eq!(EmcyCode::DEVICE_TEMPERATURE.to_le_bytes(), [0x00, 0x42]);
+    }
+}
