@@ -221,6 +221,42 @@ mod tests {
         assert_eq!(shown(0xA000), "0xA000 (no class of CiA 301)");
     }
 
+    /// Every class of CiA 301 Table 21, by the high byte where the table lists it, else by the first
+    /// digit.
+    #[test]
+    fn every_class_of_the_table() {
+        for (code, class) in [
+            (0x0001, "error reset or no error"),
+            (0x2110, "current, device input side"),
+            (0x2220, "current inside the device"),
+            (0x2330, "current, device output side"),
+            (0x3110, "mains voltage"),
+            (0x3220, "voltage inside the device"),
+            (0x3330, "output voltage"),
+            (0x4110, "ambient temperature"),
+            (0x4220, "device temperature"),
+            (0x6110, "internal software"),
+            (0x6200, "user software"),
+            (0x6320, "data set"),
+            (0x8140, "communication"),
+            (0x8230, "protocol error"),
+            (0xFF00, "device specific"),
+            (0x1001, "generic error"),
+            (0x2500, "current"),
+            (0x3400, "voltage"),
+            (0x4300, "temperature"),
+            (0x5530, "device hardware"),
+            (0x6400, "device software"),
+            (0x7100, "additional modules"),
+            (0x8611, "monitoring"),
+            (0x9009, "external error"),
+            (0xF001, "additional functions"),
+            (0xB000, "no class of CiA 301"),
+        ] {
+            assert_eq!(EmcyCode(code).class(), class, "{code:#06x}");
+        }
+    }
+
     #[test]
     fn named_codes_are_the_tables_numbers() {
         assert_eq!(NO_ERROR.get(), 0x0000);
