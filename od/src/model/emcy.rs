@@ -171,6 +171,9 @@ mod tests {
         assert_eq!(error_register(&[e(0x8130)]), 0x11);
         assert_eq!(error_register(&[e(0x8210)]), 0x11);
         assert_eq!(error_register(&[e(0x8611)]), 0x21);
+        assert_eq!(error_register(&[e(0x6100)]), 0x21);
+        assert_eq!(error_register(&[e(0x5000)]), 0x01);
+        assert_eq!(error_register(&[e(0x1000)]), 0x01);
         assert_eq!(error_register(&[e(0xFF20), e(0x3000)]), 0x85);
         assert_eq!(error_register(&[]), 0x00);
         assert_eq!(
