@@ -50,7 +50,7 @@
 //! let t0 = Instant::now();
 //! let mut drive = Drive::from_dictionary(&dict, 0, DriveConfig::default(), t0).unwrap();
 //! drive.handle_timeout(t0 + Duration::from_millis(1)); // Switch on disabled
-//! let mut node = Bound::new(&mut dict, &mut drive);
+//! let mut node = Bound::new(&mut dict, &mut drive, t0 + Duration::from_millis(1));
 //! node.download(Address::new(0x6060, 0), &[1]).unwrap(); // profile position
 //! for cw in [0x06u16, 0x07, 0x0F] {
 //!     node.download(Address::new(0x6040, 0), &cw.to_le_bytes()).unwrap();
