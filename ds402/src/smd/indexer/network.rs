@@ -53,16 +53,14 @@ impl Indexer {
     }
 
     /// A SYNC0 event of the Distributed Clock at `now`: with DC_Sync, a move waiting for it starts
-    /// 520 µs after `now` (SMD-R1-022), counted from the exchange the motion last ran to (an event
-    /// before that exchange has that much less to wait; one without a start counts from it).
+    /// 520 µs after `now` (SMD-R1-022). An event reported with an instant before the exchange the
+    /// motion last ran to counts from that exchange (the move it starts was taken there).
     pub fn sync0_event(&mut self, now: Instant) {
         if self.sync_wait == Some(SyncWait::ForSync0) {
-            let delay = match self.ran_to {
-                Some(t) if now >= t => SYNC0_START_DELAY + (now - t),
-                Some(t) => SYNC0_START_DELAY.saturating_sub(t - now),
-                None => SYNC0_START_DELAY,
-            };
-            self.sync_wait = Some(SyncWait::Delay(delay));
+            let since = self
+                .ran_to
+                .map_or(Duration::ZERO, |t| now.saturating_duration_since(t));
+            self.sync_wait = Some(SyncWait::Delay(SYNC0_START_DELAY + since));
         }
     }
 
