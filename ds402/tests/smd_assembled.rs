@@ -372,7 +372,7 @@ fn smd_r2_069_081_stored_program() {
     run(&mut r, 0, 0);
     run(&mut r, 0, 0);
     assert_eq!(r.pos(), start + 4_000, "run twice");
-    r.ix.write_config(6, 40);
+    r.ix.write_config(r.now(), 6, 40);
     assert!(r.ix.assembled_program().is_none());
 }
 
@@ -601,7 +601,7 @@ fn smd_r2_082_089_flash() {
     );
     assert_eq!(r.pos(), 0);
     r.ix.power_cycle();
-    r.ix.write_config(3, 141);
+    r.ix.write_config(r.now(), 3, 141);
     r.out = Outputs {
         cmd1: cmd1::ENABLE_DRIVER,
         ..Outputs::default()
@@ -627,14 +627,14 @@ fn smd_r2_090_092_094_095_indexed_moves() {
     assert_eq!(r.pos(), 0, "waits for the input");
     assert_ne!(r.s0() & stat0::STOPPED, 0);
     for k in 1..=3 {
-        r.ix.set_input(1, true);
+        r.ix.set_input(r.now(), 1, true);
         r.cycle();
         assert_eq!(r.s0() & stat0::STOPPED, 0, "run {k} started");
-        r.ix.set_input(1, false);
+        r.ix.set_input(r.now(), 1, false);
         r.cycle();
-        r.ix.set_input(1, true); // mid-move edge: ignored
+        r.ix.set_input(r.now(), 1, true); // mid-move edge: ignored
         r.cycle();
-        r.ix.set_input(1, false);
+        r.ix.set_input(r.now(), 1, false);
         r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
         assert_eq!(r.pos(), 1_000 * k);
         assert_ne!(r.s0() & stat0::MOVE_COMPLETE, 0);
@@ -691,7 +691,7 @@ fn smd_r2_090_every_move_type_waits_for_the_edge() {
             assert_eq!(r.pos(), 0, "{case}");
             r.cycle();
         }
-        r.ix.set_input(1, true);
+        r.ix.set_input(r.now(), 1, true);
         r.cycle();
         assert_eq!(
             r.s0() & (stat0::STOPPED | stat0::MOVING_CW | stat0::MOVING_CCW),
@@ -726,22 +726,22 @@ fn smd_r2_093_096_indexed_cancel_and_new_parameters() {
     r.command(cmd0::RELATIVE_MOVE);
     r.out.position = 7; // changed data without a new edge: the latched 1,000 stays
     r.cycle();
-    r.ix.set_input(1, true);
+    r.ix.set_input(r.now(), 1, true);
     r.cycle();
-    r.ix.set_input(1, false);
+    r.ix.set_input(r.now(), 1, false);
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
     assert_eq!(r.pos(), 1_000);
     r.command(0);
-    r.ix.set_input(1, true);
+    r.ix.set_input(r.now(), 1, true);
     r.cycle();
-    r.ix.set_input(1, false);
+    r.ix.set_input(r.now(), 1, false);
     for _ in 0..100 {
         r.cycle();
     }
     assert_eq!(r.pos(), 1_000, "cancelled");
     r.out.position = 250;
     r.command(cmd0::RELATIVE_MOVE);
-    r.ix.set_input(1, true);
+    r.ix.set_input(r.now(), 1, true);
     r.cycle();
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
     assert_eq!(r.pos(), 1_250);

@@ -11,6 +11,7 @@ use smd_rig::{Rig, MS};
 /// A fresh unit of `kind` with the default configuration, one cycle run.
 fn unit(kind: EncoderKind) -> Rig {
     let mut ix = Indexer::new(kind, Configuration::default());
+    ix.start(std::time::Instant::now(), MS);
     let last = ix.cycle(Outputs::default(), MS);
     Rig {
         ix,
@@ -24,7 +25,7 @@ fn configuration_error(kind: EncoderKind, writes: &[(u8, u32)]) -> bool {
     let mut r = unit(kind);
     assert_eq!(r.s0() & stat0::CONFIGURATION_ERROR, 0);
     for &(sub, value) in writes {
-        assert!(r.ix.write_config(sub, value));
+        assert!(r.ix.write_config(r.now(), sub, value));
     }
     r.cycle();
     r.s0() & stat0::CONFIGURATION_ERROR != 0
@@ -153,7 +154,7 @@ fn smd_r5_026_configuration_error_follows_the_stored_values() {
         ..Outputs::default()
     };
     r.cycle();
-    assert!(r.ix.write_config(4, 199));
+    assert!(r.ix.write_config(r.now(), 4, 199));
     r.cycle();
     assert_ne!(r.s0() & stat0::CONFIGURATION_ERROR, 0);
     r.command(cmd0::RESET_ERRORS);
@@ -170,7 +171,7 @@ fn smd_r5_026_configuration_error_follows_the_stored_values() {
         r.cycle();
     }
     r.command(0);
-    assert!(r.ix.write_config(4, 200));
+    assert!(r.ix.write_config(r.now(), 4, 200));
     r.cycle();
     assert_eq!(
         r.s0() & stat0::CONFIGURATION_ERROR,

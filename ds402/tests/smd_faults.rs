@@ -25,7 +25,7 @@ fn smd_r1_007_010_011_stall_during_a_move() {
         r.cycle();
     }
     let from = r.pos();
-    r.ix.set_shaft_blocked(true);
+    r.ix.set_shaft_blocked(r.now(), true);
     let n = r.until(10_000, |i| i.status1 & stat1::STALL_DETECTED != 0);
     assert!(n > 1);
     let ahead = r.pos() - from;
@@ -45,19 +45,19 @@ fn smd_r1_007_010_011_stall_during_a_move() {
 #[test]
 fn smd_r1_008_r6_063_stall_at_rest_and_reset() {
     let mut r = rig(STALL);
-    r.ix.turn_shaft(256);
+    r.ix.turn_shaft(r.now(), 256);
     r.cycle();
     assert_eq!(r.s1() & stat1::STALL_DETECTED, 0, "exactly 45°");
-    r.ix.turn_shaft(1);
+    r.ix.turn_shaft(r.now(), 1);
     r.cycle();
     assert_ne!(r.s1() & stat1::STALL_DETECTED, 0);
     assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
-    r.ix.turn_shaft(-257);
+    r.ix.turn_shaft(r.now(), -257);
     for _ in 0..10 {
         r.cycle();
     }
     assert_ne!(r.s1() & stat1::STALL_DETECTED, 0, "kept until Reset Errors");
-    r.ix.turn_shaft(400);
+    r.ix.turn_shaft(r.now(), 400);
     r.command(cmd0::RESET_ERRORS);
     assert_eq!(r.s1() & stat1::STALL_DETECTED, 0);
     for _ in 0..100 {
@@ -74,7 +74,7 @@ fn smd_r1_008_r6_063_stall_at_rest_and_reset() {
 #[test]
 fn smd_r1_009_no_stall_detection() {
     let mut r = rig(CFG0_USE_ENCODER);
-    r.ix.turn_shaft(100_000);
+    r.ix.turn_shaft(r.now(), 100_000);
     r.cycle();
     assert_eq!(r.s1() & stat1::STALL_DETECTED, 0);
 }
@@ -85,34 +85,34 @@ fn smd_r1_009_no_stall_detection() {
 #[test]
 fn smd_r1_020_r6_071_074_over_temperature() {
     let mut r = rig(0);
-    r.ix.set_temperature(91.0);
+    r.ix.set_temperature(r.now(), 91.0);
     r.cycle();
     assert_eq!(
         r.s1() & (stat1::TEMPERATURE_ABOVE_90 | stat1::DRIVER_FAULT),
         stat1::TEMPERATURE_ABOVE_90
     );
-    r.ix.set_temperature(89.0);
+    r.ix.set_temperature(r.now(), 89.0);
     r.cycle();
     assert_eq!(r.s1() & stat1::TEMPERATURE_ABOVE_90, 0);
     // "Above": exactly 90 °C is no warning, exactly 95 °C no fault.
-    r.ix.set_temperature(90.0);
+    r.ix.set_temperature(r.now(), 90.0);
     r.cycle();
     assert_eq!(r.s1() & stat1::TEMPERATURE_ABOVE_90, 0, "90 °C");
-    r.ix.set_temperature(95.0);
+    r.ix.set_temperature(r.now(), 95.0);
     r.cycle();
     assert_eq!(
         r.s1() & (stat1::TEMPERATURE_ABOVE_90 | stat1::DRIVER_FAULT),
         stat1::TEMPERATURE_ABOVE_90,
         "95 °C"
     );
-    r.ix.set_temperature(89.0);
+    r.ix.set_temperature(r.now(), 89.0);
     r.cycle();
     r.out.position = 50_000;
     r.command(cmd0::RELATIVE_MOVE);
     for _ in 0..200 {
         r.cycle();
     }
-    r.ix.set_temperature(95.1);
+    r.ix.set_temperature(r.now(), 95.1);
     r.cycle();
     assert_eq!(
         r.s1() & (stat1::DRIVER_FAULT | stat1::DRIVE_IS_ENABLED),
@@ -123,10 +123,10 @@ fn smd_r1_020_r6_071_074_over_temperature() {
     r.command(0);
     r.command(cmd0::RELATIVE_MOVE);
     assert_ne!(r.s0() & stat0::COMMAND_ERROR, 0);
-    r.ix.set_temperature(92.0);
+    r.ix.set_temperature(r.now(), 92.0);
     r.cycle();
     assert_ne!(r.s1() & stat1::DRIVER_FAULT, 0, "hysteresis");
-    r.ix.set_temperature(90.0);
+    r.ix.set_temperature(r.now(), 90.0);
     r.cycle();
     assert_eq!(r.s1() & stat1::DRIVER_FAULT, 0, "cleared with no command");
     assert!(r.ix.actual_current() > 0.0);
@@ -145,7 +145,7 @@ fn smd_r1_002_to_006_sto() {
     for _ in 0..200 {
         r.cycle();
     }
-    r.ix.set_sto(true, false);
+    r.ix.set_sto(r.now(), true, false);
     r.cycle();
     assert_eq!(
         r.s1() & (stat1::DRIVER_FAULT | stat1::DRIVE_IS_ENABLED),
@@ -159,7 +159,7 @@ fn smd_r1_002_to_006_sto() {
     r.command(cmd0::RESET_ERRORS);
     assert_ne!(r.s1() & stat1::DRIVER_FAULT, 0, "one input still off");
     r.command(0);
-    r.ix.set_sto(true, true);
+    r.ix.set_sto(r.now(), true, true);
     r.cycle();
     assert_ne!(
         r.s1() & stat1::DRIVER_FAULT,
@@ -177,10 +177,10 @@ fn smd_r1_002_to_006_sto() {
 #[test]
 fn smd_r6_051_module_ok() {
     let mut r = rig(0);
-    r.ix.write_config(7, 0);
+    r.ix.write_config(r.now(), 7, 0);
     r.command(cmd0::ABSOLUTE_MOVE);
     assert_ne!(r.s0() & stat0::MODULE_OK, 0);
-    r.ix.set_internal_fault(true);
+    r.ix.set_internal_fault(r.now(), true);
     r.cycle();
     assert_eq!(r.s0() & stat0::MODULE_OK, 0);
 }
@@ -191,8 +191,8 @@ fn smd_r6_051_module_ok() {
 #[test]
 fn smd_r1_018_019_r2_101_r5_008_idle_current() {
     let mut r = rig(0);
-    r.ix.write_config(6, 25);
-    r.ix.write_config(7, 20);
+    r.ix.write_config(r.now(), 6, 25);
+    r.ix.write_config(r.now(), 7, 20);
     r.out.position = 1_000;
     r.command(cmd0::RELATIVE_MOVE);
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
@@ -206,7 +206,7 @@ fn smd_r1_018_019_r2_101_r5_008_idle_current() {
         r.cycle();
     }
     assert_eq!(r.ix.actual_current(), 5.0, "2.0 A × 25 %");
-    r.ix.write_config(6, 50);
+    r.ix.write_config(r.now(), 6, 50);
     r.cycle();
     assert_eq!(
         r.ix.actual_current(),
@@ -226,7 +226,7 @@ fn smd_r1_018_019_r2_101_r5_008_idle_current() {
 #[test]
 fn smd_r2_102_zero_idle_current() {
     let mut r = rig(0);
-    r.ix.write_config(6, 0);
+    r.ix.write_config(r.now(), 6, 0);
     r.out.position = 10;
     r.command(cmd0::RELATIVE_MOVE);
     for _ in 0..1_600 {
@@ -241,7 +241,7 @@ fn smd_r2_102_zero_idle_current() {
 #[test]
 fn smd_r1_012_aux_power_only() {
     let mut r = rig(CFG0_USE_ENCODER);
-    r.ix.set_shaft_blocked(true);
+    r.ix.set_shaft_blocked(r.now(), true);
     r.out.position = 5_000;
     r.command(cmd0::RELATIVE_MOVE);
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
@@ -261,7 +261,7 @@ fn smd_r4_008_home_to_a_hard_stop() {
     for _ in 0..200 {
         r.cycle();
     }
-    r.ix.set_shaft_blocked(true); // the hard stop
+    r.ix.set_shaft_blocked(r.now(), true); // the hard stop
     r.until(10_000, |i| i.status1 & stat1::STALL_DETECTED != 0);
     // SMD-R4-007: the jog stopped with Position_Invalid (STAT0 = Module_OK | Position_Invalid |
     // Stopped, 0x4408) and Stall_Detected with the driver enabled (STAT1 less the Heartbeat_Bit:

@@ -35,8 +35,8 @@ fn rig(cfg0: u16) -> Rig {
 /// One cycle with the sensors set from the position the motor has now.
 fn step(r: &mut Rig, sensors: Sensors) {
     let (a, b) = sensors(r.ix.position());
-    r.ix.set_input(1, a);
-    r.ix.set_input(2, b);
+    r.ix.set_input(r.now(), 1, a);
+    r.ix.set_input(r.now(), 2, b);
     r.cycle();
 }
 
@@ -47,8 +47,8 @@ fn step(r: &mut Rig, sensors: Sensors) {
 /// shows it has).
 fn home(r: &mut Rig, bit: u16, sensors: Sensors, ms: u32) -> Vec<Inputs> {
     let (a, b) = sensors(r.ix.position());
-    r.ix.set_input(1, a);
-    r.ix.set_input(2, b);
+    r.ix.set_input(r.now(), 1, a);
+    r.ix.set_input(r.now(), 2, b);
     r.cycle();
     r.out.cmd0 = bit;
     let mut trace = Vec::new();
@@ -195,9 +195,9 @@ fn smd_r4_011_to_015_home_input_only_profile() {
     r.out.position = 4_000;
     r.command(cmd0::PRESET_ENCODER);
     r.command(0);
-    r.ix.set_input(2, true);
+    r.ix.set_input(r.now(), 2, true);
     r.cycle();
-    r.ix.set_input(2, false);
+    r.ix.set_input(r.now(), 2, false);
     r.cycle();
     assert_eq!(r.last.trapped_encoder_position, 4_000);
     r.out.position = 123_456; // SMD-R4-010: ignored.

@@ -407,7 +407,7 @@ fn smd_r6_017_018_019_052_reset_errors() {
     r.out.position = 1;
     r.command(cmd0::ABSOLUTE_MOVE); // Position invalid: Command_Error.
     r.command(0);
-    r.ix.write_config(7, 35); // Motor_Current out of range.
+    r.ix.write_config(r.now(), 7, 35); // Motor_Current out of range.
     r.command(cmd0::RESET_ERRORS);
     assert_eq!(r.s0() & stat0::COMMAND_ERROR, 0);
     assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
@@ -571,7 +571,7 @@ fn smd_r2_029_controlled_stop() {
 
     // Position_Invalid already 1 (a configuration write): it stays 1.
     let mut r = Rig::ready_with(0, 10_000, 10, 4);
-    assert!(r.ix.write_config(6, 50));
+    assert!(r.ix.write_config(r.now(), 6, 50));
     r.out.position = 1_000_000;
     r.command(cmd0::RELATIVE_MOVE);
     r.command(0);
@@ -794,11 +794,11 @@ fn smd_r6_030_031_r5_027_enable_driver() {
     assert_eq!(r.pos(), 0);
     r.command(0);
     r.out.cmd1 = cmd1::ENABLE_DRIVER;
-    r.ix.write_config(6, 101);
+    r.ix.write_config(r.now(), 6, 101);
     r.cycle();
     assert_ne!(r.s0() & stat0::CONFIGURATION_ERROR, 0);
     assert_eq!(r.s1() & stat1::DRIVE_IS_ENABLED, 0, "invalid configuration");
-    r.ix.write_config(6, 100);
+    r.ix.write_config(r.now(), 6, 100);
     r.cycle();
     assert_eq!(r.s0() & stat0::CONFIGURATION_ERROR, 0);
     assert_ne!(r.s1() & stat1::DRIVE_IS_ENABLED, 0);
@@ -857,7 +857,7 @@ fn smd_r2_051_a_refused_command_never_moves() {
             cmd0::JOG_CW
         }),
         ("Find Home, Jerk 5,001", |r| {
-            r.ix.write_config(1, 6);
+            r.ix.write_config(r.now(), 1, 6);
             r.cycle();
             r.command(cmd0::PRESET_POSITION);
             r.command(0);
@@ -954,9 +954,9 @@ fn smd_r6_009_error_bits_do_not_block_valid_commands() {
             "Input_Error",
             1, // IN1 = CW limit
             |r| {
-                r.ix.set_input(1, true);
+                r.ix.set_input(r.now(), 1, true);
                 r.command(cmd0::JOG_CW);
-                r.ix.set_input(1, false);
+                r.ix.set_input(r.now(), 1, false);
             },
             stat0::INPUT_ERROR,
             0,
@@ -965,9 +965,9 @@ fn smd_r6_009_error_bits_do_not_block_valid_commands() {
             "Stall_Detected",
             CFG0_USE_ENCODER | ds402::smd::config::CFG0_ENABLE_STALL_DETECTION,
             |r| {
-                r.ix.turn_shaft(300);
+                r.ix.turn_shaft(r.now(), 300);
                 r.cycle();
-                r.ix.turn_shaft(-300);
+                r.ix.turn_shaft(r.now(), -300);
             },
             0,
             stat1::STALL_DETECTED,
@@ -1144,7 +1144,7 @@ fn exchange_derives_the_time_step_from_now() {
     let t0 = std::time::Instant::now();
     let mut by_dt = Rig::ready();
     let mut by_now = by_dt.ix.clone();
-    by_now.start(t0);
+    by_now.start(t0, Duration::from_millis(1));
     let mut now = t0;
     let mut out = by_dt.out;
     out.cmd0 = cmd0::RELATIVE_MOVE;

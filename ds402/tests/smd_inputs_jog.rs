@@ -26,7 +26,7 @@ fn rig(in1: u16, in2: u16, encoder: bool) -> Rig {
 }
 
 fn input(r: &mut Rig, n: usize, current: bool) {
-    r.ix.set_input(n, current);
+    r.ix.set_input(r.now(), n, current);
     r.cycle();
 }
 
@@ -52,7 +52,7 @@ fn smd_r5_023_024_r6_075_active_levels() {
         r.s1() & (stat1::IN1_ACTIVE | stat1::IN2_ACTIVE),
         stat1::IN1_ACTIVE
     );
-    r.ix.write_config(2, 0x0002); // IN1 level 0: active without current.
+    r.ix.write_config(r.now(), 2, 0x0002); // IN1 level 0: active without current.
     r.cycle();
     assert_eq!(
         r.s1() & (stat1::IN1_ACTIVE | stat1::IN2_ACTIVE),
@@ -69,7 +69,7 @@ fn smd_r5_023_024_r6_075_active_levels() {
     r.out.position = 3_000;
     r.command(cmd0::RELATIVE_MOVE);
     for k in 0..2_000 {
-        r.ix.set_input(1, k % 7 == 0);
+        r.ix.set_input(r.now(), 1, k % 7 == 0);
         r.cycle();
     }
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
@@ -524,10 +524,10 @@ fn smd_r1_032_stop_jog_input_ignored_by_other_moves() {
             let mut trace = Vec::new();
             for k in 0..12_000 {
                 if edges && [100, 300, 500].contains(&k) {
-                    r.ix.set_input(1, k != 300);
+                    r.ix.set_input(r.now(), 1, k != 300);
                 }
                 if r.s0() & stat0::AT_HOME == 0 {
-                    r.ix.set_input(2, (1_500..=1_700).contains(&r.ix.position()));
+                    r.ix.set_input(r.now(), 2, (1_500..=1_700).contains(&r.ix.position()));
                 }
                 let mut i = r.cycle();
                 i.status1 &= !stat1::IN1_ACTIVE;
@@ -575,7 +575,7 @@ fn smd_r1_025_026_start_indexed_capture() {
 
     // The encoder switched off (CFG_Word_0 without Use_Encoder): Encoder_Position reads 0, and an
     // edge captures nothing — Trapped_Encoder_Position keeps 77, where a capture would give 0.
-    r.ix.write_config(1, u32::from(START_INDEXED << 3));
+    r.ix.write_config(r.now(), 1, u32::from(START_INDEXED << 3));
     r.cycle();
     assert_eq!(
         (r.last.encoder_position, r.last.trapped_encoder_position),

@@ -286,7 +286,7 @@ fn smd_r2_047_home_input_only_for_find_home() {
     r.out.position = 5_000;
     r.command(cmd0::RELATIVE_MOVE);
     for k in 0..3_000 {
-        r.ix.set_input(1, k % 100 < 50);
+        r.ix.set_input(r.now(), 1, k % 100 < 50);
         r.cycle();
     }
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
@@ -305,13 +305,13 @@ fn smd_r2_097_indexed_registration() {
         r.cycle();
     }
     assert_eq!(r.pos(), 0);
-    r.ix.set_input(1, true);
+    r.ix.set_input(r.now(), 1, true);
     r.cycle();
     for _ in 0..1_000 {
         r.cycle();
     }
     let before = r.pos();
-    r.ix.set_input(2, true);
+    r.ix.set_input(r.now(), 2, true);
     r.cycle();
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
     assert_eq!(r.pos(), before + 2_000);
@@ -339,7 +339,7 @@ fn smd_r4_006_preset_to_encoder_example() {
 #[test]
 fn smd_r1_013_r6_046_encoder_without_motor_power() {
     let mut r = rig(CFG0_USE_ENCODER);
-    r.ix.set_shaft_blocked(true);
+    r.ix.set_shaft_blocked(r.now(), true);
     r.out.position = 1_000;
     r.command(cmd0::RELATIVE_MOVE);
     r.until(10_000, |i| i.status0 & stat0::STOPPED != 0);
@@ -349,7 +349,7 @@ fn smd_r1_013_r6_046_encoder_without_motor_power() {
         "commanded, not measured"
     );
     r.command(0);
-    r.ix.turn_shaft(1_024);
+    r.ix.turn_shaft(r.now(), 1_024);
     r.out.cmd1 |= cmd1::PRESET_TO_ENCODER;
     r.command(cmd0::PRESET_POSITION);
     assert_eq!(r.pos(), 1_000, "1,024 counts × 2,000 / 2,048");
@@ -362,7 +362,7 @@ fn smd_r1_015_encoder_wraps() {
     r.out.position = i32::MAX;
     r.command(cmd0::PRESET_ENCODER);
     r.command(0);
-    r.ix.turn_shaft(1);
+    r.ix.turn_shaft(r.now(), 1);
     r.cycle();
     assert_eq!(r.last.encoder_position, i32::MIN);
 }
@@ -531,15 +531,15 @@ fn driver_fault_for_over_temperature_only_with_the_driver_enabled() {
     };
     r.out.cmd1 &= !cmd1::ENABLE_DRIVER;
     assert_eq!(s1(&mut r), 0x0000);
-    r.ix.set_temperature(99.0);
+    r.ix.set_temperature(r.now(), 99.0);
     assert_eq!(s1(&mut r), 0x0010, "disabled: no Driver_Fault");
     r.out.cmd1 |= cmd1::ENABLE_DRIVER;
     assert_eq!(s1(&mut r), 0x8090, "enabled: Driver_Fault");
     r.out.cmd1 &= !cmd1::ENABLE_DRIVER;
     assert_eq!(s1(&mut r), 0x0010, "disabled again");
-    r.ix.set_temperature(25.0);
+    r.ix.set_temperature(r.now(), 25.0);
     assert_eq!(s1(&mut r), 0x0000);
-    r.ix.set_sto(false, true);
+    r.ix.set_sto(r.now(), false, true);
     assert_eq!(
         s1(&mut r),
         0x0080,
@@ -634,9 +634,9 @@ fn a_registration_move_keeps_the_values_of_its_command() {
 #[test]
 fn smd_r6_070_reserved_status_bits() {
     let mut r = rig(CFG0_USE_ENCODER);
-    r.ix.set_temperature(99.0);
-    r.ix.set_input(1, true);
-    r.ix.set_input(2, true);
+    r.ix.set_temperature(r.now(), 99.0);
+    r.ix.set_input(r.now(), 1, true);
+    r.ix.set_input(r.now(), 2, true);
     for _ in 0..1_200 {
         assert_eq!(r.cycle().status1 & 0x014C, 0);
     }
@@ -649,12 +649,12 @@ fn smd_r6_070_reserved_status_bits() {
 fn smd_t3_004_005_006_dc_sync_values() {
     for cfg1 in [64u32, 65, 66, 67] {
         let mut r = rig(0);
-        r.ix.write_config(2, cfg1);
+        r.ix.write_config(r.now(), 2, cfg1);
         r.cycle();
         assert_eq!(r.s0() & stat0::CONFIGURATION_ERROR, 0, "{cfg1}");
     }
     let mut r = rig(0);
-    r.ix.write_config(2, 0x0043);
+    r.ix.write_config(r.now(), 2, 0x0043);
     r.out.position = 100;
     r.command(cmd0::RELATIVE_MOVE);
     for _ in 0..3_000 {
@@ -668,7 +668,7 @@ fn smd_t3_004_005_006_dc_sync_values() {
 #[test]
 fn smd_t2_006_online_configuration_is_temporary() {
     let mut r = rig(0);
-    r.ix.write_config(3, 500);
+    r.ix.write_config(r.now(), 3, 500);
     assert_eq!(r.ix.config().starting_speed, 500);
     r.ix.power_cycle();
     assert_eq!(r.ix.config().starting_speed, 141);

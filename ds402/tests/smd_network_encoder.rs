@@ -17,14 +17,14 @@ fn rig() -> Rig {
 fn smd_r6_072_073_commands_only_in_op() {
     let mut r = rig();
     assert_eq!(r.s1() & stat1::PREOP_SAFEOP, 0);
-    r.ix.set_network_state(NetworkState::SafeOp);
+    r.ix.set_network_state(r.now(), NetworkState::SafeOp);
     r.cycle();
     assert_ne!(r.s1() & stat1::PREOP_SAFEOP, 0);
     r.out.position = 1_000;
     r.command(cmd0::RELATIVE_MOVE);
     r.cycle();
     assert_eq!(r.pos(), 0);
-    r.ix.set_network_state(NetworkState::Op);
+    r.ix.set_network_state(r.now(), NetworkState::Op);
     for _ in 0..50 {
         r.cycle();
     }
@@ -43,10 +43,10 @@ fn smd_r6_072_073_commands_only_in_op() {
 #[test]
 fn smd_r6_073_the_first_op_data_is_the_edge_reference() {
     let mut r = rig();
-    r.ix.set_network_state(NetworkState::SafeOp);
+    r.ix.set_network_state(r.now(), NetworkState::SafeOp);
     r.out.position = 1_000;
     r.command(0);
-    r.ix.set_network_state(NetworkState::Op);
+    r.ix.set_network_state(r.now(), NetworkState::Op);
     for _ in 0..3 {
         let i = r.ix.cycle_held(MS);
         // Position_Invalid since Op was left (SMD-R6-056).
@@ -84,7 +84,7 @@ fn smd_r6_073_op_again_in_op_takes_no_new_reference() {
     let mut r = rig();
     r.out.position = 1_000;
     r.command(0);
-    r.ix.set_network_state(NetworkState::Op);
+    r.ix.set_network_state(r.now(), NetworkState::Op);
     let i = r.command(0x0002);
     assert_eq!(i.status0, 0x4021, "Accelerating, Moving_CW");
     for _ in 0..600 {
@@ -102,7 +102,7 @@ fn smd_r6_073_an_exchange_without_new_data_runs_the_motion() {
     let t0 = std::time::Instant::now();
     let ms = std::time::Duration::from_millis;
     let mut r = rig();
-    r.ix.start(t0);
+    r.ix.start(t0, MS);
     r.out.position = 1_000;
     r.out.cmd0 = 0x0002;
     let i = r.ix.exchange(t0 + ms(1), r.out);
@@ -128,7 +128,7 @@ fn smd_r6_056_leaving_op() {
     }
     // Op again while in Op is no change of state: the move goes on, the position stays valid.
     let at = r.pos();
-    r.ix.set_network_state(NetworkState::Op);
+    r.ix.set_network_state(r.now(), NetworkState::Op);
     r.cycle();
     assert_eq!(
         r.s0() & (stat0::STOPPED | stat0::POSITION_INVALID),
@@ -136,13 +136,13 @@ fn smd_r6_056_leaving_op() {
         "Op to Op"
     );
     assert!(r.pos() > at);
-    r.ix.set_network_state(NetworkState::PreOp);
+    r.ix.set_network_state(r.now(), NetworkState::PreOp);
     r.cycle();
     assert_eq!(
         r.s0() & (stat0::STOPPED | stat0::MOVE_COMPLETE | stat0::POSITION_INVALID),
         stat0::STOPPED | stat0::POSITION_INVALID
     );
-    r.ix.set_network_state(NetworkState::Op);
+    r.ix.set_network_state(r.now(), NetworkState::Op);
     r.cycle();
     assert_ne!(r.s0() & stat0::POSITION_INVALID, 0);
 }
@@ -151,7 +151,7 @@ fn smd_r6_056_leaving_op() {
 #[test]
 fn smd_r1_035_r6_054_sm_watchdog() {
     let mut r = rig();
-    r.ix.sm_watchdog_expired();
+    r.ix.sm_watchdog_expired(r.now());
     r.cycle();
     assert_ne!(r.s0() & stat0::INPUT_ERROR, 0);
     assert_ne!(r.s1() & stat1::PREOP_SAFEOP, 0);
@@ -216,12 +216,12 @@ fn preset_encoder(ix: &mut Indexer, value: i32, save: bool) -> u16 {
 #[test]
 fn smd_r1_014_016_encoders_through_a_power_cycle() {
     let mut inc = unit(EncoderKind::Incremental);
-    inc.turn_shaft(5_000);
+    inc.turn_shaft(std::time::Instant::now(), 5_000);
     inc.power_cycle();
     assert_eq!(inc.cycle(Outputs::default(), MS).encoder_position, 0);
 
     let mut abs = unit(EncoderKind::Absolute);
-    abs.turn_shaft(4_096);
+    abs.turn_shaft(std::time::Instant::now(), 4_096);
     abs.power_cycle_turned(2_048, 1_000.0);
     let i = abs.cycle(Outputs::default(), MS);
     assert_eq!(i.encoder_position, 6_144);
@@ -245,7 +245,7 @@ fn smd_r6_012_013_encoder_offset_in_flash() {
     let mut abs = unit(EncoderKind::Absolute);
     let s1 = preset_encoder(&mut abs, 100_000, true);
     assert_ne!(s1 & stat1::COMMAND_ACKNOWLEDGE, 0);
-    abs.turn_shaft(10);
+    abs.turn_shaft(std::time::Instant::now(), 10);
     abs.power_cycle();
     assert_eq!(abs.cycle(Outputs::default(), MS).encoder_position, 100_010);
     preset_encoder(&mut abs, -5, false);
@@ -270,10 +270,10 @@ fn smd_r1_017_r6_066_abs_encoder_error() {
     // The over-acceleration is gone at the next power-up.
     abs.power_cycle();
     assert_eq!(abs.cycle(Outputs::default(), MS).status1 & 0x1000, 0);
-    abs.set_abs_encoder_fault(true);
+    abs.set_abs_encoder_fault(std::time::Instant::now(), true);
     assert_eq!(abs.cycle(Outputs::default(), MS).status1 & 0x1000, 0x1000);
     let mut inc = unit(EncoderKind::Incremental);
-    inc.set_abs_encoder_fault(true);
+    inc.set_abs_encoder_fault(std::time::Instant::now(), true);
     assert_eq!(inc.cycle(Outputs::default(), MS).status1 & 0x1000, 0);
     inc.power_cycle_turned(0, 1e9);
     assert_eq!(inc.cycle(Outputs::default(), MS).status1 & 0x1000, 0);
@@ -286,10 +286,10 @@ fn smd_r1_017_r6_066_abs_encoder_error() {
 #[test]
 fn smd_r6_066_abs_enc_err_stays_until_a_power_cycle() {
     let mut abs = unit(EncoderKind::Absolute);
-    abs.set_abs_encoder_fault(true);
+    abs.set_abs_encoder_fault(std::time::Instant::now(), true);
     // STATUS_word1 = Abs_Enc_Err 0x1000 alone (the heartbeat's first 500 ms, driver disabled).
     assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
-    abs.set_abs_encoder_fault(false);
+    abs.set_abs_encoder_fault(std::time::Instant::now(), false);
     for _ in 0..300 {
         assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
     }
@@ -304,13 +304,13 @@ fn smd_r6_066_abs_enc_err_stays_until_a_power_cycle() {
     );
     assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
     // The battery is faulty again, and still at the power cycle: set at power-up.
-    abs.set_abs_encoder_fault(true);
+    abs.set_abs_encoder_fault(std::time::Instant::now(), true);
     abs.power_cycle();
     for _ in 0..300 {
         assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
     }
     // Mended while powered: the bit stays until the next power cycle, which clears it.
-    abs.set_abs_encoder_fault(false);
+    abs.set_abs_encoder_fault(std::time::Instant::now(), false);
     assert_eq!(abs.cycle(Outputs::default(), MS).status1, 0x1000);
     abs.power_cycle();
     for _ in 0..300 {
@@ -342,7 +342,7 @@ fn smd_r1_021_022_r5_022_dc_sync() {
     r.command(0);
 
     let mut r = rig();
-    r.ix.write_config(2, 0x0043); // DC_Sync, both inputs active on current
+    r.ix.write_config(r.now(), 2, 0x0043); // DC_Sync, both inputs active on current
     r.command(cmd0::PRESET_POSITION);
     r.command(0);
     r.out.position = 10_000;
@@ -352,7 +352,7 @@ fn smd_r1_021_022_r5_022_dc_sync() {
         assert_ne!(r.s0() & stat0::STOPPED, 0, "waits for SYNC0");
         assert_eq!(r.pos(), 0);
     }
-    r.ix.sync0_event();
+    r.ix.sync0_event(r.now());
     r.cycle();
     assert_ne!(r.s0() & stat0::MOVING_CW, 0);
     // 480 µs of motion at about the starting speed: 0 or 1 step so far; the profile runs from there.
@@ -364,7 +364,7 @@ fn smd_r1_021_022_r5_022_dc_sync() {
     // moving after 600.
     r.command(0);
     r.command(cmd0::RELATIVE_MOVE);
-    r.ix.sync0_event();
+    r.ix.sync0_event(r.now());
     let step = std::time::Duration::from_micros(200);
     for k in 1..=3 {
         let s0 = r.ix.cycle(r.out, step).status0;
@@ -379,13 +379,13 @@ fn smd_r1_021_022_r5_022_dc_sync() {
     for dc_sync in [false, true] {
         let mut r = Rig::ready_with(0, 20_141, 20, 20);
         if dc_sync {
-            r.ix.write_config(2, 0x0043);
+            r.ix.write_config(r.now(), 2, 0x0043);
         }
         r.out.position = 20_282;
         r.command(cmd0::RELATIVE_MOVE);
         if dc_sync {
             assert_eq!(r.pos(), 0);
-            r.ix.sync0_event();
+            r.ix.sync0_event(r.now());
             r.cycle();
         }
         for update in 2..=1999 {

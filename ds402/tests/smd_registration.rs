@@ -38,7 +38,7 @@ fn triggered_run_out() -> Rig {
     r.command(cmd0::JOG_CW);
     cycles(&mut r, 2_000);
     assert_eq!(r.ix.speed(), 10_000.0, "runs like a jog");
-    r.ix.set_input(1, true);
+    r.ix.set_input(r.now(), 1, true);
     r.cycle();
     r
 }
@@ -164,9 +164,9 @@ fn smd_r2_066_067_minimum_registration_move_distance() {
     program(&mut r, 100, 100_000);
     r.command(cmd0::JOG_CW);
     cycles(&mut r, 500);
-    r.ix.set_input(1, true);
+    r.ix.set_input(r.now(), 1, true);
     cycles(&mut r, 5);
-    r.ix.set_input(1, false);
+    r.ix.set_input(r.now(), 1, false);
     cycles(&mut r, 3_000);
     assert!(r.ix.is_moving(), "still jogging at {}", r.pos());
     assert!(r.pos() > 20_000);
@@ -175,7 +175,7 @@ fn smd_r2_066_067_minimum_registration_move_distance() {
     program(&mut r, 500, 50_000);
     r.command(cmd0::JOG_CW);
     cycles(&mut r, 100);
-    r.ix.set_input(1, true);
+    r.ix.set_input(r.now(), 1, true);
     r.until(20_000, |i| i.status0 & stat0::STOPPED != 0);
     assert!(
         (50_500..=50_512).contains(&r.pos()),

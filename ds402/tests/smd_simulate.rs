@@ -253,7 +253,7 @@ fn parse_errors_name_the_line_and_what_is_wrong() {
 #[test]
 fn a_relative_move_prints_its_status_changes() {
     let script = Script::parse(RELATIVE, "relative.smd").unwrap();
-    let trace = run(&script, &Options::default());
+    let trace = run(&script, &Options::default(), std::time::Instant::now());
     assert_eq!(
         header(&trace),
         "# relative.smd: incremental encoder, cycle 1ms, 0 to 1s\n  \
@@ -294,12 +294,13 @@ fn a_relative_move_prints_its_status_changes() {
 #[test]
 fn every_adds_lines_at_an_interval() {
     let script = Script::parse(RELATIVE, "relative.smd").unwrap();
-    let plain = run(&script, &Options::default());
+    let plain = run(&script, &Options::default(), std::time::Instant::now());
     let every = run(
         &script,
         &Options {
             every: Some(Duration::from_millis(250)),
         },
+        std::time::Instant::now(),
     );
     let times: Vec<u128> = every.lines.iter().map(|s| s.time.as_millis()).collect();
     assert_eq!(
@@ -332,7 +333,7 @@ until 400ms
 ";
     let script = Script::parse(source, "e-stop.smd").unwrap();
     assert_eq!(script.config.cfg0, 5);
-    let trace = run(&script, &Options::default());
+    let trace = run(&script, &Options::default(), std::time::Instant::now());
     let got = lines(&trace);
     assert_eq!(
         got[5..],
@@ -363,6 +364,7 @@ until 30ms
     let trace = run(
         &Script::parse(source, "sdo.smd").unwrap(),
         &Options::default(),
+        std::time::Instant::now(),
     );
     let got = lines(&trace);
     assert_eq!(
@@ -390,6 +392,7 @@ until 1.5ms
     let trace = run(
         &Script::parse(source, "short.smd").unwrap(),
         &Options::default(),
+        std::time::Instant::now(),
     );
     assert_eq!(
         lines(&trace),
@@ -553,7 +556,7 @@ proptest::proptest! {
             Ok(script) => {
                 // A script that parses runs (bounded: at most one hour of simulated time at ≥ 250 µs).
                 if script.until <= Duration::from_secs(2) {
-                    let _ = run(&script, &Options::default());
+                    let _ = run(&script, &Options::default(), std::time::Instant::now());
                 }
             }
             Err(e) => proptest::prop_assert!(e.to_string().starts_with("fuzz.smd"), "{}", e),

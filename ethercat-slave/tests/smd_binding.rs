@@ -3,7 +3,7 @@
 //! names; the others name the rule of `rules/smd.md` whose observable they check, seen through the
 //! dictionary (`0x7000` in, `0x8010` by SDO, `0x6000` out).
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use ds402::od::{AbortCode, AccessType, DataType, Dictionary, OdError, PdoMapping, Value};
 use ds402::smd::config::{Configuration, EncoderKind};
@@ -334,9 +334,10 @@ fn smd_t2_002_power_up_status_word0_is_0x4408_in_6000_01() {
 /// (34) clears Configuration_Error again. The same with T2's own example, Motor_Resolution 8010:04 = 100.
 #[test]
 fn smd_t2_005_r5_007_invalid_configuration_shows_in_6000_01_and_clears() {
+    let t0 = Instant::now();
     for mut u in units() {
         u.cycle(MS);
-        u.sdo_write(0x8010, 7, &35u16.to_le_bytes())
+        u.sdo_write(t0, 0x8010, 7, &35u16.to_le_bytes())
             .expect("the download is confirmed");
         assert_eq!(u.sdo_read(0x8010, 7).unwrap(), &[35, 0]);
         assert_eq!(u.indexer().config().motor_current, 35);
@@ -344,26 +345,30 @@ fn smd_t2_005_r5_007_invalid_configuration_shows_in_6000_01_and_clears() {
         assert_eq!(status0(&u), 0x6408);
         assert_ne!(status0(&u) & stat0::CONFIGURATION_ERROR, 0);
 
-        u.sdo_write(0x8010, 7, &34u16.to_le_bytes()).unwrap();
+        u.sdo_write(t0, 0x8010, 7, &34u16.to_le_bytes()).unwrap();
         assert_eq!(u.cycle(MS).status0, 0x4408);
         assert_eq!(status0(&u) & stat0::CONFIGURATION_ERROR, 0);
 
-        u.sdo_write(0x8010, 4, &100u16.to_le_bytes()).unwrap();
+        u.sdo_write(t0, 0x8010, 4, &100u16.to_le_bytes()).unwrap();
         assert_eq!(u.sdo_read(0x8010, 4).unwrap(), &[100, 0]);
         assert_eq!(u.cycle(MS).status0, 0x6408);
-        u.sdo_write(0x8010, 4, &200u16.to_le_bytes()).unwrap();
+        u.sdo_write(t0, 0x8010, 4, &200u16.to_le_bytes()).unwrap();
         assert_eq!(u.cycle(MS).status0, 0x4408);
     }
 }
 
 /// Runs a motionless Preset Position to 0 through 0x7000 and returns the unit with Position_Invalid = 0.
 fn preset(u: &mut SmdUnit) {
-    u.write_outputs(&Outputs {
-        cmd0: cmd0::PRESET_POSITION,
-        ..Outputs::default()
-    });
+    let t0 = Instant::now();
+    u.write_outputs(
+        t0,
+        &Outputs {
+            cmd0: cmd0::PRESET_POSITION,
+            ..Outputs::default()
+        },
+    );
     u.cycle(MS);
-    u.write_outputs(&Outputs::default());
+    u.write_outputs(t0, &Outputs::default());
     u.cycle(MS);
     assert_eq!(status0(u) & stat0::POSITION_INVALID, 0, "preset");
 }
@@ -372,15 +377,16 @@ fn preset(u: &mut SmdUnit) {
 /// even with the value the entry already holds; a refused download does not.
 #[test]
 fn smd_r2_012_each_8010_download_sets_position_invalid() {
+    let t0 = Instant::now();
     let mut u = unit(Device::Smd24k);
     for e in entries(Block::Configuration) {
         preset(&mut u);
         let same = u.sdo_read(e.index, e.sub).unwrap().to_vec();
-        u.sdo_write(e.index, e.sub, &same[..same.len() - 1])
+        u.sdo_write(t0, e.index, e.sub, &same[..same.len() - 1])
             .expect_err("one byte short");
         u.cycle(MS);
         assert_eq!(status0(&u) & stat0::POSITION_INVALID, 0, "{e}: refused");
-        u.sdo_write(e.index, e.sub, &same).unwrap();
+        u.sdo_write(t0, e.index, e.sub, &same).unwrap();
         u.cycle(MS);
         assert_ne!(status0(&u) & stat0::POSITION_INVALID, 0, "{e}");
         assert_eq!(status0(&u), 0x4408, "{e}: nothing else changes");
@@ -396,6 +402,7 @@ fn smd_r2_012_each_8010_download_sets_position_invalid() {
 /// Motor_Position then reads exactly 500.
 #[test]
 fn smd_r6_relative_move_commanded_through_7000_ends_at_500_in_6000_03() {
+    let t0 = Instant::now();
     for device in Device::ALL {
         let mut u = unit(device);
         let mut out = Outputs {
@@ -407,13 +414,13 @@ fn smd_r6_relative_move_commanded_through_7000_ends_at_500_in_6000_03() {
             deceleration: 10,
             ..Outputs::default()
         };
-        u.write_outputs(&out);
+        u.write_outputs(t0, &out);
         assert_eq!(u.outputs(), out);
         assert_eq!(u.value(0x7000, 2).unwrap(), Value::Uint(0x8000));
         assert_eq!(u.value(0x7000, 3).unwrap(), Value::Int(500));
         u.cycle(MS);
         out.cmd0 = cmd0::RELATIVE_MOVE;
-        u.write_outputs(&out);
+        u.write_outputs(t0, &out);
         assert_eq!(u.sdo_read(0x7000, 1).unwrap(), &[0x02, 0x00]);
 
         let mut cycles = 0;
@@ -445,6 +452,7 @@ fn smd_r6_relative_move_commanded_through_7000_ends_at_500_in_6000_03() {
 /// the model.
 #[test]
 fn a_download_to_a_read_only_entry_is_refused_and_changes_nothing() {
+    let t0 = Instant::now();
     for mut u in units() {
         u.cycle(MS);
         let dict = u.dict().clone();
@@ -456,10 +464,10 @@ fn a_download_to_a_read_only_entry_is_refused_and_changes_nothing() {
             (0x7000, 1, vec![0x02, 0x00]),
             (0x8010, 0, vec![7]),
         ] {
-            let err = u.sdo_write(index, sub, &bytes).unwrap_err();
-            assert_eq!(err, OdError::ReadOnly { index, sub });
-            assert_eq!(err.abort_code(), AbortCode::ReadOnly);
-            assert_eq!(u32::from(err.abort_code()), 0x0601_0002);
+            let err = u.sdo_write(t0, index, sub, &bytes).unwrap_err();
+            assert_eq!(err, OdError::ReadOnly { index, sub }.abort_code());
+            assert_eq!(err, AbortCode::ReadOnly);
+            assert_eq!(u32::from(err), 0x0601_0002);
         }
         assert_eq!(u.dict(), &dict);
         assert_eq!(u.indexer().status0(), status);
@@ -472,36 +480,40 @@ fn a_download_to_a_read_only_entry_is_refused_and_changes_nothing() {
 /// error and change nothing.
 #[test]
 fn missing_entries_and_wrong_lengths_are_refused() {
+    let t0 = Instant::now();
     let mut u = unit(Device::Smd23kB);
     let dict = u.dict().clone();
     assert_eq!(
-        u.sdo_write(0x8011, 1, &[0, 0]),
-        Err(OdError::NoObject { index: 0x8011 })
+        u.sdo_write(t0, 0x8011, 1, &[0, 0]),
+        Err(OdError::NoObject { index: 0x8011 }.abort_code())
     );
     assert_eq!(
-        u.sdo_write(0x8010, 8, &[0, 0]),
+        u.sdo_write(t0, 0x8010, 8, &[0, 0]),
         Err(OdError::NoSubIndex {
             index: 0x8010,
             sub: 8
-        })
+        }
+        .abort_code())
     );
     assert_eq!(
-        u.sdo_write(0x8010, 7, &[35, 0, 0]),
+        u.sdo_write(t0, 0x8010, 7, &[35, 0, 0]),
         Err(OdError::TooLong {
             index: 0x8010,
             sub: 7,
             max: 2,
             got: 3
-        })
+        }
+        .abort_code())
     );
     assert_eq!(
-        u.sdo_write(0x8010, 3, &[1, 0]),
+        u.sdo_write(t0, 0x8010, 3, &[1, 0]),
         Err(OdError::TooShort {
             index: 0x8010,
             sub: 3,
             min: 4,
             got: 2
-        })
+        }
+        .abort_code())
     );
     assert_eq!(u.dict(), &dict);
     assert_eq!(u.cycle(MS).status0, 0x4408);
@@ -524,9 +536,10 @@ proptest! {
             1..40,
         )
     ) {
+        let t0 = Instant::now();
         let mut u = unit(Device::Smd23kB);
         for (index, sub, bytes, w) in ops {
-            if u.sdo_write(index, sub, &bytes).is_ok() && index == 0x8010 {
+            if u.sdo_write(t0, index, sub, &bytes).is_ok() && index == 0x8010 {
                 let c = *u.indexer().config();
                 let held = [
                     c.cfg0.into(), c.cfg1.into(), c.starting_speed, c.motor_resolution.into(),
@@ -537,7 +550,7 @@ proptest! {
                 le[..bytes.len()].copy_from_slice(&bytes);
                 prop_assert_eq!(held[usize::from(sub) - 1], u32::from_le_bytes(le));
             }
-            u.write_outputs(&Outputs {
+            u.write_outputs(t0, &Outputs {
                 cmd0: w[0],
                 cmd1: w[1],
                 position: i32::from(w[2] as i16),
@@ -556,10 +569,11 @@ proptest! {
 /// SMD-T2-008: 0x6000:01 reads by SDO as the present STATUS_word0, as the PDO carries it.
 #[test]
 fn smd_t2_008_inputs_readable_by_sdo() {
+    let t0 = Instant::now();
     for mut u in units() {
         let i = u.cycle(MS);
         assert_eq!(u.sdo_read(0x6000, 1).unwrap(), &i.status0.to_le_bytes());
-        u.sdo_write(0x8010, 7, &35u16.to_le_bytes()).unwrap();
+        u.sdo_write(t0, 0x8010, 7, &35u16.to_le_bytes()).unwrap();
         let i = u.cycle(MS);
         assert_eq!(i.status0, 0x6408);
         assert_eq!(u.sdo_read(0x6000, 1).unwrap(), &0x6408u16.to_le_bytes());
@@ -571,17 +585,21 @@ fn smd_t2_008_inputs_readable_by_sdo() {
 /// encoder turned by hand to a count of its own.
 #[test]
 fn process_data_entries_read_by_sdo_in_their_sizes() {
+    let t0 = Instant::now();
     let mut u = unit(Device::Smd23kB);
-    u.write_outputs(&Outputs {
-        cmd0: 0x0102,
-        cmd1: 0x0304,
-        position: -5,
-        velocity: 0x0A0B_0C0D,
-        acceleration: 0x1112,
-        deceleration: 0x1314,
-        motor_current: 0x1516,
-        jerk: 0x1718,
-    });
+    u.write_outputs(
+        t0,
+        &Outputs {
+            cmd0: 0x0102,
+            cmd1: 0x0304,
+            position: -5,
+            velocity: 0x0A0B_0C0D,
+            acceleration: 0x1112,
+            deceleration: 0x1314,
+            motor_current: 0x1516,
+            jerk: 0x1718,
+        },
+    );
     let expected: [(u8, &[u8]); 8] = [
         (1, &[0x02, 0x01]),
         (2, &[0x04, 0x03]),
@@ -598,8 +616,8 @@ fn process_data_entries_read_by_sdo_in_their_sizes() {
     let mut u2 = unit(Device::Smd23kB);
     // Use_Encoder (CFG_Word_0 bit 10): Encoder_Position counts.
     u2.indexer_mut()
-        .write_config(1, u32::from(ds402::smd::config::CFG0_USE_ENCODER));
-    u2.indexer_mut().turn_shaft(-300);
+        .write_config(t0, 1, u32::from(ds402::smd::config::CFG0_USE_ENCODER));
+    u2.indexer_mut().turn_shaft(t0, -300);
     // A move with Jerk 7 running: in.Jerk reports it (SMD-R6-050).
     let mut o = Outputs {
         cmd1: cmd1::ENABLE_DRIVER,
@@ -616,7 +634,7 @@ fn process_data_entries_read_by_sdo_in_their_sizes() {
     ] {
         o.cmd0 = cmd;
         o.position = position;
-        u2.write_outputs(&o);
+        u2.write_outputs(t0, &o);
         u2.cycle(MS);
     }
     let i = u2.cycle(MS);

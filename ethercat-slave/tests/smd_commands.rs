@@ -46,7 +46,7 @@ const SLOW: Out = Out {
     ..FAST
 };
 
-/// The indexer of the unit, for what it senses (inputs, temperature, shaft).
+/// The indexer of the unit, for what it senses (inputs, temperature, shaft) at `m.c.now`.
 fn ix(m: &mut Master) -> &mut Indexer {
     m.c.unit_mut(0).unwrap().indexer_mut()
 }
@@ -192,19 +192,22 @@ fn smd_r6_006_0x0020_and_0x0040_find_home_cw_and_ccw() {
         assert_eq!((i.motor_position, i.status0), (0, acc), "{cmd:#06x}");
         let mut now = 1;
         assert_eq!(at(&mut m, &mut now, 400), (136 * sign, acc));
-        ix(&mut m).set_input(1, true);
+        let sensed = m.c.now;
+        ix(&mut m).set_input(sensed, 1, true);
         // 390 ms into the stop: 136.4 + 541 · 0.39 − 500 · 0.39² = 271.34 steps.
         assert_eq!(at(&mut m, &mut now, 790), (271 * sign, dec));
         // In the pause: Stopped, the search's stop done.
         assert_eq!(at(&mut m, &mut now, 1_500), (273 * sign, 0x4008));
         // Backing off, opposite to the search.
         assert_eq!(at(&mut m, &mut now, 3_000).1, acc_back);
-        ix(&mut m).set_input(1, false);
+        let sensed = m.c.now;
+        ix(&mut m).set_input(sensed, 1, false);
         assert_eq!(at(&mut m, &mut now, 3_100).1, dec_back);
         // Second pause, then the return at 141 steps/s towards the input.
         assert_eq!(at(&mut m, &mut now, 5_000).1, 0x4008);
         assert_eq!(at(&mut m, &mut now, 6_500).1, run);
-        ix(&mut m).set_input(1, true);
+        let sensed = m.c.now;
+        ix(&mut m).set_input(sensed, 1, true);
         assert_eq!(at(&mut m, &mut now, 6_501), (0, 0x4018), "{cmd:#06x}: home");
     }
 }
@@ -397,12 +400,15 @@ fn stat0_bit_3_stopped() {
 fn stat0_bit_4_at_home() {
     assert_eq!(stat0::AT_HOME, 0x0010);
     let mut m = ready_with(0x0006, SLOW);
-    ix(&mut m).set_input(1, true);
+    let sensed = m.c.now;
+    ix(&mut m).set_input(sensed, 1, true);
     m.command(0x0020);
     m.run(300);
-    ix(&mut m).set_input(1, false);
+    let sensed = m.c.now;
+    ix(&mut m).set_input(sensed, 1, false);
     m.run(3_000);
-    ix(&mut m).set_input(1, true);
+    let sensed = m.c.now;
+    ix(&mut m).set_input(sensed, 1, true);
     let i = m.lrw();
     assert_eq!((i.motor_position, i.status0), (0, 0x4018));
 }
@@ -469,7 +475,8 @@ fn stat0_bit_10_position_invalid() {
 fn stat0_bit_11_input_error() {
     assert_eq!(stat0::INPUT_ERROR, 0x0800);
     let mut m = ready_with(0x0005, FAST);
-    ix(&mut m).set_input(1, true);
+    let sensed = m.c.now;
+    ix(&mut m).set_input(sensed, 1, true);
     assert_eq!(m.lrw().status0, 0x4C08);
 }
 
@@ -499,7 +506,8 @@ fn stat0_bit_14_module_ok() {
     assert_eq!(stat0::MODULE_OK, 0x4000);
     let mut m = ready();
     assert_eq!(m.lrw().status0, 0x4008);
-    ix(&mut m).set_internal_fault(true);
+    let sensed = m.c.now;
+    ix(&mut m).set_internal_fault(sensed, true);
     assert_eq!(m.lrw().status0, 0x0008);
 }
 
@@ -521,7 +529,8 @@ fn stat0_bit_15_mode_flag() {
 fn stat1_bit_0_in1_active() {
     assert_eq!(stat1::IN1_ACTIVE, 0x0001);
     let mut m = ready();
-    ix(&mut m).set_input(1, true);
+    let sensed = m.c.now;
+    ix(&mut m).set_input(sensed, 1, true);
     assert_eq!(m.lrw().status1, 0x8001 | m.heartbeat());
 }
 
@@ -530,7 +539,8 @@ fn stat1_bit_0_in1_active() {
 fn stat1_bit_1_in2_active() {
     assert_eq!(stat1::IN2_ACTIVE, 0x0002);
     let mut m = ready();
-    ix(&mut m).set_input(2, true);
+    let sensed = m.c.now;
+    ix(&mut m).set_input(sensed, 2, true);
     assert_eq!(m.lrw().status1, 0x8002 | m.heartbeat());
 }
 
@@ -539,7 +549,8 @@ fn stat1_bit_1_in2_active() {
 fn stat1_bit_4_temperature_above_90() {
     assert_eq!(stat1::TEMPERATURE_ABOVE_90, 0x0010);
     let mut m = ready();
-    ix(&mut m).set_temperature(91.0);
+    let sensed = m.c.now;
+    ix(&mut m).set_temperature(sensed, 91.0);
     assert_eq!(m.lrw().status1, 0x8010 | m.heartbeat());
 }
 
@@ -564,7 +575,8 @@ fn stat1_bit_5_preop_safeop() {
 fn stat1_bit_7_driver_fault() {
     assert_eq!(stat1::DRIVER_FAULT, 0x0080);
     let mut m = ready();
-    ix(&mut m).set_temperature(96.0);
+    let sensed = m.c.now;
+    ix(&mut m).set_temperature(sensed, 96.0);
     assert_eq!(m.lrw().status1, 0x8090 | m.heartbeat());
 }
 
@@ -588,7 +600,8 @@ fn stat1_bit_10_limit_condition() {
     let mut m = ready_with(0x0001, SLOW);
     m.command(0x0080);
     m.run(100);
-    ix(&mut m).set_input(1, true);
+    let sensed = m.c.now;
+    ix(&mut m).set_input(sensed, 1, true);
     assert_eq!(m.lrw().status1, 0x8401 | m.heartbeat());
 }
 
@@ -618,7 +631,8 @@ fn stat1_bit_12_abs_enc_err() {
     u.cycle(std::time::Duration::from_millis(1));
     u.send_process_data(&image, &mut bytes);
     assert_eq!(In::of(&bytes).status1, 0x0000);
-    u.indexer_mut().set_abs_encoder_fault(true);
+    u.indexer_mut()
+        .set_abs_encoder_fault(std::time::Instant::now(), true);
     u.cycle(std::time::Duration::from_millis(1));
     u.send_process_data(&image, &mut bytes);
     assert_eq!(In::of(&bytes).status1, 0x1000);
@@ -644,7 +658,8 @@ fn stat1_bit_13_command_acknowledge() {
 fn stat1_bit_14_stall_detected() {
     assert_eq!(stat1::STALL_DETECTED, 0x4000);
     let mut m = ready_with(0x2400, FAST);
-    ix(&mut m).set_shaft_blocked(true);
+    let sensed = m.c.now;
+    ix(&mut m).set_shaft_blocked(sensed, true);
     m.out.position = 1_000;
     m.command(0x0002);
     let mut now = 1;

@@ -4,7 +4,7 @@ use clap::Parser;
 
 fn main() {
     let args = ds402::smd::cli::Args::parse();
-    match ds402::smd::cli::run(&args, &mut std::io::stdout()) {
+    match ds402::smd::cli::run(&args, std::time::Instant::now(), &mut std::io::stdout()) {
         Ok(code) => std::process::exit(code),
         Err(e) => {
             if args.json {

@@ -2,6 +2,7 @@
 
 use std::io::Write;
 use std::path::PathBuf;
+use std::time::Instant;
 
 use clap::{Parser, Subcommand};
 
@@ -189,15 +190,16 @@ pub enum CliError {
     Every(#[from] simulate::EveryError),
 }
 
-/// Runs `args`, printing to `out`; the process's exit code on success (0, or 1 where a command
-/// reports a finding such as an invalid configuration).
-pub fn run(args: &Args, out: &mut dyn Write) -> Result<i32, CliError> {
+/// Runs `args` at `now` (the power-on instant of a simulation, which reads no clock), printing to
+/// `out`; the process's exit code on success (0, or 1 where a command reports a finding such as an
+/// invalid configuration).
+pub fn run(args: &Args, now: Instant, out: &mut dyn Write) -> Result<i32, CliError> {
     let json = args.json;
     match &args.command {
         Cmd::Profile(p) => profile(p, json, out),
         Cmd::Config(ConfigCmd::Encode(e)) => encode(e, json, out),
         Cmd::Config(ConfigCmd::Decode(d)) => decode(d, json, out),
-        Cmd::Simulate(s) => simulate(s, json, out),
+        Cmd::Simulate(s) => simulate(s, json, now, out),
     }
 }
 
@@ -273,7 +275,12 @@ fn decoded_json(d: &super::config::Decoded) -> serde_json::Value {
     })
 }
 
-fn simulate(a: &SimulateArgs, json: bool, out: &mut dyn Write) -> Result<i32, CliError> {
+fn simulate(
+    a: &SimulateArgs,
+    json: bool,
+    now: Instant,
+    out: &mut dyn Write,
+) -> Result<i32, CliError> {
     let file = a.script.display().to_string();
     let source = read_script(&a.script).map_err(|source| CliError::Read {
         path: file.clone(),
@@ -283,7 +290,7 @@ fn simulate(a: &SimulateArgs, json: bool, out: &mut dyn Write) -> Result<i32, Cl
     if let Some(every) = a.every {
         simulate::check_every(&script, every)?;
     }
-    let trace = simulate::run(&script, &Options { every: a.every });
+    let trace = simulate::run(&script, &Options { every: a.every }, now);
     if json {
         for s in &trace.lines {
             let i = &s.inputs;

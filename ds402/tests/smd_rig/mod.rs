@@ -1,7 +1,7 @@
 //! The rig the SMD indexer tests share: a unit and a master exchanging process data every 1 ms.
 #![allow(dead_code)]
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use ds402::smd::config::{Configuration, EncoderKind};
 use ds402::smd::indexer::{cmd0, cmd1, stat0, Indexer, Inputs, Outputs};
@@ -25,6 +25,7 @@ impl Rig {
 
     pub fn with(config: Configuration) -> Rig {
         let mut ix = Indexer::new(EncoderKind::Incremental, config);
+        ix.start(Instant::now(), MS);
         let out = Outputs::default();
         let last = ix.cycle(out, MS);
         Rig { ix, out, last }
@@ -65,6 +66,11 @@ impl Rig {
             stat0::MOVE_COMPLETE
         );
         r
+    }
+
+    /// The instant of the last exchange: the start plus the time steps of the cycles so far.
+    pub fn now(&self) -> Instant {
+        self.ix.last_exchange().expect("the rig starts the indexer")
     }
 
     pub fn cycle(&mut self) -> Inputs {

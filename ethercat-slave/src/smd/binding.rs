@@ -8,16 +8,18 @@
 //!   the input image `0x6000:01–07` (STATUS_word0 … Jerk: computed by the indexer when read) and the
 //!   configuration `0x8010:01–07` (the dictionary's values, told to the indexer when written); nothing
 //!   is copied through the dictionary on a cycle;
-//! - [`SmdUnit::sdo_write`] is an SDO download as the CoE server does it: the dictionary checks existence,
-//!   access, length and value ([`Dictionary::write`]) and refuses with an [`OdError`] (whose
-//!   [`OdError::abort_code`] is the SDO abort); a confirmed download to `0x8010:01–07` also reaches the
-//!   model through [`Indexer::write_config`], so it sets Position_Invalid (SMD-R2-012) and an invalid value
-//!   shows as Configuration_Error (SMD-T2-005); [`SmdUnit::handle_mailbox`] serves a CoE mailbox on the
-//!   same dictionary and model (complete access included);
+//! - [`SmdUnit::sdo_write`] is an SDO download as the CoE server does it, through [`od::hook::Bound`]:
+//!   the dictionary checks existence, access, length and value, the model its own rules, and a refusal
+//!   is the SDO abort code ([`AbortCode`]; the dictionary's are [`OdError::abort_code`] of its
+//!   error) and changes nothing; a confirmed download to `0x8010:01–07` also reaches the model through
+//!   [`Indexer::write_config`], so it sets Position_Invalid (SMD-R2-012) and an invalid value shows as
+//!   Configuration_Error (SMD-T2-005); [`SmdUnit::handle_mailbox`] serves a CoE mailbox on the same
+//!   dictionary and model (complete access included);
 //! - [`SmdUnit::receive_process_data`] and [`SmdUnit::send_process_data`] are a frame's process data,
 //!   laid out as the PDO mapping of the description says ([`ProcessImage`]); [`SmdUnit::write_outputs`]
-//!   sets the output image directly. The outputs are `ro` for SDO access, so [`SmdUnit::sdo_write`] to
-//!   `0x7000` is refused with [`OdError::ReadOnly`];
+//!   is the same delivery of `0x7000:01–08` ([`od::hook::deliver`]) without the frame. The outputs are
+//!   `ro` for SDO access, so [`SmdUnit::sdo_write`] to `0x7000` is refused with
+//!   [`AbortCode::ReadOnly`];
 //! - [`SmdUnit::cycle`] is one process-data exchange: [`Outputs`] → [`Indexer::cycle`] → [`Inputs`];
 //!   an exchange with no output image written since the last is [`Indexer::cycle_held`], so the
 //!   first image the master writes in Op is the indexer's edge reference (SMD-R6-073).
@@ -29,14 +31,15 @@
 //! ```
 //! use ethercat_slave::smd::binding::{Device, SmdUnit, STATUS_WORD0};
 //! use ds402::smd::config::EncoderKind;
-//! use std::time::Duration;
+//! use std::time::{Duration, Instant};
 //!
+//! let now = Instant::now();
 //! let mut unit = SmdUnit::new(Device::Smd23kB, EncoderKind::Incremental).unwrap();
 //! let inputs = unit.cycle(Duration::from_millis(1));
 //! assert_eq!(inputs.status0, 0x4408);
 //! assert_eq!(unit.sdo_read(STATUS_WORD0.index, STATUS_WORD0.sub).unwrap(), [0x08, 0x44]);
 //! // Motor_Current 35 (3.5 A) is out of range: stored, and flagged as Configuration_Error.
-//! unit.sdo_write(0x8010, 7, &35u16.to_le_bytes()).unwrap();
+//! unit.sdo_write(now, 0x8010, 7, &35u16.to_le_bytes()).unwrap();
 //! assert_eq!(unit.cycle(Duration::from_millis(1)).status0, 0x6408);
 //! ```
 
@@ -52,6 +55,7 @@ use od::esi::Select;
 use od::hook::{self, DeviceHook, Objects, ProcessImage};
 use od::object::{AccessType, PdoMapping};
 use od::sdo::server::ServerEvent;
+use od::sdo::store::ObjectStore;
 use od::types::DataType;
 use od::value::Value;
 
@@ -435,8 +439,21 @@ impl DeviceHook for SmdModel {
         Some(n)
     }
 
-    fn write(&mut self, at: Address, data: &[u8], _now: Instant) -> Result<(), AbortCode> {
-        self.take(at, data);
+    /// The model takes what it binds: an output (`0x7000:01–08`) or a configuration value
+    /// (`0x8010:01–07`). It refuses the inputs (`0x6000:01–07`, the indexer's answer:
+    /// [`AbortCode::ReadOnly`]) and any other entry of its objects a dictionary may hold
+    /// ([`AbortCode::UnsupportedAccess`]), whatever the dictionary's access says.
+    fn check(&self, at: Address, _data: &[u8]) -> Result<(), AbortCode> {
+        match entry_at(at.index, at.sub).map(|e| e.block) {
+            Some(Block::Output | Block::Configuration) => Ok(()),
+            Some(Block::Input) => Err(AbortCode::ReadOnly),
+            None => Err(AbortCode::UnsupportedAccess),
+        }
+    }
+
+    fn write(&mut self, at: Address, data: &[u8], now: Instant) -> Result<(), AbortCode> {
+        self.check(at, data)?;
+        self.take(at, data, now);
         Ok(())
     }
 }
@@ -444,28 +461,36 @@ impl DeviceHook for SmdModel {
 /// The indexer's lifecycle: a timeout is one process-data exchange (the output image to
 /// [`Indexer::exchange`] when it was written since the last exchange, else
 /// [`Indexer::exchange_held`]: after entering Op the first image written is the edge reference,
-/// SMD-R6-073); a synchronisation is the SYNC0 event (DC_Sync starts); a reset is a power cycle.
+/// SMD-R6-073), due one exchange period after the last ([`Indexer::poll_timeout`]); a
+/// synchronisation is the SYNC0 event at its instant (DC_Sync starts 520 µs after it, SMD-R1-022);
+/// a reset is a power cycle.
 impl od::hook::Device for SmdModel {
     fn handle_timeout(&mut self, now: Instant) {
         self.exchange(now);
     }
 
     fn poll_timeout(&self) -> Option<Instant> {
-        None
+        self.indexer.poll_timeout()
     }
 
     fn reset(&mut self, _now: Instant) {
         self.indexer.power_cycle();
     }
 
-    fn sync(&mut self, _now: Instant) {
-        self.indexer.sync0_event();
+    fn sync(&mut self, now: Instant) {
+        self.indexer.sync0_event(now);
     }
 }
 
 impl SmdModel {
-    /// What a write of `data` to `at` does (every value the dictionary accepts is taken).
-    fn take(&mut self, at: Address, data: &[u8]) {
+    /// The indexer.
+    pub fn indexer(&self) -> &Indexer {
+        &self.indexer
+    }
+
+    /// What a write of `data` to `at` does (every value the dictionary and
+    /// [`DeviceHook::check`] accept is taken).
+    fn take(&mut self, at: Address, data: &[u8], now: Instant) {
         let v = le(data);
         match at.index {
             OUTPUTS_INDEX => {
@@ -484,7 +509,7 @@ impl SmdModel {
                 }
             }
             CONFIGURATION_INDEX => {
-                self.indexer.write_config(at.sub, v as u32);
+                self.indexer.write_config(now, at.sub, v as u32);
             }
             _ => {}
         }
@@ -599,9 +624,9 @@ impl SmdUnit {
         let _ = self.dict.store(0x1018, 4, &serial.to_le_bytes());
     }
 
-    /// The EtherCAT state the unit is in (see [`Indexer::set_network_state`]).
-    pub fn set_network_state(&mut self, state: ds402::smd::indexer::NetworkState) {
-        self.model.indexer.set_network_state(state);
+    /// The EtherCAT state the unit is in from `now` (see [`Indexer::set_network_state`]).
+    pub fn set_network_state(&mut self, now: Instant, state: ds402::smd::indexer::NetworkState) {
+        self.model.indexer.set_network_state(now, state);
     }
 
     /// The current value of `index:sub`, the model's for what it owns, decoded as the entry's type.
@@ -624,17 +649,26 @@ impl SmdUnit {
         Ok(hook::value(&self.dict, &self.model, Address::new(index, sub), &mut buf).to_vec())
     }
 
-    /// An SDO download of `bytes` to `index:sub` as the CoE server does it: the dictionary checks the
-    /// entry, its access, the length and the value ([`Dictionary::write`]); a refusal changes nothing.
-    /// A confirmed download to `0x8010:01–07` reaches the model ([`SmdModel`]).
-    pub fn sdo_write(&mut self, index: u16, sub: u8, bytes: &[u8]) -> Result<(), OdError> {
-        self.dict.write(index, sub, bytes)?;
-        let at = Address::new(index, sub);
-        if self.model.owns(index) {
-            // The SMD's model takes every value the dictionary accepts.
-            self.model.take(at, bytes);
-        }
-        Ok(())
+    /// An SDO download of `bytes` to `index:sub` made at `now`, as the CoE server does it, through
+    /// [`od::hook::Bound`]: the dictionary checks the entry, its access, the length and the value,
+    /// then the model its own rules ([`od::hook::check_download`], [`SmdModel`]'s
+    /// [`DeviceHook::check`]); the model takes the value, then the dictionary
+    /// ([`od::hook::store_download`]). A confirmed download to `0x8010:01–07` reaches the indexer
+    /// ([`Indexer::write_config`]).
+    ///
+    /// A refusal is the SDO abort code the CoE server answers with (for the dictionary's refusals,
+    /// [`OdError::abort_code`] of its error), and changes nothing, neither the dictionary nor the
+    /// model. The device is not run up to `now` here: [`od::hook::Device::handle_timeout`] is the
+    /// caller's, as the unit runs it.
+    pub fn sdo_write(
+        &mut self,
+        now: Instant,
+        index: u16,
+        sub: u8,
+        bytes: &[u8],
+    ) -> Result<(), AbortCode> {
+        let mut bound = hook::Bound::new(&mut self.dict, &mut self.model, now);
+        bound.download(Address::new(index, sub), bytes)
     }
 
     /// A CoE mailbox the master wrote (sync manager 0), served by `server` on the unit's dictionary and
@@ -649,10 +683,14 @@ impl SmdUnit {
         std::iter::from_fn(|| server.poll_event()).collect()
     }
 
-    /// What a process-data frame of the master does: sets the output image `0x7000:01–08`.
-    pub fn write_outputs(&mut self, outputs: &Outputs) {
-        self.model.outputs = *outputs;
-        self.model.fresh = true;
+    /// What a process-data frame of the master received at `now` does to the output image: each of
+    /// `0x7000:01–08` delivered ([`od::hook::deliver`]) as [`ProcessImage::unpack`] delivers it, so
+    /// the next exchange takes it as new output data.
+    pub fn write_outputs(&mut self, now: Instant, outputs: &Outputs) {
+        for (entry, bytes) in entries(Block::Output).zip(output_bytes(outputs)) {
+            let at = Address::new(entry.index, entry.sub);
+            hook::deliver(&mut self.dict, &mut self.model, at, &bytes, now);
+        }
     }
 
     /// The output image `0x7000:01–08` as the unit reads it.
@@ -694,6 +732,20 @@ impl SmdUnit {
             self.model.indexer.cycle_held(dt)
         }
     }
+}
+
+/// The output words little-endian, in the order of `0x7000:01–08`, each in its entry's size.
+fn output_bytes(o: &Outputs) -> [Vec<u8>; 8] {
+    [
+        o.cmd0.to_le_bytes().to_vec(),
+        o.cmd1.to_le_bytes().to_vec(),
+        o.position.to_le_bytes().to_vec(),
+        o.velocity.to_le_bytes().to_vec(),
+        o.acceleration.to_le_bytes().to_vec(),
+        o.deceleration.to_le_bytes().to_vec(),
+        o.motor_current.to_le_bytes().to_vec(),
+        o.jerk.to_le_bytes().to_vec(),
+    ]
 }
 
 /// The current value of an entry [`check`] has proven (0 if it could not be read, which the check

@@ -108,9 +108,12 @@ impl UnitChain<SmdUnit> {
                 ProcessImage::from_assignment(model.dict(), 0x1C12)?;
                 ProcessImage::from_assignment(model.dict(), 0x1C13)?;
             }
-            model.set_network_state(NetworkState::Init);
+            model.set_network_state(now, NetworkState::Init);
             model.set_serial_number(k as u32 + 1);
-            model.indexer_mut().start(now);
+            // One process-data exchange per cycle of the chain (as `from_units` takes it).
+            model
+                .indexer_mut()
+                .start(now, cycle.max(Duration::from_micros(1)));
             let coe = CoeServer::new(ServerConfig::default(), usize::from(mailbox_in));
             units.push((
                 esc,
@@ -133,18 +136,21 @@ impl Model for SmdUnit {
         Ok((outputs, inputs))
     }
 
-    fn set_al_state(&mut self, _from: AlState, to: AlState, _now: Instant) {
-        self.set_network_state(match to {
-            AlState::Op => NetworkState::Op,
-            AlState::SafeOp => NetworkState::SafeOp,
-            AlState::PreOp => NetworkState::PreOp,
-            _ => NetworkState::Init,
-        });
+    fn set_al_state(&mut self, _from: AlState, to: AlState, now: Instant) {
+        self.set_network_state(
+            now,
+            match to {
+                AlState::Op => NetworkState::Op,
+                AlState::SafeOp => NetworkState::SafeOp,
+                AlState::PreOp => NetworkState::PreOp,
+                _ => NetworkState::Init,
+            },
+        );
     }
 
-    fn outputs_lost(&mut self, _now: Instant) {
+    fn outputs_lost(&mut self, now: Instant) {
         // SMD-R1-035: the model reports Input_Error and PreOp_SafeOp.
-        self.indexer_mut().sm_watchdog_expired();
+        self.indexer_mut().sm_watchdog_expired(now);
     }
 
     fn device(&mut self) -> &mut dyn od::hook::Device {

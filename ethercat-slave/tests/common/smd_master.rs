@@ -14,6 +14,7 @@ use ethercat_slave::esc::cmd;
 use ethercat_slave::frame::Datagram;
 use ethercat_slave::master::SimChain;
 use ethercat_slave::smd::binding::Device;
+use ethercat_slave::smd::SmdChain;
 
 use crate::common::master::{al, bring_up, one, request};
 
@@ -90,10 +91,12 @@ pub struct Master {
 pub const MS: Duration = Duration::from_millis(1);
 
 impl Master {
-    /// One SMD23K-B powered on now, in Init.
+    /// One SMD23K-B powered on now, in Init, its process-data cycle the master's: 1 ms (the
+    /// indexer's exchanges fall due when the master's frames come).
     pub fn new() -> Master {
-        let c = SimChain::new(Device::Smd23kB, 1).unwrap();
-        let t0 = c.now;
+        let t0 = Instant::now();
+        let chain = SmdChain::new(Device::Smd23kB, 1, MS, t0).unwrap();
+        let c = SimChain::with_chain(chain, t0);
         Master {
             c,
             t0,

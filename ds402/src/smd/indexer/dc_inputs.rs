@@ -1,12 +1,14 @@
 //! The two discrete DC inputs (Reference 1, "Available Discrete DC Inputs"; Reference 5, CFG_Word_0
 //! and CFG_Word_1): their active levels, their functions and what their edges do.
 
+use std::time::Instant;
+
 use super::{Cfg0, Indexer, InputFunction, Purpose};
 
 impl Indexer {
-    /// Whether current flows into input `n` (1 or 2): the wiring, as a sensor drives it. Acted on at
-    /// the next cycle.
-    pub fn set_input(&mut self, n: usize, current_flows: bool) {
+    /// Whether current flows into input `n` (1 or 2) from `now`: the wiring, as a sensor drives it.
+    /// Sensed at the next exchange, whose edges the inputs act on (Table R2.1).
+    pub fn set_input(&mut self, _now: Instant, n: usize, current_flows: bool) {
         if let Some(c) = self.current.get_mut(n.wrapping_sub(1)) {
             *c = current_flows;
         }

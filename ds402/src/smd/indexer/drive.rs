@@ -1,7 +1,7 @@
 //! The driver: Enable_Driver and Drive_Is_Enabled, the driver faults (over-temperature, STO), the
 //! internal fault, and the motor current with idle current reduction (Reference 1).
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use super::{cmd1, Indexer};
 
@@ -34,18 +34,21 @@ impl Indexer {
         self.over_temperature || self.sto_fault
     }
 
-    /// The driver electronics' temperature in °C (over 95 °C: fault; over 90 °C: warning).
-    pub fn set_temperature(&mut self, celsius: f64) {
+    /// The driver electronics' temperature in °C at `now` (over 95 °C: fault; over 90 °C:
+    /// warning), sensed at the next exchange (SMD-R1-020).
+    pub fn set_temperature(&mut self, _now: Instant, celsius: f64) {
         self.temperature = celsius;
     }
 
-    /// Whether STO input 1 and 2 are powered (24 V present).
-    pub fn set_sto(&mut self, input1: bool, input2: bool) {
+    /// Whether STO input 1 and 2 are powered (24 V present) from `now`, sensed at the next exchange
+    /// ("within one cycle", SMD-R1-002).
+    pub fn set_sto(&mut self, _now: Instant, input1: bool, input2: bool) {
         self.sto_powered = [input1, input2];
     }
 
-    /// An internal fault of the unit (Module_OK = 0 while present).
-    pub fn set_internal_fault(&mut self, fault: bool) {
+    /// An internal fault of the unit from `now` (Module_OK = 0 while present), shown from the next
+    /// exchange's inputs on.
+    pub fn set_internal_fault(&mut self, _now: Instant, fault: bool) {
         self.internal_fault = fault;
     }
 

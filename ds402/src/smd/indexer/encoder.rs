@@ -1,6 +1,8 @@
 //! The encoder (Reference 1, "Encoder Functionality"): its count, the shaft turned from outside,
 //! the absolute encoder's error, and stall detection against it.
 
+use std::time::Instant;
+
 use super::{EncoderKind, Indexer, CFG0_USE_ENCODER};
 
 /// Shaft acceleration while unpowered above which the absolute encoder loses count (°/s²,
@@ -12,13 +14,15 @@ impl Indexer {
         self.config.cfg0 & CFG0_USE_ENCODER != 0
     }
 
-    /// The shaft is held (a hard stop) or free: while held, the encoder does not follow the motor.
-    pub fn set_shaft_blocked(&mut self, blocked: bool) {
+    /// The shaft is held (a hard stop) or free from `now`: while held, the encoder does not follow
+    /// the motor. The motion of the exchanges from the next on sees it.
+    pub fn set_shaft_blocked(&mut self, _now: Instant, blocked: bool) {
         self.shaft_blocked = blocked;
     }
 
-    /// Turns the shaft from outside by `counts` encoder counts (a hand, a falling load).
-    pub fn turn_shaft(&mut self, counts: i64) {
+    /// Turns the shaft from outside by `counts` encoder counts at `now` (a hand, a falling load):
+    /// counted at once; the stall check compares it at the next exchange (SMD-R1-008).
+    pub fn turn_shaft(&mut self, _now: Instant, counts: i64) {
         self.encoder_extra += counts;
     }
 
@@ -58,10 +62,10 @@ impl Indexer {
     }
 
     /// A battery or encoder fault of an absolute-encoder unit is present (`true`) or gone
-    /// (`false`). Present, it sets Abs_Enc_Err at once; the bit then stays set until power is
+    /// (`false`) from `now`. Present, it sets Abs_Enc_Err at once; the bit then stays set until power is
     /// cycled, and a fault still present at power-up sets it again (SMD-R6-066: R6 STATUS_word1
     /// bit 12, "cycle power to the unit. If the bit remains set, contact AMCI").
-    pub fn set_abs_encoder_fault(&mut self, fault: bool) {
+    pub fn set_abs_encoder_fault(&mut self, _now: Instant, fault: bool) {
         self.abs_encoder_fault = fault && self.kind == EncoderKind::Absolute;
         if self.abs_encoder_fault {
             self.abs_encoder_error = true;

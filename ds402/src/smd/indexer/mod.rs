@@ -77,11 +77,16 @@
 //!
 //! # Methods and polling order
 //!
-//! On the host's clock: [`Indexer::start`] at power-on, then one [`Indexer::exchange`] per process-data
-//! exchange with its time; the model runs the motion since the previous exchange (it derives the time
-//! step itself). The EtherCAT state ([`Indexer::set_network_state`]), SYNC0 events
-//! ([`Indexer::sync0_event`]) and the harness (inputs, shaft, temperature) come between exchanges.
-//! [`Indexer::cycle`] is the same exchange with the time step given, for runs without a clock.
+//! On the host's clock: [`Indexer::start`] at power-on with the exchange period, then one
+//! [`Indexer::exchange`] per process-data exchange with its time, when [`Indexer::poll_timeout`] has
+//! come; the model runs the motion since the previous exchange (it derives the time step itself).
+//! The EtherCAT state ([`Indexer::set_network_state`]), the SyncManager watchdog
+//! ([`Indexer::sm_watchdog_expired`]), SYNC0 events ([`Indexer::sync0_event`]) and the harness
+//! (inputs, shaft, temperature, configuration) come between exchanges, each with its instant as its
+//! first argument: the SYNC0 event and the watchdog act at their instant, the wiring and the driver's
+//! conditions are sensed at the next exchange (as the unit samples them), the rest acts at once.
+//! [`Indexer::cycle`] is the same exchange with the time step given, for runs without a clock: its
+//! instant is worked out from [`Indexer::start`] and the time steps ([`Indexer::last_exchange`]).
 
 use std::time::{Duration, Instant};
 
@@ -133,8 +138,14 @@ pub struct Indexer {
     power_up_config: Configuration,
     prev: Outputs,
     time: Duration,
-    /// The host time of the last [`Indexer::exchange`] (or of [`Indexer::start`]).
+    /// The instant of the last exchange (or of [`Indexer::start`]); a clockless
+    /// [`Indexer::cycle`] moves it on by its time step.
     last_exchange: Option<Instant>,
+    /// The instant the motion has run to: the last exchange's, or that of a later event that
+    /// stopped it ([`Indexer::sm_watchdog_expired`]). The next exchange runs the motion from here.
+    ran_to: Option<Instant>,
+    /// The process-data exchange period the unit runs at (from [`Indexer::start`]).
+    period: Option<Duration>,
     position: i64,
     /// Encoder_Position at the last preset, and the motor steps turned since then: the encoder
     /// turns with the motor, Encoder_Resolution counts per Motor_Resolution steps.
@@ -222,6 +233,8 @@ impl Indexer {
             prev: Outputs::default(),
             time: Duration::ZERO,
             last_exchange: None,
+            ran_to: None,
+            period: None,
             position: 0,
             encoder_base: 0,
             encoder_steps: 0,
@@ -290,10 +303,10 @@ impl Indexer {
         self.config_error
     }
 
-    /// An SDO download to `8010:sub` (1–7) with `value`: stored whatever it is (an invalid value shows
+    /// An SDO download at `now` to `8010:sub` (1–7) with `value`, acted on at once: stored whatever it is (an invalid value shows
     /// in Configuration_Error), and the position becomes invalid (SMD-R2-012). `false` for another
     /// sub-index.
-    pub fn write_config(&mut self, sub: u8, value: u32) -> bool {
+    pub fn write_config(&mut self, _now: Instant, sub: u8, value: u32) -> bool {
         if !self.config.set(sub, value) {
             return false;
         }
@@ -321,10 +334,25 @@ impl Indexer {
         self.position
     }
 
-    /// Starts the model's clock at `now` (power-on): the first [`Indexer::exchange`] runs the motion
-    /// since then.
-    pub fn start(&mut self, now: Instant) {
+    /// Starts the model's clock at `now` (power-on), exchanging process data every `period`: the
+    /// first [`Indexer::exchange`] runs the motion since then, and [`Indexer::poll_timeout`] tells
+    /// when the next exchange is due.
+    pub fn start(&mut self, now: Instant, period: Duration) {
         self.last_exchange = Some(now);
+        self.ran_to = Some(now);
+        self.period = Some(period);
+    }
+
+    /// When the next process-data exchange is due: the last exchange (or [`Indexer::start`]) plus
+    /// the period; `None` before [`Indexer::start`].
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.last_exchange.zip(self.period).map(|(t, p)| t + p)
+    }
+
+    /// The instant of the last exchange (or of [`Indexer::start`]): on the host's clock, or worked
+    /// out by [`Indexer::cycle`] from the start and its time steps; `None` before the first of them.
+    pub fn last_exchange(&self) -> Option<Instant> {
+        self.last_exchange
     }
 
     /// One process-data exchange at `now`: takes `out`, acts on the inputs and on the commands, runs
@@ -343,25 +371,52 @@ impl Indexer {
         self.run(None, dt)
     }
 
-    /// The time since the last exchange (none before the first, without [`Indexer::start`]); now is
-    /// the last.
+    /// The time the motion has to run to reach `now` (none before the first exchange, without
+    /// [`Indexer::start`]); `now` is the last exchange.
     fn since_last_exchange(&mut self, now: Instant) -> Duration {
         let dt = self
-            .last_exchange
+            .ran_to
             .map_or(Duration::ZERO, |t| now.saturating_duration_since(t));
         self.last_exchange = Some(self.last_exchange.map_or(now, |t| t.max(now)));
+        self.ran_to = Some(self.ran_to.map_or(now, |t| t.max(now)));
         dt
     }
 
-    /// One process-data exchange: takes `out`, acts on the inputs and on the commands, runs `dt` of
-    /// motion, returns the inputs.
+    /// One process-data exchange without a clock: takes `out`, acts on the inputs and on the
+    /// commands, runs `dt` of motion, returns the inputs. The exchange's instant is worked out, not
+    /// read: the last exchange's plus `dt` (after [`Indexer::start`]; see
+    /// [`Indexer::last_exchange`]).
     pub fn cycle(&mut self, out: Outputs, dt: Duration) -> Inputs {
+        let dt = self.step_instant(dt);
         self.run(Some(out), dt)
     }
 
     /// [`Indexer::cycle`] without new output data (see [`Indexer::exchange_held`]).
     pub fn cycle_held(&mut self, dt: Duration) -> Inputs {
+        let dt = self.step_instant(dt);
         self.run(None, dt)
+    }
+
+    /// A clockless exchange of `dt`: the instant of the last exchange moves on by `dt` (after
+    /// [`Indexer::start`]); the time the motion runs (`dt` less what an event ran of it already).
+    fn step_instant(&mut self, dt: Duration) -> Duration {
+        match self.last_exchange {
+            Some(t) => self.since_last_exchange(t + dt),
+            None => dt,
+        }
+    }
+
+    /// Runs the motion from where it stands up to `now`, between exchanges (no output data, no
+    /// input edges): an event at `now` then finds the motor where it is at `now`. Nothing before
+    /// the first exchange or [`Indexer::start`], nor for an instant the motion has reached.
+    pub(super) fn run_motion_to(&mut self, now: Instant) {
+        let Some(from) = self.ran_to.filter(|&t| t < now) else {
+            return;
+        };
+        self.ran_to = Some(now);
+        let was_moving = self.segment.is_some();
+        self.advance(now - from);
+        self.after_motion(was_moving);
     }
 
     /// One exchange of `dt`, with new output data `out` or none.
@@ -375,13 +430,18 @@ impl Indexer {
         // A jog follows the output data in force: the new, or the last.
         self.follow_jog(self.prev);
         self.advance(dt);
+        self.after_motion(was_moving);
+        self.inputs()
+    }
+
+    /// What follows a run of the motion: the end of a move, the stall check.
+    fn after_motion(&mut self, was_moving: bool) {
         if was_moving && self.segment.is_none() {
             self.stopped_since = self.time;
             // A new idle percentage applies from the end of a move (SMD-R5-008).
             self.idle_pct = self.config.idle_current_reduction;
         }
         self.check_stall();
-        self.inputs()
     }
 
     /// The unit after its power was cycled: the power-up state with the power-up configuration (online
@@ -398,8 +458,10 @@ impl Indexer {
     /// encoder starts at 0 (SMD-R1-014).
     pub fn power_cycle_turned(&mut self, counts: i64, peak_accel: f64) {
         let old = std::mem::replace(self, Indexer::new(self.kind, self.power_up_config));
-        // The host's clock goes on.
+        // The host's clock goes on, and so do the exchanges.
         self.last_exchange = old.last_exchange;
+        self.ran_to = old.ran_to;
+        self.period = old.period;
         self.flash_program = old.flash_program.clone();
         self.program = old.flash_program;
         self.flash_encoder_offset = old.flash_encoder_offset;

@@ -1,7 +1,7 @@
 //! The EtherCAT state as the unit sees it (Op or not, the SyncManager watchdog) and DC_Sync's
 //! SYNC0 events.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use super::{Indexer, SyncWait};
 
@@ -23,10 +23,11 @@ pub enum NetworkState {
 pub const SYNC0_START_DELAY: Duration = Duration::from_micros(520);
 
 impl Indexer {
-    /// The EtherCAT state changes (SMD-R6-056, SMD-R6-072, SMD-R6-073): leaving Op stops a move and
-    /// makes the position invalid; on entering Op the first output data to come is the edge
-    /// reference, a command bit already 1 in it is no edge.
-    pub fn set_network_state(&mut self, state: NetworkState) {
+    /// The EtherCAT state changes at `now` (SMD-R6-056, SMD-R6-072, SMD-R6-073), acted on at once:
+    /// leaving Op stops a move where the motion stands and makes the position invalid; on entering
+    /// Op the first output data to come is the edge reference, a command bit already 1 in it is no
+    /// edge.
+    pub fn set_network_state(&mut self, _now: Instant, state: NetworkState) {
         if self.network == NetworkState::Op && state != NetworkState::Op {
             if self.busy() {
                 self.stop_now();
@@ -40,18 +41,26 @@ impl Indexer {
         self.network = state;
     }
 
-    /// The master stopped updating the outputs for longer than the SyncManager watchdog: Input_Error
-    /// and Safe-Op (SMD-R1-035, SMD-R6-054).
-    pub fn sm_watchdog_expired(&mut self) {
+    /// The master stopped updating the outputs for longer than the SyncManager watchdog, which
+    /// expired at `now`: Input_Error and Safe-Op (SMD-R1-035, SMD-R6-054). A move runs up to `now`
+    /// and stops there (SMD-R6-056).
+    pub fn sm_watchdog_expired(&mut self, now: Instant) {
+        if self.busy() {
+            self.run_motion_to(now);
+        }
         self.input_error = true;
-        self.set_network_state(NetworkState::SafeOp);
+        self.set_network_state(now, NetworkState::SafeOp);
     }
 
-    /// A SYNC0 event of the Distributed Clock at the start of the next cycle: with DC_Sync, a move
-    /// waiting for it starts 520 µs later (SMD-R1-022).
-    pub fn sync0_event(&mut self) {
+    /// A SYNC0 event of the Distributed Clock at `now`: with DC_Sync, a move waiting for it starts
+    /// 520 µs after `now` (SMD-R1-022). An event reported with an instant before the exchange the
+    /// motion last ran to counts from that exchange (the move it starts was taken there).
+    pub fn sync0_event(&mut self, now: Instant) {
         if self.sync_wait == Some(SyncWait::ForSync0) {
-            self.sync_wait = Some(SyncWait::Delay(SYNC0_START_DELAY));
+            let since = self
+                .ran_to
+                .map_or(Duration::ZERO, |t| now.saturating_duration_since(t));
+            self.sync_wait = Some(SyncWait::Delay(SYNC0_START_DELAY + since));
         }
     }
 

@@ -65,9 +65,10 @@
 //!
 //! ```
 //! use ds402::smd::simulate::{format_line, run, Options, Script};
+//! use std::time::Instant;
 //!
 //! let script = Script::parse("at 0ms out cmd1=0x8000\nuntil 5ms\n", "enable.smd").unwrap();
-//! let trace = run(&script, &Options::default());
+//! let trace = run(&script, &Options::default(), Instant::now());
 //! assert_eq!(trace.lines.len(), 3); // power-up, Drive_Is_Enabled, the end
 //! let line = format_line(&trace, &trace.lines[1]);
 //! assert!(line.trim_start().starts_with("0.001 "));

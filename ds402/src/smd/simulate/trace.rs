@@ -1,7 +1,7 @@
 //! The run: the script's statements applied before their cycles, the indexer cycled to the end,
 //! and the samples kept for the table and the chart.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use super::script::{Action, Script, Shown};
 use super::CURVE_POINTS;
@@ -73,17 +73,17 @@ pub struct Trace {
     pub curve: Vec<Sample>,
 }
 
-/// Applies `action` to the unit and the output words.
-fn apply(ix: &mut Indexer, out: &mut Outputs, action: &Action) {
+/// Applies `action`, made at `now`, to the unit and the output words.
+fn apply(ix: &mut Indexer, out: &mut Outputs, action: &Action, now: Instant) {
     match action {
         Action::Out(set) => {
             for &(field, value) in set {
                 field.set(out, value);
             }
         }
-        Action::Input { n, current } => ix.set_input(*n, *current),
+        Action::Input { n, current } => ix.set_input(now, *n, *current),
         Action::Config { sub, value } => {
-            ix.write_config(*sub, *value);
+            ix.write_config(now, *sub, *value);
         }
     }
 }
@@ -99,12 +99,15 @@ fn changed(before: &Sample, now: &Sample) -> bool {
             && (a.motor_position != b.motor_position || a.encoder_position != b.encoder_position))
 }
 
-/// Runs `script` cycle by cycle.
+/// Runs `script` cycle by cycle, the unit powered on at `power_on`: no clock is read, the instant
+/// of each cycle is `power_on` plus the cycles before it, and each statement is made at the start
+/// of its cycle. The trace does not depend on `power_on`.
 ///
 /// `options.every` should have passed [`check_every`]; an interval off the cycle grid only marks
 /// the cycles that end on its multiples.
-pub fn run(script: &Script, options: &Options) -> Trace {
+pub fn run(script: &Script, options: &Options, power_on: Instant) -> Trace {
     let mut ix = Indexer::new(script.kind, script.config);
+    ix.start(power_on, script.cycle);
     let mut out = Outputs::default();
     let cycle_ns = script.cycle.as_nanos();
     let cycles = (script.until.as_nanos() / cycle_ns) as u64;
@@ -122,7 +125,8 @@ pub fn run(script: &Script, options: &Options) -> Trace {
     for k in 0..cycles {
         let start = script.cycle * k as u32;
         while let Some(e) = events.next_if(|e| e.time <= start) {
-            apply(&mut ix, &mut out, &e.action);
+            let now = ix.last_exchange().unwrap_or(power_on);
+            apply(&mut ix, &mut out, &e.action, now);
         }
         let inputs = ix.cycle(out, script.cycle);
         let now = Sample {
