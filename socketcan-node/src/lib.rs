@@ -3,12 +3,15 @@
 //!
 //! - [`node`]: the CiA 301 node as a sans-IO state machine over a dictionary and a device
 //!   (`od::hook::Device`);
-//! - [`canopen_cli`]: any CANopen description as a node (`canopen-node`), with a CiA 402 drive behind
-//!   its drive axes (`ds402::generic`); [`x67`] and [`cli`]: the X67 node (`x67-node`).
+//! - [`generic`]: any CANopen description made ready to run as a node, with a CiA 402 drive behind
+//!   its drive axes (`ds402::generic`);
+//! - [`canopen_cli`]: any CANopen description as a node (`canopen-node`); [`x67`] and [`cli`]: the
+//!   X67 node (`x67-node`).
 #![deny(missing_docs)]
 
 pub mod canopen_cli;
 pub mod cli;
+pub mod generic;
 pub mod node;
 pub mod runtime;
 pub mod sim;
