@@ -19,13 +19,13 @@ use ds402::drive::{DriveConfig, MotorKind};
 use od::device::DeviceDescription;
 use od::event::{Event, Origin};
 
-use crate::cli::connect_hint;
+use crate::cli_common::{connect_hint, open_bus};
 use crate::generic::{unique_serials, PrepareError, Prepared};
 use crate::node::lss::UNCONFIGURED;
 use crate::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
 use crate::node::{LssConfig, Node, NodeConfig, NodeError};
 use crate::runtime::{self, RunStats, Station};
-use crate::transport::{self, BusError, BusSpec, CanBus};
+use crate::transport::{self, BusError, BusSpec};
 use ds402::generic::GenericApp;
 
 /// Virtual CANopen nodes from device descriptions: the dictionary of each description (EDS, DCF, XDD,
@@ -416,13 +416,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         .map(|l| event_lines(l.node_id, &l.path, &l.events, args.json))
         .collect();
     let mut stations = build_from(args, loaded)?;
-    let (mut spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
-        Some(spec) => (spec.clone(), transport::open(spec)?),
-        None => transport::open_default()?,
-    };
-    if let (BusSpec::SocketcandListen { addr }, Some(bound)) = (&mut spec, bus.listen_addr()) {
-        *addr = bound;
-    }
+    let (spec, mut bus) = open_bus(args.bus.as_ref())?;
     let stop = match stop {
         Some(s) => s,
         None => {

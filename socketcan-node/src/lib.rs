@@ -6,11 +6,12 @@
 //! - [`generic`]: any CANopen description made ready to run as a node, with a CiA 402 drive behind
 //!   its drive axes (`ds402::generic`);
 //! - [`canopen_cli`]: any CANopen description as a node (`canopen-node`); [`x67`] and [`cli`]: the
-//!   X67 node (`x67-node`).
+//!   X67 node (`x67-node`); [`cli_common`]: what the two command lines share.
 #![deny(missing_docs)]
 
 pub mod canopen_cli;
 pub mod cli;
+pub mod cli_common;
 pub mod generic;
 pub mod node;
 pub mod runtime;
