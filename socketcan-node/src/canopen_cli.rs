@@ -10,7 +10,7 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -213,7 +213,7 @@ pub enum CliError {
     Node(#[from] NodeError),
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
-    Signal(#[from] ctrlc::Error),
+    Signal(#[from] cli_support::SignalError),
     /// The storage directory cannot be used.
     #[error("--storage {path}: {why}")]
     Storage {
@@ -417,15 +417,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         .collect();
     let mut stations = build_from(args, loaded)?;
     let (spec, mut bus) = open_bus(args.bus.as_ref())?;
-    let stop = match stop {
-        Some(s) => s,
-        None => {
-            let s = Arc::new(AtomicBool::new(false));
-            let h = Arc::clone(&s);
-            ctrlc::set_handler(move || h.store(true, Ordering::Relaxed))?;
-            s
-        }
-    };
+    let stop = cli_support::stop_flag(stop)?;
     let mut out = std::io::stdout();
     for ((s, spec), lines) in stations.iter().zip(&args.ods).zip(&said) {
         let id = s.node.node_id();

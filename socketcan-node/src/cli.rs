@@ -3,7 +3,7 @@
 
 use std::io::Write as _;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -77,7 +77,7 @@ pub enum CliError {
     Node(#[from] NodeError),
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
-    Signal(#[from] ctrlc::Error),
+    Signal(#[from] cli_support::SignalError),
     /// The description file cannot be written, or its name says no format.
     #[error("--write-description {path}: {why}")]
     Description {
@@ -175,15 +175,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
     }
     let mut station = build_node(args)?;
     let (spec, mut bus) = open_bus(args.bus.as_ref())?;
-    let stop = match stop {
-        Some(s) => s,
-        None => {
-            let s = Arc::new(AtomicBool::new(false));
-            let h = Arc::clone(&s);
-            ctrlc::set_handler(move || h.store(true, Ordering::Relaxed))?;
-            s
-        }
-    };
+    let stop = cli_support::stop_flag(stop)?;
     // A closed standard output (a parent that stopped reading) does not stop the node.
     let _ = writeln!(
         std::io::stdout(),
