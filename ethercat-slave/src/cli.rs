@@ -1,7 +1,7 @@
 //! The `smd-ethercat` command line: its arguments and what it does with them. `main` only parses and
 //! calls [`run`].
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -59,20 +59,12 @@ pub enum CliError {
     Runtime(#[from] RuntimeError),
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
-    Signal(#[from] ctrlc::Error),
+    Signal(#[from] cli_support::SignalError),
 }
 
 /// Runs until Ctrl-C (or `stop`, when given, is set); prints `ready` lines on stdout when on line.
 pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError> {
-    let stop = match stop {
-        Some(s) => s,
-        None => {
-            let s = Arc::new(AtomicBool::new(false));
-            let hook = s.clone();
-            ctrlc::set_handler(move || hook.store(true, Ordering::Relaxed))?;
-            s
-        }
-    };
+    let stop = cli_support::stop_flag(stop)?;
     let options = Options {
         interface: args.interface.clone(),
         device: args.device,

@@ -11,18 +11,23 @@
 //! ([`esc::dc`]); [`unit`](mod@unit) is a chain of ESCs with a device model and its CoE server behind each;
 //! [`smd`] puts the SMD model behind each ESC; [`generic`] any ESI's device, with a CiA 402 drive
 //! behind each drive axis; [`raw`] and [`runtime`]
-//! answer real frames on a Linux interface; [`cli`] is the `smd-ethercat` command line, [`node_cli`]
-//! the `ethercat-node` one ([`node_list`] its `--list` of a file's devices and their drive axes);
-//! `master` (with the feature `test-master`) is the master's side the tests and benchmarks use.
+//! answer real frames on a Linux interface; with the feature `cli` (on by default), `cli` is the
+//! `smd-ethercat` command line, `node_cli` the `ethercat-node` one (`node_list` its `--list` of a
+//! file's devices and their drive axes), and without it the crate has no command-line parser,
+//! signal handler or log subscriber; `master` (with the feature `test-master`) is the master's side
+//! the tests and benchmarks use.
 #![deny(missing_docs)]
 
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod esc;
 pub mod frame;
 pub mod generic;
 #[cfg(feature = "test-master")]
 pub mod master;
+#[cfg(feature = "cli")]
 pub mod node_cli;
+#[cfg(feature = "cli")]
 pub mod node_list;
 pub use ecat_link::raw;
 pub mod runtime;

@@ -9,7 +9,7 @@
 
 use std::ffi::OsString;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -242,7 +242,7 @@ pub enum CliError {
     Runtime(#[from] RuntimeError),
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
-    Signal(#[from] ctrlc::Error),
+    Signal(#[from] cli_support::SignalError),
     /// No interface to run on.
     #[error("an INTERFACE is needed (only --explain runs without one)")]
     NoInterface,
@@ -373,15 +373,7 @@ pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliE
         return Ok(Stats::default());
     }
     let interface = args.interface.as_deref().ok_or(CliError::NoInterface)?;
-    let stop = match stop {
-        Some(s) => s,
-        None => {
-            let s = Arc::new(AtomicBool::new(false));
-            let hook = s.clone();
-            ctrlc::set_handler(move || hook.store(true, Ordering::Relaxed))?;
-            s
-        }
-    };
+    let stop = cli_support::stop_flag(stop)?;
     let socket = RawSocket::open(interface).map_err(RuntimeError::from)?;
     let list: Vec<(&Template, usize)> = templates.iter().map(|(t, n)| (t, *n)).collect();
     let chain = generic::chain(

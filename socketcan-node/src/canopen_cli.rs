@@ -2,16 +2,15 @@
 //! on one bus, with a CiA 402 drive behind each drive axis of a description. `main` only parses and calls
 //! [`run`].
 //!
-//! Never silent: every value a node reports that its description does not give ([`generic::complete`])
+//! Never silent: every value a node reports that its description does not give ([`Prepared`])
 //! is one line on standard output at start, after the node's own line (`canopen-node: node 5: 0x6502
 //! supported drive modes = 0x000000A5 (…)`), or one JSON object with `--json`; `--explain` prints
 //! only these and opens no bus.
 
-use std::collections::HashMap;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -19,15 +18,15 @@ use clap::{Parser, ValueEnum};
 use ds402::drive::{DriveConfig, MotorKind};
 use od::device::DeviceDescription;
 use od::event::{Event, Origin};
-use od::load::Format;
 
-use crate::cli::connect_hint;
+use crate::cli_common::{connect_hint, open_bus};
+use crate::generic::{unique_serials, PrepareError, Prepared};
 use crate::node::lss::UNCONFIGURED;
 use crate::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
 use crate::node::{LssConfig, Node, NodeConfig, NodeError};
 use crate::runtime::{self, RunStats, Station};
-use crate::transport::{self, BusError, BusSpec, CanBus};
-use ds402::generic::{self, GenericApp};
+use crate::transport::{self, BusError, BusSpec};
+use ds402::generic::GenericApp;
 
 /// Virtual CANopen nodes from device descriptions: the dictionary of each description (EDS, DCF, XDD,
 /// XDC) with its defaults, limits, access and PDO configuration, NMT, heartbeat, SYNC, PDOs, EMCY,
@@ -187,7 +186,18 @@ pub enum CliError {
     /// The bus.
     #[error(transparent)]
     Bus(#[from] BusError),
-    /// A description cannot be used.
+    /// A description cannot run as a node.
+    #[error(transparent)]
+    Prepare(PrepareError),
+    /// A description gives no node-ID, and none was given with it.
+    #[error("{source}: add @ID (e.g. {}@5) or --node-id", path.display())]
+    NoNodeId {
+        /// The file given.
+        path: PathBuf,
+        /// What the description says.
+        source: PrepareError,
+    },
+    /// The description cannot be written, or its name says no format.
     #[error("{path}: {why}")]
     Description {
         /// The file given.
@@ -203,7 +213,7 @@ pub enum CliError {
     Node(#[from] NodeError),
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
-    Signal(#[from] ctrlc::Error),
+    Signal(#[from] cli_support::SignalError),
     /// The storage directory cannot be used.
     #[error("--storage {path}: {why}")]
     Storage {
@@ -216,8 +226,8 @@ pub enum CliError {
 
 /// A description loaded for a node, with the node-ID it runs as.
 pub struct Loaded {
-    /// The description, its DCF values made power-on values, completed ([`generic::complete`]) and
-    /// the simulation records added.
+    /// The description, its DCF values made power-on values, completed
+    /// ([`ds402::generic::complete`]) and the simulation records added ([`Prepared`]).
     pub description: DeviceDescription,
     /// The node-ID (0xFF: none, LSS).
     pub node_id: u8,
@@ -235,52 +245,31 @@ pub fn load(args: &Args) -> Result<Vec<Loaded>, CliError> {
             "--node-id is for a single --od; give several as FILE@ID".into(),
         ));
     }
-    let mut out: Vec<Loaded> = Vec::new();
-    let mut seen: HashMap<[u32; 3], u32> = HashMap::new();
+    let drive = drive_config(args);
+    let mut prepared = Vec::with_capacity(args.ods.len());
     for spec in &args.ods {
-        let refuse = |why: String| CliError::Description {
-            path: spec.path.display().to_string(),
-            why,
-        };
-        let (format, mut devices) =
-            od::load::load(&spec.path).map_err(|e| refuse(e.to_string()))?;
-        if format == Format::Esi {
-            return Err(refuse(
-                "an ESI describes an EtherCAT device; run it with ethercat-node".into(),
-            ));
-        }
-        if devices.is_empty() {
-            return Err(refuse("describes no device".into()));
-        }
-        let mut description = devices.remove(0);
-        let configured = description.commissioning.is_some();
-        let node_id = match spec.node_id.or(args.node_id) {
-            Some(NodeIdArg(id)) => id,
-            None => match description.node_id() {
-                Some(id) if (1..=127).contains(&id) => id,
-                // A DCF without a node-ID is a node LSS configures.
-                _ if configured => UNCONFIGURED,
-                _ => {
-                    return Err(refuse(format!(
-                        "the {format} gives no node-ID: add @ID (e.g. {}@5) or --node-id",
-                        spec.path.display()
-                    )))
-                }
-            },
-        };
-        if configured {
-            generic::power_on_values(&mut description);
-        }
-        let events = generic::complete(&mut description, &drive_config(args));
-        generic::add_sim_records(&mut description.dictionary, &drive_config(args).sim);
-        unique_serial(&mut description, &mut seen);
-        out.push(Loaded {
-            description,
-            node_id,
-            path: spec.path.clone(),
-            events,
-        });
+        let node_id = spec.node_id.or(args.node_id).map(|NodeIdArg(id)| id);
+        prepared.push(
+            Prepared::load(&spec.path, node_id, &drive).map_err(|e| match e {
+                PrepareError::NoNodeId { .. } => CliError::NoNodeId {
+                    path: spec.path.clone(),
+                    source: e,
+                },
+                e => CliError::Prepare(e),
+            })?,
+        );
     }
+    unique_serials(&mut prepared);
+    let out: Vec<Loaded> = prepared
+        .into_iter()
+        .zip(&args.ods)
+        .map(|(p, spec)| Loaded {
+            node_id: p.node_id(),
+            path: spec.path.clone(),
+            events: p.events().to_vec(),
+            description: p.into_description(),
+        })
+        .collect();
     let mut ids: Vec<u8> = out
         .iter()
         .map(|l| l.node_id)
@@ -294,42 +283,6 @@ pub fn load(args: &Args) -> Result<Vec<Loaded>, CliError> {
         )));
     }
     Ok(out)
-}
-
-/// Nodes of the same identity (0x1018:01–03) get serial numbers (0x1018:04) counting up from the
-/// description's: the second one + 1, and so on.
-fn unique_serial(desc: &mut DeviceDescription, seen: &mut HashMap<[u32; 3], u32>) {
-    let read = |d: &DeviceDescription, sub| {
-        d.dictionary
-            .entry(0x1018, sub)
-            .ok()
-            .and_then(|e| e.current())
-            .and_then(|v| v.as_i128())
-            .map_or(0, |v| v as u32)
-    };
-    let key = [read(desc, 1), read(desc, 2), read(desc, 3)];
-    let count = seen.entry(key).or_insert(0);
-    let k = *count;
-    *count += 1;
-    if k == 0 {
-        return;
-    }
-    if let Some(entry) = desc
-        .dictionary
-        .object_mut(0x1018)
-        .and_then(|o| o.subs.get_mut(&4))
-    {
-        let serial = entry
-            .current()
-            .and_then(|v| v.as_i128())
-            .map_or(0, |v| v as u32)
-            .wrapping_add(k);
-        let value = od::value::Value::Uint(u64::from(serial));
-        if let Ok(bytes) = value.encode(entry.data_type) {
-            entry.value = bytes;
-            entry.default = Some(od::object::DefaultValue::plain(value));
-        }
-    }
 }
 
 /// The drives' configuration `args` give.
@@ -463,22 +416,8 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         .map(|l| event_lines(l.node_id, &l.path, &l.events, args.json))
         .collect();
     let mut stations = build_from(args, loaded)?;
-    let (mut spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
-        Some(spec) => (spec.clone(), transport::open(spec)?),
-        None => transport::open_default()?,
-    };
-    if let (BusSpec::SocketcandListen { addr }, Some(bound)) = (&mut spec, bus.listen_addr()) {
-        *addr = bound;
-    }
-    let stop = match stop {
-        Some(s) => s,
-        None => {
-            let s = Arc::new(AtomicBool::new(false));
-            let h = Arc::clone(&s);
-            ctrlc::set_handler(move || h.store(true, Ordering::Relaxed))?;
-            s
-        }
-    };
+    let (spec, mut bus) = open_bus(args.bus.as_ref())?;
+    let stop = cli_support::stop_flag(stop)?;
     let mut out = std::io::stdout();
     for ((s, spec), lines) in stations.iter().zip(&args.ods).zip(&said) {
         let id = s.node.node_id();

@@ -3,16 +3,17 @@
 
 use std::io::Write as _;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use clap::Parser;
 
+use crate::cli_common::{connect_hint, open_bus};
 use crate::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
 use crate::node::{Node, NodeConfig, NodeError};
 use crate::runtime::{self, RunStats, Station};
-use crate::transport::{self, BusError, BusSpec, CanBus};
+use crate::transport::{self, BusError, BusSpec};
 use crate::x67::{self, BusController, X67Error, BUS_CONTROLLER};
 
 /// A virtual CANopen node: a B&R X67BC4321-10 bus controller with X67SM2436 stepper modules in
@@ -76,7 +77,7 @@ pub enum CliError {
     Node(#[from] NodeError),
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
-    Signal(#[from] ctrlc::Error),
+    Signal(#[from] cli_support::SignalError),
     /// The description file cannot be written, or its name says no format.
     #[error("--write-description {path}: {why}")]
     Description {
@@ -139,27 +140,6 @@ pub fn build_node(args: &Args) -> Result<Station<BusController>, CliError> {
     })
 }
 
-/// How to reach a node on `spec`, for the start-up message.
-pub fn connect_hint(spec: &BusSpec) -> String {
-    match spec {
-        BusSpec::SocketcandListen { addr } => {
-            let host = addr.ip();
-            let port = addr.port();
-            format!(
-                "listening as a socketcand server on {addr} (any channel name is accepted); connect with\n  \
-                 python-can:       can.Bus(interface=\"socketcand\", host=\"{host}\", port={port}, channel=\"can0\")\n  \
-                 python-canopen:   network.connect(interface=\"socketcand\", host=\"{host}\", port={port}, channel=\"can0\")\n  \
-                 this project:     --bus socketcand://{host}:{port}/can0"
-            )
-        }
-        BusSpec::SocketCan { iface } => format!(
-            "on SocketCAN {iface}; watch it with `candump {iface}`, reach it with --bus socketcan:{iface}"
-        ),
-        BusSpec::Socketcand { .. } => format!("joined the socketcand bus {spec}"),
-        _ => format!("on {spec}"),
-    }
-}
-
 /// Writes the description of the node `args` describe to `path` (EDS or XDD by the extension); what
 /// it wrote, for the user.
 pub fn write_description(args: &Args, path: &std::path::Path) -> Result<String, CliError> {
@@ -194,23 +174,8 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         return Ok(RunStats::default());
     }
     let mut station = build_node(args)?;
-    let (mut spec, mut bus): (BusSpec, Box<dyn CanBus>) = match &args.bus {
-        Some(spec) => (spec.clone(), transport::open(spec)?),
-        None => transport::open_default()?,
-    };
-    // Port 0 asks the system for a free port: the hint names the one it chose.
-    if let (BusSpec::SocketcandListen { addr }, Some(bound)) = (&mut spec, bus.listen_addr()) {
-        *addr = bound;
-    }
-    let stop = match stop {
-        Some(s) => s,
-        None => {
-            let s = Arc::new(AtomicBool::new(false));
-            let h = Arc::clone(&s);
-            ctrlc::set_handler(move || h.store(true, Ordering::Relaxed))?;
-            s
-        }
-    };
+    let (spec, mut bus) = open_bus(args.bus.as_ref())?;
+    let stop = cli_support::stop_flag(stop)?;
     // A closed standard output (a parent that stopped reading) does not stop the node.
     let _ = writeln!(
         std::io::stdout(),

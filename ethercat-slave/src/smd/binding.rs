@@ -70,14 +70,15 @@ pub const FIXTURE_ESI: &str = include_str!("../../../fixtures/smd/SMD23K-B_SMD24
 pub const FIXTURE_NAME: &str = "SMD23K-B_SMD24K.esi.xml";
 
 /// Which of the two units of the ESI (on a command line: `smd23k-b`, `smd24k`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[non_exhaustive]
 pub enum Device {
     /// The SMD23K-B (size 23 motor).
-    #[value(name = "smd23k-b")]
+    #[cfg_attr(feature = "cli", value(name = "smd23k-b"))]
     Smd23kB,
     /// The SMD24K (size 24 motor).
-    #[value(name = "smd24k")]
+    #[cfg_attr(feature = "cli", value(name = "smd24k"))]
     Smd24k,
 }
 
