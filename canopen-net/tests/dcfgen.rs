@@ -122,6 +122,21 @@ fn compare(name: &str) {
 }
 
 #[test]
+fn corpus_devices() {
+    compare("corpus.yml");
+}
+
+#[test]
 fn basic_every_master_option_and_most_slave_options() {
     compare("basic.yml");
+}
+
+#[test]
+fn remote_pdo_mappings() {
+    compare("remote.yml");
+}
+
+#[test]
+fn not_strict() {
+    compare("nostrict.yml");
 }
