@@ -361,6 +361,21 @@ mod tests {
         assert_eq!(bus.slaves[0].name, "a");
     }
 
+    proptest::proptest! {
+        /// Any text is a bus description or an error, never a panic.
+        #[test]
+        fn any_text_parses_or_fails(text in "[ -~\n]{0,200}") {
+            let _ = Bus::parse(&text, "bus.yml");
+        }
+
+        /// Any YAML of the right keys with any scalars is read or refused.
+        #[test]
+        fn any_scalars_are_read_or_refused(a in "[ -~]{0,12}", b in "[ -~]{0,12}") {
+            let text = format!("options:\n  retry_factor: {a}\nmaster:\n  node_id: {b}\nx: {{dcf: {a}}}\n");
+            let _ = Bus::parse(&text, "bus.yml");
+        }
+    }
+
     #[test]
     fn errors_name_file_line_and_key() {
         let e = Bus::parse(

@@ -138,3 +138,20 @@ fn check_reports_every_problem_and_node_id_clashes() {
         ]
     );
 }
+
+proptest::proptest! {
+    /// Any numbers in any key of a slave give files or an error, never a panic.
+    #[test]
+    fn any_numbers_generate_or_fail(
+        node in -5i64..300, hb in -1i64..70000, pdo in -2i64..600, index in -1i64..0x10010,
+        sub in -1i64..300, value in proptest::num::i64::ANY, cob in proptest::num::i64::ANY,
+    ) {
+        let yaml = format!(
+            "master: {{node_id: 1, heartbeat_producer: {hb}}}\nx:\n  dcf: ../../examples/drive.eds\n  \
+             node_id: {node}\n  heartbeat_producer: {hb}\n  heartbeat_consumer: true\n  tpdo:\n    {pdo}:\n      \
+             cob_id: {cob}\n      mapping:\n        - {{index: {index}, sub_index: {sub}}}\n  sdo:\n    - \
+             {{index: {index}, sub_index: {sub}, value: {value}}}\n"
+        );
+        let _ = error(&yaml);
+    }
+}
