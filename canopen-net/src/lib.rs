@@ -7,6 +7,7 @@
 //!   module's documentation lists every key.
 //! - [`generate`]: the files for a bus, given the slaves' descriptions (read by the caller with
 //!   `od`), and [`check`]: what is wrong with a bus description, all at once.
+//! - [`yaml`]: the YAML tree with the line of every node, as PyYAML reads scalars.
 #![deny(missing_docs)]
 #![warn(unreachable_pub)]
 
@@ -18,7 +19,7 @@ mod master;
 mod master_dcf;
 mod pdo;
 mod slave;
-mod yaml;
+pub mod yaml;
 
 pub use bus::{Bus, NetError, Number, Options};
 pub use check::check;
