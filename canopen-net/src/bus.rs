@@ -42,7 +42,8 @@
 //!   `sub_index`).
 //! - `boot`, `mandatory`, `reset_communication`, `software_file`, `software_version`,
 //!   `restore_configuration`: the slave's entries of 0x1F81, 0x1F58, 0x1F55 and 0x1F8A.
-//! - `sdo`: a list of `index`, `sub_index`, `value` written after everything else.
+//! - `sdo`: a list of `index`, `sub_index`, `value` written after everything else (the value an
+//!   integer, a float cut to one as dcfgen does, for REAL32 and REAL64 entries too).
 //!
 //! **ros2_canopen's `bus.yml`** has `options` and `master` as above, `defaults` (keys every slave
 //! takes unless it gives its own) and `nodes` (the slaves by name); it is read as the dcfgen YAML it

@@ -1,17 +1,18 @@
 //! What is wrong with a bus description, every problem at once, before anything is sent.
 
-use od::DeviceDescription;
+use crate::file::SlaveFile;
 
 use crate::bus::{Bus, NetError};
 use crate::gen::{generate, GenOptions};
 
 /// The problems of `bus`, one per slave that cannot be generated (missing or unreadable DCF, an entry
 /// or a mapping its description cannot take, …), then node-IDs used twice, then the master's own;
-/// and the warnings generation gives. `load` and `env` are as for [`generate`].
+/// and the warnings generation gives. `load`, `env` and `opts` are as for [`generate`].
 pub fn check(
     bus: &Bus,
-    load: &mut dyn FnMut(&str) -> Result<DeviceDescription, String>,
+    load: &mut dyn FnMut(&str) -> Result<SlaveFile, String>,
     env: &dyn Fn(&str) -> Option<String>,
+    opts: GenOptions,
 ) -> (Vec<NetError>, Vec<String>) {
     let mut errors = Vec::new();
     let mut warnings = Vec::new();
@@ -21,7 +22,7 @@ pub fn check(
             slaves: vec![section.clone()],
             ..bus.clone()
         };
-        match generate(&alone, load, env, GenOptions::default()) {
+        match generate(&alone, load, env, opts) {
             Ok(g) => {
                 warnings.extend(g.warnings);
                 if let Some(s) = g.slaves.first() {
@@ -44,7 +45,7 @@ pub fn check(
         slaves: Vec::new(),
         ..bus.clone()
     };
-    match generate(&empty, load, env, GenOptions::default()) {
+    match generate(&empty, load, env, opts) {
         Err(e) => errors.push(e),
         Ok(_) => {
             let ctx = crate::bus::Ctx { file: &bus.file };

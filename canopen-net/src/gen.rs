@@ -1,5 +1,6 @@
 //! Generation: each slave's concise DCF and the master's objects, as dcfgen makes them.
 
+use crate::file::{IdentityKeys, SlaveFile};
 use od::DeviceDescription;
 
 use crate::bus::{Bus, Ctx, NetError, Number, Section};
@@ -24,6 +25,8 @@ pub struct Generated {
 pub struct GenOptions {
     /// Write the remote PDO mapping objects (0x5800..0x5FFF) into `master.dcf` (dcfgen `-r`).
     pub remote_pdo: bool,
+    /// Take a slave description its strict reading ([`crate::lint`]) refuses as it is (dcfgen `-S`).
+    pub no_strict: bool,
 }
 
 /// Generates the files for `bus`. `load` gives the description of a slave's `dcf` (the text of the
@@ -31,7 +34,7 @@ pub struct GenOptions {
 /// `$VAR` in a `dcf_path` stands for.
 pub fn generate(
     bus: &Bus,
-    load: &mut dyn FnMut(&str) -> Result<DeviceDescription, String>,
+    load: &mut dyn FnMut(&str) -> Result<SlaveFile, String>,
     env: &dyn Fn(&str) -> Option<String>,
     opts: GenOptions,
 ) -> Result<Generated, NetError> {
@@ -39,6 +42,7 @@ pub fn generate(
         ctx: Ctx { file: &bus.file },
         next_cob_id: 0x680,
         warnings: Vec::new(),
+        no_strict: opts.no_strict,
     };
     let mut slaves = Vec::new();
     for section in &bus.slaves {
@@ -114,7 +118,7 @@ fn from_config(
     cx: &mut Cx,
     bus: &Bus,
     section: &Section,
-    load: &mut dyn FnMut(&str) -> Result<DeviceDescription, String>,
+    load: &mut dyn FnMut(&str) -> Result<SlaveFile, String>,
     env: &dyn Fn(&str) -> Option<String>,
 ) -> Result<Slave, NetError> {
     let ctx = cx.ctx;
@@ -133,15 +137,23 @@ fn from_config(
     };
     let dcf_key = key(section, "dcf");
     let dcf_text = ctx.string(dcf, &dcf_key)?;
-    let mut desc = load(&dcf_text).map_err(|m| ctx.error(dcf.line, &dcf_key, m))?;
+    let file = load(&dcf_text).map_err(|m| ctx.error(dcf.line, &dcf_key, m))?;
+    let keys = file.keys;
+    cx.warnings.extend(file.lint.warnings.iter().cloned());
+    if !file.lint.ok && !cx.no_strict {
+        let first = file.lint.warnings.first().map_or("", String::as_str);
+        let m = format!("invalid DCF: {dcf_text} ({first}; -S takes it as it is)");
+        return Err(ctx.error(dcf.line, &dcf_key, m));
+    }
+    let mut desc = file.description;
     let node_id = node_id.or(desc.node_id()).map_or(255, u32::from);
     if !(1..=127).contains(&node_id) && node_id != 255 {
         cx.warnings
             .push(format!("invalid node-ID specified: {node_id}"));
     }
     desc.set_node_id(Some(node_id as u8));
-    let mut slave =
-        identity(section, desc, node_id)?.map_err(|m| ctx.error(dcf.line, &dcf_key, m))?;
+    let mut slave = identity(section, desc, keys, node_id, &mut cx.warnings)?
+        .map_err(|m| ctx.error(dcf.line, &dcf_key, m))?;
     slave.dcf_path = match get("dcf_path")? {
         Some(v) => ctx.string(v, &key(section, "dcf_path"))?,
         None => bus.options.dcf_path.clone(),
@@ -261,7 +273,9 @@ fn communication(
 fn identity(
     section: &Section,
     desc: DeviceDescription,
+    keys: IdentityKeys,
     node_id: u32,
+    warnings: &mut Vec<String>,
 ) -> Result<Result<Slave, String>, NetError> {
     let dict = &desc.dictionary;
     let val = |index: u16, sub: u8| {
@@ -275,7 +289,16 @@ fn identity(
     let Some(vendor) = val(0x1018, 1) else {
         return Ok(Err("sub-object 0x1018/1 does not exist".into()));
     };
-    let pick = |described: u32, own: u32| if described != 0 { described } else { own };
+    let mut pick = |given: bool, described: u32, own: u32, (key, word): (&str, &str)| {
+        if given && own != 0 && own != described {
+            warnings.push(format!("{key} differs from {word} in identity object"));
+        }
+        if given {
+            described
+        } else {
+            own
+        }
+    };
     let id = &desc.identity;
     let lss = desc
         .commissioning
@@ -313,10 +336,30 @@ fn identity(
         node_id,
         line: section.line,
         device_type,
-        vendor_id: pick(id.vendor_id, vendor),
-        product_code: pick(id.product_code, val(0x1018, 2).unwrap_or(0)),
-        revision_number: pick(id.revision, val(0x1018, 3).unwrap_or(0)),
-        serial_number: pick(lss, val(0x1018, 4).unwrap_or(0)),
+        vendor_id: pick(
+            keys.vendor,
+            id.vendor_id,
+            vendor,
+            ("VendorNumber in [DeviceInfo]", "vendor-ID"),
+        ),
+        product_code: pick(
+            keys.product,
+            id.product_code,
+            val(0x1018, 2).unwrap_or(0),
+            ("ProductNumber in [DeviceInfo]", "product code"),
+        ),
+        revision_number: pick(
+            keys.revision,
+            id.revision,
+            val(0x1018, 3).unwrap_or(0),
+            ("RevisionNumber in [DeviceInfo]", "revision number"),
+        ),
+        serial_number: pick(
+            keys.serial,
+            lss,
+            val(0x1018, 4).unwrap_or(0),
+            ("LSS_SerialNumber in [DeviceComissioning]", "serial number"),
+        ),
         emcy_cob_id: val(0x1014, 0).unwrap_or(0x8000_0000),
         heartbeat_multiplier: 3.0,
         heartbeat_consumer: false,
@@ -472,8 +515,9 @@ fn nmt(cx: &mut Cx, slave: &mut Slave, section: &Section, cfg: &Node) -> Result<
                 Some(s) => ctx.int_in(s, &format!("{k}.sub_index"), 0, 255)? as u8,
                 None => 0,
             };
+            // dcfgen takes int() of the value, for a REAL32 or REAL64 entry too (1.5 writes 1.0).
             let value = match field("value")? {
-                Some(v) => ctx.number(v, &format!("{k}.value"))?,
+                Some(v) => Number::Int(ctx.int(v, &format!("{k}.value"))?),
                 None => Number::Int(0),
             };
             slave.push(cx, item, &k, (index, sub), value)?;

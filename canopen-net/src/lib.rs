@@ -7,6 +7,7 @@
 //!   module's documentation lists every key.
 //! - [`generate`]: the files for a bus, given the slaves' descriptions (read by the caller with
 //!   `od`), and [`check`]: what is wrong with a bus description, all at once.
+//! - [`lint`]: the strict reading of a slave's EDS or DCF dcfgen makes (`-S` skips it).
 //! - [`yaml`]: the YAML tree with the line of every node, as PyYAML reads scalars.
 #![deny(missing_docs)]
 #![warn(unreachable_pub)]
@@ -14,7 +15,10 @@
 pub mod bus;
 mod check;
 pub mod concise;
+mod file;
 mod gen;
+pub mod lint;
+mod lint_values;
 mod master;
 mod master_dcf;
 mod pdo;
@@ -23,6 +27,7 @@ pub mod yaml;
 
 pub use bus::{Bus, NetError, Number, Options};
 pub use check::check;
+pub use file::{IdentityKeys, SlaveFile};
 pub use gen::{expand_vars, generate, GenOptions, Generated};
 pub use master::Master;
 pub use slave::{Mapped, Pdo, Slave};

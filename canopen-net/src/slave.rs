@@ -247,6 +247,8 @@ pub struct Cx<'a> {
     pub next_cob_id: u32,
     /// Warnings, in order.
     pub warnings: Vec<String>,
+    /// Descriptions the strict reading refuses are taken as they are.
+    pub no_strict: bool,
 }
 
 /// The mapped sub-object `value` (a mapping entry) stands for in `desc`.

@@ -3,14 +3,18 @@
 
 use std::path::Path;
 
-use canopen_net::{check, generate, Bus, GenOptions};
+use canopen_net::{check, generate, Bus, GenOptions, SlaveFile};
 
-fn load(dcf: &str) -> Result<od::DeviceDescription, String> {
+fn load(dcf: &str) -> Result<SlaveFile, String> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../tests/net")
         .join(dcf);
     let (_, reading) = od::load::load_reading(&path).map_err(|_| format!("cannot read {dcf}"))?;
-    Ok(reading.devices.into_iter().next().unwrap())
+    let text = std::fs::read(&path).unwrap();
+    Ok(SlaveFile::new(
+        reading.devices.into_iter().next().unwrap(),
+        &text,
+    ))
 }
 
 /// The error generating `yaml` gives.
@@ -65,6 +69,17 @@ fn slave_sections() {
     assert_eq!(
         error("master: {node_id: -1}\n"),
         "bus.yml:1: master.node_id: -1 is out of range 0..4294967295"
+    );
+}
+
+#[test]
+fn a_description_the_strict_reading_refuses() {
+    assert_eq!(
+        error(
+            "master: {}\nx:\n  dcf: ../../../shared/corpus/eds/cnrtt-project.eds\n  node_id: 3\n"
+        ),
+        "bus.yml:3: x.dcf: invalid DCF: ../../../shared/corpus/eds/cnrtt-project.eds \
+         (invalid entry in [DeviceInfo]: NG_Slave; -S takes it as it is)"
     );
 }
 
@@ -127,7 +142,7 @@ fn check_reports_every_problem_and_node_id_clashes() {
                 c:\n  dcf: missing.eds\n\
                 d:\n  dcf: ../../examples/io-device.eds\n  node_id: 3\n";
     let bus = Bus::parse(yaml, "bus.yml").unwrap();
-    let (errors, _) = check(&bus, &mut load, &|_| None);
+    let (errors, _) = check(&bus, &mut load, &|_| None, GenOptions::default());
     let lines: Vec<String> = errors.iter().map(ToString::to_string).collect();
     assert_eq!(
         lines,

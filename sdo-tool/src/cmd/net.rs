@@ -5,7 +5,7 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use canopen_net::{Bus, GenOptions};
+use canopen_net::{Bus, GenOptions, SlaveFile};
 
 use super::{emit, file_error};
 use crate::{ToolError, UsageError};
@@ -36,7 +36,8 @@ pub struct GenArgs {
     /// Also write the remote PDO mappings (0x5800..0x5FFF) into master.dcf.
     #[arg(short = 'r', long = "remote-pdo")]
     pub remote_pdo: bool,
-    /// Take a slave description with errors as it is.
+    /// Take a slave description that dcfgen's strict reading refuses (an unknown key, a value
+    /// out of its type's range, an incomplete object list, …) as it is.
     #[arg(short = 'S', long = "no-strict")]
     pub no_strict: bool,
     /// The bus description.
@@ -55,7 +56,8 @@ pub struct GenArgs {
 /// `net check`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct CheckArgs {
-    /// Take a slave description with errors as it is.
+    /// Take a slave description that dcfgen's strict reading refuses (an unknown key, a value
+    /// out of its type's range, an incomplete object list, …) as it is.
     #[arg(short = 'S', long = "no-strict")]
     pub no_strict: bool,
     /// The bus description.
@@ -78,7 +80,7 @@ fn read_bus(path: &Path) -> Result<Bus, ToolError> {
 }
 
 /// The reader of slave descriptions, relative to the bus description's folder.
-fn loader(bus: &Path, strict: bool) -> impl FnMut(&str) -> Result<od::DeviceDescription, String> {
+fn loader(bus: &Path) -> impl FnMut(&str) -> Result<SlaveFile, String> {
     let dir = bus.parent().map(Path::to_path_buf).unwrap_or_default();
     move |dcf: &str| {
         let path = dir.join(dcf);
@@ -88,18 +90,8 @@ fn loader(bus: &Path, strict: bool) -> impl FnMut(&str) -> Result<od::DeviceDesc
             .into_iter()
             .next()
             .ok_or_else(|| format!("{}: no device", path.display()))?;
-        if strict {
-            let errors = od::validate::validate(&desc)
-                .into_iter()
-                .filter(|f| f.severity == od::Severity::Error);
-            if let Some(first) = errors.map(|f| f.message).next() {
-                return Err(format!(
-                    "invalid DCF: {}: {first} (-S takes it as it is)",
-                    path.display()
-                ));
-            }
-        }
-        Ok(desc)
+        let text = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(SlaveFile::new(desc, &text))
     }
 }
 
@@ -111,14 +103,10 @@ fn gen(args: &GenArgs, json: bool, out: &mut dyn Write) -> Result<(), ToolError>
     let bus = read_bus(&args.description)?;
     let opts = GenOptions {
         remote_pdo: args.remote_pdo,
+        no_strict: args.no_strict,
     };
-    let generated = canopen_net::generate(
-        &bus,
-        &mut loader(&args.description, !args.no_strict),
-        &env,
-        opts,
-    )
-    .map_err(|e| UsageError::Net(e.to_string()))?;
+    let generated = canopen_net::generate(&bus, &mut loader(&args.description), &env, opts)
+        .map_err(|e| UsageError::Net(e.to_string()))?;
     for w in &generated.warnings {
         eprintln!("warning: {w}");
     }
@@ -140,8 +128,11 @@ fn gen(args: &GenArgs, json: bool, out: &mut dyn Write) -> Result<(), ToolError>
 
 fn check(args: &CheckArgs, json: bool, out: &mut dyn Write) -> Result<(), ToolError> {
     let bus = read_bus(&args.description)?;
-    let (errors, warnings) =
-        canopen_net::check(&bus, &mut loader(&args.description, !args.no_strict), &env);
+    let opts = GenOptions {
+        remote_pdo: false,
+        no_strict: args.no_strict,
+    };
+    let (errors, warnings) = canopen_net::check(&bus, &mut loader(&args.description), &env, opts);
     for w in &warnings {
         emit(
             out,
