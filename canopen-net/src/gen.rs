@@ -151,6 +151,12 @@ fn from_config(
         cx.warnings
             .push(format!("invalid node-ID specified: {node_id}"));
     }
+    if node_id == 255 {
+        if let Some(at) = node_relative(&desc) {
+            let m = format!("{at} is given as $NODEID+…, and the slave has no node_id");
+            return Err(ctx.error(section.line, &section.name, m));
+        }
+    }
     desc.set_node_id(Some(node_id as u8));
     let mut slave = identity(section, desc, keys, node_id, &mut cx.warnings)?
         .map_err(|m| ctx.error(dcf.line, &dcf_key, m))?;
@@ -247,6 +253,29 @@ fn from_config(
     pdos(cx, &mut slave, section, get("tpdo")?, true)?;
     nmt(cx, &mut slave, section, cfg)?;
     Ok(slave)
+}
+
+/// The first entry dcfgen reads whose value is relative to the node-ID (`$NODEID+…`): dcfgen
+/// cannot read it for a slave without one.
+fn node_relative(desc: &DeviceDescription) -> Option<String> {
+    let read = |index: u16| {
+        matches!(
+            index,
+            0x1000 | 0x100C | 0x100D | 0x1012 | 0x1014 | 0x1016 | 0x1017 | 0x1018 | 0x1029
+        ) || (0x1400..0x1C00).contains(&index)
+    };
+    desc.dictionary
+        .objects()
+        .filter(|o| read(o.index))
+        .find_map(|o| {
+            let relative = |s: &od::SubObject| {
+                s.value_plus_node_id || s.default.as_ref().is_some_and(|d| d.plus_node_id)
+            };
+            o.subs
+                .iter()
+                .find(|(_, s)| relative(s))
+                .map(|(sub, _)| format!("0x{:04X}/{sub}", o.index))
+        })
 }
 
 /// Writes `value` to `index` when the slave has it, else warns.

@@ -59,12 +59,16 @@ fn slave_sections() {
     );
     assert_eq!(error("master: {}\nx: 7\n"), "bus.yml:2: x: is no mapping");
     assert_eq!(
+        error("master: {}\nx:\n  dcf: ../../examples/drive.eds\n"),
+        "bus.yml:2: x: 0x1014/0 is given as $NODEID+…, and the slave has no node_id"
+    );
+    assert_eq!(
         error("master: {}\nx:\n  dcf: ../../examples/drive.eds\n  node_id: 300\n"),
         "bus.yml:4: x.node_id: 300 is out of range 0..255"
     );
     assert_eq!(
-        error("master: {}\nx:\n  dcf: ../../examples/drive.eds\n  heartbeat_producer: soon\n"),
-        "bus.yml:4: x.heartbeat_producer: 'soon' is no integer"
+        error("master: {}\nx:\n  dcf: ../../examples/drive.eds\n  node_id: 2\n  heartbeat_producer: soon\n"),
+        "bus.yml:5: x.heartbeat_producer: 'soon' is no integer"
     );
     assert_eq!(
         error("master: {node_id: -1}\n"),
