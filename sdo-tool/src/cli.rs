@@ -12,6 +12,7 @@ use crate::cmd::decode::DecodeArgs;
 use crate::cmd::dump::DumpArgs;
 use crate::cmd::ethercat::SdosArgs;
 use crate::cmd::gateway::GatewayArgs;
+use crate::cmd::net::NetArgs;
 use crate::cmd::nmt::NmtArgs;
 use crate::cmd::read::ReadArgs;
 use crate::cmd::scan::ScanArgs;
@@ -115,6 +116,10 @@ pub enum Cmd {
     /// --json an event with "open"). The exit code stays 0 with transfers left open: a capture
     /// stopped at any moment may end in the middle of one, and the lines say so.
     Decode(DecodeArgs),
+    /// A CiA 302 network: `net gen [-r] [-S] BUS.yml -d DIR` writes each slave's concise DCF,
+    /// master.dcf and master.bin from a bus description (Lely dcfgen's YAML or ros2_canopen's
+    /// bus.yml), as dcfgen does; `net check BUS.yml` says what is wrong with one, line by line.
+    Net(NetArgs),
     /// Store the node's parameters: 0x1010:01 = "save".
     Save(StoreArgs),
     /// Restore the node's default parameters at its next reset: 0x1011:01 = "load".
@@ -161,6 +166,7 @@ impl Cmd {
             Cmd::Nmt(_) => "nmt",
             Cmd::List => "list",
             Cmd::Decode(_) => "decode",
+            Cmd::Net(_) => "net",
             Cmd::Slaves => "slaves",
             Cmd::States => "states",
             Cmd::Sdos(_) => "sdos",
@@ -218,6 +224,7 @@ pub fn run(
             let od = desc.as_ref().map(|d| &d.dictionary);
             return crate::cmd::decode::run(a, od, args.json, out);
         }
+        Cmd::Net(a) => return crate::cmd::net::run(a, args.json, out),
         Cmd::List => {
             let desc = desc.as_ref().ok_or(UsageError::ListNeedsDescription)?;
             return crate::cmd::list::run(desc, args.json, out);
@@ -305,7 +312,9 @@ fn can_command(
         Cmd::Nmt(a) => nmt::run(a, &mut tool, json, out),
         // Answered before any bus is opened.
         Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
-        Cmd::List | Cmd::Decode(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => Ok(()),
+        Cmd::List | Cmd::Decode(_) | Cmd::Net(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => {
+            Ok(())
+        }
     }
 }
 

@@ -186,6 +186,17 @@ pub enum UsageError {
         /// What the system said.
         error: std::io::Error,
     },
+    /// `net`: the bus description cannot be read or generated: the file, line, key and what.
+    #[error("{0}")]
+    Net(String),
+    /// `net check`: what is wrong, counted (each was printed on its own line).
+    #[error("{}: {count} problem{}", file.display(), if *count == 1 { "" } else { "s" })]
+    NetProblems {
+        /// The bus description.
+        file: PathBuf,
+        /// How many problems.
+        count: usize,
+    },
     /// `--bus` names a socketcand server to be, not a bus to join.
     #[error("sdo-tool joins a bus: socketcan:IFACE or socketcand://HOST:PORT/CHANNEL")]
     ListeningBus,

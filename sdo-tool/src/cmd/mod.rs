@@ -5,7 +5,8 @@
 //! - [`transfer`]: `upload` and `download` of a file, with a progress bar;
 //! - [`store`]: `save` and `restore`; [`nmt`]; [`scan`]; [`gateway`]: the CiA 309-3 gateway;
 //! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
-//! - [`list`]: the entries of a description; [`ethercat`]: `slaves`, `states` and `sdos`.
+//! - [`list`]: the entries of a description; [`net`]: a network's bus description made into the
+//!   master's and the slaves' configuration files (`net gen`), or checked (`net check`); [`ethercat`]: `slaves`, `states` and `sdos`.
 
 use std::io::Write;
 use std::path::Path;
@@ -18,6 +19,7 @@ pub mod dump;
 pub mod ethercat;
 pub mod gateway;
 pub mod list;
+pub mod net;
 pub mod nmt;
 pub mod read;
 pub mod scan;
