@@ -621,3 +621,28 @@ fn missing_motor_objects_take_the_motor_configuration() {
     r.wait(500);
     assert_eq!(r.read(0x606C, 0), 400);
 }
+
+/// An input that reaches an idle drive asks for the drive's next tick, and only that one: a second
+/// look at the same instant keeps the request, the tick itself ends it. Forced 0x60FD bits read as
+/// forced until the inputs are released.
+#[test]
+fn an_input_to_an_idle_drive_asks_for_its_next_tick_once() {
+    let mut r = Rig::with(&[(0x6060, 0, 1)]);
+    r.at(5);
+    assert_eq!(r.drive.poll_timeout(), None);
+    let t0 = r.t0;
+    let ms = |n: u64| t0 + std::time::Duration::from_millis(n);
+    r.drive.set_input(ms(5), 20, Some(true));
+    assert_eq!(r.drive.poll_timeout(), Some(ms(6)));
+    // The same instant again: no tick has passed, the request stands.
+    r.drive.handle_timeout(ms(5));
+    assert_eq!(r.drive.poll_timeout(), Some(ms(6)));
+    assert_eq!(r.read(0x60FD, 0), 1 << 20);
+    // The tick ends it.
+    r.drive.handle_timeout(ms(6));
+    assert_eq!(r.drive.poll_timeout(), None);
+    // Released: the bit follows the simulated switches again (none at bit 20), and no tick is asked.
+    r.drive.release_inputs();
+    assert_eq!(r.read(0x60FD, 0), 0);
+    assert_eq!(r.drive.poll_timeout(), None);
+}
