@@ -678,3 +678,24 @@ fn stat1_bit_15_drive_is_enabled() {
     m.out.cmd1 = 0;
     assert_eq!(m.lrw().status1, m.heartbeat());
 }
+
+/// A host that runs the chain's cycle late (20 ms after the last, not 1 ms) with a new output image:
+/// the unit first runs the indexer's exchange that fell due before the image came (its own cycle,
+/// without new output data), then takes the image at the late cycle. A Relative move so taken starts
+/// there: no step before it (taken 20 ms late it would be some 22 steps on: 141 steps/s starting
+/// speed and 100,000 steps/s² for 20 ms), accelerating clockwise, and under way after.
+#[test]
+fn a_late_cycle_takes_the_new_image_after_the_overdue_exchange() {
+    let mut m = ready();
+    let start = m.last.motor_position;
+    m.out.position = 1000;
+    m.out.cmd0 = 0x0002;
+    m.write();
+    m.c.cycle(std::time::Duration::from_millis(20));
+    let taken = m.read();
+    assert_eq!(taken.motor_position, start);
+    // Module_OK, Accelerating, Moving_CW: the move is taken.
+    assert_eq!(taken.status0, 0x4021);
+    let moving = m.run(20);
+    assert!(moving.motor_position > start, "{moving:?}");
+}
