@@ -19,6 +19,10 @@
 //!   part confirmed with `BitChecked` 0 and `LSSNext` the next part (0 after the serial number,
 //!   which puts the slave found into the configuration state). Silence at a confirmation is
 //!   [`LssError::FastscanLost`].
+//! - Several slaves answer a Fastscan step alike; where their frames do not merge on the wire (a
+//!   bus of software nodes, a gateway), the copies come one after the other. So after the first
+//!   answer to a step the master waits a settling time (a tenth of the bound; 10 ms by default)
+//!   and takes what comes in it as the same answer, before it sends the next step.
 //! - Frames of another COB-ID or length than 8, and answers of another command specifier than the
 //!   one awaited, are ignored.
 
@@ -33,6 +37,9 @@ pub const LSS_REQUEST: u16 = 0x7E5;
 pub const LSS_RESPONSE: u16 = 0x7E4;
 /// How long a request waits for its answer unless told otherwise.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(100);
+
+/// The longest bound a master takes; a longer one is cut to this.
+pub const MAX_TIMEOUT: Duration = Duration::from_secs(3600);
 
 /// The LSS address (CiA 305 §6.1): vendor-ID, product code, revision number and serial number
 /// (0x1018 sub-indices 1 to 4).
@@ -265,6 +272,8 @@ struct Running {
     /// Fastscan only: the address so far and the step.
     address: LssAddress,
     scan: Scan,
+    /// Fastscan only: the step was answered; its copies are awaited until the deadline.
+    settling: bool,
 }
 
 /// The LSS master; see the [module documentation](self).
@@ -305,10 +314,11 @@ impl LssMaster {
         LssMaster::with_timeout(DEFAULT_TIMEOUT)
     }
 
-    /// A master waiting `timeout` for each answer (and each Fastscan step).
+    /// A master waiting `timeout` for each answer (and each Fastscan step; a tenth of it for the
+    /// copies of a Fastscan answer); at most [`MAX_TIMEOUT`].
     pub fn with_timeout(timeout: Duration) -> LssMaster {
         LssMaster {
-            timeout,
+            timeout: timeout.min(MAX_TIMEOUT),
             now: None,
             running: None,
             transmit: VecDeque::new(),
@@ -426,6 +436,7 @@ impl LssMaster {
             deadline: now + self.timeout,
             address: [0; 4],
             scan: Scan::Start,
+            settling: false,
         });
         Ok(())
     }
@@ -460,7 +471,16 @@ impl LssMaster {
         }
         let service = running.request.name();
         let outcome = match running.request {
-            LssRequest::Fastscan => return self.fastscan_step(now, true),
+            LssRequest::Fastscan => {
+                if !running.settling {
+                    self.running = Some(Running {
+                        settling: true,
+                        deadline: now + self.timeout / 10,
+                        ..running
+                    });
+                }
+                return;
+            }
             LssRequest::SwitchSelective(_) => Ok(LssAnswer::Selected),
             LssRequest::ConfigureNodeId(_)
             | LssRequest::ConfigureBitTiming { .. }
@@ -496,7 +516,7 @@ impl LssMaster {
         }
         let service = running.request.name();
         let outcome = match running.request {
-            LssRequest::Fastscan => return self.fastscan_step(now, false),
+            LssRequest::Fastscan => return self.fastscan_step(now, running.settling),
             LssRequest::IdentifyRemote { .. } | LssRequest::IdentifyNonConfigured => {
                 Ok(LssAnswer::Identified(false))
             }
@@ -551,6 +571,7 @@ impl LssMaster {
         };
         self.transmit.push_back(request);
         r.scan = next;
+        r.settling = false;
         r.deadline = now + self.timeout;
         self.running = Some(r);
     }

@@ -229,8 +229,8 @@ impl Slave {
     }
 }
 
-/// Runs a Fastscan among `slaves`, each request answered at once by every slave that matches (one
-/// frame on the bus for all), silence taking the full 100 ms. Returns the outcome, the requests
+/// Runs a Fastscan among `slaves`, each request answered at once by every slave that matches (a
+/// frame each), silence taking the full 100 ms. Returns the outcome, the requests
 /// and the time taken.
 fn fastscan(slaves: &mut [Slave]) -> (Result<LssAnswer, LssError>, Vec<[u8; 8]>, Duration) {
     let t0 = Instant::now();
@@ -242,11 +242,11 @@ fn fastscan(slaves: &mut [Slave]) -> (Result<LssAnswer, LssError>, Vec<[u8; 8]>,
         while let Some(f) = m.poll_transmit() {
             assert_eq!(f.cob_id(), Some(0x7E5));
             requests.push(f.data8());
-            let answered = slaves
-                .iter_mut()
-                .fold(false, |any, s| s.answers(f.data8()) | any);
-            if answered {
-                m.handle_frame(now, &answer([0x4F, 0, 0, 0, 0, 0, 0, 0]));
+            // Each slave that matches answers: the copies come one after the other.
+            for s in slaves.iter_mut() {
+                if s.answers(f.data8()) {
+                    m.handle_frame(now, &answer([0x4F, 0, 0, 0, 0, 0, 0, 0]));
+                }
             }
         }
         if let Some(outcome) = m.poll_event() {
@@ -320,4 +320,38 @@ fn fastscan_without_a_confirmation_is_an_error() {
     assert_eq!(requests[32], [0x51, 0xFE, 0xFF, 0xFF, 0xFF, 0, 0, 0]);
     assert_eq!(requests[33], [0x51, 0xFF, 0xFF, 0xFF, 0xFF, 0, 0, 1]);
     assert!(!m.is_busy());
+}
+
+#[test]
+fn fastscan_takes_the_copies_of_an_answer_as_one() {
+    let t0 = Instant::now();
+    let mut m = LssMaster::new();
+    m.start(t0, LssRequest::Fastscan).unwrap();
+    assert_eq!(
+        m.poll_transmit().unwrap().data8(),
+        [0x51, 0, 0, 0, 0, 0x80, 0, 0]
+    );
+    let ms = |n| t0 + Duration::from_millis(n);
+    m.handle_frame(ms(1), &answer([0x4F, 0, 0, 0, 0, 0, 0, 0]));
+    // The next step waits for the settling time, 10 ms after the first answer.
+    assert_eq!(m.poll_transmit(), None);
+    assert_eq!(m.poll_timeout(), Some(ms(11)));
+    m.handle_frame(ms(3), &answer([0x4F, 0, 0, 0, 0, 0, 0, 0]));
+    assert_eq!(m.poll_timeout(), Some(ms(11)));
+    m.handle_timeout(ms(11));
+    assert_eq!(
+        m.poll_transmit().unwrap().data8(),
+        [0x51, 0, 0, 0, 0, 0x1F, 0, 0]
+    );
+    assert_eq!(m.poll_timeout(), Some(ms(111)));
+    assert_eq!(m.poll_event(), None);
+}
+
+#[test]
+fn a_bound_beyond_an_hour_is_cut_to_one() {
+    let t0 = Instant::now();
+    let mut m = LssMaster::with_timeout(Duration::MAX);
+    assert_eq!(m.timeout(), Duration::from_secs(3600));
+    m.start(t0, LssRequest::Store).unwrap();
+    assert_eq!(m.poll_timeout(), Some(t0 + Duration::from_secs(3600)));
 }
