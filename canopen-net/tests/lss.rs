@@ -355,3 +355,65 @@ fn a_bound_beyond_an_hour_is_cut_to_one() {
     m.start(t0, LssRequest::Store).unwrap();
     assert_eq!(m.poll_timeout(), Some(t0 + Duration::from_secs(3600)));
 }
+
+mod any_traffic {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn request(pick: u8, value: u8) -> LssRequest {
+        match pick % 8 {
+            0 => LssRequest::Fastscan,
+            1 => LssRequest::SwitchSelective([u32::from(value); 4]),
+            2 => LssRequest::ConfigureNodeId(value),
+            3 => LssRequest::Store,
+            4 => LssRequest::Inquire(AddressPart::ALL[usize::from(value % 4)]),
+            5 => LssRequest::InquireNodeId,
+            6 => LssRequest::IdentifyNonConfigured,
+            _ => LssRequest::ConfigureBitTiming {
+                table: 0,
+                index: value,
+            },
+        }
+    }
+
+    proptest! {
+        /// Any frames at any times, answers or not, never panic; every service ends, with an
+        /// answer or an error, once the time passes its bound.
+        #[test]
+        fn every_service_ends_whatever_comes(
+            pick in any::<u8>(),
+            value in any::<u8>(),
+            traffic in proptest::collection::vec(
+                (0x7E0u16..0x7E8, proptest::collection::vec(any::<u8>(), 0..9), 0u64..30),
+                0..200,
+            ),
+        ) {
+            let t0 = Instant::now();
+            let mut m = LssMaster::new();
+            if m.start(t0, request(pick, value)).is_err() {
+                return Ok(());
+            }
+            let mut now = t0;
+            let mut ended = false;
+            for (cob, data, step) in traffic {
+                now += Duration::from_millis(step);
+                m.handle_frame(now, &CanFrame::new(cob, &data).unwrap());
+                m.handle_timeout(now);
+                while m.poll_transmit().is_some() {}
+                ended |= m.poll_event().is_some();
+            }
+            // A Fastscan takes at most 1 + 4 × 33 steps of a bound each.
+            for _ in 0..200 {
+                if ended {
+                    break;
+                }
+                if let Some(t) = m.poll_timeout() {
+                    m.handle_timeout(t);
+                }
+                ended |= m.poll_event().is_some();
+            }
+            prop_assert!(ended);
+            prop_assert!(!m.is_busy());
+        }
+    }
+}

@@ -160,12 +160,27 @@ fn lss_scan_and_the_single_services_against_two_nodes() {
     assert_eq!(lines(&out), [first, second]);
     // python-canopen's Fastscan finds the same lowest address.
     assert_eq!(python_fast_scan(nodes.port), first);
+    let out = common::sdo_tool_ok(&global, &["--json", "lss", "scan"]);
+    assert_eq!(
+        lines(&out),
+        [
+            r#"{"product":"0x00000402","revision":"0x00010001","serial":"0x00000001","vendor":"0x00000ABC"}"#,
+            r#"{"product":"0x00000402","revision":"0x00010001","serial":"0x00000002","vendor":"0x00000ABC"}"#,
+        ]
+    );
 
     // The second node by its address: node-ID 20, pending until it is back in waiting.
     let out = common::sdo_tool_ok(&global, &["lss", "set-id", second, "20"]);
     assert_eq!(lines(&out), [format!("{second} node-ID 20")]);
     let out = common::sdo_tool_ok(&global, &["lss", "inquire"]);
     assert_eq!(lines(&out), [format!("{second} node-ID none")]);
+    let out = common::sdo_tool_ok(&global, &["--json", "lss", "inquire"]);
+    assert_eq!(
+        lines(&out),
+        [
+            r#"{"node_id":null,"product":"0x00000402","revision":"0x00010001","serial":"0x00000002","vendor":"0x00000ABC"}"#
+        ]
+    );
     let out = common::sdo_tool_ok(&global, &["--json", "lss", "bitrate", "250"]);
     assert_eq!(lines(&out), [r#"{"ok":true}"#]);
     // Without --storage the node cannot keep its configuration: error code 1, exit 1.
