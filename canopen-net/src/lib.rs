@@ -8,6 +8,8 @@
 //! - [`generate`]: the files for a bus, given the slaves' descriptions (read by the caller with
 //!   `od`), and [`check`]: what is wrong with a bus description, all at once.
 //! - [`lint`]: the strict reading of a slave's EDS or DCF dcfgen makes (`-S` skips it).
+//! - [`lss`]: the LSS master (CiA 305): node-IDs and bit timing set by LSS address, and Fastscan
+//!   to find the nodes that have no node-ID.
 //! - [`yaml`]: the YAML tree with the line of every node, as PyYAML reads scalars.
 #![deny(missing_docs)]
 #![warn(unreachable_pub)]
@@ -19,6 +21,7 @@ mod file;
 mod gen;
 pub mod lint;
 mod lint_values;
+pub mod lss;
 mod master;
 mod master_dcf;
 mod pdo;

@@ -12,6 +12,7 @@ use crate::cmd::decode::DecodeArgs;
 use crate::cmd::dump::DumpArgs;
 use crate::cmd::ethercat::SdosArgs;
 use crate::cmd::gateway::GatewayArgs;
+use crate::cmd::lss::LssArgs;
 use crate::cmd::net::NetArgs;
 use crate::cmd::nmt::NmtArgs;
 use crate::cmd::read::ReadArgs;
@@ -146,6 +147,10 @@ pub enum Cmd {
     Gateway(GatewayArgs),
     /// An NMT command: start, stop, preop, reset, reset-comm; NODE is 1–127 or all.
     Nmt(NmtArgs),
+    /// The LSS master (CiA 305): `lss scan` finds the nodes without a node-ID by Fastscan, `lss
+    /// assign FIRST_ID` gives them node-IDs and stores them; `set-id`, `store`, `bitrate`,
+    /// `inquire` and `switch` are the single services.
+    Lss(LssArgs),
 }
 
 impl Cmd {
@@ -164,6 +169,7 @@ impl Cmd {
             Cmd::Scan(_) => "scan",
             Cmd::Gateway(_) => "gateway",
             Cmd::Nmt(_) => "nmt",
+            Cmd::Lss(_) => "lss",
             Cmd::List => "list",
             Cmd::Decode(_) => "decode",
             Cmd::Net(_) => "net",
@@ -290,7 +296,7 @@ fn can_command(
     ctx: Context<'_>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    use crate::cmd::{gateway, nmt, scan, store, transfer, watch};
+    use crate::cmd::{gateway, lss, nmt, scan, store, transfer, watch};
     let json = args.json;
     if let Some(command) = args.command.sdo() {
         return tool.with_commands(|commands| command.run(commands, ctx, out));
@@ -310,6 +316,7 @@ fn can_command(
         Cmd::Scan(a) => scan::run(a, &mut tool, json, out),
         Cmd::Gateway(a) => gateway::run(a, tool, out),
         Cmd::Nmt(a) => nmt::run(a, &mut tool, json, out),
+        Cmd::Lss(a) => lss::run(a, &mut tool, json, out),
         // Answered before any bus is opened.
         Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
         Cmd::List | Cmd::Decode(_) | Cmd::Net(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => {

@@ -3,13 +3,17 @@
 //! Requests: `[SEQ] [[NET] NODE] COMMAND …` with COMMAND one of `r[ead] IDX SUB [TYPE]`,
 //! `w[rite] IDX SUB TYPE VALUE`, `start`, `stop`, `preop[erational]`, `reset node`,
 //! `reset comm[unication]`, `set network N`, `set node N`, `set sdo_timeout MS`, `set sdo_block 0|1`,
-//! `help`. `#` starts a comment. Replies: `[SEQ] OK`, `[SEQ] VALUE`, `[SEQ] ERROR:0x0602000 #meaning`
-//! for an SDO abort, `[SEQ] ERROR:NNN #meaning` for the gateway's own errors (100 request not
+//! `help`, and the LSS requests `lss_switch_glob`, `lss_switch_sel`, `lss_set_node`,
+//! `lss_conf_bitrate`, `lss_activate_bitrate`, `lss_store`, `lss_inquire_addr`, `lss_get_node`,
+//! `_lss_fastscan` and `lss_allnodes`. `#` starts a comment. Replies: `[SEQ] OK`, `[SEQ] VALUE`,
+//! `[SEQ] ERROR:0x0602000 #meaning` for an SDO abort, `[SEQ] ERROR:NNN #meaning` for the gateway's own errors (100 request not
 //! supported, 101 syntax error, 103 time-out, 105 no default node set, 106 unsupported net, 107
 //! unsupported node). The `[SEQ]` of the reply is the request's; a request without one gets a reply
 //! without one.
 
 use std::time::Duration;
+
+mod lss;
 
 use crate::{NmtCommand, Tool, ToolError};
 
@@ -23,7 +27,10 @@ pub struct Gateway {
 
 /// The text of `help`.
 pub const HELP: &str = "[SEQ] [[NET] NODE] r[ead] IDX SUB [TYPE] | w[rite] IDX SUB TYPE VALUE | start | stop | \
-preop | reset node | reset comm | set network N | set node N | set sdo_timeout MS | set sdo_block 0|1 | help";
+preop | reset node | reset comm | set network N | set node N | set sdo_timeout MS | set sdo_block 0|1 | help | \
+lss_switch_glob 0|1 | lss_switch_sel VENDOR PRODUCT REVISION SERIAL | lss_set_node N | \
+lss_conf_bitrate TABLE INDEX | lss_activate_bitrate DELAY_MS | lss_store | lss_inquire_addr [0-3] | \
+lss_get_node | _lss_fastscan [TIMEOUT_MS] | lss_allnodes [TIMEOUT_MS [FIRST_ID STORE]]";
 
 fn gateway_error(code: u16) -> String {
     let text = match code {
@@ -104,9 +111,11 @@ impl Gateway {
             None => (None, text),
         };
         let reply = self.request(rest);
-        Some(match seq {
-            Some(s) => format!("[{s}] {reply}"),
-            None => reply,
+        // A reply of several lines (comment lines first) carries the sequence on its last one.
+        Some(match (seq, reply.rsplit_once('\n')) {
+            (Some(s), Some((comments, last))) => format!("{comments}\n[{s}] {last}"),
+            (Some(s), None) => format!("[{s}] {reply}"),
+            (None, _) => reply,
         })
     }
 
@@ -165,6 +174,7 @@ impl Gateway {
             ),
             ("reset", ["node"]) => self.nmt(node, Some(NmtCommand::Reset)),
             ("reset", ["comm" | "communication"]) => self.nmt(node, Some(NmtCommand::ResetComm)),
+            (c, args) if lss::is_lss(c) => self.lss(c, args),
             ("r" | "read" | "w" | "write" | "set" | "reset", _) => gateway_error(101),
             _ => gateway_error(100),
         }

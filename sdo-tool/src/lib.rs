@@ -187,6 +187,12 @@ pub enum ToolError {
         /// The timeout.
         ms: u128,
     },
+    /// An LSS service failed: a refusal or no answer.
+    #[error("LSS {0}")]
+    Lss(#[from] canopen_net::lss::LssError),
+    /// `lss set-id --fastscan`: no node without a node-ID answered.
+    #[error("LSS Fastscan: no node without a node-ID answered")]
+    LssNotFound,
     /// The bus failed.
     #[error(transparent)]
     Bus(#[from] BusError),
@@ -226,6 +232,9 @@ impl ToolError {
     pub fn exit_code(&self) -> i32 {
         match self {
             ToolError::Abort { .. } | ToolError::Refused(_) => 1,
+            ToolError::Lss(canopen_net::lss::LssError::Refused { .. }) => 1,
+            ToolError::Lss(canopen_net::lss::LssError::NodeId { .. }) => 2,
+            ToolError::Lss(_) | ToolError::LssNotFound => 3,
             ToolError::Usage(_) => 2,
             ToolError::Timeout { .. } | ToolError::Bus(_) | ToolError::Ethercat(_) => 3,
             ToolError::Session(_) | ToolError::Value(_) | ToolError::Output(_) => 3,

@@ -37,6 +37,39 @@ pub enum UsageError {
         /// The command as given.
         command: String,
     },
+    /// `lss`: an LSS address that is not VENDOR:PRODUCT:REVISION:SERIAL.
+    #[error("LSS address {text:?} is not VENDOR:PRODUCT:REVISION:SERIAL (e.g. 0x5A:0x402:1:2)")]
+    LssAddress {
+        /// The address as given.
+        text: String,
+    },
+    /// `lss`: a node-ID outside 1–127.
+    #[error("node-ID {text:?} is not 1 to 127")]
+    LssNodeId {
+        /// The node-ID as given.
+        text: String,
+    },
+    /// `lss set-id`: neither ADDRESS NEW_ID nor --fastscan NEW_ID….
+    #[error("lss set-id ADDRESS NEW_ID, or lss set-id --fastscan NEW_ID…")]
+    LssSetId,
+    /// `lss bitrate`: a bit rate the CiA 301 table does not have.
+    #[error("bit rate {kbit} kbit/s is not 1000, 800, 500, 250, 125, 100, 50, 20 or 10")]
+    LssBitRate {
+        /// The bit rate given.
+        kbit: u32,
+    },
+    /// `lss switch`: a state that is neither waiting nor configuration.
+    #[error("LSS state {text:?} is not waiting or configuration")]
+    LssState {
+        /// The state as given.
+        text: String,
+    },
+    /// `lss assign`: more nodes without a node-ID than node-IDs from FIRST_ID to 127.
+    #[error("more nodes without a node-ID than node-IDs from {first} to 127")]
+    LssNodeIdsUsedUp {
+        /// FIRST_ID.
+        first: u8,
+    },
     /// With `--ethercat`: a slave position beyond the chain.
     #[error(
         "slave position {position} is not 1 to {count} (the chain on {interface} has {count} slave{})",

@@ -4,6 +4,7 @@
 //! - [`read`], [`mod@write`], [`dump`], [`apply`]: SDO transfers, on CAN or on EtherCAT ([`sdo`]);
 //! - [`transfer`]: `upload` and `download` of a file, with a progress bar;
 //! - [`store`]: `save` and `restore`; [`nmt`]; [`scan`]; [`gateway`]: the CiA 309-3 gateway;
+//! - [`lss`]: the LSS master (CiA 305): Fastscan, node-IDs, bit timing, store;
 //! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
 //! - [`list`]: the entries of a description; [`net`]: a network's bus description made into the
 //!   master's and the slaves' configuration files (`net gen`), or checked (`net check`); [`ethercat`]: `slaves`, `states` and `sdos`.
@@ -19,6 +20,7 @@ pub mod dump;
 pub mod ethercat;
 pub mod gateway;
 pub mod list;
+pub mod lss;
 pub mod net;
 pub mod nmt;
 pub mod read;
