@@ -408,108 +408,111 @@ fn emergency(o: &mut String, m: &Master, slaves: &[Slave]) {
     );
 }
 
+/// One sub-object of a record: sub-index, name, data type, access and default value.
+type SubRow = (
+    &'static str,
+    &'static str,
+    u16,
+    &'static str,
+    Option<String>,
+);
+
+/// A record `name` with `title` and its sub-objects `rows`, in order.
+fn record(o: &mut String, name: &str, title: &str, rows: Vec<SubRow>) {
+    record_head(o, name, rows.len(), title, "0x09");
+    for (k, t, dt, access, default) in rows {
+        sub(o, name, k, t, dt, access, default);
+    }
+}
+
 /// The master's PDOs: its RPDOs mirror the slaves' TPDOs, its TPDOs the slaves' RPDOs.
 fn mirrored(o: &mut String, slaves: &[Slave]) {
     for (n, (_, _, p)) in pdos(slaves, true).iter().enumerate() {
-        let name = format!("{:04X}", 0x1400 + n);
-        record_head(o, &name, 6, "RPDO communication parameter", "0x09");
-        sub(
+        let rows: Vec<SubRow> = vec![
+            (
+                "0",
+                "highest sub-index supported",
+                5,
+                "const",
+                Some("5".into()),
+            ),
+            (
+                "1",
+                "COB-ID used by RPDO",
+                7,
+                "rw",
+                Some(format!("0x{:08X}", p.cob_id)),
+            ),
+            (
+                "2",
+                "transmission type",
+                5,
+                "rw",
+                Some(format!("0x{:02X}", p.transmission_type)),
+            ),
+            ("3", "inhibit time", 6, "rw", None),
+            ("4", "compatibility entry", 5, "rw", None),
+            (
+                "5",
+                "event-timer",
+                6,
+                "rw",
+                Some(p.event_deadline.to_string()),
+            ),
+        ];
+        record(
             o,
-            &name,
-            "0",
-            "highest sub-index supported",
-            5,
-            "const",
-            Some("5".into()),
-        );
-        sub(
-            o,
-            &name,
-            "1",
-            "COB-ID used by RPDO",
-            7,
-            "rw",
-            Some(format!("0x{:08X}", p.cob_id)),
-        );
-        sub(
-            o,
-            &name,
-            "2",
-            "transmission type",
-            5,
-            "rw",
-            Some(format!("0x{:02X}", p.transmission_type)),
-        );
-        sub(o, &name, "3", "inhibit time", 6, "rw", None);
-        sub(o, &name, "4", "compatibility entry", 5, "rw", None);
-        sub(
-            o,
-            &name,
-            "5",
-            "event-timer",
-            6,
-            "rw",
-            Some(p.event_deadline.to_string()),
+            &format!("{:04X}", 0x1400 + n),
+            "RPDO communication parameter",
+            rows,
         );
     }
     mapping_params(o, slaves, true);
     for (n, (_, _, p)) in pdos(slaves, false).iter().enumerate() {
-        let name = format!("{:04X}", 0x1800 + n);
-        record_head(o, &name, 7, "TPDO communication parameter", "0x09");
-        sub(
+        let rows: Vec<SubRow> = vec![
+            (
+                "0",
+                "highest sub-index supported",
+                5,
+                "const",
+                Some("6".into()),
+            ),
+            (
+                "1",
+                "COB-ID used by TPDO",
+                7,
+                "rw",
+                Some(format!("0x{:08X}", p.cob_id)),
+            ),
+            (
+                "2",
+                "transmission type",
+                5,
+                "rw",
+                Some(format!("0x{:02X}", p.transmission_type)),
+            ),
+            (
+                "3",
+                "inhibit time",
+                6,
+                "rw",
+                Some(p.inhibit_time.to_string()),
+            ),
+            ("4", "reserved", 5, "rw", None),
+            ("5", "event timer", 6, "rw", Some(p.event_timer.to_string())),
+            (
+                "6",
+                "SYNC start value",
+                5,
+                "rw",
+                Some(p.sync_start.to_string()),
+            ),
+        ];
+        record(
             o,
-            &name,
-            "0",
-            "highest sub-index supported",
-            5,
-            "const",
-            Some("6".into()),
-        );
-        sub(
-            o,
-            &name,
-            "1",
-            "COB-ID used by TPDO",
-            7,
-            "rw",
-            Some(format!("0x{:08X}", p.cob_id)),
-        );
-        sub(
-            o,
-            &name,
-            "2",
-            "transmission type",
-            5,
-            "rw",
-            Some(format!("0x{:02X}", p.transmission_type)),
-        );
-        sub(
-            o,
-            &name,
-            "3",
-            "inhibit time",
-            6,
-            "rw",
-            Some(p.inhibit_time.to_string()),
-        );
-        sub(o, &name, "4", "reserved", 5, "rw", None);
-        sub(
-            o,
-            &name,
-            "5",
-            "event timer",
-            6,
-            "rw",
-            Some(p.event_timer.to_string()),
-        );
-        sub(
-            o,
-            &name,
-            "6",
-            "SYNC start value",
-            5,
-            "rw",
-            Some(p.sync_start.to_string()),
+            &format!("{:04X}", 0x1800 + n),
+            "TPDO communication parameter",
+            rows,
         );
     }
     mapping_params(o, slaves, false);
