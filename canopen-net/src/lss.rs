@@ -38,6 +38,11 @@ pub const LSS_RESPONSE: u16 = 0x7E4;
 /// How long a request waits for its answer unless told otherwise.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(100);
 
+/// How long store configuration waits for its answer at least: a node answers once its
+/// non-volatile memory holds the configuration (a write and its sync, on a slow disk or flash
+/// some hundreds of milliseconds), not within a scan step's bound.
+pub const STORE_TIMEOUT: Duration = Duration::from_secs(1);
+
 /// The longest bound a master takes; a longer one is cut to this.
 pub const MAX_TIMEOUT: Duration = Duration::from_secs(3600);
 
@@ -433,12 +438,21 @@ impl LssMaster {
         self.running = Some(Running {
             request,
             answer,
-            deadline: now + self.timeout,
+            deadline: now + self.bound(&request),
             address: [0; 4],
             scan: Scan::Start,
             settling: false,
         });
         Ok(())
+    }
+
+    /// How long `request` waits for its answer: the master's bound, and at least
+    /// [`STORE_TIMEOUT`] for store configuration.
+    fn bound(&self, request: &LssRequest) -> Duration {
+        match request {
+            LssRequest::Store => self.timeout.max(STORE_TIMEOUT),
+            _ => self.timeout,
+        }
     }
 
     /// The next frame to send, in order.
@@ -522,7 +536,7 @@ impl LssMaster {
             }
             _ => Err(LssError::Timeout {
                 service,
-                timeout: self.timeout,
+                timeout: self.bound(&running.request),
             }),
         };
         self.finish(outcome);

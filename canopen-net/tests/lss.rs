@@ -347,6 +347,30 @@ fn fastscan_takes_the_copies_of_an_answer_as_one() {
     assert_eq!(m.poll_event(), None);
 }
 
+/// Store configuration waits for its answer at least 1 s (the node answers once its non-volatile
+/// memory has the configuration), whatever shorter bound the master has for the other services.
+#[test]
+fn store_configuration_waits_at_least_a_second() {
+    let (mut m, t0, _) = started(LssRequest::Store);
+    assert_eq!(m.timeout(), Duration::from_millis(100));
+    assert_eq!(m.poll_timeout(), Some(t0 + Duration::from_secs(1)));
+    m.handle_timeout(t0 + Duration::from_millis(999));
+    assert_eq!(m.poll_event(), None);
+    m.handle_timeout(t0 + Duration::from_secs(1));
+    let e = m.poll_event().unwrap().unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "store configuration: no answer within 1000 ms"
+    );
+    // Answered late but within the second: taken.
+    let (mut m, t0, _) = started(LssRequest::Store);
+    m.handle_frame(
+        t0 + Duration::from_millis(700),
+        &answer([0x17, 0, 0, 0, 0, 0, 0, 0]),
+    );
+    assert_eq!(m.poll_event(), Some(Ok(LssAnswer::Done)));
+}
+
 #[test]
 fn a_bound_beyond_an_hour_is_cut_to_one() {
     let t0 = Instant::now();

@@ -202,6 +202,10 @@ def lss(args):
         check(f"fastscan {name}", address[sub - 1], int(identity[sub].default))
     print(f"ok   serial number 0x{address[3]:08X}", flush=True)
     check("inquire node-ID (none)", network.lss.inquire_node_id(), 0xFF)
+    # The scan is over: every service from here on is answered. Store configuration is answered once
+    # the node's storage has the node-ID (a write and its fsync): a slow or emulated disk takes longer
+    # than a scan step, so the confirmed services get the time a slow disk needs.
+    network.lss.RESPONSE_TIMEOUT = 2.0
     network.lss.configure_node_id(args.assign)
     network.lss.store_configuration()
     node = network.add_node(args.assign, args.eds)
