@@ -149,16 +149,6 @@ impl<M: Model> Unit<M> {
         (&self.output_image, &self.input_image)
     }
 
-    /// Runs the device up to `at` before a write made at `at` reaches it: the timeout it asked for
-    /// before `at`, if any (what falls due at `at` itself runs after the write, as a device that
-    /// latches its outputs and then runs its cycle).
-    fn run_device_before(&mut self, at: Instant) {
-        let device = self.model.device();
-        if device.poll_timeout().is_some_and(|t| t < at) {
-            device.handle_timeout(at);
-        }
-    }
-
     /// Puts the waiting answers into SM1 while it takes them.
     fn send_pending(&mut self, esc: &mut Esc) {
         while let Some(next) = self.pending.front() {
@@ -417,7 +407,7 @@ impl<M: Model> UnitChain<M> {
                 let outputs = &mut self.image[..n];
                 esc.load_into(at, outputs);
                 esc.release_outputs(at);
-                unit.run_device_before(take_at);
+                od::hook::run_before(unit.model.device(), take_at);
                 let (dict, hook) = unit.model.split();
                 unit.output_image.unpack(outputs, dict, hook, take_at);
                 fresh = true;

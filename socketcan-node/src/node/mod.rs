@@ -762,8 +762,7 @@ impl<A: Device> Core<A> {
     /// due at `now` itself runs after the write, as the node's own timers do). Its errors and
     /// event-driven TPDOs are checked at the next [`Core::poll`], where they were.
     fn device_up_to(&mut self, now: Instant) {
-        if self.app.poll_timeout().is_some_and(|t| t < now) {
-            self.app.handle_timeout(now);
+        if od::hook::run_before(&mut self.app, now) {
             self.device_ran = true;
         }
     }
