@@ -417,9 +417,20 @@ type SubRow = (
     Option<String>,
 );
 
-/// A record `name` with `title` and its sub-objects `rows`, in order.
+/// A record `name` with `title`: sub-index 0 (the highest sub-index, `rows` counted), then its
+/// sub-objects `rows`, in order.
 fn record(o: &mut String, name: &str, title: &str, rows: Vec<SubRow>) {
-    record_head(o, name, rows.len(), title, "0x09");
+    record_head(o, name, rows.len() + 1, title, "0x09");
+    let highest = Some(rows.len().to_string());
+    sub(
+        o,
+        name,
+        "0",
+        "highest sub-index supported",
+        5,
+        "const",
+        highest,
+    );
     for (k, t, dt, access, default) in rows {
         sub(o, name, k, t, dt, access, default);
     }
@@ -429,13 +440,6 @@ fn record(o: &mut String, name: &str, title: &str, rows: Vec<SubRow>) {
 fn mirrored(o: &mut String, slaves: &[Slave]) {
     for (n, (_, _, p)) in pdos(slaves, true).iter().enumerate() {
         let rows: Vec<SubRow> = vec![
-            (
-                "0",
-                "highest sub-index supported",
-                5,
-                "const",
-                Some("5".into()),
-            ),
             (
                 "1",
                 "COB-ID used by RPDO",
@@ -470,13 +474,6 @@ fn mirrored(o: &mut String, slaves: &[Slave]) {
     mapping_params(o, slaves, true);
     for (n, (_, _, p)) in pdos(slaves, false).iter().enumerate() {
         let rows: Vec<SubRow> = vec![
-            (
-                "0",
-                "highest sub-index supported",
-                5,
-                "const",
-                Some("6".into()),
-            ),
             (
                 "1",
                 "COB-ID used by TPDO",
