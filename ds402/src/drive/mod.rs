@@ -500,17 +500,15 @@ impl Drive {
     /// Raises a fault with error code `code` at `now` (a simulated device fault: over-temperature
     /// 0x4310, over-voltage 0x3210, …): transition 13 and the fault reaction of 0x605E.
     pub fn raise_fault(&mut self, now: Instant, code: u16) {
-        self.advance(now);
         // An idle drive asks for its next tick too, so that whoever runs it sees the fault then.
-        self.touch();
+        self.input_at(now);
         self.fault(code);
     }
 
     /// Forces 0x60FD bit `bit` (0..32) to `level` at `now` (the drive runs up to `now` first);
     /// `None` follows the simulated switches again (bits 0–2; the others read 0).
     pub fn set_input(&mut self, now: Instant, bit: u8, level: Option<bool>) {
-        self.advance(now);
-        self.touch();
+        self.input_at(now);
         if let Some(slot) = self.forced.get_mut(usize::from(bit)) {
             *slot = level;
         }
@@ -727,8 +725,9 @@ impl Drive {
             && self.level_is_idle()
     }
 
-    /// An input arrives (the drive has run up to its instant): an idle drive asks for its next tick.
-    fn touch(&mut self) {
+    /// An input arrives at `now`: the drive runs up to it, and an idle drive asks for its next tick.
+    fn input_at(&mut self, now: Instant) {
+        self.advance(now);
         if self.quiescent() {
             self.touched = true;
         }

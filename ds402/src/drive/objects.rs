@@ -694,8 +694,7 @@ impl DeviceHook for Drive {
                 return Err(code);
             }
         };
-        self.advance(now);
-        self.touch();
+        self.input_at(now);
         self.set_param(def.p, value);
         Ok(())
     }
