@@ -164,6 +164,16 @@ fn from_config(
     let mut slave = identity(section, desc, keys, node_id, &mut cx.warnings)?
         .map_err(|m| ctx.error(dcf.line, &dcf_key, m))?;
     slave.dcf = (dcf_text.clone(), dcf.line);
+    for k in [
+        "heartbeat_producer",
+        "software_version",
+        "revision_number",
+        "serial_number",
+    ] {
+        if let Some(v) = get(k)? {
+            slave.key_lines.push((k, v.line));
+        }
+    }
     slave.dcf_path = match get("dcf_path")? {
         Some(v) => ctx.string(v, &key(section, "dcf_path"))?,
         None => bus.options.dcf_path.clone(),
@@ -414,6 +424,7 @@ fn identity(
         error_behavior,
         sdo: Vec::new(),
         sdo_origin: Vec::new(),
+        key_lines: Vec::new(),
         desc,
     }))
 }

@@ -108,6 +108,9 @@ pub struct Slave {
     pub sdo: Vec<Entry>,
     /// Where each entry of `sdo` comes from: the line of the key that made it, and the key.
     pub sdo_origin: Vec<(usize, String)>,
+    /// The lines of the keys a boot error names (`heartbeat_producer`, `software_version`,
+    /// `revision_number`, `serial_number`) where the section gives them.
+    pub key_lines: Vec<(&'static str, usize)>,
 }
 
 /// The integer a sub-object holds.
@@ -202,12 +205,15 @@ impl Slave {
         v |= if self.boot { 0x04 } else { 0 } | if self.mandatory { 0x08 } else { 0 };
         v |= if self.reset_communication { 0 } else { 0x10 }
             | if self.software_version != 0 { 0x20 } else { 0 };
-        v |= if self.software_file.is_empty() { 0 } else { 0x40 }
-            | if self.restore_configuration != 0 {
-                0x80
-            } else {
-                0
-            };
+        v |= if self.software_file.is_empty() {
+            0
+        } else {
+            0x40
+        } | if self.restore_configuration != 0 {
+            0x80
+        } else {
+            0
+        };
         if self.retry_factor != 0 {
             v |= (self.retry_factor as u32) << 8;
         }
@@ -215,6 +221,14 @@ impl Slave {
             v |= self.guard_time << 16;
         }
         v
+    }
+
+    /// The line of its key `key`, else of its section.
+    pub fn key_line(&self, key: &str) -> usize {
+        self.key_lines
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map_or(self.line, |&(_, l)| l)
     }
 
     /// The time (ms) the master waits for its heartbeat: its producer time times the heartbeat

@@ -5,8 +5,7 @@ use std::time::{Duration, Instant};
 
 use can_link::CanFrame;
 use canopen_net::boot::{
-    BootEvent, ConfigEntry, ErrorStatus, Expect, Manager, ManagerConfig, NodeState, Plan,
-    SlavePlan,
+    BootEvent, ConfigEntry, ErrorStatus, Expect, Manager, ManagerConfig, NodeState, Plan, SlavePlan,
 };
 use canopen_net::concise::Entry;
 
@@ -84,7 +83,8 @@ impl Bus {
     }
 
     fn feed(&mut self, cob: u16, data: &[u8]) {
-        self.m.handle_frame(self.now, &CanFrame::new(cob, data).unwrap());
+        self.m
+            .handle_frame(self.now, &CanFrame::new(cob, data).unwrap());
     }
 
     /// Runs the time on by `d`, calling the manager at each instant it asked for on the way.
@@ -111,7 +111,10 @@ impl Bus {
 
     fn error(&self, node: u8) -> String {
         let r = self.m.nodes().find(|r| r.node == node).unwrap();
-        r.last_error.as_ref().map(|e| e.to_string()).unwrap_or_default()
+        r.last_error
+            .as_ref()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
     }
 }
 
@@ -140,7 +143,11 @@ fn identity(bus: &mut Bus, vendor: u32, product: u32) {
 fn a_slave_boots_checked_configured_and_started_frame_by_frame() {
     let mut bus = Bus::new(plan(vec![slave()], 0x01));
     bus.m.start(bus.now);
-    assert_eq!(bus.sent(), ["000#8200"], "NMT reset communication, all nodes");
+    assert_eq!(
+        bus.sent(),
+        ["000#8200"],
+        "NMT reset communication, all nodes"
+    );
     identity(&mut bus, 0x360, 7);
     // 0x1017:00 = 100, expedited download of 2 bytes (ccs 1, n 2, e, s: 0x2B).
     assert_eq!(bus.sent(), ["602#2B17100064000000"]);
@@ -150,14 +157,14 @@ fn a_slave_boots_checked_configured_and_started_frame_by_frame() {
     bus.feed(0x702, &[0x7F]);
     assert_eq!(bus.sent(), ["000#0102"], "NMT start remote node 2");
     // Its state before the first event: reset.
-    assert_eq!(
-        bus.states(2),
-        ["checking", "config 0/1", "heartbeat", "up"]
-    );
+    assert_eq!(bus.states(2), ["checking", "config 0/1", "heartbeat", "up"]);
     assert!(bus.events.contains(&BootEvent::NetworkUp));
     assert!(bus.m.network_up());
     let r = bus.m.nodes().next().unwrap();
-    assert_eq!(r.identity, [Some(0x0002_0192), Some(0x360), Some(7), None, None]);
+    assert_eq!(
+        r.identity,
+        [Some(0x0002_0192), Some(0x360), Some(7), None, None]
+    );
     assert_eq!(r.configured, (1, 1));
     assert_eq!(r.boots, 1);
 }
@@ -168,7 +175,11 @@ fn a_different_vendor_ends_with_d_naming_both_values_and_the_origin() {
     bus.m.start(bus.now);
     bus.sent();
     identity(&mut bus, 0x9A, 7);
-    assert_eq!(bus.sent(), Vec::<String>::new(), "nothing written, nothing started");
+    assert_eq!(
+        bus.sent(),
+        Vec::<String>::new(),
+        "nothing written, nothing started"
+    );
     assert_eq!(
         bus.error(2),
         "node 2 [D] vendor-ID 0x00000360 expected (bus.yml:9, drive.eds), 0x0000009A found in \
@@ -229,10 +240,7 @@ fn a_missing_node_ends_with_b_and_is_asked_again_every_retry() {
     bus.advance(Duration::from_millis(1));
     assert_eq!(bus.sent(), ["602#4000100000000000"]);
     bus.advance(Duration::from_millis(1100));
-    assert_eq!(
-        bus.sent(),
-        ["602#8000100000000405", "602#4000100000000000"]
-    );
+    assert_eq!(bus.sent(), ["602#8000100000000405", "602#4000100000000000"]);
     assert_eq!(bus.m.missing(), [2]);
 }
 
@@ -252,10 +260,7 @@ fn a_refused_configuration_write_ends_with_j_naming_the_entry_and_its_line() {
          node refused it with 0x06090030 (Invalid value for parameter (download only)) — the node \
          refuses its configuration"
     );
-    assert_eq!(
-        bus.states(2).last().map(String::as_str),
-        Some("failed J")
-    );
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("failed J"));
     // A boot-up message boots it again from the start.
     bus.feed(0x702, &[0x00]);
     assert_eq!(bus.sent(), ["602#4000100000000000"]);

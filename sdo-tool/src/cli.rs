@@ -230,7 +230,7 @@ pub fn run(
             let od = desc.as_ref().map(|d| &d.dictionary);
             return crate::cmd::decode::run(a, od, args.json, out);
         }
-        Cmd::Net(a) => return crate::cmd::net::run(a, args.json, out),
+        Cmd::Net(a) if !a.command.needs_bus() => return crate::cmd::net::run(a, args.json, out),
         Cmd::List => {
             let desc = desc.as_ref().ok_or(UsageError::ListNeedsDescription)?;
             return crate::cmd::list::run(desc, args.json, out);
@@ -317,11 +317,10 @@ fn can_command(
         Cmd::Gateway(a) => gateway::run(a, tool, out),
         Cmd::Nmt(a) => nmt::run(a, &mut tool, json, out),
         Cmd::Lss(a) => lss::run(a, &mut tool, json, out),
+        Cmd::Net(a) => crate::cmd::net::run_on_bus(a, &mut tool, json, out),
         // Answered before any bus is opened.
         Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
-        Cmd::List | Cmd::Decode(_) | Cmd::Net(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => {
-            Ok(())
-        }
+        Cmd::List | Cmd::Decode(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => Ok(()),
     }
 }
 

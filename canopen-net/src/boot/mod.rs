@@ -140,8 +140,7 @@ impl Manager {
     }
 
     fn out(&mut self) -> (Out<'_>, &mut Vec<Node>) {
-        let start_now =
-            self.plan.starts_slaves() && (!self.plan.start_all() || self.network_up);
+        let start_now = self.plan.starts_slaves() && (!self.plan.start_all() || self.network_up);
         (
             Out {
                 frames: &mut self.frames,
@@ -228,7 +227,11 @@ impl Manager {
             }
             let period = Duration::from_millis(u64::from(self.plan.heartbeat_ms));
             // The next beat keeps the period; after a long pause it is a period from now.
-            self.next_heartbeat = Some(if t + period > now { t + period } else { now + period });
+            self.next_heartbeat = Some(if t + period > now {
+                t + period
+            } else {
+                now + period
+            });
         }
         let mut lost = Vec::new();
         {
@@ -280,7 +283,9 @@ impl Manager {
 
     /// When to call [`Manager::handle_timeout`] next.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        let deadline = self.boot_deadline.filter(|_| !self.network_up && !self.timeout_reported);
+        let deadline = self
+            .boot_deadline
+            .filter(|_| !self.network_up && !self.timeout_reported);
         self.nodes
             .iter()
             .filter_map(Node::poll_timeout)

@@ -262,7 +262,10 @@ impl Node {
         }
         let after = match done {
             Check::DeviceType => 0,
-            c => candidates.iter().position(|&x| x == c).map_or(candidates.len(), |i| i + 1),
+            c => candidates
+                .iter()
+                .position(|&x| x == c)
+                .map_or(candidates.len(), |i| i + 1),
         };
         match candidates.get(after) {
             Some(&c) => self.read(now, c, out),
@@ -447,9 +450,9 @@ impl Node {
     pub(crate) fn poll_timeout(&self) -> Option<Instant> {
         let step = match self.step {
             Step::AwaitBootUp(t) | Step::AwaitHeartbeat(t) | Step::Failed(Some(t)) => Some(t),
-            Step::Up if self.plan.heartbeat_ms != 0 => self
-                .last_heartbeat
-                .map(|t| t + ms(self.plan.heartbeat_ms)),
+            Step::Up if self.plan.heartbeat_ms != 0 => {
+                self.last_heartbeat.map(|t| t + ms(self.plan.heartbeat_ms))
+            }
             _ => None,
         };
         [step, self.sdo.poll_timeout()].into_iter().flatten().min()

@@ -118,7 +118,7 @@ impl Plan {
     /// The plan of a generated bus description (`file` is its name, for the origins).
     pub fn from_generated(generated: &Generated, file: &str) -> Plan {
         let m = &generated.master;
-        let slaves = generated
+        let mut slaves: Vec<SlavePlan> = generated
             .slaves
             .iter()
             .filter(|s| (1..=127).contains(&s.node_id))
@@ -132,9 +132,14 @@ impl Plan {
                         .and_then(|o| o.sub(sub))
                         .is_some()
                 };
-                let expect = |value: u32, shown: bool| Expect {
+                // A value the section gives comes from its line; the others from the description.
+                let expect = |value: u32, shown: bool, key: &str| Expect {
                     value: if shown { value } else { 0 },
-                    origin: described.clone(),
+                    origin: if s.key_lines.iter().any(|(k, _)| *k == key) {
+                        format!("{file}:{} {}.{key}", s.key_line(key), s.name)
+                    } else {
+                        described.clone()
+                    },
                 };
                 let configuration = s
                     .sdo
@@ -149,27 +154,29 @@ impl Plan {
                     node_id: s.node_id as u8,
                     name: s.name.clone(),
                     assignment: s.assignment(),
-                    device_type: expect(s.device_type, true),
+                    device_type: expect(s.device_type, true, ""),
                     identity: [
-                        expect(s.vendor_id, true),
-                        expect(s.product_code, has(2)),
-                        expect(s.revision_number, has(3)),
-                        expect(s.serial_number, has(4)),
+                        expect(s.vendor_id, true, ""),
+                        expect(s.product_code, has(2), ""),
+                        expect(s.revision_number, has(3), "revision_number"),
+                        expect(s.serial_number, has(4), "serial_number"),
                     ],
-                    software: Expect {
-                        value: s.software_version,
-                        origin: format!("{file}:{} {}.software_version", s.line, s.name),
-                    },
+                    software: expect(s.software_version, true, "software_version"),
                     heartbeat_ms: if m.heartbeat_consumer {
                         s.consumer_time()
                     } else {
                         0
                     },
-                    heartbeat_origin: format!("{file}:{} {}.heartbeat_producer", s.line, s.name),
+                    heartbeat_origin: format!(
+                        "{file}:{} {}.heartbeat_producer",
+                        s.key_line("heartbeat_producer"),
+                        s.name
+                    ),
                     configuration,
                 }
             })
             .collect();
+        slaves.sort_by_key(|s| s.node_id);
         Plan {
             master_id: m.node_id as u8,
             startup: m.startup_word(),
@@ -268,7 +275,12 @@ impl Plan {
                 name: format!("node {id}"),
                 assignment,
                 device_type: expect(0x1F84),
-                identity: [expect(0x1F85), expect(0x1F86), expect(0x1F87), expect(0x1F88)],
+                identity: [
+                    expect(0x1F85),
+                    expect(0x1F86),
+                    expect(0x1F87),
+                    expect(0x1F88),
+                ],
                 software: expect(0x1F55),
                 heartbeat_ms,
                 heartbeat_origin,

@@ -7,7 +7,8 @@
 //! - [`lss`]: the LSS master (CiA 305): Fastscan, node-IDs, bit timing, store;
 //! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
 //! - [`list`]: the entries of a description; [`net`]: a network's bus description made into the
-//!   master's and the slaves' configuration files (`net gen`), or checked (`net check`); [`ethercat`]: `slaves`, `states` and `sdos`.
+//!   master's and the slaves' configuration files (`net gen`), or checked (`net check`), and the
+//!   network booted and supervised ([`net_boot`]); [`ethercat`]: `slaves`, `states` and `sdos`.
 
 use std::io::Write;
 use std::path::Path;
@@ -22,6 +23,7 @@ pub mod gateway;
 pub mod list;
 pub mod lss;
 pub mod net;
+pub mod net_boot;
 pub mod nmt;
 pub mod read;
 pub mod scan;
