@@ -375,3 +375,84 @@ fn net_watch_sees_a_lost_heartbeat_and_boots_the_node_again_when_it_restarts() {
     assert_eq!(starts.len(), 1, "{seen:#?}");
     assert_eq!(starts[0]["node"], 3);
 }
+
+/// python-canopen's `LocalNode` (tests/python/local_node.py) on the bus for `seconds`.
+fn local_node(port: u16, eds: &Path, id: u8, seconds: u32) -> Proc {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/python/local_node.py");
+    spawn(
+        Command::new("python3")
+            .arg(script)
+            .arg("--eds")
+            .arg(eds)
+            .args(["--node-id", &id.to_string(), "--socketcand"])
+            .arg(format!("127.0.0.1:{port}"))
+            .args(["--seconds", &seconds.to_string()]),
+    )
+}
+
+#[test]
+fn a_mixed_network_boots_from_the_folder_net_gen_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_server, port) = server();
+    let _io = io_node(port);
+    // x67-node at 4, with the description it writes of itself.
+    let x67 = dir.path().join("x67.eds");
+    let o = Command::new(testkit::cargo_binary("socketcan-node", "x67-node", &[]))
+        .arg("--write-description")
+        .arg(&x67)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let _x67 = spawn(
+        Command::new(testkit::cargo_binary("socketcan-node", "x67-node", &[])).args([
+            "--bus",
+            &client(port),
+            "--node-id",
+            "4",
+        ]),
+    );
+    let _py = local_node(port, &examples().join("io-device.eds"), 5, 30);
+    let extra = format!(
+        "\nx67:\n  dcf: {}\n  node_id: 4\n  heartbeat_producer: 100\n\n\
+         py:\n  dcf: {}\n  node_id: 5\n  sdo:\n    - {{index: 0x1800, sub_index: 5, value: 250}}\n",
+        x67.display(),
+        examples().join("io-device.eds").display()
+    );
+    let bus = bus_yml(dir.path(), &extra);
+    let out_dir = dir.path().join("out");
+    sdo_tool_ok(
+        &[],
+        &[
+            "net",
+            "gen",
+            bus.to_str().unwrap(),
+            "-d",
+            out_dir.to_str().unwrap(),
+        ],
+    );
+    let out = sdo_tool(
+        &["--bus", &client(port)],
+        &["net", "boot", out_dir.to_str().unwrap()],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    for (node, device_type) in [(2, "0x00020192"), (3, "0x000F0191"), (5, "0x000F0191")] {
+        let r = row(&text, node);
+        assert_eq!(
+            (r[2].as_str(), r[4].as_str()),
+            ("up", device_type),
+            "{text}"
+        );
+    }
+    assert_eq!(row(&text, 4)[2], "up", "{text}");
+    // The folder's plan names its nodes after their concise DCFs, as dcfgen names those.
+    let names: Vec<_> = [2, 3, 4, 5].map(|n| row(&text, n)[1].clone()).into();
+    assert_eq!(names, ["drive", "io", "x67", "py"], "{text}");
+    // python-canopen took the write of its configuration.
+    let global = ["--bus".to_string(), client(port), "--no-block".to_string()];
+    let global: Vec<&str> = global.iter().map(String::as_str).collect();
+    assert_eq!(
+        sdo_tool_ok(&global, &["read", "5", "0x1800:5", "u16"]).trim(),
+        "250"
+    );
+}

@@ -244,6 +244,14 @@ impl Plan {
             if assignment & 0x01 == 0 {
                 continue;
             }
+            // dcfgen names each concise DCF after its slave.
+            let name = keys
+                .upload_file(id)
+                .and_then(|(_, f)| {
+                    let stem = std::path::Path::new(&f).file_stem()?.to_str()?.to_string();
+                    Some(stem)
+                })
+                .unwrap_or_else(|| format!("node-{id}"));
             let configuration = match keys.upload_file(id) {
                 Some((line, name)) => {
                     let bytes = load(&name)
@@ -272,7 +280,7 @@ impl Plan {
             };
             slaves.push(SlavePlan {
                 node_id: id,
-                name: format!("node {id}"),
+                name,
                 assignment,
                 device_type: expect(0x1F84),
                 identity: [
