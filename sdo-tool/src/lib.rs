@@ -217,6 +217,10 @@ pub enum ToolError {
     /// The EtherCAT network failed (the interface, the slaves' initialisation, a frame).
     #[error("EtherCAT: {0}")]
     Ethercat(#[from] ethercat::EthercatError),
+    /// `drive`: the drive did not do what it was told within the bound; where it stayed, and why
+    /// when it says.
+    #[error("{0}")]
+    Drive(String),
     /// `net boot`/`net watch`: nodes that did not boot (or were lost) by the end.
     #[error("{}", not_booted(mandatory, optional))]
     NotBooted {
@@ -257,7 +261,7 @@ impl ToolError {
     /// interrupted (Ctrl-C, as a shell reports SIGINT).
     pub fn exit_code(&self) -> i32 {
         match self {
-            ToolError::Abort { .. } | ToolError::Refused(_) => 1,
+            ToolError::Abort { .. } | ToolError::Refused(_) | ToolError::Drive(_) => 1,
             ToolError::Lss(canopen_net::lss::LssError::Refused { .. }) => 1,
             ToolError::Lss(canopen_net::lss::LssError::NodeId { .. }) => 2,
             ToolError::Lss(_) | ToolError::LssNotFound => 3,

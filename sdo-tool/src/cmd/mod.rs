@@ -4,6 +4,7 @@
 //! - [`read`], [`mod@write`], [`dump`], [`apply`]: SDO transfers, on CAN or on EtherCAT ([`sdo`]);
 //! - [`transfer`]: `upload` and `download` of a file, with a progress bar;
 //! - [`store`]: `save` and `restore`; [`nmt`]; [`scan`]; [`gateway`]: the CiA 309-3 gateway;
+//! - [`drive`]: a CiA 402 drive's state, enabled, homed, moved and jogged, on either network;
 //! - [`lss`]: the LSS master (CiA 305): Fastscan, node-IDs, bit timing, store;
 //! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
 //! - [`list`]: the entries of a description; [`net`]: a network's bus description made into the
@@ -17,6 +18,7 @@ use crate::{ToolError, UsageError};
 
 pub mod apply;
 pub mod decode;
+pub mod drive;
 pub mod dump;
 pub mod ethercat;
 pub mod gateway;
