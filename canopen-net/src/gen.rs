@@ -18,6 +18,8 @@ pub struct Generated {
     pub warnings: Vec<String>,
     /// The slaves, as generated.
     pub slaves: Vec<Slave>,
+    /// The master, as generated.
+    pub master: Master,
 }
 
 /// How to generate.
@@ -73,6 +75,7 @@ pub fn generate(
         files,
         warnings: cx.warnings,
         slaves,
+        master,
     })
 }
 
@@ -160,6 +163,17 @@ fn from_config(
     desc.set_node_id(Some(node_id as u8));
     let mut slave = identity(section, desc, keys, node_id, &mut cx.warnings)?
         .map_err(|m| ctx.error(dcf.line, &dcf_key, m))?;
+    slave.dcf = (dcf_text.clone(), dcf.line);
+    for k in [
+        "heartbeat_producer",
+        "software_version",
+        "revision_number",
+        "serial_number",
+    ] {
+        if let Some(v) = get(k)? {
+            slave.key_lines.push((k, v.line));
+        }
+    }
     slave.dcf_path = match get("dcf_path")? {
         Some(v) => ctx.string(v, &key(section, "dcf_path"))?,
         None => bus.options.dcf_path.clone(),
@@ -364,6 +378,7 @@ fn identity(
         name: section.name.clone(),
         node_id,
         line: section.line,
+        dcf: (String::new(), section.line),
         device_type,
         vendor_id: pick(
             keys.vendor,
@@ -408,6 +423,8 @@ fn identity(
         tpdo,
         error_behavior,
         sdo: Vec::new(),
+        sdo_origin: Vec::new(),
+        key_lines: Vec::new(),
         desc,
     }))
 }

@@ -8,12 +8,15 @@
 //! - [`generate`]: the files for a bus, given the slaves' descriptions (read by the caller with
 //!   `od`), and [`check`]: what is wrong with a bus description, all at once.
 //! - [`lint`]: the strict reading of a slave's EDS or DCF dcfgen makes (`-S` skips it).
+//! - [`boot`]: the network manager (CiA 302-2): boots, starts and supervises the slaves of a bus
+//!   description and explains each failure with its CiA 302-2 error status.
 //! - [`lss`]: the LSS master (CiA 305): node-IDs and bit timing set by LSS address, and Fastscan
 //!   to find the nodes that have no node-ID.
 //! - [`yaml`]: the YAML tree with the line of every node, as PyYAML reads scalars.
 #![deny(missing_docs)]
 #![warn(unreachable_pub)]
 
+pub mod boot;
 pub mod bus;
 mod check;
 pub mod concise;

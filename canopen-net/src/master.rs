@@ -117,7 +117,8 @@ impl Master {
         if m.identity[3] != 0 {
             m.sdo.push(u32_entry(0x1018, 4, m.identity[3]));
         }
-        m.heartbeats(cx, slaves);
+        let line = get("heartbeat_producer")?.map_or(bus.master.line, |n| n.line);
+        m.heartbeats(cx, slaves, line);
         for s in slaves.iter() {
             let has = |sub| {
                 s.desc
@@ -139,8 +140,23 @@ impl Master {
         Ok(m)
     }
 
+    /// Its 0x1F80 (CiA 302-2 NMT startup): bit 0 the NMT master, 1 start all nodes at once, 2 do not
+    /// enter Operational itself, 3 do not start the slaves, 4 reset all nodes and 6 stop all nodes
+    /// when a mandatory slave is lost.
+    pub fn startup_word(&self) -> u32 {
+        let [start, start_nodes, start_all, reset_all, stop_all] = self.startup;
+        let mut v = 1u32;
+        v |= if start_all { 0x02 } else { 0 }
+            | if start { 0 } else { 0x04 }
+            | if start_nodes { 0 } else { 0x08 };
+        v | if reset_all { 0x10 } else { 0 } | if stop_all { 0x40 } else { 0 }
+    }
+
     /// Each slave consumes the master's heartbeat, or stops consuming it, in 0x1016.
-    fn heartbeats(&self, cx: &mut Cx, slaves: &mut [Slave]) {
+    /// `line` is that of the master's `heartbeat_producer` (or of its section), where the entries
+    /// come from.
+    fn heartbeats(&self, cx: &mut Cx, slaves: &mut [Slave], line: usize) {
+        let origin = (line, "master.heartbeat_producer".to_string());
         let heartbeat = (f64::from(self.heartbeat_producer) * self.heartbeat_multiplier) as i64;
         for s in slaves.iter_mut() {
             let consumers: Vec<(u8, u32)> = match s.desc.dictionary.object(0x1016) {
@@ -176,6 +192,7 @@ impl Master {
                             s.concise(0x1016, sub, Number::Int(value.into()), &mut warnings)
                         {
                             s.sdo.insert(0, e);
+                            s.sdo_origin.insert(0, origin.clone());
                         }
                         cx.warnings.extend(warnings);
                     }
@@ -195,6 +212,7 @@ impl Master {
                             &mut warnings,
                         ) {
                             s.sdo.insert(0, e);
+                            s.sdo_origin.insert(0, origin.clone());
                         }
                         cx.warnings.extend(warnings);
                     }

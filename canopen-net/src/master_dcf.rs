@@ -303,8 +303,7 @@ fn communication(o: &mut String, m: &Master, slaves: &[Slave]) {
             .filter(|s| s.heartbeat_producer != 0)
             .enumerate()
             .map(|(i, s)| {
-                let t = (f64::from(s.heartbeat_producer) * s.heartbeat_multiplier) as i64 as u32
-                    & 0xFFFF;
+                let t = u32::from(s.consumer_time());
                 (
                     (i + 1).to_string(),
                     format!("0x{:08X}", ((s.node_id & 0xFF) << 16) | t),
@@ -603,12 +602,7 @@ fn commissioning(
     if software {
         files(o, "1F58", "Program data", &|s| &s.software_file);
     }
-    let [start, start_nodes, start_all, reset_all, stop_all] = m.startup;
-    let mut v = 1u32;
-    v |= if start_all { 0x02 } else { 0 }
-        | if start { 0 } else { 0x04 }
-        | if start_nodes { 0 } else { 0x08 };
-    v |= if reset_all { 0x10 } else { 0 } | if stop_all { 0x40 } else { 0 };
+    let v = m.startup_word();
     var(
         o,
         "1F80",
@@ -620,7 +614,7 @@ fn commissioning(
     array(o, "1F81", "NMT slave assignment", 7, "rw", None, 127);
     let assign: Vec<_> = slaves
         .iter()
-        .map(|s| (s.node_id.to_string(), format!("0x{:08X}", assignment(s))))
+        .map(|s| (s.node_id.to_string(), format!("0x{:08X}", s.assignment())))
         .collect();
     values(o, "1F81", &assign);
     array(o, "1F82", "Request NMT", 5, "rw", None, 127);
@@ -685,27 +679,6 @@ fn commissioning(
         })
         .collect();
     values(o, "1F8A", &restore);
-}
-
-/// The slave's entry of 0x1F81 (CiA 302-2 NMT slave assignment).
-fn assignment(s: &Slave) -> u32 {
-    let mut v = 1u32;
-    v |= if s.boot { 0x04 } else { 0 } | if s.mandatory { 0x08 } else { 0 };
-    v |= if s.reset_communication { 0 } else { 0x10 }
-        | if s.software_version != 0 { 0x20 } else { 0 };
-    v |= if s.software_file.is_empty() { 0 } else { 0x40 }
-        | if s.restore_configuration != 0 {
-            0x80
-        } else {
-            0
-        };
-    if s.retry_factor != 0 {
-        v |= (s.retry_factor as u32) << 8;
-    }
-    if s.guard_time != 0 {
-        v |= s.guard_time << 16;
-    }
-    v
 }
 
 /// The objects the values of the PDOs live in: 0x2000.. for received, 0x2200.. for sent.

@@ -53,6 +53,9 @@ pub struct Slave {
     pub node_id: u32,
     /// The line of its section.
     pub line: usize,
+    /// Its `dcf` key as written, and the key's line: where the values the description gives come
+    /// from, named in a boot error.
+    pub dcf: (String, usize),
     /// The description, resolved for the node-ID.
     pub desc: DeviceDescription,
     /// Where the master finds the concise DCF.
@@ -103,6 +106,11 @@ pub struct Slave {
     pub error_behavior: Vec<(u8, i128)>,
     /// The concise DCF entries.
     pub sdo: Vec<Entry>,
+    /// Where each entry of `sdo` comes from: the line of the key that made it, and the key.
+    pub sdo_origin: Vec<(usize, String)>,
+    /// The lines of the keys a boot error names (`heartbeat_producer`, `software_version`,
+    /// `revision_number`, `serial_number`) where the section gives them.
+    pub key_lines: Vec<(&'static str, usize)>,
 }
 
 /// The integer a sub-object holds.
@@ -189,6 +197,47 @@ pub(crate) fn encode(index: u16, sub: u8, dt: DataType, value: Number) -> Result
 }
 
 impl Slave {
+    /// Its entry of 0x1F81 (CiA 302-2 NMT slave assignment): bit 0 a slave, 2 boot it, 3
+    /// mandatory, 4 keep alive (no reset communication), 5 check the software version, 6 update
+    /// the software, 7 restore the configuration; retry factor in bits 8–15, guard time in 16–31.
+    pub fn assignment(&self) -> u32 {
+        let mut v = 1u32;
+        v |= if self.boot { 0x04 } else { 0 } | if self.mandatory { 0x08 } else { 0 };
+        v |= if self.reset_communication { 0 } else { 0x10 }
+            | if self.software_version != 0 { 0x20 } else { 0 };
+        v |= if self.software_file.is_empty() {
+            0
+        } else {
+            0x40
+        } | if self.restore_configuration != 0 {
+            0x80
+        } else {
+            0
+        };
+        if self.retry_factor != 0 {
+            v |= (self.retry_factor as u32) << 8;
+        }
+        if self.guard_time != 0 {
+            v |= self.guard_time << 16;
+        }
+        v
+    }
+
+    /// The line of its key `key`, else of its section.
+    pub fn key_line(&self, key: &str) -> usize {
+        self.key_lines
+            .iter()
+            .find(|(k, _)| *k == key)
+            .map_or(self.line, |&(_, l)| l)
+    }
+
+    /// The time (ms) the master waits for its heartbeat: its producer time times the heartbeat
+    /// multiplier, as the master's 0x1016 entry for it holds (0: none).
+    pub fn consumer_time(&self) -> u16 {
+        ((f64::from(self.heartbeat_producer) * self.heartbeat_multiplier) as i64 as u32 & 0xFFFF)
+            as u16
+    }
+
     /// The entry writing `value` to `index:sub` of this slave, with dcfgen's checks: the object must
     /// exist, the sub-object too (or be sub-index 0 of an object with sub-objects); writing an entry
     /// that is not writable is a warning.
@@ -234,6 +283,7 @@ impl Slave {
             .concise(at.0, at.1, value, &mut cx.warnings)
             .map_err(|m| cx.ctx.error(node.line, key, m))?;
         self.sdo.push(entry);
+        self.sdo_origin.push((node.line, key.to_string()));
         Ok(())
     }
 }

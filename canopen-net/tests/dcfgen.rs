@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use canopen_net::boot::Plan;
 use canopen_net::{generate, Bus, GenOptions, SlaveFile};
 
 fn net_dir() -> PathBuf {
@@ -109,6 +110,47 @@ fn compare_with(name: &str, their_name: &str) {
             assert_eq!(bytes, &expected, "{name}: {file}");
         }
     }
+    boot_plans(name, &ours, theirs.path());
+}
+
+/// The boot plan the network manager takes from dcfgen's folder (its master.dcf, master.bin and
+/// concise DCFs) is the one it takes from the bus description: every value, origins apart.
+fn boot_plans(name: &str, ours: &canopen_net::Generated, theirs: &Path) {
+    let master = theirs.join("master.dcf");
+    let text = std::fs::read_to_string(&master).unwrap();
+    let (_, mut devices) = od::load::load(&master).unwrap();
+    let desc = devices.swap_remove(0);
+    let mut read = |f: &str| -> Result<Option<Vec<u8>>, String> {
+        let p = theirs.join(Path::new(f).file_name().unwrap());
+        Ok(std::fs::read(p).ok())
+    };
+    let mut from_dir = Plan::from_master_dcf(&desc, &text, "master.dcf", &mut read).unwrap();
+    let mut from_yml = Plan::from_generated(ours, name);
+    let blank = |p: &mut Plan| {
+        for s in &mut p.slaves {
+            for e in [&mut s.device_type, &mut s.software]
+                .into_iter()
+                .chain(s.identity.iter_mut())
+            {
+                e.origin.clear();
+            }
+            s.heartbeat_origin.clear();
+            for c in &mut s.configuration {
+                c.origin.clear();
+            }
+        }
+    };
+    blank(&mut from_dir);
+    blank(&mut from_yml);
+    // A slave without a concise DCF has no name in the folder but its node-ID.
+    for (d, y) in from_dir.slaves.iter().zip(&mut from_yml.slaves) {
+        if y.configuration.is_empty() {
+            assert_eq!(d.name, format!("node-{}", d.node_id));
+            y.name = d.name.clone();
+        }
+    }
+    assert!(!from_yml.slaves.is_empty(), "{name}: no slave to boot");
+    assert_eq!(from_dir, from_yml, "{name}: the boot plan");
 }
 
 #[test]

@@ -151,6 +151,11 @@ pub enum Cmd {
     /// assign FIRST_ID` gives them node-IDs and stores them; `set-id`, `store`, `bitrate`,
     /// `inquire` and `switch` are the single services.
     Lss(LssArgs),
+    /// A CiA 402 drive: `status` (state, mode, position, velocity, the statusword's bits by name;
+    /// --watch), `enable`, `disable`, `fault-reset`, `quick-stop`, `home [METHOD]`, `move POS`,
+    /// `jog V`, `stop`. Each waits for the drive to do it; a drive that does not says where it
+    /// stayed and its error code. On CAN or, with --ethercat, on an EtherCAT chain.
+    Drive(crate::cmd::drive::DriveArgs),
 }
 
 impl Cmd {
@@ -170,6 +175,7 @@ impl Cmd {
             Cmd::Gateway(_) => "gateway",
             Cmd::Nmt(_) => "nmt",
             Cmd::Lss(_) => "lss",
+            Cmd::Drive(_) => "drive",
             Cmd::List => "list",
             Cmd::Decode(_) => "decode",
             Cmd::Net(_) => "net",
@@ -230,7 +236,7 @@ pub fn run(
             let od = desc.as_ref().map(|d| &d.dictionary);
             return crate::cmd::decode::run(a, od, args.json, out);
         }
-        Cmd::Net(a) => return crate::cmd::net::run(a, args.json, out),
+        Cmd::Net(a) if !a.command.needs_bus() => return crate::cmd::net::run(a, args.json, out),
         Cmd::List => {
             let desc = desc.as_ref().ok_or(UsageError::ListNeedsDescription)?;
             return crate::cmd::list::run(desc, args.json, out);
@@ -246,6 +252,10 @@ pub fn run(
         crate::object(desc.as_ref().map(|d| &d.dictionary), object)?;
     }
     if let Some(interface) = &args.ethercat {
+        if let Cmd::Drive(a) = &args.command {
+            let mut session = EthercatSession::open(interface, timeout)?;
+            return crate::cmd::drive::run(a, &mut session, args.json, out);
+        }
         let command = args.command.sdo().ok_or(UsageError::CanopenOnly {
             command: args.command.name(),
         })?;
@@ -317,11 +327,14 @@ fn can_command(
         Cmd::Gateway(a) => gateway::run(a, tool, out),
         Cmd::Nmt(a) => nmt::run(a, &mut tool, json, out),
         Cmd::Lss(a) => lss::run(a, &mut tool, json, out),
+        Cmd::Net(a) => crate::cmd::net::run_on_bus(a, &mut tool, json, out),
+        Cmd::Drive(a) => {
+            let mut can = crate::CanSdo::new(tool.bus.as_mut(), &tool.sdo);
+            crate::cmd::drive::run(a, &mut can, json, out)
+        }
         // Answered before any bus is opened.
         Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
-        Cmd::List | Cmd::Decode(_) | Cmd::Net(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => {
-            Ok(())
-        }
+        Cmd::List | Cmd::Decode(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => Ok(()),
     }
 }
 

@@ -217,6 +217,18 @@ pub enum ToolError {
     /// The EtherCAT network failed (the interface, the slaves' initialisation, a frame).
     #[error("EtherCAT: {0}")]
     Ethercat(#[from] ethercat::EthercatError),
+    /// `drive`: the drive did not do what it was told within the bound; where it stayed, and why
+    /// when it says.
+    #[error("{0}")]
+    Drive(String),
+    /// `net boot`/`net watch`: nodes that did not boot (or were lost) by the end.
+    #[error("{}", not_booted(mandatory, optional))]
+    NotBooted {
+        /// Mandatory nodes not up: the network is not up.
+        mandatory: Vec<u8>,
+        /// Optional nodes not up.
+        optional: Vec<u8>,
+    },
     /// Ctrl-C during a transfer: the abort 0x08000000 was sent to the node; an upload's partial file
     /// was removed.
     #[error("interrupted: the transfer was aborted with 0x08000000{}", removed.as_ref().map(|p| format!("; the partial {} was removed", p.display())).unwrap_or_default())]
@@ -226,12 +238,30 @@ pub enum ToolError {
     },
 }
 
+/// The words of [`ToolError::NotBooted`].
+fn not_booted(mandatory: &[u8], optional: &[u8]) -> String {
+    let list = |v: &[u8]| v.iter().map(u8::to_string).collect::<Vec<_>>().join(", ");
+    match (mandatory.is_empty(), optional.is_empty()) {
+        (false, true) => format!(
+            "mandatory node {} not booted: the network is not up",
+            list(mandatory)
+        ),
+        (false, false) => format!(
+            "mandatory node {} and optional node {} not booted: the network is not up",
+            list(mandatory),
+            list(optional)
+        ),
+        _ => format!("optional node {} not booted", list(optional)),
+    }
+}
+
 impl ToolError {
-    /// 1 SDO abort, 2 usage, 3 timeout or transport failure, 4 verification difference, 130
+    /// 1 SDO abort, 2 usage, 3 timeout or transport failure, 4 verification difference, 6 and 7 an
+    /// optional or a mandatory node not booted, 130
     /// interrupted (Ctrl-C, as a shell reports SIGINT).
     pub fn exit_code(&self) -> i32 {
         match self {
-            ToolError::Abort { .. } | ToolError::Refused(_) => 1,
+            ToolError::Abort { .. } | ToolError::Refused(_) | ToolError::Drive(_) => 1,
             ToolError::Lss(canopen_net::lss::LssError::Refused { .. }) => 1,
             ToolError::Lss(canopen_net::lss::LssError::NodeId { .. }) => 2,
             ToolError::Lss(_) | ToolError::LssNotFound => 3,
@@ -240,6 +270,8 @@ impl ToolError {
             ToolError::Session(_) | ToolError::Value(_) | ToolError::Output(_) => 3,
             ToolError::Differences(_) => 4,
             ToolError::Interrupted { .. } => 130,
+            ToolError::NotBooted { mandatory, .. } if !mandatory.is_empty() => 7,
+            ToolError::NotBooted { .. } => 6,
         }
     }
 }

@@ -4,10 +4,12 @@
 //! - [`read`], [`mod@write`], [`dump`], [`apply`]: SDO transfers, on CAN or on EtherCAT ([`sdo`]);
 //! - [`transfer`]: `upload` and `download` of a file, with a progress bar;
 //! - [`store`]: `save` and `restore`; [`nmt`]; [`scan`]; [`gateway`]: the CiA 309-3 gateway;
+//! - [`drive`]: a CiA 402 drive's state, enabled, homed, moved and jogged, on either network;
 //! - [`lss`]: the LSS master (CiA 305): Fastscan, node-IDs, bit timing, store;
 //! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
 //! - [`list`]: the entries of a description; [`net`]: a network's bus description made into the
-//!   master's and the slaves' configuration files (`net gen`), or checked (`net check`); [`ethercat`]: `slaves`, `states` and `sdos`.
+//!   master's and the slaves' configuration files (`net gen`), or checked (`net check`), and the
+//!   network booted and supervised ([`net_boot`]); [`ethercat`]: `slaves`, `states` and `sdos`.
 
 use std::io::Write;
 use std::path::Path;
@@ -16,12 +18,14 @@ use crate::{ToolError, UsageError};
 
 pub mod apply;
 pub mod decode;
+pub mod drive;
 pub mod dump;
 pub mod ethercat;
 pub mod gateway;
 pub mod list;
 pub mod lss;
 pub mod net;
+pub mod net_boot;
 pub mod nmt;
 pub mod read;
 pub mod scan;

@@ -28,6 +28,21 @@ pub enum NetCmd {
     /// entry or a mapping a slave's description cannot take), one line each with FILE:LINE; exit 2
     /// when anything is.
     Check(CheckArgs),
+    /// Boot the network as a CiA 302-2 manager: reset, check each slave's device type and
+    /// identity, write its configuration, wait for its heartbeat, start it; a table of the nodes at
+    /// the end, each failure with its CiA 302-2 letter and in words. Exit 0 when every node booted,
+    /// 6 when an optional one did not, 7 when a mandatory one did not (the network is not up).
+    Boot(super::net_boot::BootArgs),
+    /// Boot the network, then supervise it (heartbeats, boot-up messages, emergencies) until Ctrl-C
+    /// or --wait-ms; a lost node is booted again when it comes back. On a terminal the table is live.
+    Watch(super::net_boot::BootArgs),
+}
+
+impl NetCmd {
+    /// True for the commands that run on a bus.
+    pub fn needs_bus(&self) -> bool {
+        matches!(self, NetCmd::Boot(_) | NetCmd::Watch(_))
+    }
 }
 
 /// `net gen`'s arguments.
@@ -70,17 +85,33 @@ pub fn run(args: &NetArgs, json: bool, out: &mut dyn Write) -> Result<(), ToolEr
     match &args.command {
         NetCmd::Gen(a) => gen(a, json, out),
         NetCmd::Check(a) => check(a, json, out),
+        // Run on the bus, by `run_on_bus`.
+        NetCmd::Boot(_) | NetCmd::Watch(_) => Ok(()),
     }
 }
 
-fn read_bus(path: &Path) -> Result<Bus, ToolError> {
+/// Runs a `net` command that needs the bus.
+pub fn run_on_bus(
+    args: &NetArgs,
+    tool: &mut crate::Tool,
+    json: bool,
+    out: &mut dyn Write,
+) -> Result<(), ToolError> {
+    match &args.command {
+        NetCmd::Boot(a) => super::net_boot::run(a, false, tool, json, out),
+        NetCmd::Watch(a) => super::net_boot::run(a, true, tool, json, out),
+        NetCmd::Gen(_) | NetCmd::Check(_) => run(args, json, out),
+    }
+}
+
+pub(crate) fn read_bus(path: &Path) -> Result<Bus, ToolError> {
     let text = std::fs::read_to_string(path).map_err(|e| file_error(path, e))?;
     Bus::parse(&text, &path.display().to_string())
         .map_err(|e| UsageError::Net(e.to_string()).into())
 }
 
 /// The reader of slave descriptions, relative to the bus description's folder.
-fn loader(bus: &Path) -> impl FnMut(&str) -> Result<SlaveFile, String> {
+pub(crate) fn loader(bus: &Path) -> impl FnMut(&str) -> Result<SlaveFile, String> {
     let dir = bus.parent().map(Path::to_path_buf).unwrap_or_default();
     move |dcf: &str| {
         let path = dir.join(dcf);
@@ -95,7 +126,7 @@ fn loader(bus: &Path) -> impl FnMut(&str) -> Result<SlaveFile, String> {
     }
 }
 
-fn env(name: &str) -> Option<String> {
+pub(crate) fn env(name: &str) -> Option<String> {
     std::env::var(name).ok()
 }
 

@@ -1,0 +1,427 @@
+//! The network manager against scripted slaves: every frame it sends, byte for byte, worked out
+//! from CiA 301 and CiA 302-2, and every failure's letter and words.
+
+use std::time::{Duration, Instant};
+
+use can_link::CanFrame;
+use canopen_net::boot::{
+    BootEvent, ConfigEntry, ErrorStatus, Expect, Manager, ManagerConfig, NodeState, Plan, SlavePlan,
+};
+use canopen_net::concise::Entry;
+
+fn expect(value: u32, origin: &str) -> Expect {
+    Expect {
+        value,
+        origin: origin.into(),
+    }
+}
+
+/// Node 2: device type 0x00020192, vendor 0x360, product 7 checked; one entry (0x1017 = 100 ms);
+/// the master consumes its heartbeat with 300 ms; boot + mandatory.
+fn slave() -> SlavePlan {
+    SlavePlan {
+        node_id: 2,
+        name: "drive".into(),
+        assignment: 0x0000_000D,
+        device_type: expect(0x0002_0192, "bus.yml:9, drive.eds"),
+        identity: [
+            expect(0x360, "bus.yml:9, drive.eds"),
+            expect(7, "bus.yml:9, drive.eds"),
+            expect(0, ""),
+            expect(0, ""),
+        ],
+        software: expect(0, ""),
+        heartbeat_ms: 300,
+        heartbeat_origin: "bus.yml:8 drive.heartbeat_producer".into(),
+        configuration: vec![ConfigEntry {
+            entry: Entry::new(0x1017, 0, vec![100, 0]),
+            origin: "bus.yml:10 drive.heartbeat_producer".into(),
+        }],
+    }
+}
+
+fn plan(slaves: Vec<SlavePlan>, startup: u32) -> Plan {
+    Plan {
+        master_id: 1,
+        startup,
+        boot_time_ms: 0,
+        heartbeat_ms: 0,
+        slaves,
+    }
+}
+
+struct Bus {
+    m: Manager,
+    now: Instant,
+    events: Vec<BootEvent>,
+}
+
+impl Bus {
+    fn new(plan: Plan) -> Bus {
+        let config = ManagerConfig {
+            sdo_timeout: Duration::from_millis(100),
+            boot_up_wait: Duration::from_millis(500),
+            retry: Duration::from_secs(1),
+        };
+        Bus {
+            m: Manager::new(plan, config),
+            now: Instant::now(),
+            events: Vec::new(),
+        }
+    }
+
+    /// Every frame sent since the last call, as `COB#HEX`.
+    fn sent(&mut self) -> Vec<String> {
+        let mut v = Vec::new();
+        while let Some(f) = self.m.poll_transmit() {
+            v.push(text(&f));
+        }
+        while let Some(e) = self.m.poll_event() {
+            self.events.push(e);
+        }
+        v
+    }
+
+    fn feed(&mut self, cob: u16, data: &[u8]) {
+        self.m
+            .handle_frame(self.now, &CanFrame::new(cob, data).unwrap());
+    }
+
+    /// Runs the time on by `d`, calling the manager at each instant it asked for on the way.
+    fn advance(&mut self, d: Duration) {
+        let end = self.now + d;
+        while let Some(t) = self.m.poll_timeout().filter(|&t| t <= end) {
+            self.now = self.now.max(t);
+            self.m.handle_timeout(self.now);
+        }
+        self.now = end;
+        self.m.handle_timeout(self.now);
+    }
+
+    fn states(&mut self, node: u8) -> Vec<String> {
+        self.sent();
+        self.events
+            .iter()
+            .filter_map(|e| match e {
+                BootEvent::Node { node: n, state } if *n == node => Some(state.word()),
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn error(&self, node: u8) -> String {
+        let r = self.m.nodes().find(|r| r.node == node).unwrap();
+        r.last_error
+            .as_ref()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    }
+}
+
+fn text(f: &CanFrame) -> String {
+    let hex: String = f.data().iter().map(|b| format!("{b:02X}")).collect();
+    format!("{:03X}#{hex}", f.raw_id())
+}
+
+/// Answers the identity check of node 2 with `vendor` and `product`.
+fn identity(bus: &mut Bus, vendor: u32, product: u32) {
+    bus.feed(0x702, &[0x00]);
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+    bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    assert_eq!(bus.sent(), ["602#4018100100000000"]);
+    let v = vendor.to_le_bytes();
+    bus.feed(0x582, &[0x43, 0x18, 0x10, 0x01, v[0], v[1], v[2], v[3]]);
+    if vendor != 0x360 {
+        return;
+    }
+    assert_eq!(bus.sent(), ["602#4018100200000000"]);
+    let p = product.to_le_bytes();
+    bus.feed(0x582, &[0x43, 0x18, 0x10, 0x02, p[0], p[1], p[2], p[3]]);
+}
+
+#[test]
+fn a_slave_boots_checked_configured_and_started_frame_by_frame() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    assert_eq!(
+        bus.sent(),
+        ["000#8200"],
+        "NMT reset communication, all nodes"
+    );
+    identity(&mut bus, 0x360, 7);
+    // 0x1017:00 = 100, expedited download of 2 bytes (ccs 1, n 2, e, s: 0x2B).
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(bus.sent(), Vec::<String>::new(), "waits for a heartbeat");
+    bus.advance(Duration::from_millis(100));
+    bus.feed(0x702, &[0x7F]);
+    assert_eq!(bus.sent(), ["000#0102"], "NMT start remote node 2");
+    // Its state before the first event: reset.
+    assert_eq!(bus.states(2), ["checking", "config 0/1", "heartbeat", "up"]);
+    assert!(bus.events.contains(&BootEvent::NetworkUp));
+    assert!(bus.m.network_up());
+    let r = bus.m.nodes().next().unwrap();
+    assert_eq!(
+        r.identity,
+        [Some(0x0002_0192), Some(0x360), Some(7), None, None]
+    );
+    assert_eq!(r.configured, (1, 1));
+    assert_eq!(r.boots, 1);
+}
+
+#[test]
+fn a_different_vendor_ends_with_d_naming_both_values_and_the_origin() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x9A, 7);
+    assert_eq!(
+        bus.sent(),
+        Vec::<String>::new(),
+        "nothing written, nothing started"
+    );
+    assert_eq!(
+        bus.error(2),
+        "node 2 [D] vendor-ID 0x00000360 expected (bus.yml:9, drive.eds), 0x0000009A found in \
+         0x1018:01 — a device of another vendor answers at this node-ID"
+    );
+    assert!(!bus.m.network_up());
+    // No retry without a boot-up message: asking again cannot change the device.
+    bus.advance(Duration::from_secs(5));
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert!(bus.m.settled());
+}
+
+#[test]
+fn a_different_device_type_or_product_have_their_own_letters() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    bus.feed(0x702, &[0x00]);
+    bus.sent();
+    bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x91, 0x01, 0x02, 0x00]);
+    assert_eq!(
+        bus.error(2),
+        "node 2 [C] device type 0x00020192 expected (bus.yml:9, drive.eds), 0x00020191 found in \
+         0x1000:00 — a different kind of device answers at this node-ID"
+    );
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x360, 8);
+    assert_eq!(
+        bus.error(2),
+        "node 2 [M] product code 0x00000007 expected (bus.yml:9, drive.eds), 0x00000008 found in \
+         0x1018:02 — another product answers at this node-ID"
+    );
+}
+
+#[test]
+fn a_missing_node_ends_with_b_and_is_asked_again_every_retry() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    assert_eq!(bus.sent(), ["000#8200"]);
+    // No boot-up: after the 500 ms wait the boot starts anyway.
+    bus.advance(Duration::from_millis(499));
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    bus.advance(Duration::from_millis(1));
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+    // 100 ms without an answer: the client aborts with 0x05040000 (SDO protocol timed out).
+    bus.advance(Duration::from_millis(100));
+    assert_eq!(bus.sent(), ["602#8000100000000405"]);
+    assert_eq!(
+        bus.error(2),
+        "node 2 [B] device type 0x1000:00 could not be read: no answer within 100 ms — no node \
+         answers at this node-ID"
+    );
+    // Asked again one second later, and again.
+    bus.advance(Duration::from_millis(999));
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    bus.advance(Duration::from_millis(1));
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+    bus.advance(Duration::from_millis(1100));
+    assert_eq!(bus.sent(), ["602#8000100000000405", "602#4000100000000000"]);
+    assert_eq!(bus.m.missing(), [2]);
+}
+
+#[test]
+fn a_refused_configuration_write_ends_with_j_naming_the_entry_and_its_line() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x360, 7);
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
+    // Abort 0x06090030 (invalid value).
+    bus.feed(0x582, &[0x80, 0x17, 0x10, 0x00, 0x30, 0x00, 0x09, 0x06]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert_eq!(
+        bus.error(2),
+        "node 2 [J] writing 0x1017:00 = 0x64 (bus.yml:10 drive.heartbeat_producer) failed: the \
+         node refused it with 0x06090030 (Invalid value for parameter (download only)) — the node \
+         refuses its configuration"
+    );
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("failed J"));
+    // A boot-up message boots it again from the start.
+    bus.feed(0x702, &[0x00]);
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+}
+
+/// Boots node 2 to Up.
+fn boot(bus: &mut Bus) {
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(bus, 0x360, 7);
+    bus.sent();
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    bus.feed(0x702, &[0x7F]);
+    bus.sent();
+    assert!(bus.m.network_up());
+}
+
+#[test]
+fn no_heartbeat_after_configuration_ends_with_k() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x360, 7);
+    bus.sent();
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    bus.advance(Duration::from_millis(299));
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("heartbeat"));
+    bus.advance(Duration::from_millis(1));
+    assert_eq!(
+        bus.error(2),
+        "node 2 [K] no heartbeat within 300 ms of its configuration (consumer time, bus.yml:8 \
+         drive.heartbeat_producer) — its heartbeat producer 0x1017 is 0 or slower than that"
+    );
+    assert_eq!(bus.sent(), Vec::<String>::new(), "not started");
+}
+
+#[test]
+fn a_lost_heartbeat_is_e_and_the_node_is_booted_again_when_it_returns() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    boot(&mut bus);
+    // Heartbeats within 300 ms keep it up.
+    for _ in 0..5 {
+        bus.advance(Duration::from_millis(250));
+        bus.feed(0x702, &[0x05]);
+    }
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("up"));
+    bus.advance(Duration::from_millis(299));
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("up"));
+    bus.advance(Duration::from_millis(1));
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("failed E"));
+    assert_eq!(
+        bus.error(2),
+        "node 2 [E] heartbeat lost: none for 300 ms (consumer time, bus.yml:8 \
+         drive.heartbeat_producer) — the node stopped, lost power or left the bus"
+    );
+    // Its heartbeat back: the boot starts again.
+    bus.feed(0x702, &[0x05]);
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+}
+
+#[test]
+fn a_boot_up_message_of_a_running_node_starts_its_boot_again() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    boot(&mut bus);
+    bus.feed(0x702, &[0x00]);
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("checking"));
+}
+
+#[test]
+fn start_all_nodes_sends_one_command_once_every_slave_booted() {
+    // 0x1F80 = 0x03: NMT master, start all nodes at once.
+    let mut bus = Bus::new(plan(vec![slave()], 0x03));
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x360, 7);
+    bus.sent();
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    bus.feed(0x702, &[0x7F]);
+    assert_eq!(bus.sent(), ["000#0100"], "NMT start, all nodes");
+    // 0x1F80 = 0x09: the master starts no slave.
+    let mut bus = Bus::new(plan(vec![slave()], 0x09));
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x360, 7);
+    bus.sent();
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    bus.feed(0x702, &[0x7F]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert!(bus.m.network_up());
+}
+
+#[test]
+fn the_boot_time_passing_without_a_mandatory_slave_is_reported_once() {
+    let mut p = plan(vec![slave()], 0x01);
+    p.boot_time_ms = 2000;
+    let mut bus = Bus::new(p);
+    bus.m.start(bus.now);
+    bus.advance(Duration::from_millis(1999));
+    bus.sent();
+    assert!(!bus
+        .events
+        .iter()
+        .any(|e| matches!(e, BootEvent::BootTimeout { .. })));
+    bus.advance(Duration::from_millis(1));
+    bus.advance(Duration::from_secs(3));
+    bus.sent();
+    let timeouts: Vec<_> = bus
+        .events
+        .iter()
+        .filter(|e| matches!(e, BootEvent::BootTimeout { .. }))
+        .collect();
+    assert_eq!(timeouts, [&BootEvent::BootTimeout { missing: vec![2] }]);
+}
+
+#[test]
+fn a_kept_alive_operational_slave_is_not_reset_nor_booted_again() {
+    let mut s = slave();
+    s.assignment |= 0x10;
+    let mut other = slave();
+    other.node_id = 3;
+    let mut bus = Bus::new(plan(vec![s, other], 0x01));
+    bus.m.start(bus.now);
+    assert_eq!(bus.sent(), ["000#8203"], "only node 3 is reset");
+    bus.feed(0x702, &[0x05]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    let r = bus.m.nodes().next().unwrap();
+    assert_eq!((r.state.clone(), r.kept), (NodeState::Up, true));
+}
+
+#[test]
+fn the_master_beats_pre_operational_until_the_network_is_up() {
+    let mut p = plan(vec![slave()], 0x01);
+    p.heartbeat_ms = 100;
+    let mut bus = Bus::new(p);
+    bus.m.start(bus.now);
+    assert_eq!(bus.sent(), ["000#8200", "701#7F"]);
+    bus.advance(Duration::from_millis(99));
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    bus.advance(Duration::from_millis(1));
+    assert_eq!(bus.sent(), ["701#7F"]);
+    identity(&mut bus, 0x360, 7);
+    bus.sent();
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    bus.feed(0x702, &[0x7F]);
+    assert_eq!(bus.sent(), ["000#0102"]);
+    bus.advance(Duration::from_millis(100));
+    assert_eq!(bus.sent(), ["701#05"]);
+}
+
+#[test]
+fn an_emergency_is_reported_with_its_fields() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.feed(0x082, &[0x10, 0x81, 0x11, 1, 2, 3, 4, 5]);
+    bus.sent();
+    assert!(bus.events.contains(&BootEvent::Emergency {
+        node: 2,
+        code: 0x8110,
+        register: 0x11,
+        data: [1, 2, 3, 4, 5]
+    }));
+    assert_eq!(ErrorStatus::J.letter(), 'J');
+}

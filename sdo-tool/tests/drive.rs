@@ -1,0 +1,183 @@
+//! `sdo-tool drive` against the generic CiA 402 drive of `canopen-node` (`examples/drive.eds` at
+//! node 2) on a socketcand server of 127.0.0.1: each command's line, the statusword's bits worked out
+//! from CiA 402-2's tables, the positions the moves reach, and a refusal explained.
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use common::sdo_tool;
+
+struct Node(Child, u16);
+
+impl Drop for Node {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn node() -> Node {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let eds = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/drive.eds");
+    let mut child = Command::new(testkit::cargo_binary("socketcan-node", "canopen-node", &[]))
+        .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
+        .arg("--od")
+        .arg(format!("{}@2", eds.display()))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    out.read_line(&mut line).unwrap();
+    std::thread::spawn(move || std::io::copy(&mut out, &mut std::io::sink()));
+    for _ in 0..100 {
+        if std::net::TcpStream::connect(("127.0.0.1", port)).is_ok() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    Node(child, port)
+}
+
+impl Node {
+    /// `sdo-tool drive 2 ARGS`: exit code, standard output, standard error.
+    fn drive(&self, args: &[&str]) -> (Option<i32>, String, String) {
+        let bus = format!("socketcand://127.0.0.1:{}/can0", self.1);
+        let mut argv = vec!["drive", "2"];
+        argv.extend_from_slice(args);
+        let o = sdo_tool(&["--bus", &bus], &argv);
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    }
+
+    fn ok(&self, args: &[&str]) -> String {
+        let (code, out, err) = self.drive(args);
+        assert_eq!(code, Some(0), "drive {args:?}: {err}");
+        out.trim_end().to_string()
+    }
+
+    fn write(&self, args: &[&str]) {
+        let bus = format!("socketcand://127.0.0.1:{}/can0", self.1);
+        common::sdo_tool_ok(&["--bus", &bus], args);
+    }
+}
+
+// CiA 402-2 statusword: bit 0 ready to switch on, 1 switched on, 2 operation enabled, 3 fault,
+// 4 voltage enabled, 5 quick stop, 6 switch on disabled, 9 remote, 10 target reached, 12 the
+// mode's own (set-point acknowledge, speed is zero, homing attained).
+const DISABLED: &str = "SWITCH ON DISABLED";
+
+#[test]
+fn status_enable_move_home_jog_stop_disable() {
+    let n = node();
+    // Switch on disabled: bits 5, 6, 9 = 0x0260.
+    assert_eq!(
+        n.ok(&["status"]),
+        format!(
+            "node 2: {DISABLED}, no mode (0), position 0, velocity 0; statusword 0x0260: quick \
+             stop, switch on disabled, remote"
+        )
+    );
+    // Operation enabled: bits 0, 1, 2, 4, 5, 9 = 0x0237.
+    assert_eq!(
+        n.ok(&["enable"]),
+        "node 2: OPERATION ENABLED, no mode (0), position 0, velocity 0; statusword 0x0237: ready \
+         to switch on, switched on, operation enabled, voltage enabled, quick stop, remote"
+    );
+    // At the target: bit 10 too, 0x0637.
+    assert_eq!(
+        n.ok(&["move", "1000"]),
+        "node 2: OPERATION ENABLED, profile position (1), position 1000, velocity 0; statusword \
+         0x0637: ready to switch on, switched on, operation enabled, voltage enabled, quick stop, \
+         remote, target reached"
+    );
+    let out = n.ok(&[
+        "move",
+        "--relative",
+        "-1500",
+        "--velocity",
+        "2000",
+        "--acceleration",
+        "8000",
+    ]);
+    assert!(out.contains(", position -500, velocity 0;"), "{out}");
+    // Homing on the current position (method 35): position 0, homing attained (bit 12), 0x1637.
+    assert_eq!(
+        n.ok(&["home", "35"]),
+        "node 2: OPERATION ENABLED, homing (6), position 0, velocity 0; statusword 0x1637: ready \
+         to switch on, switched on, operation enabled, voltage enabled, quick stop, remote, \
+         target reached, homing attained"
+    );
+    n.ok(&["jog", "200"]);
+    std::thread::sleep(Duration::from_millis(300));
+    let out = n.ok(&["status"]);
+    assert!(
+        out.contains(": OPERATION ENABLED, profile velocity (3), position "),
+        "{out}"
+    );
+    assert!(!out.contains(", velocity 0;"), "moving: {out}");
+    let out = n.ok(&["stop"]);
+    assert!(out.contains(", velocity 0;"), "{out}");
+    assert!(out.contains(", target reached"), "{out}");
+    assert_eq!(
+        n.ok(&["disable"]).split(';').nth(1).unwrap().trim(),
+        "statusword 0x0260: quick stop, switch on disabled, remote"
+    );
+}
+
+#[test]
+fn a_move_into_a_limit_switch_is_refused_with_the_drive_s_error_code() {
+    let n = node();
+    // The simulated positive limit switch at 100 (the generic drive's simulation record 0x5FF0).
+    n.write(&["write", "2", "0x5FF0:4", "i32", "100"]);
+    n.ok(&["enable"]);
+    let (code, out, err) = n.drive(&["move", "1000"]);
+    assert_eq!((code, out.as_str()), (Some(1), ""));
+    // Fault: bit 3, with 5 and 9: 0x0228; 0x8612 is CiA 402-2's reference limit.
+    assert_eq!(
+        err.trim(),
+        "sdo-tool: drive 2: the move (target reached, bit 10) not done: FAULT (statusword \
+         0x0228), error code 0x603F = 0x8612 (reference limit)"
+    );
+    let out = n.ok(&["status"]);
+    assert!(
+        out.ends_with("; error code 0x8612 (reference limit)"),
+        "{out}"
+    );
+    // enable clears the fault first.
+    let out = n.ok(&["enable"]);
+    assert!(out.starts_with("node 2: OPERATION ENABLED,"), "{out}");
+    // A homing method the drive does not run: its SDO abort.
+    let (code, _, err) = n.drive(&["home", "99"]);
+    assert_eq!(code, Some(1));
+    assert_eq!(
+        err.trim(),
+        "sdo-tool: 0x6098:00: SDO abort 0x06090030 (Invalid value for parameter (download only))"
+    );
+}
+
+#[test]
+fn status_as_json() {
+    let n = node();
+    let bus = format!("socketcand://127.0.0.1:{}/can0", n.1);
+    let o = sdo_tool(&["--bus", &bus, "--json"], &["drive", "2", "status"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(
+        v,
+        serde_json::json!({"node": 2, "state": DISABLED, "statusword": "0x0260",
+            "bits": ["quick stop", "switch on disabled", "remote"], "mode": 0,
+            "mode_name": "no mode", "position": 0, "velocity": 0, "error_code": "0x0000"})
+    );
+}
