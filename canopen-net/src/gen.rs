@@ -164,16 +164,7 @@ fn from_config(
     let mut slave = identity(section, desc, keys, node_id, &mut cx.warnings)?
         .map_err(|m| ctx.error(dcf.line, &dcf_key, m))?;
     slave.dcf = (dcf_text.clone(), dcf.line);
-    for k in [
-        "heartbeat_producer",
-        "software_version",
-        "revision_number",
-        "serial_number",
-    ] {
-        if let Some(v) = get(k)? {
-            slave.key_lines.push((k, v.line));
-        }
-    }
+    slave.key_lines = key_lines(ctx, cfg, &section.name)?;
     slave.dcf_path = match get("dcf_path")? {
         Some(v) => ctx.string(v, &key(section, "dcf_path"))?,
         None => bus.options.dcf_path.clone(),
@@ -267,6 +258,22 @@ fn from_config(
     pdos(cx, &mut slave, section, get("tpdo")?, true)?;
     nmt(cx, &mut slave, section, cfg)?;
     Ok(slave)
+}
+
+/// The lines of the keys a boot error names, where the section gives them.
+fn key_lines(ctx: Ctx, cfg: &Node, name: &str) -> Result<Vec<(&'static str, usize)>, NetError> {
+    let mut lines = Vec::new();
+    for k in [
+        "heartbeat_producer",
+        "software_version",
+        "revision_number",
+        "serial_number",
+    ] {
+        if let Some(v) = ctx.get(cfg, name, k)? {
+            lines.push((k, v.line));
+        }
+    }
+    Ok(lines)
 }
 
 /// The first entry dcfgen reads whose value is relative to the node-ID (`$NODEID+…`): dcfgen

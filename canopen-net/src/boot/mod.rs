@@ -45,7 +45,7 @@ use std::time::{Duration, Instant};
 use can_link::CanFrame;
 
 pub use node::NodeReport;
-pub use plan::{ConfigEntry, Expect, Plan, SlavePlan};
+pub use plan::{ConfigEntry, Expect, LoadFile, Plan, SlavePlan};
 pub use status::{BootError, BootEvent, ErrorStatus, NodeState};
 
 use node::{Node, Out};

@@ -346,7 +346,7 @@ impl Node {
                     a.sub,
                     why(code)
                 );
-                if check == Check::DeviceType && code.is_none_or(|c| c == AbortCode::Timeout) {
+                if check == Check::DeviceType && matches!(code, None | Some(AbortCode::Timeout)) {
                     message.push_str(" — no node answers at this node-ID");
                 }
                 self.fail(now, check.status(), message, out);

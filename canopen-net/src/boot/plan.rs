@@ -10,6 +10,10 @@ use crate::concise::{self, Entry};
 use crate::gen::Generated;
 use crate::slave::int_value;
 
+/// Reads a file a master DCF names (relative to its folder): its bytes, `None` when there is none,
+/// or why it cannot be read.
+pub type LoadFile<'a> = dyn FnMut(&str) -> Result<Option<Vec<u8>>, String> + 'a;
+
 /// An expected value (0: not checked, as CiA 302-2 says of 0x1F84–0x1F88) and where it comes from.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct Expect {
@@ -194,7 +198,7 @@ impl Plan {
         desc: &DeviceDescription,
         text: &str,
         file: &str,
-        load: &mut dyn FnMut(&str) -> Result<Option<Vec<u8>>, String>,
+        load: &mut LoadFile,
     ) -> Result<Plan, NetError> {
         let keys = ini_keys(text);
         let error = |line: usize, key: &str, message: String| NetError {
