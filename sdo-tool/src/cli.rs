@@ -253,8 +253,8 @@ pub fn run(
     }
     if let Some(interface) = &args.ethercat {
         if let Cmd::Drive(a) = &args.command {
-            let mut session = EthercatSession::open(interface, timeout)?;
-            return crate::cmd::drive::run(a, &mut session, args.json, out);
+            let mut op = EthercatSession::open(interface, timeout)?.into_op()?;
+            return crate::cmd::drive::run(a, &mut op, args.json, out);
         }
         let command = args.command.sdo().ok_or(UsageError::CanopenOnly {
             command: args.command.name(),

@@ -43,10 +43,13 @@ use od::types::DataType;
 
 use crate::{SdoAccess, ToolError};
 
+mod op;
+pub use op::OpSession;
+
 /// Slaves a chain may have here (ethercrab wants a power of two).
 pub const MAX_SLAVES: usize = 128;
-/// The group's process data image: not used, the slaves stay in Pre-Op.
-const MAX_PDI: usize = 64;
+/// The group's process data image, for a command that runs the chain in Op.
+const MAX_PDI: usize = 1024;
 /// Frames in flight at most.
 const MAX_FRAMES: usize = 16;
 /// The data of one PDU at most: a mailbox of up to 1,100 bytes.
@@ -119,9 +122,14 @@ impl From<Error> for Failure {
 
 /// An EtherCAT chain in Pre-Op, for SDO transfers to its slaves.
 pub struct EthercatSession {
+    link: Link,
+    group: Box<Group>,
+}
+
+/// The master on one interface, whatever state its chain is in.
+struct Link {
     interface: String,
     maindevice: MainDevice<'static>,
-    group: Box<Group>,
     /// ethercrab's TX/RX task; `None` once it ended (the socket failed).
     tx_rx: Option<TxRx>,
     timeout: Duration,
@@ -180,6 +188,14 @@ pub enum EthercatError {
     InterfaceName {
         /// The name given, escaped.
         interface: String,
+    },
+    /// The chain did not reach Op for a command that runs it.
+    #[error("interface {interface}: the chain did not reach Op: {detail}")]
+    Op {
+        /// The interface.
+        interface: String,
+        /// What ethercrab or the slaves said.
+        detail: String,
     },
     /// ethercrab's frame storage is taken (one session per process).
     #[error("the PDU storage is in use")]
@@ -482,9 +498,10 @@ pub fn slaves(interface: &str, identity: bool) -> Result<Vec<SlaveInfo>, ToolErr
     Ok(out)
 }
 
-impl Drop for EthercatSession {
-    /// Every slave back to Init, the state the session found the chain in: one broadcast write of AL
-    /// control, then AL status read until every slave shows Init (at most the session's timeout).
+impl Drop for Link {
+    /// Every slave back to Init, the state the session found the chain in (from Pre-Op, or from Op
+    /// after a command that ran the chain): one broadcast write of AL control, then AL status read
+    /// until every slave shows Init (at most the session's timeout).
     fn drop(&mut self) {
         let md = &self.maindevice;
         let asked = drive(
@@ -610,14 +627,18 @@ impl EthercatSession {
             ));
         }
         Ok(EthercatSession {
-            interface: interface.to_string(),
-            maindevice,
+            link: Link {
+                interface: interface.to_string(),
+                maindevice,
+                tx_rx,
+                timeout,
+            },
             group: Box::new(group),
-            tx_rx,
-            timeout,
         })
     }
+}
 
+impl Link {
     /// The tool's error for the end of the TX/RX task.
     fn ended(&self, source: TaskEnded) -> ToolError {
         EthercatError::Ended {
@@ -873,14 +894,14 @@ impl EthercatSession {
             info::Request::Entry { index, sub, .. } => Address::new(index, sub),
             info::Request::OdList(_) => Address::new(0, 0),
         };
-        let (group, maindevice, timeout) = (&self.group, &self.maindevice, self.timeout);
-        let r = drive(&mut self.tx_rx, async {
+        let (group, maindevice, timeout) = (&self.group, &self.link.maindevice, self.link.timeout);
+        let r = drive(&mut self.link.tx_rx, async {
             let sd = group
                 .subdevice(maindevice, usize::from(node) - 1)
                 .map_err(Failure::Master)?;
             sdo_info(maindevice, sd.configured_address(), request, timeout).await
         })
-        .map_err(|e| self.ended(e))?;
+        .map_err(|e| self.link.ended(e))?;
         r.map_err(|f| match (request, f) {
             (info::Request::OdList(_), Failure::Abort(code)) => EthercatError::Protocol {
                 addr,
@@ -891,7 +912,7 @@ impl EthercatSession {
                 ),
             }
             .into(),
-            (_, f) => self.error(node, addr, f),
+            (_, f) => self.link.error(node, addr, f),
         })
     }
 
@@ -967,7 +988,7 @@ impl SdoAccess for EthercatSession {
             Err(crate::UsageError::SlavePosition {
                 position: node,
                 count: n,
-                interface: self.interface.clone(),
+                interface: self.link.interface.clone(),
             }
             .into())
         }
@@ -975,22 +996,10 @@ impl SdoAccess for EthercatSession {
 
     fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
         self.check_node(node)?;
-        let (group, maindevice) = (&self.group, &self.maindevice);
-        let r = drive(&mut self.tx_rx, async {
-            let sd = group.subdevice(maindevice, usize::from(node) - 1)?;
-            sd.sdo_read::<heapless::Vec<u8, MAX_UPLOAD>>(addr.index, addr.sub)
-                .await
-        })
-        .map_err(|e| self.ended(e))?;
-        match r {
-            Ok(bytes) => Ok(bytes.to_vec()),
-            Err(Error::Mailbox(MailboxError::TooLong { .. })) => Err(self.error(
-                node,
-                addr,
-                Failure::Protocol(format!("longer than {MAX_UPLOAD} bytes")),
-            )),
-            Err(e) => Err(self.error(node, addr, e.into())),
-        }
+        let (group, maindevice) = (&self.group, &self.link.maindevice);
+        let sd = group.subdevice(maindevice, usize::from(node) - 1);
+        let r = drive(&mut self.link.tx_rx, upload(sd, addr)).map_err(|e| self.link.ended(e))?;
+        self.link.uploaded(node, addr, r)
     }
 
     /// The type SDO Information gives the entry; `None` when it is no basic type, or when the slave
@@ -1006,19 +1015,62 @@ impl SdoAccess for EthercatSession {
 
     fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError> {
         self.check_node(node)?;
-        let (group, maindevice, timeout) = (&self.group, &self.maindevice, self.timeout);
-        let r = drive(&mut self.tx_rx, async {
-            let sd = group.subdevice(maindevice, usize::from(node) - 1)?;
-            if (1..=4).contains(&data.len()) {
-                sd.sdo_write(addr.index, addr.sub, data).await?;
-                Ok(())
-            } else {
-                let mux = Address::new(addr.index, addr.sub);
-                normal_download(maindevice, sd.configured_address(), mux, data, timeout).await
-            }
-        })
-        .map_err(|e| self.ended(e))?;
-        r.map_err(|f| self.error(node, addr, f))
+        let (group, maindevice, timeout) = (&self.group, &self.link.maindevice, self.link.timeout);
+        let sd = group.subdevice(maindevice, usize::from(node) - 1);
+        let r = drive(
+            &mut self.link.tx_rx,
+            download(maindevice, sd, addr, data, timeout),
+        )
+        .map_err(|e| self.link.ended(e))?;
+        r.map_err(|f| self.link.error(node, addr, f))
+    }
+}
+
+/// Reads `addr` from the slave `sd` (in any state).
+async fn upload<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
+    sd: Result<ethercrab::SubDeviceRef<'_, S>, Error>,
+    addr: Address,
+) -> Result<heapless::Vec<u8, MAX_UPLOAD>, Error> {
+    sd?.sdo_read::<heapless::Vec<u8, MAX_UPLOAD>>(addr.index, addr.sub)
+        .await
+}
+
+/// Writes `data` to `addr` on the slave `sd` (in any state): expedited up to 4 bytes, else a
+/// normal download.
+async fn download<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
+    maindevice: &MainDevice<'_>,
+    sd: Result<ethercrab::SubDeviceRef<'_, S>, Error>,
+    addr: Address,
+    data: &[u8],
+    timeout: Duration,
+) -> Result<(), Failure> {
+    let sd = sd?;
+    if (1..=4).contains(&data.len()) {
+        sd.sdo_write(addr.index, addr.sub, data).await?;
+        Ok(())
+    } else {
+        let mux = Address::new(addr.index, addr.sub);
+        normal_download(maindevice, sd.configured_address(), mux, data, timeout).await
+    }
+}
+
+impl Link {
+    /// An upload's outcome in the tool's words.
+    fn uploaded(
+        &self,
+        node: u8,
+        addr: Address,
+        r: Result<heapless::Vec<u8, MAX_UPLOAD>, Error>,
+    ) -> Result<Vec<u8>, ToolError> {
+        match r {
+            Ok(bytes) => Ok(bytes.to_vec()),
+            Err(Error::Mailbox(MailboxError::TooLong { .. })) => Err(self.error(
+                node,
+                addr,
+                Failure::Protocol(format!("longer than {MAX_UPLOAD} bytes")),
+            )),
+            Err(e) => Err(self.error(node, addr, e.into())),
+        }
     }
 }
 

@@ -488,6 +488,13 @@ pub trait SdoAccess {
         Ok(None)
     }
 
+    /// Lets `d` pass: a network whose devices need the master's cycles meanwhile (an EtherCAT
+    /// chain in Op) keeps them going.
+    fn idle(&mut self, d: Duration) -> Result<(), ToolError> {
+        std::thread::sleep(d);
+        Ok(())
+    }
+
     /// Reads a value of `data_type`: the bytes must be a valid value of the type.
     fn read_value(
         &mut self,

@@ -181,3 +181,50 @@ fn status_as_json() {
             "mode_name": "no mode", "position": 0, "velocity": 0, "error_code": "0x0000"})
     );
 }
+
+/// The same drive as an EtherCAT slave (`ethercat-node` with `examples/drive.esi.xml`) on a veth
+/// pair. Each command runs the chain in Op; the controlword, target position and mode, which the
+/// drive maps in its RxPDO 0x1600, go by process data (written by CoE they would be overwritten at
+/// the next cycle, and the drive would never be enabled). After each command the chain is back in
+/// Init, and this drive, left without its master, in SWITCH ON DISABLED.
+#[test]
+fn on_ethercat_the_chain_runs_in_op_for_each_command() {
+    let esi = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/drive.esi.xml");
+    let link = testkit::link::Link::node(&["--esi", esi.to_str().unwrap()]);
+    let drive = |args: &[&str]| {
+        let mut argv = vec!["drive", "1"];
+        argv.extend_from_slice(args);
+        let o = sdo_tool(&["--ethercat", &link.master], &argv);
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert_eq!(o.status.code(), Some(0), "drive {args:?}: {err}");
+        String::from_utf8_lossy(&o.stdout).trim_end().to_string()
+    };
+    assert_eq!(
+        drive(&["status"]),
+        format!(
+            "node 1: {DISABLED}, cyclic synchronous position (8), position 0, velocity 0; \
+             statusword 0x0260: quick stop, switch on disabled, remote"
+        )
+    );
+    assert_eq!(
+        drive(&["move", "1000"]),
+        "node 1: OPERATION ENABLED, profile position (1), position 1000, velocity 0; statusword \
+         0x0637: ready to switch on, switched on, operation enabled, voltage enabled, quick stop, \
+         remote, target reached"
+    );
+    assert_eq!(
+        drive(&["status"]),
+        format!(
+            "node 1: {DISABLED}, profile position (1), position 1000, velocity 0; statusword \
+             0x0260: quick stop, switch on disabled, remote"
+        )
+    );
+    let out = drive(&["move", "--relative", "-250"]);
+    assert!(out.contains(", position 750, velocity 0;"), "{out}");
+    assert_eq!(
+        drive(&["home", "35"]),
+        "node 1: OPERATION ENABLED, homing (6), position 0, velocity 0; statusword 0x1637: ready \
+         to switch on, switched on, operation enabled, voltage enabled, quick stop, remote, \
+         target reached, homing attained"
+    );
+}

@@ -3,6 +3,11 @@
 //! writes the controlword and waits, with a bound, for the statusword to say the drive did it; a
 //! drive that does not says where it stayed and, in Fault, its error code 0x603F in words.
 //!
+//! On EtherCAT the chain runs in Op for the duration of the command (the controlword and the other
+//! entries the drive maps in its RxPDOs go by process data) and is back in Init after it, as a
+//! session of `sdo-tool --ethercat` leaves it; what a drive does when its master leaves Op is its
+//! own (commonly a fault reaction, or disable).
+//!
 //! The objects (CiA 402-2, axis `a` at 0x800·a above each): 0x6040 controlword, 0x6041 statusword,
 //! 0x603F error code, 0x6060/0x6061 modes of operation (display), 0x6064 position actual, 0x606C
 //! velocity actual, 0x607A target position, 0x6081 profile velocity, 0x6083/0x6084 profile
@@ -293,7 +298,7 @@ impl Drive<'_> {
             if Instant::now() >= end {
                 return Err(self.refusal(what, s, Some(bound)));
             }
-            std::thread::sleep(Duration::from_millis(10));
+            self.sdo.idle(Duration::from_millis(10))?;
         }
     }
 
@@ -345,7 +350,7 @@ impl Drive<'_> {
                 let what = "fault reset (controlword bit 7 rising)";
                 return Err(self.refusal(what, s, Some(self.wait)));
             }
-            std::thread::sleep(Duration::from_millis(10));
+            self.sdo.idle(Duration::from_millis(10))?;
         }
         self.control(0x0000)
     }
@@ -397,7 +402,7 @@ impl Drive<'_> {
                     self.wait.as_millis()
                 )));
             }
-            std::thread::sleep(Duration::from_millis(10));
+            self.sdo.idle(Duration::from_millis(10))?;
         }
     }
 
@@ -535,7 +540,7 @@ fn status(d: &mut Drive, watch: bool, json: bool, out: &mut dyn Write) -> Result
     let _ = ctrlc::set_handler(move || s.store(true, Ordering::Relaxed));
     while !stop.load(Ordering::Relaxed) {
         show(d, json, out)?;
-        std::thread::sleep(Duration::from_millis(200));
+        d.sdo.idle(Duration::from_millis(200))?;
     }
     Ok(())
 }
