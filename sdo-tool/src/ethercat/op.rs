@@ -127,7 +127,7 @@ impl EthercatSession {
             for j in 1..=entries {
                 let Some(e) = read(pdo as u16, j) else { break };
                 let (index, sub, bits) = ((e >> 16) as u16, (e >> 8) as u8, (e & 0xFF) as usize);
-                if index != 0 && bit % 8 == 0 && bits % 8 == 0 && bits > 0 {
+                if index != 0 && bit & 7 == 0 && bits & 7 == 0 && bits > 0 {
                     map.push(Mapped {
                         index,
                         sub,
