@@ -425,3 +425,102 @@ fn an_emergency_is_reported_with_its_fields() {
     }));
     assert_eq!(ErrorStatus::J.letter(), 'J');
 }
+
+/// `examples/drive.eds` made the DCF of node 7: TPDO 1 event timer 50 ms, mapping 0x6041 and
+/// 0x6064 (two entries), heartbeat 200 ms; as `sdo-tool dump` or a configuration tool writes one.
+fn drive_dcf() -> canopen_net::boot::SlaveDcf {
+    let eds = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/drive.eds");
+    let mut text = std::fs::read_to_string(eds).unwrap();
+    let set = |text: &mut String, section: &str, value: &str| {
+        let head = format!("[{section}]");
+        let at = text.find(&head).unwrap();
+        let at = at + text[at..].find('\n').unwrap() + 1;
+        text.insert_str(at, &format!("ParameterValue={value}\r\n"));
+    };
+    set(&mut text, "1017", "200");
+    set(&mut text, "1800sub5", "50");
+    set(&mut text, "1A00sub0", "2");
+    set(&mut text, "1A00sub1", "0x60410010");
+    set(&mut text, "1A00sub2", "0x60640020");
+    text.push_str("\n[DeviceComissioning]\nNodeID=7\n");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("drive7.dcf");
+    std::fs::write(&path, &text).unwrap();
+    let (_, mut devices) = od::load::load(&path).unwrap();
+    canopen_net::boot::SlaveDcf {
+        name: "drive7".into(),
+        file: "drive7.dcf".into(),
+        desc: devices.swap_remove(0),
+        text,
+    }
+}
+
+#[test]
+fn a_dcf_s_values_are_written_pdos_in_cia_301_order() {
+    let plan = Plan::from_dcfs(&[drive_dcf()], 1).unwrap();
+    let s = &plan.slaves[0];
+    assert_eq!((s.node_id, s.assignment, s.heartbeat_ms), (7, 0x05, 600));
+    assert_eq!(s.device_type.value, 0x0002_0192);
+    let written: Vec<String> = s
+        .configuration
+        .iter()
+        .map(|c| {
+            let hex: String = c.entry.data.iter().map(|b| format!("{b:02X}")).collect();
+            format!("{:04X}:{:02X}={hex}", c.entry.index, c.entry.sub)
+        })
+        .collect();
+    // 0x1017 first (index order); then TPDO 1: its COB-ID 0x187 made invalid (bit 31), the event
+    // timer, the mapping emptied, its two entries, its count, the COB-ID valid again.
+    assert_eq!(
+        written,
+        [
+            "1017:00=C800",
+            "1800:01=87010080",
+            "1800:05=3200",
+            "1A00:00=00",
+            "1A00:01=10004160",
+            "1A00:02=20006460",
+            "1A00:00=02",
+            "1800:01=87010000",
+        ]
+    );
+    // Each entry names the line of its value.
+    let origin = &s.configuration[0].origin;
+    assert!(
+        origin.starts_with("drive7.dcf:") && origin.ends_with(" 0x1017:00"),
+        "{origin}"
+    );
+    let line: usize = origin["drive7.dcf:".len()..]
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let text = drive_dcf().text;
+    assert_eq!(text.lines().nth(line - 1), Some("ParameterValue=200"));
+    assert!(Plan::from_dcfs(&[drive_dcf(), drive_dcf()], 1)
+        .unwrap_err()
+        .starts_with("node-ID 7 is given twice"));
+}
+
+#[test]
+fn the_configuration_s_progress_is_in_the_report_and_one_event() {
+    let mut s = slave();
+    s.configuration.push(ConfigEntry {
+        entry: Entry::new(0x1800, 5, vec![50, 0]),
+        origin: "bus.yml:20 drive.tpdo".into(),
+    });
+    let mut bus = Bus::new(plan(vec![s], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x360, 7);
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(bus.sent(), ["602#2B00180532000000"]);
+    let r = bus.m.nodes().next().unwrap();
+    assert_eq!(
+        (r.configured, r.state.word()),
+        ((1, 2), "config 1/2".to_string())
+    );
+    assert_eq!(bus.states(2), ["checking", "config 0/2"]);
+}

@@ -471,3 +471,42 @@ fn a_mixed_network_boots_from_the_folder_net_gen_wrote() {
         "250"
     );
 }
+
+#[test]
+fn a_folder_of_the_nodes_dumped_dcfs_boots_with_an_edited_value_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_server, port) = server();
+    let _io = io_node(port);
+    let bus = ["--bus".to_string(), client(port)];
+    let global: Vec<&str> = bus.iter().map(String::as_str).collect();
+    let dcfs = dir.path().join("dcfs");
+    std::fs::create_dir(&dcfs).unwrap();
+    for (node, eds, name) in [("2", "drive.eds", "drive"), ("3", "io-device.eds", "io")] {
+        let od = examples().join(eds);
+        let out = dcfs.join(format!("{name}.dcf"));
+        let mut g = global.clone();
+        g.extend(["--od", od.to_str().unwrap()]);
+        sdo_tool_ok(&g, &["dump", node, "-o", out.to_str().unwrap()]);
+    }
+    // The drive's TPDO 1 event timer, edited in its DCF: 10 → 250 ms.
+    let path = dcfs.join("drive.dcf");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let at = text.find("[1800sub5]").unwrap();
+    let value = at + text[at..].find("ParameterValue=").unwrap();
+    let end = value + text[value..].find('\n').unwrap();
+    let edited = format!("{}ParameterValue=250{}", &text[..value], &text[end..]);
+    std::fs::write(&path, edited).unwrap();
+    assert_eq!(
+        sdo_tool_ok(&global, &["read", "2", "0x1800:5", "u16"]).trim(),
+        "10"
+    );
+    let out = sdo_tool(&global, &["net", "boot", dcfs.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert_eq!(row(&text, 2)[1..3], ["drive", "up"], "{text}");
+    assert_eq!(row(&text, 3)[1..3], ["io", "up"], "{text}");
+    assert_eq!(
+        sdo_tool_ok(&global, &["read", "2", "0x1800:5", "u16"]).trim(),
+        "250"
+    );
+}

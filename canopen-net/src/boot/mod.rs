@@ -35,6 +35,7 @@
 //! wrong device or a refused value. Node guarding (0x1F81 bits 8–31 without a heartbeat) is not
 //! run: such a slave is booted without error control.
 
+mod dcfs;
 mod node;
 mod plan;
 mod status;
@@ -44,6 +45,7 @@ use std::time::{Duration, Instant};
 
 use can_link::CanFrame;
 
+pub use dcfs::SlaveDcf;
 pub use node::NodeReport;
 pub use plan::{ConfigEntry, Expect, LoadFile, Plan, SlavePlan};
 pub use status::{BootError, BootEvent, ErrorStatus, NodeState};

@@ -284,7 +284,12 @@ impl Node {
             sub: c.entry.sub,
         };
         let data = c.entry.data.clone();
-        self.set_state(NodeState::Configuring { done: i, of }, out);
+        // One event when the configuration starts; the count goes on in the report.
+        if i == 0 {
+            self.set_state(NodeState::Configuring { done: 0, of }, out);
+        } else {
+            self.report.state = NodeState::Configuring { done: i, of };
+        }
         self.step = Step::Write(i);
         if let Err(e) = self.sdo.start_download(now, mux, data) {
             self.fail_sdo(now, e, out);

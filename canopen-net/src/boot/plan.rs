@@ -310,12 +310,12 @@ impl Plan {
 }
 
 /// The keys of a CiA 306 file by section, with their lines.
-struct IniKeys {
+pub(crate) struct IniKeys {
     /// (section in upper case, key in lower case) → (line, value).
     keys: BTreeMap<(String, String), (usize, String)>,
 }
 
-fn ini_keys(text: &str) -> IniKeys {
+pub(crate) fn ini_keys(text: &str) -> IniKeys {
     let mut keys = BTreeMap::new();
     let mut section = String::new();
     for (n, line) in text.lines().enumerate() {
@@ -332,16 +332,25 @@ fn ini_keys(text: &str) -> IniKeys {
 
 impl IniKeys {
     /// The line of the value of `index:sub`: its key in the `[XXXXValue]` section of a compact
-    /// array, else its `[XXXXsubN]` section's `DefaultValue`, else 0.
-    fn line(&self, index: u16, sub: u8) -> usize {
+    /// array, else its `[XXXXsubN]` section's (or, for sub-index 0, `[XXXX]`'s) `ParameterValue`,
+    /// else `DefaultValue`, else 0.
+    pub(crate) fn line(&self, index: u16, sub: u8) -> usize {
         let compact = (format!("{index:04X}VALUE"), sub.to_string());
         let hex = (format!("{index:04X}VALUE"), format!("0x{sub:x}"));
-        let own = (format!("{index:04X}SUB{sub:X}"), "defaultvalue".to_string());
-        let plain = (format!("{index:04X}"), "defaultvalue".to_string());
-        [compact, hex, own, plain]
-            .iter()
-            .find_map(|k| self.keys.get(k))
-            .map_or(0, |(line, _)| *line)
+        let own = format!("{index:04X}SUB{sub:X}");
+        let plain = format!("{index:04X}");
+        let key = |section: &str, k: &str| (section.to_string(), k.to_string());
+        [
+            compact,
+            hex,
+            key(&own, "parametervalue"),
+            key(&own, "defaultvalue"),
+            key(&plain, "parametervalue"),
+            key(&plain, "defaultvalue"),
+        ]
+        .iter()
+        .find_map(|k| self.keys.get(k))
+        .map_or(0, |(line, _)| *line)
     }
 
     /// The `UploadFile` of 0x1F22 for `node`, with its line.

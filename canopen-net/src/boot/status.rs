@@ -154,7 +154,8 @@ impl NodeState {
 /// What the manager reports, taken with [`crate::boot::Manager::poll_event`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum BootEvent {
-    /// A node's state changed.
+    /// A node's state changed (its configuration's progress is not an event: it is in its
+    /// [`crate::boot::NodeReport`]).
     Node {
         /// The node-ID.
         node: u8,

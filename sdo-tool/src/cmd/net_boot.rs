@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use can_link::BusEvent;
-use canopen_net::boot::{BootEvent, Manager, ManagerConfig, NodeReport, NodeState, Plan};
+use canopen_net::boot::{BootEvent, Manager, ManagerConfig, NodeReport, NodeState, Plan, SlaveDcf};
 use canopen_net::GenOptions;
 
 use super::file_error;
@@ -32,7 +32,8 @@ pub struct BootArgs {
     /// message (ms).
     #[arg(long = "boot-up-wait-ms", value_name = "MS", default_value_t = 1000)]
     pub boot_up_wait_ms: u64,
-    /// The bus description (a YAML file), or a folder with master.dcf and the concise DCFs.
+    /// The bus description (a YAML file), a folder with master.dcf and the concise DCFs (as `net
+    /// gen` writes them), or a folder of the slaves' DCFs, each at its NodeID.
     #[arg(value_name = "BUS.yml|DIR")]
     pub description: std::path::PathBuf,
 }
@@ -59,10 +60,14 @@ pub fn plan(args: &BootArgs) -> Result<Plan, ToolError> {
     ))
 }
 
-/// The plan of a folder with `master.dcf`: the concise DCFs its 0x1F22 names, found where it says
-/// or, by file name, in the folder.
+/// The plan of a folder: with `master.dcf`, as `net gen` or dcfgen wrote it, the concise DCFs its
+/// 0x1F22 names found where it says or, by file name, in the folder; else the folder's DCFs, one per
+/// slave ([`Plan::from_dcfs`]).
 fn folder_plan(dir: &Path) -> Result<Plan, ToolError> {
     let master = dir.join("master.dcf");
+    if !master.is_file() {
+        return dcfs_plan(dir);
+    }
     let text = std::fs::read_to_string(&master).map_err(|e| file_error(&master, e))?;
     let desc = super::load_description(&master, "net boot")?;
     let mut load = |name: &str| -> Result<Option<Vec<u8>>, String> {
@@ -81,6 +86,38 @@ fn folder_plan(dir: &Path) -> Result<Plan, ToolError> {
     let file = master.display().to_string();
     Plan::from_master_dcf(&desc, &text, &file, &mut load)
         .map_err(|e| UsageError::Net(e.to_string()).into())
+}
+
+/// The plan of a folder of DCFs (`*.dcf`, in name order), each a slave at its NodeID.
+fn dcfs_plan(dir: &Path) -> Result<Plan, ToolError> {
+    let mut paths: Vec<_> = std::fs::read_dir(dir)
+        .map_err(|e| file_error(dir, e))?
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("dcf")))
+        .collect();
+    paths.sort();
+    if paths.is_empty() {
+        return Err(UsageError::Net(format!(
+            "{}: neither master.dcf nor a slave's DCF (*.dcf)",
+            dir.display()
+        ))
+        .into());
+    }
+    let mut dcfs = Vec::new();
+    for p in paths {
+        let text = std::fs::read_to_string(&p).map_err(|e| file_error(&p, e))?;
+        dcfs.push(SlaveDcf {
+            name: p
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            file: p.display().to_string(),
+            desc: super::load_description(&p, "net boot")?,
+            text,
+        });
+    }
+    Plan::from_dcfs(&dcfs, 127).map_err(|e| UsageError::Net(e).into())
 }
 
 /// Runs the manager of `args` on `tool`'s bus; `watch` keeps supervising after the boot.
