@@ -17,7 +17,9 @@
 //!   0x80 (silence: no unconfigured slave, [`LssAnswer::NotFound`]), then for each part of the
 //!   address the bits 31 down to 0, each asked with the bit clear (silence: the bit is 1), then the
 //!   part confirmed with `BitChecked` 0 and `LSSNext` the next part (0 after the serial number,
-//!   which puts the slave found into the configuration state). Silence at a confirmation is
+//!   which puts the slave found into the configuration state). Silence at a confirmation means an
+//!   answer came too late for its step (a busy gateway or machine): after a quiet bound the scan
+//!   starts again with twice the bound, up to [`FASTSCAN_RETRIES`] times, then
 //!   [`LssError::FastscanLost`].
 //! - Several slaves answer a Fastscan step alike; where their frames do not merge on the wire (a
 //!   bus of software nodes, a gateway), the copies come one after the other. So after the first
@@ -265,7 +267,14 @@ enum Scan {
     Bit { sub: u8, bit: u8 },
     /// Confirming part `sub`.
     Confirm { sub: u8 },
+    /// After a part was not confirmed: answers still on their way are let pass before the scan
+    /// starts again.
+    Quiet,
 }
+
+/// How often a Fastscan starts again after a part was not confirmed, each time with twice the
+/// bound of the last.
+pub const FASTSCAN_RETRIES: u8 = 2;
 
 /// The service running.
 #[derive(Debug, Clone, Copy)]
@@ -279,6 +288,11 @@ struct Running {
     scan: Scan,
     /// Fastscan only: the step was answered; its copies are awaited until the deadline.
     settling: bool,
+    /// Fastscan only: the bound of each step, doubled at each new start.
+    step: Duration,
+    /// Fastscan only: the starts again so far, and the part last not confirmed.
+    retries: u8,
+    lost: Option<(AddressPart, u32)>,
 }
 
 /// The LSS master; see the [module documentation](self).
@@ -442,6 +456,9 @@ impl LssMaster {
             address: [0; 4],
             scan: Scan::Start,
             settling: false,
+            step: self.timeout,
+            retries: 0,
+            lost: None,
         });
         Ok(())
     }
@@ -486,10 +503,10 @@ impl LssMaster {
         let service = running.request.name();
         let outcome = match running.request {
             LssRequest::Fastscan => {
-                if !running.settling {
+                if !running.settling && running.scan != Scan::Quiet {
                     self.running = Some(Running {
                         settling: true,
-                        deadline: now + self.timeout / 10,
+                        deadline: now + running.step / 10,
                         ..running
                     });
                 }
@@ -560,8 +577,15 @@ impl LssMaster {
             )
         };
         let (next, request) = match r.scan {
-            Scan::Start if !answered => return self.finish(Ok(LssAnswer::NotFound)),
+            Scan::Start if !answered => {
+                return match r.lost {
+                    // The slave answered before: it is there, late.
+                    Some(lost) => self.fastscan_again(now, r, lost),
+                    None => self.finish(Ok(LssAnswer::NotFound)),
+                };
+            }
             Scan::Start => bit_request(&r.address, 0, 31),
+            Scan::Quiet => (Scan::Start, fastscan(0, 0x80, 0, 0)),
             Scan::Bit { sub, bit } => {
                 if !answered {
                     r.address[usize::from(sub)] |= 1 << bit;
@@ -575,10 +599,11 @@ impl LssMaster {
                 }
             }
             Scan::Confirm { sub } if !answered => {
-                return self.finish(Err(LssError::FastscanLost {
-                    part: AddressPart::ALL[usize::from(sub)],
-                    value: r.address[usize::from(sub)],
-                }));
+                let lost = (
+                    AddressPart::ALL[usize::from(sub)],
+                    r.address[usize::from(sub)],
+                );
+                return self.fastscan_again(now, r, lost);
             }
             Scan::Confirm { sub: 3 } => return self.finish(Ok(LssAnswer::Found(r.address))),
             Scan::Confirm { sub } => bit_request(&r.address, sub + 1, 31),
@@ -586,7 +611,28 @@ impl LssMaster {
         self.transmit.push_back(request);
         r.scan = next;
         r.settling = false;
-        r.deadline = now + self.timeout;
+        r.deadline = now + r.step;
+        self.running = Some(r);
+    }
+
+    /// A part was not confirmed (`lost`): an answer came too late for its step and was taken for
+    /// the next one's. The scan starts again from its first request (which sets every slave back
+    /// to the first part), with twice the bound, after a quiet bound for late answers; after
+    /// [`FASTSCAN_RETRIES`] starts again, [`LssError::FastscanLost`].
+    fn fastscan_again(&mut self, now: Instant, mut r: Running, lost: (AddressPart, u32)) {
+        if r.retries >= FASTSCAN_RETRIES {
+            return self.finish(Err(LssError::FastscanLost {
+                part: lost.0,
+                value: lost.1,
+            }));
+        }
+        r.retries += 1;
+        r.lost = Some(lost);
+        r.address = [0; 4];
+        r.scan = Scan::Quiet;
+        r.settling = false;
+        r.deadline = now + r.step;
+        r.step = (r.step * 2).min(MAX_TIMEOUT);
         self.running = Some(r);
     }
 }

@@ -296,30 +296,111 @@ fn fastscan_finds_the_lowest_address_bit_by_bit() {
 }
 
 #[test]
-fn fastscan_without_a_confirmation_is_an_error() {
+fn fastscan_without_a_confirmation_starts_again_twice_then_is_an_error() {
     let mut m = LssMaster::with_timeout(Duration::from_millis(10));
     let t0 = Instant::now();
     m.start(t0, LssRequest::Fastscan).unwrap();
     m.handle_frame(t0, &answer([0x4F, 0, 0, 0, 0, 0, 0, 0]));
-    // Every bit of the vendor-ID meets silence (all ones), and so does the confirmation.
+    // Every bit of the vendor-ID meets silence (all ones), and so does the confirmation; the scan
+    // starts again after a quiet 10 ms with 20 ms a step, meets silence, and again after a quiet
+    // 20 ms with 40 ms.
+    let mut requests: Vec<(Duration, [u8; 8])> = Vec::new();
+    let mut now = t0;
     let outcome = loop {
+        requests.extend(std::iter::from_fn(|| m.poll_transmit()).map(|f| (now - t0, f.data8())));
         if let Some(o) = m.poll_event() {
             break o;
         }
-        let now = m.poll_timeout().unwrap();
+        now = m.poll_timeout().unwrap();
         m.handle_timeout(now);
     };
     assert_eq!(
         outcome.unwrap_err().to_string(),
         "Fastscan: no slave confirmed the vendor-ID 0xFFFFFFFF"
     );
-    let requests: Vec<[u8; 8]> = std::iter::from_fn(|| m.poll_transmit())
-        .map(|f| f.data8())
-        .collect();
-    assert_eq!(requests.len(), 1 + 33);
-    assert_eq!(requests[32], [0x51, 0xFE, 0xFF, 0xFF, 0xFF, 0, 0, 0]);
-    assert_eq!(requests[33], [0x51, 0xFF, 0xFF, 0xFF, 0xFF, 0, 0, 1]);
+    let ms = Duration::from_millis;
+    assert_eq!(requests.len(), 1 + 33 + 2);
+    // The first bit after the settling time of the start's answer (a tenth of the bound).
+    let expected = [
+        (1, ms(1), [0x51, 0, 0, 0, 0, 31, 0, 0]),
+        (32, ms(311), [0x51, 0xFE, 0xFF, 0xFF, 0xFF, 0, 0, 0]),
+        (33, ms(321), [0x51, 0xFF, 0xFF, 0xFF, 0xFF, 0, 0, 1]),
+        (34, ms(341), [0x51, 0, 0, 0, 0, 0x80, 0, 0]),
+        (35, ms(381), [0x51, 0, 0, 0, 0, 0x80, 0, 0]),
+    ];
+    for (i, at, frame) in expected {
+        assert_eq!(requests[i], (at, frame), "request {i}");
+    }
+    assert_eq!(now - t0, ms(421));
     assert!(!m.is_busy());
+}
+
+/// A Fastscan of `slave` whose answer to request `i` (from 0) comes `delay(i)` after it (a busy
+/// gateway or machine), with `timeout` a step: the outcome and the starts (requests with
+/// `BitChecked` 0x80).
+fn late_fastscan(
+    slave: &mut Slave,
+    delay: impl Fn(usize) -> Duration,
+    timeout: Duration,
+) -> (Result<LssAnswer, LssError>, usize) {
+    let t0 = Instant::now();
+    let mut now = t0;
+    let mut m = LssMaster::with_timeout(timeout);
+    m.start(now, LssRequest::Fastscan).unwrap();
+    let mut due: Vec<Instant> = Vec::new();
+    let mut starts = 0;
+    let mut sent = 0;
+    loop {
+        while let Some(f) = m.poll_transmit() {
+            starts += usize::from(f.data8()[5] == 0x80);
+            if slave.answers(f.data8()) {
+                due.push(now + delay(sent));
+            }
+            sent += 1;
+        }
+        if let Some(outcome) = m.poll_event() {
+            return (outcome, starts);
+        }
+        let next_answer = due.iter().min().copied();
+        let timer = m.poll_timeout().unwrap();
+        match next_answer {
+            Some(t) if t <= timer => {
+                now = t;
+                due.retain(|&d| d != t);
+                m.handle_frame(now, &answer([0x4F, 0, 0, 0, 0, 0, 0, 0]));
+            }
+            _ => {
+                now = timer;
+                m.handle_timeout(now);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_slave_answering_later_than_the_bound_is_found_when_the_scan_starts_again() {
+    let address = [0x0000_0ABC, 0x0000_0402, 0x0001_0001, 0x0000_0002];
+    let mut slave = Slave {
+        address,
+        at: 0,
+        configuration: false,
+    };
+    // Requests 5 to 9 answered 15 ms late with 10 ms a step, the others at once: an answer is
+    // taken for the next step, the vendor-ID is not confirmed; started again, it is found.
+    let hiccup = |i: usize| Duration::from_millis(if (5..10).contains(&i) { 15 } else { 0 });
+    let (outcome, starts) = late_fastscan(&mut slave, hiccup, Duration::from_millis(10));
+    assert_eq!(outcome.unwrap(), LssAnswer::Found(address));
+    assert_eq!(starts, 2);
+    assert!(slave.configuration);
+    // In time: one start.
+    let mut slave = Slave {
+        address,
+        at: 0,
+        configuration: false,
+    };
+    let in_time = |_| Duration::from_millis(5);
+    let (outcome, starts) = late_fastscan(&mut slave, in_time, Duration::from_millis(10));
+    assert_eq!((outcome.unwrap(), starts), (LssAnswer::Found(address), 1));
 }
 
 #[test]

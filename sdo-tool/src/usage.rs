@@ -43,6 +43,12 @@ pub enum UsageError {
         /// The address as given.
         text: String,
     },
+    /// `lss identify`: a range that is not VENDOR:PRODUCT:REVISIONS:SERIALS.
+    #[error("LSS range {text:?} is not VENDOR:PRODUCT:REVISIONS:SERIALS, REVISIONS and SERIALS a number or LOW-HIGH (e.g. 0xABC:0x402:0x10000-0x1FFFF:1-100)")]
+    LssRange {
+        /// The range as given.
+        text: String,
+    },
     /// `lss`: a node-ID outside 1–127.
     #[error("node-ID {text:?} is not 1 to 127")]
     LssNodeId {

@@ -169,6 +169,19 @@ fn lss_scan_and_the_single_services_against_two_nodes() {
         ]
     );
 
+    // Identify (CiA 305 §8.4.2, §8.4.3): a node without a node-ID answers; one of vendor 0xABC,
+    // product 0x402, revision in 0x10000–0x1FFFF and serial 2 answers; none has a serial in 3–9.
+    let out = common::sdo_tool_ok(&global, &["lss", "identify"]);
+    assert_eq!(lines(&out), ["yes: a node without a node-ID answered"]);
+    let range = "0xABC:0x402:0x10000-0x1FFFF:2";
+    let out = common::sdo_tool_ok(&global, &["lss", "identify", range]);
+    assert_eq!(lines(&out), [format!("yes: a node of {range} answered")]);
+    let range = "0xABC:0x402:0x10001:3-9";
+    let out = common::sdo_tool_ok(&global, &["--json", "lss", "identify", range]);
+    assert_eq!(lines(&out), [r#"{"answered":false}"#]);
+    let o = common::sdo_tool(&global, &["lss", "identify", "0xABC:0x402:1"]);
+    assert_eq!(o.status.code(), Some(2));
+
     // The second node by its address: node-ID 20, pending until it is back in waiting.
     let out = common::sdo_tool_ok(&global, &["lss", "set-id", second, "20"]);
     assert_eq!(lines(&out), [format!("{second} node-ID 20")]);
@@ -211,6 +224,8 @@ fn lss_scan_and_the_single_services_against_two_nodes() {
         String::from_utf8_lossy(&o.stderr),
         "sdo-tool: LSS inquire identity: no answer within 50 ms\n"
     );
+    let out = common::sdo_tool_ok(&global, &["lss", "identify"]);
+    assert_eq!(lines(&out), ["no: a node without a node-ID did not answer"]);
     let o = common::sdo_tool(&global, &["lss", "set-id", "--fastscan", "22"]);
     assert_eq!(o.status.code(), Some(3));
     assert_eq!(

@@ -57,6 +57,14 @@ pub enum LssCommand {
         /// waiting or configuration.
         state: String,
     },
+    /// Identify: with no RANGE, whether a node without a node-ID is on the bus (identify
+    /// non-configured remote slave); with VENDOR:PRODUCT:REVISIONS:SERIALS (REVISIONS and SERIALS a
+    /// number or LOW-HIGH), whether a node of that vendor and product with its revision and serial
+    /// number in the ranges is (identify remote slave). Prints yes or no.
+    Identify {
+        /// VENDOR:PRODUCT:REVISIONS:SERIALS.
+        range: Option<String>,
+    },
     /// Find every node without a node-ID by Fastscan, give them node-IDs from FIRST_ID on, store
     /// each and switch it back to waiting (where it takes the node-ID at once).
     Assign {
@@ -118,6 +126,30 @@ pub fn parse_address(text: &str) -> Result<LssAddress, UsageError> {
         .map(|p| number(p).ok_or_else(bad))
         .collect::<Result<_, _>>()?;
     <LssAddress>::try_from(parts).map_err(|_| bad())
+}
+
+/// `VENDOR:PRODUCT:REVISIONS:SERIALS`, REVISIONS and SERIALS a number or `LOW-HIGH`: the request
+/// identify remote slave.
+fn parse_range(text: &str) -> Result<LssRequest, UsageError> {
+    let bad = || UsageError::LssRange {
+        text: text.to_string(),
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    let [vendor, product, revision, serial] = parts[..] else {
+        return Err(bad());
+    };
+    let range = |p: &str| -> Option<(u32, u32)> {
+        match p.split_once('-') {
+            Some((low, high)) => Some((number(low)?, number(high)?)),
+            None => number(p).map(|v| (v, v)),
+        }
+    };
+    Ok(LssRequest::IdentifyRemote {
+        vendor: number(vendor).ok_or_else(bad)?,
+        product: number(product).ok_or_else(bad)?,
+        revision: range(revision).ok_or_else(bad)?,
+        serial: range(serial).ok_or_else(bad)?,
+    })
 }
 
 fn number(text: &str) -> Option<u32> {
@@ -274,6 +306,26 @@ pub fn run(
             };
             let text = format!("{} node-ID {id_text}", address_text(&address));
             emit(out, json, text, value)
+        }
+        LssCommand::Identify { range } => {
+            let request = match range {
+                None => LssRequest::IdentifyNonConfigured,
+                Some(text) => parse_range(text)?,
+            };
+            let answered = matches!(
+                exchange(bus, &mut master, request)?,
+                LssAnswer::Identified(true)
+            );
+            let what = match range {
+                None => "a node without a node-ID".to_string(),
+                Some(text) => format!("a node of {text}"),
+            };
+            let text = if answered {
+                format!("yes: {what} answered")
+            } else {
+                format!("no: {what} did not answer")
+            };
+            emit(out, json, text, serde_json::json!({"answered": answered}))
         }
         LssCommand::Switch { state } => {
             let state = match state.as_str() {
