@@ -90,9 +90,15 @@ impl Bus {
     /// Runs the time on by `d`, calling the manager at each instant it asked for on the way.
     fn advance(&mut self, d: Duration) {
         let end = self.now + d;
+        let mut calls = 0;
         while let Some(t) = self.m.poll_timeout().filter(|&t| t <= end) {
             self.now = self.now.max(t);
             self.m.handle_timeout(self.now);
+            calls += 1;
+            assert!(
+                calls < 100_000,
+                "the manager asks for a call at {t:?} again and again"
+            );
         }
         self.now = end;
         self.m.handle_timeout(self.now);
@@ -242,6 +248,7 @@ fn a_missing_node_ends_with_b_and_is_asked_again_every_retry() {
     bus.advance(Duration::from_millis(1100));
     assert_eq!(bus.sent(), ["602#8000100000000405", "602#4000100000000000"]);
     assert_eq!(bus.m.missing(), [2]);
+    assert!(!bus.m.settled(), "tried again in a second");
 }
 
 #[test]
@@ -523,4 +530,169 @@ fn the_configuration_s_progress_is_in_the_report_and_one_event() {
         ((1, 2), "config 1/2".to_string())
     );
     assert_eq!(bus.states(2), ["checking", "config 0/2"]);
+}
+
+#[test]
+fn frames_of_other_lengths_and_other_services_are_passed_over() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    bus.events.clear();
+    // A heartbeat of two bytes, an SDO answer of seven, a SYNC (0x080) and an EMCY of seven bytes:
+    // none is the frame it looks like.
+    bus.feed(0x702, &[0x00, 0x00]);
+    bus.feed(0x080, &[]);
+    bus.feed(0x080, &[0; 8]);
+    bus.feed(0x082, &[0x10, 0x81, 0x11, 1, 2, 3, 4]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert!(bus.events.is_empty(), "{:?}", bus.events);
+    bus.feed(0x702, &[0x00]);
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+    bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    // A heartbeat frame of eight bytes is no SDO answer either.
+    bus.feed(0x702, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("checking"));
+}
+
+#[test]
+fn a_lost_mandatory_slave_resets_or_stops_every_node_as_0x1f80_says() {
+    // 0x1F80 bit 4: reset all nodes, and the boot starts again.
+    let mut bus = Bus::new(plan(vec![slave()], 0x11));
+    boot(&mut bus);
+    bus.advance(Duration::from_millis(300));
+    assert_eq!(bus.sent(), ["000#8200"]);
+    assert!(!bus.m.network_up());
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("reset"));
+    // 0x1F80 bit 6: stop all nodes.
+    let mut bus = Bus::new(plan(vec![slave()], 0x41));
+    boot(&mut bus);
+    bus.advance(Duration::from_millis(300));
+    assert_eq!(bus.sent(), ["000#0200"]);
+    // Neither: only that node is failed.
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    boot(&mut bus);
+    bus.advance(Duration::from_millis(300));
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    // An optional slave lost with bit 4 set: nothing for the others.
+    let mut optional = slave();
+    optional.assignment = 0x05;
+    let mut bus = Bus::new(plan(vec![optional], 0x11));
+    boot(&mut bus);
+    bus.advance(Duration::from_millis(300));
+    assert_eq!(bus.sent(), Vec::<String>::new());
+}
+
+#[test]
+fn the_master_heartbeat_keeps_its_period_and_after_a_pause_starts_from_now() {
+    let mut p = plan(vec![slave()], 0x01);
+    p.heartbeat_ms = 100;
+    let mut bus = Bus::new(p);
+    let t0 = bus.now;
+    bus.m.start(t0);
+    bus.sent();
+    let ms = |n| t0 + Duration::from_millis(n);
+    // Slave waiting for its boot-up until 500 ms: the next call is the beat at 100 ms.
+    assert_eq!(bus.m.poll_timeout(), Some(ms(100)));
+    // Called 30 ms late: the beat goes, the next stays on the period (200 ms).
+    bus.m.handle_timeout(ms(130));
+    assert_eq!(bus.sent(), ["701#7F"]);
+    assert_eq!(bus.m.poll_timeout(), Some(ms(200)));
+    // Called 250 ms late: one beat, the next a period from now.
+    bus.m.handle_timeout(ms(450));
+    assert_eq!(bus.sent(), ["701#7F"]);
+    assert_eq!(bus.m.poll_timeout(), Some(ms(500)));
+    bus.m.handle_timeout(ms(500));
+    assert_eq!(bus.m.poll_timeout(), Some(ms(550)));
+}
+
+#[test]
+fn once_up_the_boot_time_no_longer_asks_for_a_call() {
+    let mut s = slave();
+    s.heartbeat_ms = 0;
+    let mut p = plan(vec![s], 0x01);
+    p.boot_time_ms = 2000;
+    let mut bus = Bus::new(p);
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x360, 7);
+    bus.sent();
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(bus.sent(), ["000#0102"]);
+    assert!(bus.m.network_up());
+    assert_eq!(bus.m.poll_timeout(), None);
+}
+
+#[test]
+fn start_all_waits_for_an_optional_slave_s_first_boot_to_end() {
+    let mandatory = slave();
+    let mut optional = slave();
+    optional.node_id = 3;
+    optional.assignment = 0x05;
+    optional.identity = [expect(0, ""), expect(0, ""), expect(0, ""), expect(0, "")];
+    optional.heartbeat_ms = 0;
+    optional.configuration.clear();
+    let mut bus = Bus::new(plan(vec![mandatory, optional], 0x03));
+    bus.m.start(bus.now);
+    bus.sent();
+    bus.feed(0x703, &[0x00]);
+    assert_eq!(bus.sent(), ["603#4000100000000000"]);
+    // The mandatory one boots while the optional one is still being checked: no start yet.
+    identity(&mut bus, 0x360, 7);
+    bus.sent();
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    bus.feed(0x702, &[0x7F]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert!(!bus.m.network_up());
+    // The optional one answers: its boot ends, every node starts with one command.
+    bus.feed(0x583, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    assert_eq!(bus.sent(), ["000#0100"]);
+    assert!(bus.m.network_up());
+}
+
+#[test]
+fn the_software_version_is_checked_when_0x1f81_bit_5_says_so() {
+    let mut s = slave();
+    s.identity = [expect(0, ""), expect(0, ""), expect(0, ""), expect(0, "")];
+    s.software = expect(0x0001_0002, "bus.yml:12 drive.software_version");
+    // Bit 5 clear: not read, the configuration follows 0x1000.
+    let mut bus = Bus::new(plan(vec![s.clone()], 0x01));
+    bus.m.start(bus.now);
+    bus.feed(0x702, &[0x00]);
+    bus.sent();
+    bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
+    // Bit 5 set: 0x1F56:01 read; another value is H.
+    s.assignment |= 0x20;
+    let mut bus = Bus::new(plan(vec![s.clone()], 0x01));
+    bus.m.start(bus.now);
+    bus.feed(0x702, &[0x00]);
+    bus.sent();
+    bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    assert_eq!(bus.sent(), ["602#40561F0100000000"]);
+    bus.feed(0x582, &[0x43, 0x56, 0x1F, 0x01, 0x01, 0x00, 0x01, 0x00]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert_eq!(
+        bus.error(2),
+        "node 2 [H] software identification 0x00010002 expected (bus.yml:12 \
+         drive.software_version), 0x00010001 found in 0x1F56:01 — its software is to be updated, \
+         which this manager does not do"
+    );
+    // The same value: on to the configuration. And 0 expected is not checked, bit 5 or not.
+    let mut bus = Bus::new(plan(vec![s.clone()], 0x01));
+    bus.m.start(bus.now);
+    bus.feed(0x702, &[0x00]);
+    bus.sent();
+    bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    bus.sent();
+    bus.feed(0x582, &[0x43, 0x56, 0x1F, 0x01, 0x02, 0x00, 0x01, 0x00]);
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
+    s.software.value = 0;
+    let mut bus = Bus::new(plan(vec![s], 0x01));
+    bus.m.start(bus.now);
+    bus.feed(0x702, &[0x00]);
+    bus.sent();
+    bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
 }
