@@ -510,3 +510,35 @@ fn a_folder_of_the_nodes_dumped_dcfs_boots_with_an_edited_value_written() {
         "250"
     );
 }
+
+/// On a terminal the table is drawn live: each event draws it again over itself (cursor up by the
+/// table's lines, each line cleared), with no event lines between.
+#[test]
+fn on_a_terminal_the_table_is_live() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_server, port) = server();
+    let _io = io_node(port);
+    let bus = bus_yml(dir.path(), "");
+    let command = format!(
+        "{} --bus {} net boot {}",
+        env!("CARGO_BIN_EXE_sdo-tool"),
+        client(port),
+        bus.display()
+    );
+    // `script` runs the command on a pseudo-terminal; -e: its exit code.
+    let o = Command::new("script")
+        .args(["-qec", &command, "/dev/null"])
+        .output()
+        .expect("script (util-linux)");
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{text}");
+    let header = "\x1b[2Knode  name";
+    let draws = text.matches(header).count();
+    assert!(draws >= 2, "{text:?}");
+    // Each draw after the first goes up over the header and the two nodes' rows.
+    assert_eq!(text.matches("\x1b[3A").count(), draws - 1, "{text:?}");
+    assert!(!text.contains("NMT reset communication"), "{text:?}");
+    let last = text.rsplit(header).next().unwrap();
+    assert!(last.contains("drive        up"), "{text:?}");
+    assert!(last.contains("io           up"), "{text:?}");
+}
