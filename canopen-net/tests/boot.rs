@@ -273,13 +273,19 @@ fn a_refused_configuration_write_ends_with_j_naming_the_entry_and_its_line() {
     assert_eq!(bus.sent(), ["602#4000100000000000"]);
 }
 
-/// Boots node 2 to Up.
-fn boot(bus: &mut Bus) {
+/// Starts the manager and takes node 2 through its checks and its one entry, up to the wait for
+/// its heartbeat.
+fn configured(bus: &mut Bus) {
     bus.m.start(bus.now);
     bus.sent();
     identity(bus, 0x360, 7);
     bus.sent();
     bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+}
+
+/// Boots node 2 to Up.
+fn boot(bus: &mut Bus) {
+    configured(bus);
     bus.feed(0x702, &[0x7F]);
     bus.sent();
     assert!(bus.m.network_up());
@@ -288,11 +294,7 @@ fn boot(bus: &mut Bus) {
 #[test]
 fn no_heartbeat_after_configuration_ends_with_k() {
     let mut bus = Bus::new(plan(vec![slave()], 0x01));
-    bus.m.start(bus.now);
-    bus.sent();
-    identity(&mut bus, 0x360, 7);
-    bus.sent();
-    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    configured(&mut bus);
     bus.advance(Duration::from_millis(299));
     assert_eq!(bus.states(2).last().map(String::as_str), Some("heartbeat"));
     bus.advance(Duration::from_millis(1));
@@ -341,20 +343,12 @@ fn a_boot_up_message_of_a_running_node_starts_its_boot_again() {
 fn start_all_nodes_sends_one_command_once_every_slave_booted() {
     // 0x1F80 = 0x03: NMT master, start all nodes at once.
     let mut bus = Bus::new(plan(vec![slave()], 0x03));
-    bus.m.start(bus.now);
-    bus.sent();
-    identity(&mut bus, 0x360, 7);
-    bus.sent();
-    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    configured(&mut bus);
     bus.feed(0x702, &[0x7F]);
     assert_eq!(bus.sent(), ["000#0100"], "NMT start, all nodes");
     // 0x1F80 = 0x09: the master starts no slave.
     let mut bus = Bus::new(plan(vec![slave()], 0x09));
-    bus.m.start(bus.now);
-    bus.sent();
-    identity(&mut bus, 0x360, 7);
-    bus.sent();
-    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    configured(&mut bus);
     bus.feed(0x702, &[0x7F]);
     assert_eq!(bus.sent(), Vec::<String>::new());
     assert!(bus.m.network_up());
@@ -614,11 +608,7 @@ fn once_up_the_boot_time_no_longer_asks_for_a_call() {
     let mut p = plan(vec![s], 0x01);
     p.boot_time_ms = 2000;
     let mut bus = Bus::new(p);
-    bus.m.start(bus.now);
-    bus.sent();
-    identity(&mut bus, 0x360, 7);
-    bus.sent();
-    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    configured(&mut bus);
     assert_eq!(bus.sent(), ["000#0102"]);
     assert!(bus.m.network_up());
     assert_eq!(bus.m.poll_timeout(), None);

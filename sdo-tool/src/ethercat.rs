@@ -981,17 +981,7 @@ impl EthercatSession {
 
 impl SdoAccess for EthercatSession {
     fn check_node(&self, node: u8) -> Result<(), ToolError> {
-        let n = self.group.len();
-        if (1..=n).contains(&usize::from(node)) {
-            Ok(())
-        } else {
-            Err(crate::UsageError::SlavePosition {
-                position: node,
-                count: n,
-                interface: self.link.interface.clone(),
-            }
-            .into())
-        }
+        self.link.check_position(node, self.group.len())
     }
 
     fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
@@ -1055,6 +1045,20 @@ async fn download<S: std::ops::Deref<Target = ethercrab::SubDevice>>(
 }
 
 impl Link {
+    /// Whether `node` is a position of a chain of `count` slaves; a usage error says why not.
+    fn check_position(&self, node: u8, count: usize) -> Result<(), ToolError> {
+        if (1..=count).contains(&usize::from(node)) {
+            Ok(())
+        } else {
+            Err(crate::UsageError::SlavePosition {
+                position: node,
+                count,
+                interface: self.interface.clone(),
+            }
+            .into())
+        }
+    }
+
     /// An upload's outcome in the tool's words.
     fn uploaded(
         &self,

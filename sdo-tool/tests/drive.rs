@@ -4,57 +4,28 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 use common::sdo_tool;
 
-struct Node(Child, u16);
-
-impl Drop for Node {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+/// The drive at node 2 on a socketcand server of its own (stopped when dropped), and the bus its
+/// clients give.
+struct Node(#[allow(dead_code)] common::Proc, String);
 
 fn node() -> Node {
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
     let eds = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/drive.eds");
-    let mut child = Command::new(testkit::cargo_binary("socketcan-node", "canopen-node", &[]))
-        .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
-        .arg("--od")
-        .arg(format!("{}@2", eds.display()))
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut out = BufReader::new(child.stdout.take().unwrap());
-    let mut line = String::new();
-    out.read_line(&mut line).unwrap();
-    std::thread::spawn(move || std::io::copy(&mut out, &mut std::io::sink()));
-    for _ in 0..100 {
-        if std::net::TcpStream::connect(("127.0.0.1", port)).is_ok() {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    Node(child, port)
+    let (p, bus) = common::node_server(&["--od", &format!("{}@2", eds.display())]);
+    Node(p, bus)
 }
 
 impl Node {
     /// `sdo-tool drive 2 ARGS`: exit code, standard output, standard error.
     fn drive(&self, args: &[&str]) -> (Option<i32>, String, String) {
-        let bus = format!("socketcand://127.0.0.1:{}/can0", self.1);
+        let bus = &self.1;
         let mut argv = vec!["drive", "2"];
         argv.extend_from_slice(args);
-        let o = sdo_tool(&["--bus", &bus], &argv);
+        let o = sdo_tool(&["--bus", bus], &argv);
         (
             o.status.code(),
             String::from_utf8_lossy(&o.stdout).into_owned(),
@@ -69,8 +40,7 @@ impl Node {
     }
 
     fn write(&self, args: &[&str]) {
-        let bus = format!("socketcand://127.0.0.1:{}/can0", self.1);
-        common::sdo_tool_ok(&["--bus", &bus], args);
+        common::sdo_tool_ok(&["--bus", &self.1], args);
     }
 }
 
@@ -171,8 +141,7 @@ fn a_move_into_a_limit_switch_is_refused_with_the_drive_s_error_code() {
 #[test]
 fn status_as_json() {
     let n = node();
-    let bus = format!("socketcand://127.0.0.1:{}/can0", n.1);
-    let o = sdo_tool(&["--bus", &bus, "--json"], &["drive", "2", "status"]);
+    let o = sdo_tool(&["--bus", &n.1, "--json"], &["drive", "2", "status"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(
         v,

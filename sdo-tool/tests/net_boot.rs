@@ -12,68 +12,21 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use common::{sdo_tool, sdo_tool_ok};
+use common::{canopen_node, sdo_tool, sdo_tool_ok, spawn, Proc};
 
 fn examples() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples")
 }
 
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-}
-
-/// A node process; killed when dropped.
-struct Proc(Child);
-
-impl Drop for Proc {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// `canopen-node --bus BUS ARGS`, once it printed its first line.
-fn canopen_node(bus: &str, args: &[&str]) -> Proc {
-    spawn(
-        Command::new(testkit::cargo_binary("socketcan-node", "canopen-node", &[]))
-            .args(["--bus", bus])
-            .args(args),
-    )
-}
-
-fn spawn(cmd: &mut Command) -> Proc {
-    let mut child = cmd
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut out = BufReader::new(child.stdout.take().unwrap());
-    let mut line = String::new();
-    out.read_line(&mut line).unwrap();
-    assert!(!line.is_empty(), "the node printed nothing and ended");
-    // The rest of its output is drained so that it never blocks on a full pipe.
-    std::thread::spawn(move || std::io::copy(&mut out, &mut std::io::sink()));
-    Proc(child)
-}
-
-/// The server (node 2, the drive) on a port of its own, taking connections.
+/// The server (node 2, the drive) taking connections, and its port.
 fn server() -> (Proc, u16) {
-    let port = free_port();
     let drive = format!("{}@2", examples().join("drive.eds").display());
-    let p = canopen_node(
-        &format!("socketcand-listen:127.0.0.1:{port}"),
-        &["--od", &drive],
-    );
-    for _ in 0..100 {
-        if std::net::TcpStream::connect(("127.0.0.1", port)).is_ok() {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
+    let (p, bus) = common::node_server(&["--od", &drive]);
+    let port = bus
+        .trim_start_matches("socketcand://127.0.0.1:")
+        .trim_end_matches("/can0")
+        .parse()
+        .unwrap();
     (p, port)
 }
 

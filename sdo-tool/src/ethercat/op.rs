@@ -187,17 +187,7 @@ impl OpSession {
 
 impl SdoAccess for OpSession {
     fn check_node(&self, node: u8) -> Result<(), ToolError> {
-        let n = self.group.len();
-        if (1..=n).contains(&usize::from(node)) {
-            Ok(())
-        } else {
-            Err(crate::UsageError::SlavePosition {
-                position: node,
-                count: n,
-                interface: self.link.interface.clone(),
-            }
-            .into())
-        }
+        self.link.check_position(node, self.group.len())
     }
 
     fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {

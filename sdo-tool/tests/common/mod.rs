@@ -24,3 +24,57 @@ pub fn sdo_tool_ok(global: &[&str], argv: &[&str]) -> String {
     );
     stdout
 }
+
+/// A process of the test's (a node, a python-canopen script); killed when dropped.
+pub struct Proc(pub std::process::Child);
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Starts `cmd` and waits for its first line of output (a node announces itself); the rest of its
+/// output is drained so that it never blocks on a full pipe.
+pub fn spawn(cmd: &mut Command) -> Proc {
+    use std::io::{BufRead, BufReader};
+    let mut child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    out.read_line(&mut line).unwrap();
+    assert!(!line.is_empty(), "the process printed nothing and ended");
+    std::thread::spawn(move || std::io::copy(&mut out, &mut std::io::sink()));
+    Proc(child)
+}
+
+/// `canopen-node --bus BUS ARGS`, once it announced itself.
+pub fn canopen_node(bus: &str, args: &[&str]) -> Proc {
+    spawn(
+        Command::new(testkit::cargo_binary("socketcan-node", "canopen-node", &[]))
+            .args(["--bus", bus])
+            .args(args),
+    )
+}
+
+/// `canopen-node ARGS` as a socketcand server on a free port of 127.0.0.1, taking connections: the
+/// process and the bus its clients give (`socketcand://127.0.0.1:PORT/can0`).
+pub fn node_server(args: &[&str]) -> (Proc, String) {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let p = canopen_node(&format!("socketcand-listen:127.0.0.1:{port}"), args);
+    for _ in 0..100 {
+        if std::net::TcpStream::connect(("127.0.0.1", port)).is_ok() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    (p, format!("socketcand://127.0.0.1:{port}/can0"))
+}
