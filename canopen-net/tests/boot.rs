@@ -427,8 +427,10 @@ fn an_emergency_is_reported_with_its_fields() {
     assert_eq!(ErrorStatus::J.letter(), 'J');
 }
 
-/// `examples/drive.eds` made the DCF of node 7: TPDO 1 event timer 50 ms, mapping 0x6041 and
-/// 0x6064 (two entries), heartbeat 200 ms; as `sdo-tool dump` or a configuration tool writes one.
+/// `examples/drive.eds` made the DCF of node 7: TPDO 1 its COB-ID as it is, event timer 50 ms,
+/// mapping 0x6041 and 0x6064 (two entries); RPDO 1 its COB-ID 0x202 and one mapped entry without a
+/// count; heartbeat 200 ms; a value for the statusword, which is read only; as `sdo-tool dump` or
+/// a configuration tool writes one.
 fn drive_dcf() -> canopen_net::boot::SlaveDcf {
     let eds = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/drive.eds");
     let mut text = std::fs::read_to_string(eds).unwrap();
@@ -439,7 +441,11 @@ fn drive_dcf() -> canopen_net::boot::SlaveDcf {
         text.insert_str(at, &format!("ParameterValue={value}\r\n"));
     };
     set(&mut text, "1017", "200");
+    set(&mut text, "1400sub1", "0x202");
+    set(&mut text, "1600sub1", "0x60400010");
+    set(&mut text, "1800sub1", "$NODEID+0x180");
     set(&mut text, "1800sub5", "50");
+    set(&mut text, "6041", "0x0237");
     set(&mut text, "1A00sub0", "2");
     set(&mut text, "1A00sub1", "0x60410010");
     set(&mut text, "1A00sub2", "0x60640020");
@@ -470,12 +476,18 @@ fn a_dcf_s_values_are_written_pdos_in_cia_301_order() {
             format!("{:04X}:{:02X}={hex}", c.entry.index, c.entry.sub)
         })
         .collect();
-    // 0x1017 first (index order); then TPDO 1: its COB-ID 0x187 made invalid (bit 31), the event
-    // timer, the mapping emptied, its two entries, its count, the COB-ID valid again.
+    // 0x1017 first (index order); RPDO 1: its COB-ID 0x202 made invalid (bit 31), the mapping
+    // emptied, its entry, its count (the entries', as the DCF gives none), the COB-ID valid; then
+    // TPDO 1 alike with its event timer. The statusword is not written.
     assert_eq!(
         written,
         [
             "1017:00=C800",
+            "1400:01=02020080",
+            "1600:00=00",
+            "1600:01=10004060",
+            "1600:00=01",
+            "1400:01=02020000",
             "1800:01=87010080",
             "1800:05=3200",
             "1A00:00=00",
@@ -587,18 +599,33 @@ fn the_master_heartbeat_keeps_its_period_and_after_a_pause_starts_from_now() {
     bus.m.start(t0);
     bus.sent();
     let ms = |n| t0 + Duration::from_millis(n);
-    // Slave waiting for its boot-up until 500 ms: the next call is the beat at 100 ms.
+    let beats = |bus: &mut Bus| -> Vec<String> {
+        bus.sent()
+            .into_iter()
+            .filter(|f| f.starts_with("701#"))
+            .collect()
+    };
+    // The slave waits for its boot-up until 500 ms: the next call is the beat at 100 ms.
     assert_eq!(bus.m.poll_timeout(), Some(ms(100)));
     // Called 30 ms late: the beat goes, the next stays on the period (200 ms).
     bus.m.handle_timeout(ms(130));
-    assert_eq!(bus.sent(), ["701#7F"]);
+    assert_eq!(beats(&mut bus), ["701#7F"]);
     assert_eq!(bus.m.poll_timeout(), Some(ms(200)));
-    // Called 250 ms late: one beat, the next a period from now.
+    // Called exactly a period late: one beat, the next a period on, not at once.
+    bus.m.handle_timeout(ms(300));
+    assert_eq!(beats(&mut bus), ["701#7F"]);
+    assert_eq!(bus.m.poll_timeout(), Some(ms(400)));
+    // Called 50 ms late and then 250 ms late: one beat each, the last the next a period from now.
     bus.m.handle_timeout(ms(450));
-    assert_eq!(bus.sent(), ["701#7F"]);
+    assert_eq!(beats(&mut bus), ["701#7F"]);
     assert_eq!(bus.m.poll_timeout(), Some(ms(500)));
-    bus.m.handle_timeout(ms(500));
-    assert_eq!(bus.m.poll_timeout(), Some(ms(550)));
+    bus.m.handle_timeout(ms(750));
+    assert_eq!(beats(&mut bus), ["701#7F"]);
+    // (The slave's boot meanwhile asks for calls of its own.)
+    bus.m.handle_timeout(ms(849));
+    assert_eq!(beats(&mut bus), Vec::<String>::new());
+    bus.m.handle_timeout(ms(850));
+    assert_eq!(beats(&mut bus), ["701#7F"]);
 }
 
 #[test]
