@@ -142,6 +142,46 @@ fn csp_over_pdos_at_a_1_ms_sync() {
     assert_ne!(n.sdo_read(0x6041, 0).unwrap()[1] & 0x10, 0);
 }
 
+/// tests/drives/pdo-rtr.eds in csp with SYNC running: the status word in TPDO 1, sent on a change
+/// only (type 255, no event timer), the control word and the mode in RPDO 1 (type 255). A quick
+/// stop (0x605A = 2) at standstill ends in Switch on disabled at the drive's next control tick, and
+/// Shutdown from there is Ready to switch on at once. When a SYNC reaches the node at that tick,
+/// before the node's own timer (the drive runs the tick inside the SYNC and is idle after it), TPDO
+/// 1 carries the new state at that SYNC all the same: a master reading the state from TPDO 1 sees it.
+#[test]
+fn a_state_reached_at_a_sync_is_sent_by_the_status_tpdo() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/drives/pdo-rtr.eds");
+    let od = format!("{}@5", path.display());
+    let args = Args::try_parse_from(["canopen-node", "--od", &od]).unwrap();
+    let mut n = node(canopen_cli::load(&args).unwrap().remove(0).description, 5);
+    let status = |out: &[CanFrame]| {
+        out.iter()
+            .rev()
+            .find(|x| x.cob_id() == Some(0x185))
+            .map(|x| u16::from_le_bytes([x.data()[0], x.data()[1]]))
+    };
+    n.nmt(0x01, 5);
+    for cw in [0x06u8, 0x07, 0x0F] {
+        n.send(f(0x205, &[cw, 0, 8]));
+        n.send(f(0x080, &[]));
+        n.advance_ms(10);
+    }
+    let sent: Vec<CanFrame> = n.sent.iter().map(|(_, x)| *x).collect();
+    assert_eq!(status(&sent).map(|s| s & 0x6F), Some(0x27));
+    // Quick stop (0x0002), then Shutdown (0x0006): each time the SYNC comes at the drive's next tick.
+    for (cw, mask, state) in [(0x02u8, 0x4F, 0x40), (0x06, 0x6F, 0x21)] {
+        n.send(f(0x205, &[cw, 0, 8]));
+        n.now = n.node.poll_timeout().expect("the drive's next tick");
+        let out = n.send(f(0x080, &[]));
+        assert_eq!(
+            status(&out).map(|s| s & mask),
+            Some(state),
+            "control word {cw:#04x}: {out:?}"
+        );
+        n.advance_ms(10);
+    }
+}
+
 /// The simulation record at 0x5FF0: forcing 0x60FD bits (sub 1 the mask, sub 2 the levels) shows in
 /// 0x60FD at once; a limit switch forced active while the drive moves towards it is a fault: 0x603F
 /// 0x8612 with an EMCY on 0x85 carrying it, the error register and the axis (1) in byte 3.

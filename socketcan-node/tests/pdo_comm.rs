@@ -23,12 +23,15 @@ use socketcan_node::{CanFrame, NmtState, Node, NodeConfig};
 const ID: u8 = 5;
 
 /// The device behind the node: its digital inputs 0x6000:01 and :02, which it reports when the test
-/// says (`due`), the instant the node compares its event-driven TPDOs with what they sent last. The
-/// dictionary holds everything else.
+/// says (`due`), the instant the node compares its event-driven TPDOs with what they sent last; at
+/// that instant they become `next` where the test set it. At a SYNC the device first runs a timeout
+/// due by then by itself, as a drive runs its control ticks up to the SYNC. The dictionary holds
+/// everything else.
 #[derive(Debug, Default)]
 struct Io {
     inputs: [u8; 2],
     due: Option<Instant>,
+    next: Option<[u8; 2]>,
 }
 
 impl DeviceHook for Io {
@@ -49,6 +52,15 @@ impl DeviceHook for Io {
 impl Device for Io {
     fn handle_timeout(&mut self, _: Instant) {
         self.due = None;
+        if let Some(v) = self.next.take() {
+            self.inputs = v;
+        }
+    }
+
+    fn sync(&mut self, now: Instant) {
+        if self.due.is_some_and(|t| t <= now) {
+            self.handle_timeout(now);
+        }
     }
 
     fn poll_timeout(&self) -> Option<Instant> {
@@ -59,6 +71,7 @@ impl Device for Io {
 
     fn reset(&mut self, _: Instant) {
         self.due = None;
+        self.next = None;
     }
 }
 
@@ -644,6 +657,35 @@ fn remote_request_only_tpdos_answer_with_the_sampled_or_the_current_data() {
     assert!(sync(&mut n).is_empty());
     assert!(inputs(&mut n, [9, 10]).is_empty());
     assert_eq!(n.send(rtr(0x185)), vec![f(0x185, &[9, 10])]);
+}
+
+/// The device runs at a SYNC up to it and may change there (a drive's control ticks up to the SYNC:
+/// a quick stop that ends in Switch on disabled), then asks for no timeout at which the node would
+/// see the change: the node checks its event-driven TPDOs after the SYNC all the same, asking for
+/// its timers at once, and sends the change then. So when the SYNC comes exactly at the instant the
+/// device's timeout falls due (the device runs it inside the SYNC) and when it comes later, before
+/// the node's own timer ran (a host that takes a frame before an overdue timer: the node runs the
+/// device up to the SYNC).
+#[test]
+fn a_change_the_device_makes_up_to_a_sync_is_sent_by_an_event_driven_tpdo() {
+    let mut n = node();
+    assert_eq!(n.nmt(0x01, ID), vec![f(0x185, &[0, 0])]);
+    let tpdo2 = f(0x285, &[0, 0, 0, 0]);
+    for (k, late) in [(1u8, Duration::ZERO), (2, Duration::from_micros(300))] {
+        let at = n.now + ms(1);
+        let app = n.node.app_mut();
+        app.next = Some([k, 0]);
+        app.due = Some(at);
+        n.now = at + late;
+        n.node.handle_frame(n.now, &f(0x080, &[]));
+        assert_eq!(n.node.poll_timeout(), Some(n.now), "late by {late:?}");
+        assert_eq!(
+            n.stall(Duration::ZERO),
+            vec![tpdo2, f(0x185, &[k, 0])],
+            "late by {late:?}"
+        );
+        assert_eq!(n.node.poll_timeout(), None);
+    }
 }
 
 /// Within one instant the node works in the order its timers are documented: the device's report

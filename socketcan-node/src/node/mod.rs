@@ -39,8 +39,9 @@
 //! - RPDO transmission types 0–240 are applied at the next SYNC, 254/255 on receipt; TPDO types 0,
 //!   1–240, 254 and 255 are supported (252/253 are refused with 0x06090030). An RPDO shorter than its
 //!   mapping is dropped with EMCY 0x8210; a longer one is applied from its first bytes.
-//! - Event-driven TPDOs are checked for changed data at every application tick and sent once on
-//!   entering Operational; the event timer sends them when nothing changed for its time.
+//! - Event-driven TPDOs are checked for changed data at every application tick, the ticks the device
+//!   runs up to a write or a SYNC included, and at every SYNC, and sent once on entering
+//!   Operational; the event timer sends them when nothing changed for its time.
 //! - Heartbeat consumer: monitoring starts with the first heartbeat of the producer; a missed heartbeat
 //!   raises EMCY 0x8130 (error register bit 4) and takes an Operational node to Pre-operational (the
 //!   CiA 301 default error behaviour); the next heartbeat clears the error.
@@ -226,8 +227,9 @@ struct Core<A: Device> {
     emcy_after: Option<Instant>,
     scratch: Vec<DeviceError>,
     now: Instant,
-    /// The device ran a due timeout before a write ([`Core::device_up_to`]) whose errors and
-    /// event-driven TPDOs the next [`Core::poll`] checks, as if it had run it.
+    /// The device ran outside [`Core::poll`] (a due timeout before a write, [`Core::device_up_to`],
+    /// or its ticks up to a SYNC and the SYNC itself): the next [`Core::poll`] checks its errors and
+    /// event-driven TPDOs, as if it had run it, and [`Node::poll_timeout`] asks for that poll at once.
     device_ran: bool,
     /// The COB-IDs of data frames the node acts on, and of TPDOs a remote frame may ask for.
     listen: Vec<u16>,
@@ -580,6 +582,9 @@ impl<A: Device> Node<A> {
             }
         };
         take(self.sdo.poll_timeout());
+        // What the device did outside a poll is checked at the next one, now: the device itself
+        // may ask for no timeout any more (it went idle in those ticks).
+        take(c.device_ran.then_some(c.now));
         take(c.app.poll_timeout());
         take(c.heartbeat_at);
         take(c.consumer.deadline);

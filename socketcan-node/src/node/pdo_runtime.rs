@@ -172,17 +172,23 @@ impl<A: Device> Core<A> {
         }
     }
 
-    /// A SYNC: synchronous RPDOs take effect, synchronous TPDOs are sent.
+    /// A SYNC: synchronous RPDOs take effect, synchronous TPDOs are sent. The device runs up to the
+    /// SYNC and takes it; what that changed is checked for errors and event-driven TPDOs at the next
+    /// [`Core::poll`], as after any other run of the device: a device that reaches an idle state in
+    /// those ticks (a quick stop ending in Switch on disabled) asks for no tick after them at which
+    /// the change would otherwise be seen.
     pub(super) fn sync(&mut self, now: Instant) {
         if self.state != NmtState::Operational {
             return;
         }
+        self.device_up_to(now);
         for n in 0..self.rpdos.len() {
             if let Some((data, len)) = self.rpdo_pending[n].take() {
                 self.apply_rpdo(n, &data[..len], now);
             }
         }
         self.app.sync(now);
+        self.device_ran = true;
         for n in 0..self.tpdos.len() {
             let cfg = &self.tpdos[n];
             if !cfg.valid() {
