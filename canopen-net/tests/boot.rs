@@ -713,3 +713,111 @@ fn the_software_version_is_checked_when_0x1f81_bit_5_says_so() {
     bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
     assert_eq!(bus.sent(), ["602#2B17100064000000"]);
 }
+
+#[test]
+fn only_a_silent_device_type_read_says_no_node_answers() {
+    // The vendor-ID not answered: D, without the words of a missing node.
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.feed(0x702, &[0x00]);
+    bus.sent();
+    bus.feed(0x582, &[0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    assert_eq!(bus.sent(), ["602#4018100100000000"]);
+    bus.advance(Duration::from_millis(100));
+    assert_eq!(
+        bus.error(2),
+        "node 2 [D] vendor-ID 0x1018:01 could not be read: no answer within 100 ms"
+    );
+    // 0x1000 refused (0x06020000, the object does not exist): B, in the node's words.
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.feed(0x702, &[0x00]);
+    bus.sent();
+    bus.feed(0x582, &[0x80, 0x00, 0x10, 0x00, 0x00, 0x00, 0x02, 0x06]);
+    assert_eq!(
+        bus.error(2),
+        "node 2 [B] device type 0x1000:00 could not be read: the node refused it with 0x06020000 \
+         (Object does not exist in the object dictionary)"
+    );
+}
+
+#[test]
+fn before_its_boot_up_only_a_kept_alive_slave_s_heartbeat_counts() {
+    // Reset, not kept alive: heartbeats from before the reset took effect are passed over.
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    bus.feed(0x702, &[0x05]);
+    bus.feed(0x702, &[0x7F]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert_eq!(bus.m.nodes().next().unwrap().state, NodeState::Resetting);
+    bus.feed(0x702, &[0x00]);
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+    // Kept alive and pre-operational: booted at its heartbeat.
+    let mut s = slave();
+    s.assignment |= 0x10;
+    let mut bus = Bus::new(plan(vec![s.clone()], 0x01));
+    bus.m.start(bus.now);
+    assert_eq!(bus.sent(), Vec::<String>::new(), "no reset");
+    bus.feed(0x702, &[0x7F]);
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+    // Kept alive and operational: up once, not booted (L).
+    let mut bus = Bus::new(plan(vec![s], 0x01));
+    bus.m.start(bus.now);
+    bus.feed(0x702, &[0x05]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    let r = bus.m.nodes().next().unwrap();
+    assert_eq!((r.boots, r.kept, r.identity), (1, true, [None; 5]));
+}
+
+#[test]
+fn a_boot_up_while_its_heartbeat_is_awaited_starts_the_boot_again() {
+    let mut bus = Bus::new(plan(vec![slave()], 0x01));
+    configured(&mut bus);
+    bus.feed(0x702, &[0x00]);
+    assert_eq!(bus.sent(), ["602#4000100000000000"]);
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("checking"));
+}
+
+#[test]
+fn without_a_consumer_time_heartbeats_ask_for_no_call() {
+    let mut s = slave();
+    s.heartbeat_ms = 0;
+    let mut bus = Bus::new(plan(vec![s], 0x01));
+    configured(&mut bus);
+    assert_eq!(bus.sent(), ["000#0102"]);
+    bus.feed(0x702, &[0x05]);
+    bus.advance(Duration::from_secs(10));
+    assert_eq!(bus.m.poll_timeout(), None);
+    assert_eq!(bus.states(2).last().map(String::as_str), Some("up"));
+}
+
+#[test]
+fn a_slave_0x1f81_does_not_boot_is_only_watched() {
+    let mut s = slave();
+    s.assignment = 0x01;
+    let mut bus = Bus::new(plan(vec![s], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    bus.feed(0x702, &[0x00]);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    assert_eq!(bus.states(2), ["watched"]);
+    // Not mandatory in effect: the network is up without it.
+    assert!(bus.m.network_up());
+}
+
+#[test]
+fn a_master_0x1f80_keeps_pre_operational_beats_0x7f_when_the_network_is_up() {
+    // 0x1F80 = 0x05: bit 2, the master does not enter Operational itself.
+    let mut p = plan(vec![slave()], 0x05);
+    p.heartbeat_ms = 100;
+    let mut bus = Bus::new(p);
+    boot(&mut bus);
+    bus.advance(Duration::from_millis(100));
+    let beats: Vec<String> = bus
+        .sent()
+        .into_iter()
+        .filter(|f| f.starts_with("701#"))
+        .collect();
+    assert_eq!(beats, ["701#7F"]);
+}

@@ -441,7 +441,7 @@ impl Node {
                 self.step = Step::Up;
                 self.set_state(NodeState::Up, out);
             }
-            (Step::AwaitBootUp(_), 0x00) => self.start_boot(now, out),
+            // Kept alive and not operational: booted now (no boot-up message will come).
             (Step::AwaitBootUp(_), _) if self.plan.keep_alive() => self.start_boot(now, out),
             (Step::AwaitHeartbeat(_), s) if s != 0x00 => self.booted(out),
             (Step::Lost, _) => self.start_boot(now, out),
@@ -451,16 +451,24 @@ impl Node {
         }
     }
 
-    /// When the node needs its next call.
-    pub(crate) fn poll_timeout(&self) -> Option<Instant> {
-        let step = match self.step {
+    /// The instant the node's step ends by itself: the wait for its boot-up message or its first
+    /// heartbeat, its next try, or (up) the end of its heartbeat's consumer time.
+    fn deadline(&self) -> Option<Instant> {
+        match self.step {
             Step::AwaitBootUp(t) | Step::AwaitHeartbeat(t) | Step::Failed(Some(t)) => Some(t),
             Step::Up if self.plan.heartbeat_ms != 0 => {
                 self.last_heartbeat.map(|t| t + ms(self.plan.heartbeat_ms))
             }
             _ => None,
-        };
-        [step, self.sdo.poll_timeout()].into_iter().flatten().min()
+        }
+    }
+
+    /// When the node needs its next call.
+    pub(crate) fn poll_timeout(&self) -> Option<Instant> {
+        [self.deadline(), self.sdo.poll_timeout()]
+            .into_iter()
+            .flatten()
+            .min()
     }
 
     /// The time passed; returns true when the node's heartbeat was lost just now.
@@ -469,9 +477,12 @@ impl Node {
             self.sdo.handle_timeout(now);
             self.drain(now, out);
         }
+        if !self.deadline().is_some_and(|t| t <= now) {
+            return false;
+        }
         match self.step {
-            Step::AwaitBootUp(t) | Step::Failed(Some(t)) if t <= now => self.start_boot(now, out),
-            Step::AwaitHeartbeat(t) if t <= now => {
+            Step::AwaitBootUp(_) | Step::Failed(_) => self.start_boot(now, out),
+            Step::AwaitHeartbeat(_) => {
                 let message = format!(
                     "no heartbeat within {} ms of its configuration (consumer time, {}) — its \
                      heartbeat producer 0x1017 is 0 or slower than that",
@@ -480,16 +491,13 @@ impl Node {
                 self.fail(now, ErrorStatus::K, message, out);
             }
             Step::Up => {
-                let due = self.last_heartbeat.map(|t| t + ms(self.plan.heartbeat_ms));
-                if self.plan.heartbeat_ms != 0 && due.is_some_and(|t| t <= now) {
-                    let message = format!(
-                        "heartbeat lost: none for {} ms (consumer time, {}) — the node stopped, \
-                         lost power or left the bus",
-                        self.plan.heartbeat_ms, self.plan.heartbeat_origin
-                    );
-                    self.fail(now, ErrorStatus::E, message, out);
-                    return true;
-                }
+                let message = format!(
+                    "heartbeat lost: none for {} ms (consumer time, {}) — the node stopped, lost \
+                     power or left the bus",
+                    self.plan.heartbeat_ms, self.plan.heartbeat_origin
+                );
+                self.fail(now, ErrorStatus::E, message, out);
+                return true;
             }
             _ => {}
         }
