@@ -37,6 +37,7 @@ fn slave() -> SlavePlan {
             entry: Entry::new(0x1017, 0, vec![100, 0]),
             origin: "bus.yml:10 drive.heartbeat_producer".into(),
         }],
+        stamp: None,
     }
 }
 
@@ -446,6 +447,15 @@ fn drive_dcf() -> canopen_net::boot::SlaveDcf {
     set(&mut text, "1800sub1", "$NODEID+0x180");
     set(&mut text, "1800sub5", "50");
     set(&mut text, "6041", "0x0237");
+    text.push_str(
+        "\r\n[1020]\r\nSubNumber=3\r\nParameterName=Verify configuration\r\nObjectType=0x8\r\n\
+         \r\n[1020sub0]\r\nParameterName=Highest sub-index\r\nObjectType=0x7\r\n\
+         DataType=0x0005\r\nAccessType=ro\r\nDefaultValue=2\r\n\
+         \r\n[1020sub1]\r\nParameterName=Configuration date\r\nObjectType=0x7\r\n\
+         DataType=0x0007\r\nAccessType=rw\r\nDefaultValue=0\r\nParameterValue=14000\r\n\
+         \r\n[1020sub2]\r\nParameterName=Configuration time\r\nObjectType=0x7\r\n\
+         DataType=0x0007\r\nAccessType=rw\r\nDefaultValue=0\r\nParameterValue=43200000\r\n",
+    );
     set(&mut text, "1A00sub0", "2");
     set(&mut text, "1A00sub1", "0x60410010");
     set(&mut text, "1A00sub2", "0x60640020");
@@ -495,8 +505,12 @@ fn a_dcf_s_values_are_written_pdos_in_cia_301_order() {
             "1A00:02=20006460",
             "1A00:00=02",
             "1800:01=87010000",
+            "1020:01=B0360000",
+            "1020:02=002E9302",
         ]
     );
+    // The stamp closes it: day 14000 since 1984, noon.
+    assert_eq!(s.stamp, Some([14000, 43_200_000]));
     // Each entry names the line of its value.
     let origin = &s.configuration[0].origin;
     assert!(
@@ -820,4 +834,70 @@ fn a_master_0x1f80_keeps_pre_operational_beats_0x7f_when_the_network_is_up() {
         .filter(|f| f.starts_with("701#"))
         .collect();
     assert_eq!(beats, ["701#7F"]);
+}
+
+#[test]
+fn a_node_holding_the_configuration_s_stamp_is_not_configured_again() {
+    let mut s = slave();
+    s.stamp = Some([14000, 43_200_000]);
+    for sub in [1u8, 2] {
+        s.configuration.push(ConfigEntry {
+            entry: Entry::new(
+                0x1020,
+                sub,
+                s.stamp.unwrap()[usize::from(sub) - 1]
+                    .to_le_bytes()
+                    .to_vec(),
+            ),
+            origin: "drive.dcf:10".into(),
+        });
+    }
+    let read_stamp = |bus: &mut Bus, date: u32, time: u32| {
+        identity(bus, 0x360, 7);
+        assert_eq!(bus.sent(), ["602#4020100100000000"]);
+        let d = date.to_le_bytes();
+        bus.feed(0x582, &[0x43, 0x20, 0x10, 0x01, d[0], d[1], d[2], d[3]]);
+        if date != 14000 {
+            return;
+        }
+        assert_eq!(bus.sent(), ["602#4020100200000000"]);
+        let t = time.to_le_bytes();
+        bus.feed(0x582, &[0x43, 0x20, 0x10, 0x02, t[0], t[1], t[2], t[3]]);
+    };
+    // The same date and time: straight to its heartbeat, nothing written.
+    let mut bus = Bus::new(plan(vec![s.clone()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    read_stamp(&mut bus, 14000, 43_200_000);
+    assert_eq!(bus.sent(), Vec::<String>::new());
+    bus.feed(0x702, &[0x7F]);
+    assert_eq!(bus.sent(), ["000#0102"]);
+    let r = bus.m.nodes().next().unwrap();
+    assert_eq!((r.current, r.configured), (true, (0, 3)));
+    // Another time: the configuration is written, the stamp last.
+    let mut bus = Bus::new(plan(vec![s.clone()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    read_stamp(&mut bus, 14000, 1);
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
+    bus.feed(0x582, &[0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(bus.sent(), ["602#23201001B0360000"]);
+    bus.feed(0x582, &[0x60, 0x20, 0x10, 0x01, 0, 0, 0, 0]);
+    assert_eq!(bus.sent(), ["602#23201002002E9302"]);
+    assert!(!bus.m.nodes().next().unwrap().current);
+    // Another date: written too, without reading the time.
+    let mut bus = Bus::new(plan(vec![s.clone()], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    read_stamp(&mut bus, 13999, 0);
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
+    // No 0x1020 (0x06020000): written, no failure.
+    let mut bus = Bus::new(plan(vec![s], 0x01));
+    bus.m.start(bus.now);
+    bus.sent();
+    identity(&mut bus, 0x360, 7);
+    bus.sent();
+    bus.feed(0x582, &[0x80, 0x20, 0x10, 0x01, 0x00, 0x00, 0x02, 0x06]);
+    assert_eq!(bus.sent(), ["602#2B17100064000000"]);
+    assert_eq!(bus.error(2), "");
 }

@@ -33,8 +33,10 @@ impl Plan {
     /// are checked against its DCF's 0x1000 and 0x1018 (0 is not checked); its configuration is
     /// every entry the DCF gives a value (`ParameterValue`) that a master can write, in index
     /// order, each PDO as CiA 301 §7.3 asks: its COB-ID made invalid, its other parameters, the
-    /// mapping emptied, its entries, its count, then its COB-ID as the DCF gives it. The master
-    /// waits three of its heartbeat producer periods (0x1017) for it.
+    /// mapping emptied, its entries, its count, then its COB-ID as the DCF gives it; the
+    /// configuration's date and time (0x1020), when the DCF gives both, last: a node that holds
+    /// them already is not configured again. The master waits three of its heartbeat producer
+    /// periods (0x1017) for it.
     pub fn from_dcfs(dcfs: &[SlaveDcf], master_id: u8) -> Result<Plan, String> {
         let mut slaves = Vec::new();
         for d in dcfs {
@@ -73,6 +75,7 @@ impl Plan {
                 software: Expect::default(),
                 heartbeat_ms: (producer * HEARTBEAT_MULTIPLIER).min(0xFFFF) as u16,
                 heartbeat_origin: format!("{}:{} 0x1017:00", d.file, keys.line(0x1017, 0)),
+                stamp: stamp(d),
                 configuration: configuration(d, &keys),
             });
         }
@@ -91,6 +94,18 @@ impl Plan {
             slaves,
         })
     }
+}
+
+/// The configuration's date and time (0x1020:01 and :02) the DCF gives, both.
+fn stamp(d: &SlaveDcf) -> Option<[u32; 2]> {
+    let o = d.desc.dictionary.object(0x1020)?;
+    let v = |sub: u8| {
+        o.sub(sub)
+            .filter(|s| s.value_set)
+            .and_then(|_| int_value(o, sub))
+            .map(|v| v as u32)
+    };
+    Some([v(1)?, v(2)?])
 }
 
 /// Whether a master writes an entry of this access.
@@ -123,8 +138,9 @@ fn configuration(d: &SlaveDcf, keys: &super::plan::IniKeys) -> Vec<ConfigEntry> 
     };
     for o in dict.objects() {
         let index = o.index;
-        // Store and restore are commands, not configuration; the program area is not written.
-        if matches!(index, 0x1010 | 0x1011) || (0x1F50..=0x1F5F).contains(&index) {
+        // Store and restore are commands, not configuration; the program area is not written;
+        // the configuration's stamp goes last.
+        if matches!(index, 0x1010 | 0x1011 | 0x1020) || (0x1F50..=0x1F5F).contains(&index) {
             continue;
         }
         let pdo_comm = (0x1400..0x1600).contains(&index) || (0x1800..0x1A00).contains(&index);
@@ -186,6 +202,13 @@ fn configuration(d: &SlaveDcf, keys: &super::plan::IniKeys) -> Vec<ConfigEntry> 
         }
         if final_cob != invalid {
             push(index, 1, final_cob);
+        }
+    }
+    if stamp(d).is_some() {
+        for sub in [1, 2] {
+            if let Some(v) = set(0x1020, sub) {
+                push(0x1020, sub, v);
+            }
         }
     }
     out

@@ -36,6 +36,9 @@ pub struct NodeReport {
     pub boots: u32,
     /// It was operational already and kept alive (CiA 302-2 status L): not booted again.
     pub kept: bool,
+    /// Its configuration stamp (0x1020) was the plan's: the configuration was current and not
+    /// written again in its last boot.
+    pub current: bool,
 }
 
 /// What a node's step hands back to the manager.
@@ -69,6 +72,9 @@ enum Check {
     Identity(u8),
     /// 0x1F56:01 against 0x1F55.
     Software,
+    /// 0x1020:01 and :02 (the configuration's date and time) against the stamp the plan writes
+    /// with the configuration: equal, the configuration is current and is not written again.
+    Stamp(u8),
 }
 
 impl Check {
@@ -83,6 +89,7 @@ impl Check {
                 index: 0x1F56,
                 sub: 1,
             },
+            Check::Stamp(sub) => Address { index: 0x1020, sub },
         }
     }
 
@@ -94,6 +101,7 @@ impl Check {
             Check::Identity(3) => ErrorStatus::N,
             Check::Identity(_) => ErrorStatus::O,
             Check::Software => ErrorStatus::H,
+            Check::Stamp(_) => ErrorStatus::J,
         }
     }
 
@@ -112,6 +120,7 @@ impl Check {
             Check::Identity(3) => "revision number",
             Check::Identity(_) => "serial number",
             Check::Software => "software identification",
+            Check::Stamp(_) => "configuration stamp",
         }
     }
 
@@ -124,6 +133,7 @@ impl Check {
             Check::Identity(3) => "another revision of the device answers at this node-ID",
             Check::Identity(_) => "another unit of the device answers at this node-ID",
             Check::Software => "its software is to be updated, which this manager does not do",
+            Check::Stamp(_) => "its configuration is written",
         }
     }
 }
@@ -177,6 +187,7 @@ impl Node {
             last_error: None,
             boots: 0,
             kept: false,
+            current: false,
         };
         Node {
             sdo: SdoClient::new(sdo_config.clone()),
@@ -232,6 +243,7 @@ impl Node {
         self.report.identity = [None; 5];
         self.report.configured.0 = 0;
         self.report.kept = false;
+        self.report.current = false;
         if !self.plan.boots() {
             self.step = Step::Watched;
             self.set_state(NodeState::Watched, out);
@@ -259,6 +271,9 @@ impl Node {
         }
         if self.plan.checks_software() && self.plan.software.value != 0 {
             candidates.push(Check::Software);
+        }
+        if self.plan.stamp.is_some() {
+            candidates.extend([Check::Stamp(1), Check::Stamp(2)]);
         }
         let after = match done {
             Check::DeviceType => 0,
@@ -342,6 +357,8 @@ impl Node {
             _ => None,
         };
         match self.step {
+            // No stamp to compare (no 0x1020, or refused): the configuration is written.
+            Step::Read(Check::Stamp(_)) => self.write(now, 0, out),
             Step::Read(check) => {
                 let a = check.address();
                 let mut message = format!(
@@ -401,6 +418,18 @@ impl Node {
             Check::DeviceType => (0, &self.plan.device_type),
             Check::Identity(sub) => (usize::from(sub), &self.plan.identity[usize::from(sub) - 1]),
             Check::Software => (5, &self.plan.software),
+            Check::Stamp(sub) => {
+                let stamp = self.plan.stamp.unwrap_or_default();
+                return match (sub, found == stamp[usize::from(sub) - 1]) {
+                    (_, false) => self.write(now, 0, out),
+                    (1, true) => self.next(now, check, out),
+                    (_, true) => {
+                        // The node keeps the configuration this stamp closes: not written again.
+                        self.report.current = true;
+                        self.error_control(now, out)
+                    }
+                };
+            }
         };
         if let Some(s) = self.report.identity.get_mut(slot) {
             *s = Some(found);

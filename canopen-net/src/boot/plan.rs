@@ -54,6 +54,10 @@ pub struct SlavePlan {
     pub heartbeat_origin: String,
     /// Its configuration, in the order it is written.
     pub configuration: Vec<ConfigEntry>,
+    /// The configuration's date and time (CiA 301 0x1020:01 and :02), which its last two entries
+    /// write: a node whose 0x1020 holds them already keeps this configuration, which is then not
+    /// written again.
+    pub stamp: Option<[u32; 2]>,
 }
 
 impl SlavePlan {
@@ -177,6 +181,7 @@ impl Plan {
                         s.name
                     ),
                     configuration,
+                    stamp: None,
                 }
             })
             .collect();
@@ -282,6 +287,19 @@ impl Plan {
                 Some(&(ms, sub)) => (ms, origin(0x1016, sub)),
                 None => (0, String::new()),
             };
+            // 0x1F26 and 0x1F27: the configuration's date and time, written last with it.
+            let stamp = [value(0x1F26, id), value(0x1F27, id)];
+            let mut configuration: Vec<ConfigEntry> = configuration;
+            let stamp = (stamp != [0, 0] && !configuration.is_empty()).then(|| {
+                for (sub, (index, v)) in [(0x1F26, stamp[0]), (0x1F27, stamp[1])].iter().enumerate()
+                {
+                    configuration.push(ConfigEntry {
+                        entry: Entry::new(0x1020, sub as u8 + 1, v.to_le_bytes().to_vec()),
+                        origin: origin(*index, id),
+                    });
+                }
+                stamp
+            });
             slaves.push(SlavePlan {
                 node_id: id,
                 name,
@@ -297,6 +315,7 @@ impl Plan {
                 heartbeat_ms,
                 heartbeat_origin,
                 configuration,
+                stamp,
             });
         }
         Ok(Plan {

@@ -350,7 +350,11 @@ fn row(r: &NodeReport) -> String {
         v(r.identity[0]),
         v(r.identity[1]),
         v(r.identity[2]),
-        format!("{}/{}", r.configured.0, r.configured.1),
+        if r.current {
+            "current".to_string()
+        } else {
+            format!("{}/{}", r.configured.0, r.configured.1)
+        },
         heartbeat
     )
 }
@@ -374,6 +378,7 @@ fn report_json(r: &NodeReport) -> serde_json::Value {
         "heartbeat_ms": r.heartbeat_ms,
         "boots": r.boots,
         "kept": r.kept,
+        "current": r.current,
         "last_error": r.last_error.as_ref().map(|e| serde_json::json!({
             "status": e.status.letter().to_string(), "meaning": e.status.meaning(), "message": e.message})),
     })
