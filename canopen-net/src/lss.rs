@@ -144,6 +144,22 @@ pub enum LssRequest {
     /// Fastscan (§8.4.2.4, cs 0x51, answer 0x4F): the address of one slave without a node-ID,
     /// which ends in the configuration state.
     Fastscan,
+    /// Fastscan with each part of the address scanned, matched against a value (confirmed at once,
+    /// no bit asked) or skipped (the confirmation before it names the part after it as `LSSNext`;
+    /// the address found has 0 there). The vendor-ID cannot be skipped, a slave starting at it:
+    /// skipping it scans it.
+    FastscanWith([PartScan; 4]),
+}
+
+/// How Fastscan treats one part of the address ([`LssRequest::FastscanWith`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PartScan {
+    /// Found bit by bit.
+    Scan,
+    /// Not looked at.
+    Skip,
+    /// This value, confirmed at once.
+    Match(u32),
 }
 
 impl LssRequest {
@@ -160,7 +176,7 @@ impl LssRequest {
             LssRequest::InquireNodeId => "inquire node-ID",
             LssRequest::IdentifyRemote { .. } => "identify remote slave",
             LssRequest::IdentifyNonConfigured => "identify non-configured remote slave",
-            LssRequest::Fastscan => "Fastscan",
+            LssRequest::Fastscan | LssRequest::FastscanWith(_) => "Fastscan",
         }
     }
 }
@@ -293,6 +309,8 @@ struct Running {
     /// Fastscan only: the starts again so far, and the part last not confirmed.
     retries: u8,
     lost: Option<(AddressPart, u32)>,
+    /// Fastscan only: how each part is taken.
+    parts: [PartScan; 4],
 }
 
 /// The LSS master; see the [module documentation](self).
@@ -444,11 +462,18 @@ impl LssMaster {
                     .push_back(request_frame(cs::IDENTIFY_NON_CONFIGURED, &[]));
                 cs::IDENTIFY_NON_CONFIGURED_SLAVE
             }
-            LssRequest::Fastscan => {
+            LssRequest::Fastscan | LssRequest::FastscanWith(_) => {
                 self.transmit.push_back(fastscan(0, 0x80, 0, 0));
                 cs::IDENTIFY_SLAVE
             }
         };
+        let mut parts = match request {
+            LssRequest::FastscanWith(parts) => parts,
+            _ => [PartScan::Scan; 4],
+        };
+        if parts[0] == PartScan::Skip {
+            parts[0] = PartScan::Scan;
+        }
         self.running = Some(Running {
             request,
             answer,
@@ -459,6 +484,7 @@ impl LssMaster {
             step: self.timeout,
             retries: 0,
             lost: None,
+            parts,
         });
         Ok(())
     }
@@ -502,7 +528,7 @@ impl LssMaster {
         }
         let service = running.request.name();
         let outcome = match running.request {
-            LssRequest::Fastscan => {
+            LssRequest::Fastscan | LssRequest::FastscanWith(_) => {
                 if !running.settling && running.scan != Scan::Quiet {
                     self.running = Some(Running {
                         settling: true,
@@ -547,7 +573,9 @@ impl LssMaster {
         }
         let service = running.request.name();
         let outcome = match running.request {
-            LssRequest::Fastscan => return self.fastscan_step(now, running.settling),
+            LssRequest::Fastscan | LssRequest::FastscanWith(_) => {
+                return self.fastscan_step(now, running.settling)
+            }
             LssRequest::IdentifyRemote { .. } | LssRequest::IdentifyNonConfigured => {
                 Ok(LssAnswer::Identified(false))
             }
@@ -576,6 +604,24 @@ impl LssMaster {
                 fastscan(address[usize::from(sub)], bit, sub, sub),
             )
         };
+        let parts = r.parts;
+        // The part after `sub` that is not skipped; 0 (back to the first) after the last.
+        let next_part = |sub: u8| (sub + 1..4).find(|&k| parts[usize::from(k)] != PartScan::Skip);
+        let confirm = |address: &LssAddress, sub: u8| {
+            let next = next_part(sub).unwrap_or(0);
+            (
+                Scan::Confirm { sub },
+                fastscan(address[usize::from(sub)], 0, sub, next),
+            )
+        };
+        // A part begins: a value to match is confirmed at once, else its bits are asked.
+        let begin = |address: &mut LssAddress, sub: u8| match parts[usize::from(sub)] {
+            PartScan::Match(v) => {
+                address[usize::from(sub)] = v;
+                confirm(address, sub)
+            }
+            _ => bit_request(address, sub, 31),
+        };
         let (next, request) = match r.scan {
             Scan::Start if !answered => {
                 return match r.lost {
@@ -584,17 +630,14 @@ impl LssMaster {
                     None => self.finish(Ok(LssAnswer::NotFound)),
                 };
             }
-            Scan::Start => bit_request(&r.address, 0, 31),
+            Scan::Start => begin(&mut r.address, 0),
             Scan::Quiet => (Scan::Start, fastscan(0, 0x80, 0, 0)),
             Scan::Bit { sub, bit } => {
                 if !answered {
                     r.address[usize::from(sub)] |= 1 << bit;
                 }
                 match bit {
-                    0 => (
-                        Scan::Confirm { sub },
-                        fastscan(r.address[usize::from(sub)], 0, sub, (sub + 1) & 3),
-                    ),
+                    0 => confirm(&r.address, sub),
                     _ => bit_request(&r.address, sub, bit - 1),
                 }
             }
@@ -605,8 +648,10 @@ impl LssMaster {
                 );
                 return self.fastscan_again(now, r, lost);
             }
-            Scan::Confirm { sub: 3 } => return self.finish(Ok(LssAnswer::Found(r.address))),
-            Scan::Confirm { sub } => bit_request(&r.address, sub + 1, 31),
+            Scan::Confirm { sub } => match next_part(sub) {
+                Some(k) => begin(&mut r.address, k),
+                None => return self.finish(Ok(LssAnswer::Found(r.address))),
+            },
         };
         self.transmit.push_back(request);
         r.scan = next;

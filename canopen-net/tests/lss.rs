@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use can_link::CanFrame;
 use canopen_net::lss::{
-    AddressPart, LssAddress, LssAnswer, LssError, LssMaster, LssRequest, LssState,
+    AddressPart, LssAddress, LssAnswer, LssError, LssMaster, LssRequest, LssState, PartScan,
 };
 
 fn answer(data: [u8; 8]) -> CanFrame {
@@ -233,10 +233,18 @@ impl Slave {
 /// frame each), silence taking the full 100 ms. Returns the outcome, the requests
 /// and the time taken.
 fn fastscan(slaves: &mut [Slave]) -> (Result<LssAnswer, LssError>, Vec<[u8; 8]>, Duration) {
+    fastscan_with(slaves, LssRequest::Fastscan)
+}
+
+/// [`fastscan`] with `request` (a Fastscan with parts matched or skipped).
+fn fastscan_with(
+    slaves: &mut [Slave],
+    request: LssRequest,
+) -> (Result<LssAnswer, LssError>, Vec<[u8; 8]>, Duration) {
     let t0 = Instant::now();
     let mut now = t0;
     let mut m = LssMaster::new();
-    m.start(now, LssRequest::Fastscan).unwrap();
+    m.start(now, request).unwrap();
     let mut requests = Vec::new();
     loop {
         while let Some(f) = m.poll_transmit() {
@@ -521,4 +529,73 @@ mod any_traffic {
             prop_assert!(!m.is_busy());
         }
     }
+}
+
+#[test]
+fn fastscan_matches_known_parts_at_once_and_skips_others() {
+    let a = [0x0000_0ABC, 0x0000_0402, 0x0001_0001, 0x0000_0002];
+    let b = [0x0000_0ABC, 0x0000_0402, 0x0001_0001, 0x0000_0007];
+    let mut slaves = [
+        Slave {
+            address: b,
+            at: 0,
+            configuration: false,
+        },
+        Slave {
+            address: a,
+            at: 0,
+            configuration: false,
+        },
+    ];
+    // Vendor and product matched, revision scanned, serial skipped: the confirmation of the
+    // revision names part 0 next, which ends the scan for the slave that matches it.
+    let parts = [
+        PartScan::Match(0xABC),
+        PartScan::Match(0x402),
+        PartScan::Scan,
+        PartScan::Skip,
+    ];
+    let (outcome, requests, _) = fastscan_with(&mut slaves, LssRequest::FastscanWith(parts));
+    assert_eq!(
+        outcome.unwrap(),
+        LssAnswer::Found([0xABC, 0x402, 0x0001_0001, 0])
+    );
+    assert_eq!(requests.len(), 1 + 2 + 32 + 1);
+    assert_eq!(requests[1], [0x51, 0xBC, 0x0A, 0, 0, 0, 0, 1]);
+    assert_eq!(requests[2], [0x51, 0x02, 0x04, 0, 0, 0, 1, 2]);
+    assert_eq!(requests[3], [0x51, 0, 0, 0, 0, 31, 2, 2]);
+    assert_eq!(requests[35], [0x51, 0x01, 0x00, 0x01, 0x00, 0, 2, 0]);
+    // Both slaves match all it asked: both are in the configuration state (serials not looked at).
+    assert!(slaves.iter().all(|s| s.configuration));
+    // A vendor-ID that does not match: no confirmation, and the scan is lost.
+    let mut slaves = [Slave {
+        address: a,
+        at: 0,
+        configuration: false,
+    }];
+    let parts = [
+        PartScan::Match(0x5A),
+        PartScan::Scan,
+        PartScan::Scan,
+        PartScan::Scan,
+    ];
+    let (outcome, _, _) = fastscan_with(&mut slaves, LssRequest::FastscanWith(parts));
+    assert_eq!(
+        outcome.unwrap_err().to_string(),
+        "Fastscan: no slave confirmed the vendor-ID 0x0000005A"
+    );
+    // Skipping the vendor-ID scans it.
+    let mut slaves = [Slave {
+        address: a,
+        at: 0,
+        configuration: false,
+    }];
+    let parts = [
+        PartScan::Skip,
+        PartScan::Scan,
+        PartScan::Scan,
+        PartScan::Scan,
+    ];
+    let (outcome, _, _) = fastscan_with(&mut slaves, LssRequest::FastscanWith(parts));
+    assert_eq!(outcome.unwrap(), LssAnswer::Found(a));
 }

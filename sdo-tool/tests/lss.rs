@@ -271,6 +271,8 @@ fn lss_usage_errors_are_one_line_each() {
 fn gateway_lss_requests_with_exact_replies() {
     let dir = tempfile::tempdir().unwrap();
     let nodes = Nodes::start(&unconfigured(2, Some(dir.path())), 2);
+    // [13]: vendor and product matched, revision and serial scanned (CANopenNode's scan types
+    // 2 and 0); [20]: a scan type that is none.
     let script = "\
 [1] _lss_fastscan
 [2] lss_inquire_addr
@@ -284,14 +286,14 @@ fn gateway_lss_requests_with_exact_replies() {
 [10] lss_store
 [11] lss_switch_glob 0
 [12] lss_get_node
-[13] lss_allnodes 100 40 1
+[13] lss_allnodes 100 40 1 2 0xABC 2 0x402 0 0 0 0
 [14] lss_allnodes
 [15] lss_switch_sel 0xABC 0x402 0x10001 2
 [16] lss_get_node
 [17] lss_activate_bitrate 100
 [18] lss_switch_glob 0
 [19] lss_inquire_addr 4
-[20] lss_allnodes 100 40 1 0 0xABC 0 0 0 0 0 0
+[20] lss_allnodes 100 40 1 3 0xABC 0 0 0 0 0 0
 [21] _lss_fastscan 4294967295
 [22] lss_allnodes 100 128 1
 ";
@@ -329,7 +331,7 @@ fn gateway_lss_requests_with_exact_replies() {
             "[17] OK",
             "[18] OK",
             "[19] ERROR:101 #Syntax error",
-            "[20] ERROR:100 #Request not supported",
+            "[20] ERROR:101 #Syntax error",
             "[21] ERROR:101 #Syntax error",
             "[22] ERROR:101 #Syntax error",
         ]

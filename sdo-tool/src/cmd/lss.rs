@@ -7,7 +7,7 @@ use std::io::Write;
 use std::time::{Duration, Instant};
 
 use canopen_net::lss::{
-    AddressPart, LssAddress, LssAnswer, LssError, LssMaster, LssRequest, LssState,
+    AddressPart, LssAddress, LssAnswer, LssError, LssMaster, LssRequest, LssState, PartScan,
 };
 
 use super::emit;
@@ -199,18 +199,20 @@ pub struct Assigned {
 
 /// Finds every node without a node-ID by Fastscan and gives them node-IDs from `first` on: each
 /// configured, stored when `store`, and switched back to waiting (where it takes its node-ID and
-/// no longer answers Fastscan). `each` hears of every node as it is done.
+/// no longer answers Fastscan); `parts` says how the Fastscan takes each part of the address.
+/// `each` hears of every node as it is done.
 pub fn assign(
     bus: &mut dyn CanBus,
     master: &mut LssMaster,
-    first: u8,
-    store: bool,
+    (first, store): (u8, bool),
+    parts: [PartScan; 4],
     mut each: impl FnMut(&Assigned) -> Result<(), ToolError>,
 ) -> Result<usize, ToolError> {
     exchange(bus, master, LssRequest::SwitchGlobal(LssState::Waiting))?;
     let mut count = 0;
     loop {
-        let LssAnswer::Found(address) = exchange(bus, master, LssRequest::Fastscan)? else {
+        let found = exchange(bus, master, LssRequest::FastscanWith(parts))?;
+        let LssAnswer::Found(address) = found else {
             return Ok(count);
         };
         let node_id = first
@@ -348,7 +350,8 @@ pub fn run(
                 }
                 .into());
             }
-            let count = assign(bus, &mut master, *first_id, true, |a| {
+            let all = [PartScan::Scan; 4];
+            let count = assign(bus, &mut master, (*first_id, true), all, |a| {
                 let mut value = address_json(&a.address);
                 value["node_id"] = a.node_id.into();
                 value["stored"] = a.not_stored.is_none().into();

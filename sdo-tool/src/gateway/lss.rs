@@ -2,7 +2,8 @@
 //! `lss_switch_sel VENDOR PRODUCT REVISION SERIAL`, `lss_set_node N`, `lss_conf_bitrate TABLE
 //! INDEX`, `lss_activate_bitrate DELAY_MS`, `lss_store`, `lss_inquire_addr [PART]` (0–3, or the
 //! command specifier 0x5A–0x5D), `lss_get_node`, `_lss_fastscan [TIMEOUT_MS]` and `lss_allnodes
-//! [TIMEOUT_MS [FIRST_ID STORE]]`.
+//! [TIMEOUT_MS [FIRST_ID STORE [TYPE VENDOR TYPE PRODUCT TYPE REVISION TYPE SERIAL]]]` (TYPE 0
+//! scan the part, 1 skip it, 2 match the value given).
 //!
 //! Replies: `OK`; an address part as `0x%08X` (four of them, space-separated, for the whole
 //! address); a node-ID in decimal; `lss_allnodes` a comment line `# Node-ID N assigned to: …` per
@@ -12,7 +13,7 @@
 use std::time::Duration;
 
 use canopen_net::lss::{
-    AddressPart, LssAnswer, LssError, LssMaster, LssRequest, LssState, DEFAULT_TIMEOUT,
+    AddressPart, LssAnswer, LssError, LssMaster, LssRequest, LssState, PartScan, DEFAULT_TIMEOUT,
 };
 
 use super::{gateway_error, number, Gateway};
@@ -90,20 +91,22 @@ impl Gateway {
                 };
                 return self.fastscan(t);
             }
-            ("lss_allnodes", [] | [_] | [_, _, _]) => {
+            ("lss_allnodes", [] | [_] | [_, _, _] | [_, _, _, _, _, _, _, _, _, _, _]) => {
                 let Some(t) = timeout(args.first()) else {
                     return gateway_error(101);
                 };
-                let (first, store) = match nums.as_slice() {
-                    [_, first, store] => (*first, *store),
+                let (first, store) = match nums.get(1..3) {
+                    Some(&[first, store]) => (first, store),
                     _ => (2, 1),
                 };
                 let (Ok(first @ 1..=127), store @ (0 | 1)) = (u8::try_from(first), store) else {
                     return gateway_error(101);
                 };
-                return self.all_nodes(t, first, store == 1);
+                let Some(parts) = scan_parts(nums.get(3..).unwrap_or_default()) else {
+                    return gateway_error(101);
+                };
+                return self.all_nodes(t, first, store == 1, parts);
             }
-            ("lss_allnodes", _) => return gateway_error(100),
             _ => return gateway_error(101),
         };
         let mut master = LssMaster::new();
@@ -154,10 +157,17 @@ impl Gateway {
         }
     }
 
-    fn all_nodes(&mut self, timeout: Duration, first: u8, store: bool) -> String {
+    fn all_nodes(
+        &mut self,
+        timeout: Duration,
+        first: u8,
+        store: bool,
+        parts: [PartScan; 4],
+    ) -> String {
         let mut master = LssMaster::with_timeout(timeout);
         let mut lines = String::new();
-        let count = assign(self.tool.bus.as_mut(), &mut master, first, store, |n| {
+        let bus = self.tool.bus.as_mut();
+        let count = assign(bus, &mut master, (first, store), parts, |n| {
             let a = n.address;
             lines.push_str(&format!(
                 "# Node-ID {} assigned to: 0x{:08X} 0x{:08X} 0x{:08X} 0x{:08X}\n",
@@ -173,4 +183,22 @@ impl Gateway {
             Err(e) => format!("{lines}{}", reply(Err(e))),
         }
     }
+}
+
+/// `lss_allnodes`' scan of the four parts: none given, each scanned; else four pairs `TYPE VALUE`,
+/// TYPE 0 scan, 1 skip, 2 match VALUE (CANopenNode's gateway).
+fn scan_parts(pairs: &[u32]) -> Option<[PartScan; 4]> {
+    if pairs.is_empty() {
+        return Some([PartScan::Scan; 4]);
+    }
+    let mut parts = [PartScan::Scan; 4];
+    for (part, pair) in parts.iter_mut().zip(pairs.chunks(2)) {
+        *part = match pair {
+            [0, _] => PartScan::Scan,
+            [1, _] => PartScan::Skip,
+            [2, v] => PartScan::Match(*v),
+            _ => return None,
+        };
+    }
+    Some(parts)
 }
