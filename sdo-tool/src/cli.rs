@@ -55,7 +55,7 @@ pub struct Args {
     #[arg(long, global = true, value_name = "BUS", env = crate::link::BUS_VARIABLE)]
     pub bus: Option<BusSpec>,
     /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
-    /// (1 = first); read, write, dump, apply, slaves, states and sdos only.
+    /// (1 = first); read, write, dump, apply, drive, slaves, states and sdos only.
     #[arg(
         long,
         global = true,

@@ -256,7 +256,7 @@ pub enum UsageError {
     /// A CANopen command with `--ethercat`.
     #[error(
         "`{command}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, \
-         apply, slaves, states and sdos are available"
+         apply, drive, slaves, states and sdos are available"
     )]
     CanopenOnly {
         /// The command's name.
