@@ -413,7 +413,7 @@ mod tests {
         assert_eq!(
             text(CanopenOnly { command: "nmt" }),
             "`nmt` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, \
-             slaves, states and sdos are available"
+             drive, slaves, states and sdos are available"
         );
         assert_eq!(text(CommandLine("bad".into())), "bad");
     }
