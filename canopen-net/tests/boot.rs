@@ -441,8 +441,10 @@ fn drive_dcf() -> canopen_net::boot::SlaveDcf {
         let at = at + text[at..].find('\n').unwrap() + 1;
         text.insert_str(at, &format!("ParameterValue={value}\r\n"));
     };
+    set(&mut text, "1010sub1", "0x65766173");
     set(&mut text, "1017", "200");
     set(&mut text, "1400sub1", "0x202");
+    set(&mut text, "1401sub1", "$NODEID+0x300");
     set(&mut text, "1600sub1", "0x60400010");
     set(&mut text, "1800sub1", "$NODEID+0x180");
     set(&mut text, "1800sub5", "50");
@@ -486,9 +488,10 @@ fn a_dcf_s_values_are_written_pdos_in_cia_301_order() {
             format!("{:04X}:{:02X}={hex}", c.entry.index, c.entry.sub)
         })
         .collect();
-    // 0x1017 first (index order); RPDO 1: its COB-ID 0x202 made invalid (bit 31), the mapping
+    // Not 0x1010 (a command, not configuration); 0x1017 first (index order); RPDO 1: its COB-ID 0x202 made invalid (bit 31), the mapping
     // emptied, its entry, its count (the entries', as the DCF gives none), the COB-ID valid; then
-    // TPDO 1 alike with its event timer. The statusword is not written.
+    // RPDO 2 with its COB-ID alone (0x307), made invalid and valid again; TPDO 1 alike with its
+    // event timer. The statusword is not written.
     assert_eq!(
         written,
         [
@@ -498,6 +501,8 @@ fn a_dcf_s_values_are_written_pdos_in_cia_301_order() {
             "1600:01=10004060",
             "1600:00=01",
             "1400:01=02020000",
+            "1401:01=07030080",
+            "1401:01=07030000",
             "1800:01=87010080",
             "1800:05=3200",
             "1A00:00=00",
@@ -900,4 +905,43 @@ fn a_node_holding_the_configuration_s_stamp_is_not_configured_again() {
     bus.feed(0x582, &[0x80, 0x20, 0x10, 0x01, 0x00, 0x00, 0x02, 0x06]);
     assert_eq!(bus.sent(), ["602#2B17100064000000"]);
     assert_eq!(bus.error(2), "");
+}
+
+#[test]
+fn a_bus_description_s_plan_names_the_lines_of_its_values() {
+    let eds = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/drive.eds");
+    let yml = format!(
+        "master:\n  node_id: 1\n\ndrive:\n  dcf: {}\n  node_id: 2\n  revision_number: 0x10001\n  \
+         heartbeat_producer: 100\n  sdo:\n    - {{index: 0x6060, value: 1}}\n",
+        eds.display()
+    );
+    let bus = canopen_net::Bus::parse(&yml, "bus.yml").unwrap();
+    let mut load = |dcf: &str| {
+        let (_, mut devices) =
+            od::load::load(std::path::Path::new(dcf)).map_err(|e| e.to_string())?;
+        let text = std::fs::read(dcf).unwrap();
+        Ok(canopen_net::SlaveFile::new(devices.swap_remove(0), &text))
+    };
+    let opts = canopen_net::GenOptions::default();
+    let g = canopen_net::generate(&bus, &mut load, &|_| None, opts).unwrap();
+    let plan = Plan::from_generated(&g, "bus.yml");
+    let s = &plan.slaves[0];
+    let described = format!("bus.yml:5, {}", eds.display());
+    assert_eq!(s.device_type.origin, described);
+    assert_eq!(s.identity[0].origin, described);
+    assert_eq!(s.identity[2].origin, "bus.yml:7 drive.revision_number");
+    assert_eq!(s.identity[2].value, 0x10001);
+    assert_eq!(s.heartbeat_origin, "bus.yml:8 drive.heartbeat_producer");
+    let origins: Vec<(u16, &str)> = s
+        .configuration
+        .iter()
+        .map(|c| (c.entry.index, c.origin.as_str()))
+        .collect();
+    assert_eq!(
+        origins,
+        [
+            (0x1017, "bus.yml:8 drive.heartbeat_producer"),
+            (0x6060, "bus.yml:10 drive.sdo")
+        ]
+    );
 }

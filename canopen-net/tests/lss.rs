@@ -246,7 +246,7 @@ fn fastscan_with(
     let mut m = LssMaster::new();
     m.start(now, request).unwrap();
     let mut requests = Vec::new();
-    loop {
+    for _ in 0..10_000 {
         while let Some(f) = m.poll_transmit() {
             assert_eq!(f.cob_id(), Some(0x7E5));
             requests.push(f.data8());
@@ -263,6 +263,7 @@ fn fastscan_with(
         now = m.poll_timeout().unwrap();
         m.handle_timeout(now);
     }
+    panic!("the Fastscan did not end: {} requests", requests.len());
 }
 
 #[test]
@@ -314,7 +315,10 @@ fn fastscan_without_a_confirmation_starts_again_twice_then_is_an_error() {
     // 20 ms with 40 ms.
     let mut requests: Vec<(Duration, [u8; 8])> = Vec::new();
     let mut now = t0;
+    let mut calls = 0;
     let outcome = loop {
+        calls += 1;
+        assert!(calls < 10_000, "the Fastscan did not end");
         requests.extend(std::iter::from_fn(|| m.poll_transmit()).map(|f| (now - t0, f.data8())));
         if let Some(o) = m.poll_event() {
             break o;
@@ -358,7 +362,7 @@ fn late_fastscan(
     let mut due: Vec<Instant> = Vec::new();
     let mut starts = 0;
     let mut sent = 0;
-    loop {
+    for _ in 0..10_000 {
         while let Some(f) = m.poll_transmit() {
             starts += usize::from(f.data8()[5] == 0x80);
             if slave.answers(f.data8()) {
@@ -383,6 +387,7 @@ fn late_fastscan(
             }
         }
     }
+    panic!("the Fastscan did not end");
 }
 
 #[test]
