@@ -945,3 +945,37 @@ fn a_bus_description_s_plan_names_the_lines_of_its_values() {
         ]
     );
 }
+
+/// CiA 302-2's error status letters and what each means.
+#[test]
+fn each_error_status_has_its_letter_and_meaning() {
+    use ErrorStatus::*;
+    let table = [
+        (A, 'A', "the node is no slave in 0x1F81"),
+        (B, 'B', "no answer to the upload of 0x1000"),
+        (C, 'C', "device type 0x1000 differs from 0x1F84"),
+        (D, 'D', "vendor-ID 0x1018:01 differs from 0x1F85"),
+        (E, 'E', "heartbeat event: no heartbeat in the consumer time"),
+        (F, 'F', "node guarding event: no answer to node guarding"),
+        (
+            G,
+            'G',
+            "the objects for the software version check are not configured",
+        ),
+        (H, 'H', "a software update is needed and not allowed"),
+        (
+            I,
+            'I',
+            "a software update is needed and the program download failed",
+        ),
+        (J, 'J', "the configuration download failed"),
+        (K, 'K', "no heartbeat while error control started"),
+        (L, 'L', "the slave was operational already"),
+        (M, 'M', "product code 0x1018:02 differs from 0x1F86"),
+        (N, 'N', "revision number 0x1018:03 differs from 0x1F87"),
+        (O, 'O', "serial number 0x1018:04 differs from 0x1F88"),
+    ];
+    for (status, letter, meaning) in table {
+        assert_eq!((status.letter(), status.meaning()), (letter, meaning));
+    }
+}
