@@ -979,3 +979,91 @@ fn each_error_status_has_its_letter_and_meaning() {
         assert_eq!((status.letter(), status.meaning()), (letter, meaning));
     }
 }
+
+/// A master DCF's 0x1F26 and 0x1F27 for a slave (here in its `master.bin`, whose entries the
+/// master's objects take first) stamp that slave's configuration: written last, to 0x1020.
+#[test]
+fn a_master_dcf_s_configuration_date_and_time_stamp_the_slave_s_configuration() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/net");
+    let text = std::fs::read_to_string(dir.join("basic.yml")).unwrap();
+    let bus = canopen_net::Bus::parse(&text, "basic.yml").unwrap();
+    let mut load = |dcf: &str| {
+        let path = dir.join(dcf);
+        let (_, mut devices) = od::load::load(&path).map_err(|e| e.to_string())?;
+        let text = std::fs::read(&path).unwrap();
+        Ok(canopen_net::SlaveFile::new(devices.swap_remove(0), &text))
+    };
+    let opts = canopen_net::GenOptions::default();
+    let g = canopen_net::generate(&bus, &mut load, &|_| None, opts).unwrap();
+    let file = |name: &str| {
+        g.files
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, b)| b.clone())
+    };
+    let out = tempfile::tempdir().unwrap();
+    let master = out.path().join("master.dcf");
+    std::fs::write(&master, file("master.dcf").unwrap()).unwrap();
+    let (_, mut devices) = od::load::load(&master).unwrap();
+    let desc = devices.swap_remove(0);
+    let master_text = std::fs::read_to_string(&master).unwrap();
+    let stamped = |stamp: [u32; 2]| {
+        let mut entries = canopen_net::concise::decode(&file("master.bin").unwrap()).unwrap();
+        entries.push(Entry::new(0x1F26, 2, stamp[0].to_le_bytes().to_vec()));
+        entries.push(Entry::new(0x1F27, 2, stamp[1].to_le_bytes().to_vec()));
+        canopen_net::concise::encode(&entries)
+    };
+    let plan_with = |stamp: [u32; 2]| {
+        let mut read = |name: &str| -> Result<Option<Vec<u8>>, String> {
+            let base = std::path::Path::new(name)
+                .file_name()
+                .unwrap()
+                .to_str()
+                .unwrap();
+            Ok(match base {
+                "master.bin" => Some(stamped(stamp)),
+                other => file(other),
+            })
+        };
+        Plan::from_master_dcf(&desc, &master_text, "master.dcf", &mut read).unwrap()
+    };
+    let plan = plan_with([14000, 43_200_000]);
+    let drive = plan.slaves.iter().find(|s| s.node_id == 2).unwrap();
+    assert_eq!(drive.stamp, Some([14000, 43_200_000]));
+    let tail: Vec<(u16, u8, Vec<u8>, &str)> = drive.configuration[drive.configuration.len() - 2..]
+        .iter()
+        .map(|c| {
+            (
+                c.entry.index,
+                c.entry.sub,
+                c.entry.data.clone(),
+                c.origin.as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        tail,
+        [
+            (
+                0x1020,
+                1,
+                vec![0xB0, 0x36, 0, 0],
+                "master.dcf: master.bin 0x1F26:02"
+            ),
+            (
+                0x1020,
+                2,
+                vec![0x00, 0x2E, 0x93, 0x02],
+                "master.dcf: master.bin 0x1F27:02"
+            ),
+        ]
+    );
+    // Neither given: no stamp, nothing added.
+    let plain = plan_with([0, 0]);
+    let drive_plain = plain.slaves.iter().find(|s| s.node_id == 2).unwrap();
+    assert_eq!(drive_plain.stamp, None);
+    assert_eq!(
+        drive_plain.configuration.len() + 2,
+        drive.configuration.len()
+    );
+}
