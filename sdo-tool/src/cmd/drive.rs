@@ -633,4 +633,335 @@ mod tests {
         assert_eq!(error_meaning(0x8611), "following error");
         assert_eq!(error_meaning(0x8130), "life guard error or heartbeat error");
     }
+
+    /// A drive as CiA 402-2 describes it, behind the SDO calls: the statusword follows the
+    /// controlword's commands; the mode display follows 0x6060 after `lag` reads; homing (mode 6)
+    /// ends `homing` (attained 0x1400, or 0x2000 an error) at the start; a profile position
+    /// set-point is acknowledged (bit 12) while bit 4 is set and reached (bit 10) after.
+    struct Fake {
+        base: u16,
+        status: u16,
+        mode: i8,
+        shown: i8,
+        lag: u32,
+        homing: u16,
+        error: u16,
+        /// Reads of 0x6041 in FAULT before a fault reset clears it.
+        fault_reads: u32,
+        /// Reads of 0x6041 that say NOT READY TO SWITCH ON first.
+        not_ready_reads: u32,
+        /// The statusword changes no more (after this many controlwords, when `frozen_after`).
+        frozen: bool,
+        frozen_after: Option<usize>,
+        /// A fault reset was asked for (bit 7).
+        reset: bool,
+        writes: Vec<(u16, Vec<u8>)>,
+    }
+
+    impl Fake {
+        fn new(status: u16) -> Fake {
+            Fake {
+                base: 0,
+                status,
+                mode: 0,
+                shown: 0,
+                lag: 0,
+                homing: 0x1400,
+                error: 0,
+                fault_reads: 0,
+                not_ready_reads: 0,
+                frozen: false,
+                frozen_after: None,
+                reset: false,
+                writes: Vec::new(),
+            }
+        }
+
+        fn controlwords(&self) -> Vec<u16> {
+            self.writes
+                .iter()
+                .filter(|(i, _)| *i == 0x6040 + self.base)
+                .map(|(_, d)| u16::from_le_bytes([d[0], d[1]]))
+                .collect()
+        }
+    }
+
+    impl SdoAccess for Fake {
+        fn check_node(&self, _node: u8) -> Result<(), ToolError> {
+            Ok(())
+        }
+
+        fn read_bytes(&mut self, _node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
+            let index = addr.index.saturating_sub(self.base);
+            Ok(match index {
+                0x6041 => {
+                    if self.not_ready_reads > 0 {
+                        self.not_ready_reads -= 1;
+                        return Ok(0x0200u16.to_le_bytes().to_vec());
+                    }
+                    if State::of(self.status) == State::Fault && self.reset {
+                        match self.fault_reads {
+                            0 => self.status = 0x0240 | (self.status & 0x0200),
+                            _ => self.fault_reads -= 1,
+                        }
+                    }
+                    self.status.to_le_bytes().to_vec()
+                }
+                0x6061 => {
+                    if self.lag > 0 {
+                        self.lag -= 1;
+                    } else {
+                        self.shown = self.mode;
+                    }
+                    vec![self.shown as u8]
+                }
+                0x603F => self.error.to_le_bytes().to_vec(),
+                _ => vec![0; 4],
+            })
+        }
+
+        fn write_bytes(&mut self, _node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError> {
+            self.writes.push((addr.index, data.to_vec()));
+            let index = addr.index.saturating_sub(self.base);
+            if index == 0x6060 {
+                self.mode = data[0] as i8;
+            }
+            if index != 0x6040 {
+                return Ok(());
+            }
+            let cw = u16::from_le_bytes([data[0], data[1]]);
+            let count = self.controlwords().len();
+            if self.frozen || self.frozen_after.is_some_and(|n| count > n) {
+                return Ok(());
+            }
+            let state = State::of(self.status);
+            let remote = self.status & 0x0200;
+            self.status = match (state, cw) {
+                (State::Fault, c) => {
+                    self.reset |= c & 0x80 != 0;
+                    self.status
+                }
+                (_, 0x0000) => 0x0240,
+                (_, 0x0002) => 0x0217,
+                (_, 0x0006) => 0x0221,
+                (State::ReadyToSwitchOn, 0x0007) => 0x0233,
+                (State::SwitchedOn | State::OperationEnabled, c) if c & 0x0F == 0x0F => {
+                    let mut s = 0x0237;
+                    if self.mode == 6 && c & 0x10 != 0 {
+                        s |= self.homing;
+                    }
+                    if self.mode == 1 && c & 0x10 != 0 {
+                        s |= 0x1000;
+                    } else if self.mode == 1 {
+                        s |= 0x0400;
+                    }
+                    if c & 0x0100 != 0 {
+                        s |= 0x0400;
+                    }
+                    s
+                }
+                _ => self.status,
+            } & !0x0200
+                | remote;
+            Ok(())
+        }
+
+        fn idle(&mut self, _d: Duration) -> Result<(), ToolError> {
+            Ok(())
+        }
+    }
+
+    fn drive(fake: &mut Fake, axis: u8, wait_ms: u64) -> Drive<'_> {
+        fake.base = 0x800 * u16::from(axis);
+        Drive {
+            sdo: fake,
+            node: 5,
+            base: 0x800 * u16::from(axis),
+            wait: Duration::from_millis(wait_ms),
+        }
+    }
+
+    #[test]
+    fn enable_goes_through_each_state_of_cia_402_on_the_axis_asked() {
+        // Not ready to switch on for two reads, then switch on disabled by itself.
+        let mut fake = Fake::new(0x0240);
+        fake.not_ready_reads = 2;
+        drive(&mut fake, 1, 1000).enable().unwrap();
+        assert_eq!(fake.controlwords(), [0x0006, 0x0007, 0x000F]);
+        assert!(fake.writes.iter().all(|(i, _)| *i == 0x6840));
+        assert_eq!(fake.status, 0x0237);
+        // Never leaving it: refused with where it stayed.
+        let mut fake = Fake::new(0x0240);
+        fake.not_ready_reads = u32::MAX;
+        let e = drive(&mut fake, 0, 30).enable().unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "drive 5: leaving NOT READY TO SWITCH ON not done within 30 ms: NOT READY TO SWITCH \
+             ON (statusword 0x0200)"
+        );
+    }
+
+    #[test]
+    fn a_fault_is_reset_first_and_a_refusal_names_the_state_and_the_remote_bit() {
+        // In FAULT for three more reads after the reset: waited for, then enabled.
+        let mut fake = Fake::new(0x0208);
+        fake.fault_reads = 3;
+        drive(&mut fake, 0, 1000).enable().unwrap();
+        assert_eq!(
+            fake.controlwords(),
+            [0x0000, 0x0080, 0x0000, 0x0006, 0x0007, 0x000F]
+        );
+        // A fault that stays: the reset is refused with the error code in words.
+        let mut fake = Fake::new(0x0208);
+        fake.fault_reads = u32::MAX;
+        fake.error = 0x7121;
+        let e = drive(&mut fake, 0, 30)
+            .fault_reset()
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "drive 5: fault reset (controlword bit 7 rising) not done within 30 ms: FAULT \
+             (statusword 0x0208), error code 0x603F = 0x7121 (motor blocked)"
+        );
+        // Remote clear: the drive takes nothing from the bus, and says so.
+        let mut fake = Fake::new(0x0040);
+        fake.frozen = true;
+        let e = drive(&mut fake, 0, 30).enable().unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "drive 5: controlword 0x0006 (shutdown) to READY TO SWITCH ON not done within 30 ms: \
+             SWITCH ON DISABLED (statusword 0x0040), remote (bit 9) clear: the drive takes no \
+             commands from the bus"
+        );
+        // Remote set: no such words.
+        let mut fake = Fake::new(0x0240);
+        fake.frozen = true;
+        let e = drive(&mut fake, 0, 30).enable().unwrap_err().to_string();
+        assert!(e.ends_with("SWITCH ON DISABLED (statusword 0x0240)"), "{e}");
+    }
+
+    #[test]
+    fn the_mode_is_waited_for_on_its_display() {
+        let mut fake = Fake::new(0x0237);
+        fake.lag = 3;
+        drive(&mut fake, 0, 1000).mode(3).unwrap();
+        assert_eq!(fake.shown, 3);
+        let mut fake = Fake::new(0x0237);
+        fake.lag = u32::MAX;
+        let e = drive(&mut fake, 0, 30).mode(1).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "drive 5: mode 1 (profile position) written to 0x6060, 0x6061 still shows 0 (no \
+             mode) after 30 ms"
+        );
+    }
+
+    #[test]
+    fn homing_ends_at_attained_or_with_its_error() {
+        let mut fake = Fake::new(0x0237);
+        drive(&mut fake, 0, 1000).home(Some(35)).unwrap();
+        assert_eq!(fake.controlwords(), [0x000F, 0x001F, 0x000F]);
+        assert!(fake.writes.contains(&(0x6098, vec![35])));
+        assert!(fake.writes.contains(&(0x6060, vec![6])));
+        // Attained without target reached is not the end; an error (bit 13) is.
+        let mut fake = Fake::new(0x0237);
+        fake.homing = 0x1000;
+        assert!(drive(&mut fake, 0, 30).home(None).is_err());
+        let mut fake = Fake::new(0x0237);
+        fake.homing = 0x2000;
+        let e = drive(&mut fake, 0, 1000)
+            .home(None)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "drive 5: homing error (statusword 0x2237 bit 13)");
+    }
+
+    #[test]
+    fn a_move_sends_its_set_point_and_waits_for_its_acknowledge_and_target() {
+        let mut fake = Fake::new(0x0237);
+        drive(&mut fake, 0, 1000)
+            .move_to(-500, true, Some(2000), Some(8000))
+            .unwrap();
+        // Relative (bit 6): 0x004F, then new set-point and change at once (bits 4, 5): 0x007F.
+        assert_eq!(fake.controlwords(), [0x004F, 0x007F, 0x004F]);
+        let values: Vec<(u16, Vec<u8>)> = fake
+            .writes
+            .iter()
+            .filter(|(i, _)| *i != 0x6040)
+            .cloned()
+            .collect();
+        assert_eq!(
+            values,
+            [
+                (0x6060, vec![1]),
+                (0x6081, 2000u32.to_le_bytes().to_vec()),
+                (0x6083, 8000u32.to_le_bytes().to_vec()),
+                (0x6084, 8000u32.to_le_bytes().to_vec()),
+                (0x607A, (-500i32).to_le_bytes().to_vec()),
+            ]
+        );
+        // Never acknowledged: refused.
+        let mut fake = Fake::new(0x0237);
+        fake.frozen_after = Some(1);
+        let e = drive(&mut fake, 0, 30)
+            .move_to(10, false, None, None)
+            .unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("drive 5: the new set-point (set-point acknowledge, bit 12) not done"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn stop_halts_and_waits_for_target_reached() {
+        let mut fake = Fake::new(0x0237);
+        drive(&mut fake, 0, 1000).stop().unwrap();
+        assert_eq!(fake.controlwords(), [0x010F]);
+        // Not enabled: nothing to stop.
+        let mut fake = Fake::new(0x0240);
+        drive(&mut fake, 0, 1000).stop().unwrap();
+        assert_eq!(fake.controlwords(), Vec::<u16>::new());
+    }
+
+    #[test]
+    fn modes_by_name() {
+        let names = [
+            (0, "no mode"),
+            (1, "profile position"),
+            (2, "velocity"),
+            (3, "profile velocity"),
+            (4, "profile torque"),
+            (5, "reserved"),
+            (6, "homing"),
+            (7, "interpolated position"),
+            (8, "cyclic synchronous position"),
+            (9, "cyclic synchronous velocity"),
+            (10, "cyclic synchronous torque"),
+            (11, "reserved"),
+            (-1, "manufacturer specific"),
+            (-128, "manufacturer specific"),
+        ];
+        for (mode, name) in names {
+            assert_eq!(mode_name(mode), name, "{mode}");
+        }
+        assert_eq!(
+            bit_names(0x3000, 3),
+            ["speed is zero", "max slippage error"]
+        );
+        for mode in [8, 9, 10] {
+            assert_eq!(
+                bit_names(0x3000, mode),
+                ["target value ignored", "following error"]
+            );
+        }
+        assert_eq!(
+            bit_names(0x3000, 0),
+            [
+                "operation mode specific (12)",
+                "operation mode specific (13)"
+            ]
+        );
+    }
 }
