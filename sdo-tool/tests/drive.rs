@@ -197,3 +197,34 @@ fn on_ethercat_the_chain_runs_in_op_for_each_command() {
          target reached, homing attained"
     );
 }
+
+/// `status --watch`: a line every 200 ms until Ctrl-C (SIGINT), then exit 0.
+#[test]
+fn status_watch_repeats_until_interrupted() {
+    use std::io::BufRead;
+    let n = node();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+        .args(["--bus", &n.1, "drive", "2", "status", "--watch"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = std::io::BufReader::new(child.stdout.take().unwrap());
+    let mut lines = Vec::new();
+    // Two lines, then Ctrl-C.
+    for _ in 0..2 {
+        let mut l = String::new();
+        out.read_line(&mut l).unwrap();
+        lines.push(l);
+    }
+    let killed = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut out, &mut rest).unwrap();
+    lines.extend(rest.lines().map(|l| format!("{l}\n")));
+    assert_eq!(child.wait().unwrap().code(), Some(0));
+    let prefix = format!("node 2: {DISABLED}, no mode (0)");
+    assert!(lines.iter().all(|l| l.starts_with(&prefix)), "{lines:?}");
+}

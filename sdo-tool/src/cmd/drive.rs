@@ -655,6 +655,8 @@ mod tests {
         frozen_after: Option<usize>,
         /// A fault reset was asked for (bit 7).
         reset: bool,
+        /// The set-point acknowledge (bit 12) stays when bit 4 is cleared.
+        ack_sticks: bool,
         writes: Vec<(u16, Vec<u8>)>,
     }
 
@@ -673,6 +675,7 @@ mod tests {
                 frozen: false,
                 frozen_after: None,
                 reset: false,
+                ack_sticks: false,
                 writes: Vec::new(),
             }
         }
@@ -753,7 +756,7 @@ mod tests {
                     if self.mode == 1 && c & 0x10 != 0 {
                         s |= 0x1000;
                     } else if self.mode == 1 {
-                        s |= 0x0400;
+                        s |= 0x0400 | (self.status & 0x1000 & if self.ack_sticks { !0 } else { 0 });
                     }
                     if c & 0x0100 != 0 {
                         s |= 0x0400;
@@ -868,6 +871,10 @@ mod tests {
         let mut fake = Fake::new(0x0237);
         fake.homing = 0x1000;
         assert!(drive(&mut fake, 0, 30).home(None).is_err());
+        // Target reached without attained is not the end either.
+        let mut fake = Fake::new(0x0237);
+        fake.homing = 0x0400;
+        assert!(drive(&mut fake, 0, 30).home(None).is_err());
         let mut fake = Fake::new(0x0237);
         fake.homing = 0x2000;
         let e = drive(&mut fake, 0, 1000)
@@ -901,6 +908,17 @@ mod tests {
                 (0x607A, (-500i32).to_le_bytes().to_vec()),
             ]
         );
+        // Target reached while the acknowledge of the set-point is still up is not the end.
+        let mut fake = Fake::new(0x0237);
+        fake.ack_sticks = true;
+        let e = drive(&mut fake, 0, 30)
+            .move_to(10, false, None, None)
+            .unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("drive 5: the move (target reached, bit 10) not done"),
+            "{e}"
+        );
         // Never acknowledged: refused.
         let mut fake = Fake::new(0x0237);
         fake.frozen_after = Some(1);
@@ -923,6 +941,23 @@ mod tests {
         let mut fake = Fake::new(0x0240);
         drive(&mut fake, 0, 1000).stop().unwrap();
         assert_eq!(fake.controlwords(), Vec::<u16>::new());
+    }
+
+    #[test]
+    fn status_shows_an_error_code_that_is_not_0_or_any_in_fault() {
+        let line = |status: u16, error: u16| {
+            let mut fake = Fake::new(status);
+            fake.error = error;
+            let mut out = Vec::new();
+            show(&mut drive(&mut fake, 0, 30), false, &mut out).unwrap();
+            String::from_utf8(out).unwrap()
+        };
+        // Enabled with a warning's code: shown.
+        assert!(line(0x0237, 0x8611).ends_with("; error code 0x8611 (following error)\n"));
+        // In FAULT with 0: shown too.
+        assert!(line(0x0208, 0).ends_with("; error code 0x0000 (error reset or no error)\n"));
+        // Enabled with 0: not.
+        assert!(line(0x0237, 0).ends_with("remote\n"));
     }
 
     #[test]
