@@ -120,20 +120,13 @@ impl Master {
         let line = get("heartbeat_producer")?.map_or(bus.master.line, |n| n.line);
         m.heartbeats(cx, slaves, line);
         for s in slaves.iter() {
-            let has = |sub| {
-                s.desc
-                    .dictionary
-                    .object(0x1018)
-                    .and_then(|o| o.sub(sub))
-                    .is_some()
-            };
             if s.software_version != 0 {
                 m.sdo.push(u32_entry(0x1F55, s.node_id, s.software_version));
             }
-            if s.revision_number != 0 && has(3) {
+            if s.revision_number != 0 && s.has_identity(3) {
                 m.sdo.push(u32_entry(0x1F87, s.node_id, s.revision_number));
             }
-            if s.serial_number != 0 && has(4) {
+            if s.serial_number != 0 && s.has_identity(4) {
                 m.sdo.push(u32_entry(0x1F88, s.node_id, s.serial_number));
             }
         }

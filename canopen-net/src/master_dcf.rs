@@ -649,14 +649,9 @@ fn commissioning(
         &|s| s.vendor_id,
         &|_| true,
     );
-    let has_product = |s: &Slave| {
-        s.desc
-            .dictionary
-            .object(0x1018)
-            .and_then(|o| o.sub(2))
-            .is_some()
-    };
-    ident(o, "1F86", "Product code", &|s| s.product_code, &has_product);
+    ident(o, "1F86", "Product code", &|s| s.product_code, &|s| {
+        s.has_identity(2)
+    });
     array(o, "1F87", "Revision_number", 7, "rw", None, 127);
     array(o, "1F88", "Serial number", 7, "rw", None, 127);
     var(

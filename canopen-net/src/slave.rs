@@ -223,6 +223,16 @@ impl Slave {
         v
     }
 
+    /// Whether its description has sub-index `sub` of the identity object 0x1018: the master checks
+    /// (and dcfgen writes 0x1F86–0x1F88 for) only the parts the slave has.
+    pub fn has_identity(&self, sub: u8) -> bool {
+        self.desc
+            .dictionary
+            .object(0x1018)
+            .and_then(|o| o.sub(sub))
+            .is_some()
+    }
+
     /// The line of its key `key`, else of its section.
     pub fn key_line(&self, key: &str) -> usize {
         self.key_lines

@@ -5,8 +5,9 @@
 use od::object::AccessType;
 use od::DeviceDescription;
 
-use super::plan::{ini_keys, ConfigEntry, Expect, Plan, SlavePlan};
+use super::plan::{ConfigEntry, Expect, Plan, SlavePlan};
 use crate::concise::Entry;
+use crate::file::{ini_keys, IniKeys};
 use crate::slave::int_value;
 
 /// One slave's DCF: its name (the file's stem), the file's name for origins, what `od` read and
@@ -117,7 +118,7 @@ fn writable(kind: AccessType) -> bool {
 }
 
 /// The entries a DCF sets, in the order a master writes them.
-fn configuration(d: &SlaveDcf, keys: &super::plan::IniKeys) -> Vec<ConfigEntry> {
+fn configuration(d: &SlaveDcf, keys: &IniKeys) -> Vec<ConfigEntry> {
     let dict = &d.desc.dictionary;
     let set = |index: u16, sub: u8| {
         dict.object(index)

@@ -7,6 +7,7 @@ use od::DeviceDescription;
 
 use crate::bus::NetError;
 use crate::concise::{self, Entry};
+use crate::file::{ini_keys, IniKeys};
 use crate::gen::Generated;
 use crate::slave::int_value;
 
@@ -133,13 +134,6 @@ impl Plan {
             .map(|s| {
                 let (dcf, dcf_line) = &s.dcf;
                 let described = format!("{file}:{dcf_line}, {dcf}");
-                let has = |sub: u8| {
-                    s.desc
-                        .dictionary
-                        .object(0x1018)
-                        .and_then(|o| o.sub(sub))
-                        .is_some()
-                };
                 // A value the section gives comes from its line; the others from the description.
                 let expect = |value: u32, shown: bool, key: &str| Expect {
                     value: if shown { value } else { 0 },
@@ -165,9 +159,9 @@ impl Plan {
                     device_type: expect(s.device_type, true, ""),
                     identity: [
                         expect(s.vendor_id, true, ""),
-                        expect(s.product_code, has(2), ""),
-                        expect(s.revision_number, has(3), "revision_number"),
-                        expect(s.serial_number, has(4), "serial_number"),
+                        expect(s.product_code, s.has_identity(2), ""),
+                        expect(s.revision_number, s.has_identity(3), "revision_number"),
+                        expect(s.serial_number, s.has_identity(4), "serial_number"),
                     ],
                     software: expect(s.software_version, true, "software_version"),
                     heartbeat_ms: if m.heartbeat_consumer {
@@ -328,27 +322,6 @@ impl Plan {
     }
 }
 
-/// The keys of a CiA 306 file by section, with their lines.
-pub(crate) struct IniKeys {
-    /// (section in upper case, key in lower case) → (line, value).
-    keys: BTreeMap<(String, String), (usize, String)>,
-}
-
-pub(crate) fn ini_keys(text: &str) -> IniKeys {
-    let mut keys = BTreeMap::new();
-    let mut section = String::new();
-    for (n, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
-            section = name.trim().to_ascii_uppercase();
-        } else if let Some((k, v)) = line.split_once('=') {
-            let key = (section.clone(), k.trim().to_ascii_lowercase());
-            keys.insert(key, (n + 1, v.trim().to_string()));
-        }
-    }
-    IniKeys { keys }
-}
-
 impl IniKeys {
     /// The line of the value of `index:sub`: its key in the `[XXXXValue]` section of a compact
     /// array, else its `[XXXXsubN]` section's (or, for sub-index 0, `[XXXX]`'s) `ParameterValue`,
@@ -368,16 +341,14 @@ impl IniKeys {
             key(&plain, "defaultvalue"),
         ]
         .iter()
-        .find_map(|k| self.keys.get(k))
-        .map_or(0, |(line, _)| *line)
+        .find_map(|(section, key)| self.get(section, key))
+        .map_or(0, |(line, _)| line)
     }
 
     /// The `UploadFile` of 0x1F22 for `node`, with its line.
     fn upload_file(&self, node: u8) -> Option<(usize, String)> {
-        let k = (format!("1F22SUB{node:X}"), "uploadfile".to_string());
-        self.keys
-            .get(&k)
+        self.get(&format!("1F22SUB{node:X}"), "uploadfile")
             .filter(|(_, v)| !v.is_empty())
-            .map(|(line, v)| (*line, v.clone()))
+            .map(|(line, v)| (line, v.to_string()))
     }
 }
