@@ -15,8 +15,8 @@ struct Node(#[allow(dead_code)] common::Proc, String);
 
 fn node() -> Node {
     let eds = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/drive.eds");
-    let (p, bus) = common::node_server(&["--od", &format!("{}@2", eds.display())]);
-    Node(p, bus)
+    let (p, port) = common::node_server(&["--od", &format!("{}@2", eds.display())]);
+    Node(p, common::socketcand_bus(port))
 }
 
 impl Node {

@@ -21,17 +21,11 @@ fn examples() -> PathBuf {
 /// The server (node 2, the drive) taking connections, and its port.
 fn server() -> (Proc, u16) {
     let drive = format!("{}@2", examples().join("drive.eds").display());
-    let (p, bus) = common::node_server(&["--od", &drive]);
-    let port = bus
-        .trim_start_matches("socketcand://127.0.0.1:")
-        .trim_end_matches("/can0")
-        .parse()
-        .unwrap();
-    (p, port)
+    common::node_server(&["--od", &drive])
 }
 
 fn client(port: u16) -> String {
-    format!("socketcand://127.0.0.1:{port}/can0")
+    common::socketcand_bus(port)
 }
 
 /// Node 3, the I/O device, joining the server.

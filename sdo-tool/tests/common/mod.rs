@@ -61,9 +61,14 @@ pub fn canopen_node(bus: &str, args: &[&str]) -> Proc {
     )
 }
 
+/// The bus a client of the socketcand server on `port` of 127.0.0.1 gives.
+pub fn socketcand_bus(port: u16) -> String {
+    format!("socketcand://127.0.0.1:{port}/can0")
+}
+
 /// `canopen-node ARGS` as a socketcand server on a free port of 127.0.0.1, taking connections: the
-/// process and the bus its clients give (`socketcand://127.0.0.1:PORT/can0`).
-pub fn node_server(args: &[&str]) -> (Proc, String) {
+/// process and its port ([`socketcand_bus`] gives the bus of its clients).
+pub fn node_server(args: &[&str]) -> (Proc, u16) {
     let port = std::net::TcpListener::bind("127.0.0.1:0")
         .unwrap()
         .local_addr()
@@ -76,5 +81,5 @@ pub fn node_server(args: &[&str]) -> (Proc, String) {
         }
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
-    (p, format!("socketcand://127.0.0.1:{port}/can0"))
+    (p, port)
 }
