@@ -54,6 +54,60 @@ pub struct DeviceLine {
     pub objects: usize,
     /// Entries (sub-objects) in the dictionary.
     pub entries: usize,
+    /// The entries the description gives `ObjFlags` (CiA 306 §4.6.3, XDD `objFlags`), in address
+    /// order.
+    pub flagged: Vec<Flagged>,
+}
+
+/// An entry with `ObjFlags`: what a configuration tool leaves out for it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Flagged {
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The entry's name.
+    pub name: String,
+    /// The flags, the object's and the entry's own together ([`od::object::Object::flags_of`]).
+    pub flags: u32,
+    /// What they ask: `sdo-tool apply` does not write an entry flagged "refuse write on download"
+    /// (bit 0), `sdo-tool dump` does not read one flagged "refuse read on scan" (bit 1).
+    pub meaning: String,
+}
+
+/// The entries of `dev` with `ObjFlags`.
+fn flagged(dev: &DeviceDescription) -> Vec<Flagged> {
+    dev.dictionary
+        .objects()
+        .flat_map(|o| {
+            o.subs.iter().filter_map(move |(&sub, s)| {
+                let flags = o.flags_of(sub);
+                (!flags.is_empty()).then(|| Flagged {
+                    index: o.index,
+                    sub,
+                    name: s.name.clone(),
+                    flags: flags.bits(),
+                    meaning: flag_meaning(flags),
+                })
+            })
+        })
+        .collect()
+}
+
+/// What a tool makes of `flags`, in words.
+fn flag_meaning(flags: od::object::ObjFlags) -> String {
+    use od::object::ObjFlags;
+    let mut words = Vec::new();
+    if flags.contains(ObjFlags::REFUSE_WRITE_ON_DOWNLOAD) {
+        words.push("refuse write on download: sdo-tool apply does not write it");
+    }
+    if flags.contains(ObjFlags::REFUSE_READ_ON_SCAN) {
+        words.push("refuse read on scan: sdo-tool dump does not read it");
+    }
+    if flags.bits() & !0b11 != 0 {
+        words.push("reserved bits set: no tool acts on them");
+    }
+    words.join("; ")
 }
 
 /// What checking one file found.
@@ -135,6 +189,7 @@ fn device_line(dev: &DeviceDescription) -> DeviceLine {
         revision: dev.identity.revision,
         objects: d.len(),
         entries: d.objects().map(|o| o.subs.len()).sum(),
+        flagged: flagged(dev),
     }
 }
 
@@ -420,6 +475,7 @@ pub fn text_one(report: &FileReport, full: &[DeviceDescription], all: bool) -> S
     } else {
         for dev in full {
             summary(&mut text, dev);
+            flagged_text(&mut text, &flagged(dev), all);
         }
     }
     let (e, w) = (report.errors(), report.warnings());
@@ -527,6 +583,46 @@ fn summary(text: &mut String, dev: &DeviceDescription) {
             r => format!("{r} kbit/s"),
         };
         let _ = writeln!(text, "  node-ID      {node}  bit rate {rate}");
+    }
+}
+
+/// The entries a device flags with `ObjFlags`, and what a tool makes of them: the first 10, every
+/// one with `all`.
+fn flagged_text(text: &mut String, flagged: &[Flagged], all: bool) {
+    if flagged.is_empty() {
+        return;
+    }
+    let with = |bit: u32| flagged.iter().filter(|f| f.flags & bit != 0).count();
+    let n = flagged.len();
+    let _ = writeln!(
+        text,
+        "  ObjFlags     {n} {} flagged: {} refuse write on download (sdo-tool apply does not write \
+         them), {} refuse read on scan (sdo-tool dump does not read them)",
+        if n == 1 { "entry" } else { "entries" },
+        with(1),
+        with(2)
+    );
+    let shown = if all {
+        flagged.len()
+    } else {
+        flagged.len().min(10)
+    };
+    for f in &flagged[..shown] {
+        let _ = writeln!(
+            text,
+            "    0x{:04X}:{:02X} {}: {}",
+            f.index,
+            f.sub,
+            f.name,
+            od::object::ObjFlags::from_bits(f.flags)
+        );
+    }
+    if shown < flagged.len() {
+        let _ = writeln!(
+            text,
+            "    … {} more (--all lists every one)",
+            flagged.len() - shown
+        );
     }
 }
 

@@ -219,7 +219,7 @@ fn json_holds_every_file_device_and_finding() {
         odd["devices"],
         serde_json::json!([{
             "name": "Odd", "product_name": "Odd", "vendor_id": 0, "product_code": 0, "revision": 0,
-            "objects": 1, "entries": 1
+            "objects": 1, "entries": 1, "flagged": []
         }])
     );
     assert_eq!(odd["warnings"], 2);
@@ -448,4 +448,107 @@ fn a_dcf_summary_has_its_node_id_and_bit_rate() {
         text.contains("\n  node-ID      unconfigured  bit rate not given\n"),
         "{text}"
     );
+}
+
+/// An EDS with `ObjFlags` (CiA 306 §4.6.3): a RECORD 0x2000 flagged 0x3 in its object's section
+/// (its two entries inherit them), a VAR 0x2001 flagged 0x1, an entry 0x2002:01 flagged 0x2 in its
+/// own section, a VAR 0x2003 with a reserved bit (0x4) and a VAR 0x2004 flagged 0x0; and `extra`
+/// VARs 0x2100.. flagged 0x1 after them.
+fn flagged_eds(extra: usize) -> String {
+    let var = |index: u32, flags: &str| {
+        format!(
+            "[{index:X}]\nParameterName=Var {index:X}\nObjectType=0x7\nDataType=0x0007\n\
+             AccessType=rw\nDefaultValue=0\n{flags}"
+        )
+    };
+    let mut text = String::from(
+        "[FileInfo]\nFileName=flags.eds\n[DeviceInfo]\nVendorName=V\nProductName=Flags\n\
+         [2000]\nParameterName=Calibration\nObjectType=0x9\nSubNumber=2\nObjFlags=0x3\n\
+         [2000sub0]\nParameterName=Count\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=1\n\
+         [2000sub1]\nParameterName=Gain\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=5\n\
+         [2002]\nParameterName=Record\nObjectType=0x9\nSubNumber=2\n\
+         [2002sub0]\nParameterName=Count\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=1\n\
+         [2002sub1]\nParameterName=Live\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=0\nObjFlags=2\n",
+    );
+    text += &var(0x2001, "ObjFlags=1\n");
+    text += &var(0x2003, "ObjFlags=0x4\n");
+    text += &var(0x2004, "ObjFlags=0x0\n");
+    for i in 0..extra {
+        text += &var(0x2100 + i as u32, "ObjFlags=1\n");
+    }
+    text
+}
+
+/// `check` names each entry a description flags with `ObjFlags` and what `sdo-tool` makes of it:
+/// `apply` does not write an entry flagged "refuse write on download" (bit 0), `dump` does not read
+/// one flagged "refuse read on scan" (bit 1); an object's flags reach its entries; reserved bits are
+/// shown as read; 0x0 is no flag. In text, in JSON, the first 10 unless `--all`.
+#[test]
+fn object_flags_are_explained_entry_by_entry() {
+    let dir = folder("flags");
+    let eds = dir.join("flags.eds");
+    std::fs::write(&eds, flagged_eds(0)).unwrap();
+    let p = eds.display().to_string();
+    let o = esi_gen(&["check", &p]);
+    let text = stdout(&o);
+    assert!(
+        text.contains(
+            "  PDO mappings 0 receive, 0 transmit\n\
+             \x20 ObjFlags     5 entries flagged: 3 refuse write on download (sdo-tool apply does not \
+             write them), 3 refuse read on scan (sdo-tool dump does not read them)\n\
+             \x20   0x2000:00 Count: 0x3 (refuse write on download, refuse read on scan)\n\
+             \x20   0x2000:01 Gain: 0x3 (refuse write on download, refuse read on scan)\n\
+             \x20   0x2001:00 Var 2001: 0x1 (refuse write on download)\n\
+             \x20   0x2002:01 Live: 0x2 (refuse read on scan)\n\
+             \x20   0x2003:00 Var 2003: 0x4\n\
+             \n\
+             findings: 0 error(s), "
+        ),
+        "{text}"
+    );
+
+    let o = esi_gen(&["check", "--json", &p]);
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON document");
+    let flagged = &doc["files"][0]["devices"][0]["flagged"];
+    assert_eq!(flagged.as_array().unwrap().len(), 5, "{flagged}");
+    assert_eq!(
+        flagged[0],
+        serde_json::json!({"index": 0x2000, "sub": 0, "name": "Count", "flags": 3,
+            "meaning": "refuse write on download: sdo-tool apply does not write it; \
+                        refuse read on scan: sdo-tool dump does not read it"})
+    );
+    assert_eq!(
+        flagged[3]["meaning"],
+        "refuse read on scan: sdo-tool dump does not read it"
+    );
+    assert_eq!(
+        flagged[4]["meaning"],
+        "reserved bits set: no tool acts on them"
+    );
+
+    // 5 + 7 flagged: the first 10 and a count of the rest; --all lists all 12.
+    std::fs::write(&eds, flagged_eds(7)).unwrap();
+    let text = stdout(&esi_gen(&["check", &p]));
+    assert!(
+        text.contains("  ObjFlags     12 entries flagged: 10 refuse"),
+        "{text}"
+    );
+    assert!(text.contains("    0x2104:00 Var 2104: 0x1 (refuse write on download)\n    … 2 more (--all lists every one)\n"), "{text}");
+    assert!(!text.contains("0x2105:00"), "{text}");
+    let text = stdout(&esi_gen(&["check", "--all", &p]));
+    assert!(
+        text.contains("    0x2106:00 Var 2106: 0x1 (refuse write on download)\n\nfindings"),
+        "{text}"
+    );
+    assert!(!text.contains("more (--all"), "{text}");
+
+    // One entry flagged.
+    std::fs::write(
+        &eds,
+        "[DeviceInfo]\nProductName=One\n[2001]\nParameterName=V\nObjectType=0x7\n\
+         DataType=0x0007\nAccessType=rw\nObjFlags=0x2\n",
+    )
+    .unwrap();
+    let text = stdout(&esi_gen(&["check", &p]));
+    assert!(text.contains("  ObjFlags     1 entry flagged: 0 refuse write on download (sdo-tool apply does not write them), 1 refuse read on scan"), "{text}");
 }

@@ -51,9 +51,9 @@ fn read(text: &str) -> (DeviceDescription, Vec<String>) {
     (reading.devices.into_iter().next().unwrap(), warnings)
 }
 
-/// `ObjFlags=NV` (no number, as some vendor tools write it) reads as no flags with a warning at the
-/// value (line 18, column 10); the object and its value stand. An empty `ObjFlags=` and a number
-/// read without one.
+/// `ObjFlags=NV` (no number, as some vendor tools write it) and an empty `ObjFlags=` read as no
+/// flags with a warning at the value (line 18, column 10); the object and its value stand. A number
+/// reads without one.
 #[test]
 fn object_flags_that_are_no_number_read_as_none_with_a_warning() {
     let (desc, warnings) = read(&eds("ObjFlags=NV\r\n"));
@@ -65,7 +65,17 @@ fn object_flags_that_are_no_number_read_as_none_with_a_warning() {
         desc.dictionary.read_value(0x2000, 0).unwrap(),
         od::Value::Uint(7)
     );
-    for flags in ["ObjFlags=\r\n", "ObjFlags=0x1\r\n", "ObjFlags=3\r\n"] {
+    let (desc, warnings) = read(&eds("ObjFlags=\r\n"));
+    assert_eq!(
+        warnings,
+        ["18:10: ObjFlags= in [2000] is empty; read as no flags"]
+    );
+    assert_eq!(desc.dictionary.object(0x2000).unwrap().flags, None);
+    assert_eq!(
+        desc.dictionary.read_value(0x2000, 0).unwrap(),
+        od::Value::Uint(7)
+    );
+    for flags in ["ObjFlags=0x1\r\n", "ObjFlags=3\r\n"] {
         let (_, warnings) = read(&eds(flags));
         assert!(warnings.is_empty(), "{flags}: {warnings:?}");
     }

@@ -511,21 +511,23 @@ impl<'i, 'a> Builder<'i, 'a> {
     }
 
     /// `ObjFlags` (CiA 306 §4.6.3: bit 0 refuse write on download, bit 1 refuse read on scan): a
-    /// 32-bit number. One that is none (`ObjFlags=NV`, as some vendor tools write it) is read as no
-    /// flags with a warning at the value, as python-canopen and CANopenEditor load such a file.
-    /// `None` when the section gives none (no key, an empty value, or no number).
+    /// 32-bit number. An empty value (`ObjFlags=`) or one that is no number (`ObjFlags=NV`, as some
+    /// vendor tools write it) is read as no flags with a warning at the value, as python-canopen and
+    /// CANopenEditor load such a file (and as the XDD reader reads an empty `objFlags`). `None` when
+    /// the section gives none.
     fn object_flags(&self, section: &Section<'a>, entry: Option<&Entry<'a>>) -> Option<ObjFlags> {
-        let e = entry.filter(|e| !e.value.is_empty())?;
+        let e = entry?;
         match parse_integer(e.value).and_then(|v| u32::try_from(v).ok()) {
             Some(flags) => Some(ObjFlags::from_bits(flags)),
             None => {
+                let what = if e.value.is_empty() {
+                    " is empty".to_string()
+                } else {
+                    format!(": `{}` is no 32-bit number", shown(e.value))
+                };
                 self.warn(
                     e.value,
-                    format!(
-                        "ObjFlags= in [{}]: `{}` is no 32-bit number; read as no flags",
-                        section.name,
-                        shown(e.value)
-                    ),
+                    format!("ObjFlags= in [{}]{what}; read as no flags", section.name),
                 );
                 None
             }
