@@ -4,7 +4,7 @@
 use std::fmt::Write;
 
 use crate::device::DeviceDescription;
-use crate::object::{PdoMapping, SubObject};
+use crate::object::{Object, PdoMapping, SubObject};
 
 /// Writes the Markdown reference of `desc`. The output is deterministic.
 pub fn write(desc: &DeviceDescription) -> String {
@@ -59,26 +59,10 @@ pub fn write(desc: &DeviceDescription) -> String {
                 cell(object.description.as_deref().unwrap_or(""))
             );
             for (&sub, entry) in &object.subs {
-                row(
-                    &mut out,
-                    object.index,
-                    &format!("{sub:02X}"),
-                    &entry.name,
-                    "",
-                    entry,
-                    None,
-                );
+                row(&mut out, object, Some(sub), entry);
             }
         } else if let Some(entry) = object.subs.get(&0) {
-            row(
-                &mut out,
-                object.index,
-                "",
-                &object.name,
-                object.kind.name(),
-                entry,
-                object.description.as_deref(),
-            );
+            row(&mut out, object, None, entry);
         }
     }
 
@@ -144,15 +128,19 @@ pub fn write(desc: &DeviceDescription) -> String {
     out
 }
 
-fn row(
-    out: &mut String,
-    index: u16,
-    sub: &str,
-    name: &str,
-    kind: &str,
-    entry: &SubObject,
-    object_description: Option<&str>,
-) {
+/// The row of one entry: of a sub-index of `object`, or (`sub` none) of a VAR or DOMAIN as a whole,
+/// with the object's name, kind and description.
+fn row(out: &mut String, object: &Object, sub: Option<u8>, entry: &SubObject) {
+    let index = object.index;
+    let (sub_text, name, kind, object_description) = match sub {
+        Some(sub) => (format!("{sub:02X}"), &entry.name, "", None),
+        None => (
+            String::new(),
+            &object.name,
+            object.kind.name(),
+            object.description.as_deref(),
+        ),
+    };
     let default = entry.default.as_ref().map_or(String::new(), |d| {
         let text = d.value.to_text(entry.data_type);
         if d.plus_node_id {
@@ -181,6 +169,11 @@ fn row(
     if let Some(s) = entry.access.write_states {
         let _ = write!(access, " (write {s})");
     }
+    // CiA 306 §4.6.3: what a configuration tool leaves out for the entry.
+    let flags = object.flags_of(sub.unwrap_or(0));
+    if !flags.is_empty() {
+        let _ = write!(access, ", ObjFlags {flags}");
+    }
     let meaning = entry
         .description
         .as_deref()
@@ -188,7 +181,7 @@ fn row(
         .unwrap_or("");
     let _ = writeln!(
         out,
-        "| 0x{index:04X} | {sub} | {} | {kind} | {} | {} | {pdo} | {} | {} | {} |",
+        "| 0x{index:04X} | {sub_text} | {} | {kind} | {} | {} | {pdo} | {} | {} | {} |",
         cell(name),
         entry.data_type,
         access,
@@ -206,7 +199,7 @@ fn cell(text: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::object::{AccessType, Object, ObjectKind};
+    use crate::object::{AccessType, ObjFlags, ObjectKind};
     use crate::types::DataType;
     use crate::value::Value;
 
@@ -235,5 +228,36 @@ mod tests {
         assert!(md.contains("| Vendor |  (0x00000042) |"));
         assert!(md.contains("| 0x8010 | | **Configuration Data** | RECORD |"));
         assert!(md.contains("| 0x8010 | 01 | Speed |  | INTEGER32 | rw |  | -5 | -10 … 10 | steps/s \\| signed |"), "{md}");
+    }
+
+    /// An entry's `ObjFlags` (an object's reach its entries) follow its access, in words.
+    #[test]
+    fn object_flags_follow_the_access() {
+        let mut desc = DeviceDescription::default();
+        let mut record = Object::structured(0x2000, "Calibration", ObjectKind::Record)
+            .with_sub(
+                0,
+                SubObject::new("Count", DataType::Unsigned8, AccessType::Ro),
+            )
+            .with_sub(
+                1,
+                SubObject::new("Gain", DataType::Unsigned32, AccessType::Rw),
+            );
+        record.flags = Some(ObjFlags::from_bits(1));
+        record.subs.get_mut(&1).unwrap().flags = Some(ObjFlags::from_bits(2));
+        desc.dictionary.insert(record);
+        let mut var = Object::var(
+            0x2001,
+            SubObject::new("Live", DataType::Unsigned32, AccessType::Rw),
+        );
+        var.flags = Some(ObjFlags::from_bits(0));
+        desc.dictionary.insert(var);
+        let md = write(&desc);
+        assert!(md.contains("| 0x2000 | 00 | Count |  | UNSIGNED8 | ro, ObjFlags 0x1 (refuse write on download) |"), "{md}");
+        assert!(md.contains("| 0x2000 | 01 | Gain |  | UNSIGNED32 | rw, ObjFlags 0x3 (refuse write on download, refuse read on scan) |"), "{md}");
+        assert!(
+            md.contains("| 0x2001 |  | Live | VAR | UNSIGNED32 | rw |"),
+            "{md}"
+        );
     }
 }
