@@ -1,7 +1,8 @@
 //! A description written in its own format keeps the file: an unedited one comes back byte for byte,
 //! an edited one changes where the edit is and nowhere else, whatever the model does not hold (vendor
 //! elements, attributes and keys, comments, layout, encoding). Each file of tests/descriptions/kept
-//! holds one family of such parts: an ESI's `Device@Physics`, `HideType`, `AlternativeType`,
+//! holds one family of such parts: an `EtherCATInfoList` as IgH's `ethercat xml` writes a bus; an ESI's
+//! `Device@Physics`, `HideType`, `AlternativeType`,
 //! `Type@CheckRevisionNo`, `Info` timeouts and electrical data, `ImageData16x14`, `Profile/ProfileNo`
 //! and `AddInfo`, object `Flags/Category`, `Fmmu@OpOnly`, `ESC` registers, `ShiftTimeSync0@Input/@Factor`,
 //! names in two languages, CDATA, ISO-8859-1; an EDS's `LastEDS`, `CompactPDO`, `[Comments]`,
@@ -54,6 +55,7 @@ fn edited(original: &[u8], changes: &[(&[u8], &[u8])]) -> Vec<u8> {
 fn an_unedited_file_comes_back_byte_for_byte() {
     for (sub, name) in [
         ("esi", "vendor-parts.xml"),
+        ("esi", "igh-bus.xml"),
         ("eds", "vendor-parts.eds"),
         ("dcf", "configured.dcf"),
         ("xdd", "vendor-parts.xdd"),
@@ -97,6 +99,29 @@ fn an_esi_edit_changes_the_one_attribute() {
             b"RevisionNo=\"#x00010000\" CheckRevisionNo",
             b"RevisionNo=\"#x00020000\" CheckRevisionNo",
         )],
+    );
+}
+
+/// An `EtherCATInfoList` of two slaves as IgH's `ethercat xml` writes it (vendor IDs in decimal, names
+/// in CDATA, no vendor names, PDO entries typed `UINT16`, a gap without a sub-index) stays a list: a
+/// new revision changes each device's `RevisionNo` and nothing else.
+#[test]
+fn an_esi_list_edit_changes_each_device_in_place() {
+    assert_edit(
+        "esi",
+        "igh-bus.xml",
+        &["--revision", "0x00130000"],
+        "igh-bus.xml",
+        &[
+            (
+                b"\"#x0c1e3052\" RevisionNo=\"#x00120000\"",
+                b"\"#x0c1e3052\" RevisionNo=\"#x00130000\"",
+            ),
+            (
+                b"\"#x00030924\" RevisionNo=\"#x00010420\"",
+                b"\"#x00030924\" RevisionNo=\"#x00130000\"",
+            ),
+        ],
     );
 }
 
@@ -276,7 +301,7 @@ fn the_file_level_check_finds_nothing_lost() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(0), "{text}");
     assert!(
-        text.starts_with("file-level-check: 4 files, 371 parts; unedited: 4 byte-identical, 0 parts lost, 0 added; edited (revision, file name): 4 files, 0 parts lost, 0 added by the edit"),
+        text.starts_with("file-level-check: 5 files, 491 parts; unedited: 5 byte-identical, 0 parts lost, 0 added; edited (revision, file name): 5 files, 0 parts lost, 0 added by the edit"),
         "{text}"
     );
 }

@@ -116,7 +116,11 @@ fn read(bytes: &[u8], name: &str) -> Vec<DeviceDescription> {
 fn catalogue_module(d: &DeviceDescription) -> &CatalogueModule {
     match &d.ethercat.as_ref().expect("an ESI description").root {
         EsiRoot::EtherCatModule(m) => m,
-        EsiRoot::EtherCatInfo => panic!("{} is read as a device", d.identity.order_code),
+        other => panic!(
+            "{} is read as a device of an {}",
+            d.identity.order_code,
+            other.element()
+        ),
     }
 }
 

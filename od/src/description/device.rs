@@ -170,7 +170,8 @@ pub struct EthercatInfo {
     /// The modules of the file (`Descriptions/Modules/Module`), shared by every device of the file.
     pub modules: Arc<[Module]>,
     /// The root element of the file the description is a part of, which an ESI writer writes it back
-    /// in: a device of an `EtherCATInfo`, or a module of a module catalogue (`EtherCATModule`).
+    /// in: a device of an `EtherCATInfo`, of one of an `EtherCATInfoList`'s, or a module of a module
+    /// catalogue (`EtherCATModule`).
     pub root: EsiRoot,
 }
 
@@ -184,15 +185,25 @@ pub enum EsiRoot {
     /// catalogue, a file of modules without devices. Its type name, name, PDOs, mailbox and dictionary
     /// are the description's; what a module has beyond them is here.
     EtherCatModule(CatalogueModule),
+    /// `EtherCATInfoList` (ETG.2000's list of `EtherCATInfo`s, as IgH's `ethercat xml` writes the
+    /// slaves of a bus): the description is a `Device` of the list's `EtherCATInfo` at this place
+    /// (from 0), whose vendor and modules are its own.
+    EtherCatInfoList(usize),
 }
 
 impl EsiRoot {
-    /// The root element's name: `EtherCATInfo` or `EtherCATModule`.
+    /// The root element's name: `EtherCATInfo`, `EtherCATModule` or `EtherCATInfoList`.
     pub fn element(&self) -> &'static str {
         match self {
             EsiRoot::EtherCatInfo => "EtherCATInfo",
             EsiRoot::EtherCatModule(_) => "EtherCATModule",
+            EsiRoot::EtherCatInfoList(_) => "EtherCATInfoList",
         }
+    }
+
+    /// True for a module of a module catalogue, false for a device.
+    pub fn is_module(&self) -> bool {
+        matches!(self, EsiRoot::EtherCatModule(_))
     }
 }
 

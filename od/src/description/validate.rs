@@ -8,7 +8,7 @@
 //! limits, a missing mandatory object), so it is a warning; only a default that is no value of its type,
 //! which no reader produces, is an error.
 
-use crate::device::{DeviceDescription, EsiRoot};
+use crate::device::DeviceDescription;
 use crate::dict::{compare, Address, Dictionary};
 use crate::object::ObjectKind;
 use crate::report::SourceMap;
@@ -69,7 +69,7 @@ impl Checker<'_> {
         let coe = desc.ethercat.as_ref().map_or(true, |e| {
             e.mailbox.as_ref().is_some_and(|m| m.coe.is_some())
                 && d.objects().any(|o| (0x1000..=0x1FFF).contains(&o.index))
-                && e.root == EsiRoot::EtherCatInfo
+                && !e.root.is_module()
         });
         for (index, what) in [(0x1000u16, "device type"), (0x1018, "identity")] {
             if coe && d.object(index).is_none() {
@@ -406,7 +406,7 @@ mod tests {
     /// CoE) lacks 0x1000 and 0x1018 without a finding: they are the device's; as a device it lacks them.
     #[test]
     fn a_module_of_a_catalogue_has_no_mandatory_objects() {
-        use crate::device::{CatalogueModule, EthercatInfo, Mailbox};
+        use crate::device::{CatalogueModule, EsiRoot, EthercatInfo, Mailbox};
         let mut desc = DeviceDescription::default();
         desc.dictionary.insert(mapping(0x1A00, &[]));
         desc.ethercat = Some(EthercatInfo {
@@ -418,6 +418,9 @@ mod tests {
             ..EthercatInfo::default()
         });
         assert_eq!(validate(&desc), vec![]);
+        // A device of an EtherCATInfoList lacks them as a device of an EtherCATInfo does.
+        desc.ethercat.as_mut().unwrap().root = EsiRoot::EtherCatInfoList(1);
+        assert_eq!(validate(&desc).len(), 2);
         desc.ethercat.as_mut().unwrap().root = EsiRoot::EtherCatInfo;
         let text: Vec<String> = validate(&desc).iter().map(|f| f.to_string()).collect();
         assert_eq!(

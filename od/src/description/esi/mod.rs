@@ -96,7 +96,9 @@
 //!
 //! # What is written
 //!
-//! Descriptions that are all modules of a module catalogue are written as one: `EtherCATModule` with the
+//! Descriptions that are all devices of an `EtherCATInfoList` are written as one: an `EtherCATInfo` for
+//! each run of descriptions of the same place in the list. Descriptions that are all modules of a
+//! module catalogue are written as one: `EtherCATModule` with the
 //! `Vendor` of the first and `Modules` with a `Module` per description, its elements in the order of
 //! ETG.2001 `ModuleType` (`Type` with its attributes, `Name`, `RxPdo`s, `TxPdo`s, `Mailbox`, `Profile`
 //! with `ProfileNo`, `AddInfo` and `Dictionary`, `DcOpModeName`) as for a module of an `EtherCATInfo`;
@@ -144,8 +146,14 @@
 //! `Info` (electrical data, timeouts), `HideType`, a device's `Profile/ProfileNo`, the `InitCmd`s of
 //! `EoE`, `SoE` and `AoE`, `Fmmu` attributes, `Slots/SlotSelections`, a module's `SafetyParaMapping`s,
 //! `SRA_ParameterSupported` and `VendorSpecific`, the templates of an obsolete `Descriptions/Pdos` list,
-//! images. A file with the root `EtherCATInfoList` is not read.
+//! images (a same-format rewrite keeps them all: `crate::carry`).
+//!
+//! A file with the root `EtherCATInfoList` (ETG.2000's list of `EtherCATInfo`s, as IgH's `ethercat xml`
+//! writes the slaves of a bus) is read as its `EtherCATInfo`s one after the other, each with its own
+//! vendor, file version and modules; its devices know their place in the list
+//! ([`crate::device::EsiRoot::EtherCatInfoList`]) and are written back as the list.
 
+mod derive;
 mod reader;
 mod writer;
 

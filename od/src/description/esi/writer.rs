@@ -6,13 +6,12 @@ use std::borrow::Cow;
 use std::collections::{BTreeMap, HashMap};
 
 use crate::device::{
-    CatalogueModule, CoeFlags, DeviceDescription, EsiRoot, EthercatInfo, InitCmd, Mailbox, Module,
-    Pdo, PdoEntry, SlotDepend, Slots, SyncManager,
+    CatalogueModule, DeviceDescription, EsiRoot, EthercatInfo, InitCmd, Mailbox, Module, Pdo,
+    PdoEntry, SlotDepend, Slots, SyncManager,
 };
 use crate::dict::Dictionary;
 use crate::object::{Access, AccessType, Object, ObjectKind, PdoMapping, SubObject};
 use crate::types::DataType;
-use crate::value::Value;
 use crate::xml::XmlWriter;
 
 const DERIVED_NOTE: &str = "No EtherCAT part in the source description. Derived: RxPdo/TxPdo from the \
@@ -25,15 +24,42 @@ pub(super) fn write_all(descs: &[DeviceDescription]) -> String {
         .map(|d| match &d.ethercat {
             Some(e) => match &e.root {
                 EsiRoot::EtherCatModule(m) => Some((d, e, m)),
-                EsiRoot::EtherCatInfo => None,
+                _ => None,
             },
             None => None,
         })
         .collect();
+    let list = !descs.is_empty()
+        && descs.iter().all(|d| {
+            matches!(
+                d.ethercat.as_ref().map(|e| &e.root),
+                Some(EsiRoot::EtherCatInfoList(_))
+            )
+        });
     match catalogue {
         Some(modules) if !modules.is_empty() => write_catalogue(&modules),
-        _ => write_info(descs),
+        _ if list => write_list(descs),
+        _ => {
+            let mut w = XmlWriter::new();
+            write_info(&mut w, descs);
+            w.finish()
+        }
     }
+}
+
+/// An `EtherCATInfoList`: one `EtherCATInfo` per run of descriptions of the same entry of the list.
+fn write_list(descs: &[DeviceDescription]) -> String {
+    let entry = |d: &DeviceDescription| match d.ethercat.as_ref().map(|e| &e.root) {
+        Some(EsiRoot::EtherCatInfoList(n)) => *n,
+        _ => 0,
+    };
+    let mut w = XmlWriter::new();
+    w.start("EtherCATInfoList", &[]);
+    for run in descs.chunk_by(|a, b| entry(a) == entry(b)) {
+        write_info(&mut w, run);
+    }
+    w.end();
+    w.finish()
 }
 
 /// The root element and the `Vendor` of the first description.
@@ -91,18 +117,17 @@ fn write_catalogue(modules: &[(&DeviceDescription, &EthercatInfo, &CatalogueModu
     w.finish()
 }
 
-/// An `EtherCATInfo` file: one `Device` per description (a module of a catalogue among devices is
+/// An `EtherCATInfo` element: one `Device` per description (a module of a catalogue among devices is
 /// written as a device), then the modules of the devices.
-fn write_info(descs: &[DeviceDescription]) -> String {
-    let mut w = XmlWriter::new();
+fn write_info(w: &mut XmlWriter, descs: &[DeviceDescription]) {
     let first = descs.first();
-    start_file(&mut w, "EtherCATInfo", "EtherCATInfo.xsd", first);
+    start_file(w, "EtherCATInfo", "EtherCATInfo.xsd", first);
     w.start("Descriptions", &[]);
     let ecats: Vec<Cow<EthercatInfo>> = descs
         .iter()
         .map(|d| match &d.ethercat {
             Some(e) => Cow::Borrowed(e),
-            None => Cow::Owned(derive_ethercat(d)),
+            None => Cow::Owned(super::derive::derive_ethercat(d)),
         })
         .collect();
     let mut groups: Vec<&str> = Vec::new();
@@ -121,7 +146,7 @@ fn write_info(descs: &[DeviceDescription]) -> String {
     w.end();
     w.start("Devices", &[]);
     for (desc, ecat) in descs.iter().zip(&ecats) {
-        write_device(&mut w, desc, ecat, desc.ethercat.is_none());
+        write_device(w, desc, ecat, desc.ethercat.is_none());
     }
     w.end();
     // Each device of a file carries the file's modules (one shared list): the first list is written as
@@ -147,12 +172,12 @@ fn write_info(descs: &[DeviceDescription]) -> String {
         let node = first.map_or(0, node_id);
         w.start("Modules", &[]);
         for m in modules {
-            write_module(&mut w, &ModuleParts::of(m), node);
+            write_module(w, &ModuleParts::of(m), node);
         }
         w.end();
     }
-    w.end();
-    w.finish()
+    w.end(); // Descriptions
+    w.end(); // EtherCATInfo
 }
 
 /// The parts of a `Module` element (ETG.2001 `ModuleType`), from a [`Module`] of an `EtherCATInfo` or
@@ -1010,173 +1035,4 @@ fn write_object(w: &mut XmlWriter, object: &Object, types: &Types, node: u8) {
     w.text("Access", &[], if writable { "rw" } else { "ro" });
     w.end();
     w.end();
-}
-
-// ---------------------------------------------------------------------------------------------------------
-// The EtherCAT part of a description that has none.
-
-fn default_u64(sub: &SubObject) -> Option<u64> {
-    let v = sub
-        .default
-        .as_ref()
-        .map(|d| d.value.clone())
-        .or_else(|| sub.current())?;
-    match v {
-        Value::Uint(u) => Some(u),
-        Value::Int(i) => u64::try_from(i).ok(),
-        Value::Bool(b) => Some(u64::from(b)),
-        _ => None,
-    }
-}
-
-fn derive_pdo(desc: &DeviceDescription, object: &Object, comm_base: u16, sm: u8) -> Pdo {
-    let dict = &desc.dictionary;
-    let count = object
-        .subs
-        .get(&0)
-        .and_then(default_u64)
-        .unwrap_or(0)
-        .min(255) as u8;
-    let mut entries = Vec::new();
-    for s in 1..=count {
-        let Some(raw) = object.subs.get(&s).and_then(default_u64) else {
-            continue;
-        };
-        let raw = (raw & 0xFFFF_FFFF) as u32;
-        if raw == 0 {
-            continue;
-        }
-        let index = (raw >> 16) as u16;
-        let sub = ((raw >> 8) & 0xFF) as u8;
-        let bits = (raw & 0xFF) as u16;
-        if (1..=7).contains(&index) {
-            // CiA 301 dummy mapping: a gap.
-            entries.push(PdoEntry {
-                bit_len: bits,
-                ..PdoEntry::default()
-            });
-            continue;
-        }
-        let (name, data_type) = match dict.entry(index, sub) {
-            Ok(e) => {
-                let name = if sub == 0 && e.name.is_empty() {
-                    dict.object(index)
-                        .map(|o| o.name.clone())
-                        .unwrap_or_default()
-                } else {
-                    e.name.clone()
-                };
-                (name, e.data_type.esi_name(u32::from(bits)))
-            }
-            Err(_) => (String::new(), String::new()),
-        };
-        entries.push(PdoEntry {
-            index,
-            sub,
-            bit_len: bits,
-            name,
-            data_type,
-            ..PdoEntry::default()
-        });
-    }
-    let n = object.index & 0x01FF;
-    let valid = dict.entry(comm_base + n, 1).ok().and_then(default_u64);
-    // Bit 31 of the COB-ID marks a CANopen PDO invalid (CiA 301 §7.5.2.35).
-    let valid = !matches!(valid, Some(cob) if cob & 0x8000_0000 != 0);
-    Pdo {
-        index: object.index,
-        name: object.name.clone(),
-        fixed: !object
-            .subs
-            .get(&0)
-            .is_some_and(|s| s.access.kind.writable()),
-        sm: valid.then_some(sm),
-        entries,
-        ..Pdo::default()
-    }
-}
-
-fn derive_ethercat(desc: &DeviceDescription) -> EthercatInfo {
-    let dict = &desc.dictionary;
-    let rx: Vec<Pdo> = dict
-        .objects()
-        .filter(|o| (0x1600..=0x17FF).contains(&o.index))
-        .map(|o| derive_pdo(desc, o, 0x1400, 2))
-        .collect();
-    let tx: Vec<Pdo> = dict
-        .objects()
-        .filter(|o| (0x1A00..=0x1BFF).contains(&o.index))
-        .map(|o| derive_pdo(desc, o, 0x1800, 3))
-        .collect();
-    let bytes = |pdos: &[Pdo]| -> u16 {
-        let bits: u32 = pdos
-            .iter()
-            .filter(|p| p.sm.is_some())
-            .flat_map(|p| p.entries.iter())
-            .map(|e| u32::from(e.bit_len))
-            .sum();
-        u16::try_from(bits.div_ceil(8)).unwrap_or(u16::MAX)
-    };
-    let out_bytes = bytes(&rx);
-    let in_bytes = bytes(&tx);
-    let pdo_config = rx.iter().chain(&tx).any(|p| !p.fixed);
-    let mailbox = |kind: &str, start: u16, control: u8| SyncManager {
-        kind: kind.to_string(),
-        start_address: start,
-        default_size: Some(128),
-        min_size: None,
-        max_size: None,
-        control_byte: control,
-        enable: 1,
-        ..SyncManager::default()
-    };
-    let process = |kind: &str, start: u16, control: u8, size: u16| SyncManager {
-        kind: kind.to_string(),
-        start_address: start,
-        default_size: (size > 0).then_some(size),
-        min_size: None,
-        max_size: None,
-        control_byte: control,
-        enable: u8::from(size > 0),
-        ..SyncManager::default()
-    };
-    let id = &desc.identity;
-    let group_type = if !id.order_code.is_empty() {
-        id.order_code.clone()
-    } else if !id.product_name.is_empty() {
-        id.product_name.clone()
-    } else {
-        "Device".to_string()
-    };
-    EthercatInfo {
-        group_type,
-        fmmus: vec!["Outputs".into(), "Inputs".into(), "MBoxState".into()],
-        sync_managers: vec![
-            mailbox("MBoxOut", 0x1000, 0x26),
-            mailbox("MBoxIn", 0x1080, 0x22),
-            process("Outputs", 0x1100, 0x64, out_bytes),
-            process("Inputs", 0x1400, 0x20, in_bytes),
-        ],
-        rx_pdos: rx,
-        tx_pdos: tx,
-        mailbox: Some(Mailbox {
-            data_link_layer: true,
-            coe: Some(CoeFlags {
-                sdo_info: true,
-                pdo_assign: false,
-                pdo_config,
-                pdo_upload: false,
-                complete_access: false,
-                segmented_sdo: true,
-            }),
-            foe: false,
-            eoe: false,
-            init_cmds: Vec::new(),
-        }),
-        op_modes: Vec::new(),
-        eeprom: None,
-        slots: None,
-        modules: Default::default(),
-        root: EsiRoot::EtherCatInfo,
-    }
 }

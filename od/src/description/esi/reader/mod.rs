@@ -6,7 +6,7 @@
 //! known element means), `fields` (values several elements share), `dictionary` (data types and objects
 //! into a dictionary) and `pdo` (what the device's PDOs say about its dictionary).
 
-use crate::device::{DeviceDescription, EthercatInfo, Module};
+use crate::device::{DeviceDescription, EsiRoot, EthercatInfo, Module};
 use crate::dict::Address;
 use crate::error::{ParseError, Position};
 use crate::object::{Access, EcatStates, PdoMapping};
@@ -45,7 +45,7 @@ macro_rules! tags {
 }
 
 tags! {
-    EtherCATInfo, EtherCATModule, Vendor, Id, Name, Descriptions, Devices, Device, Modules, Module, Type,
+    EtherCATInfo, EtherCATModule, EtherCATInfoList, Vendor, Id, Name, Descriptions, Devices, Device, Modules, Module, Type,
     GroupType, Profile, Dictionary, DataTypes, DataType, BaseType, BitSize, Comment, SubItem, SubIdx,
     BitOffs, Flags, Access, PdoMapping, ArrayInfo, LBound, Elements, EnumInfo, Objects, Object, Index,
     Info, DefaultData, DefaultValue, DefaultString, MinData, MaxData, MinValue, MaxValue, Fmmu, Sm, RxPdo,
@@ -324,9 +324,40 @@ struct Parser<'a> {
     file_version: String,
     device: Option<RawDevice>,
     done: Vec<DeviceDescription>,
-    /// The file's `Descriptions/Modules/Module`s.
+    /// The file's `Descriptions/Modules/Module`s (of the current `EtherCATInfo` of a list).
     modules: Vec<Module>,
     sources: Vec<SourceMap>,
+    /// In an `EtherCATInfoList`: the place of the current `EtherCATInfo` in it.
+    list_entry: Option<usize>,
+    /// The devices of `done` the vendor, file version and modules are given to.
+    finished: usize,
+}
+
+impl Parser<'_> {
+    /// The end of an `EtherCATInfo` (or `EtherCATModule`): its vendor, file version and modules
+    /// belong to each of its devices; in a list, the devices are the list's entry's, and the next
+    /// entry starts afresh.
+    fn finish_info(&mut self) {
+        let modules: std::sync::Arc<[Module]> = std::mem::take(&mut self.modules).into();
+        let vendor_name = std::mem::take(&mut self.vendor_name);
+        for d in &mut self.done[self.finished..] {
+            d.identity.vendor_id = self.vendor_id;
+            d.identity.vendor_name = vendor_name.get().unwrap_or_default().to_string();
+            d.file_info.file_version = self.file_version.clone();
+            if let Some(ecat) = d.ethercat.as_mut() {
+                ecat.modules = modules.clone();
+                if let Some(entry) = self.list_entry {
+                    ecat.root = EsiRoot::EtherCatInfoList(entry);
+                }
+            }
+        }
+        self.finished = self.done.len();
+        self.vendor_id = 0;
+        self.file_version.clear();
+        if let Some(entry) = self.list_entry.as_mut() {
+            *entry += 1;
+        }
+    }
 }
 
 pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, ParseError> {
@@ -352,27 +383,11 @@ pub(super) fn read_all(bytes: &[u8], source_name: &str) -> Result<Reading, Parse
         done: Vec::new(),
         modules: Vec::new(),
         sources: Vec::new(),
+        list_entry: None,
+        finished: 0,
     };
     parser.run()?;
-    let Parser {
-        mut done,
-        vendor_id,
-        vendor_name,
-        file_version,
-        sources,
-        modules,
-        ..
-    } = parser;
-    // The file's modules belong to each of its devices.
-    let modules: std::sync::Arc<[Module]> = modules.into();
-    for d in &mut done {
-        d.identity.vendor_id = vendor_id;
-        d.identity.vendor_name = vendor_name.get().unwrap_or_default().to_string();
-        d.file_info.file_version = file_version.clone();
-        if let Some(ecat) = d.ethercat.as_mut() {
-            ecat.modules = modules.clone();
-        }
-    }
+    let Parser { done, sources, .. } = parser;
     let mut findings = doc.take_findings();
     // In file order: a device's findings about its PDOs come when the device ends.
     findings.sort_by_key(|f| f.position.map(|p| (p.line, p.column)));

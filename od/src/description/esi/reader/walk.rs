@@ -12,16 +12,33 @@ impl<'a> Parser<'a> {
     pub(super) fn run(&mut self) -> Result<(), ParseError> {
         let mut cursor = Cursor::new(self.ctx.doc);
         let mut root_seen = false;
+        // In an `EtherCATInfoList`: whether its end was seen.
+        let mut list_closed = false;
         loop {
             match cursor.next()? {
                 Node::Start(e) => {
                     if self.stack.is_empty() {
-                        self.check_root(&e, root_seen)?;
+                        let list = self.check_root(&e, root_seen, list_closed)?;
                         root_seen = true;
+                        if list {
+                            // The list's element is not on the stack: each `EtherCATInfo` in it is
+                            // read as a root of its own.
+                            self.list_entry = Some(0);
+                            continue;
+                        }
                     }
                     self.start(&e)?;
                 }
-                Node::End { offset } => self.end(offset)?,
+                Node::End { offset } => {
+                    if self.stack.is_empty() {
+                        list_closed = true;
+                        continue;
+                    }
+                    self.end(offset)?;
+                    if self.stack.is_empty() {
+                        self.finish_info();
+                    }
+                }
                 // White space before an element's text is layout: skip it without decoding.
                 Node::Text(t, _) if self.text.is_blank() && t.is_blank() => {}
                 node @ (Node::Text(..) | Node::CData(..) | Node::Ref(..)) => {
@@ -32,10 +49,15 @@ impl<'a> Parser<'a> {
                 Node::Eof => break,
             }
         }
-        if let Some(open) = self.stack.last() {
+        let open = match self.stack.last() {
+            Some(tag) => Some(tag.name()),
+            None if self.list_entry.is_some() && !list_closed => Some("EtherCATInfoList"),
+            None => None,
+        };
+        if let Some(open) = open {
             return Err(self.ctx.err(
                 self.ctx.doc.text().len(),
-                format!("unexpected end of file: <{}> is not closed", open.name()),
+                format!("unexpected end of file: <{open}> is not closed"),
             ));
         }
         if !root_seen {
@@ -46,18 +68,35 @@ impl<'a> Parser<'a> {
         Ok(())
     }
 
-    fn check_root(&self, e: &Element, seen: bool) -> Result<(), ParseError> {
+    /// Checks an element at the top of the stack: the root (`EtherCATInfo`, `EtherCATModule` or
+    /// `EtherCATInfoList`), or an `EtherCATInfo` in an open `EtherCATInfoList`. True for the list.
+    fn check_root(&self, e: &Element, seen: bool, list_closed: bool) -> Result<bool, ParseError> {
         let tag = Tag::of(e.local_name());
-        if seen || !matches!(tag, Tag::EtherCATInfo | Tag::EtherCATModule) {
-            return Err(self.ctx.err(
+        let in_list = self.list_entry.is_some() && !list_closed;
+        match tag {
+            Tag::EtherCATInfo | Tag::EtherCATModule if !seen => Ok(false),
+            Tag::EtherCATInfoList if !seen => Ok(true),
+            Tag::EtherCATInfo if in_list => Ok(false),
+            _ if seen && !in_list => Err(self.ctx.err(
                 e.offset(),
                 format!(
-                    "expected an <EtherCATInfo> root element, found <{}>",
+                    "a second root element <{}>: a file has one",
                     String::from_utf8_lossy(e.name())
                 ),
-            ));
+            )),
+            _ => Err(self.ctx.err(
+                e.offset(),
+                format!(
+                    "expected an <EtherCATInfo> {}, found <{}>",
+                    if in_list {
+                        "in the <EtherCATInfoList>"
+                    } else {
+                        "root element"
+                    },
+                    String::from_utf8_lossy(e.name())
+                ),
+            )),
         }
-        Ok(())
     }
 
     /// True when the innermost element is one whose text the reader may use.
