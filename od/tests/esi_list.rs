@@ -108,6 +108,10 @@ fn a_list_is_written_back_as_a_list_and_reads_back_the_same() {
         "{written}"
     );
     assert_eq!(read(&written), ds);
+    // No descriptions at all make an EtherCATInfo without devices.
+    let none = esi::write_all(&[]);
+    assert!(none.contains("\n<EtherCATInfo "), "{none}");
+    assert!(!none.contains("<Device>"), "{none}");
 }
 
 #[test]
@@ -155,6 +159,14 @@ fn a_list_not_closed_or_holding_other_elements_is_refused_with_the_place() {
     assert_eq!(
         refused("<Other/>"),
         "l.xml:1:1: expected an <EtherCATInfo> root element, found <Other>"
+    );
+    assert_eq!(
+        refused("<EtherCATInfo/>\n<EtherCATInfoList/>"),
+        "l.xml:2:1: a second root element <EtherCATInfoList>: a file has one"
+    );
+    assert_eq!(
+        refused("<EtherCATInfoList/>\n<EtherCATInfoList/>"),
+        "l.xml:2:1: a second root element <EtherCATInfoList>: a file has one"
     );
     // An empty list has no devices.
     assert_eq!(read("<EtherCATInfoList></EtherCATInfoList>"), []);
