@@ -273,7 +273,7 @@ mod tests {
         e.to_string()
     }
 
-    /// Each mistake's message is the one the user sees (README and scripts compare them): those
+    /// Each mistake's message is the one the user sees (the book and scripts compare them): those
     /// of nodes and NMT commands.
     #[test]
     fn node_and_command_messages() {

@@ -1,4 +1,6 @@
-//! Every command line of the README works when pasted from the repository root.
+//! Every command line of the README and of the book under `docs/` works when pasted from the
+//! repository root. The README comes first, then the book's pages in the order of
+//! `docs/src/SUMMARY.md` (a page may use what an earlier one made).
 //!
 //! - Each ```` ```sh ```` block runs as one bash session from the repository root, the project's
 //!   binaries first on `PATH` (the README has the user put `target/release` there), against the
@@ -37,7 +39,42 @@ struct Block {
     body: Vec<(usize, String)>,
 }
 
-fn blocks(readme: &str) -> Vec<Block> {
+/// A document: its path from the repository root and its text.
+struct Doc {
+    name: String,
+    text: String,
+}
+
+/// The pages `docs/src/SUMMARY.md` links to, in its order.
+fn book_pages() -> Vec<String> {
+    let summary = std::fs::read_to_string(root().join("docs/src/SUMMARY.md")).unwrap();
+    summary
+        .lines()
+        .filter_map(|l| {
+            let at = l.find("](")?;
+            let rest = &l[at + 2..];
+            Some(rest[..rest.find(')')?].to_string())
+        })
+        .collect()
+}
+
+/// The README, then the book's pages.
+fn documents() -> Vec<Doc> {
+    let mut docs = vec![Doc {
+        name: "README.md".into(),
+        text: std::fs::read_to_string(root().join("README.md")).unwrap(),
+    }];
+    for page in book_pages() {
+        let name = format!("docs/src/{page}");
+        let text = std::fs::read_to_string(root().join(&name))
+            .unwrap_or_else(|e| panic!("{name}, in docs/src/SUMMARY.md: {e}"));
+        docs.push(Doc { name, text });
+    }
+    docs
+}
+
+fn blocks(doc: &Doc) -> Vec<Block> {
+    let readme = &doc.text;
     let mut out = Vec::new();
     let mut open: Option<Block> = None;
     for (k, l) in readme.lines().enumerate() {
@@ -59,7 +96,7 @@ fn blocks(readme: &str) -> Vec<Block> {
             b.body.push((n, l.to_string()));
         }
     }
-    assert!(open.is_none(), "README.md: a fence is not closed");
+    assert!(open.is_none(), "{}: a fence is not closed", doc.name);
     out
 }
 
@@ -170,8 +207,9 @@ fn run(program: &str, script: &str, bin: &Path) -> std::process::Output {
         .unwrap()
 }
 
-/// The bash script of one block: each command, then a check of its exit code that names its line.
-fn script(cmds: &[Cmd]) -> String {
+/// The bash script of one block of `name`: each command, then a check of its exit code that names
+/// its line.
+fn script(name: &str, cmds: &[Cmd]) -> String {
     let mut s = String::new();
     for c in cmds {
         s.push_str(&c.text);
@@ -180,7 +218,7 @@ fn script(cmds: &[Cmd]) -> String {
             continue;
         }
         s.push_str(&format!(
-            "rc=$?; if [ $rc -ne {} ]; then echo \"README.md:{}: exit $rc, not {}\" >&2; \
+            "rc=$?; if [ $rc -ne {} ]; then echo \"{name}:{}: exit $rc, not {}\" >&2; \
              kill $(jobs -p) 2>/dev/null; exit 1; fi\n",
             c.exit, c.line, c.exit
         ));
@@ -190,12 +228,12 @@ fn script(cmds: &[Cmd]) -> String {
 }
 
 #[test]
-fn every_command_line_of_the_readme_works_when_pasted() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+fn every_command_line_of_the_readme_and_the_book_works_when_pasted() {
+    let docs = documents();
     let bin = binaries();
     // What an interrupted earlier run of a block may have left: every namespace and link the
-    // README's blocks add, by the names they give.
-    for line in readme.lines() {
+    // blocks add, by the names they give.
+    for line in docs.iter().flat_map(|d| d.text.lines()) {
         let words: Vec<&str> = line.split_whitespace().collect();
         if let ["ip", kind @ ("netns" | "link"), "add", name, ..] = words[..] {
             let _ = Command::new("ip").args([kind, "del", name]).output();
@@ -204,64 +242,76 @@ fn every_command_line_of_the_readme_works_when_pasted() {
     let _main = MainJob::start(&bin);
     let mut ran = 0;
     let mut failures = Vec::new();
-    for b in blocks(&readme) {
-        let (program, text, count) = match b.kind.as_str() {
-            "sh" => {
-                let cmds = commands(&b);
-                (String::from("bash"), script(&cmds), cmds.len())
-            }
-            "python" => {
-                let body: Vec<&str> = b.body.iter().map(|(_, l)| l.as_str()).collect();
-                (String::from("python3"), body.join("\n"), 1)
-            }
-            "text" => {
-                let cmds: Vec<Cmd> = b
-                    .body
-                    .iter()
-                    .filter_map(|(n, l)| {
-                        l.strip_prefix("$ ").map(|c| Cmd {
-                            line: *n,
-                            text: c.to_string(),
-                            exit: 0,
-                        })
-                    })
-                    .collect();
-                if cmds.is_empty() {
-                    continue;
+    for doc in &docs {
+        for b in blocks(doc) {
+            let (program, text, count) = match b.kind.as_str() {
+                "sh" => {
+                    let cmds = commands(&b);
+                    (String::from("bash"), script(&doc.name, &cmds), cmds.len())
                 }
-                let n = cmds.len();
-                (String::from("bash"), script(&cmds), n)
+                "python" => {
+                    let body: Vec<&str> = b.body.iter().map(|(_, l)| l.as_str()).collect();
+                    (String::from("python3"), body.join("\n"), 1)
+                }
+                "text" => {
+                    let cmds: Vec<Cmd> = b
+                        .body
+                        .iter()
+                        .filter_map(|(n, l)| {
+                            l.strip_prefix("$ ").map(|c| Cmd {
+                                line: *n,
+                                text: c.to_string(),
+                                exit: 0,
+                            })
+                        })
+                        .collect();
+                    if cmds.is_empty() {
+                        continue;
+                    }
+                    let n = cmds.len();
+                    (String::from("bash"), script(&doc.name, &cmds), n)
+                }
+                "" => panic!(
+                    "{}:{}: a block without a kind: sh (commands), python or text",
+                    doc.name, b.line
+                ),
+                _ => continue,
+            };
+            let out = run(&program, &text, &bin);
+            ran += count;
+            if !out.status.success() {
+                failures.push(format!(
+                    "{}:{} ({}): {}\n{}{}",
+                    doc.name,
+                    b.line,
+                    b.kind,
+                    out.status,
+                    String::from_utf8_lossy(&out.stdout),
+                    String::from_utf8_lossy(&out.stderr)
+                ));
             }
-            "" => panic!(
-                "README.md:{}: a block without a kind: sh (commands), python or text",
-                b.line
-            ),
-            _ => continue,
-        };
-        let out = run(&program, &text, &bin);
-        ran += count;
-        if !out.status.success() {
-            failures.push(format!(
-                "README.md:{} ({}): {}\n{}{}",
-                b.line,
-                b.kind,
-                out.status,
-                String::from_utf8_lossy(&out.stdout),
-                String::from_utf8_lossy(&out.stderr)
-            ));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n---\n"));
-    assert!(ran >= 30, "only {ran} commands found in the README");
-    println!("{ran} commands of the README ran");
+    assert!(ran >= 30, "only {ran} commands found in the README and the book");
+    println!("{ran} commands of the README and the book ran");
 }
 
 /// The scripts and benchmarks the prose and the indented set-up commands name exist.
 #[test]
-fn every_script_and_benchmark_the_readme_names_exists() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+fn every_script_and_benchmark_the_readme_and_the_book_name_exists() {
     let mut checked = 0;
-    for (k, line) in readme.lines().enumerate() {
+    for doc in documents() {
+        checked += scripts_and_benchmarks(&doc);
+    }
+    assert!(checked >= 5, "only {checked} scripts and benchmarks named");
+}
+
+/// Checks the scripts and benchmarks `doc` names; how many.
+fn scripts_and_benchmarks(doc: &Doc) -> usize {
+    let name = &doc.name;
+    let mut checked = 0;
+    for (k, line) in doc.text.lines().enumerate() {
         let mut rest = line;
         while let Some(at) = rest.find("bash ") {
             let path: String = rest[at + 5..]
@@ -271,7 +321,7 @@ fn every_script_and_benchmark_the_readme_names_exists() {
             if path.starts_with("scripts/") || path.starts_with("tests/") {
                 assert!(
                     root().join(&path).is_file(),
-                    "README.md:{}: {path} does not exist",
+                    "{name}:{}: {path} does not exist",
                     k + 1
                 );
                 checked += 1;
@@ -285,12 +335,12 @@ fn every_script_and_benchmark_the_readme_names_exists() {
                 .filter(|w| !w.is_empty())
                 .collect();
             let (package, bench) = (words[3], words[5]);
-            assert_eq!(words[4], "--bench", "README.md:{}", k + 1);
+            assert_eq!(words[4], "--bench", "{name}:{}", k + 1);
             let dir = match package {
                 "od" | "ds402" | "sdo-tool" | "esi-gen" | "socketcan-node" | "ethercat-slave" => {
                     package
                 }
-                other => panic!("README.md:{}: no package {other}", k + 1),
+                other => panic!("{name}:{}: no package {other}", k + 1),
             };
             assert!(
                 root()
@@ -298,12 +348,53 @@ fn every_script_and_benchmark_the_readme_names_exists() {
                     .join("benches")
                     .join(format!("{bench}.rs"))
                     .is_file(),
-                "README.md:{}: no benchmark {bench} in {package}",
+                "{name}:{}: no benchmark {bench} in {package}",
                 k + 1
             );
             checked += 1;
             rest = &rest[at + 15..];
         }
     }
-    assert!(checked >= 5, "only {checked} scripts and benchmarks named");
+    checked
+}
+
+/// The book is whole: `docs/book.toml` names `src`, `SUMMARY.md` lists every page of `docs/src` once
+/// and only pages that exist, and every relative link of the README and the book leads to a file
+/// that exists.
+#[test]
+fn the_book_lists_every_page_and_every_link_leads_somewhere() {
+    let book = std::fs::read_to_string(root().join("docs/book.toml")).unwrap();
+    assert!(book.contains("[book]"), "docs/book.toml: {book}");
+    let listed = book_pages();
+    let mut on_disk: Vec<String> = std::fs::read_dir(root().join("docs/src"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".md") && n != "SUMMARY.md")
+        .collect();
+    on_disk.sort();
+    let mut sorted = listed.clone();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(sorted.len(), listed.len(), "a page listed twice: {listed:?}");
+    assert_eq!(sorted, on_disk, "docs/src/SUMMARY.md and the pages of docs/src");
+    for doc in documents() {
+        let dir = root().join(&doc.name);
+        let dir = dir.parent().unwrap();
+        for (k, line) in doc.text.lines().enumerate() {
+            let mut rest = line;
+            while let Some(at) = rest.find("](") {
+                rest = &rest[at + 2..];
+                let Some(end) = rest.find(')') else { break };
+                let target = rest[..end].split('#').next().unwrap();
+                if !target.is_empty() && !target.contains("://") {
+                    assert!(
+                        dir.join(target).exists(),
+                        "{}:{}: {target} does not exist",
+                        doc.name,
+                        k + 1
+                    );
+                }
+            }
+        }
+    }
 }
