@@ -24,6 +24,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+mod can;
 pub mod cli;
 pub mod cmd;
 pub mod config;
@@ -32,14 +33,16 @@ pub mod gateway;
 pub mod link;
 pub mod usage;
 
+use can::Transfer;
+pub use can::{BlockMode, BusTransport, CanSdo, BLOCK_FROM};
 pub use usage::UsageError;
 pub mod watch;
 
 use od::abort::AbortCode;
 use od::dict::{Address, Dictionary};
-use od::sdo::client::{ClientConfig, SdoClientError};
-use od::sdo::frame::{ClientFrame, Frame};
-use od::sdo::session::{SdoSession, SdoTransport, SessionError};
+use od::sdo::client::ClientConfig;
+use od::sdo::frame::ClientFrame;
+use od::sdo::session::{SdoSession, SessionError};
 use od::types::DataType;
 use od::value::Value;
 
@@ -276,58 +279,6 @@ impl ToolError {
     }
 }
 
-/// One node's SDO channel on a bus.
-pub struct BusTransport<'a> {
-    bus: &'a mut dyn CanBus,
-    node: u8,
-}
-
-impl<'a> BusTransport<'a> {
-    /// The channel to `node` on `bus`.
-    pub fn new(bus: &'a mut dyn CanBus, node: u8) -> BusTransport<'a> {
-        BusTransport { bus, node }
-    }
-}
-
-impl SdoTransport for BusTransport<'_> {
-    type Error = BusError;
-
-    fn send(&mut self, frame: &Frame) -> Result<(), BusError> {
-        // 8 bytes to 0x600 + 1…127 always make a CAN frame.
-        let f = CanFrame::new(0x600 + u16::from(self.node), frame).ok_or_else(|| {
-            BusError::Protocol {
-                what: self.bus.describe(),
-                detail: format!("no SDO request COB-ID for node {}", self.node),
-            }
-        })?;
-        self.bus.send(&f)
-    }
-
-    fn recv(&mut self, until: Instant) -> Result<Option<Frame>, BusError> {
-        let want = 0x580 + u16::from(self.node);
-        loop {
-            let left = until.saturating_duration_since(Instant::now());
-            if left.is_zero() {
-                return Ok(None);
-            }
-            match self.bus.recv(left) {
-                Ok(Some(BusEvent::Frame { frame, .. }))
-                    if frame.cob_id() == Some(want) && frame.len() == 8 && !frame.is_rtr() =>
-                {
-                    return Ok(Some(frame.data8()));
-                }
-                Ok(Some(_)) => {}
-                Ok(None) => return Ok(None),
-                Err(e) => return Err(e),
-            }
-        }
-    }
-
-    fn now(&self) -> Instant {
-        Instant::now()
-    }
-}
-
 /// One node found by [`Tool::scan`]; each field as read, or `None` when the node did not give it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ScanEntry {
@@ -504,96 +455,6 @@ pub trait SdoAccess {
     ) -> Result<Value, ToolError> {
         let bytes = self.read_bytes(node, addr)?;
         Ok(Value::decode(data_type, &bytes)?)
-    }
-}
-
-/// The SDO client on a CAN bus, with its settings: [`SdoAccess`] over CANopen.
-pub struct CanSdo<'a> {
-    /// The bus.
-    pub bus: &'a mut dyn CanBus,
-    /// The client settings (timeout, block mode).
-    pub config: &'a ClientConfig,
-    /// Set (by a Ctrl-C handler) to abort the running transfer.
-    pub cancel: Option<Arc<AtomicBool>>,
-}
-
-impl<'a> CanSdo<'a> {
-    /// The SDO client on `bus` with `config`.
-    pub fn new(bus: &'a mut dyn CanBus, config: &'a ClientConfig) -> CanSdo<'a> {
-        CanSdo {
-            bus,
-            config,
-            cancel: None,
-        }
-    }
-
-    fn session_error(&self, node: u8, addr: Address, e: SessionError<BusError>) -> ToolError {
-        match e {
-            SessionError::Sdo(SdoClientError::Aborted {
-                code: AbortCode::Timeout,
-                ..
-            }) => ToolError::Timeout {
-                index: addr.index,
-                sub: addr.sub,
-                node,
-                ms: self.config.timeout.as_millis(),
-            },
-            SessionError::Sdo(SdoClientError::Aborted {
-                index, sub, code, ..
-            }) => ToolError::Abort { index, sub, code },
-            SessionError::Transport(e) => ToolError::Bus(e),
-            SessionError::Cancelled => ToolError::Interrupted { removed: None },
-            other => ToolError::Session(other),
-        }
-    }
-
-    /// Runs a transfer through a session on `node`, mapping its errors.
-    fn transfer<R>(
-        &mut self,
-        node: u8,
-        addr: Address,
-        f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError<BusError>>,
-    ) -> Result<R, ToolError> {
-        self.check_node(node)?;
-        let mut session =
-            SdoSession::new(BusTransport::new(&mut *self.bus, node), self.config.clone());
-        if let Some(flag) = &self.cancel {
-            session = session.with_cancel(Arc::clone(flag));
-        }
-        let result = f(&mut session);
-        drop(session);
-        result.map_err(|e| self.session_error(node, addr, e))
-    }
-}
-
-impl SdoAccess for CanSdo<'_> {
-    fn check_node(&self, node: u8) -> Result<(), ToolError> {
-        if (1..=127).contains(&node) {
-            Ok(())
-        } else {
-            Err(UsageError::Node { node }.into())
-        }
-    }
-
-    fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
-        let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.read_bytes(mux))
-    }
-
-    fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError> {
-        let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.write_bytes(mux, data))
-    }
-
-    /// The size of a fixed-size type keeps small values out of block mode.
-    fn read_value(
-        &mut self,
-        node: u8,
-        addr: Address,
-        data_type: DataType,
-    ) -> Result<Value, ToolError> {
-        let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.read_value(mux, data_type))
     }
 }
 
@@ -975,8 +836,10 @@ pub struct Tool {
     pub bus: Box<dyn CanBus>,
     /// Names, types and limits.
     pub od: Option<Dictionary>,
-    /// The SDO client settings (timeout, block mode).
+    /// The SDO client settings (timeout; block transfer as [`Tool::block`] says).
     pub sdo: ClientConfig,
+    /// When block transfer is used.
+    pub block: BlockMode,
     /// Set (by a Ctrl-C handler) to abort the running transfer with 0x08000000.
     pub cancel: Option<Arc<AtomicBool>>,
 }
@@ -988,14 +851,29 @@ impl Tool {
             bus,
             od,
             sdo: ClientConfig::default(),
+            block: BlockMode::Auto,
             cancel: None,
+        }
+    }
+
+    /// The SDO client on this tool's bus, with its settings.
+    pub fn can_sdo(&mut self) -> CanSdo<'_> {
+        CanSdo {
+            bus: self.bus.as_mut(),
+            config: &self.sdo,
+            block: self.block,
+            cancel: self.cancel.clone(),
         }
     }
 
     /// Runs `f` on the SDO commands over this tool's bus.
     pub fn with_commands<R>(&mut self, f: impl FnOnce(&mut SdoCommands<'_>) -> R) -> R {
-        let mut can = CanSdo::new(self.bus.as_mut(), &self.sdo);
-        can.cancel = self.cancel.clone();
+        let mut can = CanSdo {
+            bus: self.bus.as_mut(),
+            config: &self.sdo,
+            block: self.block,
+            cancel: self.cancel.clone(),
+        };
         f(&mut SdoCommands::new(&mut can, self.od.as_ref()))
     }
 
@@ -1040,20 +918,21 @@ impl Tool {
         self.write(node, object, Some("u32"), &signature.to_string())
     }
 
-    /// Runs a transfer through a session on `node`, mapping its errors.
+    /// Runs `transfer` through a session on `node`, mapping its errors.
     fn transfer<R>(
         &mut self,
         node: u8,
         addr: Address,
+        transfer: Transfer,
         f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError<BusError>>,
     ) -> Result<R, ToolError> {
-        let mut can = CanSdo::new(self.bus.as_mut(), &self.sdo);
-        can.cancel = self.cancel.clone();
-        can.transfer(node, addr, f)
+        self.can_sdo().transfer(node, addr, transfer, f)
     }
 
     /// `upload NODE OBJECT`: the object's bytes into `sink`, reporting progress (bytes so far, size
-    /// when announced). Returns the number of bytes.
+    /// when announced). Returns the number of bytes. The entry is taken as large, a DOMAIN: in
+    /// [`BlockMode::Auto`] a block upload, which the server may answer with a normal upload up to
+    /// [`BLOCK_FROM`] bytes.
     pub fn upload(
         &mut self,
         node: u8,
@@ -1063,7 +942,8 @@ impl Tool {
     ) -> Result<u64, ToolError> {
         let addr = self.object(object)?;
         let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.upload_to(mux, sink, progress))
+        let upload = Transfer::Upload { domain: true };
+        self.transfer(node, addr, upload, |s| s.upload_to(mux, sink, progress))
     }
 
     /// `download NODE OBJECT`: `len` bytes from `source` into the object, reporting progress.
@@ -1077,7 +957,10 @@ impl Tool {
     ) -> Result<(), ToolError> {
         let addr = self.object(object)?;
         let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.download_from(mux, source, len, progress))
+        let download = Transfer::Download { len };
+        self.transfer(node, addr, download, |s| {
+            s.download_from(mux, source, len, progress)
+        })
     }
 
     /// `scan`: every node that answers an SDO upload of 0x1000 (asked of ids 1–127 at once) or shows

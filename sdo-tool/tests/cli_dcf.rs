@@ -182,10 +182,10 @@ fn dump_and_apply_leave_out_what_obj_flags_refuse() {
     assert_eq!(
         sdo_requests(&mut tap),
         [
-            "block upload 0x1018:01",
-            "block upload 0x1018:02",
-            "block upload 0x1005:00",
-            "block upload 0x1017:00",
+            "upload 0x1018:01",
+            "upload 0x1018:02",
+            "upload 0x1005:00",
+            "upload 0x1017:00",
         ]
     );
     let text = std::fs::read_to_string(&dcf).unwrap();
@@ -245,9 +245,9 @@ fn dump_and_apply_leave_out_what_obj_flags_refuse() {
         sdo_requests(&mut tap),
         [
             "download 0x1006:00",
-            "block upload 0x1006:00",
+            "upload 0x1006:00",
             "download 0x1017:00",
-            "block upload 0x1017:00",
+            "upload 0x1017:00",
         ]
     );
     assert_eq!(

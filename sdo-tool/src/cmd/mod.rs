@@ -40,8 +40,11 @@ pub mod write;
 pub struct Context<'a> {
     /// `--json`: one JSON object per result.
     pub json: bool,
-    /// The `--od` description, loaded.
+    /// The `--od` description's device the command runs with (the first, or the node's:
+    /// [`sdo::pick_device`]).
     pub desc: Option<&'a od::DeviceDescription>,
+    /// Every device of the `--od` description (most files describe one).
+    pub devices: &'a [od::DeviceDescription],
     /// The `--od` file.
     pub od_path: Option<&'a Path>,
 }
@@ -74,7 +77,15 @@ pub fn load_description(
     path: &Path,
     what: &'static str,
 ) -> Result<od::DeviceDescription, ToolError> {
-    let (_, mut devices) = od::load::load(path).map_err(|error| UsageError::Description {
+    Ok(load_devices(path, what)?.swap_remove(0))
+}
+
+/// Every device of a description file, at least one; `what` says where it was given.
+pub fn load_devices(
+    path: &Path,
+    what: &'static str,
+) -> Result<Vec<od::DeviceDescription>, ToolError> {
+    let (_, devices) = od::load::load(path).map_err(|error| UsageError::Description {
         what,
         path: path.to_path_buf(),
         error,
@@ -86,5 +97,5 @@ pub fn load_description(
         }
         .into());
     }
-    Ok(devices.swap_remove(0))
+    Ok(devices)
 }
