@@ -31,6 +31,7 @@ pub mod config;
 pub mod ethercat;
 pub mod gateway;
 pub mod link;
+pub mod show;
 pub mod usage;
 
 use can::Transfer;
@@ -526,7 +527,7 @@ impl<'a> SdoCommands<'a> {
         }
         let Some(od) = self.od else {
             return match self.sdo.entry_type(node, addr)? {
-                Some(t) => Ok(TypeCode::of(t)),
+                Some(t) => Ok(show::code_for(None, addr, t)),
                 None => Err(UsageError::TypeNeeded.into()),
             };
         };
@@ -536,7 +537,7 @@ impl<'a> SdoCommands<'a> {
                 address: addr,
                 error,
             })?;
-        Ok(TypeCode::of(e.data_type))
+        Ok(show::code_for(Some(od), addr, e.data_type))
     }
 
     /// With a dictionary: `addr`'s access refuses `what` (`"read"` or `"written"`) — a write-only
@@ -592,6 +593,11 @@ impl<'a> SdoCommands<'a> {
             Err(e) => return Err(e),
         };
         let text = code.format(&v);
+        // A type from the description (or the node): a mapping says what it maps.
+        let text = match ty {
+            None => show::with_mapping(addr, &v, text),
+            Some(_) => text,
+        };
         Ok((v, text))
     }
 
@@ -820,11 +826,15 @@ impl SdoCommands<'_> {
     }
 }
 
-/// `bytes` of `addr` as a value of its type in `dict`, else as bytes.
+/// `bytes` of `addr` as a value of its type in `dict` (in hex or decimal as [`show`] says, a
+/// mapping with what it maps), else as bytes.
 fn shown(dict: &Dictionary, addr: Address, bytes: &[u8]) -> String {
     match dict.entry(addr.index, addr.sub) {
         Ok(e) => Value::decode(e.data_type, bytes)
-            .map(|v| TypeCode::of(e.data_type).format(&v))
+            .map(|v| {
+                let text = show::code_for(Some(dict), addr, e.data_type).format(&v);
+                show::with_mapping(addr, &v, text)
+            })
             .unwrap_or_else(|_| format!("{bytes:02X?}")),
         Err(_) => format!("{bytes:02X?}"),
     }

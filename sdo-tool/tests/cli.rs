@@ -755,7 +755,7 @@ fn refused_values_say_the_range_they_miss() {
     );
     assert_eq!(
         n.tool(&["--od", &od, "read", "5", "Identity.2"]).unwrap(),
-        "9270\n"
+        "0x00002436\n"
     );
     assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), before);
 }

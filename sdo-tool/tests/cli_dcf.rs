@@ -74,15 +74,15 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
     assert_eq!(
         lines[rpdo1..rpdo1 + 9],
         [
-            "wrote 0x1400:01 = 2147484165 (the PDO made invalid while it changes)",
+            "wrote 0x1400:01 = 0x80000205 (the PDO made invalid while it changes)",
             "wrote 0x1400:02 = 255",
             "wrote 0x1600:00 = 0 (the count 0 while the entries change)",
-            "wrote 0x1600:01 = 553648160",
-            "wrote 0x1600:02 = 553713680",
-            "wrote 0x1600:03 = 553779208",
-            "wrote 0x1600:04 = 327688",
+            "wrote 0x1600:01 = 0x21000020 (0x2100:00, 32 bits)",
+            "wrote 0x1600:02 = 0x21010010 (0x2101:00, 16 bits)",
+            "wrote 0x1600:03 = 0x21020008 (0x2102:00, 8 bits)",
+            "wrote 0x1600:04 = 0x00050008 (0x0005:00, 8 bits)",
             "wrote 0x1600:00 = 4",
-            "wrote 0x1400:01 = 517",
+            "wrote 0x1400:01 = 0x00000205",
         ]
     );
     assert!(lines.contains(&"wrote 0x1017:00 = 300"), "{out}");
@@ -216,9 +216,9 @@ fn dump_and_apply_leave_out_what_obj_flags_refuse() {
     }
     std::fs::write(&dcf, od::eds::write_dcf(&devices[0])).unwrap();
     let skipped = [
-        "skipped 0x1005:00 = 129: ObjFlags bit 0: refuse write on download",
+        "skipped 0x1005:00 = 0x00000081: ObjFlags bit 0: refuse write on download",
         "skipped 0x1015:00 = 10: ObjFlags bit 0: refuse write on download",
-        "skipped 0x1016:01 = 327780: ObjFlags bit 0: refuse write on download",
+        "skipped 0x1016:01 = 0x00050064: ObjFlags bit 0: refuse write on download",
     ];
     let out = n
         .tool(&["apply", "5", dcf.to_str().unwrap(), "--dry-run"])
@@ -458,10 +458,10 @@ fn read_of_a_whole_record() {
     let n = Running::start();
     let od = eds();
     let lines = "0x1018:00  Highest sub-index supported = 4\n\
-                 0x1018:01  Vendor-ID = 2862\n\
-                 0x1018:02  Product code = 9270\n\
-                 0x1018:03  Revision number = 1\n\
-                 0x1018:04  Serial number = 0\n";
+                 0x1018:01  Vendor-ID = 0x00000B2E\n\
+                 0x1018:02  Product code = 0x00002436\n\
+                 0x1018:03  Revision number = 0x00000001\n\
+                 0x1018:04  Serial number = 0x00000000\n";
     assert_eq!(
         n.tool(&["--od", &od, "read", "5", "Identity"]).unwrap(),
         lines
@@ -479,7 +479,7 @@ fn read_of_a_whole_record() {
     assert_eq!(v["entries"].as_array().unwrap().len(), 5);
     assert_eq!(
         v["entries"][1],
-        serde_json::json!({"object": "0x1018:01", "name": "Vendor-ID", "value": 2862, "text": "2862"})
+        serde_json::json!({"object": "0x1018:01", "name": "Vendor-ID", "value": 2862, "text": "0x00000B2E"})
     );
     assert_eq!(n.tool(&["read", "5", "0x1018", "u8"]).unwrap(), "4\n");
 }
@@ -563,7 +563,7 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
     assert_eq!(e.map(|e| e.exit_code()), Some(1));
     assert!(
         out.contains(
-            "REFUSED 0x1600:01 = 553713680: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason); nothing after it written"
+            "REFUSED 0x1600:01 = 0x21010010 (0x2101:00, 16 bits): 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason); nothing after it written"
         ),
         "{out}"
     );
@@ -579,9 +579,9 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
     assert_eq!(
         lines,
         [
-            "skipped 0x1010:01 = 1702257011: store parameters: a command",
+            "skipped 0x1010:01 = 0x65766173: store parameters: a command",
             "wrote 0x1017:00 = 1000",
-            "REFUSED 0x1600:01 = 553713680: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason)",
+            "REFUSED 0x1600:01 = 0x21010010 (0x2101:00, 16 bits): 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason)",
             "wrote 0x2110:00 = 20",
             "skipped 0x2FFF:00 = 7: the node refuses it: 0x06020000 (Object does not exist in the object dictionary)",
             "2 entries written, 2 skipped, 1 refused",

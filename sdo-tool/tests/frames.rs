@@ -46,13 +46,13 @@ fn a_four_byte_read_is_one_expedited_request_and_its_answer() {
         "605#4018100100000000".to_string(),
         "585#431810012E0B0000".to_string(),
     ];
-    for argv in [
-        &["read", "5", "0x1018:01", "u32"][..],
-        &["--od", &od, "read", "5", "0x1018:01"],
-        &["--od", &od, "read", "5", "Vendor-ID"],
+    for (argv, shown) in [
+        (&["read", "5", "0x1018:01", "u32"][..], "2862\n"),
+        (&["--od", &od, "read", "5", "0x1018:01"], "0x00000B2E\n"),
+        (&["--od", &od, "read", "5", "Vendor-ID"], "0x00000B2E\n"),
     ] {
         frames(&mut tap);
-        assert_eq!(n.tool(argv).unwrap(), "2862\n", "{argv:?}");
+        assert_eq!(n.tool(argv).unwrap(), shown, "{argv:?}");
         assert_eq!(frames(&mut tap), exact, "{argv:?}");
     }
 }
