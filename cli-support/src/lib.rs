@@ -34,17 +34,32 @@ pub enum LogFormat {
     Json,
 }
 
+/// The variable that turns colour off wherever it is set to anything but the empty string
+/// (<https://no-color.org>).
+pub const NO_COLOR_VARIABLE: &str = "NO_COLOR";
+
+/// Whether the text log is coloured (ANSI escape codes): only on a terminal (`terminal`), and not
+/// when [`NO_COLOR_VARIABLE`] is set to a value that is not empty (`no_color`), as no-color.org
+/// asks. A log piped into a file or another program is plain text.
+pub fn colour(terminal: bool, no_color: Option<&std::ffi::OsStr>) -> bool {
+    terminal && !matches!(no_color, Some(v) if !v.is_empty())
+}
+
 /// Installs the process's log: events on standard error in `format`, filtered by
-/// [`FILTER_VARIABLE`], or by [`DEFAULT_FILTER`] where it is unset or does not parse.
+/// [`FILTER_VARIABLE`], or by [`DEFAULT_FILTER`] where it is unset or does not parse; coloured
+/// only where [`colour`] says.
 ///
 /// # Panics
 ///
 /// When a global subscriber is already installed (a second call).
 pub fn init_logging(format: LogFormat) {
+    use std::io::IsTerminal;
     let filter =
         EnvFilter::try_from_default_env().unwrap_or_else(|_| EnvFilter::new(DEFAULT_FILTER));
+    let no_color = std::env::var_os(NO_COLOR_VARIABLE);
     let log = tracing_subscriber::fmt()
         .with_env_filter(filter)
+        .with_ansi(colour(std::io::stderr().is_terminal(), no_color.as_deref()))
         .with_writer(std::io::stderr);
     match format {
         LogFormat::Text => log.init(),
@@ -74,6 +89,17 @@ pub fn stop_flag(given: Option<Arc<AtomicBool>>) -> Result<Arc<AtomicBool>, Sign
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Colour on a terminal only, and not there when NO_COLOR is set to anything but "".
+    #[test]
+    fn colour_only_on_a_terminal_without_no_color() {
+        use std::ffi::OsStr;
+        assert!(colour(true, None));
+        assert!(colour(true, Some(OsStr::new(""))));
+        assert!(!colour(true, Some(OsStr::new("1"))));
+        assert!(!colour(false, None));
+        assert!(!colour(false, Some(OsStr::new(""))));
+    }
 
     #[test]
     fn a_given_flag_is_the_flag() {
