@@ -259,11 +259,24 @@ fn not_booted(mandatory: &[u8], optional: &[u8]) -> String {
     }
 }
 
+/// The exit code when standard output is a pipe whose reader is gone (`sdo-tool … | head`): 141,
+/// 128 + SIGPIPE, what a shell reports for IgH's `ethercat` and CANopenNode's `cocomm`, which
+/// SIGPIPE ends there. The tool ends quietly, without a message.
+pub const BROKEN_PIPE_EXIT: i32 = 141;
+
 impl ToolError {
+    /// Whether the output could not be written because its reader is gone (EPIPE).
+    pub fn broken_pipe(&self) -> bool {
+        matches!(self, ToolError::Output(e) if e.kind() == std::io::ErrorKind::BrokenPipe)
+    }
+
     /// 1 SDO abort, 2 usage, 3 timeout or transport failure, 4 verification difference, 6 and 7 an
-    /// optional or a mandatory node not booted, 130
-    /// interrupted (Ctrl-C, as a shell reports SIGINT).
+    /// optional or a mandatory node not booted, 130 interrupted (Ctrl-C, as a shell reports
+    /// SIGINT), 141 the output's reader gone ([`BROKEN_PIPE_EXIT`]).
     pub fn exit_code(&self) -> i32 {
+        if self.broken_pipe() {
+            return BROKEN_PIPE_EXIT;
+        }
         match self {
             ToolError::Abort { .. } | ToolError::Refused(_) | ToolError::Drive(_) => 1,
             ToolError::Lss(canopen_net::lss::LssError::Refused { .. }) => 1,
