@@ -108,6 +108,10 @@ pub struct Args {
     /// master assigns to move them in csp, and what stands in the way.
     #[arg(long)]
     pub list: bool,
+
+    /// `--completions SHELL`, `--man DIR`.
+    #[command(flatten)]
+    pub generate: cli_support::Generate,
 }
 
 /// The motor of the drives.

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 use crate::cmd::apply::ApplyArgs;
 use crate::cmd::decode::DecodeArgs;
@@ -161,6 +161,18 @@ pub enum Cmd {
     /// `jog V`, `stop`. Each waits for the drive to do it; a drive that does not says where it
     /// stayed and its error code. On CAN or, with --ethercat, on an EtherCAT chain.
     Drive(crate::cmd::drive::DriveArgs),
+    /// The shell completion script for SHELL (bash, zsh, fish, elvish, powershell) on standard
+    /// output: `source <(sdo-tool completions bash)`.
+    Completions {
+        /// The shell.
+        shell: cli_support::Shell,
+    },
+    /// The manual pages into DIR: sdo-tool.1 and one per command (sdo-tool-read.1, …,
+    /// sdo-tool-net-gen.1), each file named on standard output: `man -l DIR/sdo-tool-read.1`.
+    Man {
+        /// The folder (made if missing).
+        dir: PathBuf,
+    },
 }
 
 impl Cmd {
@@ -187,6 +199,8 @@ impl Cmd {
             Cmd::Slaves => "slaves",
             Cmd::States => "states",
             Cmd::Sdos(_) => "sdos",
+            Cmd::Completions { .. } => "completions",
+            Cmd::Man { .. } => "man",
         }
     }
 
@@ -226,6 +240,21 @@ pub fn run(
     bus: Option<Box<dyn CanBus>>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
+    match &args.command {
+        Cmd::Completions { shell } => {
+            return cli_support::write_completions(Args::command(), *shell, out)
+                .map_err(ToolError::Output);
+        }
+        Cmd::Man { dir } => {
+            let pages = cli_support::write_man_pages(Args::command(), dir)
+                .map_err(|e| crate::cmd::file_error(dir, e))?;
+            for page in pages {
+                writeln!(out, "{}", page.display()).map_err(ToolError::Output)?;
+            }
+            return Ok(());
+        }
+        _ => {}
+    }
     let devices = match &args.od {
         Some(path) => load_devices(path, "--od")?,
         None => Vec::new(),
@@ -346,6 +375,7 @@ fn can_command(
         // Answered before any bus is opened.
         Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
         Cmd::List | Cmd::Decode(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => Ok(()),
+        Cmd::Completions { .. } | Cmd::Man { .. } => Ok(()),
     }
 }
 

@@ -109,6 +109,10 @@ pub struct Args {
     /// "axis", "index", "value" and "limit" or "code").
     #[arg(long)]
     pub json: bool,
+
+    /// `--completions SHELL`, `--man DIR`.
+    #[command(flatten)]
+    pub generate: cli_support::Generate,
 }
 
 /// The motor of the drives.

@@ -1,6 +1,7 @@
-//! The log of `canopen-node` and `x67-node` on standard error (`cli_support::init_logging`): plain
-//! text when it goes to a pipe or a file, coloured (ANSI escape codes) on a terminal, plain there
-//! too with `NO_COLOR` set (no-color.org). The terminal is util-linux `script`'s pseudo-terminal.
+//! What `canopen-node` and `x67-node` share with every command line of the workspace
+//! (`cli-support`): the log on standard error plain text when it goes to a pipe or a file, coloured
+//! (ANSI escape codes) on a terminal, plain there too with `NO_COLOR` set (no-color.org), the
+//! terminal being util-linux `script`'s pseudo-terminal; and `--completions SHELL`, `--man DIR`.
 
 use std::net::TcpListener;
 use std::process::Command;
@@ -62,5 +63,49 @@ fn the_log_is_coloured_on_a_terminal_only() {
         // An empty NO_COLOR does not count.
         let empty = run(bin, &[args], true, Some(""));
         assert!(empty.contains('\x1b'), "{bin} with NO_COLOR empty: {empty}");
+    }
+}
+
+/// `--completions SHELL` and `--man DIR` of `canopen-node` and `x67-node`, alone on the command
+/// line (canopen-node's `--od` is not needed for them); with another option they are refused.
+#[test]
+fn completions_and_manual_pages_of_the_nodes() {
+    let dir = tempfile::tempdir().unwrap();
+    for (bin, name) in [
+        (env!("CARGO_BIN_EXE_canopen-node"), "canopen-node"),
+        (env!("CARGO_BIN_EXE_x67-node"), "x67-node"),
+    ] {
+        let out = Command::new(bin)
+            .args(["--completions", "bash"])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        let script = String::from_utf8_lossy(&out.stdout);
+        let function = name.replace('-', "__");
+        assert!(
+            script.contains(&format!(
+                "complete -F _{function} -o nosort -o bashdefault -o default {name}"
+            )),
+            "{script}"
+        );
+        assert!(script.contains("--bus"));
+        let out = Command::new(bin)
+            .arg("--man")
+            .arg(dir.path())
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        let page = dir.path().join(format!("{name}.1"));
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout),
+            format!("{}\n", page.display())
+        );
+        let text = std::fs::read_to_string(&page).unwrap();
+        assert!(text.contains(&format!(".TH {name} 1")), "{text}");
+        let out = Command::new(bin)
+            .args(["--completions", "bash", "--bus", "vcan0"])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
     }
 }
