@@ -152,6 +152,12 @@ pub enum Cmd {
     Gateway(GatewayArgs),
     /// An NMT command: start, stop, preop, reset, reset-comm; NODE is 1–127 or all.
     Nmt(NmtArgs),
+    /// One frame in can-utils' cansend notation: `send 123#DEADBEEF`, `send 123#R` (remote frame),
+    /// `send 12345678#00` (29-bit identifier).
+    Send(crate::cmd::raw::SendArgs),
+    /// SYNC messages (CiA 301): one by default, --count N of them --period-ms apart (0: until
+    /// Ctrl-C), with the counter byte (--counter, up to --overflow), on 0x80 or --cob-id.
+    Sync(crate::cmd::raw::SyncArgs),
     /// The LSS master (CiA 305): `lss scan` finds the nodes without a node-ID by Fastscan, `lss
     /// assign FIRST_ID` gives them node-IDs and stores them; `set-id`, `store`, `bitrate`,
     /// `inquire` and `switch` are the single services.
@@ -191,6 +197,8 @@ impl Cmd {
             Cmd::Scan(_) => "scan",
             Cmd::Gateway(_) => "gateway",
             Cmd::Nmt(_) => "nmt",
+            Cmd::Send(_) => "send",
+            Cmd::Sync(_) => "sync",
             Cmd::Lss(_) => "lss",
             Cmd::Drive(_) => "drive",
             Cmd::List => "list",
@@ -369,6 +377,8 @@ fn can_command(
         Cmd::Scan(a) => scan::run(a, &mut tool, json, out),
         Cmd::Gateway(a) => gateway::run(a, tool, out),
         Cmd::Nmt(a) => nmt::run(a, &mut tool, json, out),
+        Cmd::Send(a) => crate::cmd::raw::send(a, &mut tool, json, out),
+        Cmd::Sync(a) => crate::cmd::raw::sync(a, &mut tool, json, out),
         Cmd::Lss(a) => lss::run(a, &mut tool, json, out),
         Cmd::Net(a) => crate::cmd::net::run_on_bus(a, &mut tool, json, out),
         Cmd::Drive(a) => crate::cmd::drive::run(a, &mut tool.can_sdo(), json, out),

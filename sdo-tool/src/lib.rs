@@ -31,6 +31,7 @@ pub mod config;
 pub mod ethercat;
 pub mod gateway;
 pub mod link;
+pub mod raw;
 pub mod show;
 pub mod usage;
 

@@ -177,3 +177,95 @@ fn the_identity_picks_the_device_of_a_description_of_several() {
         ]
     );
 }
+
+/// `send` puts cansend's frame on the bus as written: an 11-bit data frame, a remote frame, a
+/// 29-bit one, bytes with dots; a frame that is none is refused (exit 2) with nothing sent.
+#[test]
+fn send_puts_the_frame_on_the_bus() {
+    let n = Running::start();
+    let mut tap = n.bus.endpoint();
+    let sent = |tap: &mut socketcan_node::transport::Endpoint| -> Vec<String> {
+        std::iter::from_fn(|| tap.try_recv())
+            .filter(|f| f.raw_id() != 0x585)
+            .map(|f| f.to_string())
+            .collect()
+    };
+    for (argv, frame) in [
+        ("123#DEADBEEF", "123#DEADBEEF"),
+        ("123#R", "123#R0"),
+        ("12345678#0102", "12345678#0102"),
+        ("5A1#11.2233.44", "5A1#11223344"),
+        ("7FF#", "7FF#"),
+    ] {
+        assert_eq!(n.tool(&["send", argv]).unwrap(), "");
+        assert_eq!(sent(&mut tap), [frame], "{argv}");
+    }
+    let json = n.tool(&["--json", "send", "181#01"]).unwrap();
+    assert_eq!(json, "{\"sent\":\"181#01\"}\n");
+    sent(&mut tap);
+    for bad in [
+        "800#00",
+        "123#1",
+        "123#001122334455667788",
+        "1234#00",
+        "123",
+    ] {
+        let e = n.tool(&["send", bad]).unwrap_err();
+        assert_eq!(e.exit_code(), 2, "{bad}");
+        assert!(
+            e.to_string().starts_with(&format!("frame \"{bad}\": ")),
+            "{e}"
+        );
+    }
+    assert_eq!(sent(&mut tap), Vec::<String>::new());
+}
+
+/// `sync`: one SYNC without data on 0x080; three with the counter 1, 2, 3, 20 ms apart (at least
+/// 40 ms from the first to the last); the counter back to 1 after the overflow value; another
+/// COB-ID.
+#[test]
+fn sync_produces_sync_messages() {
+    let n = Running::start();
+    let mut tap = n.bus.endpoint();
+    let syncs = |tap: &mut socketcan_node::transport::Endpoint, cob: u32| -> Vec<String> {
+        std::iter::from_fn(|| tap.try_recv())
+            .filter(|f| f.raw_id() == cob)
+            .map(|f| f.to_string())
+            .collect()
+    };
+    assert_eq!(n.tool(&["sync"]).unwrap(), "1 SYNC sent on 0x080\n");
+    assert_eq!(syncs(&mut tap, 0x80), ["080#"]);
+    let t0 = std::time::Instant::now();
+    let out = n
+        .tool(&["sync", "--count", "3", "--period-ms", "20", "--counter"])
+        .unwrap();
+    assert!(t0.elapsed() >= Duration::from_millis(40));
+    assert_eq!(out, "3 SYNC sent on 0x080\n");
+    assert_eq!(syncs(&mut tap, 0x80), ["080#01", "080#02", "080#03"]);
+    let out = n
+        .tool(&[
+            "sync",
+            "--count",
+            "5",
+            "--period-ms",
+            "0",
+            "--counter",
+            "--overflow",
+            "2",
+            "--cob-id",
+            "0x90",
+        ])
+        .unwrap();
+    assert_eq!(out, "5 SYNC sent on 0x090\n");
+    assert_eq!(
+        syncs(&mut tap, 0x90),
+        ["090#01", "090#02", "090#01", "090#02", "090#01"]
+    );
+    for bad in [
+        &["sync", "--cob-id", "0x800"][..],
+        &["sync", "--overflow", "3"],
+        &["sync", "--counter", "--overflow", "241"],
+    ] {
+        assert_eq!(n.tool(bad).unwrap_err().exit_code(), 2, "{bad:?}");
+    }
+}

@@ -4,6 +4,7 @@
 //! - [`read`], [`mod@write`], [`dump`], [`apply`]: SDO transfers, on CAN or on EtherCAT ([`sdo`]);
 //! - [`transfer`]: `upload` and `download` of a file, with a progress bar;
 //! - [`store`]: `save` and `restore`; [`nmt`]; [`scan`]; [`gateway`]: the CiA 309-3 gateway;
+//! - [`raw`]: `send` (a frame in cansend's notation) and `sync` (a SYNC producer);
 //! - [`drive`]: a CiA 402 drive's state, enabled, homed, moved and jogged, on either network;
 //! - [`lss`]: the LSS master (CiA 305): Fastscan, node-IDs, bit timing, store;
 //! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
@@ -27,6 +28,7 @@ pub mod lss;
 pub mod net;
 pub mod net_boot;
 pub mod nmt;
+pub mod raw;
 pub mod read;
 pub mod scan;
 pub mod sdo;
