@@ -390,6 +390,9 @@ pub struct DumpOutcome {
     pub refused: Vec<(Address, AbortCode)>,
     /// Entries of the description left out, with the reason ([`config::Skip`]).
     pub skipped: Vec<(Address, config::Skip)>,
+    /// Write-only entries read through their read-back register ([`config::read_backs`]), each
+    /// with that register; their values are in the file as the entries'.
+    pub read_back: Vec<(Address, Address)>,
 }
 
 /// NMT commands (CiA 301 §7.2.8.3.1).
@@ -672,7 +675,7 @@ impl<'a> SdoCommands<'a> {
         desc: &mut od::DeviceDescription,
     ) -> Result<DumpOutcome, ToolError> {
         self.sdo.check_node(node)?;
-        let (addrs, mut skipped) = config::dump_entries(&desc.dictionary);
+        let (addrs, skipped) = config::dump_entries(&desc.dictionary);
         let mut values = std::collections::BTreeMap::new();
         let mut refused = Vec::new();
         for a in addrs {
@@ -684,6 +687,28 @@ impl<'a> SdoCommands<'a> {
                 Err(e) => return Err(e),
             }
         }
+        // A write-only entry with a read-back register: the register's value is the entry's.
+        let mut read_back = Vec::new();
+        let through = config::read_backs(&desc.dictionary);
+        let mut left = Vec::with_capacity(skipped.len());
+        for (a, why) in skipped {
+            match through.get(&a) {
+                Some(&r) if why == config::Skip::WriteOnly => match self.read_raw(node, r) {
+                    Ok(bytes)
+                        if desc
+                            .dictionary
+                            .store_parameter(a.index, a.sub, &bytes)
+                            .is_ok() =>
+                    {
+                        read_back.push((a, r));
+                    }
+                    Ok(_) | Err(ToolError::Abort { .. }) => left.push((a, why)),
+                    Err(e) => return Err(e),
+                },
+                _ => left.push((a, why)),
+            }
+        }
+        let mut skipped = left;
         let outputs = config::mapped_outputs(&desc.dictionary, &values);
         let mut read = 0;
         for (a, bytes) in values {
@@ -701,9 +726,10 @@ impl<'a> SdoCommands<'a> {
         // The entries the node did not give keep their defaults, `$NODEID` ones now for this node.
         desc.set_node_id(Some(node));
         Ok(DumpOutcome {
-            read,
+            read: read + read_back.len(),
             refused,
             skipped,
+            read_back,
         })
     }
 

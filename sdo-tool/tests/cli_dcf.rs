@@ -26,16 +26,16 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
     let lines: Vec<&str> = out.lines().collect();
     assert!(
         lines[0].starts_with(
-            "39 write-only parameters cannot be read back and are not in the file: \
-             0x2010:00 (GeneralConfig01), 0x2110:00 (ConfigOutput03a), "
+            "33 write-only parameters cannot be read back and are not in the file: \
+             0x2010:00 (GeneralConfig01), 0x2113:00 (StallDetectConfig01), "
         ),
         "{out}"
     );
     assert_eq!(
         lines[1],
         format!(
-            "37 entries written to {}; left out: 13 command objects, 6 cyclic outputs, \
-             39 not writable, 39 write-only",
+            "43 entries written to {}; left out: 13 command objects, 6 cyclic outputs, \
+             39 not writable, 33 write-only",
             dcf.display()
         )
     );
@@ -47,7 +47,11 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
         (0x1010, 1, "store (a command)"),
         (0x1018, 1, "identity (read-only)"),
         (0x2100, 0, "AbsPos01 (a cyclic output)"),
-        (0x2110, 0, "ConfigOutput03a (write-only)"),
+        (
+            0x2114,
+            0,
+            "MaxSpeed01pos (write-only, without a read-back register)",
+        ),
     ] {
         assert!(
             !d.entry(index, sub).unwrap().value_set,
@@ -88,7 +92,7 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
     assert!(lines.contains(&"wrote 0x1017:00 = 300"), "{out}");
     assert_eq!(
         *lines.last().unwrap(),
-        "37 entries written, 0 skipped, 0 refused"
+        "43 entries written, 0 skipped, 0 refused"
     );
     assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), "300\n");
     assert_eq!(n.tool(&["read", "5", "0x1800:02", "u8"]).unwrap(), "1\n");
@@ -605,4 +609,94 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
             "refused_in_state": 0, "differences": 0, "saved": false,
         })
     );
+}
+
+/// `dump` of the X67SM2436: the six write-only current settings (ConfigOutput03a…08a, 0x2110–0x2112
+/// and 0x2210–0x2212) are read through their read-back registers (ConfigOutput03aRead…08aRead,
+/// 0x2130–0x2132 and 0x2230–0x2232, the manual's 18.5 "Reading back the configuration"), each named
+/// on stderr, and the DCF holds the values configured under the write-only entries; MaxSpeed01pos,
+/// which has no read-back register, is not in the file. The DCF applied to another node sets them
+/// there.
+#[test]
+fn dump_reads_write_only_settings_through_their_read_back_registers() {
+    let (mut node, port) = x67::hub(3);
+    let bus = common::socketcand_bus(port);
+    let od = eds();
+    let named = ["--bus", bus.as_str(), "--od", od.as_str()];
+    let settings = [
+        ("ConfigOutput03a", "20"),
+        ("ConfigOutput04a", "30"),
+        ("ConfigOutput05a", "40"),
+        ("ConfigOutput06a", "50"),
+        ("ConfigOutput07a", "60"),
+        ("ConfigOutput08a", "70"),
+        ("MaxSpeed01pos", "1000"),
+    ];
+    for (name, value) in settings {
+        common::sdo_tool_ok(&named, &["write", "3", name, value]);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let dcf = dir.path().join("node3.dcf");
+    let out = common::sdo_tool(&named, &["dump", "3", "-o", dcf.to_str().unwrap()]);
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "sdo-tool: 0x2110:00 (ConfigOutput03a) read through its read-back register 0x2130:00 (ConfigOutput03aRead)\n\
+         sdo-tool: 0x2111:00 (ConfigOutput04a) read through its read-back register 0x2131:00 (ConfigOutput04aRead)\n\
+         sdo-tool: 0x2112:00 (ConfigOutput05a) read through its read-back register 0x2132:00 (ConfigOutput05aRead)\n\
+         sdo-tool: 0x2210:00 (ConfigOutput06a) read through its read-back register 0x2230:00 (ConfigOutput06aRead)\n\
+         sdo-tool: 0x2211:00 (ConfigOutput07a) read through its read-back register 0x2231:00 (ConfigOutput07aRead)\n\
+         sdo-tool: 0x2212:00 (ConfigOutput08a) read through its read-back register 0x2232:00 (ConfigOutput08aRead)\n"
+    );
+    let (_, devices) = od::load::load(&dcf).unwrap();
+    let d = &devices[0].dictionary;
+    for (index, value) in [
+        (0x2110u16, 20u8),
+        (0x2111, 30),
+        (0x2112, 40),
+        (0x2210, 50),
+        (0x2211, 60),
+        (0x2212, 70),
+    ] {
+        let e = d.entry(index, 0).unwrap();
+        assert!(e.value_set, "0x{index:04X} in the DCF");
+        assert_eq!(e.value, [value], "0x{index:04X}");
+    }
+    assert!(!d.entry(0x2114, 0).unwrap().value_set, "MaxSpeed01pos");
+    // In the file as CiA 306 writes it: the section of 0x2110 with its ParameterValue, 20.
+    let text = std::fs::read_to_string(&dcf).unwrap();
+    let section: Vec<&str> = text
+        .lines()
+        .skip_while(|l| *l != "[2110]")
+        .take_while(|l| !l.is_empty())
+        .collect();
+    assert!(section.contains(&"ParameterValue=0x14"), "{section:?}");
+    // --json names them too.
+    let json = common::sdo_tool_ok(
+        &["--bus", &bus, "--od", &od, "--json"],
+        &["dump", "3", "-o", dcf.to_str().unwrap()],
+    );
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(
+        v["read_back"][0],
+        serde_json::json!({"entry": "0x2110:00 (ConfigOutput03a)", "through": "0x2130:00 (ConfigOutput03aRead)"})
+    );
+    node.kill().unwrap();
+    node.wait().unwrap();
+
+    // Applied to a node in its defaults: the currents read back as dumped.
+    let (mut other, port) = x67::hub(4);
+    let bus = common::socketcand_bus(port);
+    let plain = ["--bus", bus.as_str()];
+    common::sdo_tool_ok(&plain, &["apply", "4", dcf.to_str().unwrap()]);
+    assert_eq!(
+        common::sdo_tool_ok(&plain, &["read", "4", "0x2132:00", "u8"]),
+        "40\n"
+    );
+    assert_eq!(
+        common::sdo_tool_ok(&plain, &["read", "4", "0x2230:00", "u8"]),
+        "50\n"
+    );
+    other.kill().unwrap();
+    other.wait().unwrap();
 }

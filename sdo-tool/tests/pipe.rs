@@ -42,6 +42,10 @@ fn a_closed_pipe_ends_the_tool_quietly_with_141() {
         into_closed_pipe(&["--od", &od, "list"]),
         (Some(141), String::new())
     );
+    // A description of some of the node's entries, none written only (the X67's own names on
+    // stderr the registers it reads back).
+    let flags = testkit::root().join("fixtures/objflags/ObjFlags.eds");
+    let flags = flags.to_str().unwrap();
     let (mut node, port) = x67::hub(3);
     let bus = common::socketcand_bus(port);
     let dir = tempfile::tempdir().unwrap();
@@ -53,7 +57,7 @@ fn a_closed_pipe_ends_the_tool_quietly_with_141() {
             "--bus",
             &bus,
             "--od",
-            &od,
+            flags,
             "dump",
             "3",
             "-o",
