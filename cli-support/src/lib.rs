@@ -150,16 +150,17 @@ fn man_pages(
 }
 
 /// `--completions SHELL` and `--man DIR`, for a binary without subcommands to flatten into its
-/// arguments (`#[command(flatten)]`): either one alone on the command line, whatever else the
-/// binary requires.
+/// arguments (`#[command(flatten)]`); the binary's required arguments are required unless one of
+/// them is given (`required_unless_present_any = ["completions", "man"]`), and the other options
+/// (an environment variable's among them) are ignored then.
 #[derive(Debug, Clone, Default, PartialEq, Eq, clap::Args)]
 pub struct Generate {
     /// Write the shell completion script for SHELL (bash, zsh, fish, elvish, powershell) to
     /// standard output, and exit.
-    #[arg(long, value_name = "SHELL", exclusive = true)]
+    #[arg(long, value_name = "SHELL", conflicts_with = "man")]
     pub completions: Option<Shell>,
     /// Write the manual page NAME.1 into DIR, and exit.
-    #[arg(long, value_name = "DIR", exclusive = true)]
+    #[arg(long, value_name = "DIR")]
     pub man: Option<PathBuf>,
 }
 

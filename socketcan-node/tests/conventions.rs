@@ -66,8 +66,8 @@ fn the_log_is_coloured_on_a_terminal_only() {
     }
 }
 
-/// `--completions SHELL` and `--man DIR` of `canopen-node` and `x67-node`, alone on the command
-/// line (canopen-node's `--od` is not needed for them); with another option they are refused.
+/// `--completions SHELL` and `--man DIR` of `canopen-node` and `x67-node` (canopen-node's `--od`
+/// is not needed for them, `CANOPEN_BUS` is no obstacle); not both at once.
 #[test]
 fn completions_and_manual_pages_of_the_nodes() {
     let dir = tempfile::tempdir().unwrap();
@@ -102,8 +102,20 @@ fn completions_and_manual_pages_of_the_nodes() {
         );
         let text = std::fs::read_to_string(&page).unwrap();
         assert!(text.contains(&format!(".TH {name} 1")), "{text}");
+        // The bus from the environment, as a user's shell may have it, is no obstacle; both at
+        // once are refused.
         let out = Command::new(bin)
-            .args(["--completions", "bash", "--bus", "vcan0"])
+            .args(["--completions", "bash"])
+            .env("CANOPEN_BUS", "vcan0")
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let out = Command::new(bin)
+            .args(["--completions", "bash", "--man", "/tmp"])
             .output()
             .unwrap();
         assert_eq!(out.status.code(), Some(2));
