@@ -681,6 +681,34 @@ fn dump_reads_write_only_settings_through_their_read_back_registers() {
         v["read_back"][0],
         serde_json::json!({"entry": "0x2110:00 (ConfigOutput03a)", "through": "0x2130:00 (ConfigOutput03aRead)"})
     );
+    // A write-only entry the description flags "refuse read on scan" (ObjFlags bit 1) is not read
+    // through its read-back register either.
+    let flagged = dir.path().join("flagged.eds");
+    let text: String = std::fs::read_to_string(&od)
+        .unwrap()
+        .lines()
+        .flat_map(|l| match l {
+            "ParameterName=ConfigOutput03a" => vec![l, "ObjFlags=0x2"],
+            _ => vec![l],
+        })
+        .map(|l| format!("{l}\r\n"))
+        .collect();
+    assert!(text.contains("ObjFlags=0x2"));
+    std::fs::write(&flagged, text).unwrap();
+    let out = common::sdo_tool(
+        &["--bus", &bus, "--od", flagged.to_str().unwrap()],
+        &[
+            "dump",
+            "3",
+            "-o",
+            dir.path().join("flagged.dcf").to_str().unwrap(),
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.lines().count(), 5, "{stderr}");
+    assert!(!stderr.contains("0x2110"), "{stderr}");
+    assert!(String::from_utf8_lossy(&out.stdout)
+        .contains("skipped 0x2110:00 (ConfigOutput03a): ObjFlags bit 1: refuse read on scan"));
     node.kill().unwrap();
     node.wait().unwrap();
 
