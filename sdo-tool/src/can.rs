@@ -97,8 +97,8 @@ pub enum BlockMode {
 pub(crate) enum Transfer {
     /// An upload; `domain`: the description makes the entry a DOMAIN.
     Upload { domain: bool },
-    /// A download of `len` bytes.
-    Download { len: u64 },
+    /// A download: block transfer when its data is larger than the client's threshold.
+    Download,
 }
 
 impl BlockMode {
@@ -109,9 +109,10 @@ impl BlockMode {
             BlockMode::Always => config.block = true,
             BlockMode::Never => config.block = false,
             BlockMode::Auto => {
+                // A download goes by block only above the threshold (the client's rule).
                 config.block = match transfer {
                     Transfer::Upload { domain } => domain,
-                    Transfer::Download { len } => len > BLOCK_FROM as u64,
+                    Transfer::Download => true,
                 };
                 config.block_threshold = BLOCK_FROM;
                 config.pst = BLOCK_FROM as u8;
@@ -201,10 +202,7 @@ impl SdoAccess for CanSdo<'_> {
 
     fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError> {
         let mux = Address::new(addr.index, addr.sub);
-        let download = Transfer::Download {
-            len: data.len() as u64,
-        };
-        self.transfer(node, addr, download, |s| s.write_bytes(mux, data))
+        self.transfer(node, addr, Transfer::Download, |s| s.write_bytes(mux, data))
     }
 
     /// The size of a fixed-size type keeps small values out of block mode; a DOMAIN is large.

@@ -1007,8 +1007,7 @@ impl Tool {
     ) -> Result<(), ToolError> {
         let addr = self.object(object)?;
         let mux = Address::new(addr.index, addr.sub);
-        let download = Transfer::Download { len };
-        self.transfer(node, addr, download, |s| {
+        self.transfer(node, addr, Transfer::Download, |s| {
             s.download_from(mux, source, len, progress)
         })
     }
