@@ -62,6 +62,18 @@ pub enum Command {
     Diff(DiffArgs),
     /// Regenerate the generated descriptions under fixtures/ from fixtures/src and fixtures/identity.toml.
     Fixtures(FixturesArgs),
+    /// The shell completion script for SHELL (bash, zsh, fish, elvish, powershell) on standard
+    /// output: `source <(esi-gen completions bash)`.
+    Completions {
+        /// The shell.
+        shell: cli_support::Shell,
+    },
+    /// The manual pages into DIR: esi-gen.1 and one per subcommand (esi-gen-check.1, …), each
+    /// file named on standard output.
+    Man {
+        /// The folder (made if missing).
+        dir: PathBuf,
+    },
 }
 
 /// Input, device choice, identity overrides and output of a conversion. What is written is read back,
@@ -353,6 +365,30 @@ pub fn run(cli: Cli, out: &mut dyn Write, err: &mut dyn Write) -> Outcome {
         Command::Diff(mut d) => {
             d.json = json;
             compare::run(&d, out)
+        }
+        Command::Completions { shell } => {
+            use clap::CommandFactory;
+            let mut script = Vec::new();
+            cli_support::write_completions(Cli::command(), shell, &mut script).map_err(
+                |source| Error::Io {
+                    path: PathBuf::from("-"),
+                    source,
+                },
+            )?;
+            write_bytes(out, &script)?;
+            Ok(0)
+        }
+        Command::Man { dir } => {
+            use clap::CommandFactory;
+            let pages =
+                cli_support::write_man_pages(Cli::command(), &dir).map_err(|source| Error::Io {
+                    path: dir.clone(),
+                    source,
+                })?;
+            for page in pages {
+                write_out(out, &format!("{}\n", page.display()))?;
+            }
+            Ok(0)
         }
         Command::Fixtures(f) => {
             let files = fixtures::generate(&f.root)?;

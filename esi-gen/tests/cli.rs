@@ -534,3 +534,32 @@ fn json_output_of_every_command() {
     let o = esi_gen(&["diff", s, s, "--json"]);
     assert_eq!((o.status.code(), stdout(&o)), (Some(0), String::new()));
 }
+
+/// `esi-gen completions SHELL` and `esi-gen man DIR`: the script names the subcommands; a page for
+/// the tool and each subcommand, each named on standard output.
+#[test]
+fn completions_and_manual_pages() {
+    let o = esi_gen(&["completions", "bash"]);
+    assert!(o.status.success());
+    let script = stdout(&o);
+    assert!(script.contains("complete -F _esi__gen -o nosort -o bashdefault -o default esi-gen"));
+    assert!(script.contains("esi__gen,check)"));
+    let dir = tmp("man");
+    let o = esi_gen(&["man", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let pages: Vec<String> = stdout(&o).lines().map(str::to_string).collect();
+    assert_eq!(pages[0], dir.join("esi-gen.1").display().to_string());
+    for page in [
+        "esi-gen.1",
+        "esi-gen-check.1",
+        "esi-gen-diff.1",
+        "esi-gen-man.1",
+    ] {
+        assert!(
+            pages.contains(&dir.join(page).display().to_string()),
+            "{page}"
+        );
+    }
+    let check = std::fs::read_to_string(dir.join("esi-gen-check.1")).unwrap();
+    assert!(check.contains(".TH esi-gen-check 1"));
+}

@@ -48,12 +48,12 @@ pub const MAX_UNITS: usize = 128;
 #[command(name = "ethercat-node", version, verbatim_doc_comment)]
 pub struct Args {
     /// The network interface the master's frames arrive on (not with --explain).
-    #[arg(value_name = "INTERFACE", required_unless_present_any = ["explain", "list"])]
+    #[arg(value_name = "INTERFACE", required_unless_present_any = ["explain", "list", "completions", "man"])]
     pub interface: Option<String>,
 
     /// An ESI file, FILE or FILE@N for N units of its device (1 to 128). Give it once per kind of
     /// device; the chain is the units in that order.
-    #[arg(long = "esi", value_name = "FILE[@N]", required = true)]
+    #[arg(long = "esi", value_name = "FILE[@N]", required_unless_present_any = ["completions", "man"])]
     pub esis: Vec<String>,
 
     /// The device of a file that holds several: its type name, name, or product code (0x…, #x… or
@@ -108,6 +108,10 @@ pub struct Args {
     /// master assigns to move them in csp, and what stands in the way.
     #[arg(long)]
     pub list: bool,
+
+    /// `--completions SHELL`, `--man DIR`.
+    #[command(flatten)]
+    pub generate: cli_support::Generate,
 }
 
 /// The motor of the drives.

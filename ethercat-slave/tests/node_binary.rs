@@ -200,3 +200,22 @@ fn descriptions_that_cannot_run_are_named_in_one_line() {
         "ethercat-node: interface \"nosuchif0\": no such interface\n"
     );
 }
+
+/// `--completions SHELL` and `--man DIR` alone on the command line, without an interface or an ESI.
+#[test]
+fn completions_and_manual_page() {
+    let (code, script, _) = run(&["--completions", "bash"]);
+    assert_eq!(code, 0);
+    assert!(script
+        .contains("complete -F _ethercat__node -o nosort -o bashdefault -o default ethercat-node"));
+    assert!(script.contains("--esi"));
+    let dir = std::env::temp_dir().join(format!("ethercat-node-man-{}", std::process::id()));
+    let (code, out, _) = run(&["--man", dir.to_str().unwrap()]);
+    assert_eq!(code, 0);
+    let page = dir.join("ethercat-node.1");
+    assert_eq!(out, format!("{}\n", page.display()));
+    assert!(std::fs::read_to_string(&page)
+        .unwrap()
+        .contains(".TH ethercat-node 1"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

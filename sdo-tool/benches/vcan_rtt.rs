@@ -62,7 +62,11 @@ fn main() {
     let data: Vec<u8> = (0..1u32 << 20).map(|k| (k * 7 + 3) as u8).collect();
     for block in [true, false] {
         let mut tool = Tool::new(Box::new(SocketCanBus::open("vcan0").expect("vcan0")), None);
-        tool.sdo.block = block;
+        tool.block = if block {
+            sdo_tool::BlockMode::Always
+        } else {
+            sdo_tool::BlockMode::Never
+        };
         let t0 = Instant::now();
         tool.download(
             1,

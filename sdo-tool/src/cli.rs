@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 use crate::cmd::apply::ApplyArgs;
 use crate::cmd::decode::DecodeArgs;
@@ -22,10 +22,10 @@ use crate::cmd::store::StoreArgs;
 use crate::cmd::transfer::{DownloadArgs, UploadArgs};
 use crate::cmd::watch::WatchArgs;
 use crate::cmd::write::WriteArgs;
-use crate::cmd::{load_description, Context};
+use crate::cmd::{load_devices, Context};
 use crate::ethercat::{check_interface_name, EthercatSession};
 use crate::link::{BusSpec, CanBus, SocketCanBus, SocketcandClient};
-use crate::{SdoCommands, Tool, ToolError, UsageError};
+use crate::{BlockMode, Tool, ToolError, UsageError};
 
 pub use crate::cmd::gateway::GATEWAY_CLIENTS;
 pub use crate::cmd::read::{json_value, Meaning};
@@ -73,7 +73,12 @@ pub struct Args {
     /// Machine-readable output: one JSON object per result (errors too, on standard output).
     #[arg(long, global = true)]
     pub json: bool,
-    /// Use segmented transfers only (no block transfer).
+    /// Use block transfer for every transfer of more than 4 bytes (uploads of unknown size too);
+    /// by default only a download of more than 64 bytes and an upload of a DOMAIN (--od) go by
+    /// block, the rest expedited or segmented.
+    #[arg(long, global = true, conflicts_with = "no_block")]
+    pub block: bool,
+    /// Use expedited and segmented transfers only (no block transfer).
     #[arg(long, global = true)]
     pub no_block: bool,
     /// What to do.
@@ -147,6 +152,12 @@ pub enum Cmd {
     Gateway(GatewayArgs),
     /// An NMT command: start, stop, preop, reset, reset-comm; NODE is 1–127 or all.
     Nmt(NmtArgs),
+    /// One frame in can-utils' cansend notation: `send 123#DEADBEEF`, `send 123#R` (remote frame),
+    /// `send 12345678#00` (29-bit identifier).
+    Send(crate::cmd::raw::SendArgs),
+    /// SYNC messages (CiA 301): one by default, --count N of them --period-ms apart (0: until
+    /// Ctrl-C), with the counter byte (--counter, up to --overflow), on 0x80 or --cob-id.
+    Sync(crate::cmd::raw::SyncArgs),
     /// The LSS master (CiA 305): `lss scan` finds the nodes without a node-ID by Fastscan, `lss
     /// assign FIRST_ID` gives them node-IDs and stores them; `set-id`, `store`, `bitrate`,
     /// `inquire` and `switch` are the single services.
@@ -156,6 +167,18 @@ pub enum Cmd {
     /// `jog V`, `stop`. Each waits for the drive to do it; a drive that does not says where it
     /// stayed and its error code. On CAN or, with --ethercat, on an EtherCAT chain.
     Drive(crate::cmd::drive::DriveArgs),
+    /// The shell completion script for SHELL (bash, zsh, fish, elvish, powershell) on standard
+    /// output: `source <(sdo-tool completions bash)`.
+    Completions {
+        /// The shell.
+        shell: cli_support::Shell,
+    },
+    /// The manual pages into DIR: sdo-tool.1 and one per command (sdo-tool-read.1, …,
+    /// sdo-tool-net-gen.1), each file named on standard output: `man -l DIR/sdo-tool-read.1`.
+    Man {
+        /// The folder (made if missing).
+        dir: PathBuf,
+    },
 }
 
 impl Cmd {
@@ -174,6 +197,8 @@ impl Cmd {
             Cmd::Scan(_) => "scan",
             Cmd::Gateway(_) => "gateway",
             Cmd::Nmt(_) => "nmt",
+            Cmd::Send(_) => "send",
+            Cmd::Sync(_) => "sync",
             Cmd::Lss(_) => "lss",
             Cmd::Drive(_) => "drive",
             Cmd::List => "list",
@@ -182,6 +207,8 @@ impl Cmd {
             Cmd::Slaves => "slaves",
             Cmd::States => "states",
             Cmd::Sdos(_) => "sdos",
+            Cmd::Completions { .. } => "completions",
+            Cmd::Man { .. } => "man",
         }
     }
 
@@ -221,13 +248,30 @@ pub fn run(
     bus: Option<Box<dyn CanBus>>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    let desc = match &args.od {
-        Some(path) => Some(load_description(path, "--od")?),
-        None => None,
+    match &args.command {
+        Cmd::Completions { shell } => {
+            return cli_support::write_completions(Args::command(), *shell, out)
+                .map_err(ToolError::Output);
+        }
+        Cmd::Man { dir } => {
+            let pages = cli_support::write_man_pages(Args::command(), dir)
+                .map_err(|e| crate::cmd::file_error(dir, e))?;
+            for page in pages {
+                writeln!(out, "{}", page.display()).map_err(ToolError::Output)?;
+            }
+            return Ok(());
+        }
+        _ => {}
+    }
+    let devices = match &args.od {
+        Some(path) => load_devices(path, "--od")?,
+        None => Vec::new(),
     };
+    let desc = devices.first();
     let ctx = Context {
         json: args.json,
-        desc: desc.as_ref(),
+        desc,
+        devices: &devices,
         od_path: args.od.as_deref(),
     };
     let timeout = Duration::from_millis(args.timeout_ms.max(1));
@@ -246,10 +290,14 @@ pub fn run(
         }
         _ => {}
     }
-    // A name the description does not have is refused before any bus or chain is opened.
+    // A name the description does not have is refused before any bus or chain is opened (a name
+    // one of its devices has is taken: which one the node is, is known once it is asked).
     if let Cmd::Read(ReadArgs { object, .. }) | Cmd::Write(WriteArgs { object, .. }) = &args.command
     {
-        crate::object(desc.as_ref().map(|d| &d.dictionary), object)?;
+        let named = |d: &od::DeviceDescription| crate::object(Some(&d.dictionary), object).is_ok();
+        if !devices.iter().any(named) {
+            crate::object(desc.map(|d| &d.dictionary), object)?;
+        }
     }
     if let Some(interface) = &args.ethercat {
         if let Cmd::Drive(a) = &args.command {
@@ -260,16 +308,19 @@ pub fn run(
             command: args.command.name(),
         })?;
         let mut session = EthercatSession::open(interface, timeout)?;
-        let mut commands = SdoCommands::new(&mut session, desc.as_ref().map(|d| &d.dictionary));
-        return command.run(&mut commands, ctx, out);
+        return command.run(&mut session, ctx, out);
     }
     let bus = match bus {
         Some(b) => b,
         None => open_bus(args.bus.as_ref())?,
     };
-    let mut tool = Tool::new(bus, desc.as_ref().map(|d| d.dictionary.clone()));
+    let mut tool = Tool::new(bus, desc.map(|d| d.dictionary.clone()));
     tool.set_timeout(timeout);
-    tool.sdo.block = !args.no_block;
+    tool.block = match (args.block, args.no_block) {
+        (true, _) => BlockMode::Always,
+        (_, true) => BlockMode::Never,
+        _ => BlockMode::Auto,
+    };
     can_command(args, tool, ctx, out)
 }
 
@@ -309,7 +360,7 @@ fn can_command(
     use crate::cmd::{gateway, lss, nmt, scan, store, transfer, watch};
     let json = args.json;
     if let Some(command) = args.command.sdo() {
-        return tool.with_commands(|commands| command.run(commands, ctx, out));
+        return command.run(&mut tool.can_sdo(), ctx, out);
     }
     match &args.command {
         Cmd::Upload(a) => {
@@ -326,15 +377,15 @@ fn can_command(
         Cmd::Scan(a) => scan::run(a, &mut tool, json, out),
         Cmd::Gateway(a) => gateway::run(a, tool, out),
         Cmd::Nmt(a) => nmt::run(a, &mut tool, json, out),
+        Cmd::Send(a) => crate::cmd::raw::send(a, &mut tool, json, out),
+        Cmd::Sync(a) => crate::cmd::raw::sync(a, &mut tool, json, out),
         Cmd::Lss(a) => lss::run(a, &mut tool, json, out),
         Cmd::Net(a) => crate::cmd::net::run_on_bus(a, &mut tool, json, out),
-        Cmd::Drive(a) => {
-            let mut can = crate::CanSdo::new(tool.bus.as_mut(), &tool.sdo);
-            crate::cmd::drive::run(a, &mut can, json, out)
-        }
+        Cmd::Drive(a) => crate::cmd::drive::run(a, &mut tool.can_sdo(), json, out),
         // Answered before any bus is opened.
         Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
         Cmd::List | Cmd::Decode(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => Ok(()),
+        Cmd::Completions { .. } | Cmd::Man { .. } => Ok(()),
     }
 }
 

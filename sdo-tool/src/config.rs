@@ -126,6 +126,38 @@ pub fn dump_entries(dict: &Dictionary) -> (Vec<Address>, Vec<(Address, Skip)>) {
     (read, skipped)
 }
 
+/// The write-only entries of `dict` that a read-back register shows, each with that register: a
+/// read-only entry of the same type named as the write-only one with `Read` after it. That is how
+/// the B&R X67SM2436 manual's 18.5 table ("Reading back the configuration") names them:
+/// ConfigOutput03a…08a (the holding, nominal and maximum currents of each motor, write-only) are
+/// read back through ConfigOutput03aRead…08aRead. The module's other configuration registers
+/// (MaxSpeed01pos, FixedPos01a, GeneralConfig01, …) have no read-back register there, and none
+/// here.
+pub fn read_backs(dict: &Dictionary) -> BTreeMap<Address, Address> {
+    let mut read_only = std::collections::HashMap::new();
+    for o in dict.objects() {
+        for (&sub, e) in &o.subs {
+            if matches!(e.access.kind, AccessType::Ro) {
+                read_only.insert(e.name.as_str(), (Address::new(o.index, sub), e.data_type));
+            }
+        }
+    }
+    let mut pairs = BTreeMap::new();
+    for o in dict.objects() {
+        for (&sub, e) in &o.subs {
+            if e.access.kind != AccessType::Wo {
+                continue;
+            }
+            if let Some(&(at, ty)) = read_only.get(format!("{}Read", e.name).as_str()) {
+                if ty == e.data_type {
+                    pairs.insert(Address::new(o.index, sub), at);
+                }
+            }
+        }
+    }
+    pairs
+}
+
 /// The RPDO mapping objects' range (CiA 301; the RxPDO mapping of CoE is the same).
 const RPDO_MAPPING: std::ops::RangeInclusive<u16> = 0x1600..=0x17FF;
 
@@ -677,5 +709,26 @@ mod tests {
                 "0x{code:08X}"
             );
         }
+    }
+
+    /// A write-only entry pairs with the read-only entry named as it with `Read` after it, of its
+    /// type; not with one of another type, nor with a writable one, nor a read-only entry with one.
+    #[test]
+    fn read_back_registers_by_name() {
+        use AccessType::*;
+        use DataType::*;
+        let mut d = Dictionary::new();
+        let var = |name: &str, t, access| SubObject::new(name, t, access);
+        d.insert(Object::var(0x2110, var("Current", Unsigned8, Wo)));
+        d.insert(Object::var(0x2130, var("CurrentRead", Unsigned8, Ro)));
+        d.insert(Object::var(0x2114, var("Speed", Unsigned16, Wo)));
+        d.insert(Object::var(0x2134, var("SpeedRead", Unsigned8, Ro)));
+        d.insert(Object::var(0x2115, var("Acc", Unsigned16, Wo)));
+        d.insert(Object::var(0x2135, var("AccRead", Unsigned16, Rw)));
+        d.insert(Object::var(0x2116, var("Status", Unsigned16, Ro)));
+        d.insert(Object::var(0x2136, var("StatusRead", Unsigned16, Ro)));
+        d.insert(Object::var(0x2117, var("Alone", Unsigned16, Wo)));
+        let pairs: Vec<(Address, Address)> = read_backs(&d).into_iter().collect();
+        assert_eq!(pairs, [(Address::new(0x2110, 0), Address::new(0x2130, 0))]);
     }
 }

@@ -206,7 +206,11 @@ impl Gateway {
             },
             "sdo_block" => match value {
                 "0" | "1" => {
-                    self.tool.sdo.block = value == "1";
+                    self.tool.block = if value == "1" {
+                        crate::BlockMode::Always
+                    } else {
+                        crate::BlockMode::Never
+                    };
                     "OK".into()
                 }
                 _ => gateway_error(101),

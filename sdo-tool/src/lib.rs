@@ -24,22 +24,27 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+mod can;
 pub mod cli;
 pub mod cmd;
 pub mod config;
 pub mod ethercat;
 pub mod gateway;
 pub mod link;
+pub mod raw;
+pub mod show;
 pub mod usage;
 
+use can::Transfer;
+pub use can::{BlockMode, BusTransport, CanSdo, BLOCK_FROM};
 pub use usage::UsageError;
 pub mod watch;
 
 use od::abort::AbortCode;
 use od::dict::{Address, Dictionary};
-use od::sdo::client::{ClientConfig, SdoClientError};
-use od::sdo::frame::{ClientFrame, Frame};
-use od::sdo::session::{SdoSession, SdoTransport, SessionError};
+use od::sdo::client::ClientConfig;
+use od::sdo::frame::ClientFrame;
+use od::sdo::session::{SdoSession, SessionError};
 use od::types::DataType;
 use od::value::Value;
 
@@ -255,11 +260,24 @@ fn not_booted(mandatory: &[u8], optional: &[u8]) -> String {
     }
 }
 
+/// The exit code when standard output is a pipe whose reader is gone (`sdo-tool … | head`): 141,
+/// 128 + SIGPIPE, what a shell reports for IgH's `ethercat` and CANopenNode's `cocomm`, which
+/// SIGPIPE ends there. The tool ends quietly, without a message.
+pub const BROKEN_PIPE_EXIT: i32 = 141;
+
 impl ToolError {
+    /// Whether the output could not be written because its reader is gone (EPIPE).
+    pub fn broken_pipe(&self) -> bool {
+        matches!(self, ToolError::Output(e) if e.kind() == std::io::ErrorKind::BrokenPipe)
+    }
+
     /// 1 SDO abort, 2 usage, 3 timeout or transport failure, 4 verification difference, 6 and 7 an
-    /// optional or a mandatory node not booted, 130
-    /// interrupted (Ctrl-C, as a shell reports SIGINT).
+    /// optional or a mandatory node not booted, 130 interrupted (Ctrl-C, as a shell reports
+    /// SIGINT), 141 the output's reader gone ([`BROKEN_PIPE_EXIT`]).
     pub fn exit_code(&self) -> i32 {
+        if self.broken_pipe() {
+            return BROKEN_PIPE_EXIT;
+        }
         match self {
             ToolError::Abort { .. } | ToolError::Refused(_) | ToolError::Drive(_) => 1,
             ToolError::Lss(canopen_net::lss::LssError::Refused { .. }) => 1,
@@ -273,58 +291,6 @@ impl ToolError {
             ToolError::NotBooted { mandatory, .. } if !mandatory.is_empty() => 7,
             ToolError::NotBooted { .. } => 6,
         }
-    }
-}
-
-/// One node's SDO channel on a bus.
-pub struct BusTransport<'a> {
-    bus: &'a mut dyn CanBus,
-    node: u8,
-}
-
-impl<'a> BusTransport<'a> {
-    /// The channel to `node` on `bus`.
-    pub fn new(bus: &'a mut dyn CanBus, node: u8) -> BusTransport<'a> {
-        BusTransport { bus, node }
-    }
-}
-
-impl SdoTransport for BusTransport<'_> {
-    type Error = BusError;
-
-    fn send(&mut self, frame: &Frame) -> Result<(), BusError> {
-        // 8 bytes to 0x600 + 1…127 always make a CAN frame.
-        let f = CanFrame::new(0x600 + u16::from(self.node), frame).ok_or_else(|| {
-            BusError::Protocol {
-                what: self.bus.describe(),
-                detail: format!("no SDO request COB-ID for node {}", self.node),
-            }
-        })?;
-        self.bus.send(&f)
-    }
-
-    fn recv(&mut self, until: Instant) -> Result<Option<Frame>, BusError> {
-        let want = 0x580 + u16::from(self.node);
-        loop {
-            let left = until.saturating_duration_since(Instant::now());
-            if left.is_zero() {
-                return Ok(None);
-            }
-            match self.bus.recv(left) {
-                Ok(Some(BusEvent::Frame { frame, .. }))
-                    if frame.cob_id() == Some(want) && frame.len() == 8 && !frame.is_rtr() =>
-                {
-                    return Ok(Some(frame.data8()));
-                }
-                Ok(Some(_)) => {}
-                Ok(None) => return Ok(None),
-                Err(e) => return Err(e),
-            }
-        }
-    }
-
-    fn now(&self) -> Instant {
-        Instant::now()
     }
 }
 
@@ -424,6 +390,9 @@ pub struct DumpOutcome {
     pub refused: Vec<(Address, AbortCode)>,
     /// Entries of the description left out, with the reason ([`config::Skip`]).
     pub skipped: Vec<(Address, config::Skip)>,
+    /// Write-only entries read through their read-back register ([`config::read_backs`]), each
+    /// with that register; their values are in the file as the entries'.
+    pub read_back: Vec<(Address, Address)>,
 }
 
 /// NMT commands (CiA 301 §7.2.8.3.1).
@@ -507,96 +476,6 @@ pub trait SdoAccess {
     }
 }
 
-/// The SDO client on a CAN bus, with its settings: [`SdoAccess`] over CANopen.
-pub struct CanSdo<'a> {
-    /// The bus.
-    pub bus: &'a mut dyn CanBus,
-    /// The client settings (timeout, block mode).
-    pub config: &'a ClientConfig,
-    /// Set (by a Ctrl-C handler) to abort the running transfer.
-    pub cancel: Option<Arc<AtomicBool>>,
-}
-
-impl<'a> CanSdo<'a> {
-    /// The SDO client on `bus` with `config`.
-    pub fn new(bus: &'a mut dyn CanBus, config: &'a ClientConfig) -> CanSdo<'a> {
-        CanSdo {
-            bus,
-            config,
-            cancel: None,
-        }
-    }
-
-    fn session_error(&self, node: u8, addr: Address, e: SessionError<BusError>) -> ToolError {
-        match e {
-            SessionError::Sdo(SdoClientError::Aborted {
-                code: AbortCode::Timeout,
-                ..
-            }) => ToolError::Timeout {
-                index: addr.index,
-                sub: addr.sub,
-                node,
-                ms: self.config.timeout.as_millis(),
-            },
-            SessionError::Sdo(SdoClientError::Aborted {
-                index, sub, code, ..
-            }) => ToolError::Abort { index, sub, code },
-            SessionError::Transport(e) => ToolError::Bus(e),
-            SessionError::Cancelled => ToolError::Interrupted { removed: None },
-            other => ToolError::Session(other),
-        }
-    }
-
-    /// Runs a transfer through a session on `node`, mapping its errors.
-    fn transfer<R>(
-        &mut self,
-        node: u8,
-        addr: Address,
-        f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError<BusError>>,
-    ) -> Result<R, ToolError> {
-        self.check_node(node)?;
-        let mut session =
-            SdoSession::new(BusTransport::new(&mut *self.bus, node), self.config.clone());
-        if let Some(flag) = &self.cancel {
-            session = session.with_cancel(Arc::clone(flag));
-        }
-        let result = f(&mut session);
-        drop(session);
-        result.map_err(|e| self.session_error(node, addr, e))
-    }
-}
-
-impl SdoAccess for CanSdo<'_> {
-    fn check_node(&self, node: u8) -> Result<(), ToolError> {
-        if (1..=127).contains(&node) {
-            Ok(())
-        } else {
-            Err(UsageError::Node { node }.into())
-        }
-    }
-
-    fn read_bytes(&mut self, node: u8, addr: Address) -> Result<Vec<u8>, ToolError> {
-        let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.read_bytes(mux))
-    }
-
-    fn write_bytes(&mut self, node: u8, addr: Address, data: &[u8]) -> Result<(), ToolError> {
-        let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.write_bytes(mux, data))
-    }
-
-    /// The size of a fixed-size type keeps small values out of block mode.
-    fn read_value(
-        &mut self,
-        node: u8,
-        addr: Address,
-        data_type: DataType,
-    ) -> Result<Value, ToolError> {
-        let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.read_value(mux, data_type))
-    }
-}
-
 /// OBJECT as `0x1018:01`, `1018sub1`, `0x1000` or a name from `od`.
 pub fn object(od: Option<&Dictionary>, text: &str) -> Result<Address, ToolError> {
     if let Some(a) = Address::parse(text.trim()) {
@@ -665,7 +544,7 @@ impl<'a> SdoCommands<'a> {
         }
         let Some(od) = self.od else {
             return match self.sdo.entry_type(node, addr)? {
-                Some(t) => Ok(TypeCode::of(t)),
+                Some(t) => Ok(show::code_for(None, addr, t)),
                 None => Err(UsageError::TypeNeeded.into()),
             };
         };
@@ -675,7 +554,7 @@ impl<'a> SdoCommands<'a> {
                 address: addr,
                 error,
             })?;
-        Ok(TypeCode::of(e.data_type))
+        Ok(show::code_for(Some(od), addr, e.data_type))
     }
 
     /// With a dictionary: `addr`'s access refuses `what` (`"read"` or `"written"`) — a write-only
@@ -731,6 +610,11 @@ impl<'a> SdoCommands<'a> {
             Err(e) => return Err(e),
         };
         let text = code.format(&v);
+        // A type from the description (or the node): a mapping says what it maps.
+        let text = match ty {
+            None => show::with_mapping(addr, &v, text),
+            Some(_) => text,
+        };
         Ok((v, text))
     }
 
@@ -791,7 +675,7 @@ impl<'a> SdoCommands<'a> {
         desc: &mut od::DeviceDescription,
     ) -> Result<DumpOutcome, ToolError> {
         self.sdo.check_node(node)?;
-        let (addrs, mut skipped) = config::dump_entries(&desc.dictionary);
+        let (addrs, skipped) = config::dump_entries(&desc.dictionary);
         let mut values = std::collections::BTreeMap::new();
         let mut refused = Vec::new();
         for a in addrs {
@@ -803,6 +687,28 @@ impl<'a> SdoCommands<'a> {
                 Err(e) => return Err(e),
             }
         }
+        // A write-only entry with a read-back register: the register's value is the entry's.
+        let mut read_back = Vec::new();
+        let through = config::read_backs(&desc.dictionary);
+        let mut left = Vec::with_capacity(skipped.len());
+        for (a, why) in skipped {
+            match through.get(&a) {
+                Some(&r) if why == config::Skip::WriteOnly => match self.read_raw(node, r) {
+                    Ok(bytes)
+                        if desc
+                            .dictionary
+                            .store_parameter(a.index, a.sub, &bytes)
+                            .is_ok() =>
+                    {
+                        read_back.push((a, r));
+                    }
+                    Ok(_) | Err(ToolError::Abort { .. }) => left.push((a, why)),
+                    Err(e) => return Err(e),
+                },
+                _ => left.push((a, why)),
+            }
+        }
+        let mut skipped = left;
         let outputs = config::mapped_outputs(&desc.dictionary, &values);
         let mut read = 0;
         for (a, bytes) in values {
@@ -820,9 +726,10 @@ impl<'a> SdoCommands<'a> {
         // The entries the node did not give keep their defaults, `$NODEID` ones now for this node.
         desc.set_node_id(Some(node));
         Ok(DumpOutcome {
-            read,
+            read: read + read_back.len(),
             refused,
             skipped,
+            read_back,
         })
     }
 
@@ -959,11 +866,15 @@ impl SdoCommands<'_> {
     }
 }
 
-/// `bytes` of `addr` as a value of its type in `dict`, else as bytes.
+/// `bytes` of `addr` as a value of its type in `dict` (in hex or decimal as [`show`] says, a
+/// mapping with what it maps), else as bytes.
 fn shown(dict: &Dictionary, addr: Address, bytes: &[u8]) -> String {
     match dict.entry(addr.index, addr.sub) {
         Ok(e) => Value::decode(e.data_type, bytes)
-            .map(|v| TypeCode::of(e.data_type).format(&v))
+            .map(|v| {
+                let text = show::code_for(Some(dict), addr, e.data_type).format(&v);
+                show::with_mapping(addr, &v, text)
+            })
             .unwrap_or_else(|_| format!("{bytes:02X?}")),
         Err(_) => format!("{bytes:02X?}"),
     }
@@ -975,8 +886,10 @@ pub struct Tool {
     pub bus: Box<dyn CanBus>,
     /// Names, types and limits.
     pub od: Option<Dictionary>,
-    /// The SDO client settings (timeout, block mode).
+    /// The SDO client settings (timeout; block transfer as [`Tool::block`] says).
     pub sdo: ClientConfig,
+    /// When block transfer is used.
+    pub block: BlockMode,
     /// Set (by a Ctrl-C handler) to abort the running transfer with 0x08000000.
     pub cancel: Option<Arc<AtomicBool>>,
 }
@@ -988,14 +901,29 @@ impl Tool {
             bus,
             od,
             sdo: ClientConfig::default(),
+            block: BlockMode::Auto,
             cancel: None,
+        }
+    }
+
+    /// The SDO client on this tool's bus, with its settings.
+    pub fn can_sdo(&mut self) -> CanSdo<'_> {
+        CanSdo {
+            bus: self.bus.as_mut(),
+            config: &self.sdo,
+            block: self.block,
+            cancel: self.cancel.clone(),
         }
     }
 
     /// Runs `f` on the SDO commands over this tool's bus.
     pub fn with_commands<R>(&mut self, f: impl FnOnce(&mut SdoCommands<'_>) -> R) -> R {
-        let mut can = CanSdo::new(self.bus.as_mut(), &self.sdo);
-        can.cancel = self.cancel.clone();
+        let mut can = CanSdo {
+            bus: self.bus.as_mut(),
+            config: &self.sdo,
+            block: self.block,
+            cancel: self.cancel.clone(),
+        };
         f(&mut SdoCommands::new(&mut can, self.od.as_ref()))
     }
 
@@ -1040,20 +968,21 @@ impl Tool {
         self.write(node, object, Some("u32"), &signature.to_string())
     }
 
-    /// Runs a transfer through a session on `node`, mapping its errors.
+    /// Runs `transfer` through a session on `node`, mapping its errors.
     fn transfer<R>(
         &mut self,
         node: u8,
         addr: Address,
+        transfer: Transfer,
         f: impl FnOnce(&mut SdoSession<BusTransport<'_>>) -> Result<R, SessionError<BusError>>,
     ) -> Result<R, ToolError> {
-        let mut can = CanSdo::new(self.bus.as_mut(), &self.sdo);
-        can.cancel = self.cancel.clone();
-        can.transfer(node, addr, f)
+        self.can_sdo().transfer(node, addr, transfer, f)
     }
 
     /// `upload NODE OBJECT`: the object's bytes into `sink`, reporting progress (bytes so far, size
-    /// when announced). Returns the number of bytes.
+    /// when announced). Returns the number of bytes. The entry is taken as large, a DOMAIN: in
+    /// [`BlockMode::Auto`] a block upload, which the server may answer with a normal upload up to
+    /// [`BLOCK_FROM`] bytes.
     pub fn upload(
         &mut self,
         node: u8,
@@ -1063,7 +992,8 @@ impl Tool {
     ) -> Result<u64, ToolError> {
         let addr = self.object(object)?;
         let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.upload_to(mux, sink, progress))
+        let upload = Transfer::Upload { domain: true };
+        self.transfer(node, addr, upload, |s| s.upload_to(mux, sink, progress))
     }
 
     /// `download NODE OBJECT`: `len` bytes from `source` into the object, reporting progress.
@@ -1077,7 +1007,9 @@ impl Tool {
     ) -> Result<(), ToolError> {
         let addr = self.object(object)?;
         let mux = Address::new(addr.index, addr.sub);
-        self.transfer(node, addr, |s| s.download_from(mux, source, len, progress))
+        self.transfer(node, addr, Transfer::Download, |s| {
+            s.download_from(mux, source, len, progress)
+        })
     }
 
     /// `scan`: every node that answers an SDO upload of 0x1000 (asked of ids 1–127 at once) or shows

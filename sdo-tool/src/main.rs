@@ -5,10 +5,14 @@ use clap::Parser;
 fn main() {
     let args = sdo_tool::cli::Args::parse();
     if let Err(e) = sdo_tool::cli::run(&args, None, &mut std::io::stdout()) {
-        if args.json {
-            println!("{}", sdo_tool::cli::error_json(&e));
-        } else {
-            eprintln!("sdo-tool: {e}");
+        // The output's reader is gone (`| head`): nothing more to say, to anyone.
+        if !e.broken_pipe() {
+            if args.json {
+                use std::io::Write;
+                let _ = writeln!(std::io::stdout(), "{}", sdo_tool::cli::error_json(&e));
+            } else {
+                eprintln!("sdo-tool: {e}");
+            }
         }
         std::process::exit(e.exit_code());
     }

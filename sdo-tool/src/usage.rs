@@ -31,6 +31,14 @@ pub enum UsageError {
         /// The node as given.
         text: String,
     },
+    /// `send`: a frame that is not cansend's ID#DATA.
+    #[error("frame {text:?}: {why}")]
+    Frame {
+        /// The frame as given.
+        text: String,
+        /// What is wrong with it.
+        why: String,
+    },
     /// `nmt`: a command that is none of start, stop, preop, reset, reset-comm.
     #[error("NMT command {command:?} is not start, stop, preop, reset or reset-comm")]
     NmtCommand {

@@ -177,32 +177,43 @@ fn the_written_description_names_module_2_for_od() {
     node.wait().unwrap();
 }
 
-/// A description of another device (`--od` of the SMD23K-B against the X67 node) is warned about on
-/// stderr, naming both identities; the command still runs. The node's own description: no warning.
+/// A description of another device (`--od` of an X67SM2437, the X67 description with another
+/// product code) is warned about on stderr before a write, naming both identities; the command still
+/// runs. The node's own description: no warning. A read does not look at the identity: its only
+/// SDO transfer is the read.
 #[test]
 fn a_description_of_another_device_is_warned_about() {
     let (mut node, port) = hub(3);
     let bus = format!("socketcand://127.0.0.1:{port}/can0");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let run = |od: &str| {
+    let dir = tempfile::tempdir().unwrap();
+    let other = dir.path().join("X67SM2437.eds");
+    let text = std::fs::read_to_string(eds()).unwrap();
+    let text = text
+        .replace("ProductNumber=0x00002436", "ProductNumber=0x00002437")
+        .replace("ProductName=X67SM2436", "ProductName=X67SM2437");
+    std::fs::write(&other, text).unwrap();
+    let other = other.to_str().unwrap();
+    let run = |od: &str, argv: &[&str]| {
         Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
-            .args(["--bus", &bus, "--od"])
-            .arg(root.join(od))
-            .args(["read", "3", "0x1017:00", "u16"])
+            .args(["--bus", &bus, "--od", od])
+            .args(argv)
             .output()
             .unwrap()
     };
-    let out = run("fixtures/smd/SMD23K-B.eds");
+    let write = ["write", "3", "ConfigOutput03a", "20"];
+    let out = run(other, &write);
     assert!(out.status.success());
-    assert_eq!(String::from_utf8_lossy(&out.stdout), "0\n");
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "OK\n");
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
-        "sdo-tool: warning: the description (--od) is of vendor 0x00000AC1, product 0x00002301 \
-         (SMD23K-B Integrated Stepper Indexer/Driver/Motor (EtherCAT)); node 3 reports vendor \
-         0x00000B2E, product 0x00002436\n"
+        "sdo-tool: warning: the description (--od) is of vendor 0x00000B2E, product 0x00002437 \
+         (X67SM2437); node 3 reports vendor 0x00000B2E, product 0x00002436\n"
     );
-    let out = run("fixtures/x67/X67SM2436.eds");
+    let out = run(&eds(), &write);
     assert!(out.status.success());
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+    let out = run(other, &["read", "3", "ConfigOutput03aRead"]);
+    assert_eq!(String::from_utf8_lossy(&out.stdout), "20\n");
     assert_eq!(String::from_utf8_lossy(&out.stderr), "");
     node.kill().unwrap();
     node.wait().unwrap();
@@ -634,7 +645,8 @@ fn a_silent_gateway_client_does_not_block_the_others() {
 }
 
 /// Ctrl-C during an upload: the waiting transfer is aborted on the bus with 0x08000000
-/// (`609#80 08 10 00 00 00 00 08`, after the block upload request `609#A4 08 10 00 7F 00 00 00`),
+/// (`609#80 08 10 00 00 00 00 08`, after the block upload request `609#A4 08 10 00 7F 40 00 00`:
+/// 127 segments a sub-block, a normal upload up to 64 bytes),
 /// long before the 10 s timeout; the partial file is removed and the exit code is 130.
 #[test]
 fn ctrl_c_in_an_upload_aborts_it_on_the_bus_and_removes_the_partial_file() {
@@ -663,7 +675,7 @@ fn ctrl_c_in_an_upload_aborts_it_on_the_bus_and_removes_the_partial_file() {
             None => panic!("no frame on 609 within 5 s"),
         }
     };
-    assert_eq!(next_609(), [0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0]);
+    assert_eq!(next_609(), [0xA4, 0x08, 0x10, 0x00, 0x7F, 0x40, 0, 0]);
     assert!(file.exists(), "the output file is open");
     let sent = std::time::Instant::now();
     let kill = Command::new("kill")
@@ -743,7 +755,7 @@ fn refused_values_say_the_range_they_miss() {
     );
     assert_eq!(
         n.tool(&["--od", &od, "read", "5", "Identity.2"]).unwrap(),
-        "9270\n"
+        "0x00002436\n"
     );
     assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), before);
 }

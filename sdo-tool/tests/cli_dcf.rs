@@ -26,16 +26,16 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
     let lines: Vec<&str> = out.lines().collect();
     assert!(
         lines[0].starts_with(
-            "39 write-only parameters cannot be read back and are not in the file: \
-             0x2010:00 (GeneralConfig01), 0x2110:00 (ConfigOutput03a), "
+            "33 write-only parameters cannot be read back and are not in the file: \
+             0x2010:00 (GeneralConfig01), 0x2113:00 (StallDetectConfig01), "
         ),
         "{out}"
     );
     assert_eq!(
         lines[1],
         format!(
-            "37 entries written to {}; left out: 13 command objects, 6 cyclic outputs, \
-             39 not writable, 39 write-only",
+            "43 entries written to {}; left out: 13 command objects, 6 cyclic outputs, \
+             39 not writable, 33 write-only",
             dcf.display()
         )
     );
@@ -47,7 +47,11 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
         (0x1010, 1, "store (a command)"),
         (0x1018, 1, "identity (read-only)"),
         (0x2100, 0, "AbsPos01 (a cyclic output)"),
-        (0x2110, 0, "ConfigOutput03a (write-only)"),
+        (
+            0x2114,
+            0,
+            "MaxSpeed01pos (write-only, without a read-back register)",
+        ),
     ] {
         assert!(
             !d.entry(index, sub).unwrap().value_set,
@@ -74,21 +78,21 @@ fn dump_edit_apply_save_round_trips_on_canopen() {
     assert_eq!(
         lines[rpdo1..rpdo1 + 9],
         [
-            "wrote 0x1400:01 = 2147484165 (the PDO made invalid while it changes)",
+            "wrote 0x1400:01 = 0x80000205 (the PDO made invalid while it changes)",
             "wrote 0x1400:02 = 255",
             "wrote 0x1600:00 = 0 (the count 0 while the entries change)",
-            "wrote 0x1600:01 = 553648160",
-            "wrote 0x1600:02 = 553713680",
-            "wrote 0x1600:03 = 553779208",
-            "wrote 0x1600:04 = 327688",
+            "wrote 0x1600:01 = 0x21000020 (0x2100:00, 32 bits)",
+            "wrote 0x1600:02 = 0x21010010 (0x2101:00, 16 bits)",
+            "wrote 0x1600:03 = 0x21020008 (0x2102:00, 8 bits)",
+            "wrote 0x1600:04 = 0x00050008 (0x0005:00, 8 bits)",
             "wrote 0x1600:00 = 4",
-            "wrote 0x1400:01 = 517",
+            "wrote 0x1400:01 = 0x00000205",
         ]
     );
     assert!(lines.contains(&"wrote 0x1017:00 = 300"), "{out}");
     assert_eq!(
         *lines.last().unwrap(),
-        "37 entries written, 0 skipped, 0 refused"
+        "43 entries written, 0 skipped, 0 refused"
     );
     assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), "300\n");
     assert_eq!(n.tool(&["read", "5", "0x1800:02", "u8"]).unwrap(), "1\n");
@@ -182,10 +186,10 @@ fn dump_and_apply_leave_out_what_obj_flags_refuse() {
     assert_eq!(
         sdo_requests(&mut tap),
         [
-            "block upload 0x1018:01",
-            "block upload 0x1018:02",
-            "block upload 0x1005:00",
-            "block upload 0x1017:00",
+            "upload 0x1018:01",
+            "upload 0x1018:02",
+            "upload 0x1005:00",
+            "upload 0x1017:00",
         ]
     );
     let text = std::fs::read_to_string(&dcf).unwrap();
@@ -216,9 +220,9 @@ fn dump_and_apply_leave_out_what_obj_flags_refuse() {
     }
     std::fs::write(&dcf, od::eds::write_dcf(&devices[0])).unwrap();
     let skipped = [
-        "skipped 0x1005:00 = 129: ObjFlags bit 0: refuse write on download",
+        "skipped 0x1005:00 = 0x00000081: ObjFlags bit 0: refuse write on download",
         "skipped 0x1015:00 = 10: ObjFlags bit 0: refuse write on download",
-        "skipped 0x1016:01 = 327780: ObjFlags bit 0: refuse write on download",
+        "skipped 0x1016:01 = 0x00050064: ObjFlags bit 0: refuse write on download",
     ];
     let out = n
         .tool(&["apply", "5", dcf.to_str().unwrap(), "--dry-run"])
@@ -245,9 +249,9 @@ fn dump_and_apply_leave_out_what_obj_flags_refuse() {
         sdo_requests(&mut tap),
         [
             "download 0x1006:00",
-            "block upload 0x1006:00",
+            "upload 0x1006:00",
             "download 0x1017:00",
-            "block upload 0x1017:00",
+            "upload 0x1017:00",
         ]
     );
     assert_eq!(
@@ -458,10 +462,10 @@ fn read_of_a_whole_record() {
     let n = Running::start();
     let od = eds();
     let lines = "0x1018:00  Highest sub-index supported = 4\n\
-                 0x1018:01  Vendor-ID = 2862\n\
-                 0x1018:02  Product code = 9270\n\
-                 0x1018:03  Revision number = 1\n\
-                 0x1018:04  Serial number = 0\n";
+                 0x1018:01  Vendor-ID = 0x00000B2E\n\
+                 0x1018:02  Product code = 0x00002436\n\
+                 0x1018:03  Revision number = 0x00000001\n\
+                 0x1018:04  Serial number = 0x00000000\n";
     assert_eq!(
         n.tool(&["--od", &od, "read", "5", "Identity"]).unwrap(),
         lines
@@ -479,7 +483,7 @@ fn read_of_a_whole_record() {
     assert_eq!(v["entries"].as_array().unwrap().len(), 5);
     assert_eq!(
         v["entries"][1],
-        serde_json::json!({"object": "0x1018:01", "name": "Vendor-ID", "value": 2862, "text": "2862"})
+        serde_json::json!({"object": "0x1018:01", "name": "Vendor-ID", "value": 2862, "text": "0x00000B2E"})
     );
     assert_eq!(n.tool(&["read", "5", "0x1018", "u8"]).unwrap(), "4\n");
 }
@@ -563,7 +567,7 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
     assert_eq!(e.map(|e| e.exit_code()), Some(1));
     assert!(
         out.contains(
-            "REFUSED 0x1600:01 = 553713680: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason); nothing after it written"
+            "REFUSED 0x1600:01 = 0x21010010 (0x2101:00, 16 bits): 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason); nothing after it written"
         ),
         "{out}"
     );
@@ -579,9 +583,9 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
     assert_eq!(
         lines,
         [
-            "skipped 0x1010:01 = 1702257011: store parameters: a command",
+            "skipped 0x1010:01 = 0x65766173: store parameters: a command",
             "wrote 0x1017:00 = 1000",
-            "REFUSED 0x1600:01 = 553713680: 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason)",
+            "REFUSED 0x1600:01 = 0x21010010 (0x2101:00, 16 bits): 0x1600:01: SDO abort 0x06040043 (General parameter incompatibility reason)",
             "wrote 0x2110:00 = 20",
             "skipped 0x2FFF:00 = 7: the node refuses it: 0x06020000 (Object does not exist in the object dictionary)",
             "2 entries written, 2 skipped, 1 refused",
@@ -605,4 +609,122 @@ fn apply_skips_and_reports_refusals_and_goes_on() {
             "refused_in_state": 0, "differences": 0, "saved": false,
         })
     );
+}
+
+/// `dump` of the X67SM2436: the six write-only current settings (ConfigOutput03a…08a, 0x2110–0x2112
+/// and 0x2210–0x2212) are read through their read-back registers (ConfigOutput03aRead…08aRead,
+/// 0x2130–0x2132 and 0x2230–0x2232, the manual's 18.5 "Reading back the configuration"), each named
+/// on stderr, and the DCF holds the values configured under the write-only entries; MaxSpeed01pos,
+/// which has no read-back register, is not in the file. The DCF applied to another node sets them
+/// there.
+#[test]
+fn dump_reads_write_only_settings_through_their_read_back_registers() {
+    let (mut node, port) = x67::hub(3);
+    let bus = common::socketcand_bus(port);
+    let od = eds();
+    let named = ["--bus", bus.as_str(), "--od", od.as_str()];
+    let settings = [
+        ("ConfigOutput03a", "20"),
+        ("ConfigOutput04a", "30"),
+        ("ConfigOutput05a", "40"),
+        ("ConfigOutput06a", "50"),
+        ("ConfigOutput07a", "60"),
+        ("ConfigOutput08a", "70"),
+        ("MaxSpeed01pos", "1000"),
+    ];
+    for (name, value) in settings {
+        common::sdo_tool_ok(&named, &["write", "3", name, value]);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let dcf = dir.path().join("node3.dcf");
+    let out = common::sdo_tool(&named, &["dump", "3", "-o", dcf.to_str().unwrap()]);
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "sdo-tool: 0x2110:00 (ConfigOutput03a) read through its read-back register 0x2130:00 (ConfigOutput03aRead)\n\
+         sdo-tool: 0x2111:00 (ConfigOutput04a) read through its read-back register 0x2131:00 (ConfigOutput04aRead)\n\
+         sdo-tool: 0x2112:00 (ConfigOutput05a) read through its read-back register 0x2132:00 (ConfigOutput05aRead)\n\
+         sdo-tool: 0x2210:00 (ConfigOutput06a) read through its read-back register 0x2230:00 (ConfigOutput06aRead)\n\
+         sdo-tool: 0x2211:00 (ConfigOutput07a) read through its read-back register 0x2231:00 (ConfigOutput07aRead)\n\
+         sdo-tool: 0x2212:00 (ConfigOutput08a) read through its read-back register 0x2232:00 (ConfigOutput08aRead)\n"
+    );
+    let (_, devices) = od::load::load(&dcf).unwrap();
+    let d = &devices[0].dictionary;
+    for (index, value) in [
+        (0x2110u16, 20u8),
+        (0x2111, 30),
+        (0x2112, 40),
+        (0x2210, 50),
+        (0x2211, 60),
+        (0x2212, 70),
+    ] {
+        let e = d.entry(index, 0).unwrap();
+        assert!(e.value_set, "0x{index:04X} in the DCF");
+        assert_eq!(e.value, [value], "0x{index:04X}");
+    }
+    assert!(!d.entry(0x2114, 0).unwrap().value_set, "MaxSpeed01pos");
+    // In the file as CiA 306 writes it: the section of 0x2110 with its ParameterValue, 20.
+    let text = std::fs::read_to_string(&dcf).unwrap();
+    let section: Vec<&str> = text
+        .lines()
+        .skip_while(|l| *l != "[2110]")
+        .take_while(|l| !l.is_empty())
+        .collect();
+    assert!(section.contains(&"ParameterValue=0x14"), "{section:?}");
+    // --json names them too.
+    let json = common::sdo_tool_ok(
+        &["--bus", &bus, "--od", &od, "--json"],
+        &["dump", "3", "-o", dcf.to_str().unwrap()],
+    );
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(
+        v["read_back"][0],
+        serde_json::json!({"entry": "0x2110:00 (ConfigOutput03a)", "through": "0x2130:00 (ConfigOutput03aRead)"})
+    );
+    // A write-only entry the description flags "refuse read on scan" (ObjFlags bit 1) is not read
+    // through its read-back register either.
+    let flagged = dir.path().join("flagged.eds");
+    let text: String = std::fs::read_to_string(&od)
+        .unwrap()
+        .lines()
+        .flat_map(|l| match l {
+            "ParameterName=ConfigOutput03a" => vec![l, "ObjFlags=0x2"],
+            _ => vec![l],
+        })
+        .map(|l| format!("{l}\r\n"))
+        .collect();
+    assert!(text.contains("ObjFlags=0x2"));
+    std::fs::write(&flagged, text).unwrap();
+    let out = common::sdo_tool(
+        &["--bus", &bus, "--od", flagged.to_str().unwrap()],
+        &[
+            "dump",
+            "3",
+            "-o",
+            dir.path().join("flagged.dcf").to_str().unwrap(),
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.lines().count(), 5, "{stderr}");
+    assert!(!stderr.contains("0x2110"), "{stderr}");
+    assert!(String::from_utf8_lossy(&out.stdout)
+        .contains("skipped 0x2110:00 (ConfigOutput03a): ObjFlags bit 1: refuse read on scan"));
+    node.kill().unwrap();
+    node.wait().unwrap();
+
+    // Applied to a node in its defaults: the currents read back as dumped.
+    let (mut other, port) = x67::hub(4);
+    let bus = common::socketcand_bus(port);
+    let plain = ["--bus", bus.as_str()];
+    common::sdo_tool_ok(&plain, &["apply", "4", dcf.to_str().unwrap()]);
+    assert_eq!(
+        common::sdo_tool_ok(&plain, &["read", "4", "0x2132:00", "u8"]),
+        "40\n"
+    );
+    assert_eq!(
+        common::sdo_tool_ok(&plain, &["read", "4", "0x2230:00", "u8"]),
+        "50\n"
+    );
+    other.kill().unwrap();
+    other.wait().unwrap();
 }

@@ -179,8 +179,9 @@ fn usage_and_transport_errors() {
     );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
-    // No type and no description: the type is the slave's (SDO Information), UNSIGNED32.
-    assert_eq!(ok(&link, &["read", "1", "0x1000"]), "0\n");
+    // No type and no description: the type is the slave's (SDO Information), UNSIGNED32; the
+    // device type shown in hex.
+    assert_eq!(ok(&link, &["read", "1", "0x1000"]), "0x00000000\n");
     // No such interface: a transport failure.
     let o = common::sdo_tool(
         &["--ethercat", "nosuchif0"],
@@ -474,13 +475,13 @@ fn status_words_are_shown_with_their_bit_names() {
     let lines: Vec<&str> = whole.lines().collect();
     assert_eq!(
         lines[1],
-        "0x6000:01  STATUS_word0 = 17416  [Stopped Position_Invalid Module_OK]"
+        "0x6000:01  STATUS_word0 = 0x4408  [Stopped Position_Invalid Module_OK]"
     );
-    // STATUS_word1: PreOp_SafeOp (32), with the heartbeat (2048) half of the time.
+    // STATUS_word1: PreOp_SafeOp (0x0020), with the heartbeat (0x0800) half of the time.
     assert!(
         [
-            "0x6000:02  STATUS_word1 = 32  [PreOp_SafeOp]",
-            "0x6000:02  STATUS_word1 = 2080  [PreOp_SafeOp Heartbeat_Bit]",
+            "0x6000:02  STATUS_word1 = 0x0020  [PreOp_SafeOp]",
+            "0x6000:02  STATUS_word1 = 0x0820  [PreOp_SafeOp Heartbeat_Bit]",
         ]
         .contains(&lines[2]),
         "{}",

@@ -48,7 +48,7 @@ pub struct Args {
     /// without a node-ID that waits for an LSS master (CiA 305). Give it once per node; nodes with the
     /// same identity get serial numbers counting up from the description's, so that LSS tells them
     /// apart.
-    #[arg(long = "od", value_name = "FILE[@ID]", required = true)]
+    #[arg(long = "od", value_name = "FILE[@ID]", required_unless_present_any = ["completions", "man"])]
     pub ods: Vec<NodeSpec>,
 
     /// The node-ID of a single --od given without @ID (1 to 127, or lss). Without it a DCF's NodeID
@@ -109,6 +109,10 @@ pub struct Args {
     /// "axis", "index", "value" and "limit" or "code").
     #[arg(long)]
     pub json: bool,
+
+    /// `--completions SHELL`, `--man DIR`.
+    #[command(flatten)]
+    pub generate: cli_support::Generate,
 }
 
 /// The motor of the drives.

@@ -60,6 +60,10 @@ pub struct Args {
     /// Give it to a master's --od, python-canopen's add_node or any tool that reads descriptions.
     #[arg(long, value_name = "FILE")]
     pub write_description: Option<PathBuf>,
+
+    /// `--completions SHELL`, `--man DIR`.
+    #[command(flatten)]
+    pub generate: cli_support::Generate,
 }
 
 /// Why `x67-node` stopped with an error.

@@ -25,6 +25,10 @@ pub struct DecodeArgs {
     /// Only these kinds of lines: nmt, heartbeat, sync, emcy, sdo, pdo, other (with commas).
     #[arg(long, value_name = "KINDS", value_delimiter = ',')]
     pub only: Vec<Kind>,
+    /// Show a long value (a DOMAIN's, an OCTET_STRING's) whole, not its first 32 bytes and its
+    /// length.
+    #[arg(long)]
+    pub full: bool,
 }
 
 /// `decode` with the `--od` description's dictionary, when given.
@@ -37,7 +41,8 @@ pub fn run(
     let w = Watcher::new(args.node, od)
         .with_raw(args.raw)
         .with_filters(args.filter.clone())
-        .with_only(args.only.clone());
+        .with_only(args.only.clone())
+        .with_full(args.full);
     decode(&args.log, w, json, out)
 }
 

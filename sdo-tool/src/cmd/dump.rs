@@ -30,6 +30,13 @@ pub fn run(
     let mut d = ctx.desc.cloned().ok_or(UsageError::DumpNeedsDescription)?;
     let as_read = d.clone();
     let outcome = commands.dump(*node, &mut d)?;
+    for (entry, register) in &outcome.read_back {
+        eprintln!(
+            "sdo-tool: {} read through its read-back register {}",
+            named(&d, entry),
+            named(&d, register)
+        );
+    }
     od::eds::complete_new_file(&mut d);
     let bytes = dcf_bytes(ctx.od_path, as_read, d.clone());
     std::fs::write(output, bytes).map_err(|e| file_error(output, e))?;
@@ -37,19 +44,23 @@ pub fn run(
     emit(out, ctx.json, text, value)
 }
 
+/// `a` with its name in `d`: `0x2110:00 (ConfigOutput03a)`.
+fn named(d: &od::DeviceDescription, a: &Address) -> String {
+    d.dictionary
+        .entry(a.index, a.sub)
+        .map(|e| format!("{a} ({})", e.name))
+        .unwrap_or_else(|_| a.to_string())
+}
+
 /// What `dump` says of `outcome`, as text and as JSON: the entries not read, the write-only ones,
-/// those the description keeps from a scan, and how many of each kind were left out.
+/// those the description keeps from a scan, and how many of each kind were left out (the JSON also
+/// the write-only entries read through a read-back register, which the text says on stderr).
 fn report(
     outcome: &DumpOutcome,
     d: &od::DeviceDescription,
     output: &Path,
 ) -> (String, serde_json::Value) {
-    let name = |a: &Address| {
-        d.dictionary
-            .entry(a.index, a.sub)
-            .map(|e| format!("{a} ({})", e.name))
-            .unwrap_or_else(|_| a.to_string())
-    };
+    let name = |a: &Address| named(d, a);
     let not_read: Vec<String> = outcome
         .refused
         .iter()
@@ -102,6 +113,11 @@ fn report(
         "write_only": write_only,
         "not_scanned": not_scanned,
         "left_out": counts,
+        "read_back": outcome
+            .read_back
+            .iter()
+            .map(|(entry, register)| serde_json::json!({"entry": name(entry), "through": name(register)}))
+            .collect::<Vec<_>>(),
     });
     (text, value)
 }

@@ -4,6 +4,7 @@
 //! - [`read`], [`mod@write`], [`dump`], [`apply`]: SDO transfers, on CAN or on EtherCAT ([`sdo`]);
 //! - [`transfer`]: `upload` and `download` of a file, with a progress bar;
 //! - [`store`]: `save` and `restore`; [`nmt`]; [`scan`]; [`gateway`]: the CiA 309-3 gateway;
+//! - [`raw`]: `send` (a frame in cansend's notation) and `sync` (a SYNC producer);
 //! - [`drive`]: a CiA 402 drive's state, enabled, homed, moved and jogged, on either network;
 //! - [`lss`]: the LSS master (CiA 305): Fastscan, node-IDs, bit timing, store;
 //! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
@@ -27,6 +28,7 @@ pub mod lss;
 pub mod net;
 pub mod net_boot;
 pub mod nmt;
+pub mod raw;
 pub mod read;
 pub mod scan;
 pub mod sdo;
@@ -40,8 +42,11 @@ pub mod write;
 pub struct Context<'a> {
     /// `--json`: one JSON object per result.
     pub json: bool,
-    /// The `--od` description, loaded.
+    /// The `--od` description's device the command runs with (the first, or the node's:
+    /// [`sdo::pick_device`]).
     pub desc: Option<&'a od::DeviceDescription>,
+    /// Every device of the `--od` description (most files describe one).
+    pub devices: &'a [od::DeviceDescription],
     /// The `--od` file.
     pub od_path: Option<&'a Path>,
 }
@@ -74,7 +79,15 @@ pub fn load_description(
     path: &Path,
     what: &'static str,
 ) -> Result<od::DeviceDescription, ToolError> {
-    let (_, mut devices) = od::load::load(path).map_err(|error| UsageError::Description {
+    Ok(load_devices(path, what)?.swap_remove(0))
+}
+
+/// Every device of a description file, at least one; `what` says where it was given.
+pub fn load_devices(
+    path: &Path,
+    what: &'static str,
+) -> Result<Vec<od::DeviceDescription>, ToolError> {
+    let (_, devices) = od::load::load(path).map_err(|error| UsageError::Description {
         what,
         path: path.to_path_buf(),
         error,
@@ -86,5 +99,5 @@ pub fn load_description(
         }
         .into());
     }
-    Ok(devices.swap_remove(0))
+    Ok(devices)
 }

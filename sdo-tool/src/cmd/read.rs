@@ -18,6 +18,10 @@ pub struct ReadArgs {
     /// The type (may be left out with --od).
     #[arg(value_name = "TYPE")]
     pub ty: Option<String>,
+    /// Show a long value (a DOMAIN's, an OCTET_STRING's) whole, not its first 32 bytes and its
+    /// length.
+    #[arg(long)]
+    pub full: bool,
 }
 
 /// `read` on `commands` (any network), printing to `out`.
@@ -27,10 +31,21 @@ pub fn run(
     ctx: Context<'_>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    let ReadArgs { node, object, ty } = args;
+    let ReadArgs {
+        node,
+        object,
+        ty,
+        full,
+    } = args;
     if let (Some(d), None) = (ctx.desc, ty) {
         if let Some(index) = whole_object(&d.dictionary, object) {
-            return read_object(commands, *node, &d.dictionary, index, ctx.json, out);
+            let whole = Whole {
+                dict: &d.dictionary,
+                index,
+                json: ctx.json,
+                full: *full,
+            };
+            return read_object(commands, *node, whole, out);
         }
     }
     let (value, text) = commands.read_typed(*node, object, ty.as_deref())?;
@@ -47,7 +62,8 @@ pub fn run(
         "text": text,
     });
     meaning.add_to(&mut v);
-    emit(out, ctx.json, meaning.show(&text), v)
+    let shown = crate::show::elided(&value, text, *full);
+    emit(out, ctx.json, meaning.show(&shown), v)
 }
 
 /// A value as JSON: numbers as numbers, a string as its text, bytes as hex (`"01 02 0A"`), a time
@@ -110,11 +126,7 @@ impl Meaning {
         };
         let bits = number.and_then(|n| {
             let size = read_as.or(entry.map(|e| e.data_type))?.bit_size()?;
-            let description = entry.and_then(|e| {
-                e.description.as_deref().or(object
-                    .filter(|o| !o.kind.has_subs())
-                    .and_then(|o| o.description.as_deref()))
-            });
+            let description = dict.and_then(|d| crate::show::bit_description(d, addr));
             let named = od::bits::bit_names(addr.index, addr.sub, description, size);
             (!named.is_empty()).then(|| od::bits::set_names(n, &named))
         });
@@ -171,16 +183,28 @@ fn whole_object(dict: &od::Dictionary, text: &str) -> Option<u16> {
         .map(|o| o.index)
 }
 
+/// A whole RECORD or ARRAY to read: its index in `dict`, and how its entries are shown.
+struct Whole<'a> {
+    dict: &'a od::Dictionary,
+    index: u16,
+    json: bool,
+    full: bool,
+}
+
 /// `read` of a whole RECORD or ARRAY: each readable entry of it, in sub-index order, a line each;
 /// an entry the node refuses is said so and the others go on (exit 1 at the end).
 fn read_object(
     commands: &mut SdoCommands<'_>,
     node: u8,
-    dict: &od::Dictionary,
-    index: u16,
-    json: bool,
+    whole: Whole<'_>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
+    let Whole {
+        dict,
+        index,
+        json,
+        full,
+    } = whole;
     let io = ToolError::Output;
     let object = dict.object(index).expect("whole_object found it");
     let mut entries = Vec::new();
@@ -195,7 +219,8 @@ fn read_object(
             Ok((value, text)) => {
                 let meaning = Meaning::of(Some(dict), addr, &value, None);
                 if !json {
-                    writeln!(out, "{addr}  {} = {}", e.name, meaning.show(&text)).map_err(io)?;
+                    let shown = crate::show::elided(&value, text.clone(), full);
+                    writeln!(out, "{addr}  {} = {}", e.name, meaning.show(&shown)).map_err(io)?;
                 }
                 let mut v = serde_json::json!({
                     "object": addr.to_string(), "name": e.name,

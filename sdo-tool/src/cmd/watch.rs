@@ -34,6 +34,10 @@ pub struct WatchArgs {
     /// Only these kinds of lines: nmt, heartbeat, sync, emcy, sdo, pdo, other (with commas).
     #[arg(long, value_name = "KINDS", value_delimiter = ',')]
     pub only: Vec<Kind>,
+    /// Show a long value (a DOMAIN's, an OCTET_STRING's) whole, not its first 32 bytes and its
+    /// length.
+    #[arg(long)]
+    pub full: bool,
 }
 
 /// `watch` on `tool`'s bus; `bus` names the interface in the log's lines.
@@ -48,7 +52,8 @@ pub fn run(
     let mut w = Watcher::new(args.node, tool.od.as_ref())
         .with_raw(args.raw)
         .with_filters(args.filter.clone())
-        .with_only(args.only.clone());
+        .with_only(args.only.clone())
+        .with_full(args.full);
     let iface = match bus {
         Some(BusSpec::SocketCan { iface }) => iface.clone(),
         Some(BusSpec::Socketcand { channel, .. }) => channel.clone(),

@@ -153,7 +153,7 @@ pub fn nmt_state_name(byte: u8) -> &'static str {
 struct PdoLayout {
     kind: &'static str,
     number: u16,
-    fields: Vec<(String, DataType, usize)>,
+    fields: Vec<(String, TypeCode, usize)>,
 }
 
 /// Decodes the bus's frames into lines.
@@ -173,6 +173,8 @@ pub struct Watcher {
     only: Vec<Kind>,
     /// The time of the frame being looked at ([`Watcher::at`]'s).
     now: f64,
+    /// Values shown whole, however long.
+    full: bool,
 }
 
 impl Watcher {
@@ -195,16 +197,18 @@ impl Watcher {
                     .map(|e| {
                         // A dummy entry (a data type's index) fills bytes, nothing else.
                         if e.index < 0x1000 {
-                            return ("Dummy".to_string(), DataType::Unsigned8, e.len());
+                            return (
+                                "Dummy".to_string(),
+                                TypeCode::of(DataType::Unsigned8),
+                                e.len(),
+                            );
                         }
+                        let at = od::Address::new(e.index, e.sub);
                         let (name, ty) = match d.entry(e.index, e.sub) {
                             Ok(entry) => (entry.name.clone(), entry.data_type),
-                            Err(_) => (
-                                od::Address::new(e.index, e.sub).to_string(),
-                                DataType::Unsigned8,
-                            ),
+                            Err(_) => (at.to_string(), DataType::Unsigned8),
                         };
-                        (name, ty, e.len())
+                        (name, crate::show::code_for(Some(&d), at, ty), e.len())
                     })
                     .collect();
                 pdos.insert(
@@ -228,7 +232,15 @@ impl Watcher {
             filters: Vec::new(),
             only: Vec::new(),
             now: 0.0,
+            full: false,
         }
+    }
+
+    /// Shows every byte of a long value (a DOMAIN's, an unknown entry's) instead of its first
+    /// [`crate::show::SHOWN_BYTES`] and its length.
+    pub fn with_full(mut self, full: bool) -> Watcher {
+        self.full = full;
+        self
     }
 
     /// Takes only the frames one of `filters` passes (all when empty), as candump's filters do:
@@ -342,18 +354,25 @@ impl Watcher {
         }
     }
 
-    /// `bytes` as a value of `mux`'s type in the description, else as hex bytes.
+    /// `bytes` as a value of `mux`'s type in the description (in hex or decimal as
+    /// [`crate::show`] says, a mapping with what it maps), else as hex bytes; more than
+    /// [`crate::show::SHOWN_BYTES`] of them elided (`…`; the line gives the length) unless
+    /// [`Watcher::with_full`].
     fn value(&self, mux: Address, bytes: &[u8]) -> String {
-        let typed = self
-            .od
-            .as_ref()
+        let od = self.od.as_ref();
+        let typed = od
             .and_then(|d| d.entry(mux.index, mux.sub).ok())
             .and_then(|e| {
-                Value::decode(e.data_type, bytes)
-                    .ok()
-                    .map(|v| TypeCode::of(e.data_type).format(&v))
+                let v = Value::decode(e.data_type, bytes).ok()?;
+                let text = crate::show::code_for(od, mux, e.data_type).format(&v);
+                let text = crate::show::with_mapping(mux, &v, text);
+                Some(match v {
+                    Value::Bytes(b) => crate::show::bytes_head(&b, self.full),
+                    _ => text,
+                })
             });
-        typed.unwrap_or_else(|| hex(bytes))
+        // A value longer than a frame's comes in a line that gives its length.
+        typed.unwrap_or_else(|| crate::show::bytes_head(bytes, self.full))
     }
 
     fn wanted(&self, id: u8) -> bool {
@@ -473,8 +492,8 @@ impl Watcher {
             if name.starts_with("Dummy") {
                 continue;
             }
-            let v = Value::decode(*ty, bytes).ok()?;
-            parts.push(format!("{name}={}", TypeCode::of(*ty).format(&v)));
+            let v = Value::decode(ty.data_type, bytes).ok()?;
+            parts.push(format!("{name}={}", ty.format(&v)));
         }
         Some(format!(
             "node {}: {} {} {}",
@@ -484,13 +503,4 @@ impl Watcher {
             parts.join(" ")
         ))
     }
-}
-
-/// Bytes as `01 02 0A`.
-fn hex(bytes: &[u8]) -> String {
-    bytes
-        .iter()
-        .map(|b| format!("{b:02X}"))
-        .collect::<Vec<_>>()
-        .join(" ")
 }

@@ -566,8 +566,26 @@ fn block_segments_count_as_acknowledged() {
     first.push_str(&bytes.join(" "));
     first.push_str(" (28 bytes, block transfer)");
     assert_eq!(lines[0], first);
+    // 455 bytes: the first 32 shown, the line gives the length.
     let long: Vec<String> = (1..=65u8)
         .flat_map(|k| std::iter::repeat_n(format!("{k:02X}"), 7))
+        .collect();
+    assert_eq!(
+        lines[1],
+        format!(
+            "node 3: SDO written 0x2000:07 = {} … (455 bytes, block transfer)",
+            long[..32].join(" ")
+        )
+    );
+    assert_eq!(
+        lines[2],
+        "node 3: SDO client aborts 0x2000:08: 0x08000000 (General error)"
+    );
+    // With every byte asked for (`--full`).
+    let mut w = Watcher::new(None, None).with_full(true);
+    let lines: Vec<String> = frames
+        .iter()
+        .flat_map(|(t, id, d)| w.at(*t, &f(*id, d)))
         .collect();
     assert_eq!(
         lines[1],
@@ -575,9 +593,5 @@ fn block_segments_count_as_acknowledged() {
             "node 3: SDO written 0x2000:07 = {} (455 bytes, block transfer)",
             long.join(" ")
         )
-    );
-    assert_eq!(
-        lines[2],
-        "node 3: SDO client aborts 0x2000:08: 0x08000000 (General error)"
     );
 }
