@@ -103,6 +103,89 @@ impl CanFrame {
     }
 }
 
+/// The flags in the identifier word of Linux's `struct can_frame` (linux/can.h), as
+/// `LINKTYPE_CAN_SOCKETCAN` captures carry them: extended frame format (29-bit identifier).
+pub const CAN_EFF_FLAG: u32 = 0x8000_0000;
+/// Remote transmission request.
+pub const CAN_RTR_FLAG: u32 = 0x4000_0000;
+/// Error frame.
+pub const CAN_ERR_FLAG: u32 = 0x2000_0000;
+/// `CANFD_FDF` in the byte after the length: a CAN FD frame.
+const CANFD_FDF: u8 = 0x04;
+/// `CANXL_XLF` in the length's place: a CAN XL frame.
+const CANXL_XLF: u8 = 0x80;
+
+/// Why captured SocketCAN bytes are no classic CAN frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum NotClassic {
+    /// An error frame (`CAN_ERR_FLAG`): what the controller reported, not a frame on the bus.
+    #[error("an error frame")]
+    Error,
+    /// A CAN FD frame (`CANFD_FDF`, or more than 16 bytes).
+    #[error("a CAN FD frame")]
+    Fd,
+    /// A CAN XL frame (`CANXL_XLF`).
+    #[error("a CAN XL frame")]
+    Xl,
+    /// Fewer bytes than the header and the length say, or a length above 8.
+    #[error("not a whole SocketCAN frame")]
+    Malformed,
+}
+
+impl CanFrame {
+    /// The frame as Linux's `struct can_frame` has it and `LINKTYPE_CAN_SOCKETCAN` captures it:
+    /// the identifier with [`CAN_EFF_FLAG`] and [`CAN_RTR_FLAG`] in network byte order, the data
+    /// length (a remote frame's DLC), three zero bytes, and the data padded with zeros to 8.
+    pub fn socketcan_bytes(&self) -> [u8; 16] {
+        let mut id = self.id;
+        if self.extended {
+            id |= CAN_EFF_FLAG;
+        }
+        if self.rtr {
+            id |= CAN_RTR_FLAG;
+        }
+        let mut out = [0u8; 16];
+        out[..4].copy_from_slice(&id.to_be_bytes());
+        out[4] = self.len;
+        out[8..8 + self.data().len()].copy_from_slice(self.data());
+        out
+    }
+
+    /// The classic frame captured SocketCAN `bytes` hold (`LINKTYPE_CAN_SOCKETCAN`): an 11-bit
+    /// identifier without `CAN_EFF_FLAG` (the bits above it are not the frame's), a 29-bit one
+    /// with it.
+    pub fn from_socketcan_bytes(bytes: &[u8]) -> Result<CanFrame, NotClassic> {
+        if bytes.len() < 8 {
+            return Err(NotClassic::Malformed);
+        }
+        if bytes[4] & CANXL_XLF != 0 {
+            return Err(NotClassic::Xl);
+        }
+        if bytes[5] & CANFD_FDF != 0 || bytes.len() > 16 {
+            return Err(NotClassic::Fd);
+        }
+        let word = u32::from_be_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
+        if word & CAN_ERR_FLAG != 0 {
+            return Err(NotClassic::Error);
+        }
+        let len = bytes[4];
+        let extended = word & CAN_EFF_FLAG != 0;
+        let id = if extended {
+            word & 0x1FFF_FFFF
+        } else {
+            word & 0x7FF
+        };
+        if word & CAN_RTR_FLAG != 0 {
+            return CanFrame::new_remote_frame(id, extended, len).ok_or(NotClassic::Malformed);
+        }
+        let data = bytes
+            .get(8..8 + usize::from(len))
+            .ok_or(NotClassic::Malformed)?;
+        Self::build(id, extended, false, data).ok_or(NotClassic::Malformed)
+    }
+}
+
 impl fmt::Debug for CanFrame {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         fmt::Display::fmt(self, f)
@@ -223,6 +306,67 @@ mod tests {
         assert!(!f.is_empty());
         assert!(CanFrame::new(0x080, &[]).unwrap().is_empty());
         assert_eq!(format!("{f:?}"), "181#010203");
+    }
+
+    /// The SocketCAN bytes of each kind of frame, worked out from linux/can.h: the identifier word
+    /// big-endian with EFF (bit 31) and RTR (bit 30), the length, three zeros, the data padded.
+    #[test]
+    fn socketcan_bytes_golden() {
+        let sdo = CanFrame::new(0x605, &[0x40, 0x18, 0x10, 0x01]).unwrap();
+        assert_eq!(
+            sdo.socketcan_bytes(),
+            [0, 0, 0x06, 0x05, 4, 0, 0, 0, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]
+        );
+        let ext = CanFrame::new_extended(0x1234_5678, &[0xAB]).unwrap();
+        assert_eq!(
+            ext.socketcan_bytes(),
+            [0x92, 0x34, 0x56, 0x78, 1, 0, 0, 0, 0xAB, 0, 0, 0, 0, 0, 0, 0]
+        );
+        let rtr = CanFrame::new_remote_frame(0x705, false, 1).unwrap();
+        assert_eq!(
+            rtr.socketcan_bytes(),
+            [0x40, 0, 0x07, 0x05, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+        );
+        let ext_rtr = CanFrame::new_remote_frame(0x1FFF_FFFF, true, 8).unwrap();
+        assert_eq!(&ext_rtr.socketcan_bytes()[..5], [0xDF, 0xFF, 0xFF, 0xFF, 8]);
+        for f in [sdo, ext, rtr, ext_rtr, CanFrame::new(0x080, &[]).unwrap()] {
+            assert_eq!(CanFrame::from_socketcan_bytes(&f.socketcan_bytes()), Ok(f));
+        }
+    }
+
+    /// Captured bytes that are no classic frame say what they are; a standard identifier is its
+    /// 11 bits; the data may be captured unpadded.
+    #[test]
+    fn socketcan_bytes_that_are_no_classic_frame() {
+        let from = CanFrame::from_socketcan_bytes;
+        let mut b = [0u8; 16];
+        b[..5].copy_from_slice(&[0x20, 0, 0, 0x04, 8]);
+        assert_eq!(from(&b), Err(NotClassic::Error));
+        assert_eq!(from(&[0, 0, 1, 0x23, 8, 0x04, 0, 0]), Err(NotClassic::Fd));
+        assert_eq!(from(&[0u8; 72]), Err(NotClassic::Fd));
+        assert_eq!(from(&[0, 0, 1, 0x23, 0x80, 0, 0, 0]), Err(NotClassic::Xl));
+        assert_eq!(from(&[0, 0, 1, 0x23, 2, 0, 0]), Err(NotClassic::Malformed));
+        assert_eq!(
+            from(&[0, 0, 1, 0x23, 9, 0, 0, 0]),
+            Err(NotClassic::Malformed)
+        );
+        assert_eq!(
+            from(&[0, 0, 1, 0x23, 2, 0, 0, 0, 1]),
+            Err(NotClassic::Malformed)
+        );
+        assert_eq!(
+            from(&[0x40, 0, 1, 0x23, 9, 0, 0, 0]),
+            Err(NotClassic::Malformed)
+        );
+        assert_eq!(
+            from(&[0x1F, 0xFF, 0xF9, 0x23, 2, 0, 0, 0, 1, 2]),
+            Ok(CanFrame::new(0x123, &[1, 2]).unwrap())
+        );
+        assert_eq!(
+            from(&[0x40, 0, 1, 0x23, 3, 0, 0, 0]),
+            Ok(CanFrame::new_remote_frame(0x123, false, 3).unwrap())
+        );
+        assert_eq!(NotClassic::Fd.to_string(), "a CAN FD frame");
     }
 
     /// Through `embedded_can::Frame`: format, remote flag, DLC and data as made, for both formats.

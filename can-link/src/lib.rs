@@ -3,7 +3,8 @@
 //! socketcand client and server ([`transport::SocketcandClient`], [`transport::socketcand`]) and an
 //! in-process bus ([`transport::InProcessBus`]); [`BusSpec`] names one on a command line
 //! (`vcan0`, `socketcand://host:port/can0`, `inprocess`). The CANopen nodes (`socketcan-node`)
-//! and the commissioning tool (`sdo-tool`) run on them.
+//! and the commissioning tool (`sdo-tool`) run on them; [`transport::Captured`] writes a bus's
+//! frames to a pcapng capture (`link-capture`).
 //!
 //! ```
 //! use can_link::{BusSpec, CanFrame};
@@ -18,5 +19,5 @@
 pub mod frame;
 pub mod transport;
 
-pub use frame::CanFrame;
+pub use frame::{CanFrame, NotClassic};
 pub use transport::{BusEvent, BusSpec, CanBus};

@@ -1,8 +1,9 @@
 //! The EtherCAT link, apart from any device: an AF_PACKET raw socket on one interface for EtherCAT
 //! frames ([`raw::RawSocket`]), one frame at a time or several in one system call
 //! ([`raw::Batch`]: recvmmsg(2), sendmmsg(2)). The emulator (`ethercat-slave`) answers on it;
-//! the commissioning tool (`sdo-tool`) and the tests' masters send on it. Linux only; root (or
-//! CAP_NET_RAW) to open.
+//! the commissioning tool (`sdo-tool`) and the tests' masters send on it; with
+//! [`raw::RawSocket::capture_to`] its frames go to a pcapng capture too (`link-capture`). Linux
+//! only; root (or CAP_NET_RAW) to open.
 //!
 //! ```no_run
 //! use ecat_link::raw::RawSocket;

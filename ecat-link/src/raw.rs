@@ -1,12 +1,17 @@
 //! An AF_PACKET raw socket bound to one interface for EtherType 0x88A4 (Linux): what the emulator
 //! receives EtherCAT frames on and sends them back on, one at a time ([`RawSocket::recv`],
 //! [`RawSocket::send`]) or several frames in one system call ([`RawSocket::recv_batch`],
-//! [`RawSocket::send_batch`]: recvmmsg(2) and sendmmsg(2) over a [`Batch`]).
+//! [`RawSocket::send_batch`]: recvmmsg(2) and sendmmsg(2) over a [`Batch`]). With
+//! [`RawSocket::capture_to`], every frame it receives and sends is also written to a pcapng
+//! capture.
 
 use std::ffi::CString;
 use std::io;
-use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
-use std::time::Duration;
+use std::os::fd::{AsFd, AsRawFd, BorrowedFd, FromRawFd, OwnedFd, RawFd};
+use std::time::{Duration, SystemTime};
+
+use link_capture::pcapng::{Direction, LINKTYPE_ETHERNET};
+use link_capture::{Capture, Interface};
 
 use crate::ETHERTYPE;
 
@@ -37,6 +42,8 @@ pub enum RawError {
 pub struct RawSocket {
     fd: OwnedFd,
     iface: String,
+    /// Where the frames received and sent are written too.
+    capture: Option<Interface>,
 }
 
 fn check(r: libc::c_int) -> io::Result<libc::c_int> {
@@ -149,12 +156,20 @@ impl RawSocket {
         Ok(RawSocket {
             fd,
             iface: iface.into(),
+            capture: None,
         })
     }
 
     /// The interface.
     pub fn interface(&self) -> &str {
         &self.iface
+    }
+
+    /// Writes every frame this socket receives and sends from now on to `capture` too, whole
+    /// Ethernet frames (`LINKTYPE_ETHERNET`) of an interface named as this socket's: a received
+    /// one at the time it was taken from the socket, a sent one once the kernel took it.
+    pub fn capture_to(&mut self, capture: &Capture) {
+        self.capture = Some(capture.interface(&self.iface, LINKTYPE_ETHERNET));
     }
 
     /// The kernel's receive buffer of the socket in bytes (SO_RCVBUF: twice what was asked, for the
@@ -222,7 +237,11 @@ impl RawSocket {
             }
             // MSG_TRUNC gives the frame's real length: a longer one than the buffer is cut, and the
             // caller sees it does not parse.
-            return Ok(Some((n as usize).min(buf.len())));
+            let n = (n as usize).min(buf.len());
+            if let Some(c) = &self.capture {
+                c.record(SystemTime::now(), Direction::Inbound, &buf[..n]);
+            }
+            return Ok(Some(n));
         }
     }
 
@@ -276,6 +295,10 @@ impl RawSocket {
             batch.lens[at] = hdrs[k].msg_len as usize;
             batch.count += 1;
         }
+        if let Some(c) = &self.capture {
+            let frames = (0..batch.count).map(|k| batch.frame(k));
+            c.record_all(SystemTime::now(), Direction::Inbound, frames);
+        }
         Ok(batch.count)
     }
 
@@ -299,6 +322,8 @@ impl RawSocket {
         }
         let mut sent = 0;
         let mut first_error = None;
+        // Bit k: the k-th frame handed over was refused.
+        let mut refused = 0u64;
         while sent < n {
             let rest = &mut hdrs[sent..n];
             // SAFETY: headers over frames of `batch`, each valid for its length; the socket is
@@ -317,9 +342,18 @@ impl RawSocket {
                 // left out, and the rest sent.
                 Err(_) => {
                     first_error.get_or_insert(io::Error::last_os_error());
+                    refused |= 1 << sent;
                     sent += 1;
                 }
             }
+        }
+        if let Some(c) = &self.capture {
+            let frames = (0..batch.count)
+                .filter(|&k| batch.lens[k] > 0)
+                .enumerate()
+                .filter(|(j, _)| refused & (1 << j) == 0)
+                .map(|(_, k)| batch.frame(k));
+            c.record_all(SystemTime::now(), Direction::Outbound, frames);
         }
         first_error.map_or(Ok(()), Err)
     }
@@ -338,7 +372,23 @@ impl RawSocket {
         if n < 0 {
             return Err(io::Error::last_os_error());
         }
+        if let Some(c) = &self.capture {
+            c.record(SystemTime::now(), Direction::Outbound, frame);
+        }
         Ok(())
+    }
+}
+
+/// The socket's descriptor, for an event loop to wait on (e.g. `async_io::Async`).
+impl AsFd for RawSocket {
+    fn as_fd(&self) -> BorrowedFd<'_> {
+        self.fd.as_fd()
+    }
+}
+
+impl AsRawFd for RawSocket {
+    fn as_raw_fd(&self) -> RawFd {
+        self.fd.as_raw_fd()
     }
 }
 

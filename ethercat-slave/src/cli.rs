@@ -48,6 +48,12 @@ pub struct Args {
     /// 1000): a faster answer to a master that sends its next frame at once, for CPU time.
     #[arg(long, value_name = "US", default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=1000))]
     pub busy_poll_us: u64,
+
+    /// Writes every frame the units receive and answer to FILE, a pcapng capture Wireshark and
+    /// tshark read (LINKTYPE_ETHERNET, the interface's name, nanosecond times, each frame's
+    /// direction); complete whenever the process ends.
+    #[arg(long, value_name = "FILE")]
+    pub capture: Option<std::path::PathBuf>,
 }
 
 /// Why `smd-ethercat` stopped with an error.
@@ -60,10 +66,20 @@ pub enum CliError {
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
     Signal(#[from] cli_support::SignalError),
+    /// The capture file cannot be created.
+    #[error("--capture {0}")]
+    Capture(#[from] link_capture::CaptureError),
 }
 
 /// Runs until Ctrl-C (or `stop`, when given, is set); prints `ready` lines on stdout when on line.
 pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError> {
+    let capture = args
+        .capture
+        .as_deref()
+        .map(|path| {
+            link_capture::Capture::create(path, concat!("smd-ethercat ", env!("CARGO_PKG_VERSION")))
+        })
+        .transpose()?;
     let stop = cli_support::stop_flag(stop)?;
     let options = Options {
         interface: args.interface.clone(),
@@ -71,6 +87,7 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliError
         units: usize::from(args.units),
         cycle: Duration::from_micros(args.cycle_us),
         busy_poll: Duration::from_micros(args.busy_poll_us),
+        capture,
     };
     let stats = runtime::run(&options, &stop, || {
         println!(

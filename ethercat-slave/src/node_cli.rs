@@ -86,6 +86,12 @@ pub struct Args {
     #[arg(long, value_name = "US", default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=1000))]
     pub busy_poll_us: u64,
 
+    /// Writes every frame the units receive and answer to FILE, a pcapng capture Wireshark and
+    /// tshark read (LINKTYPE_ETHERNET, the interface's name, nanosecond times, each frame's
+    /// direction); complete whenever the process ends.
+    #[arg(long, value_name = "FILE")]
+    pub capture: Option<std::path::PathBuf>,
+
     /// Prints what each kind of device reports that its ESI does not give, one line per entry, and
     /// exits without opening an interface: a value the ESI leaves out (0x1018 the identity of its
     /// SII, names, device type, supported drive modes), or a factory setting in place of a value its
@@ -250,6 +256,9 @@ pub enum CliError {
     /// No interface to run on.
     #[error("an INTERFACE is needed (only --explain runs without one)")]
     NoInterface,
+    /// The capture file cannot be created.
+    #[error("--capture {0}")]
+    Capture(#[from] link_capture::CaptureError),
 }
 
 /// Reads the device of `spec` and makes it ready with its modules, its drives servos.
@@ -377,8 +386,21 @@ pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliE
         return Ok(Stats::default());
     }
     let interface = args.interface.as_deref().ok_or(CliError::NoInterface)?;
+    let capture = args
+        .capture
+        .as_deref()
+        .map(|path| {
+            link_capture::Capture::create(
+                path,
+                concat!("ethercat-node ", env!("CARGO_PKG_VERSION")),
+            )
+        })
+        .transpose()?;
     let stop = cli_support::stop_flag(stop)?;
-    let socket = RawSocket::open(interface).map_err(RuntimeError::from)?;
+    let mut socket = RawSocket::open(interface).map_err(RuntimeError::from)?;
+    if let Some(capture) = &capture {
+        socket.capture_to(capture);
+    }
     let list: Vec<(&Template, usize)> = templates.iter().map(|(t, n)| (t, *n)).collect();
     let chain = generic::chain(
         &list,

@@ -40,6 +40,8 @@ pub struct Options {
     /// in the kernel again: shortens the answer time to a master that sends its next frame at once,
     /// at the cost of CPU time. Zero sleeps at once.
     pub busy_poll: Duration,
+    /// Where every frame received and sent is written too (a pcapng capture), if anywhere.
+    pub capture: Option<link_capture::Capture>,
 }
 
 /// Why the emulator stopped.
@@ -83,7 +85,10 @@ pub fn run(
     stop: &Arc<AtomicBool>,
     ready: impl FnOnce(),
 ) -> Result<Stats, RuntimeError> {
-    let socket = RawSocket::open(&options.interface)?;
+    let mut socket = RawSocket::open(&options.interface)?;
+    if let Some(capture) = &options.capture {
+        socket.capture_to(capture);
+    }
     let chain = SmdChain::new(options.device, options.units, options.cycle, Instant::now())?;
     ready();
     tracing::info!(

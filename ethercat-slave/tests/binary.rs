@@ -1,4 +1,5 @@
-//! The `smd-ethercat` binary's command line: help, refused arguments, an interface that is not there.
+//! The `smd-ethercat` binary's command line: help, refused arguments, an interface that is not there,
+//! a capture file that cannot be created.
 
 use std::process::Command;
 
@@ -46,6 +47,18 @@ fn refused_arguments_exit_2_naming_them() {
         assert_eq!(code, 2, "{args:?}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+}
+
+/// A capture file that cannot be created is refused in one line before the interface is opened.
+#[test]
+fn a_capture_that_cannot_be_created_is_refused() {
+    let (code, out, err) = run(&["lo", "--capture", "/nonexistent/dir/x.pcapng"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(out.is_empty(), "not on line: {out}");
+    assert_eq!(
+        err,
+        "smd-ethercat: --capture /nonexistent/dir/x.pcapng: No such file or directory (os error 2)\n"
+    );
 }
 
 #[test]

@@ -148,6 +148,24 @@ fn refused_arguments_exit_2_naming_them() {
     }
 }
 
+/// A capture file that cannot be created is refused in one line before the interface is opened.
+#[test]
+fn a_capture_that_cannot_be_created_is_refused() {
+    let (code, out, err) = run(&[
+        "lo",
+        "--esi",
+        "examples/drive.esi.xml",
+        "--capture",
+        "/nonexistent/dir/x.pcapng",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(out.is_empty(), "not on line: {out}");
+    assert_eq!(
+        err,
+        "ethercat-node: --capture /nonexistent/dir/x.pcapng: No such file or directory (os error 2)\n"
+    );
+}
+
 /// An ESI that cannot run is refused before anything else, in one line naming the file and why.
 #[test]
 fn descriptions_that_cannot_run_are_named_in_one_line() {

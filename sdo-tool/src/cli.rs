@@ -24,7 +24,7 @@ use crate::cmd::watch::WatchArgs;
 use crate::cmd::write::WriteArgs;
 use crate::cmd::{load_devices, Context};
 use crate::ethercat::{check_interface_name, EthercatSession};
-use crate::link::{BusSpec, CanBus, SocketCanBus, SocketcandClient};
+use crate::link::{BusSpec, CanBus, Capture, Captured, SocketCanBus, SocketcandClient};
 use crate::{BlockMode, Tool, ToolError, UsageError};
 
 pub use crate::cmd::gateway::GATEWAY_CLIENTS;
@@ -81,6 +81,12 @@ pub struct Args {
     /// Use expedited and segmented transfers only (no block transfer).
     #[arg(long, global = true)]
     pub no_block: bool,
+    /// Writes every frame the tool sends and receives to FILE, a pcapng capture Wireshark and
+    /// tshark read: on a CAN bus its SocketCAN frames (LINKTYPE_CAN_SOCKETCAN, the bus's name as
+    /// the interface's), with --ethercat the Ethernet frames of the interface (LINKTYPE_ETHERNET);
+    /// nanosecond times, each frame's direction; complete whenever the tool ends.
+    #[arg(long, global = true, value_name = "FILE")]
+    pub capture: Option<PathBuf>,
     /// What to do.
     #[command(subcommand)]
     pub command: Cmd,
@@ -224,20 +230,41 @@ impl Cmd {
     }
 }
 
-/// Opens the bus `spec` names, or the default one.
-pub fn open_bus(spec: Option<&BusSpec>) -> Result<Box<dyn CanBus>, ToolError> {
+/// Opens the bus `spec` names, or the default one: the bus and its spec.
+pub fn open_bus(spec: Option<&BusSpec>) -> Result<(BusSpec, Box<dyn CanBus>), ToolError> {
     match spec {
         Some(BusSpec::SocketcandListen { .. }) => Err(UsageError::ListeningBus.into()),
-        Some(s) => Ok(crate::link::open_spec(s)?),
+        Some(s) => Ok((s.clone(), crate::link::open_spec(s)?)),
         None => match SocketCanBus::open("vcan0") {
-            Ok(b) => Ok(Box::new(b)),
-            Err(_) => Ok(Box::new(SocketcandClient::connect(
-                "127.0.0.1",
-                crate::link::SOCKETCAND_DEFAULT_PORT,
-                "can0",
-            )?)),
+            Ok(b) => Ok((
+                BusSpec::SocketCan {
+                    iface: "vcan0".into(),
+                },
+                Box::new(b),
+            )),
+            Err(_) => {
+                let port = crate::link::SOCKETCAND_DEFAULT_PORT;
+                let bus = SocketcandClient::connect("127.0.0.1", port, "can0")?;
+                let spec = BusSpec::Socketcand {
+                    host: "127.0.0.1".into(),
+                    port,
+                    channel: "can0".into(),
+                };
+                Ok((spec, Box::new(bus)))
+            }
         },
     }
+}
+
+/// The capture of `--capture`, created right before a bus or an interface is opened.
+fn capture(args: &Args) -> Result<Option<Capture>, ToolError> {
+    let Some(path) = &args.capture else {
+        return Ok(None);
+    };
+    let application = concat!("sdo-tool ", env!("CARGO_PKG_VERSION"));
+    Capture::create(path, application)
+        .map(Some)
+        .map_err(|e| UsageError::Capture(e).into())
 }
 
 /// Runs `args` on `bus` (opened from the arguments when `None`), printing to `out`. With
@@ -275,6 +302,17 @@ pub fn run(
         od_path: args.od.as_deref(),
     };
     let timeout = Duration::from_millis(args.timeout_ms.max(1));
+    let offline = match &args.command {
+        Cmd::Decode(_) | Cmd::List => true,
+        Cmd::Net(a) => !a.command.needs_bus(),
+        _ => false,
+    };
+    if offline && args.capture.is_some() {
+        return Err(UsageError::CaptureWithoutLink {
+            command: args.command.name(),
+        }
+        .into());
+    }
     match &args.command {
         Cmd::Decode(a) => {
             let od = desc.as_ref().map(|d| &d.dictionary);
@@ -301,18 +339,29 @@ pub fn run(
     }
     if let Some(interface) = &args.ethercat {
         if let Cmd::Drive(a) = &args.command {
-            let mut op = EthercatSession::open(interface, timeout)?.into_op()?;
+            let capture = capture(args)?;
+            let session = EthercatSession::open_captured(interface, timeout, capture.as_ref())?;
+            let mut op = session.into_op()?;
             return crate::cmd::drive::run(a, &mut op, args.json, out);
         }
         let command = args.command.sdo().ok_or(UsageError::CanopenOnly {
             command: args.command.name(),
         })?;
-        let mut session = EthercatSession::open(interface, timeout)?;
+        let capture = capture(args)?;
+        let mut session = EthercatSession::open_captured(interface, timeout, capture.as_ref())?;
         return command.run(&mut session, ctx, out);
     }
-    let bus = match bus {
-        Some(b) => b,
-        None => open_bus(args.bus.as_ref())?,
+    let capture = capture(args)?;
+    let (name, bus) = match bus {
+        Some(b) => (b.describe(), b),
+        None => {
+            let (spec, bus) = open_bus(args.bus.as_ref())?;
+            (spec.interface_name(), bus)
+        }
+    };
+    let bus: Box<dyn CanBus> = match &capture {
+        Some(c) => Box::new(Captured::new(bus, c, &name)),
+        None => bus,
     };
     let mut tool = Tool::new(bus, desc.map(|d| d.dictionary.clone()));
     tool.set_timeout(timeout);
@@ -337,13 +386,16 @@ fn ethercat_command(
         }
         .into());
     };
+    let capture = capture(args)?;
+    let capture = capture.as_ref();
     if let Cmd::Sdos(a) = &args.command {
-        let mut session = EthercatSession::open(interface, timeout)?;
+        let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
         return crate::cmd::ethercat::sdos(&mut session, a, args.json, out);
     }
     crate::cmd::ethercat::chain(
         interface,
         matches!(args.command, Cmd::Slaves),
+        capture,
         ctx.desc,
         args.json,
         out,

@@ -1,12 +1,13 @@
 //! `sdo-tool --ethercat IFACE`: the SDO commands over EtherCAT, through the CoE mailboxes of the
 //! slaves, with ethercrab as the master.
 //!
-//! [`EthercatSession::open`] opens the interface with ethercrab's Linux raw socket and first reads
-//! the slaves' AL status with one broadcast read. A chain beyond Init belongs to another master (or a
+//! [`EthercatSession::open`] opens the interface with a raw socket (`ecat-link`'s, with ethercrab's
+//! frames sent and received over it by a TX/RX task of this module's; with a capture, every frame
+//! goes to it too) and first reads the slaves' AL status with one broadcast read. A chain beyond Init belongs to another master (or a
 //! configuration tool): the session refuses it, naming the state, and sends nothing else — it never
 //! changes the state of a running chain. A chain in Init is brought to Pre-Op (mailboxes configured
 //! from each slave's SII) for the transfers; NODE is the slave's position in the chain, 1 for the
-//! first. Each transfer runs ethercrab's TX/RX task and the transfer in one executor
+//! first. Each transfer runs the TX/RX task and the transfer in one executor
 //! (`async_io::block_on`) until the transfer ends; between transfers nothing is sent. Dropping the
 //! session asks every slave for Init again (the state it found) and closes the socket.
 //!
@@ -28,7 +29,7 @@ use std::pin::Pin;
 use std::time::{Duration, Instant};
 
 use ethercrab::error::{Error, MailboxError};
-use ethercrab::std::{ethercat_now, tx_rx_task};
+use ethercrab::std::ethercat_now;
 use ethercrab::{
     Command, MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, SubDeviceGroup, Timeouts,
 };
@@ -44,7 +45,10 @@ use od::types::DataType;
 use crate::{SdoAccess, ToolError};
 
 mod op;
+mod txrx;
 pub use op::OpSession;
+
+use crate::link::{Capture, RawSocket};
 
 /// Slaves a chain may have here (ethercrab wants a power of two).
 pub const MAX_SLAVES: usize = 128;
@@ -130,12 +134,12 @@ pub struct EthercatSession {
 struct Link {
     interface: String,
     maindevice: MainDevice<'static>,
-    /// ethercrab's TX/RX task; `None` once it ended (the socket failed).
+    /// The TX/RX task of ethercrab's frames; `None` once it ended (the socket failed).
     tx_rx: Option<TxRx>,
     timeout: Duration,
 }
 
-/// ethercrab's TX/RX task ended (it stops at the first frame it cannot place, e.g. one of another
+/// The TX/RX task ended (it stops at the first frame ethercrab cannot place, e.g. one of another
 /// master that reached its socket before the socket was bound to the interface): its error, or none
 /// when it ended without one.
 #[derive(Debug)]
@@ -300,7 +304,7 @@ const PROBE_INDEX: u8 = 0xE5;
 /// the frames of another master on the same interface neither disturb it nor are disturbed: the
 /// read-only look at a chain (`slaves`, `states`, the check before a session).
 struct Probe {
-    socket: crate::link::RawSocket,
+    socket: RawSocket,
     buf: Vec<u8>,
 }
 
@@ -309,10 +313,29 @@ const APRD: u8 = 0x01;
 const APWR: u8 = 0x02;
 const BRD: u8 = 0x07;
 
+/// A raw socket on `interface`, its frames written to `capture` where there is one.
+fn open_socket(interface: &str, capture: Option<&Capture>) -> Result<RawSocket, EthercatError> {
+    use std::io::{Error as IoError, ErrorKind};
+    let mut socket = RawSocket::open(interface).map_err(|e| EthercatError::Interface {
+        interface: interface.to_string(),
+        source: match e {
+            ecat_link::raw::RawError::NoInterface(_) => {
+                IoError::new(ErrorKind::NotFound, "no such interface")
+            }
+            ecat_link::raw::RawError::Io { source, .. } => source,
+            other => IoError::new(ErrorKind::InvalidInput, other.to_string()),
+        },
+    })?;
+    if let Some(c) = capture {
+        socket.capture_to(c);
+    }
+    Ok(socket)
+}
+
 impl Probe {
-    fn open(interface: &str) -> Option<Probe> {
+    fn open(interface: &str, capture: Option<&Capture>) -> Option<Probe> {
         Some(Probe {
-            socket: crate::link::RawSocket::open(interface).ok()?,
+            socket: open_socket(interface, capture).ok()?,
             buf: vec![0u8; 2048],
         })
     }
@@ -418,8 +441,8 @@ impl Probe {
 
 /// Every slave's AL status OR'd (one BRD of 0x0130), or `None` when no slave answers (or the socket
 /// cannot be opened: ethercrab reports that next).
-fn probe_al_status(interface: &str) -> Option<u16> {
-    let (data, wkc) = Probe::open(interface)?.exchange(BRD, 0, AL_STATUS, &[0, 0])?;
+fn probe_al_status(interface: &str, capture: Option<&Capture>) -> Option<u16> {
+    let (data, wkc) = Probe::open(interface, capture)?.exchange(BRD, 0, AL_STATUS, &[0, 0])?;
     (wkc > 0).then(|| u16::from_le_bytes([data[0], data[1]]))
 }
 
@@ -455,10 +478,15 @@ pub fn state_name(al: u16) -> String {
 
 /// The slaves of the chain on `interface`, read only: one broadcast read counts them, then per
 /// position its AL status and code and, with `identity`, its SII identity. Any chain, in any state,
-/// whoever runs it: nothing is written but the EEPROM interface's address and read command.
-pub fn slaves(interface: &str, identity: bool) -> Result<Vec<SlaveInfo>, ToolError> {
+/// whoever runs it: nothing is written but the EEPROM interface's address and read command. Its
+/// frames go to `capture` too, where there is one.
+pub fn slaves(
+    interface: &str,
+    identity: bool,
+    capture: Option<&Capture>,
+) -> Result<Vec<SlaveInfo>, ToolError> {
     check_interface_name(interface)?;
-    let Some(mut probe) = Probe::open(interface) else {
+    let Some(mut probe) = Probe::open(interface, capture) else {
         return Err(EthercatError::Interface {
             interface: interface.to_string(),
             source: std::io::Error::other("the raw socket cannot be opened (root or CAP_NET_RAW)"),
@@ -538,14 +566,23 @@ impl EthercatSession {
     /// Opens `interface`, finds the slaves and brings them to Pre-Op; `timeout` is how long a slave
     /// has to answer a mailbox request.
     ///
-    /// ethercrab's raw socket takes EtherCAT frames of every interface until it is bound to this one,
-    /// and its TX/RX task ends at the first frame it cannot place: with another master busy on another
-    /// interface, a stray frame may end the first try. Up to three tries are made.
+    /// A raw socket takes EtherCAT frames of every interface until it is bound to this one, and the
+    /// TX/RX task ends at the first frame ethercrab cannot place: with another master busy on
+    /// another interface, a stray frame may end the first try. Up to three tries are made.
     pub fn open(interface: &str, timeout: Duration) -> Result<EthercatSession, ToolError> {
+        EthercatSession::open_captured(interface, timeout, None)
+    }
+
+    /// [`EthercatSession::open`], every frame of the session written to `capture` too.
+    pub fn open_captured(
+        interface: &str,
+        timeout: Duration,
+        capture: Option<&Capture>,
+    ) -> Result<EthercatSession, ToolError> {
         check_interface_name(interface)?;
         let mut last = TaskEnded(None);
         for _ in 0..3 {
-            match EthercatSession::try_open(interface, timeout) {
+            match EthercatSession::try_open(interface, timeout, capture) {
                 Ok(s) => return Ok(s),
                 Err(OpenError::Tool(e)) => return Err(e),
                 Err(OpenError::TaskEnded(why)) => last = why,
@@ -558,9 +595,13 @@ impl EthercatSession {
         .into())
     }
 
-    fn try_open(interface: &str, timeout: Duration) -> Result<EthercatSession, OpenError> {
+    fn try_open(
+        interface: &str,
+        timeout: Duration,
+        capture: Option<&Capture>,
+    ) -> Result<EthercatSession, OpenError> {
         // Before ethercrab sends anything: a chain another master runs is left alone.
-        if let Some(al) = probe_al_status(interface) {
+        if let Some(al) = probe_al_status(interface, capture) {
             if let Some(state) = beyond_init(al) {
                 return Err(OpenError::Tool(
                     EthercatError::Running {
@@ -581,7 +622,7 @@ impl EthercatSession {
             pdu_loop,
             Timeouts {
                 // Generous for a loaded machine: a frame that comes back after its timeout ends
-                // ethercrab's TX/RX task.
+                // the TX/RX task.
                 pdu: Duration::from_millis(100),
                 eeprom: Duration::from_millis(100),
                 wait_loop_delay: Duration::from_millis(1),
@@ -594,7 +635,8 @@ impl EthercatSession {
                 ..MainDeviceConfig::default()
             },
         );
-        let task = tx_rx_task(interface, tx, rx).map_err(|source| {
+        let socket = open_socket(interface, capture).map_err(|e| OpenError::Tool(e.into()))?;
+        let task = txrx::TxRx::new(socket, tx, rx).map_err(|source| {
             OpenError::Tool(
                 EthercatError::Interface {
                     interface: interface.to_string(),

@@ -233,6 +233,17 @@ pub enum UsageError {
         /// What the system said.
         error: std::io::Error,
     },
+    /// `decode`: a capture without a SocketCAN interface (an EtherCAT capture, say).
+    #[error(
+        "{name}: no SocketCAN interface in the capture ({}): decode names CAN frames only",
+        if interfaces.is_empty() { "it describes none".to_string() } else { format!("its interfaces: {}", interfaces.join(", ")) }
+    )]
+    NoCanInCapture {
+        /// The capture's path, or `standard input`.
+        name: String,
+        /// Its interfaces, as `NAME (link type N)`.
+        interfaces: Vec<String>,
+    },
     /// `net`: the bus description cannot be read or generated: the file, line, key and what.
     #[error("{0}")]
     Net(String),
@@ -258,6 +269,15 @@ pub enum UsageError {
     /// An EtherCAT command without `--ethercat`.
     #[error("`{command}` is an EtherCAT command: give --ethercat IFACE")]
     EthercatOnly {
+        /// The command's name.
+        command: &'static str,
+    },
+    /// The capture file of `--capture` cannot be created.
+    #[error("--capture {0}")]
+    Capture(#[source] crate::link::CaptureError),
+    /// `--capture` with a command that opens no bus and no interface.
+    #[error("`{command}` uses no bus and no EtherCAT interface: --capture has nothing to record")]
+    CaptureWithoutLink {
         /// The command's name.
         command: &'static str,
     },
@@ -424,5 +444,32 @@ mod tests {
              drive, slaves, states and sdos are available"
         );
         assert_eq!(text(CommandLine("bad".into())), "bad");
+        assert_eq!(
+            text(Capture(crate::link::CaptureError {
+                path: "/x/c.pcapng".into(),
+                source: io("gone")
+            })),
+            "--capture /x/c.pcapng: gone"
+        );
+        assert_eq!(
+            text(NoCanInCapture {
+                name: "e.pcapng".into(),
+                interfaces: vec!["ecm0 (link type 1)".into(), "eth1 (link type 1)".into()]
+            }),
+            "e.pcapng: no SocketCAN interface in the capture (its interfaces: ecm0 (link type 1), \
+             eth1 (link type 1)): decode names CAN frames only"
+        );
+        assert_eq!(
+            text(NoCanInCapture {
+                name: "e.pcapng".into(),
+                interfaces: vec![]
+            }),
+            "e.pcapng: no SocketCAN interface in the capture (it describes none): decode names CAN \
+             frames only"
+        );
+        assert_eq!(
+            text(CaptureWithoutLink { command: "decode" }),
+            "`decode` uses no bus and no EtherCAT interface: --capture has nothing to record"
+        );
     }
 }

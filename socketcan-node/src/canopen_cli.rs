@@ -19,7 +19,7 @@ use ds402::drive::{DriveConfig, MotorKind};
 use od::device::DeviceDescription;
 use od::event::{Event, Origin};
 
-use crate::cli_common::{connect_hint, open_bus};
+use crate::cli_common::{capture, connect_hint, open_bus};
 use crate::generic::{unique_serials, PrepareError, Prepared};
 use crate::node::lss::UNCONFIGURED;
 use crate::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
@@ -88,6 +88,12 @@ pub struct Args {
     /// The simulated home switch, in position counts (0x60FD bit 2 at or above it).
     #[arg(long, value_name = "COUNTS", allow_hyphen_values = true)]
     pub home_switch: Option<i64>,
+
+    /// Writes every frame the nodes send and receives to FILE, a pcapng capture Wireshark and
+    /// tshark read (LINKTYPE_CAN_SOCKETCAN, the bus's name as the interface's, nanosecond times,
+    /// each frame's direction); complete whenever the process ends.
+    #[arg(long, value_name = "FILE")]
+    pub capture: Option<PathBuf>,
 
     /// Writes the description of the first node as it runs (its dictionary with the drive
     /// simulation records at 0x5FF0 + axis) to FILE and exits: an EDS for FILE.eds, an XDD for
@@ -218,6 +224,9 @@ pub enum CliError {
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
     Signal(#[from] cli_support::SignalError),
+    /// The capture file cannot be created.
+    #[error("--capture {0}")]
+    Capture(#[from] crate::cli_common::CaptureError),
     /// The storage directory cannot be used.
     #[error("--storage {path}: {why}")]
     Storage {
@@ -420,7 +429,11 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         .map(|l| event_lines(l.node_id, &l.path, &l.events, args.json))
         .collect();
     let mut stations = build_from(args, loaded)?;
-    let (spec, mut bus) = open_bus(args.bus.as_ref())?;
+    let capture = capture(
+        args.capture.as_deref(),
+        concat!("canopen-node ", env!("CARGO_PKG_VERSION")),
+    )?;
+    let (spec, mut bus) = open_bus(args.bus.as_ref(), capture.as_ref())?;
     let stop = cli_support::stop_flag(stop)?;
     let mut out = std::io::stdout();
     for ((s, spec), lines) in stations.iter().zip(&args.ods).zip(&said) {

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use clap::Parser;
 
-use crate::cli_common::{connect_hint, open_bus};
+use crate::cli_common::{capture, connect_hint, open_bus};
 use crate::node::storage::{FileStorage, MemoryStorage, ParameterStorage};
 use crate::node::{Node, NodeConfig, NodeError};
 use crate::runtime::{self, RunStats, Station};
@@ -55,6 +55,12 @@ pub struct Args {
     #[arg(long, value_name = "US", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(250..=100_000))]
     pub x2x_us: u64,
 
+    /// Writes every frame the node sends and receives to FILE, a pcapng capture Wireshark and
+    /// tshark read (LINKTYPE_CAN_SOCKETCAN, the bus's name as the interface's, nanosecond times,
+    /// each frame's direction); complete whenever the process ends.
+    #[arg(long, value_name = "FILE")]
+    pub capture: Option<PathBuf>,
+
     /// Writes the description of the node with --modules modules (every module's registers and PDOs,
     /// the simulation inputs at 0x5F00+) to FILE and exits: an EDS for FILE.eds, an XDD for FILE.xdd.
     /// Give it to a master's --od, python-canopen's add_node or any tool that reads descriptions.
@@ -82,6 +88,9 @@ pub enum CliError {
     /// Ctrl-C could not be hooked.
     #[error("cannot handle Ctrl-C: {0}")]
     Signal(#[from] cli_support::SignalError),
+    /// The capture file cannot be created.
+    #[error("--capture {0}")]
+    Capture(#[from] crate::cli_common::CaptureError),
     /// The description file cannot be written, or its name says no format.
     #[error("--write-description {path}: {why}")]
     Description {
@@ -178,7 +187,11 @@ pub fn run(args: &Args, stop: Option<Arc<AtomicBool>>) -> Result<RunStats, CliEr
         return Ok(RunStats::default());
     }
     let mut station = build_node(args)?;
-    let (spec, mut bus) = open_bus(args.bus.as_ref())?;
+    let capture = capture(
+        args.capture.as_deref(),
+        concat!("x67-node ", env!("CARGO_PKG_VERSION")),
+    )?;
+    let (spec, mut bus) = open_bus(args.bus.as_ref(), capture.as_ref())?;
     let stop = cli_support::stop_flag(stop)?;
     // A closed standard output (a parent that stopped reading) does not stop the node.
     let _ = writeln!(

@@ -1,6 +1,6 @@
 //! The `x67-node` binary as a user runs it: over the socketcand protocol on 127.0.0.1, with
 //! python-canopen as the master, with its default bus, stopped by Ctrl-C, and killed while it saves
-//! its parameters.
+//! its parameters; its capture of a session.
 
 use std::io::{BufRead, BufReader};
 use std::net::TcpListener;
@@ -195,6 +195,79 @@ fn bad_arguments_exit_2_with_the_reason() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("params: not a regular file"), "{err}");
+    // A capture file that cannot be created: refused with one line before the bus is opened.
+    let out = Command::new(NODE)
+        .args([
+            "--capture",
+            "/nonexistent/dir/x.pcapng",
+            "--bus",
+            "socketcand-listen:127.0.0.1:0",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(
+        err,
+        "x67-node: --capture /nonexistent/dir/x.pcapng: No such file or directory (os error 2)\n"
+    );
+}
+
+/// `--capture FILE`: what the node sent and received, in order and each with its direction, in a
+/// pcapng file that is whole however the node is stopped (SIGTERM, which it does not handle, or
+/// Ctrl-C): its boot-up (0x701, 0x00) sent at start, the SDO request for 0x1018:00 received, the
+/// answer (4 entries) sent; the times from the start to the stop, in order.
+#[test]
+fn a_capture_is_whole_when_the_node_is_stopped_by_sigterm_or_ctrl_c() {
+    use link_capture::pcapng::{Direction, Reader};
+    for signal in ["-TERM", "-INT"] {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("node.pcapng");
+        let start = std::time::SystemTime::now();
+        let mut node = start_node(&["--heartbeat-ms", "0", "--capture", file.to_str().unwrap()]);
+        let mut bus = client(node.port);
+        assert_eq!(
+            sdo(&mut bus, [0x40, 0x18, 0x10, 0, 0, 0, 0, 0]),
+            [0x4F, 0x18, 0x10, 0, 4, 0, 0, 0]
+        );
+        let status = Command::new("kill")
+            .args([signal, &node.child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let end = Instant::now() + Duration::from_secs(5);
+        while node.child.try_wait().unwrap().is_none() {
+            assert!(Instant::now() < end, "x67-node did not stop on {signal}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let stop = std::time::SystemTime::now();
+        let bytes = std::fs::read(&file).unwrap();
+        let mut r = Reader::new(&bytes[..]);
+        let mut frames = Vec::new();
+        let mut last = start;
+        while let Some(p) = r.next_packet().unwrap() {
+            let t = p.time.unwrap();
+            assert!(last <= t && t <= stop, "{signal}: {t:?} out of order");
+            last = t;
+            let frame = CanFrame::from_socketcan_bytes(p.data).unwrap();
+            frames.push((p.direction.unwrap(), frame.to_string()));
+        }
+        use Direction::{Inbound as In, Outbound as Out};
+        assert_eq!(
+            frames,
+            [
+                (Out, "701#00".to_string()),
+                (In, "601#4018100000000000".to_string()),
+                (Out, "581#4F18100004000000".to_string()),
+            ],
+            "{signal}"
+        );
+        let port = node.port;
+        assert_eq!(
+            r.interfaces_seen()[0].name,
+            Some(format!("socketcand-listen:127.0.0.1:{port}"))
+        );
+    }
 }
 
 /// Store parameters (0x1010) into a file; a process killed at any moment leaves the old set or the

@@ -253,6 +253,16 @@ fn bad_arguments_exit_2_with_one_line() {
             vec!["--od".into(), "/nonexistent/x.eds@5".into()],
             "canopen-node: /nonexistent/x.eds: ".into(),
         ),
+        (
+            vec![
+                "--od".into(),
+                format!("{io}@5"),
+                "--capture".into(),
+                "/nonexistent/dir/x.pcapng".into(),
+            ],
+            "canopen-node: --capture /nonexistent/dir/x.pcapng: No such file or directory (os error 2)"
+                .into(),
+        ),
     ];
     for (args, says) in cases {
         let out = Command::new(NODE)

@@ -10,11 +10,14 @@
 //! - [`link`]: a veth pair with `smd-ethercat` running on its far end, in a network namespace of its
 //!   own;
 //! - [`sched`]: how long the machine held threads back (their run-queue wait), which a timing test
-//!   takes off a late answer before it blames the node.
+//!   takes off a late answer before it blames the node;
+//! - [`tshark`]: Wireshark's dissectors on a capture (no malformed packet, no expert error; the
+//!   protocol layers and fields of each frame).
 #![deny(missing_docs)]
 
 pub mod link;
 pub mod sched;
+pub mod tshark;
 
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader};

@@ -5,6 +5,7 @@
 //! A bus is named by a [`BusSpec`] in the notation every tool of this project takes:
 //! `socketcan:IFACE`, `socketcand://HOST:PORT/CHANNEL`, `socketcand-listen:ADDR:PORT`.
 
+pub mod capture;
 mod inprocess;
 mod socketcan_bus;
 pub mod socketcand;
@@ -12,6 +13,7 @@ mod spec;
 
 use std::time::{Duration, Instant, SystemTime};
 
+pub use capture::Captured;
 pub use inprocess::{Endpoint, InProcessBus};
 pub use socketcan_bus::SocketCanBus;
 pub use socketcand::{SocketcandClient, SocketcandServer};

@@ -137,6 +137,28 @@ fn parse_port(text: &str) -> Result<u16, String> {
     }
 }
 
+impl BusSpec {
+    /// The bus's name as a capture names its interface (pcapng's `if_name`): the interface of
+    /// SocketCAN (`vcan0`), `socketcand:HOST:PORT/CHANNEL` for a daemon's channel,
+    /// `socketcand-listen:ADDR:PORT` for the server.
+    pub fn interface_name(&self) -> String {
+        match self {
+            BusSpec::SocketCan { iface } => iface.clone(),
+            BusSpec::Socketcand {
+                host,
+                port,
+                channel,
+            } if host.contains(':') => format!("socketcand:[{host}]:{port}/{channel}"),
+            BusSpec::Socketcand {
+                host,
+                port,
+                channel,
+            } => format!("socketcand:{host}:{port}/{channel}"),
+            BusSpec::SocketcandListen { addr } => format!("socketcand-listen:{addr}"),
+        }
+    }
+}
+
 impl fmt::Display for BusSpec {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -213,6 +235,29 @@ mod tests {
                 addr: "0.0.0.0:29536".parse().unwrap()
             }
         );
+    }
+
+    /// The names a capture gives each kind of bus.
+    #[test]
+    fn interface_names() {
+        for (text, name) in [
+            ("vcan0", "vcan0"),
+            ("socketcan:can1", "can1"),
+            (
+                "socketcand://127.0.0.1:29536/can0",
+                "socketcand:127.0.0.1:29536/can0",
+            ),
+            (
+                "socketcand://[::1]:4000/vcan0",
+                "socketcand:[::1]:4000/vcan0",
+            ),
+            (
+                "socketcand-listen:127.0.0.1:4000",
+                "socketcand-listen:127.0.0.1:4000",
+            ),
+        ] {
+            assert_eq!(text.parse::<BusSpec>().unwrap().interface_name(), name);
+        }
     }
 
     #[test]

@@ -5,6 +5,7 @@ the CiA 402 state machine and moved in cyclic synchronous position mode.
 
     pysoem_drives.py IFACE UNIT... [--move COUNTS] [--steps N] [--stand-cycles N] [--sync0-ns NS]
                      [--configure-pdos POS] [--assign POS:RX:TX] [--modes] [--csp-claimed]
+                     [--sdo-info]
 
 IFACE is the master's interface. Each UNIT describes the unit at that position of the chain as
 NAME,VENDOR,PRODUCT,AXES (e.g. "Elmo Drive,0x9a,0x30924,0"): what the master must find there, and
@@ -19,7 +20,9 @@ PDOs RX (0x1C12) and TX (0x1C13), each a list of mapping objects joined by "," o
 power-on assignment (what a configuration tool takes from the ESI to carry what csp needs).
 --modes checks each CiA 402 axis's 0x6502 (supported drive modes) by SDO where the device has the
 object (an upload aborted with 0x06020000 says it has none): not 0; --csp-claimed
-also requires bit 7 (csp) there.
+also requires bit 7 (csp) there. --sdo-info reads each drive's dictionary by SDO Information in
+Pre-Op (SOEM's OD list, object and entry descriptions) and checks its identity object and each CiA 402
+axis's controlword and statusword in it.
 
 What the script does, as a master that has only the devices (no ESI):
   - config_init: the units' identities from the SII (name, vendor, product code) and 0x1018:01/02,
@@ -281,6 +284,30 @@ def configure_pdos(slave):
     sdo_write(slave, 0x1C13, 0, b"\x01")
 
 
+def sdo_information(unit, slave, numbers):
+    """The dictionary listed and described by SDO Information (SOEM's ecx_readODlist,
+    ecx_readODdescription, ecx_readOE): the identity object a RECORD of type IDENTITY (0x0023),
+    each CiA 402 axis's controlword and statusword VARs of UNSIGNED16 (0x0006), 16 bits."""
+    od = {o.index: o for o in slave.od}
+    check(0x1018 in od, f"{unit}: SDO Information lists 0x1018")
+    eq((od[0x1018].object_code, od[0x1018].data_type), (9, 0x0023),
+       f"{unit}: 0x1018 described as RECORD IDENTITY")
+    for a in numbers:
+        if a.startswith("m"):
+            continue
+        base = 0x800 * int(a)
+        for index, name in ((0x6040 + base, "controlword"), (0x6041 + base, "statusword")):
+            check(index in od, f"{unit}: SDO Information lists 0x{index:04X} ({name})")
+            o = od[index]
+            eq((o.object_code, o.data_type, o.entries[0].bit_length if o.entries else 16),
+               (7, 0x0006, 16), f"{unit}: 0x{index:04X} described as VAR UNSIGNED16")
+
+
+def check(condition, what):
+    if not condition:
+        raise Fail(what)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("iface")
@@ -293,6 +320,7 @@ def main():
     ap.add_argument("--assign", action="append", default=[], metavar="POS:RX:TX")
     ap.add_argument("--modes", action="store_true")
     ap.add_argument("--csp-claimed", action="store_true")
+    ap.add_argument("--sdo-info", action="store_true")
     args = ap.parse_args()
     if args.steps < 1:
         print("cannot run: --steps must be 1 or more", file=sys.stderr)
@@ -329,6 +357,9 @@ def main():
             eq(u(slave.eeprom_read(0x0E)), k + 1, f"{unit}: SII serial number")
         m.read_state()
         eq([x.state for x in m.slaves], [PREOP] * n, "every unit in Pre-Op after config_init")
+        if args.sdo_info:
+            for k, (slave, (_, _, _, numbers)) in enumerate(zip(m.slaves, expected)):
+                sdo_information(f"unit {k}", slave, numbers)
         for k in args.configure_pdos:
             configure_pdos(m.slaves[k])
         for text in args.assign:

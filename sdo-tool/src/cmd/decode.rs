@@ -1,5 +1,6 @@
-//! `decode LOG [NODE]`: every frame of a candump log named, read line by line in bounded memory;
-//! at the end, the SDO transfers left open.
+//! `decode LOG [NODE]`: every frame of a candump log (or of a pcapng capture's SocketCAN
+//! interfaces) named, read line by line (block by block) in bounded memory; at the end, the SDO
+//! transfers left open.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -11,7 +12,7 @@ use crate::{ToolError, UsageError};
 /// `decode`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct DecodeArgs {
-    /// The log.
+    /// The log: candump's (`candump -L`), or a pcapng capture (told by its first bytes).
     pub log: PathBuf,
     /// Only this node (its PDOs need --od).
     pub node: Option<u8>,
@@ -46,15 +47,16 @@ pub fn run(
     decode(&args.log, w, json, out)
 }
 
-/// `decode`: every frame of a candump log, named, with its time since the log's first frame, read
-/// line by line in bounded memory; at the end, the SDO transfers left open.
+/// `decode`: every frame of a candump log or a pcapng capture (told by its first four bytes), named,
+/// with its time since the log's first frame, read line by line (or block by block) in bounded
+/// memory; at the end, the SDO transfers left open.
 fn decode(
     path: &std::path::Path,
     w: crate::watch::Watcher,
     json: bool,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    use crate::watch::{Decoded, LogDecoder, MAX_LOG_LINE};
+    use crate::watch::{Decoded, LogDecoder, MAX_LOG_LINE, PCAPNG_MAGIC};
     use std::io::Read;
     let stdin = path.as_os_str() == "-";
     let input: Box<dyn Read> = if stdin {
@@ -74,11 +76,23 @@ fn decode(
     } else {
         path.display().to_string()
     };
-    let mut log = LogDecoder::new(std::io::BufReader::new(input), w);
-    while let Some(event) = log.next_event().map_err(|error| UsageError::Log {
+    let log_error = |error| UsageError::Log {
         name: name.clone(),
         error,
-    })? {
+    };
+    let mut input = std::io::BufReader::new(input);
+    let mut head = Vec::with_capacity(4);
+    (&mut input)
+        .take(4)
+        .read_to_end(&mut head)
+        .map_err(log_error)?;
+    let input = std::io::BufReader::new(std::io::Cursor::new(head.clone()).chain(input));
+    let mut log = if head == PCAPNG_MAGIC {
+        LogDecoder::pcapng(input, w)
+    } else {
+        LogDecoder::new(input, w)
+    };
+    while let Some(event) = log.next_event().map_err(log_error)? {
         match event {
             Decoded::Line { t, text } => emit(
                 out,
@@ -105,6 +119,47 @@ fn decode(
         eprintln!(
             "sdo-tool: {name}: {n} line(s) are no candump -L frames (the first: line {first}): \
              skipped"
+        );
+    }
+    match log.capture_summary() {
+        Some(summary) => capture_notes(&name, summary),
+        None => Ok(()),
+    }
+}
+
+/// What a capture held besides the frames decoded, one line on standard error each; a capture with
+/// no SocketCAN interface at all is refused.
+fn capture_notes(name: &str, s: &crate::watch::CaptureSummary) -> Result<(), ToolError> {
+    if let Some(at) = s.cut_at {
+        eprintln!(
+            "sdo-tool: {name}: the capture ends inside the block at byte {at} (cut short): \
+             decoded up to there"
+        );
+    }
+    if s.can_interfaces == 0 {
+        return Err(UsageError::NoCanInCapture {
+            name: name.to_string(),
+            interfaces: s.interfaces.clone(),
+        }
+        .into());
+    }
+    if s.other_links > 0 {
+        eprintln!(
+            "sdo-tool: {name}: {} packet(s) of interfaces that are no SocketCAN bus: skipped",
+            s.other_links
+        );
+    }
+    if let Some((first, what)) = s.first_not_classic {
+        eprintln!(
+            "sdo-tool: {name}: {} SocketCAN packet(s) are no classic CAN frame (the first: \
+             packet {first}, {what}): skipped",
+            s.not_classic
+        );
+    }
+    if s.unreadable > 0 {
+        eprintln!(
+            "sdo-tool: {name}: {} packet(s) of undescribed interfaces or too long to read: skipped",
+            s.unreadable
         );
     }
     Ok(())

@@ -13,16 +13,18 @@ pub struct SdosArgs {
     pub node: Option<u8>,
 }
 
-/// `slaves` (with `identity`) and `states` on the chain of `interface`.
+/// `slaves` (with `identity`) and `states` on the chain of `interface`, its frames written to
+/// `capture` where there is one.
 pub fn chain(
     interface: &str,
     identity: bool,
+    capture: Option<&crate::link::Capture>,
     desc: Option<&od::DeviceDescription>,
     json: bool,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
     let io = ToolError::Output;
-    let slaves = crate::ethercat::slaves(interface, identity)?;
+    let slaves = crate::ethercat::slaves(interface, identity, capture)?;
     let name = |product: u32| {
         desc.filter(|d| d.identity.product_code == product)
             .map(|d| d.identity.order_code.clone())

@@ -1,9 +1,11 @@
 //! Logs in candump's format (`candump -L`): a frame as a line, a line as a frame, a log read line
-//! by line in bounded memory, and [`LogDecoder`], which names each frame of one.
+//! by line in bounded memory, and [`LogDecoder`], which names each frame of one, or of a pcapng
+//! capture ([`super::capture`]).
 
 use std::collections::VecDeque;
 use std::io::BufRead;
 
+use super::capture::{CaptureFrames, CaptureSummary};
 use super::{OpenTransfer, Watcher};
 use crate::link::CanFrame;
 
@@ -152,10 +154,19 @@ pub enum Decoded {
     },
 }
 
-/// `sdo-tool decode`: a `candump -L` log read line by line in bounded memory through a
-/// [`Watcher`], pulled one [`Decoded`] at a time; at the end, the transfers left open.
+/// Where a decoder's frames come from.
+enum Source<R> {
+    /// A `candump -L` log, line by line.
+    Candump(LogLines<R>),
+    /// A pcapng capture, packet by packet.
+    Pcapng(CaptureFrames<R>),
+}
+
+/// `sdo-tool decode`: a `candump -L` log read line by line in bounded memory (or a pcapng capture
+/// packet by packet, [`LogDecoder::pcapng`]) through a [`Watcher`], pulled one [`Decoded`] at a
+/// time; at the end, the transfers left open.
 pub struct LogDecoder<R> {
-    lines: LogLines<R>,
+    source: Source<R>,
     watcher: Watcher,
     /// The first frame's time, the last frame's (since the first).
     first: Option<f64>,
@@ -167,10 +178,20 @@ pub struct LogDecoder<R> {
 }
 
 impl<R: BufRead> LogDecoder<R> {
-    /// Decodes `input` with `watcher`.
+    /// Decodes the candump log `input` with `watcher`.
     pub fn new(input: R, watcher: Watcher) -> LogDecoder<R> {
+        LogDecoder::from_source(Source::Candump(LogLines::new(input, MAX_LOG_LINE)), watcher)
+    }
+
+    /// Decodes the pcapng capture `input` with `watcher`: every classic CAN frame of its SocketCAN
+    /// interfaces, its time from its block.
+    pub fn pcapng(input: R, watcher: Watcher) -> LogDecoder<R> {
+        LogDecoder::from_source(Source::Pcapng(CaptureFrames::new(input)), watcher)
+    }
+
+    fn from_source(source: Source<R>, watcher: Watcher) -> LogDecoder<R> {
         LogDecoder {
-            lines: LogLines::new(input, MAX_LOG_LINE),
+            source,
             watcher,
             first: None,
             last: 0.0,
@@ -190,7 +211,28 @@ impl<R: BufRead> LogDecoder<R> {
             if self.ended {
                 return Ok(None);
             }
-            let Some((number, line)) = self.lines.next_line()? else {
+            let next = match &mut self.source {
+                Source::Candump(lines) => match lines.next_line()? {
+                    None => None,
+                    Some((number, LogLine::TooLong)) => {
+                        self.queue.push_back(Decoded::TooLong { line: number });
+                        continue;
+                    }
+                    Some((number, LogLine::Text(bytes))) => {
+                        let text = String::from_utf8_lossy(bytes);
+                        let Some((t, frame)) = candump_line(&text) else {
+                            if !text.trim().is_empty() {
+                                self.not_frames += 1;
+                                self.first_not_frame.get_or_insert(number);
+                            }
+                            continue;
+                        };
+                        Some((t - *self.first.get_or_insert(t), frame))
+                    }
+                },
+                Source::Pcapng(frames) => frames.next_frame()?,
+            };
+            let Some((t, frame)) = next else {
                 self.ended = true;
                 let t = self.last;
                 self.queue.extend(
@@ -201,22 +243,6 @@ impl<R: BufRead> LogDecoder<R> {
                 );
                 continue;
             };
-            let bytes = match line {
-                LogLine::Text(bytes) => bytes,
-                LogLine::TooLong => {
-                    self.queue.push_back(Decoded::TooLong { line: number });
-                    continue;
-                }
-            };
-            let text = String::from_utf8_lossy(bytes);
-            let Some((t, frame)) = candump_line(&text) else {
-                if !text.trim().is_empty() {
-                    self.not_frames += 1;
-                    self.first_not_frame.get_or_insert(number);
-                }
-                continue;
-            };
-            let t = t - *self.first.get_or_insert(t);
             self.last = t;
             let lines = self.watcher.at(t, &frame);
             self.queue
@@ -228,6 +254,14 @@ impl<R: BufRead> LogDecoder<R> {
     /// many, and the first one's number.
     pub fn not_frames(&self) -> (u64, Option<u64>) {
         (self.not_frames, self.first_not_frame)
+    }
+
+    /// For a pcapng capture, what it held besides the frames decoded (complete at its end).
+    pub fn capture_summary(&self) -> Option<&CaptureSummary> {
+        match &self.source {
+            Source::Pcapng(frames) => Some(frames.summary()),
+            Source::Candump(_) => None,
+        }
     }
 }
 

@@ -17,11 +17,13 @@ use crate::link::{CanFrame, EmcyCode, PdoConfig, RPDO_COMM, TPDO_COMM};
 use crate::TypeCode;
 use od::dict::Address;
 
+mod capture;
 mod log;
 mod sdo;
 #[cfg(test)]
 mod tests;
 
+pub use capture::{CaptureFrames, CaptureSummary, PCAPNG_MAGIC};
 pub use log::{candump, candump_line, Decoded, LogDecoder, LogLine, LogLines, MAX_LOG_LINE};
 pub use sdo::OpenTransfer;
 use sdo::Transfer;
