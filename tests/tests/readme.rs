@@ -293,7 +293,10 @@ fn every_command_line_of_the_readme_and_the_book_works_when_pasted() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n---\n"));
-    assert!(ran >= 30, "only {ran} commands found in the README and the book");
+    assert!(
+        ran >= 30,
+        "only {ran} commands found in the README and the book"
+    );
     println!("{ran} commands of the README and the book ran");
 }
 
@@ -375,8 +378,15 @@ fn the_book_lists_every_page_and_every_link_leads_somewhere() {
     let mut sorted = listed.clone();
     sorted.sort();
     sorted.dedup();
-    assert_eq!(sorted.len(), listed.len(), "a page listed twice: {listed:?}");
-    assert_eq!(sorted, on_disk, "docs/src/SUMMARY.md and the pages of docs/src");
+    assert_eq!(
+        sorted.len(),
+        listed.len(),
+        "a page listed twice: {listed:?}"
+    );
+    assert_eq!(
+        sorted, on_disk,
+        "docs/src/SUMMARY.md and the pages of docs/src"
+    );
     for doc in documents() {
         let dir = root().join(&doc.name);
         let dir = dir.parent().unwrap();
