@@ -269,3 +269,51 @@ fn sync_produces_sync_messages() {
         assert_eq!(n.tool(bad).unwrap_err().exit_code(), 2, "{bad:?}");
     }
 }
+
+/// `sync --count 0` sends until Ctrl-C, then says how many and exits 0; between two messages it
+/// sleeps: a second of SYNC every 100 ms takes far less than a second of CPU time (the shell's
+/// `times` of its child).
+#[test]
+fn sync_until_ctrl_c_and_asleep_between() {
+    use std::process::{Command, Stdio};
+    let (mut node, port) = x67::hub(3);
+    let bus = common::socketcand_bus(port);
+    let tool = env!("CARGO_BIN_EXE_sdo-tool");
+    let child = Command::new(tool)
+        .args(["--bus", &bus, "sync", "--count", "0", "--period-ms", "20"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let line = String::from_utf8_lossy(&out.stdout);
+    let sent: u64 = line.split(' ').next().unwrap().parse().unwrap();
+    assert!(
+        sent >= 2 && line.ends_with(" SYNC sent on 0x080\n"),
+        "{line}"
+    );
+    let script = format!("{tool} --bus {bus} sync --count 11 --period-ms 100 >/dev/null; times");
+    let out = Command::new("bash").args(["-c", &script]).output().unwrap();
+    let times = String::from_utf8_lossy(&out.stdout);
+    // The second line: the children's user and system time, `0m0.012s 0m0.004s`.
+    let child_line = times.lines().nth(1).unwrap();
+    let seconds: f64 = child_line
+        .split(' ')
+        .map(|t| {
+            let (m, s) = t.trim_end_matches('s').split_once('m').unwrap();
+            m.parse::<f64>().unwrap() * 60.0 + s.parse::<f64>().unwrap()
+        })
+        .sum();
+    assert!(
+        seconds < 0.5,
+        "{seconds} s of CPU for a second of SYNC: {times}"
+    );
+    node.kill().unwrap();
+    node.wait().unwrap();
+}
