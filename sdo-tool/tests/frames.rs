@@ -138,9 +138,11 @@ fn a_domain_goes_by_block_transfer() {
     assert_eq!(f, ["603#A40020017F400000", "583#4700200101020300"]);
 }
 
-/// A description of several devices (an `EtherCATInfoList` of the SMD23K-B/SMD24K ESI and the X67
-/// ESI): the node's identity, read first (`605#40181001…`, `605#40181002…`, expedited), picks its
-/// device, the third of the file, whose name `ConfigOutput03aRead` the read then takes; no warning.
+/// A description of several devices (an `EtherCATInfoList` of the SMD23K-B/SMD24K ESI, an
+/// X67SM2437 of the X67's vendor whose 0x2130 is named `Other03aRead`, and the X67 ESI): the node's
+/// identity, read first (`605#40181001…`, `605#40181002…`, expedited), picks its device by vendor
+/// and product, the fourth of the file, whose name `ConfigOutput03aRead` the read then takes, and
+/// whose records it reads whole (0x1800, which the SMD's ESI does not have).
 #[test]
 fn the_identity_picks_the_device_of_a_description_of_several() {
     let n = Running::start();
@@ -150,8 +152,14 @@ fn the_identity_picks_the_device_of_a_description_of_several() {
         let start = text.find("<EtherCATInfo").unwrap();
         text[start..].to_string()
     };
+    let other = esi("fixtures/x67/X67SM2436.esi.xml")
+        .replace("ProductCode=\"#x00002436\"", "ProductCode=\"#x00002437\"")
+        .replace(
+            "<Name>ConfigOutput03aRead</Name>",
+            "<Name>Other03aRead</Name>",
+        );
     let list = format!(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<EtherCATInfoList>\n{}\n{}\n</EtherCATInfoList>\n",
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<EtherCATInfoList>\n{}\n{other}\n{}\n</EtherCATInfoList>\n",
         esi("fixtures/smd/SMD23K-B_SMD24K.esi.xml"),
         esi("fixtures/x67/X67SM2436.esi.xml")
     );
@@ -176,6 +184,54 @@ fn the_identity_picks_the_device_of_a_description_of_several() {
             "585#4F30210000000000",
         ]
     );
+    let record = n.tool(&["--od", od, "read", "5", "0x1800"]).unwrap();
+    assert!(
+        record.starts_with("0x1800:00  ")
+            && record.contains("\n0x1800:01  ")
+            && record.contains(" = 0x00000185\n"),
+        "{record}"
+    );
+}
+
+/// A description without an identity (vendor and product 0) is not checked against the node: a
+/// write is the write alone (`605#2F102100 14…`, ConfigOutput03a = 20). One with a vendor but no
+/// product is: the identity is read before the write.
+#[test]
+fn a_description_without_identity_is_not_checked() {
+    let n = Running::start();
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(eds()).unwrap();
+    let mut tap = n.bus.endpoint();
+    let write = |od: &str, tap: &mut socketcan_node::transport::Endpoint| {
+        frames(tap);
+        assert_eq!(
+            n.tool(&["--od", od, "write", "5", "ConfigOutput03a", "20"])
+                .unwrap(),
+            "OK\n"
+        );
+        frames(tap)
+    };
+    let none = dir.path().join("none.eds");
+    std::fs::write(
+        &none,
+        text.replace("VendorNumber=0x00000B2E", "VendorNumber=0x00000000")
+            .replace("ProductNumber=0x00002436", "ProductNumber=0x00000000"),
+    )
+    .unwrap();
+    assert_eq!(
+        write(none.to_str().unwrap(), &mut tap),
+        ["605#2F10210014000000", "585#6010210000000000"]
+    );
+    let vendor = dir.path().join("vendor.eds");
+    std::fs::write(
+        &vendor,
+        text.replace("ProductNumber=0x00002436", "ProductNumber=0x00000000"),
+    )
+    .unwrap();
+    let f = write(vendor.to_str().unwrap(), &mut tap);
+    assert_eq!(f.len(), 6, "{f:?}");
+    assert_eq!(f[0], "605#4018100100000000");
+    assert_eq!(f[2], "605#4018100200000000");
 }
 
 /// `send` puts cansend's frame on the bus as written: an 11-bit data frame, a remote frame, a
