@@ -55,6 +55,13 @@ fn a_four_byte_read_is_one_expedited_request_and_its_answer() {
         assert_eq!(n.tool(argv).unwrap(), shown, "{argv:?}");
         assert_eq!(frames(&mut tap), exact, "{argv:?}");
     }
+    // Node-IDs are 1 to 127: 0 and 128 are refused (exit 2) with nothing sent.
+    for node in ["0", "128"] {
+        let e = n.tool(&["read", node, "0x1018:01", "u32"]).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert_eq!(e.to_string(), format!("node {node} is not 1 to 127"));
+    }
+    assert_eq!(frames(&mut tap), Vec::<String>::new());
 }
 
 /// `--block` asks for block upload of what may be larger than 4 bytes (`605#A4081000 7F000000`:
