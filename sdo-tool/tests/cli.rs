@@ -215,6 +215,30 @@ fn a_description_of_another_device_is_warned_about() {
     let out = run(other, &["read", "3", "ConfigOutput03aRead"]);
     assert_eq!(String::from_utf8_lossy(&out.stdout), "20\n");
     assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+    // A description of several devices, none of them the node's: the first is used, and said so.
+    let esi = |text: String| text[text.find("<EtherCATInfo").unwrap()..].to_string();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let smd = std::fs::read_to_string(root.join("fixtures/smd/SMD23K-B_SMD24K.esi.xml")).unwrap();
+    let x67 = std::fs::read_to_string(root.join("fixtures/x67/X67SM2436.esi.xml")).unwrap();
+    let x67 = x67.replace("ProductCode=\"#x00002436\"", "ProductCode=\"#x00002437\"");
+    let list = dir.path().join("list.xml");
+    std::fs::write(
+        &list,
+        format!(
+            "<EtherCATInfoList>\n{}\n{}\n</EtherCATInfoList>\n",
+            esi(x67),
+            esi(smd)
+        ),
+    )
+    .unwrap();
+    let out = run(list.to_str().unwrap(), &write);
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "sdo-tool: warning: none of the 3 devices of the description (--od) is of vendor \
+         0x00000B2E, product 0x00002436, which node 3 reports; the first, X67SM2436 (vendor \
+         0x00000B2E, product 0x00002437), is used\n"
+    );
     node.kill().unwrap();
     node.wait().unwrap();
 }

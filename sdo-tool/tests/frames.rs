@@ -55,6 +55,13 @@ fn a_four_byte_read_is_one_expedited_request_and_its_answer() {
         assert_eq!(n.tool(argv).unwrap(), shown, "{argv:?}");
         assert_eq!(frames(&mut tap), exact, "{argv:?}");
     }
+    // Node-IDs are 1 to 127: 0 and 128 are refused (exit 2) with nothing sent.
+    for node in ["0", "128"] {
+        let e = n.tool(&["read", node, "0x1018:01", "u32"]).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert_eq!(e.to_string(), format!("node {node} is not 1 to 127"));
+    }
+    assert_eq!(frames(&mut tap), Vec::<String>::new());
 }
 
 /// `--block` asks for block upload of what may be larger than 4 bytes (`605#A4081000 7F000000`:
@@ -138,9 +145,11 @@ fn a_domain_goes_by_block_transfer() {
     assert_eq!(f, ["603#A40020017F400000", "583#4700200101020300"]);
 }
 
-/// A description of several devices (an `EtherCATInfoList` of the SMD23K-B/SMD24K ESI and the X67
-/// ESI): the node's identity, read first (`605#40181001…`, `605#40181002…`, expedited), picks its
-/// device, the third of the file, whose name `ConfigOutput03aRead` the read then takes; no warning.
+/// A description of several devices (an `EtherCATInfoList` of the SMD23K-B/SMD24K ESI, an
+/// X67SM2437 of the X67's vendor whose 0x2130 is named `Other03aRead`, and the X67 ESI): the node's
+/// identity, read first (`605#40181001…`, `605#40181002…`, expedited), picks its device by vendor
+/// and product, the fourth of the file, whose name `ConfigOutput03aRead` the read then takes, and
+/// whose records it reads whole (0x1800, which the SMD's ESI does not have).
 #[test]
 fn the_identity_picks_the_device_of_a_description_of_several() {
     let n = Running::start();
@@ -150,8 +159,14 @@ fn the_identity_picks_the_device_of_a_description_of_several() {
         let start = text.find("<EtherCATInfo").unwrap();
         text[start..].to_string()
     };
+    let other = esi("fixtures/x67/X67SM2436.esi.xml")
+        .replace("ProductCode=\"#x00002436\"", "ProductCode=\"#x00002437\"")
+        .replace(
+            "<Name>ConfigOutput03aRead</Name>",
+            "<Name>Other03aRead</Name>",
+        );
     let list = format!(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<EtherCATInfoList>\n{}\n{}\n</EtherCATInfoList>\n",
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<EtherCATInfoList>\n{}\n{other}\n{}\n</EtherCATInfoList>\n",
         esi("fixtures/smd/SMD23K-B_SMD24K.esi.xml"),
         esi("fixtures/x67/X67SM2436.esi.xml")
     );
@@ -176,6 +191,54 @@ fn the_identity_picks_the_device_of_a_description_of_several() {
             "585#4F30210000000000",
         ]
     );
+    let record = n.tool(&["--od", od, "read", "5", "0x1800"]).unwrap();
+    assert!(
+        record.starts_with("0x1800:00  ")
+            && record.contains("\n0x1800:01  ")
+            && record.contains(" = 0x00000185\n"),
+        "{record}"
+    );
+}
+
+/// A description without an identity (vendor and product 0) is not checked against the node: a
+/// write is the write alone (`605#2F102100 14…`, ConfigOutput03a = 20). One with a vendor but no
+/// product is: the identity is read before the write.
+#[test]
+fn a_description_without_identity_is_not_checked() {
+    let n = Running::start();
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(eds()).unwrap();
+    let mut tap = n.bus.endpoint();
+    let write = |od: &str, tap: &mut socketcan_node::transport::Endpoint| {
+        frames(tap);
+        assert_eq!(
+            n.tool(&["--od", od, "write", "5", "ConfigOutput03a", "20"])
+                .unwrap(),
+            "OK\n"
+        );
+        frames(tap)
+    };
+    let none = dir.path().join("none.eds");
+    std::fs::write(
+        &none,
+        text.replace("VendorNumber=0x00000B2E", "VendorNumber=0x00000000")
+            .replace("ProductNumber=0x00002436", "ProductNumber=0x00000000"),
+    )
+    .unwrap();
+    assert_eq!(
+        write(none.to_str().unwrap(), &mut tap),
+        ["605#2F10210014000000", "585#6010210000000000"]
+    );
+    let vendor = dir.path().join("vendor.eds");
+    std::fs::write(
+        &vendor,
+        text.replace("ProductNumber=0x00002436", "ProductNumber=0x00000000"),
+    )
+    .unwrap();
+    let f = write(vendor.to_str().unwrap(), &mut tap);
+    assert_eq!(f.len(), 6, "{f:?}");
+    assert_eq!(f[0], "605#4018100100000000");
+    assert_eq!(f[2], "605#4018100200000000");
 }
 
 /// `send` puts cansend's frame on the bus as written: an 11-bit data frame, a remote frame, a
@@ -268,4 +331,52 @@ fn sync_produces_sync_messages() {
     ] {
         assert_eq!(n.tool(bad).unwrap_err().exit_code(), 2, "{bad:?}");
     }
+}
+
+/// `sync --count 0` sends until Ctrl-C, then says how many and exits 0; between two messages it
+/// sleeps: a second of SYNC every 100 ms takes far less than a second of CPU time (the shell's
+/// `times` of its child).
+#[test]
+fn sync_until_ctrl_c_and_asleep_between() {
+    use std::process::{Command, Stdio};
+    let (mut node, port) = x67::hub(3);
+    let bus = common::socketcand_bus(port);
+    let tool = env!("CARGO_BIN_EXE_sdo-tool");
+    let child = Command::new(tool)
+        .args(["--bus", &bus, "sync", "--count", "0", "--period-ms", "20"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let line = String::from_utf8_lossy(&out.stdout);
+    let sent: u64 = line.split(' ').next().unwrap().parse().unwrap();
+    assert!(
+        sent >= 2 && line.ends_with(" SYNC sent on 0x080\n"),
+        "{line}"
+    );
+    let script = format!("{tool} --bus {bus} sync --count 11 --period-ms 100 >/dev/null; times");
+    let out = Command::new("bash").args(["-c", &script]).output().unwrap();
+    let times = String::from_utf8_lossy(&out.stdout);
+    // The second line: the children's user and system time, `0m0.012s 0m0.004s`.
+    let child_line = times.lines().nth(1).unwrap();
+    let seconds: f64 = child_line
+        .split(' ')
+        .map(|t| {
+            let (m, s) = t.trim_end_matches('s').split_once('m').unwrap();
+            m.parse::<f64>().unwrap() * 60.0 + s.parse::<f64>().unwrap()
+        })
+        .sum();
+    assert!(
+        seconds < 0.5,
+        "{seconds} s of CPU for a second of SYNC: {times}"
+    );
+    node.kill().unwrap();
+    node.wait().unwrap();
 }
