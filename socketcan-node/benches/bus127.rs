@@ -1,7 +1,9 @@
 //! 127 X67 nodes (one module each) in one process on one bus, SYNC every 1 ms, every TPDO synchronous
-//! (transmission type 1): the CPU share the nodes' thread needs, from its own scheduler statistics.
+//! (transmission type 1): the CPU share the nodes' thread needs, from its own scheduler statistics,
+//! and its CPU time per frame in and out. With `--capture FILE` the nodes' bus writes every frame to
+//! FILE as `canopen-node --capture` does (`transport::Captured`): the cost of capturing, per frame.
 //!
-//! `cargo bench -p socketcan-node --bench bus127 [-- SECONDS]`
+//! `cargo bench -p socketcan-node --bench bus127 [-- SECONDS] [--capture FILE]`
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -24,13 +26,26 @@ fn thread_cpu_ns() -> u64 {
 }
 
 fn main() {
-    let secs: u64 = std::env::args()
-        .skip(1)
-        .find_map(|a| a.parse().ok())
-        .unwrap_or(5);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let secs: u64 = args.iter().find_map(|a| a.parse().ok()).unwrap_or(5);
+    let capture = args
+        .iter()
+        .position(|a| a == "--capture")
+        .and_then(|k| args.get(k + 1))
+        .map(|path| {
+            link_capture::Capture::create(path.as_ref(), "bus127").expect("the capture file")
+        });
     let bus = InProcessBus::new();
     let mut master = bus.endpoint();
-    let mut nodes_end = bus.endpoint();
+    let nodes_end = bus.endpoint();
+    let mut nodes_end: Box<dyn CanBus> = match &capture {
+        Some(c) => Box::new(socketcan_node::transport::Captured::new(
+            nodes_end,
+            c,
+            "inprocess",
+        )),
+        None => Box::new(nodes_end),
+    };
     let stop = Arc::new(AtomicBool::new(false));
     let stop_nodes = Arc::clone(&stop);
     let nodes_thread = std::thread::spawn(move || {
@@ -53,7 +68,7 @@ fn main() {
             .collect();
         let cpu0 = thread_cpu_ns();
         let t0 = Instant::now();
-        let stats = runtime::run(&mut nodes, &mut nodes_end, &stop_nodes).expect("run");
+        let stats = runtime::run(&mut nodes, nodes_end.as_mut(), &stop_nodes).expect("run");
         (thread_cpu_ns() - cpu0, t0.elapsed(), stats)
     });
     // Let them boot, then start all and send SYNC every 1 ms.
@@ -94,11 +109,13 @@ fn main() {
     let share = cpu_ns as f64 / wall.as_nanos() as f64;
     println!(
         "127 nodes, SYNC 1 ms, {syncs} SYNCs in {:.1} s: {tpdos} TPDOs received ({:.1} per SYNC), \
-         nodes thread CPU {:.1} % of one core ({} frames in, {} out)",
+         nodes thread CPU {:.1} % of one core ({} frames in, {} out, {:.2} µs a frame{})",
         wall.as_secs_f64(),
         tpdos as f64 / syncs as f64,
         share * 100.0,
         stats.received,
-        stats.sent
+        stats.sent,
+        cpu_ns as f64 / 1e3 / (stats.received + stats.sent).max(1) as f64,
+        if capture.is_some() { ", captured" } else { "" }
     );
 }
