@@ -104,10 +104,11 @@ fn sdo_tool_reads_the_drives_dictionaries_without_their_esis() {
         ("3", "0x6064", "0"),
         ("3", "0x6864", "0"),
         ("4", "0x6064", "0"),
-        ("2", "0x6041", "608"),
+        // A statusword and the identity in hex with their width (SDO Information gives the type).
+        ("2", "0x6041", "0x0260"),
         ("4", "0x1008", "\"drive\""),
-        ("1", "0x1018:01", "154"),
-        ("3", "0x1018:04", "3"),
+        ("1", "0x1018:01", "0x0000009A"),
+        ("3", "0x1018:04", "0x00000003"),
     ] {
         assert_eq!(
             ok(&link, &["read", node, object]),
