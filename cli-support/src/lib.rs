@@ -1,6 +1,7 @@
 //! What the command-line binaries of the workspace share (`canopen-node`, `x67-node`,
 //! `ethercat-node`, `smd-ethercat`): the log on standard error ([`init_logging`]) and the flag
-//! Ctrl-C sets to stop a run ([`stop_flag`]).
+//! Ctrl-C (or SIGTERM, SIGHUP) sets to stop a run ([`stop_flag`]), so that a run ends as it
+//! returns, its capture written whole.
 //!
 //! Only binaries and the `cli` features of the libraries depend on this crate: a library used
 //! without its `cli` feature has neither a log subscriber nor a signal handler.
@@ -52,9 +53,9 @@ pub fn init_logging(format: LogFormat) {
     }
 }
 
-/// A new flag that Ctrl-C (SIGINT) sets.
+/// A new flag that Ctrl-C (SIGINT), SIGTERM (a service manager's stop) or SIGHUP sets.
 ///
-/// A process hooks Ctrl-C once: a second call fails.
+/// A process hooks them once: a second call fails.
 pub fn stop_on_ctrl_c() -> Result<Arc<AtomicBool>, SignalError> {
     let stop = Arc::new(AtomicBool::new(false));
     let hook = Arc::clone(&stop);

@@ -83,6 +83,16 @@ fn frames_sent_and_received_one_at_a_time_and_in_batches_are_captured() {
             wait(&a);
             received += a.recv_batch(&mut got).unwrap();
         }
+        // The frames of the last batch are held until the socket waits (or is flushed, or
+        // dropped): a 70-byte frame is a 116-byte block (8 + 20 + 72 + 8 + 4 + 4).
+        let held = file.lock().unwrap().len();
+        a.wait(Duration::ZERO).unwrap();
+        let written = file.lock().unwrap().len() - held;
+        assert!(
+            written > 0 && written % 116 == 0,
+            "{written} bytes at the wait"
+        );
+        drop(a);
         let bytes = file.lock().unwrap().clone();
         let mut r = Reader::new(&bytes[..]);
         let mut seen = Vec::new();
