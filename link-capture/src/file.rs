@@ -309,6 +309,52 @@ mod tests {
         assert!(Capture::new(Box::new(Full(4)), "full", "x").is_err());
     }
 
+    /// An interface is its name and its link type: the same name on another link is another.
+    #[test]
+    fn an_interface_is_its_name_and_link_type() {
+        let (capture, _) = Capture::in_memory("");
+        let ids: Vec<u32> = [
+            ("x", LINKTYPE_CAN_SOCKETCAN),
+            ("x", LINKTYPE_ETHERNET),
+            ("y", LINKTYPE_CAN_SOCKETCAN),
+            ("x", LINKTYPE_ETHERNET),
+        ]
+        .iter()
+        .map(|(n, t)| capture.interface(n, *t).id())
+        .collect();
+        assert_eq!(ids, [0, 1, 2, 1]);
+    }
+
+    /// After a failed write nothing is written, not even a new interface's block.
+    #[test]
+    fn nothing_is_written_after_a_failure() {
+        struct FailsOnce(Arc<Mutex<(usize, usize)>>);
+        impl Write for FailsOnce {
+            fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+                let mut calls = self.0.lock().unwrap();
+                calls.0 += 1;
+                if calls.0 == 3 {
+                    return Err(std::io::Error::other("no space left"));
+                }
+                calls.1 += buf.len();
+                Ok(buf.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let seen = Arc::new(Mutex::new((0, 0)));
+        let capture = Capture::new(Box::new(FailsOnce(Arc::clone(&seen))), "once", "").unwrap();
+        let i = capture.interface("can0", LINKTYPE_CAN_SOCKETCAN);
+        i.record(UNIX_EPOCH, Direction::Inbound, &[0; 16]);
+        i.flush();
+        assert_eq!(*seen.lock().unwrap(), (3, 28 + 40));
+        capture.interface("can1", LINKTYPE_CAN_SOCKETCAN);
+        i.flush();
+        drop((i, capture));
+        assert_eq!(*seen.lock().unwrap(), (3, 28 + 40));
+    }
+
     /// The frames' blocks are held until a flush, until PENDING bytes are held, or until the last
     /// handle goes: each time written whole, in order.
     #[test]

@@ -118,6 +118,18 @@ mod tests {
         drop(theirs);
     }
 
+    /// A listening bus keeps its address when captured.
+    #[test]
+    fn a_listening_bus_keeps_its_address() {
+        let (capture, _) = Capture::in_memory("");
+        let server =
+            crate::transport::SocketcandServer::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+        let addr = server.local_addr();
+        let captured = Captured::new(server, &capture, "socketcand-listen");
+        assert_eq!(captured.listen_addr(), Some(addr));
+        assert_eq!(captured.describe(), format!("socketcand-listen:{addr}"));
+    }
+
     /// A bus that refuses a frame: the error is the bus's, and nothing is recorded.
     #[test]
     fn a_refused_send_is_not_recorded() {
