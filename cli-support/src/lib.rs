@@ -1,7 +1,8 @@
 //! What the command-line binaries of the workspace share (`sdo-tool`, `esi-gen`, `canopen-node`,
 //! `x67-node`, `ethercat-node`, `smd-ethercat`): the log on standard error ([`init_logging`]), the
-//! flag Ctrl-C sets to stop a run ([`stop_flag`]), and the shell completion script and manual pages
-//! of a command line ([`write_completions`], [`write_man_pages`], and [`Generate`], the
+//! flag Ctrl-C (or SIGTERM, SIGHUP) sets to stop a run ([`stop_flag`]), so that a run ends as it
+//! returns, its capture written whole, and the shell completion script and manual pages of a
+//! command line ([`write_completions`], [`write_man_pages`], and [`Generate`], the
 //! `--completions SHELL` and `--man DIR` options of the binaries without subcommands).
 //!
 //! Only binaries and the `cli` features of the libraries depend on this crate: a library used
@@ -74,9 +75,9 @@ pub fn init_logging(format: LogFormat) {
     }
 }
 
-/// A new flag that Ctrl-C (SIGINT) sets.
+/// A new flag that Ctrl-C (SIGINT), SIGTERM (a service manager's stop) or SIGHUP sets.
 ///
-/// A process hooks Ctrl-C once: a second call fails.
+/// A process hooks them once: a second call fails.
 pub fn stop_on_ctrl_c() -> Result<Arc<AtomicBool>, SignalError> {
     let stop = Arc::new(AtomicBool::new(false));
     let hook = Arc::clone(&stop);

@@ -167,9 +167,19 @@ impl RawSocket {
 
     /// Writes every frame this socket receives and sends from now on to `capture` too, whole
     /// Ethernet frames (`LINKTYPE_ETHERNET`) of an interface named as this socket's: a received
-    /// one at the time it was taken from the socket, a sent one once the kernel took it.
+    /// one at the time it was taken from the socket, a sent one once the kernel took it. The
+    /// records reach the file before each [`RawSocket::wait`], at [`RawSocket::flush_capture`]
+    /// and when the socket is dropped.
     pub fn capture_to(&mut self, capture: &Capture) {
         self.capture = Some(capture.interface(&self.iface, LINKTYPE_ETHERNET));
+    }
+
+    /// Writes what the capture holds of this socket's frames so far: what a caller that waits for
+    /// the socket by other means than [`RawSocket::wait`] calls before it waits.
+    pub fn flush_capture(&self) {
+        if let Some(c) = &self.capture {
+            c.flush();
+        }
     }
 
     /// The kernel's receive buffer of the socket in bytes (SO_RCVBUF: twice what was asked, for the
@@ -192,6 +202,7 @@ impl RawSocket {
 
     /// Waits until a frame can be read, at most `timeout`; true when one can.
     pub fn wait(&self, timeout: Duration) -> io::Result<bool> {
+        self.flush_capture();
         let mut p = libc::pollfd {
             fd: self.fd.as_raw_fd(),
             events: libc::POLLIN,
@@ -376,6 +387,12 @@ impl RawSocket {
             c.record(SystemTime::now(), Direction::Outbound, frame);
         }
         Ok(())
+    }
+}
+
+impl Drop for RawSocket {
+    fn drop(&mut self) {
+        self.flush_capture();
     }
 }
 

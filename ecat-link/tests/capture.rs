@@ -73,6 +73,16 @@ fn frames_sent_and_received_one_at_a_time_and_in_batches_are_captured() {
         }
         out.skip(1);
         a.send_batch(&out).unwrap();
+        // Three more, the second longer than the link's 1,514 bytes: refused by the kernel, the
+        // others sent; only those are in the capture.
+        let mut out = Batch::new(3, 4096);
+        for (len, tag) in [(60, 8), (3000, 9), (60, 10)] {
+            assert!(out.push(&frame(len, tag)));
+        }
+        assert!(
+            a.send_batch(&out).is_err(),
+            "a 3,000-byte frame on a 1,500-byte MTU"
+        );
         // Two answered, received in a batch on a.
         for tag in [6, 7] {
             b.send(&frame(70, tag)).unwrap();
@@ -83,6 +93,22 @@ fn frames_sent_and_received_one_at_a_time_and_in_batches_are_captured() {
             wait(&a);
             received += a.recv_batch(&mut got).unwrap();
         }
+        // The frames of the last batch are held until the socket waits (or is flushed, or
+        // dropped): a 70-byte frame is a 116-byte block (8 + 20 + 72 + 8 + 4 + 4).
+        let held = file.lock().unwrap().len();
+        a.wait(Duration::ZERO).unwrap();
+        let written = file.lock().unwrap().len() - held;
+        assert!(
+            written > 0 && written % 116 == 0,
+            "{written} bytes at the wait"
+        );
+        // A frame sent and not yet written reaches the file when the socket is dropped, the
+        // capture still open.
+        use std::os::fd::{AsFd, AsRawFd};
+        assert_eq!(a.as_raw_fd(), a.as_fd().as_raw_fd());
+        assert!(a.as_raw_fd() > 2);
+        a.send(&frame(60, 11)).unwrap();
+        drop(a);
         let bytes = file.lock().unwrap().clone();
         let mut r = Reader::new(&bytes[..]);
         let mut seen = Vec::new();
@@ -99,8 +125,11 @@ fn frames_sent_and_received_one_at_a_time_and_in_batches_are_captured() {
                 (In, 64, 2),
                 (Out, 60, 3),
                 (Out, 60, 5),
+                (Out, 60, 8),
+                (Out, 60, 10),
                 (In, 70, 6),
-                (In, 70, 7)
+                (In, 70, 7),
+                (Out, 60, 11)
             ]
         );
         assert_eq!(r.interfaces_seen()[0].name.as_deref(), Some("capa"));

@@ -51,7 +51,7 @@ pub struct Args {
 
     /// Writes every frame the units receive and answer to FILE, a pcapng capture Wireshark and
     /// tshark read (LINKTYPE_ETHERNET, the interface's name, nanosecond times, each frame's
-    /// direction); complete whenever the process ends.
+    /// direction); written whenever the units wait, whole when they stop.
     #[arg(long, value_name = "FILE")]
     pub capture: Option<std::path::PathBuf>,
 }

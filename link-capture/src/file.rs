@@ -18,6 +18,10 @@ pub struct CaptureError {
     pub source: std::io::Error,
 }
 
+/// The most bytes of blocks held before they are written, whatever the links do: a burst of
+/// frames between two waits reaches the file in pieces of this size.
+pub const PENDING: usize = 64 * 1024;
+
 /// Where the blocks go, and the interfaces described so far.
 struct Sink {
     out: Box<dyn Write + Send>,
@@ -27,12 +31,13 @@ struct Sink {
     interfaces: Vec<(String, u16)>,
     /// A write failed: nothing more is written.
     failed: bool,
-    /// The blocks of one record, written at once.
+    /// Whole blocks not written yet.
     buf: Vec<u8>,
 }
 
 impl Sink {
-    /// Writes `buf` whole; the first failure is logged once and ends the capture.
+    /// Writes the blocks held, in one write; the first failure is logged once and ends the
+    /// capture.
     fn flush_buf(&mut self) {
         if !self.failed && !self.buf.is_empty() {
             if let Err(e) = self
@@ -48,13 +53,23 @@ impl Sink {
     }
 }
 
+impl Drop for Sink {
+    /// The blocks still held go to the file when the capture's last handle goes.
+    fn drop(&mut self) {
+        self.flush_buf();
+    }
+}
+
 /// A pcapng capture that the links of a process write their frames to: a Section Header Block,
 /// then an Interface Description Block per link ([`Capture::interface`]) and an Enhanced Packet
 /// Block per frame ([`Interface::record`]). Clones are the same capture.
 ///
-/// Each record reaches the file in one write as it is made: the file is complete (it ends after a
-/// whole block) whenever the process ends. A write that fails is logged once, and the capture ends
-/// there; the links go on.
+/// The header blocks are written at once. The frames' blocks are held until the link is about to
+/// wait ([`Capture::flush`]: a link calls it before it blocks), [`PENDING`] bytes are held, or the
+/// capture's last handle goes; then they reach the file in one write. So the file always ends
+/// after a whole block, and whenever the process waits, every frame so far is in it: a process
+/// killed at any moment loses at most the frames it handled since it last waited. A write that
+/// fails is logged once, and the capture ends there; the links go on.
 #[derive(Clone)]
 pub struct Capture {
     sink: Arc<Mutex<Sink>>,
@@ -97,12 +112,23 @@ impl Capture {
             buf: Vec::new(),
         };
         pcapng::section_header(&mut sink.buf, application);
-        sink.out.write_all(&sink.buf)?;
-        sink.out.flush()?;
+        let written = sink
+            .out
+            .write_all(&sink.buf)
+            .and_then(|()| sink.out.flush());
         sink.buf.clear();
+        written?;
         Ok(Capture {
             sink: Arc::new(Mutex::new(sink)),
         })
+    }
+
+    /// Writes the frames' blocks held so far: what a link calls before it waits.
+    pub fn flush(&self) {
+        self.sink
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .flush_buf();
     }
 
     /// A capture into memory, for tests and examples: the capture and the bytes written so far.
@@ -152,12 +178,19 @@ impl Interface {
         self.id
     }
 
-    /// Records `frame`, sent or received (`direction`) at `at`.
+    /// Records `frame`, sent or received (`direction`) at `at` (held until the next
+    /// [`Capture::flush`]).
     pub fn record(&self, at: SystemTime, direction: Direction, frame: &[u8]) {
         self.record_all(at, direction, [frame]);
     }
 
-    /// Records `frames`, each sent or received (`direction`) at `at`, in one write.
+    /// Writes the blocks held so far ([`Capture::flush`]): what a link calls before it waits.
+    pub fn flush(&self) {
+        self.capture.flush();
+    }
+
+    /// Records `frames`, each sent or received (`direction`) at `at` (held until the next
+    /// [`Capture::flush`]).
     pub fn record_all<'a>(
         &self,
         at: SystemTime,
@@ -174,8 +207,10 @@ impl Interface {
         }
         for frame in frames {
             pcapng::enhanced_packet(&mut sink.buf, self.id, at, direction, frame);
+            if sink.buf.len() >= PENDING {
+                sink.flush_buf();
+            }
         }
-        sink.flush_buf();
     }
 }
 
@@ -214,6 +249,9 @@ mod tests {
         let t = UNIX_EPOCH + Duration::new(1_700_000_000, 123_456_789);
         can.record(t, Direction::Inbound, &[1; 16]);
         eth.record_all(t, Direction::Outbound, [&[2u8; 60][..], &[3u8; 61][..]]);
+        // The headers are written at once, the frames' blocks when flushed.
+        assert_eq!(bytes.lock().unwrap().len(), 40 + 44 + 44);
+        can.flush();
         let file = bytes.lock().unwrap().clone();
         let mut r = Reader::new(&file[..]);
         let mut got = Vec::new();
@@ -263,10 +301,95 @@ mod tests {
         let capture = Capture::new(Box::new(Full(100)), "full", "").unwrap();
         let i = capture.interface("can0", LINKTYPE_CAN_SOCKETCAN);
         i.record(UNIX_EPOCH, Direction::Inbound, &[0; 16]);
+        assert!(!capture.sink.lock().unwrap().failed);
+        capture.flush();
         assert!(capture.sink.lock().unwrap().failed);
         i.record(UNIX_EPOCH, Direction::Inbound, &[0; 16]);
         assert!(capture.sink.lock().unwrap().buf.is_empty());
         assert!(Capture::new(Box::new(Full(4)), "full", "x").is_err());
+    }
+
+    /// An interface is its name and its link type: the same name on another link is another.
+    #[test]
+    fn an_interface_is_its_name_and_link_type() {
+        let (capture, _) = Capture::in_memory("");
+        let ids: Vec<u32> = [
+            ("x", LINKTYPE_CAN_SOCKETCAN),
+            ("x", LINKTYPE_ETHERNET),
+            ("y", LINKTYPE_CAN_SOCKETCAN),
+            ("x", LINKTYPE_ETHERNET),
+        ]
+        .iter()
+        .map(|(n, t)| capture.interface(n, *t).id())
+        .collect();
+        assert_eq!(ids, [0, 1, 2, 1]);
+    }
+
+    /// After a failed write nothing is written, not even a new interface's block.
+    #[test]
+    fn nothing_is_written_after_a_failure() {
+        struct FailsOnce(Arc<Mutex<(usize, usize)>>);
+        impl Write for FailsOnce {
+            fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+                let mut calls = self.0.lock().unwrap();
+                calls.0 += 1;
+                if calls.0 == 3 {
+                    return Err(std::io::Error::other("no space left"));
+                }
+                calls.1 += buf.len();
+                Ok(buf.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let seen = Arc::new(Mutex::new((0, 0)));
+        let capture = Capture::new(Box::new(FailsOnce(Arc::clone(&seen))), "once", "").unwrap();
+        let i = capture.interface("can0", LINKTYPE_CAN_SOCKETCAN);
+        i.record(UNIX_EPOCH, Direction::Inbound, &[0; 16]);
+        i.flush();
+        assert_eq!(*seen.lock().unwrap(), (3, 28 + 40));
+        capture.interface("can1", LINKTYPE_CAN_SOCKETCAN);
+        i.flush();
+        drop((i, capture));
+        assert_eq!(*seen.lock().unwrap(), (3, 28 + 40));
+    }
+
+    /// The frames' blocks are held until a flush, until PENDING bytes are held, or until the last
+    /// handle goes: each time written whole, in order.
+    #[test]
+    fn blocks_are_held_until_a_flush_the_bound_or_the_end() {
+        let (capture, bytes) = Capture::in_memory("");
+        let i = capture.interface("can0", LINKTYPE_CAN_SOCKETCAN);
+        let header = bytes.lock().unwrap().len();
+        assert_eq!(header, 28 + 40);
+        // A 16-byte frame's block is 60 bytes: the 1,093rd reaches 65,580 ≥ 65,536 bytes held.
+        for k in 0..1092u32 {
+            i.record(UNIX_EPOCH, Direction::Inbound, &[k as u8; 16]);
+        }
+        assert_eq!(bytes.lock().unwrap().len(), header);
+        i.record(UNIX_EPOCH, Direction::Inbound, &[0; 16]);
+        assert_eq!(bytes.lock().unwrap().len(), header + 1093 * 60);
+        i.record(UNIX_EPOCH, Direction::Outbound, &[1; 16]);
+        i.flush();
+        assert_eq!(bytes.lock().unwrap().len(), header + 1094 * 60);
+        i.record(UNIX_EPOCH, Direction::Outbound, &[2; 16]);
+        drop(capture);
+        assert_eq!(
+            bytes.lock().unwrap().len(),
+            header + 1094 * 60,
+            "a handle is left"
+        );
+        drop(i);
+        let file = bytes.lock().unwrap().clone();
+        assert_eq!(file.len(), header + 1095 * 60);
+        let mut r = Reader::new(&file[..]);
+        let mut n = 0;
+        while let Some(p) = r.next_packet().unwrap() {
+            n += 1;
+            assert_eq!(p.data.len(), 16);
+        }
+        assert_eq!(n, 1095);
     }
 
     /// A file that cannot be created is refused with its name.

@@ -9,8 +9,9 @@
 //!   [`pcapng::LINKTYPE_CAN_SOCKETCAN`]), `ecat-link`'s raw socket writes its EtherCAT frames to one
 //!   (whole Ethernet frames, [`pcapng::LINKTYPE_ETHERNET`]).
 //!
-//! Each block reaches the file in one write as soon as its frame was sent or received: a process
-//! that ends in any way (Ctrl-C, SIGTERM, a crash) leaves a file that ends after a whole block.
+//! The frames' blocks are held until the link waits ([`Capture::flush`]) and then written in one
+//! write: the file always ends after a whole block, and holds every frame up to the last wait of
+//! the process however it ends (a crash, a kill), every frame when it ends by returning.
 //!
 //! ```
 //! use std::time::{Duration, SystemTime, UNIX_EPOCH};
@@ -21,6 +22,7 @@
 //! let eth0 = capture.interface("eth0", LINKTYPE_ETHERNET);
 //! let at = UNIX_EPOCH + Duration::from_secs(1_700_000_000);
 //! eth0.record(at, Direction::Outbound, &[0xFF; 60]);
+//! capture.flush();
 //!
 //! let bytes = file.lock().unwrap().clone();
 //! let mut reader = Reader::new(&bytes[..]);
@@ -33,4 +35,4 @@
 mod file;
 pub mod pcapng;
 
-pub use file::{Capture, CaptureError, Interface};
+pub use file::{Capture, CaptureError, Interface, PENDING};

@@ -84,7 +84,7 @@ pub struct Args {
     /// Writes every frame the tool sends and receives to FILE, a pcapng capture Wireshark and
     /// tshark read: on a CAN bus its SocketCAN frames (LINKTYPE_CAN_SOCKETCAN, the bus's name as
     /// the interface's), with --ethercat the Ethernet frames of the interface (LINKTYPE_ETHERNET);
-    /// nanosecond times, each frame's direction; complete whenever the tool ends.
+    /// nanosecond times, each frame's direction; written whenever the tool waits, whole when it ends.
     #[arg(long, global = true, value_name = "FILE")]
     pub capture: Option<PathBuf>,
     /// What to do.

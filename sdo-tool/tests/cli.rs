@@ -783,3 +783,47 @@ fn refused_values_say_the_range_they_miss() {
     );
     assert_eq!(n.tool(&["read", "5", "0x1017:00", "u16"]).unwrap(), before);
 }
+
+/// `--capture` on a bus given in process: the interface named as the bus describes itself, the
+/// request sent and the answer received, each with its direction; `decode` names the transfer
+/// from the capture.
+#[test]
+fn a_capture_of_a_bus_given_in_process() {
+    use link_capture::pcapng::{Direction, Reader};
+    let n = Running::start();
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("inprocess.pcapng");
+    let path = file.to_str().unwrap();
+    assert_eq!(
+        n.tool(&["--capture", path, "read", "5", "0x1018:01", "x32"])
+            .unwrap(),
+        "0x00000B2E\n"
+    );
+    let bytes = std::fs::read(&file).unwrap();
+    let mut r = Reader::new(&bytes[..]);
+    // The SDO channel's frames (the node's heartbeats aside, received too).
+    let mut frames = Vec::new();
+    while let Some(p) = r.next_packet().unwrap() {
+        if p.data[2..4] != [0x07, 0x05] {
+            frames.push((p.direction.unwrap(), p.data.to_vec()));
+        }
+    }
+    #[rustfmt::skip]
+    assert_eq!(
+        frames,
+        [
+            (Direction::Outbound, vec![0, 0, 0x06, 0x05, 8, 0, 0, 0, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]),
+            (Direction::Inbound, vec![0, 0, 0x05, 0x85, 8, 0, 0, 0, 0x43, 0x18, 0x10, 0x01, 0x2E, 0x0B, 0, 0]),
+        ]
+    );
+    let name = r.interfaces_seen()[0].name.clone().unwrap();
+    assert!(name.starts_with("in-process endpoint "), "{name}");
+    // One SDO line, at the answer's time after the request's (the node's heartbeats aside).
+    let decoded = n.tool(&["decode", path]).unwrap();
+    let sdo: Vec<&str> = decoded.lines().filter(|l| l.contains("SDO")).collect();
+    assert_eq!(sdo.len(), 1, "{decoded}");
+    assert!(
+        sdo[0].ends_with("  node 5: SDO read 0x1018:01 = 2E 0B 00 00"),
+        "{decoded}"
+    );
+}

@@ -57,7 +57,7 @@ pub struct Args {
 
     /// Writes every frame the node sends and receives to FILE, a pcapng capture Wireshark and
     /// tshark read (LINKTYPE_CAN_SOCKETCAN, the bus's name as the interface's, nanosecond times,
-    /// each frame's direction); complete whenever the process ends.
+    /// each frame's direction); written whenever the node waits, whole when it stops.
     #[arg(long, value_name = "FILE")]
     pub capture: Option<PathBuf>,
 

@@ -214,9 +214,10 @@ fn bad_arguments_exit_2_with_the_reason() {
 }
 
 /// `--capture FILE`: what the node sent and received, in order and each with its direction, in a
-/// pcapng file that is whole however the node is stopped (SIGTERM, which it does not handle, or
-/// Ctrl-C): its boot-up (0x701, 0x00) sent at start, the SDO request for 0x1018:00 received, the
-/// answer (4 entries) sent; the times from the start to the stop, in order.
+/// pcapng file that is whole when the node is stopped by SIGTERM (a service manager's stop) or
+/// Ctrl-C, each of which ends it with exit 0: its boot-up (0x701, 0x00) sent at start, the SDO
+/// request for 0x1018:00 received, the answer (4 entries) sent; the times from the start to the
+/// stop, in order.
 #[test]
 fn a_capture_is_whole_when_the_node_is_stopped_by_sigterm_or_ctrl_c() {
     use link_capture::pcapng::{Direction, Reader};
@@ -236,10 +237,14 @@ fn a_capture_is_whole_when_the_node_is_stopped_by_sigterm_or_ctrl_c() {
             .unwrap();
         assert!(status.success());
         let end = Instant::now() + Duration::from_secs(5);
-        while node.child.try_wait().unwrap().is_none() {
+        let status = loop {
+            if let Some(status) = node.child.try_wait().unwrap() {
+                break status;
+            }
             assert!(Instant::now() < end, "x67-node did not stop on {signal}");
             std::thread::sleep(Duration::from_millis(20));
-        }
+        };
+        assert!(status.success(), "{signal}: {status:?}");
         let stop = std::time::SystemTime::now();
         let bytes = std::fs::read(&file).unwrap();
         let mut r = Reader::new(&bytes[..]);

@@ -81,6 +81,7 @@ fn two_frames_golden() {
     assert_eq!((p.data, p.time), (&ANSWER[..], Some(t2)));
     assert_eq!(p.direction, Some(Direction::Inbound));
     assert!(r.next_packet().unwrap().is_none());
+    assert_eq!((r.skipped(), r.unknown_interface()), (0, 0));
     assert_eq!(
         r.interfaces_seen(),
         [InterfaceInfo {
@@ -304,6 +305,12 @@ fn refusals_name_the_block() {
         error(&minimal(&epb)),
         "byte 68: a packet of 200 bytes in a block of 48 bytes"
     );
+    // 40 bytes: more than the 16 the block holds before its options.
+    epb[20] = 40;
+    assert_eq!(
+        error(&minimal(&epb)),
+        "byte 68: a packet of 40 bytes in a block of 48 bytes"
+    );
 }
 
 /// A file cut inside a block: the packets before it are read, then the cut is named; a file of
@@ -399,5 +406,178 @@ fn interfaces_are_bounded() {
     assert_eq!(
         r.interfaces_seen()[0].name.as_deref().map(str::len),
         Some(256)
+    );
+}
+
+/// A block written into a buffer that holds something already is padded from its own start: the
+/// same bytes after the one before it.
+#[test]
+fn blocks_are_padded_from_their_own_start() {
+    for prefix in [1usize, 2, 3] {
+        let (mut plain, mut after) = (Vec::new(), vec![0xEE; prefix]);
+        enhanced_packet(&mut plain, 0, t1(), Direction::Inbound, &[1, 2, 3]);
+        enhanced_packet(&mut after, 0, t1(), Direction::Inbound, &[1, 2, 3]);
+        assert_eq!(after[prefix..], plain[..], "after {prefix} bytes");
+        let (mut plain, mut after) = (Vec::new(), vec![0xEE; prefix]);
+        interface_description(&mut plain, LINKTYPE_ETHERNET, "eth");
+        interface_description(&mut after, LINKTYPE_ETHERNET, "eth");
+        assert_eq!(after[prefix..], plain[..], "after {prefix} bytes");
+    }
+}
+
+/// Each kind of block shorter than its fixed part is refused: a section of 24 bytes, an interface
+/// of 16, an obsolete Packet Block of 28, a Simple Packet Block of 12.
+#[test]
+fn blocks_shorter_than_their_kind_are_refused() {
+    let mut shb = Vec::new();
+    section_header(&mut shb, "");
+    let mut short_shb = shb.clone();
+    short_shb[4] = 24;
+    short_shb.truncate(24);
+    short_shb[20..24].copy_from_slice(&[24, 0, 0, 0]);
+    assert_eq!(
+        error(&short_shb),
+        "byte 0: block length 24 is not a length of a block of type 0x0A0D0D0A"
+    );
+    for (block_type, length) in [(1u8, 16u8), (2, 28), (3, 12)] {
+        let mut file = minimal(&[]);
+        let mut block = vec![0u8; usize::from(length)];
+        block[0] = block_type;
+        block[4] = length;
+        let n = block.len();
+        block[n - 4] = length;
+        file.extend_from_slice(&block);
+        assert_eq!(
+            error(&file),
+            format!(
+                "byte 68: block length {length} is not a length of a block of type 0x{block_type:08X}"
+            )
+        );
+    }
+}
+
+/// A block of exactly MAX_BLOCK bytes is read; a broken block after a longer one that was read
+/// past is named at its own offset.
+#[test]
+fn the_longest_block_held_and_offsets_after_one_read_past() {
+    let mut epb = Vec::new();
+    // 32 bytes of block around the data: MAX_BLOCK - 32 bytes of data, no options.
+    let data = vec![7u8; MAX_BLOCK as usize - 32];
+    epb.extend_from_slice(&6u32.to_le_bytes());
+    epb.extend_from_slice(&MAX_BLOCK.to_le_bytes());
+    epb.extend_from_slice(&[0; 12]);
+    epb.extend_from_slice(&(data.len() as u32).to_le_bytes());
+    epb.extend_from_slice(&(data.len() as u32).to_le_bytes());
+    epb.extend_from_slice(&data);
+    epb.extend_from_slice(&MAX_BLOCK.to_le_bytes());
+    let file = minimal(&epb);
+    let mut r = Reader::new(&file[..]);
+    assert_eq!(r.next_packet().unwrap().unwrap().data.len(), data.len());
+    assert_eq!(r.skipped(), 0);
+    let mut longer = Vec::new();
+    enhanced_packet(
+        &mut longer,
+        0,
+        t1(),
+        Direction::Inbound,
+        &[0; MAX_BLOCK as usize],
+    );
+    let after = 68 + longer.len();
+    longer.extend_from_slice(&[6, 0, 0, 0, 33, 0, 0, 0]);
+    assert_eq!(
+        error(&minimal(&longer)),
+        format!("byte {after}: block length 33 is not a length of a block of type 0x00000006")
+    );
+}
+
+/// Options as other writers may leave them: if_tsresol and if_tsoffset of another length than
+/// theirs are not taken; an option list without opt_endofopt ends at the block's end; an option of
+/// another code is no epb_flags, and epb_flags of another length is none.
+#[test]
+fn options_other_writers_leave() {
+    let mut file = Vec::new();
+    section_header(&mut file, "");
+    #[rustfmt::skip]
+    file.extend_from_slice(&[
+        // IDB, 44 bytes: if_tsresol of 2 bytes, if_tsoffset of 4, if_name "eth0", no end.
+        1, 0, 0, 0, 44, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0,
+        9, 0, 2, 0, 9, 0, 0, 0,
+        14, 0, 4, 0, 1, 0, 0, 0,
+        2, 0, 4, 0, b'e', b't', b'h', b'0',
+        44, 0, 0, 0,
+    ]);
+    // EPB with 4 bytes and no options at all (the data fills the block).
+    #[rustfmt::skip]
+    file.extend_from_slice(&[
+        6, 0, 0, 0, 36, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x40, 0x42, 0x0F, 0,
+        4, 0, 0, 0, 4, 0, 0, 0, 1, 2, 3, 4, 36, 0, 0, 0,
+    ]);
+    // EPB with an option of code 3 (a hash) of 4 bytes, then epb_flags of 2 bytes.
+    #[rustfmt::skip]
+    file.extend_from_slice(&[
+        6, 0, 0, 0, 52, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+        4, 0, 0, 0, 4, 0, 0, 0, 5, 6, 7, 8,
+        3, 0, 4, 0, 1, 0, 0, 0,
+        2, 0, 2, 0, 1, 0, 0, 0,
+        52, 0, 0, 0,
+    ]);
+    let mut r = Reader::new(&file[..]);
+    let p = r.next_packet().unwrap().unwrap();
+    // Microseconds (if_tsresol not taken), no offset: 1,000,000 µs.
+    assert_eq!(p.time, Some(UNIX_EPOCH + Duration::from_secs(1)));
+    assert_eq!((p.data, p.direction), (&[1, 2, 3, 4][..], None));
+    let p = r.next_packet().unwrap().unwrap();
+    assert_eq!((p.data, p.direction), (&[5, 6, 7, 8][..], None));
+    let info = &r.interfaces_seen()[0];
+    assert_eq!((info.tsresol, info.tsoffset), (6, 0));
+    assert_eq!(info.name.as_deref(), Some("eth0"));
+}
+
+/// The obsolete Packet Block's interface is 16 bits, followed by its drops count.
+#[test]
+fn a_packet_block_with_drops() {
+    #[rustfmt::skip]
+    let pb = [
+        2, 0, 0, 0, 36, 0, 0, 0, 0, 0, 5, 0, 0, 0, 0, 0, 1, 0, 0, 0,
+        2, 0, 0, 0, 2, 0, 0, 0, 0xAB, 0xCD, 0, 0, 36, 0, 0, 0,
+    ];
+    let file = minimal(&pb);
+    let mut r = Reader::new(&file[..]);
+    let p = r.next_packet().unwrap().unwrap();
+    assert_eq!((p.interface, p.data), (0, &[0xAB, 0xCD][..]));
+    assert_eq!(p.time, Some(UNIX_EPOCH + Duration::from_nanos(1)));
+    assert_eq!(r.unknown_interface(), 0);
+}
+
+/// A reader that is interrupted is read on; one that fails is an error.
+#[test]
+fn interrupted_and_failing_readers() {
+    struct Interrupting<'a>(&'a [u8], bool);
+    impl std::io::Read for Interrupting<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            self.1 = !self.1;
+            if self.1 {
+                return Err(std::io::ErrorKind::Interrupted.into());
+            }
+            let n = buf.len().min(self.0.len()).min(5);
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
+    }
+    let mut epb = Vec::new();
+    enhanced_packet(&mut epb, 0, t1(), Direction::Inbound, &REQUEST);
+    let file = minimal(&epb);
+    let mut r = Reader::new(Interrupting(&file, false));
+    assert_eq!(r.next_packet().unwrap().unwrap().data, REQUEST);
+    struct Failing;
+    impl std::io::Read for Failing {
+        fn read(&mut self, _: &mut [u8]) -> std::io::Result<usize> {
+            Err(std::io::Error::other("gone"))
+        }
+    }
+    assert_eq!(
+        Reader::new(Failing).next_packet().unwrap_err().to_string(),
+        "gone"
     );
 }

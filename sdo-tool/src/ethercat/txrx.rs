@@ -79,11 +79,14 @@ impl<'sto> Future for TxRx<'sto> {
                         return Poll::Ready(Err(Error::ReceiveFrame));
                     }
                 }
-                // Nothing waiting: woken when a frame is.
+                // Nothing waiting: woken when a frame is (the capture written before the wait).
                 Ok(None) => match this.socket.poll_readable(cx) {
                     Poll::Ready(Ok(())) => {}
                     Poll::Ready(Err(_)) => return Poll::Ready(Err(Error::ReceiveFrame)),
-                    Poll::Pending => return Poll::Pending,
+                    Poll::Pending => {
+                        socket.flush_capture();
+                        return Poll::Pending;
+                    }
                 },
                 Err(_) => return Poll::Ready(Err(Error::ReceiveFrame)),
             }
