@@ -149,9 +149,16 @@ async fn run(
     let wrap = |frame: &[u8]| MailboxHeader::wrap(MailboxType::Foe, 0, 0, frame);
     let mut frame = transfer.request();
     let mut busy_since: Option<Instant> = None;
+    let mut answered = false;
     loop {
-        let sent = mailbox.send(maindevice, wrap(&frame), timeout);
-        sent.await.map_err(failed)?;
+        // Once the slave answered, it has taken the request before: its write mailbox is empty.
+        if answered {
+            mailbox.send_taken(maindevice, wrap(&frame)).await
+        } else {
+            mailbox.send(maindevice, wrap(&frame), timeout).await
+        }
+        .map_err(failed)?;
+        answered = true;
         let (t, answer) = mailbox.receive(maindevice, timeout).await.map_err(failed)?;
         if t != MailboxType::Foe {
             return Err(FoeFailure::Protocol(format!(
@@ -173,16 +180,14 @@ async fn run(
                 frame = again;
             }
             Ok(Next::SendLast(last)) => {
-                mailbox
-                    .send(maindevice, wrap(&last), timeout)
-                    .await
-                    .map_err(failed)?;
+                let sent = mailbox.send_taken(maindevice, wrap(&last)).await;
+                sent.map_err(failed)?;
                 return Ok(transfer);
             }
             Ok(Next::Done) => return Ok(transfer),
             Err(e) => {
                 if let Some(abort) = e.abort_frame() {
-                    let _ = mailbox.send(maindevice, wrap(&abort), timeout).await;
+                    let _ = mailbox.send_taken(maindevice, wrap(&abort)).await;
                 }
                 return Err(FoeFailure::Foe(e));
             }

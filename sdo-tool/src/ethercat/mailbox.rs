@@ -99,8 +99,19 @@ impl Mailbox {
     pub(super) async fn send(
         &self,
         maindevice: &MainDevice<'_>,
-        mut request: Vec<u8>,
+        request: Vec<u8>,
         timeout: Duration,
+    ) -> Result<(), Failure> {
+        self.until(maindevice, SM0, false, timeout).await?;
+        self.send_taken(maindevice, request).await
+    }
+
+    /// Puts `request` into the write mailbox, which the slave has emptied: it answered the request
+    /// before.
+    pub(super) async fn send_taken(
+        &self,
+        maindevice: &MainDevice<'_>,
+        mut request: Vec<u8>,
     ) -> Result<(), Failure> {
         if request.len() > self.write_len() {
             return Err(Failure::TooLong {
@@ -109,7 +120,6 @@ impl Mailbox {
             });
         }
         request.resize(self.write_len(), 0);
-        self.until(maindevice, SM0, false, timeout).await?;
         Command::fpwr(self.station, self.write.0)
             .send_receive_slice(maindevice, request.as_slice())
             .await?;
