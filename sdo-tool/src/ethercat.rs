@@ -16,6 +16,9 @@
 //!   data in the initiate request) that this module puts into the slave's write mailbox (SM0) and
 //!   whose answer it takes from the read mailbox (SM1) itself, with mailbox counter 0 (no repeat
 //!   detection, so ethercrab's own counter sequence is not disturbed). The data must fit one mailbox.
+//! - **FoE** (`foe`): files to and from a slave through the same mailboxes (ethercrab has no FoE),
+//!   in Bootstrap where asked.
+//! - A frame has as long to come back as a mailbox answer (the session's timeout, 100 ms at least).
 //! - An SDO abort is [`ToolError::Abort`] with the code (and its CiA 301 meaning) as over CAN; no
 //!   answer within the timeout is [`ToolError::Timeout`]; anything else of the network is
 //!   [`ToolError::Ethercat`].
@@ -578,9 +581,12 @@ impl EthercatSession {
             pdu_loop,
             Timeouts {
                 // Generous for a loaded machine: a frame that comes back after its timeout ends
-                // ethercrab's TX/RX task.
-                pdu: Duration::from_millis(100),
-                eeprom: Duration::from_millis(100),
+                // ethercrab's TX/RX task. A slave has as long to answer a frame as a mailbox
+                // request (--timeout-ms, 100 ms at least), and its EEPROM as long to load a word:
+                // an FoE transfer of a megabyte is tens of thousands of frames, and one that a busy
+                // machine holds up must not end it.
+                pdu: timeout.max(Duration::from_millis(100)),
+                eeprom: timeout.max(Duration::from_millis(100)),
                 wait_loop_delay: Duration::from_millis(1),
                 mailbox_response: timeout,
                 ..Timeouts::default()
