@@ -258,7 +258,14 @@ async fn to_boot(
             .await
             .map_err(master)?;
     }
-    state(0x03).await
+    let boot = state(0x03).await;
+    if boot.is_err() {
+        // The refusal acknowledged: the slave stays in Init without the error indication.
+        let _ = Command::fpwr(station, AL_CONTROL)
+            .send(maindevice, 0x0011u16)
+            .await;
+    }
+    boot
 }
 
 /// Two words of the SII of the slave at `station` from word `address`, through its EEPROM
