@@ -203,8 +203,9 @@ fn pysoem_keeps_files_across_a_power_cycle() {
 
 /// sdo-tool writes the files (firmware refused outside Bootstrap with 0x8009 and its hint, then
 /// written with --boot), is refused a file over the limit (0x8003, exit 1) and one that is not
-/// there (0x8001, exit 1), gets the mailbox error 2 from the unit without FoE (exit 3) and a usage
-/// error without -p on a chain of two (exit 2); pysoem reads sdo-tool's files and writes one that
+/// there (0x8001, exit 1), gets the mailbox error 2 from the unit without FoE (exit 3), which
+/// refuses Bootstrap too (0x0013: its ESI gives no bootstrap mailbox; exit 3), and a usage error
+/// without -p on a chain of two (exit 2); pysoem reads sdo-tool's files and writes one that
 /// sdo-tool reads; after a power cycle sdo-tool reads every file back, byte for byte.
 #[test]
 fn sdo_tool_and_pysoem_read_each_others_files() {
@@ -255,6 +256,13 @@ fn sdo_tool_and_pysoem_read_each_others_files() {
         3,
         "sdo-tool: slave 2: FoE read of \"a.bin\" failed: the slave answered with mailbox error 2 \
          (mailbox protocol not supported)",
+    );
+    refused(
+        &link,
+        &["foe-write", "-p", "2", "--boot", &path("a.bin")],
+        3,
+        "sdo-tool: slave 2: FoE write of \"a.bin\" failed: the slave did not go to Bootstrap (AL \
+         status 0x0011, AL status code 0x0013)",
     );
     refused(
         &link,
@@ -338,5 +346,28 @@ fn one_mib_each_way() {
     );
     drop(link);
     std::fs::remove_dir_all(&dir).unwrap();
+    std::fs::remove_dir_all(&local).unwrap();
+}
+
+/// A unit that takes 3 ms to program each packet (`--foe-busy-ms 3`) answers the packets that come
+/// sooner with Busy, and sdo-tool sends them again: 4,000 bytes (35 packets, the first 34 of them
+/// followed at once by the next) take at least 34 × 3 ms, and read back whole.
+#[test]
+fn sdo_tool_waits_out_a_busy_slave() {
+    pysoem_master::preflight();
+    let link = Link::node(&["--esi", "examples/foe-device.esi.xml", "--foe-busy-ms", "3"]);
+    let local = folder("busy-local");
+    std::fs::create_dir_all(&local).unwrap();
+    let file = local.join("slow.bin");
+    std::fs::write(&file, pattern("slow.bin", 4000)).unwrap();
+    let started = std::time::Instant::now();
+    ok(&link, &["foe-write", &file.display().to_string()]);
+    let took = started.elapsed();
+    assert!(took >= Duration::from_millis(34 * 3), "{took:?}");
+    assert_eq!(
+        ok(&link, &["foe-read", "slow.bin"]),
+        pattern("slow.bin", 4000)
+    );
+    drop(link);
     std::fs::remove_dir_all(&local).unwrap();
 }
