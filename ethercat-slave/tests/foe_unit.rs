@@ -288,3 +288,47 @@ fn init_ends_a_transfer_and_its_timer_is_the_chains() {
     assert_eq!(store.get(b"kept").map(|f| f.to_vec()), Some(b"k".to_vec()));
     assert!(store.get(b"w").is_none());
 }
+
+/// The chain runs the FoE timer: a write left alone for the 10 s of the default configuration
+/// ends (its bytes dropped) when the chain's time passes it, as any of its timers. The template
+/// says which units have FoE and Bootstrap, and a configuration given to it keeps what the ESI says
+/// of Bootstrap.
+#[test]
+fn the_chain_times_a_transfer_out() {
+    let (mut c, layouts) = pre_op();
+    mailbox(
+        &mut c,
+        &layouts[0],
+        0,
+        &foe(1, &h("02 00 00 00 00 00", b"w")),
+    );
+    mailbox(
+        &mut c,
+        &layouts[0],
+        0,
+        &foe(2, &h("03 00 01 00 00 00", &[7; 116])),
+    );
+    c.cycle(Duration::from_secs(9));
+    assert!(c.slot(0).unwrap().foe().unwrap().is_busy());
+    c.cycle(Duration::from_secs(1));
+    assert!(!c.slot(0).unwrap().foe().unwrap().is_busy());
+    assert!(c
+        .slot(0)
+        .unwrap()
+        .foe()
+        .unwrap()
+        .store()
+        .get(b"w")
+        .is_none());
+    let mut f = foe_device();
+    assert!(f.foe().unwrap().boot);
+    assert!(io_device().foe().is_none());
+    f.set_foe(&ethercat_slave::foe::FoeConfig {
+        max_file: 10,
+        ..Default::default()
+    });
+    assert_eq!(
+        (f.foe().unwrap().max_file, f.foe().unwrap().boot),
+        (10, true)
+    );
+}

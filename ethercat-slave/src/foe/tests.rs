@@ -478,3 +478,32 @@ fn firmware_name_patterns() {
         assert_eq!(matches(pattern, name), yes, "{pattern} {name:?}");
     }
 }
+
+/// A host that does not drain the server gets the answers in order, the last 16 at most; the events
+/// likewise: the oldest go.
+#[test]
+fn undrained_answers_and_events_keep_the_last_sixteen() {
+    let mut b = Bench::new(FoeConfig::default());
+    for k in 0..17u8 {
+        b.now += Duration::from_millis(1);
+        b.server
+            .handle_mailbox(b.now, &h("01 00 00 00 00 00", &[b'a' + k]), PRE_OP);
+    }
+    let answers: Vec<Vec<u8>> = std::iter::from_fn(|| b.server.poll_transmit()).collect();
+    assert_eq!(answers.len(), 16);
+    assert_eq!(answers[0], h("05 00 01 80 00 00", b"no such file"));
+    let events = b.events();
+    assert_eq!(events.len(), 16);
+    assert_eq!(
+        events[0],
+        FoeEvent::Refused {
+            name: b"b".to_vec(),
+            code: FoeErrorCode::NotFound
+        }
+    );
+    assert_eq!(b.server.config(), &FoeConfig::default());
+    assert_eq!(
+        (b.server.store().max_file(), b.server.store().max_store()),
+        (4 << 20, 16 << 20)
+    );
+}
