@@ -54,6 +54,7 @@ pub struct FoeWriteArgs {
 #[derive(Debug, clap::Args)]
 pub struct FoeReadArgs {
     /// The file's name on the slave.
+    #[arg(value_name = "SOURCEFILE")]
     pub source_file: String,
     /// The password the slave asks for: 0x… or decimal (0 without it).
     #[arg(value_parser = password)]
