@@ -9,7 +9,8 @@
 //! and 5,000 bytes of firmware in Bootstrap (244 bytes a packet); the emulator stopped and started
 //! again with the same folder (a power cycle) and every file read back byte for byte; a file over
 //! the limit refused with 0x8003 and kept nowhere; FoE to the unit without it refused with the
-//! mailbox error 0x0002; each master reading the other's files.
+//! mailbox error 0x0002; each master reading the other's files; a slave that answers Busy waited
+//! out by both.
 //!
 //! Needs root (a network namespace, a veth pair, raw sockets) and pysoem (`pip install pysoem`):
 //! without either the test fails and says why; it is never skipped.
@@ -351,9 +352,10 @@ fn one_mib_each_way() {
 
 /// A unit that takes 3 ms to program each packet (`--foe-busy-ms 3`) answers the packets that come
 /// sooner with Busy, and sdo-tool sends them again: 4,000 bytes (35 packets, the first 34 of them
-/// followed at once by the next) take at least 34 × 3 ms, and read back whole.
+/// followed at once by the next) take at least 34 × 3 ms, and read back whole. SOEM sends them
+/// again too: pysoem's 4,000 bytes read back whole.
 #[test]
-fn sdo_tool_waits_out_a_busy_slave() {
+fn both_masters_wait_out_a_busy_slave() {
     pysoem_master::preflight();
     let link = Link::node(&["--esi", "examples/foe-device.esi.xml", "--foe-busy-ms", "3"]);
     let local = folder("busy-local");
@@ -368,6 +370,7 @@ fn sdo_tool_waits_out_a_busy_slave() {
         ok(&link, &["foe-read", "slow.bin"]),
         pattern("slow.bin", 4000)
     );
+    pysoem(&link, &["w:1:busy.bin:4000", "r:1:busy.bin:4000"]);
     drop(link);
     std::fs::remove_dir_all(&local).unwrap();
 }
