@@ -199,6 +199,8 @@ impl Transfer {
 ///   the whole) and not taken; the master sends it again.
 /// - A new Read or Write request ends a transfer in progress (its written bytes dropped); an Error
 ///   from the master ends it without an answer.
+/// - Every answer fits the read mailbox: Data packets of its length less 12 bytes, Error texts cut
+///   to that.
 #[derive(Debug, Clone)]
 pub struct FoeServer {
     config: FoeConfig,
@@ -207,6 +209,8 @@ pub struct FoeServer {
     deadline: Option<Instant>,
     transmit: VecDeque<Vec<u8>>,
     events: VecDeque<FoeEvent>,
+    /// The read mailbox's length at the request being answered: an Error's text fits it.
+    read_len: usize,
 }
 
 impl FoeServer {
@@ -219,6 +223,7 @@ impl FoeServer {
             deadline: None,
             transmit: VecDeque::new(),
             events: VecDeque::new(),
+            read_len: 0,
         }
     }
 
@@ -287,6 +292,7 @@ impl FoeServer {
     /// A frame shorter than the FoE header is the caller's to refuse (mailbox error 0x0006).
     pub fn handle_mailbox(&mut self, now: Instant, frame: &[u8], link: Link) {
         self.handle_timeout(now);
+        self.read_len = link.read_len;
         if frame.len() < FOE_HEADER_LEN {
             return;
         }
@@ -326,11 +332,15 @@ impl FoeServer {
     }
 
     /// The Error frame with `code` and `text` (an event says so).
+    /// The Error frame with `code` and `text` (an event says so), the text cut to what the read
+    /// mailbox holds beside the headers.
     fn refuse(&mut self, name: Vec<u8>, code: FoeErrorCode, text: &str) -> Vec<u8> {
         self.event(FoeEvent::Refused { name, code });
+        let text = text.as_bytes();
+        let room = data_per_packet(self.read_len).min(text.len());
         FoeFrame::Error {
             code,
-            text: text.as_bytes(),
+            text: &text[..room],
         }
         .to_vec()
     }

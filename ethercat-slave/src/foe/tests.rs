@@ -3,6 +3,7 @@
 //! file a packet.
 
 use super::*;
+use od::foe::data_per_packet;
 
 /// Bytes from hexadecimal, then `tail`.
 fn h(text: &str, tail: &[u8]) -> Vec<u8> {
@@ -23,6 +24,15 @@ const BOOT: Link = Link {
     boot: true,
     write_len: 32,
     read_len: 32,
+};
+/// As [`PRE_OP`] and [`BOOT`] with a read mailbox of 128 bytes: room for the Error texts whole.
+const WIDE: Link = Link {
+    read_len: 128,
+    ..PRE_OP
+};
+const BOOT_WIDE: Link = Link {
+    read_len: 128,
+    ..BOOT
 };
 
 /// `n` bytes 0, 1, 2, …
@@ -66,15 +76,17 @@ impl Bench {
             .collect()
     }
 
-    /// Writes `data` as `name` in packets of 20 bytes, every answer the Ack of its packet.
+    /// Writes `data` as `name` in packets of the write mailbox (20 bytes of 32), every answer the
+    /// Ack of its packet.
     fn write(&mut self, name: &[u8], data: &[u8]) {
         assert_eq!(
             self.rx(&h("02 00 00 00 00 00", name)),
             Some(h("04 00 00 00 00 00", &[]))
         );
-        // A file that is a multiple of 20 bytes ends with an empty packet.
-        let whole = data.len() / 20 * 20 == data.len();
-        let chunks = data.chunks(20).chain(whole.then_some(&[][..]));
+        // A file that is a multiple of a packet ends with an empty packet.
+        let full = data_per_packet(self.link.write_len);
+        let whole = data.len() / full * full == data.len();
+        let chunks = data.chunks(full).chain(whole.then_some(&[][..]));
         for (k, chunk) in chunks.enumerate() {
             let p = (k as u32 + 1).to_le_bytes();
             let mut frame = vec![0x03, 0x00, p[0], p[1], p[2], p[3]];
@@ -92,7 +104,7 @@ impl Bench {
             let p = packet.to_le_bytes();
             assert_eq!(answer[..6], [0x03, 0x00, p[0], p[1], p[2], p[3]]);
             out.extend_from_slice(&answer[6..]);
-            let last = answer.len() - 6 < 20;
+            let last = answer.len() - 6 < data_per_packet(self.link.read_len);
             let next = self.rx(&[0x04, 0x00, p[0], p[1], p[2], p[3]]);
             if last {
                 assert_eq!(next, None, "nothing after the last Ack");
@@ -210,6 +222,7 @@ fn packets_follow_the_mailbox_lengths() {
 #[test]
 fn a_wrong_packet_number_ends_the_transfer() {
     let mut b = Bench::new(FoeConfig::default());
+    b.link = WIDE;
     b.rx(&h("02 00 00 00 00 00", b"w"));
     assert_eq!(
         b.rx(&h("03 00 02 00 00 00", &[1])),
@@ -270,6 +283,7 @@ fn not_found_and_a_wrong_password() {
 #[test]
 fn names_of_1_to_80_bytes() {
     let mut b = Bench::new(FoeConfig::default());
+    b.link = WIDE;
     assert_eq!(
         b.rx(&h("02 00 00 00 00 00", &[])),
         Some(h("05 00 04 80 00 00", b"a file name of 0 bytes (1 to 80)"))
@@ -294,6 +308,7 @@ fn a_file_over_the_limits_is_disk_full_and_changes_nothing() {
         max_store: 50,
         ..FoeConfig::default()
     });
+    b.link = WIDE;
     b.write(b"f", &file(30));
     b.rx(&h("02 00 00 00 00 00", b"f"));
     b.rx(&h("03 00 01 00 00 00", &[0xEE; 20]));
@@ -328,12 +343,13 @@ fn firmware_is_written_in_bootstrap_only() {
         boot: true,
         ..FoeConfig::default()
     });
+    b.link = WIDE;
     assert_eq!(
         b.rx(&h("02 00 00 00 00 00", b"FW.EFW")),
         Some(h("05 00 09 80 00 00", b"firmware is written in Bootstrap"))
     );
     b.write(b"cfg.txt", b"x");
-    b.link = BOOT;
+    b.link = BOOT_WIDE;
     assert_eq!(
         b.rx(&h("02 00 00 00 00 00", b"cfg.txt")),
         Some(h(
@@ -343,7 +359,7 @@ fn firmware_is_written_in_bootstrap_only() {
     );
     b.write(b"FW.EFW", &file(21));
     assert_eq!(b.read(b"cfg.txt"), b"x");
-    b.link = PRE_OP;
+    b.link = WIDE;
     assert_eq!(b.read(b"FW.EFW"), file(21));
     let mut plain = Bench::new(FoeConfig::default());
     plain.write(b"fw.efw", b"y");
@@ -506,4 +522,58 @@ fn undrained_answers_and_events_keep_the_last_sixteen() {
         (b.server.store().max_file(), b.server.store().max_store()),
         (4 << 20, 16 << 20)
     );
+}
+
+/// An Error's text is cut to what the read mailbox holds beside the headers: 34 bytes (the
+/// smallest a master may set: ESI `MinSize`) leave 22.
+#[test]
+fn error_texts_fit_the_read_mailbox() {
+    let mut b = Bench::new(FoeConfig::default());
+    b.link = Link {
+        boot: false,
+        write_len: 34,
+        read_len: 34,
+    };
+    assert_eq!(
+        b.rx(&h("02 00 00 00 00 00", &[])),
+        Some(h("05 00 04 80 00 00", b"a file name of 0 bytes"))
+    );
+}
+
+proptest::proptest! {
+    /// Random frames (every OpCode and beyond, packet numbers around the right ones, data of any
+    /// length up to beyond the mailbox, names from three letters, Bootstrap or not, time passing)
+    /// never panic; every answer fits a 32-byte read mailbox (26 bytes after its header); the
+    /// files never take more than the store's 500 bytes, none more than 300.
+    #[test]
+    fn random_frames_stay_within_the_mailbox_and_the_limits(
+        ops in proptest::collection::vec(
+            (0u8..8, 0u32..4, 0usize..40, 0u64..20, proptest::bool::ANY),
+            0..300,
+        )
+    ) {
+        let mut b = Bench::new(FoeConfig {
+            max_file: 300,
+            max_store: 500,
+            boot: true,
+            packet_time: Duration::from_millis(5),
+            ..FoeConfig::default()
+        });
+        for (op, packet, len, step, boot) in ops {
+            let p = packet.to_le_bytes();
+            let mut frame = vec![op, 0, p[0], p[1], p[2], p[3]];
+            frame.extend((0..len).map(|k| b"ab."[k % 3]));
+            b.now += Duration::from_millis(step);
+            let link = Link { boot, write_len: 32, read_len: 32 };
+            b.server.handle_mailbox(b.now, &frame, link);
+            while let Some(answer) = b.server.poll_transmit() {
+                proptest::prop_assert!(answer.len() <= 26, "{answer:02X?}");
+            }
+            while b.server.poll_event().is_some() {}
+            while let Some((_, data)) = b.server.poll_written() {
+                proptest::prop_assert!(data.len() <= 300);
+            }
+            proptest::prop_assert!(b.server.store().used() <= 500);
+        }
+    }
 }
