@@ -200,7 +200,8 @@ impl Transfer {
 /// - A new Read or Write request ends a transfer in progress (its written bytes dropped); an Error
 ///   from the master ends it without an answer.
 /// - Every answer fits the read mailbox: Data packets of its length less 12 bytes, Error texts cut
-///   to that.
+///   to that; a read from a mailbox of 12 bytes or fewer, or one the master made shorter during the
+///   read, ends with 0x8000.
 #[derive(Debug, Clone)]
 pub struct FoeServer {
     config: FoeConfig,
@@ -350,8 +351,8 @@ impl FoeServer {
             FoeFrame::Read { password, name } => Some(self.read(password, name, link)),
             FoeFrame::Write { password, name } => Some(self.write(password, name, link)),
             FoeFrame::Data { packet, data } => Some(self.data(now, packet, data)),
-            FoeFrame::Ack { packet } => self.ack(packet),
-            FoeFrame::Busy { .. } => Some(self.busy()),
+            FoeFrame::Ack { packet } => self.ack(packet, link),
+            FoeFrame::Busy { .. } => Some(self.busy(link)),
             FoeFrame::Error { code, .. } => {
                 if let Some(t) = self.transfer.take() {
                     let name = t.name().to_vec();
@@ -385,7 +386,11 @@ impl FoeServer {
         let Some(file) = self.store.get(name).cloned() else {
             return self.refuse(name.to_vec(), FoeErrorCode::NotFound, "no such file");
         };
-        let full = data_per_packet(link.read_len).max(1);
+        let full = data_per_packet(link.read_len);
+        if full == 0 {
+            let text = "the read mailbox holds no file data";
+            return self.refuse(name.to_vec(), FoeErrorCode::NotDefined, text);
+        }
         let len = full.min(file.len());
         let frame = FoeFrame::Data {
             packet: 1,
@@ -480,8 +485,25 @@ impl FoeServer {
         FoeFrame::Ack { packet }.to_vec()
     }
 
+    /// Ends a read whose packets no longer fit the read mailbox (the master made it shorter
+    /// during the transfer): the Error, or `None` while they fit.
+    fn shrunk(&mut self, link: Link) -> Option<Vec<u8>> {
+        let full = match &self.transfer {
+            Some(Transfer::Read { full, .. }) => *full,
+            _ => return None,
+        };
+        (data_per_packet(link.read_len) < full).then(|| {
+            let name = self.end();
+            let text = "the read mailbox is shorter than at the start";
+            self.refuse(name, FoeErrorCode::NotDefined, text)
+        })
+    }
+
     /// The next packet of a read, or nothing after the last one's Ack.
-    fn ack(&mut self, acked: u32) -> Option<Vec<u8>> {
+    fn ack(&mut self, acked: u32, link: Link) -> Option<Vec<u8>> {
+        if let Some(refusal) = self.shrunk(link) {
+            return Some(refusal);
+        }
         let Some(Transfer::Read {
             file,
             packet,
@@ -518,7 +540,10 @@ impl FoeServer {
     }
 
     /// The master is busy: the last Data packet of a read again.
-    fn busy(&mut self) -> Vec<u8> {
+    fn busy(&mut self, link: Link) -> Vec<u8> {
+        if let Some(refusal) = self.shrunk(link) {
+            return refusal;
+        }
         match &self.transfer {
             Some(Transfer::Read {
                 file,

@@ -525,7 +525,9 @@ fn undrained_answers_and_events_keep_the_last_sixteen() {
 }
 
 /// An Error's text is cut to what the read mailbox holds beside the headers: 34 bytes (the
-/// smallest a master may set: ESI `MinSize`) leave 22.
+/// smallest a master may set: ESI `MinSize`) leave 22. A read mailbox of 12 bytes holds no file:
+/// a Read is 0x8000 with no text; one made shorter during a read ends it with 0x8000 (text cut to
+/// the new length), whether the master acknowledges or is busy.
 #[test]
 fn error_texts_fit_the_read_mailbox() {
     let mut b = Bench::new(FoeConfig::default());
@@ -538,17 +540,34 @@ fn error_texts_fit_the_read_mailbox() {
         b.rx(&h("02 00 00 00 00 00", &[])),
         Some(h("05 00 04 80 00 00", b"a file name of 0 bytes"))
     );
+    b.link = WIDE;
+    b.write(b"f", &file(200));
+    b.link.read_len = 12;
+    assert_eq!(
+        b.rx(&h("01 00 00 00 00 00", b"f")),
+        Some(h("05 00 00 80 00 00", &[]))
+    );
+    for (shorter, frame) in [(20, "04 00 01 00 00 00"), (14, "06 00 00 00 00 00")] {
+        b.link.read_len = 128;
+        assert_eq!(b.rx(&h("01 00 00 00 00 00", b"f")).unwrap().len(), 122);
+        b.link.read_len = shorter;
+        let mut text = b"the read mailbox is shorter than at the start".to_vec();
+        text.truncate(shorter - 12);
+        assert_eq!(b.rx(&h(frame, &[])), Some(h("05 00 00 80 00 00", &text)));
+        assert!(!b.server.is_busy());
+    }
 }
 
 proptest::proptest! {
     /// Random frames (every OpCode and beyond, packet numbers around the right ones, data of any
-    /// length up to beyond the mailbox, names from three letters, Bootstrap or not, time passing)
-    /// never panic; every answer fits a 32-byte read mailbox (26 bytes after its header); the
-    /// files never take more than the store's 500 bytes, none more than 300.
+    /// length up to beyond the mailbox, names from three letters, Bootstrap or not, mailboxes of
+    /// 13 to 40 bytes, time passing) never panic; every answer fits the read mailbox (its length
+    /// less the 6 bytes of its header); the files never take more than the store's 500 bytes, none
+    /// more than 300.
     #[test]
     fn random_frames_stay_within_the_mailbox_and_the_limits(
         ops in proptest::collection::vec(
-            (0u8..8, 0u32..4, 0usize..40, 0u64..20, proptest::bool::ANY),
+            (0u8..8, 0u32..4, 0usize..40, 0u64..20, proptest::bool::ANY, 13usize..40),
             0..300,
         )
     ) {
@@ -559,15 +578,15 @@ proptest::proptest! {
             packet_time: Duration::from_millis(5),
             ..FoeConfig::default()
         });
-        for (op, packet, len, step, boot) in ops {
+        for (op, packet, len, step, boot, mailbox) in ops {
             let p = packet.to_le_bytes();
             let mut frame = vec![op, 0, p[0], p[1], p[2], p[3]];
             frame.extend((0..len).map(|k| b"ab."[k % 3]));
             b.now += Duration::from_millis(step);
-            let link = Link { boot, write_len: 32, read_len: 32 };
+            let link = Link { boot, write_len: mailbox, read_len: mailbox };
             b.server.handle_mailbox(b.now, &frame, link);
             while let Some(answer) = b.server.poll_transmit() {
-                proptest::prop_assert!(answer.len() <= 26, "{answer:02X?}");
+                proptest::prop_assert!(answer.len() <= mailbox - 6, "{answer:02X?}");
             }
             while b.server.poll_event().is_some() {}
             while let Some((_, data)) = b.server.poll_written() {
