@@ -21,6 +21,7 @@
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod esc;
+pub mod foe;
 pub mod frame;
 pub mod generic;
 #[cfg(feature = "test-master")]

@@ -18,6 +18,8 @@ use ds402::drive::{DriveConfig, MotorKind};
 use od::event::Origin;
 use od::load::Format;
 
+use crate::foe::dir::DirError;
+use crate::foe::FoeConfig;
 use crate::generic::{self, parse_number, Template, TemplateError};
 use crate::raw::RawSocket;
 use crate::runtime::{self, RuntimeError, Stats};
@@ -34,6 +36,11 @@ pub const MAX_UNITS: usize = 128;
 /// following error and a motor model; it logs each limit that holds it back. A device without
 /// drive axes is its dictionary: the process data writes and reads its entries. --list shows a
 /// file's devices and their axes.
+///
+/// Where the ESI offers FoE (Mailbox/FoE) a unit keeps files by FoE (read and write, ETG.1000.6
+/// error codes, the --foe-* limits), in memory or in --foe-dir; where it gives a bootstrap mailbox
+/// (Eeprom/BootStrap) the unit has a Bootstrap state (from Init, back to Init only) in which it
+/// takes firmware files (--foe-firmware) and speaks FoE only.
 ///
 /// --esi FILE@N puts N units of FILE's device in the chain; give --esi once per device kind, in
 /// chain order. A --device (type name, name or product code) and a --modules list belong to the
@@ -108,6 +115,39 @@ pub struct Args {
     #[arg(long)]
     pub json: bool,
 
+    /// A folder that keeps the units' FoE files: unit N's in DIR/unitN/, one file each under its
+    /// FoE name (bytes other than A-Z a-z 0-9 _ - . written %XX). Read at start, written as each
+    /// file arrives whole: a restart with the same folder is a power cycle that keeps them.
+    /// Without it the files last as long as the run.
+    #[arg(long, value_name = "DIR")]
+    pub foe_dir: Option<PathBuf>,
+
+    /// The largest FoE file a unit takes, in bytes; a larger one is refused with 0x8003 (disk
+    /// full).
+    #[arg(long, value_name = "BYTES", default_value_t = 4 << 20, value_parser = clap::value_parser!(u64).range(0..=1 << 30))]
+    pub foe_max_file: u64,
+
+    /// All FoE files of a unit together, in bytes; 0x8003 (disk full) beyond.
+    #[arg(long, value_name = "BYTES", default_value_t = 16 << 20, value_parser = clap::value_parser!(u64).range(0..=1 << 30))]
+    pub foe_max_store: u64,
+
+    /// The password every FoE request must carry (0x…, #x… or decimal); another is refused with
+    /// 0x800A (no rights). Without it any password goes.
+    #[arg(long, value_name = "N", value_parser = password)]
+    pub foe_password: Option<u32>,
+
+    /// The firmware files (a name pattern, * for any characters, ASCII case ignored; give it
+    /// again for more; *.efw without it): on a unit whose ESI gives a bootstrap mailbox
+    /// (Eeprom/BootStrap) they are written by FoE in Bootstrap only (0x8009, not Bootstrap,
+    /// otherwise), and in Bootstrap nothing else is (0x8008, Bootstrap only).
+    #[arg(long = "foe-firmware", value_name = "PATTERN")]
+    pub foe_firmware: Vec<String>,
+
+    /// How many ms a unit takes to program an FoE Data packet: one that comes sooner is answered
+    /// with Busy and sent again by the master (0 to 10000; 0, the default: never busy).
+    #[arg(long, value_name = "MS", default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=10_000))]
+    pub foe_busy_ms: u64,
+
     /// Prints every device of each --esi file, one tab-separated row each, and exits without
     /// opening an interface: its name, how --device chooses it, its identity, its drive axes (0+1
     /// CiA 402 axes, m0+m1 MDP 742 channels), whether its ESI claims csp in 0x6502, the PDOs a
@@ -118,6 +158,29 @@ pub struct Args {
     /// `--completions SHELL`, `--man DIR`.
     #[command(flatten)]
     pub generate: cli_support::Generate,
+}
+
+/// A password as the command line gives it: `0x…`, `#x…` or decimal.
+fn password(text: &str) -> Result<u32, String> {
+    parse_number(text).ok_or_else(|| format!("{text:?} is no 32-bit number (0x…, #x… or decimal)"))
+}
+
+/// The FoE configuration `args` give.
+pub fn foe_config(args: &Args) -> FoeConfig {
+    let bytes = |n: u64| usize::try_from(n).unwrap_or(usize::MAX);
+    let defaults = FoeConfig::default();
+    FoeConfig {
+        max_file: bytes(args.foe_max_file),
+        max_store: bytes(args.foe_max_store),
+        password: args.foe_password,
+        firmware: if args.foe_firmware.is_empty() {
+            defaults.firmware.clone()
+        } else {
+            args.foe_firmware.clone()
+        },
+        packet_time: Duration::from_millis(args.foe_busy_ms),
+        ..defaults
+    }
 }
 
 /// The motor of the drives.
@@ -259,6 +322,9 @@ pub enum CliError {
     /// The capture file cannot be created.
     #[error("--capture {0}")]
     Capture(#[from] link_capture::CaptureError),
+    /// The --foe-dir folder could not be read.
+    #[error("--foe-dir {0}")]
+    FoeDir(#[from] DirError),
 }
 
 /// Reads the device of `spec` and makes it ready with its modules, its drives servos.
@@ -367,14 +433,14 @@ pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliE
         return Ok(Stats::default());
     }
     let drive = drive_config(args);
+    let foe = foe_config(args);
     let templates: Vec<(Template, usize)> = config
         .specs
         .iter()
         .map(|s| {
-            Ok((
-                load_for(s, &drive)?,
-                s.units.unwrap_or(usize::from(args.units)),
-            ))
+            let mut t = load_for(s, &drive)?;
+            t.set_foe(&foe);
+            Ok((t, s.units.unwrap_or(usize::from(args.units))))
         })
         .collect::<Result<_, CliError>>()?;
     if args.explain {
@@ -402,7 +468,7 @@ pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliE
         socket.capture_to(capture);
     }
     let list: Vec<(&Template, usize)> = templates.iter().map(|(t, n)| (t, *n)).collect();
-    let chain = generic::chain(
+    let mut chain = generic::chain(
         &list,
         &drive,
         Duration::from_micros(args.cycle_us),
@@ -413,6 +479,15 @@ pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliE
         why: e.to_string(),
     })?;
     let total = chain.len();
+    let mut loaded = Vec::new();
+    if let Some(root) = &args.foe_dir {
+        for k in 0..total {
+            if let Some(foe) = chain.foe_mut(k) {
+                let n = crate::foe::dir::load(root, k + 1, foe.store_mut())?;
+                loaded.push((k + 1, n));
+            }
+        }
+    }
     println!(
         "ethercat-node: {total} unit(s) on {interface} (serial numbers 1…{total}); Ctrl-C stops"
     );
@@ -422,13 +497,28 @@ pub fn run(config: &Config, stop: Option<Arc<AtomicBool>>) -> Result<Stats, CliE
             println!("{line}");
         }
     }
+    if let Some(root) = &args.foe_dir {
+        for (unit, n) in &loaded {
+            let dir = crate::foe::dir::unit_dir(root, *unit);
+            println!("  unit {unit}: {n} FoE file(s) in {}", dir.display());
+        }
+    }
     tracing::info!(interface, units = total, "emulated units on line");
+    let root = args.foe_dir.clone();
+    let mut keep = |k: usize, name: &[u8], data: &[u8]| {
+        let Some(root) = &root else { return };
+        match crate::foe::dir::save(root, k + 1, name, data) {
+            Ok(path) => tracing::info!(unit = k + 1, path = %path.display(), "FoE file kept"),
+            Err(e) => tracing::error!(unit = k + 1, error = %e, "FoE file not kept"),
+        }
+    };
     let stats = runtime::serve(
         &socket,
         interface,
         Duration::from_micros(args.busy_poll_us),
         chain,
         &stop,
+        &mut keep,
     )?;
     Ok(stats)
 }

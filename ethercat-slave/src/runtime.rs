@@ -97,17 +97,31 @@ pub fn run(
         device = options.device.order_code(),
         "virtual SMD units on line"
     );
-    serve(&socket, &options.interface, options.busy_poll, chain, stop)
+    serve(
+        &socket,
+        &options.interface,
+        options.busy_poll,
+        chain,
+        stop,
+        &mut |_, _, _| {},
+    )
 }
 
+/// What the edge does with a file a unit took whole by FoE: the unit (0 = first), the file's name,
+/// its contents.
+pub type KeepFile<'a> = dyn FnMut(usize, &[u8], &[u8]) + 'a;
+
 /// Answers the frames arriving on `socket` (on `interface`) with `chain` until `stop` is set, running
-/// the chain's timers in between; `busy_poll` as [`Options::busy_poll`].
+/// the chain's timers in between; `busy_poll` as [`Options::busy_poll`]. Each file a unit takes
+/// whole by FoE goes to `keep` (the unit, 0 = first; the file's name; its contents) right after the
+/// frame that completed it ([`UnitChain::poll_written`]).
 pub fn serve<M: Model>(
     socket: &RawSocket,
     interface: &str,
     busy_poll: Duration,
     mut chain: UnitChain<M>,
     stop: &Arc<AtomicBool>,
+    keep: &mut KeepFile<'_>,
 ) -> Result<Stats, RuntimeError> {
     let io = |source| RuntimeError::Io {
         iface: interface.to_string(),
@@ -155,6 +169,9 @@ pub fn serve<M: Model>(
                 }
                 if let Err(e) = socket.send_batch(&batch) {
                     tracing::warn!(error = %e, "a frame could not be sent back");
+                }
+                while let Some((unit, name, data)) = chain.poll_written() {
+                    keep(unit, &name, &data);
                 }
             }
         }

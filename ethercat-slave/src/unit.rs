@@ -21,8 +21,12 @@
 //!   packed into SM3. Both images are laid out as the unit's PDO assignment (0x1C12, 0x1C13) and
 //!   mapping say at the moment the unit entered Safe-Op (ETG.1000.6 §5.6.7.4: the assignment is
 //!   changed in Pre-Op and takes effect at Safe-Op).
+//! - Beside CoE the mailbox carries FoE where the unit has an FoE server ([`Unit::with_foe`];
+//!   without one, FoE gets the mailbox error 0x0002, unsupported protocol), with the same mailbox
+//!   counter and repeat; in Bootstrap only FoE (CoE gets 0x0002). The files a unit takes whole are
+//!   handed to the edge ([`UnitChain::poll_written`]).
 //! - In Init the unit's mailbox starts again: no transfer, no answer waiting, the mailbox counter
-//!   from the start. In Safe-Op and Op the entries mapped to the RxPDOs are the process data's: an
+//!   from the start (an FoE transfer ends; the files stay). In Safe-Op and Op the entries mapped to the RxPDOs are the process data's: an
 //!   SDO download to one is refused with 0x06010006.
 //!
 //! # Methods and polling order
@@ -38,13 +42,74 @@
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
-use od::coe::server::CoeServer;
+use std::sync::Arc;
+
+use od::coe::mailbox::{MailboxHeader, MailboxType};
+use od::coe::server::{CoeServer, MailboxService, ServiceAnswer};
+use od::foe::{printable, FOE_HEADER_LEN};
 use od::hook::{Device, Objects, ProcessImage};
 use od::sdo::frame::Address;
 
 use crate::esc::al::{AlState, AlStatusCode, SmRule};
 use crate::esc::{Chain, Esc};
+use crate::foe::{FoeEvent, FoeServer, Link};
 use crate::frame::FrameError;
+
+/// Mailbox error: the protocol is not supported (ETG.1000.4 §5.6).
+const MBXERR_UNSUPPORTED_PROTOCOL: u16 = 0x0002;
+/// Mailbox error: the mailbox is too short for its protocol's header.
+const MBXERR_SIZE_TOO_SHORT: u16 = 0x0006;
+
+/// What a unit serves beside CoE through its mailbox: FoE where it has it, and in Bootstrap
+/// nothing else (a bootloader speaks FoE only: CoE is answered with the mailbox error 0x0002).
+struct Protocols<'a> {
+    foe: Option<&'a mut FoeServer>,
+    link: Link,
+}
+
+impl MailboxService for Protocols<'_> {
+    fn takes(&self, mailbox_type: MailboxType) -> bool {
+        self.link.boot || (mailbox_type == MailboxType::Foe && self.foe.is_some())
+    }
+
+    fn serve(&mut self, now: Instant, header: &MailboxHeader, data: &[u8]) -> ServiceAnswer {
+        match (self.foe.as_deref_mut(), header.mailbox_type) {
+            (Some(_), MailboxType::Foe) if data.len() < FOE_HEADER_LEN => {
+                ServiceAnswer::MailboxError(MBXERR_SIZE_TOO_SHORT)
+            }
+            (Some(foe), MailboxType::Foe) => {
+                foe.handle_mailbox(now, data, self.link);
+                match foe.poll_transmit() {
+                    Some(frame) => ServiceAnswer::Mailbox(MailboxType::Foe, frame),
+                    None => ServiceAnswer::Nothing,
+                }
+            }
+            _ => ServiceAnswer::MailboxError(MBXERR_UNSUPPORTED_PROTOCOL),
+        }
+    }
+}
+
+/// One line of the log for what the FoE server of unit `k` (0 = first) did.
+fn log_foe(k: usize, event: FoeEvent) {
+    let unit = k + 1;
+    match event {
+        FoeEvent::Written { name, size } => {
+            tracing::info!(unit, file = %printable(&name), size, "FoE: file written")
+        }
+        FoeEvent::Read { name, size } => {
+            tracing::info!(unit, file = %printable(&name), size, "FoE: file read")
+        }
+        FoeEvent::Refused { name, code } => {
+            tracing::info!(unit, file = %printable(&name), %code, "FoE: refused")
+        }
+        FoeEvent::Aborted { name, code } => {
+            tracing::info!(unit, file = %printable(&name), %code, "FoE: the master ended the transfer")
+        }
+        FoeEvent::TimedOut { name } => {
+            tracing::info!(unit, file = %printable(&name), "FoE: the transfer timed out")
+        }
+    }
+}
 
 /// What starts a process-data exchange of the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -113,6 +178,8 @@ pub struct Unit<M> {
     /// The process-data SyncManager checks of the ESI (outputs, inputs), before the lengths of
     /// the unit's images are put in.
     sm_rules: (Option<SmRule>, Option<SmRule>),
+    /// FoE, where the unit has it.
+    foe: Option<FoeServer>,
 }
 
 impl<M: Model> Unit<M> {
@@ -136,7 +203,20 @@ impl<M: Model> Unit<M> {
             input_image: ProcessImage::default(),
             outputs_taken: 0,
             sm_rules: (None, None),
+            foe: None,
         }
+    }
+
+    /// The unit with `foe` serving FoE through its mailbox (without it, an FoE mailbox is answered
+    /// with the mailbox error 0x0002, unsupported protocol).
+    pub fn with_foe(mut self, foe: FoeServer) -> Unit<M> {
+        self.foe = Some(foe);
+        self
+    }
+
+    /// The FoE server, where the unit has one.
+    pub fn foe(&self) -> Option<&FoeServer> {
+        self.foe.as_ref()
     }
 
     /// The model.
@@ -201,6 +281,9 @@ impl<M: Model> Unit<M> {
             // otherwise be taken for a repeat and answered with that old response.
             self.coe = self.coe_at_start.clone();
             self.pending.clear();
+            if let Some(foe) = &mut self.foe {
+                foe.reset();
+            }
         }
         if from == AlState::PreOp && al == AlState::SafeOp {
             // ETG.1000.6 §5.6.7.4: the PDO assignment of Pre-Op takes effect here.
@@ -245,6 +328,8 @@ pub struct UnitChain<M> {
     /// When the last process-data cycle ran and when the next is due.
     last_cycle: Instant,
     next_cycle: Instant,
+    /// Files the units' FoE servers took whole, for the edge to keep: unit, name, contents.
+    written: VecDeque<(usize, Vec<u8>, Arc<[u8]>)>,
 }
 
 impl<M: Model> UnitChain<M> {
@@ -269,6 +354,7 @@ impl<M: Model> UnitChain<M> {
             now,
             last_cycle: now,
             next_cycle: now + cycle,
+            written: VecDeque::new(),
         }
     }
 
@@ -297,6 +383,20 @@ impl<M: Model> UnitChain<M> {
         self.units.get(k)
     }
 
+    /// The FoE server of unit `k`, where it has one: to put the files it had before it started
+    /// into its store.
+    pub fn foe_mut(&mut self, k: usize) -> Option<&mut FoeServer> {
+        self.units.get_mut(k).and_then(|u| u.foe.as_mut())
+    }
+
+    /// A file a unit took whole by FoE since the last call: the unit (0 = first), the file's name
+    /// and its contents, for the edge to keep (`ethercat-node --foe-dir`). Each file written is
+    /// given once, with what it holds when it is given.
+    #[must_use]
+    pub fn poll_written(&mut self) -> Option<(usize, Vec<u8>, Arc<[u8]>)> {
+        self.written.pop_front()
+    }
+
     /// Processes a frame that arrived at `now` as it passes the chain, then tells the models their
     /// AL states and serves the mailboxes the frame completed.
     pub fn handle_frame(&mut self, now: Instant, frame: &mut [u8]) -> Result<(), FrameError> {
@@ -313,6 +413,9 @@ impl<M: Model> UnitChain<M> {
         self.set_now(now);
         for unit in &mut self.units {
             unit.coe.handle_timeout(self.now);
+            if let Some(foe) = &mut unit.foe {
+                foe.handle_timeout(self.now);
+            }
         }
         if self.now >= self.next_cycle {
             self.step();
@@ -330,7 +433,16 @@ impl<M: Model> UnitChain<M> {
     #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         let sdo = self.units.iter().filter_map(|u| u.coe.poll_timeout()).min();
-        Some(sdo.map_or(self.next_cycle, |t| t.min(self.next_cycle)))
+        let foe = self
+            .units
+            .iter()
+            .filter_map(|u| u.foe.as_ref().and_then(FoeServer::poll_timeout))
+            .min();
+        let first = match (sdo, foe) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        Some(first.map_or(self.next_cycle, |t| t.min(self.next_cycle)))
     }
 
     fn set_now(&mut self, now: Instant) {
@@ -340,7 +452,8 @@ impl<M: Model> UnitChain<M> {
 
     fn serve_mailboxes(&mut self) {
         let now = self.now;
-        for (esc, unit) in self.chain.slaves.iter_mut().zip(self.units.iter_mut()) {
+        let units = self.chain.slaves.iter_mut().zip(self.units.iter_mut());
+        for (k, (esc, unit)) in units.enumerate() {
             let (al, _) = esc.al_state();
             if al != unit.state {
                 unit.sync_state(al, now, esc.sync0_cycle());
@@ -352,8 +465,26 @@ impl<M: Model> UnitChain<M> {
             // before it are in SM1 or read, so a master that never reads SM1 finds SM0 full.
             if unit.pending.is_empty() && esc.mailbox_written() {
                 if let Some(mailbox) = esc.take_mailbox() {
-                    unit.coe.handle_mailbox(now, &mailbox, &mut unit.model);
+                    let (write_len, read_len) = esc.mailbox_lengths();
+                    let mut protocols = Protocols {
+                        foe: unit.foe.as_mut(),
+                        link: Link {
+                            boot: al == AlState::Boot,
+                            write_len: usize::from(write_len),
+                            read_len: usize::from(read_len),
+                        },
+                    };
+                    unit.coe
+                        .handle_mailbox_with(now, &mailbox, &mut unit.model, &mut protocols);
                     while unit.coe.poll_event().is_some() {}
+                    if let Some(foe) = &mut unit.foe {
+                        while let Some(e) = foe.poll_event() {
+                            log_foe(k, e);
+                        }
+                        while let Some((name, data)) = foe.poll_written() {
+                            self.written.push_back((k, name, data));
+                        }
+                    }
                     unit.pending
                         .extend(std::iter::from_fn(|| unit.coe.poll_transmit()));
                     unit.send_pending(esc);

@@ -110,6 +110,77 @@ fn init_to_op_with_the_checks_of_each_step() {
     );
 }
 
+/// The SMD's description with a bootstrap mailbox (ESI `Eeprom/BootStrap` `00180001 00190001`:
+/// receive at 0x1800 and send at 0x1900, 256 bytes each).
+fn boot_chain() -> Chain {
+    let mut desc = common::smd();
+    let ec = desc.ethercat.as_mut().unwrap();
+    ec.eeprom.as_mut().unwrap().boot_strap = vec![0x00, 0x18, 0x00, 0x01, 0x00, 0x19, 0x00, 0x01];
+    let mut c = Chain::new(1);
+    c.slaves[0].al = AlConfig::from_description(&desc);
+    c
+}
+
+/// Bootstrap (ETG.1000.6 §6.4.1), for a device whose ESI gives the bootstrap mailbox: from Init
+/// only, with SM0/SM1 at its offsets and sizes (the standard mailbox there is 0x0015; a length
+/// from the standard mailbox's MinSize, 34, up to the bootstrap size is taken, 33 and 257 are
+/// not); out of it to Init only (Pre-Op, Safe-Op and Op are 0x0011); from Pre-Op it is 0x0011,
+/// not 0x0013.
+#[test]
+fn bootstrap_from_init_with_its_own_mailbox() {
+    let mut c = boot_chain();
+    sm(&mut c, 0, 0x1000, 128, 0x26);
+    sm(&mut c, 1, 0x1080, 128, 0x22);
+    assert_eq!(
+        request(&mut c, 0x03),
+        (AlState::Init, true, AlStatusCode::InvalidMailboxBoot)
+    );
+    assert_eq!(AlStatusCode::InvalidMailboxBoot.code(), 0x0015);
+    request(&mut c, 0x11);
+    for (len, taken) in [(33, false), (257, false), (34, true), (256, true)] {
+        sm(&mut c, 0, 0x1800, len, 0x26);
+        sm(&mut c, 1, 0x1900, 256, 0x22);
+        let (state, error, _) = request(&mut c, 0x03);
+        assert_eq!(
+            (state == AlState::Boot, error),
+            (taken, !taken),
+            "SM0 of {len} bytes"
+        );
+        request(&mut c, 0x11);
+    }
+    sm(&mut c, 0, 0x1800, 256, 0x26);
+    sm(&mut c, 1, 0x1900, 256, 0x22);
+    assert_eq!(
+        request(&mut c, 0x03),
+        (AlState::Boot, false, AlStatusCode::NoError)
+    );
+    for next in [0x02, 0x04, 0x08] {
+        assert_eq!(
+            request(&mut c, next),
+            (AlState::Boot, true, AlStatusCode::InvalidStateChange),
+            "Bootstrap → {next:#04x}"
+        );
+        assert_eq!(
+            request(&mut c, 0x13),
+            (AlState::Boot, false, AlStatusCode::NoError)
+        );
+    }
+    assert_eq!(
+        request(&mut c, 0x01),
+        (AlState::Init, false, AlStatusCode::NoError)
+    );
+    sm(&mut c, 0, 0x1000, 128, 0x26);
+    sm(&mut c, 1, 0x1080, 128, 0x22);
+    assert_eq!(
+        request(&mut c, 0x02),
+        (AlState::PreOp, false, AlStatusCode::NoError)
+    );
+    assert_eq!(
+        request(&mut c, 0x03),
+        (AlState::PreOp, true, AlStatusCode::InvalidStateChange)
+    );
+}
+
 /// ETG.1000.6 Table 11 as the register holds it: the codes this slave sets, by number, and every code
 /// of the table back to itself; a reserved or vendor-specific number stays that number.
 #[test]

@@ -23,6 +23,9 @@
 //!
 //! **CoE.** [`coe`]: the EtherCAT mailbox, SDO over CoE, complete access and the CoE server, on the same
 //! dictionary and model.
+//!
+//! **FoE.** [`foe`]: File access over EtherCAT, its frames and error codes, and the master's side of
+//! a transfer (sans-IO).
 #![deny(missing_docs)]
 
 pub mod model {
@@ -58,6 +61,7 @@ pub mod description {
 }
 
 pub mod coe;
+pub mod foe;
 pub mod pdo;
 pub mod sdo;
 

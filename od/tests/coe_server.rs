@@ -771,6 +771,116 @@ fn mailboxes_that_are_not_sdo_requests_get_a_mailbox_error_reply() {
     assert_eq!(b.events(), []);
 }
 
+/// A service of mailbox type 4 beside the CoE server: it answers `01 02` with `AA`, `EE` with the
+/// mailbox error 0x0006, anything else with nothing; it counts what it serves.
+struct Echo {
+    served: usize,
+}
+
+impl od::coe::MailboxService for Echo {
+    fn takes(&self, t: od::coe::MailboxType) -> bool {
+        t == od::coe::MailboxType::Foe
+    }
+
+    fn serve(
+        &mut self,
+        _now: Instant,
+        header: &od::coe::MailboxHeader,
+        data: &[u8],
+    ) -> od::coe::ServiceAnswer {
+        self.served += 1;
+        assert_eq!(usize::from(header.length), data.len());
+        match data {
+            [0x01, 0x02] => od::coe::ServiceAnswer::Mailbox(od::coe::MailboxType::Foe, vec![0xAA]),
+            [0xEE] => od::coe::ServiceAnswer::MailboxError(0x0006),
+            _ => od::coe::ServiceAnswer::Nothing,
+        }
+    }
+}
+
+/// Another protocol through the CoE server's mailbox (ETG.1000.4 §5.6: one counter for every
+/// protocol): its answer carries the slave's next counter as a CoE answer would; a repeat of its
+/// request (same counter) gets the same answer without being served twice; after it, a CoE
+/// request with the counter the last CoE request had is served, not taken for a repeat; a CoE
+/// transfer in progress goes on across it; its mailbox error and its silence are the service's;
+/// a length beyond the bytes given is 0x0008 without the service; EoE stays unsupported (0x0002).
+#[test]
+fn another_protocol_shares_the_mailbox_counter_and_repeat() {
+    let mut b = Bench::new();
+    let mut echo = Echo { served: 0 };
+    let rx = |b: &mut Bench, echo: &mut Echo, m: &[u8]| {
+        b.now += Duration::from_millis(1);
+        b.server.handle_mailbox_with(b.now, m, &mut b.dict, echo);
+        b.drain()
+    };
+    // A normal upload of 200 bytes starts a transfer (counter 1 → answer counter 1).
+    b.dict.write(0x2000, 0, &text(200)).unwrap();
+    let first = rx(
+        &mut b,
+        &mut echo,
+        &h("0A 00 00 00 00 13 | 00 20 | 40 00 20 00 00 00 00 00"),
+    );
+    assert_eq!(first.len(), 1);
+    assert!(b.server.is_busy());
+    // Type 4, counter 2: the service's answer with the slave's counter 2, address kept.
+    let request = h("02 00 34 12 00 24 | 01 02");
+    assert_eq!(
+        rx(&mut b, &mut echo, &request),
+        vec![h("01 00 34 12 00 24 | AA")]
+    );
+    assert_eq!(echo.served, 1);
+    // The same counter again: the same answer, not served again.
+    assert_eq!(
+        rx(&mut b, &mut echo, &request),
+        vec![h("01 00 34 12 00 24 | AA")]
+    );
+    assert_eq!(echo.served, 1);
+    // Counters 3 … 7, 1: six more requests of the service, the last with counter 1, the counter of
+    // the CoE request above.
+    for c in [3u8, 4, 5, 6, 7, 1] {
+        let mut m = h("02 00 00 00 00 04 | 01 02");
+        m[5] |= c << 4;
+        let answer = rx(&mut b, &mut echo, &m);
+        assert_eq!(answer.len(), 1);
+        assert_eq!(answer[0][5], 0x04 | (c << 4), "the slave counts on");
+    }
+    assert_eq!(echo.served, 7);
+    // A CoE upload segment request with counter 2: served (the transfer went on), not a repeat of
+    // the CoE request with counter 2 before: toggle 0, the last 88 bytes of the value (c = 1).
+    let segment = rx(
+        &mut b,
+        &mut echo,
+        &h("0A 00 00 00 00 23 | 00 20 | 60 00 00 00 00 00 00 00"),
+    );
+    assert_eq!(segment.len(), 1);
+    assert_eq!(
+        &segment[0][..9],
+        &h("5B 00 00 00 00 23 00 30 01"),
+        "the last upload segment"
+    );
+    // The service's mailbox error (the slave's counter 3), and its silence (no counter used).
+    assert_eq!(
+        rx(&mut b, &mut echo, &h("01 00 00 00 00 34 | EE")),
+        vec![h("04 00 00 00 00 30 | 01 00 06 00")]
+    );
+    assert_eq!(
+        rx(&mut b, &mut echo, &h("01 00 00 00 00 44 | 55")),
+        Vec::<Vec<u8>>::new()
+    );
+    // A length beyond the bytes given: 0x0008, the service not asked.
+    let served = echo.served;
+    assert_eq!(
+        rx(&mut b, &mut echo, &h("09 00 00 00 00 54 | 01 02")),
+        vec![h("04 00 00 00 00 40 | 01 00 08 00")]
+    );
+    assert_eq!(echo.served, served);
+    // EoE: no one takes it.
+    assert_eq!(
+        rx(&mut b, &mut echo, &h("01 00 00 00 00 62 | 00")),
+        vec![h("04 00 00 00 00 50 | 01 00 02 00")]
+    );
+}
+
 // ---------------------------------------------------------------------------------------------------
 // Timeout
 

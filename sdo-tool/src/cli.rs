@@ -11,6 +11,7 @@ use crate::cmd::apply::ApplyArgs;
 use crate::cmd::decode::DecodeArgs;
 use crate::cmd::dump::DumpArgs;
 use crate::cmd::ethercat::SdosArgs;
+use crate::cmd::foe::{FoeReadArgs, FoeWriteArgs};
 use crate::cmd::gateway::GatewayArgs;
 use crate::cmd::lss::LssArgs;
 use crate::cmd::net::NetArgs;
@@ -45,8 +46,8 @@ fn interface_name(s: &str) -> Result<String, String> {
 /// master on that network interface instead (root or CAP_NET_RAW): it brings the chain's slaves to
 /// Pre-Op and reaches their object dictionary through their CoE mailbox; NODE is then the slave's
 /// position in the chain, 1 for the first; read, write, dump and apply work there, and slaves,
-/// states and sdos are EtherCAT's own; the other commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
-/// hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort, 2 usage, 3 timeout or
+/// states, sdos, foe-write and foe-read are EtherCAT's own; the other commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
+/// hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort or FoE error, 2 usage, 3 timeout or
 /// transport failure, 4 verification difference (apply), 130 interrupted (Ctrl-C).
 #[derive(Debug, Parser)]
 #[command(name = "sdo-tool", version)]
@@ -55,7 +56,8 @@ pub struct Args {
     #[arg(long, global = true, value_name = "BUS", env = crate::link::BUS_VARIABLE)]
     pub bus: Option<BusSpec>,
     /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
-    /// (1 = first); read, write, dump, apply, drive, slaves, states and sdos only.
+    /// (1 = first); read, write, dump, apply, drive, slaves, states, sdos, foe-write and foe-read
+    /// only.
     #[arg(
         long,
         global = true,
@@ -148,6 +150,16 @@ pub enum Cmd {
     /// name. `read` and `write` take the type from the same source when neither TYPE nor --od is
     /// given.
     Sdos(SdosArgs),
+    /// With --ethercat: send FILE to a slave by FoE (`-` reads standard input), as NAME (-o; FILE's
+    /// name by default), with PASSWORD (0x… or decimal); -p POS selects the slave (1 = first),
+    /// --boot takes it to Bootstrap first (where firmware goes). As IgH's `ethercat foe_write`.
+    /// Exit 1 when the slave refuses it (its FoE error code and text are printed).
+    #[command(name = "foe-write", alias = "foe_write")]
+    FoeWrite(FoeWriteArgs),
+    /// With --ethercat: fetch SOURCEFILE from a slave by FoE into -o FILE (standard output by
+    /// default), with PASSWORD; -p POS and --boot as for foe-write. As IgH's `ethercat foe_read`.
+    #[command(name = "foe-read", alias = "foe_read")]
+    FoeRead(FoeReadArgs),
     /// The entries of the --od description, one per line: address, name, type, access, default and
     /// limits (no bus needed); the names `read` and `write` take.
     List,
@@ -215,6 +227,8 @@ impl Cmd {
             Cmd::Sdos(_) => "sdos",
             Cmd::Completions { .. } => "completions",
             Cmd::Man { .. } => "man",
+            Cmd::FoeWrite(_) => "foe-write",
+            Cmd::FoeRead(_) => "foe-read",
         }
     }
 
@@ -323,7 +337,7 @@ pub fn run(
             let desc = desc.as_ref().ok_or(UsageError::ListNeedsDescription)?;
             return crate::cmd::list::run(desc, args.json, out);
         }
-        Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => {
+        Cmd::Slaves | Cmd::States | Cmd::Sdos(_) | Cmd::FoeWrite(_) | Cmd::FoeRead(_) => {
             return ethercat_command(args, ctx, timeout, out)
         }
         _ => {}
@@ -388,9 +402,18 @@ fn ethercat_command(
     };
     let capture = capture(args)?;
     let capture = capture.as_ref();
-    if let Cmd::Sdos(a) = &args.command {
-        let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
-        return crate::cmd::ethercat::sdos(&mut session, a, args.json, out);
+    match &args.command {
+        Cmd::Sdos(a) => {
+            let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
+            return crate::cmd::ethercat::sdos(&mut session, a, args.json, out);
+        }
+        Cmd::FoeWrite(a) => {
+            return crate::cmd::foe::write(a, interface, timeout, capture, args.json, out);
+        }
+        Cmd::FoeRead(a) => {
+            return crate::cmd::foe::read(a, interface, timeout, capture, args.json, out);
+        }
+        _ => {}
     }
     crate::cmd::ethercat::chain(
         interface,
@@ -437,7 +460,7 @@ fn can_command(
         // Answered before any bus is opened.
         Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
         Cmd::List | Cmd::Decode(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => Ok(()),
-        Cmd::Completions { .. } | Cmd::Man { .. } => Ok(()),
+        Cmd::Completions { .. } | Cmd::Man { .. } | Cmd::FoeWrite(_) | Cmd::FoeRead(_) => Ok(()),
     }
 }
 

@@ -17,6 +17,9 @@
 //!   data in the initiate request) that this module puts into the slave's write mailbox (SM0) and
 //!   whose answer it takes from the read mailbox (SM1) itself, with mailbox counter 0 (no repeat
 //!   detection, so ethercrab's own counter sequence is not disturbed). The data must fit one mailbox.
+//! - **FoE** (`foe`): files to and from a slave through the same mailboxes (ethercrab has no FoE),
+//!   in Bootstrap where asked.
+//! - A frame has as long to come back as a mailbox answer (the session's timeout, 100 ms at least).
 //! - An SDO abort is [`ToolError::Abort`] with the code (and its CiA 301 meaning) as over CAN; no
 //!   answer within the timeout is [`ToolError::Timeout`]; anything else of the network is
 //!   [`ToolError::Ethercat`].
@@ -36,7 +39,7 @@ use ethercrab::{
 use futures_lite::future;
 use od::abort::AbortCode;
 use od::coe::info;
-use od::coe::mailbox::{CoeHeader, CoeService, MailboxHeader, MailboxType};
+use od::coe::mailbox::{CoeHeader, MailboxHeader, MailboxType};
 use od::coe::sdo::{CoeSdo, CoeSdoCommand};
 use od::dict::Address;
 use od::sdo::frame::{ClientFrame, ServerFrame};
@@ -44,8 +47,12 @@ use od::types::DataType;
 
 use crate::{SdoAccess, ToolError};
 
+mod foe;
+mod mailbox;
 mod op;
 mod txrx;
+pub use foe::{FoeFailure, MAX_FOE_READ};
+use mailbox::exchange as mailbox_exchange;
 pub use op::OpSession;
 
 use crate::link::{Capture, RawSocket};
@@ -60,13 +67,6 @@ const MAX_FRAMES: usize = 16;
 const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
 /// The largest entry an upload reads.
 pub const MAX_UPLOAD: usize = 4096;
-/// SyncManager registers: SM0 (the master's write mailbox) at 0x0800, SM1 (its read mailbox) at
-/// 0x0808, 8 bytes each; the status byte at offset 5.
-const SM0: u16 = 0x0800;
-const SM1: u16 = 0x0808;
-const SM_STATUS: u16 = 5;
-/// SyncManager status bit 3: the mailbox is full.
-const MAILBOX_FULL: u8 = 0x08;
 /// AL control and AL status (ETG.1000.4 §6.4.1).
 const AL_CONTROL: u16 = 0x0120;
 const AL_STATUS: u16 = 0x0130;
@@ -622,9 +622,12 @@ impl EthercatSession {
             pdu_loop,
             Timeouts {
                 // Generous for a loaded machine: a frame that comes back after its timeout ends
-                // the TX/RX task.
-                pdu: Duration::from_millis(100),
-                eeprom: Duration::from_millis(100),
+                // ethercrab's TX/RX task. A slave has as long to answer a frame as a mailbox
+                // request (--timeout-ms, 100 ms at least), and its EEPROM as long to load a word:
+                // an FoE transfer of a megabyte is tens of thousands of frames, and one that a busy
+                // machine holds up must not end it.
+                pdu: timeout.max(Duration::from_millis(100)),
+                eeprom: timeout.max(Duration::from_millis(100)),
                 wait_loop_delay: Duration::from_millis(1),
                 mailbox_response: timeout,
                 ..Timeouts::default()
@@ -749,88 +752,6 @@ pub fn mailbox_error(code: u16) -> &'static str {
         7 => "no more memory in the slave",
         8 => "inconsistent data length",
         _ => "unknown code",
-    }
-}
-
-/// One request mailbox put into the write mailbox (SM0) of the slave at `station`, and the answers
-/// taken from its read mailbox (SM1), the data of each (after its mailbox header) given to `take`
-/// until it says the answer is whole (`Ok(true)`); at most `timeout` for each answer mailbox. `request` is a mailbox with counter 0
-/// (no repeat detection, so ethercrab's own counter sequence is not disturbed), padded here to the
-/// mailbox's size. A CoE emergency that comes before the answer is passed over.
-async fn mailbox_exchange(
-    maindevice: &MainDevice<'_>,
-    station: u16,
-    mut request: Vec<u8>,
-    timeout: Duration,
-    mut take: impl FnMut(&[u8]) -> Result<bool, Failure>,
-) -> Result<(), Failure> {
-    let sm: [u8; 16] = Command::fprd(station, SM0).receive(maindevice).await?;
-    let (out_at, out_len) = (
-        u16::from_le_bytes([sm[0], sm[1]]),
-        u16::from_le_bytes([sm[2], sm[3]]),
-    );
-    let (in_at, in_len) = (
-        u16::from_le_bytes([sm[8], sm[9]]),
-        u16::from_le_bytes([sm[10], sm[11]]),
-    );
-    let is_mailbox = |control: u8| control & 0x03 == 0x02;
-    if !is_mailbox(sm[4]) || !is_mailbox(sm[12]) || out_len == 0 || in_len == 0 {
-        return Err(Failure::Protocol("the slave has no CoE mailbox".into()));
-    }
-    if request.len() > usize::from(out_len) {
-        return Err(Failure::TooLong {
-            bytes: request.len(),
-            mailbox: out_len,
-        });
-    }
-    request.resize(usize::from(out_len), 0);
-    let status = |sm: u16| async move {
-        let s: u8 = Command::fprd(station, sm + SM_STATUS)
-            .receive(maindevice)
-            .await?;
-        Ok::<bool, Failure>(s & MAILBOX_FULL != 0)
-    };
-    // Until SyncManager `sm`'s mailbox is full (`full`) or empty, at most `timeout`.
-    let until = |sm: u16, full: bool| async move {
-        let deadline = Instant::now() + timeout;
-        while status(sm).await? != full {
-            if Instant::now() >= deadline {
-                return Err(Failure::Timeout);
-            }
-            async_io::Timer::after(Duration::from_micros(200)).await;
-        }
-        Ok(())
-    };
-    // An answer nobody took is taken now; the write mailbox must be empty.
-    if status(SM1).await? {
-        Command::fprd(station, in_at)
-            .receive_slice(maindevice, in_len)
-            .await?;
-    }
-    until(SM0, false).await?;
-    Command::fpwr(station, out_at)
-        .send_receive_slice(maindevice, request.as_slice())
-        .await?;
-    loop {
-        until(SM1, true).await?;
-        let answer = Command::fprd(station, in_at)
-            .receive_slice(maindevice, in_len)
-            .await?;
-        let (header, data) = MailboxHeader::split(&answer)
-            .map_err(|e| Failure::Protocol(format!("the slave's answer is no mailbox: {e}")))?;
-        match header.mailbox_type {
-            MailboxType::Error => {
-                let code = data.get(2..4).map(|c| u16::from_le_bytes([c[0], c[1]]));
-                return Err(Failure::MailboxError(code.unwrap_or(0)));
-            }
-            MailboxType::Coe
-                if CoeHeader::parse(data).map(|h| h.service) == Ok(CoeService::Emergency) => {}
-            _ => {
-                if take(data)? {
-                    return Ok(());
-                }
-            }
-        }
     }
 }
 

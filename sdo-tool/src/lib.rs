@@ -234,6 +234,21 @@ pub enum ToolError {
         /// Optional nodes not up.
         optional: Vec<u8>,
     },
+    /// An FoE transfer failed: the slave's Error frame (exit 1), or no answer, a mailbox error, a
+    /// wrong answer (exit 3).
+    #[error("slave {position}: FoE {op} of \"{file}\" {source}{hint}")]
+    Foe {
+        /// The slave's position.
+        position: u8,
+        /// `write` or `read`.
+        op: &'static str,
+        /// The file's name on the slave, printable.
+        file: String,
+        /// Why.
+        source: ethercat::FoeFailure,
+        /// What to do about it, where the tool knows (`; … --boot`).
+        hint: &'static str,
+    },
     /// Ctrl-C during a transfer: the abort 0x08000000 was sent to the node; an upload's partial file
     /// was removed.
     #[error("interrupted: the transfer was aborted with 0x08000000{}", removed.as_ref().map(|p| format!("; the partial {} was removed", p.display())).unwrap_or_default())]
@@ -271,7 +286,7 @@ impl ToolError {
         matches!(self, ToolError::Output(e) if e.kind() == std::io::ErrorKind::BrokenPipe)
     }
 
-    /// 1 SDO abort, 2 usage, 3 timeout or transport failure, 4 verification difference, 6 and 7 an
+    /// 1 SDO abort or FoE error, 2 usage, 3 timeout or transport failure, 4 verification difference, 6 and 7 an
     /// optional or a mandatory node not booted, 130 interrupted (Ctrl-C, as a shell reports
     /// SIGINT), 141 the output's reader gone ([`BROKEN_PIPE_EXIT`]).
     pub fn exit_code(&self) -> i32 {
@@ -286,6 +301,8 @@ impl ToolError {
             ToolError::Usage(_) => 2,
             ToolError::Timeout { .. } | ToolError::Bus(_) | ToolError::Ethercat(_) => 3,
             ToolError::Session(_) | ToolError::Value(_) | ToolError::Output(_) => 3,
+            ToolError::Foe { source, .. } if source.refused().is_some() => 1,
+            ToolError::Foe { .. } => 3,
             ToolError::Differences(_) => 4,
             ToolError::Interrupted { .. } => 130,
             ToolError::NotBooted { mandatory, .. } if !mandatory.is_empty() => 7,

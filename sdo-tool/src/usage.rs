@@ -97,6 +97,20 @@ pub enum UsageError {
         /// The chain's network interface.
         interface: String,
     },
+    /// With `--ethercat`: a command for one slave, no position, and a chain of several.
+    #[error("the chain on {interface} has {count} slaves: select one with -p POS (1 = first)")]
+    SlaveNeeded {
+        /// The slaves of the chain.
+        count: usize,
+        /// The chain's network interface.
+        interface: String,
+    },
+    /// `foe-write -` without the name on the slave.
+    #[error("foe-write - reads standard input: name the file on the slave with -o NAME")]
+    FoeStdinName,
+    /// `foe-read --json` to standard output.
+    #[error("foe-read --json: give -o FILE (the file's bytes and the JSON line would mix)")]
+    FoeJsonOutput,
     /// OBJECT is a name the description does not give to one entry.
     #[error("object {text:?}: {error}")]
     UnknownName {
@@ -284,7 +298,7 @@ pub enum UsageError {
     /// A CANopen command with `--ethercat`.
     #[error(
         "`{command}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, \
-         apply, drive, slaves, states and sdos are available"
+         apply, drive, slaves, states, sdos, foe-read and foe-write are available"
     )]
     CanopenOnly {
         /// The command's name.
@@ -441,7 +455,14 @@ mod tests {
         assert_eq!(
             text(CanopenOnly { command: "nmt" }),
             "`nmt` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, \
-             drive, slaves, states and sdos are available"
+             drive, slaves, states, sdos, foe-read and foe-write are available"
+        );
+        assert_eq!(
+            text(SlaveNeeded {
+                count: 2,
+                interface: "veth0".into()
+            }),
+            "the chain on veth0 has 2 slaves: select one with -p POS (1 = first)"
         );
         assert_eq!(text(CommandLine("bad".into())), "bad");
         assert_eq!(
@@ -470,6 +491,14 @@ mod tests {
         assert_eq!(
             text(CaptureWithoutLink { command: "decode" }),
             "`decode` uses no bus and no EtherCAT interface: --capture has nothing to record"
+        );
+        assert_eq!(
+            text(FoeStdinName),
+            "foe-write - reads standard input: name the file on the slave with -o NAME"
+        );
+        assert_eq!(
+            text(FoeJsonOutput),
+            "foe-read --json: give -o FILE (the file's bytes and the JSON line would mix)"
         );
     }
 }

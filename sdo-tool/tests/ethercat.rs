@@ -165,7 +165,7 @@ fn usage_and_transport_errors() {
         assert_eq!(o.status.code(), Some(2), "{argv:?}: {}", stderr(&o));
         assert!(
             stderr(&o).contains(&format!(
-                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, drive, slaves, states and sdos are available\n",
+                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, drive, slaves, states, sdos, foe-read and foe-write are available\n",
                 argv[0]
             )),
             "{}",

@@ -10,6 +10,11 @@
 //! SYNC0 at an accepted cycle time (0x0036). Op is reached from Safe-Op; any state may go back down. A refused request sets the error indicator (AL status bit 4) and the status
 //! code, and the state stays; further requests are refused until the master acknowledges the error
 //! (AL control bit 4).
+//!
+//! Bootstrap (ETG.1000.6 §6.4.1: reached from Init only, left to Init only) where the ESI gives
+//! the bootstrap mailbox (`Eeprom/BootStrap`): Init → Bootstrap needs SM0/SM1 at its offsets and
+//! sizes, with the standard mailbox's control bytes (0x0015); any other way into or out of it is
+//! 0x0011; a device without it refuses Bootstrap with 0x0013.
 
 use od::DeviceDescription;
 
@@ -275,6 +280,10 @@ pub struct SmRule {
 pub struct AlConfig {
     /// SM0 (mailbox out) and SM1 (mailbox in).
     pub mailbox: Option<[SmRule; 2]>,
+    /// SM0 and SM1 as the bootstrap mailbox (ESI `Eeprom/BootStrap`: receive offset and size, send
+    /// offset and size), for a device with a Bootstrap state; `None`: Init → Bootstrap is refused
+    /// with 0x0013.
+    pub boot_mailbox: Option<[SmRule; 2]>,
     /// SM2 (outputs), when the device has outputs.
     pub outputs: Option<SmRule>,
     /// SM3 (inputs), when the device has inputs.
@@ -312,8 +321,28 @@ impl AlConfig {
                 control: s.control_byte,
             })
         };
+        let mailbox = rule("MBoxOut").zip(rule("MBoxIn")).map(|(a, b)| [a, b]);
+        let boot = ec.eeprom.as_ref().map(|e| e.boot_strap.as_slice());
+        let word = |b: &[u8], k: usize| u16::from_le_bytes([b[2 * k], b[2 * k + 1]]);
+        let boot_mailbox = match (mailbox, boot) {
+            (Some([out, inn]), Some(b)) if b.len() >= 8 => {
+                // The bootstrap mailbox at its own place and size, as the standard one is set
+                // otherwise; no shorter than the standard one's smallest.
+                let at = |r: SmRule, start: u16, size: u16| SmRule {
+                    start,
+                    len: (r.len.0.min(size), size),
+                    ..r
+                };
+                Some([
+                    at(out, word(b, 0), word(b, 1)),
+                    at(inn, word(b, 2), word(b, 3)),
+                ])
+            }
+            _ => None,
+        };
         AlConfig {
-            mailbox: rule("MBoxOut").zip(rule("MBoxIn")).map(|(a, b)| [a, b]),
+            mailbox,
+            boot_mailbox,
             outputs: rule("Outputs"),
             inputs: rule("Inputs"),
             sync0_cycle: None,
@@ -349,7 +378,19 @@ pub fn transition(esc: &Esc, control: AlControl) -> Transition {
     match (requested, current) {
         // Any state may go back down to Init.
         (Init, _) => Transition::To(Init),
-        (Boot, _) => refuse(AlStatusCode::BootstrapNotSupported),
+        (Boot, Init) => match &config.boot_mailbox {
+            None => refuse(AlStatusCode::BootstrapNotSupported),
+            Some([out, inn])
+                if !(out.accepts(esc.sync_manager(out.sm))
+                    && inn.accepts(esc.sync_manager(inn.sm))) =>
+            {
+                refuse(AlStatusCode::InvalidMailboxBoot)
+            }
+            Some(_) => Transition::To(Boot),
+        },
+        (Boot, Boot) => Transition::To(Boot),
+        (Boot, _) if config.boot_mailbox.is_none() => refuse(AlStatusCode::BootstrapNotSupported),
+        (Boot, _) => refuse(AlStatusCode::InvalidStateChange),
         (PreOp, Init) => match &config.mailbox {
             Some([out, inn])
                 if !(out.accepts(esc.sync_manager(out.sm))

@@ -300,6 +300,14 @@ impl Esc {
         out
     }
 
+    /// The lengths of the mailboxes as the master configured them: the one it writes and the one
+    /// it reads (0 for one that is not there).
+    pub fn mailbox_lengths(&self) -> (u16, u16) {
+        let (write, read) = self.mailbox_sms();
+        let len = |n: Option<usize>| n.map_or(0, |n| self.sync_manager(n).len);
+        (len(write), len(read))
+    }
+
     /// Whether the master has filled the mailbox it writes ([`Esc::take_mailbox`] takes it).
     #[inline]
     pub(crate) fn mailbox_written(&self) -> bool {

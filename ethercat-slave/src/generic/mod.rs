@@ -22,8 +22,10 @@
 //!   0x100A from its `Type` and revision, a drive's device type, supported modes and factory
 //!   settings; each change one event ([`Template::events`]).
 //! - [`GenericUnit`] is one unit of a template ([`Template::unit`]): its own dictionary (the
-//!   serial number in 0x1018:04), drives and EtherCAT rules; [`chain`] puts units of several
-//!   templates in one [`NodeChain`].
+//!   serial number in 0x1018:04), drives and EtherCAT rules, and where the ESI offers FoE
+//!   (`Mailbox/FoE`) an FoE server with a file store of its own ([`crate::foe`]; firmware in
+//!   Bootstrap only where the ESI gives the bootstrap mailbox, `Eeprom/BootStrap`); [`chain`]
+//!   puts units of several templates in one [`NodeChain`].
 //!
 //! What a unit adds to the dictionary's own checks of an SDO download (ETG.1000.6 §5.6.2, the rules
 //! of a CoE slave; the codes are the CiA 301 abort codes):
@@ -65,6 +67,7 @@ use od::types::DataType;
 
 use crate::esc::al::{AlConfig, AlState, AlStatusCode};
 use crate::esc::Esc;
+use crate::foe::{FileStore, FoeConfig, FoeServer};
 use crate::unit::{Model, Unit, UnitChain};
 
 use mdp::Channels;
@@ -169,6 +172,8 @@ pub struct Template {
     /// The MDP 742 drive channels, on a device without CiA 402 axes.
     channels: Option<Arc<Channels>>,
     events: Vec<Event>,
+    /// FoE, where the ESI offers it (`Mailbox/FoE`).
+    foe: Option<FoeConfig>,
 }
 
 impl Template {
@@ -267,7 +272,13 @@ impl Template {
             .as_ref()
             .and_then(|m| m.coe)
             .is_none_or(|c| c.segmented_sdo);
+        // FoE where the ESI offers it; firmware goes in Bootstrap where the device has it.
+        let foe = ec.mailbox.as_ref().filter(|m| m.foe).map(|_| FoeConfig {
+            boot: al.boot_mailbox.is_some(),
+            ..FoeConfig::default()
+        });
         Ok(Template {
+            foe,
             meta: Arc::new(desc.dictionary.clone()),
             pdos: Arc::new(pdos),
             al,
@@ -312,6 +323,22 @@ impl Template {
         match &self.channels {
             Some(c) => c.channels().to_vec(),
             None => ds402::drive::Drive::axes(&self.desc.dictionary),
+        }
+    }
+
+    /// The FoE configuration of the units, where the ESI offers FoE.
+    pub fn foe(&self) -> Option<&FoeConfig> {
+        self.foe.as_ref()
+    }
+
+    /// The units serve FoE as `config` says, where the ESI offers it ([`FoeConfig::boot`] stays
+    /// what the ESI says: whether the device has a Bootstrap state).
+    pub fn set_foe(&mut self, config: &FoeConfig) {
+        if let Some(foe) = &mut self.foe {
+            *foe = FoeConfig {
+                boot: foe.boot,
+                ..config.clone()
+            };
         }
     }
 
@@ -367,7 +394,12 @@ impl Template {
         };
         let coe = CoeServer::new(ServerConfig::default(), self.mailbox_in)
             .with_segmented_transfer(self.segmented);
-        Ok((esc, Unit::new(model, coe, self.outputs_at, self.inputs_at)))
+        let mut unit = Unit::new(model, coe, self.outputs_at, self.inputs_at);
+        if let Some(config) = &self.foe {
+            let store = FileStore::new(config.max_file, config.max_store);
+            unit = unit.with_foe(FoeServer::new(config.clone(), store));
+        }
+        Ok((esc, unit))
     }
 }
 

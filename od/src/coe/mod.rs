@@ -6,7 +6,8 @@
 //! Each wire type has a typed representation with `parse` (which names what is wrong) and `emit`.
 //!
 //! [`CoeServer`] is the SDO server of an EtherCAT slave: the CiA 301 SDO server of [`crate::sdo`] on
-//! the same [`Dictionary`](crate::Dictionary), reached through mailboxes.
+//! the same [`Dictionary`](crate::Dictionary), reached through mailboxes; another protocol (FoE)
+//! shares its mailbox through a [`MailboxService`].
 
 pub mod complete;
 pub mod info;
@@ -18,4 +19,7 @@ pub use mailbox::{
     CoeHeader, CoeService, FramingError, MailboxHeader, MailboxType, MAILBOX_HEADER_LEN,
 };
 pub use sdo::{CoeSdo, CoeSdoCommand, CoeSdoError};
-pub use server::{is_pdo_configuration, CoeServer, MAX_MAILBOX_SIZE, MIN_MAILBOX_SIZE};
+pub use server::{
+    is_pdo_configuration, CoeServer, MailboxService, ServiceAnswer, MAX_MAILBOX_SIZE,
+    MIN_MAILBOX_SIZE,
+};

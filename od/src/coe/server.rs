@@ -64,6 +64,44 @@ fn information(mailbox: &[u8], d: &Dictionary, mailbox_size: usize) -> Option<Ve
         .then(|| crate::coe::info::answer(data, d, mailbox_size))
 }
 
+/// Another mailbox protocol served through the same mailbox as CoE (FoE, …): one mailbox per slave
+/// with one counter and one repeat rule for every protocol (ETG.1000.4 §5.6), so a request of
+/// another protocol goes through [`CoeServer::handle_mailbox_with`], which keeps the counters and
+/// the last answer for a repeat, and hands the request to the service.
+pub trait MailboxService {
+    /// Whether the service takes mailboxes of `mailbox_type` instead of the CoE server (a type
+    /// neither takes is answered with the mailbox error 0x0002, unsupported protocol).
+    fn takes(&self, mailbox_type: MailboxType) -> bool;
+
+    /// The answer to `data`, a mailbox's data after its `header`, received at `now`.
+    fn serve(&mut self, now: Instant, header: &MailboxHeader, data: &[u8]) -> ServiceAnswer;
+}
+
+/// What a [`MailboxService`] answers a mailbox with.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ServiceAnswer {
+    /// A mailbox of this type with this data after its header.
+    Mailbox(MailboxType, Vec<u8>),
+    /// The mailbox error reply with this detail code (ETG.1000.4: 0x0002 unsupported protocol,
+    /// 0x0006 size too short, …).
+    MailboxError(u16),
+    /// Nothing.
+    Nothing,
+}
+
+/// No other protocol: every mailbox but CoE gets the mailbox error 0x0002.
+struct CoeOnly;
+
+impl MailboxService for CoeOnly {
+    fn takes(&self, _: MailboxType) -> bool {
+        false
+    }
+
+    fn serve(&mut self, _: Instant, _: &MailboxHeader, _: &[u8]) -> ServiceAnswer {
+        ServiceAnswer::Nothing
+    }
+}
+
 /// A transfer in progress over several mailboxes.
 #[derive(Debug, Clone)]
 enum Transfer {
@@ -93,6 +131,8 @@ enum Answer {
     },
     /// A mailbox error reply with this detail code.
     MailboxError(u16),
+    /// Another protocol's answer ([`MailboxService`]): its type and its data after the header.
+    Other(MailboxType, Vec<u8>),
 }
 
 impl Answer {
@@ -213,6 +253,9 @@ impl Answer {
 ///   ([`crate::coe::info`]), 0x0006 for a CoE
 ///   mailbox shorter than its CoE header and eight SDO bytes, 0x0008 for a length field beyond the
 ///   bytes given. A running transfer goes on.
+/// - **Other protocols** ([`handle_mailbox_with`](CoeServer::handle_mailbox_with)): a mailbox of a
+///   type the [`MailboxService`] takes is its to answer, with the same counter and repeat rules; a
+///   length field beyond the bytes given is 0x0008 before it sees the mailbox.
 ///
 /// # Behaviour the standard leaves open
 ///
@@ -313,6 +356,20 @@ impl CoeServer {
         mailbox: &[u8],
         objects: &mut O,
     ) {
+        self.handle_mailbox_with(now, mailbox, objects, &mut CoeOnly);
+    }
+
+    /// Handles a mailbox the master wrote, received at `now`, with `service` serving the mailbox
+    /// types it takes ([`MailboxService::takes`]) in place of the CoE server: the mailbox counter
+    /// and the repeat of the last answer are the same for every protocol, and a CoE transfer in
+    /// progress goes on (its timer runs on).
+    pub fn handle_mailbox_with<O: Objects + ?Sized>(
+        &mut self,
+        now: Instant,
+        mailbox: &[u8],
+        objects: &mut O,
+        service: &mut dyn MailboxService,
+    ) {
         let (dict, hook) = objects.split();
         let d = &mut Bound::new(dict, hook, now);
         self.handle_timeout(now);
@@ -326,6 +383,22 @@ impl CoeServer {
             return;
         }
         self.last_request = (header.counter != 0).then_some(header.counter);
+        if service.takes(header.mailbox_type) {
+            let answer = match MailboxHeader::split(mailbox) {
+                Err(_) => Some(Answer::MailboxError(MBXERR_INVALID_SIZE)),
+                Ok((header, data)) => match service.serve(now, &header, data) {
+                    ServiceAnswer::Mailbox(t, body) => Some(Answer::Other(t, body)),
+                    ServiceAnswer::MailboxError(code) => Some(Answer::MailboxError(code)),
+                    ServiceAnswer::Nothing => None,
+                },
+            };
+            self.last_response = answer.map(|a| {
+                let bytes = self.emit(header.address, a);
+                self.push_transmit(bytes.clone());
+                bytes
+            });
+            return;
+        }
         if let Some(bodies) = information(mailbox, d.dict, self.mailbox_size) {
             // SDO Information: every fragment goes out, the master reads them one after the other.
             let mut last = None;
@@ -728,6 +801,9 @@ impl CoeServer {
                 let [c0, c1] = MBX_ERROR_COMMAND.to_le_bytes();
                 let [d0, d1] = detail.to_le_bytes();
                 MailboxHeader::wrap(MailboxType::Error, address, self.counter, &[c0, c1, d0, d1])
+            }
+            Answer::Other(mailbox_type, body) => {
+                MailboxHeader::wrap(mailbox_type, address, self.counter, &body)
             }
         }
     }

@@ -10,7 +10,8 @@
 //! - [`watch`] and [`decode`]: the bus's frames in words, live or from a candump log;
 //! - [`list`]: the entries of a description; [`net`]: a network's bus description made into the
 //!   master's and the slaves' configuration files (`net gen`), or checked (`net check`), and the
-//!   network booted and supervised ([`net_boot`]); [`ethercat`]: `slaves`, `states` and `sdos`.
+//!   network booted and supervised ([`net_boot`]); [`ethercat`]: `slaves`, `states` and `sdos`;
+//!   [`foe`]: `foe-write` and `foe-read`.
 
 use std::io::Write;
 use std::path::Path;
@@ -22,6 +23,7 @@ pub mod decode;
 pub mod drive;
 pub mod dump;
 pub mod ethercat;
+pub mod foe;
 pub mod gateway;
 pub mod list;
 pub mod lss;
