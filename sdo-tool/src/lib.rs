@@ -29,6 +29,7 @@ pub mod cmd;
 pub mod config;
 pub mod ethercat;
 pub mod gateway;
+pub mod igh;
 pub mod link;
 pub mod usage;
 
