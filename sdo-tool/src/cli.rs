@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand};
 use crate::cmd::apply::ApplyArgs;
 use crate::cmd::decode::DecodeArgs;
 use crate::cmd::dump::DumpArgs;
-use crate::cmd::ethercat::SdosArgs;
+use crate::cmd::ethercat::{SdosArgs, SlavesArgs};
 use crate::cmd::gateway::GatewayArgs;
 use crate::cmd::lss::LssArgs;
 use crate::cmd::net::NetArgs;
@@ -54,8 +54,9 @@ pub struct Args {
     /// The bus: IFACE or socketcan:IFACE (e.g. can0, vcan0), or socketcand://HOST:PORT/CHANNEL.
     #[arg(long, global = true, value_name = "BUS", env = crate::link::BUS_VARIABLE)]
     pub bus: Option<BusSpec>,
-    /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
-    /// (1 = first); read, write, dump, apply, drive, slaves, states and sdos only.
+    /// An EtherCAT network interface instead of a CAN bus (it wins over a CANOPEN_BUS of the
+    /// environment): NODE is the slave's position in the chain (1 = first); read, write, dump,
+    /// apply, drive and EtherCAT's own commands only.
     #[arg(
         long,
         global = true,
@@ -79,6 +80,45 @@ pub struct Args {
     /// What to do.
     #[command(subcommand)]
     pub command: Cmd,
+}
+
+impl Args {
+    /// The command line as `main` takes it, clap's errors printed and the process ended with their
+    /// exit code (2).
+    pub fn from_command_line() -> Args {
+        Args::try_from_words(std::env::args_os()).unwrap_or_else(|e| e.exit())
+    }
+
+    /// `argv` parsed as clap's derive does, except that a bus from the environment
+    /// ([`crate::link::BUS_VARIABLE`]) does not count against `--ethercat`: only a `--bus` given in
+    /// the words excludes it, and with `--ethercat` the environment's bus is not looked at (nor
+    /// checked).
+    pub fn try_from_words<I, T>(argv: I) -> Result<Args, clap::Error>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<std::ffi::OsString> + Clone,
+    {
+        use clap::error::ErrorKind;
+        use clap::{CommandFactory, FromArgMatches};
+        let argv: Vec<std::ffi::OsString> = argv.into_iter().map(Into::into).collect();
+        // First without the environment: with --ethercat that is the answer.
+        let words_only = Args::command().mut_arg("bus", |a| a.env(None));
+        match words_only.try_get_matches_from(&argv) {
+            Ok(m) if m.get_one::<String>("ethercat").is_some() => Args::from_arg_matches(&m),
+            Err(e)
+                if !matches!(
+                    e.kind(),
+                    ErrorKind::DisplayHelp
+                        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+                        | ErrorKind::DisplayVersion
+                ) =>
+            {
+                Err(e)
+            }
+            // Without --ethercat (or for the help): with the environment.
+            _ => Args::from_arg_matches(&Args::command().try_get_matches_from(&argv)?),
+        }
+    }
 }
 
 /// The commands.
@@ -125,10 +165,12 @@ pub enum Cmd {
     Save(StoreArgs),
     /// Restore the node's default parameters at its next reset: 0x1011:01 = "load".
     Restore(StoreArgs),
-    /// With --ethercat: every slave of the chain, read only (any state, whoever runs the chain): its
-    /// position (1 = first), AL state, and SII identity (vendor, product, revision, serial), with the
-    /// device's name where the --od description has its product code.
-    Slaves,
+    /// With --ethercat: every slave of the chain, read only (any state, whoever runs the chain), in
+    /// the layout of IgH's `ethercat slaves`: position (1 = first), the alias of the slave or of the
+    /// last one before it with an alias and the position after that one, AL state, `+` (`E`: its
+    /// SII could not be read), and the device name of its SII (else the --od description's for its
+    /// product code, else vendor and product code). --verbose: each slave in detail.
+    Slaves(SlavesArgs),
     /// With --ethercat: every slave's AL state and AL status code, read only.
     States,
     /// With --ethercat: the object dictionary of the slave at NODE (every slave without it) as the
@@ -179,10 +221,15 @@ impl Cmd {
             Cmd::List => "list",
             Cmd::Decode(_) => "decode",
             Cmd::Net(_) => "net",
-            Cmd::Slaves => "slaves",
+            Cmd::Slaves(_) => "slaves",
             Cmd::States => "states",
             Cmd::Sdos(_) => "sdos",
         }
+    }
+
+    /// Whether the command is EtherCAT's own (it needs --ethercat).
+    pub fn ethercat_only(&self) -> bool {
+        matches!(self, Cmd::Slaves(_) | Cmd::States | Cmd::Sdos(_))
     }
 
     /// The command as an SDO command, when it is one: those run over EtherCAT too.
@@ -241,9 +288,7 @@ pub fn run(
             let desc = desc.as_ref().ok_or(UsageError::ListNeedsDescription)?;
             return crate::cmd::list::run(desc, args.json, out);
         }
-        Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => {
-            return ethercat_command(args, ctx, timeout, out)
-        }
+        c if c.ethercat_only() => return ethercat_command(args, ctx, timeout, out),
         _ => {}
     }
     // A name the description does not have is refused before any bus or chain is opened.
@@ -286,17 +331,16 @@ fn ethercat_command(
         }
         .into());
     };
-    if let Cmd::Sdos(a) = &args.command {
-        let mut session = EthercatSession::open(interface, timeout)?;
-        return crate::cmd::ethercat::sdos(&mut session, a, args.json, out);
+    use crate::cmd::ethercat;
+    let json = args.json;
+    match &args.command {
+        Cmd::Sdos(a) => {
+            let mut session = EthercatSession::open(interface, timeout)?;
+            ethercat::sdos(&mut session, a, json, out)
+        }
+        Cmd::Slaves(a) => ethercat::slaves(interface, a, ctx, timeout, out),
+        _ => ethercat::states(interface, timeout, json, out),
     }
-    crate::cmd::ethercat::chain(
-        interface,
-        matches!(args.command, Cmd::Slaves),
-        ctx.desc,
-        args.json,
-        out,
-    )
 }
 
 /// The commands on a CAN bus, with `tool` on it.
@@ -332,9 +376,9 @@ fn can_command(
             let mut can = crate::CanSdo::new(tool.bus.as_mut(), &tool.sdo);
             crate::cmd::drive::run(a, &mut can, json, out)
         }
-        // Answered before any bus is opened.
-        Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
-        Cmd::List | Cmd::Decode(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => Ok(()),
+        // Answered before any bus is opened: the SDO commands above, `list`, `decode` and
+        // EtherCAT's own commands.
+        _ => Ok(()),
     }
 }
 

@@ -83,7 +83,7 @@ pub enum UsageError {
     )]
     SlavePosition {
         /// The position given.
-        position: u8,
+        position: u16,
         /// The slaves of the chain.
         count: usize,
         /// The chain's network interface.
