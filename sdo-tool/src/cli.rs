@@ -15,9 +15,12 @@ use crate::cmd::gateway::GatewayArgs;
 use crate::cmd::lss::LssArgs;
 use crate::cmd::net::NetArgs;
 use crate::cmd::nmt::NmtArgs;
+use crate::cmd::pdos::{Layout, SlavesOf};
 use crate::cmd::read::ReadArgs;
+use crate::cmd::reg::{RegReadArgs, RegWriteArgs};
 use crate::cmd::scan::ScanArgs;
 use crate::cmd::sdo::SdoCommand;
+use crate::cmd::sii::{AliasArgs, SiiReadArgs, SiiWriteArgs};
 use crate::cmd::store::StoreArgs;
 use crate::cmd::transfer::{DownloadArgs, UploadArgs};
 use crate::cmd::watch::WatchArgs;
@@ -45,7 +48,8 @@ fn interface_name(s: &str) -> Result<String, String> {
 /// master on that network interface instead (root or CAP_NET_RAW): it brings the chain's slaves to
 /// Pre-Op and reaches their object dictionary through their CoE mailbox; NODE is then the slave's
 /// position in the chain, 1 for the first; read, write, dump and apply work there, and slaves,
-/// states and sdos are EtherCAT's own; the other commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
+/// states, sdos, pdos, sii-read, sii-write, reg-read, reg-write, alias, xml and cstruct (IgH's
+/// `ethercat` tool's, in its layouts) are EtherCAT's own; the other commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
 /// hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort, 2 usage, 3 timeout or
 /// transport failure, 4 verification difference (apply), 130 interrupted (Ctrl-C).
 #[derive(Debug, Parser)]
@@ -77,6 +81,10 @@ pub struct Args {
     /// Use segmented transfers only (no block transfer).
     #[arg(long, global = true)]
     pub no_block: bool,
+    /// Standard output is a terminal (`main` says; `sii-read` lists the image there instead of
+    /// writing its bytes).
+    #[arg(skip)]
+    pub stdout_terminal: bool,
     /// What to do.
     #[command(subcommand)]
     pub command: Cmd,
@@ -179,6 +187,40 @@ pub enum Cmd {
     /// name. `read` and `write` take the type from the same source when neither TYPE nor --od is
     /// given.
     Sdos(SdosArgs),
+    /// With --ethercat: the slave's SII (EEPROM) image, read through its EEPROM interface up to the
+    /// End category, as IgH's `ethercat sii_read`: raw bytes into -o FILE or onto standard output
+    /// when it is no terminal; --verbose (and a terminal) lists the header words and each category.
+    #[command(alias = "sii_read")]
+    SiiRead(SiiReadArgs),
+    /// With --ethercat: writes FILE into the slave's EEPROM word by word, as IgH's `ethercat
+    /// sii_write`: refused unless it is whole words, at least 65 of them, with the checksum of words
+    /// 0–6 in byte 14 and categories that end (--force writes it anyway), and refused when larger
+    /// than the EEPROM the slave's SII gives (word 0x3E); nothing is written then.
+    #[command(alias = "sii_write")]
+    SiiWrite(SiiWriteArgs),
+    /// With --ethercat: the slave's ESC registers (0x0000–0x0FFF) from ADDRESS, as IgH's `ethercat
+    /// reg_read`: raw bytes in hex, or as --type int8…int64, uint8…uint64 (`0x0130 304`) or string.
+    #[command(alias = "reg_read")]
+    RegRead(RegReadArgs),
+    /// With --ethercat: writes the slave's ESC registers from ADDRESS, as IgH's `ethercat
+    /// reg_write`: DATA is a value of --type, or without it a file of bytes (`-`: standard input).
+    #[command(alias = "reg_write")]
+    RegWrite(RegWriteArgs),
+    /// With --ethercat: the configured station alias (0 to 65535, 0 for none) into SII word 4 of the
+    /// slave at POS (of every slave without it: --force on a chain of several) with the checksum
+    /// made again, as IgH's `ethercat alias`; then the EEPROM reloaded, so that the alias register
+    /// 0x0012 holds it at once.
+    Alias(AliasArgs),
+    /// With --ethercat: each slave's SyncManagers, PDOs and entries in the layout of IgH's `ethercat
+    /// pdos`, from the SII and, for a slave with CoE, its PDO assignment (0x1C12, 0x1C13, …) and
+    /// mapping objects read in Pre-Op (a chain another master runs: the SII's).
+    Pdos(SlavesOf),
+    /// With --ethercat: an ESI of what the slaves report (identity, names, SyncManagers, PDOs), in the
+    /// layout of IgH's `ethercat xml`; several slaves as an EtherCATInfoList.
+    Xml(SlavesOf),
+    /// With --ethercat: each slave's PDOs as the C arrays of IgH's application interface
+    /// (ec_pdo_entry_info_t, ec_pdo_info_t, ec_sync_info_t), as IgH's `ethercat cstruct`.
+    Cstruct(SlavesOf),
     /// The entries of the --od description, one per line: address, name, type, access, default and
     /// limits (no bus needed); the names `read` and `write` take.
     List,
@@ -224,12 +266,33 @@ impl Cmd {
             Cmd::Slaves(_) => "slaves",
             Cmd::States => "states",
             Cmd::Sdos(_) => "sdos",
+            Cmd::SiiRead(_) => "sii-read",
+            Cmd::SiiWrite(_) => "sii-write",
+            Cmd::RegRead(_) => "reg-read",
+            Cmd::RegWrite(_) => "reg-write",
+            Cmd::Alias(_) => "alias",
+            Cmd::Pdos(_) => "pdos",
+            Cmd::Xml(_) => "xml",
+            Cmd::Cstruct(_) => "cstruct",
         }
     }
 
     /// Whether the command is EtherCAT's own (it needs --ethercat).
     pub fn ethercat_only(&self) -> bool {
-        matches!(self, Cmd::Slaves(_) | Cmd::States | Cmd::Sdos(_))
+        matches!(
+            self,
+            Cmd::Slaves(_)
+                | Cmd::States
+                | Cmd::Sdos(_)
+                | Cmd::SiiRead(_)
+                | Cmd::SiiWrite(_)
+                | Cmd::RegRead(_)
+                | Cmd::RegWrite(_)
+                | Cmd::Alias(_)
+                | Cmd::Pdos(_)
+                | Cmd::Xml(_)
+                | Cmd::Cstruct(_)
+        )
     }
 
     /// The command as an SDO command, when it is one: those run over EtherCAT too.
@@ -331,7 +394,7 @@ fn ethercat_command(
         }
         .into());
     };
-    use crate::cmd::ethercat;
+    use crate::cmd::{ethercat, pdos, reg, sii};
     let json = args.json;
     match &args.command {
         Cmd::Sdos(a) => {
@@ -339,6 +402,14 @@ fn ethercat_command(
             ethercat::sdos(&mut session, a, json, out)
         }
         Cmd::Slaves(a) => ethercat::slaves(interface, a, ctx, timeout, out),
+        Cmd::SiiRead(a) => sii::sii_read(interface, a, ctx, timeout, args.stdout_terminal, out),
+        Cmd::SiiWrite(a) => sii::sii_write(interface, a, ctx, timeout, out),
+        Cmd::Alias(a) => sii::alias(interface, a, ctx, timeout, out),
+        Cmd::RegRead(a) => reg::reg_read(interface, a, json, timeout, out),
+        Cmd::RegWrite(a) => reg::reg_write(interface, a, json, timeout, out),
+        Cmd::Pdos(a) => pdos::run(interface, a, Layout::Pdos, json, timeout, out),
+        Cmd::Xml(a) => pdos::run(interface, a, Layout::Xml, json, timeout, out),
+        Cmd::Cstruct(a) => pdos::run(interface, a, Layout::Cstruct, json, timeout, out),
         _ => ethercat::states(interface, timeout, json, out),
     }
 }

@@ -1,7 +1,10 @@
 //! `sdo-tool`: the CANopen commissioning command line. See `sdo-tool --help`.
 
+use std::io::IsTerminal;
+
 fn main() {
-    let args = sdo_tool::cli::Args::from_command_line();
+    let mut args = sdo_tool::cli::Args::from_command_line();
+    args.stdout_terminal = std::io::stdout().is_terminal();
     if let Err(e) = sdo_tool::cli::run(&args, None, &mut std::io::stdout()) {
         if args.json {
             println!("{}", sdo_tool::cli::error_json(&e));

@@ -165,7 +165,9 @@ fn usage_and_transport_errors() {
         assert_eq!(o.status.code(), Some(2), "{argv:?}: {}", stderr(&o));
         assert!(
             stderr(&o).contains(&format!(
-                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, drive, slaves, states and sdos are available\n",
+                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, \
+                 apply, drive, slaves, states, sdos, pdos, sii-read, sii-write, reg-read, \
+                 reg-write, alias, xml and cstruct are available\n",
                 argv[0]
             )),
             "{}",
@@ -212,6 +214,9 @@ fn usage_and_transport_errors() {
         &["read", "1", "0x1000", "u32"][..],
         &["slaves"],
         &["states"],
+        &["sii-read", "1"],
+        &["reg-read", "1", "0x0130", "2"],
+        &["pdos"],
     ] {
         let o = common::sdo_tool(&["--ethercat", "nosuchif0"], argv);
         assert_eq!(o.status.code(), Some(3), "{argv:?}: {}", stderr(&o));
@@ -356,8 +361,8 @@ fn slaves_lists_the_chain_read_only() {
 /// Next to a running master: while pysoem holds both units in Op (`pysoem_master.py --hold-op 3`,
 /// the working counter checked in every cycle and (Op, 0) read every 100 ms), `sdo-tool --ethercat`
 /// reads the AL status once, finds Op and refuses in one line (exit 3), sending nothing that changes
-/// a state; `states` and `slaves` (the SII read through the EEPROM interface) look at it meanwhile;
-/// pysoem's run ends without one bad cycle. Before and after, on the idle chain, a run
+/// a state; `states`, `slaves` (the SII read through the EEPROM interface) and `pdos` (the SIIs',
+/// said so) look at it meanwhile; pysoem's run ends without one bad cycle. Before and after, on the idle chain, a run
 /// finds Init and leaves Init.
 #[test]
 fn a_chain_another_master_runs_is_left_alone() {
@@ -384,6 +389,8 @@ fn a_chain_another_master_runs_is_left_alone() {
     );
     // (Checked once pysoem's run is: a failed run would show here as states other than Op.)
     let slaves = ok(&link, &["slaves"]);
+    // The PDOs: the SII's, said so; the CoE assignment needs Pre-Op, which is not asked for.
+    let pdos = tool(&link, &["pdos", "2"]);
     let out = tool(&link, &["read", "1", "0x1008", "vs"]);
     assert_eq!(out.status.code(), Some(3));
     assert_eq!(
@@ -410,6 +417,29 @@ fn a_chain_another_master_runs_is_left_alone() {
             "1  0:0  OP  +  SMD23K-B Integrated Stepper Indexer/Driver/Motor (EtherCAT)\n",
             "2  0:1  OP  +  SMD23K-B Integrated Stepper Indexer/Driver/Motor (EtherCAT)\n"
         )
+    );
+    assert!(pdos.status.success(), "{}", stderr(&pdos));
+    assert_eq!(
+        stderr(&pdos),
+        "sdo-tool: the chain is in Op, another master's: the PDOs shown are the SIIs' (the CoE \
+         assignment is read in Pre-Op)\n"
+    );
+    let pdos = stdout(&pdos);
+    let syncs: Vec<&str> = pdos.lines().filter(|l| l.starts_with("SM")).collect();
+    assert_eq!(
+        syncs,
+        [
+            "SM0: PhysAddr 0x1000, DefaultSize  128, ControlRegister 0x26, Enable 1",
+            "SM1: PhysAddr 0x1080, DefaultSize  128, ControlRegister 0x22, Enable 1",
+            "SM2: PhysAddr 0x1100, DefaultSize   20, ControlRegister 0x64, Enable 1",
+            "SM3: PhysAddr 0x1400, DefaultSize   20, ControlRegister 0x20, Enable 1",
+        ]
+    );
+    assert!(
+        pdos.contains(
+            "  RxPDO 0x1600 \"Outputs\"\n    PDO entry 0x7000:01, 16 bit, \"CMD_word0\"\n"
+        ),
+        "{pdos}"
     );
 
     // pysoem's script asks for Init at its end: the chain is idle again, and served.

@@ -1,5 +1,6 @@
 //! The EtherCAT commands: `slaves` and `states` (the chain, read only) and `sdos` (a slave's
-//! object dictionary by SDO Information).
+//! object dictionary by SDO Information); [`super::sii`], [`super::reg`] and [`super::pdos`] have
+//! the other commands of IgH's tool.
 
 use std::io::Write;
 
