@@ -402,10 +402,12 @@ impl EthercatSession {
         let maindevice = MainDevice::new(
             pdu_loop,
             Timeouts {
-                // Generous for a loaded machine: a frame that comes back after its timeout ends
-                // ethercrab's TX/RX task.
-                pdu: Duration::from_millis(100),
-                eeprom: Duration::from_millis(100),
+                // The answer's timeout (--timeout-ms, at least 100 ms), for a frame and an EEPROM
+                // read too: on a link that loses no frame, an answer late on a loaded machine (the
+                // tool or the slaves descheduled) is still an answer, and a frame that comes back
+                // after its timeout ends ethercrab's TX/RX task.
+                pdu: timeout.max(Duration::from_millis(100)),
+                eeprom: timeout.max(Duration::from_millis(100)),
                 wait_loop_delay: Duration::from_millis(1),
                 mailbox_response: timeout,
                 ..Timeouts::default()
