@@ -22,6 +22,9 @@
 //!
 //! The session's PDU storage is allocated once per session and not freed (ethercrab borrows it for
 //! the life of the master; about 18 KB).
+//!
+//! [`Chain`] looks at a chain without a session, one datagram at a time, in any state and whoever
+//! runs it: AL states, registers and the SII (the commands of IgH's tool).
 
 use std::future::Future;
 use std::pin::Pin;

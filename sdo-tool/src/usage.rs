@@ -341,6 +341,14 @@ pub enum UsageError {
         /// What is wrong.
         error: od::sii::ImageError,
     },
+    /// `sii-write`: a file larger than any EEPROM.
+    #[error("{}: more than {limit} bytes: no SII image (an ESC's EEPROM holds 4 Mbit at most)", path.display())]
+    SiiTooLong {
+        /// The file.
+        path: PathBuf,
+        /// The most an image has.
+        limit: usize,
+    },
     /// `sii-write`: an image larger than the slave's EEPROM.
     #[error(
         "{}: {bytes} bytes do not fit the EEPROM of slave {position}, {capacity} bytes (SII word \

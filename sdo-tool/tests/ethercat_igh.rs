@@ -353,6 +353,16 @@ fn registers_read_and_written_as_igh_does() {
         "0x1234 4660\n",
         "nothing refused was written"
     );
+    // The words are checked before any interface is opened.
+    let o = common::sdo_tool(
+        &["--ethercat", "nosuchif0"],
+        &["reg-read", "1", "0x0FFF", "2"],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr),
+        "sdo-tool: 0x0FFF + 2 bytes runs past the registers' end at 0x0FFF\n"
+    );
 }
 
 /// The CRC-8 (polynomial 0x07, initial 0xFF) of 08 00 00 00 00 00 00 00 34 12 00 00 00 00: words
@@ -440,6 +450,16 @@ fn sii_round_trip_alias_and_refusals() {
         format!(
             "sdo-tool: {large}: 2050 bytes do not fit the EEPROM of slave 1, 2048 bytes (SII \
              word 0x3E)\n"
+        )
+    );
+    // More than any EEPROM (4 Mbit): refused before a chain is looked at, not read on.
+    let huge = path("huge.sii");
+    std::fs::write(&huge, vec![0u8; 512 * 1024 + 2]).unwrap();
+    assert_eq!(
+        refused(&link, &["sii-write", "1", &huge, "--force"], 2),
+        format!(
+            "sdo-tool: {huge}: more than 524288 bytes: no SII image (an ESC's EEPROM holds 4 \
+             Mbit at most)\n"
         )
     );
     assert_eq!(
@@ -723,6 +743,9 @@ fn xml_of_the_chain_reads_back_as_an_esi() {
     assert_eq!(entries.len(), 9);
     assert_eq!(entries[8], (0x6010, 1, 16, "Analog input".to_string()));
     assert_eq!(devices[0].identity.product_name, IO_NAME);
-    // One slave: an EtherCATInfo.
-    assert!(ok(&link, &["xml", "1"]).starts_with("<?xml version=\"1.0\" ?>\n<EtherCATInfo>\n"));
+    // One slave: an EtherCATInfo; with --json the same text in one object.
+    let one = ok(&link, &["xml", "1"]);
+    assert!(one.starts_with("<?xml version=\"1.0\" ?>\n<EtherCATInfo>\n"));
+    let v: serde_json::Value = serde_json::from_str(&ok(&link, &["--json", "xml", "1"])).unwrap();
+    assert_eq!(v["xml"], one.as_str());
 }

@@ -175,7 +175,8 @@ fn configurations(
     Ok(slaves.into_iter().map(|s| s.config).collect())
 }
 
-/// `pdos`, `xml` or `cstruct` of the slave at POS (every slave without it).
+/// `pdos`, `xml` or `cstruct` of the slave at POS (every slave without it); with `--json` the
+/// listing as one object, the ESI or the C text as the string of one.
 pub fn run(
     interface: &str,
     args: &SlavesOf,
@@ -201,8 +202,16 @@ pub fn run(
             }
             s
         }
+        Layout::Xml if json => format!("{}\n", serde_json::json!({ "xml": igh::xml(&slaves) })),
         Layout::Xml => igh::xml(&slaves),
-        Layout::Cstruct => slaves.iter().map(igh::cstruct).collect(),
+        Layout::Cstruct => {
+            let text: String = slaves.iter().map(igh::cstruct).collect();
+            if json {
+                format!("{}\n", serde_json::json!({ "cstruct": text }))
+            } else {
+                text
+            }
+        }
     };
     out.write_all(text.as_bytes()).map_err(io)
 }

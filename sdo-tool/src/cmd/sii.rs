@@ -9,6 +9,9 @@ use std::time::Duration;
 use crate::ethercat::Chain;
 use crate::{ToolError, UsageError};
 
+/// The largest image `sii-write` takes: an EEPROM of 4 Mbit, the most an ESC addresses.
+pub const MAX_IMAGE: usize = 512 * 1024;
+
 /// `sii-read`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct SiiReadArgs {
@@ -150,7 +153,14 @@ pub fn sii_write(
         [f] => (None, PathBuf::from(f)),
         _ => unreachable!("clap takes one or two"),
     };
-    let bytes = read_input(&file, 2 * od::sii::MAX_WORDS * 16)?;
+    let bytes = read_input(&file, MAX_IMAGE)?;
+    if bytes.len() > MAX_IMAGE {
+        return Err(UsageError::SiiTooLong {
+            path: file,
+            limit: MAX_IMAGE,
+        }
+        .into());
+    }
     if bytes.is_empty() || bytes.len() % 2 == 1 {
         // Not even --force writes half a word.
         let error = od::sii::ImageError::Size { bytes: bytes.len() };

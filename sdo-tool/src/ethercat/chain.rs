@@ -267,7 +267,12 @@ impl Chain {
     pub fn open(interface: &str, timeout: Duration) -> Result<Chain, ToolError> {
         check_interface_name(interface)?;
         let mut probe = Probe::open(interface)?;
-        let Some((_, count)) = probe.exchange(BRD, 0, 0x0000, &[0]) else {
+        // No frame back, or one no slave counted: no chain.
+        let Some(count) = probe
+            .exchange(BRD, 0, 0x0000, &[0])
+            .map(|(_, wkc)| wkc)
+            .filter(|wkc| *wkc > 0)
+        else {
             return Err(EthercatError::NoSlaves {
                 interface: interface.to_string(),
             }
