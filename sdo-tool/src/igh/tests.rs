@@ -534,6 +534,90 @@ fn slaves_verbose_layout() {
     );
 }
 
+/// The DL information and the ports of `slaves --verbose` by each bit: no DC; DC with a 32-bit
+/// system time; ports 1 to 3 with link (DL status bits 5–7) and communication (bits 11, 13, 15) and
+/// open loops; a mailbox of a slave whose SII ends in its header (words 0x14–0x1C read, no identity
+/// or General); a General category without CoE (FoE only): no CoE details.
+#[test]
+fn slaves_verbose_bit_by_bit() {
+    let line = SlaveLine {
+        position: 1,
+        alias: 0,
+        state: "INIT".into(),
+        error: false,
+        name: String::new(),
+    };
+    let ports = |s: &str| -> Vec<String> {
+        s.lines()
+            .skip_while(|l| !l.starts_with("DL information"))
+            .take(7)
+            .map(str::to_string)
+            .collect()
+    };
+    let links = (1 << 5) | (1 << 6) | (1 << 7) | (1 << 11) | (1 << 13) | (1 << 15);
+    let esc = EscInfo {
+        ports: 0xFF,
+        features: 0x0000,
+        dc_system_time: true,
+        dl_status: links,
+        next: [None, Some(2), Some(3), Some(4)],
+    };
+    assert_eq!(
+        ports(&slaves_verbose(&line, &[], &esc)),
+        [
+            "DL information:",
+            "  FMMU bit operation: no",
+            "  Distributed clocks: no",
+            "Port  Type  Link  Loop    Signal  NextSlave",
+            "   0  MII   down  open    no              -",
+            "   1  MII   up    open    yes             2",
+            "   2  MII   up    open    yes             3",
+        ]
+    );
+    let dc32 = EscInfo {
+        features: 0x0004,
+        ..esc
+    };
+    let text = slaves_verbose(&line, &[], &dc32);
+    assert!(
+        text.contains("  Distributed clocks: yes, 32 bit\n"),
+        "{text}"
+    );
+    assert!(
+        text.ends_with("   3  MII   up    open    yes             4\n"),
+        "{text}"
+    );
+    // An SII cut after word 0x1C: the mailboxes, nothing of the rest.
+    let mut head = verbose_sii();
+    head.truncate(0x3A);
+    let text = slaves_verbose(&line, &head, &esc);
+    assert!(
+        text.ends_with(concat!(
+            "Mailboxes:\n",
+            "  Bootstrap RX: 0x1000/64, TX: 0x1040/64\n",
+            "  Standard  RX: 0x1800/128, TX: 0x1880/128\n",
+            "  Supported protocols: CoE, FoE\n",
+        )),
+        "{text}"
+    );
+    assert!(text.contains("  Vendor Id:       0x00000000\n"), "{text}");
+    // FoE only: the General block without CoE details.
+    let mut foe = verbose_sii();
+    foe[0x38] = 0x08;
+    let text = slaves_verbose(&line, &foe, &esc);
+    assert!(text.contains("  Supported protocols: FoE\n"), "{text}");
+    assert!(
+        text.ends_with(concat!(
+            "  Device name: Dev\n",
+            "  Flags:\n",
+            "    Enable SafeOp: no\n",
+            "    Enable notLRW: yes\n",
+            "  Current consumption: -5 mA\n",
+        )),
+        "{text}"
+    );
+}
+
 /// `sii-read --verbose`: the header's 128 bytes 16 to a line, then each category with its type in
 /// hex, its name and its length in words, its bytes 16 to a line (none for an empty one).
 #[test]
@@ -575,6 +659,8 @@ fn register_values_as_igh_shows_them() {
     let t = |name| RegType::parse(name).unwrap();
     assert_eq!(t("uint16").format(&[0x30, 0x01]), "0x0130 304\n");
     assert_eq!(t("int16").format(&[0xFF, 0xFF]), "0xffff -1\n");
+    assert_eq!(t("int16").format(&[0xFF, 0x00]), "0x00ff 255\n");
+    assert_eq!(t("int32").format(&[0xFF, 0xFF, 0, 0]), "0x0000ffff 65535\n");
     assert_eq!(t("int8").format(&[0x80]), "0x80 -128\n");
     assert_eq!(t("uint8").format(&[0x80]), "0x80 128\n");
     assert_eq!(
