@@ -81,12 +81,16 @@ impl RawSocket {
             return Err(RawError::NoInterface(iface.into()));
         }
         let proto = ETHERTYPE.to_be();
+        // Protocol 0: the socket takes no frame until bind(2) gives it the interface and the
+        // EtherType (packet(7)). Opened with the EtherType, it would take the EtherCAT frames of
+        // every interface until then, and a frame of another link (another master's, with the same
+        // frame index) would wait in it to be taken for an answer.
         // SAFETY: socket(2) with constant arguments; the descriptor is owned at once.
         let fd = check(unsafe {
             libc::socket(
                 libc::AF_PACKET,
                 libc::SOCK_RAW | libc::SOCK_NONBLOCK | libc::SOCK_CLOEXEC,
-                libc::c_int::from(proto),
+                0,
             )
         })
         .map_err(io("opening a raw socket"))?;

@@ -37,7 +37,7 @@ fn ok(link: &Link, argv: &[&str]) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
-/// `slaves`: the chain's identities from the SII (serial numbers by position); `sdos`: each slave's
+/// `slaves --verbose`: the chain's identities from the SII (serial numbers by position); `sdos`: each slave's
 /// dictionary by SDO Information (the example drive's 61 ESI objects and its drive simulation record
 /// 0x5FF0, the PDO assignment written only in Pre-Op: `rwr-r-`); `read` without TYPE or --od: the
 /// position actual of every axis (Copley's axis B at 0x6864), a statusword in Switch on disabled
@@ -61,18 +61,64 @@ fn sdo_tool_reads_the_drives_dictionaries_without_their_esis() {
         "--esi",
         "examples/drive.esi.xml",
     ]);
-    let slaves = ok(&link, &["slaves"]);
+    // IgH's --verbose blocks: each slave's state and SII identity (hex as IgH writes it).
+    let slaves = ok(&link, &["slaves", "--verbose"]);
     let ids: Vec<Vec<&str>> = slaves
-        .lines()
-        .map(|l| l.split_whitespace().take(6).collect())
+        .split("=== Slave ")
+        .skip(1)
+        .map(|block| {
+            let value = |key: &str| {
+                block
+                    .lines()
+                    .find_map(|l| l.trim_start().strip_prefix(key))
+                    .map_or("", str::trim)
+            };
+            let position = block.split(' ').next().unwrap_or_default();
+            vec![
+                position,
+                value("State:"),
+                value("Vendor Id:"),
+                value("Product code:"),
+                value("Revision number:"),
+                value("Serial number:"),
+            ]
+        })
         .collect();
     assert_eq!(
         ids,
         [
-            ["1", "INIT", "0x0000009A", "0x00030924", "0x00010420", "1"],
-            ["2", "INIT", "0x0000029C", "0x02C31001", "0x00050014", "2"],
-            ["3", "INIT", "0x000000AB", "0x000010B0", "0x00010004", "3"],
-            ["4", "INIT", "0x00000ABC", "0x00000402", "0x00010001", "4"],
+            [
+                "1",
+                "INIT",
+                "0x0000009a",
+                "0x00030924",
+                "0x00010420",
+                "0x00000001"
+            ],
+            [
+                "2",
+                "INIT",
+                "0x0000029c",
+                "0x02c31001",
+                "0x00050014",
+                "0x00000002"
+            ],
+            [
+                "3",
+                "INIT",
+                "0x000000ab",
+                "0x000010b0",
+                "0x00010004",
+                "0x00000003"
+            ],
+            [
+                "4",
+                "INIT",
+                "0x00000abc",
+                "0x00000402",
+                "0x00010001",
+                "0x00000004"
+            ],
         ],
         "{slaves}"
     );

@@ -10,15 +10,18 @@ use clap::{CommandFactory, Parser, Subcommand};
 use crate::cmd::apply::ApplyArgs;
 use crate::cmd::decode::DecodeArgs;
 use crate::cmd::dump::DumpArgs;
-use crate::cmd::ethercat::SdosArgs;
+use crate::cmd::ethercat::{SdosArgs, SlavesArgs};
 use crate::cmd::foe::{FoeReadArgs, FoeWriteArgs};
 use crate::cmd::gateway::GatewayArgs;
 use crate::cmd::lss::LssArgs;
 use crate::cmd::net::NetArgs;
 use crate::cmd::nmt::NmtArgs;
+use crate::cmd::pdos::{Layout, SlavesOf};
 use crate::cmd::read::ReadArgs;
+use crate::cmd::reg::{RegReadArgs, RegWriteArgs};
 use crate::cmd::scan::ScanArgs;
 use crate::cmd::sdo::SdoCommand;
+use crate::cmd::sii::{AliasArgs, SiiReadArgs, SiiWriteArgs};
 use crate::cmd::store::StoreArgs;
 use crate::cmd::transfer::{DownloadArgs, UploadArgs};
 use crate::cmd::watch::WatchArgs;
@@ -46,7 +49,8 @@ fn interface_name(s: &str) -> Result<String, String> {
 /// master on that network interface instead (root or CAP_NET_RAW): it brings the chain's slaves to
 /// Pre-Op and reaches their object dictionary through their CoE mailbox; NODE is then the slave's
 /// position in the chain, 1 for the first; read, write, dump and apply work there, and slaves,
-/// states, sdos, foe-write and foe-read are EtherCAT's own; the other commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
+/// states, sdos, pdos, sii-read, sii-write, reg-read, reg-write, alias, xml, cstruct, foe-write and foe-read (IgH's
+/// `ethercat` tool's, in its layouts) are EtherCAT's own; the other commands are CANopen only. Types are CiA 309-3 mnemonics: b, i8–i64, u8–u64, x8–x64 (shown in
 /// hex), r32, r64, vs, os, us, d, hex. Exit codes: 0 done, 1 SDO abort or FoE error, 2 usage, 3 timeout or
 /// transport failure, 4 verification difference (apply), 130 interrupted (Ctrl-C).
 #[derive(Debug, Parser)]
@@ -55,9 +59,9 @@ pub struct Args {
     /// The bus: IFACE or socketcan:IFACE (e.g. can0, vcan0), or socketcand://HOST:PORT/CHANNEL.
     #[arg(long, global = true, value_name = "BUS", env = crate::link::BUS_VARIABLE)]
     pub bus: Option<BusSpec>,
-    /// An EtherCAT network interface instead of a CAN bus: NODE is the slave's position in the chain
-    /// (1 = first); read, write, dump, apply, drive, slaves, states, sdos, foe-write and foe-read
-    /// only.
+    /// An EtherCAT network interface instead of a CAN bus (it wins over a CANOPEN_BUS of the
+    /// environment): NODE is the slave's position in the chain (1 = first); read, write, dump,
+    /// apply, drive and EtherCAT's own commands only.
     #[arg(
         long,
         global = true,
@@ -89,9 +93,52 @@ pub struct Args {
     /// nanosecond times, each frame's direction; written whenever the tool waits, whole when it ends.
     #[arg(long, global = true, value_name = "FILE")]
     pub capture: Option<PathBuf>,
+    /// Standard output is a terminal (`main` says; `sii-read` lists the image there instead of
+    /// writing its bytes).
+    #[arg(skip)]
+    pub stdout_terminal: bool,
     /// What to do.
     #[command(subcommand)]
     pub command: Cmd,
+}
+
+impl Args {
+    /// The command line as `main` takes it, clap's errors printed and the process ended with their
+    /// exit code (2).
+    pub fn from_command_line() -> Args {
+        Args::try_from_words(std::env::args_os()).unwrap_or_else(|e| e.exit())
+    }
+
+    /// `argv` parsed as clap's derive does, except that a bus from the environment
+    /// ([`crate::link::BUS_VARIABLE`]) does not count against `--ethercat`: only a `--bus` given in
+    /// the words excludes it, and with `--ethercat` the environment's bus is not looked at (nor
+    /// checked).
+    pub fn try_from_words<I, T>(argv: I) -> Result<Args, clap::Error>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<std::ffi::OsString> + Clone,
+    {
+        use clap::error::ErrorKind;
+        use clap::{CommandFactory, FromArgMatches};
+        let argv: Vec<std::ffi::OsString> = argv.into_iter().map(Into::into).collect();
+        // First without the environment: with --ethercat that is the answer.
+        let words_only = Args::command().mut_arg("bus", |a| a.env(None));
+        match words_only.try_get_matches_from(&argv) {
+            Ok(m) if m.get_one::<String>("ethercat").is_some() => Args::from_arg_matches(&m),
+            Err(e)
+                if !matches!(
+                    e.kind(),
+                    ErrorKind::DisplayHelp
+                        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+                        | ErrorKind::DisplayVersion
+                ) =>
+            {
+                Err(e)
+            }
+            // Without --ethercat (or for the help): with the environment.
+            _ => Args::from_arg_matches(&Args::command().try_get_matches_from(&argv)?),
+        }
+    }
 }
 
 /// The commands.
@@ -138,10 +185,12 @@ pub enum Cmd {
     Save(StoreArgs),
     /// Restore the node's default parameters at its next reset: 0x1011:01 = "load".
     Restore(StoreArgs),
-    /// With --ethercat: every slave of the chain, read only (any state, whoever runs the chain): its
-    /// position (1 = first), AL state, and SII identity (vendor, product, revision, serial), with the
-    /// device's name where the --od description has its product code.
-    Slaves,
+    /// With --ethercat: every slave of the chain, read only (any state, whoever runs the chain), in
+    /// the layout of IgH's `ethercat slaves`: position (1 = first), the alias of the slave or of the
+    /// last one before it with an alias and the position after that one, AL state, `+` (`E`: its
+    /// SII could not be read), and the device name of its SII (else the --od description's for its
+    /// product code, else vendor and product code). --verbose: each slave in detail.
+    Slaves(SlavesArgs),
     /// With --ethercat: every slave's AL state and AL status code, read only.
     States,
     /// With --ethercat: the object dictionary of the slave at NODE (every slave without it) as the
@@ -160,6 +209,40 @@ pub enum Cmd {
     /// default), with PASSWORD; -p POS and --boot as for foe-write. As IgH's `ethercat foe_read`.
     #[command(name = "foe-read", alias = "foe_read")]
     FoeRead(FoeReadArgs),
+    /// With --ethercat: the slave's SII (EEPROM) image, read through its EEPROM interface up to the
+    /// End category, as IgH's `ethercat sii_read`: raw bytes into -o FILE or onto standard output
+    /// when it is no terminal; --verbose (and a terminal) lists the header words and each category.
+    #[command(alias = "sii_read")]
+    SiiRead(SiiReadArgs),
+    /// With --ethercat: writes FILE into the slave's EEPROM word by word, as IgH's `ethercat
+    /// sii_write`: refused unless it is whole words, at least 65 of them, with the checksum of words
+    /// 0–6 in byte 14 and categories that end (--force writes it anyway), and refused when larger
+    /// than the EEPROM the slave's SII gives (word 0x3E); nothing is written then.
+    #[command(alias = "sii_write")]
+    SiiWrite(SiiWriteArgs),
+    /// With --ethercat: the slave's ESC registers (0x0000–0x0FFF) from ADDRESS, as IgH's `ethercat
+    /// reg_read`: raw bytes in hex, or as --type int8…int64, uint8…uint64 (`0x0130 304`) or string.
+    #[command(alias = "reg_read")]
+    RegRead(RegReadArgs),
+    /// With --ethercat: writes the slave's ESC registers from ADDRESS, as IgH's `ethercat
+    /// reg_write`: DATA is a value of --type, or without it a file of bytes (`-`: standard input).
+    #[command(alias = "reg_write")]
+    RegWrite(RegWriteArgs),
+    /// With --ethercat: the configured station alias (0 to 65535, 0 for none) into SII word 4 of the
+    /// slave at POS (of every slave without it: --force on a chain of several) with the checksum
+    /// made again, as IgH's `ethercat alias`; then the EEPROM reloaded, so that the alias register
+    /// 0x0012 holds it at once.
+    Alias(AliasArgs),
+    /// With --ethercat: each slave's SyncManagers, PDOs and entries in the layout of IgH's `ethercat
+    /// pdos`, from the SII and, for a slave with CoE, its PDO assignment (0x1C12, 0x1C13, …) and
+    /// mapping objects read in Pre-Op (a chain another master runs: the SII's).
+    Pdos(SlavesOf),
+    /// With --ethercat: an ESI of what the slaves report (identity, names, SyncManagers, PDOs), in the
+    /// layout of IgH's `ethercat xml`; several slaves as an EtherCATInfoList.
+    Xml(SlavesOf),
+    /// With --ethercat: each slave's PDOs as the C arrays of IgH's application interface
+    /// (ec_pdo_entry_info_t, ec_pdo_info_t, ec_sync_info_t), as IgH's `ethercat cstruct`.
+    Cstruct(SlavesOf),
     /// The entries of the --od description, one per line: address, name, type, access, default and
     /// limits (no bus needed); the names `read` and `write` take.
     List,
@@ -222,14 +305,42 @@ impl Cmd {
             Cmd::List => "list",
             Cmd::Decode(_) => "decode",
             Cmd::Net(_) => "net",
-            Cmd::Slaves => "slaves",
+            Cmd::Slaves(_) => "slaves",
             Cmd::States => "states",
             Cmd::Sdos(_) => "sdos",
             Cmd::Completions { .. } => "completions",
             Cmd::Man { .. } => "man",
             Cmd::FoeWrite(_) => "foe-write",
             Cmd::FoeRead(_) => "foe-read",
+            Cmd::SiiRead(_) => "sii-read",
+            Cmd::SiiWrite(_) => "sii-write",
+            Cmd::RegRead(_) => "reg-read",
+            Cmd::RegWrite(_) => "reg-write",
+            Cmd::Alias(_) => "alias",
+            Cmd::Pdos(_) => "pdos",
+            Cmd::Xml(_) => "xml",
+            Cmd::Cstruct(_) => "cstruct",
         }
+    }
+
+    /// Whether the command is EtherCAT's own (it needs --ethercat).
+    pub fn ethercat_only(&self) -> bool {
+        matches!(
+            self,
+            Cmd::Slaves(_)
+                | Cmd::States
+                | Cmd::Sdos(_)
+                | Cmd::SiiRead(_)
+                | Cmd::SiiWrite(_)
+                | Cmd::RegRead(_)
+                | Cmd::RegWrite(_)
+                | Cmd::Alias(_)
+                | Cmd::Pdos(_)
+                | Cmd::Xml(_)
+                | Cmd::Cstruct(_)
+                | Cmd::FoeWrite(_)
+                | Cmd::FoeRead(_)
+        )
     }
 
     /// The command as an SDO command, when it is one: those run over EtherCAT too.
@@ -337,9 +448,7 @@ pub fn run(
             let desc = desc.as_ref().ok_or(UsageError::ListNeedsDescription)?;
             return crate::cmd::list::run(desc, args.json, out);
         }
-        Cmd::Slaves | Cmd::States | Cmd::Sdos(_) | Cmd::FoeWrite(_) | Cmd::FoeRead(_) => {
-            return ethercat_command(args, ctx, timeout, out)
-        }
+        c if c.ethercat_only() => return ethercat_command(args, ctx, timeout, out),
         _ => {}
     }
     // A name the description does not have is refused before any bus or chain is opened (a name
@@ -400,29 +509,31 @@ fn ethercat_command(
         }
         .into());
     };
+    use crate::cmd::{ethercat, foe, pdos, reg, sii};
+    let json = args.json;
     let capture = capture(args)?;
     let capture = capture.as_ref();
     match &args.command {
         Cmd::Sdos(a) => {
             let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
-            return crate::cmd::ethercat::sdos(&mut session, a, args.json, out);
+            ethercat::sdos(&mut session, a, json, out)
         }
-        Cmd::FoeWrite(a) => {
-            return crate::cmd::foe::write(a, interface, timeout, capture, args.json, out);
+        Cmd::FoeWrite(a) => foe::write(a, interface, timeout, capture, json, out),
+        Cmd::FoeRead(a) => foe::read(a, interface, timeout, capture, json, out),
+        Cmd::Slaves(a) => ethercat::slaves(interface, a, ctx, timeout, capture, out),
+        Cmd::SiiRead(a) => {
+            let terminal = args.stdout_terminal;
+            sii::sii_read(interface, a, ctx, timeout, capture, terminal, out)
         }
-        Cmd::FoeRead(a) => {
-            return crate::cmd::foe::read(a, interface, timeout, capture, args.json, out);
-        }
-        _ => {}
+        Cmd::SiiWrite(a) => sii::sii_write(interface, a, ctx, timeout, capture, out),
+        Cmd::Alias(a) => sii::alias(interface, a, ctx, timeout, capture, out),
+        Cmd::RegRead(a) => reg::reg_read(interface, a, json, timeout, capture, out),
+        Cmd::RegWrite(a) => reg::reg_write(interface, a, json, timeout, capture, out),
+        Cmd::Pdos(a) => pdos::run(interface, a, Layout::Pdos, json, timeout, capture, out),
+        Cmd::Xml(a) => pdos::run(interface, a, Layout::Xml, json, timeout, capture, out),
+        Cmd::Cstruct(a) => pdos::run(interface, a, Layout::Cstruct, json, timeout, capture, out),
+        _ => ethercat::states(interface, timeout, capture, json, out),
     }
-    crate::cmd::ethercat::chain(
-        interface,
-        matches!(args.command, Cmd::Slaves),
-        capture,
-        ctx.desc,
-        args.json,
-        out,
-    )
 }
 
 /// The commands on a CAN bus, with `tool` on it.
@@ -457,10 +568,9 @@ fn can_command(
         Cmd::Lss(a) => lss::run(a, &mut tool, json, out),
         Cmd::Net(a) => crate::cmd::net::run_on_bus(a, &mut tool, json, out),
         Cmd::Drive(a) => crate::cmd::drive::run(a, &mut tool.can_sdo(), json, out),
-        // Answered before any bus is opened.
-        Cmd::Read(_) | Cmd::Write(_) | Cmd::Dump(_) | Cmd::Apply(_) => Ok(()),
-        Cmd::List | Cmd::Decode(_) | Cmd::Slaves | Cmd::States | Cmd::Sdos(_) => Ok(()),
-        Cmd::Completions { .. } | Cmd::Man { .. } | Cmd::FoeWrite(_) | Cmd::FoeRead(_) => Ok(()),
+        // Answered before any bus is opened: the SDO commands above, `list`, `decode`,
+        // `completions`, `man` and EtherCAT's own commands.
+        _ => Ok(()),
     }
 }
 

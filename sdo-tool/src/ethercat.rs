@@ -26,6 +26,9 @@
 //!
 //! The session's PDU storage is allocated once per session and not freed (ethercrab borrows it for
 //! the life of the master; about 18 KB).
+//!
+//! [`Chain`] looks at a chain without a session, one datagram at a time, in any state and whoever
+//! runs it: AL states, registers and the SII (the commands of IgH's tool).
 
 use std::future::Future;
 use std::pin::Pin;
@@ -47,15 +50,17 @@ use od::types::DataType;
 
 use crate::{SdoAccess, ToolError};
 
+mod chain;
 mod foe;
 mod mailbox;
 mod op;
 mod txrx;
+pub use chain::{state_name, states, Chain, SiiRead, SlaveInfo, MAX_DATAGRAM, PROBE_INDEX};
 pub use foe::{FoeFailure, MAX_FOE_READ};
 use mailbox::exchange as mailbox_exchange;
 pub use op::OpSession;
 
-use crate::link::{Capture, RawSocket};
+use crate::link::Capture;
 
 /// Slaves a chain may have here (ethercrab wants a power of two).
 pub const MAX_SLAVES: usize = 128;
@@ -204,6 +209,32 @@ pub enum EthercatError {
     /// ethercrab's frame storage is taken (one session per process).
     #[error("the PDU storage is in use")]
     Storage,
+    /// No network interface has the name.
+    #[error("no such network interface: {interface}")]
+    NoInterface {
+        /// The name given.
+        interface: String,
+    },
+    /// A slave did not answer a datagram addressed to it.
+    #[error("interface {interface}: slave {position} did not answer {what}")]
+    NoAnswer {
+        /// The interface.
+        interface: String,
+        /// The slave's position (1 = first).
+        position: u16,
+        /// The datagram.
+        what: String,
+    },
+    /// A slave's EEPROM interface refused a command or stayed busy.
+    #[error("interface {interface}: the EEPROM of slave {position}: {detail}")]
+    Eeprom {
+        /// The interface.
+        interface: String,
+        /// The slave's position (1 = first).
+        position: u16,
+        /// What went wrong.
+        detail: String,
+    },
     /// The interface could not be opened.
     #[error("interface {interface}: {source}")]
     Interface {
@@ -295,237 +326,6 @@ fn drive<T>(tx_rx: &mut Option<TxRx>, f: impl Future<Output = T>) -> Result<T, T
     }
 }
 
-/// The frame index of a probe's first try (the second and third take the next two): above the 16
-/// frame buffers of SOEM, so a master running the chain never takes the probe's answer for its own,
-/// nor this probe its frames.
-const PROBE_INDEX: u8 = 0xE5;
-
-/// One datagram at a time on a raw socket of its own, with the frame index [`PROBE_INDEX`], so that
-/// the frames of another master on the same interface neither disturb it nor are disturbed: the
-/// read-only look at a chain (`slaves`, `states`, the check before a session).
-struct Probe {
-    socket: RawSocket,
-    buf: Vec<u8>,
-}
-
-/// Datagram commands (ETG.1000.4 Table 14).
-const APRD: u8 = 0x01;
-const APWR: u8 = 0x02;
-const BRD: u8 = 0x07;
-
-/// A raw socket on `interface`, its frames written to `capture` where there is one.
-fn open_socket(interface: &str, capture: Option<&Capture>) -> Result<RawSocket, EthercatError> {
-    use std::io::{Error as IoError, ErrorKind};
-    let mut socket = RawSocket::open(interface).map_err(|e| EthercatError::Interface {
-        interface: interface.to_string(),
-        source: match e {
-            ecat_link::raw::RawError::NoInterface(_) => {
-                IoError::new(ErrorKind::NotFound, "no such interface")
-            }
-            ecat_link::raw::RawError::Io { source, .. } => source,
-            other => IoError::new(ErrorKind::InvalidInput, other.to_string()),
-        },
-    })?;
-    if let Some(c) = capture {
-        socket.capture_to(c);
-    }
-    Ok(socket)
-}
-
-impl Probe {
-    fn open(interface: &str, capture: Option<&Capture>) -> Option<Probe> {
-        Some(Probe {
-            socket: open_socket(interface, capture).ok()?,
-            buf: vec![0u8; 2048],
-        })
-    }
-
-    /// `cmd` at `adp`/`ado` with `data` (its length is the datagram's): the data and working counter
-    /// of the answer, or `None` when none comes within 3 × 100 ms.
-    fn exchange(&mut self, cmd: u8, adp: u16, ado: u16, data: &[u8]) -> Option<(Vec<u8>, u16)> {
-        let len = data.len();
-        let mut frame = vec![0u8; (16 + 12 + len).max(60)];
-        frame[..6].fill(0xFF);
-        frame[6..12].fill(0x10);
-        frame[12..14].copy_from_slice(&[0x88, 0xA4]);
-        frame[14..16].copy_from_slice(&(0x1000u16 | (12 + len) as u16).to_le_bytes());
-        frame[16] = cmd;
-        frame[17] = PROBE_INDEX;
-        frame[18..20].copy_from_slice(&adp.to_le_bytes());
-        frame[20..22].copy_from_slice(&ado.to_le_bytes());
-        frame[22..24].copy_from_slice(&(len as u16).to_le_bytes());
-        frame[26..26 + len].copy_from_slice(data);
-        // Each try has its own index; an answer to an earlier try that comes after a later one was
-        // sent is taken too. Once answered, the answers still on their way are awaited, so that
-        // none reaches a master's socket opened next (ethercrab would take it for one of its own).
-        let mut answer = None;
-        let mut sent = 0u8;
-        let mut answered = 0u8;
-        'tries: for k in 0..3u8 {
-            frame[17] = PROBE_INDEX + k;
-            self.socket.send(&frame).ok()?;
-            sent += 1;
-            let deadline = Instant::now() + Duration::from_millis(100);
-            loop {
-                let left = deadline.saturating_duration_since(Instant::now());
-                match self.socket.recv(&mut self.buf) {
-                    // An answer: from a slave (locally administered source), one of our indexes.
-                    Ok(Some(n))
-                        if n >= 28 + len
-                            && self.buf[6] & 0x02 != 0
-                            && (PROBE_INDEX..PROBE_INDEX + sent).contains(&self.buf[17]) =>
-                    {
-                        let b = &self.buf;
-                        let wkc = u16::from_le_bytes([b[26 + len], b[27 + len]]);
-                        answered += 1;
-                        answer.get_or_insert((b[26..26 + len].to_vec(), wkc));
-                        break 'tries;
-                    }
-                    Ok(Some(_)) => {}
-                    Ok(None) if !left.is_zero() => {
-                        self.socket.wait(left).ok()?;
-                    }
-                    Ok(None) => break,
-                    Err(_) => return None,
-                }
-            }
-        }
-        let deadline = Instant::now() + Duration::from_millis(300);
-        while answer.is_some() && answered < sent && Instant::now() < deadline {
-            match self.socket.recv(&mut self.buf) {
-                Ok(Some(n))
-                    if n >= 18
-                        && self.buf[6] & 0x02 != 0
-                        && (PROBE_INDEX..PROBE_INDEX + sent).contains(&self.buf[17]) =>
-                {
-                    answered += 1;
-                }
-                Ok(Some(_)) => {}
-                Ok(None) => {
-                    let _ = self
-                        .socket
-                        .wait(deadline.saturating_duration_since(Instant::now()));
-                }
-                Err(_) => break,
-            }
-        }
-        answer
-    }
-
-    /// A register of the slave at 0-based `position` (auto-increment addressing).
-    fn read(&mut self, position: u16, ado: u16, len: usize) -> Option<Vec<u8>> {
-        let (data, wkc) = self.exchange(APRD, position.wrapping_neg(), ado, &vec![0; len])?;
-        (wkc == 1).then_some(data)
-    }
-
-    /// Two words of the slave's SII EEPROM at word `address`, through its EEPROM interface
-    /// (0x0502 control, 0x0504 address, 0x0508 data; ETG.1000.4 §6.4).
-    fn sii(&mut self, position: u16, address: u32) -> Option<u32> {
-        let adp = position.wrapping_neg();
-        self.exchange(APWR, adp, 0x0504, &address.to_le_bytes())?;
-        self.exchange(APWR, adp, 0x0502, &0x0100u16.to_le_bytes())?;
-        let deadline = Instant::now() + Duration::from_millis(100);
-        loop {
-            let status = self.read(position, 0x0502, 2)?;
-            if status[1] & 0x80 == 0 {
-                break;
-            }
-            if Instant::now() > deadline {
-                return None;
-            }
-        }
-        let d = self.read(position, 0x0508, 4)?;
-        Some(u32::from_le_bytes([d[0], d[1], d[2], d[3]]))
-    }
-}
-
-/// Every slave's AL status OR'd (one BRD of 0x0130), or `None` when no slave answers (or the socket
-/// cannot be opened: ethercrab reports that next).
-fn probe_al_status(interface: &str, capture: Option<&Capture>) -> Option<u16> {
-    let (data, wkc) = Probe::open(interface, capture)?.exchange(BRD, 0, AL_STATUS, &[0, 0])?;
-    (wkc > 0).then(|| u16::from_le_bytes([data[0], data[1]]))
-}
-
-/// One slave as `slaves` and `states` show it.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct SlaveInfo {
-    /// 1-based position in the chain.
-    pub position: u16,
-    /// AL status (0x0130).
-    pub al_status: u16,
-    /// AL status code (0x0134).
-    pub al_code: u16,
-    /// SII vendor ID, product code, revision and serial number, where the EEPROM gave them.
-    pub identity: Option<[u32; 4]>,
-}
-
-/// The AL state of an AL status, as the IgH tool writes it.
-pub fn state_name(al: u16) -> String {
-    let state = match al & 0x0F {
-        0x01 => "INIT",
-        0x02 => "PREOP",
-        0x03 => "BOOT",
-        0x04 => "SAFEOP",
-        0x08 => "OP",
-        _ => "?",
-    };
-    if al & 0x10 != 0 {
-        format!("{state}+ERR")
-    } else {
-        state.to_string()
-    }
-}
-
-/// The slaves of the chain on `interface`, read only: one broadcast read counts them, then per
-/// position its AL status and code and, with `identity`, its SII identity. Any chain, in any state,
-/// whoever runs it: nothing is written but the EEPROM interface's address and read command. Its
-/// frames go to `capture` too, where there is one.
-pub fn slaves(
-    interface: &str,
-    identity: bool,
-    capture: Option<&Capture>,
-) -> Result<Vec<SlaveInfo>, ToolError> {
-    check_interface_name(interface)?;
-    let Some(mut probe) = Probe::open(interface, capture) else {
-        return Err(EthercatError::Interface {
-            interface: interface.to_string(),
-            source: std::io::Error::other("the raw socket cannot be opened (root or CAP_NET_RAW)"),
-        }
-        .into());
-    };
-    let Some((_, count)) = probe.exchange(BRD, 0, 0x0000, &[0]) else {
-        return Err(EthercatError::NoSlaves {
-            interface: interface.to_string(),
-        }
-        .into());
-    };
-    let mut out = Vec::new();
-    for k in 0..count {
-        let word = |b: Option<Vec<u8>>| b.map_or(0, |b| u16::from_le_bytes([b[0], b[1]]));
-        let al_status = word(probe.read(k, AL_STATUS, 2));
-        let al_code = word(probe.read(k, 0x0134, 2));
-        let identity = if identity {
-            (|| {
-                Some([
-                    probe.sii(k, 0x08)?,
-                    probe.sii(k, 0x0A)?,
-                    probe.sii(k, 0x0C)?,
-                    probe.sii(k, 0x0E)?,
-                ])
-            })()
-        } else {
-            None
-        };
-        out.push(SlaveInfo {
-            position: k + 1,
-            al_status,
-            al_code,
-            identity,
-        });
-    }
-    Ok(out)
-}
-
 impl Drop for Link {
     /// Every slave back to Init, the state the session found the chain in (from Pre-Op, or from Op
     /// after a command that ran the chain): one broadcast write of AL control, then AL status read
@@ -559,7 +359,13 @@ enum OpenError {
     /// The TX/RX task ended while the slaves were initialised: worth another try.
     TaskEnded(TaskEnded),
     /// Anything else.
-    Tool(ToolError),
+    Tool(Box<ToolError>),
+}
+
+impl OpenError {
+    fn tool(e: impl Into<ToolError>) -> OpenError {
+        OpenError::Tool(Box::new(e.into()))
+    }
 }
 
 impl EthercatSession {
@@ -584,7 +390,7 @@ impl EthercatSession {
         for _ in 0..3 {
             match EthercatSession::try_open(interface, timeout, capture) {
                 Ok(s) => return Ok(s),
-                Err(OpenError::Tool(e)) => return Err(e),
+                Err(OpenError::Tool(e)) => return Err(*e),
                 Err(OpenError::TaskEnded(why)) => last = why,
             }
         }
@@ -601,31 +407,29 @@ impl EthercatSession {
         capture: Option<&Capture>,
     ) -> Result<EthercatSession, OpenError> {
         // Before ethercrab sends anything: a chain another master runs is left alone.
-        if let Some(al) = probe_al_status(interface, capture) {
+        let al = chain::al_status(interface, capture).map_err(OpenError::tool)?;
+        if let Some(al) = al {
             if let Some(state) = beyond_init(al) {
-                return Err(OpenError::Tool(
-                    EthercatError::Running {
-                        interface: interface.to_string(),
-                        state,
-                        al,
-                    }
-                    .into(),
-                ));
+                return Err(OpenError::tool(EthercatError::Running {
+                    interface: interface.to_string(),
+                    state,
+                    al,
+                }));
             }
         }
         let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
             Box::leak(Box::new(PduStorage::new()));
         let (tx, rx, pdu_loop) = storage
             .try_split()
-            .map_err(|_| OpenError::Tool(EthercatError::Storage.into()))?;
+            .map_err(|_| OpenError::tool(EthercatError::Storage))?;
         let maindevice = MainDevice::new(
             pdu_loop,
             Timeouts {
-                // Generous for a loaded machine: a frame that comes back after its timeout ends
-                // ethercrab's TX/RX task. A slave has as long to answer a frame as a mailbox
-                // request (--timeout-ms, 100 ms at least), and its EEPROM as long to load a word:
-                // an FoE transfer of a megabyte is tens of thousands of frames, and one that a busy
-                // machine holds up must not end it.
+                // The answer's timeout (--timeout-ms, at least 100 ms), for a frame and an EEPROM
+                // read too: on a link that loses no frame, an answer late on a loaded machine (the
+                // tool or the slaves descheduled) is still an answer, and a frame that comes back
+                // after its timeout ends ethercrab's TX/RX task. An FoE transfer of a megabyte is
+                // tens of thousands of frames: one late frame must not end it.
                 pdu: timeout.max(Duration::from_millis(100)),
                 eeprom: timeout.max(Duration::from_millis(100)),
                 wait_loop_delay: Duration::from_millis(1),
@@ -638,15 +442,12 @@ impl EthercatSession {
                 ..MainDeviceConfig::default()
             },
         );
-        let socket = open_socket(interface, capture).map_err(|e| OpenError::Tool(e.into()))?;
+        let socket = chain::open_socket(interface, capture).map_err(OpenError::tool)?;
         let task = txrx::TxRx::new(socket, tx, rx).map_err(|source| {
-            OpenError::Tool(
-                EthercatError::Interface {
-                    interface: interface.to_string(),
-                    source,
-                }
-                .into(),
-            )
+            OpenError::tool(EthercatError::Interface {
+                interface: interface.to_string(),
+                source,
+            })
         })?;
         let mut tx_rx: Option<TxRx> = Some(Box::pin(task));
         let group = drive(
@@ -655,21 +456,15 @@ impl EthercatSession {
         )
         .map_err(OpenError::TaskEnded)?
         .map_err(|source| {
-            OpenError::Tool(
-                EthercatError::Init {
-                    interface: interface.to_string(),
-                    source,
-                }
-                .into(),
-            )
+            OpenError::tool(EthercatError::Init {
+                interface: interface.to_string(),
+                source,
+            })
         })?;
         if group.is_empty() {
-            return Err(OpenError::Tool(
-                EthercatError::NoSlaves {
-                    interface: interface.to_string(),
-                }
-                .into(),
-            ));
+            return Err(OpenError::tool(EthercatError::NoSlaves {
+                interface: interface.to_string(),
+            }));
         }
         Ok(EthercatSession {
             link: Link {
@@ -1014,7 +809,7 @@ impl Link {
             Ok(())
         } else {
             Err(crate::UsageError::SlavePosition {
-                position: node,
+                position: u16::from(node),
                 count,
                 interface: self.interface.clone(),
             }

@@ -30,6 +30,7 @@ pub mod cmd;
 pub mod config;
 pub mod ethercat;
 pub mod gateway;
+pub mod igh;
 pub mod link;
 pub mod raw;
 pub mod show;
@@ -201,9 +202,10 @@ pub enum ToolError {
     /// The bus failed.
     #[error(transparent)]
     Bus(#[from] BusError),
-    /// The command's words are wrong (object, type, value, node, a file, an option).
+    /// The command's words are wrong (object, type, value, node, a file, an option); boxed, as
+    /// the largest of the errors.
     #[error(transparent)]
-    Usage(#[from] UsageError),
+    Usage(Box<UsageError>),
     /// Anything else of the SDO layer (a client refusal, the data source or sink).
     #[error(transparent)]
     Session(SessionError<BusError>),
@@ -279,6 +281,12 @@ fn not_booted(mandatory: &[u8], optional: &[u8]) -> String {
 /// 128 + SIGPIPE, what a shell reports for IgH's `ethercat` and CANopenNode's `cocomm`, which
 /// SIGPIPE ends there. The tool ends quietly, without a message.
 pub const BROKEN_PIPE_EXIT: i32 = 141;
+
+impl From<UsageError> for ToolError {
+    fn from(e: UsageError) -> ToolError {
+        ToolError::Usage(Box::new(e))
+    }
+}
 
 impl ToolError {
     /// Whether the output could not be written because its reader is gone (EPIPE).

@@ -1,9 +1,10 @@
 //! `sdo-tool`: the CANopen commissioning command line. See `sdo-tool --help`.
 
-use clap::Parser;
+use std::io::IsTerminal;
 
 fn main() {
-    let args = sdo_tool::cli::Args::parse();
+    let mut args = sdo_tool::cli::Args::from_command_line();
+    args.stdout_terminal = std::io::stdout().is_terminal();
     if let Err(e) = sdo_tool::cli::run(&args, None, &mut std::io::stdout()) {
         // The output's reader is gone (`| head`): nothing more to say, to anyone.
         if !e.broken_pipe() {

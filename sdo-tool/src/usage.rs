@@ -91,7 +91,7 @@ pub enum UsageError {
     )]
     SlavePosition {
         /// The position given.
-        position: u8,
+        position: u16,
         /// The slaves of the chain.
         count: usize,
         /// The chain's network interface.
@@ -295,10 +295,122 @@ pub enum UsageError {
         /// The command's name.
         command: &'static str,
     },
+    /// A command for one slave on a chain of several, without the slave's position.
+    #[error("`{command}` takes one slave: the chain on {interface} has {count}: give POS")]
+    OneSlave {
+        /// The command's name.
+        command: &'static str,
+        /// The chain's network interface.
+        interface: String,
+        /// Its slaves.
+        count: u16,
+    },
+    /// A number that is none (IgH's notation: decimal, `0x…` hexadecimal, `0…` octal).
+    #[error("{what} {text:?} is not a number (decimal, 0x… hex or 0… octal)")]
+    Number {
+        /// What the number is (`address`, `size`, `alias`, `slave position`).
+        what: &'static str,
+        /// As given.
+        text: String,
+    },
+    /// `reg-read`/`reg-write`: an address beyond the ESC's registers.
+    #[error(
+        "address 0x{address:X} is not a register (0x0000 to 0x0FFF; the process memory above \
+         belongs to the SyncManagers)"
+    )]
+    RegisterAddress {
+        /// The address given.
+        address: i128,
+    },
+    /// `reg-read`/`reg-write`: a range that runs past the registers.
+    #[error("0x{address:04X} + {size} bytes runs past the registers' end at 0x0FFF")]
+    RegisterRange {
+        /// The address.
+        address: u16,
+        /// The bytes.
+        size: usize,
+    },
+    /// `reg-read` of no bytes, or `reg-write` of none.
+    #[error("{what} of 0 bytes: give 1 or more")]
+    NoBytes {
+        /// `a read` or `a write`.
+        what: &'static str,
+    },
+    /// `reg-read` without SIZE and without a type that has a size.
+    #[error("give SIZE: {type_name} has no size of its own")]
+    SizeNeeded {
+        /// The type (`raw`, `string`).
+        type_name: &'static str,
+    },
+    /// `--type` of `reg-read`/`reg-write` that IgH's tool does not have.
+    #[error(
+        "type {text:?} is not int8, int16, int32, int64, uint8, uint16, uint32, uint64, string or \
+         raw{}", if *write { " (raw is for reads)" } else { "" }
+    )]
+    RegType {
+        /// As given.
+        text: String,
+        /// For a write (where raw is none).
+        write: bool,
+    },
+    /// `reg-write`: a value that is none of the type.
+    #[error("{text:?} is no {type_name} value")]
+    RegValue {
+        /// As given.
+        text: String,
+        /// The type.
+        type_name: &'static str,
+    },
+    /// `alias`: an alias outside 0–65535.
+    #[error("alias {text:?} is not 0 to 65535")]
+    Alias {
+        /// As given.
+        text: String,
+    },
+    /// `alias` for every slave of a chain of several without `--force`.
+    #[error("this writes alias {alias} into the SII of all {count} slaves: give --force (or POS for one)")]
+    AliasForce {
+        /// The alias.
+        alias: u16,
+        /// The slaves.
+        count: u16,
+    },
+    /// `sii-write`: an image IgH's checks refuse.
+    #[error("{}: {error}; --force writes it anyway", path.display())]
+    SiiImage {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        error: od::sii::ImageError,
+    },
+    /// `sii-write`: a file larger than any EEPROM.
+    #[error("{}: more than {limit} bytes: no SII image (an ESC's EEPROM holds 4 Mbit at most)", path.display())]
+    SiiTooLong {
+        /// The file.
+        path: PathBuf,
+        /// The most an image has.
+        limit: usize,
+    },
+    /// `sii-write`: an image larger than the slave's EEPROM.
+    #[error(
+        "{}: {bytes} bytes do not fit the EEPROM of slave {position}, {capacity} bytes (SII word \
+         0x3E)", path.display()
+    )]
+    SiiTooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its bytes.
+        bytes: usize,
+        /// The slave's position.
+        position: u16,
+        /// The EEPROM's bytes.
+        capacity: usize,
+    },
     /// A CANopen command with `--ethercat`.
     #[error(
         "`{command}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, \
-         apply, drive, slaves, states, sdos, foe-read and foe-write are available"
+         apply, drive, slaves, states, sdos, pdos, sii-read, sii-write, reg-read, reg-write, \
+         alias, xml, cstruct, foe-read and foe-write are available"
     )]
     CanopenOnly {
         /// The command's name.
@@ -455,7 +567,8 @@ mod tests {
         assert_eq!(
             text(CanopenOnly { command: "nmt" }),
             "`nmt` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, \
-             drive, slaves, states, sdos, foe-read and foe-write are available"
+             drive, slaves, states, sdos, pdos, sii-read, sii-write, reg-read, reg-write, alias, \
+             xml, cstruct, foe-read and foe-write are available"
         );
         assert_eq!(
             text(SlaveNeeded {

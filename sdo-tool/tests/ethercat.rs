@@ -165,34 +165,69 @@ fn usage_and_transport_errors() {
         assert_eq!(o.status.code(), Some(2), "{argv:?}: {}", stderr(&o));
         assert!(
             stderr(&o).contains(&format!(
-                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, apply, drive, slaves, states, sdos, foe-read and foe-write are available\n",
+                "`{}` is a CANopen command: over EtherCAT (--ethercat) only read, write, dump, \
+                 apply, drive, slaves, states, sdos, pdos, sii-read, sii-write, reg-read, \
+                 reg-write, alias, xml, cstruct, foe-read and foe-write are available\n",
                 argv[0]
             )),
             "{}",
             stderr(&o)
         );
     }
-    // --bus and --ethercat exclude each other.
+    // --bus and --ethercat exclude each other when both are given; a bus of the environment
+    // (CANOPEN_BUS, even one that names no bus) gives way to --ethercat.
     let o = tool(
         &link,
         &["--bus", "socketcan:vcan0", "read", "1", "0x1000", "u32"],
     );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
-    // No type and no description: the type is the slave's (SDO Information), UNSIGNED32; the
-    // device type shown in hex.
-    assert_eq!(ok(&link, &["read", "1", "0x1000"]), "0x00000000\n");
-    // No such interface: a transport failure.
-    let o = common::sdo_tool(
-        &["--ethercat", "nosuchif0"],
-        &["read", "1", "0x1000", "u32"],
-    );
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
     assert!(
-        stderr(&o).starts_with("sdo-tool: EtherCAT: interface nosuchif0"),
+        stderr(&o).starts_with(
+            "error: the argument '--ethercat <IFACE>' cannot be used with '--bus <BUS>'\n"
+        ),
         "{}",
         stderr(&o)
     );
+    for bus in ["socketcand://127.0.0.1:1/can0", "vcan0", "no bus at all"] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+            .env("CANOPEN_BUS", bus)
+            .args(["--ethercat", &link.master, "read", "1", "0x1018:04", "u32"])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{bus}: {}", stderr(&o));
+        assert_eq!(stdout(&o), "1\n");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_sdo-tool"))
+            .env("CANOPEN_BUS", bus)
+            .args(["states", "--ethercat", &link.master])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(0), "{bus}: {}", stderr(&o));
+        assert_eq!(
+            stdout(&o),
+            "  1  INIT        AL status code 0x0000\n  2  INIT        AL status code 0x0000\n"
+        );
+    }
+    // No type and no description: the type is the slave's (SDO Information), UNSIGNED32; the
+    // device type shown in hex.
+    assert_eq!(ok(&link, &["read", "1", "0x1000"]), "0x00000000\n");
+    // No such interface: said so (as root too), a transport failure.
+    for argv in [
+        &["read", "1", "0x1000", "u32"][..],
+        &["slaves"],
+        &["states"],
+        &["sii-read", "1"],
+        &["reg-read", "1", "0x0130", "2"],
+        &["pdos"],
+        &["foe-read", "f.bin"],
+    ] {
+        let o = common::sdo_tool(&["--ethercat", "nosuchif0"], argv);
+        assert_eq!(o.status.code(), Some(3), "{argv:?}: {}", stderr(&o));
+        assert_eq!(
+            stderr(&o),
+            "sdo-tool: EtherCAT: no such network interface: nosuchif0\n",
+            "{argv:?}"
+        );
+    }
     // The help says what NODE is over EtherCAT.
     let o = common::sdo_tool(&[], &["read", "--help"]);
     assert!(
@@ -296,22 +331,26 @@ fn dump_edit_apply_round_trips_on_ethercat() {
     assert_eq!(ok(&link, &["read", "2", "0x8010:07", "u16"]), "20\n");
 }
 
-/// `slaves`: positions from 1, the AL state, the SII identity (AMCI 0x0AC1, SMD23K-B 0x2301,
-/// revision 1, serial numbers 1 and 2) and the name from the ESI; read only, so the units stay in
-/// Init. Without --ethercat a usage error.
+/// `slaves`: in IgH's layout, positions from 1, alias 0, the AL state and the device name of the
+/// SII (the ESI's `Name` of the SMD23K-B), with or without a description; read only, so the units
+/// stay in Init; the SII identity (AMCI 0x0AC1, SMD23K-B 0x2301, revision 1, serial numbers 1 and
+/// 2) in JSON. Without --ethercat a usage error.
 #[test]
 fn slaves_lists_the_chain_read_only() {
     let link = Link::up(&["--units", "2"]);
     let od = esi();
-    assert_eq!(
-        ok(&link, &["--od", &od, "slaves"]),
-        concat!(
-            "  1  INIT        0x00000AC1  0x00002301  0x00000001           1  SMD23K-B\n",
-            "  2  INIT        0x00000AC1  0x00002301  0x00000001           2  SMD23K-B\n"
-        )
+    let listing = concat!(
+        "1  0:0  INIT  +  SMD23K-B Integrated Stepper Indexer/Driver/Motor (EtherCAT)\n",
+        "2  0:1  INIT  +  SMD23K-B Integrated Stepper Indexer/Driver/Motor (EtherCAT)\n"
     );
+    assert_eq!(ok(&link, &["--od", &od, "slaves"]), listing);
+    assert_eq!(ok(&link, &["slaves"]), listing);
     let v: serde_json::Value = serde_json::from_str(&ok(&link, &["--json", "slaves"])).unwrap();
     assert_eq!(v["slaves"][1]["serial"], 2);
+    assert_eq!(v["slaves"][1]["vendor"], 0x0AC1);
+    assert_eq!(v["slaves"][1]["product"], 0x2301);
+    assert_eq!(v["slaves"][1]["revision"], 1);
+    assert_eq!(v["slaves"][1]["order"], "SMD23K-B");
     assert_eq!(v["slaves"][1]["state"], "INIT");
     let out = common::sdo_tool(&[], &["slaves"]);
     assert_eq!(out.status.code(), Some(2));
@@ -324,7 +363,8 @@ fn slaves_lists_the_chain_read_only() {
 /// Next to a running master: while pysoem holds both units in Op (`pysoem_master.py --hold-op 3`,
 /// the working counter checked in every cycle and (Op, 0) read every 100 ms), `sdo-tool --ethercat`
 /// reads the AL status once, finds Op and refuses in one line (exit 3), sending nothing that changes
-/// a state; pysoem's run ends without one bad cycle. Before and after, on the idle chain, a run
+/// a state; `states`, `slaves` (the SII read through the EEPROM interface) and `pdos` (the SIIs',
+/// said so) look at it meanwhile; pysoem's run ends without one bad cycle. Before and after, on the idle chain, a run
 /// finds Init and leaves Init.
 #[test]
 fn a_chain_another_master_runs_is_left_alone() {
@@ -349,6 +389,10 @@ fn a_chain_another_master_runs_is_left_alone() {
         ok(&link, &["states"]),
         "  1  OP          AL status code 0x0000\n  2  OP          AL status code 0x0000\n"
     );
+    // (Checked once pysoem's run is: a failed run would show here as states other than Op.)
+    let slaves = ok(&link, &["slaves"]);
+    // The PDOs: the SII's, said so; the CoE assignment needs Pre-Op, which is not asked for.
+    let pdos = tool(&link, &["pdos", "2"]);
     let out = tool(&link, &["read", "1", "0x1008", "vs"]);
     assert_eq!(out.status.code(), Some(3));
     assert_eq!(
@@ -369,6 +413,37 @@ fn a_chain_another_master_runs_is_left_alone() {
         rest.last().is_some_and(|l| l.contains("held Op for 3 s")),
         "{rest:?}"
     );
+    assert_eq!(
+        slaves,
+        concat!(
+            "1  0:0  OP  +  SMD23K-B Integrated Stepper Indexer/Driver/Motor (EtherCAT)\n",
+            "2  0:1  OP  +  SMD23K-B Integrated Stepper Indexer/Driver/Motor (EtherCAT)\n"
+        )
+    );
+    assert!(pdos.status.success(), "{}", stderr(&pdos));
+    assert_eq!(
+        stderr(&pdos),
+        "sdo-tool: the chain is in Op, another master's: the PDOs shown are the SIIs' (the CoE \
+         assignment is read in Pre-Op)\n"
+    );
+    let pdos = stdout(&pdos);
+    let syncs: Vec<&str> = pdos.lines().filter(|l| l.starts_with("SM")).collect();
+    assert_eq!(
+        syncs,
+        [
+            "SM0: PhysAddr 0x1000, DefaultSize  128, ControlRegister 0x26, Enable 1",
+            "SM1: PhysAddr 0x1080, DefaultSize  128, ControlRegister 0x22, Enable 1",
+            "SM2: PhysAddr 0x1100, DefaultSize   20, ControlRegister 0x64, Enable 1",
+            "SM3: PhysAddr 0x1400, DefaultSize   20, ControlRegister 0x20, Enable 1",
+        ]
+    );
+    assert!(
+        pdos.contains(
+            "  RxPDO 0x1600 \"Outputs\"\n    PDO entry 0x7000:01, 16 bit, \"CMD_word0\"\n"
+        ),
+        "{pdos}"
+    );
+
     // pysoem's script asks for Init at its end: the chain is idle again, and served.
     assert_eq!(ok(&link, &["read", "2", "0x1018:04", "u32"]), "2\n");
 }

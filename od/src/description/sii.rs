@@ -9,6 +9,12 @@
 //! FoE), 0x3E the EEPROM size in KiBit − 1, 0x3F the version (1); from word 0x40 the categories, each
 //! a type word, a length word (in words) and the data: Strings (10), General (30), FMMU (40), SyncM
 //! (41), TxPDO (50), RxPDO (51), DC (60), End (0xFFFF).
+//!
+//! Read back: [`parse`] checks an image strictly (a file); [`Image::read`] reads a slave's EEPROM as a
+//! master does (no checksum refused, the categories that fit), with [`Image::general`],
+//! [`Image::sync_managers`] and [`Image::pdos`] decoding its categories; [`extent`] says how far a
+//! reader of an EEPROM of unknown size goes; [`check_image`] and [`set_alias`] are what a tool checks and
+//! changes before it writes an image to a slave.
 
 use crate::device::{DeviceDescription, EthercatInfo, Pdo, PdoEntry};
 use crate::types::DataType;
@@ -406,6 +412,12 @@ impl Image {
 
 /// Reads an SII image (never panics on any input).
 pub fn parse(bytes: &[u8]) -> Result<Image, SiiError> {
+    parse_image(bytes, true)
+}
+
+/// Reads an image: `strict` refuses a bad checksum, a category that runs past the end and a
+/// missing End category; otherwise the categories that fit are read.
+fn parse_image(bytes: &[u8], strict: bool) -> Result<Image, SiiError> {
     let bad = |at: usize, what: &str| SiiError::Bad {
         at,
         what: what.to_string(),
@@ -415,7 +427,7 @@ pub fn parse(bytes: &[u8]) -> Result<Image, SiiError> {
     }
     let mut config = [0u8; 14];
     config.copy_from_slice(&bytes[..14]);
-    if crc8(&config) != bytes[14] {
+    if strict && crc8(&config) != bytes[14] {
         return Err(bad(14, "the checksum of words 0–6 does not match"));
     }
     let u32_at =
@@ -425,23 +437,32 @@ pub fn parse(bytes: &[u8]) -> Result<Image, SiiError> {
     let mailbox = [u16_at(0x30), u16_at(0x32), u16_at(0x34), u16_at(0x36)];
     let protocols = u16_at(0x38);
     let mut categories = Vec::new();
-    let mut at = 0x80;
+    let mut at = FIRST_CATEGORY;
     loop {
         if at + 2 > bytes.len() {
-            return Err(bad(at, "no End category"));
+            if strict {
+                return Err(bad(at, "no End category"));
+            }
+            break;
         }
         let kind = u16_at(at);
         if kind == category::END {
             break;
         }
         if at + 4 > bytes.len() {
-            return Err(bad(at, "category header cut off"));
+            if strict {
+                return Err(bad(at, "category header cut off"));
+            }
+            break;
         }
         let len = usize::from(u16_at(at + 2)) * 2;
         let start = at + 4;
-        let data = bytes
-            .get(start..start + len)
-            .ok_or_else(|| bad(at, "category runs past the end"))?;
+        let Some(data) = bytes.get(start..start + len) else {
+            if strict {
+                return Err(bad(at, "category runs past the end"));
+            }
+            break;
+        };
         categories.push((kind, data.to_vec()));
         at = start + len;
     }
@@ -450,12 +471,15 @@ pub fn parse(bytes: &[u8]) -> Result<Image, SiiError> {
         let n = d.first().copied().unwrap_or(0);
         let mut p = 1;
         for _ in 0..n {
-            let l = usize::from(*d.get(p).ok_or_else(|| bad(0x80, "string table cut off"))?);
-            let s = d
-                .get(p + 1..p + 1 + l)
-                .ok_or_else(|| bad(0x80, "string table cut off"))?;
+            let s = d.get(p).and_then(|l| d.get(p + 1..p + 1 + usize::from(*l)));
+            let Some(s) = s else {
+                if strict {
+                    return Err(bad(0x80, "string table cut off"));
+                }
+                break;
+            };
             strings.push(String::from_utf8_lossy(s).into_owned());
-            p += 1 + l;
+            p += 1 + s.len();
         }
     }
     Ok(Image {
@@ -466,4 +490,317 @@ pub fn parse(bytes: &[u8]) -> Result<Image, SiiError> {
         strings,
         categories,
     })
+}
+
+/// Words an SII image may have at most, as a master reads one (IgH's `EC_MAX_SII_SIZE`): a reader
+/// that finds no End category within them takes the 64 header words only.
+pub const MAX_WORDS: usize = 4096;
+
+/// Where the categories start: word 0x40, byte 0x80.
+pub const FIRST_CATEGORY: usize = 0x80;
+
+/// How much of an SII image a reader takes ([`extent`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Extent {
+    /// The image ends after this many bytes: the End category's type word is the last.
+    Complete(usize),
+    /// The bytes read so far do not reach the End category: read on to at least this many bytes.
+    More(usize),
+    /// The categories run on past [`MAX_WORDS`] without an End category.
+    TooLong,
+}
+
+/// How far the SII image whose first bytes are `bytes` reaches: the header (words 0–0x3F), then each
+/// category's type and length word and its data, up to the End category's type word (0xFFFF), as a
+/// master reads an EEPROM it does not know the size of (ETG.1000.6 §5.4: a category is its type,
+/// its length in words and its data).
+pub fn extent(bytes: &[u8]) -> Extent {
+    let u16_at = |o: usize| u16::from_le_bytes([bytes[o], bytes[o + 1]]);
+    let mut at = FIRST_CATEGORY;
+    loop {
+        if at + 2 > MAX_WORDS * 2 {
+            return Extent::TooLong;
+        }
+        if at + 2 > bytes.len() {
+            return Extent::More(at + 2);
+        }
+        if u16_at(at) == category::END {
+            return Extent::Complete(at + 2);
+        }
+        if at + 4 > bytes.len() {
+            return Extent::More(at + 4);
+        }
+        at += 4 + 2 * usize::from(u16_at(at + 2));
+    }
+}
+
+/// A category's name as IgH's `ethercat sii_read --verbose` writes it (ETG.1000.6 Table 19), or
+/// `unknown`.
+pub fn category_name(kind: u16) -> &'static str {
+    match kind {
+        0x000A => "STRINGS",
+        0x0014 => "DataTypes",
+        0x001E => "General",
+        0x0028 => "FMMU",
+        0x0029 => "SyncM",
+        0x0032 => "TXPDO",
+        0x0033 => "RXPDO",
+        0x003C => "DC",
+        _ => "unknown",
+    }
+}
+
+/// Why an image is not written to a slave's EEPROM (the checks of IgH's `ethercat sii_write`, which
+/// `--force` passes over).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ImageError {
+    /// No bytes, or an odd number: an EEPROM holds 16-bit words.
+    #[error("{bytes} bytes: an SII image is a positive whole number of 16-bit words")]
+    Size {
+        /// The bytes given.
+        bytes: usize,
+    },
+    /// Fewer than the 64 header words and the End category.
+    #[error("{words} words: an SII image has at least 65 (64 header words and the End category)")]
+    Short {
+        /// The words given.
+        words: usize,
+    },
+    /// The checksum byte (word 7's low byte) is not the CRC of words 0–6.
+    #[error("the checksum of words 0–6 is 0x{want:02X}, byte 14 holds 0x{have:02X}")]
+    Checksum {
+        /// The CRC of bytes 0–13.
+        want: u8,
+        /// Byte 14.
+        have: u8,
+    },
+    /// A category runs past the end of the image, or the image ends without an End category.
+    #[error("the category at word 0x{word:04X} runs past the end of the image (no End category)")]
+    Categories {
+        /// The word of the category's type.
+        word: usize,
+    },
+}
+
+/// Checks an image before it is written to a slave's EEPROM, as IgH's `ethercat sii_write` does: a
+/// positive whole number of words, at least 65 of them, the checksum of words 0–6 in byte 14, and
+/// categories that each end, with their next type word, inside the image.
+pub fn check_image(bytes: &[u8]) -> Result<(), ImageError> {
+    if bytes.is_empty() || bytes.len() % 2 == 1 {
+        return Err(ImageError::Size { bytes: bytes.len() });
+    }
+    if bytes.len() < 0x82 {
+        return Err(ImageError::Short {
+            words: bytes.len() / 2,
+        });
+    }
+    let want = crc8(&bytes[..14]);
+    if want != bytes[14] {
+        return Err(ImageError::Checksum {
+            want,
+            have: bytes[14],
+        });
+    }
+    let u16_at = |o: usize| u16::from_le_bytes([bytes[o], bytes[o + 1]]);
+    let mut at = FIRST_CATEGORY;
+    while u16_at(at) != category::END {
+        let next = at + 4 + 2 * usize::from(u16_at(at + 2));
+        if next + 2 > bytes.len() {
+            return Err(ImageError::Categories { word: at / 2 });
+        }
+        at = next;
+    }
+    Ok(())
+}
+
+/// `bytes` (an image of at least 8 words) with the configured station alias `alias` in word 4 and
+/// the checksum of words 0–6 made again in byte 14, as IgH's `ethercat alias` writes them.
+pub fn set_alias(bytes: &mut [u8], alias: u16) {
+    if bytes.len() < 16 {
+        return;
+    }
+    bytes[8..10].copy_from_slice(&alias.to_le_bytes());
+    bytes[14] = crc8(&bytes[..14]);
+}
+
+/// The General category (ETG.1000.6 Table 21) as a master reads it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct General {
+    /// String index of the group (byte 0).
+    pub group: u8,
+    /// String index of the image name (byte 1).
+    pub image: u8,
+    /// String index of the order code (byte 2).
+    pub order: u8,
+    /// String index of the device name (byte 3).
+    pub name: u8,
+    /// CoE details (byte 5): bit 0 SDO, 1 SDO Information, 2 PDO assign, 3 PDO configuration, 4
+    /// upload at start-up, 5 SDO complete access.
+    pub coe: u8,
+    /// FoE details (byte 6).
+    pub foe: u8,
+    /// EoE details (byte 7).
+    pub eoe: u8,
+    /// SoE channels (byte 8).
+    pub soe_channels: u8,
+    /// DS402 channels (byte 9).
+    pub ds402_channels: u8,
+    /// SysmanClass (byte 10).
+    pub sysman_class: u8,
+    /// Flags (byte 11): bit 0 enable Safe-Op, 1 enable not-LRW.
+    pub flags: u8,
+    /// Current taken from the E-bus in mA (bytes 12–13, signed).
+    pub current_on_ebus: i16,
+    /// Physical ports (bytes 16–17): a nibble per port.
+    pub physical_ports: u16,
+}
+
+impl General {
+    /// The category's data; bytes it does not have read as 0.
+    pub fn decode(data: &[u8]) -> General {
+        let b = |k: usize| data.get(k).copied().unwrap_or(0);
+        General {
+            group: b(0),
+            image: b(1),
+            order: b(2),
+            name: b(3),
+            coe: b(5),
+            foe: b(6),
+            eoe: b(7),
+            soe_channels: b(8),
+            ds402_channels: b(9),
+            sysman_class: b(10),
+            flags: b(11),
+            current_on_ebus: i16::from_le_bytes([b(12), b(13)]),
+            physical_ports: u16::from_le_bytes([b(16), b(17)]),
+        }
+    }
+}
+
+/// One SyncManager of the SyncM category (eight bytes).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SyncManager {
+    /// Physical start address.
+    pub start_address: u16,
+    /// Default length in bytes.
+    pub default_size: u16,
+    /// Control register (0x0804 + 8·n).
+    pub control: u8,
+    /// The enable byte: bit 0 enable, bit 2 virtual, bit 3 Op only.
+    pub enable: u8,
+    /// Its use: 1 mailbox out, 2 mailbox in, 3 process data out, 4 process data in, 0 unused.
+    pub kind: u8,
+}
+
+/// One entry of a PDO of a TxPDO or RxPDO category.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct PdoEntryRecord {
+    /// Index (0 for a gap).
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// String index of the name.
+    pub name: u8,
+    /// CoE data type index.
+    pub data_type: u8,
+    /// Length in bits.
+    pub bit_len: u8,
+}
+
+/// One PDO of a TxPDO or RxPDO category, with its entries.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct PdoRecord {
+    /// TxPDO (category 50) or RxPDO (51).
+    pub tx: bool,
+    /// The PDO's index.
+    pub index: u16,
+    /// The SyncManager it is assigned to by default; `None` for 0xFF (none).
+    pub sm: Option<u8>,
+    /// String index of the name.
+    pub name: u8,
+    /// Flags (bit 0 mandatory, bit 4 fixed, …).
+    pub flags: u16,
+    /// The entries.
+    pub entries: Vec<PdoEntryRecord>,
+}
+
+impl Image {
+    /// Reads an image as a master reads a slave's EEPROM: as [`parse`], without refusing a bad
+    /// checksum (the checksum guards the ESC configuration words, not the rest), and taking the
+    /// categories up to one that does not fit.
+    pub fn read(bytes: &[u8]) -> Result<Image, SiiError> {
+        parse_image(bytes, false)
+    }
+
+    /// The General category, when the image has one.
+    pub fn general(&self) -> Option<General> {
+        self.category(category::GENERAL).map(General::decode)
+    }
+
+    /// The FMMU category: one use per FMMU (1 outputs, 2 inputs, 3 mailbox state, 0 unused).
+    pub fn fmmus(&self) -> Vec<u8> {
+        self.category(category::FMMU)
+            .map(<[u8]>::to_vec)
+            .unwrap_or_default()
+    }
+
+    /// The SyncManagers of the SyncM category, in order (a last one cut short is left out).
+    pub fn sync_managers(&self) -> Vec<SyncManager> {
+        self.category(category::SYNCM)
+            .unwrap_or_default()
+            .chunks_exact(8)
+            .map(|s| SyncManager {
+                start_address: u16::from_le_bytes([s[0], s[1]]),
+                default_size: u16::from_le_bytes([s[2], s[3]]),
+                control: s[4],
+                enable: s[6],
+                kind: s[7],
+            })
+            .collect()
+    }
+
+    /// Every PDO of the TxPDO and RxPDO categories, in the order of the image (a PDO cut short is
+    /// left out, with what follows it in its category).
+    pub fn pdos(&self) -> Vec<PdoRecord> {
+        let mut out = Vec::new();
+        for (kind, data) in &self.categories {
+            let tx = match *kind {
+                category::TXPDO => true,
+                category::RXPDO => false,
+                _ => continue,
+            };
+            let mut at = 0;
+            while let Some(h) = data.get(at..at + 8) {
+                let count = usize::from(h[2]);
+                let Some(body) = data.get(at + 8..at + 8 + 8 * count) else {
+                    break;
+                };
+                out.push(PdoRecord {
+                    tx,
+                    index: u16::from_le_bytes([h[0], h[1]]),
+                    sm: (h[3] != 0xFF).then_some(h[3]),
+                    name: h[5],
+                    flags: u16::from_le_bytes([h[6], h[7]]),
+                    entries: body
+                        .chunks_exact(8)
+                        .map(|e| PdoEntryRecord {
+                            index: u16::from_le_bytes([e[0], e[1]]),
+                            sub: e[2],
+                            name: e[3],
+                            data_type: e[4],
+                            bit_len: e[5],
+                        })
+                        .collect(),
+                });
+                at += 8 + 8 * count;
+            }
+        }
+        out
+    }
+
+    /// The configured station alias (word 4).
+    pub fn alias(&self) -> u16 {
+        u16::from_le_bytes([self.config[8], self.config[9]])
+    }
 }

@@ -1,9 +1,12 @@
 //! The EtherCAT commands: `slaves` and `states` (the chain, read only) and `sdos` (a slave's
-//! object dictionary by SDO Information).
+//! object dictionary by SDO Information); [`super::sii`], [`super::reg`] and [`super::pdos`] have
+//! the other commands of IgH's tool.
 
 use std::io::Write;
 
-use crate::ethercat::{EthercatSession, InfoObject};
+use crate::ethercat::{state_name, Chain, EthercatSession, InfoObject};
+use crate::igh::{self, EscInfo, SlaveLine};
+use crate::link::Capture;
 use crate::ToolError;
 
 /// `sdos`' arguments.
@@ -13,61 +16,185 @@ pub struct SdosArgs {
     pub node: Option<u8>,
 }
 
-/// `slaves` (with `identity`) and `states` on the chain of `interface`, its frames written to
-/// `capture` where there is one.
-pub fn chain(
-    interface: &str,
-    identity: bool,
-    capture: Option<&crate::link::Capture>,
+/// `slaves`' arguments.
+#[derive(Debug, clap::Args)]
+pub struct SlavesArgs {
+    /// Each slave in detail, as IgH's `ethercat slaves --verbose` shows it: identity, DL
+    /// information and ports, mailboxes, the General category of its SII.
+    #[arg(long, short)]
+    pub verbose: bool,
+}
+
+/// One slave as `slaves` read it.
+struct Slave {
+    line: SlaveLine,
+    al_status: u16,
+    al_code: u16,
+    /// The SII as read (empty when it could not be read).
+    sii: Vec<u8>,
+    image: Option<od::sii::Image>,
+}
+
+/// Reads the slave at `position` for `slaves`: AL status and code, its SII (a slave whose SII cannot
+/// be read gets IgH's error flag), and the name: the SII's, else the --od description's where its
+/// product code is the slave's, else vendor and product code.
+fn read_slave(
+    chain: &mut Chain,
+    position: u16,
     desc: Option<&od::DeviceDescription>,
+) -> Result<Slave, ToolError> {
+    let al = chain.read(position, 0x0130, 6)?;
+    let al_status = u16::from_le_bytes([al[0], al[1]]);
+    let sii = chain.sii(position).map(|r| r.bytes);
+    let error = sii.is_err();
+    let sii = sii.unwrap_or_default();
+    let image = od::sii::Image::read(&sii).ok();
+    let [vendor, product, ..] = image.as_ref().map_or([0; 4], |i| i.identity);
+    let sii_name = image
+        .as_ref()
+        .and_then(|i| Some(i.string(i.general()?.name).to_string()))
+        .filter(|n| !n.is_empty());
+    let od_name = || {
+        desc.filter(|d| d.identity.product_code == product)
+            .map(|d| d.identity.product_name.clone())
+            .filter(|n| !n.is_empty())
+    };
+    let name = sii_name
+        .or_else(od_name)
+        .unwrap_or_else(|| igh::identity_name(vendor, product));
+    Ok(Slave {
+        line: SlaveLine {
+            position,
+            alias: image.as_ref().map_or(0, od::sii::Image::alias),
+            state: state_name(al_status),
+            error,
+            name,
+        },
+        al_status,
+        al_code: u16::from_le_bytes([al[4], al[5]]),
+        sii,
+        image,
+    })
+}
+
+/// What `slaves --verbose` shows of each ESC: port descriptor and features (0x0007–0x0009), DL
+/// status (0x0110), whether the system time (0x0910) answers, and the topology.
+fn read_escs(chain: &mut Chain) -> Result<Vec<EscInfo>, ToolError> {
+    let mut escs = Vec::new();
+    for position in 1..=chain.count() {
+        let info = chain.read(position, 0x0007, 3)?;
+        let dl = chain.read(position, 0x0110, 2)?;
+        let features = u16::from_le_bytes([info[1], info[2]]);
+        let dc_system_time = features & 0x04 != 0
+            && chain
+                .read(position, 0x0910, if features & 0x08 != 0 { 8 } else { 4 })
+                .is_ok();
+        escs.push(EscInfo {
+            ports: info[0],
+            features,
+            dc_system_time,
+            dl_status: u16::from_le_bytes([dl[0], dl[1]]),
+            next: [None; 4],
+        });
+    }
+    let dl: Vec<u16> = escs.iter().map(|e| e.dl_status).collect();
+    for (esc, next) in escs.iter_mut().zip(igh::next_slaves(&dl)) {
+        esc.next = next;
+    }
+    Ok(escs)
+}
+
+/// `slaves` on the chain of `interface`, read only: IgH's one-line layout (position, alias and
+/// position after it, state, error flag, the SII's name), or with `--verbose` IgH's block per
+/// slave. Its frames go to `capture` too, where there is one (as for every command below).
+pub fn slaves(
+    interface: &str,
+    args: &SlavesArgs,
+    ctx: super::Context<'_>,
+    timeout: std::time::Duration,
+    capture: Option<&Capture>,
+    out: &mut dyn Write,
+) -> Result<(), ToolError> {
+    let io = ToolError::Output;
+    let mut chain = Chain::open(interface, timeout, capture)?;
+    let mut slaves = Vec::new();
+    for position in 1..=chain.count() {
+        slaves.push(read_slave(&mut chain, position, ctx.desc)?);
+    }
+    if ctx.json {
+        let list: Vec<serde_json::Value> = slaves.iter().map(slave_json).collect();
+        writeln!(out, "{}", serde_json::json!({ "slaves": list })).map_err(io)?;
+        return Ok(());
+    }
+    if !args.verbose {
+        let lines: Vec<SlaveLine> = slaves.into_iter().map(|s| s.line).collect();
+        return write!(out, "{}", igh::slaves_list(&lines)).map_err(io);
+    }
+    let escs = read_escs(&mut chain)?;
+    for (s, esc) in slaves.iter().zip(&escs) {
+        write!(out, "{}", igh::slaves_verbose(&s.line, &s.sii, esc)).map_err(io)?;
+    }
+    Ok(())
+}
+
+/// A slave as `slaves --json` gives it.
+fn slave_json(s: &Slave) -> serde_json::Value {
+    let mut v = serde_json::json!({
+        "position": s.line.position,
+        "state": s.line.state,
+        "al_status": s.al_status,
+        "al_status_code": s.al_code,
+        "alias": s.line.alias,
+        "name": s.line.name,
+        "sii_read": !s.line.error,
+    });
+    if let Some(i) = &s.image {
+        let [vendor, product, revision, serial] = i.identity;
+        v["vendor"] = vendor.into();
+        v["product"] = product.into();
+        v["revision"] = revision.into();
+        v["serial"] = serial.into();
+        if let Some(g) = i.general() {
+            v["order"] = i.string(g.order).into();
+            v["group"] = i.string(g.group).into();
+        }
+    }
+    v
+}
+
+/// `states` on the chain of `interface`: each slave's AL state and AL status code, read only.
+pub fn states(
+    interface: &str,
+    timeout: std::time::Duration,
+    capture: Option<&Capture>,
     json: bool,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
     let io = ToolError::Output;
-    let slaves = crate::ethercat::slaves(interface, identity, capture)?;
-    let name = |product: u32| {
-        desc.filter(|d| d.identity.product_code == product)
-            .map(|d| d.identity.order_code.clone())
-            .filter(|n| !n.is_empty())
-    };
+    let slaves = crate::ethercat::states(interface, timeout, capture)?;
     if json {
         let list: Vec<serde_json::Value> = slaves
             .iter()
             .map(|s| {
-                let mut v = serde_json::json!({
+                serde_json::json!({
                     "position": s.position,
-                    "state": crate::ethercat::state_name(s.al_status),
+                    "state": state_name(s.al_status),
                     "al_status": s.al_status,
                     "al_status_code": s.al_code,
-                });
-                if let Some([vendor, product, revision, serial]) = s.identity {
-                    v["vendor"] = vendor.into();
-                    v["product"] = product.into();
-                    v["revision"] = revision.into();
-                    v["serial"] = serial.into();
-                    v["name"] = name(product).into();
-                }
-                v
+                })
             })
             .collect();
         writeln!(out, "{}", serde_json::json!({ "slaves": list })).map_err(io)?;
         return Ok(());
     }
     for s in &slaves {
-        let state = crate::ethercat::state_name(s.al_status);
-        let mut line = format!("{:>3}  {state:<10}", s.position);
-        if identity {
-            match s.identity {
-                Some([vendor, product, revision, serial]) => line.push_str(&format!(
-                    "  0x{vendor:08X}  0x{product:08X}  0x{revision:08X}  {serial:>10}  {}",
-                    name(product).unwrap_or_default()
-                )),
-                None => line.push_str("  (no SII identity)"),
-            }
-        } else {
-            line.push_str(&format!("  AL status code 0x{:04X}", s.al_code));
-        }
-        writeln!(out, "{}", line.trim_end()).map_err(io)?;
+        let state = state_name(s.al_status);
+        writeln!(
+            out,
+            "{:>3}  {state:<10}  AL status code 0x{:04X}",
+            s.position, s.al_code
+        )
+        .map_err(io)?;
     }
     Ok(())
 }

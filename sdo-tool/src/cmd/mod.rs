@@ -11,7 +11,9 @@
 //! - [`list`]: the entries of a description; [`net`]: a network's bus description made into the
 //!   master's and the slaves' configuration files (`net gen`), or checked (`net check`), and the
 //!   network booted and supervised ([`net_boot`]); [`ethercat`]: `slaves`, `states` and `sdos`;
-//!   [`foe`]: `foe-write` and `foe-read`.
+//! - the other commands of IgH's `ethercat` tool: [`sii`] (`sii-read`, `sii-write`, `alias`),
+//!   [`reg`] (`reg-read`, `reg-write`), [`pdos`] (`pdos`, `xml`, `cstruct`), [`foe`]
+//!   (`foe-write`, `foe-read`).
 
 use std::io::Write;
 use std::path::Path;
@@ -30,10 +32,13 @@ pub mod lss;
 pub mod net;
 pub mod net_boot;
 pub mod nmt;
+pub mod pdos;
 pub mod raw;
 pub mod read;
+pub mod reg;
 pub mod scan;
 pub mod sdo;
+pub mod sii;
 pub mod store;
 pub mod transfer;
 pub mod watch;

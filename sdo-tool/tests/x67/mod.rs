@@ -42,7 +42,7 @@ impl Running {
     /// Runs `sdo-tool ARGS…` in process: the output, or the error.
     pub fn tool(&self, argv: &[&str]) -> Result<String, ToolError> {
         let args = Args::try_parse_from(std::iter::once("sdo-tool").chain(argv.iter().copied()))
-            .map_err(|e| ToolError::Usage(UsageError::CommandLine(e.to_string())))?;
+            .map_err(|e| ToolError::from(UsageError::CommandLine(e.to_string())))?;
         let bus: Box<dyn CanBus> = Box::new(self.bus.endpoint());
         let mut out = Vec::new();
         run(&args, Some(bus), &mut out)?;
