@@ -270,7 +270,7 @@ fn sdo_tool_and_pysoem_read_each_others_files() {
         &["foe_read", "a.bin"],
         2,
         &format!(
-            "sdo-tool: the chain on {} has 2 slaves: select one with -p POS (1 = first)",
+            "sdo-tool: `foe-read` takes one slave: the chain on {} has 2: give -p POS (1 = first)",
             link.master
         ),
     );

@@ -97,14 +97,6 @@ pub enum UsageError {
         /// The chain's network interface.
         interface: String,
     },
-    /// With `--ethercat`: a command for one slave, no position, and a chain of several.
-    #[error("the chain on {interface} has {count} slaves: select one with -p POS (1 = first)")]
-    SlaveNeeded {
-        /// The slaves of the chain.
-        count: usize,
-        /// The chain's network interface.
-        interface: String,
-    },
     /// `foe-write -` without the name on the slave.
     #[error("foe-write - reads standard input: name the file on the slave with -o NAME")]
     FoeStdinName,
@@ -296,10 +288,14 @@ pub enum UsageError {
         command: &'static str,
     },
     /// A command for one slave on a chain of several, without the slave's position.
-    #[error("`{command}` takes one slave: the chain on {interface} has {count}: give POS")]
+    #[error(
+        "`{command}` takes one slave: the chain on {interface} has {count}: give {how} (1 = first)"
+    )]
     OneSlave {
         /// The command's name.
         command: &'static str,
+        /// How the command takes a position: `POS`, or `-p POS` where a file comes first.
+        how: &'static str,
         /// The chain's network interface.
         interface: String,
         /// Its slaves.
@@ -571,11 +567,13 @@ mod tests {
              xml, cstruct, foe-read and foe-write are available"
         );
         assert_eq!(
-            text(SlaveNeeded {
-                count: 2,
-                interface: "veth0".into()
+            text(OneSlave {
+                command: "foe-read",
+                how: "-p POS",
+                interface: "veth0".into(),
+                count: 2
             }),
-            "the chain on veth0 has 2 slaves: select one with -p POS (1 = first)"
+            "`foe-read` takes one slave: the chain on veth0 has 2: give -p POS (1 = first)"
         );
         assert_eq!(text(CommandLine("bad".into())), "bad");
         assert_eq!(

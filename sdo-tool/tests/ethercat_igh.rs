@@ -194,7 +194,7 @@ fn sii_read_gives_the_eeprom_byte_for_byte() {
     assert_eq!(
         refused(&link, &["sii-read"], 2),
         format!(
-            "sdo-tool: `sii-read` takes one slave: the chain on {} has 2: give POS\n",
+            "sdo-tool: `sii-read` takes one slave: the chain on {} has 2: give POS (1 = first)\n",
             link.master
         )
     );
@@ -465,7 +465,7 @@ fn sii_round_trip_alias_and_refusals() {
     assert_eq!(
         refused(&link, &["sii-write", &file], 2),
         format!(
-            "sdo-tool: `sii-write` takes one slave: the chain on {} has 2: give POS\n",
+            "sdo-tool: `sii-write` takes one slave: the chain on {} has 2: give POS (1 = first)\n",
             link.master
         )
     );

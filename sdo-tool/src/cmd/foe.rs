@@ -106,7 +106,7 @@ pub fn write(
     };
     let bytes = data.len();
     let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
-    let position = session.single_slave(args.position)?;
+    let position = session.single_slave(args.position, "foe-write")?;
     let password = args.password.unwrap_or(0);
     session.foe_write(position, name.as_bytes(), password, data, args.boot)?;
     if json {
@@ -130,7 +130,7 @@ pub fn read(
         return Err(UsageError::FoeJsonOutput.into());
     }
     let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
-    let position = session.single_slave(args.position)?;
+    let position = session.single_slave(args.position, "foe-read")?;
     let password = args.password.unwrap_or(0);
     let name = args.source_file.as_bytes();
     let data = session.foe_read(position, name, password, args.boot)?;

@@ -74,6 +74,7 @@ pub fn one_slave(
         None => {
             return Err(UsageError::OneSlave {
                 command,
+                how: "POS",
                 interface: chain.interface().to_string(),
                 count: chain.count(),
             }

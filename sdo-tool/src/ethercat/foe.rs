@@ -300,9 +300,13 @@ async fn sii_pair(
 }
 
 impl EthercatSession {
-    /// The slave at `position` (1 = first): `position` itself when given, else the chain's only
-    /// one.
-    pub fn single_slave(&self, position: Option<u8>) -> Result<u8, ToolError> {
+    /// The slave at `position` (1 = first) for `command`: `position` itself when given, else the
+    /// chain's only one.
+    pub fn single_slave(
+        &self,
+        position: Option<u8>,
+        command: &'static str,
+    ) -> Result<u8, ToolError> {
         use crate::SdoAccess;
         match position {
             Some(p) => {
@@ -310,9 +314,11 @@ impl EthercatSession {
                 Ok(p)
             }
             None if self.slave_count() == 1 => Ok(1),
-            None => Err(crate::UsageError::SlaveNeeded {
-                count: self.slave_count(),
+            None => Err(crate::UsageError::OneSlave {
+                command,
+                how: "-p POS",
                 interface: self.link.interface.clone(),
+                count: u16::try_from(self.slave_count()).unwrap_or(u16::MAX),
             }
             .into()),
         }
@@ -327,7 +333,7 @@ impl EthercatSession {
         boot: bool,
         make: impl FnOnce(&Mailbox) -> Transfer,
     ) -> Result<Transfer, ToolError> {
-        let position = self.single_slave(Some(position))?;
+        let position = self.single_slave(Some(position), op)?;
         let (group, maindevice, timeout) = (&self.group, &self.link.maindevice, self.link.timeout);
         let r = drive(&mut self.link.tx_rx, async {
             let sd = group
