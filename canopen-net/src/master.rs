@@ -82,7 +82,7 @@ impl Master {
                 Some(v) => ctx.float(v, "master.heartbeat_multiplier")?,
                 None => bus.options.heartbeat_multiplier,
             },
-            heartbeat_consumer: get("heartbeat_consumer")?.map_or(true, |v| ctx.truth(v)),
+            heartbeat_consumer: get("heartbeat_consumer")?.is_none_or(|v| ctx.truth(v)),
             heartbeat_producer: u32_of("heartbeat_producer", 0)?,
             error_behavior: vec![(1, 0)],
             nmt_inhibit_time: u32_of("nmt_inhibit_time", 0)?,

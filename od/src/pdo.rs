@@ -149,7 +149,7 @@ pub fn check_entry(dict: &Dictionary, dir: Direction, raw: u32) -> Result<(), Ab
         return Ok(());
     }
     let e = MapEntry::from_raw(raw);
-    if e.bits == 0 || e.bits % 8 != 0 {
+    if e.bits == 0 || !e.bits.is_multiple_of(8) {
         return Err(AbortCode::NotMappable);
     }
     if e.is_dummy() {

@@ -506,7 +506,7 @@ impl Node {
             self.sdo.handle_timeout(now);
             self.drain(now, out);
         }
-        if !self.deadline().is_some_and(|t| t <= now) {
+        if self.deadline().is_none_or(|t| t > now) {
             return false;
         }
         match self.step {

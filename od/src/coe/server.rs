@@ -427,7 +427,7 @@ impl CoeServer {
     /// Runs the transfer timer: a transfer with no request from the master for
     /// [`ServerConfig::timeout`] ends, reported as aborted with 0x05040000; nothing is sent.
     pub fn handle_timeout(&mut self, now: Instant) {
-        if !self.poll_timeout().is_some_and(|t| now >= t) {
+        if self.poll_timeout().is_none_or(|t| now < t) {
             return;
         }
         self.deadline = None;
@@ -677,7 +677,7 @@ impl CoeServer {
             Err(code) => return Answer::abort(mux, code),
         };
         let capacity = self.mailbox_size - NORMAL_OVERHEAD;
-        if !self.segmented && size.map_or(true, |n| n as usize > capacity) {
+        if !self.segmented && size.is_none_or(|n| n as usize > capacity) {
             self.engine.fail(now, mux, AbortCode::ExceedsMailbox);
             return Answer::abort(mux, AbortCode::ExceedsMailbox);
         }

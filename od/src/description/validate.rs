@@ -66,7 +66,7 @@ impl Checker<'_> {
         // communication objects (no dictionary, or one of the application objects only) leaves the
         // dictionary to SDO Information, which masters read online.
         // A module of a module catalogue is a part of a device, whose dictionary has them.
-        let coe = desc.ethercat.as_ref().map_or(true, |e| {
+        let coe = desc.ethercat.as_ref().is_none_or(|e| {
             e.mailbox.as_ref().is_some_and(|m| m.coe.is_some())
                 && d.objects().any(|o| (0x1000..=0x1FFF).contains(&o.index))
                 && !e.root.is_module()

@@ -62,7 +62,7 @@ impl DownloadSource for Trickle {
 
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
         self.calls += 1;
-        if self.calls % 3 == 0 {
+        if self.calls.is_multiple_of(3) {
             return Err(io::ErrorKind::Interrupted.into());
         }
         if buf.is_empty() || self.pos == self.data.len() {

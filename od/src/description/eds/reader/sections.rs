@@ -372,7 +372,7 @@ impl<'i, 'a> Builder<'i, 'a> {
                         section.name
                     ),
                 );
-            } else if !self.objects.get(&index).is_some_and(|s| s.main.is_some()) {
+            } else if self.objects.get(&index).is_none_or(|s| s.main.is_none()) {
                 self.warn(
                     entry.value,
                     format!(
