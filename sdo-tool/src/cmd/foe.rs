@@ -31,17 +31,12 @@ fn password(text: &str) -> Result<u32, String> {
     parsed.map_err(|_| format!("{text:?} is no 32-bit password (0x… or decimal)"))
 }
 
-/// `foe-write`'s arguments.
+/// What `foe-write` and `foe-read` both take after the file: the password, the slave, Bootstrap.
 #[derive(Debug, clap::Args)]
-pub struct FoeWriteArgs {
-    /// The file to send; `-` reads standard input (then --output-file names it).
-    pub file: PathBuf,
+pub struct FoeSlave {
     /// The password the slave asks for: 0x… or decimal (0 without it).
     #[arg(value_parser = password)]
     pub password: Option<u32>,
-    /// The file's name on the slave: FILE's name without its folders by default.
-    #[arg(short = 'o', long = "output-file", value_name = "NAME")]
-    pub output_file: Option<String>,
     /// The slave's position, 1 = first (IgH's tool counts from 0); needed on a chain of several.
     #[arg(short = 'p', long, value_name = "POS")]
     pub position: Option<u8>,
@@ -51,25 +46,31 @@ pub struct FoeWriteArgs {
     pub boot: bool,
 }
 
+/// `foe-write`'s arguments.
+#[derive(Debug, clap::Args)]
+pub struct FoeWriteArgs {
+    /// The file to send; `-` reads standard input (then --output-file names it).
+    pub file: PathBuf,
+    /// The password, the slave and Bootstrap.
+    #[command(flatten)]
+    pub slave: FoeSlave,
+    /// The file's name on the slave: FILE's name without its folders by default.
+    #[arg(short = 'o', long = "output-file", value_name = "NAME")]
+    pub output_file: Option<String>,
+}
+
 /// `foe-read`'s arguments.
 #[derive(Debug, clap::Args)]
 pub struct FoeReadArgs {
     /// The file's name on the slave.
     #[arg(value_name = "SOURCEFILE")]
     pub source_file: String,
-    /// The password the slave asks for: 0x… or decimal (0 without it).
-    #[arg(value_parser = password)]
-    pub password: Option<u32>,
+    /// The password, the slave and Bootstrap.
+    #[command(flatten)]
+    pub slave: FoeSlave,
     /// Where the file goes: a file, or `-` (the default) for standard output.
     #[arg(short = 'o', long = "output-file", value_name = "FILE")]
     pub output_file: Option<PathBuf>,
-    /// The slave's position, 1 = first (IgH's tool counts from 0); needed on a chain of several.
-    #[arg(short = 'p', long, value_name = "POS")]
-    pub position: Option<u8>,
-    /// Take the slave to Bootstrap first: Init, SM0/SM1 at the bootstrap mailbox of its SII,
-    /// Bootstrap; back to Init at the end.
-    #[arg(long)]
-    pub boot: bool,
 }
 
 /// Whether `path` is `-`, standard input or output.
@@ -106,9 +107,9 @@ pub fn write(
     };
     let bytes = data.len();
     let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
-    let position = session.single_slave(args.position, "foe-write")?;
-    let password = args.password.unwrap_or(0);
-    session.foe_write(position, name.as_bytes(), password, data, args.boot)?;
+    let position = session.single_slave(args.slave.position, "foe-write")?;
+    let password = args.slave.password.unwrap_or(0);
+    session.foe_write(position, name.as_bytes(), password, data, args.slave.boot)?;
     if json {
         let line = serde_json::json!({"position": position, "file": name, "bytes": bytes});
         writeln!(out, "{line}").map_err(ToolError::Output)?;
@@ -130,10 +131,10 @@ pub fn read(
         return Err(UsageError::FoeJsonOutput.into());
     }
     let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
-    let position = session.single_slave(args.position, "foe-read")?;
-    let password = args.password.unwrap_or(0);
+    let position = session.single_slave(args.slave.position, "foe-read")?;
+    let password = args.slave.password.unwrap_or(0);
     let name = args.source_file.as_bytes();
-    let data = session.foe_read(position, name, password, args.boot)?;
+    let data = session.foe_read(position, name, password, args.slave.boot)?;
     drop(session);
     match to_file {
         Some(path) => std::fs::write(path, &data).map_err(|e| file_error(path, e))?,
