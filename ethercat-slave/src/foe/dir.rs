@@ -188,6 +188,14 @@ mod tests {
                 root.join("unit2/fw%201.efw").display()
             )
         );
+        // A unit's folder that is a file: no folder to read, said with its path (not "no files").
+        std::fs::write(root.join("unit4"), b"not a folder").unwrap();
+        let e = load(&root, 4, &mut store).unwrap_err();
+        assert!(
+            matches!(&e, DirError::Io { path, source }
+                if *path == root.join("unit4") && source.kind() == std::io::ErrorKind::NotADirectory),
+            "{e:?}"
+        );
         std::fs::remove_dir_all(&root).unwrap();
     }
 }

@@ -596,3 +596,34 @@ proptest::proptest! {
         }
     }
 }
+
+/// The server gives back the configuration it was made with, every field of it.
+#[test]
+fn the_server_keeps_its_configuration() {
+    let config = FoeConfig {
+        max_file: 100,
+        max_store: 300,
+        password: Some(0x1234_5678),
+        boot: true,
+        firmware: vec!["*.bin".to_string()],
+        packet_time: Duration::from_millis(3),
+        timeout: Duration::from_secs(2),
+    };
+    let b = Bench::new(config);
+    assert_eq!(
+        b.server.config(),
+        &FoeConfig {
+            max_file: 100,
+            max_store: 300,
+            password: Some(0x1234_5678),
+            boot: true,
+            firmware: vec!["*.bin".to_string()],
+            packet_time: Duration::from_millis(3),
+            timeout: Duration::from_secs(2),
+        }
+    );
+    assert_eq!(
+        (b.server.store().max_file(), b.server.store().max_store()),
+        (100, 300)
+    );
+}
