@@ -118,11 +118,7 @@ fn pysoem(link: &Link, ops: &[&str]) -> String {
 
 /// `sdo-tool --ethercat IFACE ARGS…`.
 fn tool(link: &Link, argv: &[&str]) -> Output {
-    Command::new(testkit::cargo_binary("sdo-tool", "sdo-tool", &[]))
-        .args(["--ethercat", &link.master])
-        .args(argv)
-        .output()
-        .expect("run sdo-tool")
+    link.sdo_tool(argv)
 }
 
 /// `sdo-tool` that must succeed: its standard output.

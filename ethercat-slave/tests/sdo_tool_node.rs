@@ -4,7 +4,7 @@
 //! `--od` (each entry's type from the slave's own description).
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use testkit::link::Link;
 
@@ -20,11 +20,7 @@ fn corpus(name: &str) -> String {
 }
 
 fn tool(link: &Link, argv: &[&str]) -> Output {
-    Command::new(testkit::cargo_binary("sdo-tool", "sdo-tool", &[]))
-        .args(["--ethercat", &link.master])
-        .args(argv)
-        .output()
-        .expect("run sdo-tool")
+    link.sdo_tool(argv)
 }
 
 fn ok(link: &Link, argv: &[&str]) -> String {

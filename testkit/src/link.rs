@@ -128,6 +128,15 @@ impl Link {
         }
     }
 
+    /// `sdo-tool --ethercat MASTER ARGV…` on the master's end, run to its end.
+    pub fn sdo_tool(&self, argv: &[&str]) -> std::process::Output {
+        Command::new(crate::cargo_binary("sdo-tool", "sdo-tool", &[]))
+            .args(["--ethercat", &self.master])
+            .args(argv)
+            .output()
+            .expect("run sdo-tool")
+    }
+
     /// Stops the emulator (SIGINT, as Ctrl-C) and returns what it wrote on stderr.
     pub fn stop(&mut self) -> String {
         if let Some(mut child) = self.child.take() {

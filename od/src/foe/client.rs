@@ -119,11 +119,28 @@ fn frame_name(frame: &FoeFrame<'_>) -> &'static str {
     }
 }
 
-/// The Refused error of an Error frame.
-fn refused(code: FoeErrorCode, text: &[u8]) -> FoeError {
-    FoeError::Refused {
-        code,
-        text: printable(text),
+/// What either transfer makes of an answer that is neither its next step nor a wrong number:
+/// Busy sends `last` again, an Error is the slave's refusal, anything else is unexpected in
+/// `transfer`.
+fn other_answer(
+    frame: FoeFrame<'_>,
+    last: &[u8],
+    transfer: &'static str,
+) -> Result<Next, FoeError> {
+    match frame {
+        FoeFrame::Busy { done, entire, .. } => Ok(Next::Busy {
+            again: last.to_vec(),
+            done,
+            entire,
+        }),
+        FoeFrame::Error { code, text } => Err(FoeError::Refused {
+            code,
+            text: printable(text),
+        }),
+        other => Err(FoeError::Unexpected {
+            what: frame_name(&other),
+            transfer,
+        }),
     }
 }
 
@@ -198,16 +215,7 @@ impl FoeWrite {
                 expected: self.packet,
                 got: packet,
             }),
-            FoeFrame::Busy { done, entire, .. } => Ok(Next::Busy {
-                again: self.last.clone(),
-                done,
-                entire,
-            }),
-            FoeFrame::Error { code, text } => Err(refused(code, text)),
-            other => Err(FoeError::Unexpected {
-                what: frame_name(&other),
-                transfer: "write",
-            }),
+            other => other_answer(other, &self.last, "write"),
         }
     }
 }
@@ -283,16 +291,7 @@ impl FoeRead {
                 expected: self.next,
                 got: packet,
             }),
-            FoeFrame::Busy { done, entire, .. } => Ok(Next::Busy {
-                again: self.last.clone(),
-                done,
-                entire,
-            }),
-            FoeFrame::Error { code, text } => Err(refused(code, text)),
-            other => Err(FoeError::Unexpected {
-                what: frame_name(&other),
-                transfer: "read",
-            }),
+            other => other_answer(other, &self.last, "read"),
         }
     }
 }
