@@ -58,7 +58,7 @@ fn decode(
 ) -> Result<(), ToolError> {
     use crate::watch::{Decoded, LogDecoder, MAX_LOG_LINE, PCAPNG_MAGIC};
     use std::io::Read;
-    let stdin = path.as_os_str() == "-";
+    let stdin = super::is_dash(path);
     let input: Box<dyn Read> = if stdin {
         Box::new(std::io::stdin())
     } else {

@@ -12,11 +12,11 @@
 //! - With `--json` one line `{"position", "file", "bytes", "output"}` (foe-read then needs `-o
 //!   FILE`: the file's bytes are not mixed with it).
 
-use std::io::{Read, Write};
-use std::path::{Path, PathBuf};
+use std::io::Write;
+use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::cmd::file_error;
+use crate::cmd::{file_error, is_dash, read_input};
 use crate::ethercat::EthercatSession;
 use crate::link::Capture;
 use crate::{ToolError, UsageError};
@@ -73,11 +73,6 @@ pub struct FoeReadArgs {
     pub output_file: Option<PathBuf>,
 }
 
-/// Whether `path` is `-`, standard input or output.
-fn is_dash(path: &Path) -> bool {
-    path.as_os_str() == "-"
-}
-
 /// `foe-write` on the chain of `interface`.
 pub fn write(
     args: &FoeWriteArgs,
@@ -96,15 +91,7 @@ pub fn write(
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default(),
     };
-    let data = if is_dash(&args.file) {
-        let mut data = Vec::new();
-        std::io::stdin()
-            .read_to_end(&mut data)
-            .map_err(|e| file_error(Path::new("standard input"), e))?;
-        data
-    } else {
-        std::fs::read(&args.file).map_err(|e| file_error(&args.file, e))?
-    };
+    let data = read_input(&args.file, usize::MAX)?;
     let bytes = data.len();
     let mut session = EthercatSession::open_captured(interface, timeout, capture)?;
     let position = session.single_slave(args.slave.position, "foe-write")?;

@@ -81,6 +81,31 @@ pub fn file_error(path: &Path, error: std::io::Error) -> UsageError {
     }
 }
 
+/// Whether `path` is `-`: standard input or output.
+pub fn is_dash(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// The bytes of `path`, or of standard input for `-`; at most `limit` bytes and one more are taken,
+/// so that a caller refuses a larger input without reading it whole (`usize::MAX`: all of it).
+pub fn read_input(path: &Path, limit: usize) -> Result<Vec<u8>, ToolError> {
+    use std::io::Read;
+    let take = u64::try_from(limit.saturating_add(1)).unwrap_or(u64::MAX);
+    let mut bytes = Vec::new();
+    if is_dash(path) {
+        std::io::stdin()
+            .lock()
+            .take(take)
+            .read_to_end(&mut bytes)
+            .map_err(|e| file_error(Path::new("standard input"), e))?;
+    } else {
+        std::fs::File::open(path)
+            .and_then(|f| f.take(take).read_to_end(&mut bytes))
+            .map_err(|e| file_error(path, e))?;
+    }
+    Ok(bytes)
+}
+
 /// The first device of a description file; `what` says where it was given (`--od`, `apply`).
 pub fn load_description(
     path: &Path,

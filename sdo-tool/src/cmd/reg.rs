@@ -117,7 +117,6 @@ pub fn reg_read(
     let (at, size, reg_type) = read_request(args)?;
     let mut chain = Chain::open(interface, timeout, capture)?;
     let data = chain.read(args.position, at, size)?;
-    let text = reg_type.format(&data);
     let r = if json {
         let hex: String = data.iter().map(|b| format!("{b:02x}")).collect();
         let mut v = serde_json::json!({
@@ -126,16 +125,14 @@ pub fn reg_read(
             "size": size,
             "data": hex,
         });
-        if reg_type.size().is_some() {
-            // IgH's line: `0x… value`; the value is the second word.
-            let value = text.split_whitespace().nth(1).unwrap_or_default();
-            v["value"] = serde_json::from_str(value).unwrap_or_default();
+        if let Some(value) = reg_type.value(&data) {
+            v["value"] = serde_json::Number::from_i128(value).into();
         } else if reg_type == RegType::String {
             v["text"] = String::from_utf8_lossy(&data).into_owned().into();
         }
         writeln!(out, "{v}")
     } else {
-        write!(out, "{text}")
+        write!(out, "{}", reg_type.format(&data))
     };
     r.map_err(ToolError::Output)
 }
@@ -158,7 +155,7 @@ pub fn write_request(args: &RegWriteArgs) -> Result<(u16, Vec<u8>), ToolError> {
                     type_name: reg_type.name(),
                 })?
         }
-        None => super::sii::read_input(Path::new(&args.data), REGISTERS)?,
+        None => super::read_input(Path::new(&args.data), REGISTERS)?,
     };
     check_range(at, data.len(), "a write")?;
     Ok((at, data))

@@ -2,8 +2,8 @@
 //! `sii-write` (an image into a slave's EEPROM, checked first) and `alias` (the configured station
 //! alias in SII word 4, with its checksum, taken into 0x0012 by a reload).
 
-use std::io::{Read, Write};
-use std::path::{Path, PathBuf};
+use std::io::Write;
+use std::path::PathBuf;
 use std::time::Duration;
 
 use crate::ethercat::Chain;
@@ -60,6 +60,15 @@ fn position(text: &str) -> Result<u16, ToolError> {
         }
         .into()
     })
+}
+
+/// `[POS] WORD` (clap takes one or two words): the position, where given, and the word.
+fn position_and(words: &[String]) -> Result<(Option<u16>, &str), ToolError> {
+    match words {
+        [p, word] => Ok((Some(position(p)?), word)),
+        [word] => Ok((None, word)),
+        _ => unreachable!("clap takes one or two"),
+    }
 }
 
 /// The slave a one-slave command works on: `given`, or the only slave of the chain.
@@ -125,22 +134,6 @@ pub fn sii_read(
     Ok(())
 }
 
-/// The bytes of `path`, or of standard input for `-`; at most `limit` bytes are taken (a larger
-/// input is refused with its first `limit + 1` bytes read).
-pub fn read_input(path: &Path, limit: usize) -> Result<Vec<u8>, ToolError> {
-    let mut bytes = Vec::new();
-    let r = if path.as_os_str() == "-" {
-        std::io::stdin()
-            .lock()
-            .take(limit as u64 + 1)
-            .read_to_end(&mut bytes)
-    } else {
-        std::fs::File::open(path).and_then(|f| f.take(limit as u64 + 1).read_to_end(&mut bytes))
-    };
-    r.map_err(|e| super::file_error(path, e))?;
-    Ok(bytes)
-}
-
 /// `sii-write`: `FILE` into the slave's EEPROM, word by word, after IgH's checks (`--force` passes
 /// over them) and a check that it fits the EEPROM the slave's SII says it has (word 0x3E); nothing is
 /// written when a check fails.
@@ -152,12 +145,9 @@ pub fn sii_write(
     capture: Option<&Capture>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    let (given, file) = match args.words.as_slice() {
-        [p, f] => (Some(position(p)?), PathBuf::from(f)),
-        [f] => (None, PathBuf::from(f)),
-        _ => unreachable!("clap takes one or two"),
-    };
-    let bytes = read_input(&file, MAX_IMAGE)?;
+    let (given, file) = position_and(&args.words)?;
+    let file = PathBuf::from(file);
+    let bytes = super::read_input(&file, MAX_IMAGE)?;
     if bytes.len() > MAX_IMAGE {
         return Err(UsageError::SiiTooLong {
             path: file,
@@ -209,14 +199,12 @@ pub fn alias(
     capture: Option<&Capture>,
     out: &mut dyn Write,
 ) -> Result<(), ToolError> {
-    let (given, text) = match args.words.as_slice() {
-        [p, a] => (Some(position(p)?), a),
-        [a] => (None, a),
-        _ => unreachable!("clap takes one or two"),
-    };
+    let (given, text) = position_and(&args.words)?;
     let alias = crate::igh::parse_number(text)
         .and_then(|a| u16::try_from(a).ok())
-        .ok_or_else(|| UsageError::Alias { text: text.clone() })?;
+        .ok_or_else(|| UsageError::Alias {
+            text: text.to_string(),
+        })?;
     let mut chain = Chain::open(interface, timeout, capture)?;
     let positions: Vec<u16> = match given {
         Some(p) => {

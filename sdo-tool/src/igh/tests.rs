@@ -773,3 +773,22 @@ fn sii_syncs_from_an_image() {
         [(Some(0), 0x1A00), (None, 0x1A01), (Some(5), 0x1A02)]
     );
 }
+
+/// The value `reg-read --json` gives: the bytes little-endian, the top bit of the type's width the
+/// sign for a signed type (FE FF: -2 as int16, 65534 as uint16; 01 80 00 00: 32769 as int32, whose
+/// sign bit is byte 3's); none for a string or raw bytes.
+#[test]
+fn register_values_as_json_gives_them() {
+    let t = |name| RegType::parse(name).unwrap();
+    assert_eq!(t("int16").value(&[0xFE, 0xFF]), Some(-2));
+    assert_eq!(t("uint16").value(&[0xFE, 0xFF]), Some(65_534));
+    assert_eq!(t("int32").value(&[0x01, 0x80, 0x00, 0x00]), Some(32_769));
+    assert_eq!(t("int8").value(&[0x80]), Some(-128));
+    assert_eq!(t("int64").value(&[0xFF; 8]), Some(-1), "all 64 bits set");
+    assert_eq!(
+        t("uint64").value(&[0xFF; 8]),
+        Some(18_446_744_073_709_551_615)
+    );
+    assert_eq!(t("string").value(b"ab"), None);
+    assert_eq!(t("raw").value(&[1, 2]), None);
+}

@@ -40,6 +40,14 @@ pub enum RegType {
     Raw,
 }
 
+/// `data`'s first 8 bytes at most as an unsigned little-endian number.
+fn unsigned_le(data: &[u8]) -> u128 {
+    let mut le = [0u8; 16];
+    let n = data.len().min(8);
+    le[..n].copy_from_slice(&data[..n]);
+    u128::from_le_bytes(le)
+}
+
 impl RegType {
     /// The type IgH names `name`.
     pub fn parse(name: &str) -> Option<RegType> {
@@ -82,28 +90,33 @@ impl RegType {
         }
     }
 
+    /// The integer `data` holds (little-endian, its first 8 bytes at most) for an integer type:
+    /// its top bit the sign for a signed one. `None` for `string` and `raw`.
+    pub fn value(self, data: &[u8]) -> Option<i128> {
+        let unsigned = unsigned_le(data);
+        match self {
+            RegType::Uint(_) => Some(unsigned as i128),
+            RegType::Int(_) => {
+                let shift = 128 - 8 * (data.len().clamp(1, 8) as u32);
+                Some(((unsigned << shift) as i128) >> shift)
+            }
+            RegType::String | RegType::Raw => None,
+        }
+    }
+
     /// `data` (little-endian, as long as the type says) as IgH's `reg_read` prints it: an integer
     /// as `0x` and its lower-case hex digits, two per byte, then its decimal value (`0x0130 304`);
     /// a string as its text; raw bytes as `0x11 0x00 0x02`. The line ends with a line break.
     pub fn format(self, data: &[u8]) -> String {
-        let mut le = [0u8; 16];
-        let n = data.len().min(8);
-        le[..n].copy_from_slice(&data[..n]);
-        let bits = 8 * n as u32;
-        let unsigned = u128::from_le_bytes(le);
-        match self {
-            RegType::Uint(_) => format!("0x{unsigned:0w$x} {unsigned}\n", w = 2 * n),
-            RegType::Int(_) => {
-                let shift = 128 - bits.max(8);
-                let signed = ((unsigned << shift) as i128) >> shift;
-                format!("0x{unsigned:0w$x} {signed}\n", w = 2 * n)
-            }
-            RegType::String => format!("{}\n", String::from_utf8_lossy(data)),
-            RegType::Raw => {
-                let hex: Vec<String> = data.iter().map(|b| format!("0x{b:02x}")).collect();
-                format!("{}\n", hex.join(" "))
-            }
+        if let Some(value) = self.value(data) {
+            let unsigned = unsigned_le(data);
+            return format!("0x{unsigned:0w$x} {value}\n", w = 2 * data.len().min(8));
         }
+        if self == RegType::String {
+            return format!("{}\n", String::from_utf8_lossy(data));
+        }
+        let hex: Vec<String> = data.iter().map(|b| format!("0x{b:02x}")).collect();
+        format!("{}\n", hex.join(" "))
     }
 
     /// The bytes `reg-write` writes for `text` of this type: an integer in its width,
