@@ -34,10 +34,11 @@ const BRD: u8 = 0x07;
 
 /// The EEPROM interface's registers.
 const EEPROM_CONFIG: u16 = 0x0500;
-const EEPROM_CONTROL: u16 = 0x0502;
-const EEPROM_DATA: u16 = 0x0508;
+pub(super) const EEPROM_CONTROL: u16 = 0x0502;
+pub(super) const EEPROM_ADDRESS: u16 = 0x0504;
+pub(super) const EEPROM_DATA: u16 = 0x0508;
 /// EEPROM commands in 0x0502 (bits 8–10; write enable is bit 0).
-const READ: u16 = 0x0100;
+pub(super) const READ: u16 = 0x0100;
 const WRITE: u16 = 0x0201;
 const RELOAD: u16 = 0x0400;
 /// EEPROM status bits of 0x0502.
@@ -46,7 +47,7 @@ const CHECKSUM_ERROR: u16 = 1 << 11;
 const NOT_LOADED: u16 = 1 << 12;
 const COMMAND_ERROR: u16 = 1 << 13;
 const WRITE_ENABLE_ERROR: u16 = 1 << 14;
-const BUSY: u16 = 1 << 15;
+pub(super) const BUSY: u16 = 1 << 15;
 
 /// The most data one datagram of a probe carries (a frame holds 1,486 bytes of datagram data).
 pub const MAX_DATAGRAM: usize = 1024;

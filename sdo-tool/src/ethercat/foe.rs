@@ -20,7 +20,8 @@ use od::coe::mailbox::{MailboxHeader, MailboxType};
 use od::foe::client::{FoeError, FoeRead, FoeWrite, Next};
 use od::foe::{data_per_packet, printable, FoeErrorCode};
 
-use super::mailbox::Mailbox;
+use super::chain::{BUSY, EEPROM_ADDRESS, EEPROM_CONTROL, EEPROM_DATA, READ};
+use super::mailbox::{Mailbox, SM0};
 use super::{drive, mailbox_error, EthercatSession, Failure, AL_CONTROL, AL_STATUS};
 use crate::ToolError;
 
@@ -30,10 +31,6 @@ pub const MAX_FOE_READ: usize = 256 << 20;
 const BUSY_PAUSE: Duration = Duration::from_millis(2);
 /// AL status code register.
 const AL_STATUS_CODE: u16 = 0x0134;
-/// EEPROM control/status, address and data registers (ETG.1000.4 §6.4).
-const EEPROM_CONTROL: u16 = 0x0502;
-const EEPROM_ADDRESS: u16 = 0x0504;
-const EEPROM_DATA: u16 = 0x0508;
 /// SII word of the bootstrap mailbox: receive offset, receive size, send offset, send size.
 const SII_BOOT_MAILBOX: u32 = 0x0014;
 
@@ -242,7 +239,7 @@ async fn to_boot(
         words[2 * k] = pair as u16;
         words[2 * k + 1] = (pair >> 16) as u16;
     }
-    let sm: [u8; 16] = Command::fprd(station, 0x0800)
+    let sm: [u8; 16] = Command::fprd(station, SM0)
         .receive(maindevice)
         .await
         .map_err(master)?;
@@ -253,7 +250,7 @@ async fn to_boot(
         let mut r = start.to_le_bytes().to_vec();
         r.extend_from_slice(&len.to_le_bytes());
         r.extend_from_slice(&[control, 0, 1, 0]);
-        Command::fpwr(station, 0x0800 + 8 * n)
+        Command::fpwr(station, SM0 + 8 * n)
             .send_receive_slice(maindevice, r.as_slice())
             .await
             .map_err(master)?;
@@ -280,14 +277,14 @@ async fn sii_pair(
         .send(maindevice, address)
         .await?;
     Command::fpwr(station, EEPROM_CONTROL)
-        .send(maindevice, 0x0100u16)
+        .send(maindevice, READ)
         .await?;
     let deadline = Instant::now() + timeout;
     loop {
         let status: u16 = Command::fprd(station, EEPROM_CONTROL)
             .receive(maindevice)
             .await?;
-        if status & 0x8000 == 0 {
+        if status & BUSY == 0 {
             break;
         }
         if Instant::now() >= deadline {

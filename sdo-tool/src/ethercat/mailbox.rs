@@ -13,7 +13,7 @@ use super::Failure;
 
 /// SyncManager registers: SM0 (the master's write mailbox) at 0x0800, SM1 (its read mailbox) at
 /// 0x0808, 8 bytes each; the status byte at offset 5.
-const SM0: u16 = 0x0800;
+pub(super) const SM0: u16 = 0x0800;
 const SM1: u16 = 0x0808;
 const SM_STATUS: u16 = 5;
 /// SyncManager status bit 3: the mailbox is full.
