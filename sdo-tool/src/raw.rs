@@ -45,9 +45,9 @@ pub fn cansend_frame(text: &str) -> Result<CanFrame, String> {
     if let Some(len) = data.strip_prefix('R').or_else(|| data.strip_prefix('r')) {
         let len: u8 = match len {
             "" => 0,
-            _ => len
-                .parse()
-                .ok()
+            _ => Some(len)
+                .filter(|l| l.bytes().all(|b| b.is_ascii_digit()))
+                .and_then(|l| l.parse().ok())
                 .filter(|l| *l <= 8)
                 .ok_or_else(|| format!("remote frame length {len:?} is not 0 to 8"))?,
         };
@@ -193,6 +193,7 @@ mod tests {
             "data \"001122334455667788\" is 9 bytes: a classic CAN frame carries 0 to 8"
         );
         assert_eq!(err("123#R9"), "remote frame length \"9\" is not 0 to 8");
+        assert_eq!(err("123#R+1"), "remote frame length \"+1\" is not 0 to 8");
         assert_eq!(
             err("123##1"),
             "CAN FD (##) is not sent: classic CAN frames only"

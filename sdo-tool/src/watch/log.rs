@@ -9,45 +9,15 @@ use super::capture::{CaptureFrames, CaptureSummary};
 use super::{OpenTransfer, Watcher};
 use crate::link::CanFrame;
 
-/// A `candump -L` line: `(SECONDS.MICROS) IFACE ID#DATA`, with the time in seconds. Anything else
-/// (a time that is no finite number, an identifier or data that is not hex digits, CAN FD) is none.
+/// A `candump -L` line: `(SECONDS.MICROS) IFACE ID#DATA`, with the time in seconds, the frame in
+/// the notation can-utils writes and reads back ([`crate::raw::cansend_frame`]: 3 or 8 identifier
+/// digits, as canplayer takes them). Anything else (a time that is no finite number, a frame that
+/// is none, CAN FD) is none.
 pub fn candump_line(line: &str) -> Option<(f64, CanFrame)> {
     let (ts, rest) = line.trim().strip_prefix('(')?.split_once(") ")?;
     let t: f64 = ts.parse().ok().filter(|t: &f64| t.is_finite())?;
     let (_, frame) = rest.trim().split_once(' ')?;
-    let (id, data) = frame.split_once('#')?;
-    let hex_digits = |x: &str| !x.is_empty() && x.bytes().all(|b| b.is_ascii_hexdigit());
-    if !hex_digits(id) {
-        return None;
-    }
-    let extended = id.len() > 3;
-    let raw = u32::from_str_radix(id, 16).ok()?;
-    if let Some(len) = data.strip_prefix('R') {
-        let len = match len {
-            "" => 0,
-            _ if len.bytes().all(|b| b.is_ascii_digit()) => len.parse().ok()?,
-            _ => return None,
-        };
-        return Some((t, CanFrame::new_remote_frame(raw, extended, len)?));
-    }
-    // Classic CAN only: CAN FD's `##` is no hex digit.
-    if data.len() % 2 != 0 || data.len() > 16 || !data.bytes().all(|b| b.is_ascii_hexdigit()) {
-        return None;
-    }
-    let bytes: Vec<u8> = data
-        .as_bytes()
-        .chunks(2)
-        .map(|pair| {
-            let digit = |b: u8| (b as char).to_digit(16).map(|d| d as u8);
-            Some((digit(pair[0])? << 4) | digit(pair[1])?)
-        })
-        .collect::<Option<_>>()?;
-    let frame = if extended {
-        CanFrame::new_extended(raw, &bytes)?
-    } else {
-        CanFrame::new(u16::try_from(raw).ok()?, &bytes)?
-    };
-    Some((t, frame))
+    Some((t, crate::raw::cansend_frame(frame).ok()?))
 }
 
 /// The longest line of a log [`LogLines`] hands on, in bytes (a `candump -L` line of a classic

@@ -172,7 +172,8 @@ fn candump_lines_both_ways() {
 }
 
 /// What is no `candump -L` frame, whatever its bytes, is none: hex digits cut in the middle of
-/// a character, a sign before an identifier or a data byte, a time that is no finite number.
+/// a character, a sign before an identifier or a data byte, an identifier of neither 3 nor 8
+/// digits (canplayer refuses it too), a time that is no finite number.
 #[test]
 fn odd_text_is_no_frame() {
     for bad in [
@@ -184,6 +185,7 @@ fn odd_text_is_no_frame() {
         "(1.0) can0 123#+1",
         "(1.0) can0 #01",
         "(1.0) can0 123#R+1",
+        "(1.0) can0 1234#01",
         "(nan) can0 123#01",
         "(inf) can0 123#01",
         "(-inf) can0 123#01",
