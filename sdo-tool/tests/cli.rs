@@ -634,11 +634,7 @@ fn the_gateway_takes_lines_of_bounded_length() {
 fn a_silent_gateway_client_does_not_block_the_others() {
     use std::io::{BufRead, Write};
     let n = Running::start();
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let port = testkit::free_port();
     let listen = format!("127.0.0.1:{port}");
     let args = Args::try_parse_from(["sdo-tool", "gateway", "--listen", &listen]).unwrap();
     let bus: Box<dyn CanBus> = Box::new(n.bus.endpoint());

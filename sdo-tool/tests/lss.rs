@@ -22,11 +22,7 @@ struct Nodes {
 impl Nodes {
     /// Starts the nodes and reads `count` lines of what they print at start (one per node).
     fn start(args: &[String], count: usize) -> Nodes {
-        let port = std::net::TcpListener::bind("127.0.0.1:0")
-            .unwrap()
-            .local_addr()
-            .unwrap()
-            .port();
+        let port = testkit::free_port();
         let mut child = Command::new(testkit::cargo_binary("socketcan-node", "canopen-node", &[]))
             .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
             .args(args)

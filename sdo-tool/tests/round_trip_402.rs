@@ -17,11 +17,7 @@ struct Node {
 
 impl Node {
     fn start(file: &Path) -> Node {
-        let port = std::net::TcpListener::bind("127.0.0.1:0")
-            .unwrap()
-            .local_addr()
-            .unwrap()
-            .port();
+        let port = testkit::free_port();
         let (child, line) = testkit::start_until_first_line(
             Command::new(testkit::cargo_binary("socketcan-node", "canopen-node", &[]))
                 .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])

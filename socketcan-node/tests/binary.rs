@@ -3,10 +3,10 @@
 //! its parameters; its capture of a session.
 
 use std::io::{BufRead, BufReader};
-use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
+use testkit::free_port;
 
 use socketcan_node::transport::{BusEvent, CanBus, SocketcandClient};
 use socketcan_node::CanFrame;
@@ -15,14 +15,6 @@ const NODE: &str = env!("CARGO_BIN_EXE_x67-node");
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
 }
 
 /// The node process; killed when dropped.

@@ -4,10 +4,10 @@
 //! node by Fastscan and gives it a node-ID that a restart keeps, and a `RemoteNode` moves a DOMAIN by
 //! block transfer.
 
-use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
+use testkit::free_port;
 
 use socketcan_node::transport::{BusEvent, CanBus, SocketcandClient};
 use socketcan_node::CanFrame;
@@ -27,14 +27,6 @@ fn corpus(name: &str) -> PathBuf {
         p.display()
     );
     p
-}
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
 }
 
 /// The node process; killed when dropped.

@@ -3,17 +3,9 @@
 //! (ANSI escape codes) on a terminal, plain there too with `NO_COLOR` set (no-color.org), the
 //! terminal being util-linux `script`'s pseudo-terminal; and `--completions SHELL`, `--man DIR`.
 
-use std::net::TcpListener;
 use std::process::Command;
 use std::time::Duration;
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
-}
+use testkit::free_port;
 
 /// `bin` as a socketcand server on a free port with `args` for a second (coreutils `timeout` ends
 /// it), its standard output and error read from a pipe or a terminal; `NO_COLOR` as given.

@@ -5,10 +5,10 @@
 //! switching the mode of a drive whose description gives 0x6502 no value.
 
 use std::io::BufRead;
-use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
+use testkit::free_port;
 
 use socketcan_node::transport::{BusEvent, CanBus, SocketcandClient};
 use socketcan_node::CanFrame;
@@ -28,14 +28,6 @@ fn corpus(name: &str) -> String {
         p.display()
     );
     p.display().to_string()
-}
-
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port()
 }
 
 /// What Schunk's EDS (no 0x1000 value, read-only 0x606B and 0x606C mapped into RPDO 2, no 0x6073,

@@ -12,7 +12,7 @@
 //! preempted VM); such instants are listed, not failed.
 
 use std::io::{Read, Write};
-use std::net::{TcpListener, TcpStream};
+use std::net::TcpStream;
 use std::process::{Child, Command};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -101,11 +101,7 @@ fn ms(d: Duration) -> f64 {
 
 #[test]
 fn heartbeat_and_sync_tpdo_keep_their_instants_under_an_sdo_and_random_frame_flood() {
-    let port = TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let port = testkit::free_port();
     let node = start_node(port);
     let mut master = SocketcandClient::connect("127.0.0.1", port, "can0").unwrap();
     // TPDO1 synchronous (transmission type 1: on every SYNC), then Operational.

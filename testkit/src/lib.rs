@@ -65,6 +65,16 @@ pub fn favour_this_thread() {
     }
 }
 
+/// A TCP port of 127.0.0.1 free a moment ago (the system's choice for port 0), for a server a test
+/// starts next.
+pub fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
 /// The workspace root.
 pub fn root() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))

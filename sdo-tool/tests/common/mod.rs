@@ -69,11 +69,7 @@ pub fn socketcand_bus(port: u16) -> String {
 /// `canopen-node ARGS` as a socketcand server on a free port of 127.0.0.1, taking connections: the
 /// process and its port ([`socketcand_bus`] gives the bus of its clients).
 pub fn node_server(args: &[&str]) -> (Proc, u16) {
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let port = testkit::free_port();
     let p = canopen_node(&format!("socketcand-listen:127.0.0.1:{port}"), args);
     for _ in 0..100 {
         if std::net::TcpStream::connect(("127.0.0.1", port)).is_ok() {

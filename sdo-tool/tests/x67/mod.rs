@@ -67,11 +67,7 @@ pub fn hub(id: u8) -> (std::process::Child, u16) {
 
 /// [`hub`] with `extra` arguments for `x67-node`.
 pub fn hub_with(id: u8, extra: &[&str]) -> (std::process::Child, u16) {
-    let port = std::net::TcpListener::bind("127.0.0.1:0")
-        .unwrap()
-        .local_addr()
-        .unwrap()
-        .port();
+    let port = testkit::free_port();
     let (child, _) = testkit::start_until_first_line(
         Command::new(testkit::cargo_binary("socketcan-node", "x67-node", &[]))
             .args(["--bus", &format!("socketcand-listen:127.0.0.1:{port}")])
